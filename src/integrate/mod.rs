@@ -1,0 +1,26 @@
+//! Explicit Runge–Kutta integration written once: tableaus as data
+//! (`tableau`), one stepping loop with step-size control (`solver`), dense
+//! output (`dense`) and root finding on it (`roots`). The right-hand side is
+//! a plain closure over a fixed-size state, so the inner loop is monomorphised
+//! and allocation-free.
+
+mod dense;
+mod roots;
+mod settings;
+mod solver;
+pub mod tableau;
+
+pub use dense::Dense;
+pub use roots::find_root;
+pub use settings::{Method, SettingsError, SolverSettings};
+pub use solver::{IntegrateError, Solver, Stats};
+
+/// The state integrated during a slip: (x, y, v_r,x, v_r,y).
+pub type State = [f64; 4];
+
+#[inline(always)]
+pub(crate) fn axpy(y: &mut State, a: f64, x: &State) {
+    for i in 0..4 {
+        y[i] += a * x[i];
+    }
+}

@@ -1,0 +1,402 @@
+//! The one stepping loop: an embedded pair with a PI step-size controller
+//! (Hairer's DOPRI5/DOP853 drivers are the model), or a fixed step.
+//!
+//! The solver does not own the state: the caller passes (t, y, f(y)) in and
+//! gets an accepted step back, so that a hybrid system can stop between
+//! steps, locate an event on the last step's dense output, switch the
+//! right-hand side and go on (diffsol's `step()` shape).
+
+use super::tableau::{self, Tableau};
+use super::{Dense, Method, SolverSettings, State, axpy};
+
+/// Counters of one integration.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Stats {
+    pub accepted: u32,
+    pub rejected: u32,
+}
+
+/// Why a step could not be taken.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum IntegrateError {
+    #[error("gave up after {max} steps (bound: max_steps)")]
+    TooManySteps { max: u32 },
+    #[error(
+        "step size underflow at t = {t} (h = {h:e}): the solution is not smooth enough for the tolerance"
+    )]
+    StepSizeUnderflow { t: f64, h: f64 },
+    #[error("the solution became non-finite at t = {t}")]
+    NonFinite { t: f64 },
+}
+
+/// Step-size controller constants (Hairer, Nørsett & Wanner, II.4).
+const SAFETY: f64 = 0.9;
+
+/// Drives one method over the steps of a phase.
+pub struct Solver {
+    settings: SolverSettings,
+    /// Scale of each component in the error norm: (κ, 1, √κ, 1), so the
+    /// error is measured in κx (which is what θ = atan2(y, κx) sees).
+    weights: State,
+    /// The step the controller proposes next.
+    pub h: f64,
+    err_prev: f64,
+    pub stats: Stats,
+    // The last accepted step, kept for dense output.
+    k: [State; 16],
+    t_old: f64,
+    h_last: f64,
+    y_old: State,
+    y_new: State,
+    f_new: State,
+    dense_ready: bool,
+}
+
+impl Solver {
+    /// A solver with the given error weights and first step `h0` (the
+    /// fixed-step methods use `settings.step` instead).
+    pub fn new(settings: SolverSettings, weights: State, h0: f64) -> Self {
+        let h = if settings.method.is_adaptive() {
+            h0
+        } else {
+            settings.step
+        };
+        Solver {
+            settings,
+            weights,
+            h,
+            err_prev: 1e-4,
+            stats: Stats::default(),
+            k: [[0.0; 4]; 16],
+            t_old: 0.0,
+            h_last: 0.0,
+            y_old: [0.0; 4],
+            y_new: [0.0; 4],
+            f_new: [0.0; 4],
+            dense_ready: false,
+        }
+    }
+
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    /// Total steps tried so far (accepted + rejected).
+    pub fn steps(&self) -> u32 {
+        self.stats.accepted + self.stats.rejected
+    }
+
+    /// Takes one accepted step from (t, y), where `k0` = f(y), no longer
+    /// than `h_max`. Returns (t_new, y_new, f(y_new)).
+    #[inline]
+    pub fn step<F: FnMut(&State) -> State>(
+        &mut self,
+        f: &mut F,
+        t: f64,
+        y: &State,
+        k0: &State,
+        h_max: f64,
+    ) -> Result<(f64, State, State), IntegrateError> {
+        match self.settings.method {
+            Method::Dp54 => self.step_with(&tableau::DP54, f, t, y, k0, h_max),
+            Method::Dop853 => self.step_with(&tableau::DOP853, f, t, y, k0, h_max),
+            Method::Rk4 => self.step_with(&tableau::RK4, f, t, y, k0, h_max),
+            Method::Euler => self.step_with(&tableau::EULER, f, t, y, k0, h_max),
+        }
+    }
+
+    #[inline(always)]
+    fn step_with<F: FnMut(&State) -> State, const S: usize>(
+        &mut self,
+        tab: &Tableau<S>,
+        f: &mut F,
+        t: f64,
+        y: &State,
+        k0: &State,
+        h_max: f64,
+    ) -> Result<(f64, State, State), IntegrateError> {
+        let adaptive = self.settings.method.is_adaptive();
+        loop {
+            if self.steps() >= self.settings.max_steps {
+                return Err(IntegrateError::TooManySteps {
+                    max: self.settings.max_steps,
+                });
+            }
+            let h = self.h.min(h_max);
+            if !(h > 1e-15 * t.abs().max(1.0)) {
+                return Err(IntegrateError::StepSizeUnderflow { t, h });
+            }
+            let y_new = stages(tab, f, y, k0, h, &mut self.k);
+            let err = if adaptive {
+                self.error_norm(tab, y, &y_new, h)
+            } else {
+                0.0
+            };
+            let finite = y_new.iter().all(|v| v.is_finite());
+            if !finite && !adaptive {
+                return Err(IntegrateError::NonFinite { t: t + h });
+            }
+            if finite && err <= 1.0 {
+                let k_new = if tab.fsal { self.k[S - 1] } else { f(&y_new) };
+                self.stats.accepted += 1;
+                self.t_old = t;
+                self.h_last = h;
+                self.y_old = *y;
+                self.y_new = y_new;
+                self.f_new = k_new;
+                self.dense_ready = false;
+                if adaptive {
+                    self.h = h * self.grow_factor(tab, err);
+                    self.err_prev = err.max(1e-4);
+                }
+                return Ok((t + h, y_new, k_new));
+            }
+            self.stats.rejected += 1;
+            let shrink = if finite {
+                (SAFETY * err.powf(-1.0 / (tab.err_order as f64 + 1.0))).max(0.2)
+            } else {
+                0.25
+            };
+            self.h = h * shrink.min(0.9);
+        }
+    }
+
+    /// The PI controller's factor after an accepted step with error `err`.
+    #[inline(always)]
+    fn grow_factor<const S: usize>(&self, tab: &Tableau<S>, err: f64) -> f64 {
+        let q = tab.err_order as f64 + 1.0;
+        let beta = 0.4 / q;
+        let alpha = 1.0 / q - 0.75 * beta;
+        let (fmin, fmax) = if S == 12 { (0.333, 6.0) } else { (0.2, 10.0) };
+        if err == 0.0 {
+            return fmax;
+        }
+        (SAFETY * err.powf(-alpha) * self.err_prev.powf(beta)).clamp(fmin, fmax)
+    }
+
+    #[inline(always)]
+    fn error_norm<const S: usize>(
+        &self,
+        tab: &Tableau<S>,
+        y: &State,
+        y_new: &State,
+        h: f64,
+    ) -> f64 {
+        let (rtol, atol) = (self.settings.rtol, self.settings.atol);
+        let mut e5 = [0.0; 4];
+        for j in 0..S {
+            if tab.e[j] != 0.0 {
+                axpy(&mut e5, tab.e[j], &self.k[j]);
+            }
+        }
+        let mut sc = [0.0; 4];
+        for i in 0..4 {
+            let w = self.weights[i];
+            sc[i] = w / (atol + rtol * (w * y[i]).abs().max((w * y_new[i]).abs()));
+        }
+        match &tab.e3 {
+            None => {
+                let mut s = 0.0;
+                for i in 0..4 {
+                    let v = h * e5[i] * sc[i];
+                    s += v * v;
+                }
+                (s / 4.0).sqrt()
+            }
+            Some(e3w) => {
+                // Hairer's DOP853 combination of the 5th- and 3rd-order estimates.
+                let mut e3 = [0.0; 4];
+                for j in 0..S {
+                    if e3w[j] != 0.0 {
+                        axpy(&mut e3, e3w[j], &self.k[j]);
+                    }
+                }
+                let (mut s5, mut s3) = (0.0, 0.0);
+                for i in 0..4 {
+                    let a = e5[i] * sc[i];
+                    let b = e3[i] * sc[i];
+                    s5 += a * a;
+                    s3 += b * b;
+                }
+                let mut den = s5 + 0.01 * s3;
+                if den <= 0.0 {
+                    den = 1.0;
+                }
+                h.abs() * s5 / (den * 4.0).sqrt()
+            }
+        }
+    }
+
+    /// The dense output of the last accepted step. For DOP853 this costs
+    /// three extra evaluations of `f` (the first call after each step only).
+    pub fn dense<F: FnMut(&State) -> State>(&mut self, f: &mut F) -> Dense {
+        let (t0, h, y0, y1) = (self.t_old, self.h_last, self.y_old, self.y_new);
+        match self.settings.method {
+            Method::Dp54 => {
+                let mut q = [[0.0; 4]; 4];
+                for (j, row) in tableau::DP54_DENSE.iter().enumerate() {
+                    for m in 0..4 {
+                        if row[m] != 0.0 {
+                            axpy(&mut q[m], row[m], &self.k[j]);
+                        }
+                    }
+                }
+                Dense::power(t0, h, y0, q)
+            }
+            Method::Dop853 => {
+                if !self.dense_ready {
+                    // Stage 13 is f at the new point; the extra rows read it.
+                    self.k[12] = self.f_new;
+                    for s in 0..3 {
+                        let mut yi = y0;
+                        for (j, &a) in tableau::DOP853_EXTRA_A[s].iter().enumerate() {
+                            if a != 0.0 {
+                                axpy(&mut yi, h * a, &self.k[j]);
+                            }
+                        }
+                        self.k[13 + s] = f(&yi);
+                    }
+                    self.dense_ready = true;
+                }
+                let f_old = self.k[0];
+                let f_new = self.f_new;
+                let mut fs = [[0.0; 4]; 7];
+                for i in 0..4 {
+                    let dy = y1[i] - y0[i];
+                    fs[0][i] = dy;
+                    fs[1][i] = h * f_old[i] - dy;
+                    fs[2][i] = 2.0 * dy - h * (f_new[i] + f_old[i]);
+                }
+                for (m, row) in tableau::DOP853_D.iter().enumerate() {
+                    let mut acc = [0.0; 4];
+                    for (j, &d) in row.iter().enumerate() {
+                        if d != 0.0 {
+                            axpy(&mut acc, d, &self.k[j]);
+                        }
+                    }
+                    for i in 0..4 {
+                        fs[3 + m][i] = h * acc[i];
+                    }
+                }
+                Dense::dop853(t0, h, y0, fs)
+            }
+            Method::Rk4 | Method::Euler => Dense::hermite(t0, h, y0, y1, self.k[0], self.f_new),
+        }
+    }
+}
+
+/// The stages of one step of `tab` from y (k[0] = f(y) given); returns the
+/// propagated solution. With FSAL the last stage's argument is the solution.
+#[inline(always)]
+fn stages<F: FnMut(&State) -> State, const S: usize>(
+    tab: &Tableau<S>,
+    f: &mut F,
+    y: &State,
+    k0: &State,
+    h: f64,
+    k: &mut [State; 16],
+) -> State {
+    k[0] = *k0;
+    let mut y_fsal = *y;
+    for i in 1..S {
+        let mut yi = *y;
+        for j in 0..i {
+            let a = tab.a[i][j];
+            if a != 0.0 {
+                axpy(&mut yi, h * a, &k[j]);
+            }
+        }
+        k[i] = f(&yi);
+        if tab.fsal && i == S - 1 {
+            y_fsal = yi;
+        }
+    }
+    if tab.fsal {
+        return y_fsal;
+    }
+    let mut y_new = *y;
+    for j in 0..S {
+        if tab.b[j] != 0.0 {
+            axpy(&mut y_new, h * tab.b[j], &k[j]);
+        }
+    }
+    y_new
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// ẋ = v, v̇ = −x (and a decoupled copy): x = cos t.
+    fn oscillator(y: &State) -> State {
+        [y[1], -y[0], y[3], -y[2]]
+    }
+
+    fn integrate(settings: SolverSettings, t_end: f64) -> (State, Solver, u64) {
+        let mut evals = 0u64;
+        let mut f = |y: &State| {
+            evals += 1;
+            oscillator(y)
+        };
+        let mut s = Solver::new(settings, [1.0; 4], 1e-3);
+        let mut y = [1.0, 0.0, 0.0, 1.0];
+        let mut k = f(&y);
+        let mut t = 0.0;
+        while t < t_end {
+            let (tn, yn, kn) = s.step(&mut f, t, &y, &k, t_end - t).unwrap();
+            t = tn;
+            y = yn;
+            k = kn;
+        }
+        (y, s, evals)
+    }
+
+    fn err(y: &State, t: f64) -> f64 {
+        (y[0] - t.cos()).abs().max((y[2] - t.sin()).abs())
+    }
+
+    #[test]
+    fn fixed_step_orders() {
+        // Halving h divides RK4's error by ≈ 16 and Euler's by ≈ 2.
+        for (m, order, h) in [(Method::Rk4, 4.0, 0.05), (Method::Euler, 1.0, 1e-3)] {
+            let e1 = err(&integrate(SolverSettings::fixed(m, h), 5.0).0, 5.0);
+            let e2 = err(&integrate(SolverSettings::fixed(m, h / 2.0), 5.0).0, 5.0);
+            let p = (e1 / e2).log2();
+            assert!((p - order).abs() < 0.15, "{m}: observed order {p}");
+        }
+    }
+
+    #[test]
+    fn adaptive_methods_meet_their_tolerance() {
+        for m in [Method::Dp54, Method::Dop853] {
+            for tol in [1e-4, 1e-6, 1e-8, 1e-10, 1e-12] {
+                let (y, s, _) = integrate(SolverSettings::adaptive(m, tol), 10.0);
+                let e = err(&y, 10.0);
+                // Global error over ~1.6 periods within a small factor of tol.
+                assert!(e < 30.0 * tol, "{m} tol {tol}: error {e}");
+                assert!(s.stats.accepted > 0);
+            }
+        }
+    }
+
+    #[test]
+    fn dense_output_is_accurate_inside_steps() {
+        for (m, tol) in [(Method::Dp54, 1e-10), (Method::Dop853, 1e-12)] {
+            let mut f = |y: &State| oscillator(y);
+            let mut s = Solver::new(SolverSettings::adaptive(m, tol), [1.0; 4], 0.5);
+            let y = [1.0, 0.0, 0.0, 1.0];
+            let k = f(&y);
+            let (t1, _, _) = s.step(&mut f, 0.0, &y, &k, 1.0).unwrap();
+            let d = s.dense(&mut f);
+            for i in 0..=10 {
+                let t = t1 * i as f64 / 10.0;
+                let yi = d.at(t);
+                assert!(
+                    (yi[0] - t.cos()).abs() < 1e3 * tol,
+                    "{m} at {t}: {}",
+                    yi[0] - t.cos()
+                );
+            }
+        }
+    }
+}

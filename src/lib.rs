@@ -1,0 +1,18 @@
+//! oneblock: the two-dimensional one-block earthquake model of Montagne &
+//! Vasconcelos, simulated exactly as `shared/MODEL.md` states it.
+//!
+//! - [`model`]: parameters, regimes, the curve C, the closed-form stick phase.
+//! - [`integrate`]: Runge–Kutta tableaus, one stepping loop, dense output.
+//! - [`sim`]: one stick–slip cycle, the map θ → θ', orbits, sweeps.
+//! - [`worker`]: the background thread the GUI talks to.
+//! - [`cli`]: the headless subcommands.
+//! - `app` (feature `gui`): the eframe/egui explorer.
+
+pub mod integrate;
+pub mod model;
+pub mod output;
+pub mod sim;
+
+pub use integrate::{Method, SolverSettings};
+pub use model::{Params, Regime};
+pub use sim::{SimError, Simulator, SlipEvent};

@@ -1,0 +1,16 @@
+//! The one-block model as `../shared/MODEL.md` states it: parameters, the
+//! regimes, the curve C and the critical ellipse, and the closed-form stick
+//! phase. Nothing here integrates and nothing here knows about screens.
+
+mod geometry;
+mod params;
+mod regime;
+mod stick;
+
+pub use geometry::{
+    critical_ellipse_point, elastic_energy, ellipse_c_point, exit_arc, is_on_exit_arc,
+    point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
+};
+pub use params::{ParamError, Params};
+pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character};
+pub use stick::{stick_exit_point, stick_exit_time};

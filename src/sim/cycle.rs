@@ -1,0 +1,369 @@
+//! One stick–slip cycle: slip onset on C → acceleration phase → deceleration
+//! phase → stop → closed-form stick phase → next onset (MODEL.md, "One
+//! cycle"). This is where the map θ → θ' is computed.
+
+use std::cell::Cell;
+
+use serde::{Deserialize, Serialize};
+
+use super::SimError;
+use super::field::{SlipField, speed_growth};
+use super::trajectory::{Phase, Sampler};
+use crate::integrate::{Dense, Method, Solver, SolverSettings, State, find_root};
+use crate::model::{
+    Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
+    theta_from_point,
+};
+
+/// Everything one cycle yields (MODEL.md, "What a slip event reports").
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SlipEvent {
+    /// θ of the slip onset.
+    pub theta: f64,
+    pub onset_x: f64,
+    pub onset_y: f64,
+    /// Time of the onset since the start of the run.
+    pub onset_time: f64,
+    /// Duration of the acceleration phase.
+    pub accel_duration: f64,
+    /// Duration of the whole slip (acceleration + deceleration).
+    pub slip_duration: f64,
+    pub stop_x: f64,
+    pub stop_y: f64,
+    /// |stop − onset|.
+    pub slip_distance: f64,
+    /// The largest relative speed, reached where the acceleration phase ends.
+    pub peak_vr: f64,
+    /// ½(κx² + y²) at onset minus the same at the stop.
+    pub energy_released: f64,
+    /// The stick phase that follows (0 when the block restarts at once).
+    pub stick_duration: f64,
+    /// θ of the next onset: the map value f(θ).
+    pub theta_next: f64,
+    /// The stop landed on or outside C and a new slip started at once there
+    /// (MODEL.md rule 5; in practice a sign of numerical error).
+    pub restarted: bool,
+    /// Right-hand-side evaluations this cycle cost (machine-independent cost).
+    pub rhs_evals: u64,
+    /// Integration steps tried (accepted + rejected).
+    pub steps: u32,
+}
+
+/// How the stop of a slip is placed by the adaptive methods (MODEL.md,
+/// numerical notes): steps are capped at `STOP_STEP_FRACTION` of the time
+/// v_r/|dv_r/dt| left before the extrapolated stop, and once v_r falls below
+/// `STOP_CUTOFF_SCALE`·√rtol the stop is placed by linear extrapolation
+/// (error O(v_r²)).
+pub const STOP_STEP_FRACTION: f64 = 0.7;
+pub const STOP_CUTOFF_SCALE: f64 = 1.0;
+
+/// A validated parameter set with its solver: the entry point to cycles,
+/// map iterates and orbits.
+#[derive(Clone, Copy, Debug)]
+pub struct Simulator {
+    params: Params,
+    settings: SolverSettings,
+    field: SlipField,
+    weights: State,
+    h_max: f64,
+    cutoff: f64,
+    t_tol: f64,
+}
+
+/// The state at the end of a slip.
+struct SlipEnd {
+    stop: [f64; 2],
+    accel_duration: f64,
+    duration: f64,
+    peak_vr: f64,
+    rhs_evals: u64,
+    steps: u32,
+}
+
+impl Simulator {
+    /// Validates the parameters and the settings once.
+    pub fn new(params: Params, settings: SolverSettings) -> Result<Self, SimError> {
+        params.validate()?;
+        settings.validate()?;
+        let sk = params.kappa.sqrt();
+        let omega = params.kappa.max(1.0).sqrt();
+        Ok(Simulator {
+            params,
+            settings,
+            field: SlipField::new(&params),
+            weights: [params.kappa, 1.0, sk, 1.0],
+            // A sixth of the fastest oscillation period: no step can hide two
+            // sign changes of dv_r/dt.
+            h_max: 1.0 / omega,
+            cutoff: STOP_CUTOFF_SCALE * settings.rtol.sqrt(),
+            t_tol: (settings.rtol * 1e-2).clamp(1e-14, 1e-8),
+        })
+    }
+
+    pub fn params(&self) -> &Params {
+        &self.params
+    }
+
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    /// Checks that θ is a reachable onset (MODEL.md, "Domain").
+    pub fn check_onset(&self, theta: f64) -> Result<(), SimError> {
+        let p = &self.params;
+        if theta.is_finite() && is_on_exit_arc(p.kappa, p.theta_nu, theta) {
+            return Ok(());
+        }
+        let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+        Err(SimError::OffExitArc {
+            theta,
+            lo: psi - half,
+            hi: psi + half,
+            kappa: p.kappa,
+            theta_nu: p.theta_nu,
+        })
+    }
+
+    /// The map θ' = f(θ).
+    pub fn map(&self, theta: f64) -> Result<f64, SimError> {
+        Ok(self.cycle(theta, 0.0, None)?.theta_next)
+    }
+
+    /// One full cycle from the onset at θ (time `onset_time`), optionally
+    /// sampling the path for display.
+    pub fn cycle(
+        &self,
+        theta: f64,
+        onset_time: f64,
+        mut sampler: Option<&mut Sampler>,
+    ) -> Result<SlipEvent, SimError> {
+        self.check_onset(theta)?;
+        let kappa = self.params.kappa;
+        let onset = point_from_theta(kappa, theta);
+        let end = self.slip(theta, onset, onset_time, sampler.as_deref_mut())?;
+        let stop = end.stop;
+        let v = self.field.v;
+        let (theta_next, stick_duration, restarted) = match stick_exit_point(kappa, stop, v) {
+            Some((exit, t)) => (theta_from_point(kappa, exit), t, false),
+            None => (theta_from_point(kappa, stop), 0.0, true),
+        };
+        if let Some(s) = sampler {
+            let t_stop = onset_time + end.duration;
+            if stick_duration > 0.0 {
+                // A straight line at constant velocity: its two ends are all
+                // a view needs to draw it.
+                s.push(t_stop, stop, v, Phase::Stick);
+                let exit = [
+                    stop[0] + v[0] * stick_duration,
+                    stop[1] + v[1] * stick_duration,
+                ];
+                s.push(t_stop + stick_duration, exit, v, Phase::Stick);
+            }
+        }
+        let dx = stop[0] - onset[0];
+        let dy = stop[1] - onset[1];
+        Ok(SlipEvent {
+            theta,
+            onset_x: onset[0],
+            onset_y: onset[1],
+            onset_time,
+            accel_duration: end.accel_duration,
+            slip_duration: end.duration,
+            stop_x: stop[0],
+            stop_y: stop[1],
+            slip_distance: dx.hypot(dy),
+            peak_vr: end.peak_vr,
+            energy_released: elastic_energy(kappa, onset) - elastic_energy(kappa, stop),
+            stick_duration,
+            theta_next,
+            restarted,
+            rhs_evals: end.rhs_evals,
+            steps: end.steps,
+        })
+    }
+
+    fn integrate_err(&self, theta: f64, e: crate::integrate::IntegrateError) -> SimError {
+        SimError::Integrate {
+            theta,
+            params: self.params,
+            source: e,
+        }
+    }
+
+    fn too_large(&self, theta: f64, event: &'static str) -> SimError {
+        SimError::StepTooLarge {
+            h: self.settings.step,
+            event,
+            theta,
+            params: self.params,
+        }
+    }
+
+    /// Integrates one slip from rest relative to the surface at `p0`.
+    fn slip(
+        &self,
+        theta: f64,
+        p0: [f64; 2],
+        t_abs: f64,
+        mut sampler: Option<&mut Sampler>,
+    ) -> Result<SlipEnd, SimError> {
+        let field = self.field;
+        let evals = Cell::new(0u64);
+        let mut acc = |s: &State| {
+            evals.set(evals.get() + 1);
+            field.accel(s)
+        };
+        let mut dec = |s: &State| {
+            evals.set(evals.get() + 1);
+            field.decel(s)
+        };
+        let adaptive = self.settings.method.is_adaptive();
+        let max_t = self.settings.max_slip_time;
+        let v = field.v;
+        let mut solver = Solver::new(self.settings, self.weights, 0.05 * self.h_max);
+
+        // Acceleration phase: until dv_r/dt crosses zero from above. At the
+        // onset it is exactly zero, so the test arms only once it has been
+        // positive.
+        let mut y: State = [p0[0], p0[1], 0.0, 0.0];
+        let mut k = acc(&y);
+        let mut t = 0.0;
+        let mut g = 0.0;
+        let mut armed = false;
+        if let Some(s) = sampler.as_deref_mut() {
+            s.start_slip(t_abs, &y, v);
+        }
+        let (t_a, y_a) = loop {
+            if t >= max_t {
+                return Err(SimError::SlipTooLong {
+                    theta,
+                    params: self.params,
+                    max: max_t,
+                });
+            }
+            let (tn, yn, kn) = solver
+                .step(&mut acc, t, &y, &k, self.h_max.min(max_t - t))
+                .map_err(|e| self.integrate_err(theta, e))?;
+            let gn = speed_growth(&yn, &kn);
+            if armed && !adaptive && y[2] * yn[2] + y[3] * yn[3] < 0.0 {
+                // v_r passed through zero inside one accelerating step.
+                return Err(self.too_large(theta, "end of the acceleration phase"));
+            }
+            if armed && gn <= 0.0 {
+                if !adaptive && solver.stats.accepted < 2 {
+                    return Err(self.too_large(theta, "end of the acceleration phase"));
+                }
+                let d = solver.dense(&mut acc);
+                let ta = find_root(
+                    |tt| {
+                        let s = d.at(tt);
+                        speed_growth(&s, &acc(&s))
+                    },
+                    t,
+                    g,
+                    tn,
+                    gn,
+                    self.t_tol * tn.max(1.0),
+                );
+                let ya = d.at(ta);
+                if let Some(s) = sampler.as_deref_mut() {
+                    s.sample_step(t_abs, &d, ta, Phase::Accel, v);
+                    s.push_state(t_abs + ta, &ya, v, Phase::Decel);
+                }
+                break (ta, ya);
+            }
+            if let Some(s) = sampler.as_deref_mut() {
+                let d = solver.dense(&mut acc);
+                s.sample_step(t_abs, &d, tn, Phase::Accel, v);
+            }
+            armed |= gn > 0.0;
+            (t, y, k, g) = (tn, yn, kn, gn);
+        };
+        let peak_vr = y_a[2].hypot(y_a[3]);
+
+        // Deceleration phase: friction opposes v_r until v_r reaches 0.
+        let accel_steps = solver.stats.accepted;
+        let (mut t, mut y) = (t_a, y_a);
+        let mut k = dec(&y);
+        let stop = loop {
+            let vr = y[2].hypot(y[3]);
+            let dvr = speed_growth(&y, &k) / vr;
+            if adaptive && vr < self.cutoff && dvr < 0.0 {
+                // Linear extrapolation of v_r to zero: the mean relative
+                // velocity over the remaining time is half the current one.
+                let dt = vr / -dvr;
+                let stop = [
+                    y[0] + (v[0] + 0.5 * y[2]) * dt,
+                    y[1] + (v[1] + 0.5 * y[3]) * dt,
+                ];
+                t += dt;
+                if let Some(s) = sampler.as_deref_mut() {
+                    s.push(t_abs + t, stop, v, Phase::Decel);
+                }
+                break stop;
+            }
+            if t >= max_t {
+                return Err(SimError::SlipTooLong {
+                    theta,
+                    params: self.params,
+                    max: max_t,
+                });
+            }
+            let cap = if adaptive && dvr < 0.0 {
+                STOP_STEP_FRACTION * vr / -dvr
+            } else {
+                f64::INFINITY
+            };
+            let (tn, yn, kn) = solver
+                .step(&mut dec, t, &y, &k, cap.min(self.h_max).min(max_t - t))
+                .map_err(|e| self.integrate_err(theta, e))?;
+            let turn = y[2] * yn[2] + y[3] * yn[3];
+            if turn <= 0.0 || !(yn[2].hypot(yn[3]) > 0.0) {
+                if adaptive {
+                    // The step aimed past the stop despite the cap: retry shorter.
+                    solver.h = 0.3 * (tn - t);
+                    continue;
+                }
+                if solver.stats.accepted - accel_steps < 2 {
+                    return Err(self.too_large(theta, "stop"));
+                }
+                // Fixed step: locate the reversal of v_r on the step's interpolant.
+                let d = solver.dense(&mut dec);
+                let v0 = [y[2], y[3]];
+                let gv = |s: &State| s[2] * v0[0] + s[3] * v0[1];
+                let ts = find_root(
+                    |tt| gv(&d.at(tt)),
+                    t,
+                    vr * vr,
+                    tn,
+                    turn,
+                    self.t_tol * tn.max(1.0),
+                );
+                let s = d.at(ts);
+                t = ts;
+                if let Some(sm) = sampler.as_deref_mut() {
+                    sm.push(t_abs + t, [s[0], s[1]], v, Phase::Decel);
+                }
+                break [s[0], s[1]];
+            }
+            if let Some(s) = sampler.as_deref_mut() {
+                let d: Dense = solver.dense(&mut dec);
+                s.sample_step(t_abs, &d, tn, Phase::Decel, v);
+            }
+            (t, y, k) = (tn, yn, kn);
+        };
+        Ok(SlipEnd {
+            stop,
+            accel_duration: t_a,
+            duration: t,
+            peak_vr,
+            rhs_evals: evals.get(),
+            steps: solver.steps(),
+        })
+    }
+}
+
+/// Convenience: the default method at tolerance `tol`.
+pub fn default_settings(tol: f64) -> SolverSettings {
+    SolverSettings::adaptive(Method::Dop853, tol)
+}

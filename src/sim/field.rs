@@ -1,0 +1,112 @@
+//! The slip equations of motion in the relative-velocity variables
+//! (x, y, v_r,x, v_r,y): integrating v_r instead of the lab velocity keeps
+//! creep-sized slips free of the cancellation u − V_x (MODEL.md).
+
+use crate::integrate::State;
+use crate::model::Params;
+
+/// The right-hand sides of the two slip phases, with the parameters
+/// pre-multiplied for the inner loop.
+#[derive(Clone, Copy, Debug)]
+pub struct SlipField {
+    pub kappa: f64,
+    /// 2γ: Φ(2γ v_r) = 1/(1 + 2γ v_r).
+    pub two_gamma: f64,
+    pub omega: f64,
+    /// The surface velocity V.
+    pub v: [f64; 2],
+}
+
+impl SlipField {
+    pub fn new(p: &Params) -> Self {
+        SlipField {
+            kappa: p.kappa,
+            two_gamma: 2.0 * p.gamma,
+            omega: p.omega,
+            v: p.velocity(),
+        }
+    }
+
+    /// Friction magnitude Φ(2γ v_r).
+    #[inline(always)]
+    pub fn phi(&self, vr: f64) -> f64 {
+        1.0 / (1.0 + self.two_gamma * vr)
+    }
+
+    /// Acceleration phase: friction of magnitude Φ at the angle
+    /// φ_fr = π + φ_el − Δ (1 − e^(−Ω v_r)), Δ = wrap(φ_el − φ_vr).
+    ///
+    /// Written without φ_el itself: Δ is the angle from v_r to F_el, one
+    /// atan2 of their cross and dot products, and the friction direction is
+    /// −F̂_el rotated by −Δ(1 − e^(−Ω v_r)).
+    #[inline(always)]
+    pub fn accel(&self, s: &State) -> State {
+        let [x, y, a, b] = *s;
+        let fx = -self.kappa * x;
+        let fy = -y;
+        let vr = (a * a + b * b).sqrt();
+        let inv_f = 1.0 / (fx * fx + fy * fy).sqrt();
+        let (ex, ey) = (fx * inv_f, fy * inv_f);
+        let delta = (a * fy - b * fx).atan2(a * fx + b * fy);
+        // −expm1 keeps the turn accurate while Ω v_r is tiny (early slip).
+        let turn = (-self.omega * vr).exp_m1() * delta; // = −Δ(1 − e^(−Ω v_r))
+        let (sn, cs) = turn.sin_cos();
+        let phi = self.phi(vr);
+        [
+            a + self.v[0],
+            b + self.v[1],
+            fx - phi * (ex * cs - ey * sn),
+            fy - phi * (ex * sn + ey * cs),
+        ]
+    }
+
+    /// Deceleration phase: friction −Φ v̂_r. Only called with v_r > 0.
+    #[inline(always)]
+    pub fn decel(&self, s: &State) -> State {
+        let [x, y, a, b] = *s;
+        let vr = (a * a + b * b).sqrt();
+        let c = self.phi(vr) / vr;
+        [
+            a + self.v[0],
+            b + self.v[1],
+            -self.kappa * x - c * a,
+            -y - c * b,
+        ]
+    }
+}
+
+/// ½ d(v_r²)/dt = v_r · (ẍ, ÿ): positive while the relative speed grows.
+#[inline(always)]
+pub fn speed_growth(s: &State, f: &State) -> f64 {
+    s[2] * f[2] + s[3] * f[3]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn friction_opposes_elastic_force_at_onset() {
+        let p = Params::default();
+        let fld = SlipField::new(&p);
+        let th = 0.5_f64;
+        let s = [th.cos() / p.kappa, th.sin(), 0.0, 0.0];
+        let f = fld.accel(&s);
+        // On C, |F_el| = 1 = Φ(0): the net force vanishes at onset.
+        assert!(f[2].abs() < 1e-15 && f[3].abs() < 1e-15, "{f:?}");
+        assert_eq!([f[0], f[1]], fld.v);
+    }
+
+    #[test]
+    fn fast_slip_friction_opposes_relative_velocity() {
+        let p = Params::default();
+        let fld = SlipField::new(&p);
+        // v_r large: e^(−Ω v_r) ≈ 0, so both phases agree.
+        let s = [0.01, 0.3, -0.4, 0.7];
+        let a = fld.accel(&s);
+        let d = fld.decel(&s);
+        for i in 0..4 {
+            assert!((a[i] - d[i]).abs() < 1e-12, "{i}: {} vs {}", a[i], d[i]);
+        }
+    }
+}

@@ -1,0 +1,17 @@
+//! Simulation: one stick–slip cycle, the map θ → θ', orbits with their
+//! period and Lyapunov exponent, and bifurcation sweeps over θν.
+
+mod analysis;
+mod cycle;
+mod error;
+pub mod field;
+mod orbit;
+mod sweep;
+mod trajectory;
+
+pub use analysis::{PERIOD_MAX, detect_period, map_derivative};
+pub use cycle::{STOP_CUTOFF_SCALE, STOP_STEP_FRACTION, Simulator, SlipEvent, default_settings};
+pub use error::SimError;
+pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
+pub use sweep::{Column, SweepOptions, column_start, sweep_columns, theta_nu_grid};
+pub use trajectory::{Phase, Sample, Sampler};

@@ -1,0 +1,148 @@
+//! Orbits of the map: a transient, then kept iterates with their period and
+//! Lyapunov exponent.
+
+use serde::{Deserialize, Serialize};
+
+use super::analysis::{detect_period, map_derivative};
+use super::{SimError, Simulator, SlipEvent};
+use crate::model::{is_on_exit_arc, project_onto_exit_arc};
+
+/// The detected period of the kept iterates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Period {
+    Periodic(usize),
+    Aperiodic,
+}
+
+impl std::fmt::Display for Period {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Period::Periodic(p) => write!(f, "{p}"),
+            Period::Aperiodic => f.write_str("aperiodic"),
+        }
+    }
+}
+
+/// What an orbit run computes.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OrbitOptions {
+    /// Iterates dropped before keeping any.
+    pub transient: usize,
+    /// Iterates kept.
+    pub keep: usize,
+    /// Compute the Lyapunov exponent (3 map evaluations per kept iterate).
+    pub lyapunov: bool,
+    /// Tolerance of the period test, in radians.
+    pub period_tol: f64,
+}
+
+impl OrbitOptions {
+    /// The period test's tolerance tied to the integrator's accuracy: map
+    /// errors are ~rtol, and a converging orbit still moves by its
+    /// multiplier times its distance to the attractor, so 1e4·rtol, kept
+    /// within [1e-9, 1e-3].
+    pub fn period_tol_for(rtol: f64) -> f64 {
+        (1e4 * rtol).clamp(1e-9, 1e-3)
+    }
+}
+
+/// A computed orbit.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Orbit {
+    /// The kept events, in order.
+    pub events: Vec<SlipEvent>,
+    /// How many cycles ended in a restart (stop on or outside C).
+    pub restarts: usize,
+    pub period: Period,
+    /// Mean of ln|f'(θ)| over the kept iterates.
+    pub lyapunov: Option<f64>,
+    /// Its standard error (naive, from the spread of ln|f'|).
+    pub lyapunov_stderr: Option<f64>,
+    /// Right-hand-side evaluations for the whole run, derivatives included.
+    pub rhs_evals: u64,
+    /// The onset θ after the last kept event (where a continuation starts).
+    pub theta_last: f64,
+}
+
+impl Orbit {
+    pub fn thetas(&self) -> Vec<f64> {
+        self.events.iter().map(|e| e.theta).collect()
+    }
+}
+
+impl Simulator {
+    /// Where the next cycle starts after `ev`: its θ', moved back onto the
+    /// exit arc if a restart left it off (the restart rule's onset is not on
+    /// C, and the map is defined on C).
+    pub fn next_onset(&self, ev: &SlipEvent) -> f64 {
+        let p = self.params();
+        if ev.restarted && !is_on_exit_arc(p.kappa, p.theta_nu, ev.theta_next) {
+            project_onto_exit_arc(p.kappa, p.theta_nu, ev.theta_next, 1e-9)
+        } else {
+            ev.theta_next
+        }
+    }
+
+    /// Follows the orbit from θ0. `cancel` is polled once per cycle.
+    pub fn orbit(
+        &self,
+        theta0: f64,
+        opts: &OrbitOptions,
+        cancel: &dyn Fn() -> bool,
+    ) -> Result<Orbit, SimError> {
+        self.check_onset(theta0)?;
+        let mut theta = theta0;
+        let mut t = 0.0;
+        let mut restarts = 0;
+        let mut evals = 0;
+        let mut events = Vec::with_capacity(opts.keep);
+        let mut logs = Vec::new();
+        for i in 0..opts.transient + opts.keep {
+            if cancel() {
+                return Err(SimError::Cancelled);
+            }
+            let ev = self.cycle(theta, t, None)?;
+            evals += ev.rhs_evals;
+            restarts += ev.restarted as usize;
+            t += ev.slip_duration + ev.stick_duration;
+            if i >= opts.transient {
+                if opts.lyapunov {
+                    let (d, n) = map_derivative(self, ev.theta, ev.theta_next)?;
+                    evals += n;
+                    logs.push(d.abs().ln());
+                }
+                events.push(ev);
+            }
+            theta = self.next_onset(&ev);
+        }
+        let thetas: Vec<f64> = events.iter().map(|e| e.theta).collect();
+        let period = match detect_period(&thetas, opts.period_tol) {
+            Some(p) => Period::Periodic(p),
+            None => Period::Aperiodic,
+        };
+        let (lyapunov, lyapunov_stderr) = mean_and_stderr(&logs);
+        Ok(Orbit {
+            events,
+            restarts,
+            period,
+            lyapunov,
+            lyapunov_stderr,
+            rhs_evals: evals,
+            theta_last: theta,
+        })
+    }
+}
+
+/// Mean and naive standard error of a sample (None when empty).
+pub fn mean_and_stderr(xs: &[f64]) -> (Option<f64>, Option<f64>) {
+    if xs.is_empty() {
+        return (None, None);
+    }
+    let n = xs.len() as f64;
+    let m = xs.iter().sum::<f64>() / n;
+    if xs.len() < 2 {
+        return (Some(m), None);
+    }
+    let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0);
+    (Some(m), Some((var / n).sqrt()))
+}
