@@ -8,10 +8,12 @@
 //! - [`cli`]: the headless subcommands.
 //! - `app` (feature `gui`): the eframe/egui explorer.
 
+pub mod cli;
 pub mod integrate;
 pub mod model;
 pub mod output;
 pub mod sim;
+pub mod worker;
 
 pub use integrate::{Method, SolverSettings};
 pub use model::{Params, Regime};
