@@ -2,6 +2,8 @@
 //! high-accuracy implementations (trust 10 digits). They pin the
 //! conventions: the angle wrap, the phase switch, the stop, the stick phase.
 
+#![allow(clippy::unwrap_used)]
+
 use oneblock::{Method, Params, Simulator, SolverSettings};
 
 struct Example {

@@ -24,7 +24,7 @@ pub fn find_root<G: FnMut(f64) -> f64>(
         let mut c = (a * gb - b * ga) / (gb - ga);
         // Keep the secant point strictly inside and away from stagnation.
         let w = b - a;
-        if !(c > a.min(b) && c < a.max(b)) || !c.is_finite() {
+        if !(c > a.min(b) && c < a.max(b) && c.is_finite()) {
             c = a + 0.5 * w;
         }
         let gc = g(c);

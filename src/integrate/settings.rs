@@ -83,6 +83,12 @@ pub struct SolverSettings {
     pub max_steps: u32,
     /// At most this much time per slip (slips last O(1–100)).
     pub max_slip_time: f64,
+    /// Approach to the stop (adaptive methods): below v_r = `stop_cutoff`·√rtol
+    /// the stop is placed by linear extrapolation (error O(v_r²)).
+    pub stop_cutoff: f64,
+    /// Approach to the stop: no step aims further than this fraction of the
+    /// time v_r/|dv_r/dt| left before the extrapolated stop.
+    pub stop_fraction: f64,
 }
 
 impl Default for SolverSettings {
@@ -94,6 +100,8 @@ impl Default for SolverSettings {
             step: 1e-3,
             max_steps: 200_000,
             max_slip_time: 1e4,
+            stop_cutoff: 1.0,
+            stop_fraction: 0.7,
         }
     }
 }
@@ -138,6 +146,12 @@ impl SolverSettings {
             }
         } else if !(self.step > 0.0 && self.step <= 1.0) {
             return err("step", self.step, "must lie in (0, 1]");
+        }
+        if !(self.stop_cutoff > 0.0 && self.stop_cutoff <= 1e3) {
+            return err("stop-cutoff", self.stop_cutoff, "must lie in (0, 1e3]");
+        }
+        if !(self.stop_fraction > 0.0 && self.stop_fraction < 1.0) {
+            return err("stop-fraction", self.stop_fraction, "must lie in (0, 1)");
         }
         if self.max_steps == 0 {
             return err("max-steps", 0.0, "must be at least 1");

@@ -40,7 +40,7 @@ pub struct Solver {
     weights: State,
     /// The step the controller proposes next.
     pub h: f64,
-    err_prev: f64,
+    ln_err_prev: f64,
     pub stats: Stats,
     // The last accepted step, kept for dense output.
     k: [State; 16],
@@ -65,7 +65,7 @@ impl Solver {
             settings,
             weights,
             h,
-            err_prev: 1e-4,
+            ln_err_prev: (1e-4f64).ln(),
             stats: Stats::default(),
             k: [[0.0; 4]; 16],
             t_old: 0.0,
@@ -88,7 +88,7 @@ impl Solver {
 
     /// Takes one accepted step from (t, y), where `k0` = f(y), no longer
     /// than `h_max`. Returns (t_new, y_new, f(y_new)).
-    #[inline]
+    #[inline(always)]
     pub fn step<F: FnMut(&State) -> State>(
         &mut self,
         f: &mut F,
@@ -147,7 +147,7 @@ impl Solver {
                 self.dense_ready = false;
                 if adaptive {
                     self.h = h * self.grow_factor(tab, err);
-                    self.err_prev = err.max(1e-4);
+                    self.ln_err_prev = err.max(1e-4).ln();
                 }
                 return Ok((t + h, y_new, k_new));
             }
@@ -171,7 +171,8 @@ impl Solver {
         if err == 0.0 {
             return fmax;
         }
-        (SAFETY * err.powf(-alpha) * self.err_prev.powf(beta)).clamp(fmin, fmax)
+        // err^(−α)·err_prev^β as one exp of logs (two powf cost more).
+        (SAFETY * (beta * self.ln_err_prev - alpha * err.ln()).exp()).clamp(fmin, fmax)
     }
 
     #[inline(always)]
@@ -183,48 +184,28 @@ impl Solver {
         h: f64,
     ) -> f64 {
         let (rtol, atol) = (self.settings.rtol, self.settings.atol);
-        let mut e5 = [0.0; 4];
-        for j in 0..S {
-            if tab.e[j] != 0.0 {
-                axpy(&mut e5, tab.e[j], &self.k[j]);
-            }
-        }
+        let (e5, e3) = error_sums(tab, &self.k);
         let mut sc = [0.0; 4];
         for i in 0..4 {
             let w = self.weights[i];
             sc[i] = w / (atol + rtol * (w * y[i]).abs().max((w * y_new[i]).abs()));
         }
-        match &tab.e3 {
-            None => {
-                let mut s = 0.0;
-                for i in 0..4 {
-                    let v = h * e5[i] * sc[i];
-                    s += v * v;
-                }
-                (s / 4.0).sqrt()
-            }
-            Some(e3w) => {
-                // Hairer's DOP853 combination of the 5th- and 3rd-order estimates.
-                let mut e3 = [0.0; 4];
-                for j in 0..S {
-                    if e3w[j] != 0.0 {
-                        axpy(&mut e3, e3w[j], &self.k[j]);
-                    }
-                }
-                let (mut s5, mut s3) = (0.0, 0.0);
-                for i in 0..4 {
-                    let a = e5[i] * sc[i];
-                    let b = e3[i] * sc[i];
-                    s5 += a * a;
-                    s3 += b * b;
-                }
-                let mut den = s5 + 0.01 * s3;
-                if den <= 0.0 {
-                    den = 1.0;
-                }
-                h.abs() * s5 / (den * 4.0).sqrt()
-            }
+        let (mut s5, mut s3) = (0.0, 0.0);
+        for i in 0..4 {
+            let a = e5[i] * sc[i];
+            let b = e3[i] * sc[i];
+            s5 += a * a;
+            s3 += b * b;
         }
+        if tab.e3.is_none() {
+            return h.abs() * (s5 / 4.0).sqrt();
+        }
+        // Hairer's DOP853 combination of the 5th- and 3rd-order estimates.
+        let mut den = s5 + 0.01 * s3;
+        if den <= 0.0 {
+            den = 1.0;
+        }
+        h.abs() * s5 / (den * 4.0).sqrt()
     }
 
     /// The dense output of the last accepted step. For DOP853 this costs
@@ -285,8 +266,38 @@ impl Solver {
     }
 }
 
+/// Σ_j row[j]·k[j] over the listed nonzero columns, unrolled at compile
+/// time: the coefficients come from the `const` tableau, so they fold into
+/// immediates and no zero is multiplied.
+macro_rules! comb {
+    ($row:expr, $k:expr; $($j:literal),+) => {{
+        let k = $k;
+        let mut out = [0.0; 4];
+        // One 4-wide multiply-add per coefficient: written as whole-vector
+        // updates so the compiler packs the four components (the per-
+        // component sum chains it left scalar).
+        $(axpy(&mut out, $row[$j], &k[$j]);)+
+        out
+    }};
+}
+
+/// y + h·Σ_j row[j]·k[j] (a stage argument).
+macro_rules! stage_arg {
+    ($y:expr, $h:expr, $row:expr, $k:expr; $($j:literal),+) => {{
+        let s = comb!($row, $k; $($j),+);
+        let mut out = *$y;
+        for c in 0..4 {
+            out[c] += $h * s[c];
+        }
+        out
+    }};
+}
+
 /// The stages of one step of `tab` from y (k[0] = f(y) given); returns the
 /// propagated solution. With FSAL the last stage's argument is the solution.
+/// DOP853 and DP5(4) take unrolled paths over their nonzero coefficients
+/// (the stage arithmetic was a third of the cost as a generic double loop);
+/// the values still come from the one tableau.
 #[inline(always)]
 fn stages<F: FnMut(&State) -> State, const S: usize>(
     tab: &Tableau<S>,
@@ -297,6 +308,32 @@ fn stages<F: FnMut(&State) -> State, const S: usize>(
     k: &mut [State; 16],
 ) -> State {
     k[0] = *k0;
+    if S == 12 {
+        let a = &tableau::DOP853.a;
+        k[1] = f(&stage_arg!(y, h, a[1], &*k; 0));
+        k[2] = f(&stage_arg!(y, h, a[2], &*k; 0, 1));
+        k[3] = f(&stage_arg!(y, h, a[3], &*k; 0, 2));
+        k[4] = f(&stage_arg!(y, h, a[4], &*k; 0, 2, 3));
+        k[5] = f(&stage_arg!(y, h, a[5], &*k; 0, 3, 4));
+        k[6] = f(&stage_arg!(y, h, a[6], &*k; 0, 3, 4, 5));
+        k[7] = f(&stage_arg!(y, h, a[7], &*k; 0, 3, 4, 5, 6));
+        k[8] = f(&stage_arg!(y, h, a[8], &*k; 0, 3, 4, 5, 6, 7));
+        k[9] = f(&stage_arg!(y, h, a[9], &*k; 0, 3, 4, 5, 6, 7, 8));
+        k[10] = f(&stage_arg!(y, h, a[10], &*k; 0, 3, 4, 5, 6, 7, 8, 9));
+        k[11] = f(&stage_arg!(y, h, a[11], &*k; 0, 3, 4, 5, 6, 7, 8, 9, 10));
+        return stage_arg!(y, h, tableau::DOP853.b, &*k; 0, 5, 6, 7, 8, 9, 10, 11);
+    }
+    if S == 7 {
+        let a = &tableau::DP54.a;
+        k[1] = f(&stage_arg!(y, h, a[1], &*k; 0));
+        k[2] = f(&stage_arg!(y, h, a[2], &*k; 0, 1));
+        k[3] = f(&stage_arg!(y, h, a[3], &*k; 0, 1, 2));
+        k[4] = f(&stage_arg!(y, h, a[4], &*k; 0, 1, 2, 3));
+        k[5] = f(&stage_arg!(y, h, a[5], &*k; 0, 1, 2, 3, 4));
+        let y_new = stage_arg!(y, h, a[6], &*k; 0, 2, 3, 4, 5);
+        k[6] = f(&y_new);
+        return y_new;
+    }
     let mut y_fsal = *y;
     for i in 1..S {
         let mut yi = *y;
@@ -321,6 +358,29 @@ fn stages<F: FnMut(&State) -> State, const S: usize>(
         }
     }
     y_new
+}
+
+/// The error estimates Σ e_j k_j (and DOP853's 3rd-order one), unrolled like
+/// the stages.
+#[inline(always)]
+fn error_sums<const S: usize>(tab: &Tableau<S>, k: &[State; 16]) -> (State, State) {
+    if S == 12 {
+        let e3 = match &tableau::DOP853.e3 {
+            Some(e3) => comb!(e3, k; 0, 5, 6, 7, 8, 9, 10, 11),
+            None => [0.0; 4],
+        };
+        return (comb!(tableau::DOP853.e, k; 0, 5, 6, 7, 8, 9, 10, 11), e3);
+    }
+    if S == 7 {
+        return (comb!(tableau::DP54.e, k; 0, 2, 3, 4, 5, 6), [0.0; 4]);
+    }
+    let mut e = [0.0; 4];
+    for j in 0..S {
+        if tab.e[j] != 0.0 {
+            axpy(&mut e, tab.e[j], &k[j]);
+        }
+    }
+    (e, [0.0; 4])
 }
 
 #[cfg(test)]

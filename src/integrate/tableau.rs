@@ -5,6 +5,9 @@
 //! 3rd-order error estimators, 7th-order dense output with three extra
 //! stages); the classical RK4; forward Euler.
 
+// Published coefficients, kept digit for digit as their sources print them.
+#![allow(clippy::excessive_precision)]
+
 /// An explicit Runge–Kutta method with `S` stages.
 pub struct Tableau<const S: usize> {
     /// Nodes c_i.

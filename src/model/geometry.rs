@@ -101,7 +101,7 @@ mod tests {
     #[test]
     fn exit_arc_agrees_with_the_normal_test() {
         for &k in &[0.1, 3.0, 50.0] {
-            for &tn in &[0.0, 0.3, 1.2, 1.5707, 2.5, -1.0] {
+            for &tn in &[0.0, 0.3, 1.2, 1.5, 2.5, -1.0] {
                 let (psi, half) = exit_arc(k, tn);
                 for i in 0..200 {
                     let th = -PI + 0.0314 * i as f64;

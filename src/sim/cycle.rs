@@ -49,14 +49,6 @@ pub struct SlipEvent {
     pub steps: u32,
 }
 
-/// How the stop of a slip is placed by the adaptive methods (MODEL.md,
-/// numerical notes): steps are capped at `STOP_STEP_FRACTION` of the time
-/// v_r/|dv_r/dt| left before the extrapolated stop, and once v_r falls below
-/// `STOP_CUTOFF_SCALE`·√rtol the stop is placed by linear extrapolation
-/// (error O(v_r²)).
-pub const STOP_STEP_FRACTION: f64 = 0.7;
-pub const STOP_CUTOFF_SCALE: f64 = 1.0;
-
 /// A validated parameter set with its solver: the entry point to cycles,
 /// map iterates and orbits.
 #[derive(Clone, Copy, Debug)]
@@ -68,6 +60,7 @@ pub struct Simulator {
     h_max: f64,
     cutoff: f64,
     t_tol: f64,
+    avx2: bool,
 }
 
 /// The state at the end of a slip.
@@ -95,8 +88,12 @@ impl Simulator {
             // A sixth of the fastest oscillation period: no step can hide two
             // sign changes of dv_r/dt.
             h_max: 1.0 / omega,
-            cutoff: STOP_CUTOFF_SCALE * settings.rtol.sqrt(),
+            cutoff: settings.stop_cutoff * settings.rtol.sqrt(),
             t_tol: (settings.rtol * 1e-2).clamp(1e-14, 1e-8),
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
         })
     }
 
@@ -200,7 +197,40 @@ impl Simulator {
     }
 
     /// Integrates one slip from rest relative to the surface at `p0`.
+    ///
+    /// The 4-component state fits one AVX2 register, so on CPUs that have it
+    /// the same code is compiled a second time with AVX2 enabled and chosen
+    /// at run time. Rust never contracts a·b + c into an FMA on its own, so
+    /// both versions round identically: results do not depend on the CPU.
     fn slip(
+        &self,
+        theta: f64,
+        p0: [f64; 2],
+        t_abs: f64,
+        sampler: Option<&mut Sampler>,
+    ) -> Result<SlipEnd, SimError> {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
+            return unsafe { self.slip_avx2(theta, p0, t_abs, sampler) };
+        }
+        self.slip_impl(theta, p0, t_abs, sampler)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn slip_avx2(
+        &self,
+        theta: f64,
+        p0: [f64; 2],
+        t_abs: f64,
+        sampler: Option<&mut Sampler>,
+    ) -> Result<SlipEnd, SimError> {
+        self.slip_impl(theta, p0, t_abs, sampler)
+    }
+
+    #[inline(always)]
+    fn slip_impl(
         &self,
         theta: f64,
         p0: [f64; 2],
@@ -279,14 +309,14 @@ impl Simulator {
             armed |= gn > 0.0;
             (t, y, k, g) = (tn, yn, kn, gn);
         };
-        let peak_vr = y_a[2].hypot(y_a[3]);
+        let peak_vr = (y_a[2] * y_a[2] + y_a[3] * y_a[3]).sqrt();
 
         // Deceleration phase: friction opposes v_r until v_r reaches 0.
         let accel_steps = solver.stats.accepted;
         let (mut t, mut y) = (t_a, y_a);
         let mut k = dec(&y);
         let stop = loop {
-            let vr = y[2].hypot(y[3]);
+            let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
             let dvr = speed_growth(&y, &k) / vr;
             if adaptive && vr < self.cutoff && dvr < 0.0 {
                 // Linear extrapolation of v_r to zero: the mean relative
@@ -310,7 +340,7 @@ impl Simulator {
                 });
             }
             let cap = if adaptive && dvr < 0.0 {
-                STOP_STEP_FRACTION * vr / -dvr
+                self.settings.stop_fraction * vr / -dvr
             } else {
                 f64::INFINITY
             };
@@ -318,7 +348,7 @@ impl Simulator {
                 .step(&mut dec, t, &y, &k, cap.min(self.h_max).min(max_t - t))
                 .map_err(|e| self.integrate_err(theta, e))?;
             let turn = y[2] * yn[2] + y[3] * yn[3];
-            if turn <= 0.0 || !(yn[2].hypot(yn[3]) > 0.0) {
+            if turn <= 0.0 || !(yn[2] * yn[2] + yn[3] * yn[3] > 0.0) {
                 if adaptive {
                     // The step aimed past the stop despite the cap: retry shorter.
                     solver.h = 0.3 * (tn - t);

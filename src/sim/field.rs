@@ -2,6 +2,7 @@
 //! (x, y, v_r,x, v_r,y): integrating v_r instead of the lab velocity keeps
 //! creep-sized slips free of the cancellation u − V_x (MODEL.md).
 
+use super::trig;
 use crate::integrate::State;
 use crate::model::Params;
 
@@ -47,10 +48,10 @@ impl SlipField {
         let vr = (a * a + b * b).sqrt();
         let inv_f = 1.0 / (fx * fx + fy * fy).sqrt();
         let (ex, ey) = (fx * inv_f, fy * inv_f);
-        let delta = (a * fy - b * fx).atan2(a * fx + b * fy);
+        let delta = trig::atan2(a * fy - b * fx, a * fx + b * fy);
         // −expm1 keeps the turn accurate while Ω v_r is tiny (early slip).
         let turn = (-self.omega * vr).exp_m1() * delta; // = −Δ(1 − e^(−Ω v_r))
-        let (sn, cs) = turn.sin_cos();
+        let (sn, cs) = trig::sin_cos(turn);
         let phi = self.phi(vr);
         [
             a + self.v[0],

@@ -8,9 +8,10 @@ pub mod field;
 mod orbit;
 mod sweep;
 mod trajectory;
+mod trig;
 
 pub use analysis::{PERIOD_MAX, detect_period, map_derivative};
-pub use cycle::{STOP_CUTOFF_SCALE, STOP_STEP_FRACTION, Simulator, SlipEvent, default_settings};
+pub use cycle::{Simulator, SlipEvent, default_settings};
 pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
 pub use sweep::{Column, SweepOptions, column_start, sweep_columns, theta_nu_grid};
