@@ -562,3 +562,55 @@ fn negative_angles_parse_and_follow_the_reflection_symmetry() {
     let theta_next = v["theta_next"].as_f64().expect("theta_next");
     assert!((theta_next + 0.2037551562).abs() < 1e-9, "{theta_next}");
 }
+
+#[test]
+fn bifurcation_reports_failed_columns_and_goes_on() {
+    // Euler with h = 0.5 cannot resolve the stop at θν = π/2 (the core
+    // reports "step too large" rather than a wrong value); the other
+    // columns still run.
+    let (columns, keep) = (3, 2);
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--method",
+        "euler",
+        "--step",
+        "0.5",
+        "--columns",
+        "3",
+        "--transient",
+        "2",
+        "--keep",
+        "2",
+    ]);
+    assert_ok(&o);
+    let err = stderr(&o);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert!(!warnings.is_empty(), "{err}");
+    assert!(!err.contains("panicked"));
+    let (_, rows) = parse_csv(&stdout(&o));
+    let mut per_column = std::collections::BTreeMap::new();
+    for r in &rows {
+        *per_column.entry(r[0].clone()).or_insert(0) += 1;
+    }
+    let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, columns);
+    let short: Vec<f64> = grid
+        .iter()
+        .copied()
+        .filter(|tn| per_column.get(&tn.to_string()).copied().unwrap_or(0) < keep)
+        .collect();
+    // One warning per short column, naming its θν and the reason.
+    assert_eq!(warnings.len(), short.len(), "{err}");
+    for tn in short {
+        let w = warnings
+            .iter()
+            .find(|w| w.contains(&format!("theta-nu = {tn} ")))
+            .unwrap_or_else(|| panic!("no warning for theta-nu = {tn}: {err}"));
+        assert!(w.contains("too large"), "{w}");
+    }
+}

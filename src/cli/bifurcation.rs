@@ -106,7 +106,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let bar = if stderr_is_terminal() {
         let b = ProgressBar::new(per_column * columns as u64);
         if let Ok(style) = ProgressStyle::with_template(
-            "bifurcation {bar:40} {percent:>3}% {per_sec}, eta {eta} {msg}",
+            "bifurcation {bar:40} {percent:>3}% of {human_len} iterates, eta {eta}",
         ) {
             b.set_style(style);
         }

@@ -91,10 +91,11 @@ pub struct SolverArgs {
     /// Integration method: dp54, dp853, rk4 or euler.
     #[arg(long, default_value = "dp853")]
     pub method: String,
-    /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2].
+    /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
+    /// [default: 1e-10].
     #[arg(long, allow_hyphen_values = true, conflicts_with = "step")]
     pub tol: Option<f64>,
-    /// Step of the fixed-step methods (rk4, euler), in (0, 1].
+    /// Step of the fixed-step methods (rk4, euler), in (0, 1] [default: 1e-3].
     #[arg(long, allow_hyphen_values = true)]
     pub step: Option<f64>,
 }

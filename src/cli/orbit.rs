@@ -96,7 +96,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let bar = if stderr_is_terminal() {
         let b = ProgressBar::new((args.transient + keep) as u64);
         if let Ok(style) = ProgressStyle::with_template(
-            "orbit {bar:40} {pos}/{len} iterates, {per_sec}, eta {eta}",
+            "orbit {bar:40} {human_pos}/{human_len} iterates, eta {eta}",
         ) {
             b.set_style(style);
         }
