@@ -384,6 +384,10 @@ fn bad_input_names_the_flag_and_exits_with_2() {
     );
     assert_bad_input(&set(orbit.clone(), "--theta0", "-2"), "--theta0");
     assert_bad_input(&set(orbit.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(
+        &set(orbit.clone(), "--transient", "18446744073709551615"),
+        "--transient",
+    );
     assert_bad_input(&set(orbit.clone(), "--kappa", "NaN"), "--kappa");
     assert_bad_input(
         &with(
@@ -436,6 +440,15 @@ fn bad_input_names_the_flag_and_exits_with_2() {
     .to_vec();
     assert_bad_input(&set(bif.clone(), "--columns", "0"), "--columns");
     assert_bad_input(&set(bif.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(&set(bif.clone(), "--columns", "1000000000000"), "--columns");
+    assert_bad_input(
+        &set(set(bif.clone(), "--columns", "1000"), "--keep", "1000000"),
+        "--keep",
+    );
+    assert_bad_input(
+        &set(bif.clone(), "--transient", "1000000000000000"),
+        "--transient",
+    );
     assert_bad_input(
         &set(bif.clone(), "--theta-nu-from", "NaN"),
         "--theta-nu-from",

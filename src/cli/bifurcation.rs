@@ -18,8 +18,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
 use super::common::{
-    SolverArgs, at_least_one, check_out, check_theta, describe_sweep, emit, finite,
-    stderr_is_terminal,
+    MAX_ROWS, SolverArgs, check_out, check_theta, count_in, describe_sweep, emit, finite,
+    stderr_is_terminal, total_iterates,
 };
 use crate::model::Params;
 use crate::sim::{Column, Simulator, SweepOptions, sweep_columns, theta_nu_grid};
@@ -48,13 +48,13 @@ pub struct BifurcationArgs {
     /// sweep then runs downwards).
     #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
     pub theta_nu_to: f64,
-    /// Number of θν values, evenly spaced, ends included (at least 1).
+    /// Number of θν values, evenly spaced, ends included (1 to 1e6).
     #[arg(long, default_value_t = 200)]
     pub columns: usize,
     /// Iterates dropped at each θν before any is kept.
     #[arg(long, default_value_t = 500)]
     pub transient: usize,
-    /// Iterates kept at each θν: one CSV row each (at least 1).
+    /// Iterates kept at each θν: one CSV row each (≥ 1; columns × keep ≤ 1e8).
     #[arg(long, default_value_t = 100)]
     pub keep: usize,
     /// θ where each half's first column starts [default: that column's θν].
@@ -67,6 +67,9 @@ pub struct BifurcationArgs {
     #[arg(long)]
     pub force: bool,
 }
+
+/// The most θν values a diagram may have (far more than a screen's pixels).
+pub const MAX_COLUMNS: usize = 1_000_000;
 
 /// The two halves the grid is split into: the first ⌈n/2⌉ values, then the rest.
 pub fn halves(grid: &[f64]) -> (&[f64], &[f64]) {
@@ -87,8 +90,9 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         .validate()
         .map_err(|e| CliError::Usage(format!("--{e}")))?;
     let settings = args.solver.settings()?;
-    let columns = at_least_one("columns", args.columns)?;
-    let keep = at_least_one("keep", args.keep)?;
+    let columns = count_in("columns", args.columns, MAX_COLUMNS)?;
+    let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
+    let total = total_iterates(args.transient, ("keep", keep), columns)?;
     if let Some(th) = args.theta0 {
         // On the arc of the first column; later columns project it onto theirs.
         let sim = Simulator::new(params, settings)?;
@@ -102,9 +106,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         transient: args.transient,
         keep,
     };
-    let per_column = (args.transient + keep) as u64;
     let bar = if stderr_is_terminal() {
-        let b = ProgressBar::new(per_column * columns as u64);
+        let b = ProgressBar::new(total);
         if let Ok(style) = ProgressStyle::with_template(
             "bifurcation {bar:40} {percent:>3}% of {human_len} iterates, eta {eta}",
         ) {

@@ -153,16 +153,42 @@ fn out_error(e: OutputError) -> CliError {
     CliError::Usage(format!("--out: {e}"))
 }
 
-/// Checks that a count flag is at least 1 (where 0 would produce nothing).
-pub fn at_least_one(name: &str, v: usize) -> Result<usize, CliError> {
-    if v >= 1 {
+/// Checks a count flag against [1, max]: 0 would produce nothing, and the
+/// upper bound keeps the results (held in memory until they are written
+/// atomically) far from exhausting it.
+pub fn count_in(name: &str, v: usize, max: usize) -> Result<usize, CliError> {
+    if (1..=max).contains(&v) {
         Ok(v)
     } else {
         Err(CliError::Usage(format!(
-            "--{name} = 0 is out of range: must be at least 1"
+            "--{name} = {v} is out of range: must lie in [1, {max}]"
         )))
     }
 }
+
+/// The most rows a CSV may have (a few GB of text).
+pub const MAX_ROWS: usize = 100_000_000;
+
+/// The iterates a run of `transient` + `keep` (× `columns`) asks for, refused
+/// when it would not fit in a count (a typo such as an extra dozen digits).
+pub fn total_iterates(
+    transient: usize,
+    (kept_flag, keep): (&str, usize),
+    columns: usize,
+) -> Result<u64, CliError> {
+    (transient as u64)
+        .checked_add(keep as u64)
+        .and_then(|n| n.checked_mul(columns as u64))
+        .filter(|&n| n <= MAX_ITERATES)
+        .ok_or_else(|| {
+            CliError::Usage(format!(
+                "--transient = {transient} with --{kept_flag} = {keep} is out of range: the run would ask for more than {MAX_ITERATES:e} iterates"
+            ))
+        })
+}
+
+/// More iterates than any run could finish (years at 1e5 iterates/s).
+pub const MAX_ITERATES: u64 = 1_000_000_000_000_000;
 
 /// Checks that an onset angle given as `--{flag}` is a reachable slip onset
 /// (MODEL.md, "Domain"), naming the flag and the exit arc in the message.

@@ -11,8 +11,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SLIP_EVENT_COLUMNS, SolverArgs, at_least_one, check_out, check_theta, describe,
-    emit, finite, settings_json, slip_event_row, stderr_is_terminal,
+    MAX_ROWS, ModelArgs, SLIP_EVENT_COLUMNS, SolverArgs, check_out, check_theta, count_in,
+    describe, emit, finite, settings_json, slip_event_row, stderr_is_terminal, total_iterates,
 };
 use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator};
 
@@ -30,7 +30,7 @@ pub struct OrbitArgs {
     /// Iterates dropped before any is kept.
     #[arg(long, default_value_t = 1000)]
     pub transient: usize,
-    /// Iterates kept: one CSV row each (at least 1).
+    /// Iterates kept: one CSV row each (1 to 1e8).
     #[arg(long, default_value_t = 200)]
     pub keep: usize,
     /// CSV file of the kept events ("-" = stdout) [default: stdout, or none
@@ -57,7 +57,8 @@ pub struct OrbitArgs {
 pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
-    let keep = at_least_one("keep", args.keep)?;
+    let keep = count_in("keep", args.keep, MAX_ROWS)?;
+    let total = total_iterates(args.transient, ("keep", keep), 1)?;
     let period_tol = match args.period_tol {
         Some(t) => {
             let t = finite("period-tol", t)?;
@@ -94,7 +95,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     };
 
     let bar = if stderr_is_terminal() {
-        let b = ProgressBar::new((args.transient + keep) as u64);
+        let b = ProgressBar::new(total);
         if let Ok(style) = ProgressStyle::with_template(
             "orbit {bar:40} {human_pos}/{human_len} iterates, eta {eta}",
         ) {

@@ -9,13 +9,17 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, at_least_one, check_out, check_theta, describe, emit, finite,
+    ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, total_iterates,
 };
 use crate::sim::{Sampler, Simulator};
 
 /// The smallest sampling spacing accepted: finer than any plot needs, and a
 /// slip of a few time units still yields a bounded number of rows.
 pub const MIN_SPACING: f64 = 1e-6;
+
+/// The most cycles recorded: each yields hundreds of rows at the default
+/// spacing.
+pub const MAX_EVENTS: usize = 1_000_000;
 
 /// The path of the block over a few cycles.
 #[derive(Debug, Clone, Args)]
@@ -32,7 +36,7 @@ pub struct TrajectoryArgs {
     /// attractor; the recorded path starts at t = 0.
     #[arg(long, default_value_t = 0)]
     pub transient: usize,
-    /// Cycles (slip + the stick that follows) recorded (at least 1).
+    /// Cycles (slip + the stick that follows) recorded (1 to 1e6).
     #[arg(long, default_value_t = 1)]
     pub events: usize,
     /// CSV file ("-" = stdout).
@@ -49,7 +53,8 @@ pub struct TrajectoryArgs {
 pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
-    let events = at_least_one("events", args.events)?;
+    let events = count_in("events", args.events, MAX_EVENTS)?;
+    total_iterates(args.transient, ("events", events), 1)?;
     let spacing = finite("spacing", args.spacing)?;
     if spacing < MIN_SPACING {
         return Err(CliError::Usage(format!(
