@@ -225,7 +225,13 @@ pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
             Err(e) => Err(CliError::Failed(format!("cannot write to stdout: {e}"))),
         };
     }
-    write_out(path, bytes, force)
+    match write_output(path, bytes, force) {
+        // A pipe given by name (/dev/stdout) whose reader has gone.
+        Err(OutputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::BrokenPipe => {
+            Ok(())
+        }
+        r => r.map_err(out_error),
+    }
 }
 
 /// Whether progress bars should be drawn: only on a terminal.

@@ -174,13 +174,18 @@ impl Summary<'_> {
         let mut s = String::new();
         writeln!(
             s,
-            "  from theta0 = {}: {} transient + {} kept iterates, {} restart(s), {:.3} s, {:.0} rhs evaluations per iterate (derivatives included)",
+            "  from theta0 = {}: {} transient + {} kept iterates, {} restart(s), {:.3} s, {:.0} rhs evaluations per iterate{}",
             self.theta0,
             self.args.transient,
             o.events.len(),
             o.restarts,
             self.seconds,
-            o.rhs_evals as f64 / self.iterates().max(1) as f64
+            o.rhs_evals as f64 / self.iterates().max(1) as f64,
+            if o.lyapunov.is_some() {
+                " (derivatives included)"
+            } else {
+                ""
+            }
         )
         .ok();
         let p = self.longest_testable();
