@@ -319,6 +319,9 @@ fn bifurcation_equals_two_continued_sweeps() {
     }
     assert_eq!(got, want, "bit for bit");
     let err = stderr(&o);
+    // No progress bar when stderr is not a terminal: just the summary.
+    assert!(!err.contains('\u{1b}') && !err.contains('\r'), "{err:?}");
+    assert_eq!(err.lines().count(), 2, "{err}");
     assert!(
         err.contains("iterates/s") && err.contains(" s on 2 threads"),
         "{err}"
@@ -626,4 +629,34 @@ fn bifurcation_reports_failed_columns_and_goes_on() {
             .unwrap_or_else(|| panic!("no warning for theta-nu = {tn}: {err}"));
         assert!(w.contains("too large"), "{w}");
     }
+}
+
+#[test]
+fn orbit_json_with_a_file_splits_data_and_summary() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("events.csv");
+    let o = run(&cmd_args(
+        "orbit",
+        &[
+            "--transient",
+            "3",
+            "--keep",
+            "4",
+            "--json",
+            "--no-lyapunov",
+            "--out",
+            path.to_str().expect("UTF-8 path"),
+        ],
+    ));
+    assert_ok(&o);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    assert_eq!(v["keep"], 4);
+    assert!(v["lyapunov"].is_null());
+    let (_, rows) = parse_csv(&std::fs::read_to_string(&path).expect("read"));
+    assert_eq!(rows.len(), 4);
+    // The summary's last onset continues the orbit: it is the last row's θ'
+    // (to an ulp: serde_json's default float parser is not exact).
+    let theta_last = v["theta_last"].as_f64().expect("theta_last");
+    assert!((theta_last - num(&rows[3][12])).abs() <= 4.0 * f64::EPSILON);
+    assert!(stderr(&o).is_empty(), "{}", stderr(&o));
 }
