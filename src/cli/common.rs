@@ -1,14 +1,16 @@
 //! Flags every simulating subcommand shares, and the error type that maps
 //! bad input to exit code 2 and failures to exit code 1.
 
+use std::io::{IsTerminal, Write};
 use std::path::Path;
 
 use clap::Args;
 
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
+use crate::model::{Regime, exit_arc};
 use crate::output::{OutputError, check_writable, write_output};
-use crate::sim::SimError;
+use crate::sim::{SimError, Simulator, SlipEvent};
 
 /// A command-line failure: `Usage` (bad input: exit 2) or `Failed` (exit 1).
 #[derive(Debug, thiserror::Error)]
@@ -52,19 +54,19 @@ impl From<OutputError> for CliError {
 #[derive(Debug, Clone, Args)]
 pub struct ModelArgs {
     /// κ = k_x/k_y, the spring anisotropy (> 0).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub kappa: f64,
     /// γ, the friction weakening (≥ 0).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub gamma: f64,
     /// ν, the pulling speed (> 0).
-    #[arg(long, allow_negative_numbers = true)]
+    #[arg(long, allow_hyphen_values = true)]
     pub nu: f64,
     /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_negative_numbers = true)]
+    #[arg(long = "theta-nu", allow_hyphen_values = true)]
     pub theta_nu: f64,
     /// Ω, the memory of the friction direction (> 0).
-    #[arg(long, default_value_t = 50.0, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
     pub omega: f64,
 }
 
@@ -77,7 +79,8 @@ impl ModelArgs {
             theta_nu: self.theta_nu,
             omega: self.omega,
         };
-        p.validate().map_err(|e| CliError::Usage(e.to_string()))?;
+        p.validate()
+            .map_err(|e| CliError::Usage(format!("--{e}")))?;
         Ok(p)
     }
 }
@@ -88,11 +91,12 @@ pub struct SolverArgs {
     /// Integration method: dp54, dp853, rk4 or euler.
     #[arg(long, default_value = "dp853")]
     pub method: String,
-    /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2].
-    #[arg(long, allow_negative_numbers = true, conflicts_with = "step")]
+    /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
+    /// [default: 1e-10].
+    #[arg(long, allow_hyphen_values = true, conflicts_with = "step")]
     pub tol: Option<f64>,
-    /// Step of the fixed-step methods (rk4, euler), in (0, 1].
-    #[arg(long, allow_negative_numbers = true)]
+    /// Step of the fixed-step methods (rk4, euler), in (0, 1] [default: 1e-3].
+    #[arg(long, allow_hyphen_values = true)]
     pub step: Option<f64>,
 }
 
@@ -134,12 +138,235 @@ pub fn finite(name: &str, v: f64) -> Result<f64, CliError> {
     }
 }
 
-/// Fails early (before any simulation) when `path` cannot be written.
+/// Fails early (before any simulation) when the `--out` path cannot be
+/// written; the message names the flag.
 pub fn check_out(path: &Path, force: bool) -> Result<(), CliError> {
-    check_writable(path, force).map_err(CliError::from)
+    check_writable(path, force).map_err(out_error)
 }
 
-/// Writes a finished output atomically.
+/// Writes a finished output atomically to the `--out` path.
 pub fn write_out(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
-    write_output(path, bytes, force).map_err(CliError::from)
+    write_output(path, bytes, force).map_err(out_error)
+}
+
+fn out_error(e: OutputError) -> CliError {
+    CliError::Usage(format!("--out: {e}"))
+}
+
+/// Checks a count flag against [1, max]: 0 would produce nothing, and the
+/// upper bound keeps the results (held in memory until they are written
+/// atomically) far from exhausting it.
+pub fn count_in(name: &str, v: usize, max: usize) -> Result<usize, CliError> {
+    if (1..=max).contains(&v) {
+        Ok(v)
+    } else {
+        Err(CliError::Usage(format!(
+            "--{name} = {v} is out of range: must lie in [1, {max}]"
+        )))
+    }
+}
+
+/// The most rows a CSV may have (a few GB of text).
+pub const MAX_ROWS: usize = 100_000_000;
+
+/// The iterates a run of `transient` + `keep` (× `columns`) asks for, refused
+/// when it would not fit in a count (a typo such as an extra dozen digits).
+pub fn total_iterates(
+    transient: usize,
+    (kept_flag, keep): (&str, usize),
+    columns: usize,
+) -> Result<u64, CliError> {
+    (transient as u64)
+        .checked_add(keep as u64)
+        .and_then(|n| n.checked_mul(columns as u64))
+        .filter(|&n| n <= MAX_ITERATES)
+        .ok_or_else(|| {
+            CliError::Usage(format!(
+                "--transient = {transient} with --{kept_flag} = {keep} is out of range: the run would ask for more than {MAX_ITERATES:e} iterates"
+            ))
+        })
+}
+
+/// More iterates than any run could finish (years at 1e5 iterates/s).
+pub const MAX_ITERATES: u64 = 1_000_000_000_000_000;
+
+/// Checks that an onset angle given as `--{flag}` is a reachable slip onset
+/// (MODEL.md, "Domain"), naming the flag and the exit arc in the message.
+pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliError> {
+    match sim.check_onset(theta) {
+        Ok(()) => Ok(theta),
+        Err(_) => {
+            let p = sim.params();
+            let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+            let what = if theta.is_finite() {
+                "is not on the exit arc"
+            } else {
+                "is not a finite angle"
+            };
+            Err(CliError::Usage(format!(
+                "--{flag} = {theta} {what}: for kappa = {}, theta-nu = {} it must lie in ({:.6}, {:.6}) radians (mod 2π), where a stick phase can end",
+                p.kappa,
+                p.theta_nu,
+                psi - half,
+                psi + half
+            )))
+        }
+    }
+}
+
+/// Writes `bytes` to `--out` (or stdout for "-"). A closed pipe on stdout
+/// (`| head`) is not an error: the reader has what it wanted.
+pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
+    if path.as_os_str() == "-" {
+        let mut out = std::io::stdout().lock();
+        return match out.write_all(bytes).and_then(|_| out.flush()) {
+            Ok(()) => Ok(()),
+            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+            Err(e) => Err(CliError::Failed(format!("cannot write to stdout: {e}"))),
+        };
+    }
+    match write_output(path, bytes, force) {
+        // A pipe given by name (/dev/stdout) whose reader has gone.
+        Err(OutputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::BrokenPipe => {
+            Ok(())
+        }
+        r => r.map_err(out_error),
+    }
+}
+
+/// Whether progress bars should be drawn: only on a terminal.
+pub fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
+}
+
+/// A one-line description of the parameters and the solver, for summaries.
+pub fn describe(params: &Params, settings: &SolverSettings) -> String {
+    describe_with(params, settings, true)
+}
+
+/// The same without θν, for sweeps over it.
+pub fn describe_sweep(params: &Params, settings: &SolverSettings) -> String {
+    describe_with(params, settings, false)
+}
+
+fn describe_with(params: &Params, settings: &SolverSettings, theta_nu: bool) -> String {
+    let accuracy = if settings.method.is_adaptive() {
+        format!("tol {:e}", settings.rtol)
+    } else {
+        format!("step {}", settings.step)
+    };
+    let theta_nu = if theta_nu {
+        format!("theta-nu = {}, ", params.theta_nu)
+    } else {
+        String::new()
+    };
+    format!(
+        "kappa = {}, gamma = {}, nu = {}, {theta_nu}omega = {} ({}); {} {}",
+        params.kappa,
+        params.gamma,
+        params.nu,
+        params.omega,
+        Regime::of(params.kappa, params.gamma).name(),
+        settings.method,
+        accuracy
+    )
+}
+
+/// The solver settings as JSON, for summaries.
+pub fn settings_json(settings: &SolverSettings) -> serde_json::Value {
+    if settings.method.is_adaptive() {
+        serde_json::json!({ "method": settings.method.name(), "tol": settings.rtol })
+    } else {
+        serde_json::json!({ "method": settings.method.name(), "step": settings.step })
+    }
+}
+
+/// The CSV columns of a slip event: every `SlipEvent` field, in order.
+pub const SLIP_EVENT_COLUMNS: [&str; 16] = [
+    "theta",
+    "onset_x",
+    "onset_y",
+    "onset_time",
+    "accel_duration",
+    "slip_duration",
+    "stop_x",
+    "stop_y",
+    "slip_distance",
+    "peak_vr",
+    "energy_released",
+    "stick_duration",
+    "theta_next",
+    "restarted",
+    "rhs_evals",
+    "steps",
+];
+
+/// One CSV row of a slip event (no newline). Numbers are written with
+/// Rust's shortest round-trip formatting, so parsing gives back the exact
+/// f64; `restarted` is 0 or 1 so that the whole file is numeric.
+pub fn slip_event_row(e: &SlipEvent) -> String {
+    format!(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+        e.theta,
+        e.onset_x,
+        e.onset_y,
+        e.onset_time,
+        e.accel_duration,
+        e.slip_duration,
+        e.stop_x,
+        e.stop_y,
+        e.slip_distance,
+        e.peak_vr,
+        e.energy_released,
+        e.stick_duration,
+        e.theta_next,
+        u8::from(e.restarted),
+        e.rhs_evals,
+        e.steps
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_columns_are_the_slip_event_fields() {
+        let e = SlipEvent {
+            theta: 0.5,
+            onset_x: 0.1,
+            onset_y: 0.2,
+            onset_time: 0.3,
+            accel_duration: 0.4,
+            slip_duration: 0.6,
+            stop_x: 0.7,
+            stop_y: 0.8,
+            slip_distance: 0.9,
+            peak_vr: 1.1,
+            energy_released: 1.2,
+            stick_duration: 1.3,
+            theta_next: 1.4,
+            restarted: true,
+            rhs_evals: 15,
+            steps: 16,
+        };
+        let json = serde_json::to_value(e).expect("a SlipEvent serializes");
+        let obj = json.as_object().expect("an object");
+        assert_eq!(obj.len(), SLIP_EVENT_COLUMNS.len());
+        let row = slip_event_row(&e);
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells.len(), SLIP_EVENT_COLUMNS.len());
+        for (name, cell) in SLIP_EVENT_COLUMNS.iter().zip(cells) {
+            let v = &obj[*name];
+            let expected = match v {
+                serde_json::Value::Bool(b) => u8::from(*b).to_string(),
+                other => other.to_string(),
+            };
+            assert_eq!(
+                cell.parse::<f64>().ok(),
+                expected.parse::<f64>().ok(),
+                "{name}"
+            );
+        }
+    }
 }

@@ -1,12 +1,99 @@
-//! `oneblock map` (not yet written).
+//! `oneblock map`: one iterate θ → θ' of the map, with the slip event's
+//! details, as text or as one JSON object.
+
+use std::path::Path;
 
 use clap::Args;
 
 use super::CliError;
+use super::common::{ModelArgs, SolverArgs, check_theta, describe, emit, settings_json};
+use crate::model::{OnsetCharacter, Regime, onset_character};
+use crate::sim::Simulator;
 
-#[derive(Debug, Clone, Default, Args)]
-pub struct MapArgs {}
+/// One map iterate from the onset at `--theta`.
+#[derive(Debug, Clone, Args)]
+pub struct MapArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    #[command(flatten)]
+    pub solver: SolverArgs,
+    /// θ of the slip onset, in radians (on the exit arc).
+    #[arg(long, allow_hyphen_values = true)]
+    pub theta: f64,
+    /// Print one JSON object (the slip event, the parameters, the regime)
+    /// instead of the text summary.
+    #[arg(long)]
+    pub json: bool,
+}
 
-pub fn run(_args: MapArgs) -> Result<(), CliError> {
-    Err(CliError::Failed("'map' is not implemented yet".into()))
+pub fn run(args: MapArgs) -> Result<(), CliError> {
+    let params = args.model.params()?;
+    let settings = args.solver.settings()?;
+    let sim = Simulator::new(params, settings)?;
+    let theta = check_theta(&sim, "theta", args.theta)?;
+    let ev = sim.cycle(theta, 0.0, None)?;
+    let regime = Regime::of(params.kappa, params.gamma);
+    let onset = onset_character(params.kappa, params.gamma, theta);
+    let onset_name = match onset {
+        OnsetCharacter::Creep => "creep",
+        OnsetCharacter::StickSlip => "stick-slip",
+    };
+    let text = if args.json {
+        let mut obj = serde_json::to_value(ev)
+            .map_err(|e| CliError::Failed(format!("cannot encode the event as JSON: {e}")))?;
+        if let Some(m) = obj.as_object_mut() {
+            m.insert("regime".into(), regime.name().into());
+            if let Regime::Mixed { theta_c } = regime {
+                m.insert("theta_c".into(), theta_c.into());
+            }
+            m.insert("onset_character".into(), onset_name.into());
+            m.insert(
+                "params".into(),
+                serde_json::to_value(params).unwrap_or_default(),
+            );
+            m.insert("solver".into(), settings_json(&settings));
+        }
+        format!("{obj}\n")
+    } else {
+        let regime_line = match regime {
+            Regime::Mixed { theta_c } => format!("{} (theta_c = {theta_c})", regime.name()),
+            _ => regime.name().to_string(),
+        };
+        format!(
+            "map: {describe}\n\
+             regime           {regime_line}\n\
+             theta            {theta}  ({onset_name} onset, to linear order)\n\
+             theta_next       {theta_next}\n\
+             onset (x, y)     ({ox}, {oy})\n\
+             accel duration   {accel}\n\
+             slip duration    {slip}\n\
+             stop (x, y)      ({sx}, {sy})\n\
+             slip distance    {dist}\n\
+             peak v_r         {peak}\n\
+             energy released  {energy}\n\
+             stick duration   {stick}\n\
+             restarted        {restarted}\n\
+             rhs evaluations  {evals} in {steps} steps\n",
+            describe = describe(&params, &settings),
+            theta_next = ev.theta_next,
+            ox = ev.onset_x,
+            oy = ev.onset_y,
+            accel = ev.accel_duration,
+            slip = ev.slip_duration,
+            sx = ev.stop_x,
+            sy = ev.stop_y,
+            dist = ev.slip_distance,
+            peak = ev.peak_vr,
+            energy = ev.energy_released,
+            stick = ev.stick_duration,
+            restarted = if ev.restarted {
+                "yes (the stop was on or outside C)"
+            } else {
+                "no"
+            },
+            evals = ev.rhs_evals,
+            steps = ev.steps,
+        )
+    };
+    emit(Path::new("-"), text.as_bytes(), false)
 }

@@ -1,12 +1,239 @@
-//! `oneblock orbit` (not yet written).
+//! `oneblock orbit`: an orbit of the map. One CSV row per kept slip event,
+//! then the detected period and the Lyapunov exponent (on stderr, or as a
+//! JSON summary on stdout with `--json`).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
 
 use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
+use super::common::{
+    MAX_ROWS, ModelArgs, SLIP_EVENT_COLUMNS, SolverArgs, check_out, check_theta, count_in,
+    describe, emit, finite, settings_json, slip_event_row, stderr_is_terminal, total_iterates,
+};
+use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator};
 
-#[derive(Debug, Clone, Default, Args)]
-pub struct OrbitArgs {}
+/// An orbit θ0, f(θ0), f(f(θ0)), … of the map.
+#[derive(Debug, Clone, Args)]
+pub struct OrbitArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    #[command(flatten)]
+    pub solver: SolverArgs,
+    /// θ of the first slip onset, in radians (on the exit arc) [default: θν,
+    /// which always is].
+    #[arg(long, allow_hyphen_values = true)]
+    pub theta0: Option<f64>,
+    /// Iterates dropped before any is kept.
+    #[arg(long, default_value_t = 1000)]
+    pub transient: usize,
+    /// Iterates kept: one CSV row each (1 to 1e8).
+    #[arg(long, default_value_t = 200)]
+    pub keep: usize,
+    /// CSV file of the kept events ("-" = stdout) [default: stdout, or none
+    /// with --json].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+    /// Print the summary (period, Lyapunov exponent, …) as one JSON object
+    /// on stdout instead of as text on stderr.
+    #[arg(long)]
+    pub json: bool,
+    /// Overwrite an existing --out file.
+    #[arg(long)]
+    pub force: bool,
+    /// Skip the Lyapunov exponent (it costs two extra map evaluations per
+    /// kept iterate).
+    #[arg(long)]
+    pub no_lyapunov: bool,
+    /// Tolerance of the period test, in radians [default: 1e4·tol within
+    /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
+    #[arg(long, allow_hyphen_values = true)]
+    pub period_tol: Option<f64>,
+}
 
-pub fn run(_args: OrbitArgs) -> Result<(), CliError> {
-    Err(CliError::Failed("'orbit' is not implemented yet".into()))
+pub fn run(args: OrbitArgs) -> Result<(), CliError> {
+    let params = args.model.params()?;
+    let settings = args.solver.settings()?;
+    let keep = count_in("keep", args.keep, MAX_ROWS)?;
+    let total = total_iterates(args.transient, ("keep", keep), 1)?;
+    let period_tol = match args.period_tol {
+        Some(t) => {
+            let t = finite("period-tol", t)?;
+            if t <= 0.0 {
+                return Err(CliError::Usage(format!(
+                    "--period-tol = {t} is out of range: must be a finite number > 0"
+                )));
+            }
+            t
+        }
+        None if settings.method.is_adaptive() => OrbitOptions::period_tol_for(settings.rtol),
+        None => 1e-6,
+    };
+    let csv_out: Option<PathBuf> = match (&args.out, args.json) {
+        (Some(p), true) if p.as_os_str() == "-" => {
+            return Err(CliError::Usage(
+                "--out - and --json would both write to stdout: give --out a file name".into(),
+            ));
+        }
+        (Some(p), _) => Some(p.clone()),
+        (None, true) => None,
+        (None, false) => Some(PathBuf::from("-")),
+    };
+    if let Some(p) = &csv_out {
+        check_out(p, args.force)?;
+    }
+    let sim = Simulator::new(params, settings)?;
+    let theta0 = check_theta(&sim, "theta0", args.theta0.unwrap_or(params.theta_nu))?;
+    let opts = OrbitOptions {
+        transient: args.transient,
+        keep,
+        lyapunov: !args.no_lyapunov,
+        period_tol,
+    };
+
+    let bar = if stderr_is_terminal() {
+        let b = ProgressBar::new(total);
+        if let Ok(style) = ProgressStyle::with_template(
+            "orbit {bar:40} {human_pos}/{human_len} iterates, eta {eta}",
+        ) {
+            b.set_style(style);
+        }
+        b
+    } else {
+        ProgressBar::hidden()
+    };
+    let start = Instant::now();
+    let result = sim.orbit(theta0, &opts, &|| {
+        bar.inc(1);
+        false
+    });
+    bar.finish_and_clear();
+    let orbit = result?;
+    let seconds = start.elapsed().as_secs_f64();
+
+    if let Some(p) = &csv_out {
+        let mut csv = SLIP_EVENT_COLUMNS.join(",");
+        csv.push('\n');
+        for e in &orbit.events {
+            csv.push_str(&slip_event_row(e));
+            csv.push('\n');
+        }
+        emit(p, csv.as_bytes(), args.force)?;
+    }
+    let summary = Summary {
+        args: &args,
+        theta0,
+        period_tol,
+        orbit: &orbit,
+        seconds,
+    };
+    if args.json {
+        let mut obj = summary.json();
+        if let Some(m) = obj.as_object_mut() {
+            m.insert(
+                "params".into(),
+                serde_json::to_value(params).unwrap_or_default(),
+            );
+            m.insert("solver".into(), settings_json(&settings));
+        }
+        emit(Path::new("-"), format!("{obj}\n").as_bytes(), false)?;
+    } else {
+        eprint!(
+            "orbit: {}\n{}",
+            describe(&params, &settings),
+            summary.text()
+        );
+    }
+    Ok(())
+}
+
+struct Summary<'a> {
+    args: &'a OrbitArgs,
+    theta0: f64,
+    period_tol: f64,
+    orbit: &'a Orbit,
+    seconds: f64,
+}
+
+impl Summary<'_> {
+    /// The longest period the kept iterates can reveal (a period is seen
+    /// only when it repeats twice).
+    fn longest_testable(&self) -> usize {
+        PERIOD_MAX.min(self.orbit.events.len() / 2)
+    }
+
+    fn iterates(&self) -> usize {
+        self.args.transient + self.orbit.events.len()
+    }
+
+    fn text(&self) -> String {
+        let o = self.orbit;
+        let mut s = String::new();
+        writeln!(
+            s,
+            "  from theta0 = {}: {} transient + {} kept iterates, {} restart(s), {:.3} s, {:.0} rhs evaluations per iterate{}",
+            self.theta0,
+            self.args.transient,
+            o.events.len(),
+            o.restarts,
+            self.seconds,
+            o.rhs_evals as f64 / self.iterates().max(1) as f64,
+            if o.lyapunov.is_some() {
+                " (derivatives included)"
+            } else {
+                ""
+            }
+        )
+        .ok();
+        let p = self.longest_testable();
+        match o.period {
+            _ if p == 0 => writeln!(s, "  period: not determined (needs --keep >= 2)"),
+            Period::Periodic(n) => writeln!(s, "  period: {n} (tolerance {:e})", self.period_tol),
+            Period::Aperiodic => writeln!(
+                s,
+                "  period: aperiodic (no period <= {p} within {:e})",
+                self.period_tol
+            ),
+        }
+        .ok();
+        match (o.lyapunov, o.lyapunov_stderr) {
+            (Some(l), Some(e)) => writeln!(
+                s,
+                "  lyapunov exponent: {l:.6} ± {e:.1e} (standard error; ln|f'| averaged over the kept iterates)"
+            ),
+            (Some(l), None) => writeln!(
+                s,
+                "  lyapunov exponent: {l:.6} (from one iterate: no error estimate)"
+            ),
+            _ => writeln!(s, "  lyapunov exponent: not computed (--no-lyapunov)"),
+        }
+        .ok();
+        s
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let o = self.orbit;
+        let period = match o.period {
+            _ if self.longest_testable() == 0 => serde_json::Value::Null,
+            Period::Periodic(n) => n.into(),
+            Period::Aperiodic => "aperiodic".into(),
+        };
+        serde_json::json!({
+            "theta0": self.theta0,
+            "transient": self.args.transient,
+            "keep": o.events.len(),
+            "period": period,
+            "period_tol": self.period_tol,
+            "period_max_tested": self.longest_testable(),
+            "lyapunov": o.lyapunov,
+            "lyapunov_stderr": o.lyapunov_stderr,
+            "restarts": o.restarts,
+            "rhs_evals": o.rhs_evals,
+            "theta_last": o.theta_last,
+            "seconds": self.seconds,
+        })
+    }
 }

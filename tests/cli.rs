@@ -1,0 +1,662 @@
+//! The headless command line, run as a user runs it: the `oneblock` binary
+//! with its flags, checked on its stdout, stderr, exit code and files.
+
+use std::path::Path;
+use std::process::{Command, Output};
+use std::time::{Duration, Instant};
+
+use oneblock::cli::common::SLIP_EVENT_COLUMNS;
+use oneblock::sim::{SweepOptions, sweep_columns, theta_nu_grid};
+use oneblock::{Params, SolverSettings};
+
+/// MODEL.md's first worked example.
+const FIG3B: [&str; 8] = [
+    "--kappa",
+    "18.95",
+    "--gamma",
+    "6.5",
+    "--nu",
+    "1e-3",
+    "--theta-nu",
+    "1.0",
+];
+
+fn oneblock(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(args)
+        .output()
+        .expect("the oneblock binary runs")
+}
+
+fn with(base: &[&str], more: &[&str]) -> Vec<String> {
+    base.iter().chain(more).map(|s| s.to_string()).collect()
+}
+
+fn run(args: &[String]) -> Output {
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    oneblock(&refs)
+}
+
+fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).expect("stderr is UTF-8")
+}
+
+fn assert_ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}, stderr:\n{}",
+        o.status.code(),
+        stderr(o)
+    );
+}
+
+/// Parses a CSV with a header into (header, rows of cells).
+fn parse_csv(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header line")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+fn num(cell: &str) -> f64 {
+    cell.parse()
+        .unwrap_or_else(|e| panic!("'{cell}' is not a number: {e}"))
+}
+
+#[test]
+fn map_json_reproduces_the_first_worked_example() {
+    let o = run(&map_args(&["--theta", "0.5", "--json"]));
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert_eq!(
+        text.trim_end().lines().count(),
+        1,
+        "one JSON object: {text}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let theta_next = v["theta_next"].as_f64().expect("theta_next");
+    assert!((theta_next - 0.2037551562).abs() < 1e-9, "{theta_next}");
+    assert!((v["slip_duration"].as_f64().expect("slip_duration") - 3.123143632).abs() < 1e-8);
+    assert!((v["stick_duration"].as_f64().expect("stick_duration") - 101.7096366).abs() < 1e-6);
+    assert!((v["stop_x"].as_f64().expect("stop_x") + 0.003275131363).abs() < 1e-10);
+    assert!((v["stop_y"].as_f64().expect("stop_y") - 0.1167625165).abs() < 1e-9);
+    for key in ["slip_distance", "peak_vr", "energy_released", "rhs_evals"] {
+        assert!(
+            v[key].as_f64().is_some_and(|x| x > 0.0),
+            "{key}: {}",
+            v[key]
+        );
+    }
+    assert_eq!(v["restarted"], serde_json::Value::Bool(false));
+    assert_eq!(v["regime"], "pure stick-slip");
+}
+
+fn map_args(more: &[&str]) -> Vec<String> {
+    with(
+        &with(&["map"], &FIG3B)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        more,
+    )
+}
+
+fn cmd_args(cmd: &str, more: &[&str]) -> Vec<String> {
+    with(
+        &with(&[cmd], &FIG3B)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        more,
+    )
+}
+
+#[test]
+fn map_text_summary_shows_the_iterate() {
+    let o = run(&map_args(&["--theta", "0.5"]));
+    assert_ok(&o);
+    let text = stdout(&o);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("theta_next"))
+        .expect("a theta_next line");
+    let value = num(line.split_whitespace().nth(1).expect("a value"));
+    assert!((value - 0.2037551562).abs() < 1e-9);
+}
+
+#[test]
+fn orbit_rows_are_the_kept_events_and_continue_each_other() {
+    let keep = 25;
+    let o = run(&cmd_args(
+        "orbit",
+        &["--theta0", "0.5", "--transient", "5", "--keep", "25"],
+    ));
+    assert_ok(&o);
+    let (header, rows) = parse_csv(&stdout(&o));
+    assert_eq!(header, SLIP_EVENT_COLUMNS);
+    assert_eq!(rows.len(), keep);
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h == name)
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    let (theta, next, restarted) = (col("theta"), col("theta_next"), col("restarted"));
+    for w in rows.windows(2) {
+        assert_eq!(w[0][restarted], "0");
+        // Bit for bit: the next cycle starts exactly where this one ended.
+        assert_eq!(num(&w[1][theta]), num(&w[0][next]));
+    }
+    // Onset times increase by the cycle's slip and stick durations.
+    let (t0, slip, stick) = (
+        col("onset_time"),
+        col("slip_duration"),
+        col("stick_duration"),
+    );
+    for w in rows.windows(2) {
+        let dt = num(&w[1][t0]) - num(&w[0][t0]);
+        let cycle = num(&w[0][slip]) + num(&w[0][stick]);
+        assert!((dt - cycle).abs() < 1e-9 * cycle, "{dt} vs {cycle}");
+    }
+    let err = stderr(&o);
+    assert!(err.contains("period:"), "{err}");
+    assert!(err.contains("lyapunov exponent:"), "{err}");
+}
+
+#[test]
+fn orbit_json_summary_reports_period_and_lyapunov() {
+    // θν = 1 at κ = 18.95: a stable fixed point (period 1, λ < 0).
+    let o = run(&cmd_args(
+        "orbit",
+        &[
+            "--theta0",
+            "0.5",
+            "--transient",
+            "100",
+            "--keep",
+            "20",
+            "--json",
+        ],
+    ));
+    assert_ok(&o);
+    let text = stdout(&o);
+    assert_eq!(
+        text.trim_end().lines().count(),
+        1,
+        "only the JSON summary: {text}"
+    );
+    let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    assert_eq!(v["period"], 1);
+    assert_eq!(v["keep"], 20);
+    assert!(v["lyapunov"].as_f64().expect("lyapunov") < 0.0);
+    assert!(v["lyapunov_stderr"].as_f64().is_some());
+
+    // θν = 1.25: the chaotic attractor of the benchmark (λ > 0).
+    let mut args = cmd_args("orbit", &["--transient", "100", "--keep", "300", "--json"]);
+    let i = args.iter().position(|a| a == "--theta-nu").expect("flag") + 1;
+    args[i] = "1.25".into();
+    let o = run(&args);
+    assert_ok(&o);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    assert_eq!(v["period"], "aperiodic");
+    let (l, e) = (
+        v["lyapunov"].as_f64().expect("lyapunov"),
+        v["lyapunov_stderr"].as_f64().expect("stderr"),
+    );
+    assert!(l - 3.0 * e > 0.0, "lyapunov {l} ± {e}");
+}
+
+#[test]
+fn trajectory_phases_follow_the_cycle_and_time_runs_forward() {
+    let events = 3;
+    let o = run(&cmd_args(
+        "trajectory",
+        &[
+            "--theta0",
+            "0.5",
+            "--events",
+            "3",
+            "--spacing",
+            "0.05",
+            "--out",
+            "-",
+        ],
+    ));
+    assert_ok(&o);
+    let (header, rows) = parse_csv(&stdout(&o));
+    assert_eq!(header, ["t", "x", "y", "u", "w", "phase"]);
+    // Starts at the onset θ0 = 0.5 on C, at rest relative to the surface.
+    assert_eq!(num(&rows[0][0]), 0.0);
+    assert!((num(&rows[0][1]) - 0.5f64.cos() / 18.95).abs() < 1e-15);
+    assert!((num(&rows[0][2]) - 0.5f64.sin()).abs() < 1e-15);
+    assert!((num(&rows[0][3]) - 1e-3 * 1f64.cos()).abs() < 1e-15);
+
+    // Collapse runs of one phase: each cycle is accel, decel, stick.
+    let mut runs: Vec<(&str, usize)> = Vec::new();
+    for r in &rows {
+        match runs.last_mut() {
+            Some((p, n)) if *p == r[5] => *n += 1,
+            _ => runs.push((&r[5], 1)),
+        }
+    }
+    let phases: Vec<&str> = runs.iter().map(|(p, _)| *p).collect();
+    assert_eq!(phases, ["accel", "decel", "stick"].repeat(events));
+    for (p, n) in &runs {
+        if *p == "stick" {
+            assert_eq!(*n, 2, "a stick phase is recorded by its two ends");
+        }
+    }
+    let t: Vec<f64> = rows.iter().map(|r| num(&r[0])).collect();
+    assert!(t.windows(2).all(|w| w[1] >= w[0]), "time goes backwards");
+    // During slips, samples are at most the spacing apart.
+    for (w, r) in t.windows(2).zip(rows.windows(2)) {
+        if r[0][5] != "stick" && r[1][5] != "stick" {
+            assert!(w[1] - w[0] <= 0.05 + 1e-12, "{} -> {}", w[0], w[1]);
+        }
+    }
+    assert!(stderr(&o).contains("3 cycle(s)"));
+}
+
+#[test]
+fn bifurcation_equals_two_continued_sweeps() {
+    let (from, to, columns, transient, keep) = (0.9, 1.3, 5, 20, 10);
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "0.9",
+        "--theta-nu-to",
+        "1.3",
+        "--columns",
+        "5",
+        "--transient",
+        "20",
+        "--keep",
+        "10",
+        "--out",
+        "-",
+    ]);
+    assert_ok(&o);
+    let (header, rows) = parse_csv(&stdout(&o));
+    assert_eq!(header, ["theta_nu", "theta"]);
+    assert_eq!(rows.len(), columns * keep);
+    let got: Vec<(f64, f64)> = rows.iter().map(|r| (num(&r[0]), num(&r[1]))).collect();
+
+    // The documented split: the first ⌈C/2⌉ columns, then the rest, each
+    // a continued sweep starting from its first θν.
+    let params = Params {
+        kappa: 18.95,
+        gamma: 6.5,
+        nu: 1e-3,
+        theta_nu: from,
+        omega: 50.0,
+    };
+    let settings = SolverSettings::default();
+    let grid = theta_nu_grid(from, to, columns);
+    let opts = SweepOptions { transient, keep };
+    let mut want = Vec::new();
+    for half in [&grid[..3], &grid[3..]] {
+        for col in sweep_columns(params, settings, half, &opts, None, &|| false, |_| {}) {
+            assert!(col.error.is_none());
+            want.extend(col.thetas.iter().map(|&th| (col.theta_nu, th)));
+        }
+    }
+    assert_eq!(got, want, "bit for bit");
+    let err = stderr(&o);
+    // No progress bar when stderr is not a terminal: just the summary.
+    assert!(!err.contains('\u{1b}') && !err.contains('\r'), "{err:?}");
+    assert_eq!(err.lines().count(), 2, "{err}");
+    assert!(
+        err.contains("iterates/s") && err.contains(" s on 2 threads"),
+        "{err}"
+    );
+}
+
+/// Exit code 2, one line on stderr naming `flag`, no panic.
+fn assert_bad_input(args: &[String], flag: &str) {
+    let o = run(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: stderr {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.contains(flag), "{args:?} should name {flag}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(o.stdout.is_empty(), "{args:?}: nothing on stdout");
+}
+
+/// Replaces the value of `flag` in `args`.
+fn set(mut args: Vec<String>, flag: &str, value: &str) -> Vec<String> {
+    let i = args
+        .iter()
+        .position(|a| a == flag)
+        .unwrap_or_else(|| panic!("no {flag}"));
+    args[i + 1] = value.to_string();
+    args
+}
+
+#[test]
+fn bad_input_names_the_flag_and_exits_with_2() {
+    let map = map_args(&["--theta", "0.5"]);
+    for (flag, values) in [
+        ("--kappa", &["NaN", "inf", "0", "-1"][..]),
+        ("--gamma", &["-0.5", "NaN"]),
+        ("--nu", &["0", "-1e-3", "inf"]),
+        ("--theta-nu", &["NaN", "-inf"]),
+        ("--theta", &["2.5", "NaN", "inf"]),
+    ] {
+        for v in values {
+            assert_bad_input(&set(map.clone(), flag, v), flag);
+        }
+    }
+    let extra = [
+        (&["--omega", "0"][..], "--omega"),
+        (&["--omega", "NaN"], "--omega"),
+        (&["--tol", "1e-15"], "--tol"),
+        (&["--tol", "0.1"], "--tol"),
+        (&["--tol", "NaN"], "--tol"),
+        (&["--method", "rk45x"], "--method"),
+        (&["--method", "rk4", "--step", "0"], "--step"),
+        (&["--method", "euler", "--step", "NaN"], "--step"),
+        (&["--method", "rk4", "--tol", "1e-8"], "--tol"),
+    ];
+    for (more, flag) in extra {
+        assert_bad_input(
+            &with(&map.iter().map(String::as_str).collect::<Vec<_>>(), more),
+            flag,
+        );
+    }
+
+    let orbit = cmd_args(
+        "orbit",
+        &["--theta0", "0.5", "--transient", "1", "--keep", "2"],
+    );
+    assert_bad_input(&set(orbit.clone(), "--theta0", "-2"), "--theta0");
+    assert_bad_input(&set(orbit.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(
+        &set(orbit.clone(), "--transient", "18446744073709551615"),
+        "--transient",
+    );
+    assert_bad_input(&set(orbit.clone(), "--kappa", "NaN"), "--kappa");
+    assert_bad_input(
+        &with(
+            &orbit.iter().map(String::as_str).collect::<Vec<_>>(),
+            &["--period-tol", "0"],
+        ),
+        "--period-tol",
+    );
+    assert_bad_input(
+        &with(
+            &orbit.iter().map(String::as_str).collect::<Vec<_>>(),
+            &["--json", "--out", "-"],
+        ),
+        "--out",
+    );
+
+    let traj = cmd_args("trajectory", &["--theta0", "0.5", "--events", "1"]);
+    assert_bad_input(&set(traj.clone(), "--events", "0"), "--events");
+    assert_bad_input(&set(traj.clone(), "--theta0", "3"), "--theta0");
+    for v in ["0", "-0.1", "NaN", "1e-9"] {
+        assert_bad_input(
+            &with(
+                &traj.iter().map(String::as_str).collect::<Vec<_>>(),
+                &["--spacing", v],
+            ),
+            "--spacing",
+        );
+    }
+
+    let bif: Vec<String> = [
+        "bifurcation",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "0",
+        "--theta-nu-to",
+        "1.5",
+        "--columns",
+        "2",
+        "--transient",
+        "1",
+        "--keep",
+        "1",
+    ]
+    .map(String::from)
+    .to_vec();
+    assert_bad_input(&set(bif.clone(), "--columns", "0"), "--columns");
+    assert_bad_input(&set(bif.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(&set(bif.clone(), "--columns", "1000000000000"), "--columns");
+    assert_bad_input(
+        &set(set(bif.clone(), "--columns", "1000"), "--keep", "1000000"),
+        "--keep",
+    );
+    assert_bad_input(
+        &set(bif.clone(), "--transient", "1000000000000000"),
+        "--transient",
+    );
+    assert_bad_input(
+        &set(bif.clone(), "--theta-nu-from", "NaN"),
+        "--theta-nu-from",
+    );
+    assert_bad_input(&set(bif.clone(), "--theta-nu-to", "inf"), "--theta-nu-to");
+    assert_bad_input(&set(bif.clone(), "--nu", "0"), "--nu");
+    assert_bad_input(&set(bif.clone(), "--gamma", "-1"), "--gamma");
+    assert_bad_input(&set(bif.clone(), "--kappa", "-inf"), "--kappa");
+}
+
+#[test]
+fn unwritable_output_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let missing = dir.path().join("no/such/folder/out.csv");
+    let missing = missing.to_str().expect("UTF-8 path");
+    // A run long enough that simulating first would be noticed.
+    let start = Instant::now();
+    assert_bad_input(
+        &[
+            "bifurcation",
+            "--kappa",
+            "18.95",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-3",
+            "--columns",
+            "100000",
+            "--transient",
+            "100000",
+            "--keep",
+            "10",
+            "--out",
+            missing,
+        ]
+        .map(String::from),
+        "--out",
+    );
+    assert!(start.elapsed() < Duration::from_secs(5));
+    let traj = cmd_args("trajectory", &["--events", "100000", "--out", missing]);
+    assert_bad_input(&traj, "--out");
+    let folder = dir.path().to_str().expect("UTF-8 path");
+    assert_bad_input(
+        &cmd_args("orbit", &["--keep", "1", "--out", folder]),
+        "--out",
+    );
+}
+
+#[test]
+fn existing_output_is_kept_unless_forced() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("orbit.csv");
+    std::fs::write(&path, "keep me\n").expect("write");
+    let p = path.to_str().expect("UTF-8 path");
+    let args = cmd_args("orbit", &["--transient", "2", "--keep", "3", "--out", p]);
+    assert_bad_input(&args, "--out");
+    assert!(stderr(&run(&args)).contains("--force"));
+    assert_eq!(std::fs::read_to_string(&path).expect("read"), "keep me\n");
+
+    let forced = with(
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+        &["--force"],
+    );
+    let o = run(&forced);
+    assert_ok(&o);
+    assert!(o.stdout.is_empty(), "the CSV went to the file");
+    let (header, rows) = parse_csv(&std::fs::read_to_string(&path).expect("read"));
+    assert_eq!(header, SLIP_EVENT_COLUMNS);
+    assert_eq!(rows.len(), 3);
+    // No temporary files left beside it.
+    assert_eq!(std::fs::read_dir(dir.path()).expect("list").count(), 1);
+
+    // A new file is written without --force.
+    let fresh = dir.path().join("path.csv");
+    let o = run(&cmd_args(
+        "trajectory",
+        &["--out", fresh.to_str().expect("UTF-8 path")],
+    ));
+    assert_ok(&o);
+    assert!(Path::new(&fresh).exists());
+}
+
+#[test]
+fn dash_writes_to_stdout() {
+    for cmd in ["orbit", "trajectory"] {
+        let o = run(&cmd_args(cmd, &["--out", "-"]));
+        assert_ok(&o);
+        assert!(stdout(&o).lines().count() > 2, "{cmd}");
+        assert!(!Path::new("-").exists(), "no file called '-'");
+    }
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "3",
+        "--gamma",
+        "0.5",
+        "--nu",
+        "1e-3",
+        "--columns",
+        "2",
+        "--transient",
+        "1",
+        "--keep",
+        "2",
+        "--out",
+        "-",
+    ]);
+    assert_ok(&o);
+    assert_eq!(stdout(&o).lines().count(), 1 + 2 * 2);
+}
+
+#[test]
+fn negative_angles_parse_and_follow_the_reflection_symmetry() {
+    // y → −y maps (θ, θν) to (−θ, −θν): f(−θ; −θν) = −f(θ; θν), written
+    // with a leading minus and an exponent, as a user may type them.
+    let args = set(
+        map_args(&["--theta", "-5e-1", "--json"]),
+        "--theta-nu",
+        "-1e0",
+    );
+    let o = run(&args);
+    assert_ok(&o);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    let theta_next = v["theta_next"].as_f64().expect("theta_next");
+    assert!((theta_next + 0.2037551562).abs() < 1e-9, "{theta_next}");
+}
+
+#[test]
+fn bifurcation_reports_failed_columns_and_goes_on() {
+    // Euler with h = 0.5 cannot resolve the stop at θν = π/2 (the core
+    // reports "step too large" rather than a wrong value); the other
+    // columns still run.
+    let (columns, keep) = (3, 2);
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--method",
+        "euler",
+        "--step",
+        "0.5",
+        "--columns",
+        "3",
+        "--transient",
+        "2",
+        "--keep",
+        "2",
+    ]);
+    assert_ok(&o);
+    let err = stderr(&o);
+    let warnings: Vec<&str> = err.lines().filter(|l| l.starts_with("warning:")).collect();
+    assert!(!warnings.is_empty(), "{err}");
+    assert!(!err.contains("panicked"));
+    let (_, rows) = parse_csv(&stdout(&o));
+    let mut per_column = std::collections::BTreeMap::new();
+    for r in &rows {
+        *per_column.entry(r[0].clone()).or_insert(0) += 1;
+    }
+    let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, columns);
+    let short: Vec<f64> = grid
+        .iter()
+        .copied()
+        .filter(|tn| per_column.get(&tn.to_string()).copied().unwrap_or(0) < keep)
+        .collect();
+    // One warning per short column, naming its θν and the reason.
+    assert_eq!(warnings.len(), short.len(), "{err}");
+    for tn in short {
+        let w = warnings
+            .iter()
+            .find(|w| w.contains(&format!("theta-nu = {tn} ")))
+            .unwrap_or_else(|| panic!("no warning for theta-nu = {tn}: {err}"));
+        assert!(w.contains("too large"), "{w}");
+    }
+}
+
+#[test]
+fn orbit_json_with_a_file_splits_data_and_summary() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("events.csv");
+    let o = run(&cmd_args(
+        "orbit",
+        &[
+            "--transient",
+            "3",
+            "--keep",
+            "4",
+            "--json",
+            "--no-lyapunov",
+            "--out",
+            path.to_str().expect("UTF-8 path"),
+        ],
+    ));
+    assert_ok(&o);
+    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("valid JSON");
+    assert_eq!(v["keep"], 4);
+    assert!(v["lyapunov"].is_null());
+    let (_, rows) = parse_csv(&std::fs::read_to_string(&path).expect("read"));
+    assert_eq!(rows.len(), 4);
+    // The summary's last onset continues the orbit: it is the last row's θ'
+    // (to an ulp: serde_json's default float parser is not exact).
+    let theta_last = v["theta_last"].as_f64().expect("theta_last");
+    assert!((theta_last - num(&rows[3][12])).abs() <= 4.0 * f64::EPSILON);
+    assert!(stderr(&o).is_empty(), "{}", stderr(&o));
+}
