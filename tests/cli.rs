@@ -581,7 +581,7 @@ fn negative_angles_parse_and_follow_the_reflection_symmetry() {
 
 #[test]
 fn bifurcation_reports_failed_columns_and_goes_on() {
-    // Euler with h = 0.5 cannot resolve the stop at θν = π/2 (the core
+    // Euler with h = 0.2 cannot resolve the stop at θν = π/2 (the core
     // reports "step too large" rather than a wrong value); the other
     // columns still run.
     let (columns, keep) = (3, 2);
@@ -596,7 +596,7 @@ fn bifurcation_reports_failed_columns_and_goes_on() {
         "--method",
         "euler",
         "--step",
-        "0.5",
+        "0.2",
         "--columns",
         "3",
         "--transient",

@@ -49,6 +49,40 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
     }
 }
 
+/// A fixed point θ* = f(θ*) found by the secant method on
+/// g(θ) = wrap(f(θ) − θ) from θ0, to |g| ≤ `tol` in at most 60 steps; with
+/// its multiplier f'(θ*). Iterating the map converges far too slowly where
+/// f'(θ*) = 1 − O(ν) (pure creep), which is why this exists.
+pub fn fixed_point(sim: &Simulator, theta0: f64, tol: f64) -> Result<Option<(f64, f64)>, SimError> {
+    let g = |th: f64| -> Result<f64, SimError> { Ok(wrap_angle(sim.map(th)? - th)) };
+    let p = sim.params();
+    let mut a = theta0;
+    let mut ga = g(a)?;
+    // A second point a small step away, on the side the map points to.
+    let mut b = theta0 + ga.signum() * 1e-3_f64.min(ga.abs().max(1e-7));
+    if !is_on_exit_arc(p.kappa, p.theta_nu, b) {
+        b = theta0 - (b - theta0);
+    }
+    let mut gb = g(b)?;
+    for _ in 0..60 {
+        if gb.abs() <= tol {
+            let (d, _) = map_derivative(sim, b, b + gb)?;
+            return Ok(Some((b, d)));
+        }
+        if gb == ga {
+            return Ok(None);
+        }
+        let c = b - gb * (b - a) / (gb - ga);
+        if !c.is_finite() || !is_on_exit_arc(p.kappa, p.theta_nu, c) {
+            return Ok(None);
+        }
+        (a, ga) = (b, gb);
+        b = c;
+        gb = g(b)?;
+    }
+    Ok(None)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

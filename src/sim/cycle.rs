@@ -251,6 +251,17 @@ impl Simulator {
         let max_t = self.settings.max_slip_time;
         let v = field.v;
         let mut solver = Solver::new(self.settings, self.weights, 0.05 * self.h_max);
+        // A fixed step takes exactly the step asked for (the adaptive methods
+        // are capped at h_max). Beyond h_max = 1/√max(κ, 1), a sixth of the
+        // fastest oscillation, a step can hide two sign changes of dv_r/dt:
+        // the events cannot be resolved, and saying so beats a wrong number.
+        if !adaptive && self.settings.step > self.h_max {
+            return Err(self.too_large(
+                theta,
+                "slip oscillation (a step longer than 1/sqrt(max(kappa, 1)))",
+            ));
+        }
+        let h_cap = if adaptive { self.h_max } else { f64::INFINITY };
 
         // Acceleration phase: until dv_r/dt crosses zero from above. At the
         // onset it is exactly zero, so the test arms only once it has been
@@ -272,7 +283,7 @@ impl Simulator {
                 });
             }
             let (tn, yn, kn) = solver
-                .step(&mut acc, t, &y, &k, self.h_max.min(max_t - t))
+                .step(&mut acc, t, &y, &k, h_cap.min(max_t - t))
                 .map_err(|e| self.integrate_err(theta, e))?;
             let gn = speed_growth(&yn, &kn);
             if armed && !adaptive && y[2] * yn[2] + y[3] * yn[3] < 0.0 {
@@ -345,7 +356,7 @@ impl Simulator {
                 f64::INFINITY
             };
             let (tn, yn, kn) = solver
-                .step(&mut dec, t, &y, &k, cap.min(self.h_max).min(max_t - t))
+                .step(&mut dec, t, &y, &k, cap.min(h_cap).min(max_t - t))
                 .map_err(|e| self.integrate_err(theta, e))?;
             let turn = y[2] * yn[2] + y[3] * yn[3];
             if turn <= 0.0 || !(yn[2] * yn[2] + yn[3] * yn[3] > 0.0) {

@@ -10,7 +10,7 @@ mod sweep;
 mod trajectory;
 mod trig;
 
-pub use analysis::{PERIOD_MAX, detect_period, map_derivative};
+pub use analysis::{DERIVATIVE_STEP, PERIOD_MAX, detect_period, fixed_point, map_derivative};
 pub use cycle::{Simulator, SlipEvent, default_settings};
 pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
