@@ -1,1 +1,78 @@
-fn main() {}
+//! Map iterates per second on the two chaotic attractors of the issue
+//! (γ = 6.5, κ = 18.95, ν = 1e-3, θν = 1.25 and γ = 6.5, κ = 50, ν = 1e-4,
+//! θν = 1.4), for DP5(4) and DOP853 at several tolerances.
+//!
+//! Criterion reports the median time per iterate; before timing, each
+//! setting's map error (max and median |θ' − θ'_ref| over 200 attractor
+//! points, θ'_ref from DOP853 at 1e-14) and RHS evaluations per iterate
+//! (machine-independent) are printed, so speed and accuracy are read off
+//! the same run.  Run: `cargo bench --bench map_iterate`.
+
+#![allow(clippy::unwrap_used)]
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use oneblock::sim::OrbitOptions;
+use oneblock::{Method, Params, Simulator, SolverSettings};
+
+const ATTRACTORS: [(&str, f64, f64, f64); 2] = [("fig3b_chaos", 18.95, 1e-3, 1.25), ("fig3a_intermittent", 50.0, 1e-4, 1.4)];
+
+const SETTINGS: [(Method, f64); 7] = [
+    (Method::Dp54, 1e-8),
+    (Method::Dp54, 1e-10),
+    (Method::Dop853, 1e-8),
+    (Method::Dop853, 1e-9),
+    (Method::Dop853, 1e-10),
+    (Method::Dop853, 1e-12),
+    (Method::Dp54, 1e-9),
+];
+
+fn params(kappa: f64, nu: f64, theta_nu: f64) -> Params {
+    Params { kappa, gamma: 6.5, nu, theta_nu, omega: 50.0 }
+}
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("map_iterate");
+    group.throughput(Throughput::Elements(1));
+    group.measurement_time(Duration::from_secs(3)).sample_size(30).warm_up_time(Duration::from_millis(500));
+    for (name, kappa, nu, theta_nu) in ATTRACTORS {
+        let p = params(kappa, nu, theta_nu);
+        let reference = Simulator::new(p, SolverSettings::adaptive(Method::Dop853, 1e-14)).unwrap();
+        let orbit = reference
+            .orbit(theta_nu, &OrbitOptions { transient: 300, keep: 200, lyapunov: false, period_tol: 1e-9 }, &|| false)
+            .unwrap();
+        let thetas = orbit.thetas();
+        let refs: Vec<f64> = thetas.iter().map(|&t| reference.map(t).unwrap()).collect();
+        for (method, tol) in SETTINGS {
+            let sim = Simulator::new(p, SolverSettings::adaptive(method, tol)).unwrap();
+            let mut errs = vec![];
+            let mut evals = 0;
+            for (&t, &r) in thetas.iter().zip(&refs) {
+                let e = sim.cycle(t, 0.0, None).unwrap();
+                evals += e.rhs_evals;
+                errs.push((e.theta_next - r).abs());
+            }
+            errs.sort_by(f64::total_cmp);
+            eprintln!(
+                "{name} {method} tol {tol:e}: map error max {:.1e} median {:.1e}, {:.0} rhs evaluations per iterate",
+                errs[errs.len() - 1],
+                errs[errs.len() / 2],
+                evals as f64 / thetas.len() as f64
+            );
+            // Time the map along the attractor's own points, cycling through them.
+            let mut i = 0;
+            group.bench_function(format!("{name}/{method}/{tol:e}"), |b| {
+                b.iter(|| {
+                    i = (i + 1) % thetas.len();
+                    black_box(sim.map(black_box(thetas[i])).unwrap())
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
