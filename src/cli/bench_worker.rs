@@ -13,7 +13,8 @@ use clap::Args;
 use super::CliError;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
-use crate::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig};
+use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
+use crate::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan};
 
 #[derive(Debug, Clone, Args)]
 pub struct BenchWorkerArgs {
@@ -75,6 +76,8 @@ const HANG: Duration = Duration::from_secs(600);
 struct SweepTiming {
     coarse: f64,
     full: f64,
+    /// CPU seconds the whole process used meanwhile (all threads).
+    cpu: Option<f64>,
     iterates_per_second: f64,
     column_errors: usize,
 }
@@ -111,8 +114,12 @@ fn recv(w: &Worker) -> Result<Update, CliError> {
 /// One sweep from command to `Finished`, draining as the GUI would.
 fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepTiming, CliError> {
     let w = worker(args);
-    let n_coarse = args.coarse.clamp(1, args.columns);
+    let n_coarse = sweep_plan(args.columns, args.coarse, args.threads)
+        .iter()
+        .filter(|p| p.coarse)
+        .count();
     let t0 = Instant::now();
+    let cpu0 = cpu_seconds();
     if !w.send(sweep_command(args, settings, 1)) {
         return Err(CliError::Failed("the worker refused the sweep".into()));
     }
@@ -142,10 +149,12 @@ fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepT
             _ => {}
         }
     };
+    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
     w.shutdown();
     Ok(SweepTiming {
         coarse: coarse.unwrap_or(full),
         full,
+        cpu,
         iterates_per_second: ips,
         column_errors: errors,
     })
@@ -211,6 +220,54 @@ fn trajectory_latencies(
     Ok(out)
 }
 
+/// CPU time (user + system) of this process so far, from /proc (Linux).
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name, which is in parentheses.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = f.get(11)?.parse().ok()?;
+    let stime: f64 = f.get(12)?.parse().ok()?;
+    // USER_HZ is 100 on every Linux configuration that matters here.
+    Some((utime + stime) / 100.0)
+}
+
+/// The 1-minute load average (Linux), to tell a busy machine from a slow program.
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// The core alone on this thread, without the worker: the coarse pass's
+/// columns as one continued chain (`sweep_columns`). Returns iterates per
+/// wall-clock second and per CPU second (the latter is what an idle core
+/// would give; the machine may be shared).
+fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option<f64>) {
+    let opts = SweepOptions {
+        transient: args.transient,
+        keep: args.keep,
+    };
+    let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, args.columns);
+    let coarse: Vec<f64> = sweep_plan(args.columns, args.coarse, 1)
+        .iter()
+        .filter(|p| p.coarse)
+        .map(|p| grid[p.index])
+        .collect();
+    let mut sorted = coarse;
+    sorted.sort_by(f64::total_cmp);
+    let t0 = Instant::now();
+    let cpu0 = cpu_seconds();
+    let cols = sweep_columns(fig3b(), settings, &sorted, &opts, None, &|| false, |_| {});
+    let n: usize = cols.iter().map(|c| args.transient + c.thetas.len()).sum();
+    let wall = t0.elapsed().as_secs_f64();
+    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    (n as f64 / wall, cpu.map(|c| n as f64 / c))
+}
+
 fn median(xs: &[f64]) -> f64 {
     let mut v = xs.to_vec();
     v.sort_by(f64::total_cmp);
@@ -244,15 +301,36 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
         args.threads,
         std::thread::available_parallelism().map_or(0, |n| n.get()),
     );
+    if let Some(l) = load_average() {
+        println!("load average before the run: {l:.2}");
+    }
+    let (serial_wall, serial_cpu) = serial_rate(&args, settings);
+    let total = (args.columns * (args.transient + args.keep)) as f64;
+    let per_cpu = serial_cpu.unwrap_or(serial_wall);
+    println!(
+        "core alone (coarse columns, one thread): {serial_wall:.0} iterates per second, {} per CPU second",
+        serial_cpu.map_or("?".into(), |r| format!("{r:.0}"))
+    );
+    println!(
+        "  => CPU work: {:.2} s per full diagram, {:.2} s per coarse pass; ideal on {} idle cores: {:.2} s and {:.2} s",
+        total / per_cpu,
+        total / per_cpu * args.coarse.min(args.columns) as f64 / args.columns as f64,
+        args.threads,
+        total / per_cpu / args.threads as f64,
+        total / per_cpu * args.coarse.min(args.columns) as f64
+            / args.columns as f64
+            / args.threads as f64,
+    );
     let mut timings = Vec::new();
     for r in 0..args.repeats {
         let t = time_sweep(&args, settings)?;
         println!(
-            "  sweep {}: coarse {:.3} s, full {:.3} s, {:.0} iterates/s{}",
+            "  sweep {}: coarse {:.3} s, full {:.3} s, {:.0} iterates/s, CPU {}{}",
             r + 1,
             t.coarse,
             t.full,
             t.iterates_per_second,
+            t.cpu.map_or("?".into(), |c| format!("{c:.2} s")),
             if t.column_errors > 0 {
                 format!(", {} column errors", t.column_errors)
             } else {

@@ -89,10 +89,12 @@ impl Gate {
 
     /// Makes `generation` the lane's current job, cancelling the running one
     /// (which gets its `Finished{Cancelled}` here, in order). Returns false,
-    /// and starts nothing, when `generation` is older than the current one.
+    /// and starts nothing, when `generation` is older than the current one,
+    /// or is the current one and its job is still running (a repeat).
     pub fn start(&self, generation: Generation) -> bool {
         let mut st = self.lock();
-        if generation < self.current() {
+        let current = self.current();
+        if generation < current || (generation == current && st.running.is_some()) {
             return false;
         }
         self.cancel_locked(&mut st, generation);

@@ -42,8 +42,8 @@ pub struct PlannedColumn {
 }
 
 /// The order and the starting neighbours of a progressive sweep of
-/// `columns` columns with a coarse pass of `coarse` columns (at most
-/// `columns`) in `chains` chains. The coarse columns come first (chain
+/// `columns` columns with a coarse pass of `coarse` columns (at least the
+/// two ends, at most `columns`) in `chains` chains. The coarse columns come first (chain
 /// heads, then each chain's second column, …), then the fill-in by level
 /// and position. Every index appears exactly once, and every parent comes
 /// before its child.
@@ -51,7 +51,8 @@ pub fn sweep_plan(columns: usize, coarse: usize, chains: usize) -> Vec<PlannedCo
     if columns == 0 {
         return vec![];
     }
-    let m = coarse.clamp(1, columns);
+    // At least both ends (a single column when that is all there is).
+    let m = coarse.clamp(2, columns.max(2)).min(columns);
     // Spread with both ends included; a step of (n−1)/(m−1) ≥ 1 keeps the
     // rounded indices distinct.
     let idx: Vec<usize> = if m == 1 {
@@ -275,6 +276,10 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
             let start = column_start(s.params.kappa, tn, neighbour);
             let cancel = || shared.stats.poll(gate, generation);
             let col = catch_unwind(AssertUnwindSafe(|| {
+                #[cfg(test)]
+                if p.index == tests::PANIC_AT_COLUMN.load(Ordering::SeqCst) {
+                    panic!("injected panic in column {}", p.index);
+                }
                 Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
             }));
             let col = match col {
@@ -385,5 +390,130 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
         // The panic was reported with its column; the sweep went on.
         Some(msg) => Err(JobError::Failed(msg)),
         None => Ok(()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::default_settings;
+    use crate::worker::{Outcome, Worker, WorkerConfig};
+    use std::collections::HashSet;
+    use std::sync::Arc;
+    use std::sync::atomic::AtomicUsize;
+
+    /// Fault injection for the sweep threads: the column with this index
+    /// panics (usize::MAX: none). Only this module's tests set it.
+    pub(super) static PANIC_AT_COLUMN: AtomicUsize = AtomicUsize::new(usize::MAX);
+
+    fn check_plan(columns: usize, coarse: usize, chains: usize) {
+        let plan = sweep_plan(columns, coarse, chains);
+        assert_eq!(plan.len(), columns, "{columns} {coarse} {chains}");
+        let idx: HashSet<usize> = plan.iter().map(|p| p.index).collect();
+        assert_eq!(idx.len(), columns, "each column once");
+        assert!(idx.iter().all(|&i| i < columns));
+        let m = coarse.clamp(2, columns.max(2)).min(columns);
+        assert!(plan[..m].iter().all(|p| p.coarse && p.level == 0));
+        assert!(plan[m..].iter().all(|p| !p.coarse && p.level > 0));
+        // The coarse pass spans the range: both ends, even gaps.
+        let mut c: Vec<usize> = plan[..m].iter().map(|p| p.index).collect();
+        c.sort();
+        assert_eq!(c[0], 0);
+        if m > 1 {
+            assert_eq!(c[m - 1], columns - 1);
+            let gaps: Vec<usize> = c.windows(2).map(|w| w[1] - w[0]).collect();
+            let (lo, hi) = (gaps.iter().min().unwrap(), gaps.iter().max().unwrap());
+            assert!(hi - lo <= 1, "even coarse gaps {gaps:?}");
+        }
+        // Parents come earlier, and are the nearest earlier column.
+        let pos: Vec<usize> = {
+            let mut v = vec![0; columns];
+            for (k, p) in plan.iter().enumerate() {
+                v[p.index] = k;
+            }
+            v
+        };
+        let heads = plan.iter().filter(|p| p.parent.is_none()).count();
+        assert_eq!(heads, chains.clamp(1, m));
+        for (k, p) in plan.iter().enumerate() {
+            if let Some(q) = p.parent {
+                assert!(pos[q] < k);
+                let d = q.abs_diff(p.index);
+                let nearer = plan[..k]
+                    .iter()
+                    .filter(|e| e.coarse || !p.coarse)
+                    .map(|e| e.index.abs_diff(p.index))
+                    .min()
+                    .unwrap();
+                if !p.coarse {
+                    assert_eq!(d, nearer, "column {} continues from the nearest", p.index);
+                }
+            }
+        }
+        // Levels do not decrease.
+        assert!(plan.windows(2).all(|w| w[0].level <= w[1].level));
+    }
+
+    #[test]
+    fn plans_cover_every_column_once_coarse_first() {
+        for columns in [1, 2, 3, 7, 10, 64, 65, 100, 400] {
+            for coarse in [1, 2, 5, 8, 64, 1000] {
+                for chains in [1, 2, 3] {
+                    check_plan(columns, coarse, chains);
+                }
+            }
+        }
+        assert!(sweep_plan(0, 8, 2).is_empty());
+    }
+
+    #[test]
+    fn a_panicking_column_is_reported_and_the_sweep_goes_on() {
+        let w = Worker::spawn(
+            WorkerConfig {
+                coarse_columns: 4,
+                ..WorkerConfig::default()
+            },
+            Arc::new(|| {}),
+        );
+        let sweep = |generation| Command::Sweep {
+            generation,
+            params: Params::default(),
+            settings: default_settings(1e-8),
+            theta_nu_from: 0.2,
+            theta_nu_to: 1.4,
+            columns: 10,
+            transient: 3,
+            keep: 3,
+        };
+        PANIC_AT_COLUMN.store(5, Ordering::SeqCst);
+        assert!(w.send(sweep(1)));
+        let mut columns = HashSet::new();
+        let mut errors = vec![];
+        let outcome = loop {
+            match w.recv_timeout(Duration::from_secs(60)).expect("silent") {
+                Update::Column { index, thetas, .. } => {
+                    assert!(columns.insert(index));
+                    assert_eq!(thetas.is_empty(), index == 5);
+                }
+                Update::Error { message, .. } => errors.push(message),
+                Update::Finished { outcome, .. } => break outcome,
+                _ => {}
+            }
+        };
+        PANIC_AT_COLUMN.store(usize::MAX, Ordering::SeqCst);
+        assert_eq!(columns.len(), 10);
+        assert_eq!(errors.len(), 1);
+        assert!(errors[0].contains("column 5") && errors[0].contains("injected panic"));
+        assert!(matches!(outcome, Outcome::Failed(_)));
+        assert!(w.send(sweep(2)));
+        let outcome = loop {
+            if let Update::Finished { outcome, .. } =
+                w.recv_timeout(Duration::from_secs(60)).expect("silent")
+            {
+                break outcome;
+            }
+        };
+        assert_eq!(outcome, Outcome::Completed);
+        w.shutdown();
     }
 }
