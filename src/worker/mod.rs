@@ -22,8 +22,8 @@ mod orbit;
 mod protocol;
 mod sweep;
 
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
@@ -35,7 +35,7 @@ pub use sweep::{PlannedColumn, sweep_plan};
 use gate::Gate;
 
 /// How the worker is set up.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorkerConfig {
     /// Capacity of the update channel: a consumer that falls this far behind
     /// blocks the producers (default 256).
@@ -66,8 +66,8 @@ const COMMAND_CAPACITY: usize = 64;
 #[derive(Debug, Default)]
 pub struct WorkerStats {
     cycles: AtomicU64,
-    stopped: AtomicBool,
-    cycles_at_stop: AtomicU64,
+    /// The cycle count when the worker was first told to stop.
+    cycles_at_stop: Mutex<Option<u64>>,
 }
 
 impl WorkerStats {
@@ -82,9 +82,11 @@ impl WorkerStats {
     /// `None` while it runs. At most one per job thread, as each job checks
     /// the stop before every cycle.
     pub fn cycles_after_stop(&self) -> Option<u64> {
-        self.stopped
-            .load(Ordering::SeqCst)
-            .then(|| self.cycles() - self.cycles_at_stop.load(Ordering::SeqCst))
+        let at_stop = *self
+            .cycles_at_stop
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        at_stop.map(|c| self.cycles().saturating_sub(c))
     }
 
     /// Records that a cycle may start for a job of generation `generation`
@@ -97,9 +99,14 @@ impl WorkerStats {
         false
     }
 
+    /// Records the count at the first stop (a `Shutdown` and then the drop
+    /// both stop the worker; the first one counts).
     fn mark_stopped(&self) {
-        self.cycles_at_stop.store(self.cycles(), Ordering::SeqCst);
-        self.stopped.store(true, Ordering::SeqCst);
+        let mut at_stop = self
+            .cycles_at_stop
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        at_stop.get_or_insert(self.cycles());
     }
 }
 

@@ -282,8 +282,18 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                 }
                 Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
             }));
-            let col = match col {
-                Ok(c) => c,
+            // A failed column is still delivered (with what it kept) after
+            // an Error naming it; its neighbours then start afresh from θν.
+            let (col, problem) = match col {
+                Ok(c) => match &c.error {
+                    None => (c, None),
+                    Some(SimError::Cancelled) => return Err(JobError::Stop),
+                    Some(e) => {
+                        let msg = format!("column {} (theta-nu = {tn}): {e}", p.index);
+                        let parameter = e.parameter();
+                        (c, Some((msg, parameter)))
+                    }
+                },
                 Err(payload) => {
                     let msg = format!(
                         "column {} (theta-nu = {tn}) panicked: {}",
@@ -291,45 +301,29 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                         panic_message(&*payload)
                     );
                     *lock(&failure) = Some(msg.clone());
-                    gate.send(
-                        generation,
-                        Update::Error {
-                            generation,
-                            lane: Lane::Sweep,
-                            message: msg,
-                            parameter: None,
-                        },
-                    )?;
-                    Column {
+                    let empty = Column {
                         theta_nu: tn,
                         thetas: vec![],
                         theta_last: start,
-                        error: Some(SimError::Cancelled),
+                        error: None,
                         rhs_evals: 0,
-                    }
+                    };
+                    (empty, Some((msg, None)))
                 }
             };
-            match &col.error {
-                Some(SimError::Cancelled) if gate.is_stale(generation) => {
-                    return Err(JobError::Stop);
-                }
-                Some(e) if !matches!(e, SimError::Cancelled) => {
-                    gate.send(
-                        generation,
-                        Update::Error {
-                            generation,
-                            lane: Lane::Sweep,
-                            message: format!("column {} (theta-nu = {tn}): {e}", p.index),
-                            parameter: e.parameter(),
-                        },
-                    )?;
-                }
-                _ => {}
+            let theta_last = problem.is_none().then_some(col.theta_last);
+            if let Some((message, parameter)) = problem {
+                let e = Update::Error {
+                    generation,
+                    lane: Lane::Sweep,
+                    message,
+                    parameter,
+                };
+                gate.send(generation, e)?;
             }
             // Iterates this column ran (a failed one counts what it kept).
             let k = (s.opts.transient + col.thetas.len()) as u64;
             let n = iterates.fetch_add(k, Ordering::Relaxed) + k;
-            let theta_last = col.error.is_none().then_some(col.theta_last);
             gate.send(
                 generation,
                 Update::Column {
@@ -422,7 +416,10 @@ mod tests {
         if m > 1 {
             assert_eq!(c[m - 1], columns - 1);
             let gaps: Vec<usize> = c.windows(2).map(|w| w[1] - w[0]).collect();
-            let (lo, hi) = (gaps.iter().min().unwrap(), gaps.iter().max().unwrap());
+            let (lo, hi) = (
+                gaps.iter().min().expect("gaps"),
+                gaps.iter().max().expect("gaps"),
+            );
             assert!(hi - lo <= 1, "even coarse gaps {gaps:?}");
         }
         // Parents come earlier, and are the nearest earlier column.
@@ -444,7 +441,7 @@ mod tests {
                     .filter(|e| e.coarse || !p.coarse)
                     .map(|e| e.index.abs_diff(p.index))
                     .min()
-                    .unwrap();
+                    .expect("a parent exists, so an earlier column does");
                 if !p.coarse {
                     assert_eq!(d, nearer, "column {} continues from the nearest", p.index);
                 }
