@@ -76,7 +76,9 @@ const HANG: Duration = Duration::from_secs(600);
 struct SweepTiming {
     coarse: f64,
     full: f64,
-    /// CPU seconds the whole process used meanwhile (all threads).
+    /// CPU seconds the whole process used meanwhile (all threads), up to
+    /// the coarse diagram and up to the full one.
+    cpu_coarse: Option<f64>,
     cpu: Option<f64>,
     iterates_per_second: f64,
     column_errors: usize,
@@ -124,12 +126,14 @@ fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepT
         return Err(CliError::Failed("the worker refused the sweep".into()));
     }
     let (mut coarse_seen, mut coarse, mut ips, mut errors) = (0, None, 0.0, 0);
+    let mut cpu_coarse = None;
     let full = loop {
         match recv(&w)? {
             Update::Column { coarse: true, .. } => {
                 coarse_seen += 1;
                 if coarse_seen == n_coarse {
                     coarse = Some(t0.elapsed().as_secs_f64());
+                    cpu_coarse = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
                 }
             }
             Update::Progress {
@@ -154,6 +158,7 @@ fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepT
     Ok(SweepTiming {
         coarse: coarse.unwrap_or(full),
         full,
+        cpu_coarse,
         cpu,
         iterates_per_second: ips,
         column_errors: errors,
@@ -325,12 +330,13 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     for r in 0..args.repeats {
         let t = time_sweep(&args, settings)?;
         println!(
-            "  sweep {}: coarse {:.3} s, full {:.3} s, {:.0} iterates/s, CPU {}{}",
+            "  sweep {}: coarse {:.3} s (CPU {}), full {:.3} s (CPU {}), {:.0} iterates/s{}",
             r + 1,
             t.coarse,
+            t.cpu_coarse.map_or("?".into(), |c| format!("{c:.2} s")),
             t.full,
-            t.iterates_per_second,
             t.cpu.map_or("?".into(), |c| format!("{c:.2} s")),
+            t.iterates_per_second,
             if t.column_errors > 0 {
                 format!(", {} column errors", t.column_errors)
             } else {
