@@ -15,7 +15,6 @@ pub trait Backend {
     fn try_recv(&mut self) -> Option<Update>;
 }
 
-#[cfg(any())]
 impl Backend for crate::worker::Worker {
     fn send(&mut self, cmd: Command) -> bool {
         crate::worker::Worker::send(self, cmd)

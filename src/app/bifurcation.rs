@@ -6,9 +6,9 @@
 //! zoom stack; a click sets θν.
 
 use eframe::egui;
-use egui::{Color32, ColorImage, TextureHandle, TextureOptions, Ui};
+use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{
-    HLine, Line, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, Polygon, VLine,
+    HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, Polygon, VLine,
 };
 
 use super::data::{JobState, SweepData};
@@ -142,7 +142,7 @@ impl BifurcationView {
     pub fn ui(&mut self, ui: &mut Ui, s: &Settings, sweep: &SweepData) -> Option<BifAction> {
         let mut action = None;
         self.rebuild(ui, sweep, s.dark);
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
                 .on_hover_text("Previous zoom level (Backspace)")
@@ -169,16 +169,16 @@ impl BifurcationView {
                 JobState::Idle => "idle",
             };
             ui.label(format!(
-                "{}/{} columns, {} points, {state}",
+                "{}/{} columns · {} points · {state}",
                 sweep.filled,
                 sweep.columns.len(),
                 sweep.points()
-            ));
-            ui.label("· drag a box to zoom, click to set θν")
-                .on_hover_text(
-                    "A zoom recomputes that θν range with all its columns, \
-                     not just a magnified picture.",
-                );
+            ))
+            .on_hover_text(
+                "Drag a box to zoom: that θν range is recomputed with all its columns, \
+                 not just magnified. A click sets θν. Backspace: back.",
+            );
+            ui.label(RichText::new("drag: zoom · click: set θν").weak());
         });
 
         let (from, to) = (sweep.from, sweep.to);
@@ -214,7 +214,7 @@ impl BifurcationView {
                     ));
                 }
                 p.line(
-                    Line::new("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
+                    style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
                         .color(style::CRITICAL.gamma_multiply(0.6))
                         .style(LineStyle::Dotted { spacing: 6.0 }),
                 );

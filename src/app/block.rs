@@ -130,7 +130,7 @@ impl BlockView {
             self.clock = 0.0;
         }
         self.trajectory_revision_seen = data.trajectory_revision;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             let label = if self.playing { "Pause" } else { "Play" };
             if ui.button(label).on_hover_text("Space").clicked() {
                 self.playing = !self.playing;
@@ -337,7 +337,7 @@ impl BlockView {
                 "blue arrow: elastic force (springs)".to_string(),
                 style::STICK,
             ),
-            ("red arrow: friction force".to_string(), style::ACCEL),
+            ("orange arrow: friction force".to_string(), style::ACCEL),
             (format!("t = {:.1}", st.t), ink),
         ] {
             painter.text(pos2(x, y), Align2::RIGHT_TOP, text, font.clone(), color);

@@ -3,7 +3,7 @@
 
 use eframe::egui;
 use egui::Ui;
-use egui_plot::{Bar, BarChart, Line, Plot, PlotPoints, Points};
+use egui_plot::{Bar, BarChart, Plot, PlotPoints, Points};
 
 use super::data::Data;
 use super::settings::{Settings, SlipMeasure};
@@ -49,7 +49,7 @@ pub struct EventsView;
 impl EventsView {
     pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
         let evs = &data.trajectory.events;
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label(format!("{} slip events · size as", evs.len()));
             ui.selectable_value(&mut s.slip_measure, SlipMeasure::Distance, "slip distance")
                 .on_hover_text("|stop − onset|: how far the block jumped");
@@ -84,7 +84,7 @@ impl EventsView {
                     .y_axis_label(unit)
                     .show(ui, |p| {
                         p.line(
-                            Line::new("size", PlotPoints::from(series.clone()))
+                            style::line("size", PlotPoints::from(series.clone()))
                                 .color(style::STICK.gamma_multiply(0.5)),
                         );
                         p.add(

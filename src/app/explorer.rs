@@ -198,7 +198,7 @@ impl Explorer {
             sweep_changed_at: None,
             sent_count: 0,
             pending_iterate: None,
-            plane: PlaneView,
+            plane: PlaneView::default(),
             block: BlockView::default(),
             bifurcation: BifurcationView::default(),
             return_map: ReturnMapView,
@@ -743,7 +743,7 @@ impl Explorer {
                             );
                         });
                         match v {
-                            View::Plane => self.plane.ui(ui, &self.settings, &self.data),
+                            View::Plane => self.plane.ui(ui, &mut self.settings, &self.data),
                             View::Block => self.block.ui(ui, &mut self.settings, &self.data),
                             View::Bifurcation => {
                                 match self.bifurcation.ui(ui, &self.settings, &self.data.sweep) {

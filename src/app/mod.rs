@@ -31,6 +31,7 @@ pub use backend::{Backend, Recorder};
 pub use explorer::{Explorer, Script};
 pub use settings::{Layout, PRESETS, Settings, View, preset, preset_keys};
 
+use crate::worker::{Worker, WorkerConfig};
 use eframe::egui;
 
 /// How to open the window.
@@ -116,8 +117,10 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         native,
         Box::new(move |cc| {
             let ctx = cc.egui_ctx.clone();
-            let _ = ctx;
-            let worker = Recorder::new();
+            let worker = Worker::spawn(
+                WorkerConfig::default(),
+                Arc::new(move || ctx.request_repaint()),
+            );
             let mut settings: Settings = if scripted {
                 Settings::default()
             } else {

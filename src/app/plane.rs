@@ -5,7 +5,7 @@
 
 use eframe::egui;
 use egui::{Color32, Ui};
-use egui_plot::{Arrows, Legend, Line, LineStyle, Plot, PlotPoints, Points};
+use egui_plot::{Arrows, LineStyle, Plot, PlotPoints};
 
 use super::data::Data;
 use super::settings::Settings;
@@ -26,15 +26,24 @@ pub fn recent_start(data: &Data, keep: usize) -> usize {
     tr.samples.partition_point(|s| s.t < t0 - 1e-12)
 }
 
-/// Splits the path into one polyline per phase (NaN-separated runs), each
-/// run extended to the first point of the next so the path has no gaps.
-pub fn phase_polylines(samples: &[Sample], sx: f64) -> [Vec<[f64; 2]>; 3] {
-    let mut out: [Vec<[f64; 2]>; 3] = Default::default();
+/// Splits the path into runs of one phase each, every run extended to the
+/// first point of the next so the path has no gaps: `[stick, accel, decel]`.
+/// (Separate runs rather than NaN breaks: egui_plot would carry a NaN into
+/// the tessellated path and lose the run.)
+pub fn phase_polylines(samples: &[Sample], sx: f64) -> [Vec<Vec<[f64; 2]>>; 3] {
+    let mut out: [Vec<Vec<[f64; 2]>>; 3] = Default::default();
     let stride = samples.len().div_ceil(MAX_VERTICES).max(1);
     let idx = |p: Phase| match p {
         Phase::Stick => 0,
         Phase::Accel => 1,
         Phase::Decel => 2,
+    };
+    // Repeated points (a slip's stop is also its stick's start) make the
+    // tessellator drop a segment: never push one twice.
+    let push = |v: &mut Vec<[f64; 2]>, q: [f64; 2]| {
+        if v.last() != Some(&q) {
+            v.push(q);
+        }
     };
     let mut prev: Option<&Sample> = None;
     for (i, s) in samples.iter().enumerate() {
@@ -46,29 +55,38 @@ pub fn phase_polylines(samples: &[Sample], sx: f64) -> [Vec<[f64; 2]>; 3] {
             continue;
         }
         let pt = [s.x * sx, s.y];
+        let j = idx(s.phase);
         match prev {
-            Some(p) if p.phase != s.phase => {
-                // Close the previous run at this point, open a new one.
-                let k = idx(p.phase);
-                out[k].push(pt);
-                out[k].push([f64::NAN, f64::NAN]);
-                let j = idx(s.phase);
-                out[j].push([p.x * sx, p.y]);
-                out[j].push(pt);
+            Some(p) if p.phase == s.phase => {
+                if let Some(run) = out[j].last_mut() {
+                    push(run, pt);
+                }
             }
-            _ => out[idx(s.phase)].push(pt),
+            Some(p) => {
+                // Close the previous run at this point, open a new one.
+                if let Some(run) = out[idx(p.phase)].last_mut() {
+                    push(run, pt);
+                }
+                let mut run = vec![[p.x * sx, p.y]];
+                push(&mut run, pt);
+                out[j].push(run);
+            }
+            None => out[j].push(vec![pt]),
         }
         prev = Some(s);
     }
     out
 }
 
-/// The plane view (stateless: everything comes from settings and data).
+/// The plane view. It frames C when κ, the axis scaling or the plot's size
+/// change, and otherwise leaves the user's pan and zoom alone.
 #[derive(Default)]
-pub struct PlaneView;
+pub struct PlaneView {
+    fitted_for: Option<(u64, bool, [u32; 2])>,
+}
 
 impl PlaneView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &Settings, data: &Data) {
+    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
         let k = s.params.kappa;
         let sx = if s.scale_x_by_kappa { k } else { 1.0 };
         let x_label = if s.scale_x_by_kappa { "κ x" } else { "x" };
@@ -97,66 +115,62 @@ impl PlaneView {
         let dir = [arrow_len * tn.cos(), arrow_len * tn.sin()];
         let dark = s.dark;
 
-        ui.horizontal(|ui| {
+        ui.horizontal_wrapped(|ui| {
             ui.label(format!(
                 "{} cycles shown of {}",
                 onsets.len(),
                 data.trajectory.events.len()
             ));
-            ui.separator();
-            style::legend_swatch(ui, style::STICK, "stick");
-            style::legend_swatch(ui, style::ACCEL, "slip: accelerating");
-            style::legend_swatch(ui, style::DECEL, "slip: decelerating");
+            ui.checkbox(&mut s.scale_x_by_kappa, "x axis as κx")
+                .on_hover_text(
+                    "Plot (κx, y): C becomes the unit circle and θ the polar angle. \
+                     Off: the true (x, y), where C is κ times narrower than tall.",
+                );
         });
-        Plot::new("plane")
+        ui.horizontal_wrapped(|ui| {
+            style::legend_swatch(ui, style::STICK, "stick");
+            style::legend_swatch(ui, style::ACCEL, "slip, accelerating");
+            style::legend_swatch(ui, style::DECEL, "slip, decelerating");
+            style::legend_marker(ui, style::ONSET, "slip onset");
+            style::legend_line(ui, style::ink(dark), false, "C");
+            style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
+            style::legend_line(ui, style::PULL, false, "pull θν");
+        });
+        // Frame C (not the critical ellipse, which can be γ times taller).
+        let (bx, by) = (1.2 / k * sx, 1.2);
+        let fitted_for = self.fitted_for;
+        let kbits = k.to_bits();
+        let scaled = s.scale_x_by_kappa;
+        let resp = Plot::new("plane")
             .data_aspect(1.0)
+            .allow_double_click_reset(false)
             .x_axis_label(x_label)
             .y_axis_label("y")
-            .legend(Legend::default().position(egui_plot::Corner::RightBottom))
-            .include_y(-1.05)
-            .include_y(1.05)
             .show(ui, |p| {
+                let f = *p.transform().frame();
+                let size = [f.width() as u32, f.height() as u32];
+                let key = (kbits, scaled, size);
+                let refit = fitted_for != Some(key) || p.response().double_clicked();
+                if refit && f.height() > 0.0 {
+                    let asp = (f.width() / f.height()) as f64;
+                    let (hx, hy) = if by * asp >= bx {
+                        (by * asp, by)
+                    } else {
+                        (bx, bx / asp)
+                    };
+                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max([-hx, -hy], [hx, hy]));
+                }
                 p.line(
-                    Line::new("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
+                    style::line("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
                         .color(style::ink(dark))
                         .width(2.0),
                 );
                 p.line(
-                    Line::new("critical ellipse κ³x² + y² = γ²", PlotPoints::from(crit))
+                    style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(crit))
                         .color(style::CRITICAL)
                         .style(LineStyle::Dashed { length: 8.0 })
                         .width(1.5),
                 );
-                p.line(
-                    Line::new("stick", PlotPoints::from(stick))
-                        .color(style::STICK)
-                        .width(1.5),
-                );
-                p.line(
-                    Line::new("slip: accelerating", PlotPoints::from(accel))
-                        .color(style::ACCEL)
-                        .width(2.0),
-                );
-                p.line(
-                    Line::new("slip: decelerating", PlotPoints::from(decel))
-                        .color(style::DECEL)
-                        .width(2.0),
-                );
-                p.add(
-                    Points::new("slip onsets", PlotPoints::from(onsets))
-                        .color(style::ONSET)
-                        .radius(3.5)
-                        .shape(egui_plot::MarkerShape::Diamond),
-                );
-                if let Some(b) = now {
-                    p.add(
-                        Points::new("block", PlotPoints::from(vec![b]))
-                            .color(style::BLOCK)
-                            .radius(6.0)
-                            .shape(egui_plot::MarkerShape::Square)
-                            .filled(true),
-                    );
-                }
                 p.add(
                     Arrows::new(
                         "pull direction θν",
@@ -166,7 +180,48 @@ impl PlaneView {
                     .color(style::PULL)
                     .tip_length(12.0),
                 );
+                key
             });
+        self.fitted_for = Some(resp.inner);
+
+        // The path, onsets and block, painted over the plot in screen space.
+        let tf = resp.transform;
+        let painter = ui.painter().with_clip_rect(*tf.frame());
+        let to_screen =
+            |p: &[f64; 2]| tf.position_from_point(&egui_plot::PlotPoint::new(p[0], p[1]));
+        for (runs, color, width) in [
+            (&accel, style::ACCEL, 2.0),
+            (&decel, style::DECEL, 2.0),
+            // On top: in κx a stick often retraces the slip before it.
+            (&stick, style::STICK, 1.6),
+        ] {
+            for run in runs.iter().filter(|r| r.len() > 1) {
+                let pts: Vec<egui::Pos2> = run.iter().map(to_screen).collect();
+                painter.add(egui::Shape::line(pts, egui::Stroke::new(width, color)));
+            }
+        }
+        for o in &onsets {
+            let c = to_screen(o);
+            let r = 4.5;
+            painter.add(egui::Shape::convex_polygon(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, 0.0),
+                    c + egui::vec2(0.0, r),
+                    c + egui::vec2(-r, 0.0),
+                ],
+                style::ONSET,
+                egui::Stroke::NONE,
+            ));
+        }
+        if let Some(b) = now {
+            let c = to_screen(&b);
+            painter.rect_filled(
+                egui::Rect::from_center_size(c, egui::vec2(11.0, 11.0)),
+                1.0,
+                style::ink(dark),
+            );
+        }
     }
 }
 
@@ -176,5 +231,46 @@ pub fn phase_color(p: Phase) -> Color32 {
         Phase::Stick => style::STICK,
         Phase::Accel => style::ACCEL,
         Phase::Decel => style::DECEL,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn s(t: f64, x: f64, phase: Phase) -> Sample {
+        Sample {
+            t,
+            x,
+            y: 0.0,
+            u: 0.0,
+            w: 0.0,
+            phase,
+        }
+    }
+
+    #[test]
+    fn each_phase_gets_its_own_connected_runs() {
+        let path = [
+            s(0.0, 0.0, Phase::Accel),
+            s(1.0, 1.0, Phase::Accel),
+            s(2.0, 2.0, Phase::Decel),
+            s(3.0, 3.0, Phase::Decel),
+            s(3.5, 3.5, Phase::Stick),
+            s(9.0, 9.0, Phase::Stick),
+            s(9.0, 9.0, Phase::Accel),
+            s(10.0, 10.0, Phase::Accel),
+        ];
+        let [stick, accel, decel] = phase_polylines(&path, 1.0);
+        let xs = |v: &Vec<[f64; 2]>| v.iter().map(|p| p[0]).collect::<Vec<_>>();
+        assert_eq!(stick.len(), 1);
+        assert_eq!(xs(&stick[0]), [3.0, 3.5, 9.0]);
+        assert_eq!(accel.len(), 2);
+        assert_eq!(xs(&accel[0]), [0.0, 1.0, 2.0]);
+        assert_eq!(xs(&accel[1]), [9.0, 10.0]);
+        assert_eq!(xs(&decel[0]), [1.0, 2.0, 3.0, 3.5]);
+        for run in stick.iter().chain(&accel).chain(&decel) {
+            assert!(run.windows(2).all(|w| w[0] != w[1]), "no repeated points");
+        }
     }
 }

@@ -5,7 +5,7 @@
 
 use eframe::egui;
 use egui::{RichText, Ui};
-use egui_plot::{HLine, Legend, Line, LineStyle, Plot, PlotPoints, Points, VLine};
+use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
 
 use super::data::Data;
 use super::settings::Settings;
@@ -49,6 +49,16 @@ impl ReturnMapView {
     pub fn ui(&mut self, ui: &mut Ui, s: &Settings, data: &Data) {
         let it = &data.iterate;
         ui.label(RichText::new(summary(it.period, it.lyapunov)).strong());
+        ui.horizontal_wrapped(|ui| {
+            style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
+            style::legend_marker(
+                ui,
+                style::STICK.gamma_multiply(0.6),
+                "cycles incl. transient",
+            );
+            style::legend_line(ui, style::DECEL, false, "cobweb");
+            style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
+        });
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         let traj: Vec<[f64; 2]> = data
             .trajectory
@@ -58,8 +68,10 @@ impl ReturnMapView {
             .collect();
         let tail = &it.thetas[it.thetas.len().saturating_sub(COBWEB)..];
         let web = cobweb(tail);
+        // Frame the attractor (the kept iterates); the transient may fall outside.
         let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for p in kept.iter().chain(&traj) {
+        let framed: &[[f64; 2]] = if kept.is_empty() { &traj } else { &kept };
+        for p in framed {
             lo = lo.min(p[0]).min(p[1]);
             hi = hi.max(p[0]).max(p[1]);
         }
@@ -67,7 +79,7 @@ impl ReturnMapView {
             lo = s.params.theta_nu - 0.5;
             hi = s.params.theta_nu + 0.5;
         }
-        let pad = ((hi - lo) * 0.08).max(0.02);
+        let pad = ((hi - lo) * 0.25).max(0.02);
         let (lo, hi) = (lo - pad, hi + pad);
         let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
             Regime::Mixed { theta_c } => Some(theta_c),
@@ -78,14 +90,25 @@ impl ReturnMapView {
             .data_aspect(1.0)
             .x_axis_label("θ (this onset)")
             .y_axis_label("θ' (next onset)")
-            .legend(Legend::default().position(egui_plot::Corner::LeftTop))
-            .include_x(lo)
-            .include_x(hi)
-            .include_y(lo)
-            .include_y(hi)
+            .allow_double_click_reset(false)
             .show(ui, |p| {
+                // Follow the attractor as it changes, in a square that fits.
+                let f = *p.transform().frame();
+                if f.height() > 0.0 {
+                    let asp = (f.width() / f.height()) as f64;
+                    let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+                    let (hx, hy) = if asp >= 1.0 {
+                        (h * asp, h)
+                    } else {
+                        (h, h / asp)
+                    };
+                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
+                        [c - hx, c - hy],
+                        [c + hx, c + hy],
+                    ));
+                }
                 p.line(
-                    Line::new("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
+                    style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
                         .color(style::CRITICAL)
                         .style(LineStyle::Dashed { length: 8.0 }),
                 );
@@ -111,7 +134,7 @@ impl ReturnMapView {
                         .radius(2.5),
                 );
                 p.line(
-                    Line::new("cobweb", PlotPoints::from(web))
+                    style::line("cobweb", PlotPoints::from(web))
                         .color(style::DECEL)
                         .width(1.5),
                 );

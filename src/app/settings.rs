@@ -133,7 +133,7 @@ impl Default for Settings {
             font_scale: 1.0,
             dark: false,
             slip_measure: SlipMeasure::Distance,
-            scale_x_by_kappa: false,
+            scale_x_by_kappa: true,
             save_dir: default_save_dir(),
             block_speed: 1.0,
             preset: Some("fig3b".into()),
