@@ -1,14 +1,367 @@
-//! `oneblock bench-worker` (not yet written).
+//! `oneblock bench-worker`: times the simulation worker as the GUI uses it,
+//! at the paper's Fig. 3b parameters (γ = 6.5, κ = 18.95, ν = 1e-3, Ω = 50,
+//! dp853): from a `Sweep` command to the first full coarse diagram and to
+//! the full diagram, and from a `Trajectory` command sent mid-sweep to its
+//! first chunk. Wall-clock figures of this machine, so they live here and in
+//! the README, never in tests.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use clap::Args;
 
 use super::CliError;
+use crate::integrate::{Method, SolverSettings};
+use crate::model::Params;
+use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
+use crate::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan};
 
-#[derive(Debug, Clone, Default, Args)]
-pub struct BenchWorkerArgs {}
+#[derive(Debug, Clone, Args)]
+pub struct BenchWorkerArgs {
+    /// Columns of the full diagram over θν ∈ [0, π/2].
+    #[arg(long, default_value_t = 400)]
+    pub columns: usize,
+    /// Columns of the first, coarse pass.
+    #[arg(long, default_value_t = 64)]
+    pub coarse: usize,
+    /// Transient iterates per column.
+    #[arg(long, default_value_t = 300)]
+    pub transient: usize,
+    /// Kept iterates per column.
+    #[arg(long, default_value_t = 200)]
+    pub keep: usize,
+    /// Tolerance of dp853 (rtol = atol).
+    #[arg(long, default_value_t = 1e-8)]
+    pub tol: f64,
+    /// Sweep threads.
+    #[arg(long, default_value_t = 2)]
+    pub threads: usize,
+    /// Timed sweeps (the median is reported).
+    #[arg(long, default_value_t = 3)]
+    pub repeats: usize,
+    /// Trajectory commands sent during one more sweep.
+    #[arg(long, default_value_t = 9)]
+    pub latency_samples: usize,
+}
 
-pub fn run(_args: BenchWorkerArgs) -> Result<(), CliError> {
-    Err(CliError::Failed(
-        "'bench-worker' is not implemented yet".into(),
-    ))
+impl Default for BenchWorkerArgs {
+    fn default() -> Self {
+        BenchWorkerArgs {
+            columns: 400,
+            coarse: 64,
+            transient: 300,
+            keep: 200,
+            tol: 1e-8,
+            threads: 2,
+            repeats: 3,
+            latency_samples: 9,
+        }
+    }
+}
+
+/// The paper's Fig. 3b point (θν is swept).
+fn fig3b() -> Params {
+    Params {
+        kappa: 18.95,
+        gamma: 6.5,
+        nu: 1e-3,
+        theta_nu: 0.0,
+        omega: 50.0,
+    }
+}
+
+/// Longer than anything here should take: only a hung worker reaches it.
+const HANG: Duration = Duration::from_secs(600);
+
+struct SweepTiming {
+    coarse: f64,
+    full: f64,
+    /// CPU seconds the whole process used meanwhile (all threads), up to
+    /// the coarse diagram and up to the full one.
+    cpu_coarse: Option<f64>,
+    cpu: Option<f64>,
+    iterates_per_second: f64,
+    column_errors: usize,
+}
+
+fn worker(args: &BenchWorkerArgs) -> Worker {
+    Worker::spawn(
+        WorkerConfig {
+            sweep_threads: args.threads,
+            coarse_columns: args.coarse,
+            ..WorkerConfig::default()
+        },
+        Arc::new(|| {}),
+    )
+}
+
+fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u64) -> Command {
+    Command::Sweep {
+        generation,
+        params: fig3b(),
+        settings,
+        theta_nu_from: 0.0,
+        theta_nu_to: std::f64::consts::FRAC_PI_2,
+        columns: args.columns,
+        transient: args.transient,
+        keep: args.keep,
+    }
+}
+
+fn recv(w: &Worker) -> Result<Update, CliError> {
+    w.recv_timeout(HANG)
+        .ok_or_else(|| CliError::Failed("the worker went silent".into()))
+}
+
+/// One sweep from command to `Finished`, draining as the GUI would.
+fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepTiming, CliError> {
+    let w = worker(args);
+    let n_coarse = sweep_plan(args.columns, args.coarse, args.threads)
+        .iter()
+        .filter(|p| p.coarse)
+        .count();
+    let t0 = Instant::now();
+    let cpu0 = cpu_seconds();
+    if !w.send(sweep_command(args, settings, 1)) {
+        return Err(CliError::Failed("the worker refused the sweep".into()));
+    }
+    let (mut coarse_seen, mut coarse, mut ips, mut errors) = (0, None, 0.0, 0);
+    let mut cpu_coarse = None;
+    let full = loop {
+        match recv(&w)? {
+            Update::Column { coarse: true, .. } => {
+                coarse_seen += 1;
+                if coarse_seen == n_coarse {
+                    coarse = Some(t0.elapsed().as_secs_f64());
+                    cpu_coarse = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+                }
+            }
+            Update::Progress {
+                iterates_per_second,
+                ..
+            } => ips = iterates_per_second,
+            Update::Error { message, .. } => {
+                errors += 1;
+                eprintln!("  column error: {message}");
+            }
+            Update::Finished { outcome, .. } => {
+                if let Outcome::Failed(m) = outcome {
+                    return Err(CliError::Failed(format!("the sweep failed: {m}")));
+                }
+                break t0.elapsed().as_secs_f64();
+            }
+            _ => {}
+        }
+    };
+    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    w.shutdown();
+    Ok(SweepTiming {
+        coarse: coarse.unwrap_or(full),
+        full,
+        cpu_coarse,
+        cpu,
+        iterates_per_second: ips,
+        column_errors: errors,
+    })
+}
+
+/// Latencies from a `Trajectory` command, sent while a sweep runs, to its
+/// first `TrajectoryChunk`.
+fn trajectory_latencies(
+    args: &BenchWorkerArgs,
+    settings: SolverSettings,
+    spread: Duration,
+) -> Result<Vec<f64>, CliError> {
+    let w = worker(args);
+    w.send(sweep_command(args, settings, 1));
+    let gap = spread / (args.latency_samples as u32 + 1);
+    let mut out = Vec::new();
+    let mut sweep_done = false;
+    for k in 0..args.latency_samples {
+        // Keep draining the sweep for a while, as the GUI does every frame.
+        let until = Instant::now() + gap;
+        while let Some(d) = until.checked_duration_since(Instant::now()) {
+            if let Some(Update::Finished {
+                lane: Lane::Sweep, ..
+            }) = w.recv_timeout(d)
+            {
+                sweep_done = true;
+            }
+        }
+        let generation = 2 + k as u64;
+        let sent = Instant::now();
+        w.send(Command::Trajectory {
+            generation,
+            params: fig3b().with_theta_nu(1.0),
+            settings,
+            theta0: None,
+            spacing: 0.05,
+            cycles: Some(5),
+        });
+        loop {
+            match recv(&w)? {
+                Update::TrajectoryChunk { generation: g, .. } if g == generation => {
+                    out.push(sent.elapsed().as_secs_f64());
+                    break;
+                }
+                Update::Finished {
+                    lane: Lane::Sweep, ..
+                } => sweep_done = true,
+                Update::Finished {
+                    generation: g,
+                    outcome: Outcome::Failed(m),
+                    ..
+                } if g == generation => {
+                    return Err(CliError::Failed(format!("the trajectory failed: {m}")));
+                }
+                _ => {}
+            }
+        }
+    }
+    if sweep_done {
+        eprintln!("  note: the sweep ended before the last trajectory was sent");
+    }
+    w.shutdown();
+    Ok(out)
+}
+
+/// CPU time (user + system) of this process so far, from /proc (Linux).
+fn cpu_seconds() -> Option<f64> {
+    let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
+    // Fields after the command name, which is in parentheses.
+    let rest = &stat[stat.rfind(')')? + 2..];
+    let f: Vec<&str> = rest.split_whitespace().collect();
+    let utime: f64 = f.get(11)?.parse().ok()?;
+    let stime: f64 = f.get(12)?.parse().ok()?;
+    // USER_HZ is 100 on every Linux configuration that matters here.
+    Some((utime + stime) / 100.0)
+}
+
+/// The 1-minute load average (Linux), to tell a busy machine from a slow program.
+fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+/// The core alone on this thread, without the worker: the coarse pass's
+/// columns as one continued chain (`sweep_columns`). Returns iterates per
+/// wall-clock second and per CPU second (the latter is what an idle core
+/// would give; the machine may be shared).
+fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option<f64>) {
+    let opts = SweepOptions {
+        transient: args.transient,
+        keep: args.keep,
+    };
+    let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, args.columns);
+    let coarse: Vec<f64> = sweep_plan(args.columns, args.coarse, 1)
+        .iter()
+        .filter(|p| p.coarse)
+        .map(|p| grid[p.index])
+        .collect();
+    let mut sorted = coarse;
+    sorted.sort_by(f64::total_cmp);
+    let t0 = Instant::now();
+    let cpu0 = cpu_seconds();
+    let cols = sweep_columns(fig3b(), settings, &sorted, &opts, None, &|| false, |_| {});
+    let n: usize = cols.iter().map(|c| args.transient + c.thetas.len()).sum();
+    let wall = t0.elapsed().as_secs_f64();
+    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    (n as f64 / wall, cpu.map(|c| n as f64 / c))
+}
+
+fn median(xs: &[f64]) -> f64 {
+    let mut v = xs.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
+    }
+}
+
+pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
+    if args.columns == 0 || args.coarse == 0 || args.threads == 0 || args.repeats == 0 {
+        return Err(CliError::Usage(
+            "--columns, --coarse, --threads and --repeats must be at least 1".into(),
+        ));
+    }
+    let settings = SolverSettings::adaptive(Method::Dop853, args.tol);
+    settings
+        .validate()
+        .map_err(|e| CliError::Usage(format!("--{e}")))?;
+    println!(
+        "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dp853, tol = {:e}",
+        args.tol
+    );
+    println!(
+        "sweep: {} columns x ({} transient + {} kept) over theta-nu in [0, pi/2]; coarse pass {} columns; {} sweep threads; {} logical CPUs",
+        args.columns,
+        args.transient,
+        args.keep,
+        args.coarse.min(args.columns),
+        args.threads,
+        std::thread::available_parallelism().map_or(0, |n| n.get()),
+    );
+    if let Some(l) = load_average() {
+        println!("load average before the run: {l:.2}");
+    }
+    let (serial_wall, serial_cpu) = serial_rate(&args, settings);
+    let total = (args.columns * (args.transient + args.keep)) as f64;
+    let per_cpu = serial_cpu.unwrap_or(serial_wall);
+    println!(
+        "core alone (coarse columns, one thread): {serial_wall:.0} iterates per second, {} per CPU second",
+        serial_cpu.map_or("?".into(), |r| format!("{r:.0}"))
+    );
+    println!(
+        "  => CPU work: {:.2} s per full diagram, {:.2} s per coarse pass; ideal on {} idle cores: {:.2} s and {:.2} s",
+        total / per_cpu,
+        total / per_cpu * args.coarse.min(args.columns) as f64 / args.columns as f64,
+        args.threads,
+        total / per_cpu / args.threads as f64,
+        total / per_cpu * args.coarse.min(args.columns) as f64
+            / args.columns as f64
+            / args.threads as f64,
+    );
+    let mut timings = Vec::new();
+    for r in 0..args.repeats {
+        let t = time_sweep(&args, settings)?;
+        println!(
+            "  sweep {}: coarse {:.3} s (CPU {}), full {:.3} s (CPU {}), {:.0} iterates/s{}",
+            r + 1,
+            t.coarse,
+            t.cpu_coarse.map_or("?".into(), |c| format!("{c:.2} s")),
+            t.full,
+            t.cpu.map_or("?".into(), |c| format!("{c:.2} s")),
+            t.iterates_per_second,
+            if t.column_errors > 0 {
+                format!(", {} column errors", t.column_errors)
+            } else {
+                String::new()
+            }
+        );
+        timings.push(t);
+    }
+    let coarse = median(&timings.iter().map(|t| t.coarse).collect::<Vec<_>>());
+    let full = median(&timings.iter().map(|t| t.full).collect::<Vec<_>>());
+    let lat = if args.latency_samples > 0 {
+        trajectory_latencies(&args, settings, Duration::from_secs_f64(0.8 * full))?
+    } else {
+        vec![]
+    };
+    println!("first full coarse diagram: median {coarse:.3} s (target 0.5 s)");
+    println!("full diagram:              median {full:.3} s (target 5 s)");
+    if !lat.is_empty() {
+        let max = lat.iter().copied().fold(0.0, f64::max);
+        println!(
+            "trajectory first chunk during the sweep: median {:.2} ms, max {:.2} ms over {} commands (target 50 ms)",
+            1e3 * median(&lat),
+            1e3 * max,
+            lat.len()
+        );
+    }
+    Ok(())
 }

@@ -2,7 +2,294 @@
 //! fed by a bounded crossbeam channel of [`Command`]s and answering on a
 //! bounded channel of [`Update`]s. No GUI types: the front end passes a
 //! wake-up callback (`ctx.request_repaint`), tests pass a counter.
+//!
+//! Threads (all named, all joined on shutdown or drop):
+//! - `oneblock-worker`: the dispatcher. It reads commands, moves each lane's
+//!   generation on (which cancels the running job within one slip cycle)
+//!   and hands jobs to the lanes. It never simulates, so it always answers.
+//! - `oneblock-orbit`: the orbit lane, one trajectory or map-iterate job at
+//!   a time.
+//! - `oneblock-sweep`: the sweep lane's coordinator, running each sweep on
+//!   `sweep_threads` scoped threads `oneblock-sweep-<i>`.
+//!
+//! Ordering: see [`gate`]. Every update of a lane is sent under that lane's
+//! lock after re-checking its generation, and the generation only changes
+//! under the same lock, so after a `Cancelled` (or a job's
+//! `Finished{Cancelled}`) nothing of the older generation follows.
 
+mod gate;
+mod orbit;
 mod protocol;
+mod sweep;
+
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::{Arc, Mutex};
+use std::thread::JoinHandle;
+use std::time::Duration;
+
+use crossbeam_channel::{Receiver, Sender, TrySendError};
 
 pub use protocol::{Command, Generation, Lane, Outcome, Update};
+pub use sweep::{PlannedColumn, sweep_plan};
+
+use gate::Gate;
+
+/// How the worker is set up.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct WorkerConfig {
+    /// Capacity of the update channel: a consumer that falls this far behind
+    /// blocks the producers (default 256).
+    pub update_capacity: usize,
+    /// Threads a sweep runs on (default 2, the machine's two cores).
+    pub sweep_threads: usize,
+    /// Columns in a sweep's first, coarse pass (default 64; a sweep with
+    /// fewer columns is all coarse).
+    pub coarse_columns: usize,
+}
+
+impl Default for WorkerConfig {
+    fn default() -> Self {
+        WorkerConfig {
+            update_capacity: 256,
+            sweep_threads: 2,
+            coarse_columns: 64,
+        }
+    }
+}
+
+/// Capacity of the command channel: commands are small and the dispatcher
+/// never simulates, so it only fills if the worker is wedged or gone.
+const COMMAND_CAPACITY: usize = 64;
+
+/// Counters for tests and the benchmark: machine-independent measures of
+/// how much work ran, and how much ran after a stop.
+#[derive(Debug, Default)]
+pub struct WorkerStats {
+    cycles: AtomicU64,
+    /// The cycle count when the worker was first told to stop.
+    cycles_at_stop: Mutex<Option<u64>>,
+}
+
+impl WorkerStats {
+    /// Slip cycles started by all jobs so far (each job polls its
+    /// cancellation flag once per cycle; this counts the polls that let a
+    /// cycle start).
+    pub fn cycles(&self) -> u64 {
+        self.cycles.load(Ordering::SeqCst)
+    }
+
+    /// Cycles started after the worker was told to stop (shutdown or drop);
+    /// `None` while it runs. At most one per job thread, as each job checks
+    /// the stop before every cycle.
+    pub fn cycles_after_stop(&self) -> Option<u64> {
+        let at_stop = *self
+            .cycles_at_stop
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        at_stop.map(|c| self.cycles().saturating_sub(c))
+    }
+
+    /// Records that a cycle may start for a job of generation `generation`
+    /// on `gate`; true when the job must stop instead.
+    pub(crate) fn poll(&self, gate: &Gate, generation: Generation) -> bool {
+        if gate.is_stale(generation) {
+            return true;
+        }
+        self.cycles.fetch_add(1, Ordering::SeqCst);
+        false
+    }
+
+    /// Records the count at the first stop (a `Shutdown` and then the drop
+    /// both stop the worker; the first one counts).
+    fn mark_stopped(&self) {
+        let mut at_stop = self
+            .cycles_at_stop
+            .lock()
+            .unwrap_or_else(|e| e.into_inner());
+        at_stop.get_or_insert(self.cycles());
+    }
+}
+
+/// What the dispatcher and the lanes share.
+pub(crate) struct Shared {
+    pub orbit: Gate,
+    pub sweep: Gate,
+    pub stats: Arc<WorkerStats>,
+    pub config: WorkerConfig,
+}
+
+impl Shared {
+    /// Stops every job for good.
+    fn stop(&self) {
+        self.orbit.stop();
+        self.sweep.stop();
+        self.stats.mark_stopped();
+    }
+}
+
+/// The handle the front end holds. Dropping it stops and joins every thread.
+pub struct Worker {
+    commands: Option<Sender<Command>>,
+    updates: Option<Receiver<Update>>,
+    shared: Arc<Shared>,
+    dispatcher: Option<JoinHandle<()>>,
+}
+
+impl Worker {
+    /// Starts the worker's threads. `wake` is called after updates are sent
+    /// (the GUI passes `ctx.request_repaint`).
+    ///
+    /// # Panics
+    /// If the operating system refuses to start a thread.
+    pub fn spawn(config: WorkerConfig, wake: Arc<dyn Fn() + Send + Sync>) -> Worker {
+        let config = WorkerConfig {
+            update_capacity: config.update_capacity.max(1),
+            sweep_threads: config.sweep_threads.max(1),
+            coarse_columns: config.coarse_columns.max(1),
+        };
+        let (cmd_tx, cmd_rx) = crossbeam_channel::bounded(COMMAND_CAPACITY);
+        let (up_tx, up_rx) = crossbeam_channel::bounded(config.update_capacity);
+        let shared = Arc::new(Shared {
+            orbit: Gate::new(Lane::Orbit, up_tx.clone(), wake.clone()),
+            sweep: Gate::new(Lane::Sweep, up_tx, wake),
+            stats: Arc::new(WorkerStats::default()),
+            config,
+        });
+        let sh = shared.clone();
+        let dispatcher = std::thread::Builder::new()
+            .name("oneblock-worker".into())
+            .spawn(move || dispatch(sh, cmd_rx))
+            .expect("cannot start the worker thread");
+        Worker {
+            commands: Some(cmd_tx),
+            updates: Some(up_rx),
+            shared,
+            dispatcher: Some(dispatcher),
+        }
+    }
+
+    /// Queues a command without blocking: false if the queue is full or the
+    /// worker is gone.
+    pub fn send(&self, cmd: Command) -> bool {
+        match &self.commands {
+            Some(tx) => match tx.try_send(cmd) {
+                Ok(()) => true,
+                Err(TrySendError::Full(_) | TrySendError::Disconnected(_)) => false,
+            },
+            None => false,
+        }
+    }
+
+    /// The next update, if one is queued (never blocks).
+    pub fn try_recv(&self) -> Option<Update> {
+        self.updates.as_ref()?.try_recv().ok()
+    }
+
+    /// The next update, waiting at most `d` (for tests and the benchmark).
+    pub fn recv_timeout(&self, d: Duration) -> Option<Update> {
+        self.updates.as_ref()?.recv_timeout(d).ok()
+    }
+
+    /// Updates currently queued.
+    pub fn queued(&self) -> usize {
+        self.updates.as_ref().map_or(0, |r| r.len())
+    }
+
+    /// The work counters (they outlive the worker).
+    pub fn stats(&self) -> Arc<WorkerStats> {
+        self.shared.stats.clone()
+    }
+
+    /// Sends `Shutdown` and joins every thread.
+    pub fn shutdown(mut self) {
+        self.stop_and_join();
+    }
+
+    fn stop_and_join(&mut self) {
+        let Some(handle) = self.dispatcher.take() else {
+            return;
+        };
+        // Jobs see the stop at their next cycle; the update receiver goes
+        // first so that any thread blocked on a full channel fails at once.
+        self.shared.stop();
+        drop(self.updates.take());
+        if let Some(tx) = self.commands.take() {
+            tx.try_send(Command::Shutdown).ok();
+        }
+        handle.join().ok();
+    }
+}
+
+impl Drop for Worker {
+    fn drop(&mut self) {
+        self.stop_and_join();
+    }
+}
+
+/// The dispatcher loop: runs until `Shutdown` or until the handle is gone.
+fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
+    let (orbit_tx, orbit_rx) = crossbeam_channel::unbounded::<Command>();
+    let (sweep_tx, sweep_rx) = crossbeam_channel::unbounded::<Command>();
+    let sh = shared.clone();
+    let orbit_thread = std::thread::Builder::new()
+        .name("oneblock-orbit".into())
+        .spawn(move || lane_loop(orbit_rx, |job| orbit::run(&sh, job)));
+    let sh = shared.clone();
+    let sweep_thread = std::thread::Builder::new()
+        .name("oneblock-sweep".into())
+        .spawn(move || lane_loop(sweep_rx, |job| sweep::run(&sh, job)));
+
+    while let Ok(cmd) = commands.recv() {
+        match cmd {
+            Command::Shutdown => break,
+            Command::Cancel { generation, lane } => {
+                let gates: Vec<&Gate> = match lane {
+                    Some(Lane::Orbit) => vec![&shared.orbit],
+                    Some(Lane::Sweep) => vec![&shared.sweep],
+                    None => vec![&shared.orbit, &shared.sweep],
+                };
+                gate::cancel(&gates, generation, lane);
+            }
+            Command::Sweep { generation, .. } => {
+                if shared.sweep.start(generation) {
+                    sweep_tx.send(cmd).ok();
+                }
+            }
+            Command::Trajectory { generation, .. }
+            | Command::Iterate { generation, .. }
+            | Command::InjectPanic { generation, .. } => {
+                if shared.orbit.start(generation) {
+                    orbit_tx.send(cmd).ok();
+                }
+            }
+        }
+    }
+    shared.stop();
+    drop(orbit_tx);
+    drop(sweep_tx);
+    for t in [orbit_thread, sweep_thread].into_iter().flatten() {
+        t.join().ok();
+    }
+}
+
+/// A lane thread: runs the newest queued job, skipping any a newer one has
+/// already superseded (the dispatcher finished those as cancelled).
+fn lane_loop(jobs: Receiver<Command>, mut run: impl FnMut(Command)) {
+    while let Ok(mut job) = jobs.recv() {
+        while let Ok(newer) = jobs.try_recv() {
+            job = newer;
+        }
+        run(job);
+    }
+}
+
+/// The text of a caught panic's payload.
+pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic payload".to_string()
+    }
+}

@@ -81,8 +81,11 @@ pub enum Command {
 /// How a job ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Outcome {
+    /// It ran to the end.
     Completed,
+    /// A `Cancel` or a newer job on its lane stopped it.
     Cancelled,
+    /// It could not run or failed (an `Error` update said why).
     Failed(String),
 }
 
@@ -118,6 +121,7 @@ pub enum Update {
         /// Whether this column belongs to the first, coarse pass.
         coarse: bool,
     },
+    /// How far the lane's job is, and how fast it goes.
     Progress {
         generation: Generation,
         lane: Lane,
@@ -146,6 +150,7 @@ pub enum Update {
 }
 
 impl Update {
+    /// The generation of the job (or cancellation) the update belongs to.
     pub fn generation(&self) -> Generation {
         match self {
             Update::TrajectoryChunk { generation, .. }

@@ -1,0 +1,688 @@
+//! The simulation worker, headless: results equal to the core's bit for bit,
+//! generations and cancellation, bounded queues, errors and panics, shutdown,
+//! and the progressive sweep's order. Assertions are on cycles, generations
+//! and orderings, never on wall-clock time (timeouts only guard against
+//! hangs).
+
+use std::collections::HashSet;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use oneblock::integrate::SolverSettings;
+use oneblock::model::Params;
+use oneblock::sim::{
+    Column, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
+    theta_nu_grid,
+};
+use oneblock::worker::{
+    Command, Generation, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan,
+};
+
+/// Long enough that only a hung worker hits it.
+const HANG: Duration = Duration::from_secs(60);
+
+fn settings() -> SolverSettings {
+    default_settings(1e-8)
+}
+
+fn fig3b(theta_nu: f64) -> Params {
+    Params {
+        kappa: 18.95,
+        gamma: 6.5,
+        nu: 1e-3,
+        theta_nu,
+        omega: 50.0,
+    }
+}
+
+fn spawn(
+    update_capacity: usize,
+    sweep_threads: usize,
+    coarse_columns: usize,
+) -> (Worker, Arc<AtomicUsize>) {
+    let wakes = Arc::new(AtomicUsize::new(0));
+    let w = wakes.clone();
+    let worker = Worker::spawn(
+        WorkerConfig {
+            update_capacity,
+            sweep_threads,
+            coarse_columns,
+        },
+        Arc::new(move || {
+            w.fetch_add(1, Ordering::SeqCst);
+        }),
+    );
+    (worker, wakes)
+}
+
+fn recv(w: &Worker) -> Update {
+    w.recv_timeout(HANG).expect("the worker went silent")
+}
+
+/// Every update up to and including the `Finished` of `generation` on `lane`.
+fn until_finished(w: &Worker, generation: Generation, lane: Lane) -> (Vec<Update>, Outcome) {
+    let mut out = Vec::new();
+    loop {
+        let u = recv(w);
+        if let Update::Finished {
+            generation: g,
+            lane: l,
+            outcome,
+        } = &u
+            && *g == generation
+            && *l == lane
+        {
+            let o = outcome.clone();
+            out.push(u);
+            return (out, o);
+        }
+        out.push(u);
+    }
+}
+
+fn iterate(generation: Generation, params: Params, transient: usize, keep: usize) -> Command {
+    Command::Iterate {
+        generation,
+        params,
+        settings: settings(),
+        theta0: None,
+        transient,
+        keep,
+    }
+}
+
+fn trajectory(generation: Generation, cycles: Option<usize>) -> Command {
+    Command::Trajectory {
+        generation,
+        params: fig3b(1.0),
+        settings: settings(),
+        theta0: Some(0.5),
+        spacing: 0.05,
+        cycles,
+    }
+}
+
+fn sweep(generation: Generation, columns: usize, transient: usize, keep: usize) -> Command {
+    Command::Sweep {
+        generation,
+        params: fig3b(0.0),
+        settings: settings(),
+        theta_nu_from: 0.05,
+        theta_nu_to: 1.5,
+        columns,
+        transient,
+        keep,
+    }
+}
+
+#[test]
+fn map_iterates_equal_the_core_bit_for_bit() {
+    let (w, wakes) = spawn(256, 2, 64);
+    let params = fig3b(1.2);
+    assert!(w.send(iterate(7, params, 30, 50)));
+    let (ups, outcome) = until_finished(&w, 7, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let mut thetas = Vec::new();
+    let mut last = None;
+    for u in &ups {
+        assert_eq!(u.generation(), 7);
+        if let Update::MapIterates {
+            first_index,
+            thetas: t,
+            period,
+            lyapunov,
+            ..
+        } = u
+        {
+            assert_eq!(*first_index, thetas.len(), "batches are contiguous");
+            thetas.extend_from_slice(t);
+            last = Some((*period, *lyapunov));
+        }
+    }
+    let sim = Simulator::new(params, settings()).expect("valid");
+    let opts = OrbitOptions {
+        transient: 30,
+        keep: 50,
+        lyapunov: true,
+        period_tol: OrbitOptions::period_tol_for(settings().rtol),
+    };
+    let orbit = sim.orbit(params.theta_nu, &opts, &|| false).expect("orbit");
+    let core: Vec<u64> = orbit.thetas().iter().map(|t| t.to_bits()).collect();
+    let mine: Vec<u64> = thetas.iter().map(|t| t.to_bits()).collect();
+    assert_eq!(mine, core);
+    let (period, lyapunov) = last.expect("some iterates");
+    assert_eq!(period, orbit.period);
+    assert_eq!(lyapunov.map(f64::to_bits), orbit.lyapunov.map(f64::to_bits));
+    assert!(
+        wakes.load(Ordering::SeqCst) > 0,
+        "the wake callback was called"
+    );
+    w.shutdown();
+}
+
+#[test]
+fn trajectory_equals_the_core_bit_for_bit() {
+    let (w, _) = spawn(256, 2, 64);
+    assert!(w.send(trajectory(3, Some(6))));
+    let (ups, outcome) = until_finished(&w, 3, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let samples: Vec<_> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::TrajectoryChunk { samples, .. } => Some(samples.clone()),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    let events: Vec<_> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::Slip { event, .. } => Some(*event),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(events.len(), 6, "one Slip per cycle");
+
+    let sim = Simulator::new(fig3b(1.0), settings()).expect("valid");
+    let mut sampler = Sampler::new(0.05);
+    let (mut theta, mut t) = (0.5, 0.0);
+    let mut core_events = Vec::new();
+    for _ in 0..6 {
+        let ev = sim.cycle(theta, t, Some(&mut sampler)).expect("cycle");
+        t += ev.slip_duration + ev.stick_duration;
+        theta = sim.next_onset(&ev);
+        core_events.push(ev);
+    }
+    assert_eq!(events, core_events);
+    assert_eq!(samples, sampler.samples);
+    w.shutdown();
+}
+
+#[test]
+fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first() {
+    let (columns, coarse, threads, transient, keep) = (29, 6, 2, 12, 8);
+    let (w, _) = spawn(256, threads, coarse);
+    assert!(w.send(sweep(11, columns, transient, keep)));
+    let (ups, outcome) = until_finished(&w, 11, Lane::Sweep);
+    assert_eq!(outcome, Outcome::Completed);
+    let delivered: Vec<(usize, f64, Vec<f64>, bool)> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::Column {
+                index,
+                theta_nu,
+                thetas,
+                coarse,
+                ..
+            } => Some((*index, *theta_nu, thetas.clone(), *coarse)),
+            _ => None,
+        })
+        .collect();
+
+    // Each column exactly once.
+    assert_eq!(delivered.len(), columns);
+    let seen: HashSet<usize> = delivered.iter().map(|d| d.0).collect();
+    assert_eq!(seen, (0..columns).collect());
+
+    // The whole coarse pass first, and it spans the range evenly.
+    let n_coarse = delivered.iter().filter(|d| d.3).count();
+    assert_eq!(n_coarse, coarse);
+    assert!(delivered[..n_coarse].iter().all(|d| d.3));
+    let mut ci: Vec<usize> = delivered[..n_coarse].iter().map(|d| d.0).collect();
+    ci.sort();
+    assert_eq!((ci[0], ci[n_coarse - 1]), (0, columns - 1));
+    let max_gap = ci.windows(2).map(|p| p[1] - p[0]).max().unwrap_or(0);
+    assert!(max_gap <= (columns - 1).div_ceil(coarse - 1));
+
+    // Progress ends at 1.
+    let last_progress = ups.iter().rev().find_map(|u| match u {
+        Update::Progress { fraction, .. } => Some(*fraction),
+        _ => None,
+    });
+    assert_eq!(last_progress, Some(1.0));
+
+    // Bit for bit against the core, following the same plan.
+    let grid = theta_nu_grid(0.05, 1.5, columns);
+    let params = fig3b(0.0);
+    let opts = SweepOptions { transient, keep };
+    let mut last: Vec<Option<f64>> = vec![None; columns];
+    let plan = sweep_plan(columns, coarse, threads);
+    for p in &plan {
+        let neighbour = p.parent.and_then(|q| last[q]);
+        let start = column_start(params.kappa, grid[p.index], neighbour);
+        let col = Column::run(params, settings(), grid[p.index], start, &opts, &|| false);
+        assert!(col.error.is_none(), "{:?}", col.error);
+        last[p.index] = Some(col.theta_last);
+        let d = delivered
+            .iter()
+            .find(|d| d.0 == p.index)
+            .expect("delivered");
+        assert_eq!(d.1.to_bits(), grid[p.index].to_bits());
+        let a: Vec<u64> = d.2.iter().map(|t| t.to_bits()).collect();
+        let b: Vec<u64> = col.thetas.iter().map(|t| t.to_bits()).collect();
+        assert_eq!(a, b, "column {}", p.index);
+        assert_eq!(d.3, p.coarse);
+    }
+    w.shutdown();
+}
+
+/// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
+/// update of an older generation on that lane arrives.
+fn assert_nothing_older_after_acks(ups: &[Update]) {
+    let mut floor = [0u64; 2];
+    let lane_ix = |l: Lane| match l {
+        Lane::Orbit => 0,
+        Lane::Sweep => 1,
+    };
+    for u in ups {
+        let lane = match u {
+            Update::TrajectoryChunk { .. } | Update::Slip { .. } | Update::MapIterates { .. } => {
+                Some(Lane::Orbit)
+            }
+            Update::Column { .. } => Some(Lane::Sweep),
+            Update::Progress { lane, .. }
+            | Update::Error { lane, .. }
+            | Update::Finished { lane, .. } => Some(*lane),
+            Update::Cancelled { .. } => None,
+        };
+        if let Some(l) = lane {
+            assert!(
+                u.generation() >= floor[lane_ix(l)],
+                "{u:?} arrived after generation {} was acknowledged",
+                floor[lane_ix(l)]
+            );
+        }
+        match u {
+            Update::Finished {
+                generation,
+                lane,
+                outcome: Outcome::Cancelled,
+            } => {
+                let f = &mut floor[lane_ix(*lane)];
+                *f = (*f).max(generation + 1);
+            }
+            Update::Cancelled { generation, lane } => {
+                for l in [Lane::Orbit, Lane::Sweep] {
+                    if lane.is_none_or(|x| x == l) {
+                        let f = &mut floor[lane_ix(l)];
+                        *f = (*f).max(*generation);
+                    }
+                }
+            }
+            _ => {}
+        }
+    }
+}
+
+#[test]
+fn cancel_acknowledgement_is_never_followed_by_an_older_generation() {
+    let (w, _) = spawn(4, 2, 64);
+    let mut all = Vec::new();
+    let mut generation = 0;
+    for round in 0..25 {
+        generation += 1;
+        let job = generation;
+        assert!(w.send(trajectory(job, None)));
+        // Let it run a little: wait for its first slip.
+        loop {
+            let u = recv(&w);
+            let first_slip = matches!(u, Update::Slip { generation: g, .. } if g == job);
+            all.push(u);
+            if first_slip {
+                break;
+            }
+        }
+        generation += 1;
+        let lane = if round % 3 == 2 {
+            None
+        } else {
+            Some(Lane::Orbit)
+        };
+        assert!(w.send(Command::Cancel { generation, lane }));
+        // The job's Finished{Cancelled} comes first, then the acknowledgement.
+        let mut finished = false;
+        loop {
+            let u = recv(&w);
+            if let Update::Finished {
+                generation: g,
+                outcome,
+                ..
+            } = &u
+                && *g == job
+            {
+                assert_eq!(*outcome, Outcome::Cancelled);
+                finished = true;
+            }
+            let ack = matches!(u, Update::Cancelled { generation: g, .. } if g == generation);
+            all.push(u);
+            if ack {
+                break;
+            }
+        }
+        assert!(
+            finished,
+            "the cancelled job got its Finished before the ack"
+        );
+    }
+    // Drain what is left with a final job, then check the whole stream.
+    generation += 1;
+    assert!(w.send(iterate(generation, fig3b(1.0), 0, 3)));
+    let (rest, _) = until_finished(&w, generation, Lane::Orbit);
+    all.extend(rest);
+    assert_nothing_older_after_acks(&all);
+    w.shutdown();
+}
+
+#[test]
+fn a_new_job_supersedes_the_old_one_within_a_few_cycles() {
+    let capacity = 4;
+    let (w, _) = spawn(capacity, 2, 64);
+    let stats = w.stats();
+    let mut all = Vec::new();
+    for round in 0..10u64 {
+        let (old, new) = (round + 1, round + 2);
+        if round == 0 {
+            assert!(w.send(trajectory(old, None)));
+        }
+        // Wait until the old job is well under way.
+        let mut slips = 0;
+        while slips < 3 {
+            let u = recv(&w);
+            slips += matches!(u, Update::Slip { generation: g, .. } if g == old) as usize;
+            all.push(u);
+        }
+        assert!(w.send(trajectory(new, None)));
+        // The old job is finished as cancelled when the new one starts …
+        let c0 = loop {
+            let u = recv(&w);
+            let done = matches!(
+                u,
+                Update::Finished { generation: g, outcome: Outcome::Cancelled, .. } if g == old
+            );
+            all.push(u);
+            if done {
+                break stats.cycles();
+            }
+        };
+        // … and the new one's first update comes within a bounded number of
+        // cycles: the old job's cycle in flight, the new job's first, and at
+        // most what fits in the channel ahead of the receiver.
+        loop {
+            let u = recv(&w);
+            let g = u.generation();
+            all.push(u);
+            if g == new {
+                let ran = stats.cycles() - c0;
+                assert!(
+                    ran <= 2 + capacity as u64,
+                    "{ran} cycles before the new job's first update"
+                );
+                break;
+            }
+            assert!(g < new);
+        }
+    }
+    assert!(w.send(Command::Cancel {
+        generation: 100,
+        lane: None
+    }));
+    loop {
+        let u = recv(&w);
+        let ack = matches!(
+            u,
+            Update::Cancelled {
+                generation: 100,
+                ..
+            }
+        );
+        all.push(u);
+        if ack {
+            break;
+        }
+    }
+    assert_nothing_older_after_acks(&all);
+    w.shutdown();
+}
+
+#[test]
+fn cancel_of_both_lanes_stops_a_sweep_and_a_trajectory() {
+    let (w, _) = spawn(8, 2, 4);
+    assert!(w.send(sweep(1, 400, 300, 200)));
+    assert!(w.send(trajectory(2, None)));
+    let mut all = Vec::new();
+    // Wait for a column and a slip.
+    let (mut col, mut slip) = (false, false);
+    while !(col && slip) {
+        let u = recv(&w);
+        col |= matches!(u, Update::Column { .. });
+        slip |= matches!(u, Update::Slip { .. });
+        all.push(u);
+    }
+    assert!(w.send(Command::Cancel {
+        generation: 3,
+        lane: None
+    }));
+    let mut finished = HashSet::new();
+    loop {
+        let u = recv(&w);
+        if let Update::Finished {
+            generation,
+            outcome: Outcome::Cancelled,
+            ..
+        } = &u
+        {
+            finished.insert(*generation);
+        }
+        let ack = matches!(
+            u,
+            Update::Cancelled {
+                generation: 3,
+                lane: None
+            }
+        );
+        all.push(u);
+        if ack {
+            break;
+        }
+    }
+    assert_eq!(finished, HashSet::from([1, 2]));
+    // Nothing more comes: both lanes are idle.
+    assert!(w.send(iterate(4, fig3b(1.0), 0, 2)));
+    let (rest, outcome) = until_finished(&w, 4, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    all.extend(rest);
+    assert_nothing_older_after_acks(&all);
+    w.shutdown();
+}
+
+#[test]
+fn a_slow_consumer_never_sees_more_than_the_channel_bound() {
+    let capacity = 8;
+    let (w, _) = spawn(capacity, 2, 8);
+    assert!(w.send(sweep(5, 48, 6, 4)));
+    assert!(w.send(trajectory(6, Some(40))));
+    let mut max_queued = 0;
+    let mut finished = 0;
+    while finished < 2 {
+        std::thread::sleep(Duration::from_millis(2));
+        let q = w.queued();
+        assert!(q <= capacity, "{q} updates queued");
+        max_queued = max_queued.max(q);
+        if let Update::Finished { outcome, .. } = recv(&w) {
+            assert_eq!(outcome, Outcome::Completed);
+            finished += 1;
+        }
+    }
+    assert_eq!(max_queued, capacity, "the producers had to wait for room");
+    w.shutdown();
+}
+
+#[test]
+fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
+    let (w, _) = spawn(64, 2, 64);
+    let bad_kappa = Params {
+        kappa: -1.0,
+        ..fig3b(1.0)
+    };
+    let cases: Vec<(Command, Lane, &str)> = vec![
+        (iterate(1, bad_kappa, 0, 5), Lane::Orbit, "kappa"),
+        (
+            Command::Trajectory {
+                generation: 2,
+                params: fig3b(1.0),
+                settings: settings(),
+                theta0: Some(-2.0),
+                spacing: 0.05,
+                cycles: Some(3),
+            },
+            Lane::Orbit,
+            "theta",
+        ),
+        (
+            Command::Trajectory {
+                generation: 3,
+                params: fig3b(1.0),
+                settings: settings(),
+                theta0: None,
+                spacing: 0.0,
+                cycles: Some(3),
+            },
+            Lane::Orbit,
+            "spacing",
+        ),
+        (
+            Command::Sweep {
+                generation: 4,
+                params: Params {
+                    gamma: f64::NAN,
+                    ..fig3b(0.0)
+                },
+                settings: settings(),
+                theta_nu_from: 0.0,
+                theta_nu_to: 1.0,
+                columns: 10,
+                transient: 2,
+                keep: 2,
+            },
+            Lane::Sweep,
+            "gamma",
+        ),
+        (
+            Command::Sweep {
+                generation: 5,
+                params: fig3b(0.0),
+                settings: SolverSettings {
+                    rtol: 1.0,
+                    ..settings()
+                },
+                theta_nu_from: 0.0,
+                theta_nu_to: 1.0,
+                columns: 10,
+                transient: 2,
+                keep: 2,
+            },
+            Lane::Sweep,
+            "tol",
+        ),
+    ];
+    for (cmd, lane, name) in cases {
+        let generation = match &cmd {
+            Command::Iterate { generation, .. }
+            | Command::Trajectory { generation, .. }
+            | Command::Sweep { generation, .. } => *generation,
+            _ => unreachable!(),
+        };
+        assert!(w.send(cmd));
+        let (ups, outcome) = until_finished(&w, generation, lane);
+        assert!(matches!(outcome, Outcome::Failed(_)), "{outcome:?}");
+        let named = ups.iter().find_map(|u| match u {
+            Update::Error { parameter, .. } => Some(*parameter),
+            _ => None,
+        });
+        assert_eq!(named, Some(Some(name)), "{ups:?}");
+    }
+    assert!(w.send(iterate(6, fig3b(1.0), 2, 5)));
+    let (_, outcome) = until_finished(&w, 6, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    assert!(w.send(sweep(7, 3, 2, 2)));
+    let (_, outcome) = until_finished(&w, 7, Lane::Sweep);
+    assert_eq!(outcome, Outcome::Completed);
+    w.shutdown();
+}
+
+#[test]
+fn a_panicking_job_is_reported_and_the_worker_keeps_serving() {
+    let (w, _) = spawn(64, 2, 64);
+    for round in 0..2 {
+        let g = 10 * round + 1;
+        assert!(w.send(Command::InjectPanic {
+            generation: g,
+            after_cycles: 3
+        }));
+        let (ups, outcome) = until_finished(&w, g, Lane::Orbit);
+        assert!(matches!(outcome, Outcome::Failed(ref m) if m.contains("panicked")));
+        assert!(ups.iter().any(|u| matches!(
+            u,
+            Update::Error { message, parameter: None, .. } if message.contains("injected panic")
+        )));
+        assert!(w.send(iterate(g + 1, fig3b(1.0), 1, 4)));
+        let (_, outcome) = until_finished(&w, g + 1, Lane::Orbit);
+        assert_eq!(outcome, Outcome::Completed);
+    }
+    w.shutdown();
+}
+
+#[test]
+fn shutdown_mid_sweep_joins_within_one_cycle_per_thread() {
+    let threads = 2;
+    let (w, _) = spawn(256, threads, 16);
+    let stats = w.stats();
+    assert!(w.send(sweep(1, 400, 300, 200)));
+    assert!(w.send(trajectory(2, None)));
+    // Wait until both lanes are busy.
+    let mut col = false;
+    while !col {
+        col = matches!(recv(&w), Update::Column { .. });
+    }
+    assert!(stats.cycles_after_stop().is_none());
+    w.shutdown();
+    let after = stats.cycles_after_stop().expect("stopped");
+    assert!(
+        after <= 1 + threads as u64,
+        "{after} cycles started after the stop"
+    );
+}
+
+#[test]
+fn dropping_the_handle_with_a_full_channel_joins_every_thread() {
+    let threads = 2;
+    let (w, _) = spawn(2, threads, 16);
+    let stats = w.stats();
+    assert!(w.send(sweep(1, 400, 300, 200)));
+    assert!(w.send(trajectory(2, None)));
+    // Nobody reads: the producers block on the full channel.
+    while w.queued() < 2 {
+        std::thread::yield_now();
+    }
+    std::thread::sleep(Duration::from_millis(20));
+    drop(w);
+    let after = stats.cycles_after_stop().expect("stopped");
+    assert!(after <= 1 + threads as u64);
+}
+
+#[test]
+fn a_command_of_an_older_generation_starts_nothing() {
+    let (w, _) = spawn(64, 2, 64);
+    assert!(w.send(Command::Cancel {
+        generation: 50,
+        lane: Some(Lane::Orbit)
+    }));
+    assert!(matches!(recv(&w), Update::Cancelled { generation: 50, .. }));
+    assert!(w.send(iterate(49, fig3b(1.0), 0, 2)));
+    assert!(w.send(iterate(51, fig3b(1.0), 0, 2)));
+    let (ups, outcome) = until_finished(&w, 51, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    assert!(ups.iter().all(|u| u.generation() == 51), "{ups:?}");
+    w.shutdown();
+}
