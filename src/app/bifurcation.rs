@@ -193,6 +193,7 @@ impl BifurcationView {
         let tex = self.texture.as_ref().map(|t| t.id());
         let drag_from = self.drag_from;
         let resp = Plot::new("bifurcation")
+            .show_background(false)
             .allow_drag(false)
             .allow_zoom(false)
             .allow_scroll(false)

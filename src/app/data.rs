@@ -25,8 +25,8 @@ pub enum JobState {
     Failed(String),
 }
 
-/// The most samples kept for export (about 100 MB would be far more than a
-/// screen needs; the view shows the last cycles only).
+/// The most samples and events kept (a rolling window: an endless
+/// trajectory keeps the newest; the view shows the last cycles only).
 const MAX_SAMPLES: usize = 2_000_000;
 const MAX_EVENTS: usize = 200_000;
 
@@ -36,7 +36,7 @@ pub struct TrajectoryData {
     pub samples: Vec<Sample>,
     pub events: Vec<SlipEvent>,
     pub state: JobState,
-    /// Samples dropped because of the cap.
+    /// The oldest samples or events were dropped to stay under the caps.
     pub truncated: bool,
 }
 
@@ -170,17 +170,22 @@ impl Data {
         match u {
             Update::TrajectoryChunk { samples, .. } if job == Job::Trajectory => {
                 let t = &mut self.trajectory;
-                let room = MAX_SAMPLES.saturating_sub(t.samples.len());
-                if samples.len() > room {
+                if t.samples.len() + samples.len() > MAX_SAMPLES {
+                    // A rolling window: the oldest half goes, the view keeps
+                    // following the newest cycles.
+                    t.samples.drain(..t.samples.len() / 2);
                     t.truncated = true;
                 }
-                t.samples.extend(samples.into_iter().take(room));
+                t.samples.extend(samples);
                 self.trajectory_revision += 1;
             }
             Update::Slip { event, .. } if job == Job::Trajectory => {
-                if self.trajectory.events.len() < MAX_EVENTS {
-                    self.trajectory.events.push(event);
+                let evs = &mut self.trajectory.events;
+                if evs.len() >= MAX_EVENTS {
+                    evs.drain(..MAX_EVENTS / 2);
+                    self.trajectory.truncated = true;
                 }
+                evs.push(event);
                 self.trajectory_revision += 1;
             }
             Update::MapIterates {

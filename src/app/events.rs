@@ -12,6 +12,30 @@ use crate::sim::SlipEvent;
 
 /// Bins of the histogram.
 const BINS: usize = 40;
+/// Beyond this many events the series is drawn as a min/max envelope.
+const MAX_MARKERS: usize = 1500;
+
+/// The series (index, value), reduced to min and max per bucket when
+/// longer than `max` so the plot stays cheap with any number of events.
+pub fn decimate(ys: &[f64], max: usize) -> Vec<[f64; 2]> {
+    if ys.len() <= max {
+        return ys.iter().enumerate().map(|(i, &v)| [i as f64, v]).collect();
+    }
+    let buckets = (max / 2).max(1);
+    let per = ys.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets);
+    for (b, chunk) in ys.chunks(per).enumerate() {
+        let i0 = (b * per) as f64;
+        let (lo, hi) = chunk
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &v| {
+                (l.min(v), h.max(v))
+            });
+        out.push([i0, lo]);
+        out.push([i0 + chunk.len() as f64 / 2.0, hi]);
+    }
+    out
+}
 
 /// The size of a slip under `m`.
 pub fn slip_size(e: &SlipEvent, m: SlipMeasure) -> f64 {
@@ -62,11 +86,8 @@ impl EventsView {
             SlipMeasure::Energy => "energy released",
         };
         let sizes: Vec<f64> = evs.iter().map(|e| slip_size(e, m)).collect();
-        let series: Vec<[f64; 2]> = sizes
-            .iter()
-            .enumerate()
-            .map(|(i, &v)| [i as f64, v])
-            .collect();
+        let series = decimate(&sizes, MAX_MARKERS);
+        let markers = sizes.len() <= MAX_MARKERS;
         let (edges, w, counts) = histogram(&sizes, BINS);
         let bars: Vec<Bar> = edges
             .iter()
@@ -79,23 +100,34 @@ impl EventsView {
             ui.vertical(|ui| {
                 ui.set_width(width * 0.58);
                 Plot::new("events_series")
+                    .show_background(false)
                     .height(h - 8.0)
                     .x_axis_label("event number")
                     .y_axis_label(unit)
                     .show(ui, |p| {
-                        p.line(
-                            style::line("size", PlotPoints::from(series.clone()))
-                                .color(style::STICK.gamma_multiply(0.5)),
-                        );
-                        p.add(
-                            Points::new("slips", PlotPoints::from(series))
-                                .color(style::ACCEL)
-                                .radius(2.5),
-                        );
+                        if markers {
+                            p.line(
+                                style::line("size", PlotPoints::from(series.clone()))
+                                    .color(style::STICK.gamma_multiply(0.5)),
+                            );
+                            p.add(
+                                Points::new("slips", PlotPoints::from(series))
+                                    .color(style::ACCEL)
+                                    .radius(2.5),
+                            );
+                        } else {
+                            // Thousands of events: their envelope, not a marker each.
+                            p.line(
+                                style::line("size", PlotPoints::from(series))
+                                    .color(style::ACCEL)
+                                    .width(1.0),
+                            );
+                        }
                     });
             });
             ui.vertical(|ui| {
                 Plot::new("events_hist")
+                    .show_background(false)
                     .height(h - 8.0)
                     .x_axis_label(unit)
                     .y_axis_label("count")

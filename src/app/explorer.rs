@@ -58,6 +58,9 @@ pub struct Script {
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Stage {
     Waiting,
+    /// Diagram full, trajectory done: the idle repaint cost.
+    MeasuringIdle(Instant),
+    /// Then with a trajectory streaming without end.
     Measuring(Instant),
     Settling(u32),
     Shooting,
@@ -84,8 +87,11 @@ pub struct FrameStats {
     pub enabled: bool,
     last: Option<Instant>,
     recording: bool,
-    /// Intervals between frames, in milliseconds.
+    /// Intervals between frames, in milliseconds, with a trajectory streaming.
     pub intervals: Vec<f32>,
+    /// The same with nothing streaming (diagram full, trajectory done).
+    pub idle: Vec<f32>,
+    streaming: bool,
     /// CPU time eframe reports per frame, in milliseconds.
     pub cpu: Vec<f32>,
     /// Points in the diagram and samples received while recording.
@@ -118,17 +124,31 @@ impl FrameStats {
         if let Some(l) = self.last
             && self.recording
         {
-            self.intervals.push((now - l).as_secs_f32() * 1e3);
+            let ms = (now - l).as_secs_f32() * 1e3;
+            if self.streaming {
+                self.intervals.push(ms);
+            } else {
+                self.idle.push(ms);
+            }
         }
         self.last = Some(now);
     }
 
     /// One line for the terminal and docs.
     pub fn report(&self) -> String {
-        match median(&self.intervals) {
+        let idle = match median(&self.idle) {
+            Some(m) => format!(
+                "frame-stats: idle (diagram full, trajectory done): median frame time {m:.1} ms \
+                 (p90 {:.1} ms) over {} frames\n",
+                percentile(&self.idle, 0.9).unwrap_or(m),
+                self.idle.len()
+            ),
+            None => String::new(),
+        };
+        let streaming = match median(&self.intervals) {
             None => "frame-stats: no frames recorded".into(),
             Some(m) => format!(
-                "frame-stats: median frame time {m:.1} ms (p90 {:.1} ms) over {} frames; \
+                "frame-stats: streaming: median frame time {m:.1} ms (p90 {:.1} ms) over {} frames; \
                  median CPU per frame {}; diagram {} points; trajectory streaming {} → {} samples",
                 percentile(&self.intervals, 0.9).unwrap_or(m),
                 self.intervals.len(),
@@ -137,7 +157,8 @@ impl FrameStats {
                 self.samples_at_start,
                 self.samples_at_end,
             ),
-        }
+        };
+        format!("{idle}{streaming}")
     }
 }
 
@@ -417,14 +438,11 @@ impl Explorer {
                     {
                         finish(&sc, Err(format!("the simulation failed: {failed}")));
                         sc.stage = Stage::Closing;
-                    } else if let Some(d) = sc.measure {
-                        // A trajectory streaming over a full diagram.
-                        self.stream_forever = true;
-                        self.restart_orbit();
+                    } else if sc.measure.is_some() {
                         self.stats.enabled = true;
                         self.stats.recording = true;
-                        self.stats.samples_at_start = 0;
-                        sc.stage = Stage::Measuring(Instant::now() + d);
+                        self.stats.streaming = false;
+                        sc.stage = Stage::MeasuringIdle(Instant::now() + Duration::from_secs(3));
                     } else {
                         sc.stage = Stage::Settling(0);
                     }
@@ -442,6 +460,17 @@ impl Explorer {
                     );
                     finish(&sc, Err(msg));
                     sc.stage = Stage::Closing;
+                }
+            }
+            Stage::MeasuringIdle(until) => {
+                if Instant::now() >= until {
+                    // A trajectory streaming without end over a full diagram.
+                    self.stream_forever = true;
+                    self.restart_orbit();
+                    self.stats.streaming = true;
+                    self.stats.samples_at_start = 0;
+                    let d = sc.measure.unwrap_or(Duration::from_secs(5));
+                    sc.stage = Stage::Measuring(Instant::now() + d);
                 }
             }
             Stage::Measuring(until) => {
@@ -668,7 +697,12 @@ impl Explorer {
                 });
             });
 
-        egui::CentralPanel::default_margins().show(ui, |ui| self.views_ui(ui));
+        // No fill: the clear colour is the panel colour, which saves
+        // painting the largest area twice (software rendering is fill-bound).
+        let frame = egui::Frame::central_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        egui::CentralPanel::default_margins()
+            .frame(frame)
+            .show(ui, |ui| self.views_ui(ui));
 
         self.handle_actions(actions, &ctx);
         self.sync_jobs(&ctx);
@@ -901,6 +935,10 @@ impl eframe::App for Explorer {
 
     fn persist_egui_memory(&self) -> bool {
         self.persist
+    }
+
+    fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
+        visuals.panel_fill.to_normalized_gamma_f32()
     }
 }
 

@@ -78,6 +78,10 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             .with_inner_size(size)
             .with_min_inner_size([800.0, 560.0]),
         renderer: eframe::Renderer::Glow,
+        // Dithering costs a noticeable share of each frame under software
+        // rendering (llvmpipe is fill-bound here) and the plots have no
+        // gradients to band.
+        dithering: false,
         persist_window: !scripted,
         ..Default::default()
     };

@@ -142,6 +142,7 @@ impl PlaneView {
         let kbits = k.to_bits();
         let scaled = s.scale_x_by_kappa;
         let resp = Plot::new("plane")
+            .show_background(false)
             .data_aspect(1.0)
             .allow_double_click_reset(false)
             .x_axis_label(x_label)

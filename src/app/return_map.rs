@@ -60,9 +60,9 @@ impl ReturnMapView {
             style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
         });
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
-        let traj: Vec<[f64; 2]> = data
-            .trajectory
-            .events
+        // The latest cycles only: thousands of markers would cost frames.
+        let evs = &data.trajectory.events;
+        let traj: Vec<[f64; 2]> = evs[evs.len().saturating_sub(1500)..]
             .iter()
             .map(|e| [e.theta, e.theta_next])
             .collect();
@@ -87,6 +87,7 @@ impl ReturnMapView {
         };
         let dark = s.dark;
         Plot::new("return_map")
+            .show_background(false)
             .data_aspect(1.0)
             .x_axis_label("θ (this onset)")
             .y_axis_label("θ' (next onset)")
