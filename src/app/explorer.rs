@@ -62,6 +62,9 @@ enum Stage {
     MeasuringIdle(Instant),
     /// Then with a trajectory streaming without end.
     Measuring(Instant),
+    /// Then slider-to-picture: θν moved (the n-th time) at this instant;
+    /// waiting for the first slip of the new trajectory on screen.
+    Latency(u32, Instant, Generation),
     Settling(u32),
     Shooting,
     Closing,
@@ -91,6 +94,8 @@ pub struct FrameStats {
     pub intervals: Vec<f32>,
     /// The same with nothing streaming (diagram full, trajectory done).
     pub idle: Vec<f32>,
+    /// From a θν change to the frame showing the new trajectory's first slip, ms.
+    pub latency: Vec<f32>,
     streaming: bool,
     /// CPU time eframe reports per frame, in milliseconds.
     pub cpu: Vec<f32>,
@@ -158,7 +163,16 @@ impl FrameStats {
                 self.samples_at_end,
             ),
         };
-        format!("{idle}{streaming}")
+        let latency = match median(&self.latency) {
+            Some(m) => format!(
+                "\nframe-stats: slider to picture (θν change to the frame showing the new \
+                 trajectory's first slip): median {m:.0} ms, max {:.0} ms over {} changes",
+                self.latency.iter().copied().fold(0.0, f32::max),
+                self.latency.len()
+            ),
+            None => String::new(),
+        };
+        format!("{idle}{streaming}{latency}")
     }
 }
 
@@ -478,6 +492,22 @@ impl Explorer {
                     self.stats.recording = false;
                     self.stats.points = self.data.sweep.points();
                     self.stats.samples_at_end = self.data.trajectory.samples.len();
+                    self.stream_forever = false;
+                    self.settings.params.theta_nu += 0.01;
+                    sc.stage = Stage::Latency(0, Instant::now(), self.data.trajectory_gen);
+                }
+            }
+            Stage::Latency(n, since, before) => {
+                // Logic runs before drawing: a slip here is on this frame.
+                if self.data.trajectory_gen > before && !self.data.trajectory.events.is_empty() {
+                    self.stats.latency.push(since.elapsed().as_secs_f32() * 1e3);
+                    if n + 1 >= 10 {
+                        sc.stage = Stage::Settling(0);
+                    } else {
+                        self.settings.params.theta_nu += if n % 2 == 0 { -0.01 } else { 0.01 };
+                        sc.stage = Stage::Latency(n + 1, Instant::now(), self.data.trajectory_gen);
+                    }
+                } else if since.elapsed() > Duration::from_secs(10) {
                     sc.stage = Stage::Settling(0);
                 }
             }
@@ -935,6 +965,22 @@ impl eframe::App for Explorer {
 
     fn persist_egui_memory(&self) -> bool {
         self.persist
+    }
+
+    fn raw_input_hook(&mut self, _ctx: &Context, raw_input: &mut egui::RawInput) {
+        // A scripted run draws for a picture: wherever the X server left the
+        // pointer, it must not hover a plot (crosshairs, tooltips).
+        if self.script.is_some() {
+            raw_input.events.retain(|e| {
+                !matches!(
+                    e,
+                    egui::Event::PointerMoved(_)
+                        | egui::Event::MouseMoved(_)
+                        | egui::Event::PointerButton { .. }
+                )
+            });
+            raw_input.events.push(egui::Event::PointerGone);
+        }
     }
 
     fn clear_color(&self, visuals: &egui::Visuals) -> [f32; 4] {
