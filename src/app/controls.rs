@@ -366,14 +366,11 @@ impl Controls {
         let current = field.get(s);
         ui.horizontal(|ui| {
             let mut v = current;
-            let mut slider = Slider::new(&mut v, field.slider_range(s.full_circle))
+            let slider = Slider::new(&mut v, field.slider_range(s.full_circle))
                 .logarithmic(field.logarithmic())
                 .clamping(SliderClamping::Never)
                 .show_value(false)
                 .text(field.symbol());
-            if field == Field::Gamma {
-                slider = slider.step_by(0.0);
-            }
             let r = ui.add(slider).on_hover_text(field.hover());
             if r.changed() && v != current && field.validate(s, v).is_ok() {
                 field.set(s, v);
