@@ -686,3 +686,66 @@ fn a_command_of_an_older_generation_starts_nothing() {
     assert!(ups.iter().all(|u| u.generation() == 51), "{ups:?}");
     w.shutdown();
 }
+
+#[test]
+fn dragging_a_slider_ends_with_only_the_last_jobs_results() {
+    // Commands arrive faster than jobs run and nobody reads meanwhile, as
+    // when a slider is dragged: every superseded job ends exactly once, as
+    // cancelled (or completed, if it won the race), nothing older follows a
+    // cancellation, and the last ones complete.
+    let (w, _) = spawn(8, 2, 4);
+    let (columns, last_sweep, last_iterate) = (12, 39, 40);
+    for g in 1..=20u64 {
+        let theta_nu = 0.5 + 0.02 * g as f64;
+        assert!(w.send(sweep(2 * g - 1, columns, 4, 3)));
+        assert!(w.send(iterate(2 * g, fig3b(theta_nu), 5, 20)));
+    }
+    let mut all = Vec::new();
+    let mut done = 0;
+    while done < 2 {
+        let u = recv(&w);
+        if let Update::Finished { generation, .. } = u
+            && (generation == last_sweep || generation == last_iterate)
+        {
+            done += 1;
+        }
+        all.push(u);
+    }
+    assert_nothing_older_after_acks(&all);
+    let mut finished = std::collections::HashMap::new();
+    for u in &all {
+        if let Update::Finished {
+            generation,
+            outcome,
+            ..
+        } = u
+        {
+            assert!(
+                finished.insert(*generation, outcome.clone()).is_none(),
+                "generation {generation} finished twice"
+            );
+        }
+    }
+    assert_eq!(finished.len(), 40, "every job ends exactly once");
+    for (g, o) in &finished {
+        // A superseded job may have completed before its successor arrived
+        // (the dispatcher waits for room to send acknowledgements).
+        let last = *g == last_sweep || *g == last_iterate;
+        assert!(
+            *o == Outcome::Completed || (!last && *o == Outcome::Cancelled),
+            "generation {g}: {o:?}"
+        );
+    }
+    let last_columns: Vec<usize> = all
+        .iter()
+        .filter_map(|u| match u {
+            Update::Column {
+                generation, index, ..
+            } if *generation == last_sweep => Some(*index),
+            _ => None,
+        })
+        .collect();
+    let unique: HashSet<usize> = last_columns.iter().copied().collect();
+    assert_eq!((last_columns.len(), unique.len()), (columns, columns));
+    w.shutdown();
+}

@@ -12,7 +12,7 @@
 //! - `oneblock-sweep`: the sweep lane's coordinator, running each sweep on
 //!   `sweep_threads` scoped threads `oneblock-sweep-<i>`.
 //!
-//! Ordering: see [`gate`]. Every update of a lane is sent under that lane's
+//! Ordering (module `gate`): every update of a lane is sent under that lane's
 //! lock after re-checking its generation, and the generation only changes
 //! under the same lock, so after a `Cancelled` (or a job's
 //! `Finished{Cancelled}`) nothing of the older generation follows.
