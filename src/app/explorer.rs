@@ -220,6 +220,9 @@ impl Explorer {
             settings = Settings::default();
         }
         settings.columns = settings.columns.clamp(20, 2000);
+        if settings.tiled.is_empty() {
+            settings.tiled = Settings::default().tiled;
+        }
         settings.keep_cycles = settings.keep_cycles.clamp(1, 1000);
         Explorer {
             settings,
@@ -442,17 +445,21 @@ impl Explorer {
         };
         match sc.stage {
             Stage::Waiting => {
-                if self.data.complete(sc.min_cycles) {
-                    if let Some(failed) = [&self.data.sweep.state, &self.data.trajectory.state]
-                        .into_iter()
-                        .find_map(|s| match s {
-                            JobState::Failed(m) => Some(m.clone()),
-                            _ => None,
-                        })
-                    {
-                        finish(&sc, Err(format!("the simulation failed: {failed}")));
-                        sc.stage = Stage::Closing;
-                    } else if sc.measure.is_some() {
+                let failed = [
+                    &self.data.sweep.state,
+                    &self.data.trajectory.state,
+                    &self.data.iterate.state,
+                ]
+                .into_iter()
+                .find_map(|s| match s {
+                    JobState::Failed(m) => Some(m.clone()),
+                    _ => None,
+                });
+                if let Some(failed) = failed {
+                    finish(&sc, Err(format!("the simulation failed: {failed}")));
+                    sc.stage = Stage::Closing;
+                } else if self.data.complete(sc.min_cycles) {
+                    if sc.measure.is_some() {
                         self.stats.enabled = true;
                         self.stats.recording = true;
                         self.stats.streaming = false;

@@ -90,7 +90,13 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         )));
     }
     if let Some(p) = &args.screenshot {
-        crate::output::check_writable(p, false).map_err(|e| CliError::Usage(e.to_string()))?;
+        crate::output::check_writable(p, false).map_err(|e| match e {
+            crate::output::OutputError::Exists { path } => CliError::Usage(format!(
+                "{} already exists: a screenshot never overwrites a file, choose another name",
+                path.display()
+            )),
+            e => CliError::Usage(e.to_string()),
+        })?;
     }
     crate::app::run(RunOptions {
         // The first launch is the Fig. 3b demo (the default settings); later
