@@ -364,3 +364,56 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
     });
     assert_eq!(back, Some(full));
 }
+
+#[test]
+fn export_writes_the_events_csv_into_the_chosen_folder() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    for i in 0..3 {
+        rec.push(Update::Slip {
+            generation: g,
+            event: event(0.5, 0.2, 103.0 * i as f64),
+        });
+    }
+    h.run_steps(2);
+    h.get_by_label("Export data").click();
+    h.run_steps(2);
+    h.get_by_label("Events CSV").click();
+    // The file is written on a thread of its own.
+    let mut found = None;
+    for _ in 0..100 {
+        h.step();
+        found = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "csv"));
+        if found.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let path = found.expect("an events CSV was written");
+    let text = std::fs::read_to_string(&path).expect("read csv");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(oneblock::app::export::EVENTS_HEADER));
+    assert_eq!(lines.count(), 3);
+    assert!(
+        path.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-events-"))
+    );
+}
