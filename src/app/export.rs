@@ -1,6 +1,7 @@
-//! CSV in the command line's formats: events (every `SlipEvent` field),
+//! CSV in the command line's formats: events (every `SlipEvent` field, in
+//! order, `restarted` as 0/1, as `cli::common::slip_event_row` writes them),
 //! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`). Floats
-//! in Rust's shortest round-trip form.
+//! in Rust's shortest round-trip form, so parsing gives back the exact f64.
 
 use std::fmt::Write as _;
 
@@ -31,7 +32,7 @@ pub fn events_csv(events: &[SlipEvent]) -> String {
             e.energy_released,
             e.stick_duration,
             e.theta_next,
-            e.restarted,
+            u8::from(e.restarted),
             e.rhs_evals,
             e.steps
         );
