@@ -8,6 +8,8 @@
 //! - [`cli`]: the headless subcommands.
 //! - `app` (feature `gui`): the eframe/egui explorer.
 
+#[cfg(feature = "gui")]
+pub mod app;
 pub mod cli;
 pub mod integrate;
 pub mod model;

@@ -1,12 +1,126 @@
-//! `oneblock gui` (not yet written).
+//! `oneblock gui`: opens the explorer window (also what `oneblock` with no
+//! arguments does). With `--screenshot` it waits until the views for the
+//! preset are complete, saves a PNG and exits: how the README's images are
+//! made and how CI checks that the window really draws.
+
+use std::path::PathBuf;
 
 use clap::Args;
 
 use super::CliError;
 
 #[derive(Debug, Clone, Default, Args)]
-pub struct GuiArgs {}
+pub struct GuiArgs {
+    /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// Save a PNG of the window here once the views are complete, then exit
+    /// (never overwrites an existing file).
+    #[arg(long)]
+    pub screenshot: Option<PathBuf>,
+    /// Window size in points, WIDTHxHEIGHT (default 1280x800).
+    #[arg(long, value_parser = parse_size)]
+    pub size: Option<[f32; 2]>,
+    /// Measure frame times (with --screenshot: for 5 s with the diagram full
+    /// and a trajectory streaming) and print the median.
+    #[arg(long)]
+    pub frame_stats: bool,
+    /// Show one view full size: plane, block, bifurcation, return-map, events.
+    #[arg(long)]
+    pub view: Option<String>,
+    /// Text size multiplier (e.g. 1.5 on a projector).
+    #[arg(long)]
+    pub font_scale: Option<f32>,
+    /// Give up a --screenshot run after this many seconds (default 180).
+    #[arg(long)]
+    pub timeout: Option<f64>,
+}
 
+fn parse_size(s: &str) -> Result<[f32; 2], String> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT, e.g. 1280x800"))?;
+    let w: f32 = w
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad width in '{s}'"))?;
+    let h: f32 = h
+        .trim()
+        .parse()
+        .map_err(|_| format!("bad height in '{s}'"))?;
+    if !(200.0..=10_000.0).contains(&w) || !(200.0..=10_000.0).contains(&h) {
+        return Err(format!(
+            "size '{s}' must lie between 200x200 and 10000x10000"
+        ));
+    }
+    Ok([w, h])
+}
+
+#[cfg(feature = "gui")]
+pub fn run(args: GuiArgs) -> Result<(), CliError> {
+    use crate::app::{RunOptions, View, preset, preset_keys};
+    if let Some(p) = &args.preset
+        && preset(p).is_none()
+    {
+        return Err(CliError::Usage(format!(
+            "--preset: unknown preset '{p}': expected one of {}",
+            preset_keys()
+        )));
+    }
+    let view = match &args.view {
+        Some(v) => Some(View::from_key(v).ok_or_else(|| {
+            CliError::Usage(format!(
+                "--view: unknown view '{v}': expected plane, block, bifurcation, return-map or events"
+            ))
+        })?),
+        None => None,
+    };
+    if let Some(t) = args.timeout
+        && !(t.is_finite() && t > 0.0)
+    {
+        return Err(CliError::Usage(format!(
+            "--timeout {t} must be > 0 seconds"
+        )));
+    }
+    if let Some(f) = args.font_scale
+        && !(0.5..=3.0).contains(&f)
+    {
+        return Err(CliError::Usage(format!(
+            "--font-scale {f} must lie in [0.5, 3]"
+        )));
+    }
+    if let Some(p) = &args.screenshot {
+        crate::output::check_writable(p, false).map_err(|e| match e {
+            crate::output::OutputError::Exists { path } => CliError::Usage(format!(
+                "{} already exists: a screenshot never overwrites a file, choose another name",
+                path.display()
+            )),
+            e => CliError::Usage(e.to_string()),
+        })?;
+    }
+    crate::app::run(RunOptions {
+        // The first launch is the Fig. 3b demo (the default settings); later
+        // launches restore the saved parameters unless a preset is named. A
+        // scripted run is reproducible: Fig. 3b unless told otherwise.
+        preset: args
+            .preset
+            .clone()
+            .or_else(|| args.screenshot.is_some().then(|| "fig3b".to_string())),
+        screenshot: args.screenshot,
+        size: args.size,
+        frame_stats: args.frame_stats,
+        view,
+        font_scale: args.font_scale,
+        timeout: args.timeout.map(std::time::Duration::from_secs_f64),
+    })
+    .map_err(CliError::Failed)
+}
+
+#[cfg(not(feature = "gui"))]
 pub fn run(_args: GuiArgs) -> Result<(), CliError> {
-    Err(CliError::Failed("'gui' is not implemented yet".into()))
+    Err(CliError::Failed(
+        "this oneblock was built without the window (cargo feature 'gui'); \
+         rebuild with default features, or use the headless subcommands (see --help)"
+            .into(),
+    ))
 }

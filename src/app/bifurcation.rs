@@ -1,0 +1,283 @@
+//! The live bifurcation diagram θ against θν, drawn as a density texture
+//! (one texel column per θν column) rebuilt only when columns arrive: a plot
+//! marker per point would cost ~80 ms a frame at 100k points (GUI-NOTES).
+//! Dragging a box zooms: the window asks the worker for that θν range at
+//! full resolution and rasterises the box's θ range. Back / reset walk the
+//! zoom stack; a click sets θν.
+
+use eframe::egui;
+use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
+use egui_plot::{
+    HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, Polygon, VLine,
+};
+
+use super::data::{JobState, SweepData};
+use super::settings::Settings;
+use super::style;
+use crate::model::Regime;
+
+/// Texel rows of the density image.
+const ROWS: usize = 420;
+
+/// A zoomed part of the diagram.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Zoom {
+    pub theta_nu: (f64, f64),
+    pub theta: (f64, f64),
+}
+
+/// What the user did in the view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BifAction {
+    /// Recompute this range (a box was drawn, or back / reset).
+    Zoomed,
+    /// Move θν here (a click).
+    SetThetaNu(f64),
+}
+
+/// The view's state: texture and zoom stack.
+#[derive(Default)]
+pub struct BifurcationView {
+    texture: Option<TextureHandle>,
+    built: Option<(u64, bool)>,
+    /// The θ range the texture covers.
+    theta_range: (f64, f64),
+    /// Zoom levels, innermost last; empty = the whole range.
+    pub zoom: Vec<Zoom>,
+    drag_from: Option<PlotPoint>,
+}
+
+/// Rasterises the columns into an RGBA image `columns × ROWS` over
+/// θ ∈ [lo, hi] (row 0 at the top = hi). Missing columns take the nearest
+/// computed one to their left, so the coarse pass already fills the picture.
+pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32) -> ColorImage {
+    let w = sweep.columns.len().max(1);
+    let mut counts = vec![0u32; w * ROWS];
+    let scale = (ROWS as f64) / (hi - lo).max(1e-12);
+    let mut source: Option<usize> = sweep.columns.iter().position(Option::is_some);
+    for j in 0..w {
+        if sweep.columns.get(j).is_some_and(Option::is_some) {
+            source = Some(j);
+        }
+        let Some(src) = source else { continue };
+        let Some(col) = &sweep.columns[src] else {
+            continue;
+        };
+        for &t in &col.thetas {
+            if !(t >= lo && t <= hi) {
+                continue;
+            }
+            let r = ((hi - t) * scale) as usize;
+            counts[r.min(ROWS - 1) * w + j] += 1;
+        }
+    }
+    let pixels = counts
+        .iter()
+        .map(|&c| {
+            if c == 0 {
+                Color32::TRANSPARENT
+            } else {
+                let a = 1.0 - (-0.9 * c as f32).exp();
+                let a = (0.25 + 0.75 * a).min(1.0);
+                Color32::from_rgba_unmultiplied(ink.r(), ink.g(), ink.b(), (a * 255.0) as u8)
+            }
+        })
+        .collect();
+    ColorImage::new([w, ROWS], pixels)
+}
+
+/// The θ range holding every received iterate, padded.
+pub fn auto_theta_range(sweep: &SweepData) -> (f64, f64) {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for c in sweep.columns.iter().flatten() {
+        for &t in &c.thetas {
+            if t.is_finite() {
+                lo = lo.min(t);
+                hi = hi.max(t);
+            }
+        }
+    }
+    if !lo.is_finite() {
+        return (-0.5, 1.6);
+    }
+    let pad = ((hi - lo) * 0.06).max(0.05);
+    (lo - pad, hi + pad)
+}
+
+impl BifurcationView {
+    /// The θν range the current zoom level asks for, if zoomed.
+    pub fn theta_nu_range(&self) -> Option<(f64, f64)> {
+        self.zoom.last().map(|z| z.theta_nu)
+    }
+
+    fn rebuild(&mut self, ui: &Ui, sweep: &SweepData, dark: bool) {
+        let key = (sweep.revision, dark);
+        if self.built == Some(key) && self.texture.is_some() {
+            return;
+        }
+        self.theta_range = match self.zoom.last() {
+            Some(z) => z.theta,
+            None => auto_theta_range(sweep),
+        };
+        let (lo, hi) = self.theta_range;
+        let img = rasterise(sweep, lo, hi, style::ink(dark));
+        match &mut self.texture {
+            Some(t) => t.set(img, TextureOptions::NEAREST),
+            None => {
+                self.texture = Some(ui.ctx().load_texture(
+                    "bifurcation",
+                    img,
+                    TextureOptions::NEAREST,
+                ));
+            }
+        }
+        self.built = Some(key);
+    }
+
+    /// Forces a rebuild on the next frame (zoom changed).
+    pub fn invalidate(&mut self) {
+        self.built = None;
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, s: &Settings, sweep: &SweepData) -> Option<BifAction> {
+        let mut action = None;
+        self.rebuild(ui, sweep, s.dark);
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
+                .on_hover_text("Previous zoom level (Backspace)")
+                .clicked()
+            {
+                self.zoom.pop();
+                self.invalidate();
+                action = Some(BifAction::Zoomed);
+            }
+            if ui
+                .add_enabled(!self.zoom.is_empty(), egui::Button::new("Reset zoom"))
+                .on_hover_text("The whole θν range")
+                .clicked()
+            {
+                self.zoom.clear();
+                self.invalidate();
+                action = Some(BifAction::Zoomed);
+            }
+            let state = match &sweep.state {
+                JobState::Running => "computing",
+                JobState::Done => "done",
+                JobState::Cancelled => "cancelled",
+                JobState::Failed(_) => "failed",
+                JobState::Idle => "idle",
+            };
+            ui.label(format!(
+                "{}/{} columns · {} points · {state}",
+                sweep.filled,
+                sweep.columns.len(),
+                sweep.points()
+            ))
+            .on_hover_text(
+                "Drag a box to zoom: that θν range is recomputed with all its columns, \
+                 not just magnified. A click sets θν. Backspace: back.",
+            );
+            ui.label(RichText::new("drag: zoom · click: set θν").weak());
+        });
+
+        let (from, to) = (sweep.from, sweep.to);
+        let n = sweep.columns.len().max(2);
+        let dx = (to - from) / (n - 1) as f64;
+        let (lo, hi) = self.theta_range;
+        let tn = s.params.theta_nu;
+        let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
+            Regime::Mixed { theta_c } => Some(theta_c),
+            _ => None,
+        };
+        let tex = self.texture.as_ref().map(|t| t.id());
+        let drag_from = self.drag_from;
+        let resp = Plot::new("bifurcation")
+            .show_background(false)
+            .allow_drag(false)
+            .allow_zoom(false)
+            .allow_scroll(false)
+            .allow_boxed_zoom(false)
+            .allow_double_click_reset(false)
+            .x_axis_label("θν (pull direction)")
+            .y_axis_label("θ (slip onset)")
+            .show(ui, |p| {
+                p.set_plot_bounds(PlotBounds::from_min_max(
+                    [from - dx / 2.0, lo],
+                    [to + dx / 2.0, hi],
+                ));
+                if let Some(id) = tex {
+                    p.add(PlotImage::new(
+                        "diagram",
+                        id,
+                        PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
+                        [(to - from + dx) as f32, (hi - lo) as f32],
+                    ));
+                }
+                p.line(
+                    style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
+                        .color(style::CRITICAL.gamma_multiply(0.6))
+                        .style(LineStyle::Dotted { spacing: 6.0 }),
+                );
+                if let Some(tc) = theta_c {
+                    for y in [tc, -tc] {
+                        p.add(
+                            HLine::new("θc", y)
+                                .color(style::ACCEL)
+                                .style(LineStyle::Dashed { length: 10.0 })
+                                .width(1.5),
+                        );
+                    }
+                }
+                p.add(
+                    VLine::new("current θν", tn)
+                        .color(style::CURRENT)
+                        .width(2.0),
+                );
+                let pointer = p.pointer_coordinate();
+                if let (Some(a), Some(b)) = (drag_from, pointer) {
+                    p.add(
+                        Polygon::new(
+                            "zoom box",
+                            PlotPoints::from(vec![[a.x, a.y], [b.x, a.y], [b.x, b.y], [a.x, b.y]]),
+                        )
+                        .fill_color(style::CURRENT.gamma_multiply(0.15))
+                        .stroke(egui::Stroke::new(1.5, style::CURRENT)),
+                    );
+                }
+                pointer
+            });
+        let r = &resp.response;
+        let pointer = resp.inner;
+        if r.drag_started() {
+            self.drag_from = pointer;
+        }
+        if r.drag_stopped() {
+            if let (Some(a), Some(b)) = (self.drag_from.take(), pointer) {
+                let tn_range = (a.x.min(b.x).max(from), a.x.max(b.x).min(to));
+                let th_range = (a.y.min(b.y), a.y.max(b.y));
+                if tn_range.1 - tn_range.0 > 1e-6 * (to - from).abs().max(1e-9)
+                    && th_range.1 - th_range.0 > 1e-9
+                {
+                    self.zoom.push(Zoom {
+                        theta_nu: tn_range,
+                        theta: th_range,
+                    });
+                    self.invalidate();
+                    action = Some(BifAction::Zoomed);
+                }
+            }
+        } else if r.clicked()
+            && let Some(p) = pointer
+        {
+            action = Some(BifAction::SetThetaNu(p.x));
+        }
+        if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) && !self.zoom.is_empty()
+        {
+            self.zoom.pop();
+            self.invalidate();
+            action = Some(BifAction::Zoomed);
+        }
+        action
+    }
+}

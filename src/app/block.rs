@@ -1,0 +1,411 @@
+//! The teaching view: the paper's Fig. 1a, animated from the trajectory the
+//! worker streamed. Seen from above: the block, its two springs to their
+//! walls (k_x horizontal, k_y vertical), the rough surface sliding at V
+//! under it, and the elastic and friction forces as arrows. Stick phases are
+//! fast-forwarded and slips slowed down so that every slip can be watched.
+//! Nothing is integrated here: positions are interpolated between samples,
+//! and the friction is read off the equations of motion at that state.
+
+use eframe::egui;
+use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Ui, pos2, vec2};
+
+use super::data::Data;
+use super::plane::recent_start;
+use super::settings::Settings;
+use super::style;
+use crate::sim::field::SlipField;
+use crate::sim::{Phase, Sample};
+
+/// Real seconds a stick phase takes on screen, whatever its length.
+const STICK_SECONDS: f64 = 0.6;
+
+/// Playback state.
+pub struct BlockView {
+    pub playing: bool,
+    /// The model time on screen.
+    clock: f64,
+    last_frame: Option<f64>,
+    /// Draw x displacements ×κ so the stiff spring's motion is visible.
+    pub magnify_x: bool,
+    trajectory_revision_seen: u64,
+}
+
+impl Default for BlockView {
+    fn default() -> Self {
+        BlockView {
+            playing: true,
+            clock: 0.0,
+            last_frame: None,
+            magnify_x: true,
+            trajectory_revision_seen: 0,
+        }
+    }
+}
+
+/// The block's state at model time t, interpolated between samples, with
+/// the phase of the segment it lies on.
+pub fn state_at(samples: &[Sample], t: f64) -> Option<(Sample, bool)> {
+    if samples.is_empty() {
+        return None;
+    }
+    let i = samples.partition_point(|s| s.t <= t);
+    if i == 0 {
+        return Some((samples[0], samples[0].phase == Phase::Stick));
+    }
+    if i >= samples.len() {
+        let l = *samples.last()?;
+        return Some((l, l.phase == Phase::Stick));
+    }
+    let (a, b) = (samples[i - 1], samples[i]);
+    let f = if b.t > a.t {
+        (t - a.t) / (b.t - a.t)
+    } else {
+        0.0
+    };
+    let lerp = |p: f64, q: f64| p + (q - p) * f;
+    let stick = a.phase == Phase::Stick;
+    Some((
+        Sample {
+            t,
+            x: lerp(a.x, b.x),
+            y: lerp(a.y, b.y),
+            u: lerp(a.u, b.u),
+            w: lerp(a.w, b.w),
+            phase: if stick { Phase::Stick } else { b.phase },
+        },
+        stick,
+    ))
+}
+
+/// The friction force on the block: during stick it balances the spring;
+/// during a slip it is the equations' acceleration minus the elastic force.
+pub fn friction(field: &SlipField, s: &Sample) -> [f64; 2] {
+    let fel = [-field.kappa * s.x, -s.y];
+    match s.phase {
+        Phase::Stick => [-fel[0], -fel[1]],
+        _ => {
+            let vr = [s.u - field.v[0], s.w - field.v[1]];
+            if vr[0].hypot(vr[1]) < 1e-14 {
+                return [-fel[0], -fel[1]];
+            }
+            let st = [s.x, s.y, vr[0], vr[1]];
+            let d = if s.phase == Phase::Accel {
+                field.accel(&st)
+            } else {
+                field.decel(&st)
+            };
+            [d[2] - fel[0], d[3] - fel[1]]
+        }
+    }
+}
+
+impl BlockView {
+    /// Advances the clock by one frame's worth of playback.
+    fn advance(&mut self, samples: &[Sample], window_start: f64, now: f64, speed: f64) {
+        let dt = self.last_frame.map_or(0.0, |l| (now - l).clamp(0.0, 0.1));
+        self.last_frame = Some(now);
+        let Some(last) = samples.last() else { return };
+        if self.clock < window_start || self.clock > last.t {
+            self.clock = window_start;
+        }
+        if !self.playing {
+            return;
+        }
+        let i = samples.partition_point(|s| s.t <= self.clock).max(1);
+        let seg = (samples.get(i - 1), samples.get(i));
+        let rate = match seg {
+            (Some(a), Some(b)) if a.phase == Phase::Stick => (b.t - a.t) / STICK_SECONDS,
+            _ => speed,
+        };
+        self.clock += dt * rate.max(1e-6);
+        if self.clock >= last.t {
+            // Loop over the cycles on screen (the trajectory may still grow).
+            self.clock = window_start;
+        }
+    }
+
+    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
+        let samples = &data.trajectory.samples;
+        if data.trajectory_revision < self.trajectory_revision_seen {
+            self.clock = 0.0;
+        }
+        self.trajectory_revision_seen = data.trajectory_revision;
+        ui.horizontal_wrapped(|ui| {
+            let label = if self.playing { "Pause" } else { "Play" };
+            if ui.button(label).on_hover_text("Space").clicked() {
+                self.playing = !self.playing;
+            }
+            ui.add(
+                egui::Slider::new(&mut s.block_speed, 0.1..=10.0)
+                    .logarithmic(true)
+                    .text("slip speed"),
+            )
+            .on_hover_text(
+                "Time units per second during slips. Stick phases, which last about 1/ν, \
+                 are fast-forwarded to 0.6 s each.",
+            );
+            ui.checkbox(&mut self.magnify_x, "x stretched ×κ")
+                .on_hover_text("The x spring is κ times stiffer, so its stretch is κ times smaller: magnify it to see it.");
+        });
+        let start = recent_start(data, s.keep_cycles.min(4));
+        let window_start = samples.get(start).map_or(0.0, |p| p.t);
+        let now = ui.input(|i| i.time);
+        self.advance(samples, window_start, now, s.block_speed as f64);
+        if self.playing && !samples.is_empty() {
+            ui.ctx().request_repaint();
+        }
+
+        let (rect, _) = ui.allocate_exact_size(ui.available_size(), Sense::hover());
+        let painter = ui.painter_at(rect);
+        let dark = s.dark;
+        let ink = style::ink(dark);
+        let bg = if dark {
+            Color32::from_gray(35)
+        } else {
+            Color32::from_gray(245)
+        };
+        painter.rect_filled(rect, 4.0, bg);
+
+        let Some((st, stick)) = state_at(samples, self.clock) else {
+            painter.text(
+                rect.center(),
+                Align2::CENTER_CENTER,
+                "waiting for the trajectory…",
+                FontId::proportional(18.0),
+                ink,
+            );
+            return;
+        };
+        let p = s.params;
+        let field = SlipField::new(&p);
+        // Geometry: rest position at the centre; y up on screen.
+        let unit = rect.height().min(rect.width()) * 0.28;
+        let sx = if self.magnify_x {
+            unit * p.kappa as f32
+        } else {
+            unit
+        };
+        let centre = rect.center() + vec2(unit * 0.3, -unit * 0.1);
+        let block_at = centre + vec2(st.x as f32 * sx, -(st.y as f32) * unit);
+        let half = unit * 0.22;
+
+        // The rough surface: stripes across V moving with it.
+        let surf = Rect::from_min_max(
+            pos2(rect.left() + unit * 0.45, rect.top() + 8.0),
+            pos2(rect.right() - 8.0, rect.bottom() - unit * 0.45),
+        );
+        painter.rect_filled(
+            surf,
+            6.0,
+            if dark {
+                Color32::from_gray(55)
+            } else {
+                Color32::from_rgb(232, 226, 210)
+            },
+        );
+        let (sn, cs) = (p.theta_nu.sin() as f32, p.theta_nu.cos() as f32);
+        let dir = vec2(cs, -sn);
+        let normal = vec2(sn, cs);
+        let spacing = unit * 0.25;
+        let travel = (p.nu * st.t) as f32 * unit;
+        let offset = travel.rem_euclid(spacing);
+        let diag = surf.size().length();
+        let stripe = if dark {
+            Color32::from_gray(75)
+        } else {
+            Color32::from_rgb(205, 195, 170)
+        };
+        let mut k = -(diag / spacing) as i32 - 1;
+        while (k as f32) * spacing < diag {
+            let c = surf.center() + dir * (k as f32 * spacing + offset);
+            let a = c + normal * diag;
+            let b = c - normal * diag;
+            clip_line(&painter, surf, a, b, Stroke::new(3.0, stripe));
+            k += 1;
+        }
+        // Surface velocity arrow.
+        let v_from = pos2(surf.right() - unit * 0.9, surf.bottom() - unit * 0.55);
+        arrow(
+            &painter,
+            v_from,
+            dir * unit * 0.6,
+            Stroke::new(3.0, style::PULL),
+        );
+        painter.text(
+            v_from + dir * unit * 0.6 + vec2(4.0, -4.0),
+            Align2::LEFT_BOTTOM,
+            "V (surface)",
+            FontId::proportional(15.0),
+            style::PULL,
+        );
+
+        // Walls and springs.
+        let wall_x = rect.left() + unit * 0.25;
+        let wall_y = rect.bottom() - unit * 0.25;
+        let wall = Stroke::new(4.0, ink);
+        painter.line_segment(
+            [
+                pos2(wall_x, rect.top() + 10.0),
+                pos2(wall_x, rect.bottom() - 10.0),
+            ],
+            wall,
+        );
+        painter.line_segment(
+            [
+                pos2(rect.left() + 10.0, wall_y),
+                pos2(rect.right() - 10.0, wall_y),
+            ],
+            wall,
+        );
+        spring(
+            &painter,
+            pos2(wall_x, block_at.y),
+            pos2(block_at.x - half, block_at.y),
+            10,
+            unit * 0.08,
+            Stroke::new(2.5, ink),
+        );
+        spring(
+            &painter,
+            pos2(block_at.x, wall_y),
+            pos2(block_at.x, block_at.y + half),
+            10,
+            unit * 0.08,
+            Stroke::new(2.5, ink),
+        );
+        painter.text(
+            pos2(wall_x + 6.0, block_at.y - unit * 0.12),
+            Align2::LEFT_BOTTOM,
+            "kx = κ",
+            FontId::proportional(15.0),
+            ink,
+        );
+        painter.text(
+            pos2(block_at.x + unit * 0.1, wall_y - 6.0),
+            Align2::LEFT_BOTTOM,
+            "ky = 1",
+            FontId::proportional(15.0),
+            ink,
+        );
+
+        // The block, coloured by phase.
+        let fill = super::plane::phase_color(st.phase);
+        painter.rect_filled(
+            Rect::from_center_size(block_at, vec2(2.0 * half, 2.0 * half)),
+            4.0,
+            fill,
+        );
+        painter.rect_stroke(
+            Rect::from_center_size(block_at, vec2(2.0 * half, 2.0 * half)),
+            4.0,
+            Stroke::new(2.0, ink),
+            egui::StrokeKind::Inside,
+        );
+
+        // Forces (|F| ≤ about 1 on C), drawn at the block.
+        let fel = [-p.kappa * st.x, -st.y];
+        let ffr = friction(&field, &st);
+        let fscale = unit * 0.9;
+        let to_screen = |f: [f64; 2]| vec2(f[0] as f32, -(f[1] as f32)) * fscale;
+        arrow(
+            &painter,
+            block_at,
+            to_screen(fel),
+            Stroke::new(3.5, style::STICK),
+        );
+        arrow(
+            &painter,
+            block_at,
+            to_screen(ffr),
+            Stroke::new(3.5, style::ACCEL),
+        );
+
+        // Legend and state.
+        let phase = if stick {
+            "STICK: the block rides with the surface"
+        } else if st.phase == Phase::Accel {
+            "SLIP: accelerating (friction weakens)"
+        } else {
+            "SLIP: decelerating to a stop"
+        };
+        let font = FontId::proportional(17.0);
+        let mut y = rect.top() + 12.0;
+        let x = rect.right() - 12.0;
+        for (text, color) in [
+            (phase.to_string(), fill),
+            (
+                "blue arrow: elastic force (springs)".to_string(),
+                style::STICK,
+            ),
+            ("orange arrow: friction force".to_string(), style::ACCEL),
+            (format!("t = {:.1}", st.t), ink),
+        ] {
+            painter.text(pos2(x, y), Align2::RIGHT_TOP, text, font.clone(), color);
+            y += 22.0;
+        }
+        if self.magnify_x {
+            painter.text(
+                pos2(rect.left() + unit * 0.5, rect.bottom() - 8.0),
+                Align2::LEFT_BOTTOM,
+                format!("x displacements magnified ×κ = {:.3}", p.kappa),
+                FontId::proportional(13.0),
+                ink,
+            );
+        }
+    }
+}
+
+/// An arrow from `from` along `v`.
+fn arrow(painter: &egui::Painter, from: Pos2, v: egui::Vec2, stroke: Stroke) {
+    if v.length() < 1.0 {
+        return;
+    }
+    painter.arrow(from, v, stroke);
+}
+
+/// A zigzag spring from `a` to `b`.
+fn spring(painter: &egui::Painter, a: Pos2, b: Pos2, coils: usize, width: f32, stroke: Stroke) {
+    let d = b - a;
+    let len = d.length().max(1.0);
+    let t = d / len;
+    let n = vec2(-t.y, t.x);
+    let lead = (len * 0.1).min(12.0);
+    let mut pts = vec![a, a + t * lead];
+    let body = len - 2.0 * lead;
+    for i in 0..(2 * coils) {
+        let f = (i as f32 + 0.5) / (2 * coils) as f32;
+        let side = if i % 2 == 0 { 1.0 } else { -1.0 };
+        pts.push(a + t * (lead + body * f) + n * width * side);
+    }
+    pts.push(b - t * lead);
+    pts.push(b);
+    painter.add(egui::Shape::line(pts, stroke));
+}
+
+/// A segment clipped to `r` (Liang–Barsky), for the surface stripes.
+fn clip_line(painter: &egui::Painter, r: Rect, a: Pos2, b: Pos2, stroke: Stroke) {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f32, 1.0f32);
+    for (p, q) in [
+        (-d.x, a.x - r.left()),
+        (d.x, r.right() - a.x),
+        (-d.y, a.y - r.top()),
+        (d.y, r.bottom() - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
+        }
+    }
+    if t0 < t1 {
+        painter.line_segment([a + d * t0, a + d * t1], stroke);
+    }
+}

@@ -1,0 +1,462 @@
+//! The side panel: sliders with typed value fields, method and tolerance,
+//! the regime badge and the "what you are seeing" line, presets, and the
+//! buttons that act on the window (screenshot, export, reset).
+//!
+//! Typed values reach [`Settings`] only once they parse and validate; an
+//! invalid one stays in its field, in red, with the valid range under it.
+
+use eframe::egui;
+use std::f64::consts::{FRAC_PI_2, PI};
+use std::ops::RangeInclusive;
+
+use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
+
+use super::data::Data;
+use super::describe;
+use super::settings::{PRESETS, Settings};
+use crate::integrate::{Method, SolverSettings};
+use crate::model::{Params, Regime};
+
+/// The numeric fields of the panel.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Field {
+    Kappa,
+    Gamma,
+    ThetaNu,
+    Nu,
+    Omega,
+    Tol,
+    Step,
+}
+
+impl Field {
+    pub const PARAMS: [Field; 5] = [
+        Field::Kappa,
+        Field::Gamma,
+        Field::ThetaNu,
+        Field::Nu,
+        Field::Omega,
+    ];
+
+    /// The symbol shown as the slider's label (and its accessible name).
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Field::Kappa => "κ",
+            Field::Gamma => "γ",
+            Field::ThetaNu => "θν",
+            Field::Nu => "ν",
+            Field::Omega => "Ω",
+            Field::Tol => "tolerance",
+            Field::Step => "step h",
+        }
+    }
+
+    /// The hover text: what the parameter means physically.
+    pub fn hover(self) -> &'static str {
+        match self {
+            Field::Kappa => {
+                "κ = kx/ky (paper: κ): anisotropy of the two springs holding the block. \
+                 κ = 1 is isotropic; a large κ makes the x spring stiff, so the curve C \
+                 (κ²x² + y² = 1) becomes a thin ellipse. Slider 0.1–100; type any value in [1e-6, 1e6]."
+            }
+            Field::Gamma => {
+                "γ = 1/(2ν_f) (paper: γ): how fast friction weakens as the block speeds up \
+                 (velocity weakening). γ² < min(1, κ): only creep; γ² > max(1, κ): only \
+                 stick-slip earthquakes; in between, both (mixed regime). The paper uses 6.5."
+            }
+            Field::ThetaNu => {
+                "θν (paper: θ_ν): the direction, in radians from the x axis, in which the \
+                 rough surface (the tectonic plate) is dragged. The horizontal axis of the \
+                 bifurcation diagram."
+            }
+            Field::Nu => {
+                "ν (paper: ν): the pulling speed of the surface, tiny next to slip speeds. \
+                 It sets how long the block sticks between slips (about 1/ν time units). \
+                 The paper uses 1e-3 and 1e-4."
+            }
+            Field::Omega => {
+                "Ω (paper: Ω): the memory of the friction's direction: how quickly, once \
+                 slipping, friction turns to oppose the relative velocity. The paper uses 50."
+            }
+            Field::Tol => {
+                "Relative and absolute tolerance of the adaptive Runge–Kutta methods \
+                 (dp853, dp54): smaller is more accurate and slower. Valid: [1e-14, 1e-2]."
+            }
+            Field::Step => "Fixed step h of rk4 and euler, in time units. Valid: (0, 1].",
+        }
+    }
+
+    fn slider_range(self, full_circle: bool) -> RangeInclusive<f64> {
+        match self {
+            Field::Kappa => 0.1..=100.0,
+            Field::Gamma => 0.0..=10.0,
+            Field::ThetaNu if full_circle => -PI..=PI,
+            Field::ThetaNu => 0.0..=FRAC_PI_2,
+            Field::Nu => 1e-6..=1e-1,
+            Field::Omega => 1.0..=1000.0,
+            Field::Tol => 1e-14..=1e-2,
+            Field::Step => 1e-5..=1.0,
+        }
+    }
+
+    fn logarithmic(self) -> bool {
+        matches!(
+            self,
+            Field::Kappa | Field::Nu | Field::Omega | Field::Tol | Field::Step
+        )
+    }
+
+    pub fn get(self, s: &Settings) -> f64 {
+        match self {
+            Field::Kappa => s.params.kappa,
+            Field::Gamma => s.params.gamma,
+            Field::ThetaNu => s.params.theta_nu,
+            Field::Nu => s.params.nu,
+            Field::Omega => s.params.omega,
+            Field::Tol => s.tol,
+            Field::Step => s.step,
+        }
+    }
+
+    fn set(self, s: &mut Settings, v: f64) {
+        match self {
+            Field::Kappa => s.params.kappa = v,
+            Field::Gamma => s.params.gamma = v,
+            Field::ThetaNu => s.params.theta_nu = v,
+            Field::Nu => s.params.nu = v,
+            Field::Omega => s.params.omega = v,
+            Field::Tol => s.tol = v,
+            Field::Step => s.step = v,
+        }
+    }
+
+    /// Checks a typed value; the error names the symbol and the valid range.
+    pub fn validate(self, s: &Settings, v: f64) -> Result<(), String> {
+        let mut t = s.clone();
+        self.set(&mut t, v);
+        match self {
+            Field::Tol | Field::Step => {
+                let m = if self == Field::Tol {
+                    Method::Dop853
+                } else {
+                    Method::Rk4
+                };
+                let solver = if self == Field::Tol {
+                    SolverSettings::adaptive(m, v)
+                } else {
+                    SolverSettings::fixed(m, v)
+                };
+                solver
+                    .validate()
+                    .map_err(|e| format!("{} {}", self.symbol(), e.range))
+            }
+            _ => t
+                .params
+                .validate()
+                .map_err(|e| format!("{} {}", self.symbol(), e.range)),
+        }
+    }
+
+    fn format(self, v: f64) -> String {
+        match self {
+            Field::Nu | Field::Tol | Field::Step => format!("{v:e}"),
+            _ => format!("{}", (v * 1e6).round() / 1e6),
+        }
+    }
+}
+
+/// A typed value field: its text, and the error when it does not validate.
+#[derive(Clone, Debug, Default)]
+pub struct FieldInput {
+    pub text: String,
+    pub error: Option<String>,
+    /// The value the text was last synchronised from.
+    shown: Option<f64>,
+}
+
+/// What the user asked of the window from the panel.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Actions {
+    pub screenshot: bool,
+    pub export_events: bool,
+    pub export_trajectory: bool,
+    pub export_bifurcation: bool,
+    pub reset_defaults: bool,
+    pub restart: bool,
+}
+
+/// The panel's own state: the typed fields.
+#[derive(Clone, Debug, Default)]
+pub struct Controls {
+    pub inputs: Vec<(Field, FieldInput)>,
+}
+
+impl Controls {
+    pub fn new() -> Self {
+        let mut inputs: Vec<(Field, FieldInput)> = Field::PARAMS
+            .iter()
+            .map(|&f| (f, FieldInput::default()))
+            .collect();
+        inputs.push((Field::Tol, FieldInput::default()));
+        inputs.push((Field::Step, FieldInput::default()));
+        Controls { inputs }
+    }
+
+    /// The error shown under `field`, if any.
+    pub fn error(&self, field: Field) -> Option<&str> {
+        self.inputs
+            .iter()
+            .find(|(f, _)| *f == field)
+            .and_then(|(_, i)| i.error.as_deref())
+    }
+
+    /// The whole panel.
+    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) -> Actions {
+        let mut actions = Actions::default();
+        ui.spacing_mut().slider_width = 150.0;
+
+        ui.heading("Parameters");
+        for field in Field::PARAMS {
+            self.field_row(ui, s, field);
+            if field == Field::ThetaNu {
+                let was = s.full_circle;
+                ui.checkbox(&mut s.full_circle, "full circle for θν")
+                    .on_hover_text(
+                        "Let θν take any direction (−π … π) instead of the paper's 0 … π/2; \
+                         the bifurcation diagram follows.",
+                    );
+                if was != s.full_circle && !s.full_circle {
+                    s.params.theta_nu = s.params.theta_nu.clamp(0.0, FRAC_PI_2);
+                }
+            }
+        }
+
+        ui.horizontal(|ui| {
+            ui.label("method");
+            egui::ComboBox::from_id_salt("method")
+                .selected_text(s.method.name())
+                .show_ui(ui, |ui| {
+                    for m in Method::ALL {
+                        ui.selectable_value(&mut s.method, m, m.name());
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "How each slip is integrated: dp853 (Dormand–Prince 8, default), dp54, \
+                     or the fixed-step rk4 and euler (euler is kept as the method that fails).",
+                );
+        });
+        if s.method.is_adaptive() {
+            self.field_row(ui, s, Field::Tol);
+        } else {
+            self.field_row(ui, s, Field::Step);
+        }
+
+        ui.separator();
+        regime_ui(ui, s, data);
+
+        ui.separator();
+        ui.heading("Presets");
+        for p in &PRESETS {
+            let r = ui
+                .add(egui::Button::new(p.label).wrap())
+                .on_hover_text(format!(
+                    "κ = {}, γ = {}, ν = {:e}, θν = {}, Ω = {}   (--preset {})",
+                    p.params.kappa,
+                    p.params.gamma,
+                    p.params.nu,
+                    p.params.theta_nu,
+                    p.params.omega,
+                    p.key
+                ));
+            if r.clicked() {
+                apply_preset(s, &p.params, p.key);
+                self.clear_errors();
+            }
+        }
+
+        ui.separator();
+        ui.heading("View");
+        ui.horizontal(|ui| {
+            ui.label("cycles shown");
+            ui.add(egui::DragValue::new(&mut s.keep_cycles).range(1..=1000))
+                .on_hover_text("How many of the latest stick–slip cycles the plane keeps.");
+        });
+        ui.horizontal(|ui| {
+            ui.label("diagram columns");
+            ui.add(egui::DragValue::new(&mut s.columns).range(20..=2000))
+                .on_hover_text("θν columns of the bifurcation diagram (recomputes it).");
+        });
+        ui.horizontal(|ui| {
+            ui.label("text size");
+            ui.add(
+                Slider::new(&mut s.font_scale, 0.7..=2.5)
+                    .step_by(0.05)
+                    .text("×"),
+            )
+            .on_hover_text("Larger text for projectors (Ctrl + / Ctrl − also work).");
+        });
+        ui.checkbox(&mut s.dark, "dark background");
+
+        ui.separator();
+        ui.horizontal_wrapped(|ui| {
+            if ui
+                .button("Save screenshot")
+                .on_hover_text("A PNG of the window (Ctrl+S), or of one view (its PNG button).")
+                .clicked()
+            {
+                actions.screenshot = true;
+            }
+            ui.menu_button("Export data", |ui| {
+                if ui.button("Events CSV").clicked() {
+                    actions.export_events = true;
+                }
+                if ui.button("Trajectory CSV (t,x,y,u,w,phase)").clicked() {
+                    actions.export_trajectory = true;
+                }
+                if ui.button("Bifurcation CSV (theta_nu,theta)").clicked() {
+                    actions.export_bifurcation = true;
+                }
+            });
+        });
+        ui.horizontal(|ui| {
+            ui.label("folder");
+            ui.add(TextEdit::singleline(&mut s.save_dir).desired_width(f32::INFINITY))
+                .on_hover_text(
+                    "Screenshots and exports go here, named with the time; \
+                     an existing file is never overwritten.",
+                );
+        });
+        ui.horizontal(|ui| {
+            if ui
+                .button("Restart orbit")
+                .on_hover_text("Start the trajectory again from θ = θν (R).")
+                .clicked()
+            {
+                actions.restart = true;
+            }
+            if ui
+                .button("Reset to defaults")
+                .on_hover_text("Every parameter and view choice back to the first-launch demo.")
+                .clicked()
+            {
+                actions.reset_defaults = true;
+            }
+        });
+        actions
+    }
+
+    fn clear_errors(&mut self) {
+        for (_, i) in &mut self.inputs {
+            i.error = None;
+            i.shown = None;
+        }
+    }
+
+    /// Called when settings changed behind the panel's back (reset).
+    pub fn resync(&mut self) {
+        self.clear_errors();
+    }
+
+    /// One parameter: slider, typed field, error line.
+    fn field_row(&mut self, ui: &mut Ui, s: &mut Settings, field: Field) {
+        let Some(idx) = self.inputs.iter().position(|(f, _)| *f == field) else {
+            return;
+        };
+        let current = field.get(s);
+        ui.horizontal(|ui| {
+            let mut v = current;
+            let slider = Slider::new(&mut v, field.slider_range(s.full_circle))
+                .logarithmic(field.logarithmic())
+                .clamping(SliderClamping::Never)
+                .show_value(false)
+                .text(field.symbol());
+            let r = ui.add(slider).on_hover_text(field.hover());
+            if r.changed() && v != current && field.validate(s, v).is_ok() {
+                field.set(s, v);
+                let input = &mut self.inputs[idx].1;
+                input.error = None;
+                input.shown = None;
+            }
+
+            let value_now = field.get(s);
+            let input = &mut self.inputs[idx].1;
+            let te_id = ui.make_persistent_id(("typed", field.symbol()));
+            let editing = ui.memory(|m| m.has_focus(te_id));
+            if !editing && input.error.is_none() && input.shown != Some(value_now) {
+                input.text = field.format(value_now);
+                input.shown = Some(value_now);
+            }
+            let color = input.error.as_ref().map(|_| Color32::from_rgb(220, 30, 30));
+            let mut te = TextEdit::singleline(&mut input.text)
+                .id(te_id)
+                .desired_width(84.0);
+            if let Some(c) = color {
+                te = te.text_color(c);
+            }
+            let label = format!("{} value", field.symbol());
+            let r = ui
+                .add(te)
+                .accessible_name(label)
+                .on_hover_text(field.hover());
+            if r.changed() {
+                match input.text.trim().parse::<f64>() {
+                    Ok(x) => match field.validate(s, x) {
+                        Ok(()) => {
+                            input.error = None;
+                            input.shown = Some(x);
+                            field.set(s, x);
+                        }
+                        Err(e) => input.error = Some(e),
+                    },
+                    Err(_) => {
+                        input.error = Some(format!("{}: not a number", field.symbol()));
+                    }
+                }
+            }
+        });
+        if let Some(e) = &self.inputs[idx].1.error {
+            ui.label(RichText::new(e).color(Color32::from_rgb(220, 30, 30)));
+        }
+    }
+}
+
+/// Sets every parameter from a preset (and its name, for the title).
+pub fn apply_preset(s: &mut Settings, p: &Params, key: &str) {
+    s.params = *p;
+    if !(0.0..=FRAC_PI_2).contains(&p.theta_nu) {
+        s.full_circle = true;
+    }
+    s.preset = Some(key.to_string());
+}
+
+/// The regime badge, θc, and the plain-words line.
+fn regime_ui(ui: &mut Ui, s: &Settings, data: &Data) {
+    let (k, g) = (s.params.kappa, s.params.gamma);
+    let (fill, text) = match Regime::of(k, g) {
+        Regime::PureCreep => (Color32::from_rgb(40, 130, 60), Color32::WHITE),
+        Regime::Mixed { .. } => (Color32::from_rgb(200, 130, 20), Color32::BLACK),
+        Regime::PureStickSlip => (Color32::from_rgb(190, 40, 40), Color32::WHITE),
+    };
+    let badge = describe::regime_badge(k, g);
+    ui.horizontal(|ui| {
+        ui.label("regime");
+        egui::Frame::new()
+            .fill(fill)
+            .corner_radius(6.0)
+            .inner_margin(egui::Margin::symmetric(8, 3))
+            .show(ui, |ui| {
+                ui.label(RichText::new(&badge).color(text).strong());
+            })
+            .response
+            .on_hover_text(describe::regime_explanation(k, g));
+    });
+    let line = describe::attractor_line(
+        k,
+        g,
+        &data.iterate.thetas,
+        data.iterate.period,
+        data.iterate.lyapunov,
+    );
+    ui.label(RichText::new(line).italics());
+}

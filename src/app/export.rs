@@ -1,0 +1,107 @@
+//! CSV in the command line's formats: events (every `SlipEvent` field, in
+//! order, `restarted` as 0/1, as `cli::common::slip_event_row` writes them),
+//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`). Floats
+//! in Rust's shortest round-trip form, so parsing gives back the exact f64.
+
+use std::fmt::Write as _;
+
+use super::data::SweepData;
+use crate::sim::{Sample, SlipEvent};
+
+pub const EVENTS_HEADER: &str = "theta,onset_x,onset_y,onset_time,accel_duration,slip_duration,\
+stop_x,stop_y,slip_distance,peak_vr,energy_released,stick_duration,theta_next,restarted,rhs_evals,steps";
+
+pub fn events_csv(events: &[SlipEvent]) -> String {
+    let mut s = String::with_capacity(200 * (events.len() + 1));
+    s.push_str(EVENTS_HEADER);
+    s.push('\n');
+    for e in events {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            e.theta,
+            e.onset_x,
+            e.onset_y,
+            e.onset_time,
+            e.accel_duration,
+            e.slip_duration,
+            e.stop_x,
+            e.stop_y,
+            e.slip_distance,
+            e.peak_vr,
+            e.energy_released,
+            e.stick_duration,
+            e.theta_next,
+            u8::from(e.restarted),
+            e.rhs_evals,
+            e.steps
+        );
+    }
+    s
+}
+
+pub fn trajectory_csv(samples: &[Sample]) -> String {
+    let mut s = String::with_capacity(80 * (samples.len() + 1));
+    s.push_str("t,x,y,u,w,phase\n");
+    for p in samples {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{}",
+            p.t,
+            p.x,
+            p.y,
+            p.u,
+            p.w,
+            p.phase.name()
+        );
+    }
+    s
+}
+
+pub fn bifurcation_csv(sweep: &SweepData) -> String {
+    let mut s = String::with_capacity(40 * (sweep.points() + 1));
+    s.push_str("theta_nu,theta\n");
+    for c in sweep.columns.iter().flatten() {
+        for t in &c.thetas {
+            let _ = writeln!(s, "{},{}", c.theta_nu, t);
+        }
+    }
+    s
+}
+
+/// "YYYYMMDD-HHMMSS" in UTC, for file names.
+pub fn timestamp() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs() as i64)
+        .unwrap_or(0);
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // Howard Hinnant's civil_from_days.
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}{m:02}{d:02}-{:02}{:02}{:02}",
+        rem / 3600,
+        (rem / 60) % 60,
+        rem % 60
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn timestamp_has_the_shape() {
+        let t = timestamp();
+        assert_eq!(t.len(), 15);
+        assert_eq!(&t[8..9], "-");
+    }
+}

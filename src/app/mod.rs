@@ -1,0 +1,183 @@
+//! The eframe/egui explorer (feature `gui`). One file per view, the controls
+//! apart from the plots; the physics lives in the core and runs on the
+//! worker: the UI thread only draws what the worker streams.
+//!
+//! - [`explorer`]: the app, its layout, the job plumbing, scripted runs.
+//! - [`controls`]: sliders, typed fields, presets, regime badge.
+//! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`]: the views.
+//! - [`data`]: what the worker sent, filtered by generation.
+//! - [`settings`]: what persists; the presets.
+
+pub mod backend;
+pub mod bifurcation;
+pub mod block;
+pub mod controls;
+pub mod data;
+pub mod describe;
+pub mod events;
+pub mod explorer;
+pub mod export;
+pub mod plane;
+pub mod return_map;
+pub mod screenshot;
+pub mod settings;
+pub mod style;
+
+use std::path::PathBuf;
+use std::sync::{Arc, PoisonError};
+use std::time::Duration;
+
+pub use backend::{Backend, Recorder};
+pub use explorer::{Explorer, Script};
+pub use settings::{Layout, PRESETS, Settings, View, preset, preset_keys};
+
+use crate::worker::{Worker, WorkerConfig};
+use eframe::egui;
+
+/// How to open the window.
+#[derive(Clone, Debug, Default)]
+pub struct RunOptions {
+    /// Start on this preset (and ignore the saved parameters).
+    pub preset: Option<String>,
+    /// Take a screenshot here once the views are complete, then exit.
+    pub screenshot: Option<PathBuf>,
+    /// Inner window size in points.
+    pub size: Option<[f32; 2]>,
+    /// Measure and report frame times.
+    pub frame_stats: bool,
+    /// Show one view full size instead of the tiles.
+    pub view: Option<View>,
+    /// Text size multiplier.
+    pub font_scale: Option<f32>,
+    /// Give up a scripted run after this long.
+    pub timeout: Option<Duration>,
+}
+
+/// Opens the window; returns when it is closed. A scripted run (with
+/// `screenshot`) returns an error if the picture could not be made.
+pub fn run(opts: RunOptions) -> Result<(), String> {
+    let preset =
+        match &opts.preset {
+            Some(k) => Some(*preset(k).ok_or_else(|| {
+                format!("unknown preset '{k}': expected one of {}", preset_keys())
+            })?),
+            None => None,
+        };
+    let scripted = opts.screenshot.is_some();
+    if let Some(p) = &opts.screenshot {
+        crate::output::check_writable(p, false).map_err(|e| e.to_string())?;
+    }
+    let size = opts.size.unwrap_or([1280.0, 800.0]);
+    let timeout = opts.timeout.unwrap_or(Duration::from_secs(180));
+    let measure = opts.frame_stats.then(|| Duration::from_secs(5));
+
+    let mut native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("oneblock: one-block earthquake model")
+            .with_app_id("oneblock")
+            .with_inner_size(size)
+            .with_min_inner_size([800.0, 560.0]),
+        renderer: eframe::Renderer::Glow,
+        // Dithering costs a noticeable share of each frame under software
+        // rendering (llvmpipe is fill-bound here) and the plots have no
+        // gradients to band.
+        dithering: false,
+        persist_window: !scripted,
+        ..Default::default()
+    };
+    if opts.frame_stats {
+        // Measure drawing, not waiting for the display.
+        native.glow_options.vsync = false;
+    }
+    if scripted {
+        // A scripted run never reads or writes the user's saved state.
+        native.persistence_path =
+            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
+    }
+
+    let outcome = Arc::new(std::sync::Mutex::new(None));
+    let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
+    if scripted {
+        // Never hang: if the event loop itself stalls, give up loudly.
+        let limit = timeout + Duration::from_secs(60);
+        std::thread::Builder::new()
+            .name("oneblock-watchdog".into())
+            .spawn(move || {
+                std::thread::sleep(limit);
+                eprintln!(
+                    "error: the window did not finish within {:.0} s",
+                    limit.as_secs_f64()
+                );
+                std::process::exit(1);
+            })
+            .map_err(|e| e.to_string())?;
+    }
+
+    let out2 = outcome.clone();
+    let stats2 = stats_report.clone();
+    let shot = opts.screenshot.clone();
+    let r = eframe::run_native(
+        "oneblock",
+        native,
+        Box::new(move |cc| {
+            let ctx = cc.egui_ctx.clone();
+            let worker = Worker::spawn(
+                WorkerConfig::default(),
+                Arc::new(move || ctx.request_repaint()),
+            );
+            let mut settings: Settings = if scripted {
+                Settings::default()
+            } else {
+                cc.storage
+                    .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
+                    .unwrap_or_default()
+            };
+            if let Some(p) = &preset {
+                controls::apply_preset(&mut settings, &p.params, p.key);
+            }
+            if let Some(v) = opts.view {
+                settings.layout = Layout::Tabs;
+                settings.tab = v;
+            } else if scripted {
+                settings.layout = Layout::Tiles;
+            }
+            if let Some(f) = opts.font_scale {
+                settings.font_scale = f;
+            }
+            let mut app = Explorer::new(Box::new(worker), settings);
+            app.persist = !scripted;
+            app.stats.enabled = opts.frame_stats;
+            if let Some(path) = shot {
+                let mut sc = Script::new(path, timeout, measure);
+                sc.outcome = out2;
+                app.script = Some(sc);
+            }
+            app.stats_sink = Some(stats2);
+            Ok(Box::new(app))
+        }),
+    );
+    if let Some(rep) = stats_report
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take()
+    {
+        eprintln!("{rep}");
+    }
+    r.map_err(|e| format!("the window failed: {e}"))?;
+    if scripted {
+        match outcome
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .take()
+        {
+            Some(Ok(path)) => {
+                eprintln!("saved {path}");
+                Ok(())
+            }
+            Some(Err(e)) => Err(e),
+            None => Err("the window closed before the screenshot was taken".into()),
+        }
+    } else {
+        Ok(())
+    }
+}

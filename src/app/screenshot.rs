@@ -1,0 +1,171 @@
+//! Screenshots the egui way: ask the viewport for one
+//! (`ctx.request_screenshot`), crop it to a view's rect, encode the PNG on a
+//! thread of its own and write it atomically, never over an existing file.
+//! The outcome comes back through a channel and shows as a toast.
+
+use eframe::egui;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::mpsc::{Receiver, Sender, channel};
+
+use egui::{ColorImage, Context, Rect};
+
+use crate::output::write_output;
+
+/// How a save ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Saved {
+    Ok(PathBuf),
+    Failed(String),
+}
+
+/// A short message in the corner.
+#[derive(Clone, Debug)]
+pub struct Toast {
+    pub text: String,
+    pub error: bool,
+    /// `ui` time after which it disappears.
+    pub until: f64,
+}
+
+/// Screenshot and export bookkeeping.
+pub struct Shots {
+    tx: Sender<Saved>,
+    rx: Receiver<Saved>,
+    /// Saves under way (screenshot callbacks or writes not yet answered).
+    pub in_flight: usize,
+    pub toasts: Vec<Toast>,
+    /// Results for the scripted run, which waits for its own.
+    pub finished: Vec<Saved>,
+}
+
+impl Default for Shots {
+    fn default() -> Self {
+        let (tx, rx) = channel();
+        Shots {
+            tx,
+            rx,
+            in_flight: 0,
+            toasts: Vec::new(),
+            finished: Vec::new(),
+        }
+    }
+}
+
+/// Crops (to `crop`, in points) and encodes a screenshot as PNG.
+pub fn encode_png(
+    img: &ColorImage,
+    crop: Option<Rect>,
+    pixels_per_point: f32,
+) -> Result<Vec<u8>, String> {
+    let img = match crop {
+        Some(r) => img.region(&r, Some(pixels_per_point)),
+        None => img.clone(),
+    };
+    let [w, h] = img.size;
+    if w == 0 || h == 0 {
+        return Err("the screenshot is empty".into());
+    }
+    let mut raw = Vec::with_capacity(w * h * 4);
+    for c in &img.pixels {
+        raw.extend_from_slice(&c.to_srgba_unmultiplied());
+    }
+    let rgba = image::RgbaImage::from_raw(w as u32, h as u32, raw)
+        .ok_or_else(|| "screenshot size does not match its pixels".to_string())?;
+    let mut bytes = std::io::Cursor::new(Vec::new());
+    rgba.write_to(&mut bytes, image::ImageFormat::Png)
+        .map_err(|e| format!("PNG encoding failed: {e}"))?;
+    Ok(bytes.into_inner())
+}
+
+impl Shots {
+    /// Asks for a screenshot of the window, cropped to `crop`, saved to `path`.
+    pub fn request(&mut self, ctx: &Context, path: PathBuf, crop: Option<Rect>) {
+        let tx = self.tx.clone();
+        let ppp = ctx.pixels_per_point();
+        ctx.request_screenshot(move |img: Arc<ColorImage>| {
+            std::thread::Builder::new()
+                .name("oneblock-png".into())
+                .spawn(move || {
+                    let r = encode_png(&img, crop, ppp).and_then(|bytes| {
+                        write_output(&path, &bytes, false).map_err(|e| e.to_string())
+                    });
+                    tx.send(match r {
+                        Ok(()) => Saved::Ok(path),
+                        Err(e) => Saved::Failed(e),
+                    })
+                    .ok();
+                })
+                .ok();
+        });
+        self.in_flight += 1;
+        ctx.request_repaint();
+    }
+
+    /// Writes `bytes` to `path` on a thread (for CSV exports).
+    pub fn write(&mut self, path: PathBuf, bytes: Vec<u8>) {
+        let tx = self.tx.clone();
+        self.in_flight += 1;
+        std::thread::Builder::new()
+            .name("oneblock-export".into())
+            .spawn(move || {
+                let r = write_output(&path, &bytes, false);
+                tx.send(match r {
+                    Ok(()) => Saved::Ok(path),
+                    Err(e) => Saved::Failed(e.to_string()),
+                })
+                .ok();
+            })
+            .ok();
+    }
+
+    /// Collects finished saves into toasts; `now` is the ui time.
+    pub fn poll(&mut self, now: f64) {
+        while let Ok(s) = self.rx.try_recv() {
+            self.in_flight = self.in_flight.saturating_sub(1);
+            let t = match &s {
+                Saved::Ok(p) => Toast {
+                    text: format!("Saved {}", p.display()),
+                    error: false,
+                    until: now + 6.0,
+                },
+                Saved::Failed(e) => Toast {
+                    text: format!("Not saved: {e}"),
+                    error: true,
+                    until: now + 10.0,
+                },
+            };
+            self.toasts.push(t);
+            self.finished.push(s);
+        }
+        self.toasts.retain(|t| t.until > now);
+    }
+
+    /// Adds a toast directly (e.g. nothing to export).
+    pub fn toast(&mut self, text: String, error: bool, now: f64) {
+        self.toasts.push(Toast {
+            text,
+            error,
+            until: now + 6.0,
+        });
+    }
+}
+
+/// A fresh file name in `dir`: `oneblock-<what>-<timestamp>.<ext>`, with a
+/// counter if that exists already.
+pub fn fresh_path(dir: &str, what: &str, ext: &str) -> PathBuf {
+    let dir = if dir.trim().is_empty() {
+        "."
+    } else {
+        dir.trim()
+    };
+    let stamp = super::export::timestamp();
+    let base = Path::new(dir).join(format!("oneblock-{what}-{stamp}.{ext}"));
+    if !base.exists() {
+        return base;
+    }
+    (2..)
+        .map(|i| Path::new(dir).join(format!("oneblock-{what}-{stamp}-{i}.{ext}")))
+        .find(|p| !p.exists())
+        .unwrap_or(base)
+}

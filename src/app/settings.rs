@@ -1,0 +1,263 @@
+//! What the window remembers between runs (eframe storage, serde with
+//! `#[serde(default)]` so that older or partial saves still load), and the
+//! named presets. Runtime handles (worker, textures, buffers) live elsewhere.
+
+use serde::{Deserialize, Serialize};
+
+use crate::integrate::{Method, SolverSettings};
+use crate::model::Params;
+
+/// The views the window can show.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum View {
+    Plane,
+    Block,
+    Bifurcation,
+    ReturnMap,
+    Events,
+}
+
+impl View {
+    pub const ALL: [View; 5] = [
+        View::Plane,
+        View::Block,
+        View::Bifurcation,
+        View::ReturnMap,
+        View::Events,
+    ];
+
+    pub fn title(self) -> &'static str {
+        match self {
+            View::Plane => "Plane (x, y)",
+            View::Block => "Block",
+            View::Bifurcation => "Bifurcation",
+            View::ReturnMap => "Return map",
+            View::Events => "Events",
+        }
+    }
+
+    /// The name the command line uses (`--view`).
+    pub fn key(self) -> &'static str {
+        match self {
+            View::Plane => "plane",
+            View::Block => "block",
+            View::Bifurcation => "bifurcation",
+            View::ReturnMap => "return-map",
+            View::Events => "events",
+        }
+    }
+
+    pub fn from_key(s: &str) -> Option<View> {
+        View::ALL.into_iter().find(|v| v.key() == s)
+    }
+}
+
+/// One view at a time, or several side by side.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Layout {
+    Tabs,
+    Tiles,
+}
+
+/// How a slip's size is measured in the event catalogue.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum SlipMeasure {
+    /// |stop − onset|.
+    Distance,
+    /// Elastic energy released.
+    Energy,
+}
+
+/// Everything persisted. Parameters are kept valid: typed values reach
+/// them only after validation.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    pub params: Params,
+    pub method: Method,
+    /// Tolerance of the adaptive methods (rtol = atol).
+    pub tol: f64,
+    /// Step of the fixed-step methods.
+    pub step: f64,
+    /// θν slider over the full circle instead of 0 … π/2.
+    pub full_circle: bool,
+    pub layout: Layout,
+    /// The view shown in tab layout.
+    pub tab: View,
+    /// Which views the tile layout shows.
+    pub tiled: Vec<View>,
+    /// Cycles kept on screen in the plane view.
+    pub keep_cycles: usize,
+    /// Cycles a trajectory job runs.
+    pub trajectory_cycles: usize,
+    /// Columns of the bifurcation diagram.
+    pub columns: usize,
+    /// Iterates dropped, then kept, per bifurcation column.
+    pub sweep_transient: usize,
+    pub sweep_keep: usize,
+    /// Text size multiplier (projectors).
+    pub font_scale: f32,
+    pub dark: bool,
+    pub slip_measure: SlipMeasure,
+    /// Plot (κx, y) instead of (x, y): C becomes the unit circle.
+    pub scale_x_by_kappa: bool,
+    /// Folder where screenshots and exports go.
+    pub save_dir: String,
+    /// Playback speed of the block view (slip time units per second).
+    pub block_speed: f32,
+    /// Name of the preset last applied (for the window title).
+    pub preset: Option<String>,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            params: Params::default(),
+            method: Method::Dop853,
+            tol: 1e-9,
+            step: 1e-3,
+            full_circle: false,
+            layout: Layout::Tiles,
+            tab: View::Plane,
+            tiled: vec![
+                View::Plane,
+                View::Bifurcation,
+                View::ReturnMap,
+                View::Events,
+            ],
+            keep_cycles: 12,
+            trajectory_cycles: 400,
+            columns: 400,
+            sweep_transient: 300,
+            sweep_keep: 200,
+            font_scale: 1.0,
+            dark: false,
+            slip_measure: SlipMeasure::Distance,
+            scale_x_by_kappa: true,
+            save_dir: default_save_dir(),
+            block_speed: 1.0,
+            preset: Some("fig3b".into()),
+        }
+    }
+}
+
+fn default_save_dir() -> String {
+    std::env::current_dir()
+        .map(|p| p.display().to_string())
+        .unwrap_or_else(|_| ".".into())
+}
+
+impl Settings {
+    /// The solver settings the worker gets.
+    pub fn solver(&self) -> SolverSettings {
+        if self.method.is_adaptive() {
+            SolverSettings::adaptive(self.method, self.tol)
+        } else {
+            SolverSettings::fixed(self.method, self.step)
+        }
+    }
+
+    /// The θν range of the full (unzoomed) bifurcation diagram.
+    pub fn sweep_range(&self) -> (f64, f64) {
+        if self.full_circle {
+            (-std::f64::consts::PI, std::f64::consts::PI)
+        } else {
+            (0.0, std::f64::consts::FRAC_PI_2)
+        }
+    }
+
+    /// The part of the settings a bifurcation sweep depends on (θν is its
+    /// x-axis, so it is left out).
+    pub fn sweep_key(&self) -> SweepKey {
+        SweepKey {
+            kappa: self.params.kappa,
+            gamma: self.params.gamma,
+            nu: self.params.nu,
+            omega: self.params.omega,
+            solver: self.solver(),
+            columns: self.columns,
+            transient: self.sweep_transient,
+            keep: self.sweep_keep,
+            full_circle: self.full_circle,
+        }
+    }
+}
+
+/// What a bifurcation sweep depends on.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepKey {
+    pub kappa: f64,
+    pub gamma: f64,
+    pub nu: f64,
+    pub omega: f64,
+    pub solver: SolverSettings,
+    pub columns: usize,
+    pub transient: usize,
+    pub keep: usize,
+    pub full_circle: bool,
+}
+
+/// A named parameter set.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Preset {
+    /// The command-line name (`--preset`).
+    pub key: &'static str,
+    /// The button's label.
+    pub label: &'static str,
+    pub params: Params,
+}
+
+const fn p(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
+    Params {
+        kappa,
+        gamma,
+        nu,
+        theta_nu,
+        omega: 50.0,
+    }
+}
+
+/// The presets: the paper's figures, a creep example, and one chaotic and
+/// one intermittent orbit.
+pub const PRESETS: [Preset; 6] = [
+    Preset {
+        key: "fig3a",
+        label: "Fig. 3a: mixed regime (κ = 50, γ = 6.5, ν = 1e-4)",
+        params: p(50.0, 6.5, 1e-4, 0.3),
+    },
+    Preset {
+        key: "fig3b",
+        label: "Fig. 3b: stick-slip (κ = 18.95, γ = 6.5, ν = 1e-3)",
+        params: p(18.95, 6.5, 1e-3, 1.0),
+    },
+    Preset {
+        key: "fig4",
+        label: "Fig. 4: phase diagram settings (κ = 16, γ = 6.5, ν = 1e-3)",
+        params: p(16.0, 6.5, 1e-3, 1.0),
+    },
+    Preset {
+        key: "creep",
+        label: "Pure creep (γ = 0.5 < 1, κ = 3)",
+        params: p(3.0, 0.5, 1e-3, 0.7),
+    },
+    Preset {
+        key: "chaos",
+        label: "Chaotic orbit (κ = 18.95, θν = 1.25)",
+        params: p(18.95, 6.5, 1e-3, 1.25),
+    },
+    Preset {
+        key: "intermittent",
+        label: "Intermittent orbit (κ = 50, θν = 1.4)",
+        params: p(50.0, 6.5, 1e-4, 1.4),
+    },
+];
+
+/// The preset called `key`.
+pub fn preset(key: &str) -> Option<&'static Preset> {
+    PRESETS.iter().find(|p| p.key == key)
+}
+
+/// The preset names, for error messages.
+pub fn preset_keys() -> String {
+    PRESETS.iter().map(|p| p.key).collect::<Vec<_>>().join(", ")
+}

@@ -1,0 +1,75 @@
+//! Colours chosen to read on a projector and to stay apart for the common
+//! colour-vision deficiencies (blue / vermilion / orange, after Okabe–Ito).
+
+use eframe::egui;
+use egui::{Color32, Ui};
+
+pub const STICK: Color32 = Color32::from_rgb(0, 114, 178);
+pub const ACCEL: Color32 = Color32::from_rgb(213, 94, 0);
+pub const DECEL: Color32 = Color32::from_rgb(230, 159, 0);
+pub const ONSET: Color32 = Color32::from_rgb(204, 0, 102);
+pub const PULL: Color32 = Color32::from_rgb(0, 158, 115);
+pub const CRITICAL: Color32 = Color32::from_rgb(120, 120, 120);
+pub const CURRENT: Color32 = Color32::from_rgb(0, 158, 115);
+pub const ERROR: Color32 = Color32::from_rgb(220, 30, 30);
+
+/// The colour of the main curves: dark on light, light on dark.
+pub fn ink(dark: bool) -> Color32 {
+    if dark {
+        Color32::from_gray(230)
+    } else {
+        Color32::from_gray(20)
+    }
+}
+
+/// A small coloured square and its label.
+pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+    ui.painter().rect_filled(rect, 2.0, color);
+    ui.label(label);
+}
+
+/// A small diamond marker and its label.
+pub fn legend_marker(ui: &mut Ui, color: Color32, label: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+    let c = rect.center();
+    let r = 5.0;
+    ui.painter().add(egui::Shape::convex_polygon(
+        vec![
+            c + egui::vec2(0.0, -r),
+            c + egui::vec2(r, 0.0),
+            c + egui::vec2(0.0, r),
+            c + egui::vec2(-r, 0.0),
+        ],
+        color,
+        egui::Stroke::NONE,
+    ));
+    ui.label(label);
+}
+
+/// A short line (dashed if asked) and its label.
+pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
+    let y = rect.center().y;
+    let stroke = egui::Stroke::new(2.0, color);
+    if dashed {
+        for i in 0..3 {
+            let x = rect.left() + i as f32 * 8.0;
+            ui.painter()
+                .line_segment([egui::pos2(x, y), egui::pos2(x + 5.0, y)], stroke);
+        }
+    } else {
+        ui.painter().line_segment(
+            [egui::pos2(rect.left(), y), egui::pos2(rect.right(), y)],
+            stroke,
+        );
+    }
+    ui.label(label);
+}
+
+/// A plot line drawn as a polyline. egui_plot's default "band" shortcut
+/// (for lines with many points per pixel column) loses sparse segments such
+/// as a stick phase's two ends, so it is turned off.
+pub fn line<'a>(name: &str, points: egui_plot::PlotPoints<'a>) -> egui_plot::Line<'a> {
+    egui_plot::Line::new(name, points).allow_band(false)
+}

@@ -1,0 +1,419 @@
+//! The window driven headless through AccessKit (egui_kittest): sliders,
+//! presets, typed values and the regime badge, against a recording backend
+//! that stands in for the worker, so each test sees exactly what was sent.
+#![cfg(feature = "gui")]
+
+use eframe::egui;
+use egui::accesskit::Role;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use oneblock::app::data::JobState;
+use oneblock::app::{Explorer, PRESETS, Recorder, Settings, View};
+use oneblock::model::Params;
+use oneblock::sim::{Phase, Sample, SlipEvent};
+use oneblock::worker::{Command, Update};
+
+fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
+    let app = Explorer::new(Box::new(rec.clone()), settings);
+    Harness::builder()
+        .with_size([1280.0, 1000.0])
+        .build_ui_state(
+            |ui, app: &mut Explorer| {
+                app.logic_step(ui.ctx());
+                app.show(ui);
+            },
+            app,
+        )
+}
+
+/// The parameters of the latest trajectory command, if any.
+fn last_trajectory(rec: &Recorder) -> Option<Params> {
+    rec.commands().into_iter().rev().find_map(|c| match c {
+        Command::Trajectory { params, .. } => Some(params),
+        _ => None,
+    })
+}
+
+fn last_sweep(rec: &Recorder) -> Option<Params> {
+    rec.commands().into_iter().rev().find_map(|c| match c {
+        Command::Sweep { params, .. } => Some(params),
+        _ => None,
+    })
+}
+
+#[test]
+fn first_frame_starts_the_demo_jobs() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    let p = last_trajectory(&rec).expect("a trajectory was started");
+    assert_eq!(p, Params::default());
+    assert_eq!(
+        (p.kappa, p.gamma, p.nu, p.theta_nu),
+        (18.95, 6.5, 1e-3, 1.0)
+    );
+    assert!(last_sweep(&rec).is_some(), "a sweep was started");
+}
+
+#[test]
+fn dragging_the_kappa_slider_sends_new_parameters() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    rec.clear();
+    h.get_by_role_and_label(Role::Slider, "κ")
+        .set_value_accesskit(30.0);
+    h.run_steps(3);
+    assert_eq!(h.state().settings.params.kappa, 30.0);
+    let p = last_trajectory(&rec).expect("new trajectory");
+    assert_eq!(p.kappa, 30.0);
+    assert_eq!(p.gamma, 6.5);
+    // κ is a sweep parameter: the diagram is recomputed too (after the debounce).
+    let s = last_sweep(&rec).expect("new sweep");
+    assert_eq!(s.kappa, 30.0);
+}
+
+#[test]
+fn moving_theta_nu_only_restarts_the_orbit() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    rec.clear();
+    h.get_by_role_and_label(Role::Slider, "θν")
+        .set_value_accesskit(1.2);
+    h.run_steps(4);
+    assert_eq!(last_trajectory(&rec).map(|p| p.theta_nu), Some(1.2));
+    assert!(
+        last_sweep(&rec).is_none(),
+        "θν is the diagram's x-axis: no new sweep"
+    );
+}
+
+#[test]
+fn a_preset_sets_every_parameter() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    rec.clear();
+    let fig3a = &PRESETS[0];
+    assert_eq!(fig3a.key, "fig3a");
+    h.get_by_label(fig3a.label).click();
+    h.run_steps(3);
+    let want = Params {
+        kappa: 50.0,
+        gamma: 6.5,
+        nu: 1e-4,
+        theta_nu: 0.3,
+        omega: 50.0,
+    };
+    assert_eq!(h.state().settings.params, want);
+    assert_eq!(last_trajectory(&rec), Some(want));
+    assert_eq!(last_sweep(&rec), Some(want));
+    // The badge follows: κ = 50, γ = 6.5 is mixed with θc = 0.4090.
+    assert!(h.query_by_label_contains("mixed: θc = 0.4090").is_some());
+}
+
+#[test]
+fn an_invalid_kappa_is_shown_in_red_and_not_sent() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    rec.clear();
+    let field = h.get_by_role_and_label(Role::TextInput, "κ value");
+    field.focus();
+    field.set_text_value_accesskit("-3");
+    h.run_steps(3);
+    let err = h
+        .state()
+        .controls
+        .error(oneblock::app::controls::Field::Kappa);
+    assert_eq!(err, Some("κ must be a finite number > 0"));
+    assert!(h.query_by_label("κ must be a finite number > 0").is_some());
+    assert_eq!(h.state().settings.params.kappa, 18.95);
+    assert!(
+        rec.commands().is_empty(),
+        "nothing sent: {:?}",
+        rec.commands()
+    );
+
+    // A valid value goes through.
+    let field = h.get_by_role_and_label(Role::TextInput, "κ value");
+    field.set_text_value_accesskit("25");
+    h.run_steps(3);
+    assert_eq!(
+        h.state()
+            .controls
+            .error(oneblock::app::controls::Field::Kappa),
+        None
+    );
+    assert_eq!(last_trajectory(&rec).map(|p| p.kappa), Some(25.0));
+}
+
+#[test]
+fn the_regime_badge_follows_gamma_and_kappa() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    // Fig. 3b: γ² = 42.25 > max(1, 18.95).
+    assert!(h.query_by_label_contains("pure stick-slip").is_some());
+    // γ = 0.5 with κ = 3: γ² < min(1, κ).
+    h.get_by_role_and_label(Role::Slider, "γ")
+        .set_value_accesskit(0.5);
+    h.run_steps(2);
+    h.get_by_role_and_label(Role::Slider, "κ")
+        .set_value_accesskit(3.0);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("pure creep").is_some());
+    // γ = 6.5, κ = 50: mixed, θc = 0.4090 (MODEL.md).
+    h.get_by_role_and_label(Role::Slider, "γ")
+        .set_value_accesskit(6.5);
+    h.get_by_role_and_label(Role::Slider, "κ")
+        .set_value_accesskit(50.0);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("mixed: θc = 0.4090").is_some());
+    // γ² between 1 and κ < 1: mixed as well (κ = 0.5, γ = 0.9).
+    h.get_by_role_and_label(Role::Slider, "κ")
+        .set_value_accesskit(0.5);
+    h.get_by_role_and_label(Role::Slider, "γ")
+        .set_value_accesskit(0.9);
+    h.run_steps(2);
+    assert!(h.query_by_label_contains("mixed: θc").is_some());
+}
+
+fn event(theta: f64, next: f64, t: f64) -> SlipEvent {
+    SlipEvent {
+        theta,
+        onset_x: theta.cos() / 18.95,
+        onset_y: theta.sin(),
+        onset_time: t,
+        accel_duration: 1.0,
+        slip_duration: 3.0,
+        stop_x: 0.0,
+        stop_y: 0.1,
+        slip_distance: 0.9,
+        peak_vr: 0.4,
+        energy_released: 0.4,
+        stick_duration: 100.0,
+        theta_next: next,
+        restarted: false,
+        rhs_evals: 500,
+        steps: 50,
+    }
+}
+
+#[test]
+fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    let (traj_gen, sweep_gen) = {
+        let cmds = rec.commands();
+        let t = cmds.iter().find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(*generation),
+            _ => None,
+        });
+        let s = cmds.iter().find_map(|c| match c {
+            Command::Sweep {
+                generation,
+                columns,
+                ..
+            } => Some((*generation, *columns)),
+            _ => None,
+        });
+        (t.expect("trajectory"), s.expect("sweep"))
+    };
+    // A stale update (older generation) is dropped.
+    rec.push(Update::Slip {
+        generation: 0,
+        event: event(0.5, 0.2, 0.0),
+    });
+    // A trajectory: 5 cycles of a small loop.
+    for c in 0..5 {
+        let t0 = c as f64 * 103.0;
+        let samples: Vec<Sample> = (0..60)
+            .map(|i| {
+                let s = i as f64 / 59.0;
+                Sample {
+                    t: t0 + 3.0 * s,
+                    x: 0.05 * (6.0 * s).cos(),
+                    y: 0.5 - s,
+                    u: 0.0,
+                    w: -0.3,
+                    phase: if s < 0.4 { Phase::Accel } else { Phase::Decel },
+                }
+            })
+            .chain([Sample {
+                t: t0 + 103.0,
+                x: 0.05,
+                y: 0.5,
+                u: 0.0,
+                w: 0.0,
+                phase: Phase::Stick,
+            }])
+            .collect();
+        rec.push(Update::TrajectoryChunk {
+            generation: traj_gen,
+            samples,
+        });
+        rec.push(Update::Slip {
+            generation: traj_gen,
+            event: event(0.5, 0.2, t0),
+        });
+    }
+    let (g, n) = sweep_gen;
+    for i in 0..n {
+        rec.push(Update::Column {
+            generation: g,
+            index: i,
+            theta_nu: i as f64 / (n - 1) as f64 * std::f64::consts::FRAC_PI_2,
+            thetas: (0..200)
+                .map(|k| 0.1 + 0.001 * (k % 7) as f64 + i as f64 * 1e-3)
+                .collect(),
+            coarse: i % 8 == 0,
+        });
+    }
+    rec.push(Update::Finished {
+        generation: g,
+        lane: oneblock::worker::Lane::Sweep,
+        outcome: oneblock::worker::Outcome::Completed,
+    });
+    h.run_steps(2);
+    {
+        let d = &h.state().data;
+        assert_eq!(d.stale_dropped, 1);
+        assert_eq!(d.trajectory.events.len(), 5);
+        assert_eq!(d.sweep.filled, n);
+        assert_eq!(d.sweep.state, JobState::Done);
+        assert_eq!(d.sweep.points(), 200 * n);
+    }
+    // Every view draws with data in it.
+    for v in View::ALL {
+        h.state_mut().settings.layout = oneblock::app::Layout::Tabs;
+        h.state_mut().settings.tab = v;
+        h.run_steps(2);
+    }
+}
+
+#[test]
+fn a_box_drawn_on_the_diagram_recomputes_that_range() {
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: View::Bifurcation,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let full = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Sweep {
+                theta_nu_from,
+                theta_nu_to,
+                ..
+            } => Some((theta_nu_from, theta_nu_to)),
+            _ => None,
+        })
+        .expect("first sweep");
+    assert_eq!(full, (0.0, std::f64::consts::FRAC_PI_2));
+    rec.clear();
+    // Drag across the middle of the plot (the central area right of the panel).
+    let (a, b) = (egui::pos2(700.0, 400.0), egui::pos2(950.0, 600.0));
+    h.hover_at(a);
+    h.step();
+    h.drag_at(a);
+    h.step();
+    for i in 1..=5 {
+        h.hover_at(a + (b - a) * (i as f32 / 5.0));
+        h.step();
+    }
+    h.drop_at(b);
+    h.run_steps(3);
+    let zoomed = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Sweep {
+                theta_nu_from,
+                theta_nu_to,
+                params,
+                ..
+            } => Some((theta_nu_from, theta_nu_to, params)),
+            _ => None,
+        })
+        .expect("a zoom recomputes the diagram");
+    assert!(
+        zoomed.0 > full.0 && zoomed.1 < full.1 && zoomed.0 < zoomed.1,
+        "{zoomed:?}"
+    );
+    assert_eq!(zoomed.2.kappa, 18.95);
+    assert_eq!(h.state().bifurcation.zoom.len(), 1);
+    // Back returns to the whole range.
+    rec.clear();
+    h.get_by_label("Back").click();
+    h.run_steps(3);
+    let back = rec.commands().into_iter().find_map(|c| match c {
+        Command::Sweep {
+            theta_nu_from,
+            theta_nu_to,
+            ..
+        } => Some((theta_nu_from, theta_nu_to)),
+        _ => None,
+    });
+    assert_eq!(back, Some(full));
+}
+
+#[test]
+fn export_writes_the_events_csv_into_the_chosen_folder() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    for i in 0..3 {
+        rec.push(Update::Slip {
+            generation: g,
+            event: event(0.5, 0.2, 103.0 * i as f64),
+        });
+    }
+    h.run_steps(2);
+    h.get_by_label("Export data").click();
+    h.run_steps(2);
+    h.get_by_label("Events CSV").click();
+    // The file is written on a thread of its own.
+    let mut found = None;
+    for _ in 0..100 {
+        h.step();
+        found = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "csv"));
+        if found.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let path = found.expect("an events CSV was written");
+    let text = std::fs::read_to_string(&path).expect("read csv");
+    let mut lines = text.lines();
+    assert_eq!(lines.next(), Some(oneblock::app::export::EVENTS_HEADER));
+    assert_eq!(lines.count(), 3);
+    assert!(
+        path.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-events-"))
+    );
+}
