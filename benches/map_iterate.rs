@@ -17,7 +17,10 @@ use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use oneblock::sim::OrbitOptions;
 use oneblock::{Method, Params, Simulator, SolverSettings};
 
-const ATTRACTORS: [(&str, f64, f64, f64); 2] = [("fig3b_chaos", 18.95, 1e-3, 1.25), ("fig3a_intermittent", 50.0, 1e-4, 1.4)];
+const ATTRACTORS: [(&str, f64, f64, f64); 2] = [
+    ("fig3b_chaos", 18.95, 1e-3, 1.25),
+    ("fig3a_intermittent", 50.0, 1e-4, 1.4),
+];
 
 const SETTINGS: [(Method, f64); 7] = [
     (Method::Dp54, 1e-8),
@@ -30,18 +33,36 @@ const SETTINGS: [(Method, f64); 7] = [
 ];
 
 fn params(kappa: f64, nu: f64, theta_nu: f64) -> Params {
-    Params { kappa, gamma: 6.5, nu, theta_nu, omega: 50.0 }
+    Params {
+        kappa,
+        gamma: 6.5,
+        nu,
+        theta_nu,
+        omega: 50.0,
+    }
 }
 
 fn bench(c: &mut Criterion) {
     let mut group = c.benchmark_group("map_iterate");
     group.throughput(Throughput::Elements(1));
-    group.measurement_time(Duration::from_secs(3)).sample_size(30).warm_up_time(Duration::from_millis(500));
+    group
+        .measurement_time(Duration::from_secs(3))
+        .sample_size(30)
+        .warm_up_time(Duration::from_millis(500));
     for (name, kappa, nu, theta_nu) in ATTRACTORS {
         let p = params(kappa, nu, theta_nu);
         let reference = Simulator::new(p, SolverSettings::adaptive(Method::Dop853, 1e-14)).unwrap();
         let orbit = reference
-            .orbit(theta_nu, &OrbitOptions { transient: 300, keep: 200, lyapunov: false, period_tol: 1e-9 }, &|| false)
+            .orbit(
+                theta_nu,
+                &OrbitOptions {
+                    transient: 300,
+                    keep: 200,
+                    lyapunov: false,
+                    period_tol: 1e-9,
+                },
+                &|| false,
+            )
             .unwrap();
         let thetas = orbit.thetas();
         let refs: Vec<f64> = thetas.iter().map(|&t| reference.map(t).unwrap()).collect();

@@ -103,6 +103,18 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), Output
         .suffix(".tmp")
         .tempfile_in(&dir)
         .map_err(io_err)?;
+    // tempfile creates its files private (0600); a figure or a CSV for the
+    // user gets the usual mode, or the mode of the file it replaces.
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        let mode = fs::metadata(path)
+            .map(|m| m.permissions().mode() & 0o777)
+            .unwrap_or(0o644);
+        tmp.as_file()
+            .set_permissions(fs::Permissions::from_mode(mode))
+            .map_err(io_err)?;
+    }
     tmp.write_all(bytes).map_err(io_err)?;
     tmp.as_file().sync_all().map_err(io_err)?;
     if force {
@@ -142,8 +154,16 @@ mod tests {
         ));
         write_output(&p, b"two", true).unwrap();
         assert_eq!(fs::read(&p).unwrap(), b"two");
-        // No temporary files left behind.
+        // No temporary files left behind, and the usual mode, not 0600.
         assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            assert_eq!(
+                fs::metadata(&p).unwrap().permissions().mode() & 0o777,
+                0o644
+            );
+        }
         assert!(check_writable(&dir.path().join("missing/x.csv"), false).is_err());
     }
 }
