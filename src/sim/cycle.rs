@@ -340,7 +340,11 @@ impl Simulator {
             // the block then chatters on at v_r ≈ 0 instead of stopping (a
             // creep slip at κ = 3, h = 0.01 slid for 874 time units).
             let stop_near = adaptive || vr < -dvr * self.settings.step;
-            if stop_near && vr < self.cutoff && dvr < 0.0 {
+            // The extrapolation holds over at most the field's fastest time
+            // scale, 1/√max(κ, 1): without that bound a creep slip whose
+            // peak v_r is already below the cut-off (tol ≥ 1e-4) was
+            // extrapolated from its first decelerating step and slid on.
+            if stop_near && vr < self.cutoff && dvr < 0.0 && vr < -dvr * self.h_max {
                 // Linear extrapolation of v_r to zero: the mean relative
                 // velocity over the remaining time is half the current one.
                 let dt = vr / -dvr;
