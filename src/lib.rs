@@ -11,6 +11,7 @@
 pub mod cli;
 pub mod integrate;
 pub mod model;
+pub mod numerics;
 pub mod output;
 pub mod sim;
 pub mod worker;
