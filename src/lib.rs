@@ -13,6 +13,7 @@ pub mod app;
 pub mod cli;
 pub mod integrate;
 pub mod model;
+pub mod numerics;
 pub mod output;
 pub mod sim;
 pub mod worker;

@@ -8,6 +8,7 @@ pub mod gui;
 pub mod map;
 pub mod orbit;
 pub mod trajectory;
+pub mod work_precision;
 
 use clap::{Parser, Subcommand};
 
@@ -34,6 +35,8 @@ pub enum Command {
     Bifurcation(bifurcation::BifurcationArgs),
     /// Times the simulation worker: first coarse diagram, full diagram, trajectory latency.
     BenchWorker(bench_worker::BenchWorkerArgs),
+    /// The work-precision chart: map error against cost per iterate for every method.
+    WorkPrecision(work_precision::WorkPrecisionArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
 }
@@ -47,6 +50,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Trajectory(a)) => trajectory::run(a),
         Some(Command::Bifurcation(a)) => bifurcation::run(a),
         Some(Command::BenchWorker(a)) => bench_worker::run(a),
+        Some(Command::WorkPrecision(a)) => work_precision::run(a),
         Some(Command::Gui(a)) => gui::run(a),
     }
 }

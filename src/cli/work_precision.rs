@@ -1,0 +1,189 @@
+//! `oneblock work-precision`: the map error against the cost per iterate for
+//! every method and setting, on a fixed sample of attractor points (CSV, and
+//! optionally the log-log chart as SVG).
+
+use std::fmt::Write as _;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+
+use super::CliError;
+use super::common::{check_out, count_in, emit, finite, stderr_is_terminal};
+use crate::model::Params;
+use crate::numerics::sample::{Attractor, build_sample, default_attractors};
+use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects, measure};
+use crate::numerics::{Subject, chart};
+
+/// The work-precision chart: error against cost for every method.
+#[derive(Debug, Clone, Args)]
+pub struct WorkPrecisionArgs {
+    /// κ of a single attractor to measure on [default: the four-attractor sample].
+    #[arg(long, allow_hyphen_values = true, requires_all = ["gamma", "nu", "theta_nu"])]
+    pub kappa: Option<f64>,
+    /// γ of that attractor.
+    #[arg(long, allow_hyphen_values = true, requires = "kappa")]
+    pub gamma: Option<f64>,
+    /// ν of that attractor.
+    #[arg(long, allow_hyphen_values = true, requires = "kappa")]
+    pub nu: Option<f64>,
+    /// θν of that attractor, in radians.
+    #[arg(long = "theta-nu", allow_hyphen_values = true, requires = "kappa")]
+    pub theta_nu: Option<f64>,
+    /// Ω of that attractor.
+    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
+    pub omega: f64,
+    /// Where that attractor's orbit starts [default: θν].
+    #[arg(long, allow_hyphen_values = true)]
+    pub theta0: Option<f64>,
+    /// Orbit points per attractor (1 to 10000).
+    #[arg(long, default_value_t = 16)]
+    pub points: usize,
+    /// Each point is timed over repeated runs lasting at least this many
+    /// milliseconds.
+    #[arg(long, default_value_t = 2.0)]
+    pub min_time_ms: f64,
+    /// Only the methods whose name contains this (e.g. dop853).
+    #[arg(long)]
+    pub only: Option<String>,
+    /// CSV file ("-" = stdout).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Also draw the chart (log-log, error against time per iterate) as SVG.
+    #[arg(long)]
+    pub svg: Option<PathBuf>,
+    /// Overwrite existing output files.
+    #[arg(long)]
+    pub force: bool,
+}
+
+/// The machine's 1-minute load average, read from /proc/loadavg.
+pub fn load_average() -> Option<f64> {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()?
+        .split_whitespace()
+        .next()?
+        .parse()
+        .ok()
+}
+
+pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
+    let attractors = match args.kappa {
+        None => default_attractors(),
+        Some(kappa) => {
+            let params = Params {
+                kappa,
+                gamma: args.gamma.unwrap_or(f64::NAN),
+                nu: args.nu.unwrap_or(f64::NAN),
+                theta_nu: args.theta_nu.unwrap_or(f64::NAN),
+                omega: args.omega,
+            };
+            params
+                .validate()
+                .map_err(|e| CliError::Usage(format!("--{e}")))?;
+            let theta0 = match args.theta0 {
+                Some(t) => finite("theta0", t)?,
+                None => params.theta_nu,
+            };
+            vec![Attractor {
+                name: "given",
+                params,
+                theta0,
+                transient: 300,
+                extra: None,
+            }]
+        }
+    };
+    let points = count_in("points", args.points, 10_000)?;
+    let min_ms = finite("min-time-ms", args.min_time_ms)?;
+    if !(0.0..=10_000.0).contains(&min_ms) {
+        return Err(CliError::Usage(format!(
+            "--min-time-ms = {min_ms} is out of range: must lie in [0, 10000]"
+        )));
+    }
+    check_out(&args.out, args.force)?;
+    if let Some(svg) = &args.svg {
+        check_out(svg, args.force)?;
+    }
+    let progress = stderr_is_terminal();
+    let load_before = load_average();
+    let start = Instant::now();
+    let sample = build_sample(&attractors, points)?;
+    let spread = sample
+        .iter()
+        .map(|s| s.reference_spread())
+        .fold(0.0, f64::max);
+    let subjects: Vec<Subject> = default_subjects()
+        .into_iter()
+        .filter(|s| {
+            args.only
+                .as_deref()
+                .is_none_or(|o| s.method_name().contains(o))
+        })
+        .collect();
+    let min_time = Duration::from_secs_f64(min_ms * 1e-3);
+    let mut rows: Vec<Row> = Vec::with_capacity(subjects.len());
+    for (i, s) in subjects.iter().enumerate() {
+        let row = measure(&sample, s, min_time);
+        if progress {
+            eprintln!("[{}/{}] {}", i + 1, subjects.len(), row.csv());
+        }
+        rows.push(row);
+    }
+    let load_after = load_average();
+    let fmt_load = |l: Option<f64>| l.map_or("?".into(), |l| format!("{l:.2}"));
+
+    let mut csv = String::new();
+    writeln!(
+        csv,
+        "# oneblock work-precision: {} points on {} attractor(s) ({}); reference DOP853 tol 1e-14, max |theta'_ref - theta'_dp54(1e-13)| = {spread:.2e}; load average {} before, {} after",
+        sample.len(),
+        attractors.len(),
+        attractors
+            .iter()
+            .map(|a| format!(
+                "{}: kappa {} gamma {} nu {} theta-nu {}",
+                a.name, a.params.kappa, a.params.gamma, a.params.nu, a.params.theta_nu
+            ))
+            .collect::<Vec<_>>()
+            .join("; "),
+        fmt_load(load_before),
+        fmt_load(load_after)
+    )
+    .ok();
+    csv.push_str(CSV_HEADER);
+    csv.push('\n');
+    for r in &rows {
+        csv.push_str(&r.csv());
+        csv.push('\n');
+    }
+    emit(&args.out, csv.as_bytes(), args.force)?;
+    if let Some(svg) = &args.svg {
+        let text = chart::svg(
+            &rows,
+            &format!("{} points, reference spread {spread:.1e}", sample.len()),
+        )
+        .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?;
+        emit(svg, text.as_bytes(), args.force)?;
+    }
+    for r in rows.iter().filter(|r| r.failed > 0) {
+        eprintln!(
+            "note: {} {} {:e}: {} of {} points failed, first: {}",
+            r.method,
+            r.kind,
+            r.setting,
+            r.failed,
+            r.points,
+            r.failure.as_deref().unwrap_or("?")
+        );
+    }
+    eprintln!(
+        "work-precision: {} settings on {} points in {:.1} s; reference spread (DOP853 1e-14 vs DP5(4) 1e-13) {spread:.2e}; load average {} → {}",
+        rows.len(),
+        sample.len(),
+        start.elapsed().as_secs_f64(),
+        fmt_load(load_before),
+        fmt_load(load_after)
+    );
+    Ok(())
+}

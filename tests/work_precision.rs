@@ -1,0 +1,128 @@
+//! The work-precision command and the accuracy budget built from its chart:
+//! the cheap setting a bifurcation diagram gets must not change the
+//! attractor (period and Lyapunov sign as at tol 1e-12).
+
+#![allow(clippy::unwrap_used)]
+
+use std::process::Command;
+
+use oneblock::numerics::{Accuracy, budget_for, settings_for};
+use oneblock::sim::{OrbitOptions, Period};
+use oneblock::{Method, Params, Simulator, SolverSettings};
+
+fn orbit(p: Params, s: SolverSettings) -> (Period, f64) {
+    let sim = Simulator::new(p, s).unwrap();
+    let o = sim
+        .orbit(
+            p.theta_nu,
+            &OrbitOptions {
+                transient: 400,
+                keep: 200,
+                lyapunov: true,
+                // One test for both tolerances: what a diagram shows apart
+                // (a tenth of its ~1e-3 pixel).
+                period_tol: 1e-4,
+            },
+            &|| false,
+        )
+        .unwrap();
+    (o.period, o.lyapunov.unwrap())
+}
+
+#[test]
+fn bifurcation_budget_keeps_period_and_lyapunov_sign() {
+    let (cheap, err, evals) = settings_for(Accuracy::BifurcationDiagram.target());
+    let tight = SolverSettings::adaptive(Method::Dop853, 1e-12);
+    println!(
+        "bifurcation: {} tol {:e} (max map error {err:.1e}, {evals} RHS evaluations per iterate)",
+        cheap.method, cheap.rtol
+    );
+    assert!(err <= 1e-3 && evals < budget_for(1e-10).est_evals / 3.0);
+    let cases = [
+        // Fig. 3b (pure stick-slip): fixed point, period 2, period 4, chaos,
+        // the period-3 window.
+        (18.95, 1e-3, 0.5),
+        (18.95, 1e-3, 1.1),
+        (18.95, 1e-3, 1.2),
+        (18.95, 1e-3, 1.25),
+        (18.95, 1e-3, 1.3),
+        // Fig. 3a (mixed): creep fixed point, intermittent chaos, the
+        // fixed point near π/2.
+        (50.0, 1e-4, 0.3),
+        (50.0, 1e-4, 1.4),
+        (50.0, 1e-4, 1.55),
+    ];
+    for (kappa, nu, theta_nu) in cases {
+        let p = Params {
+            kappa,
+            gamma: 6.5,
+            nu,
+            theta_nu,
+            omega: 50.0,
+        };
+        let (pc, lc) = orbit(p, cheap);
+        let (pt, lt) = orbit(p, tight);
+        println!(
+            "kappa {kappa} theta-nu {theta_nu}: period {pc} / {pt}, lyapunov {lc:.4} / {lt:.4}"
+        );
+        assert_eq!(pc, pt, "kappa {kappa} theta-nu {theta_nu}");
+        assert_eq!(lc > 0.0, lt > 0.0, "kappa {kappa} theta-nu {theta_nu}");
+    }
+}
+
+#[test]
+fn the_views_get_the_settings_the_chart_says() {
+    for a in [
+        Accuracy::TrajectoryView,
+        Accuracy::BifurcationDiagram,
+        Accuracy::ReturnMap,
+    ] {
+        let b = budget_for(a.target());
+        println!(
+            "{a:?}: {} tol {:e}, max error {:.1e}, {:.0} evaluations, {:.0} µs",
+            b.settings.method, b.settings.rtol, b.est_error, b.est_evals, b.est_us
+        );
+        assert!(b.est_error <= a.target());
+        b.settings.validate().unwrap();
+    }
+}
+
+#[test]
+fn work_precision_command_writes_csv_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("wp.csv");
+    let svg = dir.path().join("wp.svg");
+    let o = Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["work-precision", "--points", "1", "--only", "dop853"])
+        .args(["--min-time-ms", "0", "--out"])
+        .arg(&csv)
+        .arg("--svg")
+        .arg(&svg)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let lines: Vec<&str> = text.lines().filter(|l| !l.starts_with('#')).collect();
+    assert!(lines[0].starts_with("method,kind,setting"));
+    // DOP853 and the peer's Dop853 over 11 tolerances each.
+    assert_eq!(lines.len(), 1 + 22, "{text}");
+    assert!(text.contains("reference DOP853 tol 1e-14"));
+    assert!(text.contains("load average"));
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    assert!(svg.starts_with("<svg") && svg.contains("ode_solvers-dop853"));
+
+    // Bad input is a usage error naming the flag; an existing file is kept.
+    let bad = Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["work-precision", "--points", "0", "--out"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--points"));
+    let exists = Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["work-precision", "--points", "1", "--out"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert_eq!(exists.status.code(), Some(2));
+}
