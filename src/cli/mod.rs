@@ -7,6 +7,7 @@ pub mod common;
 pub mod gui;
 pub mod map;
 pub mod orbit;
+pub mod phase;
 pub mod trajectory;
 
 use clap::{Parser, Subcommand};
@@ -34,6 +35,8 @@ pub enum Command {
     Bifurcation(bifurcation::BifurcationArgs),
     /// Times the simulation worker: first coarse diagram, full diagram, trajectory latency.
     BenchWorker(bench_worker::BenchWorkerArgs),
+    /// The phase diagram over (θν, κ): period, Lyapunov exponent and class per cell.
+    Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
 }
@@ -47,6 +50,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Trajectory(a)) => trajectory::run(a),
         Some(Command::Bifurcation(a)) => bifurcation::run(a),
         Some(Command::BenchWorker(a)) => bench_worker::run(a),
+        Some(Command::Phase(a)) => phase::run(a),
         Some(Command::Gui(a)) => gui::run(a),
     }
 }
