@@ -20,6 +20,10 @@
 //!   chaotic once λ − 3·stderr > 0 (checked every 16 kept iterates from 64);
 //!   the period test keeps running, so a late periodic orbit is still found;
 //! - otherwise the cell is undecided (period 0, class `undecided`).
+//!
+//! A cell whose left neighbour was chaotic looks for a period for at most
+//! `transient_after_chaos` iterates (200) before it starts on λ: inside the
+//! chaotic region the transient is most of a grid's cost.
 
 use rayon::prelude::*;
 
@@ -46,6 +50,10 @@ pub struct PhaseOptions {
     /// force: the whole transient, then `keep` iterates with f'(θ), the period
     /// found on the kept iterates as `oneblock orbit` finds it.
     pub early_exit: bool,
+    /// The transient of a cell whose neighbour in the row was chaotic (with
+    /// `early_exit`): its attractor most likely is too, and 400 iterates of
+    /// looking for a period there are the largest cost of a grid.
+    pub transient_after_chaos: usize,
 }
 
 impl PhaseOptions {
@@ -62,6 +70,7 @@ impl PhaseOptions {
             },
             sigmas: 3.0,
             early_exit: true,
+            transient_after_chaos: 200,
         }
     }
 }
@@ -429,9 +438,20 @@ pub fn phase_row(
 ) -> Vec<PhaseCell> {
     let mut row = Vec::with_capacity(theta_nus.len());
     let mut prev: Option<f64> = None;
+    let mut prev_chaos = false;
+    let after_chaos = PhaseOptions {
+        transient: opts.transient.min(opts.transient_after_chaos),
+        ..*opts
+    };
     for &tn in theta_nus {
         let start = column_start(params.kappa, tn, prev);
-        let cell = phase_cell(params.with_theta_nu(tn), settings, start, opts, cancel);
+        let o = if prev_chaos && opts.early_exit {
+            &after_chaos
+        } else {
+            opts
+        };
+        let cell = phase_cell(params.with_theta_nu(tn), settings, start, o, cancel);
+        prev_chaos = cell.class == CellClass::Chaos;
         prev = if cell.error.is_none() {
             Some(cell.theta_last)
         } else {
