@@ -129,6 +129,10 @@ fn kappa_sixteen_cascades_to_chaos_and_back() {
             "chaos without a positive exponent: {l} ± {se}"
         );
     }
+    // A periodic class is an attracting cycle: its exponent is negative.
+    for c in cells.iter().filter(|c| c.class.period() > 0) {
+        assert!(c.lyapunov.is_some_and(|l| l < 0.0), "{:?}", c);
+    }
     let last_chaos = cells
         .iter()
         .rposition(|c| c.class == CellClass::Chaos)

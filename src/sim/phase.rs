@@ -13,7 +13,9 @@
 //!   periods before it at the window's start (so a slow drift across the
 //!   window fails the test), while no proper divisor of p comes within
 //!   10·`period_tol` of passing (else the orbit is still converging onto the
-//!   shorter period and gets more iterates);
+//!   shorter period and gets more iterates), and the cycle attracts: its
+//!   exponent (1/p)·Σ ln|f'(θᵢ)| is negative (else the period test is off
+//!   until the Lyapunov exponent decides);
 //! - only when the transient ends without a period does the cell pay for
 //!   f'(θ) (two more cycles per iterate): the kept iterates then give the
 //!   Lyapunov exponent λ with a batch-means standard error, and the cell is
@@ -334,13 +336,11 @@ fn run_cell(
     // The period test looks only at iterates since the last extrapolation.
     let mut seg = 0;
     let mut jumps = 0;
-    let periodic = |cell: &mut PhaseCell, thetas: &[f64], logs: &[f64], p: usize| {
+    let mut unstable_seen = false;
+    let periodic = |cell: &mut PhaseCell, thetas: &[f64], p: usize| {
         let cycle = &thetas[thetas.len() - p..];
         cell.class = CellClass::Periodic(p);
         cell.regime = AttractorRegime::of(kappa, gamma, cycle);
-        if logs.len() >= p {
-            cell.lyapunov = Some(logs[logs.len() - p..].iter().sum::<f64>() / p as f64);
-        }
     };
     for i in 0..total {
         if cancel() {
@@ -361,10 +361,13 @@ fn run_cell(
         if !opts.early_exit || i + 1 < MIN_TRANSIENT {
             continue;
         }
-        if let Some(p) = settled_period(&thetas[seg..], opts.period_tol) {
-            periodic(cell, &thetas, &logs, p);
-            if cell.lyapunov.is_none() {
-                // The cycle's exponent: p derivatives on its points.
+        let test = !(unstable_seen && logs.is_empty());
+        if test && let Some(p) = settled_period(&thetas[seg..], opts.period_tol) {
+            // The cycle's exponent: from the kept iterates' f' when there
+            // are p of them, else p derivatives on its points.
+            let lc = if logs.len() >= p {
+                logs[logs.len() - p..].iter().sum::<f64>() / p as f64
+            } else {
                 let mut sum = 0.0;
                 for j in 0..p {
                     let th = thetas[thetas.len() - p + j];
@@ -378,9 +381,17 @@ fn run_cell(
                     cell.rhs_evals += n;
                     sum += d.abs().ln();
                 }
-                cell.lyapunov = Some(sum / p as f64);
+                sum / p as f64
+            };
+            if lc < 0.0 {
+                periodic(cell, &thetas, p);
+                cell.lyapunov = Some(lc);
+                return Ok(());
             }
-            return Ok(());
+            // Repeats within the tolerance but does not attract: not a
+            // periodic attractor (e.g. 2^n tiny chaotic bands under a loose
+            // tolerance). Let the Lyapunov exponent decide.
+            unstable_seen = true;
         }
         if i + 1 < opts.transient
             && jumps < MAX_JUMPS
@@ -409,9 +420,14 @@ fn run_cell(
     let kept = &thetas[opts.transient.min(thetas.len())..];
     if !opts.early_exit
         && let Some(p) = detect_period(kept, opts.period_tol)
+        && logs.len() >= p
     {
-        periodic(cell, &thetas, &logs, p);
-        return Ok(());
+        let lc = logs[logs.len() - p..].iter().sum::<f64>() / p as f64;
+        if lc < 0.0 {
+            periodic(cell, &thetas, p);
+            cell.lyapunov = Some(lc);
+            return Ok(());
+        }
     }
     let (l, se) = batch_means(&logs);
     cell.lyapunov = l;
