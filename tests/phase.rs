@@ -161,6 +161,18 @@ fn kappa_sixteen_cascades_to_chaos_and_back() {
     );
 }
 
+#[test]
+fn kappa_18_95_matches_the_fig_3b_sweep() {
+    // The bifurcation sweep of Fig. 3b found FP up to θν ≈ 1.05, P2 at
+    // 1.1–1.15, P4 at 1.2, chaos at 1.25, P3 at 1.3 and 1.45, P6 at 1.35–1.4.
+    let cells = row(18.95, 1.0, 1.45, 10);
+    let got: Vec<String> = cells.iter().map(|c| c.class.label()).collect();
+    let want = [
+        "FP", "FP", "P2", "P2", "P4", "chaos", "P3", "P6", "P6", "P3",
+    ];
+    assert_eq!(got, want, "{}", labels(&cells));
+}
+
 /// Indices of periodic cells with period ≥ 3 lying between two chaotic cells.
 fn windows_in_chaos(cells: &[PhaseCell]) -> Vec<usize> {
     let first = cells.iter().position(|c| c.class == CellClass::Chaos);
