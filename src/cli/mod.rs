@@ -7,6 +7,7 @@ pub mod common;
 pub mod gui;
 pub mod map;
 pub mod orbit;
+pub mod phase;
 pub mod trajectory;
 pub mod work_precision;
 
@@ -37,6 +38,8 @@ pub enum Command {
     BenchWorker(bench_worker::BenchWorkerArgs),
     /// The work-precision chart: map error against cost per iterate for every method.
     WorkPrecision(work_precision::WorkPrecisionArgs),
+    /// The phase diagram over (θν, κ): period, Lyapunov exponent and class per cell.
+    Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
 }
@@ -51,6 +54,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Bifurcation(a)) => bifurcation::run(a),
         Some(Command::BenchWorker(a)) => bench_worker::run(a),
         Some(Command::WorkPrecision(a)) => work_precision::run(a),
+        Some(Command::Phase(a)) => phase::run(a),
         Some(Command::Gui(a)) => gui::run(a),
     }
 }

@@ -6,6 +6,7 @@ mod cycle;
 mod error;
 pub mod field;
 mod orbit;
+pub mod phase;
 mod sweep;
 mod trajectory;
 mod trig;
