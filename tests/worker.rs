@@ -749,3 +749,73 @@ fn dragging_a_slider_ends_with_only_the_last_jobs_results() {
     assert_eq!((last_columns.len(), unique.len()), (columns, columns));
     w.shutdown();
 }
+
+#[test]
+fn set_params_reruns_the_current_jobs_with_the_new_parameters() {
+    let (w, _) = spawn(256, 2, 4);
+    assert!(w.send(trajectory(1, Some(3))));
+    let (_, outcome) = until_finished(&w, 1, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    // New κ for the same job: the re-run equals the core with the new κ.
+    let new = Params {
+        kappa: 10.0,
+        theta_nu: 1.0,
+        ..fig3b(1.0)
+    };
+    assert!(w.send(Command::SetParams {
+        generation: 2,
+        params: new,
+        settings: settings()
+    }));
+    let (ups, outcome) = until_finished(&w, 2, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let events: Vec<_> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::Slip {
+                generation: 2,
+                event,
+            } => Some(*event),
+            _ => None,
+        })
+        .collect();
+    let sim = Simulator::new(new, settings()).expect("valid");
+    // Sampled as the trajectory job samples (dense output costs evaluations).
+    let mut sampler = Sampler::new(0.05);
+    let (mut theta, mut t) = (0.5, 0.0);
+    let mut core = Vec::new();
+    for _ in 0..3 {
+        let ev = sim.cycle(theta, t, Some(&mut sampler)).expect("cycle");
+        t += ev.slip_duration + ev.stick_duration;
+        theta = sim.next_onset(&ev);
+        core.push(ev);
+    }
+    assert_eq!(events, core);
+    // An invalid set is named by the re-run job; the next valid one runs.
+    let bad = Params { nu: -1.0, ..new };
+    assert!(w.send(Command::SetParams {
+        generation: 3,
+        params: bad,
+        settings: settings()
+    }));
+    let (ups, outcome) = until_finished(&w, 3, Lane::Orbit);
+    assert!(matches!(outcome, Outcome::Failed(_)));
+    assert!(
+        ups.iter().any(|u| matches!(
+            u,
+            Update::Error {
+                parameter: Some("nu"),
+                ..
+            }
+        )),
+        "{ups:?}"
+    );
+    assert!(w.send(Command::SetParams {
+        generation: 4,
+        params: new,
+        settings: settings()
+    }));
+    let (_, outcome) = until_finished(&w, 4, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    w.shutdown();
+}

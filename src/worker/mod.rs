@@ -34,6 +34,9 @@ pub use sweep::{PlannedColumn, sweep_plan};
 
 use gate::Gate;
 
+use crate::integrate::SolverSettings;
+use crate::model::Params;
+
 /// How the worker is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct WorkerConfig {
@@ -239,9 +242,34 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
         .name("oneblock-sweep".into())
         .spawn(move || lane_loop(sweep_rx, |job| sweep::run(&sh, job)));
 
+    // Each lane's latest job, for SetParams to run again.
+    let mut last_orbit: Option<Command> = None;
+    let mut last_sweep: Option<Command> = None;
     while let Ok(cmd) = commands.recv() {
         match cmd {
             Command::Shutdown => break,
+            Command::SetParams {
+                generation,
+                params,
+                settings,
+            } => {
+                if let Some(job) = last_orbit
+                    .as_ref()
+                    .and_then(|c| with_params(c, generation, params, settings))
+                    && shared.orbit.start(generation)
+                {
+                    last_orbit = Some(job.clone());
+                    orbit_tx.send(job).ok();
+                }
+                if let Some(job) = last_sweep
+                    .as_ref()
+                    .and_then(|c| with_params(c, generation, params, settings))
+                    && shared.sweep.start(generation)
+                {
+                    last_sweep = Some(job.clone());
+                    sweep_tx.send(job).ok();
+                }
+            }
             Command::Cancel { generation, lane } => {
                 let gates: Vec<&Gate> = match lane {
                     Some(Lane::Orbit) => vec![&shared.orbit],
@@ -252,6 +280,7 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
             }
             Command::Sweep { generation, .. } => {
                 if shared.sweep.start(generation) {
+                    last_sweep = Some(cmd.clone());
                     sweep_tx.send(cmd).ok();
                 }
             }
@@ -259,6 +288,9 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
             | Command::Iterate { generation, .. }
             | Command::InjectPanic { generation, .. } => {
                 if shared.orbit.start(generation) {
+                    if !matches!(cmd, Command::InjectPanic { .. }) {
+                        last_orbit = Some(cmd.clone());
+                    }
                     orbit_tx.send(cmd).ok();
                 }
             }
@@ -269,6 +301,41 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     drop(sweep_tx);
     for t in [orbit_thread, sweep_thread].into_iter().flatten() {
         t.join().ok();
+    }
+}
+
+/// `job` again under `generation` with new parameters (None for commands
+/// that are not jobs).
+fn with_params(
+    job: &Command,
+    generation: Generation,
+    params: Params,
+    settings: SolverSettings,
+) -> Option<Command> {
+    let mut job = job.clone();
+    match &mut job {
+        Command::Trajectory {
+            generation: g,
+            params: p,
+            settings: s,
+            ..
+        }
+        | Command::Iterate {
+            generation: g,
+            params: p,
+            settings: s,
+            ..
+        }
+        | Command::Sweep {
+            generation: g,
+            params: p,
+            settings: s,
+            ..
+        } => {
+            (*g, *p, *s) = (generation, params, settings);
+            Some(job)
+        }
+        _ => None,
     }
 }
 

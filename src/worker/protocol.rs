@@ -63,6 +63,16 @@ pub enum Command {
         transient: usize,
         keep: usize,
     },
+    /// A new parameter set (κ, γ, ν, θν, Ω, method, tolerance): each lane's
+    /// latest trajectory/iterate or sweep job runs again with it under
+    /// `generation`, superseding whatever runs (a sweep keeps its θν range
+    /// and uses the other parameters). A lane that has had no job stays
+    /// idle; invalid values are reported by the re-run job, naming them.
+    SetParams {
+        generation: Generation,
+        params: Params,
+        settings: SolverSettings,
+    },
     /// Stop the lane's job (both lanes if `None`); answered by `Cancelled`.
     Cancel {
         generation: Generation,
