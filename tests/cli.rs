@@ -323,7 +323,7 @@ fn bifurcation_equals_two_continued_sweeps() {
     assert!(!err.contains('\u{1b}') && !err.contains('\r'), "{err:?}");
     assert_eq!(err.lines().count(), 2, "{err}");
     assert!(
-        err.contains("iterates/s") && err.contains(" s on 2 threads"),
+        err.contains("iterates integrated") && err.contains(" s on 2 threads"),
         "{err}"
     );
 }

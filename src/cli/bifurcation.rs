@@ -166,9 +166,10 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let evals: u64 = cols.iter().map(|c| c.rhs_evals).sum();
     let failed = failed.load(Ordering::Relaxed);
     eprintln!(
-        "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on 2 threads, {:.0} iterates/s, {:.0} rhs evaluations per iterate{}",
+        "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on 2 threads; {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
         args.transient,
+        columns as u64 * (args.transient + keep) as u64,
         n as f64 / seconds.max(1e-9),
         evals as f64 / n.max(1) as f64,
         if failed > 0 {
