@@ -6,36 +6,17 @@
 use std::fmt::Write as _;
 
 use super::data::SweepData;
+use crate::cli::common::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::sim::{Sample, SlipEvent};
 
-pub const EVENTS_HEADER: &str = "theta,onset_x,onset_y,onset_time,accel_duration,slip_duration,\
-stop_x,stop_y,slip_distance,peak_vr,energy_released,stick_duration,theta_next,restarted,rhs_evals,steps";
-
+/// The events CSV: the command line's header and rows, from the same code.
 pub fn events_csv(events: &[SlipEvent]) -> String {
     let mut s = String::with_capacity(200 * (events.len() + 1));
-    s.push_str(EVENTS_HEADER);
+    s.push_str(&SLIP_EVENT_COLUMNS.join(","));
     s.push('\n');
     for e in events {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            e.theta,
-            e.onset_x,
-            e.onset_y,
-            e.onset_time,
-            e.accel_duration,
-            e.slip_duration,
-            e.stop_x,
-            e.stop_y,
-            e.slip_distance,
-            e.peak_vr,
-            e.energy_released,
-            e.stick_duration,
-            e.theta_next,
-            u8::from(e.restarted),
-            e.rhs_evals,
-            e.steps
-        );
+        s.push_str(&slip_event_row(e));
+        s.push('\n');
     }
     s
 }
