@@ -13,7 +13,7 @@ use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::sim::{
     Column, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
-    theta_nu_grid,
+    return_map_window, theta_nu_grid,
 };
 use oneblock::worker::{
     Command, Generation, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan,
@@ -162,6 +162,53 @@ fn map_iterates_equal_the_core_bit_for_bit() {
 }
 
 #[test]
+fn an_iterate_job_ends_with_the_graph_of_f_over_its_orbits_window() {
+    let (w, _) = spawn(256, 2, 64);
+    let params = fig3b(1.25);
+    assert!(w.send(iterate(3, params, 100, 60)));
+    let (ups, outcome) = until_finished(&w, 3, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let mut kept = Vec::new();
+    let mut graph = None;
+    for u in &ups {
+        match u {
+            Update::MapIterates { thetas, .. } => {
+                assert!(graph.is_none(), "the graph comes after the iterates");
+                kept.extend_from_slice(thetas);
+            }
+            Update::MapGraph { thetas, values, .. } => graph = Some((thetas, values)),
+            _ => {}
+        }
+    }
+    let (thetas, values) = graph.expect("a MapGraph update");
+    assert_eq!(thetas.len(), values.len());
+    let (lo, hi) = return_map_window(&kept).expect("finite iterates");
+    assert!(thetas.len() > 150, "most of the window is on the exit arc");
+    assert!(thetas.windows(2).all(|p| p[0] < p[1]));
+    assert!(thetas[0] >= lo && *thetas.last().unwrap() <= hi);
+    // Each value is the core's map there, bit for bit, and the orbit lies on
+    // the graph: f at each kept iterate is interpolated by the curve to well
+    // within the picture's resolution.
+    let sim = Simulator::new(params, settings()).expect("valid");
+    for (t, v) in thetas.iter().zip(values) {
+        assert_eq!(v.to_bits(), sim.map(*t).expect("map").to_bits(), "f({t})");
+    }
+    for pair in kept.windows(2) {
+        let i = thetas
+            .partition_point(|t| *t < pair[0])
+            .clamp(1, thetas.len() - 1);
+        let (t0, t1) = (thetas[i - 1], thetas[i]);
+        let (f0, f1) = (values[i - 1], values[i]);
+        let lin = f0 + (f1 - f0) * (pair[0] - t0) / (t1 - t0);
+        assert!(
+            (lin - pair[1]).abs() < 1e-2 * (hi - lo),
+            "{pair:?} vs {lin}"
+        );
+    }
+    w.shutdown();
+}
+
+#[test]
 fn trajectory_equals_the_core_bit_for_bit() {
     let (w, _) = spawn(256, 2, 64);
     assert!(w.send(trajectory(3, Some(6))));
@@ -277,9 +324,10 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
     };
     for u in ups {
         let lane = match u {
-            Update::TrajectoryChunk { .. } | Update::Slip { .. } | Update::MapIterates { .. } => {
-                Some(Lane::Orbit)
-            }
+            Update::TrajectoryChunk { .. }
+            | Update::Slip { .. }
+            | Update::MapIterates { .. }
+            | Update::MapGraph { .. } => Some(Lane::Orbit),
             Update::Column { .. } => Some(Lane::Sweep),
             Update::Progress { lane, .. }
             | Update::Error { lane, .. }

@@ -44,6 +44,9 @@ pub struct TrajectoryData {
 #[derive(Clone, Debug, Default)]
 pub struct IterateData {
     pub thetas: Vec<f64>,
+    /// Points (θ, f(θ)) of the map's graph over the orbit's window (NaN
+    /// where a cycle failed), once the job has drawn it.
+    pub graph: Vec<[f64; 2]>,
     pub period: Option<Period>,
     pub lyapunov: Option<f64>,
     pub state: JobState,
@@ -200,6 +203,13 @@ impl Data {
                 it.thetas.extend(thetas);
                 it.period = Some(period);
                 it.lyapunov = lyapunov;
+            }
+            Update::MapGraph { thetas, values, .. } if job == Job::Iterate => {
+                self.iterate.graph = thetas
+                    .into_iter()
+                    .zip(values)
+                    .map(|(t, v)| [t, v])
+                    .collect();
             }
             Update::Column {
                 index,

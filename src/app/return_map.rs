@@ -1,7 +1,8 @@
-//! The return map θ' = f(θ) on the exit arc: the orbit's iterates as
-//! points, the trajectory's cycles (transient included) as lighter points
-//! that trace more of the map's graph, the 45° line, the cobweb of the
-//! latest iterates, and the detected period and Lyapunov exponent.
+//! The return map θ' = f(θ) on the exit arc: the graph of f over the
+//! orbit's window (computed by the worker once the orbit is known), the
+//! orbit's iterates as points, the trajectory's cycles (transient included)
+//! as lighter points, the 45° line, the cobweb of the latest iterates, and
+//! the detected period and Lyapunov exponent.
 
 use eframe::egui;
 use egui::{RichText, Ui};
@@ -11,7 +12,7 @@ use super::data::Data;
 use super::settings::Settings;
 use super::style;
 use crate::model::Regime;
-use crate::sim::Period;
+use crate::sim::{Period, return_map_window};
 
 /// Iterates the cobweb follows.
 const COBWEB: usize = 40;
@@ -27,6 +28,36 @@ pub fn cobweb(thetas: &[f64]) -> Vec<[f64; 2]> {
         out.push([l, l]);
     }
     out
+}
+
+/// The graph's points cut into polylines at failed cycles (NaN) and at
+/// jumps: f is discontinuous where the next onset switches between creep
+/// and stick-slip, and a line drawn across such a jump would be a lie.
+pub fn graph_pieces(graph: &[[f64; 2]], jump: f64) -> Vec<Vec<[f64; 2]>> {
+    let mut pieces: Vec<Vec<[f64; 2]>> = Vec::new();
+    let mut cur: Vec<[f64; 2]> = Vec::new();
+    for &p in graph {
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            if cur.len() > 1 {
+                pieces.push(std::mem::take(&mut cur));
+            }
+            cur.clear();
+            continue;
+        }
+        if let Some(last) = cur.last()
+            && (p[1] - last[1]).abs() > jump
+        {
+            if cur.len() > 1 {
+                pieces.push(std::mem::take(&mut cur));
+            }
+            cur.clear();
+        }
+        cur.push(p);
+    }
+    if cur.len() > 1 {
+        pieces.push(cur);
+    }
+    pieces
 }
 
 /// The period and Lyapunov exponent as one line of text.
@@ -50,6 +81,7 @@ impl ReturnMapView {
         let it = &data.iterate;
         ui.label(RichText::new(summary(it.period, it.lyapunov)).strong());
         ui.horizontal_wrapped(|ui| {
+            style::legend_line(ui, style::ACCEL, false, "f");
             style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
             style::legend_marker(
                 ui,
@@ -67,20 +99,21 @@ impl ReturnMapView {
             .map(|e| [e.theta, e.theta_next])
             .collect();
         let tail = &it.thetas[it.thetas.len().saturating_sub(COBWEB)..];
+        // A jump of more than a tenth of the window between neighbours 1/200
+        // of it apart is a discontinuity, not a steep stretch of f.
+        let window = it
+            .graph
+            .last()
+            .zip(it.graph.first())
+            .map_or(1.0, |(a, b)| (a[0] - b[0]).abs());
+        let pieces = graph_pieces(&it.graph, 0.1 * window.max(1e-3));
         let web = cobweb(tail);
-        // Frame the attractor (the kept iterates); the transient may fall outside.
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+        // Frame the attractor (the kept iterates; the transient may fall
+        // outside) in the window the worker drew f over.
         let framed: &[[f64; 2]] = if kept.is_empty() { &traj } else { &kept };
-        for p in framed {
-            lo = lo.min(p[0]).min(p[1]);
-            hi = hi.max(p[0]).max(p[1]);
-        }
-        if !lo.is_finite() {
-            lo = s.params.theta_nu - 0.5;
-            hi = s.params.theta_nu + 0.5;
-        }
-        let pad = ((hi - lo) * 0.25).max(0.02);
-        let (lo, hi) = (lo - pad, hi + pad);
+        let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
+        let th = s.params.theta_nu;
+        let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
         let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
             Regime::Mixed { theta_c } => Some(theta_c),
             _ => None,
@@ -129,6 +162,13 @@ impl ReturnMapView {
                         }
                     }
                 }
+                for piece in pieces {
+                    p.line(
+                        style::line("f", PlotPoints::from(piece))
+                            .color(style::ACCEL)
+                            .width(1.5),
+                    );
+                }
                 p.add(
                     Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
                         .color(style::STICK.gamma_multiply(0.45))
@@ -146,5 +186,31 @@ impl ReturnMapView {
                         .filled(true),
                 );
             });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn graph_is_cut_at_failed_cycles_and_at_jumps() {
+        let g = [
+            [0.0, 0.0],
+            [0.1, 0.1],
+            [0.2, 0.2],
+            [0.3, f64::NAN],
+            [0.4, 0.4],
+            [0.5, 0.5],
+            [0.6, 2.0],
+            [0.7, 2.1],
+            [0.8, 9.0],
+        ];
+        let pieces = graph_pieces(&g, 0.5);
+        let firsts: Vec<f64> = pieces.iter().map(|p| p[0][0]).collect();
+        let lens: Vec<usize> = pieces.iter().map(Vec::len).collect();
+        // The lone point after the last jump is not a line.
+        assert_eq!(firsts, [0.0, 0.4, 0.6]);
+        assert_eq!(lens, [3, 2, 2]);
     }
 }

@@ -1,4 +1,5 @@
-//! Period detection of an orbit and the derivative of the map.
+//! Period detection of an orbit, the derivative of the map, and the grid
+//! its graph is drawn on.
 
 use super::{SimError, Simulator};
 use crate::model::{is_on_exit_arc, wrap_angle};
@@ -13,6 +14,32 @@ pub fn detect_period(thetas: &[f64], tol: f64) -> Option<usize> {
     let n = thetas.len();
     (1..=PERIOD_MAX.min(n / 2))
         .find(|&p| (p..n).all(|i| wrap_angle(thetas[i] - thetas[i - p]).abs() <= tol))
+}
+
+/// The window of θ a return-map picture of `thetas` shows: their range
+/// padded by a quarter on each side (at least 0.02 rad), so a fixed point
+/// still shows the slope of f through it. `None` for no finite value.
+pub fn return_map_window(thetas: &[f64]) -> Option<(f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &t in thetas.iter().filter(|t| t.is_finite()) {
+        lo = lo.min(t);
+        hi = hi.max(t);
+    }
+    if !lo.is_finite() {
+        return None;
+    }
+    let pad = ((hi - lo) * 0.25).max(0.02);
+    Some((lo - pad, hi + pad))
+}
+
+/// `n` onsets evenly spread over [lo, hi] that lie on the exit arc (the
+/// others dropped): where the graph of f is drawn.
+pub fn map_graph_grid(kappa: f64, theta_nu: f64, lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    let n = n.max(2);
+    (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .filter(|&t| is_on_exit_arc(kappa, theta_nu, t))
+        .collect()
 }
 
 /// The step of the central difference for f'(θ).
@@ -86,6 +113,31 @@ pub fn fixed_point(sim: &Simulator, theta0: f64, tol: f64) -> Result<Option<(f64
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn window_pads_the_range_and_keeps_a_floor() {
+        let (lo, hi) = return_map_window(&[0.4, 0.5, f64::NAN, 0.45]).expect("finite");
+        assert!((lo - 0.375).abs() < 1e-12 && (hi - 0.525).abs() < 1e-12);
+        let (lo, hi) = return_map_window(&[1.0]).expect("finite");
+        assert!((lo - 0.98).abs() < 1e-12 && (hi - 1.02).abs() < 1e-12);
+        assert_eq!(return_map_window(&[f64::NAN]), None);
+    }
+
+    #[test]
+    fn graph_grid_keeps_only_onsets_on_the_exit_arc() {
+        // κ = 1, θν = 0: the exit arc is (−π/2, π/2).
+        let g = map_graph_grid(1.0, 0.0, -2.0, 2.0, 401);
+        assert!(g.iter().all(|&t| t.abs() < std::f64::consts::FRAC_PI_2));
+        assert!(g.windows(2).all(|p| p[0] < p[1]));
+        let expected = (0..401)
+            .filter(|i| (-2.0 + 0.01 * *i as f64).abs() < std::f64::consts::FRAC_PI_2)
+            .count();
+        assert!(
+            (g.len() as i64 - expected as i64).abs() <= 1,
+            "{} vs {expected}",
+            g.len()
+        );
+    }
 
     #[test]
     fn finds_the_smallest_period() {

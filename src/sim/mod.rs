@@ -11,7 +11,10 @@ mod sweep;
 mod trajectory;
 mod trig;
 
-pub use analysis::{DERIVATIVE_STEP, PERIOD_MAX, detect_period, fixed_point, map_derivative};
+pub use analysis::{
+    DERIVATIVE_STEP, PERIOD_MAX, detect_period, fixed_point, map_derivative, map_graph_grid,
+    return_map_window,
+};
 pub use cycle::{Simulator, SlipEvent, default_settings};
 pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};

@@ -13,7 +13,7 @@ use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{
     OrbitOptions, Period, Sampler, SimError, Simulator, default_settings, detect_period,
-    map_derivative, mean_and_stderr,
+    map_derivative, map_graph_grid, mean_and_stderr, return_map_window,
 };
 
 /// Most samples in one `TrajectoryChunk` (a slip sampled finely is split).
@@ -25,6 +25,8 @@ pub const MIN_SPACING: f64 = 1e-4;
 pub const ITERATE_BATCH: usize = 16;
 /// … or at least this often, whichever comes first.
 pub const FLUSH_INTERVAL: Duration = Duration::from_millis(50);
+/// Onsets at which an iterate job draws the graph of f.
+pub const GRAPH_POINTS: usize = 200;
 /// `Progress` goes out at most this often per job.
 pub const PROGRESS_INTERVAL: Duration = Duration::from_millis(50);
 
@@ -314,7 +316,38 @@ impl OrbitJob<'_> {
         if sent < kept.len() {
             self.send(generation, flush(&kept, &logs, sent))?;
         }
-        Ok(())
+        self.map_graph(generation, &sim, &kept)
+    }
+
+    /// The graph of f over the orbit's window, so that the return map shows
+    /// the whole curve the cobweb runs on and not only the visited points.
+    /// It costs `GRAPH_POINTS` cycles, a fraction of the kept iterates'.
+    fn map_graph(
+        &self,
+        generation: Generation,
+        sim: &Simulator,
+        kept: &[f64],
+    ) -> Result<(), JobError> {
+        let Some((lo, hi)) = return_map_window(kept) else {
+            return Ok(());
+        };
+        let p = sim.params();
+        let thetas = map_graph_grid(p.kappa, p.theta_nu, lo, hi, GRAPH_POINTS);
+        let mut values = Vec::with_capacity(thetas.len());
+        for &th in &thetas {
+            self.poll(generation)?;
+            // A cycle that fails here (a bound hit far from the attractor)
+            // leaves a gap in the picture, not an error for the whole job.
+            values.push(sim.map(th).unwrap_or(f64::NAN));
+        }
+        self.send(
+            generation,
+            Update::MapGraph {
+                generation,
+                thetas,
+                values,
+            },
+        )
     }
 
     /// Test-only fault injection: a few real cycles, then a panic.

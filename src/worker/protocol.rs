@@ -121,6 +121,14 @@ pub enum Update {
         period: Period,
         lyapunov: Option<f64>,
     },
+    /// The graph of the map f over the window the iterate job's orbit is
+    /// drawn in (`sim::return_map_window`): f(θ) at each θ of `thetas`, NaN
+    /// where that cycle failed. Sent once, after the kept iterates.
+    MapGraph {
+        generation: Generation,
+        thetas: Vec<f64>,
+        values: Vec<f64>,
+    },
     /// One finished bifurcation column.
     Column {
         generation: Generation,
@@ -166,6 +174,7 @@ impl Update {
             Update::TrajectoryChunk { generation, .. }
             | Update::Slip { generation, .. }
             | Update::MapIterates { generation, .. }
+            | Update::MapGraph { generation, .. }
             | Update::Column { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }
