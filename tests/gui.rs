@@ -537,8 +537,10 @@ fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
         h.query_by_label_contains("Committed chart: 65 points")
             .is_some()
     );
-    // The table marks the rows the jobs now run.
-    assert!(h.query_by_label("map iterates").is_some());
+    // The legend of the markers and the table's "used by" column name the
+    // jobs' settings.
+    assert_eq!(h.query_all_by_label("map iterates").count(), 2);
+    assert!(h.query_by_label("settings in use (Auto):").is_some());
     rec.clear();
     h.get_by_label("Run for current parameters").click();
     h.run_steps(2);

@@ -388,19 +388,17 @@ impl NumericsView {
         // The legend above the plot (as the other views have it): inside,
         // it would hide some corner of the curves.
         ui.horizontal_wrapped(|ui| {
-            // Each swatch with its label in a row of its own, so that
-            // wrapping never parts them.
             for (m, _) in curves(rows, y_evals) {
-                ui.horizontal(|ui| {
-                    style::legend_line(ui, method_color(m), m.starts_with("ode_solvers"), m);
-                });
+                style::legend_line(ui, method_color(m), m.starts_with("ode_solvers"), m);
             }
-            ui.separator();
+        });
+        // The jobs' markers on a line of their own, so that wrapping never
+        // parts a marker from its label at usual widths.
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!("settings in use ({mode}):"));
             for job in JobKind::ALL {
                 if marks.iter().any(|(j, _)| *j == job) {
-                    ui.horizontal(|ui| {
-                        legend_shape(ui, job, ink, &format!("{mode}: {}", job.label()));
-                    });
+                    legend_shape(ui, job, ink, job.label());
                 }
             }
         });
