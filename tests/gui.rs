@@ -8,11 +8,15 @@ use egui::accesskit::Role;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
+use oneblock::app::accuracy::AccuracyMode;
 use oneblock::app::data::JobState;
 use oneblock::app::{Explorer, PRESETS, Recorder, Settings, View};
+use oneblock::integrate::{Method, SolverSettings};
 use oneblock::model::Params;
+use oneblock::numerics::Row;
+use oneblock::numerics::quick::{QUICK_POINTS, quick_subjects};
 use oneblock::sim::{Phase, Sample, SlipEvent};
-use oneblock::worker::{Command, Update};
+use oneblock::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig};
 
 fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
     let app = Explorer::new(Box::new(rec.clone()), settings);
@@ -423,4 +427,237 @@ slip_distance,peak_vr,energy_released,stick_duration,theta_next,restarted,rhs_ev
         path.file_name()
             .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-events-"))
     );
+}
+
+/// The solver settings of the latest command of each job kind.
+fn last_settings(rec: &Recorder) -> (Option<SolverSettings>, Option<SolverSettings>) {
+    let cmds = rec.commands();
+    let traj = cmds.iter().rev().find_map(|c| match c {
+        Command::Trajectory { settings, .. } => Some(*settings),
+        _ => None,
+    });
+    let sweep = cmds.iter().rev().find_map(|c| match c {
+        Command::Sweep { settings, .. } => Some(*settings),
+        _ => None,
+    });
+    (traj, sweep)
+}
+
+#[test]
+fn the_accuracy_selector_switches_between_auto_and_custom() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    // Auto: each job its own setting, the chart's estimate beside it.
+    assert_eq!(h.state().settings.accuracy, AccuracyMode::Auto);
+    assert_eq!(
+        last_settings(&rec),
+        (
+            Some(SolverSettings::adaptive(Method::Dop853, 1e-5)),
+            Some(SolverSettings::adaptive(Method::Dp54, 1e-5))
+        )
+    );
+    for text in [
+        "dop853 tol 1e-5 · err ≤ 3.3e-5 · 332 evals · 24 µs",
+        "dp54 tol 1e-5 · err ≤ 1.1e-4 · 298 evals · 24 µs",
+        "dop853 tol 1e-11 · err ≤ 2.8e-11 · 1442 evals · 73 µs",
+    ] {
+        assert!(h.query_by_label(text).is_some(), "{text}");
+    }
+    // The map iterates wait for the trajectory, then run at 1e-10's setting.
+    let g = rec
+        .commands()
+        .iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(*generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    rec.push(Update::Finished {
+        generation: g,
+        lane: Lane::Orbit,
+        outcome: Outcome::Completed,
+    });
+    h.run_steps(2);
+    let iterate = rec.commands().iter().rev().find_map(|c| match c {
+        Command::Iterate { settings, .. } => Some(*settings),
+        _ => None,
+    });
+    assert_eq!(
+        iterate,
+        Some(SolverSettings::adaptive(Method::Dop853, 1e-11))
+    );
+
+    // Custom: the controls' method and tolerance for every job.
+    rec.clear();
+    h.get_by_label("Custom").click();
+    h.run_steps(2);
+    h.state_mut().flush(&egui::Context::default());
+    h.run_steps(2);
+    assert_eq!(h.state().settings.accuracy, AccuracyMode::Custom);
+    let custom = SolverSettings::adaptive(Method::Dop853, 1e-9);
+    assert_eq!(last_settings(&rec), (Some(custom), Some(custom)));
+    let line = "dop853 tol 1e-9 · err ≤ 3.9e-9 · 880 evals · 48 µs";
+    assert_eq!(h.query_all_by_label(line).count(), 3);
+    assert!(
+        h.query_by_label("dp54 tol 1e-5 · err ≤ 1.1e-4 · 298 evals · 24 µs")
+            .is_none()
+    );
+    // A tolerance between two measured ones is interpolated.
+    let field = h.get_by_role_and_label(Role::TextInput, "tolerance value");
+    field.focus();
+    field.set_text_value_accesskit("3e-10");
+    h.run_steps(3);
+    assert_eq!(h.state().settings.tol, 3e-10);
+    assert_eq!(
+        h.query_all_by_label_contains("dop853 tol 3e-10 · err ≤ ≈ ")
+            .count(),
+        3,
+        "interpolated estimate shown for every job"
+    );
+
+    // Back to Auto.
+    h.get_by_label("Auto").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.accuracy, AccuracyMode::Auto);
+    assert!(h.query_by_label(line).is_none());
+}
+
+#[test]
+fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: View::Numerics,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("Committed chart: 65 points")
+            .is_some()
+    );
+    // The legend of the markers and the table's "used by" column name the
+    // jobs' settings.
+    assert_eq!(h.query_all_by_label("map iterates").count(), 2);
+    assert!(h.query_by_label("settings in use (Auto):").is_some());
+    rec.clear();
+    h.get_by_label("Run for current parameters").click();
+    h.run_steps(2);
+    let (g, params, points, subjects) = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::WorkPrecision {
+                generation,
+                params,
+                points,
+                subjects,
+                ..
+            } => Some((generation, params, points, subjects)),
+            _ => None,
+        })
+        .expect("the job was sent");
+    assert_eq!(params, Params::default());
+    assert_eq!(points, QUICK_POINTS);
+    assert_eq!(subjects, quick_subjects());
+    // Rows stream in: the chart switches to them; other updates pass by.
+    let row = Row {
+        method: "dop853",
+        kind: "tol",
+        setting: 1e-6,
+        points: 12,
+        failed: 0,
+        failure: None,
+        max_error: 2e-6,
+        median_error: 1e-7,
+        max_stop_error: 1e-6,
+        max_duration_error: 1e-5,
+        median_us: 30.0,
+        evals_per_iterate: 450.0,
+    };
+    rec.push(Update::WorkPrecisionSample {
+        generation: g,
+        points: 12,
+        reference_spread: 3e-12,
+    });
+    rec.push(Update::WorkPrecisionRow {
+        generation: g,
+        index: 0,
+        total: subjects.len(),
+        row,
+    });
+    h.run_steps(2);
+    assert_eq!(h.state().numerics.run.rows.len(), 1);
+    assert_eq!(h.state().data.stale_dropped, 0);
+    assert!(h.query_by_label_contains("Run on κ = 18.95").is_some());
+    assert!(h.query_by_label_contains("1/57 settings").is_some());
+    // Stop cancels the numerics lane only.
+    rec.clear();
+    h.get_by_label("Stop").click();
+    h.run_steps(2);
+    assert!(matches!(
+        rec.commands().as_slice(),
+        [Command::Cancel {
+            lane: Some(Lane::Numerics),
+            ..
+        }]
+    ));
+    assert_eq!(h.state().numerics.run.state, JobState::Cancelled);
+    // The y switch.
+    h.get_by_label("RHS evaluations per iterate").click();
+    h.run_steps(2);
+    assert!(h.state().numerics.y_evals);
+}
+
+#[test]
+fn run_for_current_parameters_fills_the_chart_from_the_real_worker() {
+    let worker = Worker::spawn(WorkerConfig::default(), std::sync::Arc::new(|| {}));
+    let settings = Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: View::Numerics,
+        columns: 20,
+        trajectory_cycles: 20,
+        ..Settings::default()
+    };
+    let app = Explorer::new(Box::new(worker), settings);
+    let mut h = Harness::builder()
+        .with_size([1280.0, 1000.0])
+        .build_ui_state(
+            |ui, app: &mut Explorer| {
+                app.logic_step(ui.ctx());
+                app.show(ui);
+            },
+            app,
+        );
+    h.run_steps(2);
+    h.get_by_label("Run for current parameters").click();
+    // Rows arrive on the worker's numerics lane, one setting at a time.
+    let start = std::time::Instant::now();
+    while h.state().numerics.run.rows.len() < 3 {
+        assert!(
+            start.elapsed() < std::time::Duration::from_secs(120),
+            "no rows: {:?}",
+            h.state().numerics.run
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    let run = &h.state().numerics.run;
+    assert_eq!(run.state, JobState::Running);
+    assert_eq!(run.points, QUICK_POINTS);
+    assert_eq!(run.rows[0].method, "euler");
+    assert!(run.rows.iter().all(|r| r.points == QUICK_POINTS));
+    h.get_by_label("Stop").click();
+    h.run_steps(2);
+    let n = h.state().numerics.run.rows.len();
+    // Nothing of the stopped job arrives after the stop.
+    for _ in 0..10 {
+        std::thread::sleep(std::time::Duration::from_millis(20));
+        h.step();
+    }
+    let run = &h.state().numerics.run;
+    assert_eq!(run.state, JobState::Cancelled);
+    assert_eq!(run.rows.len(), n);
+    assert!(n < run.total);
 }

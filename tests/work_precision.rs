@@ -39,23 +39,27 @@ fn bifurcation_budget_keeps_period_and_lyapunov_sign() {
     );
     assert!(err <= 1e-3 && evals < budget_for(1e-10).est_evals / 3.0);
     let cases = [
-        // Fig. 3b (pure stick-slip): fixed point, period 2, period 4, chaos,
-        // the period-3 window.
-        (18.95, 1e-3, 0.5),
-        (18.95, 1e-3, 1.1),
-        (18.95, 1e-3, 1.2),
-        (18.95, 1e-3, 1.25),
-        (18.95, 1e-3, 1.3),
-        // Fig. 3a (mixed): creep fixed point, intermittent chaos, the
-        // fixed point near π/2.
-        (50.0, 1e-4, 0.3),
-        (50.0, 1e-4, 1.4),
-        (50.0, 1e-4, 1.55),
+        // Fig. 3b (pure stick-slip): fixed point, period 2, period 4, chaos
+        // (the app's `chaos` preset), the period-3 window.
+        (18.95, 6.5, 1e-3, 0.5),
+        (18.95, 6.5, 1e-3, 1.1),
+        (18.95, 6.5, 1e-3, 1.2),
+        (18.95, 6.5, 1e-3, 1.25),
+        (18.95, 6.5, 1e-3, 1.3),
+        // Fig. 3a (mixed): creep fixed point (the `fig3a` preset),
+        // intermittent chaos (`intermittent`), the fixed point near π/2.
+        (50.0, 6.5, 1e-4, 0.3),
+        (50.0, 6.5, 1e-4, 1.4),
+        (50.0, 6.5, 1e-4, 1.55),
+        // The app's other presets as they open: `fig3b`, `fig4`, `creep`.
+        (18.95, 6.5, 1e-3, 1.0),
+        (16.0, 6.5, 1e-3, 1.0),
+        (3.0, 0.5, 1e-3, 0.7),
     ];
-    for (kappa, nu, theta_nu) in cases {
+    for (kappa, gamma, nu, theta_nu) in cases {
         let p = Params {
             kappa,
-            gamma: 6.5,
+            gamma,
             nu,
             theta_nu,
             omega: 50.0,
@@ -63,10 +67,15 @@ fn bifurcation_budget_keeps_period_and_lyapunov_sign() {
         let (pc, lc) = orbit(p, cheap);
         let (pt, lt) = orbit(p, tight);
         println!(
-            "kappa {kappa} theta-nu {theta_nu}: period {pc} / {pt}, lyapunov {lc:.4} / {lt:.4}"
+            "kappa {kappa} gamma {gamma} theta-nu {theta_nu}: period {pc} / {pt}, \
+             lyapunov {lc:.4} / {lt:.4}"
         );
-        assert_eq!(pc, pt, "kappa {kappa} theta-nu {theta_nu}");
-        assert_eq!(lc > 0.0, lt > 0.0, "kappa {kappa} theta-nu {theta_nu}");
+        assert_eq!(pc, pt, "kappa {kappa} gamma {gamma} theta-nu {theta_nu}");
+        assert_eq!(
+            lc > 0.0,
+            lt > 0.0,
+            "kappa {kappa} gamma {gamma} theta-nu {theta_nu}"
+        );
     }
 }
 

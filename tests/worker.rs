@@ -9,8 +9,10 @@ use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
-use oneblock::integrate::SolverSettings;
+use oneblock::integrate::{Method, SolverSettings};
 use oneblock::model::Params;
+use oneblock::numerics::quick::{current_attractor, quick_subjects};
+use oneblock::numerics::{Row, Subject, build_sample, measure};
 use oneblock::sim::{
     Column, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
     return_map_window, theta_nu_grid,
@@ -317,10 +319,11 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 2];
+    let mut floor = [0u64; 3];
     let lane_ix = |l: Lane| match l {
         Lane::Orbit => 0,
         Lane::Sweep => 1,
+        Lane::Numerics => 2,
     };
     for u in ups {
         let lane = match u {
@@ -329,6 +332,9 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
             | Update::MapIterates { .. }
             | Update::MapGraph { .. } => Some(Lane::Orbit),
             Update::Column { .. } => Some(Lane::Sweep),
+            Update::WorkPrecisionSample { .. }
+            | Update::WorkPrecisionRow { .. }
+            | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
             Update::Progress { lane, .. }
             | Update::Error { lane, .. }
             | Update::Finished { lane, .. } => Some(*lane),
@@ -351,7 +357,7 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
                 *f = (*f).max(generation + 1);
             }
             Update::Cancelled { generation, lane } => {
-                for l in [Lane::Orbit, Lane::Sweep] {
+                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics] {
                     if lane.is_none_or(|x| x == l) {
                         let f = &mut floor[lane_ix(l)];
                         *f = (*f).max(*generation);
@@ -813,7 +819,7 @@ fn set_params_reruns_the_current_jobs_with_the_new_parameters() {
     assert!(w.send(Command::SetParams {
         generation: 2,
         params: new,
-        settings: settings()
+        settings: Some(settings())
     }));
     let (ups, outcome) = until_finished(&w, 2, Lane::Orbit);
     assert_eq!(outcome, Outcome::Completed);
@@ -844,7 +850,7 @@ fn set_params_reruns_the_current_jobs_with_the_new_parameters() {
     assert!(w.send(Command::SetParams {
         generation: 3,
         params: bad,
-        settings: settings()
+        settings: Some(settings())
     }));
     let (ups, outcome) = until_finished(&w, 3, Lane::Orbit);
     assert!(matches!(outcome, Outcome::Failed(_)));
@@ -861,9 +867,285 @@ fn set_params_reruns_the_current_jobs_with_the_new_parameters() {
     assert!(w.send(Command::SetParams {
         generation: 4,
         params: new,
-        settings: settings()
+        settings: Some(settings())
     }));
     let (_, outcome) = until_finished(&w, 4, Lane::Orbit);
     assert_eq!(outcome, Outcome::Completed);
+    w.shutdown();
+}
+
+#[test]
+fn set_params_without_settings_keeps_each_jobs_own() {
+    let (w, _) = spawn(256, 2, 4);
+    // A job with its own setting (the app's Auto gives each kind its own).
+    let own = SolverSettings::adaptive(Method::Dp54, 1e-6);
+    assert!(w.send(Command::Iterate {
+        generation: 1,
+        params: fig3b(1.0),
+        settings: own,
+        theta0: None,
+        transient: 5,
+        keep: 10,
+    }));
+    let (_, outcome) = until_finished(&w, 1, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let new = fig3b(1.2);
+    assert!(w.send(Command::SetParams {
+        generation: 2,
+        params: new,
+        settings: None,
+    }));
+    let (ups, outcome) = until_finished(&w, 2, Lane::Orbit);
+    assert_eq!(outcome, Outcome::Completed);
+    let thetas: Vec<f64> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::MapIterates { thetas, .. } => Some(thetas.clone()),
+            _ => None,
+        })
+        .flatten()
+        .collect();
+    // The re-run kept dp54 at 1e-6: equal to the core with it, bit for bit,
+    // and not to the core at the test's default setting.
+    let core = |s: SolverSettings| {
+        let sim = Simulator::new(new, s).expect("valid");
+        let opts = OrbitOptions {
+            transient: 5,
+            keep: 10,
+            lyapunov: false,
+            period_tol: 1e-9,
+        };
+        sim.orbit(new.theta_nu, &opts, &|| false)
+            .expect("orbit")
+            .thetas()
+    };
+    assert_eq!(thetas, core(own));
+    assert_ne!(thetas, core(settings()));
+    w.shutdown();
+}
+
+fn work_precision(generation: Generation, params: Params, subjects: Vec<Subject>) -> Command {
+    Command::WorkPrecision {
+        generation,
+        params,
+        theta0: None,
+        transient: 100,
+        points: 4,
+        time_per_setting: Duration::ZERO,
+        subjects,
+    }
+}
+
+fn dop853(tol: f64) -> Subject {
+    Subject::Own(SolverSettings::adaptive(Method::Dop853, tol))
+}
+
+/// The rows of a work-precision job's updates, checking they come in order.
+fn rows_of(ups: &[Update]) -> Vec<Row> {
+    let mut rows = Vec::new();
+    for u in ups {
+        if let Update::WorkPrecisionRow { index, row, .. } = u {
+            assert_eq!(*index, rows.len(), "rows arrive in the subjects' order");
+            rows.push(row.clone());
+        }
+    }
+    rows
+}
+
+#[test]
+fn work_precision_streams_a_row_per_setting_equal_to_the_core() {
+    let (w, _) = spawn(256, 2, 64);
+    let params = fig3b(1.25);
+    let subjects = vec![
+        dop853(1e-4),
+        dop853(1e-7),
+        dop853(1e-10),
+        Subject::Own(SolverSettings::fixed(Method::Rk4, 0.02)),
+        Subject::Peer(oneblock::numerics::peer::PeerMethod::Dop853, 1e-8),
+    ];
+    assert!(w.send(work_precision(1, params, subjects.clone())));
+    let (ups, outcome) = until_finished(&w, 1, Lane::Numerics);
+    assert_eq!(outcome, Outcome::Completed);
+    let first_row = ups
+        .iter()
+        .position(|u| matches!(u, Update::WorkPrecisionRow { .. }));
+    let sample_at = ups
+        .iter()
+        .position(|u| matches!(u, Update::WorkPrecisionSample { points: 4, .. }));
+    assert!(
+        sample_at < first_row,
+        "the sample is announced first: {ups:?}"
+    );
+    let rows = rows_of(&ups);
+    assert_eq!(rows.len(), subjects.len(), "one row per setting");
+    for u in &ups {
+        assert_eq!(u.generation(), 1);
+        if let Update::WorkPrecisionRow { total, .. } = u {
+            assert_eq!(*total, subjects.len());
+        }
+    }
+    // DOP853: the error falls and the cost rises with the tolerance.
+    assert!(rows[2].max_error < rows[1].max_error && rows[1].max_error < rows[0].max_error);
+    assert!(rows[2].max_error < 1e-8, "{:?}", rows[2]);
+    assert!(rows[0].evals_per_iterate < rows[1].evals_per_iterate);
+    assert!(rows[1].evals_per_iterate < rows[2].evals_per_iterate);
+    // The same numbers as measuring the same sample in the core.
+    let sample = build_sample(&[current_attractor(params, None, 100)], 4).expect("sample");
+    for (row, subject) in rows.iter().zip(&subjects) {
+        let core = measure(&sample, subject, Duration::ZERO);
+        assert_eq!(
+            (row.method, row.points, row.failed),
+            (core.method, 4, core.failed)
+        );
+        assert_eq!(row.max_error.to_bits(), core.max_error.to_bits(), "{row:?}");
+        assert_eq!(row.median_error.to_bits(), core.median_error.to_bits());
+        assert_eq!(row.evals_per_iterate, core.evals_per_iterate);
+    }
+    w.shutdown();
+}
+
+#[test]
+fn work_precision_is_cancelled_by_a_stop_and_by_a_newer_job() {
+    let (w, _) = spawn(256, 2, 64);
+    let mut all = Vec::new();
+    // The whole panel's list, timed: seconds of work, stopped after a row.
+    let long = |g| Command::WorkPrecision {
+        generation: g,
+        params: fig3b(1.25),
+        theta0: None,
+        transient: 100,
+        points: 8,
+        time_per_setting: Duration::from_millis(40),
+        subjects: quick_subjects(),
+    };
+    let first_row_of = |w: &Worker, g: Generation, all: &mut Vec<Update>| loop {
+        let u = recv(w);
+        let row = matches!(u, Update::WorkPrecisionRow { generation, .. } if generation == g);
+        all.push(u);
+        if row {
+            break;
+        }
+    };
+    assert!(w.send(long(1)));
+    first_row_of(&w, 1, &mut all);
+    assert!(w.send(Command::Cancel {
+        generation: 2,
+        lane: Some(Lane::Numerics),
+    }));
+    let mut finished = false;
+    loop {
+        let u = recv(&w);
+        if let Update::Finished {
+            generation: 1,
+            outcome,
+            ..
+        } = &u
+        {
+            assert_eq!(*outcome, Outcome::Cancelled);
+            finished = true;
+        }
+        let ack = matches!(u, Update::Cancelled { generation: 2, .. });
+        all.push(u);
+        if ack {
+            break;
+        }
+    }
+    assert!(finished, "the stopped job got its Finished before the ack");
+    // A newer job supersedes a running one.
+    assert!(w.send(long(3)));
+    first_row_of(&w, 3, &mut all);
+    assert!(w.send(work_precision(4, fig3b(1.0), vec![dop853(1e-6)])));
+    let (rest, outcome) = until_finished(&w, 4, Lane::Numerics);
+    assert_eq!(outcome, Outcome::Completed);
+    assert!(rest.iter().any(|u| matches!(
+        u,
+        Update::Finished {
+            generation: 3,
+            outcome: Outcome::Cancelled,
+            ..
+        }
+    )));
+    let rows_of_4 = rest
+        .iter()
+        .filter(|u| matches!(u, Update::WorkPrecisionRow { generation: 4, .. }))
+        .count();
+    assert_eq!(rows_of_4, 1);
+    all.extend(rest);
+    let rows_of_1 = all
+        .iter()
+        .filter(|u| matches!(u, Update::WorkPrecisionRow { generation: 1, .. }))
+        .count();
+    assert!(
+        rows_of_1 < quick_subjects().len(),
+        "the stopped job did not run to the end"
+    );
+    assert_nothing_older_after_acks(&all);
+    w.shutdown();
+}
+
+#[test]
+fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
+    let (w, _) = spawn(256, 2, 64);
+    let bad_kappa = Params {
+        kappa: -1.0,
+        ..fig3b(1.0)
+    };
+    let cases = [
+        (work_precision(1, bad_kappa, vec![dop853(1e-6)]), "kappa"),
+        (
+            Command::WorkPrecision {
+                generation: 2,
+                params: fig3b(1.0),
+                theta0: None,
+                transient: 100,
+                points: 0,
+                time_per_setting: Duration::ZERO,
+                subjects: vec![dop853(1e-6)],
+            },
+            "points",
+        ),
+        (
+            Command::WorkPrecision {
+                generation: 3,
+                params: fig3b(1.0),
+                theta0: None,
+                transient: 100,
+                points: 4,
+                time_per_setting: Duration::from_secs(60),
+                subjects: vec![dop853(1e-6)],
+            },
+            "time_per_setting",
+        ),
+    ];
+    for (g, (cmd, name)) in cases.into_iter().enumerate() {
+        let g = g as Generation + 1;
+        assert!(w.send(cmd));
+        let (ups, outcome) = until_finished(&w, g, Lane::Numerics);
+        assert!(matches!(outcome, Outcome::Failed(_)), "{ups:?}");
+        let err = ups.iter().find_map(|u| match u {
+            Update::Error {
+                parameter, message, ..
+            } => Some((*parameter, message.clone())),
+            _ => None,
+        });
+        let (parameter, message) = err.expect("an Error update");
+        assert_eq!(parameter, Some(name), "{message}");
+        assert!(
+            message.contains(name) && !message.contains('\n'),
+            "{message}"
+        );
+    }
+    // A setting that fails on every point is a row with its failures, not an error.
+    let too_coarse = Subject::Own(SolverSettings::fixed(Method::Rk4, 0.9));
+    assert!(w.send(work_precision(
+        9,
+        fig3b(1.0),
+        vec![too_coarse, dop853(1e-6)]
+    )));
+    let (ups, outcome) = until_finished(&w, 9, Lane::Numerics);
+    assert_eq!(outcome, Outcome::Completed);
+    let rows = rows_of(&ups);
+    assert_eq!((rows[0].failed, rows[1].failed), (4, 0));
+    assert!(rows[0].failure.is_some());
     w.shutdown();
 }

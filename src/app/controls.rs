@@ -11,6 +11,7 @@ use std::ops::RangeInclusive;
 
 use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 
+use super::accuracy::{self, AccuracyMode};
 use super::data::Data;
 use super::describe;
 use super::settings::{PRESETS, Settings};
@@ -231,26 +232,11 @@ impl Controls {
             }
         }
 
-        ui.horizontal(|ui| {
-            ui.label("method");
-            egui::ComboBox::from_id_salt("method")
-                .selected_text(s.method.name())
-                .show_ui(ui, |ui| {
-                    for m in Method::ALL {
-                        ui.selectable_value(&mut s.method, m, m.name());
-                    }
-                })
-                .response
-                .on_hover_text(
-                    "How each slip is integrated: dp853 (Dormand–Prince 8, default), dp54, \
-                     or the fixed-step rk4 and euler (euler is kept as the method that fails).",
-                );
-        });
-        if s.method.is_adaptive() {
-            self.field_row(ui, s, Field::Tol);
-        } else {
-            self.field_row(ui, s, Field::Step);
+        accuracy::mode_ui(ui, s);
+        if s.accuracy == AccuracyMode::Custom {
+            self.custom_solver_ui(ui, s);
         }
+        accuracy::estimates_ui(ui, s);
 
         ui.separator();
         regime_ui(ui, s, data);
@@ -344,6 +330,30 @@ impl Controls {
             }
         });
         actions
+    }
+
+    /// Custom's method and tolerance (or step), used by every job.
+    fn custom_solver_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
+        ui.horizontal(|ui| {
+            ui.label("method");
+            egui::ComboBox::from_id_salt("method")
+                .selected_text(s.method.name())
+                .show_ui(ui, |ui| {
+                    for m in Method::ALL {
+                        ui.selectable_value(&mut s.method, m, m.name());
+                    }
+                })
+                .response
+                .on_hover_text(
+                    "How each slip is integrated: dp853 (Dormand–Prince 8, default), dp54, \
+                     or the fixed-step rk4 and euler (euler is kept as the method that fails).",
+                );
+        });
+        if s.method.is_adaptive() {
+            self.field_row(ui, s, Field::Tol);
+        } else {
+            self.field_row(ui, s, Field::Step);
+        }
     }
 
     fn clear_errors(&mut self) {

@@ -244,6 +244,8 @@ impl Data {
                 match lane {
                     Lane::Orbit => self.orbit_progress = p,
                     Lane::Sweep => self.sweep_progress = p,
+                    // The Numerics view keeps its own job's progress.
+                    Lane::Numerics => {}
                 }
             }
             Update::Error {

@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Color32, Context, Key, KeyboardShortcut, Modifiers, Rect, RichText, Ui};
 
+use super::accuracy::JobKind;
 use super::backend::Backend;
 use super::bifurcation::{BifAction, BifurcationView};
 use super::block::BlockView;
@@ -18,6 +19,7 @@ use super::controls::{Actions, Controls};
 use super::data::{Data, JobState};
 use super::events::EventsView;
 use super::export;
+use super::numerics_view::{NumericsAction, NumericsView};
 use super::plane::PlaneView;
 use super::return_map::ReturnMapView;
 use super::screenshot::{Saved, Shots, fresh_path};
@@ -25,7 +27,10 @@ use super::settings::{Layout, Settings, SweepKey, View};
 use super::style;
 use crate::integrate::SolverSettings;
 use crate::model::Params;
-use crate::worker::{Command, Generation};
+use crate::numerics::quick::{
+    QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
+};
+use crate::worker::{Command, Generation, Lane};
 
 /// A generation never issued: a job that waits for its turn.
 const NO_GENERATION: Generation = Generation::MAX;
@@ -183,8 +188,9 @@ pub struct Explorer {
     pub controls: Controls,
     backend: Box<dyn Backend>,
     next_generation: Generation,
-    /// What the running jobs were started with.
-    sent_orbit: Option<(Params, SolverSettings)>,
+    /// What the running jobs were started with: the parameters, and the
+    /// trajectory's and the map iterates' solver settings.
+    sent_orbit: Option<(Params, SolverSettings, SolverSettings)>,
     sent_sweep: Option<(SweepKey, Option<(f64, f64)>)>,
     last_orbit_send: f64,
     sweep_changed_at: Option<f64>,
@@ -199,6 +205,7 @@ pub struct Explorer {
     pub bifurcation: BifurcationView,
     pub return_map: ReturnMapView,
     pub events: EventsView,
+    pub numerics: NumericsView,
     pub shots: Shots,
     pub script: Option<Script>,
     pub stats: FrameStats,
@@ -216,7 +223,7 @@ pub struct Explorer {
 impl Explorer {
     /// A window over `backend`, showing `settings`.
     pub fn new(backend: Box<dyn Backend>, mut settings: Settings) -> Self {
-        if settings.params.validate().is_err() || settings.solver().validate().is_err() {
+        if settings.params.validate().is_err() || settings.custom_solver().validate().is_err() {
             settings = Settings::default();
         }
         settings.columns = settings.columns.clamp(20, 2000);
@@ -241,6 +248,7 @@ impl Explorer {
             bifurcation: BifurcationView::default(),
             return_map: ReturnMapView,
             events: EventsView,
+            numerics: NumericsView::default(),
             shots: Shots::default(),
             script: None,
             stats: FrameStats::default(),
@@ -269,7 +277,8 @@ impl Explorer {
     /// Starts the trajectory and the orbit analysis for the current parameters.
     pub fn restart_orbit(&mut self) {
         let params = self.settings.params;
-        let solver = self.settings.solver();
+        let solver = self.settings.solver_for(JobKind::Trajectory);
+        let iterate_solver = self.settings.solver_for(JobKind::Iterate);
         let g = self.generation();
         self.data.start_trajectory(g);
         let cycles = if self.stream_forever {
@@ -285,10 +294,10 @@ impl Explorer {
             spacing: SAMPLE_SPACING,
             cycles,
         });
-        self.pending_iterate = (!self.stream_forever).then_some((g, params, solver));
+        self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
         // The analysis shows "computing" until its job starts.
         self.data.start_iterate(NO_GENERATION);
-        self.sent_orbit = Some((params, solver));
+        self.sent_orbit = Some((params, solver, iterate_solver));
         self.last_orbit_send = self.now;
     }
 
@@ -343,7 +352,7 @@ impl Explorer {
         let (from, to) = zoom.unwrap_or_else(|| s.sweep_range());
         let params = s.params;
         let (columns, transient, keep) = (s.columns, s.sweep_transient, s.sweep_keep);
-        let solver = s.solver();
+        let solver = s.solver_for(JobKind::Sweep);
         let g = self.generation();
         self.data.start_sweep(g, from, to, columns);
         self.send(Command::Sweep {
@@ -360,11 +369,54 @@ impl Explorer {
         self.sweep_changed_at = None;
     }
 
+    /// Measures work against precision on the current parameters (the
+    /// Numerics view), on the worker's numerics lane.
+    pub fn start_work_precision(&mut self) {
+        let params = self.settings.params;
+        // The orbit analysis's last point, if it is of these parameters, is
+        // on the attractor already: the reference needs a short transient.
+        let theta0 = match self.sent_orbit {
+            Some((p, ..)) if p == params => self.data.iterate.thetas.last().copied(),
+            _ => None,
+        };
+        let transient = if theta0.is_some() {
+            20
+        } else {
+            QUICK_TRANSIENT
+        };
+        let subjects = quick_subjects();
+        let g = self.generation();
+        self.numerics.run.start(g, params, subjects.len());
+        self.send(Command::WorkPrecision {
+            generation: g,
+            params,
+            theta0,
+            transient,
+            points: QUICK_POINTS,
+            time_per_setting: QUICK_TIME_PER_SETTING,
+            subjects,
+        });
+    }
+
+    /// Stops the Numerics view's measurement.
+    pub fn stop_work_precision(&mut self) {
+        let g = self.generation();
+        self.numerics.run.stop(g);
+        self.send(Command::Cancel {
+            generation: g,
+            lane: Some(Lane::Numerics),
+        });
+    }
+
     /// Sends whatever the settings now call for: a new orbit at once (at
     /// most every 40 ms while dragging), a new sweep once κ, γ, ν, Ω or the
     /// solver have been still for 250 ms.
     pub fn sync_jobs(&mut self, ctx: &Context) {
-        let orbit_now = Some((self.settings.params, self.settings.solver()));
+        let orbit_now = Some((
+            self.settings.params,
+            self.settings.solver_for(JobKind::Trajectory),
+            self.settings.solver_for(JobKind::Iterate),
+        ));
         if self.sent_orbit != orbit_now {
             let wait = self.last_orbit_send + ORBIT_DEBOUNCE - self.now;
             if wait <= 0.0 || self.sent_orbit.is_none() {
@@ -412,7 +464,10 @@ impl Explorer {
         self.now = ctx.input(|i| i.time);
         let mut n = 0;
         while let Some(u) = self.backend.try_recv() {
-            self.data.apply(u);
+            // The Numerics view keeps its own job's updates.
+            if let Some(u) = self.numerics.run.apply(u) {
+                self.data.apply(u);
+            }
             n += 1;
             if n > 20_000 {
                 ctx.request_repaint();
@@ -458,7 +513,7 @@ impl Explorer {
                 if let Some(failed) = failed {
                     finish(&sc, Err(format!("the simulation failed: {failed}")));
                     sc.stage = Stage::Closing;
-                } else if self.data.complete(sc.min_cycles) {
+                } else if self.data.complete(sc.min_cycles) && self.numerics_settled() {
                     if sc.measure.is_some() {
                         self.stats.enabled = true;
                         self.stats.recording = true;
@@ -545,6 +600,24 @@ impl Explorer {
         self.script = Some(sc);
     }
 
+    /// For a scripted run: whether the Numerics view, if shown, has its
+    /// measurement on the current parameters (started here once the orbit
+    /// analysis is done, so that it starts on the attractor). A failed or
+    /// stopped run counts as settled: the picture shows its error.
+    fn numerics_settled(&mut self) -> bool {
+        let shown = match self.settings.layout {
+            Layout::Tabs => self.settings.tab == View::Numerics,
+            Layout::Tiles => self.settings.tiled.contains(&View::Numerics),
+        };
+        if !shown {
+            return true;
+        }
+        if self.numerics.run.generation.is_none() {
+            self.start_work_precision();
+        }
+        self.numerics.run.state != JobState::Running
+    }
+
     /// Records one frame for `--frame-stats` (eframe's CPU time if known).
     pub fn record_frame(&mut self, cpu_seconds: Option<f32>) {
         if !self.stats.enabled {
@@ -589,7 +662,14 @@ impl Explorer {
         if ctx.egui_wants_keyboard_input() {
             return a;
         }
-        let tabs = [Key::Num1, Key::Num2, Key::Num3, Key::Num4, Key::Num5];
+        let tabs = [
+            Key::Num1,
+            Key::Num2,
+            Key::Num3,
+            Key::Num4,
+            Key::Num5,
+            Key::Num6,
+        ];
         for (k, v) in tabs.into_iter().zip(View::ALL) {
             if ctx.input(|i| i.key_pressed(k)) {
                 self.settings.layout = Layout::Tabs;
@@ -693,7 +773,7 @@ impl Explorer {
                 ui.selectable_value(&mut self.settings.layout, Layout::Tiles, "Tiles")
                     .on_hover_text("Several views at once (T toggles)");
                 ui.selectable_value(&mut self.settings.layout, Layout::Tabs, "Tabs")
-                    .on_hover_text("One view, full size (keys 1–5)");
+                    .on_hover_text("One view, full size (keys 1–6)");
                 ui.separator();
                 match self.settings.layout {
                     Layout::Tabs => {
@@ -828,6 +908,11 @@ impl Explorer {
                             }
                             View::ReturnMap => self.return_map.ui(ui, &self.settings, &self.data),
                             View::Events => self.events.ui(ui, &mut self.settings, &self.data),
+                            View::Numerics => match self.numerics.ui(ui, &self.settings) {
+                                Some(NumericsAction::Run) => self.start_work_precision(),
+                                Some(NumericsAction::Stop) => self.stop_work_precision(),
+                                None => {}
+                            },
                         }
                     });
             },

@@ -4,10 +4,13 @@
 //!
 //! - [`explorer`]: the app, its layout, the job plumbing, scripted runs.
 //! - [`controls`]: sliders, typed fields, presets, regime badge.
-//! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`]: the views.
+//! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
+//!   [`numerics_view`]: the views.
+//! - [`accuracy`]: Auto / Custom, and the solver setting of each kind of job.
 //! - [`data`]: what the worker sent, filtered by generation.
 //! - [`settings`]: what persists; the presets.
 
+pub mod accuracy;
 pub mod backend;
 pub mod bifurcation;
 pub mod block;
@@ -17,6 +20,7 @@ pub mod describe;
 pub mod events;
 pub mod explorer;
 pub mod export;
+pub mod numerics_view;
 pub mod plane;
 pub mod return_map;
 pub mod screenshot;

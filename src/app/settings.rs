@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::accuracy::{AccuracyMode, JobKind};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 
@@ -15,15 +16,17 @@ pub enum View {
     Bifurcation,
     ReturnMap,
     Events,
+    Numerics,
 }
 
 impl View {
-    pub const ALL: [View; 5] = [
+    pub const ALL: [View; 6] = [
         View::Plane,
         View::Block,
         View::Bifurcation,
         View::ReturnMap,
         View::Events,
+        View::Numerics,
     ];
 
     pub fn title(self) -> &'static str {
@@ -33,6 +36,7 @@ impl View {
             View::Bifurcation => "Bifurcation",
             View::ReturnMap => "Return map",
             View::Events => "Events",
+            View::Numerics => "Numerics",
         }
     }
 
@@ -44,6 +48,7 @@ impl View {
             View::Bifurcation => "bifurcation",
             View::ReturnMap => "return-map",
             View::Events => "events",
+            View::Numerics => "numerics",
         }
     }
 
@@ -74,10 +79,14 @@ pub enum SlipMeasure {
 #[serde(default)]
 pub struct Settings {
     pub params: Params,
+    /// Auto: each job gets the cheapest setting for its view; Custom: the
+    /// method and tolerance/step below for every job.
+    pub accuracy: AccuracyMode,
+    /// Custom's method.
     pub method: Method,
-    /// Tolerance of the adaptive methods (rtol = atol).
+    /// Custom's tolerance of the adaptive methods (rtol = atol).
     pub tol: f64,
-    /// Step of the fixed-step methods.
+    /// Custom's step of the fixed-step methods.
     pub step: f64,
     /// θν slider over the full circle instead of 0 … π/2.
     pub full_circle: bool,
@@ -113,6 +122,7 @@ impl Default for Settings {
     fn default() -> Self {
         Settings {
             params: Params::default(),
+            accuracy: AccuracyMode::Auto,
             method: Method::Dop853,
             tol: 1e-9,
             step: 1e-3,
@@ -148,8 +158,9 @@ fn default_save_dir() -> String {
 }
 
 impl Settings {
-    /// The solver settings the worker gets.
-    pub fn solver(&self) -> SolverSettings {
+    /// The Custom choice of method and tolerance/step (each job's setting
+    /// is [`Settings::solver_for`]).
+    pub fn custom_solver(&self) -> SolverSettings {
         if self.method.is_adaptive() {
             SolverSettings::adaptive(self.method, self.tol)
         } else {
@@ -174,7 +185,7 @@ impl Settings {
             gamma: self.params.gamma,
             nu: self.params.nu,
             omega: self.params.omega,
-            solver: self.solver(),
+            solver: self.solver_for(JobKind::Sweep),
             columns: self.columns,
             transient: self.sweep_transient,
             keep: self.sweep_keep,

@@ -131,6 +131,17 @@ pub fn build_sample(
     attractors: &[Attractor],
     per_attractor: usize,
 ) -> Result<Vec<SamplePoint>, SimError> {
+    build_sample_until(attractors, per_attractor, &|| false)
+}
+
+/// [`build_sample`] that polls `cancel` once per reference cycle (the app's
+/// worker builds a sample on the current attractor and must be able to stop
+/// it); a cancelled build returns `SimError::Cancelled`.
+pub fn build_sample_until(
+    attractors: &[Attractor],
+    per_attractor: usize,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Vec<SamplePoint>, SimError> {
     let mut out = Vec::new();
     for (i, a) in attractors.iter().enumerate() {
         let reference = Simulator::new(a.params, reference_settings())?;
@@ -143,11 +154,14 @@ pub fn build_sample(
                 lyapunov: false,
                 period_tol: 1e-9,
             },
-            &|| false,
+            cancel,
         )?;
         let mut thetas = orbit.thetas();
         thetas.extend(a.extra);
         for theta in thetas {
+            if cancel() {
+                return Err(SimError::Cancelled);
+            }
             let r = reference.cycle(theta, 0.0, None)?;
             let c = check.cycle(theta, 0.0, None)?;
             out.push(SamplePoint {

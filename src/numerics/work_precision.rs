@@ -114,7 +114,8 @@ pub struct Row {
     pub evals_per_iterate: f64,
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The median of `v` (NaN if empty); sorts `v`.
+pub(crate) fn median(v: &mut [f64]) -> f64 {
     if v.is_empty() {
         return f64::NAN;
     }

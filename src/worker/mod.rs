@@ -11,6 +11,8 @@
 //!   a time.
 //! - `oneblock-sweep`: the sweep lane's coordinator, running each sweep on
 //!   `sweep_threads` scoped threads `oneblock-sweep-<i>`.
+//! - `oneblock-numerics`: the numerics lane, one work-precision job at a
+//!   time (its own lane so that measuring never pauses a view's job).
 //!
 //! Ordering (module `gate`): every update of a lane is sent under that lane's
 //! lock after re-checking its generation, and the generation only changes
@@ -18,6 +20,7 @@
 //! `Finished{Cancelled}`) nothing of the older generation follows.
 
 mod gate;
+mod numerics;
 mod orbit;
 mod protocol;
 mod sweep;
@@ -117,6 +120,7 @@ impl WorkerStats {
 pub(crate) struct Shared {
     pub orbit: Gate,
     pub sweep: Gate,
+    pub numerics: Gate,
     pub stats: Arc<WorkerStats>,
     pub config: WorkerConfig,
 }
@@ -126,6 +130,7 @@ impl Shared {
     fn stop(&self) {
         self.orbit.stop();
         self.sweep.stop();
+        self.numerics.stop();
         self.stats.mark_stopped();
     }
 }
@@ -154,7 +159,8 @@ impl Worker {
         let (up_tx, up_rx) = crossbeam_channel::bounded(config.update_capacity);
         let shared = Arc::new(Shared {
             orbit: Gate::new(Lane::Orbit, up_tx.clone(), wake.clone()),
-            sweep: Gate::new(Lane::Sweep, up_tx, wake),
+            sweep: Gate::new(Lane::Sweep, up_tx.clone(), wake.clone()),
+            numerics: Gate::new(Lane::Numerics, up_tx, wake),
             stats: Arc::new(WorkerStats::default()),
             config,
         });
@@ -241,6 +247,11 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     let sweep_thread = std::thread::Builder::new()
         .name("oneblock-sweep".into())
         .spawn(move || lane_loop(sweep_rx, |job| sweep::run(&sh, job)));
+    let (numerics_tx, numerics_rx) = crossbeam_channel::unbounded::<Command>();
+    let sh = shared.clone();
+    let numerics_thread = std::thread::Builder::new()
+        .name("oneblock-numerics".into())
+        .spawn(move || lane_loop(numerics_rx, |job| numerics::run(&sh, job)));
 
     // Each lane's latest job, for SetParams to run again.
     let mut last_orbit: Option<Command> = None;
@@ -274,7 +285,8 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                 let gates: Vec<&Gate> = match lane {
                     Some(Lane::Orbit) => vec![&shared.orbit],
                     Some(Lane::Sweep) => vec![&shared.sweep],
-                    None => vec![&shared.orbit, &shared.sweep],
+                    Some(Lane::Numerics) => vec![&shared.numerics],
+                    None => vec![&shared.orbit, &shared.sweep, &shared.numerics],
                 };
                 gate::cancel(&gates, generation, lane);
             }
@@ -282,6 +294,11 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                 if shared.sweep.start(generation) {
                     last_sweep = Some(cmd.clone());
                     sweep_tx.send(cmd).ok();
+                }
+            }
+            Command::WorkPrecision { generation, .. } => {
+                if shared.numerics.start(generation) {
+                    numerics_tx.send(cmd).ok();
                 }
             }
             Command::Trajectory { generation, .. }
@@ -299,18 +316,22 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     shared.stop();
     drop(orbit_tx);
     drop(sweep_tx);
-    for t in [orbit_thread, sweep_thread].into_iter().flatten() {
+    drop(numerics_tx);
+    for t in [orbit_thread, sweep_thread, numerics_thread]
+        .into_iter()
+        .flatten()
+    {
         t.join().ok();
     }
 }
 
-/// `job` again under `generation` with new parameters (None for commands
-/// that are not jobs).
+/// `job` again under `generation` with new parameters, and new solver
+/// settings if given (None for commands that are not jobs).
 fn with_params(
     job: &Command,
     generation: Generation,
     params: Params,
-    settings: SolverSettings,
+    settings: Option<SolverSettings>,
 ) -> Option<Command> {
     let mut job = job.clone();
     match &mut job {
@@ -332,7 +353,10 @@ fn with_params(
             settings: s,
             ..
         } => {
-            (*g, *p, *s) = (generation, params, settings);
+            (*g, *p) = (generation, params);
+            if let Some(settings) = settings {
+                *s = settings;
+            }
             Some(job)
         }
         _ => None,

@@ -1,15 +1,20 @@
 //! The typed messages between the front end and the simulation worker.
 //!
-//! The worker runs two lanes: the *orbit lane* (trajectory or map iterates,
-//! one job at a time) and the *sweep lane* (bifurcation columns, on its own
-//! threads), so that a trajectory stays responsive while a sweep fills in.
+//! The worker runs three lanes: the *orbit lane* (trajectory or map iterates,
+//! one job at a time), the *sweep lane* (bifurcation columns, on its own
+//! threads), so that a trajectory stays responsive while a sweep fills in,
+//! and the *numerics lane* (a work-precision measurement on the current
+//! parameters), so that measuring never pauses the views.
 //! Every job carries the generation it was started under; a receiver drops
 //! any update whose generation is older than the latest it asked for.
+
+use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
 use crate::integrate::SolverSettings;
 use crate::model::Params;
+use crate::numerics::{Row, Subject};
 use crate::sim::{Period, Sample, SlipEvent};
 
 /// A monotonically increasing job stamp. The front end issues them (one per
@@ -24,6 +29,8 @@ pub enum Lane {
     Orbit,
     /// Bifurcation sweeps.
     Sweep,
+    /// Work-precision measurements.
+    Numerics,
 }
 
 /// What the front end asks of the worker.
@@ -63,15 +70,33 @@ pub enum Command {
         transient: usize,
         keep: usize,
     },
-    /// A new parameter set (κ, γ, ν, θν, Ω, method, tolerance): each lane's
-    /// latest trajectory/iterate or sweep job runs again with it under
-    /// `generation`, superseding whatever runs (a sweep keeps its θν range
-    /// and uses the other parameters). A lane that has had no job stays
-    /// idle; invalid values are reported by the re-run job, naming them.
+    /// A new parameter set (κ, γ, ν, θν, Ω, and optionally the solver):
+    /// each lane's latest trajectory/iterate or sweep job runs again with it
+    /// under `generation`, superseding whatever runs (a sweep keeps its θν
+    /// range and uses the other parameters). `settings: None` keeps each
+    /// job's own solver settings, which is what a front end that gives each
+    /// kind of job its own accuracy wants; `Some` sets them all. A lane that
+    /// has had no job stays idle; invalid values are reported by the re-run
+    /// job, naming them. The numerics lane is not re-run.
     SetParams {
         generation: Generation,
         params: Params,
-        settings: SolverSettings,
+        settings: Option<SolverSettings>,
+    },
+    /// Measure `subjects` (settings) against a reference on `points` orbit
+    /// points of the attractor of `params` (from θ0, θν if `None`, after
+    /// `transient` reference iterates), each setting timed for about
+    /// `time_per_setting` in all: `WorkPrecisionSample` once the sample is
+    /// built, then one `WorkPrecisionRow` (or `WorkPrecisionSkipped`) per
+    /// subject in order. Runs on the numerics lane.
+    WorkPrecision {
+        generation: Generation,
+        params: Params,
+        theta0: Option<f64>,
+        transient: usize,
+        points: usize,
+        time_per_setting: Duration,
+        subjects: Vec<Subject>,
     },
     /// Stop the lane's job (both lanes if `None`); answered by `Cancelled`.
     Cancel {
@@ -139,6 +164,31 @@ pub enum Update {
         /// Whether this column belongs to the first, coarse pass.
         coarse: bool,
     },
+    /// The sample of a work-precision job: how many points, and how far
+    /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the
+    /// smallest error the measurement can resolve).
+    WorkPrecisionSample {
+        generation: Generation,
+        points: usize,
+        reference_spread: f64,
+    },
+    /// One measured setting of a work-precision job.
+    WorkPrecisionRow {
+        generation: Generation,
+        /// Position of the subject in the command's list (0 … total−1).
+        index: usize,
+        total: usize,
+        row: Row,
+    },
+    /// A setting the job did not measure, and why (a cheaper setting of the
+    /// same method already took too long per iterate).
+    WorkPrecisionSkipped {
+        generation: Generation,
+        index: usize,
+        total: usize,
+        subject: Subject,
+        reason: String,
+    },
     /// How far the lane's job is, and how fast it goes.
     Progress {
         generation: Generation,
@@ -176,6 +226,9 @@ impl Update {
             | Update::MapIterates { generation, .. }
             | Update::MapGraph { generation, .. }
             | Update::Column { generation, .. }
+            | Update::WorkPrecisionSample { generation, .. }
+            | Update::WorkPrecisionRow { generation, .. }
+            | Update::WorkPrecisionSkipped { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }
             | Update::Finished { generation, .. }

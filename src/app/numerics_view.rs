@@ -1,0 +1,648 @@
+//! The Numerics view: the work-precision chart (log-log, max map error on
+//! x, time or RHS evaluations per iterate on y, one curve per method) with
+//! the settings the jobs now run with marked, and its table. It shows the
+//! committed chart (`assets/work-precision.csv`) until the user re-measures
+//! on the current parameters: that run is a worker job on the numerics
+//! lane, its rows arriving one setting at a time.
+
+use eframe::egui;
+use egui::{Color32, RichText, Ui};
+use egui_plot::{GridInput, GridMark, LineStyle, MarkerShape, Plot, PlotPoints, Points};
+
+use super::accuracy::{AccuracyMode, JobKind};
+use super::data::JobState;
+use super::settings::Settings;
+use super::style;
+use crate::model::Params;
+use crate::numerics::committed::{default_caption, default_rows};
+use crate::numerics::quick::{QUICK_POINTS, QUICK_TIME_PER_SETTING, SLOW_ITERATE};
+use crate::numerics::{Row, Subject, estimate};
+use crate::worker::{Generation, Lane, Outcome, Update};
+
+/// What the user asked of the view.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NumericsAction {
+    /// Measure on the current parameters.
+    Run,
+    /// Stop the measurement.
+    Stop,
+}
+
+/// A work-precision job on the current parameters and what it has sent.
+#[derive(Clone, Debug, Default)]
+pub struct WorkPrecisionRun {
+    /// The job's generation (or the stop's, once stopped); `None` before
+    /// the first run.
+    pub generation: Option<Generation>,
+    pub state: JobState,
+    /// The parameters it measures on.
+    pub params: Option<Params>,
+    /// Rows in the order of the job's settings.
+    pub rows: Vec<Row>,
+    /// Settings it skipped, each with the reason.
+    pub skipped: Vec<String>,
+    /// Settings in the job (rows + skipped when done).
+    pub total: usize,
+    /// Points of its sample, and how far its reference is from the check.
+    pub points: usize,
+    pub reference_spread: Option<f64>,
+    /// The error it reported, naming the parameter.
+    pub error: Option<String>,
+}
+
+impl WorkPrecisionRun {
+    /// A new job under `generation` on `params`, measuring `total` settings.
+    pub fn start(&mut self, generation: Generation, params: Params, total: usize) {
+        *self = WorkPrecisionRun {
+            generation: Some(generation),
+            state: JobState::Running,
+            params: Some(params),
+            total,
+            ..Default::default()
+        };
+    }
+
+    /// The user stopped it (the `Cancel` went out under `generation`): the
+    /// rows so far stay, anything later of the old job is dropped.
+    pub fn stop(&mut self, generation: Generation) {
+        self.generation = Some(generation);
+        if self.state == JobState::Running {
+            self.state = JobState::Cancelled;
+        }
+    }
+
+    /// Settings measured or skipped so far.
+    pub fn done(&self) -> usize {
+        self.rows.len() + self.skipped.len()
+    }
+
+    /// Takes `u` if it belongs to this job, or to an older one on the
+    /// numerics lane (then drops it); hands any other update back.
+    pub fn apply(&mut self, u: Update) -> Option<Update> {
+        let ours = Some(u.generation()) == self.generation;
+        let numerics_lane = matches!(
+            u,
+            Update::WorkPrecisionSample { .. }
+                | Update::WorkPrecisionRow { .. }
+                | Update::WorkPrecisionSkipped { .. }
+                | Update::Progress {
+                    lane: Lane::Numerics,
+                    ..
+                }
+                | Update::Error {
+                    lane: Lane::Numerics,
+                    ..
+                }
+                | Update::Finished {
+                    lane: Lane::Numerics,
+                    ..
+                }
+        );
+        if !ours {
+            return if numerics_lane { None } else { Some(u) };
+        }
+        match u {
+            Update::WorkPrecisionSample {
+                points,
+                reference_spread,
+                ..
+            } => {
+                self.points = points;
+                self.reference_spread = Some(reference_spread);
+            }
+            Update::WorkPrecisionRow { total, row, .. } => {
+                self.total = total;
+                self.rows.push(row);
+            }
+            Update::WorkPrecisionSkipped {
+                total,
+                subject,
+                reason,
+                ..
+            } => {
+                self.total = total;
+                let (kind, value) = subject.setting();
+                self.skipped.push(format!(
+                    "{} {kind} {value:e}: {reason}",
+                    subject.method_name()
+                ));
+            }
+            Update::Error {
+                message, parameter, ..
+            } => {
+                self.error = Some(match parameter {
+                    Some(p) => format!("{p}: {message}"),
+                    None => message.clone(),
+                });
+                self.state = JobState::Failed(message);
+            }
+            Update::Finished { outcome, .. } => {
+                self.state = match outcome {
+                    Outcome::Completed => JobState::Done,
+                    Outcome::Cancelled => JobState::Cancelled,
+                    Outcome::Failed(m) => JobState::Failed(m),
+                };
+            }
+            Update::Cancelled { .. } if self.state == JobState::Running => {
+                self.state = JobState::Cancelled;
+            }
+            // Progress is read off the rows; anything else is not ours.
+            _ => {}
+        }
+        None
+    }
+}
+
+/// The view: the latest run and the chart's switches.
+#[derive(Clone, Debug, Default)]
+pub struct NumericsView {
+    pub run: WorkPrecisionRun,
+    /// RHS evaluations per iterate on y instead of µs.
+    pub y_evals: bool,
+    /// Hide the committed chart behind a run's curves.
+    pub hide_committed: bool,
+}
+
+/// The colour of a method's curve (Okabe–Ito); the peer's are dashed.
+pub fn method_color(method: &str) -> Color32 {
+    match method {
+        "euler" => Color32::from_rgb(204, 121, 167),
+        "rk4" => Color32::from_rgb(230, 159, 0),
+        "dp54" => Color32::from_rgb(86, 180, 233),
+        "dop853" => Color32::from_rgb(0, 114, 178),
+        "ode_solvers-dopri5" => Color32::from_rgb(0, 158, 115),
+        "ode_solvers-dop853" => Color32::from_rgb(213, 94, 0),
+        _ => Color32::GRAY,
+    }
+}
+
+/// log10, with errors of exactly 0 put at 1e-17 (below any chart's floor).
+fn lg(v: f64) -> f64 {
+    v.max(1e-17).log10()
+}
+
+/// The cost a row is drawn at: µs or RHS evaluations per iterate.
+fn cost(r: &Row, y_evals: bool) -> f64 {
+    if y_evals {
+        r.evals_per_iterate
+    } else {
+        r.median_us
+    }
+}
+
+/// The chart's curves: per method (in order of first appearance), its rows
+/// that succeeded on every point as (log10 max error, log10 cost). Rows
+/// where a point failed are left out, as in the committed SVG.
+pub fn curves(rows: &[Row], y_evals: bool) -> Vec<(&'static str, Vec<[f64; 2]>)> {
+    let mut out: Vec<(&'static str, Vec<[f64; 2]>)> = Vec::new();
+    for r in rows {
+        let y = cost(r, y_evals);
+        if r.failed > 0 || !r.max_error.is_finite() || !(y > 0.0) {
+            continue;
+        }
+        let p = [lg(r.max_error), y.log10()];
+        match out.iter_mut().find(|(m, _)| *m == r.method) {
+            Some((_, pts)) => pts.push(p),
+            None => out.push((r.method, vec![p])),
+        }
+    }
+    out
+}
+
+/// Where each job's setting lies on a chart of `rows` (its row, or
+/// interpolated between two), if the chart covers it.
+pub fn in_use(rows: &[Row], s: &Settings, y_evals: bool) -> Vec<(JobKind, [f64; 2])> {
+    JobKind::ALL
+        .iter()
+        .filter_map(|&job| {
+            let e = estimate(rows, &s.solver_for(job))?;
+            let y = if y_evals { e.evals } else { e.us };
+            (e.max_error.is_finite() && y > 0.0).then(|| (job, [lg(e.max_error), y.log10()]))
+        })
+        .collect()
+}
+
+/// The grid of a log10 axis, as on log paper: a line per decade (thicker
+/// every 5 and 10), and at 2 … 9 times each decade when few are shown.
+/// egui_plot's `log_grid_spacer` subdivides the log10 values evenly
+/// instead, which labels decades only every 10.
+fn log_paper(input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    if !(lo.is_finite() && hi.is_finite()) || hi - lo > 400.0 {
+        return Vec::new();
+    }
+    let minor = hi - lo < 8.0;
+    let mut out = Vec::new();
+    // Marks outside the bounds would still get labels, drawn off the plot.
+    for n in lo.ceil() as i64..=hi.floor() as i64 {
+        let step_size = if n % 10 == 0 {
+            10.0
+        } else if n % 5 == 0 {
+            5.0
+        } else {
+            1.0
+        };
+        out.push(GridMark {
+            value: n as f64,
+            step_size,
+        });
+    }
+    if minor {
+        for n in lo.floor() as i64..=hi.floor() as i64 {
+            for k in 2..10 {
+                let value = n as f64 + (k as f64).log10();
+                if (lo..=hi).contains(&value) {
+                    out.push(GridMark {
+                        value,
+                        step_size: 0.1,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// A tick label on a log10 axis: decades only.
+fn log_tick(v: f64) -> String {
+    if (v - v.round()).abs() < 1e-6 {
+        format!("1e{}", v.round() as i64)
+    } else {
+        String::new()
+    }
+}
+
+fn job_marker(job: JobKind) -> MarkerShape {
+    match job {
+        JobKind::Trajectory => MarkerShape::Square,
+        JobKind::Sweep => MarkerShape::Diamond,
+        JobKind::Iterate => MarkerShape::Circle,
+    }
+}
+
+impl NumericsView {
+    pub fn ui(&mut self, ui: &mut Ui, s: &Settings) -> Option<NumericsAction> {
+        let mut action = None;
+        let run = &self.run;
+        let running = run.state == JobState::Running;
+        ui.horizontal_wrapped(|ui| {
+            let r = ui
+                .add_enabled(!running, egui::Button::new("Run for current parameters"))
+                .on_hover_text(format!(
+                    "Measure every method on {QUICK_POINTS} orbit points of the current \
+                     attractor, on the worker (the views keep running)."
+                ));
+            if r.clicked() {
+                action = Some(NumericsAction::Run);
+            }
+            if ui
+                .add_enabled(running, egui::Button::new("Stop"))
+                .on_hover_text("Stop the measurement; the rows so far stay.")
+                .clicked()
+            {
+                action = Some(NumericsAction::Stop);
+            }
+            if run.generation.is_some() {
+                let total = run.total.max(1);
+                ui.add(
+                    egui::ProgressBar::new(run.done() as f32 / total as f32)
+                        .desired_width(110.0)
+                        .text(format!("{}/{} settings", run.done(), run.total)),
+                );
+                let state = match &run.state {
+                    JobState::Running => "measuring…".to_string(),
+                    JobState::Done => "done".to_string(),
+                    JobState::Cancelled => "stopped".to_string(),
+                    JobState::Failed(_) => "failed".to_string(),
+                    JobState::Idle => String::new(),
+                };
+                ui.label(state);
+            }
+            ui.separator();
+            ui.label("y:");
+            ui.selectable_value(&mut self.y_evals, false, "µs per iterate");
+            ui.selectable_value(&mut self.y_evals, true, "RHS evaluations per iterate")
+                .on_hover_text("The machine-independent cost.");
+            if run.generation.is_some() {
+                ui.checkbox(&mut self.hide_committed, "hide committed chart");
+            }
+        });
+        let run = &self.run;
+        if let Some(e) = &run.error {
+            ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
+        }
+        let showing_run = !run.rows.is_empty();
+        let caption = match (showing_run, run.params) {
+            (true, Some(p)) => {
+                let stale = if p != s.params {
+                    " (not the current parameters)"
+                } else {
+                    ""
+                };
+                format!(
+                    "Run on κ = {}, γ = {}, ν = {:e}, θν = {:.4}, Ω = {}{stale}: {} orbit points, \
+                     reference spread {}; the committed chart faint behind it.",
+                    p.kappa,
+                    p.gamma,
+                    p.nu,
+                    p.theta_nu,
+                    p.omega,
+                    run.points,
+                    run.reference_spread
+                        .map_or("?".into(), |x| format!("{x:.1e}")),
+                )
+            }
+            _ => format!("Committed chart: {}", default_caption()),
+        };
+        ui.label(RichText::new(caption).small());
+        ui.label(
+            RichText::new(format!(
+                "Wall times measured while the other lanes run share the cores and are noisy; \
+                 RHS evaluations per iterate are the machine-independent cost. A run times each \
+                 setting for {} ms over {QUICK_POINTS} points and skips a method's finer \
+                 settings once one takes over {} ms per iterate.",
+                QUICK_TIME_PER_SETTING.as_millis(),
+                SLOW_ITERATE.as_millis()
+            ))
+            .small()
+            .italics(),
+        );
+        for sk in &run.skipped {
+            ui.label(RichText::new(format!("skipped {sk}")).small().italics());
+        }
+
+        let rows: &[Row] = if showing_run {
+            &run.rows
+        } else {
+            default_rows()
+        };
+        let y_evals = self.y_evals;
+        let committed =
+            (showing_run && !self.hide_committed).then(|| curves(default_rows(), y_evals));
+        let marks = in_use(rows, s, y_evals);
+        let mode = match s.accuracy {
+            AccuracyMode::Auto => "Auto",
+            AccuracyMode::Custom => "Custom",
+        };
+        let ink = style::ink(s.dark);
+        // The legend above the plot (as the other views have it): inside,
+        // it would hide some corner of the curves.
+        ui.horizontal_wrapped(|ui| {
+            for (m, _) in curves(rows, y_evals) {
+                style::legend_line(ui, method_color(m), m.starts_with("ode_solvers"), m);
+            }
+        });
+        // The jobs' markers on a line of their own, so that wrapping never
+        // parts a marker from its label at usual widths.
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!("settings in use ({mode}):"));
+            for job in JobKind::ALL {
+                if marks.iter().any(|(j, _)| *j == job) {
+                    legend_shape(ui, job, ink, job.label());
+                }
+            }
+        });
+        let plot_h = (ui.available_height() * 0.62).max(180.0);
+        Plot::new("work_precision")
+            .show_background(false)
+            .height(plot_h)
+            .x_axis_label("max map error |θ' − θ'_ref|")
+            .y_axis_label(if y_evals {
+                "RHS evaluations per iterate"
+            } else {
+                "µs per iterate"
+            })
+            .x_grid_spacer(log_paper)
+            .y_grid_spacer(log_paper)
+            .x_axis_formatter(|m, _| log_tick(m.value))
+            .y_axis_formatter(|m, _| log_tick(m.value))
+            .label_formatter(|pos| {
+                let p = match pos {
+                    egui_plot::HoverPosition::NearDataPoint { position, .. } => position,
+                    egui_plot::HoverPosition::Elsewhere { position } => position,
+                };
+                Some(format!(
+                    "error {:.2e}\n{} {:.3}",
+                    10f64.powf(p.x),
+                    if y_evals { "evals" } else { "µs" },
+                    10f64.powf(p.y)
+                ))
+            })
+            .show(ui, |p| {
+                if let Some(c) = committed {
+                    for (m, pts) in c {
+                        // Unnamed: the committed curves stay out of the legend.
+                        p.line(
+                            style::line("", PlotPoints::from(pts))
+                                .color(method_color(m).gamma_multiply(0.3))
+                                .width(1.0),
+                        );
+                    }
+                }
+                for (m, pts) in curves(rows, y_evals) {
+                    let c = method_color(m);
+                    let mut line = style::line(m, PlotPoints::from(pts.clone()))
+                        .color(c)
+                        .width(1.8);
+                    if m.starts_with("ode_solvers") {
+                        line = line.style(LineStyle::Dashed { length: 6.0 });
+                    }
+                    p.line(line);
+                    p.add(Points::new(m, PlotPoints::from(pts)).color(c).radius(3.0));
+                }
+                for (job, pt) in marks {
+                    p.add(
+                        Points::new(format!("{mode}: {}", job.label()), vec![pt])
+                            .shape(job_marker(job))
+                            .filled(false)
+                            .radius(9.0)
+                            .color(ink),
+                    );
+                }
+            });
+        table_ui(ui, rows, s);
+        action
+    }
+}
+
+/// A job's marker outline and its label.
+fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+    let (c, r) = (rect.center(), 5.5);
+    let stroke = egui::Stroke::new(1.5, color);
+    let p = ui.painter();
+    match job_marker(job) {
+        MarkerShape::Square => {
+            p.rect_stroke(
+                egui::Rect::from_center_size(c, egui::vec2(2.0 * r, 2.0 * r)),
+                0.0,
+                stroke,
+                egui::StrokeKind::Middle,
+            );
+        }
+        MarkerShape::Diamond => {
+            p.add(egui::Shape::closed_line(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, 0.0),
+                    c + egui::vec2(0.0, r),
+                    c + egui::vec2(-r, 0.0),
+                ],
+                stroke,
+            ));
+        }
+        _ => {
+            p.circle_stroke(c, r, stroke);
+        }
+    }
+    ui.label(label);
+}
+
+/// The table under the chart, with the rows the jobs run marked.
+fn table_ui(ui: &mut Ui, rows: &[Row], s: &Settings) {
+    let used: Vec<(JobKind, Subject)> = JobKind::ALL
+        .iter()
+        .map(|&j| (j, Subject::Own(s.solver_for(j))))
+        .collect();
+    egui::ScrollArea::vertical()
+        .id_salt("work_precision_table")
+        .auto_shrink([false, false])
+        .show(ui, |ui| {
+            egui::Grid::new("work_precision_rows")
+                .striped(true)
+                .spacing([10.0, 1.0])
+                .show(ui, |ui| {
+                    for h in [
+                        "method",
+                        "setting",
+                        "max error",
+                        "median error",
+                        "µs / iterate",
+                        "evals / iterate",
+                        "failed",
+                        "used by",
+                    ] {
+                        ui.label(RichText::new(h).small().strong());
+                    }
+                    ui.end_row();
+                    for r in rows {
+                        let users: Vec<&str> = used
+                            .iter()
+                            .filter(|(_, sub)| {
+                                let (k, v) = sub.setting();
+                                sub.method_name() == r.method
+                                    && k == r.kind
+                                    && ((v - r.setting) / r.setting).abs() < 1e-9
+                            })
+                            .map(|(j, _)| j.label())
+                            .collect();
+                        let cell = |ui: &mut Ui, t: String| {
+                            let mut t = RichText::new(t).small().monospace();
+                            if !users.is_empty() {
+                                t = t.strong();
+                            }
+                            ui.label(t);
+                        };
+                        ui.label(
+                            RichText::new(r.method)
+                                .small()
+                                .color(method_color(r.method)),
+                        );
+                        cell(ui, format!("{} {:e}", r.kind, r.setting));
+                        cell(ui, format!("{:.2e}", r.max_error));
+                        cell(ui, format!("{:.2e}", r.median_error));
+                        cell(ui, format!("{:.1}", r.median_us));
+                        cell(ui, format!("{:.0}", r.evals_per_iterate));
+                        let failed = if r.failed > 0 {
+                            format!("{} of {}", r.failed, r.points)
+                        } else {
+                            String::new()
+                        };
+                        let fr = ui.label(RichText::new(failed).small().color(style::ERROR));
+                        if let Some(f) = &r.failure {
+                            fr.on_hover_text(f);
+                        }
+                        cell(ui, users.join(", "));
+                        ui.end_row();
+                    }
+                });
+        });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::{Method, SolverSettings};
+
+    #[test]
+    fn the_committed_chart_has_a_curve_per_method_and_marks_autos_settings() {
+        let c = curves(default_rows(), false);
+        let names: Vec<&str> = c.iter().map(|(m, _)| *m).collect();
+        assert_eq!(
+            names,
+            [
+                "euler",
+                "rk4",
+                "dp54",
+                "dop853",
+                "ode_solvers-dopri5",
+                "ode_solvers-dop853"
+            ]
+        );
+        // RK4 at h = 0.1 failed on 33 points: not on the curve.
+        assert_eq!(c[1].1.len(), 6);
+        let s = Settings::default();
+        let marks = in_use(default_rows(), &s, true);
+        assert_eq!(marks.len(), 3);
+        // The trajectory's DOP853 tol 1e-5: 3.254e-5, 331.5 evaluations.
+        let (job, [x, y]) = marks[0];
+        assert_eq!(job, JobKind::Trajectory);
+        assert!((x - 3.254e-5f64.log10()).abs() < 1e-12 && (y - 331.5f64.log10()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_run_takes_its_own_updates_and_drops_older_ones() {
+        let mut run = WorkPrecisionRun::default();
+        let p = Params::default();
+        run.start(7, p, 2);
+        let row = crate::numerics::measure(
+            &[],
+            &Subject::Own(SolverSettings::adaptive(Method::Dop853, 1e-6)),
+            std::time::Duration::ZERO,
+        );
+        let mine = Update::WorkPrecisionRow {
+            generation: 7,
+            index: 0,
+            total: 2,
+            row: row.clone(),
+        };
+        assert!(run.apply(mine).is_none());
+        let old = Update::WorkPrecisionRow {
+            generation: 5,
+            index: 1,
+            total: 2,
+            row,
+        };
+        assert!(run.apply(old).is_none(), "an older run's row is dropped");
+        assert_eq!(run.rows.len(), 1);
+        // Other lanes' updates go back to the caller.
+        let other = Update::Progress {
+            generation: 3,
+            lane: Lane::Orbit,
+            fraction: 0.5,
+            iterates_per_second: 1.0,
+        };
+        assert!(run.apply(other).is_some());
+        run.apply(Update::Error {
+            generation: 7,
+            lane: Lane::Numerics,
+            message: "kappa = -1 is out of range".into(),
+            parameter: Some("kappa"),
+        });
+        assert_eq!(
+            run.error.as_deref(),
+            Some("kappa: kappa = -1 is out of range")
+        );
+        assert!(matches!(run.state, JobState::Failed(_)));
+    }
+}
