@@ -58,6 +58,15 @@ impl JobKind {
         }
     }
 
+    /// A one-word name for the side panel's table.
+    pub fn short_label(self) -> &'static str {
+        match self {
+            JobKind::Trajectory => "path",
+            JobKind::Sweep => "diagram",
+            JobKind::Iterate => "map",
+        }
+    }
+
     /// What it feeds and why it needs that accuracy.
     pub fn hover(self) -> &'static str {
         match self {
@@ -156,25 +165,49 @@ pub fn mode_ui(ui: &mut Ui, s: &mut Settings) {
 }
 
 /// The estimates table: per job, its setting, the chart's max map error
-/// and cost. Red when Custom is coarser than the job's view can show.
+/// and cost, one short row each so the side panel keeps its width (the full
+/// line, with the µs, is the row's hover text). Red when Custom is coarser
+/// than the job's view can show.
 pub fn estimates_ui(ui: &mut Ui, s: &Settings) {
     egui::Grid::new("accuracy_estimates")
-        .num_columns(2)
-        .spacing([6.0, 2.0])
+        .num_columns(4)
+        .spacing([8.0, 2.0])
         .show(ui, |ui| {
             for e in job_estimates(s) {
-                ui.label(RichText::new(format!("{}:", e.job.label())).small())
-                    .on_hover_text(e.job.hover());
-                let mut text = RichText::new(e.text()).small().monospace();
-                if e.too_coarse() {
-                    text = text.color(Color32::from_rgb(220, 30, 30));
-                }
-                ui.label(text).on_hover_text(format!(
-                    "needs a map error ≤ {:e}. Estimates from the committed chart \
-                     (65 points on 4 attractors: max error over the sample, RHS evaluations \
-                     and µs per iterate; ≈ interpolated between two measured settings).",
+                let hover = format!(
+                    "{}\n\n{}\n\nNeeds a map error ≤ {:e}. Estimates from the committed \
+                     chart (65 points on 4 attractors: max error over the sample, RHS \
+                     evaluations and µs per iterate; ≈ interpolated between two measured \
+                     settings).",
+                    e.job.hover(),
+                    e.text(),
                     e.job.accuracy().target()
-                ));
+                );
+                let red = e.too_coarse();
+                let cell = |ui: &mut Ui, t: String| {
+                    let mut text = RichText::new(t).small().monospace();
+                    if red {
+                        text = text.color(Color32::from_rgb(220, 30, 30));
+                    }
+                    ui.label(text).on_hover_text(&hover);
+                };
+                ui.label(e.job.short_label()).on_hover_text(&hover);
+                let subject = Subject::Own(e.settings);
+                let (kind, value) = subject.setting();
+                let kind = if kind == "step" { "h" } else { "" };
+                cell(ui, format!("{} {kind}{value:e}", subject.method_name()));
+                match e.estimate {
+                    None => {
+                        cell(ui, "not measured".into());
+                        cell(ui, String::new());
+                    }
+                    Some(est) => {
+                        let approx = if est.measured { "" } else { "≈" };
+                        let failed = if est.failed > 0 { " fails" } else { "" };
+                        cell(ui, format!("err {approx}{:.0e}{failed}", est.max_error));
+                        cell(ui, format!("{approx}{:.0} ev", est.evals));
+                    }
+                }
                 ui.end_row();
             }
         });
