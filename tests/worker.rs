@@ -270,10 +270,11 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 2];
+    let mut floor = [0u64; 3];
     let lane_ix = |l: Lane| match l {
         Lane::Orbit => 0,
         Lane::Sweep => 1,
+        Lane::Phase => 2,
     };
     for u in ups {
         let lane = match u {
@@ -281,6 +282,7 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
                 Some(Lane::Orbit)
             }
             Update::Column { .. } => Some(Lane::Sweep),
+            Update::PhaseCells { .. } => Some(Lane::Phase),
             Update::Progress { lane, .. }
             | Update::Error { lane, .. }
             | Update::Finished { lane, .. } => Some(*lane),
@@ -303,7 +305,7 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
                 *f = (*f).max(generation + 1);
             }
             Update::Cancelled { generation, lane } => {
-                for l in [Lane::Orbit, Lane::Sweep] {
+                for l in [Lane::Orbit, Lane::Sweep, Lane::Phase] {
                     if lane.is_none_or(|x| x == l) {
                         let f = &mut floor[lane_ix(l)];
                         *f = (*f).max(*generation);

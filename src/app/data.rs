@@ -234,6 +234,8 @@ impl Data {
                 match lane {
                     Lane::Orbit => self.orbit_progress = p,
                     Lane::Sweep => self.sweep_progress = p,
+                    // The window has no phase view yet.
+                    Lane::Phase => {}
                 }
             }
             Update::Error {
