@@ -4,8 +4,10 @@
 //!
 //! - [`explorer`]: the app, its layout, the job plumbing, scripted runs.
 //! - [`controls`]: sliders, typed fields, presets, regime badge.
-//! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`]: the views.
-//! - [`data`]: what the worker sent, filtered by generation.
+//! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
+//!   [`phase_view`]: the views.
+//! - [`data`], [`phase_data`]: what the worker sent, filtered by generation.
+//! - [`phase_job`]: when the phase diagram runs, over what.
 //! - [`settings`]: what persists; the presets.
 
 pub mod backend;
@@ -17,6 +19,9 @@ pub mod describe;
 pub mod events;
 pub mod explorer;
 pub mod export;
+pub mod phase_data;
+pub mod phase_job;
+pub mod phase_view;
 pub mod plane;
 pub mod return_map;
 pub mod screenshot;

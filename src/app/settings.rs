@@ -4,6 +4,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::phase_job::PhaseSettings;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 
@@ -15,15 +16,17 @@ pub enum View {
     Bifurcation,
     ReturnMap,
     Events,
+    Phase,
 }
 
 impl View {
-    pub const ALL: [View; 5] = [
+    pub const ALL: [View; 6] = [
         View::Plane,
         View::Block,
         View::Bifurcation,
         View::ReturnMap,
         View::Events,
+        View::Phase,
     ];
 
     pub fn title(self) -> &'static str {
@@ -33,6 +36,7 @@ impl View {
             View::Bifurcation => "Bifurcation",
             View::ReturnMap => "Return map",
             View::Events => "Events",
+            View::Phase => "Phase diagram",
         }
     }
 
@@ -44,6 +48,7 @@ impl View {
             View::Bifurcation => "bifurcation",
             View::ReturnMap => "return-map",
             View::Events => "events",
+            View::Phase => "phase",
         }
     }
 
@@ -107,6 +112,8 @@ pub struct Settings {
     pub block_speed: f32,
     /// Name of the preset last applied (for the window title).
     pub preset: Option<String>,
+    /// The phase diagram's grid, range and zoom.
+    pub phase: PhaseSettings,
 }
 
 impl Default for Settings {
@@ -137,6 +144,7 @@ impl Default for Settings {
             save_dir: default_save_dir(),
             block_speed: 1.0,
             preset: Some("fig3b".into()),
+            phase: PhaseSettings::default(),
         }
     }
 }
