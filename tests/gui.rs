@@ -6,7 +6,8 @@
 use eframe::egui;
 use egui::accesskit::Role;
 use egui_kittest::Harness;
-use egui_kittest::kittest::Queryable;
+use egui_kittest::kittest::{NodeT, Queryable};
+use egui_plot::PlotPoint;
 
 use oneblock::app::accuracy::AccuracyMode;
 use oneblock::app::data::JobState;
@@ -15,8 +16,11 @@ use oneblock::integrate::{Method, SolverSettings};
 use oneblock::model::Params;
 use oneblock::numerics::Row;
 use oneblock::numerics::quick::{QUICK_POINTS, quick_subjects};
-use oneblock::sim::{Phase, Sample, SlipEvent};
-use oneblock::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig};
+use oneblock::sim::phase::{CellClass, PhaseCell};
+use oneblock::sim::{Phase, Sample, SlipEvent, theta_nu_grid};
+use oneblock::worker::{
+    Command, Generation, GridCell, Lane, Outcome, Update, Worker, WorkerConfig,
+};
 
 fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
     let app = Explorer::new(Box::new(rec.clone()), settings);
@@ -457,12 +461,16 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
             Some(SolverSettings::adaptive(Method::Dp54, 1e-5))
         )
     );
-    for text in [
-        "dop853 tol 1e-5 · err ≤ 3.3e-5 · 332 evals · 24 µs",
-        "dp54 tol 1e-5 · err ≤ 1.1e-4 · 298 evals · 24 µs",
-        "dop853 tol 1e-11 · err ≤ 2.8e-11 · 1442 evals · 73 µs",
+    // One short row per job: setting, the chart's max error, evaluations.
+    for row in [
+        ["dop853 1e-5", "err 3e-5", "332 ev"],
+        ["dp54 1e-5", "err 1e-4", "298 ev"],
+        ["dop853 1e-11", "err 3e-11", "1442 ev"],
+        ["dop853 1e-9", "err 4e-9", "880 ev"],
     ] {
-        assert!(h.query_by_label(text).is_some(), "{text}");
+        for text in row {
+            assert!(h.query_by_label(text).is_some(), "{text}");
+        }
     }
     // The map iterates wait for the trajectory, then run at 1e-10's setting.
     let g = rec
@@ -497,22 +505,20 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     assert_eq!(h.state().settings.accuracy, AccuracyMode::Custom);
     let custom = SolverSettings::adaptive(Method::Dop853, 1e-9);
     assert_eq!(last_settings(&rec), (Some(custom), Some(custom)));
-    let line = "dop853 tol 1e-9 · err ≤ 3.9e-9 · 880 evals · 48 µs";
-    assert_eq!(h.query_all_by_label(line).count(), 3);
-    assert!(
-        h.query_by_label("dp54 tol 1e-5 · err ≤ 1.1e-4 · 298 evals · 24 µs")
-            .is_none()
-    );
+    let line = "dop853 1e-9";
+    assert_eq!(h.query_all_by_label(line).count(), 4);
+    assert_eq!(h.query_all_by_label("880 ev").count(), 4);
+    assert!(h.query_by_label("dp54 1e-5").is_none());
     // A tolerance between two measured ones is interpolated.
     let field = h.get_by_role_and_label(Role::TextInput, "tolerance value");
     field.focus();
     field.set_text_value_accesskit("3e-10");
     h.run_steps(3);
     assert_eq!(h.state().settings.tol, 3e-10);
+    assert_eq!(h.query_all_by_label("dop853 3e-10").count(), 4);
     assert_eq!(
-        h.query_all_by_label_contains("dop853 tol 3e-10 · err ≤ ≈ ")
-            .count(),
-        3,
+        h.query_all_by_label_contains("err ≈").count(),
+        4,
         "interpolated estimate shown for every job"
     );
 
@@ -520,7 +526,8 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     h.get_by_label("Auto").click();
     h.run_steps(2);
     assert_eq!(h.state().settings.accuracy, AccuracyMode::Auto);
-    assert!(h.query_by_label(line).is_none());
+    // Only the phase diagram's row runs at 1e-9 under Auto.
+    assert_eq!(h.query_all_by_label(line).count(), 1);
 }
 
 #[test]
@@ -660,4 +667,354 @@ fn run_for_current_parameters_fills_the_chart_from_the_real_worker() {
     assert_eq!(run.state, JobState::Cancelled);
     assert_eq!(run.rows.len(), n);
     assert!(n < run.total);
+}
+
+/// A phase command's generation, θν range and steps, κ range and steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct PhaseJob {
+    generation: Generation,
+    theta_nu: (f64, f64, usize),
+    kappa: (f64, f64, usize),
+    params: Params,
+}
+
+fn phase_jobs(rec: &Recorder) -> Vec<PhaseJob> {
+    rec.commands()
+        .into_iter()
+        .filter_map(|c| match c {
+            Command::Phase {
+                generation,
+                params,
+                theta_nu_from,
+                theta_nu_to,
+                theta_nu_steps,
+                kappa_from,
+                kappa_to,
+                kappa_steps,
+                ..
+            } => Some(PhaseJob {
+                generation,
+                theta_nu: (theta_nu_from, theta_nu_to, theta_nu_steps),
+                kappa: (kappa_from, kappa_to, kappa_steps),
+                params,
+            }),
+            _ => None,
+        })
+        .collect()
+}
+
+fn phase_cancels(rec: &Recorder) -> usize {
+    rec.commands()
+        .iter()
+        .filter(|c| {
+            matches!(
+                c,
+                Command::Cancel {
+                    lane: Some(Lane::Phase),
+                    ..
+                }
+            )
+        })
+        .count()
+}
+
+fn phase_tab() -> Settings {
+    Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: View::Phase,
+        ..Settings::default()
+    }
+}
+
+/// Answers a phase job with every cell, coarse half first: FP below
+/// θν = 0.8, P2 above, chaos in the top right corner.
+fn feed_phase(rec: &Recorder, job: &PhaseJob) {
+    let tns = theta_nu_grid(job.theta_nu.0, job.theta_nu.1, job.theta_nu.2);
+    let ks = theta_nu_grid(job.kappa.0, job.kappa.1, job.kappa.2);
+    let mut cells = Vec::new();
+    for (row, &kappa) in ks.iter().enumerate() {
+        for (column, &theta_nu) in tns.iter().enumerate() {
+            let class = if kappa > 30.0 && theta_nu > 1.2 {
+                CellClass::Chaos
+            } else if theta_nu > 0.8 {
+                CellClass::Periodic(2)
+            } else {
+                CellClass::Periodic(1)
+            };
+            cells.push(GridCell {
+                row,
+                column,
+                cell: PhaseCell {
+                    theta_nu,
+                    kappa,
+                    class,
+                    lyapunov: Some(if class == CellClass::Chaos { 0.3 } else { -0.2 }),
+                    lyapunov_stderr: (class == CellClass::Chaos).then_some(0.05),
+                    regime: None,
+                    iterates: 40,
+                    rhs_evals: 20_000,
+                    theta_last: theta_nu,
+                    error: None,
+                },
+            });
+        }
+    }
+    let half = cells.len() / 2;
+    let rest = cells.split_off(half);
+    rec.push(Update::PhaseCells {
+        generation: job.generation,
+        cells,
+        coarse: true,
+    });
+    rec.push(Update::PhaseCells {
+        generation: job.generation,
+        cells: rest,
+        coarse: false,
+    });
+    rec.push(Update::Finished {
+        generation: job.generation,
+        lane: Lane::Phase,
+        outcome: Outcome::Completed,
+    });
+}
+
+/// Where the centre of the phase cell (row, column) of `job` is on screen.
+fn phase_cell_pos(
+    h: &Harness<'static, Explorer>,
+    job: &PhaseJob,
+    row: usize,
+    column: usize,
+) -> egui::Pos2 {
+    let tns = theta_nu_grid(job.theta_nu.0, job.theta_nu.1, job.theta_nu.2);
+    let ks = theta_nu_grid(job.kappa.0, job.kappa.1, job.kappa.2);
+    let t = h.state().phase.transform.expect("the phase plot was drawn");
+    t.position_from_point(&PlotPoint::new(tns[column], ks[row]))
+}
+
+#[test]
+fn the_phase_diagram_is_computed_only_while_its_view_is_shown() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(3);
+    assert!(phase_jobs(&rec).is_empty(), "not shown: no grid");
+    // Shown as a tab: the paper's grid at the sliders' γ, ν, Ω.
+    h.state_mut().settings.layout = oneblock::app::Layout::Tabs;
+    h.state_mut().settings.tab = View::Phase;
+    h.run_steps(2);
+    let jobs = phase_jobs(&rec);
+    assert_eq!(jobs.len(), 1);
+    let j = jobs[0];
+    assert_eq!(j.theta_nu, (0.0, std::f64::consts::FRAC_PI_2, 30));
+    assert_eq!(j.kappa, (1.0, 42.0, 30));
+    assert_eq!(
+        (j.params.gamma, j.params.nu, j.params.omega),
+        (6.5, 1e-3, 50.0)
+    );
+    assert!(h.query_by_label_contains("0/900 cells").is_some());
+    // Hidden while running: stopped; shown again: started afresh.
+    h.state_mut().settings.tab = View::Plane;
+    h.run_steps(2);
+    assert_eq!(phase_cancels(&rec), 1);
+    assert_eq!(phase_jobs(&rec).len(), 1);
+    h.state_mut().settings.tab = View::Phase;
+    h.run_steps(2);
+    let jobs = phase_jobs(&rec);
+    assert_eq!(jobs.len(), 2);
+    assert!(jobs[1].generation > jobs[0].generation);
+    // Moving κ or θν only moves the cross-hair; γ recomputes the grid.
+    rec.clear();
+    h.state_mut().settings.params.kappa = 30.0;
+    h.state_mut().settings.params.theta_nu = 0.4;
+    let ctx = h.ctx.clone();
+    h.state_mut().flush(&ctx);
+    h.run_steps(2);
+    assert!(phase_jobs(&rec).is_empty());
+    h.state_mut().settings.params.gamma = 6.0;
+    h.run_steps(1);
+    let ctx = h.ctx.clone();
+    h.state_mut().flush(&ctx);
+    h.run_steps(1);
+    let jobs = phase_jobs(&rec);
+    assert_eq!(jobs.len(), 1);
+    assert_eq!(jobs[0].params.gamma, 6.0);
+    // Stop: stays stopped.
+    rec.clear();
+    h.get_by_label("Stop").click();
+    h.run_steps(2);
+    let ctx = h.ctx.clone();
+    h.state_mut().flush(&ctx);
+    h.run_steps(2);
+    assert_eq!(phase_cancels(&rec), 1);
+    assert!(phase_jobs(&rec).is_empty());
+    assert!(h.query_by_label_contains("stopped").is_some());
+    h.get_by_label("Compute").click();
+    h.run_steps(2);
+    assert_eq!(phase_jobs(&rec).len(), 1);
+}
+
+#[test]
+fn the_phase_view_draws_the_cells_and_a_click_sets_theta_nu_and_kappa() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, phase_tab());
+    h.run_steps(2);
+    let job = phase_jobs(&rec)[0];
+    // A stale batch (an older generation) is dropped.
+    rec.push(Update::PhaseCells {
+        generation: 0,
+        cells: vec![],
+        coarse: true,
+    });
+    feed_phase(&rec, &job);
+    h.run_steps(3);
+    {
+        let d = &h.state().data;
+        assert_eq!(d.phase.filled, 900);
+        assert_eq!(d.phase.state, JobState::Done);
+        assert_eq!(d.stale_dropped, 1);
+    }
+    assert!(h.query_by_label_contains("900/900 cells · done").is_some());
+    // The legend names every class.
+    for name in ["FP", "P2", "P6+", "chaos", "undecided", "failed"] {
+        assert!(h.query_by_label(name).is_some(), "legend {name}");
+    }
+
+    // Click the cell at row 20, column 7.
+    rec.clear();
+    let (row, column) = (20, 7);
+    let pos = phase_cell_pos(&h, &job, row, column);
+    h.hover_at(pos);
+    h.run_steps(3);
+    // Hovering tells the cell (θν = 7·(π/2)/29, κ = 1 + 20·41/29: FP here).
+    assert!(
+        h.query_by_label_contains("θν = 0.3792, κ = 29.2759")
+            .is_some(),
+        "the hovered cell is described"
+    );
+    assert!(h.query_by_label_contains("FP (fixed point)").is_some());
+    assert!(h.query_by_label_contains("40 iterates").is_some());
+    h.drag_at(pos);
+    h.step();
+    h.drop_at(pos);
+    h.run_steps(3);
+    let want_tn = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30)[column];
+    let want_k = theta_nu_grid(1.0, 42.0, 30)[row];
+    let p = h.state().settings.params;
+    assert_eq!((p.theta_nu, p.kappa), (want_tn, want_k));
+    assert!(
+        h.state().settings.phase.zoom.is_empty(),
+        "a click is not a zoom"
+    );
+    // The sliders show it and the orbit restarts there.
+    let slider = |s: &str| {
+        h.get_by_role_and_label(Role::Slider, s)
+            .accesskit_node()
+            .numeric_value()
+    };
+    assert_eq!(slider("κ"), Some(want_k));
+    assert_eq!(slider("θν"), Some(want_tn));
+    let t = last_trajectory(&rec).expect("the orbit restarts at the cell");
+    assert_eq!((t.theta_nu, t.kappa), (want_tn, want_k));
+    // κ and θν are the grid's axes: no new grid.
+    assert!(phase_jobs(&rec).is_empty());
+}
+
+#[test]
+fn a_box_on_the_phase_diagram_recomputes_that_range_and_back_restores_it() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, phase_tab());
+    h.run_steps(2);
+    let full = phase_jobs(&rec)[0];
+    feed_phase(&rec, &full);
+    h.run_steps(3);
+    rec.clear();
+    let (a, b) = (
+        phase_cell_pos(&h, &full, 5, 4),
+        phase_cell_pos(&h, &full, 22, 25),
+    );
+    h.hover_at(a);
+    h.step();
+    h.drag_at(a);
+    h.step();
+    for i in 1..=5 {
+        h.hover_at(a + (b - a) * (i as f32 / 5.0));
+        h.step();
+    }
+    h.drop_at(b);
+    h.run_steps(3);
+    let jobs = phase_jobs(&rec);
+    assert_eq!(jobs.len(), 1, "a zoom recomputes at once");
+    let z = jobs[0];
+    let tns = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30);
+    let ks = theta_nu_grid(1.0, 42.0, 30);
+    let near = |x: f64, y: f64, tol: f64| (x - y).abs() < tol;
+    assert!(
+        near(z.theta_nu.0, tns[4], 0.01) && near(z.theta_nu.1, tns[25], 0.01),
+        "{z:?}"
+    );
+    assert!(
+        near(z.kappa.0, ks[5], 0.2) && near(z.kappa.1, ks[22], 0.2),
+        "{z:?}"
+    );
+    // At full resolution, not a magnified picture.
+    assert_eq!((z.theta_nu.2, z.kappa.2), (30, 30));
+    assert_eq!(h.state().settings.phase.zoom.len(), 1);
+    // The view now shows the zoomed grid, computing.
+    assert_eq!(h.state().data.phase.kappa, (z.kappa.0, z.kappa.1));
+    // Back returns to the whole range.
+    rec.clear();
+    h.get_by_label("Back").click();
+    h.run_steps(3);
+    let jobs = phase_jobs(&rec);
+    assert_eq!(jobs.len(), 1);
+    assert_eq!(
+        (jobs[0].theta_nu, jobs[0].kappa),
+        (full.theta_nu, full.kappa)
+    );
+    assert!(h.state().settings.phase.zoom.is_empty());
+}
+
+#[test]
+fn export_writes_the_phase_grid_as_oneblock_phase_does() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        ..phase_tab()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let job = phase_jobs(&rec)[0];
+    feed_phase(&rec, &job);
+    h.run_steps(2);
+    h.get_by_label("Export data").click();
+    h.run_steps(2);
+    h.get_by_label("Phase diagram CSV (oneblock phase)").click();
+    let mut found = None;
+    for _ in 0..100 {
+        h.step();
+        found = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "csv"));
+        if found.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let path = found.expect("a phase CSV was written");
+    assert!(
+        path.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-phase-"))
+    );
+    let text = std::fs::read_to_string(&path).expect("read csv");
+    let lines: Vec<&str> = text.lines().collect();
+    assert_eq!(
+        lines[0],
+        "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr"
+    );
+    assert_eq!(lines.len(), 901);
+    // Rows of increasing κ, each along increasing θν.
+    assert_eq!(lines[1], "0,1,1,-0.2,,40,FP,");
+    assert!(lines[900].starts_with("1.5707963267948966,42,0,0.3,,40,chaos,0.05"));
 }

@@ -85,6 +85,7 @@ fn the_views_get_the_settings_the_chart_says() {
         Accuracy::TrajectoryView,
         Accuracy::BifurcationDiagram,
         Accuracy::ReturnMap,
+        Accuracy::PhaseDiagram,
     ] {
         let b = budget_for(a.target());
         println!(

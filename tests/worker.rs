@@ -319,11 +319,12 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 3];
+    let mut floor = [0u64; 4];
     let lane_ix = |l: Lane| match l {
         Lane::Orbit => 0,
         Lane::Sweep => 1,
         Lane::Numerics => 2,
+        Lane::Phase => 3,
     };
     for u in ups {
         let lane = match u {
@@ -335,6 +336,7 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
             Update::WorkPrecisionSample { .. }
             | Update::WorkPrecisionRow { .. }
             | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
+            Update::PhaseCells { .. } => Some(Lane::Phase),
             Update::Progress { lane, .. }
             | Update::Error { lane, .. }
             | Update::Finished { lane, .. } => Some(*lane),
@@ -357,7 +359,7 @@ fn assert_nothing_older_after_acks(ups: &[Update]) {
                 *f = (*f).max(generation + 1);
             }
             Update::Cancelled { generation, lane } => {
-                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics] {
+                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics, Lane::Phase] {
                     if lane.is_none_or(|x| x == l) {
                         let f = &mut floor[lane_ix(l)];
                         *f = (*f).max(*generation);

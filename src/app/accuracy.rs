@@ -34,10 +34,17 @@ pub enum JobKind {
     Sweep,
     /// Map iterates: the return map, the period and the Lyapunov exponent.
     Iterate,
+    /// The phase diagram's cells.
+    Phase,
 }
 
 impl JobKind {
-    pub const ALL: [JobKind; 3] = [JobKind::Trajectory, JobKind::Sweep, JobKind::Iterate];
+    pub const ALL: [JobKind; 4] = [
+        JobKind::Trajectory,
+        JobKind::Sweep,
+        JobKind::Iterate,
+        JobKind::Phase,
+    ];
 
     /// The accuracy its view can show (issue 5): a pixel of the (x, y)
     /// view; 1e-3 of the diagram's θ range per pixel; 1e-10 for the map.
@@ -46,6 +53,7 @@ impl JobKind {
             JobKind::Trajectory => Accuracy::TrajectoryView,
             JobKind::Sweep => Accuracy::BifurcationDiagram,
             JobKind::Iterate => Accuracy::ReturnMap,
+            JobKind::Phase => Accuracy::PhaseDiagram,
         }
     }
 
@@ -55,6 +63,7 @@ impl JobKind {
             JobKind::Trajectory => "trajectory",
             JobKind::Sweep => "diagram",
             JobKind::Iterate => "map iterates",
+            JobKind::Phase => "phase diagram",
         }
     }
 
@@ -64,6 +73,7 @@ impl JobKind {
             JobKind::Trajectory => "path",
             JobKind::Sweep => "diagram",
             JobKind::Iterate => "map",
+            JobKind::Phase => "phase",
         }
     }
 
@@ -82,6 +92,11 @@ impl JobKind {
             JobKind::Iterate => {
                 "The map iterates feed the return map, the period and the Lyapunov \
                  exponent: 1e-10, as the command line."
+            }
+            JobKind::Phase => {
+                "The phase diagram's cells: a class rests on the period test at \
+                 1e4·tol and on the Lyapunov sign, so the map error must stay well \
+                 below the period tolerance: 1e-8."
             }
         }
     }
@@ -139,7 +154,7 @@ impl JobEstimate {
 }
 
 /// Each job's setting under the current choice, with the chart's estimate.
-pub fn job_estimates(s: &Settings) -> [JobEstimate; 3] {
+pub fn job_estimates(s: &Settings) -> [JobEstimate; 4] {
     JobKind::ALL.map(|job| {
         let settings = s.solver_for(job);
         JobEstimate {
@@ -226,6 +241,7 @@ mod tests {
             (JobKind::Trajectory, 1e-4),
             (JobKind::Sweep, 1e-3),
             (JobKind::Iterate, 1e-10),
+            (JobKind::Phase, 1e-8),
         ] {
             assert_eq!(job.accuracy().target(), target);
             assert_eq!(s.solver_for(job), budget_for(target).settings);
@@ -243,7 +259,8 @@ mod tests {
             [
                 (Method::Dop853, 1e-5),
                 (Method::Dp54, 1e-5),
-                (Method::Dop853, 1e-11)
+                (Method::Dop853, 1e-11),
+                (Method::Dop853, 1e-9)
             ]
         );
         for e in job_estimates(&s) {
@@ -272,10 +289,14 @@ mod tests {
             assert_eq!(s.solver_for(job), SolverSettings::fixed(Method::Rk4, 0.02));
         }
         // RK4 h = 0.02 is a chart row: 4.4e-6, 976 evaluations; too coarse
-        // for nothing but the map iterates (1e-10).
+        // for the map iterates (1e-10) and the phase diagram (1e-8) only.
         let e = job_estimates(&s);
         assert_eq!(e[0].text(), "rk4 h 2e-2 · err ≤ 4.4e-6 · 976 evals · 37 µs");
-        assert_eq!(e.map(|x| x.too_coarse()), [false, false, true], "{e:?}");
+        assert_eq!(
+            e.map(|x| x.too_coarse()),
+            [false, false, true, true],
+            "{e:?}"
+        );
         s.step = 1e-4;
         assert_eq!(job_estimates(&s)[0].text(), "rk4 h 1e-4 · not measured");
     }

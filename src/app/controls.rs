@@ -182,6 +182,7 @@ pub struct Actions {
     pub export_events: bool,
     pub export_trajectory: bool,
     pub export_bifurcation: bool,
+    pub export_phase: bool,
     pub reset_defaults: bool,
     pub restart: bool,
 }
@@ -302,6 +303,9 @@ impl Controls {
                 }
                 if ui.button("Bifurcation CSV (theta_nu,theta)").clicked() {
                     actions.export_bifurcation = true;
+                }
+                if ui.button("Phase diagram CSV (oneblock phase)").clicked() {
+                    actions.export_phase = true;
                 }
             });
         });

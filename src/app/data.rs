@@ -1,17 +1,19 @@
 //! What the worker has sent for the current jobs: the trajectory, its slip
-//! events, the map iterates with their analysis, and the bifurcation
-//! columns. Updates of an older generation than the latest issued for their
-//! job are dropped here.
+//! events, the map iterates with their analysis, the bifurcation columns
+//! and the phase-diagram cells. Updates of an older generation than the
+//! latest issued for their job are dropped here.
 
+use super::phase_data::PhaseData;
 use crate::sim::{Period, Sample, SlipEvent};
 use crate::worker::{Generation, Lane, Outcome, Update};
 
-/// The three kinds of job the window runs.
+/// The kinds of job the window runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Job {
     Trajectory,
     Iterate,
     Sweep,
+    Phase,
 }
 
 /// Where a job stands.
@@ -104,11 +106,14 @@ pub struct Data {
     pub trajectory_gen: Generation,
     pub iterate_gen: Generation,
     pub sweep_gen: Generation,
+    pub phase_gen: Generation,
     pub trajectory: TrajectoryData,
     pub iterate: IterateData,
     pub sweep: SweepData,
+    pub phase: PhaseData,
     pub orbit_progress: LaneProgress,
     pub sweep_progress: LaneProgress,
+    pub phase_progress: LaneProgress,
     /// The last error the worker reported, with the parameter it names.
     pub last_error: Option<String>,
     /// Updates dropped as stale (for the status bar and tests).
@@ -143,6 +148,21 @@ impl Data {
         self.sweep.revision = revision;
     }
 
+    pub fn start_phase(
+        &mut self,
+        generation: Generation,
+        theta_nu: (f64, f64),
+        kappa: (f64, f64),
+        columns: usize,
+        rows: usize,
+    ) {
+        let revision = self.phase.revision + 1;
+        self.phase_gen = generation;
+        self.phase = PhaseData::new(theta_nu, kappa, columns, rows);
+        self.phase.revision = revision;
+        self.phase_progress = LaneProgress::default();
+    }
+
     /// Which current job `generation` belongs to, if any.
     fn job_of(&self, generation: Generation) -> Option<Job> {
         if generation == self.trajectory_gen {
@@ -151,6 +171,8 @@ impl Data {
             Some(Job::Iterate)
         } else if generation == self.sweep_gen {
             Some(Job::Sweep)
+        } else if generation == self.phase_gen {
+            Some(Job::Phase)
         } else {
             None
         }
@@ -161,6 +183,7 @@ impl Data {
             Job::Trajectory => &mut self.trajectory.state,
             Job::Iterate => &mut self.iterate.state,
             Job::Sweep => &mut self.sweep.state,
+            Job::Phase => &mut self.phase.state,
         }
     }
 
@@ -231,6 +254,9 @@ impl Data {
                     s.revision += 1;
                 }
             }
+            Update::PhaseCells { cells, coarse, .. } if job == Job::Phase => {
+                self.phase.insert(cells, coarse);
+            }
             Update::Progress {
                 lane,
                 fraction,
@@ -246,6 +272,7 @@ impl Data {
                     Lane::Sweep => self.sweep_progress = p,
                     // The Numerics view keeps its own job's progress.
                     Lane::Numerics => {}
+                    Lane::Phase => self.phase_progress = p,
                 }
             }
             Update::Error {
@@ -255,7 +282,13 @@ impl Data {
                     Some(p) => format!("{p}: {message}"),
                     None => message.clone(),
                 });
-                *self.state_mut(job) = JobState::Failed(message);
+                if job == Job::Phase {
+                    // A failed cell does not end the grid: its Finished says
+                    // how the job ended; the view shows the message.
+                    self.phase.error = self.last_error.clone();
+                } else {
+                    *self.state_mut(job) = JobState::Failed(message);
+                }
             }
             Update::Finished { outcome, .. } => {
                 let state = match outcome {
@@ -267,8 +300,10 @@ impl Data {
                     }
                 };
                 *self.state_mut(job) = state;
-                if job == Job::Sweep {
-                    self.sweep.revision += 1;
+                match job {
+                    Job::Sweep => self.sweep.revision += 1,
+                    Job::Phase => self.phase.revision += 1,
+                    _ => {}
                 }
             }
             Update::Cancelled { .. } => {}

@@ -20,6 +20,8 @@ use super::data::{Data, JobState};
 use super::events::EventsView;
 use super::export;
 use super::numerics_view::{NumericsAction, NumericsView};
+use super::phase_job::{PhaseJob, PhaseKey, PhaseStep};
+use super::phase_view::{PhaseAction, PhaseView};
 use super::plane::PlaneView;
 use super::return_map::ReturnMapView;
 use super::screenshot::{Saved, Shots, fresh_path};
@@ -206,6 +208,9 @@ pub struct Explorer {
     pub return_map: ReturnMapView,
     pub events: EventsView,
     pub numerics: NumericsView,
+    pub phase: PhaseView,
+    /// When the phase grid runs (only while its view is shown).
+    pub phase_job: PhaseJob,
     pub shots: Shots,
     pub script: Option<Script>,
     pub stats: FrameStats,
@@ -231,9 +236,14 @@ impl Explorer {
             settings.tiled = Settings::default().tiled;
         }
         settings.keep_cycles = settings.keep_cycles.clamp(1, 1000);
+        settings.phase = std::mem::take(&mut settings.phase).sanitised();
         Explorer {
             settings,
-            data: Data::default(),
+            data: Data {
+                // No phase grid yet: generation 0 must not look like one.
+                phase_gen: NO_GENERATION,
+                ..Data::default()
+            },
             controls: Controls::new(),
             backend,
             next_generation: 1,
@@ -249,6 +259,8 @@ impl Explorer {
             return_map: ReturnMapView,
             events: EventsView,
             numerics: NumericsView::default(),
+            phase: PhaseView::default(),
+            phase_job: PhaseJob::default(),
             shots: Shots::default(),
             script: None,
             stats: FrameStats::default(),
@@ -408,6 +420,86 @@ impl Explorer {
         });
     }
 
+    /// Starts the phase diagram over the current range with the sliders'
+    /// γ, ν, Ω and solver.
+    pub fn restart_phase(&mut self) {
+        let key = PhaseKey::of(&self.settings);
+        let (params, solver) = (
+            self.settings.params,
+            self.settings.solver_for(JobKind::Phase),
+        );
+        let g = self.generation();
+        let (columns, rows) = key.steps;
+        self.data
+            .start_phase(g, key.range.theta_nu, key.range.kappa, columns, rows);
+        self.send(Command::Phase {
+            generation: g,
+            params,
+            settings: solver,
+            theta_nu_from: key.range.theta_nu.0,
+            theta_nu_to: key.range.theta_nu.1,
+            theta_nu_steps: columns,
+            kappa_from: key.range.kappa.0,
+            kappa_to: key.range.kappa.1,
+            kappa_steps: rows,
+            transient: key.transient,
+            keep: key.keep,
+        });
+        self.phase_job.started(key);
+    }
+
+    fn cancel_phase(&mut self) {
+        let g = self.generation();
+        self.send(Command::Cancel {
+            generation: g,
+            lane: Some(Lane::Phase),
+        });
+        if self.data.phase.state == JobState::Running {
+            self.data.phase.state = JobState::Cancelled;
+        }
+    }
+
+    /// Whether `v` is on screen (as a tab or a tile).
+    pub fn shows(&self, v: View) -> bool {
+        match self.settings.layout {
+            Layout::Tabs => self.settings.tab == v,
+            Layout::Tiles => self.settings.tiled.contains(&v),
+        }
+    }
+
+    /// Starts, restarts or pauses the phase grid (see `phase_job`).
+    fn sync_phase(&mut self, ctx: &Context) {
+        let key = PhaseKey::of(&self.settings);
+        let visible = self.shows(View::Phase);
+        let running = self.data.phase.state == JobState::Running;
+        match self.phase_job.step(key, visible, running, self.now) {
+            PhaseStep::Start => self.restart_phase(),
+            PhaseStep::Cancel => self.cancel_phase(),
+            PhaseStep::WaitFor(s) => ctx.request_repaint_after(Duration::from_secs_f64(s)),
+            PhaseStep::Nothing => {}
+        }
+    }
+
+    fn phase_action(&mut self, a: PhaseAction) {
+        match a {
+            PhaseAction::SetPoint { theta_nu, kappa } => {
+                let p = &mut self.settings.params;
+                (p.theta_nu, p.kappa) = (theta_nu, kappa);
+                if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&theta_nu) {
+                    self.settings.full_circle = true;
+                }
+            }
+            PhaseAction::Compute => {
+                self.restart_phase();
+                self.phase_job.pinned = true;
+            }
+            PhaseAction::Stop => {
+                self.cancel_phase();
+                self.phase_job.stop();
+            }
+        }
+    }
+
     /// Sends whatever the settings now call for: a new orbit at once (at
     /// most every 40 ms while dragging), a new sweep once κ, γ, ν, Ω or the
     /// solver have been still for 250 ms.
@@ -450,6 +542,7 @@ impl Explorer {
             }
             _ => {}
         }
+        self.sync_phase(ctx);
     }
 
     /// Sends everything pending now (tests; the end of a scripted wait).
@@ -500,12 +593,14 @@ impl Explorer {
         };
         match sc.stage {
             Stage::Waiting => {
+                let shows_phase = self.shows(View::Phase);
                 let failed = [
                     &self.data.sweep.state,
                     &self.data.trajectory.state,
                     &self.data.iterate.state,
                 ]
                 .into_iter()
+                .chain(shows_phase.then_some(&self.data.phase.state))
                 .find_map(|s| match s {
                     JobState::Failed(m) => Some(m.clone()),
                     _ => None,
@@ -513,7 +608,10 @@ impl Explorer {
                 if let Some(failed) = failed {
                     finish(&sc, Err(format!("the simulation failed: {failed}")));
                     sc.stage = Stage::Closing;
-                } else if self.data.complete(sc.min_cycles) && self.numerics_settled() {
+                } else if self.data.complete(sc.min_cycles)
+                    && self.numerics_settled()
+                    && (!shows_phase || self.data.phase.state == JobState::Done)
+                {
                     if sc.measure.is_some() {
                         self.stats.enabled = true;
                         self.stats.recording = true;
@@ -669,6 +767,7 @@ impl Explorer {
             Key::Num4,
             Key::Num5,
             Key::Num6,
+            Key::Num7,
         ];
         for (k, v) in tabs.into_iter().zip(View::ALL) {
             if ctx.input(|i| i.key_pressed(k)) {
@@ -738,6 +837,19 @@ impl Explorer {
                 let csv = export::bifurcation_csv(&self.data.sweep);
                 self.shots
                     .write(fresh_path(&dir, "bifurcation", "csv"), csv.into_bytes());
+            }
+        }
+        if a.export_phase {
+            if self.data.phase.filled == 0 {
+                self.shots.toast(
+                    "No phase-diagram cells to export yet".into(),
+                    true,
+                    self.now,
+                );
+            } else {
+                let csv = export::phase_csv(&self.data.phase);
+                self.shots
+                    .write(fresh_path(&dir, "phase", "csv"), csv.into_bytes());
             }
         }
         if a.reset_defaults {
@@ -913,6 +1025,18 @@ impl Explorer {
                                 Some(NumericsAction::Stop) => self.stop_work_precision(),
                                 None => {}
                             },
+                            View::Phase => {
+                                let a = self.phase.ui(
+                                    ui,
+                                    &mut self.settings,
+                                    &self.data.phase,
+                                    self.data.phase_progress,
+                                    &self.phase_job,
+                                );
+                                if let Some(a) = a {
+                                    self.phase_action(a);
+                                }
+                            }
                         }
                     });
             },
@@ -926,9 +1050,14 @@ impl Explorer {
     fn status_ui(&mut self, ui: &mut Ui) {
         let d = &self.data;
         ui.horizontal_wrapped(|ui| {
-            let busy = [&d.trajectory.state, &d.iterate.state, &d.sweep.state]
-                .iter()
-                .any(|s| matches!(s, JobState::Running));
+            let busy = [
+                &d.trajectory.state,
+                &d.iterate.state,
+                &d.sweep.state,
+                &d.phase.state,
+            ]
+            .iter()
+            .any(|s| matches!(s, JobState::Running));
             if busy {
                 ui.spinner();
             }
@@ -960,9 +1089,20 @@ impl Explorer {
                     .desired_width(120.0)
                     .text(format!("{}/{}", d.sweep.filled, d.sweep.columns.len())),
             );
+            let phase_cells = d.phase.rows * d.phase.columns;
+            if phase_cells > 0 {
+                ui.label("phase");
+                ui.add(
+                    egui::ProgressBar::new(d.phase.filled as f32 / phase_cells as f32)
+                        .desired_width(100.0)
+                        .text(format!("{}/{phase_cells}", d.phase.filled)),
+                );
+            }
             ui.label(format!(
                 "{:.0} iterates/s",
-                d.sweep_progress.iterates_per_second + d.orbit_progress.iterates_per_second
+                d.sweep_progress.iterates_per_second
+                    + d.orbit_progress.iterates_per_second
+                    + d.phase_progress.iterates_per_second
             ));
             if let Some(e) = &d.last_error {
                 ui.separator();
@@ -1035,6 +1175,7 @@ fn merge(a: &mut Actions, b: Actions) {
     a.export_events |= b.export_events;
     a.export_trajectory |= b.export_trajectory;
     a.export_bifurcation |= b.export_bifurcation;
+    a.export_phase |= b.export_phase;
     a.reset_defaults |= b.reset_defaults;
     a.restart |= b.restart;
 }

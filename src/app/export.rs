@@ -1,12 +1,15 @@
 //! CSV in the command line's formats: events (every `SlipEvent` field, in
 //! order, `restarted` as 0/1, as `cli::common::slip_event_row` writes them),
-//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`). Floats
+//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`), phase
+//! diagram (`oneblock phase --out`'s columns and rows). Floats
 //! in Rust's shortest round-trip form, so parsing gives back the exact f64.
 
 use std::fmt::Write as _;
 
 use super::data::SweepData;
+use super::phase_data::PhaseData;
 use crate::cli::common::{SLIP_EVENT_COLUMNS, slip_event_row};
+use crate::cli::phase::{PHASE_COLUMNS, csv_row};
 use crate::sim::{Sample, SlipEvent};
 
 /// The events CSV: the command line's header and rows, from the same code.
@@ -46,6 +49,20 @@ pub fn bifurcation_csv(sweep: &SweepData) -> String {
         for t in &c.thetas {
             let _ = writeln!(s, "{},{}", c.theta_nu, t);
         }
+    }
+    s
+}
+
+/// The phase diagram as `oneblock phase --out` writes it (rows of
+/// increasing κ, each along increasing θν), from the same code; cells not
+/// computed yet are left out.
+pub fn phase_csv(phase: &PhaseData) -> String {
+    let mut s = String::with_capacity(80 * (phase.filled + 1));
+    s.push_str(PHASE_COLUMNS);
+    s.push('\n');
+    for c in phase.cells.iter().flatten() {
+        s.push_str(&csv_row(c));
+        s.push('\n');
     }
     s
 }

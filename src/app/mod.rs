@@ -5,9 +5,10 @@
 //! - [`explorer`]: the app, its layout, the job plumbing, scripted runs.
 //! - [`controls`]: sliders, typed fields, presets, regime badge.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
-//!   [`numerics_view`]: the views.
+//!   [`numerics_view`], [`phase_view`]: the views.
 //! - [`accuracy`]: Auto / Custom, and the solver setting of each kind of job.
-//! - [`data`]: what the worker sent, filtered by generation.
+//! - [`data`], [`phase_data`]: what the worker sent, filtered by generation.
+//! - [`phase_job`]: when the phase diagram runs, over what.
 //! - [`settings`]: what persists; the presets.
 
 pub mod accuracy;
@@ -21,6 +22,9 @@ pub mod events;
 pub mod explorer;
 pub mod export;
 pub mod numerics_view;
+pub mod phase_data;
+pub mod phase_job;
+pub mod phase_view;
 pub mod plane;
 pub mod return_map;
 pub mod screenshot;

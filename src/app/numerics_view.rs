@@ -277,6 +277,7 @@ fn job_marker(job: JobKind) -> MarkerShape {
         JobKind::Trajectory => MarkerShape::Square,
         JobKind::Sweep => MarkerShape::Diamond,
         JobKind::Iterate => MarkerShape::Circle,
+        JobKind::Phase => MarkerShape::Up,
     }
 }
 
@@ -491,6 +492,16 @@ fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
                 stroke,
             ));
         }
+        MarkerShape::Up => {
+            p.add(egui::Shape::closed_line(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, 0.8 * r),
+                    c + egui::vec2(-r, 0.8 * r),
+                ],
+                stroke,
+            ));
+        }
         _ => {
             p.circle_stroke(c, r, stroke);
         }
@@ -593,7 +604,8 @@ mod tests {
         assert_eq!(c[1].1.len(), 6);
         let s = Settings::default();
         let marks = in_use(default_rows(), &s, true);
-        assert_eq!(marks.len(), 3);
+        // One mark per kind of job: trajectory, sweep, map iterates, phase.
+        assert_eq!(marks.len(), 4);
         // The trajectory's DOP853 tol 1e-5: 3.254e-5, 331.5 evaluations.
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);

@@ -5,6 +5,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::accuracy::{AccuracyMode, JobKind};
+use super::phase_job::PhaseSettings;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 
@@ -17,16 +18,18 @@ pub enum View {
     ReturnMap,
     Events,
     Numerics,
+    Phase,
 }
 
 impl View {
-    pub const ALL: [View; 6] = [
+    pub const ALL: [View; 7] = [
         View::Plane,
         View::Block,
         View::Bifurcation,
         View::ReturnMap,
         View::Events,
         View::Numerics,
+        View::Phase,
     ];
 
     pub fn title(self) -> &'static str {
@@ -37,6 +40,7 @@ impl View {
             View::ReturnMap => "Return map",
             View::Events => "Events",
             View::Numerics => "Numerics",
+            View::Phase => "Phase diagram",
         }
     }
 
@@ -49,6 +53,7 @@ impl View {
             View::ReturnMap => "return-map",
             View::Events => "events",
             View::Numerics => "numerics",
+            View::Phase => "phase",
         }
     }
 
@@ -116,6 +121,8 @@ pub struct Settings {
     pub block_speed: f32,
     /// Name of the preset last applied (for the window title).
     pub preset: Option<String>,
+    /// The phase diagram's grid, range and zoom.
+    pub phase: PhaseSettings,
 }
 
 impl Default for Settings {
@@ -147,6 +154,7 @@ impl Default for Settings {
             save_dir: default_save_dir(),
             block_speed: 1.0,
             preset: Some("fig3b".into()),
+            phase: PhaseSettings::default(),
         }
     }
 }

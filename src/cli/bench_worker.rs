@@ -2,8 +2,10 @@
 //! at the paper's Fig. 3b parameters (γ = 6.5, κ = 18.95, ν = 1e-3, Ω = 50,
 //! dp853): from a `Sweep` command to the first full coarse diagram and to
 //! the full diagram, and from a `Trajectory` command sent mid-sweep to its
-//! first chunk. Wall-clock figures of this machine, so they live here and in
-//! the README, never in tests.
+//! first chunk. With `--phase N`, instead: from a `Phase` command (N × N
+//! cells over the paper's Fig. 4 range, the app's default budget) to the
+//! full coarse lattice and to the full grid. Wall-clock figures of this
+//! machine, so they live here and in the README, never in tests.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -14,7 +16,9 @@ use super::CliError;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
-use crate::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan};
+use crate::worker::{
+    COARSE_STRIDE, Command, Lane, Outcome, Update, Worker, WorkerConfig, phase_plan, sweep_plan,
+};
 
 #[derive(Debug, Clone, Args)]
 pub struct BenchWorkerArgs {
@@ -42,6 +46,10 @@ pub struct BenchWorkerArgs {
     /// Trajectory commands sent during one more sweep.
     #[arg(long, default_value_t = 9)]
     pub latency_samples: usize,
+    /// Time an N × N phase diagram (θν ∈ [0, π/2], κ ∈ [1, 42], 400
+    /// transient + 128 kept, as the app's default grid) instead of sweeps.
+    #[arg(long)]
+    pub phase: Option<usize>,
 }
 
 impl Default for BenchWorkerArgs {
@@ -55,6 +63,7 @@ impl Default for BenchWorkerArgs {
             threads: 2,
             repeats: 3,
             latency_samples: 9,
+            phase: None,
         }
     }
 }
@@ -225,6 +234,133 @@ fn trajectory_latencies(
     Ok(out)
 }
 
+/// One N × N phase grid from command to `Finished`.
+struct PhaseTiming {
+    /// Seconds to the whole coarse lattice and to the whole grid.
+    coarse: f64,
+    full: f64,
+    /// CPU seconds of the process meanwhile.
+    cpu_coarse: Option<f64>,
+    cpu: Option<f64>,
+    iterates: u64,
+    /// Cells per class label, in the order first seen.
+    classes: Vec<(String, usize)>,
+}
+
+fn time_phase(
+    args: &BenchWorkerArgs,
+    settings: SolverSettings,
+    n: usize,
+) -> Result<PhaseTiming, CliError> {
+    let w = worker(args);
+    let n_coarse = phase_plan(n, n, COARSE_STRIDE)
+        .iter()
+        .filter(|p| p.coarse)
+        .count();
+    let t0 = Instant::now();
+    let cpu0 = cpu_seconds();
+    let sent = w.send(Command::Phase {
+        generation: 1,
+        params: fig3b(),
+        settings,
+        theta_nu_from: 0.0,
+        theta_nu_to: std::f64::consts::FRAC_PI_2,
+        theta_nu_steps: n,
+        kappa_from: 1.0,
+        kappa_to: 42.0,
+        kappa_steps: n,
+        transient: 400,
+        keep: 128,
+    });
+    if !sent {
+        return Err(CliError::Failed("the worker refused the phase grid".into()));
+    }
+    let (mut seen, mut coarse, mut cpu_coarse, mut iterates) = (0, None, None, 0);
+    let mut classes: Vec<(String, usize)> = Vec::new();
+    let full = loop {
+        match recv(&w)? {
+            Update::PhaseCells {
+                cells, coarse: c, ..
+            } => {
+                iterates += cells.iter().map(|c| c.cell.iterates).sum::<u64>();
+                for c in &cells {
+                    let l = c.cell.class.label();
+                    match classes.iter_mut().find(|(k, _)| *k == l) {
+                        Some((_, k)) => *k += 1,
+                        None => classes.push((l, 1)),
+                    }
+                }
+                if c {
+                    seen += cells.len();
+                    if seen == n_coarse {
+                        coarse = Some(t0.elapsed().as_secs_f64());
+                        cpu_coarse = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+                    }
+                }
+            }
+            Update::Finished { outcome, .. } => {
+                if let Outcome::Failed(m) = outcome {
+                    return Err(CliError::Failed(format!("the phase grid failed: {m}")));
+                }
+                break t0.elapsed().as_secs_f64();
+            }
+            _ => {}
+        }
+    };
+    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    w.shutdown();
+    classes.sort();
+    Ok(PhaseTiming {
+        coarse: coarse.unwrap_or(full),
+        full,
+        cpu_coarse,
+        cpu,
+        iterates,
+        classes,
+    })
+}
+
+fn run_phase(args: &BenchWorkerArgs, settings: SolverSettings, n: usize) -> Result<(), CliError> {
+    if !(1..=200).contains(&n) {
+        return Err(CliError::Usage(format!(
+            "--phase = {n} is out of range: must lie in [1, 200]"
+        )));
+    }
+    println!(
+        "phase: {n} x {n} cells over theta-nu in [0, pi/2], kappa in [1, 42]; gamma = 6.5, nu = 1e-3, omega = 50; dp853 tol = {:e}; 400 transient + 128 kept; {} threads",
+        args.tol, args.threads
+    );
+    if let Some(l) = load_average() {
+        println!("load average before the run: {l:.2}");
+    }
+    let mut runs = Vec::new();
+    for r in 0..args.repeats {
+        let t = time_phase(args, settings, n)?;
+        let fmt = |c: Option<f64>| c.map_or("?".into(), |c| format!("{c:.2} s"));
+        println!(
+            "  grid {}: coarse lattice {:.3} s (CPU {}), full {:.3} s (CPU {}), {} iterates; {}",
+            r + 1,
+            t.coarse,
+            fmt(t.cpu_coarse),
+            t.full,
+            fmt(t.cpu),
+            t.iterates,
+            t.classes
+                .iter()
+                .map(|(l, k)| format!("{l} {k}"))
+                .collect::<Vec<_>>()
+                .join(", "),
+        );
+        runs.push((t.coarse, t.full));
+    }
+    println!(
+        "phase grid: coarse lattice median {:.3} s, full grid median {:.3} s",
+        median(&runs.iter().map(|r| r.0).collect::<Vec<_>>()),
+        median(&runs.iter().map(|r| r.1).collect::<Vec<_>>()),
+    );
+    Ok(())
+}
+
 /// CPU time (user + system) of this process so far, from /proc (Linux).
 fn cpu_seconds() -> Option<f64> {
     let stat = std::fs::read_to_string("/proc/self/stat").ok()?;
@@ -293,6 +429,9 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     settings
         .validate()
         .map_err(|e| CliError::Usage(format!("--{e}")))?;
+    if let Some(n) = args.phase {
+        return run_phase(&args, settings, n);
+    }
     println!(
         "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dp853, tol = {:e}",
         args.tol

@@ -25,7 +25,8 @@ pub struct GuiArgs {
     /// and a trajectory streaming) and print the median.
     #[arg(long)]
     pub frame_stats: bool,
-    /// Show one view full size: plane, block, bifurcation, return-map, events, numerics.
+    /// Show one view full size: plane, block, bifurcation, return-map, events,
+    /// numerics, phase.
     #[arg(long)]
     pub view: Option<String>,
     /// Text size multiplier (e.g. 1.5 on a projector).
@@ -70,7 +71,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
     let view = match &args.view {
         Some(v) => Some(View::from_key(v).ok_or_else(|| {
             CliError::Usage(format!(
-                "--view: unknown view '{v}': expected plane, block, bifurcation, return-map, events or numerics"
+                "--view: unknown view '{v}': expected plane, block, bifurcation, return-map, events, numerics or phase"
             ))
         })?),
         None => None,

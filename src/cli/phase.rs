@@ -321,7 +321,9 @@ fn legend_class(c: CellClass) -> &'static str {
     }
 }
 
-fn colour(c: CellClass) -> [u8; 3] {
+/// The colour of a class in the picture (the app's phase view uses the
+/// same).
+pub fn colour(c: CellClass) -> [u8; 3] {
     let l = legend_class(c);
     LEGEND
         .iter()

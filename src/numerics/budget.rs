@@ -82,6 +82,10 @@ pub enum Accuracy {
     BifurcationDiagram,
     /// The return map: 1e-10.
     ReturnMap,
+    /// The phase diagram: its classes rest on the period test at 1e4·tol
+    /// and on the Lyapunov exponent's sign, so the map error must sit well
+    /// below the period tolerance (1e-5 at tol 1e-9): 1e-8.
+    PhaseDiagram,
     /// The command line's default: 1e-10.
     CommandLine,
     /// A map error the user asks for.
@@ -94,6 +98,7 @@ impl Accuracy {
         match self {
             Accuracy::TrajectoryView => 1e-4,
             Accuracy::BifurcationDiagram => 1e-3,
+            Accuracy::PhaseDiagram => 1e-8,
             Accuracy::ReturnMap | Accuracy::CommandLine => 1e-10,
             Accuracy::Custom(e) => e,
         }

@@ -13,6 +13,8 @@
 //!   `sweep_threads` scoped threads `oneblock-sweep-<i>`.
 //! - `oneblock-numerics`: the numerics lane, one work-precision job at a
 //!   time (its own lane so that measuring never pauses a view's job).
+//! - `oneblock-phase`: the phase lane's coordinator, running each phase
+//!   diagram on `sweep_threads` scoped threads `oneblock-phase-<i>`.
 //!
 //! Ordering (module `gate`): every update of a lane is sent under that lane's
 //! lock after re-checking its generation, and the generation only changes
@@ -22,6 +24,7 @@
 mod gate;
 mod numerics;
 mod orbit;
+mod phase;
 mod protocol;
 mod sweep;
 
@@ -32,7 +35,8 @@ use std::time::Duration;
 
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
-pub use protocol::{Command, Generation, Lane, Outcome, Update};
+pub use phase::{COARSE_STRIDE, PlannedCell, Seed, phase_plan, run_cell};
+pub use protocol::{Command, Generation, GridCell, Lane, Outcome, Update};
 pub use sweep::{PlannedColumn, sweep_plan};
 
 use gate::Gate;
@@ -46,7 +50,8 @@ pub struct WorkerConfig {
     /// Capacity of the update channel: a consumer that falls this far behind
     /// blocks the producers (default 256).
     pub update_capacity: usize,
-    /// Threads a sweep runs on (default 2, the machine's two cores).
+    /// Threads a sweep, or a phase diagram, runs on (default 2, the
+    /// machine's two cores).
     pub sweep_threads: usize,
     /// Columns in a sweep's first, coarse pass (default 64; a sweep with
     /// fewer columns is all coarse).
@@ -121,6 +126,7 @@ pub(crate) struct Shared {
     pub orbit: Gate,
     pub sweep: Gate,
     pub numerics: Gate,
+    pub phase: Gate,
     pub stats: Arc<WorkerStats>,
     pub config: WorkerConfig,
 }
@@ -131,6 +137,7 @@ impl Shared {
         self.orbit.stop();
         self.sweep.stop();
         self.numerics.stop();
+        self.phase.stop();
         self.stats.mark_stopped();
     }
 }
@@ -160,7 +167,8 @@ impl Worker {
         let shared = Arc::new(Shared {
             orbit: Gate::new(Lane::Orbit, up_tx.clone(), wake.clone()),
             sweep: Gate::new(Lane::Sweep, up_tx.clone(), wake.clone()),
-            numerics: Gate::new(Lane::Numerics, up_tx, wake),
+            numerics: Gate::new(Lane::Numerics, up_tx.clone(), wake.clone()),
+            phase: Gate::new(Lane::Phase, up_tx, wake),
             stats: Arc::new(WorkerStats::default()),
             config,
         });
@@ -252,10 +260,17 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     let numerics_thread = std::thread::Builder::new()
         .name("oneblock-numerics".into())
         .spawn(move || lane_loop(numerics_rx, |job| numerics::run(&sh, job)));
+    let (phase_tx, phase_rx) = crossbeam_channel::unbounded::<Command>();
+    let sh = shared.clone();
+    let phase_thread = std::thread::Builder::new()
+        .name("oneblock-phase".into())
+        .spawn(move || lane_loop(phase_rx, |job| phase::run(&sh, job)));
 
     // Each lane's latest job, for SetParams to run again.
     let mut last_orbit: Option<Command> = None;
     let mut last_sweep: Option<Command> = None;
+    // Cleared by a cancellation: a grid the user stopped is not restarted.
+    let mut last_phase: Option<Command> = None;
     while let Ok(cmd) = commands.recv() {
         match cmd {
             Command::Shutdown => break,
@@ -280,14 +295,34 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                     last_sweep = Some(job.clone());
                     sweep_tx.send(job).ok();
                 }
+                // The grid's axes are κ and θν: only γ, ν, Ω or the solver
+                // change it.
+                if let Some(job) = last_phase
+                    .as_ref()
+                    .filter(|c| phase_depends_on_changed(c, params, settings))
+                    .and_then(|c| with_params(c, generation, params, settings))
+                    && shared.phase.start(generation)
+                {
+                    last_phase = Some(job.clone());
+                    phase_tx.send(job).ok();
+                }
             }
             Command::Cancel { generation, lane } => {
                 let gates: Vec<&Gate> = match lane {
                     Some(Lane::Orbit) => vec![&shared.orbit],
                     Some(Lane::Sweep) => vec![&shared.sweep],
                     Some(Lane::Numerics) => vec![&shared.numerics],
-                    None => vec![&shared.orbit, &shared.sweep, &shared.numerics],
+                    None => vec![
+                        &shared.orbit,
+                        &shared.sweep,
+                        &shared.numerics,
+                        &shared.phase,
+                    ],
+                    Some(Lane::Phase) => vec![&shared.phase],
                 };
+                if lane.is_none_or(|l| l == Lane::Phase) {
+                    last_phase = None;
+                }
                 gate::cancel(&gates, generation, lane);
             }
             Command::Sweep { generation, .. } => {
@@ -299,6 +334,12 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
             Command::WorkPrecision { generation, .. } => {
                 if shared.numerics.start(generation) {
                     numerics_tx.send(cmd).ok();
+                }
+            }
+            Command::Phase { generation, .. } => {
+                if shared.phase.start(generation) {
+                    last_phase = Some(cmd.clone());
+                    phase_tx.send(cmd).ok();
                 }
             }
             Command::Trajectory { generation, .. }
@@ -317,7 +358,8 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     drop(orbit_tx);
     drop(sweep_tx);
     drop(numerics_tx);
-    for t in [orbit_thread, sweep_thread, numerics_thread]
+    drop(phase_tx);
+    for t in [orbit_thread, sweep_thread, numerics_thread, phase_thread]
         .into_iter()
         .flatten()
     {
@@ -352,6 +394,12 @@ fn with_params(
             params: p,
             settings: s,
             ..
+        }
+        | Command::Phase {
+            generation: g,
+            params: p,
+            settings: s,
+            ..
         } => {
             (*g, *p) = (generation, params);
             if let Some(settings) = settings {
@@ -360,6 +408,27 @@ fn with_params(
             Some(job)
         }
         _ => None,
+    }
+}
+
+/// Whether a phase job would compute something else with `params` and
+/// `settings`: its κ and θν are the grid's axes, so only γ, ν, Ω and the
+/// solver count (`settings: None` keeps the job's own solver).
+fn phase_depends_on_changed(
+    job: &Command,
+    params: Params,
+    settings: Option<SolverSettings>,
+) -> bool {
+    match job {
+        Command::Phase {
+            params: p,
+            settings: s,
+            ..
+        } => {
+            (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
+                || settings.is_some_and(|n| n != *s)
+        }
+        _ => false,
     }
 }
 

@@ -1,10 +1,11 @@
 //! The typed messages between the front end and the simulation worker.
 //!
-//! The worker runs three lanes: the *orbit lane* (trajectory or map iterates,
+//! The worker runs four lanes: the *orbit lane* (trajectory or map iterates,
 //! one job at a time), the *sweep lane* (bifurcation columns, on its own
-//! threads), so that a trajectory stays responsive while a sweep fills in,
-//! and the *numerics lane* (a work-precision measurement on the current
-//! parameters), so that measuring never pauses the views.
+//! threads), the *numerics lane* (a work-precision measurement on the
+//! current parameters) and the *phase lane* (phase-diagram cells, on its own
+//! threads), so that a trajectory stays responsive while a diagram fills in
+//! and measuring never pauses the views.
 //! Every job carries the generation it was started under; a receiver drops
 //! any update whose generation is older than the latest it asked for.
 
@@ -15,6 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
+use crate::sim::phase::PhaseCell;
 use crate::sim::{Period, Sample, SlipEvent};
 
 /// A monotonically increasing job stamp. The front end issues them (one per
@@ -31,6 +33,8 @@ pub enum Lane {
     Sweep,
     /// Work-precision measurements.
     Numerics,
+    /// Phase diagrams in (θν, κ).
+    Phase,
 }
 
 /// What the front end asks of the worker.
@@ -70,14 +74,35 @@ pub enum Command {
         transient: usize,
         keep: usize,
     },
+    /// A phase diagram (the paper's Fig. 4) over θν ∈ [from, to] (columns)
+    /// and κ ∈ [from, to] (rows), ends included, at the γ, ν and Ω of
+    /// `params` (its κ and θν are ignored: they are the axes). A coarse
+    /// lattice first, then refinement, each cell continued from its nearest
+    /// computed neighbour (`phase_plan`). `transient` and `keep` are the
+    /// cell's budget (`PhaseOptions`).
+    Phase {
+        generation: Generation,
+        params: Params,
+        settings: SolverSettings,
+        theta_nu_from: f64,
+        theta_nu_to: f64,
+        theta_nu_steps: usize,
+        kappa_from: f64,
+        kappa_to: f64,
+        kappa_steps: usize,
+        transient: usize,
+        keep: usize,
+    },
     /// A new parameter set (κ, γ, ν, θν, Ω, and optionally the solver):
-    /// each lane's latest trajectory/iterate or sweep job runs again with it
-    /// under `generation`, superseding whatever runs (a sweep keeps its θν
-    /// range and uses the other parameters). `settings: None` keeps each
-    /// job's own solver settings, which is what a front end that gives each
-    /// kind of job its own accuracy wants; `Some` sets them all. A lane that
-    /// has had no job stays idle; invalid values are reported by the re-run
-    /// job, naming them. The numerics lane is not re-run.
+    /// each lane's latest trajectory/iterate, sweep or phase job runs again
+    /// with it under `generation`, superseding whatever runs (a sweep keeps
+    /// its θν range; a phase grid keeps both ranges and runs again only if
+    /// γ, ν, Ω or the solver changed, and not after its lane was cancelled).
+    /// `settings: None` keeps each job's own solver settings, which is what a
+    /// front end that gives each kind of job its own accuracy wants; `Some`
+    /// sets them all. A lane that has had no job stays idle; invalid values
+    /// are reported by the re-run job, naming them. The numerics lane is not
+    /// re-run.
     SetParams {
         generation: Generation,
         params: Params,
@@ -98,7 +123,7 @@ pub enum Command {
         time_per_setting: Duration,
         subjects: Vec<Subject>,
     },
-    /// Stop the lane's job (both lanes if `None`); answered by `Cancelled`.
+    /// Stop the lane's job (every lane if `None`); answered by `Cancelled`.
     Cancel {
         generation: Generation,
         lane: Option<Lane>,
@@ -189,6 +214,15 @@ pub enum Update {
         subject: Subject,
         reason: String,
     },
+    /// Finished phase-diagram cells, in batches. A batch holds only coarse
+    /// or only refinement cells, and every coarse cell is sent before any
+    /// refinement cell; each cell is sent exactly once.
+    PhaseCells {
+        generation: Generation,
+        cells: Vec<GridCell>,
+        /// Whether these cells belong to the first, coarse lattice.
+        coarse: bool,
+    },
     /// How far the lane's job is, and how fast it goes.
     Progress {
         generation: Generation,
@@ -229,10 +263,23 @@ impl Update {
             | Update::WorkPrecisionSample { generation, .. }
             | Update::WorkPrecisionRow { generation, .. }
             | Update::WorkPrecisionSkipped { generation, .. }
+            | Update::PhaseCells { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }
             | Update::Finished { generation, .. }
             | Update::Cancelled { generation, .. } => *generation,
         }
     }
+}
+
+/// One computed cell of a phase diagram, with its place in the grid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GridCell {
+    /// κ row, 0 … kappa_steps−1 (row 0 is `kappa_from`).
+    pub row: usize,
+    /// θν column, 0 … theta_nu_steps−1 (column 0 is `theta_nu_from`).
+    pub column: usize,
+    /// The core's result, as `phase_cell` returned it (its `theta_nu` and
+    /// `kappa` are the cell's).
+    pub cell: PhaseCell,
 }

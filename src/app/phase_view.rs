@@ -1,0 +1,513 @@
+//! The phase diagram (the paper's Fig. 4): the attractor's class over a
+//! (θν, κ) grid, drawn as a texture with one texel per cell, rebuilt only
+//! when cells arrive. Cells not computed yet take the colour of the nearest
+//! computed one, paler, so the coarse lattice already fills the picture as
+//! blocks that the refinement splits. The current (θν, κ) is a cross-hair;
+//! hovering a cell tells its class, λ and cost; a click sets the θν and κ
+//! sliders there; a dragged box is recomputed at full resolution, with back
+//! and reset. The grid and budget are set here; the job itself is decided
+//! in [`super::phase_job`].
+
+use std::collections::VecDeque;
+
+use eframe::egui;
+use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
+use egui_plot::{
+    HLine, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, PlotTransform, Polygon, VLine,
+};
+
+use super::data::{JobState, LaneProgress};
+use super::phase_data::PhaseData;
+use super::phase_job::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseJob, PhaseRange};
+use super::settings::Settings;
+use super::style;
+use crate::cli::phase::colour;
+use crate::sim::phase::{CellClass, PhaseCell};
+
+/// The legend, in the order of `oneblock phase --png`'s.
+const LEGEND_CLASSES: [(CellClass, &str); 9] = [
+    (CellClass::Periodic(1), "FP"),
+    (CellClass::Periodic(2), "P2"),
+    (CellClass::Periodic(3), "P3"),
+    (CellClass::Periodic(4), "P4"),
+    (CellClass::Periodic(5), "P5"),
+    (CellClass::Periodic(6), "P6+"),
+    (CellClass::Chaos, "chaos"),
+    (CellClass::Undecided, "undecided"),
+    (CellClass::Failed, "failed"),
+];
+
+/// Opacity of a texel that shows a neighbour's class, not its own yet.
+const PROVISIONAL_ALPHA: u8 = 110;
+
+/// What the user did in the view.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum PhaseAction {
+    /// Move the θν and κ sliders to this cell (a click).
+    SetPoint { theta_nu: f64, kappa: f64 },
+    /// Start the grid now, and keep it going while the view is hidden.
+    Compute,
+    /// Stop the grid.
+    Stop,
+}
+
+/// The view's runtime state: texture, drag, last transform.
+#[derive(Default)]
+pub struct PhaseView {
+    texture: Option<TextureHandle>,
+    built: Option<u64>,
+    drag_from: Option<PlotPoint>,
+    /// The last frame's plot transform (tests find cells on screen with it).
+    pub transform: Option<PlotTransform>,
+}
+
+/// A class's colour in the view: the same as `oneblock phase --png`.
+pub fn class_colour(c: CellClass, alpha: u8) -> Color32 {
+    let [r, g, b] = colour(c);
+    Color32::from_rgba_unmultiplied(r, g, b, alpha)
+}
+
+/// Rasterises the grid: `columns × rows` texels, κ upwards (texel row 0 is
+/// the last κ row). A missing cell takes the class of the nearest received
+/// one (breadth-first over the 8 neighbours, so coarse cells become blocks
+/// centred on themselves), paler; with none received, transparent.
+pub fn rasterise(data: &PhaseData) -> ColorImage {
+    let (w, h) = (data.columns, data.rows);
+    if w == 0 || h == 0 {
+        return ColorImage::new([1, 1], vec![Color32::TRANSPARENT]);
+    }
+    let mut source: Vec<Option<usize>> = (0..w * h)
+        .map(|i| data.cells[i].as_ref().map(|_| i))
+        .collect();
+    let mut queue: VecDeque<usize> = (0..w * h).filter(|&i| source[i].is_some()).collect();
+    while let Some(i) = queue.pop_front() {
+        let (r, c) = ((i / w) as isize, (i % w) as isize);
+        for dr in -1..=1 {
+            for dc in -1..=1 {
+                let (rr, cc) = (r + dr, c + dc);
+                if rr < 0 || cc < 0 || rr >= h as isize || cc >= w as isize {
+                    continue;
+                }
+                let j = rr as usize * w + cc as usize;
+                if source[j].is_none() {
+                    source[j] = source[i];
+                    queue.push_back(j);
+                }
+            }
+        }
+    }
+    let mut pixels = Vec::with_capacity(w * h);
+    for y in 0..h {
+        let r = h - 1 - y;
+        for c in 0..w {
+            let i = r * w + c;
+            let px = match source[i].and_then(|k| data.cells[k].as_ref().map(|cell| (k, cell))) {
+                Some((k, cell)) if k == i => class_colour(cell.class, 255),
+                Some((_, cell)) => class_colour(cell.class, PROVISIONAL_ALPHA),
+                None => Color32::TRANSPARENT,
+            };
+            pixels.push(px);
+        }
+    }
+    ColorImage::new([w, h], pixels)
+}
+
+/// The cell (row, column) of `data` under the plot point `p`, if inside.
+pub fn cell_at(data: &PhaseData, p: PlotPoint) -> Option<(usize, usize)> {
+    let index = |v: f64, (a, b): (f64, f64), n: usize| -> Option<usize> {
+        if n == 0 {
+            return None;
+        }
+        let step = if n > 1 { (b - a) / (n - 1) as f64 } else { 1.0 };
+        let k = ((v - a) / step).round();
+        (k >= 0.0 && k <= (n - 1) as f64 && (v - (a + k * step)).abs() <= step.abs() / 2.0 + 1e-12)
+            .then_some(k as usize)
+    };
+    Some((
+        index(p.y, data.kappa, data.rows)?,
+        index(p.x, data.theta_nu, data.columns)?,
+    ))
+}
+
+/// The hover text of a cell.
+pub fn describe_cell(theta_nu: f64, kappa: f64, cell: Option<&PhaseCell>) -> String {
+    let head = format!("θν = {theta_nu:.4}, κ = {kappa:.4}");
+    let Some(c) = cell else {
+        return format!("{head}\nnot computed yet");
+    };
+    let class = match c.class {
+        CellClass::Periodic(1) => "FP (fixed point)".to_string(),
+        CellClass::Periodic(p) => format!("P{p} (period {p})"),
+        CellClass::Chaos => "chaos (λ − 3σ > 0)".into(),
+        CellClass::Undecided => "undecided (no period, λ not clearly > 0)".into(),
+        CellClass::Failed => "failed".into(),
+    };
+    let regime = c
+        .regime
+        .map_or(String::new(), |r| format!(", {} onsets", r.name()));
+    let lyapunov = match (c.lyapunov, c.lyapunov_stderr) {
+        (Some(l), Some(se)) => format!("\nλ = {l:.4} ± {se:.4}"),
+        (Some(l), None) => format!("\nλ = {l:.4} (the cycle's exponent)"),
+        _ => String::new(),
+    };
+    let error = c.error.as_ref().map_or(String::new(), |e| format!("\n{e}"));
+    format!(
+        "{head}\n{class}{regime}{lyapunov}\n{} iterates{error}",
+        c.iterates
+    )
+}
+
+impl PhaseView {
+    fn rebuild(&mut self, ui: &Ui, data: &PhaseData) {
+        if self.built == Some(data.revision) && self.texture.is_some() {
+            return;
+        }
+        let img = rasterise(data);
+        match &mut self.texture {
+            Some(t) => t.set(img, TextureOptions::NEAREST),
+            None => {
+                self.texture = Some(ui.ctx().load_texture("phase", img, TextureOptions::NEAREST));
+            }
+        }
+        self.built = Some(data.revision);
+    }
+
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        s: &mut Settings,
+        data: &PhaseData,
+        progress: LaneProgress,
+        job: &PhaseJob,
+    ) -> Option<PhaseAction> {
+        let mut action = None;
+        self.rebuild(ui, data);
+        let running = data.state == JobState::Running;
+        ui.horizontal_wrapped(|ui| {
+            if running {
+                if ui
+                    .button("Stop")
+                    .on_hover_text("Stop computing this grid")
+                    .clicked()
+                {
+                    action = Some(PhaseAction::Stop);
+                }
+            } else if ui
+                .button("Compute")
+                .on_hover_text(
+                    "Compute the grid now; it goes on even if the view is then hidden \
+                     (otherwise a grid runs only while its view is shown)",
+                )
+                .clicked()
+            {
+                action = Some(PhaseAction::Compute);
+            }
+            let zoomed = !s.phase.zoom.is_empty();
+            if ui
+                .add_enabled(zoomed, egui::Button::new("Back"))
+                .on_hover_text("Previous zoom level (Backspace)")
+                .clicked()
+            {
+                s.phase.zoom.pop();
+            }
+            if ui
+                .add_enabled(zoomed, egui::Button::new("Reset zoom"))
+                .on_hover_text("The whole range")
+                .clicked()
+            {
+                s.phase.zoom.clear();
+            }
+            let state = match &data.state {
+                JobState::Running => {
+                    format!("computing, {:.0} iterates/s", progress.iterates_per_second)
+                }
+                JobState::Done => "done".into(),
+                JobState::Cancelled if job.stopped => "stopped".into(),
+                JobState::Cancelled => "paused (view hidden)".into(),
+                JobState::Failed(_) => "failed".into(),
+                JobState::Idle => "computed when shown".into(),
+            };
+            ui.label(format!(
+                "{}/{} cells · {state}",
+                data.filled,
+                data.rows * data.columns
+            ))
+            .on_hover_text(
+                "Drag a box to zoom: that range is recomputed at full resolution. \
+                 A click sets the θν and κ sliders to the cell. Backspace: back.",
+            );
+        });
+        ui.horizontal_wrapped(|ui| {
+            let p = &mut s.phase;
+            ui.label("grid");
+            ui.add(egui::DragValue::new(&mut p.theta_nu_steps).range(MIN_STEPS..=MAX_STEPS))
+                .on_hover_text("θν columns (recomputes the grid)");
+            ui.label("×");
+            ui.add(egui::DragValue::new(&mut p.kappa_steps).range(MIN_STEPS..=MAX_STEPS))
+                .on_hover_text("κ rows (recomputes the grid)");
+            ui.label("transient");
+            ui.add(egui::DragValue::new(&mut p.transient).range(0..=MAX_BUDGET))
+                .on_hover_text(
+                    "The most iterates a cell spends looking for a period (oneblock phase --transient)",
+                );
+            ui.label("keep");
+            ui.add(egui::DragValue::new(&mut p.keep).range(16..=MAX_BUDGET))
+                .on_hover_text(
+                    "The most iterates with f'(θ) for the Lyapunov exponent when no period \
+                     was found (oneblock phase --keep)",
+                );
+            ui.menu_button("range", |ui| range_ui(ui, &mut p.range, &mut p.zoom));
+        });
+        ui.horizontal_wrapped(|ui| {
+            for (c, name) in LEGEND_CLASSES {
+                style::legend_swatch(ui, class_colour(c, 255), name);
+            }
+            ui.label(RichText::new("pale: not refined yet").weak());
+        });
+        if let Some(e) = &data.error {
+            ui.label(RichText::new(e).color(style::ERROR));
+        }
+
+        // The grid drawn is the one computed (or being computed); before any,
+        // the one that will be.
+        let (range, columns, rows) = if data.rows * data.columns > 0 {
+            (
+                PhaseRange {
+                    theta_nu: data.theta_nu,
+                    kappa: data.kappa,
+                },
+                data.columns,
+                data.rows,
+            )
+        } else {
+            (
+                s.phase.current(),
+                s.phase.theta_nu_steps,
+                s.phase.kappa_steps,
+            )
+        };
+        let (t0, t1) = range.theta_nu;
+        let (k0, k1) = range.kappa;
+        let step = |a: f64, b: f64, n: usize| {
+            if n > 1 {
+                (b - a) / (n - 1) as f64
+            } else {
+                (b - a).abs().max(1e-3)
+            }
+        };
+        let (dt, dk) = (step(t0, t1, columns), step(k0, k1, rows));
+        let (tn, kappa) = (s.params.theta_nu, s.params.kappa);
+        let tex = (data.rows * data.columns > 0)
+            .then(|| self.texture.as_ref().map(|t| t.id()))
+            .flatten();
+        let drag_from = self.drag_from;
+        let resp = Plot::new("phase")
+            .show_background(false)
+            .allow_drag(false)
+            .allow_zoom(false)
+            .allow_scroll(false)
+            .allow_boxed_zoom(false)
+            .allow_double_click_reset(false)
+            .show_x(false)
+            .show_y(false)
+            // Grid lines over a map of discrete cells read as cell borders.
+            .show_grid(false)
+            .x_axis_label("θν (pull direction)")
+            .y_axis_label("κ (anisotropy)")
+            .show(ui, |p| {
+                p.set_plot_bounds(PlotBounds::from_min_max(
+                    [t0 - dt / 2.0, k0 - dk / 2.0],
+                    [t1 + dt / 2.0, k1 + dk / 2.0],
+                ));
+                if let Some(id) = tex {
+                    p.add(PlotImage::new(
+                        "phase diagram",
+                        id,
+                        PlotPoint::new((t0 + t1) / 2.0, (k0 + k1) / 2.0),
+                        [(t1 - t0 + dt) as f32, (k1 - k0 + dk) as f32],
+                    ));
+                }
+                // The grid's outline: chaos is black, and so is a dark panel.
+                let (x0, x1) = (t0 - dt / 2.0, t1 + dt / 2.0);
+                let (y0, y1) = (k0 - dk / 2.0, k1 + dk / 2.0);
+                p.add(
+                    Polygon::new(
+                        "grid outline",
+                        PlotPoints::from(vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]),
+                    )
+                    .fill_color(Color32::TRANSPARENT)
+                    .stroke(egui::Stroke::new(1.0, style::CRITICAL)),
+                );
+                p.add(
+                    VLine::new("current θν", tn)
+                        .color(style::CURRENT)
+                        .width(1.5),
+                );
+                p.add(
+                    HLine::new("current κ", kappa)
+                        .color(style::CURRENT)
+                        .width(1.5),
+                );
+                let pointer = p.pointer_coordinate();
+                if let (Some(a), Some(b)) = (drag_from, pointer) {
+                    p.add(
+                        Polygon::new(
+                            "zoom box",
+                            PlotPoints::from(vec![[a.x, a.y], [b.x, a.y], [b.x, b.y], [a.x, b.y]]),
+                        )
+                        .fill_color(style::CURRENT.gamma_multiply(0.15))
+                        .stroke(egui::Stroke::new(1.5, style::CURRENT)),
+                    );
+                }
+                pointer
+            });
+        self.transform = Some(resp.transform);
+        let r = &resp.response;
+        let pointer = resp.inner;
+        let hovered = pointer.and_then(|p| cell_at(data, p));
+        if let Some((row, col)) = hovered
+            && self.drag_from.is_none()
+        {
+            let (tns, ks) = (data.theta_nus(), data.kappas());
+            let text = describe_cell(tns[col], ks[row], data.cell(row, col));
+            r.clone().on_hover_text_at_pointer(text);
+        }
+        if r.drag_started() {
+            self.drag_from = pointer;
+        }
+        if r.drag_stopped() {
+            if let (Some(a), Some(b)) = (self.drag_from.take(), pointer) {
+                let z = PhaseRange {
+                    theta_nu: (a.x.min(b.x).max(t0), a.x.max(b.x).min(t1)),
+                    kappa: (a.y.min(b.y).max(k0), a.y.max(b.y).min(k1)),
+                };
+                // A box narrower than a cell is a slip of the hand, not a zoom.
+                let wide = z.theta_nu.1 - z.theta_nu.0 >= dt.abs().min(t1 - t0) * 0.5
+                    && z.kappa.1 - z.kappa.0 >= dk.abs().min(k1 - k0) * 0.5;
+                if wide && z.is_valid() {
+                    s.phase.zoom.push(z);
+                }
+            }
+        } else if r.clicked()
+            && let Some((row, col)) = hovered
+        {
+            let (tns, ks) = (data.theta_nus(), data.kappas());
+            action = Some(PhaseAction::SetPoint {
+                theta_nu: tns[col],
+                kappa: ks[row],
+            });
+        }
+        if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) {
+            s.phase.zoom.pop();
+        }
+        action
+    }
+}
+
+/// The whole range's ends (a change drops the zoom levels, which were
+/// inside the old one).
+fn range_ui(ui: &mut Ui, range: &mut PhaseRange, zoom: &mut Vec<PhaseRange>) {
+    let before = *range;
+    let PhaseRange { theta_nu, kappa } = range;
+    egui::Grid::new("phase range").show(ui, |ui| {
+        ui.label("θν from");
+        ui.add(
+            egui::DragValue::new(&mut theta_nu.0)
+                .range(-std::f64::consts::PI..=theta_nu.1 - 1e-3)
+                .speed(0.01),
+        );
+        ui.label("to");
+        ui.add(
+            egui::DragValue::new(&mut theta_nu.1)
+                .range(theta_nu.0 + 1e-3..=std::f64::consts::PI)
+                .speed(0.01),
+        );
+        ui.end_row();
+        ui.label("κ from");
+        ui.add(
+            egui::DragValue::new(&mut kappa.0)
+                .range(1e-3..=kappa.1 * 0.999)
+                .speed(0.1),
+        );
+        ui.label("to");
+        ui.add(
+            egui::DragValue::new(&mut kappa.1)
+                .range(kappa.0 * 1.001..=1e6)
+                .speed(0.1),
+        );
+        ui.end_row();
+    });
+    if ui.button("The paper's (Fig. 4)").clicked() {
+        *range = PhaseRange::PAPER;
+    }
+    if *range != before {
+        if !range.is_valid() {
+            *range = before;
+        }
+        zoom.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::worker::GridCell;
+
+    fn cell(class: CellClass) -> PhaseCell {
+        PhaseCell {
+            theta_nu: 0.0,
+            kappa: 1.0,
+            class,
+            lyapunov: Some(-0.5),
+            lyapunov_stderr: None,
+            regime: None,
+            iterates: 30,
+            rhs_evals: 0,
+            theta_last: 0.0,
+            error: None,
+        }
+    }
+
+    #[test]
+    fn missing_cells_take_the_nearest_received_class_paler() {
+        let mut d = PhaseData::new((0.0, 1.0), (1.0, 2.0), 5, 3);
+        let img = rasterise(&d);
+        assert!(img.pixels.iter().all(|p| *p == Color32::TRANSPARENT));
+        // Two received cells: (row 0, col 0) FP and (row 2, col 4) chaos.
+        d.insert(
+            vec![
+                GridCell {
+                    row: 0,
+                    column: 0,
+                    cell: cell(CellClass::Periodic(1)),
+                },
+                GridCell {
+                    row: 2,
+                    column: 4,
+                    cell: cell(CellClass::Chaos),
+                },
+            ],
+            true,
+        );
+        let img = rasterise(&d);
+        assert_eq!(img.size, [5, 3]);
+        let at = |row: usize, col: usize| img.pixels[(2 - row) * 5 + col];
+        assert_eq!(at(0, 0), class_colour(CellClass::Periodic(1), 255));
+        assert_eq!(at(2, 4), class_colour(CellClass::Chaos, 255));
+        assert_eq!(
+            at(0, 1),
+            class_colour(CellClass::Periodic(1), PROVISIONAL_ALPHA)
+        );
+        assert_eq!(at(2, 3), class_colour(CellClass::Chaos, PROVISIONAL_ALPHA));
+        assert!(img.pixels.iter().all(|p| *p != Color32::TRANSPARENT));
+    }
+
+    #[test]
+    fn a_point_maps_to_the_cell_it_falls_in() {
+        let d = PhaseData::new((0.0, 1.0), (1.0, 3.0), 5, 3);
+        assert_eq!(cell_at(&d, PlotPoint::new(0.0, 1.0)), Some((0, 0)));
+        assert_eq!(cell_at(&d, PlotPoint::new(0.26, 2.9)), Some((2, 1)));
+        assert_eq!(cell_at(&d, PlotPoint::new(1.2, 2.0)), None);
+        assert_eq!(cell_at(&d, PlotPoint::new(0.5, 0.4)), None);
+    }
+}
