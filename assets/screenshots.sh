@@ -1,0 +1,32 @@
+#!/usr/bin/env bash
+# Remakes the window screenshots in assets/ (docs/gui.md shows them).
+# Needs a display: run under `xvfb-run -a -s "-screen 0 1600x1000x24"` on a
+# machine without one. Existing files are replaced only here, on purpose:
+# the app itself never overwrites a file.
+set -euo pipefail
+bin=$(realpath "${ONEBLOCK:-target/release/oneblock}")
+out=$(cd "$(dirname "$0")" && pwd)
+shots=(
+  "fig3b - gui-fig3b.png"
+  "fig3a - gui-fig3a.png"
+  "creep - gui-creep.png"
+  "intermittent plane gui-plane-intermittent.png"
+  "chaos block gui-block-chaos.png"
+  "fig4 bifurcation gui-bifurcation-fig4.png"
+  "chaos return-map gui-return-map-chaos.png"
+  "intermittent events gui-events-intermittent.png"
+  "chaos numerics gui-numerics-chaos.png"
+  "fig4 phase gui-phase-fig4.png"
+)
+# A neutral working directory: the export folder field shows it.
+work=/tmp/oneblock
+mkdir -p "$work"
+cd "$work"
+for s in "${shots[@]}"; do
+  read -r preset view file <<<"$s"
+  args=(gui --preset "$preset" --size 1280x800 --screenshot "$file")
+  [ "$view" != "-" ] && args+=(--view "$view")
+  rm -f "$file"
+  "$bin" "${args[@]}"
+  mv -f "$file" "$out/$file"
+done
