@@ -443,6 +443,41 @@ fn lane_loop(jobs: Receiver<Command>, mut run: impl FnMut(Command)) {
     }
 }
 
+/// Runs `worker` on `threads` scoped threads named `{name}-{i}` and joins
+/// them all: the sweep and phase lanes' pools. A thread that cannot start
+/// is an error; the first error of any thread is returned (a panic inside
+/// `worker` itself is resumed: the jobs catch their own per item).
+pub(crate) fn run_scoped<F>(name: &str, threads: usize, worker: &F) -> Result<(), orbit::JobError>
+where
+    F: Fn() -> Result<(), orbit::JobError> + Sync,
+{
+    let results: Vec<Result<(), orbit::JobError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads.max(1))
+            .map(|i| {
+                std::thread::Builder::new()
+                    .name(format!("{name}-{i}"))
+                    .spawn_scoped(scope, worker)
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| match h {
+                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                Err(e) => Err(orbit::JobError::Failed(format!(
+                    "cannot start a {name} thread: {e}"
+                ))),
+            })
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+/// A mutex's guard even if a panicking holder poisoned it: the pools'
+/// shared state stays consistent (each item is caught and reported).
+pub(crate) fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
 /// The text of a caught panic's payload.
 pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
     if let Some(s) = p.downcast_ref::<&str>() {

@@ -27,7 +27,7 @@ use std::time::{Duration, Instant};
 
 use super::orbit::{FLUSH_INTERVAL, JobError, Pacer, run_guarded};
 use super::protocol::{Command, Generation, GridCell, Lane, Update};
-use super::{Shared, panic_message};
+use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell};
@@ -290,11 +290,6 @@ struct Outbox {
     coarse: Vec<GridCell>,
     fine: Vec<GridCell>,
     last_flush: Instant,
-}
-
-/// Locks, ignoring poison: panics are caught outside these locks.
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// What a phase job is asked to compute.
@@ -571,28 +566,7 @@ fn phase(shared: &Shared, s: &PhaseSpec) -> Result<(), JobError> {
         }
     };
 
-    let worker = &worker;
-    let results: Vec<Result<(), JobError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads.min(total).max(1))
-            .map(|i| {
-                std::thread::Builder::new()
-                    .name(format!("oneblock-phase-{i}"))
-                    .spawn_scoped(scope, worker)
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| match h {
-                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-                Err(e) => Err(JobError::Failed(format!(
-                    "cannot start a phase thread: {e}"
-                ))),
-            })
-            .collect()
-    });
-    for r in results {
-        r?;
-    }
+    run_scoped("oneblock-phase", threads.min(total), &worker)?;
     // Whatever a thread left behind (normally nothing: the last cell flushes).
     flush()?;
     match failure.into_inner().unwrap_or_else(|e| e.into_inner()) {

@@ -23,7 +23,7 @@ use std::time::Duration;
 
 use super::orbit::{JobError, Pacer, run_guarded};
 use super::protocol::{Command, Generation, Lane, Update};
-use super::{Shared, panic_message};
+use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{Column, SimError, Simulator, SweepOptions, column_start, theta_nu_grid};
@@ -179,11 +179,6 @@ impl Schedule {
             self.coarse_left -= 1;
         }
     }
-}
-
-/// Locks, ignoring poison: panics are caught outside these locks.
-fn lock<T>(m: &Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
 }
 
 /// Runs one sweep-lane command.
@@ -358,28 +353,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
         }
     };
 
-    let worker = &worker;
-    let results: Vec<Result<(), JobError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads)
-            .map(|i| {
-                std::thread::Builder::new()
-                    .name(format!("oneblock-sweep-{i}"))
-                    .spawn_scoped(scope, worker)
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| match h {
-                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-                Err(e) => Err(JobError::Failed(format!(
-                    "cannot start a sweep thread: {e}"
-                ))),
-            })
-            .collect()
-    });
-    for r in results {
-        r?;
-    }
+    run_scoped("oneblock-sweep", threads, &worker)?;
     match failure.into_inner().unwrap_or_else(|e| e.into_inner()) {
         // The panic was reported with its column; the sweep went on.
         Some(msg) => Err(JobError::Failed(msg)),
