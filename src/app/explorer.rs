@@ -874,7 +874,9 @@ impl Explorer {
         self.apply_style(&ctx);
         let mut actions = self.shortcuts(&ctx);
 
-        egui::Panel::top("top").show(ui, |ui| {
+        // No fills on the panels either (see the central panel below).
+        let bare = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        egui::Panel::top("top").frame(bare).show(ui, |ui| {
             ui.horizontal_wrapped(|ui| {
                 ui.label(
                     RichText::new("oneblock")
@@ -913,9 +915,12 @@ impl Explorer {
             });
         });
 
-        egui::Panel::bottom("status").show(ui, |ui| self.status_ui(ui));
+        egui::Panel::bottom("status")
+            .frame(bare)
+            .show(ui, |ui| self.status_ui(ui));
 
         egui::Panel::left("controls")
+            .frame(bare)
             .resizable(true)
             .default_size(330.0)
             .min_size(260.0)
