@@ -1018,3 +1018,30 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
     assert_eq!(lines[1], "0,1,1,-0.2,,40,FP,");
     assert!(lines[900].starts_with("1.5707963267948966,42,0,0.3,,40,chaos,0.05"));
 }
+
+#[test]
+fn smooth_lines_follow_the_switch_and_auto_drops_them_on_software_gl() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    let feathering = |h: &Harness<'static, Explorer>| h.ctx.tessellation_options(|o| o.feathering);
+    // A GPU (or unknown renderer): Auto means anti-aliased.
+    assert_eq!(h.state().settings.smooth_lines, None);
+    assert!(h.query_by_label("Auto (on)").is_some());
+    assert!(feathering(&h));
+    h.get_by_label("off").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.smooth_lines, Some(false));
+    assert!(!feathering(&h));
+    // Software OpenGL: Auto turns them off, and says why.
+    h.state_mut().set_software_gl(true);
+    h.run_steps(1);
+    h.get_by_label("Auto (off: software GL)").click();
+    h.run_steps(2);
+    assert_eq!(h.state().settings.smooth_lines, None);
+    assert!(h.query_by_label("Auto (off: software GL)").is_some());
+    assert!(!feathering(&h));
+    h.get_by_label("on").click();
+    h.run_steps(2);
+    assert!(feathering(&h));
+}

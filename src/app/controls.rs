@@ -191,6 +191,8 @@ pub struct Actions {
 #[derive(Clone, Debug, Default)]
 pub struct Controls {
     pub inputs: Vec<(Field, FieldInput)>,
+    /// OpenGL is a software rasteriser: "smooth lines" Auto means off.
+    pub software_gl: bool,
 }
 
 impl Controls {
@@ -201,7 +203,10 @@ impl Controls {
             .collect();
         inputs.push((Field::Tol, FieldInput::default()));
         inputs.push((Field::Step, FieldInput::default()));
-        Controls { inputs }
+        Controls {
+            inputs,
+            software_gl: false,
+        }
     }
 
     /// The error shown under `field`, if any.
@@ -284,6 +289,7 @@ impl Controls {
             .on_hover_text("Larger text for projectors (Ctrl + / Ctrl − also work).");
         });
         ui.checkbox(&mut s.dark, "dark background");
+        smooth_lines_ui(ui, s, self.software_gl);
 
         ui.separator();
         ui.horizontal_wrapped(|ui| {
@@ -473,4 +479,24 @@ fn regime_ui(ui: &mut Ui, s: &Settings, data: &Data) {
         data.iterate.lyapunov,
     );
     ui.label(RichText::new(line).italics());
+}
+
+/// The anti-aliasing switch: Auto (off under software OpenGL), on, off.
+fn smooth_lines_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
+    ui.horizontal(|ui| {
+        ui.label("smooth lines");
+        let auto = if s.smooth_lines_on(software_gl) {
+            "Auto (on)"
+        } else {
+            "Auto (off: software GL)"
+        };
+        for (v, label) in [(None, auto), (Some(true), "on"), (Some(false), "off")] {
+            ui.selectable_value(&mut s.smooth_lines, v, label)
+                .on_hover_text(
+                    "Anti-aliased lines and shapes. Without a GPU (Mesa's llvmpipe) they \
+                     cost about a third of each frame, so Auto turns them off there; text \
+                     stays smooth either way.",
+                );
+        }
+    });
 }

@@ -553,7 +553,17 @@ impl Explorer {
 
     /// The non-drawing half of a frame: drain the worker, restart jobs,
     /// collect saved files, drive a scripted run.
+    /// Tells the window it runs on a software OpenGL rasteriser (see
+    /// `Settings::smooth_lines`).
+    pub fn set_software_gl(&mut self, software: bool) {
+        self.controls.software_gl = software;
+    }
+
     pub fn logic_step(&mut self, ctx: &Context) {
+        let smooth = self.settings.smooth_lines_on(self.controls.software_gl);
+        if ctx.tessellation_options(|o| o.feathering) != smooth {
+            ctx.tessellation_options_mut(|o| o.feathering = smooth);
+        }
         self.now = ctx.input(|i| i.time);
         let mut n = 0;
         while let Some(u) = self.backend.try_recv() {

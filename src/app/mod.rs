@@ -61,6 +61,19 @@ pub struct RunOptions {
     pub timeout: Option<Duration>,
 }
 
+/// Whether OpenGL is a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast):
+/// fill-bound, so the window saves on anti-aliasing there (`smooth_lines`).
+fn is_software_gl(gl: &eframe::glow::Context) -> bool {
+    use eframe::glow::HasContext as _;
+    // SAFETY: called on the thread that owns the current context (eframe's
+    // app-creation callback), with a valid enum; glGetString has no other
+    // precondition.
+    let renderer = unsafe { gl.get_parameter_string(eframe::glow::RENDERER) }.to_lowercase();
+    ["llvmpipe", "softpipe", "swrast", "software"]
+        .iter()
+        .any(|k| renderer.contains(k))
+}
+
 /// Opens the window; returns when it is closed. A scripted run (with
 /// `screenshot`) returns an error if the picture could not be made.
 pub fn run(opts: RunOptions) -> Result<(), String> {
@@ -153,6 +166,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 settings.font_scale = f;
             }
             let mut app = Explorer::new(Box::new(worker), settings);
+            app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
             app.persist = !scripted;
             app.stats.enabled = opts.frame_stats;
             if let Some(path) = shot {

@@ -112,6 +112,11 @@ pub struct Settings {
     /// Text size multiplier (projectors).
     pub font_scale: f32,
     pub dark: bool,
+    /// Anti-aliased lines and shapes (egui's feathering); `None` = auto: on,
+    /// except under a software OpenGL rasteriser, which is fill-bound and
+    /// draws the feathered edges' extra triangles at a third of its frame
+    /// time (docs/gui.md, "Frame time").
+    pub smooth_lines: Option<bool>,
     pub slip_measure: SlipMeasure,
     /// Plot (κx, y) instead of (x, y): C becomes the unit circle.
     pub scale_x_by_kappa: bool,
@@ -123,6 +128,14 @@ pub struct Settings {
     pub preset: Option<String>,
     /// The phase diagram's grid, range and zoom.
     pub phase: PhaseSettings,
+}
+
+impl Settings {
+    /// Whether lines are anti-aliased, given whether the renderer is a
+    /// software rasteriser.
+    pub fn smooth_lines_on(&self, software_gl: bool) -> bool {
+        self.smooth_lines.unwrap_or(!software_gl)
+    }
 }
 
 impl Default for Settings {
@@ -149,6 +162,7 @@ impl Default for Settings {
             sweep_keep: 200,
             font_scale: 1.0,
             dark: false,
+            smooth_lines: None,
             slip_measure: SlipMeasure::Distance,
             scale_x_by_kappa: true,
             save_dir: default_save_dir(),
@@ -279,4 +293,20 @@ pub fn preset(key: &str) -> Option<&'static Preset> {
 /// The preset names, for error messages.
 pub fn preset_keys() -> String {
     PRESETS.iter().map(|p| p.key).collect::<Vec<_>>().join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn smooth_lines_auto_is_off_only_on_software_gl() {
+        let mut s = Settings::default();
+        assert!(s.smooth_lines_on(false));
+        assert!(!s.smooth_lines_on(true));
+        s.smooth_lines = Some(true);
+        assert!(s.smooth_lines_on(true));
+        s.smooth_lines = Some(false);
+        assert!(!s.smooth_lines_on(false));
+    }
 }
