@@ -485,7 +485,8 @@ fn regime_ui(ui: &mut Ui, s: &Settings, data: &Data) {
 fn smooth_lines_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
     ui.horizontal(|ui| {
         ui.label("smooth lines");
-        let auto = if s.smooth_lines_on(software_gl) {
+        // What Auto would do here, whatever is selected now.
+        let auto = if Settings::default().smooth_lines_on(software_gl) {
             "Auto (on)"
         } else {
             "Auto (off: software GL)"

@@ -165,6 +165,11 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             if let Some(f) = opts.font_scale {
                 settings.font_scale = f;
             }
+            if scripted && !opts.frame_stats {
+                // A screenshot is a picture for a document: anti-aliased
+                // even under software OpenGL, where it only costs time.
+                settings.smooth_lines = Some(true);
+            }
             let mut app = Explorer::new(Box::new(worker), settings);
             app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
             app.persist = !scripted;
