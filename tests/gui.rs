@@ -416,6 +416,13 @@ fn export_writes_the_events_csv_into_the_chosen_folder() {
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
     let path = found.expect("an events CSV was written");
+    // Under Auto the events come at the trajectory's accuracy: the window
+    // says so, since the CSV cannot.
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("computed at Auto's trajectory accuracy (dop853 tol 1e-5")
+            .is_some()
+    );
     let text = std::fs::read_to_string(&path).expect("read csv");
     let mut lines = text.lines();
     // The command line's header, spelled out as `oneblock orbit` writes it.

@@ -11,7 +11,7 @@ use std::time::{Duration, Instant};
 
 use egui::{Color32, Context, Key, KeyboardShortcut, Modifiers, Rect, RichText, Ui};
 
-use super::accuracy::JobKind;
+use super::accuracy::{AccuracyMode, JobKind, job_estimates};
 use super::backend::Backend;
 use super::bifurcation::{BifAction, BifurcationView};
 use super::block::BlockView;
@@ -813,6 +813,27 @@ impl Explorer {
         a
     }
 
+    /// Says with what accuracy an exported trajectory or its events were
+    /// computed: under Auto that is the (x, y) view's, far coarser than the
+    /// command line's default, and a CSV does not show it.
+    fn accuracy_note(&mut self, what: &str) {
+        if self.settings.accuracy != AccuracyMode::Auto {
+            return;
+        }
+        let Some(e) = job_estimates(&self.settings)
+            .into_iter()
+            .find(|e| e.job == JobKind::Trajectory)
+        else {
+            return;
+        };
+        let msg = format!(
+            "The {what} was computed at Auto's trajectory accuracy ({}); pick Custom, or \
+             use `oneblock orbit` / `trajectory` (tol 1e-10), for a tighter one.",
+            e.text()
+        );
+        self.shots.toast(msg, false, self.now);
+    }
+
     fn handle_actions(&mut self, a: Actions, ctx: &Context) {
         if a.screenshot {
             let path = fresh_path(&self.settings.save_dir, "window", "png");
@@ -827,6 +848,7 @@ impl Explorer {
                 let csv = export::events_csv(&self.data.trajectory.events);
                 self.shots
                     .write(fresh_path(&dir, "events", "csv"), csv.into_bytes());
+                self.accuracy_note("events");
             }
         }
         if a.export_trajectory {
@@ -837,6 +859,7 @@ impl Explorer {
                 let csv = export::trajectory_csv(&self.data.trajectory.samples);
                 self.shots
                     .write(fresh_path(&dir, "trajectory", "csv"), csv.into_bytes());
+                self.accuracy_note("trajectory");
             }
         }
         if a.export_bifurcation {
@@ -897,7 +920,7 @@ impl Explorer {
                 ui.selectable_value(&mut self.settings.layout, Layout::Tiles, "Tiles")
                     .on_hover_text("Several views at once (T toggles)");
                 ui.selectable_value(&mut self.settings.layout, Layout::Tabs, "Tabs")
-                    .on_hover_text("One view, full size (keys 1–6)");
+                    .on_hover_text("One view, full size (keys 1–7)");
                 ui.separator();
                 match self.settings.layout {
                     Layout::Tabs => {
