@@ -7,9 +7,7 @@
 
 use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
-use egui_plot::{
-    HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, Polygon, VLine,
-};
+use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
 
 use super::data::{JobState, SweepData};
 use super::settings::Settings;
@@ -236,14 +234,7 @@ impl BifurcationView {
                 );
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
-                    p.add(
-                        Polygon::new(
-                            "zoom box",
-                            PlotPoints::from(vec![[a.x, a.y], [b.x, a.y], [b.x, b.y], [a.x, b.y]]),
-                        )
-                        .fill_color(style::CURRENT.gamma_multiply(0.15))
-                        .stroke(egui::Stroke::new(1.5, style::CURRENT)),
-                    );
+                    p.add(style::zoom_box(a, b));
                 }
                 pointer
             });
@@ -254,8 +245,8 @@ impl BifurcationView {
         }
         if r.drag_stopped() {
             if let (Some(a), Some(b)) = (self.drag_from.take(), pointer) {
-                let tn_range = (a.x.min(b.x).max(from), a.x.max(b.x).min(to));
-                let th_range = (a.y.min(b.y), a.y.max(b.y));
+                let ((x0, x1), th_range) = style::box_ranges(a, b);
+                let tn_range = (x0.max(from), x1.min(to));
                 if tn_range.1 - tn_range.0 > 1e-6 * (to - from).abs().max(1e-9)
                     && th_range.1 - th_range.0 > 1e-9
                 {

@@ -350,14 +350,7 @@ impl PhaseView {
                 );
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
-                    p.add(
-                        Polygon::new(
-                            "zoom box",
-                            PlotPoints::from(vec![[a.x, a.y], [b.x, a.y], [b.x, b.y], [a.x, b.y]]),
-                        )
-                        .fill_color(style::CURRENT.gamma_multiply(0.15))
-                        .stroke(egui::Stroke::new(1.5, style::CURRENT)),
-                    );
+                    p.add(style::zoom_box(a, b));
                 }
                 pointer
             });
@@ -377,9 +370,10 @@ impl PhaseView {
         }
         if r.drag_stopped() {
             if let (Some(a), Some(b)) = (self.drag_from.take(), pointer) {
+                let ((x0, x1), (y0, y1)) = style::box_ranges(a, b);
                 let z = PhaseRange {
-                    theta_nu: (a.x.min(b.x).max(t0), a.x.max(b.x).min(t1)),
-                    kappa: (a.y.min(b.y).max(k0), a.y.max(b.y).min(k1)),
+                    theta_nu: (x0.max(t0), x1.min(t1)),
+                    kappa: (y0.max(k0), y1.min(k1)),
                 };
                 // A box narrower than a cell is a slip of the hand, not a zoom.
                 let wide = z.theta_nu.1 - z.theta_nu.0 >= dt.abs().min(t1 - t0) * 0.5

@@ -73,3 +73,19 @@ pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
 pub fn line<'a>(name: &str, points: egui_plot::PlotPoints<'a>) -> egui_plot::Line<'a> {
     egui_plot::Line::new(name, points).allow_band(false)
 }
+
+/// The box being dragged out to zoom a plot, from `a` to the pointer `b`:
+/// shared by the views that zoom by box (bifurcation, phase diagram).
+pub fn zoom_box(a: egui_plot::PlotPoint, b: egui_plot::PlotPoint) -> egui_plot::Polygon<'static> {
+    egui_plot::Polygon::new(
+        "zoom box",
+        egui_plot::PlotPoints::from(vec![[a.x, a.y], [b.x, a.y], [b.x, b.y], [a.x, b.y]]),
+    )
+    .fill_color(CURRENT.gamma_multiply(0.15))
+    .stroke(egui::Stroke::new(1.5, CURRENT))
+}
+
+/// The x and y ranges (low, high) of the box with corners `a` and `b`.
+pub fn box_ranges(a: egui_plot::PlotPoint, b: egui_plot::PlotPoint) -> ((f64, f64), (f64, f64)) {
+    ((a.x.min(b.x), a.x.max(b.x)), (a.y.min(b.y), a.y.max(b.y)))
+}
