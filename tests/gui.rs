@@ -35,6 +35,27 @@ fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
         )
 }
 
+/// The CSV an export writes into `dir` (on a thread of its own), stepping
+/// the window while waiting for it; `None` after about 2 s.
+fn wait_for_csv(
+    h: &mut Harness<'static, Explorer>,
+    dir: &std::path::Path,
+) -> Option<std::path::PathBuf> {
+    for _ in 0..100 {
+        h.step();
+        let found = std::fs::read_dir(dir)
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "csv"));
+        if found.is_some() {
+            return found;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    None
+}
+
 /// The parameters of the latest trajectory command, if any.
 fn last_trajectory(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
@@ -402,20 +423,7 @@ fn export_writes_the_events_csv_into_the_chosen_folder() {
     h.run_steps(2);
     h.get_by_label("Events CSV").click();
     // The file is written on a thread of its own.
-    let mut found = None;
-    for _ in 0..100 {
-        h.step();
-        found = std::fs::read_dir(dir.path())
-            .expect("read dir")
-            .flatten()
-            .map(|e| e.path())
-            .find(|p| p.extension().is_some_and(|e| e == "csv"));
-        if found.is_some() {
-            break;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    let path = found.expect("an events CSV was written");
+    let path = wait_for_csv(&mut h, dir.path()).expect("an events CSV was written");
     // Under Auto the events come at the trajectory's accuracy: the window
     // says so, since the CSV cannot.
     h.run_steps(2);
@@ -996,20 +1004,7 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
     h.get_by_label("Export data").click();
     h.run_steps(2);
     h.get_by_label("Phase diagram CSV (oneblock phase)").click();
-    let mut found = None;
-    for _ in 0..100 {
-        h.step();
-        found = std::fs::read_dir(dir.path())
-            .expect("read dir")
-            .flatten()
-            .map(|e| e.path())
-            .find(|p| p.extension().is_some_and(|e| e == "csv"));
-        if found.is_some() {
-            break;
-        }
-        std::thread::sleep(std::time::Duration::from_millis(20));
-    }
-    let path = found.expect("a phase CSV was written");
+    let path = wait_for_csv(&mut h, dir.path()).expect("a phase CSV was written");
     assert!(
         path.file_name()
             .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-phase-"))

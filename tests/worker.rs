@@ -4,6 +4,8 @@
 //! and orderings, never on wall-clock time (timeouts only guard against
 //! hangs).
 
+mod common;
+use common::{recv, until_finished};
 use std::collections::HashSet;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -20,9 +22,6 @@ use oneblock::sim::{
 use oneblock::worker::{
     Command, Generation, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan,
 };
-
-/// Long enough that only a hung worker hits it.
-const HANG: Duration = Duration::from_secs(60);
 
 fn settings() -> SolverSettings {
     default_settings(1e-8)
@@ -56,31 +55,6 @@ fn spawn(
         }),
     );
     (worker, wakes)
-}
-
-fn recv(w: &Worker) -> Update {
-    w.recv_timeout(HANG).expect("the worker went silent")
-}
-
-/// Every update up to and including the `Finished` of `generation` on `lane`.
-fn until_finished(w: &Worker, generation: Generation, lane: Lane) -> (Vec<Update>, Outcome) {
-    let mut out = Vec::new();
-    loop {
-        let u = recv(w);
-        if let Update::Finished {
-            generation: g,
-            lane: l,
-            outcome,
-        } = &u
-            && *g == generation
-            && *l == lane
-        {
-            let o = outcome.clone();
-            out.push(u);
-            return (out, o);
-        }
-        out.push(u);
-    }
 }
 
 fn iterate(generation: Generation, params: Params, transient: usize, keep: usize) -> Command {

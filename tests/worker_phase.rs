@@ -6,6 +6,8 @@
 //! cycles and generations, never on wall-clock time (timeouts only guard
 //! against hangs).
 
+mod common;
+use common::{recv, until_ack, until_finished};
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::FRAC_PI_2;
 use std::sync::Arc;
@@ -20,8 +22,6 @@ use oneblock::worker::{
     phase_plan,
 };
 
-/// Long enough that only a hung worker hits it.
-const HANG: Duration = Duration::from_secs(120);
 const THREADS: usize = 2;
 
 fn spawn(update_capacity: usize) -> Worker {
@@ -33,45 +33,6 @@ fn spawn(update_capacity: usize) -> Worker {
         },
         Arc::new(|| {}),
     )
-}
-
-fn recv(w: &Worker) -> Update {
-    w.recv_timeout(HANG).expect("the worker went silent")
-}
-
-/// Every update up to and including the `Finished` of `generation` on `lane`.
-fn until_finished(w: &Worker, generation: Generation, lane: Lane) -> (Vec<Update>, Outcome) {
-    let mut out = Vec::new();
-    loop {
-        let u = recv(w);
-        if let Update::Finished {
-            generation: g,
-            lane: l,
-            outcome,
-        } = &u
-            && *g == generation
-            && *l == lane
-        {
-            let o = outcome.clone();
-            out.push(u);
-            return (out, o);
-        }
-        out.push(u);
-    }
-}
-
-/// Every update up to and including the `Cancelled` acknowledgement of
-/// `generation`.
-fn until_ack(w: &Worker, generation: Generation) -> Vec<Update> {
-    let mut out = Vec::new();
-    loop {
-        let u = recv(w);
-        let ack = matches!(u, Update::Cancelled { generation: g, .. } if g == generation);
-        out.push(u);
-        if ack {
-            return out;
-        }
-    }
 }
 
 fn params(gamma: f64) -> Params {
