@@ -7,6 +7,9 @@
 //! as the machine-independent cost); `oneblock work-precision` re-measures
 //! it, and `docs/numerics.md` explains the choices.
 
+use std::sync::LazyLock;
+
+use super::committed::default_rows;
 use crate::integrate::{Method, SolverSettings};
 
 /// One measured setting of the chart.
@@ -25,51 +28,33 @@ pub struct Measured {
     pub us: f64,
 }
 
-const fn m(
-    method: Method,
-    tol: f64,
-    max_error: f64,
-    median_error: f64,
-    evals: f64,
-    us: f64,
-) -> Measured {
-    Measured {
-        method,
-        tol,
-        max_error,
-        median_error,
-        evals,
-        us,
-    }
+/// The adaptive rows (DP5(4) and DOP853, by tolerance) of the committed
+/// chart, `assets/work-precision.csv`, read from the same parsed rows the
+/// app's Numerics view shows: one source for the numbers.
+pub fn measured() -> &'static [Measured] {
+    static TABLE: LazyLock<Vec<Measured>> = LazyLock::new(|| {
+        default_rows()
+            .iter()
+            .filter(|r| r.kind == "tol" && r.failed == 0)
+            .filter_map(|r| {
+                let method = match r.method {
+                    "dp54" => Method::Dp54,
+                    "dop853" => Method::Dop853,
+                    _ => return None,
+                };
+                Some(Measured {
+                    method,
+                    tol: r.setting,
+                    max_error: r.max_error,
+                    median_error: r.median_error,
+                    evals: r.evals_per_iterate,
+                    us: r.median_us,
+                })
+            })
+            .collect()
+    });
+    &TABLE
 }
-
-/// The adaptive rows of the default chart (`assets/work-precision.csv`).
-#[rustfmt::skip]
-pub const MEASURED: &[Measured] = &[
-    // method, tol, max error, median error, RHS evaluations, µs per iterate
-    m(Method::Dp54, 1e-3, 5.081e-1, 1.236e-3, 96.6, 11.2),
-    m(Method::Dp54, 1e-4, 2.166e-3, 2.203e-4, 132.3, 15.4),
-    m(Method::Dp54, 1e-5, 1.082e-4, 1.585e-5, 298.2, 23.7),
-    m(Method::Dp54, 1e-6, 1.574e-6, 2.083e-7, 443.4, 33.9),
-    m(Method::Dp54, 1e-7, 4.927e-7, 2.022e-8, 620.9, 47.3),
-    m(Method::Dp54, 1e-8, 1.313e-7, 3.053e-9, 865.2, 67.6),
-    m(Method::Dp54, 1e-9, 2.469e-8, 5.093e-10, 1214.6, 100.1),
-    m(Method::Dp54, 1e-10, 3.845e-9, 6.669e-11, 1747.2, 149.9),
-    m(Method::Dp54, 1e-11, 5.281e-10, 1.203e-11, 2611.1, 223.6),
-    m(Method::Dp54, 1e-12, 6.654e-11, 1.322e-12, 3995.0, 331.0),
-    m(Method::Dp54, 1e-13, 7.872e-12, 1.304e-13, 6198.9, 490.5),
-    m(Method::Dop853, 1e-3, 9.479e-3, 5.338e-4, 167.6, 19.4),
-    m(Method::Dop853, 1e-4, 1.260e-3, 4.444e-5, 307.7, 22.9),
-    m(Method::Dop853, 1e-5, 3.254e-5, 2.106e-6, 331.5, 23.9),
-    m(Method::Dop853, 1e-6, 2.469e-6, 1.252e-7, 433.1, 27.3),
-    m(Method::Dop853, 1e-7, 3.875e-7, 1.239e-8, 543.1, 31.9),
-    m(Method::Dop853, 1e-8, 1.608e-8, 4.311e-10, 691.4, 38.4),
-    m(Method::Dop853, 1e-9, 3.895e-9, 1.124e-10, 879.6, 48.3),
-    m(Method::Dop853, 1e-10, 2.426e-10, 1.235e-11, 1095.9, 58.3),
-    m(Method::Dop853, 1e-11, 2.813e-11, 1.065e-12, 1442.3, 73.2),
-    m(Method::Dop853, 1e-12, 3.735e-12, 8.243e-14, 1954.4, 94.4),
-    m(Method::Dop853, 1e-13, 6.661e-13, 5.329e-15, 2574.9, 132.5),
-];
 
 /// What a consumer can show.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -121,17 +106,26 @@ pub struct Budget {
 /// max map error over the sample is at most `accuracy`; the most accurate
 /// one when none is (or when `accuracy` is not a positive number).
 pub fn budget_for(accuracy: f64) -> Budget {
-    let fits = MEASURED
+    let fits = measured()
         .iter()
         .filter(|e| e.max_error <= accuracy)
         .min_by(|a, b| a.evals.total_cmp(&b.evals));
-    let best = MEASURED
+    let best = measured()
         .iter()
         .min_by(|a, b| a.max_error.total_cmp(&b.max_error));
     let e = fits
         .or(best)
         .copied()
-        .unwrap_or(m(Method::Dop853, 1e-10, 1e-9, 1e-11, 1100.0, 60.0));
+        // Only if the committed chart had no adaptive row: the command
+        // line's default.
+        .unwrap_or(Measured {
+            method: Method::Dop853,
+            tol: 1e-10,
+            max_error: f64::NAN,
+            median_error: f64::NAN,
+            evals: f64::NAN,
+            us: f64::NAN,
+        });
     Budget {
         settings: SolverSettings::adaptive(e.method, e.tol),
         est_error: e.max_error,
@@ -167,7 +161,7 @@ mod tests {
     #[test]
     fn impossible_accuracy_gets_the_most_accurate_setting() {
         let b = budget_for(1e-20);
-        let best = MEASURED
+        let best = measured()
             .iter()
             .map(|e| e.max_error)
             .fold(f64::MAX, f64::min);

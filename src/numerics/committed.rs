@@ -4,8 +4,8 @@
 //!
 //! The app shows this chart until the user re-measures on the current
 //! parameters, and reads its estimates (map error, RHS evaluations and µs per
-//! iterate) for the setting each job runs with. [`super::budget::MEASURED`]
-//! is its adaptive rows as a `const` table (a test keeps the two equal).
+//! iterate) for the setting each job runs with; [`super::budget::measured`]
+//! takes its adaptive rows from here.
 
 use std::sync::LazyLock;
 
@@ -165,7 +165,7 @@ pub fn estimate(rows: &[Row], settings: &SolverSettings) -> Option<Estimate> {
 mod tests {
     use super::*;
     use crate::integrate::Method;
-    use crate::numerics::budget::MEASURED;
+    use crate::numerics::budget::measured;
 
     #[test]
     fn the_committed_chart_parses_with_every_method() {
@@ -183,16 +183,35 @@ mod tests {
 
     #[test]
     fn the_budget_table_is_the_charts_adaptive_rows() {
-        for m in MEASURED {
-            let e = estimate(default_rows(), &SolverSettings::adaptive(m.method, m.tol))
-                .expect("measured");
-            assert!(e.measured);
-            let close = |a: f64, b: f64| ((a - b) / b).abs() < 1e-3;
-            assert!(
-                close(e.max_error, m.max_error) && close(e.evals, m.evals),
-                "{m:?} vs {e:?}"
-            );
+        // Both adaptive methods at every decade 1e-3 … 1e-13, and each
+        // entry reads back through `estimate` as a measured row.
+        let m = measured();
+        assert_eq!(m.len(), 22);
+        for method in [Method::Dp54, Method::Dop853] {
+            let mut tols: Vec<f64> = m
+                .iter()
+                .filter(|e| e.method == method)
+                .map(|e| e.tol)
+                .collect();
+            tols.sort_by(f64::total_cmp);
+            let want: Vec<f64> = (3..=13).rev().map(|k| 10f64.powi(-k)).collect();
+            assert_eq!(tols.len(), want.len(), "{method}");
+            for (t, w) in tols.iter().zip(&want) {
+                assert!((t / w - 1.0).abs() < 1e-12, "{method}: {t} vs {w}");
+            }
         }
+        for e in m {
+            let est = estimate(default_rows(), &SolverSettings::adaptive(e.method, e.tol))
+                .expect("measured");
+            assert!(est.measured);
+            assert_eq!((est.max_error, est.evals), (e.max_error, e.evals), "{e:?}");
+        }
+        // The figures docs/numerics.md quotes for DOP853 at 1e-10.
+        let d = m
+            .iter()
+            .find(|e| e.method == Method::Dop853 && e.tol == 1e-10)
+            .expect("row");
+        assert_eq!((d.max_error, d.evals), (2.426e-10, 1095.9));
     }
 
     #[test]
