@@ -182,6 +182,26 @@ pub struct PhaseCell {
     pub error: Option<SimError>,
 }
 
+impl PhaseCell {
+    /// A cell at (θν, κ) that has computed nothing yet, or never will: class
+    /// `Failed` until a result replaces it; the next cell starts at
+    /// `theta_last`.
+    pub fn failed(theta_nu: f64, kappa: f64, theta_last: f64) -> Self {
+        PhaseCell {
+            theta_nu,
+            kappa,
+            class: CellClass::Failed,
+            lyapunov: None,
+            lyapunov_stderr: None,
+            regime: None,
+            iterates: 0,
+            rhs_evals: 0,
+            theta_last,
+            error: None,
+        }
+    }
+}
+
 /// Mean of a sample and the standard error by batch means: the sample is cut
 /// into [`BATCHES`] consecutive batches (the tail that does not fill a batch is
 /// dropped from the error only) and the error is the spread of the batch means
@@ -296,18 +316,7 @@ pub fn phase_cell(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
 ) -> PhaseCell {
-    let mut cell = PhaseCell {
-        theta_nu: params.theta_nu,
-        kappa: params.kappa,
-        class: CellClass::Failed,
-        lyapunov: None,
-        lyapunov_stderr: None,
-        regime: None,
-        iterates: 0,
-        rhs_evals: 0,
-        theta_last: theta_start,
-        error: None,
-    };
+    let mut cell = PhaseCell::failed(params.theta_nu, params.kappa, theta_start);
     if let Err(e) = run_cell(&mut cell, params, settings, theta_start, opts, cancel) {
         cell.class = CellClass::Failed;
         cell.lyapunov = None;

@@ -488,18 +488,7 @@ fn phase(shared: &Shared, s: &PhaseSpec) -> Result<(), JobError> {
                 Err(payload) => {
                     let msg = format!("{where_} panicked: {}", panic_message(&*payload));
                     *lock(&failure) = Some(msg.clone());
-                    let failed = PhaseCell {
-                        theta_nu: tn,
-                        kappa,
-                        class: CellClass::Failed,
-                        lyapunov: None,
-                        lyapunov_stderr: None,
-                        regime: None,
-                        iterates: 0,
-                        rhs_evals: 0,
-                        theta_last: tn,
-                        error: None,
-                    };
+                    let failed = PhaseCell::failed(tn, kappa, tn);
                     (failed, Some((msg, None)))
                 }
             };
