@@ -95,5 +95,51 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
+criterion_group!(benches, bench, rhs);
 criterion_main!(benches);
+
+/// The two right-hand sides alone, over 256 states spread like a slip's
+/// (positions inside C, relative speeds 1e-5 … 0.3 in every direction): what
+/// one evaluation costs without the stepping around it.
+fn rhs(c: &mut Criterion) {
+    use oneblock::sim::field::SlipField;
+    let p = params(18.95, 1e-3, 1.25);
+    let field = SlipField::new(&p);
+    let states: Vec<[f64; 4]> = (0..256)
+        .map(|i| {
+            let f = i as f64;
+            let (th, r) = (f * 2.399, 0.3 + 0.7 * ((f * 0.618) % 1.0));
+            let (sp, ph) = (10f64.powf(-5.0 + 4.5 * ((f * 0.382) % 1.0)), f * 1.7);
+            [
+                r * th.cos() / p.kappa,
+                r * th.sin(),
+                sp * ph.cos(),
+                sp * ph.sin(),
+            ]
+        })
+        .collect();
+    let mut group = c.benchmark_group("rhs");
+    group.throughput(Throughput::Elements(states.len() as u64));
+    group
+        .measurement_time(Duration::from_secs(2))
+        .warm_up_time(Duration::from_millis(300));
+    group.bench_function("accel", |b| {
+        b.iter(|| {
+            let mut s = 0.0;
+            for y in &states {
+                s += field.accel(black_box(y))[2];
+            }
+            s
+        })
+    });
+    group.bench_function("decel", |b| {
+        b.iter(|| {
+            let mut s = 0.0;
+            for y in &states {
+                s += field.decel(black_box(y))[2];
+            }
+            s
+        })
+    });
+    group.finish();
+}

@@ -374,6 +374,9 @@ impl Simulator {
                     max: max_t,
                 });
             }
+            // Once v_r falls, the steps shrink towards the stop: the
+            // controller extrapolates that trend (see `Solver::grow_factor`).
+            solver.predictive = dvr < 0.0;
             let cap = if stop_near && dvr < 0.0 {
                 self.settings.stop_fraction * vr / -dvr
             } else {
