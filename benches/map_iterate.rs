@@ -141,5 +141,25 @@ fn rhs(c: &mut Criterion) {
             s
         })
     });
+    // The same, each evaluation's argument depending on the previous
+    // result, as the stages of a Runge–Kutta step do: the latency.
+    for (name, accel) in [("accel_chained", true), ("decel_chained", false)] {
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mut s = 0.0;
+                for y in &states {
+                    let mut y = *y;
+                    y[2] += 1e-300 * s;
+                    let k = if accel {
+                        field.accel(&y)
+                    } else {
+                        field.decel(&y)
+                    };
+                    s = k[2] + k[3];
+                }
+                s
+            })
+        });
+    }
     group.finish();
 }

@@ -1,8 +1,8 @@
 //! Explicit Runge–Kutta integration written once: tableaus as data
 //! (`tableau`), one stepping loop with step-size control (`solver`), dense
 //! output (`dense`) and root finding on it (`roots`). The right-hand side is
-//! a plain closure over a fixed-size state, so the inner loop is monomorphised
-//! and allocation-free.
+//! an [`Rhs`] (any closure is one) over a fixed-size state, so the inner loop
+//! is monomorphised and allocation-free.
 
 mod dense;
 mod roots;
@@ -17,6 +17,22 @@ pub use solver::{IntegrateError, Solver, Stats};
 
 /// The state integrated during a slip: (x, y, v_r,x, v_r,y).
 pub type State = [f64; 4];
+
+/// A right-hand side f(y). Closures are right-hand sides; a type of its own
+/// with an `#[inline(always)]` `eval` is guaranteed to be inlined into the
+/// stepping loop, and so compiled with that loop's target features (a
+/// closure is a function of its own, which LLVM declined to inline for the
+/// large acceleration-phase field).
+pub trait Rhs {
+    fn eval(&mut self, y: &State) -> State;
+}
+
+impl<F: FnMut(&State) -> State> Rhs for F {
+    #[inline(always)]
+    fn eval(&mut self, y: &State) -> State {
+        self(y)
+    }
+}
 
 #[inline(always)]
 pub(crate) fn axpy(y: &mut State, a: f64, x: &State) {

@@ -7,7 +7,7 @@
 //! right-hand side and go on (diffsol's `step()` shape).
 
 use super::tableau::{self, Tableau};
-use super::{Dense, Method, SolverSettings, State, axpy};
+use super::{Dense, Method, Rhs, SolverSettings, State, axpy};
 
 /// Counters of one integration.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -98,7 +98,7 @@ impl Solver {
     /// Takes one accepted step from (t, y), where `k0` = f(y), no longer
     /// than `h_max`. Returns (t_new, y_new, f(y_new)).
     #[inline(always)]
-    pub fn step<F: FnMut(&State) -> State>(
+    pub fn step<F: Rhs>(
         &mut self,
         f: &mut F,
         t: f64,
@@ -115,7 +115,7 @@ impl Solver {
     }
 
     #[inline(always)]
-    fn step_with<F: FnMut(&State) -> State, const S: usize>(
+    fn step_with<F: Rhs, const S: usize>(
         &mut self,
         tab: &Tableau<S>,
         f: &mut F,
@@ -146,7 +146,11 @@ impl Solver {
                 return Err(IntegrateError::NonFinite { t: t + h });
             }
             if finite && err <= 1.0 {
-                let k_new = if tab.fsal { self.k[S - 1] } else { f(&y_new) };
+                let k_new = if tab.fsal {
+                    self.k[S - 1]
+                } else {
+                    f.eval(&y_new)
+                };
                 self.stats.accepted += 1;
                 self.t_old = t;
                 self.h_last = h;
@@ -236,7 +240,7 @@ impl Solver {
 
     /// The dense output of the last accepted step. For DOP853 this costs
     /// three extra evaluations of `f` (the first call after each step only).
-    pub fn dense<F: FnMut(&State) -> State>(&mut self, f: &mut F) -> Dense {
+    pub fn dense<F: Rhs>(&mut self, f: &mut F) -> Dense {
         let (t0, h, y0, y1) = (self.t_old, self.h_last, self.y_old, self.y_new);
         match self.settings.method {
             Method::Dp54 => {
@@ -261,7 +265,7 @@ impl Solver {
                                 axpy(&mut yi, h * a, &self.k[j]);
                             }
                         }
-                        self.k[13 + s] = f(&yi);
+                        self.k[13 + s] = f.eval(&yi);
                     }
                     self.dense_ready = true;
                 }
@@ -325,7 +329,7 @@ macro_rules! stage_arg {
 /// (the stage arithmetic was a third of the cost as a generic double loop);
 /// the values still come from the one tableau.
 #[inline(always)]
-fn stages<F: FnMut(&State) -> State, const S: usize>(
+fn stages<F: Rhs, const S: usize>(
     tab: &Tableau<S>,
     f: &mut F,
     y: &State,
@@ -336,28 +340,28 @@ fn stages<F: FnMut(&State) -> State, const S: usize>(
     k[0] = *k0;
     if S == 12 {
         let a = &tableau::DOP853.a;
-        k[1] = f(&stage_arg!(y, h, a[1], &*k; 0));
-        k[2] = f(&stage_arg!(y, h, a[2], &*k; 0, 1));
-        k[3] = f(&stage_arg!(y, h, a[3], &*k; 0, 2));
-        k[4] = f(&stage_arg!(y, h, a[4], &*k; 0, 2, 3));
-        k[5] = f(&stage_arg!(y, h, a[5], &*k; 0, 3, 4));
-        k[6] = f(&stage_arg!(y, h, a[6], &*k; 0, 3, 4, 5));
-        k[7] = f(&stage_arg!(y, h, a[7], &*k; 0, 3, 4, 5, 6));
-        k[8] = f(&stage_arg!(y, h, a[8], &*k; 0, 3, 4, 5, 6, 7));
-        k[9] = f(&stage_arg!(y, h, a[9], &*k; 0, 3, 4, 5, 6, 7, 8));
-        k[10] = f(&stage_arg!(y, h, a[10], &*k; 0, 3, 4, 5, 6, 7, 8, 9));
-        k[11] = f(&stage_arg!(y, h, a[11], &*k; 0, 3, 4, 5, 6, 7, 8, 9, 10));
+        k[1] = f.eval(&stage_arg!(y, h, a[1], &*k; 0));
+        k[2] = f.eval(&stage_arg!(y, h, a[2], &*k; 0, 1));
+        k[3] = f.eval(&stage_arg!(y, h, a[3], &*k; 0, 2));
+        k[4] = f.eval(&stage_arg!(y, h, a[4], &*k; 0, 2, 3));
+        k[5] = f.eval(&stage_arg!(y, h, a[5], &*k; 0, 3, 4));
+        k[6] = f.eval(&stage_arg!(y, h, a[6], &*k; 0, 3, 4, 5));
+        k[7] = f.eval(&stage_arg!(y, h, a[7], &*k; 0, 3, 4, 5, 6));
+        k[8] = f.eval(&stage_arg!(y, h, a[8], &*k; 0, 3, 4, 5, 6, 7));
+        k[9] = f.eval(&stage_arg!(y, h, a[9], &*k; 0, 3, 4, 5, 6, 7, 8));
+        k[10] = f.eval(&stage_arg!(y, h, a[10], &*k; 0, 3, 4, 5, 6, 7, 8, 9));
+        k[11] = f.eval(&stage_arg!(y, h, a[11], &*k; 0, 3, 4, 5, 6, 7, 8, 9, 10));
         return stage_arg!(y, h, tableau::DOP853.b, &*k; 0, 5, 6, 7, 8, 9, 10, 11);
     }
     if S == 7 {
         let a = &tableau::DP54.a;
-        k[1] = f(&stage_arg!(y, h, a[1], &*k; 0));
-        k[2] = f(&stage_arg!(y, h, a[2], &*k; 0, 1));
-        k[3] = f(&stage_arg!(y, h, a[3], &*k; 0, 1, 2));
-        k[4] = f(&stage_arg!(y, h, a[4], &*k; 0, 1, 2, 3));
-        k[5] = f(&stage_arg!(y, h, a[5], &*k; 0, 1, 2, 3, 4));
+        k[1] = f.eval(&stage_arg!(y, h, a[1], &*k; 0));
+        k[2] = f.eval(&stage_arg!(y, h, a[2], &*k; 0, 1));
+        k[3] = f.eval(&stage_arg!(y, h, a[3], &*k; 0, 1, 2));
+        k[4] = f.eval(&stage_arg!(y, h, a[4], &*k; 0, 1, 2, 3));
+        k[5] = f.eval(&stage_arg!(y, h, a[5], &*k; 0, 1, 2, 3, 4));
         let y_new = stage_arg!(y, h, a[6], &*k; 0, 2, 3, 4, 5);
-        k[6] = f(&y_new);
+        k[6] = f.eval(&y_new);
         return y_new;
     }
     let mut y_fsal = *y;
@@ -369,7 +373,7 @@ fn stages<F: FnMut(&State) -> State, const S: usize>(
                 axpy(&mut yi, h * a, &k[j]);
             }
         }
-        k[i] = f(&yi);
+        k[i] = f.eval(&yi);
         if tab.fsal && i == S - 1 {
             y_fsal = yi;
         }
@@ -426,7 +430,7 @@ mod tests {
         };
         let mut s = Solver::new(settings, [1.0; 4], 1e-3);
         let mut y = [1.0, 0.0, 0.0, 1.0];
-        let mut k = f(&y);
+        let mut k = f.eval(&y);
         let mut t = 0.0;
         while t < t_end {
             let (tn, yn, kn) = s.step(&mut f, t, &y, &k, t_end - t).unwrap();
@@ -471,7 +475,7 @@ mod tests {
             let mut f = |y: &State| oscillator(y);
             let mut s = Solver::new(SolverSettings::adaptive(m, tol), [1.0; 4], 0.5);
             let y = [1.0, 0.0, 0.0, 1.0];
-            let k = f(&y);
+            let k = f.eval(&y);
             let (t1, _, _) = s.step(&mut f, 0.0, &y, &k, 1.0).unwrap();
             let d = s.dense(&mut f);
             for i in 0..=10 {

@@ -9,7 +9,7 @@ use serde::{Deserialize, Serialize};
 use super::SimError;
 use super::field::{SlipField, speed_growth};
 use super::trajectory::{Phase, Sampler};
-use crate::integrate::{Dense, Method, Solver, SolverSettings, State, find_root};
+use crate::integrate::{Dense, Method, Rhs, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
     theta_from_point,
@@ -61,6 +61,27 @@ pub struct Simulator {
     cutoff: f64,
     t_tol: f64,
     avx2: bool,
+}
+
+/// One phase's right-hand side, counting its evaluations. A type rather
+/// than a closure so that `eval` is always inlined into the stepping loop
+/// and compiled with its target features (see [`Rhs`]).
+struct Counted<'a> {
+    field: &'a SlipField,
+    evals: &'a Cell<u64>,
+    accel: bool,
+}
+
+impl Rhs for Counted<'_> {
+    #[inline(always)]
+    fn eval(&mut self, y: &State) -> State {
+        self.evals.set(self.evals.get() + 1);
+        if self.accel {
+            self.field.accel(y)
+        } else {
+            self.field.decel(y)
+        }
+    }
 }
 
 /// The state at the end of a slip.
@@ -245,13 +266,15 @@ impl Simulator {
     ) -> Result<SlipEnd, SimError> {
         let field = self.field;
         let evals = Cell::new(0u64);
-        let mut acc = |s: &State| {
-            evals.set(evals.get() + 1);
-            field.accel(s)
+        let mut acc = Counted {
+            field: &field,
+            evals: &evals,
+            accel: true,
         };
-        let mut dec = |s: &State| {
-            evals.set(evals.get() + 1);
-            field.decel(s)
+        let mut dec = Counted {
+            field: &field,
+            evals: &evals,
+            accel: false,
         };
         let adaptive = self.settings.method.is_adaptive();
         let max_t = self.settings.max_slip_time;
@@ -277,7 +300,7 @@ impl Simulator {
         // onset it is exactly zero, so the test arms only once it has been
         // positive.
         let mut y: State = [p0[0], p0[1], 0.0, 0.0];
-        let mut k = acc(&y);
+        let mut k = acc.eval(&y);
         let mut t = 0.0;
         let mut g = 0.0;
         let mut armed = false;
@@ -308,7 +331,7 @@ impl Simulator {
                 let ta = find_root(
                     |tt| {
                         let s = d.at(tt);
-                        speed_growth(&s, &acc(&s))
+                        speed_growth(&s, &acc.eval(&s))
                     },
                     t,
                     g,
@@ -335,7 +358,7 @@ impl Simulator {
         // Deceleration phase: friction opposes v_r until v_r reaches 0.
         let accel_steps = solver.stats.accepted;
         let (mut t, mut y) = (t_a, y_a);
-        let mut k = dec(&y);
+        let mut k = dec.eval(&y);
         let stop = loop {
             let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
             let dvr = speed_growth(&y, &k) / vr;
