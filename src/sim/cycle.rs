@@ -84,6 +84,9 @@ impl Rhs for Counted<'_> {
     }
 }
 
+/// Where a stiff stop ended: the stop, the time it took, and the steps.
+type StiffStop = ([f64; 2], f64, u32);
+
 /// The state at the end of a slip.
 struct SlipEnd {
     stop: [f64; 2],
@@ -359,9 +362,23 @@ impl Simulator {
         let accel_steps = solver.stats.accepted;
         let (mut t, mut y) = (t_a, y_a);
         let mut k = dec.eval(&y);
+        let mut extra_steps = 0;
         let stop = loop {
             let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
             let dvr = speed_growth(&y, &k) / vr;
+            if adaptive && dvr < 0.0 {
+                let at = t_abs + t;
+                if let Some(end) = self.stiff_stop(&y, vr, -dvr, at, sampler.as_deref_mut(), &evals)
+                {
+                    let (stop, dt, steps) = end.map_err(|e| self.integrate_err(theta, e))?;
+                    extra_steps = steps;
+                    t += dt;
+                    if let Some(s) = sampler.as_deref_mut() {
+                        s.push(t_abs + t, stop, v, Phase::Decel);
+                    }
+                    break stop;
+                }
+            }
             // A fixed step aims at the stop too once the stop lies within
             // one step: RK4's stages past it see the reversed friction, and
             // the block then chatters on at v_r ≈ 0 instead of stopping (a
@@ -457,8 +474,120 @@ impl Simulator {
             duration: t,
             peak_vr,
             rhs_evals: evals.get(),
-            steps: solver.steps(),
+            steps: solver.steps() + extra_steps,
         })
+    }
+
+    /// The end of a creep-sized slip, where the deceleration is stiff.
+    ///
+    /// Near a stop the direction of v_r relaxes towards F̂_el at the rate
+    /// |F_el|/v_r while v_r itself falls at D = |dv_r/dt|. When the stop is
+    /// close to C (|F_el| ≈ 1 ≈ Φ, so D ≪ |F_el|) the ratio k = |F_el|/D is
+    /// large, and an explicit step is held by stability, not accuracy, to a
+    /// fraction of the time left: a creep slip at κ = 3 took ~180 DOP853
+    /// steps at tol 1e-10, ~150 of them in this phase. But there the
+    /// direction sits on its slow manifold ([`SlipField::manifold`]), and
+    /// the motion on it, (x, y, v_r) against time, is smooth and not stiff
+    /// (smooth through v_r = 0 as well, so the stop is the sign change of
+    /// v_r, located on the dense output). It is integrated with the same
+    /// method and tolerance: a handful of steps.
+    ///
+    /// Taken only where the manifold's own error is below 1 % of the
+    /// tolerance: the state's angle α0 differs from the manifold's α1 by a
+    /// transient that decays like (v_r/v0)^k and moves the stop by about
+    /// |sin α0 − sin α1|·v0²/((k + 2) D); the manifold's neglected O(1/k²)
+    /// term moves it by about |sin α1|·v0²/(k² D). Their sum, in κx, must stay
+    /// below 0.01·tol, and v̂_r must point along F̂_el. Returns `None` (go on
+    /// stepping) otherwise, or when on the way v_r stopped falling, k fell
+    /// below 5 or the stop took more than 400 steps (then the manifold was not
+    /// what it seemed); the samples taken by then are dropped.
+    fn stiff_stop(
+        &self,
+        y: &State,
+        vr: f64,
+        decel: f64,
+        t_abs: f64,
+        mut sampler: Option<&mut Sampler>,
+        evals: &Cell<u64>,
+    ) -> Option<Result<StiffStop, crate::integrate::IntegrateError>> {
+        const MIN_STIFFNESS: f64 = 10.0;
+        const ERROR_SHARE: f64 = 0.01;
+        const MAX_STEPS: u32 = 400;
+        let field = self.field;
+        let kappa = self.params.kappa;
+        let (fx, fy) = (-kappa * y[0], -y[1]);
+        let fnorm = fx.hypot(fy);
+        let k = fnorm / decel;
+        if !(k >= MIN_STIFFNESS) {
+            return None;
+        }
+        // v̂_r must point along F̂_el, not against it (sin α alone cannot
+        // tell: a slip along an axis has sin α = 0 both before and after
+        // the block passes the centre, where F_el turns round).
+        let cos0 = (fx * y[2] + fy * y[3]) / (fnorm * vr);
+        if !(cos0 > 0.5) {
+            return None;
+        }
+        let sin0 = (fx * y[3] - fy * y[2]) / (fnorm * vr);
+        let m = field.manifold(y[0], y[1], vr);
+        let moved = vr * vr / decel;
+        let bound = ((sin0 - m.sin_alpha).abs() / (k + 2.0) + m.sin_alpha.abs() / (k * k))
+            * moved
+            * kappa.max(1.0);
+        if !(bound <= ERROR_SHARE * self.settings.rtol) {
+            return None;
+        }
+        // z = (x, y, v_r, unused) on the manifold, against time.
+        let v = field.v;
+        let mut rhs = |z: &State| -> State {
+            evals.set(evals.get() + 1);
+            let s = z[2];
+            let m = field.manifold(z[0], z[1], s);
+            [v[0] + s * m.dir[0], v[1] + s * m.dir[1], m.dvr, 0.0]
+        };
+        let slip_state = |z: &State| -> State {
+            let m = field.manifold(z[0], z[1], z[2]);
+            [z[0], z[1], z[2] * m.dir[0], z[2] * m.dir[1]]
+        };
+        let mark = sampler.as_deref().map(Sampler::mark);
+        let weights = [kappa, 1.0, kappa.sqrt(), 0.0];
+        let h0 = (0.1 * vr / decel).min(self.h_max);
+        let mut solver = Solver::new(self.settings, weights, h0);
+        let mut z: State = [y[0], y[1], vr, 0.0];
+        let mut f = rhs(&z);
+        let mut t = 0.0;
+        loop {
+            // v_r must keep falling, and stay stiff (k ≥ 5) on the way: D
+            // grows as Φ rises with falling v_r, and k with it only if
+            // |F_el| does not fall much, which a long way left would allow.
+            // Nor may the stop recede for ever (one just on C).
+            let f_el = (kappa * z[0]).hypot(z[1]);
+            if !(f[2] < 0.0 && f_el >= -0.5 * MIN_STIFFNESS * f[2]) || solver.steps() > MAX_STEPS {
+                if let (Some(s), Some(mark)) = (sampler, mark) {
+                    s.rewind(mark);
+                }
+                return None;
+            }
+            let (tn, zn, fnew) = match solver.step(&mut rhs, t, &z, &f, self.h_max) {
+                Ok(step) => step,
+                Err(e) => return Some(Err(e)),
+            };
+            if zn[2] <= 0.0 {
+                let d = solver.dense(&mut rhs);
+                let tol = self.t_tol * tn.max(1.0);
+                let ts = find_root(|tt| d.at(tt)[2], t, z[2], tn, zn[2], tol);
+                if let Some(s) = sampler.as_deref_mut() {
+                    s.sample_step_with(t_abs, &d, ts, Phase::Decel, v, slip_state);
+                }
+                let stop = d.at(ts);
+                return Some(Ok(([stop[0], stop[1]], ts, solver.steps())));
+            }
+            if let Some(s) = sampler.as_deref_mut() {
+                let d = solver.dense(&mut rhs);
+                s.sample_step_with(t_abs, &d, tn, Phase::Decel, v, slip_state);
+            }
+            (t, z, f) = (tn, zn, fnew);
+        }
     }
 }
 

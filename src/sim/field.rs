@@ -61,6 +61,42 @@ impl SlipField {
         ]
     }
 
+    /// The direction v̂_r takes, to first order in 1/k, when it relaxes
+    /// towards F̂_el much faster than v_r falls (k = |F_el|/|dv_r/dt| ≫ 1:
+    /// creep-sized stops), at position (x, y) and relative speed `vr`.
+    ///
+    /// With α the angle from F̂_el to v̂_r and ω the turning rate of F_el,
+    /// the deceleration's field gives dα/dt = −(|F|/v_r) sin α − ω. Its slow
+    /// manifold is sin α = −(v_r/|F|)(ω + dα_qs/dt), with the zeroth-order
+    /// α_qs = −ω v_r/|F| differentiated along the motion (v̂_r ≈ F̂,
+    /// dv_r/dt ≈ −D, dv_r/dt ê + v_r ω ê⊥ for the relative acceleration);
+    /// what is left out is O(α/k²).
+    pub fn manifold(&self, x: f64, y: f64, vr: f64) -> Manifold {
+        let k = self.kappa;
+        let (fx, fy) = (-k * x, -y);
+        let f2 = fx * fx + fy * fy;
+        let fnorm = f2.sqrt();
+        let (ux, uy) = (fx / fnorm, fy / fnorm);
+        // F' = −K ẋ with ẋ = V + v_r F̂.
+        let (dfx, dfy) = (-k * (self.v[0] + vr * ux), -(self.v[1] + vr * uy));
+        let omega = (fx * dfy - fy * dfx) / f2;
+        let d = self.phi(vr) - fnorm;
+        // v̇_r ≈ −D F̂ + v_r ω F̂⊥, so F'' = −K v̇_r.
+        let (ax, ay) = (-d * ux - vr * omega * uy, -d * uy + vr * omega * ux);
+        let (ddfx, ddfy) = (-k * ax, -ay);
+        let f_dot_df = fx * dfx + fy * dfy;
+        let domega = (fx * ddfy - fy * ddfx) / f2 - 2.0 * omega * f_dot_df / f2;
+        let dfnorm = f_dot_df / fnorm;
+        let dalpha_qs = (d * omega - vr * domega) / fnorm + omega * vr * dfnorm / f2;
+        let sa = (-(vr / fnorm) * (omega + dalpha_qs)).clamp(-1.0, 1.0);
+        let ca = (1.0 - sa * sa).sqrt();
+        Manifold {
+            sin_alpha: sa,
+            dir: [ux * ca - uy * sa, ux * sa + uy * ca],
+            dvr: fnorm * ca - self.phi(vr),
+        }
+    }
+
     /// Deceleration phase: friction −Φ v̂_r. Only called with v_r > 0.
     #[inline(always)]
     pub fn decel(&self, s: &State) -> State {
@@ -74,6 +110,17 @@ impl SlipField {
             -y - c * b,
         ]
     }
+}
+
+/// The deceleration's slow manifold at a point (see [`SlipField::manifold`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Manifold {
+    /// sin α, α the angle from F̂_el to v̂_r.
+    pub sin_alpha: f64,
+    /// v̂_r.
+    pub dir: [f64; 2],
+    /// dv_r/dt (negative on the way to a stop).
+    pub dvr: f64,
 }
 
 /// ½ d(v_r²)/dt = v_r · (ẍ, ÿ): positive while the relative speed grows.

@@ -94,10 +94,35 @@ impl Sampler {
         phase: Phase,
         v: [f64; 2],
     ) {
+        self.sample_step_with(t_abs, d, t_end, phase, v, |s| *s);
+    }
+
+    /// As `sample_step`, for a dense output whose state `slip_state` turns
+    /// into (x, y, v_r).
+    pub(crate) fn sample_step_with(
+        &mut self,
+        t_abs: f64,
+        d: &Dense,
+        t_end: f64,
+        phase: Phase,
+        v: [f64; 2],
+        slip_state: impl Fn(&State) -> State,
+    ) {
         while self.next_t <= t_abs + t_end {
-            let s = d.at(self.next_t - t_abs);
+            let s = slip_state(&d.at(self.next_t - t_abs));
             self.push_state(self.next_t, &s, v, phase);
             self.next_t += self.spacing;
         }
+    }
+
+    /// Where the samples stand, to go back to with `rewind`.
+    pub(crate) fn mark(&self) -> (usize, f64) {
+        (self.samples.len(), self.next_t)
+    }
+
+    /// Drops the samples taken since `mark`.
+    pub(crate) fn rewind(&mut self, mark: (usize, f64)) {
+        self.samples.truncate(mark.0);
+        self.next_t = mark.1;
     }
 }
