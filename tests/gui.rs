@@ -478,10 +478,10 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     );
     // One short row per job: setting, the chart's max error, evaluations.
     for row in [
-        ["dop853 1e-5", "err 3e-5", "332 ev"],
-        ["dp54 1e-5", "err 1e-4", "298 ev"],
-        ["dop853 1e-11", "err 3e-11", "1442 ev"],
-        ["dop853 1e-9", "err 4e-9", "880 ev"],
+        ["dop853 1e-5", "err 8e-6", "272 ev"],
+        ["dp54 1e-5", "err 2e-4", "232 ev"],
+        ["dop853 1e-11", "err 3e-11", "1006 ev"],
+        ["dop853 1e-9", "err 4e-9", "520 ev"],
     ] {
         for text in row {
             assert!(h.query_by_label(text).is_some(), "{text}");
@@ -522,7 +522,7 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     assert_eq!(last_settings(&rec), (Some(custom), Some(custom)));
     let line = "dop853 1e-9";
     assert_eq!(h.query_all_by_label(line).count(), 4);
-    assert_eq!(h.query_all_by_label("880 ev").count(), 4);
+    assert_eq!(h.query_all_by_label("520 ev").count(), 4);
     assert!(h.query_by_label("dp54 1e-5").is_none());
     // A tolerance between two measured ones is interpolated.
     let field = h.get_by_role_and_label(Role::TextInput, "tolerance value");

@@ -284,14 +284,17 @@ mod tests {
             );
         }
         s.method = Method::Rk4;
-        s.step = 0.02;
+        s.step = 0.01;
         for job in JobKind::ALL {
-            assert_eq!(s.solver_for(job), SolverSettings::fixed(Method::Rk4, 0.02));
+            assert_eq!(s.solver_for(job), SolverSettings::fixed(Method::Rk4, 0.01));
         }
-        // RK4 h = 0.02 is a chart row: 4.4e-6, 976 evaluations; too coarse
+        // RK4 h = 0.01 is a chart row: 2.0e-6, 1510 evaluations; too coarse
         // for the map iterates (1e-10) and the phase diagram (1e-8) only.
         let e = job_estimates(&s);
-        assert_eq!(e[0].text(), "rk4 h 2e-2 · err ≤ 4.4e-6 · 976 evals · 37 µs");
+        assert_eq!(
+            e[0].text(),
+            "rk4 h 1e-2 · err ≤ 2.0e-6 · 1510 evals · 68 µs"
+        );
         assert_eq!(
             e.map(|x| x.too_coarse()),
             [false, false, true, true],
