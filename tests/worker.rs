@@ -1125,3 +1125,67 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
     assert!(rows[0].failure.is_some());
     w.shutdown();
 }
+
+/// The nice value and name of every thread of this process (Linux /proc).
+#[cfg(target_os = "linux")]
+fn threads() -> Vec<(String, i32)> {
+    let mut out = Vec::new();
+    for entry in std::fs::read_dir("/proc/self/task").expect("/proc") {
+        let dir = entry.expect("entry").path();
+        let (Ok(comm), Ok(stat)) = (
+            std::fs::read_to_string(dir.join("comm")),
+            std::fs::read_to_string(dir.join("stat")),
+        ) else {
+            continue; // the thread ended meanwhile
+        };
+        // Fields after the parenthesised name: state is field 3, nice 19.
+        let rest = &stat[stat.rfind(')').expect("stat") + 2..];
+        let nice: i32 = rest.split(' ').nth(16).expect("nice").parse().expect("int");
+        out.push((comm.trim().to_string(), nice));
+    }
+    out
+}
+
+#[cfg(target_os = "linux")]
+#[test]
+fn worker_threads_run_at_a_lower_priority_than_the_window() {
+    let before = oneblock::worker::priority::current_thread_nice();
+    let (w, _) = spawn(64, 2, 8);
+    // A sweep long enough (~1 s) that its pool threads are seen too.
+    assert!(w.send(sweep(1, 400, 300, 200)));
+    let lanes = [
+        "oneblock-orbit",
+        "oneblock-sweep",
+        "oneblock-numeri",
+        "oneblock-phase",
+    ];
+    let deadline = std::time::Instant::now() + Duration::from_secs(20);
+    loop {
+        let ts = threads();
+        let seen: Vec<&(String, i32)> = ts
+            .iter()
+            .filter(|(n, _)| n.starts_with("oneblock-"))
+            .collect();
+        let lanes_up = lanes.iter().all(|l| seen.iter().any(|(n, _)| n == l));
+        let pool_up = seen.iter().any(|(n, _)| n.starts_with("oneblock-sweep-"));
+        if lanes_up && pool_up {
+            for (name, nice) in &seen {
+                if name == "oneblock-worker" {
+                    continue; // the dispatcher only routes commands
+                }
+                assert!(
+                    *nice >= oneblock::worker::priority::WORKER_NICE,
+                    "{name} runs at nice {nice}"
+                );
+            }
+            // The calling thread (the window's, in the app) is untouched.
+            assert_eq!(oneblock::worker::priority::current_thread_nice(), before);
+            break;
+        }
+        assert!(
+            std::time::Instant::now() < deadline,
+            "threads seen: {seen:?}"
+        );
+        std::thread::sleep(Duration::from_millis(5));
+    }
+}

@@ -25,6 +25,7 @@ mod gate;
 mod numerics;
 mod orbit;
 mod phase;
+pub mod priority;
 mod protocol;
 mod sweep;
 
@@ -250,21 +251,33 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     let sh = shared.clone();
     let orbit_thread = std::thread::Builder::new()
         .name("oneblock-orbit".into())
-        .spawn(move || lane_loop(orbit_rx, |job| orbit::run(&sh, job)));
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(orbit_rx, |job| orbit::run(&sh, job))
+        });
     let sh = shared.clone();
     let sweep_thread = std::thread::Builder::new()
         .name("oneblock-sweep".into())
-        .spawn(move || lane_loop(sweep_rx, |job| sweep::run(&sh, job)));
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(sweep_rx, |job| sweep::run(&sh, job))
+        });
     let (numerics_tx, numerics_rx) = crossbeam_channel::unbounded::<Command>();
     let sh = shared.clone();
     let numerics_thread = std::thread::Builder::new()
         .name("oneblock-numerics".into())
-        .spawn(move || lane_loop(numerics_rx, |job| numerics::run(&sh, job)));
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(numerics_rx, |job| numerics::run(&sh, job))
+        });
     let (phase_tx, phase_rx) = crossbeam_channel::unbounded::<Command>();
     let sh = shared.clone();
     let phase_thread = std::thread::Builder::new()
         .name("oneblock-phase".into())
-        .spawn(move || lane_loop(phase_rx, |job| phase::run(&sh, job)));
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(phase_rx, |job| phase::run(&sh, job))
+        });
 
     // Each lane's latest job, for SetParams to run again.
     let mut last_orbit: Option<Command> = None;
@@ -456,7 +469,10 @@ where
             .map(|i| {
                 std::thread::Builder::new()
                     .name(format!("{name}-{i}"))
-                    .spawn_scoped(scope, worker)
+                    .spawn_scoped(scope, || {
+                        priority::lower_current_thread();
+                        worker()
+                    })
             })
             .collect();
         handles
