@@ -301,3 +301,83 @@ fn lyapunov_exponent_agrees_between_tolerances_on_the_chaotic_points() {
         assert!(d < 4.0 * (s8 * s8 + s12 * s12).sqrt(), "{}", a.name);
     }
 }
+
+/// The stiff end of creep-sized slips is integrated on its slow manifold
+/// (`Simulator::stiff_stop`). Checked against the full field stepped all the
+/// way (`stiff_stop: false`): the map, the stop and the slip's duration agree
+/// within the method's own error, and the manifold does save the steps.
+#[test]
+fn creep_stops_on_the_slow_manifold_agree_with_stepping_to_the_stop() {
+    let settings = |tol: f64, stiff_stop: bool| SolverSettings {
+        stiff_stop,
+        ..SolverSettings::adaptive(Method::Dop853, tol)
+    };
+    let creep = params(3.0, 0.5, 1e-3, 0.7);
+    let reference = Simulator::new(creep, settings(1e-13, false)).unwrap();
+    let orbit = reference
+        .orbit(
+            0.7,
+            &OrbitOptions {
+                transient: 100,
+                keep: 12,
+                lyapunov: false,
+                period_tol: 1e-9,
+            },
+            &|| false,
+        )
+        .unwrap();
+    for tol in [1e-6, 1e-8, 1e-10] {
+        let on = Simulator::new(creep, settings(tol, true)).unwrap();
+        let off = Simulator::new(creep, settings(tol, false)).unwrap();
+        let (mut evals_on, mut evals_off, mut worst) = (0, 0, 0.0f64);
+        for &theta in &orbit.thetas() {
+            let r = reference.cycle(theta, 0.0, None).unwrap();
+            let a = on.cycle(theta, 0.0, None).unwrap();
+            let b = off.cycle(theta, 0.0, None).unwrap();
+            evals_on += a.rhs_evals;
+            evals_off += b.rhs_evals;
+            let map_err = (a.theta_next - r.theta_next).abs();
+            let stop_err = (a.stop_x - r.stop_x).hypot(a.stop_y - r.stop_y);
+            worst = worst.max(map_err / tol);
+            assert!(
+                map_err <= 5.0 * tol,
+                "tol {tol} theta {theta}: map off by {map_err:e}"
+            );
+            assert!(
+                stop_err <= 5.0 * tol,
+                "tol {tol} theta {theta}: stop off by {stop_err:e}"
+            );
+            // The duration: dt/dv_r = 1/D is large just after the peak, so
+            // it is the least accurate quantity; still well within 1e3·tol.
+            let dur_err = (a.slip_duration - r.slip_duration).abs();
+            assert!(
+                dur_err <= 1e3 * tol,
+                "tol {tol}: duration off by {dur_err:e}"
+            );
+        }
+        println!(
+            "tol {tol:e}: max map error {worst:.2} tol; evaluations {evals_on} with the manifold, {evals_off} without"
+        );
+        assert!(
+            2 * evals_on < evals_off,
+            "tol {tol}: {evals_on} vs {evals_off}"
+        );
+    }
+    // A slip along an axis passes the centre, where F_el turns round: at its
+    // peak v_r looks stiff and aligned, the try gives up on the way, and the
+    // full field finishes the slip exactly as without the try.
+    let axis = params(1.2, 6.5, 1e-3, 0.0);
+    let a = Simulator::new(axis, settings(1e-10, true))
+        .unwrap()
+        .cycle(0.0, 0.0, None)
+        .unwrap();
+    let b = Simulator::new(axis, settings(1e-10, false))
+        .unwrap()
+        .cycle(0.0, 0.0, None)
+        .unwrap();
+    assert_eq!(
+        (a.stop_x, a.stop_y, a.theta_next),
+        (b.stop_x, b.stop_y, b.theta_next)
+    );
+    assert!(a.rhs_evals > b.rhs_evals, "the try was made and counted");
+}

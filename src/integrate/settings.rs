@@ -89,6 +89,16 @@ pub struct SolverSettings {
     /// Approach to the stop: no step aims further than this fraction of the
     /// time v_r/|dv_r/dt| left before the extrapolated stop.
     pub stop_fraction: f64,
+    /// Adaptive methods: finish a stiff (creep-sized) slip on its slow
+    /// manifold where that is accurate to 1 % of the tolerance
+    /// (`Simulator::stiff_stop`). Off, every step is the full field's: for
+    /// checking the manifold against it.
+    #[serde(default = "stiff_stop_default")]
+    pub stiff_stop: bool,
+}
+
+fn stiff_stop_default() -> bool {
+    true
 }
 
 impl Default for SolverSettings {
@@ -102,6 +112,7 @@ impl Default for SolverSettings {
             max_slip_time: 1e4,
             stop_cutoff: 1.0,
             stop_fraction: 0.7,
+            stiff_stop: true,
         }
     }
 }

@@ -84,8 +84,20 @@ impl Rhs for Counted<'_> {
     }
 }
 
-/// Where a stiff stop ended: the stop, the time it took, and the steps.
-type StiffStop = ([f64; 2], f64, u32);
+/// How a try at a stiff stop ended (see `Simulator::stiff_stop`).
+enum StiffEnd {
+    /// The slip's end is not (yet) stiff enough: nothing was integrated.
+    NotStiff,
+    /// The reduced motion was integrated for `steps` steps, then left: the
+    /// slip goes on from where the try started.
+    GaveUp { steps: u32 },
+    /// The stop, the time it took from the try's start, and the steps.
+    Stopped {
+        stop: [f64; 2],
+        duration: f64,
+        steps: u32,
+    },
+}
 
 /// The state at the end of a slip.
 struct SlipEnd {
@@ -363,20 +375,32 @@ impl Simulator {
         let (mut t, mut y) = (t_a, y_a);
         let mut k = dec.eval(&y);
         let mut extra_steps = 0;
+        // One stiff stop that gave up is enough for a slip: it cost up to
+        // 400 steps, and the state that fooled it is still ahead.
+        let mut stiff_gave_up = false;
         let stop = loop {
             let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
             let dvr = speed_growth(&y, &k) / vr;
-            if adaptive && dvr < 0.0 {
+            if adaptive && dvr < 0.0 && !stiff_gave_up && self.settings.stiff_stop {
                 let at = t_abs + t;
-                if let Some(end) = self.stiff_stop(&y, vr, -dvr, at, sampler.as_deref_mut(), &evals)
-                {
-                    let (stop, dt, steps) = end.map_err(|e| self.integrate_err(theta, e))?;
-                    extra_steps = steps;
-                    t += dt;
-                    if let Some(s) = sampler.as_deref_mut() {
-                        s.push(t_abs + t, stop, v, Phase::Decel);
+                match self.stiff_stop(&y, vr, -dvr, at, sampler.as_deref_mut(), &evals) {
+                    StiffEnd::NotStiff => {}
+                    StiffEnd::GaveUp { steps } => {
+                        stiff_gave_up = true;
+                        extra_steps += steps;
                     }
-                    break stop;
+                    StiffEnd::Stopped {
+                        stop,
+                        duration,
+                        steps,
+                    } => {
+                        extra_steps += steps;
+                        t += duration;
+                        if let Some(s) = sampler.as_deref_mut() {
+                            s.push(t_abs + t, stop, v, Phase::Decel);
+                        }
+                        break stop;
+                    }
                 }
             }
             // A fixed step aims at the stop too once the stop lies within
@@ -497,10 +521,11 @@ impl Simulator {
     /// transient that decays like (v_r/v0)^k and moves the stop by about
     /// |sin α0 − sin α1|·v0²/((k + 2) D); the manifold's neglected O(1/k²)
     /// term moves it by about |sin α1|·v0²/(k² D). Their sum, in κx, must stay
-    /// below 0.01·tol, and v̂_r must point along F̂_el. Returns `None` (go on
-    /// stepping) otherwise, or when on the way v_r stopped falling, k fell
-    /// below 5 or the stop took more than 400 steps (then the manifold was not
-    /// what it seemed); the samples taken by then are dropped.
+    /// below 0.01·tol, and v̂_r must point along F̂_el; otherwise `NotStiff`
+    /// (go on stepping). It gives up (`GaveUp`: go on stepping from where it
+    /// started, its samples dropped) when on the way v_r stops falling, k
+    /// falls below 5, a step fails or 400 steps pass: then the manifold was
+    /// not what it seemed.
     fn stiff_stop(
         &self,
         y: &State,
@@ -509,7 +534,7 @@ impl Simulator {
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
         evals: &Cell<u64>,
-    ) -> Option<Result<StiffStop, crate::integrate::IntegrateError>> {
+    ) -> StiffEnd {
         const MIN_STIFFNESS: f64 = 10.0;
         const ERROR_SHARE: f64 = 0.01;
         const MAX_STEPS: u32 = 400;
@@ -519,14 +544,14 @@ impl Simulator {
         let fnorm = fx.hypot(fy);
         let k = fnorm / decel;
         if !(k >= MIN_STIFFNESS) {
-            return None;
+            return StiffEnd::NotStiff;
         }
         // v̂_r must point along F̂_el, not against it (sin α alone cannot
         // tell: a slip along an axis has sin α = 0 both before and after
         // the block passes the centre, where F_el turns round).
         let cos0 = (fx * y[2] + fy * y[3]) / (fnorm * vr);
         if !(cos0 > 0.5) {
-            return None;
+            return StiffEnd::NotStiff;
         }
         let sin0 = (fx * y[3] - fy * y[2]) / (fnorm * vr);
         let m = field.manifold(y[0], y[1], vr);
@@ -535,7 +560,7 @@ impl Simulator {
             * moved
             * kappa.max(1.0);
         if !(bound <= ERROR_SHARE * self.settings.rtol) {
-            return None;
+            return StiffEnd::NotStiff;
         }
         // z = (x, y, v_r, unused) on the manifold, against time.
         let v = field.v;
@@ -566,11 +591,19 @@ impl Simulator {
                 if let (Some(s), Some(mark)) = (sampler, mark) {
                     s.rewind(mark);
                 }
-                return None;
+                return StiffEnd::GaveUp {
+                    steps: solver.steps(),
+                };
             }
-            let (tn, zn, fnew) = match solver.step(&mut rhs, t, &z, &f, self.h_max) {
-                Ok(step) => step,
-                Err(e) => return Some(Err(e)),
+            let Ok((tn, zn, fnew)) = solver.step(&mut rhs, t, &z, &f, self.h_max) else {
+                // The normal steps will get there: a step-size underflow
+                // here says the manifold was not smooth after all.
+                if let (Some(s), Some(mark)) = (sampler, mark) {
+                    s.rewind(mark);
+                }
+                return StiffEnd::GaveUp {
+                    steps: solver.steps(),
+                };
             };
             if zn[2] <= 0.0 {
                 let d = solver.dense(&mut rhs);
@@ -580,7 +613,11 @@ impl Simulator {
                     s.sample_step_with(t_abs, &d, ts, Phase::Decel, v, slip_state);
                 }
                 let stop = d.at(ts);
-                return Some(Ok(([stop[0], stop[1]], ts, solver.steps())));
+                return StiffEnd::Stopped {
+                    stop: [stop[0], stop[1]],
+                    duration: ts,
+                    steps: solver.steps(),
+                };
             }
             if let Some(s) = sampler.as_deref_mut() {
                 let d = solver.dense(&mut rhs);
