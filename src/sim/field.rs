@@ -50,7 +50,7 @@ impl SlipField {
         let (ex, ey) = (fx * inv_f, fy * inv_f);
         let delta = trig::atan2(a * fy - b * fx, a * fx + b * fy);
         // −expm1 keeps the turn accurate while Ω v_r is tiny (early slip).
-        let turn = (-self.omega * vr).exp_m1() * delta; // = −Δ(1 − e^(−Ω v_r))
+        let turn = trig::exp_m1_neg(-self.omega * vr) * delta; // = −Δ(1 − e^(−Ω v_r))
         let (sn, cs) = trig::sin_cos(turn);
         let phi = self.phi(vr);
         [
