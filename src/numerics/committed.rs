@@ -211,27 +211,27 @@ mod tests {
             .iter()
             .find(|e| e.method == Method::Dop853 && e.tol == 1e-10)
             .expect("row");
-        assert_eq!((d.max_error, d.evals), (2.745e-10, 647.4));
+        assert_eq!((d.max_error, d.evals), (2.704e-10, 618.7));
     }
 
     #[test]
     fn a_setting_between_two_rows_is_interpolated_log_log() {
         let rows = default_rows();
-        // DOP853 at tol 1e-9 and 1e-10: 3.507e-9 / 520.2 and 2.745e-10 / 647.4.
+        // DOP853 at tol 1e-9 and 1e-10: 3.129e-9 / 502.8 and 2.704e-10 / 618.7.
         let e = estimate(
             rows,
             &SolverSettings::adaptive(Method::Dop853, 10f64.powf(-9.5)),
         )
         .expect("inside the chart");
         assert!(!e.measured);
-        assert!((e.max_error - (3.507e-9f64 * 2.745e-10).sqrt()).abs() < 1e-12);
-        assert!((e.evals - (520.2f64 * 647.4).sqrt()).abs() < 1e-6);
+        assert!((e.max_error - (3.129e-9f64 * 2.704e-10).sqrt()).abs() < 1e-12);
+        assert!((e.evals - (502.8f64 * 618.7).sqrt()).abs() < 1e-6);
         // Fixed steps by their step.
         let e = estimate(rows, &SolverSettings::fixed(Method::Euler, 1e-3)).expect("a row");
-        assert!(e.measured && (e.evals - 2575.9).abs() < 1e-9);
-        // RK4 between 0.1 (29 points failed) and 0.05 carries the failures.
+        assert!(e.measured && (e.evals - 2486.6).abs() < 1e-9);
+        // RK4 between 0.1 (32 points failed) and 0.05 carries the failures.
         let e = estimate(rows, &SolverSettings::fixed(Method::Rk4, 0.07)).expect("inside");
-        assert_eq!(e.failed, 29);
+        assert_eq!(e.failed, 32);
         // Outside the measured range: no estimate.
         assert!(estimate(rows, &SolverSettings::adaptive(Method::Dop853, 1e-14)).is_none());
         assert!(estimate(rows, &SolverSettings::fixed(Method::Euler, 1e-5)).is_none());
