@@ -71,29 +71,36 @@ impl SlipField {
     /// α_qs = −ω v_r/|F| differentiated along the motion (v̂_r ≈ F̂,
     /// dv_r/dt ≈ −D, dv_r/dt ê + v_r ω ê⊥ for the relative acceleration);
     /// what is left out is O(α/k²).
+    #[inline(always)]
     pub fn manifold(&self, x: f64, y: f64, vr: f64) -> Manifold {
         let k = self.kappa;
         let (fx, fy) = (-k * x, -y);
         let f2 = fx * fx + fy * fy;
         let fnorm = f2.sqrt();
-        let (ux, uy) = (fx / fnorm, fy / fnorm);
+        // Two divisions in all (this is the right-hand side of the stiff
+        // stop's steps, and they wait for each other).
+        let inv_f = 1.0 / fnorm;
+        let inv_f2 = inv_f * inv_f;
+        let phi = self.phi(vr);
+        let (ux, uy) = (fx * inv_f, fy * inv_f);
         // F' = −K ẋ with ẋ = V + v_r F̂.
         let (dfx, dfy) = (-k * (self.v[0] + vr * ux), -(self.v[1] + vr * uy));
-        let omega = (fx * dfy - fy * dfx) / f2;
-        let d = self.phi(vr) - fnorm;
+        let omega = (fx * dfy - fy * dfx) * inv_f2;
+        let d = phi - fnorm;
         // v̇_r ≈ −D F̂ + v_r ω F̂⊥, so F'' = −K v̇_r.
         let (ax, ay) = (-d * ux - vr * omega * uy, -d * uy + vr * omega * ux);
         let (ddfx, ddfy) = (-k * ax, -ay);
         let f_dot_df = fx * dfx + fy * dfy;
-        let domega = (fx * ddfy - fy * ddfx) / f2 - 2.0 * omega * f_dot_df / f2;
-        let dfnorm = f_dot_df / fnorm;
-        let dalpha_qs = (d * omega - vr * domega) / fnorm + omega * vr * dfnorm / f2;
-        let sa = (-(vr / fnorm) * (omega + dalpha_qs)).clamp(-1.0, 1.0);
+        let domega = ((fx * ddfy - fy * ddfx) - 2.0 * omega * f_dot_df) * inv_f2;
+        // d|F|/dt = F·F'/|F|.
+        let dfnorm = f_dot_df * inv_f;
+        let dalpha_qs = ((d * omega - vr * domega) + omega * vr * dfnorm * inv_f) * inv_f;
+        let sa = (-(vr * inv_f) * (omega + dalpha_qs)).clamp(-1.0, 1.0);
         let ca = (1.0 - sa * sa).sqrt();
         Manifold {
             sin_alpha: sa,
             dir: [ux * ca - uy * sa, ux * sa + uy * ca],
-            dvr: fnorm * ca - self.phi(vr),
+            dvr: fnorm * ca - phi,
         }
     }
 
