@@ -363,6 +363,26 @@ fn creep_stops_on_the_slow_manifold_agree_with_stepping_to_the_stop() {
             "tol {tol}: {evals_on} vs {evals_off}"
         );
     }
+    // Just past the peak D ≈ 0, and the manifold's dv_r/dt can still be ≥ 0:
+    // that is "not yet", not "never". (Taken as "never", this creep slip at
+    // tol 1e-5 was stepped to the stop and extrapolated from v_r = √tol,
+    // near its peak: 3.6397 time units instead of 3.5037, θ' off by 3e-5.)
+    let theta = 0.8339084327160516;
+    let r = reference.cycle(theta, 0.0, None).unwrap();
+    let a = Simulator::new(creep, settings(1e-5, true))
+        .unwrap()
+        .cycle(theta, 0.0, None)
+        .unwrap();
+    assert!(
+        (a.slip_duration - r.slip_duration).abs() < 1e-4,
+        "{}",
+        a.slip_duration
+    );
+    assert!(
+        (a.theta_next - r.theta_next).abs() < 1e-6,
+        "{}",
+        a.theta_next
+    );
     // A slip along an axis passes the centre, where F_el turns round: at its
     // peak v_r looks stiff and aligned, the try gives up on the way, and the
     // full field finishes the slip exactly as without the try.

@@ -588,6 +588,11 @@ impl Simulator {
             // Nor may the stop recede for ever (one just on C).
             let f_el = (kappa * z[0]).hypot(z[1]);
             if !(f[2] < 0.0 && f_el >= -0.5 * MIN_STIFFNESS * f[2]) || solver.steps() > MAX_STEPS {
+                if solver.steps() == 0 {
+                    // Nothing integrated: just past the peak D ≈ 0 and the
+                    // manifold's dv_r/dt can still be ≥ 0. Try again later.
+                    return StiffEnd::NotStiff;
+                }
                 if let (Some(s), Some(mark)) = (sampler, mark) {
                     s.rewind(mark);
                 }
