@@ -606,10 +606,10 @@ mod tests {
         let marks = in_use(default_rows(), &s, true);
         // One mark per kind of job: trajectory, sweep, map iterates, phase.
         assert_eq!(marks.len(), 4);
-        // The trajectory's DOP853 tol 1e-5: 2.967e-5, 273.3 evaluations.
+        // The trajectory's DOP853 tol 1e-5: 1.368e-5, 271.8 evaluations.
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);
-        assert!((x - 2.967e-5f64.log10()).abs() < 1e-12 && (y - 273.3f64.log10()).abs() < 1e-12);
+        assert!((x - 1.368e-5f64.log10()).abs() < 1e-12 && (y - 271.8f64.log10()).abs() < 1e-12);
     }
 
     #[test]
