@@ -469,6 +469,45 @@ mod tests {
         }
     }
 
+    /// On an approach like the one to a stop (the solution's time scale
+    /// shrinking step after step: here y = (1 − t)^(3/2), integrated to
+    /// within 1e-6 of t = 1 with steps capped at 0.7 of the time left), the
+    /// predictive controller carries the shrinking forward: fewer rejected
+    /// steps than the PI controller alone, for the same accuracy.
+    #[test]
+    fn the_predictive_controller_avoids_rejections_on_a_shrinking_approach() {
+        let run = |predictive: bool| {
+            let mut f = |y: &State| [-1.5 * y[1], -0.5 / y[1], 0.0, 0.0];
+            let mut s = Solver::new(
+                SolverSettings::adaptive(Method::Dop853, 1e-10),
+                [1.0; 4],
+                1e-3,
+            );
+            s.predictive = predictive;
+            // y[0] = (1 − t)^1.5, y[1] = (1 − t)^0.5.
+            let mut y = [1.0, 1.0, 0.0, 0.0];
+            let mut k = f(&y);
+            let mut t = 0.0;
+            while 1.0 - t > 1e-6 {
+                let (tn, yn, kn) = s.step(&mut f, t, &y, &k, 0.7 * (1.0 - t)).unwrap();
+                (t, y, k) = (tn, yn, kn);
+            }
+            let err = (y[0] - (1.0 - t).powf(1.5)).abs();
+            (s.stats, err)
+        };
+        let (pi, e_pi) = run(false);
+        let (pred, e_pred) = run(true);
+        assert!(e_pi < 1e-8 && e_pred < 1e-8, "{e_pi:e} {e_pred:e}");
+        assert!(
+            2 * pred.rejected < pi.rejected,
+            "rejected: {} predictive, {} PI ({} and {} accepted)",
+            pred.rejected,
+            pi.rejected,
+            pred.accepted,
+            pi.accepted
+        );
+    }
+
     #[test]
     fn dense_output_is_accurate_inside_steps() {
         for (m, tol) in [(Method::Dp54, 1e-10), (Method::Dop853, 1e-12)] {
