@@ -136,3 +136,24 @@ fn work_precision_command_writes_csv_and_svg() {
         .unwrap();
     assert_eq!(exists.status.code(), Some(2));
 }
+
+/// The committed sample is what it says it is: each point is, to the
+/// reference's accuracy, the reference map's image of the one before (the
+/// orbit is chaotic, so this holds from point to point, not along the
+/// list), and it lies on its attractor's exit arc (`map` rejects any other).
+#[test]
+fn the_committed_sample_is_a_reference_orbit() {
+    use oneblock::numerics::sample::{default_attractors, reference_settings};
+    for a in default_attractors() {
+        let fixed = a.fixed.expect("every default attractor is committed");
+        assert!(fixed.len() >= 64, "{}: {} points", a.name, fixed.len());
+        let sim = Simulator::new(a.params, reference_settings()).unwrap();
+        let mut worst = 0.0f64;
+        for w in fixed.windows(2) {
+            let next = sim.map(w[0]).unwrap();
+            worst = worst.max(oneblock::model::wrap_angle(next - w[1]).abs());
+        }
+        println!("{}: worst |f(θ_i) − θ_(i+1)| = {worst:.1e}", a.name);
+        assert!(worst < 1e-9, "{}: {worst:e}", a.name);
+    }
+}

@@ -36,7 +36,10 @@ pub struct WorkPrecisionArgs {
     /// Where that attractor's orbit starts [default: θν].
     #[arg(long, allow_hyphen_values = true)]
     pub theta0: Option<f64>,
-    /// Orbit points per attractor (1 to 10000).
+    /// Orbit points per attractor (1 to 10000). The default attractors'
+    /// first 64 (200 for the two chaotic ones) are committed, so the
+    /// default sample does not move when the integrator changes; more are
+    /// taken from a fresh orbit.
     #[arg(long, default_value_t = 16)]
     pub points: usize,
     /// Each point is timed over repeated runs lasting at least this many
@@ -91,6 +94,7 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
                 theta0,
                 transient: 300,
                 extra: None,
+                fixed: None,
             }]
         }
     };

@@ -11,6 +11,7 @@
 pub mod budget;
 pub mod chart;
 pub mod committed;
+pub mod fixed_sample;
 pub mod peer;
 pub mod quick;
 pub mod reliability;

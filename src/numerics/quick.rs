@@ -39,6 +39,7 @@ pub fn current_attractor(params: Params, theta0: Option<f64>, transient: usize) 
         theta0: theta0.unwrap_or(params.theta_nu),
         transient,
         extra: None,
+        fixed: None,
     }
 }
 

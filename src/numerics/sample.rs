@@ -3,6 +3,7 @@
 
 use serde::Serialize;
 
+use super::fixed_sample;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::{OrbitOptions, SimError, Simulator, SlipEvent};
@@ -38,6 +39,11 @@ pub struct Attractor {
     pub transient: usize,
     /// A point measured in addition to the orbit's (a known hard case).
     pub extra: Option<f64>,
+    /// The orbit's onsets, computed once and committed
+    /// ([`super::fixed_sample`]): a sample of up to this many points takes
+    /// its first ones instead of recomputing the orbit, so that it stays the
+    /// same when the integrator's roundings change.
+    pub fixed: Option<&'static [f64]>,
 }
 
 const fn p(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
@@ -69,6 +75,7 @@ pub fn default_attractors() -> Vec<Attractor> {
             theta0: 0.9,
             transient: 20,
             extra: None,
+            fixed: Some(&fixed_sample::CREEP),
         },
         Attractor {
             name: "stick-slip chaos",
@@ -76,6 +83,7 @@ pub fn default_attractors() -> Vec<Attractor> {
             theta0: 1.25,
             transient: 300,
             extra: None,
+            fixed: Some(&fixed_sample::CHAOS),
         },
         Attractor {
             name: "mixed intermittent",
@@ -83,6 +91,7 @@ pub fn default_attractors() -> Vec<Attractor> {
             theta0: 1.4,
             transient: 300,
             extra: Some(0.234420692047657),
+            fixed: Some(&fixed_sample::INTERMITTENT),
         },
         Attractor {
             name: "long stick",
@@ -90,6 +99,7 @@ pub fn default_attractors() -> Vec<Attractor> {
             theta0: 1.55,
             transient: 300,
             extra: None,
+            fixed: Some(&fixed_sample::LONG_STICK),
         },
     ]
 }
@@ -126,7 +136,8 @@ impl SamplePoint {
 }
 
 /// `per_attractor` consecutive orbit points of each attractor (plus its
-/// extra point), with their references.
+/// extra point), with their references: the committed ones where the
+/// attractor has enough, else a fresh orbit of the reference integrator.
 pub fn build_sample(
     attractors: &[Attractor],
     per_attractor: usize,
@@ -146,17 +157,21 @@ pub fn build_sample_until(
     for (i, a) in attractors.iter().enumerate() {
         let reference = Simulator::new(a.params, reference_settings())?;
         let check = Simulator::new(a.params, check_settings())?;
-        let orbit = reference.orbit(
-            a.theta0,
-            &OrbitOptions {
-                transient: a.transient,
-                keep: per_attractor,
-                lyapunov: false,
-                period_tol: 1e-9,
-            },
-            cancel,
-        )?;
-        let mut thetas = orbit.thetas();
+        let mut thetas = match a.fixed {
+            Some(fixed) if fixed.len() >= per_attractor => fixed[..per_attractor].to_vec(),
+            _ => reference
+                .orbit(
+                    a.theta0,
+                    &OrbitOptions {
+                        transient: a.transient,
+                        keep: per_attractor,
+                        lyapunov: false,
+                        period_tol: 1e-9,
+                    },
+                    cancel,
+                )?
+                .thetas(),
+        };
         thetas.extend(a.extra);
         for theta in thetas {
             if cancel() {
