@@ -9,7 +9,7 @@
 //! every run, one changed rounding in the right-hand side moved every point
 //! of it, and with them the maxima and medians (the benchmark's max map
 //! error of DOP853 at 1e-9 on Fig. 3a's attractor went 4.6e-10, 1.1e-9,
-//! 2.8e-9 over three such changes; the chart's peer ratio 3.0 to 3.3).
+//! 2.8e-9 over three such changes; the chart's peer ratio 2.95 to 3.3).
 //! Each point's reference iterate is still computed afresh.
 
 #![allow(clippy::excessive_precision, clippy::unreadable_literal)]
