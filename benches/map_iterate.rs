@@ -100,10 +100,10 @@ criterion_main!(benches);
 /// carried as four more state variables. Their time derivatives are
 /// rational in the state (one square root, divisions by |v_r|² and
 /// |F_el|²), so atan2, e^x and sin/cos leave the chain each stage waits for.
-/// Measured here to see whether the 8-variable system would pay for its
-/// larger stages before anyone rebuilds the solver around it (it is
-/// singular at the onset, v_r = 0, so it could only take over after the
-/// first step).
+/// Measured here to see whether the 8-variable system would pay before
+/// anyone rebuilds the solver around it: it is 1.8× faster per evaluation,
+/// but needs 1.7–1.9× the steps for the same accuracy
+/// (`docs/experiments/augmented_steps.py`), so it was not built.
 #[inline(always)]
 fn accel_augmented(k: f64, two_gamma: f64, omega: f64, vel: [f64; 2], s: &[f64; 8]) -> [f64; 8] {
     let [x, y, a, b, c, sn, delta, e] = *s;
