@@ -142,9 +142,7 @@ impl Solver {
         let k = &mut self.k;
         match self.settings.method {
             Method::Dp54 => stages(&tableau::DP54, f, y, k0, h, k),
-            Method::Dop853 => {
-                dop853_stages(std::array::from_mut(f), [y], [k0], [h], [k])[0]
-            }
+            Method::Dop853 => dop853_stages(std::array::from_mut(f), [y], [k0], [h], [k])[0],
             Method::Rk4 => stages(&tableau::RK4, f, y, k0, h, k),
             Method::Euler => stages(&tableau::EULER, f, y, k0, h, k),
         }

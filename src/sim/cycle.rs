@@ -6,14 +6,17 @@ use std::cell::Cell;
 
 use serde::{Deserialize, Serialize};
 
+mod slip;
+
 use super::SimError;
-use super::field::{SlipField, speed_growth};
+use super::field::SlipField;
 use super::trajectory::{Phase, Sampler};
-use crate::integrate::{Dense, Method, Rhs, Solver, SolverSettings, State, find_root};
+use crate::integrate::{Method, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
     theta_from_point,
 };
+use slip::{Next, SlipRun};
 
 /// Everything one cycle yields (MODEL.md, "What a slip event reports").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -61,27 +64,6 @@ pub struct Simulator {
     cutoff: f64,
     t_tol: f64,
     avx2: bool,
-}
-
-/// One phase's right-hand side, counting its evaluations. A type rather
-/// than a closure so that `eval` is always inlined into the stepping loop
-/// and compiled with its target features (see [`Rhs`]).
-struct Counted<'a> {
-    field: &'a SlipField,
-    evals: &'a Cell<u64>,
-    accel: bool,
-}
-
-impl Rhs for Counted<'_> {
-    #[inline(always)]
-    fn eval(&mut self, y: &State) -> State {
-        self.evals.set(self.evals.get() + 1);
-        if self.accel {
-            self.field.accel(y)
-        } else {
-            self.field.decel(y)
-        }
-    }
 }
 
 /// How a try at a stiff stop ended (see `Simulator::stiff_stop`).
@@ -271,6 +253,8 @@ impl Simulator {
         self.slip_impl(theta, p0, t_abs, sampler)
     }
 
+    /// One slip from its onset to its stop, step after step
+    /// (`slip::SlipRun` holds the logic between the steps).
     #[inline(always)]
     fn slip_impl(
         &self,
@@ -279,227 +263,18 @@ impl Simulator {
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
     ) -> Result<SlipEnd, SimError> {
-        let field = self.field;
-        let evals = Cell::new(0u64);
-        let mut acc = Counted {
-            field: &field,
-            evals: &evals,
-            accel: true,
-        };
-        let mut dec = Counted {
-            field: &field,
-            evals: &evals,
-            accel: false,
-        };
-        let adaptive = self.settings.method.is_adaptive();
-        let max_t = self.settings.max_slip_time;
-        let v = field.v;
-        // The first step is short: at the onset the net force vanishes and
-        // v_r grows from rest, where a long first step's error estimate was
-        // seen to under-report (DOP853 at tol 1e-9 off by 15·tol at one point
-        // with 0.05·h_max; at most 4.6·tol over 193 points with 0.01·h_max).
-        let mut solver = Solver::new(self.settings, self.weights, 0.01 * self.h_max);
-        // A fixed step takes exactly the step asked for (the adaptive methods
-        // are capped at h_max). Beyond h_max = 1/√max(κ, 1), a sixth of the
-        // fastest oscillation, a step can hide two sign changes of dv_r/dt:
-        // the events cannot be resolved, and saying so beats a wrong number.
-        if !adaptive && self.settings.step > self.h_max {
-            return Err(self.too_large(
-                theta,
-                "slip oscillation (a step longer than 1/sqrt(max(kappa, 1)))",
-            ));
-        }
-        let h_cap = if adaptive { self.h_max } else { f64::INFINITY };
-
-        // Acceleration phase: until dv_r/dt crosses zero from above. At the
-        // onset it is exactly zero, so the test arms only once it has been
-        // positive.
-        let mut y: State = [p0[0], p0[1], 0.0, 0.0];
-        let mut k = acc.eval(&y);
-        let mut t = 0.0;
-        let mut g = 0.0;
-        let mut armed = false;
-        if let Some(s) = sampler.as_deref_mut() {
-            s.start_slip(t_abs, &y, v);
-        }
-        let (t_a, y_a) = loop {
-            if t >= max_t {
-                return Err(SimError::SlipTooLong {
-                    theta,
-                    params: self.params,
-                    max: max_t,
-                });
-            }
-            let (tn, yn, kn) = solver
-                .step(&mut acc, t, &y, &k, h_cap.min(max_t - t))
-                .map_err(|e| self.integrate_err(theta, e))?;
-            let gn = speed_growth(&yn, &kn);
-            if armed && !adaptive && y[2] * yn[2] + y[3] * yn[3] < 0.0 {
-                // v_r passed through zero inside one accelerating step.
-                return Err(self.too_large(theta, "end of the acceleration phase"));
-            }
-            if armed && gn <= 0.0 {
-                if !adaptive && solver.stats.accepted < 2 {
-                    return Err(self.too_large(theta, "end of the acceleration phase"));
-                }
-                let d = solver.dense(&mut acc);
-                let ta = find_root(
-                    |tt| {
-                        let s = d.at(tt);
-                        speed_growth(&s, &acc.eval(&s))
-                    },
-                    t,
-                    g,
-                    tn,
-                    gn,
-                    self.t_tol * tn.max(1.0),
-                );
-                let ya = d.at(ta);
-                if let Some(s) = sampler.as_deref_mut() {
-                    s.sample_step(t_abs, &d, ta, Phase::Accel, v);
-                    s.push_state(t_abs + ta, &ya, v, Phase::Decel);
-                }
-                break (ta, ya);
-            }
-            if let Some(s) = sampler.as_deref_mut() {
-                let d = solver.dense(&mut acc);
-                s.sample_step(t_abs, &d, tn, Phase::Accel, v);
-            }
-            armed |= gn > 0.0;
-            (t, y, k, g) = (tn, yn, kn, gn);
-        };
-        let peak_vr = (y_a[2] * y_a[2] + y_a[3] * y_a[3]).sqrt();
-
-        // Deceleration phase: friction opposes v_r until v_r reaches 0.
-        let accel_steps = solver.stats.accepted;
-        let (mut t, mut y) = (t_a, y_a);
-        let mut k = dec.eval(&y);
-        let mut extra_steps = 0;
-        // One stiff stop that gave up is enough for a slip: it cost up to
-        // 400 steps, and the state that fooled it is still ahead.
-        let mut stiff_gave_up = false;
-        let stop = loop {
-            let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
-            let dvr = speed_growth(&y, &k) / vr;
-            if adaptive && dvr < 0.0 && !stiff_gave_up && self.settings.stiff_stop {
-                let at = t_abs + t;
-                match self.stiff_stop(&y, vr, -dvr, at, sampler.as_deref_mut(), &evals) {
-                    StiffEnd::NotStiff => {}
-                    StiffEnd::GaveUp { steps } => {
-                        stiff_gave_up = true;
-                        extra_steps += steps;
-                    }
-                    StiffEnd::Stopped {
-                        stop,
-                        duration,
-                        steps,
-                    } => {
-                        extra_steps += steps;
-                        t += duration;
-                        if let Some(s) = sampler.as_deref_mut() {
-                            s.push(t_abs + t, stop, v, Phase::Decel);
-                        }
-                        break stop;
+        let mut run = SlipRun::start(self, theta, p0, t_abs, sampler.as_deref_mut())?;
+        loop {
+            match run.prepare(sampler.as_deref_mut())? {
+                Next::Done(end) => return Ok(end),
+                Next::Attempt(h) => {
+                    let y_new = run.stages(h);
+                    if let Some(end) = run.finish(&y_new, h, sampler.as_deref_mut())? {
+                        return Ok(end);
                     }
                 }
             }
-            // A fixed step aims at the stop too once the stop lies within
-            // one step: RK4's stages past it see the reversed friction, and
-            // the block then chatters on at v_r ≈ 0 instead of stopping (a
-            // creep slip at κ = 3, h = 0.01 slid for 874 time units).
-            let stop_near = adaptive || vr < -dvr * self.settings.step;
-            // The extrapolation holds over at most the field's fastest time
-            // scale, 1/√max(κ, 1): without that bound a creep slip whose
-            // peak v_r is already below the cut-off (tol ≥ 1e-4) was
-            // extrapolated from its first decelerating step and slid on.
-            if stop_near && vr < self.cutoff && dvr < 0.0 && vr < -dvr * self.h_max {
-                // Linear extrapolation of v_r to zero: the mean relative
-                // velocity over the remaining time is half the current one.
-                let dt = vr / -dvr;
-                if !adaptive && t + dt - t_a < 2.0 * self.settings.step {
-                    // As for a reversal: a phase shorter than two steps is
-                    // not resolved, however its end is placed.
-                    return Err(self.too_large(theta, "stop"));
-                }
-                let stop = [
-                    y[0] + (v[0] + 0.5 * y[2]) * dt,
-                    y[1] + (v[1] + 0.5 * y[3]) * dt,
-                ];
-                t += dt;
-                if let Some(s) = sampler.as_deref_mut() {
-                    s.push(t_abs + t, stop, v, Phase::Decel);
-                }
-                break stop;
-            }
-            if t >= max_t {
-                return Err(SimError::SlipTooLong {
-                    theta,
-                    params: self.params,
-                    max: max_t,
-                });
-            }
-            // Once v_r falls, the steps shrink towards the stop: the
-            // controller extrapolates that trend (see `Solver::grow_factor`).
-            solver.predictive = dvr < 0.0;
-            let cap = if stop_near && dvr < 0.0 {
-                self.settings.stop_fraction * vr / -dvr
-            } else {
-                f64::INFINITY
-            };
-            // Fixed steps: the friction −Φ v̂_r turns v_r at the rate Φ/v_r,
-            // which an explicit step outruns once h·Φ/v_r > 1 (the stiff
-            // approach to a creep stop); steps are held below v_r/Φ there.
-            let cap = if adaptive {
-                cap
-            } else {
-                cap.min(vr / field.phi(vr))
-            };
-            let (tn, yn, kn) = solver
-                .step(&mut dec, t, &y, &k, cap.min(h_cap).min(max_t - t))
-                .map_err(|e| self.integrate_err(theta, e))?;
-            let turn = y[2] * yn[2] + y[3] * yn[3];
-            if turn <= 0.0 || !(yn[2] * yn[2] + yn[3] * yn[3] > 0.0) {
-                if adaptive {
-                    // The step aimed past the stop despite the cap: retry shorter.
-                    solver.h = 0.3 * (tn - t);
-                    continue;
-                }
-                if solver.stats.accepted - accel_steps < 2 {
-                    return Err(self.too_large(theta, "stop"));
-                }
-                // Fixed step: locate the reversal of v_r on the step's interpolant.
-                let d = solver.dense(&mut dec);
-                let v0 = [y[2], y[3]];
-                let gv = |s: &State| s[2] * v0[0] + s[3] * v0[1];
-                let ts = find_root(
-                    |tt| gv(&d.at(tt)),
-                    t,
-                    vr * vr,
-                    tn,
-                    turn,
-                    self.t_tol * tn.max(1.0),
-                );
-                let s = d.at(ts);
-                t = ts;
-                if let Some(sm) = sampler.as_deref_mut() {
-                    sm.push(t_abs + t, [s[0], s[1]], v, Phase::Decel);
-                }
-                break [s[0], s[1]];
-            }
-            if let Some(s) = sampler.as_deref_mut() {
-                let d: Dense = solver.dense(&mut dec);
-                s.sample_step(t_abs, &d, tn, Phase::Decel, v);
-            }
-            (t, y, k) = (tn, yn, kn);
-        };
-        Ok(SlipEnd {
-            stop,
-            accel_duration: t_a,
-            duration: t,
-            peak_vr,
-            rhs_evals: evals.get(),
-            steps: solver.steps() + extra_steps,
-        })
+        }
     }
 
     /// The end of a creep-sized slip, where the deceleration is stiff.
