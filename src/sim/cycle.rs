@@ -6,6 +6,7 @@ use std::cell::Cell;
 
 use serde::{Deserialize, Serialize};
 
+mod pair;
 mod slip;
 
 use super::SimError;
@@ -16,6 +17,7 @@ use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
     theta_from_point,
 };
+pub use pair::{Task, cycle_pair, cycles_paired, run_paired};
 use slip::{Next, SlipRun};
 
 /// Everything one cycle yields (MODEL.md, "What a slip event reports").
@@ -159,9 +161,22 @@ impl Simulator {
         mut sampler: Option<&mut Sampler>,
     ) -> Result<SlipEvent, SimError> {
         self.check_onset(theta)?;
-        let kappa = self.params.kappa;
-        let onset = point_from_theta(kappa, theta);
+        let onset = point_from_theta(self.params.kappa, theta);
         let end = self.slip(theta, onset, onset_time, sampler.as_deref_mut())?;
+        Ok(self.complete(theta, onset, onset_time, end, sampler))
+    }
+
+    /// The cycle whose slip from `onset` (at θ, time `onset_time`) ended
+    /// with `end`: the closed-form stick phase, the next onset, the event.
+    fn complete(
+        &self,
+        theta: f64,
+        onset: [f64; 2],
+        onset_time: f64,
+        end: SlipEnd,
+        sampler: Option<&mut Sampler>,
+    ) -> SlipEvent {
+        let kappa = self.params.kappa;
         let stop = end.stop;
         let v = self.field.v;
         let (theta_next, stick_duration, restarted) = match stick_exit_point(kappa, stop, v) {
@@ -183,7 +198,7 @@ impl Simulator {
         }
         let dx = stop[0] - onset[0];
         let dy = stop[1] - onset[1];
-        Ok(SlipEvent {
+        SlipEvent {
             theta,
             onset_x: onset[0],
             onset_y: onset[1],
@@ -200,7 +215,7 @@ impl Simulator {
             restarted,
             rhs_evals: end.rhs_evals,
             steps: end.steps,
-        })
+        }
     }
 
     fn integrate_err(&self, theta: f64, e: crate::integrate::IntegrateError) -> SimError {

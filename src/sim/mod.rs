@@ -15,7 +15,9 @@ pub use analysis::{
     DERIVATIVE_STEP, PERIOD_MAX, detect_period, fixed_point, map_derivative, map_graph_grid,
     return_map_window,
 };
-pub use cycle::{Simulator, SlipEvent, default_settings};
+pub use cycle::{
+    Simulator, SlipEvent, Task, cycle_pair, cycles_paired, default_settings, run_paired,
+};
 pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
 pub use sweep::{Column, SweepOptions, column_start, sweep_columns, theta_nu_grid};

@@ -153,6 +153,18 @@ impl<'a> SlipRun<'a> {
         self.solver.stages(&mut f, &self.y, &self.k, h)
     }
 
+    /// The solver, the right-hand side and the state of the next attempt,
+    /// borrowed apart (for stages computed beside another slip's).
+    #[inline(always)]
+    pub(super) fn parts(&mut self) -> (&mut Solver, Counted<'_>, &State, &State) {
+        let f = Counted {
+            field: &self.sim.field,
+            evals: &self.evals,
+            accel: matches!(self.stage, Stage::Accel { .. }),
+        };
+        (&mut self.solver, f, &self.y, &self.k)
+    }
+
     /// Steps at most this long: a sixth of the fastest oscillation for the
     /// adaptive methods, none for the fixed ones (they take their step).
     #[inline(always)]
