@@ -13,7 +13,7 @@ pub mod tableau;
 pub use dense::Dense;
 pub use roots::find_root;
 pub use settings::{Method, SettingsError, SolverSettings};
-pub use solver::{IntegrateError, Solver, Stats};
+pub use solver::{IntegrateError, LaneAttempt, Solver, Stats};
 
 /// The state integrated during a slip: (x, y, v_r,x, v_r,y).
 pub type State = [f64; 4];

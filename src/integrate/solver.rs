@@ -32,6 +32,16 @@ pub enum IntegrateError {
 /// Step-size controller constants (Hairer, Nørsett & Wanner, II.4).
 const SAFETY: f64 = 0.9;
 
+/// One integration's attempt, for [`Solver::stages_lanes`]: its solver,
+/// right-hand side, state y, f(y) and step.
+pub struct LaneAttempt<'a, F> {
+    pub solver: &'a mut Solver,
+    pub f: F,
+    pub y: &'a State,
+    pub k0: &'a State,
+    pub h: f64,
+}
+
 /// Drives one method over the steps of a phase.
 pub struct Solver {
     settings: SolverSettings,
@@ -142,29 +152,31 @@ impl Solver {
         let k = &mut self.k;
         match self.settings.method {
             Method::Dp54 => stages(&tableau::DP54, f, y, k0, h, k),
-            Method::Dop853 => dop853_stages(std::array::from_mut(f), [y], [k0], [h], [k])[0],
+            Method::Dop853 => dop853_stages([Lane { k, f, y, k0, h }])[0],
             Method::Rk4 => stages(&tableau::RK4, f, y, k0, h, k),
             Method::Euler => stages(&tableau::EULER, f, y, k0, h, k),
         }
     }
 
-    /// The stages of two DOP853 attempts computed together, stage by
+    /// The stages of `L` DOP853 attempts computed together, stage by
     /// stage, so that one integration's chain of dependent evaluations
-    /// fills the cycles the other's leaves idle (`lockstep` in
-    /// benches/map_iterate.rs: 1.4–1.75× the steps per second). Each result
-    /// is bitwise what [`stages`](Self::stages) gives. Both solvers must
-    /// run DOP853.
+    /// fills the cycles another's leaves idle (`lockstep` in
+    /// benches/map_iterate.rs). Each result is bitwise what
+    /// [`stages`](Self::stages) gives. Every solver must run DOP853.
     #[inline(always)]
-    pub fn stages_pair<F: Rhs>(
-        pair: [&mut Solver; 2],
-        f: &mut [F; 2],
-        y: [&State; 2],
-        k0: [&State; 2],
-        h: [f64; 2],
-    ) -> [State; 2] {
-        debug_assert!(pair.iter().all(|s| s.settings.method == Method::Dop853));
-        let [a, b] = pair;
-        dop853_stages(f, y, k0, h, [&mut a.k, &mut b.k])
+    pub fn stages_lanes<F: Rhs, const L: usize>(mut lanes: [LaneAttempt<'_, F>; L]) -> [State; L] {
+        debug_assert!(
+            lanes
+                .iter()
+                .all(|a| a.solver.settings.method == Method::Dop853)
+        );
+        dop853_stages(lanes.each_mut().map(|a| Lane {
+            k: &mut a.solver.k,
+            f: &mut a.f,
+            y: a.y,
+            k0: a.k0,
+            h: a.h,
+        }))
     }
 
     /// Accepts the attempt (Some((t + h, y_new, f(y_new)))) and proposes the
@@ -437,31 +449,36 @@ fn stages<F: Rhs, const S: usize>(
     y_new
 }
 
+/// One attempt's share of `dop853_stages`.
+struct Lane<'a, F> {
+    k: &'a mut [State; 16],
+    f: &'a mut F,
+    y: &'a State,
+    k0: &'a State,
+    h: f64,
+}
+
 /// DOP853's stages for `L` integrations at once, unrolled over the nonzero
 /// coefficients and interleaved stage by stage (each stage's arguments for
 /// all of them, then their evaluations): with L = 1 the plain stages, with
 /// L = 2 two independent chains the CPU overlaps. Every integration's
 /// arithmetic is the same sequence whatever L is, so its results are too.
 #[inline(always)]
-fn dop853_stages<F: Rhs, const L: usize>(
-    f: &mut [F; L],
-    y: [&State; L],
-    k0: [&State; L],
-    h: [f64; L],
-    k: [&mut [State; 16]; L],
-) -> [State; L] {
+fn dop853_stages<F: Rhs, const L: usize>(mut lanes: [Lane<'_, F>; L]) -> [State; L] {
     let a = &tableau::DOP853.a;
-    for l in 0..L {
-        k[l][0] = *k0[l];
+    for l in lanes.iter_mut() {
+        l.k[0] = *l.k0;
     }
     macro_rules! stage {
         ($i:literal; $($j:literal),+) => {
             let mut args = [[0.0; 4]; L];
             for l in 0..L {
-                args[l] = stage_arg!(y[l], h[l], a[$i], &*k[l]; $($j),+);
+                let ln = &lanes[l];
+                args[l] = stage_arg!(ln.y, ln.h, a[$i], &*ln.k; $($j),+);
             }
             for l in 0..L {
-                k[l][$i] = f[l].eval(&args[l]);
+                let ln = &mut lanes[l];
+                ln.k[$i] = ln.f.eval(&args[l]);
             }
         };
     }
@@ -478,7 +495,8 @@ fn dop853_stages<F: Rhs, const L: usize>(
     stage!(11; 0, 3, 4, 5, 6, 7, 8, 9, 10);
     let mut out = [[0.0; 4]; L];
     for l in 0..L {
-        out[l] = stage_arg!(y[l], h[l], tableau::DOP853.b, &*k[l]; 0, 5, 6, 7, 8, 9, 10, 11);
+        let ln = &lanes[l];
+        out[l] = stage_arg!(ln.y, ln.h, tableau::DOP853.b, &*ln.k; 0, 5, 6, 7, 8, 9, 10, 11);
     }
     out
 }

@@ -11,7 +11,7 @@
 
 use super::slip::{Next, SlipRun};
 use super::{SimError, Simulator, SlipEvent};
-use crate::integrate::{Method, Solver};
+use crate::integrate::{Method, Solver, State};
 use crate::model::point_from_theta;
 
 /// One cycle to compute: the simulator (parameters and solver settings),
@@ -53,18 +53,23 @@ fn run_paired_avx2<'s>(
     run_paired_impl(feed)
 }
 
+/// How many slips are stepped together. Two: three measured the same and
+/// four slower (register pressure and a reorder window that no longer holds
+/// the chains), with `examples`-style timing of the 200 Fig. 3b points.
+pub const LANES: usize = 2;
+
 #[inline(always)]
 fn run_paired_impl<'s>(
     feed: &mut impl FnMut(usize, Option<Result<SlipEvent, SimError>>) -> Option<Task<'s>>,
 ) {
-    let mut lanes: [Option<InFlight<'s>>; 2] = [None, None];
+    let mut lanes: [Option<InFlight<'s>>; LANES] = std::array::from_fn(|_| None);
     for (i, lane) in lanes.iter_mut().enumerate() {
         *lane = launch(i, None, feed);
     }
     // The attempt each lane asks for this round.
-    let mut h: [Option<f64>; 2] = [None, None];
+    let mut h: [Option<f64>; LANES] = [None; LANES];
     while lanes.iter().any(Option::is_some) {
-        for i in 0..2 {
+        for i in 0..LANES {
             h[i] = None;
             // A lane whose cycle ends here takes its next task at once.
             while let Some(c) = &mut lanes[i] {
@@ -81,25 +86,29 @@ fn run_paired_impl<'s>(
                 }
             }
         }
-        let y_new = match (&mut lanes, h) {
-            ([Some(a), Some(b)], [Some(ha), Some(hb)])
-                if a.sim.settings().method == Method::Dop853
-                    && b.sim.settings().method == Method::Dop853 =>
-            {
-                let [ya, yb] = SlipRun::stages_pair(&mut a.run, &mut b.run, [ha, hb]);
-                [Some(ya), Some(yb)]
-            }
-            (lanes, h) => {
-                let mut out = [None, None];
-                for i in 0..2 {
-                    if let (Some(c), Some(hi)) = (&mut lanes[i], h[i]) {
-                        out[i] = Some(c.run.stages(hi));
-                    }
+        let together = lanes.iter().zip(&h).all(|(c, h)| {
+            h.is_some()
+                && c.as_ref()
+                    .is_some_and(|c| c.sim.settings().method == Method::Dop853)
+        });
+        let y_new: [Option<State>; LANES] = if together {
+            let mut i = 0;
+            let attempts = lanes.each_mut().map(|c| {
+                let hi = h[i].unwrap_or_default();
+                i += 1;
+                c.as_mut().expect("every lane is in flight").run.attempt(hi)
+            });
+            Solver::stages_lanes(attempts).map(Some)
+        } else {
+            let mut out = [None; LANES];
+            for i in 0..LANES {
+                if let (Some(c), Some(hi)) = (&mut lanes[i], h[i]) {
+                    out[i] = Some(c.run.stages(hi));
                 }
-                out
             }
+            out
         };
-        for i in 0..2 {
+        for i in 0..LANES {
             let (Some(c), Some(hi), Some(y)) = (&mut lanes[i], h[i], &y_new[i]) else {
                 continue;
             };
@@ -144,29 +153,19 @@ fn launch<'s>(
     }
 }
 
-impl SlipRun<'_> {
-    /// The stages of both slips' attempts, computed together (DOP853 only).
-    #[inline(always)]
-    fn stages_pair(a: &mut Self, b: &mut Self, h: [f64; 2]) -> [crate::integrate::State; 2] {
-        let (sa, fa, ya, ka) = a.parts();
-        let (sb, fb, yb, kb) = b.parts();
-        Solver::stages_pair([sa, sb], &mut [fa, fb], [ya, yb], [ka, kb], h)
-    }
-}
-
 /// Two cycles computed together.
 pub fn cycle_pair<'s>(tasks: [Task<'s>; 2]) -> [Result<SlipEvent, SimError>; 2] {
     let mut out = [None, None];
-    let mut given = [false; 2];
+    let mut next = 0;
+    let mut working = [usize::MAX; LANES];
     run_paired(|lane, result| {
         if let Some(r) = result {
-            out[lane] = Some(r);
+            out[working[lane]] = Some(r);
         }
-        if given[lane] {
-            return None;
-        }
-        given[lane] = true;
-        Some(tasks[lane])
+        let task = tasks.get(next)?;
+        working[lane] = next;
+        next += 1;
+        Some(*task)
     });
     out.map(|r| r.expect("run_paired answers every task it is given"))
 }
@@ -177,7 +176,7 @@ pub fn cycles_paired<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>>
     let mut out: Vec<Option<Result<SlipEvent, SimError>>> =
         (0..tasks.len()).map(|_| None).collect();
     let mut next = 0;
-    let mut working = [usize::MAX; 2];
+    let mut working = [usize::MAX; LANES];
     run_paired(|lane, result| {
         if let Some(r) = result {
             out[working[lane]] = Some(r);

@@ -13,7 +13,7 @@
 use std::cell::Cell;
 
 use super::{SimError, Simulator, SlipEnd, StiffEnd};
-use crate::integrate::{Dense, Rhs, Solver, State, find_root};
+use crate::integrate::{Dense, LaneAttempt, Rhs, Solver, State, find_root};
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
 
@@ -153,16 +153,21 @@ impl<'a> SlipRun<'a> {
         self.solver.stages(&mut f, &self.y, &self.k, h)
     }
 
-    /// The solver, the right-hand side and the state of the next attempt,
-    /// borrowed apart (for stages computed beside another slip's).
+    /// The attempt of length `h` that `prepare` asked for, for stages
+    /// computed beside other slips' (`Solver::stages_lanes`).
     #[inline(always)]
-    pub(super) fn parts(&mut self) -> (&mut Solver, Counted<'_>, &State, &State) {
-        let f = Counted {
-            field: &self.sim.field,
-            evals: &self.evals,
-            accel: matches!(self.stage, Stage::Accel { .. }),
-        };
-        (&mut self.solver, f, &self.y, &self.k)
+    pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_>> {
+        LaneAttempt {
+            f: Counted {
+                field: &self.sim.field,
+                evals: &self.evals,
+                accel: matches!(self.stage, Stage::Accel { .. }),
+            },
+            solver: &mut self.solver,
+            y: &self.y,
+            k0: &self.k,
+            h,
+        }
     }
 
     /// Steps at most this long: a sixth of the fastest oscillation for the
