@@ -1,8 +1,10 @@
 //! Cycles two at a time: while two slips are in flight, the stages of
 //! their steps are computed together, stage by stage, so that one slip's
 //! chain of dependent right-hand-side evaluations fills the cycles the
-//! other's leaves idle (`lockstep` in benches/map_iterate.rs: 1.4× the
-//! steps per second in the acceleration phase, 1.75× in the deceleration).
+//! other's leaves idle (`lockstep` in benches/map_iterate.rs: 1.3–1.4× the
+//! steps per second in the acceleration phase, 1.75–2× in the deceleration;
+//! 1.06–1.2× on whole iterates, whose two slips are seldom in the same
+//! phase: docs/numerics.md, "Two slips at a time").
 //!
 //! For work made of independent cycles: the sample's map iterates, the
 //! columns of a bifurcation sweep split into continued chains, the cells of
@@ -53,9 +55,9 @@ fn run_paired_avx2<'s>(
     run_paired_impl(feed)
 }
 
-/// How many slips are stepped together. Two: three measured the same and
-/// four slower (register pressure and a reorder window that no longer holds
-/// the chains), with `examples`-style timing of the 200 Fig. 3b points.
+/// How many slips are stepped together. Two: on the 200 Fig. 3b points
+/// three measured the same and four slower (more live registers than the
+/// CPU has, and chains longer than its reorder window holds).
 pub const LANES: usize = 2;
 
 #[inline(always)]
