@@ -6,10 +6,11 @@
 //! 1.06–1.2× on whole iterates, whose two slips are seldom in the same
 //! phase: docs/numerics.md, "Two slips at a time").
 //!
-//! For work made of independent cycles: the sample's map iterates, the
-//! columns of a bifurcation sweep split into continued chains, the cells of
-//! a phase diagram. Every cycle's result is bitwise what
-//! [`Simulator::cycle`] gives for it.
+//! For work made of independent cycles: f'(θ)'s central difference, the
+//! return map's graph, the sample's reference cycles (a sweep's continued
+//! chains or a phase diagram's rows could be two lanes too; they are not
+//! yet). Every cycle's result is bitwise what [`Simulator::cycle`] gives
+//! for it.
 
 use super::slip::{Next, SlipRun};
 use super::{SimError, Simulator, SlipEvent};
