@@ -229,88 +229,80 @@ fn rhs(c: &mut Criterion) {
     group.finish();
 }
 
-/// A measurement, not used by the simulation: how much throughput stepping
-/// independent slips in lockstep would buy (docs/numerics.md, "Where an
-/// iterate's cost goes"). One DOP853 step (11 stages after k0, then the
-/// solution) for `L` slips, stage by stage across the slips, so that one
-/// slip's chain of dependent evaluations fills the cycles another's leaves
-/// idle. No step control: the stage arithmetic and the field as the solver
-/// runs them.
+/// One DOP853 step's stages for `L` slips computed together, stage by stage
+/// (`Solver::stages_lanes`, as `sim::run_paired` runs them), starting with
+/// each slip's f(y): the field and stage arithmetic without step control.
 mod lanes {
-    use oneblock::integrate::tableau::DOP853;
+    use oneblock::integrate::{LaneAttempt, Solver, State};
     use oneblock::sim::field::SlipField;
-
-    pub type State = [f64; 4];
-
-    macro_rules! arg {
-        ($y:expr, $h:expr, $row:expr, $k:expr; $($j:literal),+) => {{
-            let mut s = [0.0; 4];
-            $(for c in 0..4 { s[c] += $row[$j] * $k[$j][c]; })+
-            let mut out = $y;
-            for c in 0..4 { out[c] += $h * s[c]; }
-            out
-        }};
-    }
+    use oneblock::{Method, SolverSettings};
 
     #[inline(always)]
-    fn eval(f: &SlipField, decel: bool, y: &State) -> State {
-        if decel { f.decel(y) } else { f.accel(y) }
-    }
-
-    #[inline(always)]
-    fn step_impl<const L: usize>(f: &SlipField, decel: bool, y: &[State; L], h: f64) -> [State; L] {
-        let a = &DOP853.a;
-        let mut k = [[[0.0; 4]; 12]; L];
-        for l in 0..L {
-            k[l][0] = eval(f, decel, &y[l]);
-        }
-        macro_rules! stage {
-            ($i:literal; $($j:literal),+) => {
-                let mut args = [[0.0; 4]; L];
-                for l in 0..L { args[l] = arg!(y[l], h, a[$i], k[l]; $($j),+); }
-                for l in 0..L { k[l][$i] = eval(f, decel, &args[l]); }
+    fn step_impl<const L: usize>(
+        f: &SlipField,
+        decel: bool,
+        solvers: &mut [Solver; L],
+        y: &[State; L],
+        h: f64,
+    ) -> [State; L] {
+        let rhs = |s: &State| if decel { f.decel(s) } else { f.accel(s) };
+        let k0 = y.each_ref().map(rhs);
+        let mut l = 0;
+        let attempts = solvers.each_mut().map(|solver| {
+            let a = LaneAttempt {
+                solver,
+                f: rhs,
+                y: &y[l],
+                k0: &k0[l],
+                h,
             };
-        }
-        stage!(1; 0);
-        stage!(2; 0, 1);
-        stage!(3; 0, 2);
-        stage!(4; 0, 2, 3);
-        stage!(5; 0, 3, 4);
-        stage!(6; 0, 3, 4, 5);
-        stage!(7; 0, 3, 4, 5, 6);
-        stage!(8; 0, 3, 4, 5, 6, 7);
-        stage!(9; 0, 3, 4, 5, 6, 7, 8);
-        stage!(10; 0, 3, 4, 5, 6, 7, 8, 9);
-        stage!(11; 0, 3, 4, 5, 6, 7, 8, 9, 10);
-        let b = &DOP853.b;
-        let mut out = [[0.0; 4]; L];
-        for l in 0..L {
-            out[l] = arg!(y[l], h, b, k[l]; 0, 5, 6, 7, 8, 9, 10, 11);
-        }
-        out
+            l += 1;
+            a
+        });
+        Solver::stages_lanes(attempts)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn step_avx2<const L: usize>(f: &SlipField, decel: bool, y: &[State; L], h: f64) -> [State; L] {
-        step_impl(f, decel, y, h)
+    fn step_avx2<const L: usize>(
+        f: &SlipField,
+        decel: bool,
+        solvers: &mut [Solver; L],
+        y: &[State; L],
+        h: f64,
+    ) -> [State; L] {
+        step_impl(f, decel, solvers, y, h)
+    }
+
+    /// Solvers for `L` slips (their stage storage; no step is controlled).
+    pub fn solvers<const L: usize>() -> [Solver; L] {
+        let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+        std::array::from_fn(|_| Solver::new(settings, [1.0; 4], 1e-3))
     }
 
     /// One step for each of the `L` slips; compiled with AVX2 where the
     /// CPU has it, as the solver's slips are.
-    pub fn step<const L: usize>(f: &SlipField, decel: bool, y: &[State; L], h: f64) -> [State; L] {
+    pub fn step<const L: usize>(
+        f: &SlipField,
+        decel: bool,
+        solvers: &mut [Solver; L],
+        y: &[State; L],
+        h: f64,
+    ) -> [State; L] {
         #[cfg(target_arch = "x86_64")]
         if std::arch::is_x86_feature_detected!("avx2") {
             // SAFETY: the CPU has AVX2 (checked just above).
-            return unsafe { step_avx2(f, decel, y, h) };
+            return unsafe { step_avx2(f, decel, solvers, y, h) };
         }
-        step_impl(f, decel, y, h)
+        step_impl(f, decel, solvers, y, h)
     }
 }
 
-/// Time per slip-step, one slip against two in lockstep (Throughput:
-/// slips), for both fields, each step starting from the last one's result
-/// as an integration does (pulled back by h·f so the states stay in range).
+/// How much throughput stepping independent slips together buys
+/// (docs/numerics.md, "Two slips at a time"): time per slip-step, one slip
+/// against two (Throughput: slips), for both fields, each step starting
+/// from the last one's result as an integration does (pulled halfway back
+/// so the states stay in range).
 fn lockstep(c: &mut Criterion) {
     use oneblock::sim::field::SlipField;
     let field = SlipField::new(&params(18.95, 1e-3, 1.25));
@@ -324,8 +316,9 @@ fn lockstep(c: &mut Criterion) {
         group.throughput(Throughput::Elements(1));
         group.bench_function(format!("{phase}_1_slip"), |b| {
             let mut y = [start(0)];
+            let mut solvers = lanes::solvers::<1>();
             b.iter(|| {
-                let yn = lanes::step(&field, decel, black_box(&y), 1e-3);
+                let yn = lanes::step(&field, decel, &mut solvers, black_box(&y), 1e-3);
                 for m in 0..4 {
                     y[0][m] = 0.5 * (yn[0][m] + y[0][m]);
                 }
@@ -334,8 +327,9 @@ fn lockstep(c: &mut Criterion) {
         group.throughput(Throughput::Elements(2));
         group.bench_function(format!("{phase}_2_slips"), |b| {
             let mut y = [start(0), start(1)];
+            let mut solvers = lanes::solvers::<2>();
             b.iter(|| {
-                let yn = lanes::step(&field, decel, black_box(&y), 1e-3);
+                let yn = lanes::step(&field, decel, &mut solvers, black_box(&y), 1e-3);
                 for l in 0..2 {
                     for m in 0..4 {
                         y[l][m] = 0.5 * (yn[l][m] + y[l][m]);

@@ -159,25 +159,22 @@ fn launch<'s>(
 /// Two cycles computed together.
 pub fn cycle_pair<'s>(tasks: [Task<'s>; 2]) -> [Result<SlipEvent, SimError>; 2] {
     let mut out = [None, None];
-    let mut next = 0;
-    let mut working = [usize::MAX; LANES];
-    run_paired(|lane, result| {
-        if let Some(r) = result {
-            out[working[lane]] = Some(r);
-        }
-        let task = tasks.get(next)?;
-        working[lane] = next;
-        next += 1;
-        Some(*task)
-    });
+    run_in_order(&tasks, &mut out);
     out.map(|r| r.expect("run_paired answers every task it is given"))
 }
 
 /// The cycle of each task, computed two at a time; the results in the
 /// tasks' order.
 pub fn cycles_paired<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>> {
-    let mut out: Vec<Option<Result<SlipEvent, SimError>>> =
-        (0..tasks.len()).map(|_| None).collect();
+    let mut out: Vec<_> = (0..tasks.len()).map(|_| None).collect();
+    run_in_order(tasks, &mut out);
+    out.into_iter()
+        .map(|r| r.expect("run_paired answers every task it is given"))
+        .collect()
+}
+
+/// Runs `tasks` on the lanes, each result into `out` at its task's index.
+fn run_in_order<'s>(tasks: &[Task<'s>], out: &mut [Option<Result<SlipEvent, SimError>>]) {
     let mut next = 0;
     let mut working = [usize::MAX; LANES];
     run_paired(|lane, result| {
@@ -189,9 +186,6 @@ pub fn cycles_paired<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>>
         next += 1;
         Some(*task)
     });
-    out.into_iter()
-        .map(|r| r.expect("run_paired answers every task it is given"))
-        .collect()
 }
 
 #[cfg(test)]

@@ -26,6 +26,18 @@ pub(super) struct Counted<'a> {
     pub(super) accel: bool,
 }
 
+impl<'a> Counted<'a> {
+    /// The right-hand side of the phase `stage` is in.
+    #[inline(always)]
+    fn of(field: &'a SlipField, evals: &'a Cell<u64>, stage: Stage) -> Self {
+        Counted {
+            field,
+            evals,
+            accel: matches!(stage, Stage::Accel { .. }),
+        }
+    }
+}
+
 impl Rhs for Counted<'_> {
     #[inline(always)]
     fn eval(&mut self, y: &State) -> State {
@@ -135,22 +147,20 @@ impl<'a> SlipRun<'a> {
     /// The current phase's right-hand side.
     #[inline(always)]
     pub(super) fn rhs(&self) -> Counted<'_> {
-        Counted {
-            field: &self.sim.field,
-            evals: &self.evals,
-            accel: matches!(self.stage, Stage::Accel { .. }),
-        }
+        Counted::of(&self.sim.field, &self.evals, self.stage)
     }
 
     /// The stages of the attempt of length `h` that `prepare` asked for.
     #[inline(always)]
     pub(super) fn stages(&mut self, h: f64) -> State {
-        let mut f = Counted {
-            field: &self.sim.field,
-            evals: &self.evals,
-            accel: matches!(self.stage, Stage::Accel { .. }),
-        };
-        self.solver.stages(&mut f, &self.y, &self.k, h)
+        let LaneAttempt {
+            solver,
+            mut f,
+            y,
+            k0,
+            ..
+        } = self.attempt(h);
+        solver.stages(&mut f, y, k0, h)
     }
 
     /// The attempt of length `h` that `prepare` asked for, for stages
@@ -158,11 +168,7 @@ impl<'a> SlipRun<'a> {
     #[inline(always)]
     pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_>> {
         LaneAttempt {
-            f: Counted {
-                field: &self.sim.field,
-                evals: &self.evals,
-                accel: matches!(self.stage, Stage::Accel { .. }),
-            },
+            f: Counted::of(&self.sim.field, &self.evals, self.stage),
             solver: &mut self.solver,
             y: &self.y,
             k0: &self.k,
@@ -324,12 +330,7 @@ impl<'a> SlipRun<'a> {
         let adaptive = sim.settings.method.is_adaptive();
         let v = sim.field.v;
         let (t, y) = (self.t, self.y);
-        let field = &sim.field;
-        let mut f = Counted {
-            field,
-            evals: &self.evals,
-            accel: matches!(self.stage, Stage::Accel { .. }),
-        };
+        let mut f = Counted::of(&sim.field, &self.evals, self.stage);
         let Some((tn, yn, kn)) = self
             .solver
             .end_attempt(&mut f, t, &y, y_new, h)
