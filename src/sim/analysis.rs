@@ -1,7 +1,7 @@
 //! Period detection of an orbit, the derivative of the map, and the grid
 //! its graph is drawn on.
 
-use super::{SimError, Simulator, cycle_pair};
+use super::{SimError, Simulator, SlipEvent, cycle_pair};
 use crate::model::{is_on_exit_arc, wrap_angle};
 
 /// The longest period looked for.
@@ -55,17 +55,14 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
     let p = sim.params();
     let up = is_on_exit_arc(p.kappa, p.theta_nu, theta + h);
     let down = is_on_exit_arc(p.kappa, p.theta_nu, theta - h);
-    let f = |th: f64| {
-        sim.cycle(th, 0.0, None)
-            .map(|e| (e.theta_next, e.rhs_evals))
-    };
+    let pick = |r: Result<SlipEvent, SimError>| r.map(|e| (e.theta_next, e.rhs_evals));
+    let f = |th: f64| pick(sim.cycle(th, 0.0, None));
     match (up, down) {
         (true, true) => {
             // Two independent cycles: their slips are stepped together
             // (`cycle_pair`), bitwise the values `f` gives, ~1.2× sooner.
             let [p, m] = cycle_pair([(sim, theta + h, 0.0), (sim, theta - h, 0.0)]);
-            let (fp, np) = p.map(|e| (e.theta_next, e.rhs_evals))?;
-            let (fm, nm) = m.map(|e| (e.theta_next, e.rhs_evals))?;
+            let ((fp, np), (fm, nm)) = (pick(p)?, pick(m)?);
             Ok((wrap_angle(fp - fm) / (2.0 * h), np + nm))
         }
         (true, false) => {
