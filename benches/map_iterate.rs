@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use oneblock::numerics::sample::default_attractors;
-use oneblock::sim::cycles_paired;
+use oneblock::sim::cycles_in_lanes;
 use oneblock::{Method, Params, Simulator, SolverSettings};
 
 /// The benchmark's names for the two chaotic attractors of the default
@@ -85,19 +85,20 @@ fn bench(c: &mut Criterion) {
                     black_box(sim.map(black_box(thetas[i])).unwrap())
                 })
             });
-            // Only DOP853 steps two slips together (DP5(4) would time the
+            // Only DOP853 steps slips together (DP5(4) would time the
             // driver alone); tol 1e-12 adds nothing to the comparison.
             if method != Method::Dop853 || tol < 1e-11 {
                 continue;
             }
-            // The same iterates two at a time (`sim::cycles_paired`: their
-            // slips' stages computed together), all 200 per iteration, as
-            // independent work (a sweep's columns, the sample) can run them.
-            // Bitwise the same values; the time per iterate is what counts.
+            // The same iterates in lanes (`sim::cycles_in_lanes`: up to
+            // `sim::LANES` slips' stages computed together on this one
+            // thread), all 200 per iteration, as independent work (a sweep's
+            // columns, the sample) runs them. Bitwise the same values; the
+            // time per iterate is what counts.
             let tasks: Vec<_> = thetas.iter().map(|&t| (&sim, t, 0.0)).collect();
             group.throughput(Throughput::Elements(tasks.len() as u64));
-            group.bench_function(format!("{name}/{method}/{tol:e}/paired"), |b| {
-                b.iter(|| black_box(cycles_paired(black_box(&tasks))))
+            group.bench_function(format!("{name}/{method}/{tol:e}/lanes"), |b| {
+                b.iter(|| black_box(cycles_in_lanes(black_box(&tasks))))
             });
             group.throughput(Throughput::Elements(1));
         }
@@ -230,7 +231,7 @@ fn rhs(c: &mut Criterion) {
 }
 
 /// One DOP853 step's stages for `L` slips computed together, stage by stage
-/// (`Solver::stages_lanes`, as `sim::run_paired` runs them), starting with
+/// (`Solver::stages_lanes`, as `sim::run_lanes` runs them), starting with
 /// each slip's f(y): the field and stage arithmetic without step control.
 mod lanes {
     use oneblock::integrate::{LaneAttempt, Solver, State};
@@ -299,7 +300,7 @@ mod lanes {
 }
 
 /// How much throughput stepping independent slips together buys
-/// (docs/numerics.md, "Two slips at a time"): time per slip-step, one slip
+/// (docs/numerics.md, "Slips in lanes"): time per slip-step, one slip
 /// against two (Throughput: slips), for both fields, each step starting
 /// from the last one's result as an integration does (pulled halfway back
 /// so the states stay in range).

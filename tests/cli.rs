@@ -6,7 +6,7 @@ use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
 use oneblock::cli::common::SLIP_EVENT_COLUMNS;
-use oneblock::sim::{SweepOptions, sweep_columns, theta_nu_grid};
+use oneblock::sim::{LANES, SweepOptions, segments, sweep_columns, theta_nu_grid};
 use oneblock::{Params, SolverSettings};
 
 /// MODEL.md's first worked example.
@@ -269,8 +269,8 @@ fn trajectory_phases_follow_the_cycle_and_time_runs_forward() {
 }
 
 #[test]
-fn bifurcation_equals_two_continued_sweeps() {
-    let (from, to, columns, transient, keep) = (0.9, 1.3, 5, 20, 10);
+fn bifurcation_equals_its_continued_segments() {
+    let (from, to, columns, transient, keep) = (0.9, 1.3, 9, 20, 10);
     let o = oneblock(&[
         "bifurcation",
         "--kappa",
@@ -284,7 +284,7 @@ fn bifurcation_equals_two_continued_sweeps() {
         "--theta-nu-to",
         "1.3",
         "--columns",
-        "5",
+        "9",
         "--transient",
         "20",
         "--keep",
@@ -299,7 +299,8 @@ fn bifurcation_equals_two_continued_sweeps() {
     let got: Vec<(f64, f64)> = rows.iter().map(|r| (num(&r[0]), num(&r[1]))).collect();
 
     // The documented split: the first ⌈C/2⌉ columns, then the rest, each
-    // a continued sweep starting from its first θν.
+    // in LANES segments, each segment a continued sweep starting from its
+    // first θν.
     let params = Params {
         kappa: 18.95,
         gamma: 6.5,
@@ -311,8 +312,13 @@ fn bifurcation_equals_two_continued_sweeps() {
     let grid = theta_nu_grid(from, to, columns);
     let opts = SweepOptions { transient, keep };
     let mut want = Vec::new();
-    for half in [&grid[..3], &grid[3..]] {
-        for col in sweep_columns(params, settings, half, &opts, None, &|| false, |_| {}) {
+    let segs: Vec<&[f64]> = [&grid[..5], &grid[5..]]
+        .into_iter()
+        .flat_map(|half| segments(half, LANES))
+        .collect();
+    assert_eq!(segs.len(), 6, "{segs:?}");
+    for seg in segs {
+        for col in sweep_columns(params, settings, seg, &opts, None, &|| false, |_| {}) {
             assert!(col.error.is_none());
             want.extend(col.thetas.iter().map(|&th| (col.theta_nu, th)));
         }

@@ -16,7 +16,7 @@ use oneblock::model::Params;
 use oneblock::numerics::quick::{current_attractor, quick_subjects};
 use oneblock::numerics::{Row, Subject, build_sample, measure};
 use oneblock::sim::{
-    Column, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
+    Column, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
     return_map_window, theta_nu_grid,
 };
 use oneblock::worker::{
@@ -270,7 +270,8 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
     let params = fig3b(0.0);
     let opts = SweepOptions { transient, keep };
     let mut last: Vec<Option<f64>> = vec![None; columns];
-    let plan = sweep_plan(columns, coarse, threads);
+    // Each thread steps LANES columns together: LANES chains per thread.
+    let plan = sweep_plan(columns, coarse, threads * LANES);
     for p in &plan {
         let neighbour = p.parent.and_then(|q| last[q]);
         let start = column_start(params.kappa, grid[p.index], neighbour);

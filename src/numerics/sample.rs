@@ -6,7 +6,7 @@ use serde::Serialize;
 use super::fixed_sample;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
-use crate::sim::{OrbitOptions, SimError, Simulator, SlipEvent, cycles_paired};
+use crate::sim::{OrbitOptions, SimError, Simulator, SlipEvent, cycles_in_lanes};
 
 /// One map iterate as the measurement compares it: θ', the stop point, the
 /// slip duration and what it cost.
@@ -180,7 +180,7 @@ pub fn build_sample_until(
                 return Err(SimError::Cancelled);
             }
             let tasks: Vec<_> = pair.iter().map(|&th| (&reference, th, 0.0)).collect();
-            for (&theta, r) in pair.iter().zip(cycles_paired(&tasks)) {
+            for (&theta, r) in pair.iter().zip(cycles_in_lanes(&tasks)) {
                 let r = r?;
                 let c = check.cycle(theta, 0.0, None)?;
                 out.push(SamplePoint {

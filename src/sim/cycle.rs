@@ -6,7 +6,7 @@ use std::cell::Cell;
 
 use serde::{Deserialize, Serialize};
 
-mod pair;
+mod lanes;
 mod slip;
 
 use super::SimError;
@@ -17,7 +17,7 @@ use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
     theta_from_point,
 };
-pub use pair::{Task, cycle_pair, cycles_paired, run_paired};
+pub use lanes::{LANES, Task, cycle_pair, cycles_in_lanes, run_lanes};
 use slip::{Next, SlipRun};
 
 /// Everything one cycle yields (MODEL.md, "What a slip event reports").

@@ -16,9 +16,12 @@ pub use analysis::{
     return_map_window,
 };
 pub use cycle::{
-    Simulator, SlipEvent, Task, cycle_pair, cycles_paired, default_settings, run_paired,
+    LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,
 };
 pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
-pub use sweep::{Column, SweepOptions, column_start, sweep_columns, theta_nu_grid};
+pub use sweep::{
+    Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
+    sweep_segments, theta_nu_grid,
+};
 pub use trajectory::{Phase, Sample, Sampler};

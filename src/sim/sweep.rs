@@ -1,7 +1,7 @@
 //! Bifurcation sweeps over θν: each column's orbit starts from the last
 //! iterate of the previous column, so a sweep follows one attractor.
 
-use super::{SimError, Simulator};
+use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc, wrap_angle};
 
@@ -57,58 +57,223 @@ impl Column {
         opts: &SweepOptions,
         cancel: &dyn Fn() -> bool,
     ) -> Column {
-        let mut col = Column {
-            theta_nu,
-            thetas: Vec::with_capacity(opts.keep),
-            theta_last: theta_start,
-            error: None,
-            rhs_evals: 0,
-        };
         let sim = match Simulator::new(params.with_theta_nu(theta_nu), settings) {
             Ok(s) => s,
-            Err(e) => {
-                col.error = Some(e);
-                return col;
-            }
+            Err(e) => return Column::failed(theta_nu, theta_start, e),
         };
+        let mut run = ColumnRun::new(&sim, theta_start, opts);
+        while let Some(theta) = run.next_onset(cancel) {
+            run.take(&sim, sim.cycle(theta, 0.0, None));
+        }
+        run.finish()
+    }
+
+    /// A column that could not start.
+    fn failed(theta_nu: f64, theta_start: f64, e: SimError) -> Column {
+        Column {
+            theta_nu,
+            thetas: vec![],
+            theta_last: theta_start,
+            error: Some(e),
+            rhs_evals: 0,
+        }
+    }
+}
+
+/// A column in progress, one cycle at a time, so that [`Column::run`] and
+/// the lanes of [`run_columns`] share the column's logic (the early exit
+/// of a settled column, the kept iterates of a failed one).
+struct ColumnRun {
+    col: Column,
+    transient: usize,
+    total: usize,
+    rep_tol: f64,
+    /// onsets[k] is the onset of cycle k.
+    onsets: Vec<f64>,
+    done: bool,
+}
+
+impl ColumnRun {
+    fn new(sim: &Simulator, theta_start: f64, opts: &SweepOptions) -> Self {
         let total = opts.transient + opts.keep;
-        let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
-        // onsets[k] is the onset of cycle k.
         let mut onsets = Vec::with_capacity(total + 1);
         onsets.push(theta_start);
-        for i in 0..total {
-            if cancel() {
-                col.error = Some(SimError::Cancelled);
-                return col;
+        ColumnRun {
+            col: Column {
+                theta_nu: sim.params().theta_nu,
+                thetas: Vec::with_capacity(opts.keep),
+                theta_last: theta_start,
+                error: None,
+                rhs_evals: 0,
+            },
+            transient: opts.transient,
+            total,
+            rep_tol: (100.0 * sim.settings().rtol).clamp(1e-12, 1e-6),
+            onsets,
+            done: total == 0,
+        }
+    }
+
+    /// The onset of the next cycle to compute, or `None` once the column
+    /// is complete (or cancelled: `cancel` is polled here, once a cycle).
+    fn next_onset(&mut self, cancel: &dyn Fn() -> bool) -> Option<f64> {
+        if self.done {
+            return None;
+        }
+        if cancel() {
+            self.col.error = Some(SimError::Cancelled);
+            self.done = true;
+            return None;
+        }
+        self.onsets.last().copied()
+    }
+
+    /// Takes the result of the cycle from the last onset `next_onset` gave.
+    fn take(&mut self, sim: &Simulator, r: Result<SlipEvent, SimError>) {
+        let i = self.onsets.len() - 1;
+        match r {
+            Ok(ev) => {
+                self.col.rhs_evals += ev.rhs_evals;
+                self.onsets.push(sim.next_onset(&ev));
             }
-            match sim.cycle(onsets[i], 0.0, None) {
-                Ok(ev) => {
-                    col.rhs_evals += ev.rhs_evals;
-                    onsets.push(sim.next_onset(&ev));
-                }
-                Err(e) => {
-                    col.error = Some(e);
-                    // The kept cycles that completed before the failure.
-                    col.thetas = onsets[opts.transient.min(i)..i].to_vec();
-                    return col;
-                }
-            }
-            // A column that has settled onto a short cycle repeats it: the
-            // rest of its iterates are the cycle's, to within rep_tol, so
-            // they are not integrated again (most columns of a diagram are
-            // fixed points or short cycles).
-            if let Some(p) = settled_period(&onsets, rep_tol) {
-                for k in onsets.len()..=total {
-                    let next = onsets[k - p];
-                    onsets.push(next);
-                }
-                break;
+            Err(e) => {
+                self.col.error = Some(e);
+                // The kept cycles that completed before the failure.
+                self.col.thetas = self.onsets[self.transient.min(i)..i].to_vec();
+                self.done = true;
+                return;
             }
         }
-        col.thetas = onsets[opts.transient..total].to_vec();
-        col.theta_last = onsets[total];
-        col
+        // A column that has settled onto a short cycle repeats it: the
+        // rest of its iterates are the cycle's, to within rep_tol, so
+        // they are not integrated again (most columns of a diagram are
+        // fixed points or short cycles).
+        if let Some(p) = settled_period(&self.onsets, self.rep_tol) {
+            for k in self.onsets.len()..=self.total {
+                let next = self.onsets[k - p];
+                self.onsets.push(next);
+            }
+        }
+        self.done = self.onsets.len() > self.total;
     }
+
+    fn finish(mut self) -> Column {
+        if self.col.error.is_none() && self.onsets.len() > self.total {
+            self.col.thetas = self.onsets[self.transient..self.total].to_vec();
+            self.col.theta_last = self.onsets[self.total];
+        }
+        self.col
+    }
+}
+
+/// One column for [`run_columns`]: its simulator (θν in its parameters, or
+/// why it could not be made) and where its orbit starts.
+pub struct ColumnJob<'s> {
+    pub sim: Result<&'s Simulator, SimError>,
+    pub theta_nu: f64,
+    pub start: f64,
+}
+
+/// Runs columns on the lanes of [`run_lanes`] (several columns' slips
+/// stepped together on this thread, each column's orbit bitwise what
+/// [`Column::run`] gives). `next(lane, finished)` is called with `None`
+/// once per lane for its first column, then with each column the lane
+/// finishes, and returns the lane's next column or `None` to retire it.
+/// `cancel` is polled once a cycle in each lane; a cancelled column is
+/// handed to `next` with `SimError::Cancelled`.
+pub fn run_columns<'s>(
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+    mut next: impl FnMut(usize, Option<Column>) -> Option<ColumnJob<'s>>,
+) {
+    let mut current: [Option<(&'s Simulator, ColumnRun)>; LANES] = std::array::from_fn(|_| None);
+    run_lanes(|lane, result| {
+        let mut finished = None;
+        if let (Some((sim, run)), Some(r)) = (&mut current[lane], result) {
+            run.take(sim, r);
+        }
+        loop {
+            if let Some((sim, run)) = &mut current[lane] {
+                if let Some(theta) = run.next_onset(cancel) {
+                    return Some((*sim, theta, 0.0));
+                }
+                finished = current[lane].take().map(|(_, run)| run.finish());
+            }
+            let job = next(lane, finished.take())?;
+            match job.sim {
+                Ok(sim) => current[lane] = Some((sim, ColumnRun::new(sim, job.start, opts))),
+                Err(e) => finished = Some(Column::failed(job.theta_nu, job.start, e)),
+            }
+        }
+    });
+}
+
+/// Splits `theta_nus` into `n` contiguous segments as even as can be (the
+/// longer ones first), each a continued sweep of its own in [`sweep_segments`].
+pub fn segments(theta_nus: &[f64], n: usize) -> Vec<&[f64]> {
+    let n = n.clamp(1, theta_nus.len().max(1));
+    let (q, r) = (theta_nus.len() / n, theta_nus.len() % n);
+    let mut out = Vec::with_capacity(n);
+    let mut rest = theta_nus;
+    for k in 0..n {
+        let (seg, tail) = rest.split_at(q + usize::from(k < r));
+        out.push(seg);
+        rest = tail;
+    }
+    out
+}
+
+/// [`LANES`] continued sweeps on this thread, one per segment of
+/// `theta_nus` ([`segments`]), their slips stepped together: the columns
+/// are those of [`sweep_columns`] called on each segment, bitwise, in
+/// grid order. `on_column` sees each column as it completes.
+pub fn sweep_segments(
+    params: Params,
+    settings: SolverSettings,
+    theta_nus: &[f64],
+    opts: &SweepOptions,
+    theta0: Option<f64>,
+    cancel: &dyn Fn() -> bool,
+    mut on_column: impl FnMut(&Column),
+) -> Vec<Column> {
+    let sims: Vec<Result<Simulator, SimError>> = theta_nus
+        .iter()
+        .map(|&tn| Simulator::new(params.with_theta_nu(tn), settings))
+        .collect();
+    let segs = segments(theta_nus, LANES);
+    // Each lane walks its segment: (index of its next column, end, where
+    // the next column continues from).
+    let mut first = 0;
+    let mut walk: Vec<(usize, usize, Option<f64>)> = segs
+        .iter()
+        .map(|s| {
+            first += s.len();
+            (first - s.len(), first, theta0)
+        })
+        .collect();
+    let mut out: Vec<Option<Column>> = (0..theta_nus.len()).map(|_| None).collect();
+    let mut stopped = false;
+    run_columns(opts, cancel, |lane, finished| {
+        let w = walk.get_mut(lane)?;
+        if let Some(col) = finished {
+            on_column(&col);
+            w.2 = col.error.is_none().then_some(col.theta_last);
+            stopped |= matches!(col.error, Some(SimError::Cancelled));
+            out[w.0] = Some(col);
+            w.0 += 1;
+        }
+        if stopped || w.0 >= w.1 {
+            return None;
+        }
+        let tn = theta_nus[w.0];
+        Some(ColumnJob {
+            sim: sims[w.0].as_ref().map_err(Clone::clone),
+            theta_nu: tn,
+            start: column_start(params.kappa, tn, w.2),
+        })
+    });
+    // A cancelled sweep ends short, as `sweep_columns` does.
+    out.into_iter().map_while(|c| c).collect()
 }
 
 /// The period p ≤ 16 onto which the onsets have settled, if any: over the
@@ -230,6 +395,49 @@ mod tests {
             // Chaotic columns never settle, so they are bit-identical; the
             // others agree to far below a pixel (1e-3 of the θ range).
             assert!(worst < 1e-5, "θν = {tn}: early exit differs by {worst:e}");
+        }
+    }
+
+    #[test]
+    fn segments_are_contiguous_and_even() {
+        let g: Vec<f64> = (0..8).map(f64::from).collect();
+        let lens: Vec<usize> = segments(&g, 3).iter().map(|s| s.len()).collect();
+        assert_eq!(lens, [3, 3, 2]);
+        assert_eq!(segments(&g, 3).concat(), g);
+        assert_eq!(segments(&g[..2], 3).len(), 2, "never an empty segment");
+        assert_eq!(segments(&[], 3).len(), 1);
+    }
+
+    /// The segments' sweeps in lanes are bitwise the segments swept one
+    /// after the other with `sweep_columns`: fixed points and period 2 that
+    /// settle early, chaos that never does, and a segment that is one
+    /// column long.
+    #[test]
+    fn segments_in_lanes_are_the_segments_swept_alone() {
+        let params = Params::default();
+        let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+        let opts = SweepOptions {
+            transient: 40,
+            keep: 30,
+        };
+        for (n, theta0) in [(7, None), (2, Some(0.5))] {
+            let grid = theta_nu_grid(0.9, 1.3, n);
+            let mut seen = 0;
+            let got = sweep_segments(params, settings, &grid, &opts, theta0, &|| false, |_| {
+                seen += 1
+            });
+            assert_eq!(seen, n);
+            let want: Vec<Column> = segments(&grid, LANES)
+                .into_iter()
+                .flat_map(|seg| {
+                    sweep_columns(params, settings, seg, &opts, theta0, &|| false, |_| {})
+                })
+                .collect();
+            assert_eq!(got, want);
+            assert!(
+                got.iter()
+                    .all(|c| c.error.is_none() && c.thetas.len() == opts.keep)
+            );
         }
     }
 }

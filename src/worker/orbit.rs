@@ -12,7 +12,7 @@ use super::{Shared, panic_message};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{
-    OrbitOptions, Period, Sampler, SimError, Simulator, cycles_paired, default_settings,
+    LANES, OrbitOptions, Period, Sampler, SimError, Simulator, cycles_in_lanes, default_settings,
     detect_period, map_derivative, map_graph_grid, mean_and_stderr, return_map_window,
 };
 
@@ -334,14 +334,15 @@ impl OrbitJob<'_> {
         let p = sim.params();
         let thetas = map_graph_grid(p.kappa, p.theta_nu, lo, hi, GRAPH_POINTS);
         let mut values = Vec::with_capacity(thetas.len());
-        // Independent cycles: two at a time, stepped together (bitwise the
-        // values one at a time would give).
-        for pair in thetas.chunks(2) {
+        // Independent cycles: LANES at a time, stepped together (bitwise
+        // the values one at a time would give); the job is polled between
+        // batches.
+        for batch in thetas.chunks(LANES) {
             self.poll(generation)?;
-            let tasks: Vec<_> = pair.iter().map(|&th| (sim, th, 0.0)).collect();
+            let tasks: Vec<_> = batch.iter().map(|&th| (sim, th, 0.0)).collect();
             // A cycle that fails here (a bound hit far from the attractor)
             // leaves a gap in the picture, not an error for the whole job.
-            for r in cycles_paired(&tasks) {
+            for r in cycles_in_lanes(&tasks) {
                 values.push(r.map_or(f64::NAN, |e| e.theta_next));
             }
         }

@@ -26,7 +26,10 @@ use super::protocol::{Command, Generation, Lane, Update};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
-use crate::sim::{Column, SimError, Simulator, SweepOptions, column_start, theta_nu_grid};
+use crate::sim::{
+    Column, ColumnJob, LANES, SimError, Simulator, SweepOptions, column_start, run_columns,
+    theta_nu_grid,
+};
 
 /// One column of a sweep plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -238,16 +241,107 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
     let generation = s.generation;
     let threads = shared.config.sweep_threads;
     let grid = theta_nu_grid(s.from, s.to, s.columns);
-    let plan = sweep_plan(s.columns, shared.config.coarse_columns, threads);
+    // Each thread steps up to LANES columns together, so the coarse pass
+    // has that many chains per thread.
+    let plan = sweep_plan(s.columns, shared.config.coarse_columns, threads * LANES);
     let schedule = Mutex::new(Schedule::new(plan, s.columns));
+    let sims: Vec<Result<Simulator, SimError>> = grid
+        .iter()
+        .map(|&tn| Simulator::new(s.params.with_theta_nu(tn), s.settings))
+        .collect();
     let ready = Condvar::new();
     let iterates = AtomicU64::new(0);
     let pacer = Mutex::new(Pacer::new());
     let failure: Mutex<Option<String>> = Mutex::new(None);
 
+    // Sends a finished column (or the panic that ended it) to the front end
+    // and marks it done in the schedule.
+    let deliver = |p: PlannedColumn,
+                   start: f64,
+                   col: Result<Column, Box<dyn std::any::Any + Send>>|
+     -> Result<(), JobError> {
+        let tn = grid[p.index];
+        // A failed column is still delivered (with what it kept) after
+        // an Error naming it; its neighbours then start afresh from θν.
+        let (col, problem) = match col {
+            Ok(c) => match &c.error {
+                None => (c, None),
+                Some(SimError::Cancelled) => return Err(JobError::Stop),
+                Some(e) => {
+                    let msg = format!("column {} (theta-nu = {tn}): {e}", p.index);
+                    let parameter = e.parameter();
+                    (c, Some((msg, parameter)))
+                }
+            },
+            Err(payload) => {
+                let msg = format!(
+                    "column {} (theta-nu = {tn}) panicked: {}",
+                    p.index,
+                    panic_message(&*payload)
+                );
+                *lock(&failure) = Some(msg.clone());
+                let empty = Column {
+                    theta_nu: tn,
+                    thetas: vec![],
+                    theta_last: start,
+                    error: None,
+                    rhs_evals: 0,
+                };
+                (empty, Some((msg, None)))
+            }
+        };
+        let theta_last = problem.is_none().then_some(col.theta_last);
+        if let Some((message, parameter)) = problem {
+            let e = Update::Error {
+                generation,
+                lane: Lane::Sweep,
+                message,
+                parameter,
+            };
+            gate.send(generation, e)?;
+        }
+        // Iterates this column ran (a failed one counts what it kept).
+        let k = (s.opts.transient + col.thetas.len()) as u64;
+        let n = iterates.fetch_add(k, Ordering::Relaxed) + k;
+        gate.send(
+            generation,
+            Update::Column {
+                generation,
+                index: p.index,
+                theta_nu: tn,
+                thetas: col.thetas,
+                coarse: p.coarse,
+            },
+        )?;
+        let done = {
+            let mut sch = lock(&schedule);
+            sch.complete(p, theta_last);
+            sch.done
+        };
+        ready.notify_all();
+        let rate = {
+            let mut pc = lock(&pacer);
+            (pc.due() || done == s.columns).then(|| pc.rate(n))
+        };
+        if let Some(iterates_per_second) = rate {
+            gate.send(
+                generation,
+                Update::Progress {
+                    generation,
+                    lane: Lane::Sweep,
+                    fraction: done as f64 / s.columns as f64,
+                    iterates_per_second,
+                },
+            )?;
+        }
+        Ok(())
+    };
+    let cancel = || shared.stats.poll(gate, generation);
+
     let worker = || -> Result<(), JobError> {
         loop {
-            let (p, neighbour) = {
+            // Wait for a column that may start (or for the end).
+            let first = {
                 let mut sch = lock(&schedule);
                 loop {
                     if gate.is_stale(generation) {
@@ -267,88 +361,52 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                     }
                 }
             };
-            let tn = grid[p.index];
-            let start = column_start(s.params.kappa, tn, neighbour);
-            let cancel = || shared.stats.poll(gate, generation);
-            let col = catch_unwind(AssertUnwindSafe(|| {
-                #[cfg(test)]
-                if p.index == tests::PANIC_AT_COLUMN.load(Ordering::SeqCst) {
-                    panic!("injected panic in column {}", p.index);
-                }
-                Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
-            }));
-            // A failed column is still delivered (with what it kept) after
-            // an Error naming it; its neighbours then start afresh from θν.
-            let (col, problem) = match col {
-                Ok(c) => match &c.error {
-                    None => (c, None),
-                    Some(SimError::Cancelled) => return Err(JobError::Stop),
-                    Some(e) => {
-                        let msg = format!("column {} (theta-nu = {tn}): {e}", p.index);
-                        let parameter = e.parameter();
-                        (c, Some((msg, parameter)))
+            // Then run it, and whatever else is ready, in lanes; a lane that
+            // finds nothing ready retires, and once all have, this loop waits
+            // again.
+            let mut pending = Some(first);
+            let mut in_flight: [Option<(PlannedColumn, f64)>; LANES] = [None; LANES];
+            let mut stop: Option<JobError> = None;
+            let lanes = catch_unwind(AssertUnwindSafe(|| {
+                run_columns(&s.opts, &cancel, |lane, finished| {
+                    if let (Some(col), Some((p, start))) = (finished, in_flight[lane].take())
+                        && stop.is_none()
+                    {
+                        stop = deliver(p, start, Ok(col)).err();
                     }
-                },
-                Err(payload) => {
-                    let msg = format!(
-                        "column {} (theta-nu = {tn}) panicked: {}",
-                        p.index,
-                        panic_message(&*payload)
-                    );
-                    *lock(&failure) = Some(msg.clone());
-                    let empty = Column {
+                    if stop.is_some() {
+                        return None;
+                    }
+                    let (p, neighbour) = pending.take().or_else(|| lock(&schedule).next().ok())?;
+                    let tn = grid[p.index];
+                    let start = column_start(s.params.kappa, tn, neighbour);
+                    in_flight[lane] = Some((p, start));
+                    #[cfg(test)]
+                    tests::inject_panic(p.index);
+                    Some(ColumnJob {
+                        sim: sims[p.index].as_ref().map_err(Clone::clone),
                         theta_nu: tn,
-                        thetas: vec![],
-                        theta_last: start,
-                        error: None,
-                        rhs_evals: 0,
-                    };
-                    (empty, Some((msg, None)))
+                        start,
+                    })
+                })
+            }));
+            if lanes.is_err() {
+                // A panic in the lanes: the columns that were in flight are
+                // run again one by one, each under its own guard, so that the
+                // panic is reported with its column and the others complete
+                // (with the values the lanes would have given them).
+                for (p, start) in in_flight.into_iter().flatten() {
+                    let tn = grid[p.index];
+                    let col = catch_unwind(AssertUnwindSafe(|| {
+                        #[cfg(test)]
+                        tests::inject_panic(p.index);
+                        Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
+                    }));
+                    deliver(p, start, col)?;
                 }
-            };
-            let theta_last = problem.is_none().then_some(col.theta_last);
-            if let Some((message, parameter)) = problem {
-                let e = Update::Error {
-                    generation,
-                    lane: Lane::Sweep,
-                    message,
-                    parameter,
-                };
-                gate.send(generation, e)?;
             }
-            // Iterates this column ran (a failed one counts what it kept).
-            let k = (s.opts.transient + col.thetas.len()) as u64;
-            let n = iterates.fetch_add(k, Ordering::Relaxed) + k;
-            gate.send(
-                generation,
-                Update::Column {
-                    generation,
-                    index: p.index,
-                    theta_nu: tn,
-                    thetas: col.thetas,
-                    coarse: p.coarse,
-                },
-            )?;
-            let done = {
-                let mut sch = lock(&schedule);
-                sch.complete(p, theta_last);
-                sch.done
-            };
-            ready.notify_all();
-            let rate = {
-                let mut pc = lock(&pacer);
-                (pc.due() || done == s.columns).then(|| pc.rate(n))
-            };
-            if let Some(iterates_per_second) = rate {
-                gate.send(
-                    generation,
-                    Update::Progress {
-                        generation,
-                        lane: Lane::Sweep,
-                        fraction: done as f64 / s.columns as f64,
-                        iterates_per_second,
-                    },
-                )?;
+            if let Some(e) = stop {
+                return Err(e);
             }
         }
     };
@@ -372,7 +430,13 @@ mod tests {
 
     /// Fault injection for the sweep threads: the column with this index
     /// panics (usize::MAX: none). Only this module's tests set it.
-    pub(super) static PANIC_AT_COLUMN: AtomicUsize = AtomicUsize::new(usize::MAX);
+    static PANIC_AT_COLUMN: AtomicUsize = AtomicUsize::new(usize::MAX);
+
+    pub(super) fn inject_panic(index: usize) {
+        if index == PANIC_AT_COLUMN.load(Ordering::SeqCst) {
+            panic!("injected panic in column {index}");
+        }
+    }
 
     fn check_plan(columns: usize, coarse: usize, chains: usize) {
         let plan = sweep_plan(columns, coarse, chains);

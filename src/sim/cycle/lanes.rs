@@ -1,27 +1,26 @@
-//! Cycles two at a time: while two slips are in flight, the stages of
-//! their steps are computed together, stage by stage, so that one slip's
-//! chain of dependent right-hand-side evaluations fills the cycles the
-//! other's leaves idle (`lockstep` in benches/map_iterate.rs: 1.3–1.4× the
-//! steps per second in the acceleration phase, 1.75–2× in the deceleration;
-//! 1.06–1.2× on whole iterates, whose two slips are seldom in the same
-//! phase: docs/numerics.md, "Two slips at a time").
+//! Cycles in lanes, up to three at a time: while several slips are in
+//! flight, the stages of their steps are computed together, stage by
+//! stage, so that one slip's chain of dependent right-hand-side evaluations
+//! fills the cycles the others leave idle. One slip's step waits on a chain
+//! of ~120 cycles per evaluation (sqrt, e^x − 1, sin/cos); the CPU has the
+//! units to run two or three such chains side by side (docs/numerics.md,
+//! "Slips in lanes").
 //!
 //! For work made of independent cycles: f'(θ)'s central difference, the
-//! return map's graph, the sample's reference cycles (a sweep's continued
-//! chains or a phase diagram's rows could be two lanes too; they are not
-//! yet). Every cycle's result is bitwise what [`Simulator::cycle`] gives
-//! for it.
+//! return map's graph, the sample's reference cycles, a bifurcation sweep's
+//! columns (`sim::sweep::run_columns`). Every cycle's result is bitwise what
+//! [`Simulator::cycle`] gives for it.
 
-use super::slip::{Next, SlipRun};
+use super::slip::{Counted, Next, SlipRun};
 use super::{SimError, Simulator, SlipEvent};
-use crate::integrate::{Method, Solver, State};
+use crate::integrate::{LaneAttempt, Method, Solver, State};
 use crate::model::point_from_theta;
 
 /// One cycle to compute: the simulator (parameters and solver settings),
 /// the onset θ and the onset time.
 pub type Task<'s> = (&'s Simulator, f64, f64);
 
-/// A cycle in flight on one of the two lanes.
+/// A cycle in flight on one of the lanes.
 struct InFlight<'s> {
     sim: &'s Simulator,
     theta: f64,
@@ -30,39 +29,41 @@ struct InFlight<'s> {
     run: SlipRun<'s>,
 }
 
-/// Computes cycles on two lanes until both run dry. `feed(lane, result)`
-/// is called with `None` once per lane to get its first task, then with
-/// each finished cycle's result on that lane, and returns the lane's next
-/// task (the next iterate of an orbit, say) or `None` to retire the lane.
-/// A lane whose partner has retired goes on alone.
-pub fn run_paired<'s>(
+/// Computes cycles on [`LANES`] lanes until all run dry. `feed(lane,
+/// result)` is called with `None` once per lane to get its first task, then
+/// with each finished cycle's result on that lane, and returns the lane's
+/// next task (the next iterate of an orbit, say) or `None` to retire the
+/// lane. Lanes whose partners have retired go on together, or alone.
+pub fn run_lanes<'s>(
     mut feed: impl FnMut(usize, Option<Result<SlipEvent, SimError>>) -> Option<Task<'s>>,
 ) {
     #[cfg(target_arch = "x86_64")]
     if std::arch::is_x86_feature_detected!("avx2") {
         // SAFETY: the CPU has AVX2 (checked just above).
-        return unsafe { run_paired_avx2(&mut feed) };
+        return unsafe { run_lanes_avx2(&mut feed) };
     }
-    run_paired_impl(&mut feed)
+    run_lanes_impl(&mut feed)
 }
 
 /// The same code compiled with AVX2, as single slips are
 /// (`Simulator::slip`); no FMA, so the results are the same.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn run_paired_avx2<'s>(
+fn run_lanes_avx2<'s>(
     feed: &mut impl FnMut(usize, Option<Result<SlipEvent, SimError>>) -> Option<Task<'s>>,
 ) {
-    run_paired_impl(feed)
+    run_lanes_impl(feed)
 }
 
-/// How many slips are stepped together. Two: on the 200 Fig. 3b points
-/// three measured the same and four slower (more live registers than the
-/// CPU has, and chains longer than its reorder window holds).
-pub const LANES: usize = 2;
+/// How many slips are stepped together. Three: on a Zen 5 host (session 7,
+/// the 200 committed points of each chaotic attractor) three lanes took
+/// 12 % less time per iterate than two, and four 4–9 % more than three
+/// (more live registers than the CPU has); on session 5's older host three
+/// measured the same as two.
+pub const LANES: usize = 3;
 
 #[inline(always)]
-fn run_paired_impl<'s>(
+fn run_lanes_impl<'s>(
     feed: &mut impl FnMut(usize, Option<Result<SlipEvent, SimError>>) -> Option<Task<'s>>,
 ) {
     let mut lanes: [Option<InFlight<'s>>; LANES] = std::array::from_fn(|_| None);
@@ -89,28 +90,7 @@ fn run_paired_impl<'s>(
                 }
             }
         }
-        let together = lanes.iter().zip(&h).all(|(c, h)| {
-            h.is_some()
-                && c.as_ref()
-                    .is_some_and(|c| c.sim.settings().method == Method::Dop853)
-        });
-        let y_new: [Option<State>; LANES] = if together {
-            let mut i = 0;
-            let attempts = lanes.each_mut().map(|c| {
-                let hi = h[i].unwrap_or_default();
-                i += 1;
-                c.as_mut().expect("every lane is in flight").run.attempt(hi)
-            });
-            Solver::stages_lanes(attempts).map(Some)
-        } else {
-            let mut out = [None; LANES];
-            for i in 0..LANES {
-                if let (Some(c), Some(hi)) = (&mut lanes[i], h[i]) {
-                    out[i] = Some(c.run.stages(hi));
-                }
-            }
-            out
-        };
+        let y_new = lanes_stages(&mut lanes, &h);
         for i in 0..LANES {
             let (Some(c), Some(hi), Some(y)) = (&mut lanes[i], h[i], &y_new[i]) else {
                 continue;
@@ -125,6 +105,62 @@ fn run_paired_impl<'s>(
             }
         }
     }
+}
+
+/// The stages of each lane's attempt: computed together for the DOP853
+/// lanes that have one (all of them, or any two), alone otherwise.
+#[inline(always)]
+fn lanes_stages(
+    lanes: &mut [Option<InFlight<'_>>; LANES],
+    h: &[Option<f64>; LANES],
+) -> [Option<State>; LANES] {
+    let mut out = [None; LANES];
+    let mut ready = [0; LANES];
+    let mut n = 0;
+    for i in 0..LANES {
+        if let (Some(c), Some(_)) = (&lanes[i], h[i])
+            && c.sim.settings().method == Method::Dop853
+        {
+            ready[n] = i;
+            n += 1;
+        }
+    }
+    if n == LANES {
+        let mut i = 0;
+        let attempts = lanes.each_mut().map(|c| {
+            let a = attempt(c, h[i]);
+            i += 1;
+            a.expect("every lane is in flight")
+        });
+        return Solver::stages_lanes(attempts).map(Some);
+    }
+    if n >= 2 {
+        let (i, j) = (ready[0], ready[1]);
+        if let Ok([a, b]) = lanes.get_disjoint_mut([i, j])
+            && let (Some(a), Some(b)) = (attempt(a, h[i]), attempt(b, h[j]))
+        {
+            let [ya, yb] = Solver::stages_lanes([a, b]);
+            (out[i], out[j]) = (Some(ya), Some(yb));
+        }
+    }
+    for i in 0..LANES {
+        if out[i].is_none()
+            && let (Some(c), Some(hi)) = (&mut lanes[i], h[i])
+        {
+            out[i] = Some(c.run.stages(hi));
+        }
+    }
+    out
+}
+
+/// A lane's attempt (only lanes in flight with an attempt are asked).
+#[inline(always)]
+fn attempt<'a>(
+    c: &'a mut Option<InFlight<'_>>,
+    h: Option<f64>,
+) -> Option<LaneAttempt<'a, Counted<'a>>> {
+    let h = h.unwrap_or_default();
+    c.as_mut().map(|c| c.run.attempt(h))
 }
 
 /// Hands `result` to the feed and starts the lane's next cycle; a task the
@@ -160,16 +196,16 @@ fn launch<'s>(
 pub fn cycle_pair<'s>(tasks: [Task<'s>; 2]) -> [Result<SlipEvent, SimError>; 2] {
     let mut out = [None, None];
     run_in_order(&tasks, &mut out);
-    out.map(|r| r.expect("run_paired answers every task it is given"))
+    out.map(|r| r.expect("run_lanes answers every task it is given"))
 }
 
-/// The cycle of each task, computed two at a time; the results in the
-/// tasks' order.
-pub fn cycles_paired<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>> {
+/// The cycle of each task, computed in lanes; the results in the tasks'
+/// order.
+pub fn cycles_in_lanes<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>> {
     let mut out: Vec<_> = (0..tasks.len()).map(|_| None).collect();
     run_in_order(tasks, &mut out);
     out.into_iter()
-        .map(|r| r.expect("run_paired answers every task it is given"))
+        .map(|r| r.expect("run_lanes answers every task it is given"))
         .collect()
 }
 
@@ -177,7 +213,7 @@ pub fn cycles_paired<'s>(tasks: &[Task<'s>]) -> Vec<Result<SlipEvent, SimError>>
 fn run_in_order<'s>(tasks: &[Task<'s>], out: &mut [Option<Result<SlipEvent, SimError>>]) {
     let mut next = 0;
     let mut working = [usize::MAX; LANES];
-    run_paired(|lane, result| {
+    run_lanes(|lane, result| {
         if let Some(r) = result {
             out[working[lane]] = Some(r);
         }
@@ -195,12 +231,12 @@ mod tests {
     use crate::model::Params;
     use crate::numerics::fixed_sample;
 
-    /// Paired or alone, every cycle comes out bitwise the same: over the
+    /// In lanes or alone, every cycle comes out bitwise the same: over the
     /// committed chaotic and intermittent points, with lanes on different
-    /// parameters and methods (DOP853 beside DP5(4) runs unpaired), and
+    /// parameters and methods (DOP853 beside DP5(4) runs alone), and
     /// with tasks the model rejects (off the exit arc) in between.
     #[test]
-    fn paired_cycles_are_bitwise_the_cycles_alone() {
+    fn cycles_in_lanes_are_bitwise_the_cycles_alone() {
         let p = |kappa, nu, theta_nu| Params {
             kappa,
             gamma: 6.5,
@@ -225,10 +261,10 @@ mod tests {
                 tasks.push((&sims[0], fixed_sample::CHAOS[i] + std::f64::consts::PI, 0.0));
             }
         }
-        let paired = cycles_paired(&tasks);
-        assert_eq!(paired.len(), tasks.len());
+        let in_lanes = cycles_in_lanes(&tasks);
+        assert_eq!(in_lanes.len(), tasks.len());
         let mut errors = 0;
-        for (&(sim, theta, t0), got) in tasks.iter().zip(&paired) {
+        for (&(sim, theta, t0), got) in tasks.iter().zip(&in_lanes) {
             let alone = sim.cycle(theta, t0, None);
             assert_eq!(format!("{got:?}"), format!("{alone:?}"), "θ = {theta}");
             errors += usize::from(alone.is_err());
