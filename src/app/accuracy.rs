@@ -264,10 +264,10 @@ mod tests {
         assert_eq!(
             got,
             [
-                (Method::Dop853, 1e-5),
                 (Method::Dp54, 1e-5),
-                (Method::Dop853, 1e-11),
-                (Method::Dop853, 1e-9)
+                (Method::Dp54, 1e-4),
+                (Method::Dop853, 1e-10),
+                (Method::Dop853, 1e-8)
             ]
         );
         for e in job_estimates(&s) {

@@ -606,10 +606,10 @@ mod tests {
         let marks = in_use(default_rows(), &s, true);
         // One mark per kind of job: trajectory, sweep, map iterates, phase.
         assert_eq!(marks.len(), 4);
-        // The trajectory's DOP853 tol 1e-5: 2.267e-5, 270.4 evaluations.
+        // The trajectory's DP5(4) tol 1e-5: 4.535e-5, 236.4 evaluations.
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);
-        assert!((x - 2.267e-5f64.log10()).abs() < 1e-12 && (y - 270.4f64.log10()).abs() < 1e-12);
+        assert!((x - 4.535e-5f64.log10()).abs() < 1e-12 && (y - 236.4f64.log10()).abs() < 1e-12);
     }
 
     #[test]

@@ -58,6 +58,10 @@ pub struct Solver {
     /// (see `grow_factor`): set by the caller where the solution's time
     /// scale shrinks steadily step after step, as on the approach to a stop.
     pub predictive: bool,
+    /// The error norm is multiplied by this: 1 keeps the settings' rtol and
+    /// atol, 5 divides both by 5 (set by the caller for a stretch of the
+    /// integration that needs more accuracy than the rest).
+    pub err_scale: f64,
     pub stats: Stats,
     // The last accepted step, kept for dense output.
     k: [State; 16],
@@ -85,6 +89,7 @@ impl Solver {
             ln_err_prev: (1e-4f64).ln(),
             h_prev: 0.0,
             predictive: false,
+            err_scale: 1.0,
             stats: Stats::default(),
             k: [[0.0; 4]; 16],
             t_old: 0.0,
@@ -211,7 +216,7 @@ impl Solver {
         let adaptive = self.settings.method.is_adaptive();
         let y_new = *y_new;
         let err = if adaptive {
-            self.error_norm(tab, y, &y_new, h)
+            self.err_scale * self.error_norm(tab, y, &y_new, h)
         } else {
             0.0
         };
@@ -268,8 +273,11 @@ impl Solver {
         if err == 0.0 {
             return fmax;
         }
-        // err^(−α)·err_prev^β as one exp of logs (two powf cost more).
-        let pi = SAFETY * (beta * self.ln_err_prev - alpha * err.ln()).exp();
+        // err^(−α)·err_prev^β as one exp of logs (two powf cost more); the
+        // caller's ln_err is ln(max(err, 1e-4)), so it is ln(err) itself at
+        // and above 1e-4 (most steps), bitwise, and one ln is saved there.
+        let ln_e = if err >= 1e-4 { ln_err } else { err.ln() };
+        let pi = SAFETY * (beta * self.ln_err_prev - alpha * ln_e).exp();
         let f = if self.predictive && self.h_prev > 0.0 {
             let gus = SAFETY * (h / self.h_prev) * ((self.ln_err_prev - 2.0 * ln_err) / q).exp();
             pi.min(gus)

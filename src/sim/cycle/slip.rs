@@ -17,6 +17,10 @@ use crate::integrate::{Dense, LaneAttempt, Rhs, Solver, State, find_root};
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
 
+/// How much tighter than the settings the acceleration phase of a creep or
+/// near-critical onset is integrated (see `SlipRun::start`).
+const NEAR_CRITICAL_ACCEL_TIGHTENING: f64 = 5.0;
+
 /// One phase's right-hand side, counting its evaluations. A type rather
 /// than a closure so that `eval` is always inlined into the stepping loop
 /// and compiled with its target features (see [`Rhs`]).
@@ -137,6 +141,24 @@ impl<'a> SlipRun<'a> {
             h_max: None,
             extra_steps: 0,
         };
+        // The acceleration phase of an onset that is creep or near-critical
+        // stick-slip (A(θ) = κ cos²θ + sin²θ above 0.95 γ²) runs at a fifth of
+        // the tolerance. Its growth from rest is slow and oscillatory, or
+        // nearly so, and amplified by up to e^(γπ/√(A − γ²)) (huge near θc),
+        // and its map errors per unit tolerance were 5–18× those of other
+        // onsets: on the chart's sample at tol 1e-9, creep-sized slips near θc
+        // were off by 1.8e-9 (long stick) and 5.3e-10 (intermittent), and
+        // 1.7e-10 at most with a fifth; near-critical stick-slip onsets of the
+        // long-stick orbit (A = 0.98–0.99 γ²) by up to 1.7e-9, then 6e-10.
+        // Tightening the deceleration instead changed nothing. Far-from-
+        // critical onsets (all of Fig. 3b's, A ≤ 0.45 γ²) are unaffected.
+        if adaptive {
+            let p = &sim.params;
+            let (s, c) = theta.sin_cos();
+            if p.kappa * c * c + s * s > 0.95 * p.gamma * p.gamma {
+                run.solver.err_scale = NEAR_CRITICAL_ACCEL_TIGHTENING;
+            }
+        }
         run.k = run.rhs().eval(&y);
         if let Some(s) = sampler {
             s.start_slip(t_abs, &y, sim.field.v);
@@ -264,7 +286,7 @@ impl<'a> SlipRun<'a> {
                 // scale, 1/√max(κ, 1): without that bound a creep slip whose
                 // peak v_r is already below the cut-off (tol ≥ 1e-4) was
                 // extrapolated from its first decelerating step and slid on.
-                if stop_near && vr < sim.cutoff && dvr < 0.0 && vr < -dvr * sim.h_max {
+                if stop_near && vr < sim.stop_cutoff(&y, vr) && dvr < 0.0 && vr < -dvr * sim.h_max {
                     // Linear extrapolation of v_r to zero: the mean relative
                     // velocity over the remaining time is half the current one.
                     let dt = vr / -dvr;
@@ -368,7 +390,8 @@ impl<'a> SlipRun<'a> {
                         s.push_state(self.t_abs + ta, &ya, v, Phase::Decel);
                     }
                     // Deceleration phase: friction opposes v_r until v_r
-                    // reaches 0.
+                    // reaches 0, at a looser tolerance (`Simulator::decel_err_scale`).
+                    self.solver.err_scale = sim.decel_err_scale;
                     self.stage = Stage::Decel {
                         t_a: ta,
                         peak_vr: (ya[2] * ya[2] + ya[3] * ya[3]).sqrt(),
