@@ -22,6 +22,12 @@ pub enum Method {
 impl Method {
     pub const ALL: [Method; 4] = [Method::Dp54, Method::Dop853, Method::Rk4, Method::Euler];
 
+    /// Whether several integrations' steps can be computed together
+    /// (`Solver::stages_lanes`): the two adaptive methods.
+    pub fn steps_in_lanes(self) -> bool {
+        matches!(self, Method::Dop853 | Method::Dp54)
+    }
+
     /// Whether the method controls its step by a tolerance.
     pub fn is_adaptive(self) -> bool {
         matches!(self, Method::Dp54 | Method::Dop853)

@@ -156,32 +156,37 @@ impl Solver {
     pub fn stages<F: Rhs>(&mut self, f: &mut F, y: &State, k0: &State, h: f64) -> State {
         let k = &mut self.k;
         match self.settings.method {
-            Method::Dp54 => stages(&tableau::DP54, f, y, k0, h, k),
+            Method::Dp54 => dp54_stages([Lane { k, f, y, k0, h }])[0],
             Method::Dop853 => dop853_stages([Lane { k, f, y, k0, h }])[0],
             Method::Rk4 => stages(&tableau::RK4, f, y, k0, h, k),
             Method::Euler => stages(&tableau::EULER, f, y, k0, h, k),
         }
     }
 
-    /// The stages of `L` DOP853 attempts computed together, stage by
-    /// stage, so that one integration's chain of dependent evaluations
-    /// fills the cycles another's leaves idle (`lockstep` in
+    /// The stages of `L` DOP853 or `L` DP5(4) attempts computed together,
+    /// stage by stage, so that one integration's chain of dependent
+    /// evaluations fills the cycles another's leaves idle (`lockstep` in
     /// benches/map_iterate.rs). Each result is bitwise what
-    /// [`stages`](Self::stages) gives. Every solver must run DOP853.
+    /// [`stages`](Self::stages) gives. Every solver must run the same one
+    /// of the two methods ([`Method::steps_in_lanes`]).
     #[inline(always)]
     pub fn stages_lanes<F: Rhs, const L: usize>(mut lanes: [LaneAttempt<'_, F>; L]) -> [State; L] {
+        let method = lanes[0].solver.settings.method;
         debug_assert!(
-            lanes
-                .iter()
-                .all(|a| a.solver.settings.method == Method::Dop853)
+            method.steps_in_lanes() && lanes.iter().all(|a| a.solver.settings.method == method)
         );
-        dop853_stages(lanes.each_mut().map(|a| Lane {
+        let lanes = lanes.each_mut().map(|a| Lane {
             k: &mut a.solver.k,
             f: &mut a.f,
             y: a.y,
             k0: a.k0,
             h: a.h,
-        }))
+        });
+        if method == Method::Dp54 {
+            dp54_stages(lanes)
+        } else {
+            dop853_stages(lanes)
+        }
     }
 
     /// Accepts the attempt (Some((t + h, y_new, f(y_new)))) and proposes the
@@ -407,9 +412,10 @@ macro_rules! stage_arg {
 
 /// The stages of one step of `tab` from y (k[0] = f(y) given); returns the
 /// propagated solution. With FSAL the last stage's argument is the solution.
-/// DOP853 (`dop853_stages`) and DP5(4) take unrolled paths over their nonzero coefficients
-/// (the stage arithmetic was a third of the cost as a generic double loop);
-/// the values still come from the one tableau.
+/// DOP853 (`dop853_stages`) and DP5(4) (`dp54_stages`) take unrolled paths
+/// over their nonzero coefficients (the stage arithmetic was a third of the
+/// cost as a generic double loop); the values still come from the one
+/// tableau.
 #[inline(always)]
 fn stages<F: Rhs, const S: usize>(
     tab: &Tableau<S>,
@@ -420,17 +426,6 @@ fn stages<F: Rhs, const S: usize>(
     k: &mut [State; 16],
 ) -> State {
     k[0] = *k0;
-    if S == 7 {
-        let a = &tableau::DP54.a;
-        k[1] = f.eval(&stage_arg!(y, h, a[1], &*k; 0));
-        k[2] = f.eval(&stage_arg!(y, h, a[2], &*k; 0, 1));
-        k[3] = f.eval(&stage_arg!(y, h, a[3], &*k; 0, 1, 2));
-        k[4] = f.eval(&stage_arg!(y, h, a[4], &*k; 0, 1, 2, 3));
-        k[5] = f.eval(&stage_arg!(y, h, a[5], &*k; 0, 1, 2, 3, 4));
-        let y_new = stage_arg!(y, h, a[6], &*k; 0, 2, 3, 4, 5);
-        k[6] = f.eval(&y_new);
-        return y_new;
-    }
     let mut y_fsal = *y;
     for i in 1..S {
         let mut yi = *y;
@@ -507,6 +502,39 @@ fn dop853_stages<F: Rhs, const L: usize>(mut lanes: [Lane<'_, F>; L]) -> [State;
         out[l] = stage_arg!(ln.y, ln.h, tableau::DOP853.b, &*ln.k; 0, 5, 6, 7, 8, 9, 10, 11);
     }
     out
+}
+
+/// DP5(4)'s stages for `L` integrations at once, as `dop853_stages`; the
+/// last stage's argument is the solution (FSAL), and its evaluation
+/// f(y_new) is the seventh stage.
+#[inline(always)]
+fn dp54_stages<F: Rhs, const L: usize>(mut lanes: [Lane<'_, F>; L]) -> [State; L] {
+    let a = &tableau::DP54.a;
+    for l in lanes.iter_mut() {
+        l.k[0] = *l.k0;
+    }
+    // Each stage's arguments for all lanes, then their evaluations; the
+    // block's value is the arguments (the last stage's are the solutions).
+    macro_rules! stage {
+        ($i:literal; $($j:literal),+) => {{
+            let mut args = [[0.0; 4]; L];
+            for l in 0..L {
+                let ln = &lanes[l];
+                args[l] = stage_arg!(ln.y, ln.h, a[$i], &*ln.k; $($j),+);
+            }
+            for l in 0..L {
+                let ln = &mut lanes[l];
+                ln.k[$i] = ln.f.eval(&args[l]);
+            }
+            args
+        }};
+    }
+    stage!(1; 0);
+    stage!(2; 0, 1);
+    stage!(3; 0, 1, 2);
+    stage!(4; 0, 1, 2, 3);
+    stage!(5; 0, 1, 2, 3, 4);
+    stage!(6; 0, 2, 3, 4, 5)
 }
 
 /// The error estimates Σ e_j k_j (and DOP853's 3rd-order one), unrolled like

@@ -107,40 +107,43 @@ fn run_lanes_impl<'s>(
     }
 }
 
-/// The stages of each lane's attempt: computed together for the DOP853
-/// lanes that have one (all of them, or any two), alone otherwise.
+/// The stages of each lane's attempt: computed together for the lanes that
+/// have one and run the same adaptive method (all of them, or any two),
+/// alone otherwise.
 #[inline(always)]
 fn lanes_stages(
     lanes: &mut [Option<InFlight<'_>>; LANES],
     h: &[Option<f64>; LANES],
 ) -> [Option<State>; LANES] {
     let mut out = [None; LANES];
-    let mut ready = [0; LANES];
-    let mut n = 0;
-    for i in 0..LANES {
-        if let (Some(c), Some(_)) = (&lanes[i], h[i])
-            && c.sim.settings().method == Method::Dop853
-        {
-            ready[n] = i;
-            n += 1;
+    for method in [Method::Dop853, Method::Dp54] {
+        let mut ready = [0; LANES];
+        let mut n = 0;
+        for i in 0..LANES {
+            if let (Some(c), Some(_)) = (&lanes[i], h[i])
+                && c.sim.settings().method == method
+            {
+                ready[n] = i;
+                n += 1;
+            }
         }
-    }
-    if n == LANES {
-        let mut i = 0;
-        let attempts = lanes.each_mut().map(|c| {
-            let a = attempt(c, h[i]);
-            i += 1;
-            a.expect("every lane is in flight")
-        });
-        return Solver::stages_lanes(attempts).map(Some);
-    }
-    if n >= 2 {
-        let (i, j) = (ready[0], ready[1]);
-        if let Ok([a, b]) = lanes.get_disjoint_mut([i, j])
-            && let (Some(a), Some(b)) = (attempt(a, h[i]), attempt(b, h[j]))
-        {
-            let [ya, yb] = Solver::stages_lanes([a, b]);
-            (out[i], out[j]) = (Some(ya), Some(yb));
+        if n == LANES {
+            let mut i = 0;
+            let attempts = lanes.each_mut().map(|c| {
+                let a = attempt(c, h[i]);
+                i += 1;
+                a.expect("every lane is in flight")
+            });
+            return Solver::stages_lanes(attempts).map(Some);
+        }
+        if n >= 2 {
+            let (i, j) = (ready[0], ready[1]);
+            if let Ok([a, b]) = lanes.get_disjoint_mut([i, j])
+                && let (Some(a), Some(b)) = (attempt(a, h[i]), attempt(b, h[j]))
+            {
+                let [ya, yb] = Solver::stages_lanes([a, b]);
+                (out[i], out[j]) = (Some(ya), Some(yb));
+            }
         }
     }
     for i in 0..LANES {
@@ -233,7 +236,8 @@ mod tests {
 
     /// In lanes or alone, every cycle comes out bitwise the same: over the
     /// committed chaotic and intermittent points, with lanes on different
-    /// parameters and methods (DOP853 beside DP5(4) runs alone), and
+    /// parameters and methods (DOP853 and DP5(4) lanes step with their own
+    /// kind; RK4 runs alone), and
     /// with tasks the model rejects (off the exit arc) in between.
     #[test]
     fn cycles_in_lanes_are_bitwise_the_cycles_alone() {
@@ -250,11 +254,25 @@ mod tests {
             Simulator::new(p(18.95, 1e-3, 1.25), dop).expect("valid"),
             Simulator::new(p(50.0, 1e-4, 1.4), dop).expect("valid"),
             Simulator::new(p(18.95, 1e-3, 1.25), dp54).expect("valid"),
+            Simulator::new(p(50.0, 1e-4, 1.4), dp54).expect("valid"),
+            Simulator::new(
+                p(18.95, 1e-3, 1.25),
+                SolverSettings::fixed(Method::Rk4, 0.01),
+            )
+            .expect("valid"),
         ];
         let mut tasks: Vec<Task> = Vec::new();
         for i in 0..60 {
             tasks.push((&sims[0], fixed_sample::CHAOS[i], i as f64));
             tasks.push((&sims[1], fixed_sample::INTERMITTENT[i], 0.0));
+            // Runs of DP5(4) tasks, so that its lanes step together too.
+            if i % 3 != 0 {
+                tasks.push((&sims[3], fixed_sample::INTERMITTENT[i], 0.0));
+                tasks.push((&sims[2], fixed_sample::CHAOS[i], 0.0));
+            }
+            if i % 11 == 0 {
+                tasks.push((&sims[4], fixed_sample::CHAOS[i], 0.0));
+            }
             if i % 7 == 0 {
                 tasks.push((&sims[2], fixed_sample::CHAOS[i], 0.0));
                 // Off the exit arc: an error at once.
