@@ -57,7 +57,7 @@ fn run_lanes_avx2<'s>(
 
 /// How many slips are stepped together. Three: on a Zen 5 host (session 7,
 /// the 200 committed points of each chaotic attractor) three lanes took
-/// 12 % less time per iterate than two, and four 4–9 % more than three
+/// 11–13 % less time per iterate than two, and four 4–9 % more than three
 /// (more live registers than the CPU has); on session 5's older host three
 /// measured the same as two.
 pub const LANES: usize = 3;
