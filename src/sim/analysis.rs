@@ -1,7 +1,7 @@
 //! Period detection of an orbit, the derivative of the map, and the grid
 //! its graph is drawn on.
 
-use super::{SimError, Simulator, SlipEvent, cycle_pair};
+use super::{SimError, Simulator, SlipEvent, cycle_pair, cycles_in_lanes};
 use crate::model::{is_on_exit_arc, wrap_angle};
 
 /// The longest period looked for.
@@ -76,6 +76,42 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
     }
 }
 
+/// The cycle from θ (onset time `t0`) and f'(θ) with the evaluations it
+/// cost: `(event, f'(θ), evaluations of f')`, bitwise what
+/// [`Simulator::cycle`] and then [`map_derivative`] give. When both sides
+/// of the central difference are on the exit arc, the cycle and the
+/// difference's two cycles are independent, so the three are stepped
+/// together in lanes (`sim::cycles_in_lanes`): an orbit with its Lyapunov
+/// exponent takes about the time of the cycle alone per kept iterate
+/// instead of that plus a pair. An error of the cycle comes first, as in
+/// the sequence.
+pub fn cycle_with_derivative(
+    sim: &Simulator,
+    theta: f64,
+    t0: f64,
+) -> Result<(SlipEvent, f64, u64), SimError> {
+    let h = DERIVATIVE_STEP;
+    let p = sim.params();
+    if is_on_exit_arc(p.kappa, p.theta_nu, theta + h)
+        && is_on_exit_arc(p.kappa, p.theta_nu, theta - h)
+    {
+        let tasks = [
+            (sim, theta, t0),
+            (sim, theta + h, 0.0),
+            (sim, theta - h, 0.0),
+        ];
+        // One result per task, in order (the fallback cannot happen).
+        let mut r = cycles_in_lanes(&tasks).into_iter();
+        let mut next = || r.next().unwrap_or(Err(SimError::Cancelled));
+        let (ev, plus, minus) = (next()?, next()?, next()?);
+        let d = wrap_angle(plus.theta_next - minus.theta_next) / (2.0 * h);
+        return Ok((ev, d, plus.rhs_evals + minus.rhs_evals));
+    }
+    let ev = sim.cycle(theta, t0, None)?;
+    let (d, n) = map_derivative(sim, ev.theta, ev.theta_next)?;
+    Ok((ev, d, n))
+}
+
 /// A fixed point θ* = f(θ*) found by the secant method on
 /// g(θ) = wrap(f(θ) − θ) from θ0, to |g| ≤ `tol` in at most 60 steps; with
 /// its multiplier f'(θ*). Iterating the map converges far too slowly where
@@ -113,6 +149,35 @@ pub fn fixed_point(sim: &Simulator, theta0: f64, tol: f64) -> Result<Option<(f64
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::integrate::SolverSettings;
+    use crate::model::{Params, exit_arc};
+    use crate::numerics::fixed_sample;
+
+    /// The cycle and f'(θ) in lanes are bitwise the cycle and then
+    /// `map_derivative`: on chaotic points (a central difference) and next
+    /// to both ends of the exit arc (one-sided, run in sequence).
+    #[test]
+    fn cycle_with_derivative_is_the_cycle_then_the_derivative() {
+        let p = Params {
+            kappa: 18.95,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: 1.25,
+            omega: 50.0,
+        };
+        let sim = Simulator::new(p, SolverSettings::default()).expect("valid");
+        let (centre, half) = exit_arc(p.kappa, p.theta_nu);
+        let mut thetas = fixed_sample::CHAOS[..20].to_vec();
+        thetas.extend([centre - half + 5e-6, centre + half - 5e-6]);
+        for (i, &th) in thetas.iter().enumerate() {
+            let t0 = i as f64;
+            let (ev, d, n) = cycle_with_derivative(&sim, th, t0).expect("a value");
+            let alone = sim.cycle(th, t0, None).expect("a value");
+            let (d_alone, n_alone) = map_derivative(&sim, th, alone.theta_next).expect("a value");
+            assert_eq!(format!("{ev:?}"), format!("{alone:?}"), "θ = {th}");
+            assert_eq!((d.to_bits(), n), (d_alone.to_bits(), n_alone), "θ = {th}");
+        }
+    }
 
     #[test]
     fn window_pads_the_range_and_keeps_a_floor() {

@@ -12,8 +12,8 @@ mod trajectory;
 mod trig;
 
 pub use analysis::{
-    DERIVATIVE_STEP, PERIOD_MAX, detect_period, fixed_point, map_derivative, map_graph_grid,
-    return_map_window,
+    DERIVATIVE_STEP, PERIOD_MAX, cycle_with_derivative, detect_period, fixed_point, map_derivative,
+    map_graph_grid, return_map_window,
 };
 pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::analysis::{detect_period, map_derivative};
+use super::analysis::{cycle_with_derivative, detect_period};
 use super::{SimError, Simulator, SlipEvent};
 use crate::model::{is_on_exit_arc, project_onto_exit_arc};
 
@@ -101,16 +101,20 @@ impl Simulator {
             if cancel() {
                 return Err(SimError::Cancelled);
             }
-            let ev = self.cycle(theta, t, None)?;
+            // Kept iterates of a Lyapunov run take f'(θ) too, its cycles
+            // stepped together with the iterate's own.
+            let ev = if i >= opts.transient && opts.lyapunov {
+                let (ev, d, n) = cycle_with_derivative(self, theta, t)?;
+                evals += n;
+                logs.push(d.abs().ln());
+                ev
+            } else {
+                self.cycle(theta, t, None)?
+            };
             evals += ev.rhs_evals;
             restarts += ev.restarted as usize;
             t += ev.slip_duration + ev.stick_duration;
             if i >= opts.transient {
-                if opts.lyapunov {
-                    let (d, n) = map_derivative(self, ev.theta, ev.theta_next)?;
-                    evals += n;
-                    logs.push(d.abs().ln());
-                }
                 events.push(ev);
             }
             theta = self.next_onset(&ev);

@@ -29,7 +29,7 @@
 
 use rayon::prelude::*;
 
-use super::analysis::{PERIOD_MAX, detect_period, map_derivative};
+use super::analysis::{PERIOD_MAX, cycle_with_derivative, detect_period, map_derivative};
 use super::sweep::column_start;
 use super::{SimError, Simulator};
 use crate::integrate::SolverSettings;
@@ -355,16 +355,20 @@ fn run_cell(
         if cancel() {
             return Err(SimError::Cancelled);
         }
-        let ev = sim.cycle(theta, 0.0, None)?;
-        cell.iterates += 1;
-        cell.rhs_evals += ev.rhs_evals;
-        thetas.push(ev.theta);
-        if i >= opts.transient {
-            let (d, n) = map_derivative(&sim, ev.theta, ev.theta_next)?;
+        // Past the transient f'(θ) is needed too: its two cycles are
+        // stepped together with the iterate's own.
+        let ev = if i >= opts.transient {
+            let (ev, d, n) = cycle_with_derivative(&sim, theta, 0.0)?;
             cell.iterates += 2;
             cell.rhs_evals += n;
             logs.push(d.abs().ln());
-        }
+            ev
+        } else {
+            sim.cycle(theta, 0.0, None)?
+        };
+        cell.iterates += 1;
+        cell.rhs_evals += ev.rhs_evals;
+        thetas.push(ev.theta);
         theta = sim.next_onset(&ev);
         cell.theta_last = theta;
         if !opts.early_exit || i + 1 < MIN_TRANSIENT {

@@ -12,8 +12,9 @@ use super::{Shared, panic_message};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{
-    LANES, OrbitOptions, Period, Sampler, SimError, Simulator, cycles_in_lanes, default_settings,
-    detect_period, map_derivative, map_graph_grid, mean_and_stderr, return_map_window,
+    LANES, OrbitOptions, Period, Sampler, SimError, Simulator, cycle_with_derivative,
+    cycles_in_lanes, default_settings, detect_period, map_graph_grid, mean_and_stderr,
+    return_map_window,
 };
 
 /// Most samples in one `TrajectoryChunk` (a slip sampled finely is split).
@@ -295,11 +296,16 @@ impl OrbitJob<'_> {
         };
         for i in 0..total {
             self.poll(generation)?;
-            let ev = sim.cycle(theta, t, None)?;
+            // A kept iterate's f'(θ) cycles are stepped together with its own.
+            let ev = if i >= transient {
+                let (ev, d, _) = cycle_with_derivative(&sim, theta, t)?;
+                logs.push(d.abs().ln());
+                ev
+            } else {
+                sim.cycle(theta, t, None)?
+            };
             t += ev.slip_duration + ev.stick_duration;
             if i >= transient {
-                let (d, _) = map_derivative(&sim, ev.theta, ev.theta_next)?;
-                logs.push(d.abs().ln());
                 kept.push(ev.theta);
                 if kept.len() - sent >= ITERATE_BATCH || last_flush.elapsed() >= FLUSH_INTERVAL {
                     self.send(generation, flush(&kept, &logs, sent))?;
