@@ -278,7 +278,9 @@ impl Simulator {
     /// The 4-component state fits one AVX2 register, so on CPUs that have it
     /// the same code is compiled a second time with AVX2 enabled and chosen
     /// at run time. Rust never contracts a·b + c into an FMA on its own, so
-    /// both versions round identically: results do not depend on the CPU.
+    /// both versions round identically. (The step controller's ln and e^x
+    /// are libm's, which glibc may dispatch to FMA builds by CPU: across
+    /// machines a step size can, rarely, differ in its last bit.)
     fn slip(
         &self,
         theta: f64,
