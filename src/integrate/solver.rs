@@ -452,7 +452,26 @@ fn stages<F: Rhs, const S: usize>(
     y_new
 }
 
-/// One attempt's share of `dop853_stages`.
+/// One stage of an unrolled tableau for every lane (`dop853_stages`,
+/// `dp54_stages`): each lane's argument y + h Σ a_ij k_j over the nonzero
+/// coefficients `j`, then the evaluations, so that the lanes' chains
+/// interleave. The block's value is the arguments.
+macro_rules! lanes_stage {
+    ($lanes:ident, $l:ident, $row:expr; $i:literal; $($j:literal),+) => {{
+        let mut args = [[0.0; 4]; $l];
+        for l in 0..$l {
+            let ln = &$lanes[l];
+            args[l] = stage_arg!(ln.y, ln.h, $row, &*ln.k; $($j),+);
+        }
+        for l in 0..$l {
+            let ln = &mut $lanes[l];
+            ln.k[$i] = ln.f.eval(&args[l]);
+        }
+        args
+    }};
+}
+
+/// One attempt's share of `dop853_stages` or `dp54_stages`.
 struct Lane<'a, F> {
     k: &'a mut [State; 16],
     f: &'a mut F,
@@ -474,15 +493,7 @@ fn dop853_stages<F: Rhs, const L: usize>(mut lanes: [Lane<'_, F>; L]) -> [State;
     }
     macro_rules! stage {
         ($i:literal; $($j:literal),+) => {
-            let mut args = [[0.0; 4]; L];
-            for l in 0..L {
-                let ln = &lanes[l];
-                args[l] = stage_arg!(ln.y, ln.h, a[$i], &*ln.k; $($j),+);
-            }
-            for l in 0..L {
-                let ln = &mut lanes[l];
-                ln.k[$i] = ln.f.eval(&args[l]);
-            }
+            lanes_stage!(lanes, L, a[$i]; $i; $($j),+)
         };
     }
     stage!(1; 0);
@@ -513,21 +524,11 @@ fn dp54_stages<F: Rhs, const L: usize>(mut lanes: [Lane<'_, F>; L]) -> [State; L
     for l in lanes.iter_mut() {
         l.k[0] = *l.k0;
     }
-    // Each stage's arguments for all lanes, then their evaluations; the
-    // block's value is the arguments (the last stage's are the solutions).
+    // The last stage's arguments are the solutions.
     macro_rules! stage {
-        ($i:literal; $($j:literal),+) => {{
-            let mut args = [[0.0; 4]; L];
-            for l in 0..L {
-                let ln = &lanes[l];
-                args[l] = stage_arg!(ln.y, ln.h, a[$i], &*ln.k; $($j),+);
-            }
-            for l in 0..L {
-                let ln = &mut lanes[l];
-                ln.k[$i] = ln.f.eval(&args[l]);
-            }
-            args
-        }};
+        ($i:literal; $($j:literal),+) => {
+            lanes_stage!(lanes, L, a[$i]; $i; $($j),+)
+        };
     }
     stage!(1; 0);
     stage!(2; 0, 1);
