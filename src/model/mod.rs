@@ -12,5 +12,5 @@ pub use geometry::{
     point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
 };
 pub use params::{ParamError, Params};
-pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character};
+pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character, onset_stiffness};
 pub use stick::{stick_exit_point, stick_exit_time};

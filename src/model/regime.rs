@@ -74,10 +74,16 @@ pub enum OnsetCharacter {
     StickSlip,
 }
 
+/// A(θ) = κ cos²θ + sin²θ, the stiffness the onset at θ sees along the
+/// elastic force: the onset is creep if γ² < A(θ), stick-slip if γ² > A(θ).
+pub fn onset_stiffness(kappa: f64, theta: f64) -> f64 {
+    let (s, c) = theta.sin_cos();
+    kappa * c * c + s * s
+}
+
 /// The character of an onset at θ: creep if γ² < κ cos²θ + sin²θ.
 pub fn onset_character(kappa: f64, gamma: f64, theta: f64) -> OnsetCharacter {
-    let (s, c) = theta.sin_cos();
-    if gamma * gamma < kappa * c * c + s * s {
+    if gamma * gamma < onset_stiffness(kappa, theta) {
         OnsetCharacter::Creep
     } else {
         OnsetCharacter::StickSlip

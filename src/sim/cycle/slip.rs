@@ -14,6 +14,7 @@ use std::cell::Cell;
 
 use super::{SimError, Simulator, SlipEnd, StiffEnd};
 use crate::integrate::{Dense, LaneAttempt, Rhs, Solver, State, find_root};
+use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
 
@@ -154,8 +155,7 @@ impl<'a> SlipRun<'a> {
         // critical onsets (all of Fig. 3b's, A ≤ 0.45 γ²) are unaffected.
         if adaptive {
             let p = &sim.params;
-            let (s, c) = theta.sin_cos();
-            if p.kappa * c * c + s * s > 0.95 * p.gamma * p.gamma {
+            if onset_stiffness(p.kappa, theta) > 0.95 * p.gamma * p.gamma {
                 run.solver.err_scale = NEAR_CRITICAL_ACCEL_TIGHTENING;
             }
         }
