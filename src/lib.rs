@@ -6,11 +6,13 @@
 //! - [`sim`]: one stick–slip cycle, the map θ → θ', orbits, sweeps.
 //! - [`worker`]: the background thread the GUI talks to.
 //! - [`cli`]: the headless subcommands.
+//! - [`formats`]: the CSV formats and class colours every front end writes.
 //! - `app` (feature `gui`): the eframe/egui explorer.
 
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod cli;
+pub mod formats;
 pub mod integrate;
 pub mod model;
 pub mod numerics;

@@ -5,7 +5,7 @@ use std::path::Path;
 use std::process::{Command, Output};
 use std::time::{Duration, Instant};
 
-use oneblock::cli::common::SLIP_EVENT_COLUMNS;
+use oneblock::formats::SLIP_EVENT_COLUMNS;
 use oneblock::sim::{LANES, SweepOptions, segments, sweep_columns, theta_nu_grid};
 use oneblock::{Params, SolverSettings};
 

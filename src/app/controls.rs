@@ -14,8 +14,9 @@ use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 use super::accuracy::{self, AccuracyMode};
 use super::data::Data;
 use super::describe;
-use super::settings::{PRESETS, Settings};
+use super::settings::Settings;
 use crate::integrate::{Method, SolverSettings};
+use crate::model::PRESETS;
 use crate::model::{Params, Regime};
 
 /// The numeric fields of the panel.
@@ -81,7 +82,7 @@ impl Field {
             }
             Field::Tol => {
                 "Relative and absolute tolerance of the adaptive Runge–Kutta methods \
-                 (dp853, dp54): smaller is more accurate and slower. Valid: [1e-14, 1e-2]."
+                 (dop853, dp54): smaller is more accurate and slower. Valid: [1e-14, 1e-2]."
             }
             Field::Step => "Fixed step h of rk4 and euler, in time units. Valid: (0, 1].",
         }
@@ -355,7 +356,7 @@ impl Controls {
                 })
                 .response
                 .on_hover_text(
-                    "How each slip is integrated: dp853 (Dormand–Prince 8, default), dp54, \
+                    "How each slip is integrated: dop853 (Dormand–Prince 8, default), dp54, \
                      or the fixed-step rk4 and euler (euler is kept as the method that fails).",
                 );
         });

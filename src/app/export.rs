@@ -1,5 +1,5 @@
 //! CSV in the command line's formats: events (every `SlipEvent` field, in
-//! order, `restarted` as 0/1, as `cli::common::slip_event_row` writes them),
+//! order, `restarted` as 0/1, as `formats::slip_event_row` writes them),
 //! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`), phase
 //! diagram (`oneblock phase --out`'s columns and rows). Floats
 //! in Rust's shortest round-trip form, so parsing gives back the exact f64.
@@ -8,8 +8,7 @@ use std::fmt::Write as _;
 
 use super::data::SweepData;
 use super::phase_data::PhaseData;
-use crate::cli::common::{SLIP_EVENT_COLUMNS, slip_event_row};
-use crate::cli::phase::{PHASE_COLUMNS, csv_row};
+use crate::formats::{PHASE_COLUMNS, SLIP_EVENT_COLUMNS, phase_row, slip_event_row};
 use crate::sim::{Sample, SlipEvent};
 
 /// The events CSV: the command line's header and rows, from the same code.
@@ -61,7 +60,7 @@ pub fn phase_csv(phase: &PhaseData) -> String {
     s.push_str(PHASE_COLUMNS);
     s.push('\n');
     for c in phase.cells.iter().flatten() {
-        s.push_str(&csv_row(c));
+        s.push_str(&phase_row(c));
         s.push('\n');
     }
     s

@@ -35,9 +35,10 @@ use std::path::PathBuf;
 use std::sync::{Arc, PoisonError};
 use std::time::Duration;
 
+pub use crate::model::{PRESETS, preset, preset_keys};
 pub use backend::{Backend, Recorder};
 pub use explorer::{Explorer, Script};
-pub use settings::{Layout, PRESETS, Settings, View, preset, preset_keys};
+pub use settings::{Layout, Settings, View};
 
 use crate::worker::{Worker, WorkerConfig};
 use eframe::egui;

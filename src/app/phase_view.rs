@@ -21,7 +21,7 @@ use super::phase_data::PhaseData;
 use super::phase_job::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseJob, PhaseRange};
 use super::settings::Settings;
 use super::style;
-use crate::cli::phase::colour;
+use crate::formats::class_colour as png_colour;
 use crate::sim::phase::{CellClass, PhaseCell};
 
 /// The legend, in the order of `oneblock phase --png`'s.
@@ -63,7 +63,7 @@ pub struct PhaseView {
 
 /// A class's colour in the view: the same as `oneblock phase --png`.
 pub fn class_colour(c: CellClass, alpha: u8) -> Color32 {
-    let [r, g, b] = colour(c);
+    let [r, g, b] = png_colour(c);
     Color32::from_rgba_unmultiplied(r, g, b, alpha)
 }
 

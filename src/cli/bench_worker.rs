@@ -1,6 +1,6 @@
 //! `oneblock bench-worker`: times the simulation worker as the GUI uses it,
 //! at the paper's Fig. 3b parameters (γ = 6.5, κ = 18.95, ν = 1e-3, Ω = 50,
-//! dp853): from a `Sweep` command to the first full coarse diagram and to
+//! dop853): from a `Sweep` command to the first full coarse diagram and to
 //! the full diagram, and from a `Trajectory` command sent mid-sweep to its
 //! first chunk. With `--phase N`, instead: from a `Phase` command (N × N
 //! cells over the paper's Fig. 4 range, the app's default budget) to the
@@ -34,7 +34,7 @@ pub struct BenchWorkerArgs {
     /// Kept iterates per column.
     #[arg(long, default_value_t = 200)]
     pub keep: usize,
-    /// Tolerance of dp853 (rtol = atol).
+    /// Tolerance of dop853 (rtol = atol).
     #[arg(long, default_value_t = 1e-8)]
     pub tol: f64,
     /// Sweep threads.
@@ -327,7 +327,7 @@ fn run_phase(args: &BenchWorkerArgs, settings: SolverSettings, n: usize) -> Resu
         )));
     }
     println!(
-        "phase: {n} x {n} cells over theta-nu in [0, pi/2], kappa in [1, 42]; gamma = 6.5, nu = 1e-3, omega = 50; dp853 tol = {:e}; 400 transient + 128 kept; {} threads",
+        "phase: {n} x {n} cells over theta-nu in [0, pi/2], kappa in [1, 42]; gamma = 6.5, nu = 1e-3, omega = 50; dop853 tol = {:e}; 400 transient + 128 kept; {} threads",
         args.tol, args.threads
     );
     if let Some(l) = load_average() {
@@ -433,7 +433,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
         return run_phase(&args, settings, n);
     }
     println!(
-        "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dp853, tol = {:e}",
+        "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dop853, tol = {:e}",
         args.tol
     );
     println!(

@@ -10,7 +10,7 @@ use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::model::{Regime, exit_arc};
 use crate::output::{OutputError, check_writable, write_output};
-use crate::sim::{SimError, Simulator, SlipEvent};
+use crate::sim::{SimError, Simulator};
 
 /// A command-line failure: `Usage` (bad input: exit 2) or `Failed` (exit 1).
 #[derive(Debug, thiserror::Error)]
@@ -88,8 +88,8 @@ impl ModelArgs {
 /// The integration method and its accuracy.
 #[derive(Debug, Clone, Args)]
 pub struct SolverArgs {
-    /// Integration method: dp54, dp853, rk4 or euler.
-    #[arg(long, default_value = "dp853")]
+    /// Integration method: dp54, dop853, rk4 or euler.
+    #[arg(long, default_value = "dop853")]
     pub method: String,
     /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
     /// [default: 1e-10].
@@ -116,7 +116,7 @@ impl SolverArgs {
         } else {
             if self.tol.is_some() {
                 return Err(CliError::Usage(format!(
-                    "--tol applies to dp54 and dp853, not {method}; use --step"
+                    "--tol applies to dp54 and dop853, not {method}; use --step"
                 )));
             }
             SolverSettings::fixed(method, self.step.unwrap_or(1e-3))
@@ -278,95 +278,5 @@ pub fn settings_json(settings: &SolverSettings) -> serde_json::Value {
         serde_json::json!({ "method": settings.method.name(), "tol": settings.rtol })
     } else {
         serde_json::json!({ "method": settings.method.name(), "step": settings.step })
-    }
-}
-
-/// The CSV columns of a slip event: every `SlipEvent` field, in order.
-pub const SLIP_EVENT_COLUMNS: [&str; 16] = [
-    "theta",
-    "onset_x",
-    "onset_y",
-    "onset_time",
-    "accel_duration",
-    "slip_duration",
-    "stop_x",
-    "stop_y",
-    "slip_distance",
-    "peak_vr",
-    "energy_released",
-    "stick_duration",
-    "theta_next",
-    "restarted",
-    "rhs_evals",
-    "steps",
-];
-
-/// One CSV row of a slip event (no newline). Numbers are written with
-/// Rust's shortest round-trip formatting, so parsing gives back the exact
-/// f64; `restarted` is 0 or 1 so that the whole file is numeric.
-pub fn slip_event_row(e: &SlipEvent) -> String {
-    format!(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-        e.theta,
-        e.onset_x,
-        e.onset_y,
-        e.onset_time,
-        e.accel_duration,
-        e.slip_duration,
-        e.stop_x,
-        e.stop_y,
-        e.slip_distance,
-        e.peak_vr,
-        e.energy_released,
-        e.stick_duration,
-        e.theta_next,
-        u8::from(e.restarted),
-        e.rhs_evals,
-        e.steps
-    )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn csv_columns_are_the_slip_event_fields() {
-        let e = SlipEvent {
-            theta: 0.5,
-            onset_x: 0.1,
-            onset_y: 0.2,
-            onset_time: 0.3,
-            accel_duration: 0.4,
-            slip_duration: 0.6,
-            stop_x: 0.7,
-            stop_y: 0.8,
-            slip_distance: 0.9,
-            peak_vr: 1.1,
-            energy_released: 1.2,
-            stick_duration: 1.3,
-            theta_next: 1.4,
-            restarted: true,
-            rhs_evals: 15,
-            steps: 16,
-        };
-        let json = serde_json::to_value(e).expect("a SlipEvent serializes");
-        let obj = json.as_object().expect("an object");
-        assert_eq!(obj.len(), SLIP_EVENT_COLUMNS.len());
-        let row = slip_event_row(&e);
-        let cells: Vec<&str> = row.split(',').collect();
-        assert_eq!(cells.len(), SLIP_EVENT_COLUMNS.len());
-        for (name, cell) in SLIP_EVENT_COLUMNS.iter().zip(cells) {
-            let v = &obj[*name];
-            let expected = match v {
-                serde_json::Value::Bool(b) => u8::from(*b).to_string(),
-                other => other.to_string(),
-            };
-            assert_eq!(
-                cell.parse::<f64>().ok(),
-                expected.parse::<f64>().ok(),
-                "{name}"
-            );
-        }
     }
 }

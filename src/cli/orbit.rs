@@ -11,9 +11,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
 use super::common::{
-    MAX_ROWS, ModelArgs, SLIP_EVENT_COLUMNS, SolverArgs, check_out, check_theta, count_in,
-    describe, emit, finite, settings_json, slip_event_row, stderr_is_terminal, total_iterates,
+    MAX_ROWS, ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite,
+    settings_json, stderr_is_terminal, total_iterates,
 };
+use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator};
 
 /// An orbit θ0, f(θ0), f(f(θ0)), … of the map.

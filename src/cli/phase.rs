@@ -17,8 +17,9 @@ use super::CliError;
 use super::common::{
     SolverArgs, check_out, count_in, describe_sweep, emit, finite, stderr_is_terminal, write_out,
 };
+use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
 use crate::model::Params;
-use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_grid};
+use crate::sim::phase::{PhaseCell, PhaseOptions, phase_grid};
 use crate::sim::{SimError, theta_nu_grid};
 
 /// A phase diagram: the attractor's class over a (θν, κ) grid.
@@ -87,10 +88,6 @@ pub struct PhaseArgs {
 pub const MAX_STEPS: usize = 10_000;
 /// The most cells of a grid.
 pub const MAX_CELLS: usize = 4_000_000;
-
-/// The CSV header.
-pub const PHASE_COLUMNS: &str =
-    "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr";
 
 pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     let k_from = finite("kappa-from", args.kappa_from)?;
@@ -216,7 +213,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     csv.push_str(PHASE_COLUMNS);
     csv.push('\n');
     for c in &cells {
-        writeln!(csv, "{}", csv_row(c)).ok();
+        writeln!(csv, "{}", phase_row(c)).ok();
     }
     // The picture first: if it cannot be written, neither is the CSV.
     if let Some(png) = &args.png {
@@ -240,7 +237,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
             None => counts.push((label, 1)),
         }
     }
-    counts.sort_by_key(|(l, _)| LEGEND.iter().position(|(n, _)| n == l));
+    counts.sort_by_key(|(l, _)| PHASE_LEGEND.iter().position(|(n, _)| n == l));
     let failed: Vec<&&PhaseCell> = cells.iter().filter(|c| c.error.is_some()).collect();
     for c in failed.iter().take(5) {
         if let Some(e) = &c.error {
@@ -275,60 +272,6 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         )));
     }
     Ok(())
-}
-
-/// One CSV row: numbers in Rust's shortest round-trip form; `lyapunov`,
-/// `lyapunov_stderr` and `regime` are empty when not computed.
-pub fn csv_row(c: &PhaseCell) -> String {
-    let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-    format!(
-        "{},{},{},{},{},{},{},{}",
-        c.theta_nu,
-        c.kappa,
-        c.class.period(),
-        opt(c.lyapunov),
-        c.regime.map_or("", |r| r.name()),
-        c.iterates,
-        c.class.label(),
-        opt(c.lyapunov_stderr)
-    )
-}
-
-/// The picture's classes and colours, in legend order.
-const LEGEND: [(&str, [u8; 3]); 9] = [
-    ("FP", [49, 104, 181]),
-    ("P2", [82, 170, 84]),
-    ("P3", [240, 140, 30]),
-    ("P4", [150, 80, 180]),
-    ("P5", [230, 205, 40]),
-    ("P6+", [220, 110, 170]),
-    ("CHAOS", [20, 20, 20]),
-    ("UNDECIDED", [175, 175, 175]),
-    ("FAILED", [210, 30, 30]),
-];
-
-fn legend_class(c: CellClass) -> &'static str {
-    match c {
-        CellClass::Periodic(1) => "FP",
-        CellClass::Periodic(2) => "P2",
-        CellClass::Periodic(3) => "P3",
-        CellClass::Periodic(4) => "P4",
-        CellClass::Periodic(5) => "P5",
-        CellClass::Periodic(_) => "P6+",
-        CellClass::Chaos => "CHAOS",
-        CellClass::Undecided => "UNDECIDED",
-        CellClass::Failed => "FAILED",
-    }
-}
-
-/// The colour of a class in the picture (the app's phase view uses the
-/// same).
-pub fn colour(c: CellClass) -> [u8; 3] {
-    let l = legend_class(c);
-    LEGEND
-        .iter()
-        .find(|(n, _)| *n == l)
-        .map_or([255, 0, 255], |(_, c)| *c)
 }
 
 /// A 5×7 bitmap font for the few characters the picture needs: each glyph is
@@ -456,7 +399,7 @@ pub fn render_png(grid: &[Vec<PhaseCell>], kappas: &[f64], theta_nus: &[f64]) ->
         for (c, cell) in row.iter().enumerate() {
             // κ grows upwards: the first row is at the bottom.
             let y = top + (rows - 1 - r) * ch;
-            cv.rect(left + c * cw, y, cw, ch, colour(cell.class));
+            cv.rect(left + c * cw, y, cw, ch, class_colour(cell.class));
         }
     }
     // Frame.
@@ -501,7 +444,7 @@ pub fn render_png(grid: &[Vec<PhaseCell>], kappas: &[f64], theta_nus: &[f64]) ->
     cv.text(4, top + ph / 2 - 7, s, "KAPPA", black);
     // Legend.
     let lx = left + pw + 20;
-    for (i, (name, c)) in LEGEND.iter().enumerate() {
+    for (i, (name, c)) in PHASE_LEGEND.iter().enumerate() {
         let y = top + 10 + 26 * i;
         cv.rect(lx, y, 18, 18, *c);
         cv.rect(lx, y, 18, 1, black);

@@ -37,7 +37,7 @@ impl Method {
     pub fn name(self) -> &'static str {
         match self {
             Method::Dp54 => "dp54",
-            Method::Dop853 => "dp853",
+            Method::Dop853 => "dop853",
             Method::Rk4 => "rk4",
             Method::Euler => "euler",
         }
@@ -65,11 +65,11 @@ impl FromStr for Method {
     fn from_str(s: &str) -> Result<Self, Self::Err> {
         match s.to_ascii_lowercase().as_str() {
             "dp54" | "dopri5" | "rk45" => Ok(Method::Dp54),
-            "dp853" | "dop853" => Ok(Method::Dop853),
+            "dop853" => Ok(Method::Dop853),
             "rk4" => Ok(Method::Rk4),
             "euler" => Ok(Method::Euler),
             _ => Err(format!(
-                "unknown method '{s}': expected one of dp54, dp853, rk4, euler"
+                "unknown method '{s}': expected one of dp54, dop853, rk4, euler"
             )),
         }
     }

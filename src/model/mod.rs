@@ -4,6 +4,7 @@
 
 mod geometry;
 mod params;
+pub mod presets;
 mod regime;
 mod stick;
 
@@ -12,5 +13,6 @@ pub use geometry::{
     point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
 };
 pub use params::{ParamError, Params};
+pub use presets::{PRESETS, Preset, preset, preset_keys};
 pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character, onset_stiffness};
 pub use stick::{stick_exit_point, stick_exit_time};

@@ -1,0 +1,153 @@
+//! The file formats every front end writes, so that the command line and the
+//! window export the same bytes: the slip-event CSV, the phase-diagram CSV,
+//! and the phase classes' names and colours.
+
+use crate::sim::SlipEvent;
+use crate::sim::phase::{CellClass, PhaseCell};
+
+/// The CSV columns of a slip event: every `SlipEvent` field, in order.
+pub const SLIP_EVENT_COLUMNS: [&str; 16] = [
+    "theta",
+    "onset_x",
+    "onset_y",
+    "onset_time",
+    "accel_duration",
+    "slip_duration",
+    "stop_x",
+    "stop_y",
+    "slip_distance",
+    "peak_vr",
+    "energy_released",
+    "stick_duration",
+    "theta_next",
+    "restarted",
+    "rhs_evals",
+    "steps",
+];
+
+/// One CSV row of a slip event (no newline). Numbers are written with
+/// Rust's shortest round-trip formatting, so parsing gives back the exact
+/// f64; `restarted` is 0 or 1 so that the whole file is numeric.
+pub fn slip_event_row(e: &SlipEvent) -> String {
+    format!(
+        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+        e.theta,
+        e.onset_x,
+        e.onset_y,
+        e.onset_time,
+        e.accel_duration,
+        e.slip_duration,
+        e.stop_x,
+        e.stop_y,
+        e.slip_distance,
+        e.peak_vr,
+        e.energy_released,
+        e.stick_duration,
+        e.theta_next,
+        u8::from(e.restarted),
+        e.rhs_evals,
+        e.steps
+    )
+}
+
+/// The phase CSV's header.
+pub const PHASE_COLUMNS: &str =
+    "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr";
+
+/// One CSV row: numbers in Rust's shortest round-trip form; `lyapunov`,
+/// `lyapunov_stderr` and `regime` are empty when not computed.
+pub fn phase_row(c: &PhaseCell) -> String {
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+    format!(
+        "{},{},{},{},{},{},{},{}",
+        c.theta_nu,
+        c.kappa,
+        c.class.period(),
+        opt(c.lyapunov),
+        c.regime.map_or("", |r| r.name()),
+        c.iterates,
+        c.class.label(),
+        opt(c.lyapunov_stderr)
+    )
+}
+
+/// The picture's classes and colours, in legend order.
+pub const PHASE_LEGEND: [(&str, [u8; 3]); 9] = [
+    ("FP", [49, 104, 181]),
+    ("P2", [82, 170, 84]),
+    ("P3", [240, 140, 30]),
+    ("P4", [150, 80, 180]),
+    ("P5", [230, 205, 40]),
+    ("P6+", [220, 110, 170]),
+    ("CHAOS", [20, 20, 20]),
+    ("UNDECIDED", [175, 175, 175]),
+    ("FAILED", [210, 30, 30]),
+];
+
+pub fn legend_class(c: CellClass) -> &'static str {
+    match c {
+        CellClass::Periodic(1) => "FP",
+        CellClass::Periodic(2) => "P2",
+        CellClass::Periodic(3) => "P3",
+        CellClass::Periodic(4) => "P4",
+        CellClass::Periodic(5) => "P5",
+        CellClass::Periodic(_) => "P6+",
+        CellClass::Chaos => "CHAOS",
+        CellClass::Undecided => "UNDECIDED",
+        CellClass::Failed => "FAILED",
+    }
+}
+
+/// The colour of a class, the same in the PNG and in the window.
+pub fn class_colour(c: CellClass) -> [u8; 3] {
+    let l = legend_class(c);
+    PHASE_LEGEND
+        .iter()
+        .find(|(n, _)| *n == l)
+        .map_or([255, 0, 255], |(_, c)| *c)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn csv_columns_are_the_slip_event_fields() {
+        let e = SlipEvent {
+            theta: 0.5,
+            onset_x: 0.1,
+            onset_y: 0.2,
+            onset_time: 0.3,
+            accel_duration: 0.4,
+            slip_duration: 0.6,
+            stop_x: 0.7,
+            stop_y: 0.8,
+            slip_distance: 0.9,
+            peak_vr: 1.1,
+            energy_released: 1.2,
+            stick_duration: 1.3,
+            theta_next: 1.4,
+            restarted: true,
+            rhs_evals: 15,
+            steps: 16,
+        };
+        let json = serde_json::to_value(e).expect("a SlipEvent serializes");
+        let obj = json.as_object().expect("an object");
+        assert_eq!(obj.len(), SLIP_EVENT_COLUMNS.len());
+        let row = slip_event_row(&e);
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(cells.len(), SLIP_EVENT_COLUMNS.len());
+        for (name, cell) in SLIP_EVENT_COLUMNS.iter().zip(cells) {
+            let v = &obj[*name];
+            let expected = match v {
+                serde_json::Value::Bool(b) => u8::from(*b).to_string(),
+                other => other.to_string(),
+            };
+            assert_eq!(
+                cell.parse::<f64>().ok(),
+                expected.parse::<f64>().ok(),
+                "{name}"
+            );
+        }
+    }
+}
