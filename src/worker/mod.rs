@@ -25,8 +25,10 @@ mod gate;
 mod numerics;
 mod orbit;
 mod phase;
+mod plan;
 pub mod priority;
 mod protocol;
+mod schedule;
 mod sweep;
 
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -36,12 +38,12 @@ use std::time::Duration;
 
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
-pub use phase::{COARSE_STRIDE, PlannedCell, Seed, phase_plan, run_cell};
+pub use phase::{COARSE_STRIDE, Seed, run_cell};
+pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
     Axis, Command, Generation, GridCell, IterateSpec, Lane, Outcome, PhaseSpec, SweepSpec,
     TrajectorySpec, Update, WorkPrecisionSpec,
 };
-pub use sweep::{PlannedColumn, sweep_plan};
 
 use gate::Gate;
 

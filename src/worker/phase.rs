@@ -19,14 +19,19 @@
 //!
 //! A cell continued from a chaotic one gets the shorter transient, as in
 //! `phase_row`; one continued from a failed one starts at θ = θν.
+//!
+//! The threads take cells from the job's [`Schedule`], which hands out a
+//! cell once its parent is done, with the parent's [`Seed`].
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, JobError, Pacer, run_guarded};
+use super::plan::{PlannedCell, phase_plan};
 use super::protocol::{Axis, Command, Generation, GridCell, Lane, PhaseSpec, Update};
+use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
@@ -41,113 +46,6 @@ pub const CELL_BATCH: usize = 16;
 pub const MAX_STEPS: usize = 10_000;
 /// The most cells of a grid (as `oneblock phase`).
 pub const MAX_CELLS: usize = 4_000_000;
-
-/// One cell of a phase plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PlannedCell {
-    /// κ row (0 … rows−1).
-    pub row: usize,
-    /// θν column (0 … columns−1).
-    pub column: usize,
-    /// The (row, column) whose last onset this cell starts from (`None`:
-    /// θ = θν).
-    pub parent: Option<(usize, usize)>,
-    /// Whether it belongs to the coarse lattice.
-    pub coarse: bool,
-    /// 0 for the coarse lattice, then the bisection level of the refinement.
-    pub level: u32,
-}
-
-/// The level of each index 0 … n−1 along one axis: 0 for the coarse
-/// indices (about every `stride`-th, both ends included, spread evenly),
-/// then the bisection depth between them.
-fn axis_levels(n: usize, stride: usize) -> Vec<u32> {
-    let mut level = vec![u32::MAX; n];
-    if n == 0 {
-        return level;
-    }
-    let m = if n == 1 {
-        1
-    } else {
-        ((n - 1).div_ceil(stride.max(1)) + 1).min(n)
-    };
-    // A step of (n−1)/(m−1) ≥ 1 keeps the rounded indices distinct.
-    let idx: Vec<usize> = if m == 1 {
-        vec![0]
-    } else {
-        (0..m)
-            .map(|k| ((k * (n - 1)) as f64 / (m - 1) as f64).round() as usize)
-            .collect()
-    };
-    for &i in &idx {
-        level[i] = 0;
-    }
-    fn bisect(a: usize, b: usize, depth: u32, level: &mut [u32]) {
-        if b - a < 2 {
-            return;
-        }
-        let mid = (a + b) / 2;
-        level[mid] = depth;
-        bisect(a, mid, depth + 1, level);
-        bisect(mid, b, depth + 1, level);
-    }
-    for w in idx.windows(2) {
-        bisect(w[0], w[1], 1, &mut level);
-    }
-    level
-}
-
-/// The order and starting neighbours of a progressive phase diagram of
-/// `rows` × `columns` cells with a coarse lattice of about every `stride`-th
-/// row and column (see the module's doc). Every cell appears exactly once,
-/// coarse cells first, levels never decrease, and every parent comes before
-/// its child.
-pub fn phase_plan(rows: usize, columns: usize, stride: usize) -> Vec<PlannedCell> {
-    let lr = axis_levels(rows, stride);
-    let lc = axis_levels(columns, stride);
-    let level = |r: usize, c: usize| lr[r].max(lc[c]);
-    let mut plan = Vec::with_capacity(rows * columns);
-    for r in 0..rows {
-        for c in 0..columns {
-            let l = level(r, c);
-            // Earlier in the order (level, row, column), on the same row:
-            // to the left anything of level ≤ l, to the right only lower.
-            let left = (0..c).rev().find(|&k| level(r, k) <= l);
-            let right = if l == 0 {
-                None
-            } else {
-                (c + 1..columns).find(|&k| level(r, k) < l)
-            };
-            let in_row = match (left, right) {
-                (Some(a), Some(b)) => Some(if c - a <= b - c { a } else { b }),
-                (a, b) => a.or(b),
-            };
-            let parent = match in_row {
-                Some(k) => Some((r, k)),
-                // A coarse row's first cell starts from θν, as in phase_row.
-                None if l == 0 => None,
-                None => {
-                    let below = (0..r).rev().find(|&k| level(k, c) <= l);
-                    let above = (r + 1..rows).find(|&k| level(k, c) < l);
-                    match (below, above) {
-                        (Some(a), Some(b)) => Some(if r - a <= b - r { a } else { b }),
-                        (a, b) => a.or(b),
-                    }
-                    .map(|k| (k, c))
-                }
-            };
-            plan.push(PlannedCell {
-                row: r,
-                column: c,
-                parent,
-                coarse: l == 0,
-                level: l,
-            });
-        }
-    }
-    plan.sort_by_key(|p| (p.level, p.row, p.column));
-    plan
-}
 
 /// Where a finished cell's neighbours continue.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -198,90 +96,25 @@ pub fn run_cell(
     phase_cell(p, settings, start, o, cancel)
 }
 
-/// Where each planned cell stands.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Slot {
-    Waiting,
-    Running,
-    Done(Seed),
-}
-
-/// The shared to-do list of one phase job.
-struct Schedule {
-    plan: Vec<PlannedCell>,
+/// A planned cell as the schedule sees it: its slot is its flat index
+/// (row·columns + column).
+#[derive(Clone, Copy, Debug)]
+struct Item {
+    cell: PlannedCell,
     columns: usize,
-    slots: Vec<Slot>,
-    coarse_left: usize,
-    done: usize,
-    /// First plan position that may still be waiting.
-    scan_from: usize,
 }
 
-impl Schedule {
-    fn new(plan: Vec<PlannedCell>, rows: usize, columns: usize) -> Self {
-        let coarse_left = plan.iter().filter(|p| p.coarse).count();
-        Schedule {
-            plan,
-            columns,
-            slots: vec![Slot::Waiting; rows * columns],
-            coarse_left,
-            done: 0,
-            scan_from: 0,
-        }
+impl PlanItem for Item {
+    fn slot(&self) -> usize {
+        self.cell.row * self.columns + self.cell.column
     }
 
-    fn slot(&self, r: usize, c: usize) -> Slot {
-        self.slots[r * self.columns + c]
+    fn parent(&self) -> Option<usize> {
+        self.cell.parent.map(|(r, c)| r * self.columns + c)
     }
 
-    /// The next cell that may start, with its parent's seed.
-    /// `Err(true)`: none is ready yet; `Err(false)`: none is left.
-    fn next(&mut self) -> Result<(PlannedCell, Option<Seed>), bool> {
-        while self.scan_from < self.plan.len() {
-            let p = self.plan[self.scan_from];
-            if self.slot(p.row, p.column) != Slot::Waiting {
-                self.scan_from += 1;
-            } else {
-                break;
-            }
-        }
-        if self.scan_from == self.plan.len() {
-            return Err(false);
-        }
-        for k in self.scan_from..self.plan.len() {
-            let p = self.plan[k];
-            // Refinement waits for the whole coarse lattice, so that the
-            // picture is complete, if coarse, as early as it can be.
-            if !p.coarse && self.coarse_left > 0 {
-                break;
-            }
-            if self.slot(p.row, p.column) != Slot::Waiting {
-                continue;
-            }
-            let start = match p.parent {
-                None => Some(None),
-                Some((r, c)) => match self.slot(r, c) {
-                    Slot::Done(seed) => Some(Some(seed)),
-                    _ => None,
-                },
-            };
-            if let Some(seed) = start {
-                self.slots[p.row * self.columns + p.column] = Slot::Running;
-                return Ok((p, seed));
-            }
-        }
-        Err(true)
-    }
-
-    /// Marks `p` done; true if it was the last coarse cell.
-    fn complete(&mut self, p: PlannedCell, seed: Seed) -> bool {
-        self.slots[p.row * self.columns + p.column] = Slot::Done(seed);
-        self.done += 1;
-        if p.coarse {
-            self.coarse_left -= 1;
-            return self.coarse_left == 0;
-        }
-        false
+    fn coarse(&self) -> bool {
+        self.cell.coarse
     }
 }
 
@@ -375,8 +208,11 @@ fn phase(shared: &Shared, generation: Generation, s: &PhaseSpec) -> Result<(), J
     let theta_nus = theta_nu_grid(s.theta_nu.from, s.theta_nu.to, columns);
     let kappas = theta_nu_grid(s.kappa.from, s.kappa.to, rows);
     let total = rows * columns;
-    let plan = phase_plan(rows, columns, COARSE_STRIDE);
-    let schedule = Mutex::new(Schedule::new(plan, rows, columns));
+    let plan = phase_plan(rows, columns, COARSE_STRIDE)
+        .into_iter()
+        .map(|cell| Item { cell, columns })
+        .collect();
+    let schedule: Mutex<Schedule<Item, Seed>> = Mutex::new(Schedule::new(plan, total));
     let ready = Condvar::new();
     let outbox = Mutex::new(Outbox {
         coarse: Vec::new(),
@@ -413,25 +249,10 @@ fn phase(shared: &Shared, generation: Generation, s: &PhaseSpec) -> Result<(), J
 
     let worker = || -> Result<(), JobError> {
         loop {
-            let (p, seed) = {
-                let mut sch = lock(&schedule);
-                loop {
-                    if gate.is_stale(generation) {
-                        return Err(JobError::Stop);
-                    }
-                    match sch.next() {
-                        Ok(next) => break next,
-                        Err(false) => return Ok(()),
-                        Err(true) => {
-                            // A timeout, so that a cancellation is seen even
-                            // if no cell completes.
-                            sch = ready
-                                .wait_timeout(sch, Duration::from_millis(20))
-                                .map(|(g, _)| g)
-                                .unwrap_or_else(|e| e.into_inner().0);
-                        }
-                    }
-                }
+            let Some((Item { cell: p, .. }, seed)) =
+                wait_next(&schedule, &ready, || gate.is_stale(generation))?
+            else {
+                return Ok(());
             };
             let (kappa, tn) = (kappas[p.row], theta_nus[p.column]);
             let cancel = || shared.stats.poll(gate, generation);
@@ -504,8 +325,8 @@ fn phase(shared: &Shared, generation: Generation, s: &PhaseSpec) -> Result<(), J
             };
             let (done, coarse_done) = {
                 let mut sch = lock(&schedule);
-                let last_coarse = sch.complete(p, seed_out);
-                (sch.done, last_coarse)
+                let last_coarse = sch.complete(Item { cell: p, columns }, seed_out);
+                (sch.done(), last_coarse)
             };
             ready.notify_all();
             if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
@@ -547,87 +368,12 @@ mod tests {
     use std::collections::HashSet;
     use std::sync::Arc;
     use std::sync::atomic::AtomicUsize;
+    use std::time::Duration;
 
     /// Fault injection for the phase threads: the cell with this flat index
     /// (row·columns + column) panics (usize::MAX: none). Only this module's
     /// tests set it.
     pub(super) static PANIC_AT_CELL: AtomicUsize = AtomicUsize::new(usize::MAX);
-
-    fn check_plan(rows: usize, columns: usize, stride: usize) {
-        let plan = phase_plan(rows, columns, stride);
-        let what = format!("{rows} x {columns} stride {stride}");
-        assert_eq!(plan.len(), rows * columns, "{what}");
-        let cells: HashSet<(usize, usize)> = plan.iter().map(|p| (p.row, p.column)).collect();
-        assert_eq!(cells.len(), rows * columns, "each cell once: {what}");
-        let n_coarse = plan.iter().filter(|p| p.coarse).count();
-        assert!(plan[..n_coarse].iter().all(|p| p.coarse && p.level == 0));
-        assert!(plan[n_coarse..].iter().all(|p| !p.coarse && p.level > 0));
-        assert!(plan.windows(2).all(|w| w[0].level <= w[1].level), "{what}");
-        // The coarse lattice holds the four corners and spans evenly.
-        for corner in [
-            (0, 0),
-            (0, columns - 1),
-            (rows - 1, 0),
-            (rows - 1, columns - 1),
-        ] {
-            assert!(
-                plan[..n_coarse].iter().any(|p| (p.row, p.column) == corner),
-                "{what}: corner {corner:?}"
-            );
-        }
-        let mut coarse_cols: Vec<usize> = plan[..n_coarse]
-            .iter()
-            .filter(|p| p.row == 0)
-            .map(|p| p.column)
-            .collect();
-        coarse_cols.sort();
-        let gaps: Vec<usize> = coarse_cols.windows(2).map(|w| w[1] - w[0]).collect();
-        assert!(gaps.iter().all(|&g| g <= stride), "{what}: {gaps:?}");
-        // Parents come earlier; coarse parents are the left neighbour in the
-        // row; a refinement cell's parent is in its row or column.
-        let mut pos = vec![0; rows * columns];
-        for (k, p) in plan.iter().enumerate() {
-            pos[p.row * columns + p.column] = k;
-        }
-        for (k, p) in plan.iter().enumerate() {
-            match p.parent {
-                None => assert!(p.coarse, "{what}: {p:?} has no parent"),
-                Some((r, c)) => {
-                    assert!(pos[r * columns + c] < k, "{what}: {p:?}");
-                    assert!(r == p.row || c == p.column, "{what}: {p:?}");
-                    if p.coarse {
-                        assert!(r == p.row && c < p.column, "{what}: {p:?}");
-                    }
-                    if r == p.row {
-                        // The nearest earlier cell of the row.
-                        let d = c.abs_diff(p.column);
-                        let nearer = plan[..k]
-                            .iter()
-                            .filter(|e| e.row == p.row && e.column.abs_diff(p.column) < d)
-                            .count();
-                        assert_eq!(nearer, 0, "{what}: {p:?}");
-                    } else {
-                        // Only when the row had nothing computed before it.
-                        assert!(!plan[..k].iter().any(|e| e.row == p.row), "{what}: {p:?}");
-                    }
-                }
-            }
-        }
-    }
-
-    #[test]
-    fn plans_cover_every_cell_once_coarse_first() {
-        for rows in [1, 2, 3, 5, 9, 30] {
-            for columns in [1, 2, 4, 7, 30, 61] {
-                for stride in [1, 2, 4] {
-                    check_plan(rows, columns, stride);
-                }
-            }
-        }
-        // 30 x 30 at stride 4: a 9 x 9 coarse lattice.
-        let plan = phase_plan(30, 30, 4);
-        assert_eq!(plan.iter().filter(|p| p.coarse).count(), 81);
-    }
 
     #[test]
     fn a_panicking_cell_is_reported_and_the_grid_goes_on() {

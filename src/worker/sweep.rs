@@ -15,14 +15,19 @@
 //!    a new column continues from the nearer end of its sub-gap (the left
 //!    one on a tie). Level 1 everywhere, then level 2, and so on, so the
 //!    diagram sharpens evenly.
+//!
+//! The threads take columns from the job's [`Schedule`], which hands out a
+//! column once its parent is done, with the parent's last onset; each
+//! thread steps up to `LANES` ready columns together.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
-use std::time::Duration;
 
 use super::orbit::{JobError, Pacer, run_guarded};
+use super::plan::{PlannedColumn, sweep_plan};
 use super::protocol::{Command, Generation, Lane, SweepSpec, Update};
+use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::model::ParamError;
 use crate::sim::{
@@ -30,157 +35,27 @@ use crate::sim::{
     theta_nu_grid,
 };
 
-/// One column of a sweep plan.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct PlannedColumn {
-    /// Position in the final grid (0 … columns−1).
-    pub index: usize,
-    /// The column whose last onset this one starts from (`None`: θ = θν).
-    pub parent: Option<usize>,
-    /// Whether it belongs to the coarse pass.
-    pub coarse: bool,
-    /// 0 for the coarse pass, then the bisection level of the fill-in.
-    pub level: u32,
+impl PlanItem for PlannedColumn {
+    fn slot(&self) -> usize {
+        self.index
+    }
+
+    fn parent(&self) -> Option<usize> {
+        self.parent
+    }
+
+    fn coarse(&self) -> bool {
+        self.coarse
+    }
 }
 
-/// The order and the starting neighbours of a progressive sweep of
-/// `columns` columns with a coarse pass of `coarse` columns (at least the
-/// two ends, at most `columns`) in `chains` chains. The coarse columns come first (chain
-/// heads, then each chain's second column, …), then the fill-in by level
-/// and position. Every index appears exactly once, and every parent comes
-/// before its child.
-pub fn sweep_plan(columns: usize, coarse: usize, chains: usize) -> Vec<PlannedColumn> {
-    if columns == 0 {
-        return vec![];
-    }
-    // At least both ends (a single column when that is all there is).
-    let m = coarse.clamp(2, columns.max(2)).min(columns);
-    // Spread with both ends included; a step of (n−1)/(m−1) ≥ 1 keeps the
-    // rounded indices distinct.
-    let idx: Vec<usize> = if m == 1 {
-        vec![0]
-    } else {
-        (0..m)
-            .map(|k| ((k * (columns - 1)) as f64 / (m - 1) as f64).round() as usize)
-            .collect()
-    };
-    let chains = chains.clamp(1, m);
-    let mut chain_of = Vec::with_capacity(m);
-    for c in 0..chains {
-        let (lo, hi) = (c * m / chains, (c + 1) * m / chains);
-        chain_of.push((lo, hi));
-    }
-    let mut plan = Vec::with_capacity(columns);
-    let longest = chain_of.iter().map(|(lo, hi)| hi - lo).max().unwrap_or(0);
-    for pos in 0..longest {
-        for &(lo, hi) in &chain_of {
-            let k = lo + pos;
-            if k < hi {
-                plan.push(PlannedColumn {
-                    index: idx[k],
-                    parent: (pos > 0).then(|| idx[k - 1]),
-                    coarse: true,
-                    level: 0,
-                });
-            }
-        }
-    }
-    let mut fill = Vec::with_capacity(columns - m);
-    fn bisect(a: usize, b: usize, level: u32, out: &mut Vec<PlannedColumn>) {
-        if b - a < 2 {
-            return;
-        }
-        let mid = (a + b) / 2;
-        let parent = if mid - a <= b - mid { a } else { b };
-        out.push(PlannedColumn {
-            index: mid,
-            parent: Some(parent),
-            coarse: false,
-            level,
-        });
-        bisect(a, mid, level + 1, out);
-        bisect(mid, b, level + 1, out);
-    }
-    for w in idx.windows(2) {
-        bisect(w[0], w[1], 1, &mut fill);
-    }
-    fill.sort_by_key(|p| (p.level, p.index));
-    plan.extend(fill);
-    plan
-}
+/// A sweep's schedule: a done column leaves its last onset for its
+/// neighbours (`None` if it failed: they start at θ = θν).
+type Columns = Schedule<PlannedColumn, Option<f64>>;
 
-/// Where each planned column stands.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Slot {
-    Waiting,
-    Running,
-    /// Done, with where a neighbour continues (`None` if it failed).
-    Done(Option<f64>),
-}
-
-/// The shared to-do list of one sweep.
-struct Schedule {
-    plan: Vec<PlannedColumn>,
-    slots: Vec<Slot>,
-    coarse_left: usize,
-    done: usize,
-    /// First plan position that may still be waiting.
-    scan_from: usize,
-}
-
-impl Schedule {
-    fn new(plan: Vec<PlannedColumn>, columns: usize) -> Self {
-        let coarse_left = plan.iter().filter(|p| p.coarse).count();
-        Schedule {
-            plan,
-            slots: vec![Slot::Waiting; columns],
-            coarse_left,
-            done: 0,
-            scan_from: 0,
-        }
-    }
-
-    /// The next column that may start, with its neighbour's last onset.
-    /// `Err(true)`: none is ready yet; `Err(false)`: none is left.
-    fn next(&mut self) -> Result<(PlannedColumn, Option<f64>), bool> {
-        while self.scan_from < self.plan.len()
-            && self.slots[self.plan[self.scan_from].index] != Slot::Waiting
-        {
-            self.scan_from += 1;
-        }
-        if self.scan_from == self.plan.len() {
-            return Err(false);
-        }
-        for k in self.scan_from..self.plan.len() {
-            let p = self.plan[k];
-            if !p.coarse && self.coarse_left > 0 {
-                break;
-            }
-            if self.slots[p.index] != Slot::Waiting {
-                continue;
-            }
-            let start = match p.parent {
-                None => Some(None),
-                Some(q) => match self.slots[q] {
-                    Slot::Done(th) => Some(th),
-                    _ => None,
-                },
-            };
-            if let Some(th) = start {
-                self.slots[p.index] = Slot::Running;
-                return Ok((p, th));
-            }
-        }
-        Err(true)
-    }
-
-    fn complete(&mut self, p: PlannedColumn, theta_last: Option<f64>) {
-        self.slots[p.index] = Slot::Done(theta_last);
-        self.done += 1;
-        if p.coarse {
-            self.coarse_left -= 1;
-        }
-    }
+/// The next column of `sch` that may start, with its neighbour's last onset.
+fn next_column(sch: &mut Columns) -> Option<(PlannedColumn, Option<f64>)> {
+    sch.next().ok().map(|(p, seed)| (p, seed.flatten()))
 }
 
 /// Runs one sweep-lane command.
@@ -220,7 +95,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
     // Each thread steps up to LANES columns together, so the coarse pass
     // has that many chains per thread.
     let plan = sweep_plan(columns, shared.config.coarse_columns, threads * LANES);
-    let schedule = Mutex::new(Schedule::new(plan, columns));
+    let schedule: Mutex<Columns> = Mutex::new(Schedule::new(plan, columns));
     let sims: Vec<Result<Simulator, SimError>> = grid
         .iter()
         .map(|&tn| Simulator::new(s.params.with_theta_nu(tn), s.settings))
@@ -292,7 +167,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
         let done = {
             let mut sch = lock(&schedule);
             sch.complete(p, theta_last);
-            sch.done
+            sch.done()
         };
         ready.notify_all();
         let rate = {
@@ -317,26 +192,11 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
     let worker = || -> Result<(), JobError> {
         loop {
             // Wait for a column that may start (or for the end).
-            let first = {
-                let mut sch = lock(&schedule);
-                loop {
-                    if gate.is_stale(generation) {
-                        return Err(JobError::Stop);
-                    }
-                    match sch.next() {
-                        Ok(next) => break next,
-                        Err(false) => return Ok(()),
-                        Err(true) => {
-                            // A timeout, so that a cancellation is seen even
-                            // if no column completes.
-                            sch = ready
-                                .wait_timeout(sch, Duration::from_millis(20))
-                                .map(|(g, _)| g)
-                                .unwrap_or_else(|e| e.into_inner().0);
-                        }
-                    }
-                }
+            let Some((p, seed)) = wait_next(&schedule, &ready, || gate.is_stale(generation))?
+            else {
+                return Ok(());
             };
+            let first = (p, seed.flatten());
             // Then run it, and whatever else is ready, in lanes; a lane that
             // finds nothing ready retires, and once all have, this loop waits
             // again.
@@ -353,7 +213,9 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
                     if stop.is_some() {
                         return None;
                     }
-                    let (p, neighbour) = pending.take().or_else(|| lock(&schedule).next().ok())?;
+                    let (p, neighbour) = pending
+                        .take()
+                        .or_else(|| next_column(&mut lock(&schedule)))?;
                     let tn = grid[p.index];
                     let start = column_start(s.params.kappa, tn, neighbour);
                     in_flight[lane] = Some((p, start));
@@ -404,6 +266,7 @@ mod tests {
     use std::collections::HashSet;
     use std::sync::Arc;
     use std::sync::atomic::AtomicUsize;
+    use std::time::Duration;
 
     /// Fault injection for the sweep threads: the column with this index
     /// panics (usize::MAX: none). Only this module's tests set it.
@@ -413,69 +276,6 @@ mod tests {
         if index == PANIC_AT_COLUMN.load(Ordering::SeqCst) {
             panic!("injected panic in column {index}");
         }
-    }
-
-    fn check_plan(columns: usize, coarse: usize, chains: usize) {
-        let plan = sweep_plan(columns, coarse, chains);
-        assert_eq!(plan.len(), columns, "{columns} {coarse} {chains}");
-        let idx: HashSet<usize> = plan.iter().map(|p| p.index).collect();
-        assert_eq!(idx.len(), columns, "each column once");
-        assert!(idx.iter().all(|&i| i < columns));
-        let m = coarse.clamp(2, columns.max(2)).min(columns);
-        assert!(plan[..m].iter().all(|p| p.coarse && p.level == 0));
-        assert!(plan[m..].iter().all(|p| !p.coarse && p.level > 0));
-        // The coarse pass spans the range: both ends, even gaps.
-        let mut c: Vec<usize> = plan[..m].iter().map(|p| p.index).collect();
-        c.sort();
-        assert_eq!(c[0], 0);
-        if m > 1 {
-            assert_eq!(c[m - 1], columns - 1);
-            let gaps: Vec<usize> = c.windows(2).map(|w| w[1] - w[0]).collect();
-            let (lo, hi) = (
-                gaps.iter().min().expect("gaps"),
-                gaps.iter().max().expect("gaps"),
-            );
-            assert!(hi - lo <= 1, "even coarse gaps {gaps:?}");
-        }
-        // Parents come earlier, and are the nearest earlier column.
-        let pos: Vec<usize> = {
-            let mut v = vec![0; columns];
-            for (k, p) in plan.iter().enumerate() {
-                v[p.index] = k;
-            }
-            v
-        };
-        let heads = plan.iter().filter(|p| p.parent.is_none()).count();
-        assert_eq!(heads, chains.clamp(1, m));
-        for (k, p) in plan.iter().enumerate() {
-            if let Some(q) = p.parent {
-                assert!(pos[q] < k);
-                let d = q.abs_diff(p.index);
-                let nearer = plan[..k]
-                    .iter()
-                    .filter(|e| e.coarse || !p.coarse)
-                    .map(|e| e.index.abs_diff(p.index))
-                    .min()
-                    .expect("a parent exists, so an earlier column does");
-                if !p.coarse {
-                    assert_eq!(d, nearer, "column {} continues from the nearest", p.index);
-                }
-            }
-        }
-        // Levels do not decrease.
-        assert!(plan.windows(2).all(|w| w[0].level <= w[1].level));
-    }
-
-    #[test]
-    fn plans_cover_every_column_once_coarse_first() {
-        for columns in [1, 2, 3, 7, 10, 64, 65, 100, 400] {
-            for coarse in [1, 2, 5, 8, 64, 1000] {
-                for chains in [1, 2, 3] {
-                    check_plan(columns, coarse, chains);
-                }
-            }
-        }
-        assert!(sweep_plan(0, 8, 2).is_empty());
     }
 
     #[test]
