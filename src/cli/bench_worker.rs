@@ -15,6 +15,7 @@ use clap::Args;
 use super::CliError;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
+use crate::sim::stats::median;
 use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
 use crate::worker::{
     Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, SweepSpec, TrajectorySpec, Update,
@@ -408,16 +409,6 @@ fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option
     let wall = t0.elapsed().as_secs_f64();
     let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
     (n as f64 / wall, cpu.map(|c| n as f64 / c))
-}
-
-fn median(xs: &[f64]) -> f64 {
-    let mut v = xs.to_vec();
-    v.sort_by(f64::total_cmp);
-    match v.len() {
-        0 => f64::NAN,
-        n if n % 2 == 1 => v[n / 2],
-        n => 0.5 * (v[n / 2 - 1] + v[n / 2]),
-    }
 }
 
 pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {

@@ -7,8 +7,9 @@
 use std::time::Duration;
 
 use super::sample::Attractor;
-use super::work_precision::{Row, Subject, default_subjects, median};
+use super::work_precision::{Row, Subject, default_subjects};
 use crate::model::Params;
+use crate::sim::stats::median;
 
 /// Orbit points of the current attractor a quick run measures on.
 pub const QUICK_POINTS: usize = 12;
@@ -50,8 +51,8 @@ pub fn current_attractor(params: Params, theta0: Option<f64>, transient: usize) 
 pub fn combine(per_point: &[Row]) -> Option<Row> {
     let first = per_point.first()?;
     let ok: Vec<&Row> = per_point.iter().filter(|r| r.failed == 0).collect();
-    let mut errs: Vec<f64> = ok.iter().map(|r| r.max_error).collect();
-    let mut times: Vec<f64> = ok.iter().map(|r| r.median_us).collect();
+    let errs: Vec<f64> = ok.iter().map(|r| r.max_error).collect();
+    let times: Vec<f64> = ok.iter().map(|r| r.median_us).collect();
     let max_of = |f: fn(&Row) -> f64| {
         if ok.is_empty() {
             f64::NAN
@@ -67,10 +68,10 @@ pub fn combine(per_point: &[Row]) -> Option<Row> {
         failed: per_point.iter().map(|r| r.failed).sum(),
         failure: per_point.iter().find_map(|r| r.failure.clone()),
         max_error: errs.iter().copied().fold(f64::NAN, f64::max),
-        median_error: median(&mut errs),
+        median_error: median(&errs),
         max_stop_error: max_of(|r| r.max_stop_error),
         max_duration_error: max_of(|r| r.max_duration_error),
-        median_us: median(&mut times),
+        median_us: median(&times),
         evals_per_iterate: ok.iter().map(|r| r.evals_per_iterate).sum::<f64>()
             / ok.len().max(1) as f64,
     })

@@ -10,6 +10,7 @@ use super::sample::{Iterate, SamplePoint};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::wrap_angle;
 use crate::sim::Simulator;
+use crate::sim::stats::median;
 
 /// What is measured: one of our settings, or the peer at a tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -114,20 +115,6 @@ pub struct Row {
     pub evals_per_iterate: f64,
 }
 
-/// The median of `v` (NaN if empty); sorts `v`.
-pub(crate) fn median(v: &mut [f64]) -> f64 {
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    if n % 2 == 1 {
-        v[n / 2]
-    } else {
-        0.5 * (v[n / 2 - 1] + v[n / 2])
-    }
-}
-
 /// Measures one setting on the sample. Each point is timed over repeated
 /// runs lasting at least `min_time` (at least one run).
 pub fn measure(sample: &[SamplePoint], subject: &Subject, min_time: Duration) -> Row {
@@ -178,10 +165,10 @@ pub fn measure(sample: &[SamplePoint], subject: &Subject, min_time: Duration) ->
         failed,
         failure,
         max_error,
-        median_error: median(&mut errs),
+        median_error: median(&errs),
         max_stop_error: if ok > 0 { stop_err } else { f64::NAN },
         max_duration_error: if ok > 0 { dur_err } else { f64::NAN },
-        median_us: median(&mut times),
+        median_us: median(&times),
         evals_per_iterate: evals as f64 / ok.max(1) as f64,
     }
 }

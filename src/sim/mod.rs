@@ -7,6 +7,7 @@ mod error;
 pub mod field;
 mod orbit;
 pub mod phase;
+pub mod stats;
 mod sweep;
 mod trajectory;
 mod trig;
@@ -19,7 +20,8 @@ pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,
 };
 pub use error::SimError;
-pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
+pub use orbit::{Orbit, OrbitOptions, Period};
+pub use stats::mean_and_stderr;
 pub use sweep::{
     Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
     sweep_segments, theta_nu_grid,

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::analysis::{cycle_with_derivative, detect_period};
+use super::stats::mean_and_stderr;
 use super::{SimError, Simulator, SlipEvent};
 use crate::model::{is_on_exit_arc, project_onto_exit_arc};
 
@@ -135,18 +136,4 @@ impl Simulator {
             theta_last: theta,
         })
     }
-}
-
-/// Mean and naive standard error of a sample (None when empty).
-pub fn mean_and_stderr(xs: &[f64]) -> (Option<f64>, Option<f64>) {
-    if xs.is_empty() {
-        return (None, None);
-    }
-    let n = xs.len() as f64;
-    let m = xs.iter().sum::<f64>() / n;
-    if xs.len() < 2 {
-        return (Some(m), None);
-    }
-    let var = xs.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (n - 1.0);
-    (Some(m), Some((var / n).sqrt()))
 }

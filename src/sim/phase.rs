@@ -30,6 +30,7 @@
 use rayon::prelude::*;
 
 use super::analysis::{PERIOD_MAX, cycle_with_derivative, detect_period, map_derivative};
+use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
 use crate::integrate::SolverSettings;
@@ -84,8 +85,6 @@ pub const MIN_WINDOW: usize = 24;
 /// Kept iterates before λ is first tested, and between tests.
 pub const LYAPUNOV_MIN: usize = 64;
 const LYAPUNOV_EVERY: usize = 16;
-/// Batches of the batch-means standard error of λ.
-pub const BATCHES: usize = 8;
 
 /// What a cell's attractor is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -200,31 +199,6 @@ impl PhaseCell {
             error: None,
         }
     }
-}
-
-/// Mean of a sample and the standard error by batch means: the sample is cut
-/// into [`BATCHES`] consecutive batches (the tail that does not fill a batch is
-/// dropped from the error only) and the error is the spread of the batch means
-/// over √batches, which accounts for the correlation between successive
-/// iterates that the naive error ignores. `None` for the error below 2 per
-/// batch.
-pub fn batch_means(xs: &[f64]) -> (Option<f64>, Option<f64>) {
-    if xs.is_empty() {
-        return (None, None);
-    }
-    let mean = xs.iter().sum::<f64>() / xs.len() as f64;
-    let b = xs.len() / BATCHES;
-    if b < 2 {
-        return (Some(mean), None);
-    }
-    let means: Vec<f64> = xs
-        .chunks_exact(b)
-        .take(BATCHES)
-        .map(|c| c.iter().sum::<f64>() / b as f64)
-        .collect();
-    let m = means.iter().sum::<f64>() / BATCHES as f64;
-    let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (BATCHES - 1) as f64;
-    (Some(mean), Some((var / BATCHES as f64).sqrt()))
 }
 
 /// How far the last `w` values of `thetas` are from repeating with period p:
@@ -418,7 +392,7 @@ fn run_cell(
         }
         let k = logs.len();
         if k >= LYAPUNOV_MIN && k.is_multiple_of(LYAPUNOV_EVERY) {
-            let (l, se) = batch_means(&logs);
+            let (l, se) = mean_and_stderr(&logs);
             if let (Some(l), Some(se)) = (l, se)
                 && l - opts.sigmas * se > 0.0
             {
@@ -442,7 +416,7 @@ fn run_cell(
             return Ok(());
         }
     }
-    let (l, se) = batch_means(&logs);
+    let (l, se) = mean_and_stderr(&logs);
     cell.lyapunov = l;
     cell.lyapunov_stderr = se;
     cell.regime = AttractorRegime::of(kappa, gamma, kept);
@@ -579,13 +553,5 @@ mod tests {
         // Chaos-like ratios do not agree.
         let ch: Vec<f64> = (0..12).map(|i| (i as f64 * 1.234567).sin()).collect();
         assert_eq!(aitken_jump(&ch, 0.3, 1e-6), None);
-    }
-
-    #[test]
-    fn batch_means_of_a_constant_has_no_spread() {
-        let (m, se) = batch_means(&[0.25; 64]);
-        assert_eq!(m, Some(0.25));
-        assert_eq!(se, Some(0.0));
-        assert_eq!(batch_means(&[1.0; 10]).1, None);
     }
 }
