@@ -207,7 +207,7 @@ impl Summary<'_> {
             ),
             (Some(l), None) => writeln!(
                 s,
-                "  lyapunov exponent: {l:.6} (from one iterate: no error estimate)"
+                "  lyapunov exponent: {l:.6} (under 16 kept iterates: no error estimate)"
             ),
             _ => writeln!(s, "  lyapunov exponent: not computed (--no-lyapunov)"),
         }
