@@ -5,26 +5,37 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::fixture::preset;
+
 use oneblock::sim::OrbitOptions;
 use oneblock::{Method, Params, Regime, Simulator, SolverSettings};
 
 #[test]
 fn dp54_and_dop853_agree_on_the_map() {
-    let p = |kappa, gamma, nu, theta_nu| Params {
-        kappa,
-        gamma,
-        nu,
-        theta_nu,
-        omega: 50.0,
-    };
     let points = [
-        (p(3.0, 0.5, 1e-3, 0.7), "pure creep"),
-        (p(0.5, 0.9, 1e-3, 0.4), "mixed"),
-        (p(50.0, 6.5, 1e-4, 0.3), "mixed"),
-        (p(50.0, 6.5, 1e-4, 1.4), "mixed"),
-        (p(50.0, 6.5, 1e-4, 1.55), "mixed"),
-        (p(18.95, 6.5, 1e-3, 1.25), "pure stick-slip"),
-        (p(10.0, 6.5, 1e-3, 1.2), "pure stick-slip"),
+        (preset("creep"), "pure creep"),
+        (
+            Params {
+                kappa: 0.5,
+                gamma: 0.9,
+                theta_nu: 0.4,
+                ..preset("fig3b")
+            },
+            "mixed",
+        ),
+        (preset("fig3a"), "mixed"),
+        (preset("intermittent"), "mixed"),
+        (preset("fig3a").with_theta_nu(1.55), "mixed"),
+        (preset("chaos"), "pure stick-slip"),
+        (
+            Params {
+                kappa: 10.0,
+                theta_nu: 1.2,
+                ..preset("fig3b")
+            },
+            "pure stick-slip",
+        ),
     ];
     let mut worst = 0.0f64;
     for (params, regime) in points {

@@ -2,22 +2,15 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::fixture::preset;
+
 use oneblock::model::{OnsetCharacter, critical_angles, onset_character};
 use oneblock::sim::{OrbitOptions, Period, fixed_point};
 use oneblock::{Method, Params, Regime, Simulator, SolverSettings};
 
-fn sim(kappa: f64, gamma: f64, nu: f64, theta_nu: f64, tol: f64) -> Simulator {
-    Simulator::new(
-        Params {
-            kappa,
-            gamma,
-            nu,
-            theta_nu,
-            omega: 50.0,
-        },
-        SolverSettings::adaptive(Method::Dop853, tol),
-    )
-    .unwrap()
+fn sim(p: Params, tol: f64) -> Simulator {
+    Simulator::new(p, SolverSettings::adaptive(Method::Dop853, tol)).unwrap()
 }
 
 fn orbit(s: &Simulator, transient: usize, keep: usize, lyapunov: bool) -> oneblock::sim::Orbit {
@@ -45,7 +38,14 @@ fn pure_creep_fixed_point_approaches_theta_nu_linearly_in_nu() {
     let theta_nu = 0.7;
     let mut gaps = vec![];
     for nu in [1e-3, 3e-4, 1e-4] {
-        let s = sim(3.0, 0.5, nu, theta_nu, 1e-12);
+        let s = sim(
+            Params {
+                nu,
+                theta_nu,
+                ..preset("creep")
+            },
+            1e-12,
+        );
         let (th, mult) = fixed_point(&s, theta_nu, 1e-12)
             .unwrap()
             .expect("fixed point");
@@ -73,7 +73,14 @@ fn fig3a_creep_fixed_point_below_theta_nu() {
     for theta_nu in [0.2, 0.3, 0.4] {
         let mut last_gap = f64::INFINITY;
         for nu in [1e-4, 1e-5, 1e-6] {
-            let s = sim(50.0, 6.5, nu, theta_nu, 1e-11);
+            let s = sim(
+                Params {
+                    nu,
+                    theta_nu,
+                    ..preset("fig3a")
+                },
+                1e-11,
+            );
             let (th, mult) = fixed_point(&s, theta_nu, 1e-11)
                 .unwrap()
                 .expect("fixed point");
@@ -86,7 +93,7 @@ fn fig3a_creep_fixed_point_below_theta_nu() {
         }
         // And iterating from θν approaches it monotonically: the attractor is
         // that fixed point (f'(θ*) ≈ 0.99 here, too slow for a period test).
-        let s = sim(50.0, 6.5, 1e-4, theta_nu, 1e-11);
+        let s = sim(preset("fig3a").with_theta_nu(theta_nu), 1e-11);
         let (star, _) = fixed_point(&s, theta_nu, 1e-11).unwrap().unwrap();
         let o = orbit(&s, 0, 300, false);
         let d: Vec<f64> = o.events.iter().map(|e| (e.theta - star).abs()).collect();
@@ -112,7 +119,13 @@ fn fig3a_complex_orbits_at_large_theta_nu() {
         .map(|&tn| {
             (
                 tn,
-                orbit(&sim(50.0, 6.5, 1e-4, tn, 1e-10), 300, 128, false).period,
+                orbit(
+                    &sim(preset("fig3a").with_theta_nu(tn), 1e-10),
+                    300,
+                    128,
+                    false,
+                )
+                .period,
             )
         })
         .collect();
@@ -131,7 +144,12 @@ fn fig3b_period_doubling_to_chaos() {
     let mut kinds = vec![];
     for i in 0..=26 {
         let tn = 0.2 + 0.05 * i as f64;
-        let o = orbit(&sim(18.95, 6.5, 1e-3, tn, 1e-10), 300, 128, false);
+        let o = orbit(
+            &sim(preset("fig3b").with_theta_nu(tn), 1e-10),
+            300,
+            128,
+            false,
+        );
         for e in &o.events {
             assert_eq!(
                 onset_character(18.95, 6.5, e.theta),
@@ -156,7 +174,7 @@ fn fig3b_period_doubling_to_chaos() {
     );
     assert!(kinds[..first_p2].iter().any(|k| k.1 == Period::Periodic(1)));
     // The aperiodic orbit at θν = 1.25 is chaos: positive Lyapunov exponent.
-    let o = orbit(&sim(18.95, 6.5, 1e-3, 1.25, 1e-10), 200, 300, true);
+    let o = orbit(&sim(preset("chaos"), 1e-10), 200, 300, true);
     let (l, se) = (o.lyapunov.unwrap(), o.lyapunov_stderr.unwrap());
     eprintln!("λ(θν = 1.25) = {l} ± {se}");
     assert!(l > 3.0 * se && l > 0.05, "λ = {l} ± {se}");

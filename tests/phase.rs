@@ -3,6 +3,9 @@
 //! counts, and the `oneblock phase` command's handling of bad input and
 //! Ctrl+C.
 
+mod common;
+use common::fixture::preset;
+
 use std::f64::consts::FRAC_PI_2;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
@@ -25,10 +28,8 @@ fn opts() -> PhaseOptions {
 fn row(kappa: f64, from: f64, to: f64, n: usize) -> Vec<PhaseCell> {
     let params = Params {
         kappa,
-        gamma: 6.5,
-        nu: 1e-3,
         theta_nu: from,
-        omega: 50.0,
+        ..preset("fig4")
     };
     let cells = phase_row(
         params,
@@ -235,10 +236,8 @@ fn brute_force_agrees_on_a_clear_row() {
     // without the early exit, for a fraction of the iterates.
     let params = Params {
         kappa: 10.0,
-        gamma: 6.5,
-        nu: 1e-3,
         theta_nu: 0.0,
-        omega: 50.0,
+        ..preset("fig4")
     };
     let grid = [0.3, 0.6, 1.1, 1.2, 1.5];
     let fast = phase_row(

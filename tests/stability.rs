@@ -5,21 +5,14 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::fixture::preset;
+
 use oneblock::model::{critical_angles, exit_arc, is_on_exit_arc, wrap_angle};
 use oneblock::numerics::checked_cycle;
 use oneblock::numerics::sample::{Attractor, build_sample, default_attractors};
 use oneblock::sim::OrbitOptions;
 use oneblock::{Method, Params, SimError, Simulator, SolverSettings};
-
-fn params(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
-    Params {
-        kappa,
-        gamma,
-        nu,
-        theta_nu,
-        omega: 50.0,
-    }
-}
 
 fn reference(p: Params, theta: f64) -> f64 {
     Simulator::new(p, SolverSettings::adaptive(Method::Dop853, 1e-13))
@@ -31,9 +24,9 @@ fn reference(p: Params, theta: f64) -> f64 {
 /// The points forward Euler is tried on: one per regime.
 fn euler_points() -> Vec<(Params, f64)> {
     vec![
-        (params(18.95, 6.5, 1e-3, 1.0), 0.5),
-        (params(50.0, 6.5, 1e-4, 0.3), 0.3),
-        (params(3.0, 0.5, 1e-3, 0.7), 0.9),
+        (preset("fig3b"), 0.5),
+        (preset("fig3a"), 0.3),
+        (preset("creep"), 0.9),
     ]
 }
 
@@ -93,7 +86,7 @@ fn forward_euler_past_its_step_is_flagged_unreliable() {
 #[test]
 fn rk4_with_a_step_too_large_for_the_events_is_an_error() {
     // Above h = 1/√κ the step is refused whatever the point.
-    let p = params(50.0, 6.5, 1e-4, 1.4);
+    let p = preset("intermittent");
     let e = Simulator::new(p, SolverSettings::fixed(Method::Rk4, 0.15))
         .unwrap()
         .map(1.4)
@@ -201,13 +194,63 @@ fn corner(name: &str, p: Params, theta: f64) -> Option<f64> {
 #[test]
 fn hard_corners_give_a_finite_value_or_a_clear_error() {
     // Creep slips of size ~1e-5 (ν = 1e-8), where u − V_x would cancel.
-    assert!(corner("nu = 1e-8", params(50.0, 6.5, 1e-8, 0.3), 0.3).is_some());
-    assert!(corner("nu = 1e-8 creep", params(3.0, 0.5, 1e-8, 0.7), 0.7 + 1e-3).is_some());
+    assert!(
+        corner(
+            "nu = 1e-8",
+            Params {
+                nu: 1e-8,
+                ..preset("fig3a")
+            },
+            0.3
+        )
+        .is_some()
+    );
+    assert!(
+        corner(
+            "nu = 1e-8 creep",
+            Params {
+                nu: 1e-8,
+                ..preset("creep")
+            },
+            0.7 + 1e-3
+        )
+        .is_some()
+    );
     // Fast and slow directions.
-    assert!(corner("kappa = 100", params(100.0, 6.5, 1e-3, 1.0), 0.5).is_some());
-    assert!(corner("kappa = 0.05", params(0.05, 6.5, 1e-3, 1.0), 1.0).is_some());
+    assert!(
+        corner(
+            "kappa = 100",
+            Params {
+                kappa: 100.0,
+                ..preset("fig3b")
+            },
+            0.5
+        )
+        .is_some()
+    );
+    assert!(
+        corner(
+            "kappa = 0.05",
+            Params {
+                kappa: 0.05,
+                ..preset("fig3b")
+            },
+            1.0
+        )
+        .is_some()
+    );
     // Φ ≡ 1.
-    assert!(corner("gamma = 0", params(18.95, 0.0, 1e-3, 1.0), 0.5).is_some());
+    assert!(
+        corner(
+            "gamma = 0",
+            Params {
+                gamma: 0.0,
+                ..preset("fig3b")
+            },
+            0.5
+        )
+        .is_some()
+    );
     // Sharp friction switching.
     let p = Params {
         omega: 1000.0,
@@ -216,10 +259,10 @@ fn hard_corners_give_a_finite_value_or_a_clear_error() {
     assert!(corner("omega = 1000", p, 0.5).is_some());
     // θν exactly at θc, onset there.
     let tc = critical_angles(50.0, 6.5).unwrap();
-    assert!(corner("theta-nu = theta_c", params(50.0, 6.5, 1e-4, tc), tc).is_some());
+    assert!(corner("theta-nu = theta_c", preset("fig3a").with_theta_nu(tc), tc).is_some());
     // θ at the edges of the exit arc: just inside gives a value, the edge
     // itself is either that or the off-arc error.
-    let p = params(18.95, 6.5, 1e-3, 1.0);
+    let p = preset("fig3b");
     let (psi, half) = exit_arc(p.kappa, p.theta_nu);
     for edge in [psi - half, psi + half] {
         let inside = edge + (psi - edge).signum() * 1e-9;
@@ -242,7 +285,10 @@ fn a_stop_within_1e_12_of_c_is_a_value_not_noise() {
     // stop lands just outside C and the cycle restarts at once (MODEL.md
     // rule 5, counted as `restarted`); θ' must still be finite, on the exit
     // arc, and the same for both methods.
-    let p = params(3.0, 0.5, 1e-12, 0.7);
+    let p = Params {
+        nu: 1e-12,
+        ..preset("creep")
+    };
     let theta = 0.701;
     let sim = Simulator::new(p, SolverSettings::default()).unwrap();
     let ev = sim.cycle(theta, 0.0, None).unwrap();
@@ -312,7 +358,7 @@ fn creep_stops_on_the_slow_manifold_agree_with_stepping_to_the_stop() {
         stiff_stop,
         ..SolverSettings::adaptive(Method::Dop853, tol)
     };
-    let creep = params(3.0, 0.5, 1e-3, 0.7);
+    let creep = preset("creep");
     let reference = Simulator::new(creep, settings(1e-13, false)).unwrap();
     let orbit = reference
         .orbit(
@@ -386,7 +432,11 @@ fn creep_stops_on_the_slow_manifold_agree_with_stepping_to_the_stop() {
     // A slip along an axis passes the centre, where F_el turns round: at its
     // peak v_r looks stiff and aligned, the try gives up on the way, and the
     // full field finishes the slip exactly as without the try.
-    let axis = params(1.2, 6.5, 1e-3, 0.0);
+    let axis = Params {
+        kappa: 1.2,
+        theta_nu: 0.0,
+        ..preset("fig3b")
+    };
     let a = Simulator::new(axis, settings(1e-10, true))
         .unwrap()
         .cycle(0.0, 0.0, None)

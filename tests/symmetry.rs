@@ -5,6 +5,9 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::fixture::preset;
+
 use std::f64::consts::PI;
 
 use oneblock::model::{is_on_exit_arc, wrap_angle};
@@ -19,21 +22,29 @@ fn map(p: Params, theta: f64) -> f64 {
 
 /// Parameter points in all three regimes, with onsets on their exit arcs.
 fn cases() -> Vec<(Params, f64)> {
-    let p = |kappa, gamma, nu, theta_nu| Params {
-        kappa,
-        gamma,
-        nu,
-        theta_nu,
-        omega: 50.0,
-    };
     vec![
-        (p(18.95, 6.5, 1e-3, 1.0), 0.5),
-        (p(18.95, 6.5, 1e-3, 1.25), 1.1),
-        (p(50.0, 6.5, 1e-4, 0.3), 0.3),
-        (p(50.0, 6.5, 1e-4, 1.4), 0.25),
-        (p(3.0, 0.5, 1e-3, 0.7), 0.9),
-        (p(10.0, 6.5, 1e-3, 1.2), 1.0),
-        (p(0.5, 0.9, 1e-3, 0.4), 0.2),
+        (preset("fig3b"), 0.5),
+        (preset("chaos"), 1.1),
+        (preset("fig3a"), 0.3),
+        (preset("intermittent"), 0.25),
+        (preset("creep"), 0.9),
+        (
+            Params {
+                kappa: 10.0,
+                theta_nu: 1.2,
+                ..preset("fig3b")
+            },
+            1.0,
+        ),
+        (
+            Params {
+                kappa: 0.5,
+                gamma: 0.9,
+                theta_nu: 0.4,
+                ..preset("fig3b")
+            },
+            0.2,
+        ),
     ]
 }
 

@@ -4,6 +4,9 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::fixture::preset;
+
 use std::process::Command;
 
 use oneblock::numerics::{Accuracy, budget_for, settings_for};
@@ -40,30 +43,29 @@ fn bifurcation_budget_keeps_period_and_lyapunov_sign() {
     assert!(err <= 1e-3 && evals < budget_for(1e-10).est_evals / 3.0);
     let cases = [
         // Fig. 3b (pure stick-slip): fixed point, period 2, period 4, chaos
-        // (the app's `chaos` preset), the period-3 window.
-        (18.95, 6.5, 1e-3, 0.5),
-        (18.95, 6.5, 1e-3, 1.1),
-        (18.95, 6.5, 1e-3, 1.2),
-        (18.95, 6.5, 1e-3, 1.25),
-        (18.95, 6.5, 1e-3, 1.3),
-        // Fig. 3a (mixed): creep fixed point (the `fig3a` preset),
+        // (`chaos`), the period-3 window.
+        preset("fig3b").with_theta_nu(0.5),
+        preset("fig3b").with_theta_nu(1.1),
+        preset("fig3b").with_theta_nu(1.2),
+        preset("chaos"),
+        preset("fig3b").with_theta_nu(1.3),
+        // Fig. 3a (mixed): creep fixed point (`fig3a`),
         // intermittent chaos (`intermittent`), the fixed point near π/2.
-        (50.0, 6.5, 1e-4, 0.3),
-        (50.0, 6.5, 1e-4, 1.4),
-        (50.0, 6.5, 1e-4, 1.55),
+        preset("fig3a"),
+        preset("intermittent"),
+        preset("fig3a").with_theta_nu(1.55),
         // The app's other presets as they open: `fig3b`, `fig4`, `creep`.
-        (18.95, 6.5, 1e-3, 1.0),
-        (16.0, 6.5, 1e-3, 1.0),
-        (3.0, 0.5, 1e-3, 0.7),
+        preset("fig3b"),
+        preset("fig4"),
+        preset("creep"),
     ];
-    for (kappa, gamma, nu, theta_nu) in cases {
-        let p = Params {
+    for p in cases {
+        let Params {
             kappa,
             gamma,
-            nu,
             theta_nu,
-            omega: 50.0,
-        };
+            ..
+        } = p;
         let (pc, lc) = orbit(p, cheap);
         let (pt, lt) = orbit(p, tight);
         println!(

@@ -5,6 +5,7 @@
 //! hangs).
 
 mod common;
+use common::fixture::preset;
 use common::{recv, until_finished};
 use std::collections::HashSet;
 use std::sync::Arc;
@@ -29,13 +30,7 @@ fn settings() -> SolverSettings {
 }
 
 fn fig3b(theta_nu: f64) -> Params {
-    Params {
-        kappa: 18.95,
-        gamma: 6.5,
-        nu: 1e-3,
-        theta_nu,
-        omega: 50.0,
-    }
+    preset("fig3b").with_theta_nu(theta_nu)
 }
 
 fn spawn(

@@ -7,6 +7,7 @@
 //! against hangs).
 
 mod common;
+use common::fixture::preset;
 use common::{recv, until_ack, until_finished};
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::FRAC_PI_2;
@@ -37,11 +38,8 @@ fn spawn(update_capacity: usize) -> Worker {
 
 fn params(gamma: f64) -> Params {
     Params {
-        kappa: 18.95,
         gamma,
-        nu: 1e-3,
-        theta_nu: 1.0,
-        omega: 50.0,
+        ..preset("fig3b")
     }
 }
 

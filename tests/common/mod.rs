@@ -1,8 +1,10 @@
-//! Helpers the headless worker tests share (`tests/worker.rs`,
-//! `tests/worker_phase.rs`): waiting for updates, never for wall-clock time
-//! except as a guard against a hung worker.
+//! Helpers the test crates share: parameter fixtures by name (`fixture`),
+//! and for the headless worker tests, waiting for updates (never for
+//! wall-clock time except as a guard against a hung worker).
 // Each test crate uses its own subset.
 #![allow(dead_code)]
+
+pub mod fixture;
 
 use std::time::Duration;
 
