@@ -9,10 +9,10 @@
 use eframe::egui;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Ui, pos2, vec2};
 
-use super::data::Data;
-use super::plane::recent_start;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::sim::field::SlipField;
 use crate::sim::{Phase, Sample};
 
@@ -124,12 +124,12 @@ impl BlockView {
         }
     }
 
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
-        let samples = &data.trajectory.samples;
-        if data.trajectory_revision < self.trajectory_revision_seen {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+        let samples = &jobs.trajectory.data.samples;
+        if jobs.trajectory_revision < self.trajectory_revision_seen {
             self.clock = 0.0;
         }
-        self.trajectory_revision_seen = data.trajectory_revision;
+        self.trajectory_revision_seen = jobs.trajectory_revision;
         ui.horizontal_wrapped(|ui| {
             let label = if self.playing { "Pause" } else { "Play" };
             if ui.button(label).on_hover_text("Space").clicked() {
@@ -147,7 +147,7 @@ impl BlockView {
             ui.checkbox(&mut self.magnify_x, "x stretched ×κ")
                 .on_hover_text("The x spring is κ times stiffer, so its stretch is κ times smaller: magnify it to see it.");
         });
-        let start = recent_start(data, s.keep_cycles.min(4));
+        let start = jobs.trajectory.data.recent_start(s.keep_cycles.min(4));
         let window_start = samples.get(start).map_or(0.0, |p| p.t);
         let now = ui.input(|i| i.time);
         self.advance(samples, window_start, now, s.block_speed as f64);
@@ -407,5 +407,15 @@ fn clip_line(painter: &egui::Painter, r: Rect, a: Pos2, b: Pos2, stroke: Stroke)
     }
     if t0 < t1 {
         painter.line_segment([a + d * t0, a + d * t1], stroke);
+    }
+}
+
+impl View for BlockView {
+    fn title(&self) -> &'static str {
+        ViewKind::Block.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }

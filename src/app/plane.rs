@@ -7,24 +7,15 @@ use eframe::egui;
 use egui::{Color32, Ui};
 use egui_plot::{Arrows, LineStyle, Plot, PlotPoints};
 
-use super::data::Data;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::model::{critical_ellipse_point, ellipse_c_point};
 use crate::sim::{Phase, Sample};
 
 /// Most path vertices handed to the plot (the path is decimated beyond).
 const MAX_VERTICES: usize = 24_000;
-
-/// The indices of the samples in the last `keep` cycles.
-pub fn recent_start(data: &Data, keep: usize) -> usize {
-    let tr = &data.trajectory;
-    if tr.events.len() <= keep {
-        return 0;
-    }
-    let t0 = tr.events[tr.events.len() - keep].onset_time;
-    tr.samples.partition_point(|s| s.t < t0 - 1e-12)
-}
 
 /// Splits the path into runs of one phase each, every run extended to the
 /// first point of the next so the path has no gaps: `[stick, accel, decel]`.
@@ -86,7 +77,7 @@ pub struct PlaneView {
 }
 
 impl PlaneView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let k = s.params.kappa;
         let sx = if s.scale_x_by_kappa { k } else { 1.0 };
         let x_label = if s.scale_x_by_kappa { "κ x" } else { "x" };
@@ -101,11 +92,12 @@ impl PlaneView {
         let c_pts = ellipse(&|a| ellipse_c_point(k, a));
         let crit = ellipse(&|a| critical_ellipse_point(k, s.params.gamma, a));
 
-        let start = recent_start(data, s.keep_cycles);
-        let samples = &data.trajectory.samples[start..];
+        let start = jobs.trajectory.data.recent_start(s.keep_cycles);
+        let samples = &jobs.trajectory.data.samples[start..];
         let [stick, accel, decel] = phase_polylines(samples, sx);
-        let n_ev = data.trajectory.events.len();
-        let onsets: Vec<[f64; 2]> = data.trajectory.events[n_ev.saturating_sub(s.keep_cycles)..]
+        let n_ev = jobs.trajectory.data.events.len();
+        let onsets: Vec<[f64; 2]> = jobs.trajectory.data.events
+            [n_ev.saturating_sub(s.keep_cycles)..]
             .iter()
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
@@ -119,7 +111,7 @@ impl PlaneView {
             ui.label(format!(
                 "{} cycles shown of {}",
                 onsets.len(),
-                data.trajectory.events.len()
+                jobs.trajectory.data.events.len()
             ));
             ui.checkbox(&mut s.scale_x_by_kappa, "x axis as κx")
                 .on_hover_text(
@@ -273,5 +265,15 @@ mod tests {
         for run in stick.iter().chain(&accel).chain(&decel) {
             assert!(run.windows(2).all(|w| w[0] != w[1]), "no repeated points");
         }
+    }
+}
+
+impl View for PlaneView {
+    fn title(&self) -> &'static str {
+        ViewKind::Plane.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }

@@ -8,9 +8,10 @@ use eframe::egui;
 use egui::{RichText, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
 
-use super::data::Data;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::model::Regime;
 use crate::sim::{Period, return_map_window};
 
@@ -77,8 +78,8 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
 pub struct ReturnMapView;
 
 impl ReturnMapView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &Settings, data: &Data) {
-        let it = &data.iterate;
+    fn show(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
+        let it = &jobs.iterate.data;
         ui.label(RichText::new(summary(it.period, it.lyapunov)).strong());
         ui.horizontal_wrapped(|ui| {
             style::legend_line(ui, style::ACCEL, false, "f");
@@ -93,7 +94,7 @@ impl ReturnMapView {
         });
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
-        let evs = &data.trajectory.events;
+        let evs = &jobs.trajectory.data.events;
         let traj: Vec<[f64; 2]> = evs[evs.len().saturating_sub(1500)..]
             .iter()
             .map(|e| [e.theta, e.theta_next])
@@ -212,5 +213,15 @@ mod tests {
         // The lone point after the last jump is not a line.
         assert_eq!(firsts, [0.0, 0.4, 0.6]);
         assert_eq!(lens, [3, 2, 2]);
+    }
+}
+
+impl View for ReturnMapView {
+    fn title(&self) -> &'static str {
+        ViewKind::ReturnMap.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }
