@@ -1,8 +1,8 @@
 //! What the worker has sent for a job, one type per kind of job: the
 //! trajectory with its slip events, the map iterates with their analysis,
 //! the bifurcation columns, the work-precision rows (the phase grid's cells
-//! are in [`super::phase_data`]). Which job is current, and its state, is
-//! the job model's ([`super::jobs`]).
+//! are in `phase_data`). Which job is current, and its state, is the job
+//! model's (`jobs`).
 
 use crate::model::Params;
 use crate::numerics::{Row, Subject};

@@ -19,7 +19,7 @@ use super::controls::Controls;
 use super::events::EventsView;
 use super::frame_stats::FrameStats;
 use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
-use super::jobs::{JobState, Jobs, Shown};
+use super::jobs::{Jobs, Shown};
 use super::numerics_view::NumericsView;
 use super::phase_view::PhaseView;
 use super::plane::PlaneView;
@@ -28,7 +28,7 @@ use super::save;
 use super::screenshot::{Shots, fresh_path};
 use super::script::{Script, Window};
 use super::settings::{Layout, Settings, ViewKind};
-use super::style;
+use super::status;
 use super::view::{Action, View};
 
 /// The views' own state (textures, zoom stacks, switches).
@@ -302,7 +302,7 @@ impl Explorer {
             .show(ui, |ui| self.top_bar_ui(ui));
         egui::Panel::bottom("status")
             .frame(bare)
-            .show(ui, |ui| self.status_ui(ui));
+            .show(ui, |ui| status::status_ui(ui, &self.jobs));
         egui::Panel::left("controls")
             .frame(bare)
             .resizable(true)
@@ -325,7 +325,7 @@ impl Explorer {
             self.apply(a, &ctx);
         }
         self.sync_jobs(&ctx);
-        self.toasts_ui(&ctx);
+        self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
             self.stats.overlay(&ctx);
         }
@@ -425,97 +425,6 @@ impl Explorer {
             },
         );
     }
-
-    fn status_ui(&mut self, ui: &mut Ui) {
-        let j = &self.jobs;
-        let (traj, it, sweep, phase) = (
-            &j.trajectory.data,
-            &j.iterate.data,
-            &j.sweep.data,
-            &j.phase.data,
-        );
-        ui.horizontal_wrapped(|ui| {
-            let busy = [
-                &j.trajectory.state,
-                &j.iterate.state,
-                &j.sweep.state,
-                &j.phase.state,
-            ]
-            .iter()
-            .any(|s| matches!(s, JobState::Running));
-            if busy {
-                ui.spinner();
-            }
-            let traj = match &j.trajectory.state {
-                JobState::Running => format!("trajectory: {} cycles…", traj.events.len()),
-                JobState::Done => format!("trajectory: {} cycles", traj.events.len()),
-                s => format!("trajectory: {}", state_word(s)),
-            };
-            ui.label(traj);
-            ui.separator();
-            let orbit = match (&j.iterate.state, it.period) {
-                (JobState::Running, _) => format!(
-                    "orbit analysis {:.0}%",
-                    100.0 * j.orbit_progress().fraction.clamp(0.0, 1.0)
-                ),
-                (_, Some(p)) => format!("period {p}"),
-                (s, None) => format!("orbit: {}", state_word(s)),
-            };
-            ui.label(orbit);
-            ui.separator();
-            let frac = if sweep.columns.is_empty() {
-                0.0
-            } else {
-                sweep.filled as f32 / sweep.columns.len() as f32
-            };
-            ui.label("diagram");
-            ui.add(
-                egui::ProgressBar::new(frac)
-                    .desired_width(120.0)
-                    .text(format!("{}/{}", sweep.filled, sweep.columns.len())),
-            );
-            let phase_cells = phase.rows * phase.columns;
-            if phase_cells > 0 {
-                ui.label("phase");
-                ui.add(
-                    egui::ProgressBar::new(phase.filled as f32 / phase_cells as f32)
-                        .desired_width(100.0)
-                        .text(format!("{}/{phase_cells}", phase.filled)),
-                );
-            }
-            ui.label(format!(
-                "{:.0} iterates/s",
-                j.sweep.progress.iterates_per_second
-                    + j.orbit_progress().iterates_per_second
-                    + j.phase.progress.iterates_per_second
-            ));
-            if let Some(e) = &j.last_error {
-                ui.separator();
-                ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
-            }
-        });
-    }
-
-    fn toasts_ui(&self, ctx: &Context) {
-        if self.shots.toasts.is_empty() {
-            return;
-        }
-        egui::Area::new(egui::Id::unique("toasts"))
-            .anchor(egui::Align2::RIGHT_BOTTOM, egui::vec2(-16.0, -40.0))
-            .order(egui::Order::Foreground)
-            .show(ctx, |ui| {
-                for t in &self.shots.toasts {
-                    egui::Frame::popup(ui.style()).show(ui, |ui| {
-                        let c = if t.error {
-                            style::ERROR
-                        } else {
-                            ui.visuals().text_color()
-                        };
-                        ui.label(RichText::new(&t.text).color(c));
-                    });
-                }
-            });
-    }
 }
 
 /// The tiles' rectangles in `area`: two columns (one for a single view),
@@ -539,16 +448,6 @@ fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
             Rect::from_min_size(min, egui::vec2(w * span + gap * (span - 1.0), h))
         })
         .collect()
-}
-
-fn state_word(s: &JobState) -> String {
-    match s {
-        JobState::Idle => "idle".into(),
-        JobState::Running => "running".into(),
-        JobState::Done => "done".into(),
-        JobState::Cancelled => "cancelled".into(),
-        JobState::Failed(m) => format!("failed: {m}"),
-    }
 }
 
 impl eframe::App for Explorer {

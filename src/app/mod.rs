@@ -16,6 +16,7 @@
 //!   [`numerics_view`], [`phase_view`]: the views.
 //! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
 //! - [`frame_stats`], [`script`]: `--frame-stats` and scripted runs.
+//! - [`status`]: the status bar.
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
@@ -39,6 +40,7 @@ pub mod save;
 pub mod screenshot;
 pub mod script;
 pub mod settings;
+pub mod status;
 pub mod style;
 pub mod view;
 

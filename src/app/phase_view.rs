@@ -5,8 +5,8 @@
 //! blocks that the refinement splits. The current (θν, κ) is a cross-hair;
 //! hovering a cell tells its class, λ and cost; a click sets the θν and κ
 //! sliders there; a dragged box is recomputed at full resolution, with back
-//! and reset. The grid and budget are set here; the job itself is decided
-//! in [`super::phase_job`].
+//! and reset. The grid and budget are set here; when the job runs is the
+//! job model's phase policy.
 
 use std::collections::VecDeque;
 

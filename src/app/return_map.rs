@@ -80,18 +80,7 @@ pub struct ReturnMapView;
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        ui.label(RichText::new(summary(it.period, it.lyapunov)).strong());
-        ui.horizontal_wrapped(|ui| {
-            style::legend_line(ui, style::ACCEL, false, "f");
-            style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
-            style::legend_marker(
-                ui,
-                style::STICK.gamma_multiply(0.6),
-                "cycles incl. transient",
-            );
-            style::legend_line(ui, style::DECEL, false, "cobweb");
-            style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
-        });
+        legend_ui(ui, it.period, it.lyapunov, s.dark);
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;
@@ -120,6 +109,7 @@ impl ReturnMapView {
             _ => None,
         };
         let dark = s.dark;
+        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
         Plot::new("return_map")
             .show_background(false)
             .data_aspect(1.0)
@@ -190,6 +180,32 @@ impl ReturnMapView {
     }
 }
 
+/// The period and λ, and the legend above the plot.
+fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool) {
+    ui.label(RichText::new(summary(period, lyapunov)).strong());
+    ui.horizontal_wrapped(|ui| {
+        style::legend_line(ui, style::ACCEL, false, "f");
+        style::legend_marker(ui, style::ink(dark), "orbit iterates");
+        style::legend_marker(
+            ui,
+            style::STICK.gamma_multiply(0.6),
+            "cycles incl. transient",
+        );
+        style::legend_line(ui, style::DECEL, false, "cobweb");
+        style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
+    });
+}
+
+impl View for ReturnMapView {
+    fn title(&self) -> &'static str {
+        ViewKind::ReturnMap.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -213,15 +229,5 @@ mod tests {
         // The lone point after the last jump is not a line.
         assert_eq!(firsts, [0.0, 0.4, 0.6]);
         assert_eq!(lens, [3, 2, 2]);
-    }
-}
-
-impl View for ReturnMapView {
-    fn title(&self) -> &'static str {
-        ViewKind::ReturnMap.title()
-    }
-
-    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
-        self.show(ui, s, jobs);
     }
 }

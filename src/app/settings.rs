@@ -431,4 +431,27 @@ mod tests {
         s.smooth_lines = Some(false);
         assert!(!s.smooth_lines_on(false));
     }
+
+    #[test]
+    fn saved_phase_settings_are_brought_into_range() {
+        let s = PhaseSettings {
+            theta_nu_steps: 0,
+            kappa_steps: 100_000,
+            transient: 10_000_000,
+            keep: 2,
+            range: PhaseRange {
+                theta_nu: (0.0, f64::NAN),
+                kappa: (-1.0, 5.0),
+            },
+            zoom: vec![PhaseRange {
+                theta_nu: (1.0, 0.5),
+                kappa: (1.0, 2.0),
+            }],
+        }
+        .sanitised();
+        assert_eq!((s.theta_nu_steps, s.kappa_steps), (MIN_STEPS, MAX_STEPS));
+        assert_eq!((s.transient, s.keep), (MAX_BUDGET, 16));
+        assert_eq!(s.range, PhaseRange::PAPER);
+        assert!(s.zoom.is_empty());
+    }
 }

@@ -5,6 +5,7 @@
 //! [`policy`]). Updates of an older generation than the latest issued for
 //! their job are dropped here. Nothing here draws.
 
+mod apply;
 pub mod kind;
 pub mod policy;
 
@@ -12,7 +13,7 @@ pub use kind::JobKind;
 pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
 
 use super::backend::Backend;
-use super::data::{Column, IterateData, SweepData, TrajectoryData, WorkPrecisionData};
+use super::data::{IterateData, SweepData, TrajectoryData, WorkPrecisionData};
 use super::phase_data::PhaseData;
 use super::settings::Settings;
 use crate::integrate::SolverSettings;
@@ -20,7 +21,7 @@ use crate::model::Params;
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
-use crate::worker::{Command, Generation, Lane, Outcome, Update};
+use crate::worker::{Command, Generation, Lane};
 use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 
 /// A generation never issued: a job that waits for its turn, or has never
@@ -31,8 +32,6 @@ pub const SAMPLE_SPACING: f64 = 0.02;
 /// Map iterates dropped and kept by the orbit analysis.
 pub const ITERATE_TRANSIENT: usize = 1000;
 pub const ITERATE_KEEP: usize = 300;
-/// The most updates taken from the worker in one frame.
-const MAX_UPDATES_PER_FRAME: usize = 20_000;
 
 /// Where a job stands.
 #[derive(Clone, Debug, PartialEq, Default)]
@@ -202,43 +201,6 @@ impl Jobs {
             JobKind::Phase => &self.phase.state,
             JobKind::Numerics => &self.numerics.state,
         }
-    }
-
-    fn state_mut(&mut self, kind: JobKind) -> &mut JobState {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.state,
-            JobKind::Iterate => &mut self.iterate.state,
-            JobKind::Sweep => &mut self.sweep.state,
-            JobKind::Phase => &mut self.phase.state,
-            JobKind::Numerics => &mut self.numerics.state,
-        }
-    }
-
-    fn progress_mut(&mut self, kind: JobKind) -> &mut LaneProgress {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.progress,
-            JobKind::Iterate => &mut self.iterate.progress,
-            JobKind::Sweep => &mut self.sweep.progress,
-            JobKind::Phase => &mut self.phase.progress,
-            JobKind::Numerics => &mut self.numerics.progress,
-        }
-    }
-
-    fn generation_of(&self, kind: JobKind) -> Generation {
-        match kind {
-            JobKind::Trajectory => self.trajectory.generation,
-            JobKind::Iterate => self.iterate.generation,
-            JobKind::Sweep => self.sweep.generation,
-            JobKind::Phase => self.phase.generation,
-            JobKind::Numerics => self.numerics.generation,
-        }
-    }
-
-    /// Which current job `generation` belongs to, if any.
-    fn job_of(&self, generation: Generation) -> Option<JobKind> {
-        JobKind::ALL
-            .into_iter()
-            .find(|&k| generation != NO_GENERATION && self.generation_of(k) == generation)
     }
 
     /// The orbit lane's progress: the analysis's while it runs, else the
@@ -483,160 +445,6 @@ impl Jobs {
             PhaseStep::Nothing => {}
         }
         out
-    }
-
-    /// Takes what the worker sent (at most a frame's worth) and chains the
-    /// orbit analysis; returns whether more may be waiting.
-    pub fn receive(&mut self) -> bool {
-        let mut n = 0;
-        let mut more = false;
-        while let Some(u) = self.backend.try_recv() {
-            self.apply(u);
-            n += 1;
-            if n >= MAX_UPDATES_PER_FRAME {
-                more = true;
-                break;
-            }
-        }
-        self.chain_iterate();
-        more
-    }
-
-    /// Applies one update; returns false if it was stale and dropped.
-    pub fn apply(&mut self, u: Update) -> bool {
-        let Some(job) = self.job_of(u.generation()) else {
-            self.stale_dropped += 1;
-            return false;
-        };
-        match u {
-            Update::TrajectoryChunk { samples, .. } if job == JobKind::Trajectory => {
-                self.trajectory.data.push_samples(samples);
-                self.trajectory_revision += 1;
-            }
-            Update::Slip { event, .. } if job == JobKind::Trajectory => {
-                self.trajectory.data.push_event(event);
-                self.trajectory_revision += 1;
-            }
-            Update::MapIterates {
-                first_index,
-                thetas,
-                period,
-                lyapunov,
-                ..
-            } if job == JobKind::Iterate => {
-                let it = &mut self.iterate.data;
-                it.thetas.truncate(first_index);
-                it.thetas.extend(thetas);
-                it.period = Some(period);
-                it.lyapunov = lyapunov;
-            }
-            Update::MapGraph { thetas, values, .. } if job == JobKind::Iterate => {
-                self.iterate.data.graph = thetas
-                    .into_iter()
-                    .zip(values)
-                    .map(|(t, v)| [t, v])
-                    .collect();
-            }
-            Update::Column {
-                index,
-                theta_nu,
-                thetas,
-                coarse,
-                ..
-            } if job == JobKind::Sweep => {
-                let column = Column {
-                    theta_nu,
-                    thetas,
-                    coarse,
-                };
-                self.sweep.data.insert(index, column);
-            }
-            Update::PhaseCells { cells, coarse, .. } if job == JobKind::Phase => {
-                self.phase.data.insert(cells, coarse);
-            }
-            Update::WorkPrecisionSample {
-                points,
-                reference_spread,
-                ..
-            } if job == JobKind::Numerics => {
-                self.numerics.data.points = points;
-                self.numerics.data.reference_spread = Some(reference_spread);
-            }
-            Update::WorkPrecisionRow { total, row, .. } if job == JobKind::Numerics => {
-                self.numerics.data.total = total;
-                self.numerics.data.rows.push(row);
-            }
-            Update::WorkPrecisionSkipped {
-                total,
-                subject,
-                reason,
-                ..
-            } if job == JobKind::Numerics => {
-                self.numerics.data.skip(total, subject, &reason);
-            }
-            Update::Progress {
-                fraction,
-                iterates_per_second,
-                ..
-            } => {
-                *self.progress_mut(job) = LaneProgress {
-                    fraction,
-                    iterates_per_second,
-                };
-            }
-            Update::Error {
-                message, parameter, ..
-            } => {
-                let named = match parameter {
-                    Some(p) => format!("{p}: {message}"),
-                    None => message.clone(),
-                };
-                match job {
-                    // The Numerics view shows its own job's error.
-                    JobKind::Numerics => {
-                        self.numerics.data.error = Some(named);
-                        self.numerics.state = JobState::Failed(message);
-                    }
-                    // A failed cell does not end the grid: its Finished says
-                    // how the job ended; the view shows the message.
-                    JobKind::Phase => {
-                        self.phase.data.error = Some(named.clone());
-                        self.last_error = Some(named);
-                    }
-                    _ => {
-                        self.last_error = Some(named);
-                        *self.state_mut(job) = JobState::Failed(message);
-                    }
-                }
-            }
-            Update::Finished { outcome, .. } => {
-                let state = match outcome {
-                    Outcome::Completed => JobState::Done,
-                    Outcome::Cancelled => JobState::Cancelled,
-                    Outcome::Failed(m) => {
-                        if job != JobKind::Numerics {
-                            self.last_error = Some(m.clone());
-                        }
-                        JobState::Failed(m)
-                    }
-                };
-                *self.state_mut(job) = state;
-                match job {
-                    JobKind::Sweep => self.sweep.data.revision += 1,
-                    JobKind::Phase => self.phase.data.revision += 1,
-                    _ => {}
-                }
-            }
-            Update::Cancelled { .. }
-                if job == JobKind::Numerics && self.numerics.state == JobState::Running =>
-            {
-                self.numerics.state = JobState::Cancelled;
-            }
-            // An acknowledgement, or an update of the right generation but
-            // the wrong kind: nothing to do.
-            _ => {}
-        }
-        true
     }
 
     /// Whether everything a picture of the orbit views needs has arrived.
