@@ -68,7 +68,7 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     });
     h.run_steps(2);
     let iterate = rec.commands().iter().rev().find_map(|c| match c {
-        Command::Iterate { settings, .. } => Some(*settings),
+        Command::Iterate { spec, .. } => Some(spec.settings),
         _ => None,
     });
     assert_eq!(

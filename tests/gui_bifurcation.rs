@@ -26,11 +26,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep {
-                theta_nu_from,
-                theta_nu_to,
-                ..
-            } => Some((theta_nu_from, theta_nu_to)),
+            Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
             _ => None,
         })
         .expect("first sweep");
@@ -52,12 +48,9 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep {
-                theta_nu_from,
-                theta_nu_to,
-                params,
-                ..
-            } => Some((theta_nu_from, theta_nu_to, params)),
+            Command::Sweep { spec, .. } => {
+                Some((spec.theta_nu.from, spec.theta_nu.to, spec.params))
+            }
             _ => None,
         })
         .expect("a zoom recomputes the diagram");
@@ -72,11 +65,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
     h.get_by_label("Back").click();
     h.run_steps(3);
     let back = rec.commands().into_iter().find_map(|c| match c {
-        Command::Sweep {
-            theta_nu_from,
-            theta_nu_to,
-            ..
-        } => Some((theta_nu_from, theta_nu_to)),
+        Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
         _ => None,
     });
     assert_eq!(back, Some(full));

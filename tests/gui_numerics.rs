@@ -43,13 +43,9 @@ fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::WorkPrecision {
-                generation,
-                params,
-                points,
-                subjects,
-                ..
-            } => Some((generation, params, points, subjects)),
+            Command::WorkPrecision { generation, spec } => {
+                Some((generation, spec.params, spec.points, spec.subjects))
+            }
             _ => None,
         })
         .expect("the job was sent");

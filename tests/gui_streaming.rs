@@ -24,11 +24,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             _ => None,
         });
         let s = cmds.iter().find_map(|c| match c {
-            Command::Sweep {
-                generation,
-                columns,
-                ..
-            } => Some((*generation, *columns)),
+            Command::Sweep { generation, spec } => Some((*generation, spec.theta_nu.steps)),
             _ => None,
         });
         (t.expect("trajectory"), s.expect("sweep"))

@@ -55,7 +55,7 @@ pub fn wait_for_csv(
 /// The parameters of the latest trajectory command, if any.
 pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Trajectory { params, .. } => Some(params),
+        Command::Trajectory { spec, .. } => Some(spec.params),
         _ => None,
     })
 }
@@ -63,7 +63,7 @@ pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
 /// The parameters of the latest sweep command, if any.
 pub fn last_sweep(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Sweep { params, .. } => Some(params),
+        Command::Sweep { spec, .. } => Some(spec.params),
         _ => None,
     })
 }
@@ -72,11 +72,11 @@ pub fn last_sweep(rec: &Recorder) -> Option<Params> {
 pub fn last_settings(rec: &Recorder) -> (Option<SolverSettings>, Option<SolverSettings>) {
     let cmds = rec.commands();
     let traj = cmds.iter().rev().find_map(|c| match c {
-        Command::Trajectory { settings, .. } => Some(*settings),
+        Command::Trajectory { spec, .. } => Some(spec.settings),
         _ => None,
     });
     let sweep = cmds.iter().rev().find_map(|c| match c {
-        Command::Sweep { settings, .. } => Some(*settings),
+        Command::Sweep { spec, .. } => Some(spec.settings),
         _ => None,
     });
     (traj, sweep)
@@ -118,21 +118,11 @@ pub fn phase_jobs(rec: &Recorder) -> Vec<PhaseJob> {
     rec.commands()
         .into_iter()
         .filter_map(|c| match c {
-            Command::Phase {
+            Command::Phase { generation, spec } => Some(PhaseJob {
                 generation,
-                params,
-                theta_nu_from,
-                theta_nu_to,
-                theta_nu_steps,
-                kappa_from,
-                kappa_to,
-                kappa_steps,
-                ..
-            } => Some(PhaseJob {
-                generation,
-                theta_nu: (theta_nu_from, theta_nu_to, theta_nu_steps),
-                kappa: (kappa_from, kappa_to, kappa_steps),
-                params,
+                theta_nu: (spec.theta_nu.from, spec.theta_nu.to, spec.theta_nu.steps),
+                kappa: (spec.kappa.from, spec.kappa.to, spec.kappa.steps),
+                params: spec.params,
             }),
             _ => None,
         })

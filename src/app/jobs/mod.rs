@@ -21,7 +21,10 @@ use crate::model::Params;
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
-use crate::worker::{Command, Generation, Lane};
+use crate::worker::{
+    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, SweepSpec, TrajectorySpec,
+    WorkPrecisionSpec,
+};
 use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 
 /// A generation never issued: a job that waits for its turn, or has never
@@ -224,11 +227,13 @@ impl Jobs {
         let cycles = (!self.stream_forever).then_some(s.trajectory_cycles);
         self.send(Command::Trajectory {
             generation: g,
-            params,
-            settings: traj_solver,
-            theta0: None,
-            spacing: SAMPLE_SPACING,
-            cycles,
+            spec: TrajectorySpec {
+                params,
+                settings: traj_solver,
+                theta0: None,
+                spacing: SAMPLE_SPACING,
+                cycles,
+            },
         });
         self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
         // The analysis shows "computing" until its job starts.
@@ -273,11 +278,13 @@ impl Jobs {
         self.iterate.start(g, IterateData::default());
         self.send(Command::Iterate {
             generation: g,
-            params,
-            settings: solver,
-            theta0,
-            transient,
-            keep: ITERATE_KEEP,
+            spec: IterateSpec {
+                params,
+                settings: solver,
+                theta0,
+                transient,
+                keep: ITERATE_KEEP,
+            },
         });
     }
 
@@ -292,13 +299,13 @@ impl Jobs {
         self.sweep.start(g, data);
         self.send(Command::Sweep {
             generation: g,
-            params: s.params,
-            settings: key.solver,
-            theta_nu_from: from,
-            theta_nu_to: to,
-            columns: s.columns,
-            transient: s.sweep_transient,
-            keep: s.sweep_keep,
+            spec: SweepSpec {
+                params: s.params,
+                settings: key.solver,
+                theta_nu: Axis::new(from, to, s.columns),
+                transient: s.sweep_transient,
+                keep: s.sweep_keep,
+            },
         });
         self.sent_sweep = Some((key, zoom));
         self.sweep_changed_at = None;
@@ -325,12 +332,14 @@ impl Jobs {
             .start(g, WorkPrecisionData::new(params, subjects.len()));
         self.send(Command::WorkPrecision {
             generation: g,
-            params,
-            theta0,
-            transient,
-            points: QUICK_POINTS,
-            time_per_setting: QUICK_TIME_PER_SETTING,
-            subjects,
+            spec: WorkPrecisionSpec {
+                params,
+                theta0,
+                transient,
+                points: QUICK_POINTS,
+                time_per_setting: QUICK_TIME_PER_SETTING,
+                subjects,
+            },
         });
     }
 
@@ -358,18 +367,17 @@ impl Jobs {
         let mut data = PhaseData::new(key.range.theta_nu, key.range.kappa, columns, rows);
         data.revision = revision;
         self.phase.start(g, data);
+        let (theta_nu, kappa) = (key.range.theta_nu, key.range.kappa);
         self.send(Command::Phase {
             generation: g,
-            params: s.params,
-            settings: key.solver,
-            theta_nu_from: key.range.theta_nu.0,
-            theta_nu_to: key.range.theta_nu.1,
-            theta_nu_steps: columns,
-            kappa_from: key.range.kappa.0,
-            kappa_to: key.range.kappa.1,
-            kappa_steps: rows,
-            transient: key.transient,
-            keep: key.keep,
+            spec: PhaseSpec {
+                params: s.params,
+                settings: key.solver,
+                theta_nu: Axis::new(theta_nu.0, theta_nu.1, columns),
+                kappa: Axis::new(kappa.0, kappa.1, rows),
+                transient: key.transient,
+                keep: key.keep,
+            },
         });
         self.phase_policy.started(key);
     }
