@@ -1,123 +1,23 @@
-//! "Model no more than a scene needs": which solver setting each kind of job
-//! runs with. **Auto** gives each job the cheapest setting that the measured
-//! work-precision chart says meets the accuracy its view can show
-//! ([`numerics::budget_for`]); **Custom** runs every job with the method and
-//! tolerance (or step) the user picked. Next to the choice, the panel shows
-//! what the committed chart says each job's setting costs and how accurate
-//! it is.
+//! The side panel's accuracy section: the Auto / Custom switch (each job's
+//! setting is [`JobKind::solver`]), and what the committed work-precision
+//! chart says each job's setting costs and how accurate it is.
 
 use eframe::egui;
 use egui::{Color32, RichText, Ui};
-use serde::{Deserialize, Serialize};
 
-use super::settings::Settings;
+use super::jobs::JobKind;
+use super::settings::{AccuracyMode, Settings};
 use crate::integrate::SolverSettings;
 use crate::numerics::committed::default_rows;
-use crate::numerics::{Accuracy, Estimate, Subject, budget_for, estimate};
-
-/// How the jobs' solver settings are chosen.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-pub enum AccuracyMode {
-    /// Each job gets the cheapest setting meeting its view's accuracy.
-    #[default]
-    Auto,
-    /// Every job runs with the method and tolerance/step of the controls.
-    Custom,
-}
-
-/// The kinds of job the window runs, by what their results are shown in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum JobKind {
-    /// The trajectory: the plane, the block and the event catalogue.
-    Trajectory,
-    /// The bifurcation sweep.
-    Sweep,
-    /// Map iterates: the return map, the period and the Lyapunov exponent.
-    Iterate,
-    /// The phase diagram's cells.
-    Phase,
-}
-
-impl JobKind {
-    pub const ALL: [JobKind; 4] = [
-        JobKind::Trajectory,
-        JobKind::Sweep,
-        JobKind::Iterate,
-        JobKind::Phase,
-    ];
-
-    /// The accuracy its view can show (issue 5): a pixel of the (x, y)
-    /// view; 1e-3 of the diagram's θ range per pixel; 1e-10 for the map.
-    pub fn accuracy(self) -> Accuracy {
-        match self {
-            JobKind::Trajectory => Accuracy::TrajectoryView,
-            JobKind::Sweep => Accuracy::BifurcationDiagram,
-            JobKind::Iterate => Accuracy::ReturnMap,
-            JobKind::Phase => Accuracy::PhaseDiagram,
-        }
-    }
-
-    /// A short name for the panel.
-    pub fn label(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => "trajectory",
-            JobKind::Sweep => "diagram",
-            JobKind::Iterate => "map iterates",
-            JobKind::Phase => "phase diagram",
-        }
-    }
-
-    /// A one-word name for the side panel's table.
-    pub fn short_label(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => "path",
-            JobKind::Sweep => "diagram",
-            JobKind::Iterate => "map",
-            JobKind::Phase => "phase",
-        }
-    }
-
-    /// What it feeds and why it needs that accuracy.
-    pub fn hover(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => {
-                "The trajectory feeds the plane, the block and the event catalogue: \
-                 a map error of 1e-4 is about a pixel of the (x, y) view."
-            }
-            JobKind::Sweep => {
-                "The bifurcation sweep: 1e-3 of its θ range is about a pixel. \
-                 tests/work_precision.rs checks that this setting keeps every preset's \
-                 period and Lyapunov sign as at tol 1e-12."
-            }
-            JobKind::Iterate => {
-                "The map iterates feed the return map, the period and the Lyapunov \
-                 exponent: 1e-10, as the command line."
-            }
-            JobKind::Phase => {
-                "The phase diagram's cells: a class rests on the period test at \
-                 1e4·tol and on the Lyapunov sign, so the map error must stay well \
-                 below the period tolerance: 1e-8."
-            }
-        }
-    }
-}
-
-impl Settings {
-    /// The solver setting a `job` runs with: Auto's choice from the measured
-    /// chart, or the user's Custom method and tolerance/step.
-    pub fn solver_for(&self, job: JobKind) -> SolverSettings {
-        match self.accuracy {
-            AccuracyMode::Auto => budget_for(job.accuracy().target()).settings,
-            AccuracyMode::Custom => self.custom_solver(),
-        }
-    }
-}
+use crate::numerics::{Estimate, Subject, estimate};
 
 /// What the committed chart says of one job's setting.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JobEstimate {
     pub job: JobKind,
     pub settings: SolverSettings,
+    /// The largest map error its view can show.
+    pub target: f64,
     /// `None`: the chart did not measure that method near that setting.
     pub estimate: Option<Estimate>,
 }
@@ -126,7 +26,7 @@ impl JobEstimate {
     /// Whether the chart says the setting is coarser than the job's view.
     pub fn too_coarse(&self) -> bool {
         self.estimate
-            .is_some_and(|e| !(e.max_error <= self.job.accuracy().target()) || e.failed > 0)
+            .is_some_and(|e| !(e.max_error <= self.target) || e.failed > 0)
     }
 
     /// The panel's three short cells: "dop853 1e-5", "err 3e-5", "332 ev".
@@ -174,15 +74,19 @@ impl JobEstimate {
 }
 
 /// Each job's setting under the current choice, with the chart's estimate.
-pub fn job_estimates(s: &Settings) -> [JobEstimate; 4] {
-    JobKind::ALL.map(|job| {
-        let settings = s.solver_for(job);
-        JobEstimate {
-            job,
-            settings,
-            estimate: estimate(default_rows(), &settings),
-        }
-    })
+pub fn job_estimates(s: &Settings) -> Vec<JobEstimate> {
+    JobKind::SOLVED
+        .into_iter()
+        .filter_map(|job| {
+            let settings = job.solver(s)?;
+            Some(JobEstimate {
+                job,
+                settings,
+                target: job.accuracy()?.target(),
+                estimate: estimate(default_rows(), &settings),
+            })
+        })
+        .collect()
 }
 
 /// The Auto / Custom switch.
@@ -216,7 +120,7 @@ pub fn estimates_ui(ui: &mut Ui, s: &Settings) {
                      settings).",
                     e.job.hover(),
                     e.text(),
-                    e.job.accuracy().target()
+                    e.target
                 );
                 let red = e.too_coarse();
                 let cell = |ui: &mut Ui, t: String| {
@@ -241,60 +145,23 @@ mod tests {
     use crate::integrate::Method;
 
     #[test]
-    fn auto_gives_each_job_what_the_budget_says() {
-        let s = Settings::default();
-        assert_eq!(s.accuracy, AccuracyMode::Auto);
-        for (job, target) in [
-            (JobKind::Trajectory, 1e-4),
-            (JobKind::Sweep, 1e-3),
-            (JobKind::Iterate, 1e-10),
-            (JobKind::Phase, 1e-8),
-        ] {
-            assert_eq!(job.accuracy().target(), target);
-            assert_eq!(s.solver_for(job), budget_for(target).settings);
-        }
-        // The numbers docs/numerics.md quotes.
-        let got: Vec<(Method, f64)> = JobKind::ALL
-            .iter()
-            .map(|&j| {
-                let x = s.solver_for(j);
-                (x.method, x.rtol)
-            })
-            .collect();
-        assert_eq!(
-            got,
-            [
-                (Method::Dp54, 1e-5),
-                (Method::Dp54, 1e-4),
-                (Method::Dop853, 1e-10),
-                (Method::Dop853, 1e-8)
-            ]
-        );
-        for e in job_estimates(&s) {
+    fn autos_settings_are_measured_and_fine_enough() {
+        let e = job_estimates(&Settings::default());
+        assert_eq!(e.len(), 4);
+        for e in e {
             assert!(!e.too_coarse(), "{e:?}");
             assert!(e.estimate.is_some_and(|x| x.measured));
         }
     }
 
     #[test]
-    fn custom_passes_the_method_and_tolerance_or_step_through() {
+    fn a_coarse_custom_setting_is_flagged_for_the_jobs_it_is_too_coarse_for() {
         let mut s = Settings {
             accuracy: AccuracyMode::Custom,
-            method: Method::Dp54,
-            tol: 3e-7,
+            method: Method::Rk4,
+            step: 0.01,
             ..Settings::default()
         };
-        for job in JobKind::ALL {
-            assert_eq!(
-                s.solver_for(job),
-                SolverSettings::adaptive(Method::Dp54, 3e-7)
-            );
-        }
-        s.method = Method::Rk4;
-        s.step = 0.01;
-        for job in JobKind::ALL {
-            assert_eq!(s.solver_for(job), SolverSettings::fixed(Method::Rk4, 0.01));
-        }
         // RK4 h = 0.01 is a chart row: 2.6e-6, 1505 evaluations; too coarse
         // for the map iterates (1e-10) and the phase diagram (1e-8) only.
         // (The µs are the committed chart's, which move with the host.)
@@ -308,11 +175,8 @@ mod tests {
             e[0].text(),
             format!("rk4 h 1e-2 · err ≤ 2.6e-6 · 1505 evals · {us:.0} µs")
         );
-        assert_eq!(
-            e.map(|x| x.too_coarse()),
-            [false, false, true, true],
-            "{e:?}"
-        );
+        let coarse: Vec<bool> = e.iter().map(JobEstimate::too_coarse).collect();
+        assert_eq!(coarse, [false, false, true, true], "{e:?}");
         s.step = 1e-4;
         assert_eq!(job_estimates(&s)[0].text(), "rk4 h 1e-4 · not measured");
     }

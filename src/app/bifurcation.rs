@@ -9,9 +9,11 @@ use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
 
-use super::data::{JobState, SweepData};
-use super::settings::Settings;
+use super::data::SweepData;
+use super::jobs::{JobState, Jobs, Slot};
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::model::Regime;
 
 /// Texel rows of the density image.
@@ -22,15 +24,6 @@ const ROWS: usize = 420;
 pub struct Zoom {
     pub theta_nu: (f64, f64),
     pub theta: (f64, f64),
-}
-
-/// What the user did in the view.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum BifAction {
-    /// Recompute this range (a box was drawn, or back / reset).
-    Zoomed,
-    /// Move θν here (a click).
-    SetThetaNu(f64),
 }
 
 /// The view's state: texture and zoom stack.
@@ -137,9 +130,9 @@ impl BifurcationView {
         self.built = None;
     }
 
-    pub fn ui(&mut self, ui: &mut Ui, s: &Settings, sweep: &SweepData) -> Option<BifAction> {
-        let mut action = None;
-        self.rebuild(ui, sweep, s.dark);
+    /// Back, reset zoom, and where the sweep stands.
+    fn controls_ui(&mut self, ui: &mut Ui, slot: &Slot<SweepData>) {
+        let sweep = &slot.data;
         ui.horizontal_wrapped(|ui| {
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
@@ -148,7 +141,6 @@ impl BifurcationView {
             {
                 self.zoom.pop();
                 self.invalidate();
-                action = Some(BifAction::Zoomed);
             }
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Reset zoom"))
@@ -157,9 +149,8 @@ impl BifurcationView {
             {
                 self.zoom.clear();
                 self.invalidate();
-                action = Some(BifAction::Zoomed);
             }
-            let state = match &sweep.state {
+            let state = match &slot.state {
                 JobState::Running => "computing",
                 JobState::Done => "done",
                 JobState::Cancelled => "cancelled",
@@ -178,7 +169,10 @@ impl BifurcationView {
             );
             ui.label(RichText::new("drag: zoom · click: set θν").weak());
         });
+    }
 
+    /// The diagram; a box drawn zooms, a click sets θν.
+    fn plot_ui(&mut self, ui: &mut Ui, s: &Settings, sweep: &SweepData, out: &mut Vec<Action>) {
         let (from, to) = (sweep.from, sweep.to);
         let n = sweep.columns.len().max(2);
         let dx = (to - from) / (n - 1) as f64;
@@ -255,20 +249,29 @@ impl BifurcationView {
                         theta: th_range,
                     });
                     self.invalidate();
-                    action = Some(BifAction::Zoomed);
                 }
             }
         } else if r.clicked()
             && let Some(p) = pointer
         {
-            action = Some(BifAction::SetThetaNu(p.x));
+            out.push(Action::SetThetaNu(p.x));
         }
         if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) && !self.zoom.is_empty()
         {
             self.zoom.pop();
             self.invalidate();
-            action = Some(BifAction::Zoomed);
         }
-        action
+    }
+}
+
+impl View for BifurcationView {
+    fn title(&self) -> &'static str {
+        ViewKind::Bifurcation.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        self.rebuild(ui, &jobs.sweep.data, s.dark);
+        self.controls_ui(ui, &jobs.sweep);
+        self.plot_ui(ui, s, &jobs.sweep.data, out);
     }
 }

@@ -9,10 +9,10 @@
 use eframe::egui;
 use egui::{Align2, Color32, FontId, Pos2, Rect, Sense, Stroke, Ui, pos2, vec2};
 
-use super::data::Data;
-use super::plane::recent_start;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::sim::field::SlipField;
 use crate::sim::{Phase, Sample};
 
@@ -124,12 +124,25 @@ impl BlockView {
         }
     }
 
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
-        let samples = &data.trajectory.samples;
-        if data.trajectory_revision < self.trajectory_revision_seen {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+        let samples = &jobs.trajectory.data.samples;
+        if jobs.trajectory_revision < self.trajectory_revision_seen {
             self.clock = 0.0;
         }
-        self.trajectory_revision_seen = data.trajectory_revision;
+        self.trajectory_revision_seen = jobs.trajectory_revision;
+        self.controls_ui(ui, s);
+        let start = jobs.trajectory.data.recent_start(s.keep_cycles.min(4));
+        let window_start = samples.get(start).map_or(0.0, |p| p.t);
+        let now = ui.input(|i| i.time);
+        self.advance(samples, window_start, now, s.block_speed as f64);
+        if self.playing && !samples.is_empty() {
+            ui.ctx().request_repaint();
+        }
+        self.scene_ui(ui, s, samples);
+    }
+
+    /// Play / pause, the playback speed, the x magnification.
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
         ui.horizontal_wrapped(|ui| {
             let label = if self.playing { "Pause" } else { "Play" };
             if ui.button(label).on_hover_text("Space").clicked() {
@@ -147,14 +160,10 @@ impl BlockView {
             ui.checkbox(&mut self.magnify_x, "x stretched ×κ")
                 .on_hover_text("The x spring is κ times stiffer, so its stretch is κ times smaller: magnify it to see it.");
         });
-        let start = recent_start(data, s.keep_cycles.min(4));
-        let window_start = samples.get(start).map_or(0.0, |p| p.t);
-        let now = ui.input(|i| i.time);
-        self.advance(samples, window_start, now, s.block_speed as f64);
-        if self.playing && !samples.is_empty() {
-            ui.ctx().request_repaint();
-        }
+    }
 
+    /// The block on the moving surface at the clock's time.
+    fn scene_ui(&self, ui: &mut Ui, s: &Settings, samples: &[Sample]) {
         let (rect, _) = ui.allocate_exact_size(ui.available_size(), Sense::hover());
         let painter = ui.painter_at(rect);
         let dark = s.dark;
@@ -177,7 +186,6 @@ impl BlockView {
             return;
         };
         let p = s.params;
-        let field = SlipField::new(&p);
         // Geometry: rest position at the centre; y up on screen.
         let unit = rect.height().min(rect.width()) * 0.28;
         let sx = if self.magnify_x {
@@ -186,9 +194,56 @@ impl BlockView {
             unit
         };
         let centre = rect.center() + vec2(unit * 0.3, -unit * 0.1);
-        let block_at = centre + vec2(st.x as f32 * sx, -(st.y as f32) * unit);
-        let half = unit * 0.22;
+        let scene = Scene {
+            painter,
+            rect,
+            unit,
+            block_at: centre + vec2(st.x as f32 * sx, -(st.y as f32) * unit),
+            half: unit * 0.22,
+            ink,
+            dark,
+        };
+        scene.surface(&p, st.t);
+        scene.walls_and_springs();
+        let fill = style::phase_color(st.phase);
+        scene.block_and_forces(&p, &st, fill);
+        let phase = if stick {
+            "STICK: the block rides with the surface"
+        } else if st.phase == Phase::Accel {
+            "SLIP: accelerating (friction weakens)"
+        } else {
+            "SLIP: decelerating to a stop"
+        };
+        scene.legend(phase, fill, st.t);
+        if self.magnify_x {
+            scene.painter.text(
+                pos2(rect.left() + unit * 0.5, rect.bottom() - 8.0),
+                Align2::LEFT_BOTTOM,
+                format!("x displacements magnified ×κ = {:.3}", p.kappa),
+                FontId::proportional(13.0),
+                ink,
+            );
+        }
+    }
+}
 
+/// Where the block view draws: its rect, its length unit (screen points per
+/// unit of displacement), the block's centre and half size.
+struct Scene {
+    painter: egui::Painter,
+    rect: Rect,
+    unit: f32,
+    block_at: Pos2,
+    half: f32,
+    ink: Color32,
+    dark: bool,
+}
+
+impl Scene {
+    /// The rough surface at time `t`: stripes across V moving with it, and
+    /// its velocity arrow.
+    fn surface(&self, p: &crate::model::Params, t: f64) {
+        let (painter, rect, unit, dark) = (&self.painter, self.rect, self.unit, self.dark);
         // The rough surface: stripes across V moving with it.
         let surf = Rect::from_min_max(
             pos2(rect.left() + unit * 0.45, rect.top() + 8.0),
@@ -207,7 +262,7 @@ impl BlockView {
         let dir = vec2(cs, -sn);
         let normal = vec2(sn, cs);
         let spacing = unit * 0.25;
-        let travel = (p.nu * st.t) as f32 * unit;
+        let travel = (p.nu * t) as f32 * unit;
         let offset = travel.rem_euclid(spacing);
         let diag = surf.size().length();
         let stripe = if dark {
@@ -220,13 +275,13 @@ impl BlockView {
             let c = surf.center() + dir * (k as f32 * spacing + offset);
             let a = c + normal * diag;
             let b = c - normal * diag;
-            clip_line(&painter, surf, a, b, Stroke::new(3.0, stripe));
+            clip_line(painter, surf, a, b, Stroke::new(3.0, stripe));
             k += 1;
         }
         // Surface velocity arrow.
         let v_from = pos2(surf.right() - unit * 0.9, surf.bottom() - unit * 0.55);
         arrow(
-            &painter,
+            painter,
             v_from,
             dir * unit * 0.6,
             Stroke::new(3.0, style::PULL),
@@ -238,7 +293,12 @@ impl BlockView {
             FontId::proportional(15.0),
             style::PULL,
         );
+    }
 
+    /// The two walls and the springs from them to the block.
+    fn walls_and_springs(&self) {
+        let (painter, rect, unit, ink) = (&self.painter, self.rect, self.unit, self.ink);
+        let (block_at, half) = (self.block_at, self.half);
         // Walls and springs.
         let wall_x = rect.left() + unit * 0.25;
         let wall_y = rect.bottom() - unit * 0.25;
@@ -258,7 +318,7 @@ impl BlockView {
             wall,
         );
         spring(
-            &painter,
+            painter,
             pos2(wall_x, block_at.y),
             pos2(block_at.x - half, block_at.y),
             10,
@@ -266,7 +326,7 @@ impl BlockView {
             Stroke::new(2.5, ink),
         );
         spring(
-            &painter,
+            painter,
             pos2(block_at.x, wall_y),
             pos2(block_at.x, block_at.y + half),
             10,
@@ -287,9 +347,15 @@ impl BlockView {
             FontId::proportional(15.0),
             ink,
         );
+    }
 
+    /// The block, coloured by phase, with the elastic and friction forces
+    /// (|F| ≤ about 1 on C) drawn at it.
+    fn block_and_forces(&self, p: &crate::model::Params, st: &Sample, fill: Color32) {
+        let (painter, unit, ink) = (&self.painter, self.unit, self.ink);
+        let (block_at, half) = (self.block_at, self.half);
+        let field = SlipField::new(p);
         // The block, coloured by phase.
-        let fill = super::plane::phase_color(st.phase);
         painter.rect_filled(
             Rect::from_center_size(block_at, vec2(2.0 * half, 2.0 * half)),
             4.0,
@@ -304,30 +370,27 @@ impl BlockView {
 
         // Forces (|F| ≤ about 1 on C), drawn at the block.
         let fel = [-p.kappa * st.x, -st.y];
-        let ffr = friction(&field, &st);
+        let ffr = friction(&field, st);
         let fscale = unit * 0.9;
         let to_screen = |f: [f64; 2]| vec2(f[0] as f32, -(f[1] as f32)) * fscale;
         arrow(
-            &painter,
+            painter,
             block_at,
             to_screen(fel),
             Stroke::new(3.5, style::STICK),
         );
         arrow(
-            &painter,
+            painter,
             block_at,
             to_screen(ffr),
             Stroke::new(3.5, style::ACCEL),
         );
+    }
 
+    /// What phase the block is in, the arrows' colours, and the time.
+    fn legend(&self, phase: &str, fill: Color32, t: f64) {
+        let (rect, ink) = (self.rect, self.ink);
         // Legend and state.
-        let phase = if stick {
-            "STICK: the block rides with the surface"
-        } else if st.phase == Phase::Accel {
-            "SLIP: accelerating (friction weakens)"
-        } else {
-            "SLIP: decelerating to a stop"
-        };
         let font = FontId::proportional(17.0);
         let mut y = rect.top() + 12.0;
         let x = rect.right() - 12.0;
@@ -338,19 +401,11 @@ impl BlockView {
                 style::STICK,
             ),
             ("orange arrow: friction force".to_string(), style::ACCEL),
-            (format!("t = {:.1}", st.t), ink),
+            (format!("t = {t:.1}"), ink),
         ] {
-            painter.text(pos2(x, y), Align2::RIGHT_TOP, text, font.clone(), color);
+            self.painter
+                .text(pos2(x, y), Align2::RIGHT_TOP, text, font.clone(), color);
             y += 22.0;
-        }
-        if self.magnify_x {
-            painter.text(
-                pos2(rect.left() + unit * 0.5, rect.bottom() - 8.0),
-                Align2::LEFT_BOTTOM,
-                format!("x displacements magnified ×κ = {:.3}", p.kappa),
-                FontId::proportional(13.0),
-                ink,
-            );
         }
     }
 }
@@ -407,5 +462,15 @@ fn clip_line(painter: &egui::Painter, r: Rect, a: Pos2, b: Pos2, stroke: Stroke)
     }
     if t0 < t1 {
         painter.line_segment([a + d * t0, a + d * t1], stroke);
+    }
+}
+
+impl View for BlockView {
+    fn title(&self) -> &'static str {
+        ViewKind::Block.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }

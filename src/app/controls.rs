@@ -11,10 +11,11 @@ use std::ops::RangeInclusive;
 
 use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 
-use super::accuracy::{self, AccuracyMode};
-use super::data::Data;
+use super::accuracy;
 use super::describe;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{AccuracyMode, Settings};
+use super::view::{Action, Export};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::PRESETS;
 use crate::model::{Params, Regime};
@@ -176,18 +177,6 @@ pub struct FieldInput {
     shown: Option<f64>,
 }
 
-/// What the user asked of the window from the panel.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Actions {
-    pub screenshot: bool,
-    pub export_events: bool,
-    pub export_trajectory: bool,
-    pub export_bifurcation: bool,
-    pub export_phase: bool,
-    pub reset_defaults: bool,
-    pub restart: bool,
-}
-
 /// The panel's own state: the typed fields.
 #[derive(Clone, Debug, Default)]
 pub struct Controls {
@@ -219,10 +208,26 @@ impl Controls {
     }
 
     /// The whole panel.
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) -> Actions {
-        let mut actions = Actions::default();
+    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         ui.spacing_mut().slider_width = 150.0;
+        self.parameters_ui(ui, s);
+        accuracy::mode_ui(ui, s);
+        if s.accuracy == AccuracyMode::Custom {
+            self.custom_solver_ui(ui, s);
+        }
+        accuracy::estimates_ui(ui, s);
+        ui.separator();
+        regime_ui(ui, s, jobs);
+        ui.separator();
+        self.presets_ui(ui, s);
+        ui.separator();
+        view_options_ui(ui, s, self.software_gl);
+        ui.separator();
+        files_ui(ui, s, out);
+    }
 
+    /// The model's parameters, each a slider with a typed field.
+    fn parameters_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
         ui.heading("Parameters");
         for field in Field::PARAMS {
             self.field_row(ui, s, field);
@@ -238,17 +243,10 @@ impl Controls {
                 }
             }
         }
+    }
 
-        accuracy::mode_ui(ui, s);
-        if s.accuracy == AccuracyMode::Custom {
-            self.custom_solver_ui(ui, s);
-        }
-        accuracy::estimates_ui(ui, s);
-
-        ui.separator();
-        regime_ui(ui, s, data);
-
-        ui.separator();
+    /// One button per preset.
+    fn presets_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
         ui.heading("Presets");
         for p in &PRESETS {
             let r = ui
@@ -267,82 +265,87 @@ impl Controls {
                 self.clear_errors();
             }
         }
-
-        ui.separator();
-        ui.heading("View");
-        ui.horizontal(|ui| {
-            ui.label("cycles shown");
-            ui.add(egui::DragValue::new(&mut s.keep_cycles).range(1..=1000))
-                .on_hover_text("How many of the latest stick–slip cycles the plane keeps.");
-        });
-        ui.horizontal(|ui| {
-            ui.label("diagram columns");
-            ui.add(egui::DragValue::new(&mut s.columns).range(20..=2000))
-                .on_hover_text("θν columns of the bifurcation diagram (recomputes it).");
-        });
-        ui.horizontal(|ui| {
-            ui.label("text size");
-            ui.add(
-                Slider::new(&mut s.font_scale, 0.7..=2.5)
-                    .step_by(0.05)
-                    .text("×"),
-            )
-            .on_hover_text("Larger text for projectors (Ctrl + / Ctrl − also work).");
-        });
-        ui.checkbox(&mut s.dark, "dark background");
-        smooth_lines_ui(ui, s, self.software_gl);
-
-        ui.separator();
-        ui.horizontal_wrapped(|ui| {
-            if ui
-                .button("Save screenshot")
-                .on_hover_text("A PNG of the window (Ctrl+S), or of one view (its PNG button).")
-                .clicked()
-            {
-                actions.screenshot = true;
-            }
-            ui.menu_button("Export data", |ui| {
-                if ui.button("Events CSV").clicked() {
-                    actions.export_events = true;
-                }
-                if ui.button("Trajectory CSV (t,x,y,u,w,phase)").clicked() {
-                    actions.export_trajectory = true;
-                }
-                if ui.button("Bifurcation CSV (theta_nu,theta)").clicked() {
-                    actions.export_bifurcation = true;
-                }
-                if ui.button("Phase diagram CSV (oneblock phase)").clicked() {
-                    actions.export_phase = true;
-                }
-            });
-        });
-        ui.horizontal(|ui| {
-            ui.label("folder");
-            ui.add(TextEdit::singleline(&mut s.save_dir).desired_width(f32::INFINITY))
-                .on_hover_text(
-                    "Screenshots and exports go here, named with the time; \
-                     an existing file is never overwritten.",
-                );
-        });
-        ui.horizontal(|ui| {
-            if ui
-                .button("Restart orbit")
-                .on_hover_text("Start the trajectory again from θ = θν (R).")
-                .clicked()
-            {
-                actions.restart = true;
-            }
-            if ui
-                .button("Reset to defaults")
-                .on_hover_text("Every parameter and view choice back to the first-launch demo.")
-                .clicked()
-            {
-                actions.reset_defaults = true;
-            }
-        });
-        actions
     }
+}
 
+/// How the views look: cycles shown, columns, text size, colours, lines.
+fn view_options_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
+    ui.heading("View");
+    ui.horizontal(|ui| {
+        ui.label("cycles shown");
+        ui.add(egui::DragValue::new(&mut s.keep_cycles).range(1..=1000))
+            .on_hover_text("How many of the latest stick–slip cycles the plane keeps.");
+    });
+    ui.horizontal(|ui| {
+        ui.label("diagram columns");
+        ui.add(egui::DragValue::new(&mut s.columns).range(20..=2000))
+            .on_hover_text("θν columns of the bifurcation diagram (recomputes it).");
+    });
+    ui.horizontal(|ui| {
+        ui.label("text size");
+        ui.add(
+            Slider::new(&mut s.font_scale, 0.7..=2.5)
+                .step_by(0.05)
+                .text("×"),
+        )
+        .on_hover_text("Larger text for projectors (Ctrl + / Ctrl − also work).");
+    });
+    ui.checkbox(&mut s.dark, "dark background");
+    smooth_lines_ui(ui, s, software_gl);
+}
+
+/// Screenshot, exports, the save folder, restart and reset.
+fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .button("Save screenshot")
+            .on_hover_text("A PNG of the window (Ctrl+S), or of one view (its PNG button).")
+            .clicked()
+        {
+            out.push(Action::Screenshot);
+        }
+        ui.menu_button("Export data", |ui| {
+            if ui.button("Events CSV").clicked() {
+                out.push(Action::Export(Export::Events));
+            }
+            if ui.button("Trajectory CSV (t,x,y,u,w,phase)").clicked() {
+                out.push(Action::Export(Export::Trajectory));
+            }
+            if ui.button("Bifurcation CSV (theta_nu,theta)").clicked() {
+                out.push(Action::Export(Export::Bifurcation));
+            }
+            if ui.button("Phase diagram CSV (oneblock phase)").clicked() {
+                out.push(Action::Export(Export::Phase));
+            }
+        });
+    });
+    ui.horizontal(|ui| {
+        ui.label("folder");
+        ui.add(TextEdit::singleline(&mut s.save_dir).desired_width(f32::INFINITY))
+            .on_hover_text(
+                "Screenshots and exports go here, named with the time; \
+                     an existing file is never overwritten.",
+            );
+    });
+    ui.horizontal(|ui| {
+        if ui
+            .button("Restart orbit")
+            .on_hover_text("Start the trajectory again from θ = θν (R).")
+            .clicked()
+        {
+            out.push(Action::RestartOrbit);
+        }
+        if ui
+            .button("Reset to defaults")
+            .on_hover_text("Every parameter and view choice back to the first-launch demo.")
+            .clicked()
+        {
+            out.push(Action::ResetDefaults);
+        }
+    });
+}
+
+impl Controls {
     /// Custom's method and tolerance (or step), used by every job.
     fn custom_solver_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
         ui.horizontal(|ui| {
@@ -452,7 +455,7 @@ pub fn apply_preset(s: &mut Settings, p: &Params, key: &str) {
 }
 
 /// The regime badge, θc, and the plain-words line.
-fn regime_ui(ui: &mut Ui, s: &Settings, data: &Data) {
+fn regime_ui(ui: &mut Ui, s: &Settings, jobs: &Jobs) {
     let (k, g) = (s.params.kappa, s.params.gamma);
     let (fill, text) = match Regime::of(k, g) {
         Regime::PureCreep => (Color32::from_rgb(40, 130, 60), Color32::WHITE),
@@ -475,9 +478,9 @@ fn regime_ui(ui: &mut Ui, s: &Settings, data: &Data) {
     let line = describe::attractor_line(
         k,
         g,
-        &data.iterate.thetas,
-        data.iterate.period,
-        data.iterate.lyapunov,
+        &jobs.iterate.data.thetas,
+        jobs.iterate.data.period,
+        jobs.iterate.data.lyapunov,
     );
     ui.label(RichText::new(line).italics());
 }

@@ -1,43 +1,23 @@
-//! What the worker has sent for the current jobs: the trajectory, its slip
-//! events, the map iterates with their analysis, the bifurcation columns
-//! and the phase-diagram cells. Updates of an older generation than the
-//! latest issued for their job are dropped here.
+//! What the worker has sent for a job, one type per kind of job: the
+//! trajectory with its slip events, the map iterates with their analysis,
+//! the bifurcation columns, the work-precision rows (the phase grid's cells
+//! are in `phase_data`). Which job is current, and its state, is the job
+//! model's (`jobs`).
 
-use super::phase_data::PhaseData;
+use crate::model::Params;
+use crate::numerics::{Row, Subject};
 use crate::sim::{Period, Sample, SlipEvent};
-use crate::worker::{Generation, Lane, Outcome, Update};
-
-/// The kinds of job the window runs.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Job {
-    Trajectory,
-    Iterate,
-    Sweep,
-    Phase,
-}
-
-/// Where a job stands.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub enum JobState {
-    #[default]
-    Idle,
-    Running,
-    Done,
-    Cancelled,
-    Failed(String),
-}
 
 /// The most samples and events kept (a rolling window: an endless
 /// trajectory keeps the newest; the view shows the last cycles only).
-const MAX_SAMPLES: usize = 2_000_000;
-const MAX_EVENTS: usize = 200_000;
+pub const MAX_SAMPLES: usize = 2_000_000;
+pub const MAX_EVENTS: usize = 200_000;
 
 /// The trajectory job's results.
 #[derive(Clone, Debug, Default)]
 pub struct TrajectoryData {
     pub samples: Vec<Sample>,
     pub events: Vec<SlipEvent>,
-    pub state: JobState,
     /// The oldest samples or events were dropped to stay under the caps.
     pub truncated: bool,
 }
@@ -51,7 +31,6 @@ pub struct IterateData {
     pub graph: Vec<[f64; 2]>,
     pub period: Option<Period>,
     pub lyapunov: Option<f64>,
-    pub state: JobState,
 }
 
 /// The sweep job's results: one slot per column of the final grid.
@@ -62,7 +41,6 @@ pub struct SweepData {
     pub to: f64,
     pub columns: Vec<Option<Column>>,
     pub filled: usize,
-    pub state: JobState,
     /// Bumped on every change, so views rebuild only when it moves.
     pub revision: u64,
 }
@@ -82,7 +60,6 @@ impl SweepData {
             to,
             columns: vec![None; columns],
             filled: 0,
-            state: JobState::Running,
             revision: 0,
         }
     }
@@ -93,238 +70,92 @@ impl SweepData {
     }
 }
 
-/// Progress of one lane, as the worker last reported it.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct LaneProgress {
-    pub fraction: f64,
-    pub iterates_per_second: f64,
+impl TrajectoryData {
+    /// The index of the first sample of the last `keep` cycles.
+    pub fn recent_start(&self, keep: usize) -> usize {
+        if self.events.len() <= keep {
+            return 0;
+        }
+        let t0 = self.events[self.events.len() - keep].onset_time;
+        self.samples.partition_point(|s| s.t < t0 - 1e-12)
+    }
+
+    /// Appends streamed samples, dropping the oldest half past the cap.
+    pub fn push_samples(&mut self, samples: Vec<Sample>) {
+        if self.samples.len() + samples.len() > MAX_SAMPLES {
+            // A rolling window: the oldest half goes, the view keeps
+            // following the newest cycles.
+            self.samples.drain(..self.samples.len() / 2);
+            self.truncated = true;
+        }
+        self.samples.extend(samples);
+    }
+
+    /// Appends one slip event, dropping the oldest half past the cap.
+    pub fn push_event(&mut self, event: SlipEvent) {
+        if self.events.len() >= MAX_EVENTS {
+            self.events.drain(..MAX_EVENTS / 2);
+            self.truncated = true;
+        }
+        self.events.push(event);
+    }
 }
 
-/// Everything received, with the generations that are current.
+impl SweepData {
+    /// Stores a received column (one outside the grid is ignored; a repeat
+    /// replaces the column without counting it twice).
+    pub fn insert(&mut self, index: usize, column: Column) {
+        if let Some(slot) = self.columns.get_mut(index) {
+            if slot.is_none() {
+                self.filled += 1;
+            }
+            *slot = Some(column);
+            self.revision += 1;
+        }
+    }
+}
+
+/// A work-precision measurement on the current parameters (the Numerics
+/// view) and what it has sent.
 #[derive(Clone, Debug, Default)]
-pub struct Data {
-    pub trajectory_gen: Generation,
-    pub iterate_gen: Generation,
-    pub sweep_gen: Generation,
-    pub phase_gen: Generation,
-    pub trajectory: TrajectoryData,
-    pub iterate: IterateData,
-    pub sweep: SweepData,
-    pub phase: PhaseData,
-    pub orbit_progress: LaneProgress,
-    pub sweep_progress: LaneProgress,
-    pub phase_progress: LaneProgress,
-    /// The last error the worker reported, with the parameter it names.
-    pub last_error: Option<String>,
-    /// Updates dropped as stale (for the status bar and tests).
-    pub stale_dropped: u64,
-    /// Bumped whenever the trajectory changes.
-    pub trajectory_revision: u64,
+pub struct WorkPrecisionData {
+    /// The parameters it measures on.
+    pub params: Option<Params>,
+    /// Rows in the order of the job's settings.
+    pub rows: Vec<Row>,
+    /// Settings it skipped, each with the reason.
+    pub skipped: Vec<String>,
+    /// Settings in the job (rows + skipped when done).
+    pub total: usize,
+    /// Points of its sample, and how far its reference is from the check.
+    pub points: usize,
+    pub reference_spread: Option<f64>,
+    /// The error it reported, naming the parameter.
+    pub error: Option<String>,
 }
 
-impl Data {
-    /// Starts a new trajectory job under `generation`.
-    pub fn start_trajectory(&mut self, generation: Generation) {
-        self.trajectory_gen = generation;
-        self.trajectory = TrajectoryData {
-            state: JobState::Running,
+impl WorkPrecisionData {
+    /// A new measurement on `params` of `total` settings.
+    pub fn new(params: Params, total: usize) -> Self {
+        WorkPrecisionData {
+            params: Some(params),
+            total,
             ..Default::default()
-        };
-        self.trajectory_revision += 1;
-    }
-
-    pub fn start_iterate(&mut self, generation: Generation) {
-        self.iterate_gen = generation;
-        self.iterate = IterateData {
-            state: JobState::Running,
-            ..Default::default()
-        };
-    }
-
-    pub fn start_sweep(&mut self, generation: Generation, from: f64, to: f64, columns: usize) {
-        let revision = self.sweep.revision + 1;
-        self.sweep_gen = generation;
-        self.sweep = SweepData::new(from, to, columns);
-        self.sweep.revision = revision;
-    }
-
-    pub fn start_phase(
-        &mut self,
-        generation: Generation,
-        theta_nu: (f64, f64),
-        kappa: (f64, f64),
-        columns: usize,
-        rows: usize,
-    ) {
-        let revision = self.phase.revision + 1;
-        self.phase_gen = generation;
-        self.phase = PhaseData::new(theta_nu, kappa, columns, rows);
-        self.phase.revision = revision;
-        self.phase_progress = LaneProgress::default();
-    }
-
-    /// Which current job `generation` belongs to, if any.
-    fn job_of(&self, generation: Generation) -> Option<Job> {
-        if generation == self.trajectory_gen {
-            Some(Job::Trajectory)
-        } else if generation == self.iterate_gen {
-            Some(Job::Iterate)
-        } else if generation == self.sweep_gen {
-            Some(Job::Sweep)
-        } else if generation == self.phase_gen {
-            Some(Job::Phase)
-        } else {
-            None
         }
     }
 
-    fn state_mut(&mut self, job: Job) -> &mut JobState {
-        match job {
-            Job::Trajectory => &mut self.trajectory.state,
-            Job::Iterate => &mut self.iterate.state,
-            Job::Sweep => &mut self.sweep.state,
-            Job::Phase => &mut self.phase.state,
-        }
+    /// Settings measured or skipped so far.
+    pub fn done(&self) -> usize {
+        self.rows.len() + self.skipped.len()
     }
 
-    /// Applies one update; returns false if it was stale and dropped.
-    pub fn apply(&mut self, u: Update) -> bool {
-        let Some(job) = self.job_of(u.generation()) else {
-            self.stale_dropped += 1;
-            return false;
-        };
-        match u {
-            Update::TrajectoryChunk { samples, .. } if job == Job::Trajectory => {
-                let t = &mut self.trajectory;
-                if t.samples.len() + samples.len() > MAX_SAMPLES {
-                    // A rolling window: the oldest half goes, the view keeps
-                    // following the newest cycles.
-                    t.samples.drain(..t.samples.len() / 2);
-                    t.truncated = true;
-                }
-                t.samples.extend(samples);
-                self.trajectory_revision += 1;
-            }
-            Update::Slip { event, .. } if job == Job::Trajectory => {
-                let evs = &mut self.trajectory.events;
-                if evs.len() >= MAX_EVENTS {
-                    evs.drain(..MAX_EVENTS / 2);
-                    self.trajectory.truncated = true;
-                }
-                evs.push(event);
-                self.trajectory_revision += 1;
-            }
-            Update::MapIterates {
-                first_index,
-                thetas,
-                period,
-                lyapunov,
-                ..
-            } if job == Job::Iterate => {
-                let it = &mut self.iterate;
-                it.thetas.truncate(first_index);
-                it.thetas.extend(thetas);
-                it.period = Some(period);
-                it.lyapunov = lyapunov;
-            }
-            Update::MapGraph { thetas, values, .. } if job == Job::Iterate => {
-                self.iterate.graph = thetas
-                    .into_iter()
-                    .zip(values)
-                    .map(|(t, v)| [t, v])
-                    .collect();
-            }
-            Update::Column {
-                index,
-                theta_nu,
-                thetas,
-                coarse,
-                ..
-            } if job == Job::Sweep => {
-                let s = &mut self.sweep;
-                if let Some(slot) = s.columns.get_mut(index) {
-                    if slot.is_none() {
-                        s.filled += 1;
-                    }
-                    *slot = Some(Column {
-                        theta_nu,
-                        thetas,
-                        coarse,
-                    });
-                    s.revision += 1;
-                }
-            }
-            Update::PhaseCells { cells, coarse, .. } if job == Job::Phase => {
-                self.phase.insert(cells, coarse);
-            }
-            Update::Progress {
-                lane,
-                fraction,
-                iterates_per_second,
-                ..
-            } => {
-                let p = LaneProgress {
-                    fraction,
-                    iterates_per_second,
-                };
-                match lane {
-                    Lane::Orbit => self.orbit_progress = p,
-                    Lane::Sweep => self.sweep_progress = p,
-                    // The Numerics view keeps its own job's progress.
-                    Lane::Numerics => {}
-                    Lane::Phase => self.phase_progress = p,
-                }
-            }
-            Update::Error {
-                message, parameter, ..
-            } => {
-                self.last_error = Some(match parameter {
-                    Some(p) => format!("{p}: {message}"),
-                    None => message.clone(),
-                });
-                if job == Job::Phase {
-                    // A failed cell does not end the grid: its Finished says
-                    // how the job ended; the view shows the message.
-                    self.phase.error = self.last_error.clone();
-                } else {
-                    *self.state_mut(job) = JobState::Failed(message);
-                }
-            }
-            Update::Finished { outcome, .. } => {
-                let state = match outcome {
-                    Outcome::Completed => JobState::Done,
-                    Outcome::Cancelled => JobState::Cancelled,
-                    Outcome::Failed(m) => {
-                        self.last_error = Some(m.clone());
-                        JobState::Failed(m)
-                    }
-                };
-                *self.state_mut(job) = state;
-                match job {
-                    Job::Sweep => self.sweep.revision += 1,
-                    Job::Phase => self.phase.revision += 1,
-                    _ => {}
-                }
-            }
-            Update::Cancelled { .. } => {}
-            // An update of the right generation but the wrong kind: ignore.
-            _ => {}
-        }
-        true
-    }
-
-    /// The orbit's period as the iterate job detected it, or from the
-    /// trajectory's events when no iterate job reported yet.
-    pub fn period(&self) -> Option<Period> {
-        self.iterate.period
-    }
-
-    /// Whether everything the window asked for has arrived.
-    pub fn complete(&self, min_cycles: usize) -> bool {
-        let traj_ok = self.trajectory.events.len() >= min_cycles
-            || matches!(self.trajectory.state, JobState::Done);
-        let it_ok = !matches!(self.iterate.state, JobState::Running | JobState::Idle);
-        let sweep_ok = !matches!(self.sweep.state, JobState::Running | JobState::Idle);
-        traj_ok && it_ok && sweep_ok
+    /// Records a skipped setting with its reason.
+    pub fn skip(&mut self, total: usize, subject: Subject, reason: &str) {
+        self.total = total;
+        let (kind, value) = subject.setting();
+        self.skipped.push(format!(
+            "{} {kind} {value:e}: {reason}",
+            subject.method_name()
+        ));
     }
 }

@@ -5,9 +5,10 @@ use eframe::egui;
 use egui::Ui;
 use egui_plot::{Bar, BarChart, Plot, PlotPoints, Points};
 
-use super::data::Data;
-use super::settings::{Settings, SlipMeasure};
+use super::jobs::Jobs;
+use super::settings::{Settings, SlipMeasure, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::sim::SlipEvent;
 
 /// Bins of the histogram.
@@ -71,8 +72,8 @@ pub fn histogram(xs: &[f64], bins: usize) -> (Vec<f64>, f64, Vec<usize>) {
 pub struct EventsView;
 
 impl EventsView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
-        let evs = &data.trajectory.events;
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+        let evs = &jobs.trajectory.data.events;
         ui.horizontal_wrapped(|ui| {
             ui.label(format!("{} slip events · size as", evs.len()));
             ui.selectable_value(&mut s.slip_measure, SlipMeasure::Distance, "slip distance")
@@ -136,5 +137,15 @@ impl EventsView {
                     });
             });
         });
+    }
+}
+
+impl View for EventsView {
+    fn title(&self) -> &'static str {
+        ViewKind::Events.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }

@@ -2,14 +2,22 @@
 //! apart from the plots; the physics lives in the core and runs on the
 //! worker: the UI thread only draws what the worker streams.
 //!
-//! - [`explorer`]: the app, its layout, the job plumbing, scripted runs.
-//! - [`controls`]: sliders, typed fields, presets, regime badge.
+//! Modules, each importing only those listed before it:
+//!
+//! - [`style`], [`describe`], [`backend`]: colours and legends, the words
+//!   for a regime or an attractor, the worker behind a trait.
+//! - [`settings`]: everything that persists, and its sanitising on load.
+//! - [`data`], [`phase_data`]: what the worker sent for each kind of job.
+//! - [`jobs`]: the job model: one slot per job, `apply(Update)`, the
+//!   debounces, the phase grid's policy, each job's solver setting.
+//! - [`view`]: the `View` trait and the `Action` enum.
+//! - [`accuracy`], [`controls`]: the side panel.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
 //!   [`numerics_view`], [`phase_view`]: the views.
-//! - [`accuracy`]: Auto / Custom, and the solver setting of each kind of job.
-//! - [`data`], [`phase_data`]: what the worker sent, filtered by generation.
-//! - [`phase_job`]: when the phase diagram runs, over what.
-//! - [`settings`]: what persists; the presets.
+//! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
+//! - [`frame_stats`], [`script`]: `--frame-stats` and scripted runs.
+//! - [`status`]: the status bar.
+//! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
 pub mod backend;
@@ -21,15 +29,20 @@ pub mod describe;
 pub mod events;
 pub mod explorer;
 pub mod export;
+pub mod frame_stats;
+pub mod jobs;
 pub mod numerics_view;
 pub mod phase_data;
-pub mod phase_job;
 pub mod phase_view;
 pub mod plane;
 pub mod return_map;
+pub mod save;
 pub mod screenshot;
+pub mod script;
 pub mod settings;
+pub mod status;
 pub mod style;
+pub mod view;
 
 use std::path::PathBuf;
 use std::sync::{Arc, PoisonError};
@@ -37,8 +50,9 @@ use std::time::Duration;
 
 pub use crate::model::{PRESETS, preset, preset_keys};
 pub use backend::{Backend, Recorder};
-pub use explorer::{Explorer, Script};
-pub use settings::{Layout, Settings, View};
+pub use explorer::Explorer;
+pub use script::Script;
+pub use settings::{Layout, Settings, ViewKind};
 
 use crate::worker::{Worker, WorkerConfig};
 use eframe::egui;
@@ -55,7 +69,7 @@ pub struct RunOptions {
     /// Measure and report frame times.
     pub frame_stats: bool,
     /// Show one view full size instead of the tiles.
-    pub view: Option<View>,
+    pub view: Option<ViewKind>,
     /// Text size multiplier.
     pub font_scale: Option<f32>,
     /// Give up a scripted run after this long.

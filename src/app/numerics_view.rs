@@ -9,154 +9,19 @@ use eframe::egui;
 use egui::{Color32, RichText, Ui};
 use egui_plot::{GridInput, GridMark, LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
-use super::accuracy::{AccuracyMode, JobKind};
-use super::data::JobState;
-use super::settings::Settings;
+use super::data::WorkPrecisionData;
+use super::jobs::{JobKind, JobState, Jobs, Slot};
+use super::settings::{AccuracyMode, Settings, ViewKind};
 use super::style;
-use crate::model::Params;
+use super::view::{Action, View};
 use crate::numerics::committed::{default_caption, default_rows};
 use crate::numerics::quick::{QUICK_POINTS, QUICK_TIME_PER_SETTING, SLOW_ITERATE};
 use crate::numerics::{Row, Subject, estimate};
-use crate::worker::{Generation, Lane, Outcome, Update};
 
-/// What the user asked of the view.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum NumericsAction {
-    /// Measure on the current parameters.
-    Run,
-    /// Stop the measurement.
-    Stop,
-}
-
-/// A work-precision job on the current parameters and what it has sent.
-#[derive(Clone, Debug, Default)]
-pub struct WorkPrecisionRun {
-    /// The job's generation (or the stop's, once stopped); `None` before
-    /// the first run.
-    pub generation: Option<Generation>,
-    pub state: JobState,
-    /// The parameters it measures on.
-    pub params: Option<Params>,
-    /// Rows in the order of the job's settings.
-    pub rows: Vec<Row>,
-    /// Settings it skipped, each with the reason.
-    pub skipped: Vec<String>,
-    /// Settings in the job (rows + skipped when done).
-    pub total: usize,
-    /// Points of its sample, and how far its reference is from the check.
-    pub points: usize,
-    pub reference_spread: Option<f64>,
-    /// The error it reported, naming the parameter.
-    pub error: Option<String>,
-}
-
-impl WorkPrecisionRun {
-    /// A new job under `generation` on `params`, measuring `total` settings.
-    pub fn start(&mut self, generation: Generation, params: Params, total: usize) {
-        *self = WorkPrecisionRun {
-            generation: Some(generation),
-            state: JobState::Running,
-            params: Some(params),
-            total,
-            ..Default::default()
-        };
-    }
-
-    /// The user stopped it (the `Cancel` went out under `generation`): the
-    /// rows so far stay, anything later of the old job is dropped.
-    pub fn stop(&mut self, generation: Generation) {
-        self.generation = Some(generation);
-        if self.state == JobState::Running {
-            self.state = JobState::Cancelled;
-        }
-    }
-
-    /// Settings measured or skipped so far.
-    pub fn done(&self) -> usize {
-        self.rows.len() + self.skipped.len()
-    }
-
-    /// Takes `u` if it belongs to this job, or to an older one on the
-    /// numerics lane (then drops it); hands any other update back.
-    pub fn apply(&mut self, u: Update) -> Option<Update> {
-        let ours = Some(u.generation()) == self.generation;
-        let numerics_lane = matches!(
-            u,
-            Update::WorkPrecisionSample { .. }
-                | Update::WorkPrecisionRow { .. }
-                | Update::WorkPrecisionSkipped { .. }
-                | Update::Progress {
-                    lane: Lane::Numerics,
-                    ..
-                }
-                | Update::Error {
-                    lane: Lane::Numerics,
-                    ..
-                }
-                | Update::Finished {
-                    lane: Lane::Numerics,
-                    ..
-                }
-        );
-        if !ours {
-            return if numerics_lane { None } else { Some(u) };
-        }
-        match u {
-            Update::WorkPrecisionSample {
-                points,
-                reference_spread,
-                ..
-            } => {
-                self.points = points;
-                self.reference_spread = Some(reference_spread);
-            }
-            Update::WorkPrecisionRow { total, row, .. } => {
-                self.total = total;
-                self.rows.push(row);
-            }
-            Update::WorkPrecisionSkipped {
-                total,
-                subject,
-                reason,
-                ..
-            } => {
-                self.total = total;
-                let (kind, value) = subject.setting();
-                self.skipped.push(format!(
-                    "{} {kind} {value:e}: {reason}",
-                    subject.method_name()
-                ));
-            }
-            Update::Error {
-                message, parameter, ..
-            } => {
-                self.error = Some(match parameter {
-                    Some(p) => format!("{p}: {message}"),
-                    None => message.clone(),
-                });
-                self.state = JobState::Failed(message);
-            }
-            Update::Finished { outcome, .. } => {
-                self.state = match outcome {
-                    Outcome::Completed => JobState::Done,
-                    Outcome::Cancelled => JobState::Cancelled,
-                    Outcome::Failed(m) => JobState::Failed(m),
-                };
-            }
-            Update::Cancelled { .. } if self.state == JobState::Running => {
-                self.state = JobState::Cancelled;
-            }
-            // Progress is read off the rows; anything else is not ours.
-            _ => {}
-        }
-        None
-    }
-}
-
-/// The view: the latest run and the chart's switches.
+/// The view's own state: the chart's switches (the run is the job
+/// model's `numerics` slot).
 #[derive(Clone, Debug, Default)]
 pub struct NumericsView {
-    pub run: WorkPrecisionRun,
     /// RHS evaluations per iterate on y instead of µs.
     pub y_evals: bool,
     /// Hide the committed chart behind a run's curves.
@@ -212,10 +77,10 @@ pub fn curves(rows: &[Row], y_evals: bool) -> Vec<(&'static str, Vec<[f64; 2]>)>
 /// Where each job's setting lies on a chart of `rows` (its row, or
 /// interpolated between two), if the chart covers it.
 pub fn in_use(rows: &[Row], s: &Settings, y_evals: bool) -> Vec<(JobKind, [f64; 2])> {
-    JobKind::ALL
+    JobKind::SOLVED
         .iter()
         .filter_map(|&job| {
-            let e = estimate(rows, &s.solver_for(job))?;
+            let e = estimate(rows, &job.solver(s)?)?;
             let y = if y_evals { e.evals } else { e.us };
             (e.max_error.is_finite() && y > 0.0).then(|| (job, [lg(e.max_error), y.log10()]))
         })
@@ -278,13 +143,32 @@ fn job_marker(job: JobKind) -> MarkerShape {
         JobKind::Sweep => MarkerShape::Diamond,
         JobKind::Iterate => MarkerShape::Circle,
         JobKind::Phase => MarkerShape::Up,
+        JobKind::Numerics => MarkerShape::Cross,
+    }
+}
+
+impl View for NumericsView {
+    fn title(&self) -> &'static str {
+        ViewKind::Numerics.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        let run = &jobs.numerics;
+        self.controls_ui(ui, run, out);
+        notes_ui(ui, s, run);
+        let rows: &[Row] = if run.data.rows.is_empty() {
+            default_rows()
+        } else {
+            &run.data.rows
+        };
+        self.chart_ui(ui, s, rows, !run.data.rows.is_empty());
+        table_ui(ui, rows, s);
     }
 }
 
 impl NumericsView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &Settings) -> Option<NumericsAction> {
-        let mut action = None;
-        let run = &self.run;
+    /// Run, Stop, the progress and the chart's switches.
+    fn controls_ui(&mut self, ui: &mut Ui, run: &Slot<WorkPrecisionData>, out: &mut Vec<Action>) {
         let running = run.state == JobState::Running;
         ui.horizontal_wrapped(|ui| {
             let r = ui
@@ -294,21 +178,21 @@ impl NumericsView {
                      attractor, on the worker (the views keep running)."
                 ));
             if r.clicked() {
-                action = Some(NumericsAction::Run);
+                out.push(Action::RunWorkPrecision);
             }
             if ui
                 .add_enabled(running, egui::Button::new("Stop"))
                 .on_hover_text("Stop the measurement; the rows so far stay.")
                 .clicked()
             {
-                action = Some(NumericsAction::Stop);
+                out.push(Action::StopWorkPrecision);
             }
-            if run.generation.is_some() {
-                let total = run.total.max(1);
+            if run.issued() {
+                let (done, total) = (run.data.done(), run.data.total);
                 ui.add(
-                    egui::ProgressBar::new(run.done() as f32 / total as f32)
+                    egui::ProgressBar::new(done as f32 / total.max(1) as f32)
                         .desired_width(110.0)
-                        .text(format!("{}/{} settings", run.done(), run.total)),
+                        .text(format!("{done}/{total} settings")),
                 );
                 let state = match &run.state {
                     JobState::Running => "measuring…".to_string(),
@@ -324,59 +208,64 @@ impl NumericsView {
             ui.selectable_value(&mut self.y_evals, false, "µs per iterate");
             ui.selectable_value(&mut self.y_evals, true, "RHS evaluations per iterate")
                 .on_hover_text("The machine-independent cost.");
-            if run.generation.is_some() {
+            if run.issued() {
                 ui.checkbox(&mut self.hide_committed, "hide committed chart");
             }
         });
-        let run = &self.run;
-        if let Some(e) = &run.error {
-            ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
-        }
-        let showing_run = !run.rows.is_empty();
-        let caption = match (showing_run, run.params) {
-            (true, Some(p)) => {
-                let stale = if p != s.params {
-                    " (not the current parameters)"
-                } else {
-                    ""
-                };
-                format!(
-                    "Run on κ = {}, γ = {}, ν = {:e}, θν = {:.4}, Ω = {}{stale}: {} orbit points, \
+    }
+}
+
+/// The run's error, what the chart shows, and how it was measured.
+fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
+    let run = &run.data;
+    if let Some(e) = &run.error {
+        ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
+    }
+    let showing_run = !run.rows.is_empty();
+    let caption = match (showing_run, run.params) {
+        (true, Some(p)) => {
+            let stale = if p != s.params {
+                " (not the current parameters)"
+            } else {
+                ""
+            };
+            format!(
+                "Run on κ = {}, γ = {}, ν = {:e}, θν = {:.4}, Ω = {}{stale}: {} orbit points, \
                      reference spread {}; the committed chart faint behind it.",
-                    p.kappa,
-                    p.gamma,
-                    p.nu,
-                    p.theta_nu,
-                    p.omega,
-                    run.points,
-                    run.reference_spread
-                        .map_or("?".into(), |x| format!("{x:.1e}")),
-                )
-            }
-            _ => format!("Committed chart: {}", default_caption()),
-        };
-        ui.label(RichText::new(caption).small());
-        ui.label(
-            RichText::new(format!(
-                "Wall times measured while the other lanes run share the cores and are noisy; \
+                p.kappa,
+                p.gamma,
+                p.nu,
+                p.theta_nu,
+                p.omega,
+                run.points,
+                run.reference_spread
+                    .map_or("?".into(), |x| format!("{x:.1e}")),
+            )
+        }
+        _ => format!("Committed chart: {}", default_caption()),
+    };
+    ui.label(RichText::new(caption).small());
+    ui.label(
+        RichText::new(format!(
+            "Wall times measured while the other lanes run share the cores and are noisy; \
                  RHS evaluations per iterate are the machine-independent cost. A run times each \
                  setting for {} ms over {QUICK_POINTS} points and skips a method's finer \
                  settings once one takes over {} ms per iterate.",
-                QUICK_TIME_PER_SETTING.as_millis(),
-                SLOW_ITERATE.as_millis()
-            ))
-            .small()
-            .italics(),
-        );
-        for sk in &run.skipped {
-            ui.label(RichText::new(format!("skipped {sk}")).small().italics());
-        }
+            QUICK_TIME_PER_SETTING.as_millis(),
+            SLOW_ITERATE.as_millis()
+        ))
+        .small()
+        .italics(),
+    );
+    for sk in &run.skipped {
+        ui.label(RichText::new(format!("skipped {sk}")).small().italics());
+    }
+}
 
-        let rows: &[Row] = if showing_run {
-            &run.rows
-        } else {
-            default_rows()
-        };
+impl NumericsView {
+    /// The legend, the jobs' markers and the log-log plot of `rows`
+    /// (a run's, over the faint committed chart unless hidden).
+    fn chart_ui(&self, ui: &mut Ui, s: &Settings, rows: &[Row], showing_run: bool) {
         let y_evals = self.y_evals;
         let committed =
             (showing_run && !self.hide_committed).then(|| curves(default_rows(), y_evals));
@@ -397,7 +286,7 @@ impl NumericsView {
         // parts a marker from its label at usual widths.
         ui.horizontal_wrapped(|ui| {
             ui.label(format!("settings in use ({mode}):"));
-            for job in JobKind::ALL {
+            for job in JobKind::SOLVED {
                 if marks.iter().any(|(j, _)| *j == job) {
                     legend_shape(ui, job, ink, job.label());
                 }
@@ -461,8 +350,6 @@ impl NumericsView {
                     );
                 }
             });
-        table_ui(ui, rows, s);
-        action
     }
 }
 
@@ -511,9 +398,9 @@ fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
 
 /// The table under the chart, with the rows the jobs run marked.
 fn table_ui(ui: &mut Ui, rows: &[Row], s: &Settings) {
-    let used: Vec<(JobKind, Subject)> = JobKind::ALL
+    let used: Vec<(JobKind, Subject)> = JobKind::SOLVED
         .iter()
-        .map(|&j| (j, Subject::Own(s.solver_for(j))))
+        .filter_map(|&j| Some((j, Subject::Own(j.solver(s)?))))
         .collect();
     egui::ScrollArea::vertical()
         .id_salt("work_precision_table")
@@ -583,7 +470,6 @@ fn table_ui(ui: &mut Ui, rows: &[Row], s: &Settings) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::integrate::{Method, SolverSettings};
 
     #[test]
     fn the_committed_chart_has_a_curve_per_method_and_marks_autos_settings() {
@@ -610,51 +496,5 @@ mod tests {
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);
         assert!((x - 4.535e-5f64.log10()).abs() < 1e-12 && (y - 236.4f64.log10()).abs() < 1e-12);
-    }
-
-    #[test]
-    fn a_run_takes_its_own_updates_and_drops_older_ones() {
-        let mut run = WorkPrecisionRun::default();
-        let p = Params::default();
-        run.start(7, p, 2);
-        let row = crate::numerics::measure(
-            &[],
-            &Subject::Own(SolverSettings::adaptive(Method::Dop853, 1e-6)),
-            std::time::Duration::ZERO,
-        );
-        let mine = Update::WorkPrecisionRow {
-            generation: 7,
-            index: 0,
-            total: 2,
-            row: row.clone(),
-        };
-        assert!(run.apply(mine).is_none());
-        let old = Update::WorkPrecisionRow {
-            generation: 5,
-            index: 1,
-            total: 2,
-            row,
-        };
-        assert!(run.apply(old).is_none(), "an older run's row is dropped");
-        assert_eq!(run.rows.len(), 1);
-        // Other lanes' updates go back to the caller.
-        let other = Update::Progress {
-            generation: 3,
-            lane: Lane::Orbit,
-            fraction: 0.5,
-            iterates_per_second: 1.0,
-        };
-        assert!(run.apply(other).is_some());
-        run.apply(Update::Error {
-            generation: 7,
-            lane: Lane::Numerics,
-            message: "kappa = -1 is out of range".into(),
-            parameter: Some("kappa"),
-        });
-        assert_eq!(
-            run.error.as_deref(),
-            Some("kappa: kappa = -1 is out of range")
-        );
-        assert!(matches!(run.state, JobState::Failed(_)));
     }
 }

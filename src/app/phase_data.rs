@@ -2,7 +2,6 @@
 //! requested grid (row-major, row 0 = the lowest κ), filled as batches of
 //! cells arrive.
 
-use super::data::JobState;
 use crate::sim::phase::PhaseCell;
 use crate::sim::theta_nu_grid;
 use crate::worker::GridCell;
@@ -20,7 +19,6 @@ pub struct PhaseData {
     /// Whether each received cell came with the coarse lattice.
     pub coarse: Vec<bool>,
     pub filled: usize,
-    pub state: JobState,
     /// The last error the job reported (a failed cell, or bad input).
     pub error: Option<String>,
     /// Bumped on every change, so the view rebuilds only when it moves.
@@ -37,7 +35,6 @@ impl PhaseData {
             cells: vec![None; rows * columns],
             coarse: vec![false; rows * columns],
             filled: 0,
-            state: JobState::Running,
             error: None,
             revision: 0,
         }

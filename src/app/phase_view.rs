@@ -5,8 +5,8 @@
 //! blocks that the refinement splits. The current (θν, κ) is a cross-hair;
 //! hovering a cell tells its class, λ and cost; a click sets the θν and κ
 //! sliders there; a dragged box is recomputed at full resolution, with back
-//! and reset. The grid and budget are set here; the job itself is decided
-//! in [`super::phase_job`].
+//! and reset. The grid and budget are set here; when the job runs is the
+//! job model's phase policy.
 
 use std::collections::VecDeque;
 
@@ -16,11 +16,11 @@ use egui_plot::{
     HLine, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, PlotTransform, Polygon, VLine,
 };
 
-use super::data::{JobState, LaneProgress};
+use super::jobs::{JobState, Jobs};
 use super::phase_data::PhaseData;
-use super::phase_job::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseJob, PhaseRange};
-use super::settings::Settings;
+use super::settings::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseRange, Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::formats::class_colour as png_colour;
 use crate::sim::phase::{CellClass, PhaseCell};
 
@@ -39,17 +39,6 @@ const LEGEND_CLASSES: [(CellClass, &str); 9] = [
 
 /// Opacity of a texel that shows a neighbour's class, not its own yet.
 const PROVISIONAL_ALPHA: u8 = 110;
-
-/// What the user did in the view.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum PhaseAction {
-    /// Move the θν and κ sliders to this cell (a click).
-    SetPoint { theta_nu: f64, kappa: f64 },
-    /// Start the grid now, and keep it going while the view is hidden.
-    Compute,
-    /// Stop the grid.
-    Stop,
-}
 
 /// The view's runtime state: texture, drag, last transform.
 #[derive(Default)]
@@ -172,17 +161,12 @@ impl PhaseView {
         self.built = Some(data.revision);
     }
 
-    pub fn ui(
-        &mut self,
-        ui: &mut Ui,
-        s: &mut Settings,
-        data: &PhaseData,
-        progress: LaneProgress,
-        job: &PhaseJob,
-    ) -> Option<PhaseAction> {
-        let mut action = None;
-        self.rebuild(ui, data);
-        let running = data.state == JobState::Running;
+    /// Compute / Stop, the zoom buttons, where the grid stands, its
+    /// resolution and budget, and the legend.
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        let slot = &jobs.phase;
+        let data = &slot.data;
+        let running = slot.state == JobState::Running;
         ui.horizontal_wrapped(|ui| {
             if running {
                 if ui
@@ -190,7 +174,7 @@ impl PhaseView {
                     .on_hover_text("Stop computing this grid")
                     .clicked()
                 {
-                    action = Some(PhaseAction::Stop);
+                    out.push(Action::StopPhase);
                 }
             } else if ui
                 .button("Compute")
@@ -200,7 +184,7 @@ impl PhaseView {
                 )
                 .clicked()
             {
-                action = Some(PhaseAction::Compute);
+                out.push(Action::ComputePhase);
             }
             let zoomed = !s.phase.zoom.is_empty();
             if ui
@@ -217,12 +201,15 @@ impl PhaseView {
             {
                 s.phase.zoom.clear();
             }
-            let state = match &data.state {
+            let state = match &slot.state {
                 JobState::Running => {
-                    format!("computing, {:.0} iterates/s", progress.iterates_per_second)
+                    format!(
+                        "computing, {:.0} iterates/s",
+                        slot.progress.iterates_per_second
+                    )
                 }
                 JobState::Done => "done".into(),
-                JobState::Cancelled if job.stopped => "stopped".into(),
+                JobState::Cancelled if jobs.phase_policy.stopped => "stopped".into(),
                 JobState::Cancelled => "paused (view hidden)".into(),
                 JobState::Failed(_) => "failed".into(),
                 JobState::Idle => "computed when shown".into(),
@@ -267,7 +254,10 @@ impl PhaseView {
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
         }
+    }
 
+    /// The grid of cells; a box drawn zooms, a click sets θν and κ.
+    fn plot_ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &PhaseData, out: &mut Vec<Action>) {
         // The grid drawn is the one computed (or being computed); before any,
         // the one that will be.
         let (range, columns, rows) = if data.rows * data.columns > 0 {
@@ -386,7 +376,7 @@ impl PhaseView {
             && let Some((row, col)) = hovered
         {
             let (tns, ks) = (data.theta_nus(), data.kappas());
-            action = Some(PhaseAction::SetPoint {
+            out.push(Action::SetPoint {
                 theta_nu: tns[col],
                 kappa: ks[row],
             });
@@ -394,7 +384,18 @@ impl PhaseView {
         if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) {
             s.phase.zoom.pop();
         }
-        action
+    }
+}
+
+impl View for PhaseView {
+    fn title(&self) -> &'static str {
+        ViewKind::Phase.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        self.rebuild(ui, &jobs.phase.data);
+        self.controls_ui(ui, s, jobs, out);
+        self.plot_ui(ui, s, &jobs.phase.data, out);
     }
 }
 

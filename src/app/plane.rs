@@ -4,27 +4,18 @@
 //! unit circle.
 
 use eframe::egui;
-use egui::{Color32, Ui};
+use egui::Ui;
 use egui_plot::{Arrows, LineStyle, Plot, PlotPoints};
 
-use super::data::Data;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::model::{critical_ellipse_point, ellipse_c_point};
 use crate::sim::{Phase, Sample};
 
 /// Most path vertices handed to the plot (the path is decimated beyond).
 const MAX_VERTICES: usize = 24_000;
-
-/// The indices of the samples in the last `keep` cycles.
-pub fn recent_start(data: &Data, keep: usize) -> usize {
-    let tr = &data.trajectory;
-    if tr.events.len() <= keep {
-        return 0;
-    }
-    let t0 = tr.events[tr.events.len() - keep].onset_time;
-    tr.samples.partition_point(|s| s.t < t0 - 1e-12)
-}
 
 /// Splits the path into runs of one phase each, every run extended to the
 /// first point of the next so the path has no gaps: `[stick, accel, decel]`.
@@ -86,10 +77,9 @@ pub struct PlaneView {
 }
 
 impl PlaneView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &Data) {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let k = s.params.kappa;
         let sx = if s.scale_x_by_kappa { k } else { 1.0 };
-        let x_label = if s.scale_x_by_kappa { "κ x" } else { "x" };
         let ellipse = |f: &dyn Fn(f64) -> [f64; 2]| -> Vec<[f64; 2]> {
             (0..=256)
                 .map(|i| {
@@ -101,41 +91,39 @@ impl PlaneView {
         let c_pts = ellipse(&|a| ellipse_c_point(k, a));
         let crit = ellipse(&|a| critical_ellipse_point(k, s.params.gamma, a));
 
-        let start = recent_start(data, s.keep_cycles);
-        let samples = &data.trajectory.samples[start..];
+        let start = jobs.trajectory.data.recent_start(s.keep_cycles);
+        let samples = &jobs.trajectory.data.samples[start..];
         let [stick, accel, decel] = phase_polylines(samples, sx);
-        let n_ev = data.trajectory.events.len();
-        let onsets: Vec<[f64; 2]> = data.trajectory.events[n_ev.saturating_sub(s.keep_cycles)..]
+        let n_ev = jobs.trajectory.data.events.len();
+        let onsets: Vec<[f64; 2]> = jobs.trajectory.data.events
+            [n_ev.saturating_sub(s.keep_cycles)..]
             .iter()
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
         let now = samples.last().map(|p| [p.x * sx, p.y]);
+        controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
+        legend_ui(ui, s.dark);
+        let tf = self.plot_ui(ui, s, c_pts, crit);
+        paint_path(ui, &tf, [&stick, &accel, &decel], &onsets, now, s.dark);
+    }
+
+    /// The plot with C, the critical ellipse and the pull arrow, framed on
+    /// C when κ, the axis scaling or the plot's size change; returns its
+    /// transform.
+    fn plot_ui(
+        &mut self,
+        ui: &mut Ui,
+        s: &Settings,
+        c_pts: Vec<[f64; 2]>,
+        crit: Vec<[f64; 2]>,
+    ) -> egui_plot::PlotTransform {
+        let k = s.params.kappa;
+        let sx = if s.scale_x_by_kappa { k } else { 1.0 };
+        let x_label = if s.scale_x_by_kappa { "κ x" } else { "x" };
         let tn = s.params.theta_nu;
         let arrow_len = 0.45;
         let dir = [arrow_len * tn.cos(), arrow_len * tn.sin()];
         let dark = s.dark;
-
-        ui.horizontal_wrapped(|ui| {
-            ui.label(format!(
-                "{} cycles shown of {}",
-                onsets.len(),
-                data.trajectory.events.len()
-            ));
-            ui.checkbox(&mut s.scale_x_by_kappa, "x axis as κx")
-                .on_hover_text(
-                    "Plot (κx, y): C becomes the unit circle and θ the polar angle. \
-                     Off: the true (x, y), where C is κ times narrower than tall.",
-                );
-        });
-        ui.horizontal_wrapped(|ui| {
-            style::legend_swatch(ui, style::STICK, "stick");
-            style::legend_swatch(ui, style::ACCEL, "slip, accelerating");
-            style::legend_swatch(ui, style::DECEL, "slip, decelerating");
-            style::legend_marker(ui, style::ONSET, "slip onset");
-            style::legend_line(ui, style::ink(dark), false, "C");
-            style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
-            style::legend_line(ui, style::PULL, false, "pull θν");
-        });
         // Frame C (not the critical ellipse, which can be γ times taller).
         let (bx, by) = (1.2 / k * sx, 1.2);
         let fitted_for = self.fitted_for;
@@ -184,54 +172,88 @@ impl PlaneView {
                 key
             });
         self.fitted_for = Some(resp.inner);
-
-        // The path, onsets and block, painted over the plot in screen space.
-        let tf = resp.transform;
-        let painter = ui.painter().with_clip_rect(*tf.frame());
-        let to_screen =
-            |p: &[f64; 2]| tf.position_from_point(&egui_plot::PlotPoint::new(p[0], p[1]));
-        for (runs, color, width) in [
-            (&accel, style::ACCEL, 2.0),
-            (&decel, style::DECEL, 2.0),
-            // On top: in κx a stick often retraces the slip before it.
-            (&stick, style::STICK, 1.6),
-        ] {
-            for run in runs.iter().filter(|r| r.len() > 1) {
-                let pts: Vec<egui::Pos2> = run.iter().map(to_screen).collect();
-                painter.add(egui::Shape::line(pts, egui::Stroke::new(width, color)));
-            }
-        }
-        for o in &onsets {
-            let c = to_screen(o);
-            let r = 4.5;
-            painter.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.0),
-                    c + egui::vec2(0.0, r),
-                    c + egui::vec2(-r, 0.0),
-                ],
-                style::ONSET,
-                egui::Stroke::NONE,
-            ));
-        }
-        if let Some(b) = now {
-            let c = to_screen(&b);
-            painter.rect_filled(
-                egui::Rect::from_center_size(c, egui::vec2(11.0, 11.0)),
-                1.0,
-                style::ink(dark),
-            );
-        }
+        resp.transform
     }
 }
 
-/// The colour of a path segment (for tests and the block view).
-pub fn phase_color(p: Phase) -> Color32 {
-    match p {
-        Phase::Stick => style::STICK,
-        Phase::Accel => style::ACCEL,
-        Phase::Decel => style::DECEL,
+/// How many cycles are shown, and the κx switch.
+fn controls_ui(ui: &mut Ui, s: &mut Settings, shown: usize, total: usize) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!("{shown} cycles shown of {total}"));
+        ui.checkbox(&mut s.scale_x_by_kappa, "x axis as κx")
+            .on_hover_text(
+                "Plot (κx, y): C becomes the unit circle and θ the polar angle. \
+                     Off: the true (x, y), where C is κ times narrower than tall.",
+            );
+    });
+}
+
+/// The legend above the plot.
+fn legend_ui(ui: &mut Ui, dark: bool) {
+    ui.horizontal_wrapped(|ui| {
+        style::legend_swatch(ui, style::STICK, "stick");
+        style::legend_swatch(ui, style::ACCEL, "slip, accelerating");
+        style::legend_swatch(ui, style::DECEL, "slip, decelerating");
+        style::legend_marker(ui, style::ONSET, "slip onset");
+        style::legend_line(ui, style::ink(dark), false, "C");
+        style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
+        style::legend_line(ui, style::PULL, false, "pull θν");
+    });
+}
+
+/// The path, onsets and block, painted over the plot in screen space.
+fn paint_path(
+    ui: &Ui,
+    tf: &egui_plot::PlotTransform,
+    [stick, accel, decel]: [&[Vec<[f64; 2]>]; 3],
+    onsets: &[[f64; 2]],
+    now: Option<[f64; 2]>,
+    dark: bool,
+) {
+    let painter = ui.painter().with_clip_rect(*tf.frame());
+    let to_screen = |p: &[f64; 2]| tf.position_from_point(&egui_plot::PlotPoint::new(p[0], p[1]));
+    for (runs, color, width) in [
+        (accel, style::ACCEL, 2.0),
+        (decel, style::DECEL, 2.0),
+        // On top: in κx a stick often retraces the slip before it.
+        (stick, style::STICK, 1.6),
+    ] {
+        for run in runs.iter().filter(|r| r.len() > 1) {
+            let pts: Vec<egui::Pos2> = run.iter().map(to_screen).collect();
+            painter.add(egui::Shape::line(pts, egui::Stroke::new(width, color)));
+        }
+    }
+    for o in onsets {
+        let c = to_screen(o);
+        let r = 4.5;
+        painter.add(egui::Shape::convex_polygon(
+            vec![
+                c + egui::vec2(0.0, -r),
+                c + egui::vec2(r, 0.0),
+                c + egui::vec2(0.0, r),
+                c + egui::vec2(-r, 0.0),
+            ],
+            style::ONSET,
+            egui::Stroke::NONE,
+        ));
+    }
+    if let Some(b) = now {
+        let c = to_screen(&b);
+        painter.rect_filled(
+            egui::Rect::from_center_size(c, egui::vec2(11.0, 11.0)),
+            1.0,
+            style::ink(dark),
+        );
+    }
+}
+
+impl View for PlaneView {
+    fn title(&self) -> &'static str {
+        ViewKind::Plane.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }
 

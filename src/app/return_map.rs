@@ -8,9 +8,10 @@ use eframe::egui;
 use egui::{RichText, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
 
-use super::data::Data;
-use super::settings::Settings;
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
 use super::style;
+use super::view::{Action, View};
 use crate::model::Regime;
 use crate::sim::{Period, return_map_window};
 
@@ -77,23 +78,12 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
 pub struct ReturnMapView;
 
 impl ReturnMapView {
-    pub fn ui(&mut self, ui: &mut Ui, s: &Settings, data: &Data) {
-        let it = &data.iterate;
-        ui.label(RichText::new(summary(it.period, it.lyapunov)).strong());
-        ui.horizontal_wrapped(|ui| {
-            style::legend_line(ui, style::ACCEL, false, "f");
-            style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
-            style::legend_marker(
-                ui,
-                style::STICK.gamma_multiply(0.6),
-                "cycles incl. transient",
-            );
-            style::legend_line(ui, style::DECEL, false, "cobweb");
-            style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
-        });
+    fn show(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
+        let it = &jobs.iterate.data;
+        legend_ui(ui, it.period, it.lyapunov, s.dark);
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
-        let evs = &data.trajectory.events;
+        let evs = &jobs.trajectory.data.events;
         let traj: Vec<[f64; 2]> = evs[evs.len().saturating_sub(1500)..]
             .iter()
             .map(|e| [e.theta, e.theta_next])
@@ -119,6 +109,7 @@ impl ReturnMapView {
             _ => None,
         };
         let dark = s.dark;
+        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
         Plot::new("return_map")
             .show_background(false)
             .data_aspect(1.0)
@@ -186,6 +177,32 @@ impl ReturnMapView {
                         .filled(true),
                 );
             });
+    }
+}
+
+/// The period and λ, and the legend above the plot.
+fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool) {
+    ui.label(RichText::new(summary(period, lyapunov)).strong());
+    ui.horizontal_wrapped(|ui| {
+        style::legend_line(ui, style::ACCEL, false, "f");
+        style::legend_marker(ui, style::ink(dark), "orbit iterates");
+        style::legend_marker(
+            ui,
+            style::STICK.gamma_multiply(0.6),
+            "cycles incl. transient",
+        );
+        style::legend_line(ui, style::DECEL, false, "cobweb");
+        style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
+    });
+}
+
+impl View for ReturnMapView {
+    fn title(&self) -> &'static str {
+        ViewKind::ReturnMap.title()
+    }
+
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.show(ui, s, jobs);
     }
 }
 

@@ -8,8 +8,9 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
 
-use egui::{ColorImage, Context, Rect};
+use egui::{ColorImage, Context, Rect, RichText};
 
+use super::style;
 use crate::output::write_output;
 
 /// How a save ended.
@@ -139,6 +140,28 @@ impl Shots {
             self.finished.push(s);
         }
         self.toasts.retain(|t| t.until > now);
+    }
+
+    /// The toasts, stacked in the bottom right corner.
+    pub fn toasts_ui(&self, ctx: &Context) {
+        if self.toasts.is_empty() {
+            return;
+        }
+        egui::Area::new(egui::Id::unique("toasts"))
+            .anchor(egui::Align2::RIGHT_BOTTOM, egui::vec2(-16.0, -40.0))
+            .order(egui::Order::Foreground)
+            .show(ctx, |ui| {
+                for t in &self.toasts {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| {
+                        let c = if t.error {
+                            style::ERROR
+                        } else {
+                            ui.visuals().text_color()
+                        };
+                        ui.label(RichText::new(&t.text).color(c));
+                    });
+                }
+            });
     }
 
     /// Adds a toast directly (e.g. nothing to export).

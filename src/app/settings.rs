@@ -4,14 +4,14 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::accuracy::{AccuracyMode, JobKind};
-use super::phase_job::PhaseSettings;
+use std::f64::consts::{FRAC_PI_2, PI};
+
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 
 /// The views the window can show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum View {
+pub enum ViewKind {
     Plane,
     Block,
     Bifurcation,
@@ -21,46 +21,61 @@ pub enum View {
     Phase,
 }
 
-impl View {
-    pub const ALL: [View; 7] = [
-        View::Plane,
-        View::Block,
-        View::Bifurcation,
-        View::ReturnMap,
-        View::Events,
-        View::Numerics,
-        View::Phase,
+impl ViewKind {
+    pub const ALL: [ViewKind; 7] = [
+        ViewKind::Plane,
+        ViewKind::Block,
+        ViewKind::Bifurcation,
+        ViewKind::ReturnMap,
+        ViewKind::Events,
+        ViewKind::Numerics,
+        ViewKind::Phase,
     ];
 
     pub fn title(self) -> &'static str {
         match self {
-            View::Plane => "Plane (x, y)",
-            View::Block => "Block",
-            View::Bifurcation => "Bifurcation",
-            View::ReturnMap => "Return map",
-            View::Events => "Events",
-            View::Numerics => "Numerics",
-            View::Phase => "Phase diagram",
+            ViewKind::Plane => "Plane (x, y)",
+            ViewKind::Block => "Block",
+            ViewKind::Bifurcation => "Bifurcation",
+            ViewKind::ReturnMap => "Return map",
+            ViewKind::Events => "Events",
+            ViewKind::Numerics => "Numerics",
+            ViewKind::Phase => "Phase diagram",
         }
     }
 
     /// The name the command line uses (`--view`).
     pub fn key(self) -> &'static str {
         match self {
-            View::Plane => "plane",
-            View::Block => "block",
-            View::Bifurcation => "bifurcation",
-            View::ReturnMap => "return-map",
-            View::Events => "events",
-            View::Numerics => "numerics",
-            View::Phase => "phase",
+            ViewKind::Plane => "plane",
+            ViewKind::Block => "block",
+            ViewKind::Bifurcation => "bifurcation",
+            ViewKind::ReturnMap => "return-map",
+            ViewKind::Events => "events",
+            ViewKind::Numerics => "numerics",
+            ViewKind::Phase => "phase",
         }
     }
 
-    pub fn from_key(s: &str) -> Option<View> {
-        View::ALL.into_iter().find(|v| v.key() == s)
+    pub fn from_key(s: &str) -> Option<ViewKind> {
+        ViewKind::ALL.into_iter().find(|v| v.key() == s)
     }
 }
+
+/// How the jobs' solver settings are chosen.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AccuracyMode {
+    /// Each job gets the cheapest setting meeting its view's accuracy.
+    #[default]
+    Auto,
+    /// Every job runs with the method and tolerance/step of the controls.
+    Custom,
+}
+
+/// The most cycles a saved trajectory length may ask for.
+pub const MAX_TRAJECTORY_CYCLES: usize = 100_000;
+/// The most iterates a saved diagram column may drop or keep.
+pub const MAX_SWEEP_ITERATES: usize = 100_000;
 
 /// One view at a time, or several side by side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -97,9 +112,9 @@ pub struct Settings {
     pub full_circle: bool,
     pub layout: Layout,
     /// The view shown in tab layout.
-    pub tab: View,
+    pub tab: ViewKind,
     /// Which views the tile layout shows.
-    pub tiled: Vec<View>,
+    pub tiled: Vec<ViewKind>,
     /// Cycles kept on screen in the plane view.
     pub keep_cycles: usize,
     /// Cycles a trajectory job runs.
@@ -148,12 +163,12 @@ impl Default for Settings {
             step: 1e-3,
             full_circle: false,
             layout: Layout::Tiles,
-            tab: View::Plane,
+            tab: ViewKind::Plane,
             tiled: vec![
-                View::Plane,
-                View::Bifurcation,
-                View::ReturnMap,
-                View::Events,
+                ViewKind::Plane,
+                ViewKind::Bifurcation,
+                ViewKind::ReturnMap,
+                ViewKind::Events,
             ],
             keep_cycles: 12,
             trajectory_cycles: 400,
@@ -181,12 +196,123 @@ fn default_save_dir() -> String {
 
 impl Settings {
     /// The Custom choice of method and tolerance/step (each job's setting
-    /// is [`Settings::solver_for`]).
+    /// is `JobKind::solver`).
     pub fn custom_solver(&self) -> SolverSettings {
         if self.method.is_adaptive() {
             SolverSettings::adaptive(self.method, self.tol)
         } else {
             SolverSettings::fixed(self.method, self.step)
+        }
+    }
+
+    /// The same settings with every field a saved file may have spoiled
+    /// (NaN, infinite, negative, huge) back to its default, and the names
+    /// of the fields that were. A loaded file may hold anything: the window
+    /// must open on values it can run.
+    pub fn sanitised(mut self) -> (Settings, Vec<&'static str>) {
+        let d = Settings::default();
+        let mut bad = Vec::new();
+        let params_ok =
+            self.params.validate().is_ok() && (-PI..=PI).contains(&self.params.theta_nu);
+        if !params_ok {
+            self.params = d.params;
+            self.full_circle = d.full_circle;
+            bad.push("parameters");
+        } else if !(0.0..=FRAC_PI_2).contains(&self.params.theta_nu) {
+            self.full_circle = true;
+        }
+        if SolverSettings::adaptive(Method::Dop853, self.tol)
+            .validate()
+            .is_err()
+        {
+            self.tol = d.tol;
+            bad.push("tolerance");
+        }
+        if SolverSettings::fixed(Method::Rk4, self.step)
+            .validate()
+            .is_err()
+        {
+            self.step = d.step;
+            bad.push("step");
+        }
+        fn within<T: PartialOrd + Copy>(
+            v: &mut T,
+            range: std::ops::RangeInclusive<T>,
+            default: T,
+            name: &'static str,
+            bad: &mut Vec<&'static str>,
+        ) {
+            if !range.contains(v) {
+                *v = default;
+                bad.push(name);
+            }
+        }
+        within(
+            &mut self.keep_cycles,
+            1..=1000,
+            d.keep_cycles,
+            "cycles shown",
+            &mut bad,
+        );
+        within(
+            &mut self.trajectory_cycles,
+            1..=MAX_TRAJECTORY_CYCLES,
+            d.trajectory_cycles,
+            "trajectory cycles",
+            &mut bad,
+        );
+        within(
+            &mut self.columns,
+            20..=2000,
+            d.columns,
+            "diagram columns",
+            &mut bad,
+        );
+        within(
+            &mut self.sweep_transient,
+            0..=MAX_SWEEP_ITERATES,
+            d.sweep_transient,
+            "diagram transient",
+            &mut bad,
+        );
+        within(
+            &mut self.sweep_keep,
+            1..=MAX_SWEEP_ITERATES,
+            d.sweep_keep,
+            "diagram iterates kept",
+            &mut bad,
+        );
+        within(
+            &mut self.font_scale,
+            0.5..=3.0,
+            d.font_scale,
+            "text size",
+            &mut bad,
+        );
+        within(
+            &mut self.block_speed,
+            0.1..=10.0,
+            d.block_speed,
+            "block speed",
+            &mut bad,
+        );
+        if self.tiled.is_empty() {
+            self.tiled = d.tiled;
+            bad.push("tiles");
+        }
+        let phase = self.phase.clone().sanitised();
+        if phase != self.phase {
+            self.phase = phase;
+            bad.push("phase grid");
+        }
+        (self, bad)
+    }
+
+    /// Whether `v` is on screen (as the tab, or one of the tiles).
+    pub fn shows(&self, v: ViewKind) -> bool {
+        match self.layout {
+            Layout::Tabs => self.tab == v,
+            Layout::Tiles => self.tiled.contains(&v),
         }
     }
 
@@ -198,36 +324,97 @@ impl Settings {
             (0.0, std::f64::consts::FRAC_PI_2)
         }
     }
+}
 
-    /// The part of the settings a bifurcation sweep depends on (θν is its
-    /// x-axis, so it is left out).
-    pub fn sweep_key(&self) -> SweepKey {
-        SweepKey {
-            kappa: self.params.kappa,
-            gamma: self.params.gamma,
-            nu: self.params.nu,
-            omega: self.params.omega,
-            solver: self.solver_for(JobKind::Sweep),
-            columns: self.columns,
-            transient: self.sweep_transient,
-            keep: self.sweep_keep,
-            full_circle: self.full_circle,
+/// The grid resolution the view offers, per axis.
+pub const MIN_STEPS: usize = 2;
+pub const MAX_STEPS: usize = 200;
+/// The most iterates per cell the view offers (transient, keep).
+pub const MAX_BUDGET: usize = 5000;
+
+/// A (θν, κ) rectangle: the grid's ends, included.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PhaseRange {
+    pub theta_nu: (f64, f64),
+    pub kappa: (f64, f64),
+}
+
+impl PhaseRange {
+    /// The paper's Fig. 4: θν ∈ [0, π/2], κ ∈ [1, 42].
+    pub const PAPER: PhaseRange = PhaseRange {
+        theta_nu: (0.0, FRAC_PI_2),
+        kappa: (1.0, 42.0),
+    };
+
+    /// Finite, increasing ends, θν within [−π, π] and κ within the model's
+    /// [1e-6, 1e6].
+    pub fn is_valid(&self) -> bool {
+        let (t0, t1) = self.theta_nu;
+        let (k0, k1) = self.kappa;
+        t0.is_finite()
+            && t1.is_finite()
+            && -PI <= t0
+            && t0 < t1
+            && t1 <= PI
+            && k0.is_finite()
+            && k1.is_finite()
+            && 1e-6 <= k0
+            && k0 < k1
+            && k1 <= 1e6
+    }
+}
+
+/// What the phase view remembers between runs.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct PhaseSettings {
+    /// θν columns and κ rows of the grid (each 2 … 200).
+    pub theta_nu_steps: usize,
+    pub kappa_steps: usize,
+    /// The cell's budget: the most iterates looking for a period, then the
+    /// most with f'(θ) for λ (`oneblock phase --transient/--keep`).
+    pub transient: usize,
+    pub keep: usize,
+    /// The whole (unzoomed) range.
+    pub range: PhaseRange,
+    /// Zoom levels, innermost last; each is recomputed at full resolution.
+    pub zoom: Vec<PhaseRange>,
+}
+
+impl Default for PhaseSettings {
+    fn default() -> Self {
+        PhaseSettings {
+            theta_nu_steps: 30,
+            kappa_steps: 30,
+            transient: 400,
+            keep: 128,
+            range: PhaseRange::PAPER,
+            zoom: Vec::new(),
         }
     }
 }
 
-/// What a bifurcation sweep depends on.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SweepKey {
-    pub kappa: f64,
-    pub gamma: f64,
-    pub nu: f64,
-    pub omega: f64,
-    pub solver: SolverSettings,
-    pub columns: usize,
-    pub transient: usize,
-    pub keep: usize,
-    pub full_circle: bool,
+impl PhaseSettings {
+    /// The range the grid covers now: the innermost zoom, or the whole.
+    pub fn current(&self) -> PhaseRange {
+        self.zoom.last().copied().unwrap_or(self.range)
+    }
+
+    /// The same settings brought into the ranges the view offers (a saved
+    /// file may hold anything).
+    pub fn sanitised(mut self) -> Self {
+        let d = PhaseSettings::default();
+        self.theta_nu_steps = self.theta_nu_steps.clamp(MIN_STEPS, MAX_STEPS);
+        self.kappa_steps = self.kappa_steps.clamp(MIN_STEPS, MAX_STEPS);
+        self.transient = self.transient.min(MAX_BUDGET);
+        self.keep = self.keep.clamp(16, MAX_BUDGET);
+        if !self.range.is_valid() {
+            self.range = d.range;
+            self.zoom.clear();
+        }
+        self.zoom.retain(PhaseRange::is_valid);
+        self
+    }
 }
 
 #[cfg(test)]
@@ -243,5 +430,28 @@ mod tests {
         assert!(s.smooth_lines_on(true));
         s.smooth_lines = Some(false);
         assert!(!s.smooth_lines_on(false));
+    }
+
+    #[test]
+    fn saved_phase_settings_are_brought_into_range() {
+        let s = PhaseSettings {
+            theta_nu_steps: 0,
+            kappa_steps: 100_000,
+            transient: 10_000_000,
+            keep: 2,
+            range: PhaseRange {
+                theta_nu: (0.0, f64::NAN),
+                kappa: (-1.0, 5.0),
+            },
+            zoom: vec![PhaseRange {
+                theta_nu: (1.0, 0.5),
+                kappa: (1.0, 2.0),
+            }],
+        }
+        .sanitised();
+        assert_eq!((s.theta_nu_steps, s.kappa_steps), (MIN_STEPS, MAX_STEPS));
+        assert_eq!((s.transient, s.keep), (MAX_BUDGET, 16));
+        assert_eq!(s.range, PhaseRange::PAPER);
+        assert!(s.zoom.is_empty());
     }
 }

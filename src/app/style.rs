@@ -89,3 +89,12 @@ pub fn zoom_box(a: egui_plot::PlotPoint, b: egui_plot::PlotPoint) -> egui_plot::
 pub fn box_ranges(a: egui_plot::PlotPoint, b: egui_plot::PlotPoint) -> ((f64, f64), (f64, f64)) {
     ((a.x.min(b.x), a.x.max(b.x)), (a.y.min(b.y), a.y.max(b.y)))
 }
+
+/// The colour of a path segment in a phase of the cycle.
+pub fn phase_color(p: crate::sim::Phase) -> Color32 {
+    match p {
+        crate::sim::Phase::Stick => STICK,
+        crate::sim::Phase::Accel => ACCEL,
+        crate::sim::Phase::Decel => DECEL,
+    }
+}

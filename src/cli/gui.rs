@@ -59,7 +59,7 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
 
 #[cfg(feature = "gui")]
 pub fn run(args: GuiArgs) -> Result<(), CliError> {
-    use crate::app::{RunOptions, View, preset, preset_keys};
+    use crate::app::{RunOptions, ViewKind, preset, preset_keys};
     if let Some(p) = &args.preset
         && preset(p).is_none()
     {
@@ -69,7 +69,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         )));
     }
     let view = match &args.view {
-        Some(v) => Some(View::from_key(v).ok_or_else(|| {
+        Some(v) => Some(ViewKind::from_key(v).ok_or_else(|| {
             CliError::Usage(format!(
                 "--view: unknown view '{v}': expected plane, block, bifurcation, return-map, events, numerics or phase"
             ))

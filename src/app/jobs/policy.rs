@@ -1,108 +1,53 @@
-//! When the phase diagram is computed, and over what: the persisted grid
-//! choice (range, resolution, budget, zoom stack) and the rule that a grid
+//! When a job restarts: the keys that say what a running sweep or phase
+//! grid was started with, the debounces, and the phase grid's rule that it
 //! runs only while its view is shown, or after an explicit Compute. A grid
 //! keeps both cores busy for seconds (30 × 30) to minutes (200 × 200), so it
 //! is not computed for a view nobody looks at: hiding the view stops the
 //! job, showing it again starts it afresh.
 
-use serde::{Deserialize, Serialize};
-use std::f64::consts::{FRAC_PI_2, PI};
-
-use super::accuracy::JobKind;
-use super::settings::Settings;
+use super::super::settings::{PhaseRange, Settings};
+use super::kind::JobKind;
 use crate::integrate::SolverSettings;
 
+/// Time between two orbit restarts while a slider is dragged (seconds).
+pub const ORBIT_DEBOUNCE: f64 = 0.04;
+/// Quiet time after the last change before a sweep restarts (seconds).
+pub const SWEEP_DEBOUNCE: f64 = 0.25;
 /// Quiet time after the last change of γ, ν, Ω, the solver, the resolution or
 /// the budget before the grid restarts (seconds), as for the sweep.
 pub const PHASE_DEBOUNCE: f64 = 0.25;
-/// The grid resolution the view offers, per axis.
-pub const MIN_STEPS: usize = 2;
-pub const MAX_STEPS: usize = 200;
-/// The most iterates per cell the view offers (transient, keep).
-pub const MAX_BUDGET: usize = 5000;
 
-/// A (θν, κ) rectangle: the grid's ends, included.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PhaseRange {
-    pub theta_nu: (f64, f64),
-    pub kappa: (f64, f64),
-}
-
-impl PhaseRange {
-    /// The paper's Fig. 4: θν ∈ [0, π/2], κ ∈ [1, 42].
-    pub const PAPER: PhaseRange = PhaseRange {
-        theta_nu: (0.0, FRAC_PI_2),
-        kappa: (1.0, 42.0),
-    };
-
-    /// Finite, increasing ends, θν within [−π, π] and κ within the model's
-    /// [1e-6, 1e6].
-    pub fn is_valid(&self) -> bool {
-        let (t0, t1) = self.theta_nu;
-        let (k0, k1) = self.kappa;
-        t0.is_finite()
-            && t1.is_finite()
-            && -PI <= t0
-            && t0 < t1
-            && t1 <= PI
-            && k0.is_finite()
-            && k1.is_finite()
-            && 1e-6 <= k0
-            && k0 < k1
-            && k1 <= 1e6
-    }
-}
-
-/// What the phase view remembers between runs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct PhaseSettings {
-    /// θν columns and κ rows of the grid (each 2 … 200).
-    pub theta_nu_steps: usize,
-    pub kappa_steps: usize,
-    /// The cell's budget: the most iterates looking for a period, then the
-    /// most with f'(θ) for λ (`oneblock phase --transient/--keep`).
+/// What a bifurcation sweep depends on (θν is its x-axis, so it is left
+/// out).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SweepKey {
+    pub kappa: f64,
+    pub gamma: f64,
+    pub nu: f64,
+    pub omega: f64,
+    pub solver: SolverSettings,
+    pub columns: usize,
     pub transient: usize,
     pub keep: usize,
-    /// The whole (unzoomed) range.
-    pub range: PhaseRange,
-    /// Zoom levels, innermost last; each is recomputed at full resolution.
-    pub zoom: Vec<PhaseRange>,
+    pub full_circle: bool,
 }
 
-impl Default for PhaseSettings {
-    fn default() -> Self {
-        PhaseSettings {
-            theta_nu_steps: 30,
-            kappa_steps: 30,
-            transient: 400,
-            keep: 128,
-            range: PhaseRange::PAPER,
-            zoom: Vec::new(),
+impl SweepKey {
+    /// The key of the settings `s`.
+    pub fn of(s: &Settings) -> Self {
+        SweepKey {
+            kappa: s.params.kappa,
+            gamma: s.params.gamma,
+            nu: s.params.nu,
+            omega: s.params.omega,
+            solver: JobKind::Sweep
+                .solver(s)
+                .unwrap_or_else(|| s.custom_solver()),
+            columns: s.columns,
+            transient: s.sweep_transient,
+            keep: s.sweep_keep,
+            full_circle: s.full_circle,
         }
-    }
-}
-
-impl PhaseSettings {
-    /// The range the grid covers now: the innermost zoom, or the whole.
-    pub fn current(&self) -> PhaseRange {
-        self.zoom.last().copied().unwrap_or(self.range)
-    }
-
-    /// The same settings brought into the ranges the view offers (a saved
-    /// file may hold anything).
-    pub fn sanitised(mut self) -> Self {
-        let d = PhaseSettings::default();
-        self.theta_nu_steps = self.theta_nu_steps.clamp(MIN_STEPS, MAX_STEPS);
-        self.kappa_steps = self.kappa_steps.clamp(MIN_STEPS, MAX_STEPS);
-        self.transient = self.transient.min(MAX_BUDGET);
-        self.keep = self.keep.clamp(16, MAX_BUDGET);
-        if !self.range.is_valid() {
-            self.range = d.range;
-            self.zoom.clear();
-        }
-        self.zoom.retain(PhaseRange::is_valid);
-        self
     }
 }
 
@@ -128,7 +73,9 @@ impl PhaseKey {
             gamma: s.params.gamma,
             nu: s.params.nu,
             omega: s.params.omega,
-            solver: s.solver_for(JobKind::Phase),
+            solver: JobKind::Phase
+                .solver(s)
+                .unwrap_or_else(|| s.custom_solver()),
             range: p.current(),
             steps: (p.theta_nu_steps, p.kappa_steps),
             transient: p.transient,
@@ -159,7 +106,7 @@ pub enum PhaseStep {
 
 /// The phase job's runtime state (not persisted).
 #[derive(Clone, Debug, Default)]
-pub struct PhaseJob {
+pub struct PhasePolicy {
     /// What the running or last grid was started with; `None` before the
     /// first and after a pause, so that showing the view starts one.
     pub sent: Option<PhaseKey>,
@@ -170,7 +117,7 @@ pub struct PhaseJob {
     pub stopped: bool,
 }
 
-impl PhaseJob {
+impl PhasePolicy {
     /// Decides, from the settings' `key`, whether the view is `visible` and
     /// whether a grid is `running`, at time `now` (seconds).
     pub fn step(&mut self, key: PhaseKey, visible: bool, running: bool, now: f64) -> PhaseStep {
@@ -230,7 +177,7 @@ mod tests {
 
     #[test]
     fn a_grid_runs_only_while_shown_unless_pinned() {
-        let mut j = PhaseJob::default();
+        let mut j = PhasePolicy::default();
         assert_eq!(j.step(key(6.5), false, false, 0.0), PhaseStep::Nothing);
         assert_eq!(j.step(key(6.5), true, false, 0.1), PhaseStep::Start);
         j.started(key(6.5));
@@ -256,28 +203,5 @@ mod tests {
         j.started(zoomed);
         j.stop();
         assert_eq!(j.step(zoomed, true, false, 1.5), PhaseStep::Nothing);
-    }
-
-    #[test]
-    fn saved_settings_are_brought_into_range() {
-        let s = PhaseSettings {
-            theta_nu_steps: 0,
-            kappa_steps: 100_000,
-            transient: 10_000_000,
-            keep: 2,
-            range: PhaseRange {
-                theta_nu: (0.0, f64::NAN),
-                kappa: (-1.0, 5.0),
-            },
-            zoom: vec![PhaseRange {
-                theta_nu: (1.0, 0.5),
-                kappa: (1.0, 2.0),
-            }],
-        }
-        .sanitised();
-        assert_eq!((s.theta_nu_steps, s.kappa_steps), (MIN_STEPS, MAX_STEPS));
-        assert_eq!((s.transient, s.keep), (MAX_BUDGET, 16));
-        assert_eq!(s.range, PhaseRange::PAPER);
-        assert!(s.zoom.is_empty());
     }
 }

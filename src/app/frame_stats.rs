@@ -1,0 +1,150 @@
+//! Frame-time bookkeeping for `--frame-stats`: the intervals between
+//! frames while a trajectory streams and while nothing does, eframe's CPU
+//! time per frame, and the slider-to-picture latency; the one-line report
+//! and the small overlay that shows the running median.
+
+use std::time::Instant;
+
+use eframe::egui;
+use egui::{Color32, Context, RichText};
+
+/// Frame-time bookkeeping (`--frame-stats`).
+#[derive(Default)]
+pub struct FrameStats {
+    pub enabled: bool,
+    last: Option<Instant>,
+    /// Whether intervals are being recorded now.
+    pub recording: bool,
+    /// Intervals between frames, in milliseconds, with a trajectory streaming.
+    pub intervals: Vec<f32>,
+    /// The same with nothing streaming (diagram full, trajectory done).
+    pub idle: Vec<f32>,
+    /// From a θν change to the frame showing the new trajectory's first slip, ms.
+    pub latency: Vec<f32>,
+    /// Whether a trajectory streams now (which list an interval goes to).
+    pub streaming: bool,
+    /// CPU time eframe reports per frame, in milliseconds.
+    pub cpu: Vec<f32>,
+    /// Points in the diagram and samples received while recording.
+    pub points: usize,
+    pub samples_at_start: usize,
+    pub samples_at_end: usize,
+}
+
+/// The middle value of `v` (the upper of two).
+fn median(v: &[f32]) -> Option<f32> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f32::total_cmp);
+    Some(s[s.len() / 2])
+}
+
+/// The `q`-quantile of `v` (the lower of two middle values).
+fn percentile(v: &[f32], q: f32) -> Option<f32> {
+    if v.is_empty() {
+        return None;
+    }
+    let mut s = v.to_vec();
+    s.sort_by(f32::total_cmp);
+    Some(s[((s.len() - 1) as f32 * q) as usize])
+}
+
+impl FrameStats {
+    /// Records one frame (with eframe's CPU time for it, if known).
+    pub fn record(&mut self, cpu_seconds: Option<f32>) {
+        if !self.enabled {
+            return;
+        }
+        let now = Instant::now();
+        if let Some(l) = self.last
+            && self.recording
+        {
+            let ms = (now - l).as_secs_f32() * 1e3;
+            if self.streaming {
+                self.intervals.push(ms);
+            } else {
+                self.idle.push(ms);
+            }
+        }
+        self.last = Some(now);
+        if let Some(c) = cpu_seconds
+            && self.recording
+        {
+            self.cpu.push(c * 1e3);
+        }
+    }
+
+    /// One line for the terminal and docs.
+    pub fn report(&self) -> String {
+        let idle = match median(&self.idle) {
+            Some(m) => format!(
+                "frame-stats: idle (diagram full, trajectory done): median frame time {m:.1} ms \
+                 (p90 {:.1} ms) over {} frames\n",
+                percentile(&self.idle, 0.9).unwrap_or(m),
+                self.idle.len()
+            ),
+            None => String::new(),
+        };
+        let streaming = match median(&self.intervals) {
+            None => "frame-stats: no frames recorded".into(),
+            Some(m) => format!(
+                "frame-stats: streaming: median frame time {m:.1} ms (p90 {:.1} ms) over {} frames; \
+                 median CPU per frame {}; diagram {} points; trajectory streaming {} → {} samples",
+                percentile(&self.intervals, 0.9).unwrap_or(m),
+                self.intervals.len(),
+                median(&self.cpu).map_or("n/a".into(), |c| format!("{c:.1} ms")),
+                self.points,
+                self.samples_at_start,
+                self.samples_at_end,
+            ),
+        };
+        let latency = match median(&self.latency) {
+            Some(m) => format!(
+                "\nframe-stats: slider to picture (θν change to the frame showing the new \
+                 trajectory's first slip): median {m:.0} ms, max {:.0} ms over {} changes",
+                self.latency.iter().copied().fold(0.0, f32::max),
+                self.latency.len()
+            ),
+            None => String::new(),
+        };
+        format!("{idle}{streaming}{latency}")
+    }
+
+    /// The running median of the last frames, in a corner of the window.
+    pub fn overlay(&self, ctx: &Context) {
+        let last: Vec<f32> = self.intervals.iter().rev().take(120).copied().collect();
+        let text = match median(&last) {
+            Some(m) => format!("frame {m:.1} ms (median of last {})", last.len()),
+            None => "frame time: measuring…".into(),
+        };
+        egui::Area::new(egui::Id::unique("frame_stats"))
+            .anchor(egui::Align2::RIGHT_TOP, egui::vec2(-10.0, 40.0))
+            .order(egui::Order::Foreground)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.label(
+                        RichText::new(text)
+                            .monospace()
+                            .color(Color32::from_rgb(0, 120, 60)),
+                    );
+                });
+            });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn percentiles_pick_from_the_sorted_values() {
+        let v = [5.0, 1.0, 4.0, 2.0, 3.0];
+        assert_eq!(median(&v), Some(3.0));
+        assert_eq!(median(&[2.0, 1.0]), Some(2.0));
+        assert_eq!(percentile(&v, 0.9), Some(4.0));
+        assert_eq!(percentile(&v, 1.0), Some(5.0));
+        assert_eq!(median(&[]), None);
+    }
+}

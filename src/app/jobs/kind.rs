@@ -1,0 +1,193 @@
+//! The kinds of job the window runs, where each one's results are shown,
+//! and the solver setting each runs with: "model no more than a scene
+//! needs". **Auto** gives each job the cheapest setting that the measured
+//! work-precision chart says meets the accuracy its view can show
+//! ([`budget_for`]); **Custom** runs every job with the method and
+//! tolerance (or step) the user picked.
+
+use crate::integrate::SolverSettings;
+use crate::numerics::{Accuracy, budget_for};
+use crate::worker::Lane;
+
+use super::super::settings::{AccuracyMode, Settings};
+
+/// One kind of job, by what its results are shown in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum JobKind {
+    /// The trajectory: the plane, the block and the event catalogue.
+    Trajectory,
+    /// The bifurcation sweep.
+    Sweep,
+    /// Map iterates: the return map, the period and the Lyapunov exponent.
+    Iterate,
+    /// The phase diagram's cells.
+    Phase,
+    /// The Numerics view's work-precision measurement (it runs every
+    /// method, so it has no solver setting of its own).
+    Numerics,
+}
+
+impl JobKind {
+    /// Every kind of job.
+    pub const ALL: [JobKind; 5] = [
+        JobKind::Trajectory,
+        JobKind::Sweep,
+        JobKind::Iterate,
+        JobKind::Phase,
+        JobKind::Numerics,
+    ];
+
+    /// The jobs that integrate with one solver setting (the side panel's
+    /// accuracy table), in its order.
+    pub const SOLVED: [JobKind; 4] = [
+        JobKind::Trajectory,
+        JobKind::Sweep,
+        JobKind::Iterate,
+        JobKind::Phase,
+    ];
+
+    /// The worker lane it runs on.
+    pub fn lane(self) -> Lane {
+        match self {
+            JobKind::Trajectory | JobKind::Iterate => Lane::Orbit,
+            JobKind::Sweep => Lane::Sweep,
+            JobKind::Phase => Lane::Phase,
+            JobKind::Numerics => Lane::Numerics,
+        }
+    }
+
+    /// The accuracy its view can show: a pixel of the (x, y) view; 1e-3 of
+    /// the diagram's θ range per pixel; 1e-10 for the map; 1e-8 for the
+    /// phase diagram's classes. `None` for the work-precision job.
+    pub fn accuracy(self) -> Option<Accuracy> {
+        match self {
+            JobKind::Trajectory => Some(Accuracy::TrajectoryView),
+            JobKind::Sweep => Some(Accuracy::BifurcationDiagram),
+            JobKind::Iterate => Some(Accuracy::ReturnMap),
+            JobKind::Phase => Some(Accuracy::PhaseDiagram),
+            JobKind::Numerics => None,
+        }
+    }
+
+    /// The solver setting it runs with: Auto's choice from the measured
+    /// chart, or the user's Custom method and tolerance/step. `None` for
+    /// the work-precision job.
+    pub fn solver(self, s: &Settings) -> Option<SolverSettings> {
+        let accuracy = self.accuracy()?;
+        Some(match s.accuracy {
+            AccuracyMode::Auto => budget_for(accuracy.target()).settings,
+            AccuracyMode::Custom => s.custom_solver(),
+        })
+    }
+
+    /// A short name for the panel.
+    pub fn label(self) -> &'static str {
+        match self {
+            JobKind::Trajectory => "trajectory",
+            JobKind::Sweep => "diagram",
+            JobKind::Iterate => "map iterates",
+            JobKind::Phase => "phase diagram",
+            JobKind::Numerics => "work-precision",
+        }
+    }
+
+    /// A one-word name for the side panel's table.
+    pub fn short_label(self) -> &'static str {
+        match self {
+            JobKind::Trajectory => "path",
+            JobKind::Sweep => "diagram",
+            JobKind::Iterate => "map",
+            JobKind::Phase => "phase",
+            JobKind::Numerics => "numerics",
+        }
+    }
+
+    /// What it feeds and why it needs that accuracy.
+    pub fn hover(self) -> &'static str {
+        match self {
+            JobKind::Trajectory => {
+                "The trajectory feeds the plane, the block and the event catalogue: \
+                 a map error of 1e-4 is about a pixel of the (x, y) view."
+            }
+            JobKind::Sweep => {
+                "The bifurcation sweep: 1e-3 of its θ range is about a pixel. \
+                 tests/work_precision.rs checks that this setting keeps every preset's \
+                 period and Lyapunov sign as at tol 1e-12."
+            }
+            JobKind::Iterate => {
+                "The map iterates feed the return map, the period and the Lyapunov \
+                 exponent: 1e-10, as the command line."
+            }
+            JobKind::Phase => {
+                "The phase diagram's cells: a class rests on the period test at \
+                 1e4·tol and on the Lyapunov sign, so the map error must stay well \
+                 below the period tolerance: 1e-8."
+            }
+            JobKind::Numerics => {
+                "The Numerics view's measurement runs every method against a \
+                 reference at tol 1e-14."
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::integrate::Method;
+
+    #[test]
+    fn auto_gives_each_job_what_the_budget_says() {
+        let s = Settings::default();
+        assert_eq!(s.accuracy, AccuracyMode::Auto);
+        for (job, target) in [
+            (JobKind::Trajectory, 1e-4),
+            (JobKind::Sweep, 1e-3),
+            (JobKind::Iterate, 1e-10),
+            (JobKind::Phase, 1e-8),
+        ] {
+            assert_eq!(job.accuracy().map(|a| a.target()), Some(target));
+            assert_eq!(job.solver(&s), Some(budget_for(target).settings));
+        }
+        assert_eq!(JobKind::Numerics.solver(&s), None);
+        // The numbers docs/gui.md quotes.
+        let got: Vec<(Method, f64)> = JobKind::SOLVED
+            .iter()
+            .filter_map(|&j| j.solver(&s))
+            .map(|x| (x.method, x.rtol))
+            .collect();
+        assert_eq!(
+            got,
+            [
+                (Method::Dp54, 1e-5),
+                (Method::Dp54, 1e-4),
+                (Method::Dop853, 1e-10),
+                (Method::Dop853, 1e-8)
+            ]
+        );
+    }
+
+    #[test]
+    fn custom_passes_the_method_and_tolerance_or_step_through() {
+        let mut s = Settings {
+            accuracy: AccuracyMode::Custom,
+            method: Method::Dp54,
+            tol: 3e-7,
+            ..Settings::default()
+        };
+        for job in JobKind::SOLVED {
+            assert_eq!(
+                job.solver(&s),
+                Some(SolverSettings::adaptive(Method::Dp54, 3e-7))
+            );
+        }
+        s.method = Method::Rk4;
+        s.step = 0.01;
+        for job in JobKind::SOLVED {
+            assert_eq!(
+                job.solver(&s),
+                Some(SolverSettings::fixed(Method::Rk4, 0.01))
+            );
+        }
+    }
+}

@@ -1,0 +1,482 @@
+//! The job model: one slot (generation, state, progress, data) per kind of
+//! job, the commands that start and stop them, [`Jobs::apply`] for what the
+//! worker sends back, and [`Jobs::sync`], which restarts whatever the
+//! settings now call for (with the debounces and the phase grid's policy of
+//! [`policy`]). Updates of an older generation than the latest issued for
+//! their job are dropped here. Nothing here draws.
+
+mod apply;
+pub mod kind;
+pub mod policy;
+
+pub use kind::JobKind;
+pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
+
+use super::backend::Backend;
+use super::data::{IterateData, SweepData, TrajectoryData, WorkPrecisionData};
+use super::phase_data::PhaseData;
+use super::settings::Settings;
+use crate::integrate::SolverSettings;
+use crate::model::Params;
+use crate::numerics::quick::{
+    QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
+};
+use crate::worker::{
+    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, SweepSpec, TrajectorySpec,
+    WorkPrecisionSpec,
+};
+use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
+
+/// A generation never issued: a job that waits for its turn, or has never
+/// run.
+pub const NO_GENERATION: Generation = Generation::MAX;
+/// Sample spacing of trajectories, in time units.
+pub const SAMPLE_SPACING: f64 = 0.02;
+/// Map iterates dropped and kept by the orbit analysis.
+pub const ITERATE_TRANSIENT: usize = 1000;
+pub const ITERATE_KEEP: usize = 300;
+
+/// Where a job stands.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub enum JobState {
+    #[default]
+    Idle,
+    Running,
+    Done,
+    Cancelled,
+    Failed(String),
+}
+
+/// Progress of a job, as the worker last reported it.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct LaneProgress {
+    pub fraction: f64,
+    pub iterates_per_second: f64,
+}
+
+/// One job: the generation it runs under, where it stands, and what it
+/// has sent.
+#[derive(Clone, Debug)]
+pub struct Slot<T> {
+    pub generation: Generation,
+    pub state: JobState,
+    pub progress: LaneProgress,
+    pub data: T,
+}
+
+impl<T: Default> Default for Slot<T> {
+    fn default() -> Self {
+        Slot {
+            generation: NO_GENERATION,
+            state: JobState::Idle,
+            progress: LaneProgress::default(),
+            data: T::default(),
+        }
+    }
+}
+
+impl<T> Slot<T> {
+    /// A new job under `generation`, starting from `data`.
+    fn start(&mut self, generation: Generation, data: T) {
+        self.generation = generation;
+        self.state = JobState::Running;
+        self.progress = LaneProgress::default();
+        self.data = data;
+    }
+
+    /// Whether it has run or runs (a generation was issued for it).
+    pub fn issued(&self) -> bool {
+        self.generation != NO_GENERATION
+    }
+}
+
+/// What the window shows that decides which jobs run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shown {
+    /// The ui time, seconds.
+    pub now: f64,
+    /// The bifurcation diagram's zoomed θν range, if zoomed.
+    pub sweep_zoom: Option<(f64, f64)>,
+    /// Whether the phase diagram is on screen.
+    pub phase: bool,
+}
+
+/// What [`Jobs::sync`] asks of the window.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SyncOutcome {
+    /// A change waits for its debounce: look again after this long (s).
+    pub repaint_after: Option<f64>,
+    /// The parameters changed under a zoomed diagram: its zoom no longer
+    /// applies (the sweep restarted, or will, over the whole range).
+    pub zoom_stale: bool,
+}
+
+impl SyncOutcome {
+    /// Look again after `seconds` at the latest.
+    fn wait(&mut self, seconds: f64) {
+        self.repaint_after = Some(self.repaint_after.map_or(seconds, |x| x.min(seconds)));
+    }
+}
+
+/// Every job of the window.
+pub struct Jobs {
+    backend: Box<dyn Backend>,
+    next_generation: Generation,
+    /// Count of commands sent (tests, status).
+    pub sent_count: usize,
+    pub trajectory: Slot<TrajectoryData>,
+    pub iterate: Slot<IterateData>,
+    pub sweep: Slot<SweepData>,
+    pub phase: Slot<PhaseData>,
+    pub numerics: Slot<WorkPrecisionData>,
+    /// The last error the worker reported (not the Numerics view's own),
+    /// with the parameter it names.
+    pub last_error: Option<String>,
+    /// Updates dropped as stale (for the status bar and tests).
+    pub stale_dropped: u64,
+    /// Bumped whenever the trajectory changes.
+    pub trajectory_revision: u64,
+    /// When the phase grid runs.
+    pub phase_policy: PhasePolicy,
+    /// Keep the orbit lane streaming indefinitely (frame-time measurement).
+    pub stream_forever: bool,
+    /// What the running orbit jobs were started with: the parameters, and
+    /// the trajectory's and the map iterates' solver settings.
+    sent_orbit: Option<(Params, SolverSettings, SolverSettings)>,
+    sent_sweep: Option<(SweepKey, Option<(f64, f64)>)>,
+    last_orbit_send: f64,
+    sweep_changed_at: Option<f64>,
+    /// The orbit analysis waits for the trajectory (the worker's orbit lane
+    /// runs one job at a time; a new job there cancels the running one):
+    /// the trajectory's generation and what to iterate once it is done.
+    pending_iterate: Option<(Generation, Params, SolverSettings)>,
+}
+
+/// The solver setting of a job that has one.
+fn solver(kind: JobKind, s: &Settings) -> SolverSettings {
+    kind.solver(s).unwrap_or_else(|| s.custom_solver())
+}
+
+impl Jobs {
+    /// No job yet; commands go to `backend`.
+    pub fn new(backend: Box<dyn Backend>) -> Self {
+        Jobs {
+            backend,
+            next_generation: 1,
+            sent_count: 0,
+            trajectory: Slot::default(),
+            iterate: Slot::default(),
+            sweep: Slot::default(),
+            phase: Slot::default(),
+            numerics: Slot::default(),
+            last_error: None,
+            stale_dropped: 0,
+            trajectory_revision: 0,
+            phase_policy: PhasePolicy::default(),
+            stream_forever: false,
+            sent_orbit: None,
+            sent_sweep: None,
+            last_orbit_send: f64::NEG_INFINITY,
+            sweep_changed_at: None,
+            pending_iterate: None,
+        }
+    }
+
+    fn generation(&mut self) -> Generation {
+        let g = self.next_generation;
+        self.next_generation += 1;
+        g
+    }
+
+    fn send(&mut self, cmd: Command) {
+        self.sent_count += 1;
+        if !self.backend.send(cmd) {
+            self.last_error = Some("the simulation worker is not running".into());
+        }
+    }
+
+    /// The state of the job of `kind`.
+    pub fn state(&self, kind: JobKind) -> &JobState {
+        match kind {
+            JobKind::Trajectory => &self.trajectory.state,
+            JobKind::Iterate => &self.iterate.state,
+            JobKind::Sweep => &self.sweep.state,
+            JobKind::Phase => &self.phase.state,
+            JobKind::Numerics => &self.numerics.state,
+        }
+    }
+
+    /// The orbit lane's progress: the analysis's while it runs, else the
+    /// trajectory's.
+    pub fn orbit_progress(&self) -> LaneProgress {
+        if self.iterate.state == JobState::Running {
+            self.iterate.progress
+        } else {
+            self.trajectory.progress
+        }
+    }
+
+    /// Starts the trajectory and the orbit analysis for the current parameters.
+    pub fn restart_orbit(&mut self, s: &Settings, now: f64) {
+        let params = s.params;
+        let traj_solver = solver(JobKind::Trajectory, s);
+        let iterate_solver = solver(JobKind::Iterate, s);
+        let g = self.generation();
+        self.trajectory.start(g, TrajectoryData::default());
+        self.trajectory_revision += 1;
+        let cycles = (!self.stream_forever).then_some(s.trajectory_cycles);
+        self.send(Command::Trajectory {
+            generation: g,
+            spec: TrajectorySpec {
+                params,
+                settings: traj_solver,
+                theta0: None,
+                spacing: SAMPLE_SPACING,
+                cycles,
+            },
+        });
+        self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
+        // The analysis shows "computing" until its job starts.
+        self.iterate.start(NO_GENERATION, IterateData::default());
+        self.sent_orbit = Some((params, traj_solver, iterate_solver));
+        self.last_orbit_send = now;
+    }
+
+    /// Once the trajectory is done, analyses the orbit from where it ended
+    /// (already on the attractor, so a short transient suffices).
+    fn chain_iterate(&mut self) {
+        let Some((g, params, solver)) = self.pending_iterate else {
+            return;
+        };
+        if self.trajectory.generation != g {
+            self.pending_iterate = None;
+            return;
+        }
+        let events = &self.trajectory.data.events;
+        let (theta0, transient) = match &self.trajectory.state {
+            JobState::Done => (
+                events.last().map(|e| e.theta_next),
+                if events.is_empty() {
+                    ITERATE_TRANSIENT
+                } else {
+                    ITERATE_TRANSIENT / 10
+                },
+            ),
+            JobState::Failed(m) => {
+                self.pending_iterate = None;
+                self.iterate.state = JobState::Failed(m.clone());
+                return;
+            }
+            JobState::Cancelled => {
+                self.pending_iterate = None;
+                return;
+            }
+            _ => return,
+        };
+        self.pending_iterate = None;
+        let g = self.generation();
+        self.iterate.start(g, IterateData::default());
+        self.send(Command::Iterate {
+            generation: g,
+            spec: IterateSpec {
+                params,
+                settings: solver,
+                theta0,
+                transient,
+                keep: ITERATE_KEEP,
+            },
+        });
+    }
+
+    /// Starts the bifurcation sweep over `zoom`, or the whole range.
+    pub fn restart_sweep(&mut self, s: &Settings, zoom: Option<(f64, f64)>) {
+        let key = SweepKey::of(s);
+        let (from, to) = zoom.unwrap_or_else(|| s.sweep_range());
+        let g = self.generation();
+        let revision = self.sweep.data.revision + 1;
+        let mut data = SweepData::new(from, to, s.columns);
+        data.revision = revision;
+        self.sweep.start(g, data);
+        self.send(Command::Sweep {
+            generation: g,
+            spec: SweepSpec {
+                params: s.params,
+                settings: key.solver,
+                theta_nu: Axis::new(from, to, s.columns),
+                transient: s.sweep_transient,
+                keep: s.sweep_keep,
+            },
+        });
+        self.sent_sweep = Some((key, zoom));
+        self.sweep_changed_at = None;
+    }
+
+    /// Measures work against precision on the current parameters (the
+    /// Numerics view), on the worker's numerics lane.
+    pub fn start_work_precision(&mut self, s: &Settings) {
+        let params = s.params;
+        // The orbit analysis's last point, if it is of these parameters, is
+        // on the attractor already: the reference needs a short transient.
+        let theta0 = match self.sent_orbit {
+            Some((p, ..)) if p == params => self.iterate.data.thetas.last().copied(),
+            _ => None,
+        };
+        let transient = if theta0.is_some() {
+            20
+        } else {
+            QUICK_TRANSIENT
+        };
+        let subjects = quick_subjects();
+        let g = self.generation();
+        self.numerics
+            .start(g, WorkPrecisionData::new(params, subjects.len()));
+        self.send(Command::WorkPrecision {
+            generation: g,
+            spec: WorkPrecisionSpec {
+                params,
+                theta0,
+                transient,
+                points: QUICK_POINTS,
+                time_per_setting: QUICK_TIME_PER_SETTING,
+                subjects,
+            },
+        });
+    }
+
+    /// Stops the Numerics view's measurement: the rows so far stay,
+    /// anything later of the old job is dropped.
+    pub fn stop_work_precision(&mut self) {
+        let g = self.generation();
+        self.numerics.generation = g;
+        if self.numerics.state == JobState::Running {
+            self.numerics.state = JobState::Cancelled;
+        }
+        self.send(Command::Cancel {
+            generation: g,
+            lane: Some(Lane::Numerics),
+        });
+    }
+
+    /// Starts the phase diagram over the current range with the sliders'
+    /// γ, ν, Ω and solver.
+    pub fn restart_phase(&mut self, s: &Settings) {
+        let key = PhaseKey::of(s);
+        let g = self.generation();
+        let (columns, rows) = key.steps;
+        let revision = self.phase.data.revision + 1;
+        let mut data = PhaseData::new(key.range.theta_nu, key.range.kappa, columns, rows);
+        data.revision = revision;
+        self.phase.start(g, data);
+        let (theta_nu, kappa) = (key.range.theta_nu, key.range.kappa);
+        self.send(Command::Phase {
+            generation: g,
+            spec: PhaseSpec {
+                params: s.params,
+                settings: key.solver,
+                theta_nu: Axis::new(theta_nu.0, theta_nu.1, columns),
+                kappa: Axis::new(kappa.0, kappa.1, rows),
+                transient: key.transient,
+                keep: key.keep,
+            },
+        });
+        self.phase_policy.started(key);
+    }
+
+    fn cancel_phase(&mut self) {
+        let g = self.generation();
+        self.send(Command::Cancel {
+            generation: g,
+            lane: Some(Lane::Phase),
+        });
+        if self.phase.state == JobState::Running {
+            self.phase.state = JobState::Cancelled;
+        }
+    }
+
+    /// Compute: a grid now, that goes on while its view is hidden.
+    pub fn compute_phase(&mut self, s: &Settings) {
+        self.restart_phase(s);
+        self.phase_policy.pinned = true;
+    }
+
+    /// Stop: the grid stays stopped until something changes.
+    pub fn stop_phase(&mut self) {
+        self.cancel_phase();
+        self.phase_policy.stop();
+    }
+
+    /// Sends whatever the settings now call for: a new orbit at once (at
+    /// most every 40 ms while dragging), a new sweep once κ, γ, ν, Ω or the
+    /// solver have been still for 250 ms, the phase grid by its policy.
+    pub fn sync(&mut self, s: &Settings, shown: Shown) -> SyncOutcome {
+        let now = shown.now;
+        let mut out = SyncOutcome::default();
+        let orbit_now = Some((
+            s.params,
+            solver(JobKind::Trajectory, s),
+            solver(JobKind::Iterate, s),
+        ));
+        if self.sent_orbit != orbit_now {
+            let left = self.last_orbit_send + ORBIT_DEBOUNCE - now;
+            if left <= 0.0 || self.sent_orbit.is_none() {
+                self.restart_orbit(s, now);
+            } else {
+                out.wait(left);
+            }
+        }
+        let key = SweepKey::of(s);
+        match self.sent_sweep {
+            None => self.restart_sweep(s, shown.sweep_zoom),
+            Some(sent) if sent != (key, shown.sweep_zoom) => {
+                let zoom_only = sent.0 == key;
+                // A new parameter set or range: the zoom's θ box no longer applies.
+                let stale = !zoom_only && (s.full_circle != sent.0.full_circle || sent.1.is_some());
+                out.zoom_stale = stale;
+                let zoom = if stale { None } else { shown.sweep_zoom };
+                let changed_at = *self.sweep_changed_at.get_or_insert(now);
+                if zoom_only || now - changed_at >= SWEEP_DEBOUNCE {
+                    self.restart_sweep(s, zoom);
+                } else {
+                    out.wait(SWEEP_DEBOUNCE - (now - changed_at));
+                }
+            }
+            _ => {}
+        }
+        let running = self.phase.state == JobState::Running;
+        match self
+            .phase_policy
+            .step(PhaseKey::of(s), shown.phase, running, now)
+        {
+            PhaseStep::Start => self.restart_phase(s),
+            PhaseStep::Cancel => self.cancel_phase(),
+            PhaseStep::WaitFor(w) => out.wait(w),
+            PhaseStep::Nothing => {}
+        }
+        out
+    }
+
+    /// Whether everything a picture of the orbit views needs has arrived.
+    pub fn complete(&self, min_cycles: usize) -> bool {
+        let traj_ok = self.trajectory.data.events.len() >= min_cycles
+            || matches!(self.trajectory.state, JobState::Done);
+        let it_ok = !matches!(self.iterate.state, JobState::Running | JobState::Idle);
+        let sweep_ok = !matches!(self.sweep.state, JobState::Running | JobState::Idle);
+        traj_ok && it_ok && sweep_ok
+    }
+
+    /// Whether the Numerics view's measurement has ended (a failed or
+    /// stopped one counts: its view shows why).
+    pub fn numerics_settled(&self) -> bool {
+        self.numerics.issued() && self.numerics.state != JobState::Running
+    }
+}
+
+impl Drop for Jobs {
+    fn drop(&mut self) {
+        // Stop every lane promptly; the worker's own Drop joins its threads.
+        self.backend.send(Command::Cancel {
+            generation: self.next_generation,
+            lane: None,
+        });
+    }
+}

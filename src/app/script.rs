@@ -1,0 +1,200 @@
+//! A scripted run (`oneblock gui --screenshot`): wait for the views to be
+//! complete, optionally measure frame times and the slider-to-picture
+//! latency (`--frame-stats`), take one screenshot, close the window.
+
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+use eframe::egui;
+use egui::Context;
+
+use super::frame_stats::FrameStats;
+use super::jobs::{JobState, Jobs};
+use super::screenshot::{Saved, Shots};
+use super::settings::{Settings, ViewKind};
+use crate::worker::Generation;
+
+/// A scripted run: wait for the views, optionally measure frame times,
+/// take one screenshot, close.
+pub struct Script {
+    pub path: PathBuf,
+    pub timeout: Duration,
+    /// Cycles the trajectory must have before the picture is taken.
+    pub min_cycles: usize,
+    /// Measure frame times for this long with a trajectory streaming.
+    pub measure: Option<Duration>,
+    /// Where the result goes: the saved path, or why it failed.
+    pub outcome: Arc<Mutex<Option<Result<String, String>>>>,
+    started: Option<Instant>,
+    stage: Stage,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Stage {
+    Waiting,
+    /// Diagram full, trajectory done: the idle repaint cost.
+    MeasuringIdle(Instant),
+    /// Then with a trajectory streaming without end.
+    Measuring(Instant),
+    /// Then slider-to-picture: θν moved (the n-th time) at this instant;
+    /// waiting for the first slip of the new trajectory on screen.
+    Latency(u32, Instant, Generation),
+    Settling(u32),
+    Shooting,
+    Closing,
+}
+
+/// What a scripted step may touch.
+pub struct Window<'a> {
+    pub settings: &'a mut Settings,
+    pub jobs: &'a mut Jobs,
+    pub shots: &'a mut Shots,
+    pub stats: &'a mut FrameStats,
+    /// The ui time, seconds.
+    pub now: f64,
+}
+
+impl Script {
+    /// A run that saves to `path`, gives up after `timeout`, and measures
+    /// frame times for `measure` if given.
+    pub fn new(path: PathBuf, timeout: Duration, measure: Option<Duration>) -> Self {
+        Script {
+            path,
+            timeout,
+            min_cycles: 12,
+            measure,
+            outcome: Arc::new(Mutex::new(None)),
+            started: None,
+            stage: Stage::Waiting,
+        }
+    }
+
+    fn finish(&mut self, ctx: &Context, r: Result<String, String>) {
+        *self.outcome.lock().unwrap_or_else(PoisonError::into_inner) = Some(r);
+        ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+        self.stage = Stage::Closing;
+    }
+
+    /// One frame of the run.
+    pub fn step(&mut self, ctx: &Context, w: Window<'_>) {
+        let start = *self.started.get_or_insert_with(Instant::now);
+        ctx.request_repaint();
+        match self.stage {
+            Stage::Waiting => self.wait_for_views(ctx, w, start),
+            Stage::MeasuringIdle(until) => {
+                if Instant::now() >= until {
+                    // A trajectory streaming without end over a full diagram.
+                    w.jobs.stream_forever = true;
+                    w.jobs.restart_orbit(w.settings, w.now);
+                    w.stats.streaming = true;
+                    w.stats.samples_at_start = 0;
+                    let d = self.measure.unwrap_or(Duration::from_secs(5));
+                    self.stage = Stage::Measuring(Instant::now() + d);
+                }
+            }
+            Stage::Measuring(until) => {
+                if Instant::now() >= until {
+                    w.stats.recording = false;
+                    w.stats.points = w.jobs.sweep.data.points();
+                    w.stats.samples_at_end = w.jobs.trajectory.data.samples.len();
+                    w.jobs.stream_forever = false;
+                    w.settings.params.theta_nu += 0.01;
+                    self.stage = Stage::Latency(0, Instant::now(), w.jobs.trajectory.generation);
+                }
+            }
+            Stage::Latency(n, since, before) => {
+                let tr = &w.jobs.trajectory;
+                // Logic runs before drawing: a slip here is on this frame.
+                if tr.generation > before && !tr.data.events.is_empty() {
+                    w.stats.latency.push(since.elapsed().as_secs_f32() * 1e3);
+                    if n + 1 >= 10 {
+                        self.stage = Stage::Settling(0);
+                    } else {
+                        w.settings.params.theta_nu += if n % 2 == 0 { -0.01 } else { 0.01 };
+                        self.stage = Stage::Latency(n + 1, Instant::now(), tr.generation);
+                    }
+                } else if since.elapsed() > Duration::from_secs(10) {
+                    self.stage = Stage::Settling(0);
+                }
+            }
+            Stage::Settling(n) => {
+                // A few frames so plots settle their bounds and textures upload.
+                if n >= 4 {
+                    w.shots.request(ctx, self.path.clone(), None);
+                    self.stage = Stage::Shooting;
+                } else {
+                    self.stage = Stage::Settling(n + 1);
+                }
+            }
+            Stage::Shooting => {
+                if let Some(r) = w.shots.finished.pop() {
+                    let r = match r {
+                        Saved::Ok(p) => Ok(p.display().to_string()),
+                        Saved::Failed(e) => Err(format!("screenshot failed: {e}")),
+                    };
+                    self.finish(ctx, r);
+                } else if start.elapsed() > self.timeout + Duration::from_secs(30) {
+                    self.finish(ctx, Err("the window never delivered the screenshot".into()));
+                }
+            }
+            Stage::Closing => {}
+        }
+    }
+
+    /// Waits until every view shown has its results (or one failed, or the
+    /// time is up). The Numerics view's measurement is started here, once
+    /// the orbit analysis is done, so that it starts on the attractor.
+    fn wait_for_views(&mut self, ctx: &Context, w: Window<'_>, start: Instant) {
+        let jobs = &*w.jobs;
+        let shows_phase = w.settings.shows(ViewKind::Phase);
+        let shows_numerics = w.settings.shows(ViewKind::Numerics);
+        let failed = [
+            &jobs.sweep.state,
+            &jobs.trajectory.state,
+            &jobs.iterate.state,
+        ]
+        .into_iter()
+        .chain(shows_phase.then_some(&jobs.phase.state))
+        .find_map(|s| match s {
+            JobState::Failed(m) => Some(m.clone()),
+            _ => None,
+        });
+        if let Some(failed) = failed {
+            self.finish(ctx, Err(format!("the simulation failed: {failed}")));
+            return;
+        }
+        let orbit_views = jobs.complete(self.min_cycles);
+        if orbit_views && shows_numerics && !jobs.numerics.issued() {
+            w.jobs.start_work_precision(w.settings);
+            return;
+        }
+        let jobs = &*w.jobs;
+        if orbit_views
+            && (!shows_numerics || jobs.numerics_settled())
+            && (!shows_phase || jobs.phase.state == JobState::Done)
+        {
+            if self.measure.is_some() {
+                w.stats.enabled = true;
+                w.stats.recording = true;
+                w.stats.streaming = false;
+                self.stage = Stage::MeasuringIdle(Instant::now() + Duration::from_secs(3));
+            } else {
+                self.stage = Stage::Settling(0);
+            }
+        } else if start.elapsed() > self.timeout {
+            let msg = format!(
+                "timed out after {:.0} s waiting for the views: trajectory {} cycles ({:?}), \
+                 orbit analysis {:?}, diagram {}/{} columns ({:?})",
+                self.timeout.as_secs_f64(),
+                jobs.trajectory.data.events.len(),
+                jobs.trajectory.state,
+                jobs.iterate.state,
+                jobs.sweep.data.filled,
+                jobs.sweep.data.columns.len(),
+                jobs.sweep.state,
+            );
+            self.finish(ctx, Err(msg));
+        }
+    }
+}

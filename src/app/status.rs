@@ -1,0 +1,88 @@
+//! The status bar: where each job stands, the worker's speed, and the
+//! last error it reported.
+
+use eframe::egui;
+use egui::{RichText, Ui};
+
+use super::jobs::{JobState, Jobs};
+use super::style;
+
+/// The status bar of the jobs `j`.
+pub fn status_ui(ui: &mut Ui, j: &Jobs) {
+    let (traj, it, sweep, phase) = (
+        &j.trajectory.data,
+        &j.iterate.data,
+        &j.sweep.data,
+        &j.phase.data,
+    );
+    ui.horizontal_wrapped(|ui| {
+        let busy = [
+            &j.trajectory.state,
+            &j.iterate.state,
+            &j.sweep.state,
+            &j.phase.state,
+        ]
+        .iter()
+        .any(|s| matches!(s, JobState::Running));
+        if busy {
+            ui.spinner();
+        }
+        let traj = match &j.trajectory.state {
+            JobState::Running => format!("trajectory: {} cycles…", traj.events.len()),
+            JobState::Done => format!("trajectory: {} cycles", traj.events.len()),
+            s => format!("trajectory: {}", state_word(s)),
+        };
+        ui.label(traj);
+        ui.separator();
+        let orbit = match (&j.iterate.state, it.period) {
+            (JobState::Running, _) => format!(
+                "orbit analysis {:.0}%",
+                100.0 * j.orbit_progress().fraction.clamp(0.0, 1.0)
+            ),
+            (_, Some(p)) => format!("period {p}"),
+            (s, None) => format!("orbit: {}", state_word(s)),
+        };
+        ui.label(orbit);
+        ui.separator();
+        let frac = if sweep.columns.is_empty() {
+            0.0
+        } else {
+            sweep.filled as f32 / sweep.columns.len() as f32
+        };
+        ui.label("diagram");
+        ui.add(
+            egui::ProgressBar::new(frac)
+                .desired_width(120.0)
+                .text(format!("{}/{}", sweep.filled, sweep.columns.len())),
+        );
+        let phase_cells = phase.rows * phase.columns;
+        if phase_cells > 0 {
+            ui.label("phase");
+            ui.add(
+                egui::ProgressBar::new(phase.filled as f32 / phase_cells as f32)
+                    .desired_width(100.0)
+                    .text(format!("{}/{phase_cells}", phase.filled)),
+            );
+        }
+        ui.label(format!(
+            "{:.0} iterates/s",
+            j.sweep.progress.iterates_per_second
+                + j.orbit_progress().iterates_per_second
+                + j.phase.progress.iterates_per_second
+        ));
+        if let Some(e) = &j.last_error {
+            ui.separator();
+            ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
+        }
+    });
+}
+
+fn state_word(s: &JobState) -> String {
+    match s {
+        JobState::Idle => "idle".into(),
+        JobState::Running => "running".into(),
+        JobState::Done => "done".into(),
+        JobState::Cancelled => "cancelled".into(),
+        JobState::Failed(m) => format!("failed: {m}"),
+    }
+}

@@ -1,0 +1,56 @@
+//! The shape every view has, and what a view (or the side panel, or a
+//! keyboard shortcut) can ask of the window. A view draws from the
+//! settings and the jobs' results, may change the settings it owns, and
+//! pushes [`Action`]s for anything else; the explorer applies them all in
+//! one place after the frame is drawn.
+
+use eframe::egui;
+
+use super::jobs::Jobs;
+use super::settings::{Settings, ViewKind};
+
+/// What to export as CSV.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Export {
+    Events,
+    Trajectory,
+    Bifurcation,
+    Phase,
+}
+
+/// Something the user asked of the window.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Action {
+    /// A PNG of the whole window.
+    Screenshot,
+    /// A PNG of one view only.
+    ViewScreenshot(ViewKind),
+    /// A CSV into the save folder.
+    Export(Export),
+    /// Every parameter and view choice back to the first-launch demo.
+    ResetDefaults,
+    /// The trajectory again from θ = θν.
+    RestartOrbit,
+    /// Move θν (a click on the bifurcation diagram), within the slider's range.
+    SetThetaNu(f64),
+    /// Move θν and κ (a click on the phase diagram).
+    SetPoint { theta_nu: f64, kappa: f64 },
+    /// Measure work against precision on the current parameters.
+    RunWorkPrecision,
+    /// Stop that measurement.
+    StopWorkPrecision,
+    /// Compute the phase grid now, even if its view is then hidden.
+    ComputePhase,
+    /// Stop the phase grid.
+    StopPhase,
+}
+
+/// One view of the window.
+pub trait View {
+    /// The title over the view.
+    fn title(&self) -> &'static str;
+
+    /// Draws the view into `ui` from the settings `s` and the results in
+    /// `jobs`; what it asks of the window goes to `out`.
+    fn ui(&mut self, ui: &mut egui::Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>);
+}

@@ -1,0 +1,225 @@
+//! The harness the window tests share: an [`Explorer`] over a recording
+//! backend driven headless through AccessKit (egui_kittest), so each test
+//! sees exactly what was sent; and readers of the commands it recorded, a
+//! slip-event fixture, and a phase-grid answer.
+//!
+//! Included by each `tests/gui_*.rs` with `#[path]` (each uses a subset).
+#![allow(dead_code)]
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_plot::PlotPoint;
+
+use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
+use oneblock::integrate::SolverSettings;
+use oneblock::model::Params;
+use oneblock::sim::phase::{CellClass, PhaseCell};
+use oneblock::sim::{SlipEvent, theta_nu_grid};
+use oneblock::worker::{Command, Generation, GridCell, Lane, Outcome, Update};
+
+/// A 1280 × 1000 window showing `settings`, its commands going to `rec`.
+pub fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
+    let app = Explorer::new(Box::new(rec.clone()), settings);
+    Harness::builder()
+        .with_size([1280.0, 1000.0])
+        .build_ui_state(
+            |ui, app: &mut Explorer| {
+                app.logic_step(ui.ctx());
+                app.show(ui);
+            },
+            app,
+        )
+}
+
+/// The CSV an export writes into `dir` (on a thread of its own), stepping
+/// the window while waiting for it; `None` after about 2 s.
+pub fn wait_for_csv(
+    h: &mut Harness<'static, Explorer>,
+    dir: &std::path::Path,
+) -> Option<std::path::PathBuf> {
+    for _ in 0..100 {
+        h.step();
+        let found = std::fs::read_dir(dir)
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "csv"));
+        if found.is_some() {
+            return found;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    None
+}
+
+/// The parameters of the latest trajectory command, if any.
+pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
+    rec.commands().into_iter().rev().find_map(|c| match c {
+        Command::Trajectory { spec, .. } => Some(spec.params),
+        _ => None,
+    })
+}
+
+/// The parameters of the latest sweep command, if any.
+pub fn last_sweep(rec: &Recorder) -> Option<Params> {
+    rec.commands().into_iter().rev().find_map(|c| match c {
+        Command::Sweep { spec, .. } => Some(spec.params),
+        _ => None,
+    })
+}
+
+/// The solver settings of the latest command of each job kind.
+pub fn last_settings(rec: &Recorder) -> (Option<SolverSettings>, Option<SolverSettings>) {
+    let cmds = rec.commands();
+    let traj = cmds.iter().rev().find_map(|c| match c {
+        Command::Trajectory { spec, .. } => Some(spec.settings),
+        _ => None,
+    });
+    let sweep = cmds.iter().rev().find_map(|c| match c {
+        Command::Sweep { spec, .. } => Some(spec.settings),
+        _ => None,
+    });
+    (traj, sweep)
+}
+
+/// A slip event from θ to θ_next at time t (the other fields plausible).
+pub fn event(theta: f64, next: f64, t: f64) -> SlipEvent {
+    SlipEvent {
+        theta,
+        onset_x: theta.cos() / 18.95,
+        onset_y: theta.sin(),
+        onset_time: t,
+        accel_duration: 1.0,
+        slip_duration: 3.0,
+        stop_x: 0.0,
+        stop_y: 0.1,
+        slip_distance: 0.9,
+        peak_vr: 0.4,
+        energy_released: 0.4,
+        stick_duration: 100.0,
+        theta_next: next,
+        restarted: false,
+        rhs_evals: 500,
+        steps: 50,
+    }
+}
+
+/// A phase command's generation, θν range and steps, κ range and steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhaseJob {
+    pub generation: Generation,
+    pub theta_nu: (f64, f64, usize),
+    pub kappa: (f64, f64, usize),
+    pub params: Params,
+}
+
+/// Every phase command sent, in order.
+pub fn phase_jobs(rec: &Recorder) -> Vec<PhaseJob> {
+    rec.commands()
+        .into_iter()
+        .filter_map(|c| match c {
+            Command::Phase { generation, spec } => Some(PhaseJob {
+                generation,
+                theta_nu: (spec.theta_nu.from, spec.theta_nu.to, spec.theta_nu.steps),
+                kappa: (spec.kappa.from, spec.kappa.to, spec.kappa.steps),
+                params: spec.params,
+            }),
+            _ => None,
+        })
+        .collect()
+}
+
+/// How many cancels of the phase lane were sent.
+pub fn phase_cancels(rec: &Recorder) -> usize {
+    rec.commands()
+        .iter()
+        .filter(|c| {
+            matches!(
+                c,
+                Command::Cancel {
+                    lane: Some(Lane::Phase),
+                    ..
+                }
+            )
+        })
+        .count()
+}
+
+/// The phase diagram as the one tab.
+pub fn phase_tab() -> Settings {
+    Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::Phase,
+        ..Settings::default()
+    }
+}
+
+/// Answers a phase job with every cell, coarse half first: FP below
+/// θν = 0.8, P2 above, chaos in the top right corner.
+pub fn feed_phase(rec: &Recorder, job: &PhaseJob) {
+    let tns = theta_nu_grid(job.theta_nu.0, job.theta_nu.1, job.theta_nu.2);
+    let ks = theta_nu_grid(job.kappa.0, job.kappa.1, job.kappa.2);
+    let mut cells = Vec::new();
+    for (row, &kappa) in ks.iter().enumerate() {
+        for (column, &theta_nu) in tns.iter().enumerate() {
+            let class = if kappa > 30.0 && theta_nu > 1.2 {
+                CellClass::Chaos
+            } else if theta_nu > 0.8 {
+                CellClass::Periodic(2)
+            } else {
+                CellClass::Periodic(1)
+            };
+            cells.push(GridCell {
+                row,
+                column,
+                cell: PhaseCell {
+                    theta_nu,
+                    kappa,
+                    class,
+                    lyapunov: Some(if class == CellClass::Chaos { 0.3 } else { -0.2 }),
+                    lyapunov_stderr: (class == CellClass::Chaos).then_some(0.05),
+                    regime: None,
+                    iterates: 40,
+                    rhs_evals: 20_000,
+                    theta_last: theta_nu,
+                    error: None,
+                },
+            });
+        }
+    }
+    let half = cells.len() / 2;
+    let rest = cells.split_off(half);
+    rec.push(Update::PhaseCells {
+        generation: job.generation,
+        cells,
+        coarse: true,
+    });
+    rec.push(Update::PhaseCells {
+        generation: job.generation,
+        cells: rest,
+        coarse: false,
+    });
+    rec.push(Update::Finished {
+        generation: job.generation,
+        lane: Lane::Phase,
+        outcome: Outcome::Completed,
+    });
+}
+
+/// Where the centre of the phase cell (row, column) of `job` is on screen.
+pub fn phase_cell_pos(
+    h: &Harness<'static, Explorer>,
+    job: &PhaseJob,
+    row: usize,
+    column: usize,
+) -> egui::Pos2 {
+    let tns = theta_nu_grid(job.theta_nu.0, job.theta_nu.1, job.theta_nu.2);
+    let ks = theta_nu_grid(job.kappa.0, job.kappa.1, job.kappa.2);
+    let t = h
+        .state()
+        .views
+        .phase
+        .transform
+        .expect("the phase plot was drawn");
+    t.position_from_point(&PlotPoint::new(tns[column], ks[row]))
+}
