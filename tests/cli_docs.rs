@@ -66,8 +66,8 @@ fn examples(docs: &str) -> Vec<Example> {
                 cmd.push(' ');
                 i += 1;
             }
-            // The output block, if any, within the next few lines of prose.
-            let next = (i + 1..(i + 6).min(lines.len())).find(|&j| lines[j].starts_with("```"));
+            // The output block, if any: the next fenced block.
+            let next = (i + 1..lines.len()).find(|&j| lines[j].starts_with("```"));
             if let Some(j) = next
                 && let Some(stream) = lines[j].strip_prefix("```text ")
             {

@@ -11,6 +11,10 @@ use clap::Parser;
 use oneblock::cli::{Cli, CliError, usage_line, validate};
 use proptest::prelude::*;
 
+fn cat<'a>(a: &[&'a str], b: &[&'a str]) -> Vec<&'a str> {
+    [a, b].concat()
+}
+
 /// Each command with a valid command line and the flags that take a value.
 fn commands(dir: &str) -> Vec<(Vec<String>, Vec<&'static str>)> {
     let out = format!("{dir}/out.csv");
@@ -37,7 +41,6 @@ fn commands(dir: &str) -> Vec<(Vec<String>, Vec<&'static str>)> {
         "--tol",
     ];
     let v = |xs: &[&str]| xs.iter().map(|s| s.to_string()).collect::<Vec<_>>();
-    let cat = |a: &[&str], b: &[&str]| [a, b].concat();
     vec![
         (
             v(&cat(&cat(&["map"], &model), &["--theta", "0.5"])),

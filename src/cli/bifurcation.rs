@@ -65,9 +65,9 @@ pub struct BifurcationArgs {
     /// Number of θν values, evenly spaced, ends included (1 to 1e6).
     #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub columns: usize,
-    /// Iterates dropped at each θν before any is kept (columns × (transient
-    /// + keep) ≤ 1e12; bound the time with --max-seconds). Not held in
-    /// memory: a column keeps only its kept iterates.
+    /// Iterates dropped at each θν before any is kept (columns times
+    /// transient plus keep ≤ 1e12; bound the time with --max-seconds). Not
+    /// held in memory: a column keeps only its kept iterates.
     #[arg(long, default_value_t = 500, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
     /// Iterates kept at each θν: one CSV row each (≥ 1; columns × keep ≤ 1e7).
