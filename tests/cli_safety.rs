@@ -363,7 +363,7 @@ fn presets_work_everywhere_and_flags_override_them() {
     let o = oneblock(&["map", "--preset", "fig3b", "--theta", "0.5", "--json"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    // MODEL.md's first worked example is Fig. 3b at θ = 0.5.
+    // docs/model.md's first worked example is Fig. 3b at θ = 0.5.
     assert!(
         (j["theta_next"].as_f64().unwrap() - 0.2037551562).abs() < 1e-9,
         "{j}"
@@ -381,7 +381,7 @@ fn presets_work_everywhere_and_flags_override_them() {
         "--json",
     ]);
     let j: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    // MODEL.md's fourth worked example: κ = 10, θν = 1.2 over Fig. 3b's γ, ν.
+    // docs/model.md's fourth worked example: κ = 10, θν = 1.2 over Fig. 3b's γ, ν.
     assert!(
         (j["theta_next"].as_f64().unwrap() + 0.2667076065).abs() < 1e-9,
         "{j}"

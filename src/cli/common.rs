@@ -54,8 +54,8 @@ impl From<OutputError> for CliError {
     }
 }
 
-/// The model's parameters, angles in radians: given one by one, or
-/// `--preset NAME` with any of them overriding the preset's value.
+/// The model's parameters (docs/model.md), angles in radians: given one by
+/// one, or `--preset NAME` with any of them overriding the preset's value.
 #[derive(Debug, Clone, Args)]
 pub struct ModelArgs {
     /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
@@ -241,7 +241,7 @@ pub fn total_iterates(
 pub const MAX_ITERATES: u64 = 1_000_000_000_000;
 
 /// Checks that an onset angle given as `--{flag}` is a reachable slip onset
-/// (MODEL.md, "Domain"), naming the flag and the exit arc in the message.
+/// (docs/model.md, "The exit arc"), naming the flag and the exit arc in the message.
 pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliError> {
     match sim.check_onset(theta) {
         Ok(()) => Ok(theta),
