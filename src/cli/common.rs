@@ -129,10 +129,12 @@ pub struct SolverArgs {
 
 impl SolverArgs {
     pub fn settings(&self) -> Result<SolverSettings, CliError> {
-        let method: Method = self
-            .method
-            .parse()
-            .map_err(|e: String| CliError::Usage(format!("--method: {e}")))?;
+        let method: Method = self.method.parse().map_err(|_: String| {
+            CliError::Usage(format!(
+                "--method: unknown method '{}': expected dp54, dop853, rk4 or euler",
+                super::values::echo(&self.method)
+            ))
+        })?;
         let s = if method.is_adaptive() {
             if self.step.is_some() {
                 return Err(CliError::Usage(format!(

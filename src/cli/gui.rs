@@ -56,19 +56,17 @@ pub struct GuiArgs {
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT, e.g. 1280x800"))?;
+        .ok_or_else(|| "must be WIDTHxHEIGHT, e.g. 1280x800".to_string())?;
     let w: f32 = w
         .trim()
         .parse()
-        .map_err(|_| format!("bad width in '{s}'"))?;
+        .map_err(|_| "the width is not a number (WIDTHxHEIGHT, e.g. 1280x800)".to_string())?;
     let h: f32 = h
         .trim()
         .parse()
-        .map_err(|_| format!("bad height in '{s}'"))?;
+        .map_err(|_| "the height is not a number (WIDTHxHEIGHT, e.g. 1280x800)".to_string())?;
     if !(200.0..=10_000.0).contains(&w) || !(200.0..=10_000.0).contains(&h) {
-        return Err(format!(
-            "size '{s}' must lie between 200x200 and 10000x10000"
-        ));
+        return Err("must lie between 200x200 and 10000x10000".to_string());
     }
     Ok([w, h])
 }
@@ -80,7 +78,8 @@ pub fn check(args: &GuiArgs) -> Result<(), CliError> {
         && !VIEW_KEYS.contains(&v.as_str())
     {
         return Err(CliError::Usage(format!(
-            "--view: unknown view '{v}': expected one of {}",
+            "--view: unknown view '{}': expected one of {}",
+            super::values::echo(v),
             VIEW_KEYS.join(", ")
         )));
     }

@@ -14,7 +14,7 @@ use super::common::{
     settings_json, total_iterates, warn_validity,
 };
 use super::run_control::{Limits, Progress, check_stdout};
-use super::values::{parse_count, parse_number};
+use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
 use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
@@ -86,7 +86,8 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
             let t = finite("period-tol", t)?;
             if t <= 0.0 {
                 return Err(CliError::Usage(format!(
-                    "--period-tol = {t} is out of range: must be a finite number > 0"
+                    "--period-tol = {} is out of range: must be a finite number > 0",
+                    short(t)
                 )));
             }
             t

@@ -165,7 +165,8 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     if let Some(t) = args.period_tol {
         if !(t.is_finite() && t > 0.0 && t <= 1.0) {
             return Err(CliError::Usage(format!(
-                "--period-tol = {t} is out of range: must lie in (0, 1] radians"
+                "--period-tol = {} is out of range: must lie in (0, 1] radians",
+                super::values::short(t)
             )));
         }
         opts.period_tol = t;

@@ -15,6 +15,15 @@ pub fn short(v: f64) -> String {
     }
 }
 
+/// A user's string as a message echoes it: at most 40 characters.
+pub fn echo(s: &str) -> String {
+    if s.chars().count() > 40 {
+        format!("{}…", s.chars().take(40).collect::<String>())
+    } else {
+        s.to_string()
+    }
+}
+
 /// The largest count any flag accepts before its own bound is checked;
 /// above it a count is refused by the parser (a typo of a dozen digits).
 pub const COUNT_PARSE_MAX: u64 = 1_000_000_000_000_000;
@@ -102,7 +111,8 @@ pub fn preset_params(name: Option<&str>) -> Result<Option<Params>, CliError> {
         None => Ok(None),
         Some(k) => preset(k).map(|p| Some(p.params)).ok_or_else(|| {
             CliError::Usage(format!(
-                "--preset: unknown preset '{k}': expected one of {}",
+                "--preset: unknown preset '{}': expected one of {}",
+                echo(k),
                 preset_keys()
             ))
         }),

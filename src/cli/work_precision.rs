@@ -128,7 +128,8 @@ pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
     let min_ms = finite("min-time-ms", args.min_time_ms)?;
     if !(0.0..=10_000.0).contains(&min_ms) {
         return Err(CliError::Usage(format!(
-            "--min-time-ms = {min_ms} is out of range: must lie in [0, 10000]"
+            "--min-time-ms = {} is out of range: must lie in [0, 10000]",
+            super::values::short(min_ms)
         )));
     }
     let all = default_subjects();
@@ -146,7 +147,7 @@ pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
         names.dedup();
         return Err(CliError::Usage(format!(
             "--only = '{}' matches no method: expected a part of {}",
-            args.only.as_deref().unwrap_or(""),
+            super::values::echo(args.only.as_deref().unwrap_or("")),
             names.join(", ")
         )));
     }
