@@ -15,17 +15,73 @@ pub enum OutputError {
     Io { path: PathBuf, source: io::Error },
 }
 
+/// The most symbolic links followed from an output path.
+const MAX_LINKS: usize = 40;
+
+/// Where a write to `path` really goes: the end of its chain of symbolic
+/// links, so that a file is replaced at the link's target and the link
+/// itself is kept. A link into `/proc` (as `/dev/stdout` is) is left as
+/// it is: the kernel resolves it to an open file, not to a path.
+pub fn resolve_links(path: &Path) -> Result<PathBuf, OutputError> {
+    let mut p = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        if p.starts_with("/proc") {
+            return Ok(p);
+        }
+        match fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let target = fs::read_link(&p).map_err(|source| OutputError::Io {
+                    path: path.to_path_buf(),
+                    source,
+                })?;
+                p = if target.is_absolute() {
+                    target
+                } else {
+                    parent_dir(&p).join(target)
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(OutputError::Io {
+        path: path.to_path_buf(),
+        source: io::Error::other(format!("more than {MAX_LINKS} symbolic links")),
+    })
+}
+
+/// Whether two output paths name the same file (after following links),
+/// so that one would silently overwrite the other.
+pub fn same_output(a: &Path, b: &Path) -> bool {
+    if a.as_os_str() == "-" || b.as_os_str() == "-" {
+        return a.as_os_str() == b.as_os_str();
+    }
+    let key = |p: &Path| -> Option<PathBuf> {
+        let r = resolve_links(p).ok()?;
+        let dir = fs::canonicalize(parent_dir(&r)).ok()?;
+        Some(dir.join(r.file_name()?))
+    };
+    match (key(a), key(b)) {
+        (Some(x), Some(y)) => x == y,
+        _ => a == b,
+    }
+}
+
 /// Checks, before any work, that `path` can be written: "-" always can; an
-/// existing regular file needs `force`; the parent folder must exist.
+/// existing regular file needs `force`; the parent folder must exist. A
+/// symbolic link is checked at its target.
 pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
     if path.as_os_str() == "-" {
         return Ok(());
     }
+    let target = resolve_links(path)?;
     let io_err = |source| OutputError::Io {
         path: path.to_path_buf(),
         source,
     };
-    match fs::metadata(path) {
+    match fs::metadata(&target) {
+        // The file behind an open descriptor (`/dev/stdout > file`): the
+        // shell has already opened it for us.
+        Ok(m) if m.is_file() && target.starts_with("/proc") => return Ok(()),
         Ok(m) if m.is_file() && !force => {
             return Err(OutputError::Exists {
                 path: path.to_path_buf(),
@@ -37,9 +93,10 @@ pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
                 "it is a directory",
             )));
         }
+        Ok(m) if !m.is_file() => return Ok(()),
         _ => {}
     }
-    let parent = parent_dir(path);
+    let parent = parent_dir(&target);
     match fs::metadata(&parent) {
         Ok(m) if m.is_dir() => {
             if m.permissions().readonly() {
@@ -68,7 +125,8 @@ fn parent_dir(path: &Path) -> PathBuf {
 /// Writes `bytes` to `path`: "-" is stdout; a regular (or new) file is written
 /// to a temporary file in the same folder and renamed into place, refusing to
 /// replace an existing file unless `force`; anything else (a pipe,
-/// /dev/stdout) is written directly.
+/// /dev/stdout) is written directly. A symbolic link is followed: the file
+/// at its target is replaced, the link is kept.
 pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), OutputError> {
     let io_err = |source| OutputError::Io {
         path: path.to_path_buf(),
@@ -81,14 +139,16 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), Output
             .and_then(|_| out.flush())
             .map_err(io_err);
     }
-    match fs::metadata(path) {
-        Ok(m) if !m.is_file() && !m.is_dir() => {
-            // A device or a pipe: never rename over it.
+    let target = resolve_links(path)?;
+    match fs::metadata(&target) {
+        Ok(m) if (!m.is_file() && !m.is_dir()) || (m.is_file() && target.starts_with("/proc")) => {
+            // A device, a pipe, or the file behind an open descriptor:
+            // never rename over it.
             let mut f = fs::OpenOptions::new()
                 .write(true)
-                .open(path)
+                .open(&target)
                 .map_err(io_err)?;
-            return f.write_all(bytes).map_err(io_err);
+            return f.write_all(bytes).and_then(|_| f.flush()).map_err(io_err);
         }
         Ok(m) if m.is_file() && !force => {
             return Err(OutputError::Exists {
@@ -97,7 +157,7 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), Output
         }
         _ => {}
     }
-    let dir = parent_dir(path);
+    let dir = parent_dir(&target);
     let mut tmp = tempfile::Builder::new()
         .prefix(".oneblock-")
         .suffix(".tmp")
@@ -108,7 +168,7 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), Output
     #[cfg(unix)]
     {
         use std::os::unix::fs::PermissionsExt;
-        let mode = fs::metadata(path)
+        let mode = fs::metadata(&target)
             .map(|m| m.permissions().mode() & 0o777)
             .unwrap_or(0o644);
         tmp.as_file()
@@ -118,10 +178,10 @@ pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), Output
     tmp.write_all(bytes).map_err(io_err)?;
     tmp.as_file().sync_all().map_err(io_err)?;
     if force {
-        tmp.persist(path).map_err(|e| io_err(e.error))?;
+        tmp.persist(&target).map_err(|e| io_err(e.error))?;
     } else {
         // Fails if the file appeared meanwhile: never overwrite silently.
-        tmp.persist_noclobber(path).map_err(|e| {
+        tmp.persist_noclobber(&target).map_err(|e| {
             if e.error.kind() == io::ErrorKind::AlreadyExists {
                 OutputError::Exists {
                     path: path.to_path_buf(),
@@ -165,5 +225,41 @@ mod tests {
             );
         }
         assert!(check_writable(&dir.path().join("missing/x.csv"), false).is_err());
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn force_through_a_link_replaces_the_target_and_keeps_the_link() {
+        let dir = tempfile::tempdir().unwrap();
+        let target = dir.path().join("real.csv");
+        let link = dir.path().join("link.csv");
+        fs::write(&target, b"old").unwrap();
+        std::os::unix::fs::symlink("real.csv", &link).unwrap();
+        assert!(matches!(
+            write_output(&link, b"new", false),
+            Err(OutputError::Exists { .. })
+        ));
+        write_output(&link, b"new", true).unwrap();
+        assert!(
+            fs::symlink_metadata(&link)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
+        assert_eq!(fs::read(&target).unwrap(), b"new");
+        assert!(same_output(&link, &target));
+        assert!(same_output(&target, &dir.path().join(".").join("real.csv")));
+        assert!(!same_output(&target, &dir.path().join("other.csv")));
+        // A dangling link is written through: the file appears at its target.
+        let dangling = dir.path().join("dangling.csv");
+        std::os::unix::fs::symlink("new.csv", &dangling).unwrap();
+        write_output(&dangling, b"x", false).unwrap();
+        assert_eq!(fs::read(dir.path().join("new.csv")).unwrap(), b"x");
+        assert!(
+            fs::symlink_metadata(&dangling)
+                .unwrap()
+                .file_type()
+                .is_symlink()
+        );
     }
 }

@@ -124,3 +124,53 @@ fn invalid_settings_name_the_setting() {
         Simulator::new(Params::default(), SolverSettings::fixed(Method::Euler, 0.0)).unwrap_err();
     assert_eq!(e.parameter(), Some("step"));
 }
+
+/// Parameters anywhere in the documented ranges (docs/cli.md, "Common
+/// flags"), log-uniform over their decades: κ in [1e-6, 1e6], γ in
+/// [0, 1e6], ν in [1e-12, 1e3], Ω in (0, 1e8], any θν; θ on the exit arc.
+fn documented_params() -> impl Strategy<Value = (Params, f64)> {
+    (
+        -6.0f64..6.0,
+        prop_oneof![Just(0.0), (-3.0f64..6.0).prop_map(|l| 10f64.powf(l))],
+        -12.0f64..3.0,
+        -10.0f64..10.0,
+        -3.0f64..8.0,
+        -0.98f64..0.98,
+    )
+        .prop_map(|(lk, gamma, lnu, theta_nu, lom, frac)| {
+            let p = Params {
+                kappa: 10f64.powf(lk),
+                gamma,
+                nu: 10f64.powf(lnu),
+                theta_nu,
+                omega: 10f64.powf(lom),
+            };
+            let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+            (p, wrap_angle(psi + frac * half))
+        })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 64, .. ProptestConfig::default() })]
+    /// Over the whole documented input space, wider than the paper's: a
+    /// finite θ' (with a finite energy) or a typed error, within the step
+    /// bound.
+    #[test]
+    fn map_over_the_documented_ranges_is_finite_or_a_typed_error((p, theta) in documented_params()) {
+        prop_assert!(p.validate().is_ok(), "{p:?}");
+        let settings = SolverSettings { max_steps: 20_000, ..SolverSettings::adaptive(Method::Dop853, 1e-7) };
+        let sim = Simulator::new(p, settings).unwrap();
+        match sim.cycle(theta, 0.0, None) {
+            Ok(ev) => {
+                prop_assert!(ev.theta_next.is_finite() && ev.theta_next.abs() <= std::f64::consts::PI);
+                prop_assert!(ev.energy_released.is_finite() && ev.slip_duration.is_finite());
+                prop_assert!(ev.stick_duration.is_finite() && ev.stick_duration >= 0.0);
+                prop_assert!(ev.steps <= 20_000);
+            }
+            Err(e) => prop_assert!(
+                matches!(e, SimError::Integrate { .. } | SimError::SlipTooLong { .. }),
+                "{e}"
+            ),
+        }
+    }
+}

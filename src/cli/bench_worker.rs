@@ -13,6 +13,8 @@ use std::time::{Duration, Instant};
 use clap::Args;
 
 use super::CliError;
+use super::run_control::say;
+use super::values::{count_between, parse_count, parse_number, settings_error};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::stats::median;
@@ -24,33 +26,34 @@ use crate::worker::{
 
 #[derive(Debug, Clone, Args)]
 pub struct BenchWorkerArgs {
-    /// Columns of the full diagram over θν ∈ [0, π/2].
-    #[arg(long, default_value_t = 400)]
+    /// Columns of the full diagram over θν ∈ [0, π/2] (1 to 10000).
+    #[arg(long, default_value_t = 400, value_parser = parse_count, allow_hyphen_values = true)]
     pub columns: usize,
-    /// Columns of the first, coarse pass.
-    #[arg(long, default_value_t = 64)]
+    /// Columns of the first, coarse pass (1 to --columns).
+    #[arg(long, default_value_t = 64, value_parser = parse_count, allow_hyphen_values = true)]
     pub coarse: usize,
-    /// Transient iterates per column.
-    #[arg(long, default_value_t = 300)]
+    /// Transient iterates per column (0 to 1e5).
+    #[arg(long, default_value_t = 300, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
-    /// Kept iterates per column.
-    #[arg(long, default_value_t = 200)]
+    /// Kept iterates per column (1 to 10000).
+    #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
-    /// Tolerance of dop853 (rtol = atol).
-    #[arg(long, default_value_t = 1e-8)]
+    /// Tolerance of dop853 (rtol = atol), in [1e-14, 1e-2].
+    #[arg(long, default_value_t = 1e-8, allow_hyphen_values = true, value_parser = parse_number)]
     pub tol: f64,
-    /// Sweep threads.
-    #[arg(long, default_value_t = 2)]
+    /// Sweep threads (1 to 64).
+    #[arg(long, default_value_t = 2, value_parser = parse_count, allow_hyphen_values = true)]
     pub threads: usize,
-    /// Timed sweeps (the median is reported).
-    #[arg(long, default_value_t = 3)]
+    /// Timed sweeps, the median is reported (1 to 100).
+    #[arg(long, default_value_t = 3, value_parser = parse_count, allow_hyphen_values = true)]
     pub repeats: usize,
-    /// Trajectory commands sent during one more sweep.
-    #[arg(long, default_value_t = 9)]
+    /// Trajectory commands sent during one more sweep (0 to 1000).
+    #[arg(long, default_value_t = 9, value_parser = parse_count, allow_hyphen_values = true)]
     pub latency_samples: usize,
     /// Time an N × N phase diagram (θν ∈ [0, π/2], κ ∈ [1, 42], 400
-    /// transient + 128 kept, as the app's default grid) instead of sweeps.
-    #[arg(long)]
+    /// transient + 128 kept, as the app's default grid) instead of sweeps
+    /// (N from 1 to 200).
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub phase: Option<usize>,
 }
 
@@ -311,7 +314,8 @@ fn time_phase(
     };
     let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
     w.shutdown();
-    classes.sort();
+    // FP, then P2, P3, … P10 in numeric order, then chaos and the rest.
+    classes.sort_by_key(|(l, _)| class_order(l));
     Ok(PhaseTiming {
         coarse: coarse.unwrap_or(full),
         full,
@@ -322,24 +326,31 @@ fn time_phase(
     })
 }
 
-fn run_phase(args: &BenchWorkerArgs, settings: SolverSettings, n: usize) -> Result<(), CliError> {
-    if !(1..=200).contains(&n) {
-        return Err(CliError::Usage(format!(
-            "--phase = {n} is out of range: must lie in [1, 200]"
-        )));
+/// Where a class label sorts: the fixed point, the periods by number,
+/// then the other labels by name.
+fn class_order(label: &str) -> (u8, usize, String) {
+    match label {
+        "FP" => (0, 1, String::new()),
+        l => match l.strip_prefix('P').and_then(|n| n.parse().ok()) {
+            Some(p) => (0, p, String::new()),
+            None => (1, 0, l.to_string()),
+        },
     }
-    println!(
+}
+
+fn run_phase(args: &BenchWorkerArgs, settings: SolverSettings, n: usize) -> Result<(), CliError> {
+    say(&format!(
         "phase: {n} x {n} cells over theta-nu in [0, pi/2], kappa in [1, 42]; gamma = 6.5, nu = 1e-3, omega = 50; dop853 tol = {:e}; 400 transient + 128 kept; {} threads",
         args.tol, args.threads
-    );
+    ))?;
     if let Some(l) = load_average() {
-        println!("load average before the run: {l:.2}");
+        say(&format!("load average before the run: {l:.2}"))?;
     }
     let mut runs = Vec::new();
     for r in 0..args.repeats {
         let t = time_phase(args, settings, n)?;
         let fmt = |c: Option<f64>| c.map_or("?".into(), |c| format!("{c:.2} s"));
-        println!(
+        say(&format!(
             "  grid {}: coarse lattice {:.3} s (CPU {}), full {:.3} s (CPU {}), {} iterates; {}",
             r + 1,
             t.coarse,
@@ -352,14 +363,14 @@ fn run_phase(args: &BenchWorkerArgs, settings: SolverSettings, n: usize) -> Resu
                 .map(|(l, k)| format!("{l} {k}"))
                 .collect::<Vec<_>>()
                 .join(", "),
-        );
+        ))?;
         runs.push((t.coarse, t.full));
     }
-    println!(
+    say(&format!(
         "phase grid: coarse lattice median {:.3} s, full grid median {:.3} s",
         median(&runs.iter().map(|r| r.0).collect::<Vec<_>>()),
         median(&runs.iter().map(|r| r.1).collect::<Vec<_>>()),
-    );
+    ))?;
     Ok(())
 }
 
@@ -406,29 +417,44 @@ fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option
     let cpu0 = cpu_seconds();
     let cols = sweep_columns(fig3b(), settings, &sorted, &opts, None, &|| false, |_| {});
     let n: usize = cols.iter().map(|c| args.transient + c.thetas.len()).sum();
-    let wall = t0.elapsed().as_secs_f64();
-    let cpu = cpu_seconds().zip(cpu0).map(|(b, a)| b - a);
+    let wall = t0.elapsed().as_secs_f64().max(1e-6);
+    // CPU time is counted in hundredths of a second: a shorter run has no
+    // CPU rate worth printing.
+    let cpu = cpu_seconds()
+        .zip(cpu0)
+        .map(|(b, a)| b - a)
+        .filter(|&c| c >= 0.05);
     (n as f64 / wall, cpu.map(|c| n as f64 / c))
 }
 
-pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
-    if args.columns == 0 || args.coarse == 0 || args.threads == 0 || args.repeats == 0 {
-        return Err(CliError::Usage(
-            "--columns, --coarse, --threads and --repeats must be at least 1".into(),
-        ));
+/// Checks every count against its bound, and the tolerance, before any work.
+pub fn check(args: &BenchWorkerArgs) -> Result<SolverSettings, CliError> {
+    count_between("columns", args.columns, 1, 10_000)?;
+    count_between("coarse", args.coarse, 1, args.columns)?;
+    count_between("transient", args.transient, 0, 100_000)?;
+    count_between("keep", args.keep, 1, 10_000)?;
+    count_between("threads", args.threads, 1, 64)?;
+    count_between("repeats", args.repeats, 1, 100)?;
+    count_between("latency-samples", args.latency_samples, 0, 1000)?;
+    if let Some(n) = args.phase {
+        count_between("phase", n, 1, 200)?;
     }
     let settings = SolverSettings::adaptive(Method::Dop853, args.tol);
-    settings
-        .validate()
-        .map_err(|e| CliError::Usage(format!("--{e}")))?;
+    settings.validate().map_err(settings_error)?;
+    super::run_control::check_stdout()?;
+    Ok(settings)
+}
+
+pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
+    let settings = check(&args)?;
     if let Some(n) = args.phase {
         return run_phase(&args, settings, n);
     }
-    println!(
+    say(&format!(
         "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dop853, tol = {:e}",
         args.tol
-    );
-    println!(
+    ))?;
+    say(&format!(
         "sweep: {} columns x ({} transient + {} kept) over theta-nu in [0, pi/2]; coarse pass {} columns; {} sweep threads; {} logical CPUs",
         args.columns,
         args.transient,
@@ -436,18 +462,18 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
         args.coarse.min(args.columns),
         args.threads,
         std::thread::available_parallelism().map_or(0, |n| n.get()),
-    );
+    ))?;
     if let Some(l) = load_average() {
-        println!("load average before the run: {l:.2}");
+        say(&format!("load average before the run: {l:.2}"))?;
     }
     let (serial_wall, serial_cpu) = serial_rate(&args, settings);
     let total = (args.columns * (args.transient + args.keep)) as f64;
     let per_cpu = serial_cpu.unwrap_or(serial_wall);
-    println!(
+    say(&format!(
         "core alone (coarse columns, one thread): {serial_wall:.0} iterates per second, {} per CPU second",
         serial_cpu.map_or("?".into(), |r| format!("{r:.0}"))
-    );
-    println!(
+    ))?;
+    say(&format!(
         "  => CPU work: {:.2} s per full diagram, {:.2} s per coarse pass; ideal on {} idle cores: {:.2} s and {:.2} s",
         total / per_cpu,
         total / per_cpu * args.coarse.min(args.columns) as f64 / args.columns as f64,
@@ -456,11 +482,11 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
         total / per_cpu * args.coarse.min(args.columns) as f64
             / args.columns as f64
             / args.threads as f64,
-    );
+    ))?;
     let mut timings = Vec::new();
     for r in 0..args.repeats {
         let t = time_sweep(&args, settings)?;
-        println!(
+        say(&format!(
             "  sweep {}: coarse {:.3} s (CPU {}), full {:.3} s (CPU {}), {:.0} iterates/s{}",
             r + 1,
             t.coarse,
@@ -473,7 +499,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
             } else {
                 String::new()
             }
-        );
+        ))?;
         timings.push(t);
     }
     let coarse = median(&timings.iter().map(|t| t.coarse).collect::<Vec<_>>());
@@ -483,16 +509,20 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     } else {
         vec![]
     };
-    println!("first full coarse diagram: median {coarse:.3} s (target 0.5 s)");
-    println!("full diagram:              median {full:.3} s (target 5 s)");
+    say(&format!(
+        "first full coarse diagram: median {coarse:.3} s (target 0.5 s)"
+    ))?;
+    say(&format!(
+        "full diagram:              median {full:.3} s (target 5 s)"
+    ))?;
     if !lat.is_empty() {
         let max = lat.iter().copied().fold(0.0, f64::max);
-        println!(
+        say(&format!(
             "trajectory first chunk during the sweep: median {:.2} ms, max {:.2} ms over {} commands (target 50 ms)",
             1e3 * median(&lat),
             1e3 * max,
             lat.len()
-        );
+        ))?;
     }
     Ok(())
 }

@@ -18,53 +18,63 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
 use super::common::{
     MAX_ROWS, SolverArgs, check_out, check_theta, count_in, describe_sweep, emit, finite,
-    stderr_is_terminal, total_iterates,
+    max_seconds, total_iterates, warn_validity,
+};
+use super::run_control::{Limits, Progress};
+use super::values::{
+    given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
 use crate::model::Params;
-use crate::sim::{Column, Simulator, SweepOptions, sweep_segments, theta_nu_grid};
+use crate::sim::{Column, SimError, Simulator, SweepOptions, sweep_segments, theta_nu_grid};
 #[cfg(doc)]
 use crate::sim::{LANES, segments, sweep_columns};
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
 pub struct BifurcationArgs {
-    /// κ = k_x/k_y, the spring anisotropy (> 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub kappa: f64,
-    /// γ, the friction weakening (≥ 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub gamma: f64,
-    /// ν, the pulling speed (> 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub nu: f64,
-    /// Ω, the memory of the friction direction (> 0).
-    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
-    pub omega: f64,
+    /// Start from a named parameter set (fig3a, fig3b, fig4, creep, chaos,
+    /// intermittent; its θν is not used): the flags below override it.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub kappa: Option<f64>,
+    /// γ, the friction weakening, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8] [default: 50,
+    /// or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// First θν of the grid, in radians.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// First θν of the grid, in radians, in [-1000, 1000].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_from: f64,
-    /// Last θν of the grid, in radians (may be below --theta-nu-from: the
-    /// sweep then runs downwards).
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
+    /// Last θν of the grid, in radians, in [-1000, 1000] (may be below
+    /// --theta-nu-from: the sweep then runs downwards).
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_to: f64,
     /// Number of θν values, evenly spaced, ends included (1 to 1e6).
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub columns: usize,
-    /// Iterates dropped at each θν before any is kept.
-    #[arg(long, default_value_t = 500)]
+    /// Iterates dropped at each θν before any is kept (columns times
+    /// transient plus keep ≤ 1e12; bound the time with --max-seconds). Not
+    /// held in memory: a column keeps only its kept iterates.
+    #[arg(long, default_value_t = 500, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
-    /// Iterates kept at each θν: one CSV row each (≥ 1; columns × keep ≤ 1e8).
-    #[arg(long, default_value_t = 100)]
+    /// Iterates kept at each θν: one CSV row each (≥ 1; columns × keep ≤ 1e7).
+    #[arg(long, default_value_t = 100, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
     /// θ where each half's first column starts [default: that column's θν].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
     /// CSV file ("-" = stdout).
     #[arg(long, default_value = "-")]
@@ -72,29 +82,61 @@ pub struct BifurcationArgs {
     /// Overwrite an existing --out file.
     #[arg(long)]
     pub force: bool,
+    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// The most θν values a diagram may have (far more than a screen's pixels).
 pub const MAX_COLUMNS: usize = 1_000_000;
+
+/// The largest |θν| a range may have, in radians: hundreds of turns, and
+/// still 1e-13 rad of precision.
+pub const MAX_ABS_THETA_NU: f64 = 1000.0;
+
+/// Checks an end of a θν range.
+pub fn theta_nu_end(flag: &str, v: f64) -> Result<f64, CliError> {
+    let v = finite(flag, v)?;
+    if v.abs() <= MAX_ABS_THETA_NU {
+        Ok(v)
+    } else {
+        Err(CliError::Usage(format!(
+            "--{flag} = {} is out of range: must lie in [-1000, 1000] radians",
+            short(v)
+        )))
+    }
+}
 
 /// The two halves the grid is split into: the first ⌈n/2⌉ values, then the rest.
 pub fn halves(grid: &[f64]) -> (&[f64], &[f64]) {
     grid.split_at(grid.len().div_ceil(2))
 }
 
-pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
-    let from = finite("theta-nu-from", args.theta_nu_from)?;
-    let to = finite("theta-nu-to", args.theta_nu_to)?;
+/// The checked inputs of `bifurcation`.
+pub struct Plan {
+    params: Params,
+    settings: crate::SolverSettings,
+    from: f64,
+    to: f64,
+    columns: usize,
+    keep: usize,
+    total: u64,
+    max_seconds: Option<f64>,
+}
+
+/// Checks the flags and the output before any work.
+pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
+    let from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
+    let to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
+    let base = preset_params(args.preset.as_deref())?;
     let params = Params {
-        kappa: args.kappa,
-        gamma: args.gamma,
-        nu: args.nu,
+        kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
+        gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
+        nu: given_or_preset("nu", args.nu, base.map(|b| b.nu))?,
         theta_nu: from,
-        omega: args.omega,
+        omega: args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
     };
-    params
-        .validate()
-        .map_err(|e| CliError::Usage(format!("--{e}")))?;
+    params.validate().map_err(param_error)?;
     let settings = args.solver.settings()?;
     let columns = count_in("columns", args.columns, MAX_COLUMNS)?;
     let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
@@ -105,42 +147,57 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         check_theta(&sim, "theta0", th)?;
     }
     check_out(&args.out, args.force)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
+    Ok(Plan {
+        params,
+        settings,
+        from,
+        to,
+        columns,
+        keep,
+        total,
+        max_seconds,
+    })
+}
 
+pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
+    let Plan {
+        params,
+        settings,
+        from,
+        to,
+        columns,
+        keep,
+        total,
+        max_seconds,
+    } = check(&args)?;
+    warn_validity(&params);
     let grid = theta_nu_grid(from, to, columns);
     let (lower, upper) = halves(&grid);
     let opts = SweepOptions {
         transient: args.transient,
         keep,
     };
-    let bar = if stderr_is_terminal() {
-        let b = ProgressBar::new(total);
-        if let Ok(style) = ProgressStyle::with_template(
-            "bifurcation {bar:40} {percent:>3}% of {human_len} iterates, eta {eta}",
-        ) {
-            b.set_style(style);
-        }
-        b
-    } else {
-        ProgressBar::hidden()
-    };
+    let progress = Progress::new("bifurcation", "iterates", total);
+    let limits = Limits::start(max_seconds);
     let iterates = AtomicU64::new(0);
     let failed = AtomicU64::new(0);
     let count = || {
         iterates.fetch_add(1, Ordering::Relaxed);
-        bar.inc(1);
-        false
+        progress.inc(1);
+        limits.stop()
     };
     let report = |col: &Column| {
-        if let Some(e) = &col.error {
+        if let Some(e) = &col.error
+            && !matches!(e, SimError::Cancelled)
+        {
             failed.fetch_add(1, Ordering::Relaxed);
-            bar.suspend(|| {
-                eprintln!(
-                    "warning: column theta-nu = {} failed after {} of {} kept iterates: {e}",
-                    col.theta_nu,
-                    col.thetas.len(),
-                    keep
-                );
-            });
+            progress.println(&format!(
+                "warning: column theta-nu = {} failed after {} of {} kept iterates: {e}",
+                col.theta_nu,
+                col.thetas.len(),
+                keep
+            ));
         }
     };
     let theta0 = args.theta0;
@@ -151,10 +208,18 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         let lower_cols = sweep_segments(params, settings, lower, &opts, theta0, &count, report);
         (lower_cols, upper_job.join())
     });
-    bar.finish_and_clear();
+    progress.finish();
     let cols_upper = cols_upper.map_err(|_| {
         CliError::Failed("the thread computing the upper half of the θν range failed".into())
     })?;
+    if limits.stop()
+        || cols_lower
+            .iter()
+            .chain(&cols_upper)
+            .any(|c| matches!(c.error, Some(SimError::Cancelled)))
+    {
+        return Err(limits.stopped("bifurcation"));
+    }
     let seconds = start.elapsed().as_secs_f64();
 
     let cols: Vec<&Column> = cols_lower.iter().chain(&cols_upper).collect();

@@ -1,14 +1,18 @@
 //! Flags every simulating subcommand shares, and the error type that maps
 //! bad input to exit code 2 and failures to exit code 1.
 
-use std::io::{IsTerminal, Write};
+use std::io::IsTerminal;
 use std::path::Path;
 
 use clap::Args;
 
+use super::run_control::write_stdout;
+use super::values::{
+    given_or_preset, param_error, parse_number, preset_params, short, short_count,
+};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
-use crate::model::{Regime, exit_arc};
+use crate::model::{Regime, event_anomalies, exit_arc, validity};
 use crate::output::{OutputError, check_writable, write_output};
 use crate::sim::{SimError, Simulator};
 
@@ -50,38 +54,61 @@ impl From<OutputError> for CliError {
     }
 }
 
-/// The model's parameters (docs/model.md), angles in radians.
+/// The model's parameters (docs/model.md), angles in radians: given one by
+/// one, or `--preset NAME` with any of them overriding the preset's value.
 #[derive(Debug, Clone, Args)]
 pub struct ModelArgs {
-    /// κ = k_x/k_y, the spring anisotropy (> 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub kappa: f64,
-    /// γ, the friction weakening (≥ 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub gamma: f64,
-    /// ν, the pulling speed (> 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub nu: f64,
+    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
+    /// intermittent (the flags below override its values).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub kappa: Option<f64>,
+    /// γ, the friction weakening, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub nu: Option<f64>,
     /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true)]
-    pub theta_nu: f64,
-    /// Ω, the memory of the friction direction (> 0).
-    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
-    pub omega: f64,
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub theta_nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
+    /// assumes [1, 1e4]) [default: 50, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
 }
 
 impl ModelArgs {
+    /// The parameters, checked; each error names its flag.
     pub fn params(&self) -> Result<Params, CliError> {
+        let base = preset_params(self.preset.as_deref())?;
         let p = Params {
-            kappa: self.kappa,
-            gamma: self.gamma,
-            nu: self.nu,
-            theta_nu: self.theta_nu,
-            omega: self.omega,
+            kappa: given_or_preset("kappa", self.kappa, base.map(|b| b.kappa))?,
+            gamma: given_or_preset("gamma", self.gamma, base.map(|b| b.gamma))?,
+            nu: given_or_preset("nu", self.nu, base.map(|b| b.nu))?,
+            theta_nu: given_or_preset("theta-nu", self.theta_nu, base.map(|b| b.theta_nu))?,
+            omega: self.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
         };
-        p.validate()
-            .map_err(|e| CliError::Usage(format!("--{e}")))?;
+        p.validate().map_err(param_error)?;
         Ok(p)
+    }
+}
+
+/// Prints the model-validity warnings of `params` (model::validity) on
+/// stderr, one line each.
+pub fn warn_validity(params: &Params) {
+    for w in validity(params) {
+        eprintln!("warning: {w}");
+    }
+}
+
+/// Prints a warning for a slip event outside the model (a negative energy
+/// released, θ' = θ − π).
+pub fn warn_event(ev: &crate::sim::SlipEvent) {
+    for a in event_anomalies(ev.theta, ev.theta_next, ev.energy_released) {
+        eprintln!("warning: {a}");
     }
 }
 
@@ -93,19 +120,21 @@ pub struct SolverArgs {
     pub method: String,
     /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
     /// [default: 1e-10].
-    #[arg(long, allow_hyphen_values = true, conflicts_with = "step")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, conflicts_with = "step")]
     pub tol: Option<f64>,
     /// Step of the fixed-step methods (rk4, euler), in (0, 1] [default: 1e-3].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub step: Option<f64>,
 }
 
 impl SolverArgs {
     pub fn settings(&self) -> Result<SolverSettings, CliError> {
-        let method: Method = self
-            .method
-            .parse()
-            .map_err(|e: String| CliError::Usage(format!("--method: {e}")))?;
+        let method: Method = self.method.parse().map_err(|_: String| {
+            CliError::Usage(format!(
+                "--method: unknown method '{}': expected dp54, dop853, rk4 or euler",
+                super::values::echo(&self.method)
+            ))
+        })?;
         let s = if method.is_adaptive() {
             if self.step.is_some() {
                 return Err(CliError::Usage(format!(
@@ -121,8 +150,7 @@ impl SolverArgs {
             }
             SolverSettings::fixed(method, self.step.unwrap_or(1e-3))
         };
-        s.validate()
-            .map_err(|e| CliError::Usage(format!("--{e}")))?;
+        s.validate().map_err(super::values::settings_error)?;
         Ok(s)
     }
 }
@@ -133,15 +161,36 @@ pub fn finite(name: &str, v: f64) -> Result<f64, CliError> {
         Ok(v)
     } else {
         Err(CliError::Usage(format!(
-            "--{name} = {v} must be a finite number"
+            "--{name} = {v} is out of range: must be a finite number"
         )))
     }
 }
 
 /// Fails early (before any simulation) when the `--out` path cannot be
-/// written; the message names the flag.
+/// written (or is a closed stdout); the message names the flag.
 pub fn check_out(path: &Path, force: bool) -> Result<(), CliError> {
+    if path.as_os_str() == "-" {
+        return super::run_control::check_stdout();
+    }
     check_writable(path, force).map_err(out_error)
+}
+
+/// Checks a second output `--{flag}` as [`check_out`] does, and that it
+/// does not name the same file as `--out` (one would overwrite the other).
+pub fn check_second_out(flag: &str, path: &Path, out: &Path, force: bool) -> Result<(), CliError> {
+    if crate::output::same_output(path, out) {
+        return Err(CliError::Usage(format!(
+            "--{flag}: {} is also the --out file: give the two outputs different names",
+            path.display()
+        )));
+    }
+    check_writable(path, force).map_err(|e| CliError::Usage(format!("--{flag}: {e}")))
+}
+
+/// Checks `--max-seconds`.
+pub fn max_seconds(v: Option<f64>) -> Result<Option<f64>, CliError> {
+    v.map(|s| super::values::seconds("max-seconds", s))
+        .transpose()
 }
 
 /// Writes a finished output atomically to the `--out` path.
@@ -161,13 +210,15 @@ pub fn count_in(name: &str, v: usize, max: usize) -> Result<usize, CliError> {
         Ok(v)
     } else {
         Err(CliError::Usage(format!(
-            "--{name} = {v} is out of range: must lie in [1, {max}]"
+            "--{name} = {v} is out of range: must lie in [1, {}]",
+            short_count(max)
         )))
     }
 }
 
-/// The most rows a CSV may have (a few GB of text).
-pub const MAX_ROWS: usize = 100_000_000;
+/// The most rows a CSV may have: the rows are held in memory until the
+/// file is written atomically, ~50 bytes of text each (a few hundred MB).
+pub const MAX_ROWS: usize = 10_000_000;
 
 /// The iterates a run of `transient` + `keep` (× `columns`) asks for, refused
 /// when it would not fit in a count (a typo such as an extra dozen digits).
@@ -182,13 +233,14 @@ pub fn total_iterates(
         .filter(|&n| n <= MAX_ITERATES)
         .ok_or_else(|| {
             CliError::Usage(format!(
-                "--transient = {transient} with --{kept_flag} = {keep} is out of range: the run would ask for more than {MAX_ITERATES:e} iterates"
+                "--transient = {transient} with --{kept_flag} = {keep} is out of range: the run would ask for more than {MAX_ITERATES:e} iterates (bound the time with --max-seconds)"
             ))
         })
 }
 
-/// More iterates than any run could finish (years at 1e5 iterates/s).
-pub const MAX_ITERATES: u64 = 1_000_000_000_000_000;
+/// More iterates than any run could finish (years at 1e5 iterates/s);
+/// `--max-seconds` bounds a run's time.
+pub const MAX_ITERATES: u64 = 1_000_000_000_000;
 
 /// Checks that an onset angle given as `--{flag}` is a reachable slip onset
 /// (docs/model.md, "The exit arc"), naming the flag and the exit arc in the message.
@@ -204,9 +256,10 @@ pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliEr
                 "is not a finite angle"
             };
             Err(CliError::Usage(format!(
-                "--{flag} = {theta} {what}: for kappa = {}, theta-nu = {} it must lie in ({:.6}, {:.6}) radians (mod 2π), where a stick phase can end",
-                p.kappa,
-                p.theta_nu,
+                "--{flag} = {} {what}: for kappa = {}, theta-nu = {} it must lie in ({:.6}, {:.6}) radians (mod 2π), where a stick phase can end",
+                short(theta),
+                short(p.kappa),
+                short(p.theta_nu),
                 psi - half,
                 psi + half
             )))
@@ -218,18 +271,18 @@ pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliEr
 /// (`| head`) is not an error: the reader has what it wanted.
 pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
     if path.as_os_str() == "-" {
-        let mut out = std::io::stdout().lock();
-        return match out.write_all(bytes).and_then(|_| out.flush()) {
-            Ok(()) => Ok(()),
-            Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
-            Err(e) => Err(CliError::Failed(format!("cannot write to stdout: {e}"))),
-        };
+        return write_stdout(bytes);
     }
     match write_output(path, bytes, force) {
         // A pipe given by name (/dev/stdout) whose reader has gone.
         Err(OutputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::BrokenPipe => {
             Ok(())
         }
+        // A device that refused the bytes (/dev/full): the run failed.
+        Err(OutputError::Io { path, source }) => Err(CliError::Failed(format!(
+            "--out: cannot write {}: {source}",
+            path.display()
+        ))),
         r => r.map_err(out_error),
     }
 }
@@ -256,16 +309,16 @@ fn describe_with(params: &Params, settings: &SolverSettings, theta_nu: bool) -> 
         format!("step {}", settings.step)
     };
     let theta_nu = if theta_nu {
-        format!("theta-nu = {}, ", params.theta_nu)
+        format!("theta-nu = {}, ", short(params.theta_nu))
     } else {
         String::new()
     };
     format!(
         "kappa = {}, gamma = {}, nu = {}, {theta_nu}omega = {} ({}); {} {}",
-        params.kappa,
-        params.gamma,
-        params.nu,
-        params.omega,
+        short(params.kappa),
+        short(params.gamma),
+        short(params.nu),
+        short(params.omega),
         Regime::of(params.kappa, params.gamma).name(),
         settings.method,
         accuracy

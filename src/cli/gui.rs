@@ -8,6 +8,21 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
+use super::values::{parse_number, preset_params, seconds, short};
+
+/// The views `--view` names.
+pub const VIEW_KEYS: [&str; 7] = [
+    "plane",
+    "block",
+    "bifurcation",
+    "return-map",
+    "events",
+    "numerics",
+    "phase",
+];
+
+/// The longest `--timeout`, in seconds (a day).
+pub const MAX_TIMEOUT: f64 = 86_400.0;
 
 #[derive(Debug, Clone, Default, Args)]
 pub struct GuiArgs {
@@ -29,76 +44,87 @@ pub struct GuiArgs {
     /// numerics, phase.
     #[arg(long)]
     pub view: Option<String>,
-    /// Text size multiplier (e.g. 1.5 on a projector).
-    #[arg(long)]
+    /// Text size multiplier in [0.5, 3] (e.g. 1.5 on a projector).
+    #[arg(long, allow_hyphen_values = true)]
     pub font_scale: Option<f32>,
-    /// Give up a --screenshot run after this many seconds (default 180).
-    #[arg(long)]
+    /// Give up a --screenshot run after this many seconds, in (0, 86400]
+    /// (default 180).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub timeout: Option<f64>,
 }
 
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
-        .ok_or_else(|| format!("'{s}' is not WIDTHxHEIGHT, e.g. 1280x800"))?;
+        .ok_or_else(|| "must be WIDTHxHEIGHT, e.g. 1280x800".to_string())?;
     let w: f32 = w
         .trim()
         .parse()
-        .map_err(|_| format!("bad width in '{s}'"))?;
+        .map_err(|_| "the width is not a number (WIDTHxHEIGHT, e.g. 1280x800)".to_string())?;
     let h: f32 = h
         .trim()
         .parse()
-        .map_err(|_| format!("bad height in '{s}'"))?;
+        .map_err(|_| "the height is not a number (WIDTHxHEIGHT, e.g. 1280x800)".to_string())?;
     if !(200.0..=10_000.0).contains(&w) || !(200.0..=10_000.0).contains(&h) {
-        return Err(format!(
-            "size '{s}' must lie between 200x200 and 10000x10000"
-        ));
+        return Err("must lie between 200x200 and 10000x10000".to_string());
     }
     Ok([w, h])
 }
 
-#[cfg(feature = "gui")]
-pub fn run(args: GuiArgs) -> Result<(), CliError> {
-    use crate::app::{RunOptions, ViewKind, preset, preset_keys};
-    if let Some(p) = &args.preset
-        && preset(p).is_none()
+/// Checks the flags before the window opens.
+pub fn check(args: &GuiArgs) -> Result<(), CliError> {
+    preset_params(args.preset.as_deref())?;
+    if let Some(v) = &args.view
+        && !VIEW_KEYS.contains(&v.as_str())
     {
         return Err(CliError::Usage(format!(
-            "--preset: unknown preset '{p}': expected one of {}",
-            preset_keys()
+            "--view: unknown view '{}': expected one of {}",
+            super::values::echo(v),
+            VIEW_KEYS.join(", ")
         )));
     }
-    let view = match &args.view {
-        Some(v) => Some(ViewKind::from_key(v).ok_or_else(|| {
-            CliError::Usage(format!(
-                "--view: unknown view '{v}': expected plane, block, bifurcation, return-map, events, numerics or phase"
-            ))
-        })?),
-        None => None,
-    };
-    if let Some(t) = args.timeout
-        && !(t.is_finite() && t > 0.0)
-    {
-        return Err(CliError::Usage(format!(
-            "--timeout {t} must be > 0 seconds"
-        )));
+    if let Some(t) = args.timeout {
+        seconds("timeout", t)?;
+        if t > MAX_TIMEOUT {
+            return Err(CliError::Usage(format!(
+                "--timeout = {} is out of range: must lie in (0, {MAX_TIMEOUT}] seconds",
+                short(t)
+            )));
+        }
     }
     if let Some(f) = args.font_scale
         && !(0.5..=3.0).contains(&f)
     {
         return Err(CliError::Usage(format!(
-            "--font-scale {f} must lie in [0.5, 3]"
+            "--font-scale = {} is out of range: must lie in [0.5, 3]",
+            short(f as f64)
         )));
     }
     if let Some(p) = &args.screenshot {
         crate::output::check_writable(p, false).map_err(|e| match e {
             crate::output::OutputError::Exists { path } => CliError::Usage(format!(
-                "{} already exists: a screenshot never overwrites a file, choose another name",
+                "--screenshot: {} already exists: a screenshot never overwrites a file, choose another name",
                 path.display()
             )),
-            e => CliError::Usage(e.to_string()),
+            e => CliError::Usage(format!("--screenshot: {e}")),
         })?;
     }
+    Ok(())
+}
+
+#[cfg(feature = "gui")]
+pub fn run(args: GuiArgs) -> Result<(), CliError> {
+    use crate::app::{RunOptions, ViewKind};
+    check(&args)?;
+    let view = match &args.view {
+        Some(v) => Some(ViewKind::from_key(v).ok_or_else(|| {
+            CliError::Usage(format!(
+                "--view: unknown view '{v}': expected one of {}",
+                VIEW_KEYS.join(", ")
+            ))
+        })?),
+        None => None,
+    };
     crate::app::run(RunOptions {
         // The first launch is the Fig. 3b demo (the default settings); later
         // launches restore the saved parameters unless a preset is named. A
@@ -118,7 +144,8 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
 }
 
 #[cfg(not(feature = "gui"))]
-pub fn run(_args: GuiArgs) -> Result<(), CliError> {
+pub fn run(args: GuiArgs) -> Result<(), CliError> {
+    check(&args)?;
     Err(CliError::Failed(
         "this oneblock was built without the window (cargo feature 'gui'); \
          rebuild with default features, or use the headless subcommands (see --help)"

@@ -6,7 +6,11 @@ use std::path::Path;
 use clap::Args;
 
 use super::CliError;
-use super::common::{ModelArgs, SolverArgs, check_theta, describe, emit, settings_json};
+use super::common::{
+    ModelArgs, SolverArgs, check_theta, describe, emit, settings_json, warn_event, warn_validity,
+};
+use super::run_control::check_stdout;
+use super::values::parse_number;
 use crate::model::{OnsetCharacter, Regime, onset_character};
 use crate::sim::Simulator;
 
@@ -18,7 +22,7 @@ pub struct MapArgs {
     #[command(flatten)]
     pub solver: SolverArgs,
     /// θ of the slip onset, in radians (on the exit arc).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta: f64,
     /// Print one JSON object (the slip event, the parameters, the regime)
     /// instead of the text summary.
@@ -26,12 +30,28 @@ pub struct MapArgs {
     pub json: bool,
 }
 
-pub fn run(args: MapArgs) -> Result<(), CliError> {
+/// The checked inputs of `map`: the simulator and the onset.
+pub struct Plan {
+    sim: Simulator,
+    theta: f64,
+}
+
+/// Checks the flags (parameters, solver, onset) before any work.
+pub fn check(args: &MapArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let sim = Simulator::new(params, settings)?;
     let theta = check_theta(&sim, "theta", args.theta)?;
+    check_stdout()?;
+    Ok(Plan { sim, theta })
+}
+
+pub fn run(args: MapArgs) -> Result<(), CliError> {
+    let Plan { sim, theta } = check(&args)?;
+    let (params, settings) = (*sim.params(), *sim.settings());
+    warn_validity(&params);
     let ev = sim.cycle(theta, 0.0, None)?;
+    warn_event(&ev);
     let regime = Regime::of(params.kappa, params.gamma);
     let onset = onset_character(params.kappa, params.gamma, theta);
     let onset_name = match onset {

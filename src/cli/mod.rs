@@ -8,9 +8,12 @@ pub mod gui;
 pub mod map;
 pub mod orbit;
 pub mod phase;
+pub mod run_control;
 pub mod trajectory;
+pub mod values;
 pub mod work_precision;
 
+use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
 
 pub use common::CliError;
@@ -42,6 +45,67 @@ pub enum Command {
     Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
+}
+
+/// Checks a parsed command line as `run` does before any work (values,
+/// bounds, presets, output paths) without running it: what the property
+/// tests drive with arbitrary strings.
+pub fn validate(cli: &Cli) -> Result<(), CliError> {
+    match &cli.command {
+        None => Ok(()),
+        Some(Command::Map(a)) => map::check(a).map(drop),
+        Some(Command::Orbit(a)) => orbit::check(a).map(drop),
+        Some(Command::Trajectory(a)) => trajectory::check(a).map(drop),
+        Some(Command::Bifurcation(a)) => bifurcation::check(a).map(drop),
+        Some(Command::BenchWorker(a)) => bench_worker::check(a).map(drop),
+        Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
+        Some(Command::Phase(a)) => phase::check(a).map(drop),
+        Some(Command::Gui(a)) => gui::check(a).map(drop),
+    }
+}
+
+/// A usage error of the parser as one line naming the flag, without the
+/// usage block clap adds (the house rule: `--flag: what is wrong`).
+pub fn usage_line(e: &clap::Error) -> String {
+    let flag = match e.get(ContextKind::InvalidArg) {
+        Some(ContextValue::String(s)) => Some(s.split_whitespace().next().unwrap_or(s).to_string()),
+        _ => None,
+    };
+    let value = match e.get(ContextKind::InvalidValue) {
+        Some(ContextValue::String(s)) => Some(s.clone()),
+        _ => None,
+    };
+    if let (ErrorKind::ValueValidation, Some(flag), Some(value)) = (e.kind(), &flag, &value) {
+        // The parser's own reason is the error's source.
+        let reason = std::error::Error::source(e)
+            .map(|s| s.to_string())
+            .unwrap_or_else(|| "invalid value".into());
+        let shown = if value.chars().count() > 40 {
+            format!("{}…", value.chars().take(40).collect::<String>())
+        } else {
+            value.clone()
+        };
+        return format!("{flag} = '{shown}': {reason}");
+    }
+    let text = e.to_string();
+    let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
+    let mut msg = lines
+        .next()
+        .unwrap_or("invalid arguments")
+        .trim_start_matches("error: ")
+        .to_string();
+    if msg.ends_with(':') {
+        // "the following required arguments were not provided:" lists
+        // them on the next lines; fold them into this one.
+        let names: Vec<&str> = lines
+            .take_while(|l| l.starts_with('-') || l.starts_with('<'))
+            .collect();
+        msg = format!("{} {}", msg, names.join(", "));
+    }
+    match flag {
+        Some(f) if !msg.contains(&f) => format!("{f}: {msg}"),
+        _ => msg,
+    }
 }
 
 /// Runs the parsed command line.

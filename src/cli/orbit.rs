@@ -7,15 +7,21 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
 use super::common::{
-    MAX_ROWS, ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite,
-    settings_json, stderr_is_terminal, total_iterates,
+    ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, max_seconds,
+    settings_json, total_iterates, warn_validity,
 };
+use super::run_control::{Limits, Progress, check_stdout};
+use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
-use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator};
+use crate::model::event_anomalies;
+use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+
+/// The most iterates an orbit keeps: each is a slip event held in memory
+/// (and a CSV row) until the file is written atomically, ~400 bytes in all.
+pub const MAX_KEEP: usize = 1_000_000;
 
 /// An orbit θ0, f(θ0), f(f(θ0)), … of the map.
 #[derive(Debug, Clone, Args)]
@@ -26,13 +32,14 @@ pub struct OrbitArgs {
     pub solver: SolverArgs,
     /// θ of the first slip onset, in radians (on the exit arc) [default: θν,
     /// which always is].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
-    /// Iterates dropped before any is kept.
-    #[arg(long, default_value_t = 1000)]
+    /// Iterates dropped before any is kept (transient + keep ≤ 1e12; bound
+    /// the time with --max-seconds).
+    #[arg(long, default_value_t = 1000, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
-    /// Iterates kept: one CSV row each (1 to 1e8).
-    #[arg(long, default_value_t = 200)]
+    /// Iterates kept: one CSV row each (1 to 1e6).
+    #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
     /// CSV file of the kept events ("-" = stdout) [default: stdout, or none
     /// with --json].
@@ -51,21 +58,36 @@ pub struct OrbitArgs {
     pub no_lyapunov: bool,
     /// Tolerance of the period test, in radians [default: 1e4·tol within
     /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub period_tol: Option<f64>,
+    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
-pub fn run(args: OrbitArgs) -> Result<(), CliError> {
+/// The checked inputs of `orbit`.
+pub struct Plan {
+    sim: Simulator,
+    theta0: f64,
+    opts: OrbitOptions,
+    total: u64,
+    csv_out: Option<PathBuf>,
+    max_seconds: Option<f64>,
+}
+
+/// Checks the flags and the output before any work.
+pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
-    let keep = count_in("keep", args.keep, MAX_ROWS)?;
+    let keep = count_in("keep", args.keep, MAX_KEEP)?;
     let total = total_iterates(args.transient, ("keep", keep), 1)?;
     let period_tol = match args.period_tol {
         Some(t) => {
             let t = finite("period-tol", t)?;
             if t <= 0.0 {
                 return Err(CliError::Usage(format!(
-                    "--period-tol = {t} is out of range: must be a finite number > 0"
+                    "--period-tol = {} is out of range: must be a finite number > 0",
+                    short(t)
                 )));
             }
             t
@@ -86,6 +108,10 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     if let Some(p) = &csv_out {
         check_out(p, args.force)?;
     }
+    if args.json {
+        check_stdout()?;
+    }
+    let max_seconds = max_seconds(args.max_seconds)?;
     let sim = Simulator::new(params, settings)?;
     let theta0 = check_theta(&sim, "theta0", args.theta0.unwrap_or(params.theta_nu))?;
     let opts = OrbitOptions {
@@ -94,26 +120,57 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         lyapunov: !args.no_lyapunov,
         period_tol,
     };
+    Ok(Plan {
+        sim,
+        theta0,
+        opts,
+        total,
+        csv_out,
+        max_seconds,
+    })
+}
 
-    let bar = if stderr_is_terminal() {
-        let b = ProgressBar::new(total);
-        if let Ok(style) = ProgressStyle::with_template(
-            "orbit {bar:40} {human_pos}/{human_len} iterates, eta {eta}",
-        ) {
-            b.set_style(style);
-        }
-        b
-    } else {
-        ProgressBar::hidden()
-    };
+pub fn run(args: OrbitArgs) -> Result<(), CliError> {
+    let Plan {
+        sim,
+        theta0,
+        opts,
+        total,
+        csv_out,
+        max_seconds,
+    } = check(&args)?;
+    let (params, settings) = (*sim.params(), *sim.settings());
+    let period_tol = opts.period_tol;
+    warn_validity(&params);
+    let progress = Progress::new("orbit", "iterates", total);
+    let limits = Limits::start(max_seconds);
     let start = Instant::now();
     let result = sim.orbit(theta0, &opts, &|| {
-        bar.inc(1);
-        false
+        progress.inc(1);
+        limits.stop()
     });
-    bar.finish_and_clear();
-    let orbit = result?;
+    progress.finish();
+    let orbit = match result {
+        Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
+        r => r?,
+    };
     let seconds = start.elapsed().as_secs_f64();
+    let mut anomalies = 0;
+    for e in &orbit.events {
+        let a = event_anomalies(e.theta, e.theta_next, e.energy_released);
+        if let Some(first) = a.first() {
+            if anomalies == 0 {
+                eprintln!("warning: {first}");
+            }
+            anomalies += 1;
+        }
+    }
+    if anomalies > 0 {
+        eprintln!(
+            "warning: {anomalies} of {} kept events are outside the model (negative energy released, or theta' = theta - pi)",
+            orbit.events.len()
+        );
+    }
 
     if let Some(p) = &csv_out {
         let mut csv = SLIP_EVENT_COLUMNS.join(",");

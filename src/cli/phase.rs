@@ -6,17 +6,18 @@
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
+use super::bifurcation::theta_nu_end;
 use super::common::{
-    SolverArgs, check_out, count_in, describe_sweep, emit, finite, stderr_is_terminal, write_out,
+    SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, finite, max_seconds,
+    warn_validity, write_out,
 };
+use super::run_control::{Limits, Progress};
+use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
 use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
 use crate::model::Params;
 use crate::sim::phase::{PhaseCell, PhaseOptions, phase_grid};
@@ -25,63 +26,72 @@ use crate::sim::{SimError, theta_nu_grid};
 /// A phase diagram: the attractor's class over a (θν, κ) grid.
 #[derive(Debug, Clone, Args)]
 pub struct PhaseArgs {
-    /// γ, the friction weakening (≥ 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub gamma: f64,
-    /// ν, the pulling speed (> 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub nu: f64,
-    /// Ω, the memory of the friction direction (> 0).
-    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
-    pub omega: f64,
-    /// First κ (the bottom row).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Take γ, ν and Ω from a named parameter set (fig3a, fig3b, fig4,
+    /// creep, chaos, intermittent); the flags below override them.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// γ, the friction weakening, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    pub nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8] [default: 50,
+    /// or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
+    /// First κ (the bottom row), in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_from: f64,
-    /// Last κ (the top row).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Last κ (the top row), in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_to: f64,
     /// Number of κ rows, evenly spaced, ends included (1 to 10000).
-    #[arg(long)]
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub kappa_steps: usize,
-    /// First θν, in radians.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// First θν, in radians, in [-1000, 1000].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_from: f64,
-    /// Last θν, in radians.
-    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true)]
+    /// Last θν, in radians, in [-1000, 1000].
+    #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_to: f64,
-    /// Number of θν columns, evenly spaced, ends included (1 to 10000).
-    #[arg(long)]
+    /// Number of θν columns, evenly spaced, ends included (1 to 10000;
+    /// rows × columns ≤ 4e6).
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub theta_nu_steps: usize,
     /// The most iterates a cell spends looking for a period (0 to 1e6).
-    #[arg(long, default_value_t = 400)]
+    #[arg(long, default_value_t = 400, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
     /// The most iterates with f'(θ) for the Lyapunov exponent when no period
     /// was found (16 to 1e6).
-    #[arg(long, default_value_t = 128)]
+    #[arg(long, default_value_t = 128, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
     #[command(flatten)]
     pub solver: SolverArgs,
     /// Tolerance of the period test, in radians [default: 1e4·tol within
     /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub period_tol: Option<f64>,
     /// No early exit: every cell runs the whole transient and keeps every
     /// iterate with f'(θ) (the reference the fast path is compared with).
     #[arg(long)]
     pub brute_force: bool,
-    /// Worker threads [default: the number of cores]. The output does not
-    /// depend on it.
-    #[arg(long)]
+    /// Worker threads, 1 to 1024 [default: the number of cores]. The output
+    /// does not depend on it.
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub threads: Option<usize>,
-    /// CSV file ("-" = stdout).
+    /// CSV file ("-" = stdout) [default: stdout, or none with --png].
     #[arg(long)]
-    pub out: PathBuf,
-    /// Also render the diagram as a PNG.
+    pub out: Option<PathBuf>,
+    /// Also (or only) render the diagram as a PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Overwrite existing --out / --png files.
     #[arg(long)]
     pub force: bool,
+    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// The most rows or columns of a grid.
@@ -89,28 +99,43 @@ pub const MAX_STEPS: usize = 10_000;
 /// The most cells of a grid.
 pub const MAX_CELLS: usize = 4_000_000;
 
-pub fn run(args: PhaseArgs) -> Result<(), CliError> {
-    let k_from = finite("kappa-from", args.kappa_from)?;
-    let k_to = finite("kappa-to", args.kappa_to)?;
-    let t_from = finite("theta-nu-from", args.theta_nu_from)?;
-    let t_to = finite("theta-nu-to", args.theta_nu_to)?;
-    for (name, k) in [("kappa-from", k_from), ("kappa-to", k_to)] {
-        if k <= 0.0 {
-            return Err(CliError::Usage(format!(
-                "--{name} = {k} is out of range: must be a finite number > 0"
-            )));
-        }
-    }
+/// The checked inputs of `phase`.
+pub struct Plan {
+    params: Params,
+    settings: crate::SolverSettings,
+    kappas: Vec<f64>,
+    theta_nus: Vec<f64>,
+    opts: PhaseOptions,
+    threads: usize,
+    out: Option<PathBuf>,
+    max_seconds: Option<f64>,
+}
+
+/// Checks the flags and the outputs before any work.
+pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
+    let t_from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
+    let t_to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
+    let base = preset_params(args.preset.as_deref())?;
     let params = Params {
-        kappa: k_from,
-        gamma: args.gamma,
-        nu: args.nu,
+        kappa: 1.0,
+        gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
+        nu: given_or_preset("nu", args.nu, base.map(|b| b.nu))?,
         theta_nu: t_from,
-        omega: args.omega,
+        omega: args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
     };
-    params
-        .validate()
-        .map_err(|e| CliError::Usage(format!("--{e}")))?;
+    params.validate().map_err(param_error)?;
+    // Each end of the κ range is a κ of the grid, checked as one, under
+    // its own flag's name.
+    let (k_from, k_to) = (
+        finite("kappa-from", args.kappa_from)?,
+        finite("kappa-to", args.kappa_to)?,
+    );
+    for (name, k) in [("kappa-from", k_from), ("kappa-to", k_to)] {
+        Params { kappa: k, ..params }.validate().map_err(|mut e| {
+            e.name = name;
+            param_error(e)
+        })?;
+    }
     let settings = args.solver.settings()?;
     let rows = count_in("kappa-steps", args.kappa_steps, MAX_STEPS)?;
     let cols = count_in("theta-nu-steps", args.theta_nu_steps, MAX_STEPS)?;
@@ -121,7 +146,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     }
     if args.transient > 1_000_000 {
         return Err(CliError::Usage(format!(
-            "--transient = {} is out of range: must lie in [0, 1000000]",
+            "--transient = {} is out of range: must lie in [0, 1e6]",
             args.transient
         )));
     }
@@ -129,7 +154,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         args.keep
     } else {
         return Err(CliError::Usage(format!(
-            "--keep = {} is out of range: must lie in [16, 1000000] (the Lyapunov exponent's error needs 8 batches of 2)",
+            "--keep = {} is out of range: must lie in [16, 1e6] (the Lyapunov exponent's error needs 8 batches of 2)",
             args.keep
         )));
     };
@@ -138,9 +163,10 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     opts.keep = keep;
     opts.early_exit = !args.brute_force;
     if let Some(t) = args.period_tol {
-        if !(t.is_finite() && t > 0.0) {
+        if !(t.is_finite() && t > 0.0 && t <= 1.0) {
             return Err(CliError::Usage(format!(
-                "--period-tol = {t} is out of range: must be a finite number > 0"
+                "--period-tol = {} is out of range: must lie in (0, 1] radians",
+                super::values::short(t)
             )));
         }
         opts.period_tol = t;
@@ -149,43 +175,69 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         Some(n) => count_in("threads", n, 1024)?,
         None => std::thread::available_parallelism().map_or(1, |n| n.get()),
     };
-    check_out(&args.out, args.force)?;
+    // Without --png the CSV goes to stdout unless --out names a file; with
+    // --png alone only the picture is written.
+    let out = match (&args.out, &args.png) {
+        (Some(o), _) => Some(o.clone()),
+        (None, None) => Some(PathBuf::from("-")),
+        (None, Some(_)) => None,
+    };
+    if let Some(o) = &out {
+        check_out(o, args.force)?;
+    }
     if let Some(png) = &args.png {
         if png.as_os_str() == "-" {
             return Err(CliError::Usage(
                 "--png: give a file name (the image is not written to stdout)".into(),
             ));
         }
-        crate::output::check_writable(png, args.force)
-            .map_err(|e| CliError::Usage(format!("--png: {e}")))?;
+        check_second_out(
+            "png",
+            png,
+            out.as_deref().unwrap_or(Path::new("-")),
+            args.force,
+        )?;
     }
+    let max_seconds = max_seconds(args.max_seconds)?;
+    Ok(Plan {
+        params: Params {
+            kappa: k_from,
+            ..params
+        },
+        settings,
+        kappas: theta_nu_grid(k_from, k_to, rows),
+        theta_nus: theta_nu_grid(t_from, t_to, cols),
+        opts,
+        threads,
+        out,
+        max_seconds,
+    })
+}
 
-    let kappas = theta_nu_grid(k_from, k_to, rows);
-    let theta_nus = theta_nu_grid(t_from, t_to, cols);
-    let bar = if stderr_is_terminal() {
-        let b = ProgressBar::new((rows * cols) as u64);
-        if let Ok(style) = ProgressStyle::with_template(
-            "phase {bar:40} {pos}/{len} cells, {msg} iterates, eta {eta}",
-        ) {
-            b.set_style(style);
-        }
-        b
-    } else {
-        ProgressBar::hidden()
-    };
-    let cancelled = Arc::new(AtomicBool::new(false));
-    {
-        let c = Arc::clone(&cancelled);
-        // Without a handler Ctrl+C still stops the run (and writes nothing).
-        ctrlc::set_handler(move || c.store(true, Ordering::Relaxed)).ok();
-    }
-    let spent = AtomicU64::new(0);
+pub fn run(args: PhaseArgs) -> Result<(), CliError> {
+    let Plan {
+        params,
+        settings,
+        kappas,
+        theta_nus,
+        opts,
+        threads,
+        out,
+        max_seconds,
+    } = check(&args)?;
+    let (rows, cols) = (kappas.len(), theta_nus.len());
+    let (k_from, k_to) = (kappas[0], kappas[rows - 1]);
+    let (t_from, t_to) = (theta_nus[0], theta_nus[cols - 1]);
+    let keep = opts.keep;
+    warn_validity(&params);
+    let progress = Progress::with_extra("phase", "cells", (rows * cols) as u64, "iterates");
+    let limits = Limits::start(max_seconds);
     let on_cell = |c: &PhaseCell| {
-        let n = spent.fetch_add(c.iterates, Ordering::Relaxed) + c.iterates;
-        bar.inc(1);
-        bar.set_message(n.to_string());
+        // The shown count only grows: both counts are read under one lock.
+        progress.add_extra(c.iterates);
+        progress.inc(1);
     };
-    let cancel = || cancelled.load(Ordering::Relaxed);
+    let cancel = || limits.stop();
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()
@@ -196,15 +248,11 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
             params, settings, &kappas, &theta_nus, &opts, &cancel, &on_cell,
         )
     });
-    bar.finish_and_clear();
+    progress.finish();
     let seconds = start.elapsed().as_secs_f64();
     let grid = match grid {
         Ok(g) => g,
-        Err(SimError::Cancelled) => {
-            return Err(CliError::Failed(
-                "cancelled: nothing was written".to_string(),
-            ));
-        }
+        Err(SimError::Cancelled) => return Err(limits.stopped("phase")),
         Err(e) => return Err(e.into()),
     };
 
@@ -225,7 +273,9 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
             ))
         })?;
     }
-    emit(&args.out, csv.as_bytes(), args.force)?;
+    if let Some(o) = &out {
+        emit(o, csv.as_bytes(), args.force)?;
+    }
 
     let iterates: u64 = cells.iter().map(|c| c.iterates).sum();
     let evals: u64 = cells.iter().map(|c| c.rhs_evals).sum();

@@ -9,8 +9,11 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, total_iterates,
+    ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, max_seconds,
+    total_iterates, warn_event, warn_validity,
 };
+use super::run_control::{Limits, Progress};
+use super::values::{parse_count, parse_number, short};
 use crate::sim::{Sampler, Simulator};
 
 /// The smallest sampling spacing accepted: finer than any plot needs, and a
@@ -21,6 +24,10 @@ pub const MIN_SPACING: f64 = 1e-6;
 /// spacing.
 pub const MAX_EVENTS: usize = 1_000_000;
 
+/// The most samples (CSV rows) a path may have: they are held in memory
+/// until the file is written atomically (~150 bytes each with the text).
+pub const MAX_SAMPLES: usize = 2_000_000;
+
 /// The path of the block over a few cycles.
 #[derive(Debug, Clone, Args)]
 pub struct TrajectoryArgs {
@@ -30,55 +37,113 @@ pub struct TrajectoryArgs {
     pub solver: SolverArgs,
     /// θ of the first slip onset, in radians (on the exit arc) [default: θν,
     /// which always is].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
     /// Cycles iterated (not recorded) before the path starts, to reach the
-    /// attractor; the recorded path starts at t = 0.
-    #[arg(long, default_value_t = 0)]
+    /// attractor; the recorded path starts at t = 0 (transient + events ≤ 1e12).
+    #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
-    /// Cycles (slip + the stick that follows) recorded (1 to 1e6).
-    #[arg(long, default_value_t = 1)]
+    /// Cycles (slip + the stick that follows) recorded (1 to 1e6; at most
+    /// 2e6 samples in all).
+    #[arg(long, default_value_t = 1, value_parser = parse_count, allow_hyphen_values = true)]
     pub events: usize,
     /// CSV file ("-" = stdout).
     #[arg(long, default_value = "-")]
     pub out: PathBuf,
     /// Time between samples during slips (≥ 1e-6).
-    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true)]
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true, value_parser = parse_number)]
     pub spacing: f64,
     /// Overwrite an existing --out file.
     #[arg(long)]
     pub force: bool,
+    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
-pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
+/// The checked inputs of `trajectory`.
+pub struct Plan {
+    sim: Simulator,
+    theta0: f64,
+    events: usize,
+    spacing: f64,
+    total: u64,
+    max_seconds: Option<f64>,
+}
+
+/// Checks the flags and the output before any work.
+pub fn check(args: &TrajectoryArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let events = count_in("events", args.events, MAX_EVENTS)?;
-    total_iterates(args.transient, ("events", events), 1)?;
+    let total = total_iterates(args.transient, ("events", events), 1)?;
     let spacing = finite("spacing", args.spacing)?;
     if spacing < MIN_SPACING {
         return Err(CliError::Usage(format!(
-            "--spacing = {spacing} is out of range: must be a number >= {MIN_SPACING:e}"
+            "--spacing = {} is out of range: must be a number >= {MIN_SPACING:e}",
+            short(spacing)
         )));
     }
     check_out(&args.out, args.force)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
     let sim = Simulator::new(params, settings)?;
-    let mut theta = check_theta(&sim, "theta0", args.theta0.unwrap_or(params.theta_nu))?;
+    let theta0 = check_theta(&sim, "theta0", args.theta0.unwrap_or(params.theta_nu))?;
+    Ok(Plan {
+        sim,
+        theta0,
+        events,
+        spacing,
+        total,
+        max_seconds,
+    })
+}
 
+pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
+    let Plan {
+        sim,
+        theta0,
+        events,
+        spacing,
+        total,
+        max_seconds,
+    } = check(&args)?;
+    let (params, settings) = (*sim.params(), *sim.settings());
+    warn_validity(&params);
+    let progress = Progress::new("trajectory", "cycles", total);
+    let limits = Limits::start(max_seconds);
+    let mut theta = theta0;
     for _ in 0..args.transient {
+        if limits.stop() {
+            progress.finish();
+            return Err(limits.stopped("trajectory"));
+        }
         let ev = sim.cycle(theta, 0.0, None)?;
         theta = sim.next_onset(&ev);
+        progress.inc(1);
     }
-    let mut sampler = Sampler::new(spacing);
+    let mut sampler = Sampler::with_limit(spacing, MAX_SAMPLES);
     let mut t = 0.0;
     let mut restarts = 0;
     for _ in 0..events {
+        if limits.stop() {
+            progress.finish();
+            return Err(limits.stopped("trajectory"));
+        }
         let ev = sim.cycle(theta, t, Some(&mut sampler))?;
+        if sampler.dropped() > 0 {
+            progress.finish();
+            return Err(CliError::Usage(format!(
+                "--spacing = {} with --events = {events} would record more than {MAX_SAMPLES:e} samples: raise --spacing or lower --events (nothing was written)",
+                short(spacing)
+            )));
+        }
+        warn_event(&ev);
         t += ev.slip_duration + ev.stick_duration;
         restarts += usize::from(ev.restarted);
         theta = sim.next_onset(&ev);
+        progress.inc(1);
     }
-
+    progress.finish();
     let samples = sampler.take();
     let mut csv = String::with_capacity(64 * (samples.len() + 1));
     csv.push_str("t,x,y,u,w,phase\n");

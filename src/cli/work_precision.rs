@@ -9,7 +9,11 @@ use std::time::{Duration, Instant};
 use clap::Args;
 
 use super::CliError;
-use super::common::{check_out, count_in, emit, finite, stderr_is_terminal};
+use super::common::{
+    check_out, check_second_out, count_in, emit, finite, max_seconds, warn_validity,
+};
+use super::run_control::Limits;
+use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
 use crate::model::Params;
 use crate::numerics::sample::{Attractor, build_sample, default_attractors};
 use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects, measure};
@@ -18,35 +22,41 @@ use crate::numerics::{Subject, chart};
 /// The work-precision chart: error against cost for every method.
 #[derive(Debug, Clone, Args)]
 pub struct WorkPrecisionArgs {
-    /// κ of a single attractor to measure on [default: the four-attractor sample].
-    #[arg(long, allow_hyphen_values = true, requires_all = ["gamma", "nu", "theta_nu"])]
+    /// Measure on a single attractor from a named parameter set (fig3a,
+    /// fig3b, fig4, creep, chaos, intermittent); the flags below override it.
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// κ of a single attractor to measure on [default: the four-attractor
+    /// sample], in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa: Option<f64>,
-    /// γ of that attractor.
-    #[arg(long, allow_hyphen_values = true, requires = "kappa")]
+    /// γ of that attractor, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub gamma: Option<f64>,
-    /// ν of that attractor.
-    #[arg(long, allow_hyphen_values = true, requires = "kappa")]
+    /// ν of that attractor, in [1e-12, 1e3].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub nu: Option<f64>,
     /// θν of that attractor, in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, requires = "kappa")]
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu: Option<f64>,
-    /// Ω of that attractor.
-    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true)]
-    pub omega: f64,
+    /// Ω of that attractor [default: 50, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
     /// Where that attractor's orbit starts [default: θν].
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
     /// Orbit points per attractor (1 to 10000). The default attractors'
     /// first 64 (200 for the two chaotic ones) are committed, so the
     /// default sample does not move when the integrator changes; more are
     /// taken from a fresh orbit.
-    #[arg(long, default_value_t = 16)]
+    #[arg(long, default_value_t = 16, value_parser = parse_count, allow_hyphen_values = true)]
     pub points: usize,
     /// Each point is timed over repeated runs lasting at least this many
-    /// milliseconds.
-    #[arg(long, default_value_t = 2.0)]
+    /// milliseconds, in [0, 10000].
+    #[arg(long, default_value_t = 2.0, allow_hyphen_values = true, value_parser = parse_number)]
     pub min_time_ms: f64,
-    /// Only the methods whose name contains this (e.g. dop853).
+    /// Only the methods whose name contains this: dp54, dop853, rk4, euler,
+    /// or a peer's (ode_solvers).
     #[arg(long)]
     pub only: Option<String>,
     /// CSV file ("-" = stdout).
@@ -58,6 +68,9 @@ pub struct WorkPrecisionArgs {
     /// Overwrite existing output files.
     #[arg(long)]
     pub force: bool,
+    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// The machine's 1-minute load average, read from /proc/loadavg.
@@ -70,46 +83,100 @@ pub fn load_average() -> Option<f64> {
         .ok()
 }
 
-pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
-    let attractors = match args.kappa {
-        None => default_attractors(),
-        Some(kappa) => {
-            let params = Params {
-                kappa,
-                gamma: args.gamma.unwrap_or(f64::NAN),
-                nu: args.nu.unwrap_or(f64::NAN),
-                theta_nu: args.theta_nu.unwrap_or(f64::NAN),
-                omega: args.omega,
-            };
-            params
-                .validate()
-                .map_err(|e| CliError::Usage(format!("--{e}")))?;
-            let theta0 = match args.theta0 {
-                Some(t) => finite("theta0", t)?,
-                None => params.theta_nu,
-            };
-            vec![Attractor {
-                name: "given",
-                params,
-                theta0,
-                transient: 300,
-                extra: None,
-                fixed: None,
-            }]
-        }
+/// The checked inputs of `work-precision`.
+pub struct Plan {
+    attractors: Vec<Attractor>,
+    points: usize,
+    min_ms: f64,
+    subjects: Vec<Subject>,
+    max_seconds: Option<f64>,
+}
+
+/// Checks the flags and the outputs before any work.
+pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
+    let single = args.preset.is_some()
+        || args.kappa.is_some()
+        || args.gamma.is_some()
+        || args.nu.is_some()
+        || args.theta_nu.is_some();
+    let attractors = if !single {
+        default_attractors()
+    } else {
+        let base = preset_params(args.preset.as_deref())?;
+        let params = Params {
+            kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
+            gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
+            nu: given_or_preset("nu", args.nu, base.map(|b| b.nu))?,
+            theta_nu: given_or_preset("theta-nu", args.theta_nu, base.map(|b| b.theta_nu))?,
+            omega: args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
+        };
+        params.validate().map_err(param_error)?;
+        let theta0 = match args.theta0 {
+            Some(t) => finite("theta0", t)?,
+            None => params.theta_nu,
+        };
+        vec![Attractor {
+            name: "given",
+            params,
+            theta0,
+            transient: 300,
+            extra: None,
+            fixed: None,
+        }]
     };
     let points = count_in("points", args.points, 10_000)?;
     let min_ms = finite("min-time-ms", args.min_time_ms)?;
     if !(0.0..=10_000.0).contains(&min_ms) {
         return Err(CliError::Usage(format!(
-            "--min-time-ms = {min_ms} is out of range: must lie in [0, 10000]"
+            "--min-time-ms = {} is out of range: must lie in [0, 10000]",
+            super::values::short(min_ms)
+        )));
+    }
+    let all = default_subjects();
+    let subjects: Vec<Subject> = all
+        .iter()
+        .filter(|s| {
+            args.only
+                .as_deref()
+                .is_none_or(|o| s.method_name().contains(o))
+        })
+        .cloned()
+        .collect();
+    if subjects.is_empty() {
+        let mut names: Vec<&str> = all.iter().map(Subject::method_name).collect();
+        names.dedup();
+        return Err(CliError::Usage(format!(
+            "--only = '{}' matches no method: expected a part of {}",
+            super::values::echo(args.only.as_deref().unwrap_or("")),
+            names.join(", ")
         )));
     }
     check_out(&args.out, args.force)?;
     if let Some(svg) = &args.svg {
-        check_out(svg, args.force)?;
+        check_second_out("svg", svg, &args.out, args.force)?;
     }
-    let progress = stderr_is_terminal();
+    let max_seconds = max_seconds(args.max_seconds)?;
+    Ok(Plan {
+        attractors,
+        points,
+        min_ms,
+        subjects,
+        max_seconds,
+    })
+}
+
+pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
+    let Plan {
+        attractors,
+        points,
+        min_ms,
+        subjects,
+        max_seconds,
+    } = check(&args)?;
+    if let [a] = attractors.as_slice() {
+        warn_validity(&a.params);
+    }
+    let limits = Limits::start(max_seconds);
     let load_before = load_average();
     let start = Instant::now();
     let sample = build_sample(&attractors, points)?;
@@ -117,21 +184,15 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         .iter()
         .map(|s| s.reference_spread())
         .fold(0.0, f64::max);
-    let subjects: Vec<Subject> = default_subjects()
-        .into_iter()
-        .filter(|s| {
-            args.only
-                .as_deref()
-                .is_none_or(|o| s.method_name().contains(o))
-        })
-        .collect();
     let min_time = Duration::from_secs_f64(min_ms * 1e-3);
     let mut rows: Vec<Row> = Vec::with_capacity(subjects.len());
     for (i, s) in subjects.iter().enumerate() {
-        let row = measure(&sample, s, min_time);
-        if progress {
-            eprintln!("[{}/{}] {}", i + 1, subjects.len(), row.csv());
+        if limits.stop() {
+            return Err(limits.stopped("work-precision"));
         }
+        let row = measure(&sample, s, min_time);
+        // One line per setting, on a terminal or not: a run takes minutes.
+        eprintln!("[{}/{}] {}", i + 1, subjects.len(), row.csv());
         rows.push(row);
     }
     let load_after = load_average();

@@ -7,6 +7,7 @@ mod params;
 pub mod presets;
 mod regime;
 mod stick;
+pub mod validity;
 
 pub use geometry::{
     critical_ellipse_point, elastic_energy, ellipse_c_point, exit_arc, is_on_exit_arc,
@@ -16,3 +17,4 @@ pub use params::{ParamError, Params};
 pub use presets::{PRESETS, Preset, preset, preset_keys};
 pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character, onset_stiffness};
 pub use stick::{stick_exit_point, stick_exit_time};
+pub use validity::{EventAnomaly, ValidityWarning, event_anomalies, validity};

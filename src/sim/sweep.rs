@@ -26,13 +26,22 @@ pub struct Column {
     pub rhs_evals: u64,
 }
 
-/// `n` values of θν evenly spaced from `from` to `to` inclusive.
+/// `n` values of θν evenly spaced from `from` to `to` inclusive. Finite
+/// ends give finite values: a span too wide for f64 (`to − from` beyond
+/// 1.8e308) is interpolated as `from·(1 − s) + to·s` instead.
 pub fn theta_nu_grid(from: f64, to: f64, n: usize) -> Vec<f64> {
+    let span = to - from;
     match n {
         0 => vec![],
         1 => vec![from],
+        _ if span.is_finite() => (0..n)
+            .map(|i| from + span * i as f64 / (n - 1) as f64)
+            .collect(),
         _ => (0..n)
-            .map(|i| from + (to - from) * i as f64 / (n - 1) as f64)
+            .map(|i| {
+                let s = i as f64 / (n - 1) as f64;
+                from * (1.0 - s) + to * s
+            })
             .collect(),
     }
 }
@@ -80,28 +89,39 @@ impl Column {
     }
 }
 
+/// The onsets a column keeps during its transient: enough for
+/// [`settled_period`] (a window of 4p onsets plus p more, p ≤ 16), so that
+/// memory does not grow with the transient.
+const SETTLE_WINDOW: usize = 4 * 16 + 16;
+
 /// A column in progress, one cycle at a time, so that [`Column::run`] and
 /// the lanes of [`run_columns`] share the column's logic (the early exit
-/// of a settled column, the kept iterates of a failed one).
+/// of a settled column, the kept iterates of a failed one). Its memory is
+/// proportional to the kept iterates, never to the transient: transient
+/// onsets older than [`SETTLE_WINDOW`] are dropped as the column goes.
 struct ColumnRun {
     col: Column,
     transient: usize,
     total: usize,
     rep_tol: f64,
-    /// onsets[k] is the onset of cycle k.
+    /// onsets[k] is the onset of cycle `first + k`.
     onsets: Vec<f64>,
+    /// The cycle of `onsets[0]` (never beyond `transient`).
+    first: usize,
     done: bool,
 }
 
 impl ColumnRun {
     fn new(sim: &Simulator, theta_start: f64, opts: &SweepOptions) -> Self {
-        let total = opts.transient + opts.keep;
-        let mut onsets = Vec::with_capacity(total + 1);
+        // Saturating: a sum past usize is refused by every caller first,
+        // and a saturated total only means a run that never ends by count.
+        let total = opts.transient.saturating_add(opts.keep);
+        let mut onsets = Vec::with_capacity(opts.keep.min(1 << 20) + SETTLE_WINDOW);
         onsets.push(theta_start);
         ColumnRun {
             col: Column {
                 theta_nu: sim.params().theta_nu,
-                thetas: Vec::with_capacity(opts.keep),
+                thetas: Vec::new(),
                 theta_last: theta_start,
                 error: None,
                 rhs_evals: 0,
@@ -110,8 +130,19 @@ impl ColumnRun {
             total,
             rep_tol: (100.0 * sim.settings().rtol).clamp(1e-12, 1e-6),
             onsets,
+            first: 0,
             done: total == 0,
         }
+    }
+
+    /// The number of onsets known so far (cycles 0 ..= len − 1).
+    fn len(&self) -> usize {
+        self.first + self.onsets.len()
+    }
+
+    /// The onsets of cycles `from .. to` (both at or after `first`).
+    fn span(&self, from: usize, to: usize) -> &[f64] {
+        &self.onsets[from - self.first..to - self.first]
     }
 
     /// The onset of the next cycle to compute, or `None` once the column
@@ -130,7 +161,7 @@ impl ColumnRun {
 
     /// Takes the result of the cycle from the last onset `next_onset` gave.
     fn take(&mut self, sim: &Simulator, r: Result<SlipEvent, SimError>) {
-        let i = self.onsets.len() - 1;
+        let i = self.len() - 1;
         match r {
             Ok(ev) => {
                 self.col.rhs_evals += ev.rhs_evals;
@@ -139,7 +170,7 @@ impl ColumnRun {
             Err(e) => {
                 self.col.error = Some(e);
                 // The kept cycles that completed before the failure.
-                self.col.thetas = self.onsets[self.transient.min(i)..i].to_vec();
+                self.col.thetas = self.span(self.transient.min(i), i).to_vec();
                 self.done = true;
                 return;
             }
@@ -147,20 +178,39 @@ impl ColumnRun {
         // A column that has settled onto a short cycle repeats it: the
         // rest of its iterates are the cycle's, to within rep_tol, so
         // they are not integrated again (most columns of a diagram are
-        // fixed points or short cycles).
+        // fixed points or short cycles). Only the iterates from the
+        // transient's end on are written out.
         if let Some(p) = settled_period(&self.onsets, self.rep_tol) {
-            for k in self.onsets.len()..=self.total {
-                let next = self.onsets[k - p];
-                self.onsets.push(next);
+            let n = self.len();
+            let cycle: Vec<f64> = self.span(n - p, n).to_vec();
+            let from = n.max(self.transient);
+            if from > n {
+                self.onsets.clear();
+                self.first = from;
             }
+            for k in from..=self.total {
+                self.onsets.push(cycle[(k - (n - p)) % p]);
+            }
+        } else {
+            self.forget_transient();
         }
-        self.done = self.onsets.len() > self.total;
+        self.done = self.len() > self.total;
+    }
+
+    /// Drops transient onsets no longer needed (older than the settle
+    /// window), in batches so that the copying stays a small overhead.
+    fn forget_transient(&mut self) {
+        let keep_from = self.len().saturating_sub(SETTLE_WINDOW).min(self.transient);
+        if keep_from >= self.first + 4 * SETTLE_WINDOW {
+            self.onsets.drain(..keep_from - self.first);
+            self.first = keep_from;
+        }
     }
 
     fn finish(mut self) -> Column {
-        if self.col.error.is_none() && self.onsets.len() > self.total {
-            self.col.thetas = self.onsets[self.transient..self.total].to_vec();
-            self.col.theta_last = self.onsets[self.total];
+        if self.col.error.is_none() && self.len() > self.total {
+            self.col.thetas = self.span(self.transient, self.total).to_vec();
+            self.col.theta_last = self.onsets[self.total - self.first];
         }
         self.col
     }
@@ -396,6 +446,53 @@ mod tests {
             // others agree to far below a pixel (1e-3 of the θ range).
             assert!(worst < 1e-5, "θν = {tn}: early exit differs by {worst:e}");
         }
+    }
+
+    #[test]
+    fn grids_over_the_widest_ranges_stay_finite() {
+        let g = theta_nu_grid(-1e308, 1e308, 5);
+        assert!(g.iter().all(|v| v.is_finite()), "{g:?}");
+        assert_eq!((g[0], g[2], g[4]), (-1e308, 0.0, 1e308));
+        assert_eq!(theta_nu_grid(0.0, 1.0, 3), [0.0, 0.5, 1.0]);
+    }
+
+    /// A long transient is streamed: a column holds the settle window and
+    /// its kept iterates, not the transient, and keeps the same iterates
+    /// as a short transient from the same settled state would.
+    #[test]
+    fn long_transients_are_streamed() {
+        let params = Params::default();
+        let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+        // Chaos (θν = 1.25) never settles, so every transient iterate is
+        // integrated and dropped as the column goes.
+        let sim = Simulator::new(params.with_theta_nu(1.25), settings).unwrap();
+        let opts = SweepOptions {
+            transient: 3000,
+            keep: 5,
+        };
+        let mut run = ColumnRun::new(&sim, 1.25, &opts);
+        let mut most = 0;
+        while let Some(theta) = run.next_onset(&|| false) {
+            run.take(&sim, sim.cycle(theta, 0.0, None));
+            most = most.max(run.onsets.len());
+        }
+        assert!(
+            most <= 5 * SETTLE_WINDOW + opts.keep + 1,
+            "held {most} onsets"
+        );
+        let col = run.finish();
+        assert_eq!(col.thetas.len(), 5);
+        assert_eq!(col.thetas, brute_force(params, settings, 1.25, &opts));
+        // A fixed point settles early; the transient's end is reached by
+        // repeating the cycle, without a vector the transient's length.
+        let huge = SweepOptions {
+            transient: 1 << 40,
+            keep: 3,
+        };
+        let col = Column::run(params, settings, 0.3, 0.3, &huge, &|| false);
+        assert!(col.error.is_none());
+        assert_eq!(col.thetas.len(), 3);
+        assert!(col.thetas.iter().all(|t| (t - col.thetas[0]).abs() < 1e-9));
     }
 
     #[test]

@@ -42,6 +42,10 @@ pub struct Sampler {
     spacing: f64,
     next_t: f64,
     pub samples: Vec<Sample>,
+    /// The most samples held at once (`usize::MAX`: no cap).
+    limit: usize,
+    /// Samples refused because the cap was reached.
+    dropped: u64,
 }
 
 impl Sampler {
@@ -51,7 +55,24 @@ impl Sampler {
             spacing: spacing.max(1e-9),
             next_t: 0.0,
             samples: Vec::new(),
+            limit: usize::MAX,
+            dropped: 0,
         }
+    }
+
+    /// As `new`, holding at most `limit` samples at once: the samples past
+    /// it are not stored but counted ([`Sampler::dropped`]), so that memory
+    /// stays bounded whatever the spacing and the slips' lengths.
+    pub fn with_limit(spacing: f64, limit: usize) -> Self {
+        Sampler {
+            limit,
+            ..Sampler::new(spacing)
+        }
+    }
+
+    /// How many samples the cap of [`Sampler::with_limit`] refused.
+    pub fn dropped(&self) -> u64 {
+        self.dropped
     }
 
     pub fn spacing(&self) -> f64 {
@@ -65,6 +86,10 @@ impl Sampler {
 
     /// Records a position with lab velocity `vel`.
     pub fn push(&mut self, t: f64, p: [f64; 2], vel: [f64; 2], phase: Phase) {
+        if self.samples.len() >= self.limit {
+            self.dropped += 1;
+            return;
+        }
         self.samples.push(Sample {
             t,
             x: p[0],

@@ -1,0 +1,248 @@
+//! What every long command shares while it runs: a time bound
+//! (`--max-seconds`) and Ctrl+C, which stop it cleanly with nothing
+//! written; progress, as a bar on a terminal and as a line every few
+//! seconds elsewhere; and writing to stdout with its failures reported.
+
+use std::io::Write;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use indicatif::{ProgressBar, ProgressStyle};
+
+use super::CliError;
+use super::common::stderr_is_terminal;
+use super::values::short;
+
+/// Set by the Ctrl+C handler; polled by every long run.
+static INTERRUPTED: AtomicBool = AtomicBool::new(false);
+
+/// When a long run stops early: at `--max-seconds`, or on Ctrl+C.
+#[derive(Debug)]
+pub struct Limits {
+    start: Instant,
+    max_seconds: Option<f64>,
+}
+
+impl Limits {
+    /// Starts the clock and installs the Ctrl+C handler (once per process).
+    pub fn start(max_seconds: Option<f64>) -> Self {
+        static HANDLER: std::sync::Once = std::sync::Once::new();
+        HANDLER.call_once(|| {
+            // Without a handler Ctrl+C still stops the run, writing nothing.
+            ctrlc::set_handler(|| INTERRUPTED.store(true, Ordering::Relaxed)).ok();
+        });
+        Limits {
+            start: Instant::now(),
+            max_seconds,
+        }
+    }
+
+    /// Whether the run should stop now.
+    pub fn stop(&self) -> bool {
+        INTERRUPTED.load(Ordering::Relaxed)
+            || self
+                .max_seconds
+                .is_some_and(|m| self.start.elapsed().as_secs_f64() >= m)
+    }
+
+    /// The error of a run that stopped early: why, and that nothing was
+    /// written (exit code 1).
+    pub fn stopped(&self, what: &str) -> CliError {
+        let after = self.start.elapsed().as_secs_f64();
+        if INTERRUPTED.load(Ordering::Relaxed) {
+            CliError::Failed(format!(
+                "{what}: interrupted (Ctrl+C) after {after:.1} s: nothing was written"
+            ))
+        } else {
+            CliError::Failed(format!(
+                "{what}: stopped by --max-seconds = {} after {after:.1} s: nothing was written",
+                short(self.max_seconds.unwrap_or(0.0))
+            ))
+        }
+    }
+}
+
+/// How often a progress line is printed when stderr is not a terminal.
+pub const PROGRESS_EVERY: Duration = Duration::from_secs(5);
+
+/// Progress of a long run, from any number of threads: a bar on a terminal,
+/// else a line on stderr every [`PROGRESS_EVERY`]. The counts shown never
+/// go down (they are read and shown under one lock).
+pub struct Progress {
+    label: &'static str,
+    unit: &'static str,
+    total: u64,
+    done: AtomicU64,
+    extra: AtomicU64,
+    extra_unit: Option<&'static str>,
+    bar: Option<ProgressBar>,
+    shown: Mutex<Instant>,
+    start: Instant,
+}
+
+impl Progress {
+    /// Progress towards `total` `unit`s (e.g. "iterates").
+    pub fn new(label: &'static str, unit: &'static str, total: u64) -> Self {
+        Self::build(label, unit, total, None)
+    }
+
+    /// The same with a second count shown beside it (e.g. iterates beside
+    /// cells), added with [`Progress::add_extra`].
+    pub fn with_extra(
+        label: &'static str,
+        unit: &'static str,
+        total: u64,
+        extra_unit: &'static str,
+    ) -> Self {
+        Self::build(label, unit, total, Some(extra_unit))
+    }
+
+    fn build(
+        label: &'static str,
+        unit: &'static str,
+        total: u64,
+        extra_unit: Option<&'static str>,
+    ) -> Self {
+        let bar = stderr_is_terminal().then(|| {
+            let b = ProgressBar::new(total);
+            let extra = extra_unit.map_or(String::new(), |u| format!(", {{msg}} {u}"));
+            let template = format!(
+                "{label} {{bar:40}} {{human_pos}}/{{human_len}} {unit}{extra}, eta {{eta}}"
+            );
+            if let Ok(style) = ProgressStyle::with_template(&template) {
+                b.set_style(style);
+            }
+            b
+        });
+        let now = Instant::now();
+        Progress {
+            label,
+            unit,
+            total,
+            done: AtomicU64::new(0),
+            extra: AtomicU64::new(0),
+            extra_unit,
+            bar,
+            shown: Mutex::new(now),
+            start: now,
+        }
+    }
+
+    /// Adds to the second count.
+    pub fn add_extra(&self, n: u64) {
+        self.extra.fetch_add(n, Ordering::Relaxed);
+    }
+
+    /// Counts `n` more units done.
+    pub fn inc(&self, n: u64) {
+        self.done.fetch_add(n, Ordering::Relaxed);
+        let now = Instant::now();
+        // Only one thread shows at a time, and one that finds the lock
+        // taken skips: the next call shows the newer count.
+        let Ok(mut shown) = self.shown.try_lock() else {
+            return;
+        };
+        let done = self.done.load(Ordering::Relaxed);
+        let extra = self.extra.load(Ordering::Relaxed);
+        match &self.bar {
+            Some(b) => {
+                b.set_position(done);
+                if self.extra_unit.is_some() {
+                    b.set_message(extra.to_string());
+                }
+            }
+            None if now.duration_since(*shown) >= PROGRESS_EVERY => {
+                *shown = now;
+                let extra = self
+                    .extra_unit
+                    .map_or(String::new(), |u| format!(", {extra} {u}"));
+                eprintln!(
+                    "{}: {done} of {} {} ({:.0}%){extra}, {:.0} s",
+                    self.label,
+                    self.total,
+                    self.unit,
+                    100.0 * done as f64 / self.total.max(1) as f64,
+                    now.duration_since(self.start).as_secs_f64()
+                );
+            }
+            None => {}
+        }
+    }
+
+    /// Prints a line without tearing the bar.
+    pub fn println(&self, line: &str) {
+        match &self.bar {
+            Some(b) => b.suspend(|| eprintln!("{line}")),
+            None => eprintln!("{line}"),
+        }
+    }
+
+    /// Removes the bar.
+    pub fn finish(&self) {
+        if let Some(b) = &self.bar {
+            b.finish_and_clear();
+        }
+    }
+}
+
+/// Whether stdout was closed when the program started. The standard
+/// library then points it at /dev/null, opened read-write (a shell's
+/// `> /dev/null` opens it write-only), and every write would vanish.
+#[cfg(target_os = "linux")]
+pub fn stdout_was_closed() -> bool {
+    // SAFETY: fcntl and fstat only read the state of descriptor 1; the
+    // stat buffer is a plain C struct that fstat fills.
+    unsafe {
+        let flags = libc::fcntl(1, libc::F_GETFL);
+        if flags < 0 {
+            return true;
+        }
+        if flags & libc::O_ACCMODE != libc::O_RDWR {
+            return false;
+        }
+        let mut fd_stat: libc::stat = std::mem::zeroed();
+        let mut null_stat: libc::stat = std::mem::zeroed();
+        libc::fstat(1, &mut fd_stat) == 0
+            && libc::stat(c"/dev/null".as_ptr(), &mut null_stat) == 0
+            && (fd_stat.st_mode & libc::S_IFMT) == libc::S_IFCHR
+            && fd_stat.st_rdev == null_stat.st_rdev
+    }
+}
+
+/// Whether stdout was closed when the program started (not detectable here).
+#[cfg(not(target_os = "linux"))]
+pub fn stdout_was_closed() -> bool {
+    false
+}
+
+/// Refuses, before any work, to run a command whose results go to a
+/// closed stdout.
+pub fn check_stdout() -> Result<(), CliError> {
+    if stdout_was_closed() {
+        Err(CliError::Failed(
+            "cannot write to stdout: it is closed (redirect it to a file, or give --out FILE)"
+                .into(),
+        ))
+    } else {
+        Ok(())
+    }
+}
+
+/// Writes to stdout, flushing at once: a failure (a full disk, a closed
+/// descriptor) is an error with exit code 1; a reader that has gone
+/// (`| head`) is not, it has what it wanted.
+pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
+    check_stdout()?;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(bytes).and_then(|_| out.flush()) {
+        Ok(()) => Ok(()),
+        Err(e) if e.kind() == std::io::ErrorKind::BrokenPipe => Ok(()),
+        Err(e) => Err(CliError::Failed(format!("cannot write to stdout: {e}"))),
+    }
+}
+
+/// One line to stdout, as [`write_stdout`].
+pub fn say(line: &str) -> Result<(), CliError> {
+    write_stdout(format!("{line}\n").as_bytes())
+}

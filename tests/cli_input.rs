@@ -1,0 +1,224 @@
+//! Bad input and output files on the command line: every refusal names its
+//! flag on one line with exit code 2, and no existing file is lost.
+
+mod cli_support;
+
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+use cli_support::*;
+use oneblock::formats::SLIP_EVENT_COLUMNS;
+
+#[test]
+fn bad_input_names_the_flag_and_exits_with_2() {
+    let map = map_args(&["--theta", "0.5"]);
+    for (flag, values) in [
+        ("--kappa", &["NaN", "inf", "0", "-1"][..]),
+        ("--gamma", &["-0.5", "NaN"]),
+        ("--nu", &["0", "-1e-3", "inf"]),
+        ("--theta-nu", &["NaN", "-inf"]),
+        ("--theta", &["2.5", "NaN", "inf"]),
+    ] {
+        for v in values {
+            assert_bad_input(&set(map.clone(), flag, v), flag);
+        }
+    }
+    let extra = [
+        (&["--omega", "0"][..], "--omega"),
+        (&["--omega", "NaN"], "--omega"),
+        (&["--tol", "1e-15"], "--tol"),
+        (&["--tol", "0.1"], "--tol"),
+        (&["--tol", "NaN"], "--tol"),
+        (&["--method", "rk45x"], "--method"),
+        (&["--method", "rk4", "--step", "0"], "--step"),
+        (&["--method", "euler", "--step", "NaN"], "--step"),
+        (&["--method", "rk4", "--tol", "1e-8"], "--tol"),
+    ];
+    for (more, flag) in extra {
+        assert_bad_input(
+            &with(&map.iter().map(String::as_str).collect::<Vec<_>>(), more),
+            flag,
+        );
+    }
+
+    let orbit = cmd_args(
+        "orbit",
+        &["--theta0", "0.5", "--transient", "1", "--keep", "2"],
+    );
+    assert_bad_input(&set(orbit.clone(), "--theta0", "-2"), "--theta0");
+    assert_bad_input(&set(orbit.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(
+        &set(orbit.clone(), "--transient", "18446744073709551615"),
+        "--transient",
+    );
+    assert_bad_input(&set(orbit.clone(), "--kappa", "NaN"), "--kappa");
+    assert_bad_input(
+        &with(
+            &orbit.iter().map(String::as_str).collect::<Vec<_>>(),
+            &["--period-tol", "0"],
+        ),
+        "--period-tol",
+    );
+    assert_bad_input(
+        &with(
+            &orbit.iter().map(String::as_str).collect::<Vec<_>>(),
+            &["--json", "--out", "-"],
+        ),
+        "--out",
+    );
+
+    let traj = cmd_args("trajectory", &["--theta0", "0.5", "--events", "1"]);
+    assert_bad_input(&set(traj.clone(), "--events", "0"), "--events");
+    assert_bad_input(&set(traj.clone(), "--theta0", "3"), "--theta0");
+    for v in ["0", "-0.1", "NaN", "1e-9"] {
+        assert_bad_input(
+            &with(
+                &traj.iter().map(String::as_str).collect::<Vec<_>>(),
+                &["--spacing", v],
+            ),
+            "--spacing",
+        );
+    }
+
+    let bif: Vec<String> = [
+        "bifurcation",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "0",
+        "--theta-nu-to",
+        "1.5",
+        "--columns",
+        "2",
+        "--transient",
+        "1",
+        "--keep",
+        "1",
+    ]
+    .map(String::from)
+    .to_vec();
+    assert_bad_input(&set(bif.clone(), "--columns", "0"), "--columns");
+    assert_bad_input(&set(bif.clone(), "--keep", "0"), "--keep");
+    assert_bad_input(&set(bif.clone(), "--columns", "1000000000000"), "--columns");
+    assert_bad_input(
+        &set(set(bif.clone(), "--columns", "1000"), "--keep", "1000000"),
+        "--keep",
+    );
+    assert_bad_input(
+        &set(bif.clone(), "--transient", "1000000000000000"),
+        "--transient",
+    );
+    assert_bad_input(
+        &set(bif.clone(), "--theta-nu-from", "NaN"),
+        "--theta-nu-from",
+    );
+    assert_bad_input(&set(bif.clone(), "--theta-nu-to", "inf"), "--theta-nu-to");
+    assert_bad_input(&set(bif.clone(), "--nu", "0"), "--nu");
+    assert_bad_input(&set(bif.clone(), "--gamma", "-1"), "--gamma");
+    assert_bad_input(&set(bif.clone(), "--kappa", "-inf"), "--kappa");
+}
+
+#[test]
+fn unwritable_output_is_refused_before_any_work() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let missing = dir.path().join("no/such/folder/out.csv");
+    let missing = missing.to_str().expect("UTF-8 path");
+    // A run long enough that simulating first would be noticed.
+    let start = Instant::now();
+    assert_bad_input(
+        &[
+            "bifurcation",
+            "--kappa",
+            "18.95",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-3",
+            "--columns",
+            "100000",
+            "--transient",
+            "100000",
+            "--keep",
+            "10",
+            "--out",
+            missing,
+        ]
+        .map(String::from),
+        "--out",
+    );
+    assert!(start.elapsed() < Duration::from_secs(5));
+    let traj = cmd_args("trajectory", &["--events", "100000", "--out", missing]);
+    assert_bad_input(&traj, "--out");
+    let folder = dir.path().to_str().expect("UTF-8 path");
+    assert_bad_input(
+        &cmd_args("orbit", &["--keep", "1", "--out", folder]),
+        "--out",
+    );
+}
+
+#[test]
+fn existing_output_is_kept_unless_forced() {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let path = dir.path().join("orbit.csv");
+    std::fs::write(&path, "keep me\n").expect("write");
+    let p = path.to_str().expect("UTF-8 path");
+    let args = cmd_args("orbit", &["--transient", "2", "--keep", "3", "--out", p]);
+    assert_bad_input(&args, "--out");
+    assert!(stderr(&run(&args)).contains("--force"));
+    assert_eq!(std::fs::read_to_string(&path).expect("read"), "keep me\n");
+
+    let forced = with(
+        &args.iter().map(String::as_str).collect::<Vec<_>>(),
+        &["--force"],
+    );
+    let o = run(&forced);
+    assert_ok(&o);
+    assert!(o.stdout.is_empty(), "the CSV went to the file");
+    let (header, rows) = parse_csv(&std::fs::read_to_string(&path).expect("read"));
+    assert_eq!(header, SLIP_EVENT_COLUMNS);
+    assert_eq!(rows.len(), 3);
+    // No temporary files left beside it.
+    assert_eq!(std::fs::read_dir(dir.path()).expect("list").count(), 1);
+
+    // A new file is written without --force.
+    let fresh = dir.path().join("path.csv");
+    let o = run(&cmd_args(
+        "trajectory",
+        &["--out", fresh.to_str().expect("UTF-8 path")],
+    ));
+    assert_ok(&o);
+    assert!(Path::new(&fresh).exists());
+}
+
+#[test]
+fn dash_writes_to_stdout() {
+    for cmd in ["orbit", "trajectory"] {
+        let o = run(&cmd_args(cmd, &["--out", "-"]));
+        assert_ok(&o);
+        assert!(stdout(&o).lines().count() > 2, "{cmd}");
+        assert!(!Path::new("-").exists(), "no file called '-'");
+    }
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "3",
+        "--gamma",
+        "0.5",
+        "--nu",
+        "1e-3",
+        "--columns",
+        "2",
+        "--transient",
+        "1",
+        "--keep",
+        "2",
+        "--out",
+        "-",
+    ]);
+    assert_ok(&o);
+    assert_eq!(stdout(&o).lines().count(), 1 + 2 * 2);
+}

@@ -1,0 +1,111 @@
+//! Running the `oneblock` binary as a user does, for the command-line tests.
+
+#![allow(dead_code)]
+
+use std::process::{Command, Output};
+
+/// MODEL.md's first worked example.
+pub const FIG3B: [&str; 8] = [
+    "--kappa",
+    "18.95",
+    "--gamma",
+    "6.5",
+    "--nu",
+    "1e-3",
+    "--theta-nu",
+    "1.0",
+];
+
+pub fn oneblock(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(args)
+        .output()
+        .expect("the oneblock binary runs")
+}
+
+pub fn with(base: &[&str], more: &[&str]) -> Vec<String> {
+    base.iter().chain(more).map(|s| s.to_string()).collect()
+}
+
+pub fn run(args: &[String]) -> Output {
+    let refs: Vec<&str> = args.iter().map(String::as_str).collect();
+    oneblock(&refs)
+}
+
+pub fn stdout(o: &Output) -> String {
+    String::from_utf8(o.stdout.clone()).expect("stdout is UTF-8")
+}
+
+pub fn stderr(o: &Output) -> String {
+    String::from_utf8(o.stderr.clone()).expect("stderr is UTF-8")
+}
+
+pub fn assert_ok(o: &Output) {
+    assert!(
+        o.status.success(),
+        "exit {:?}, stderr:\n{}",
+        o.status.code(),
+        stderr(o)
+    );
+}
+
+/// Parses a CSV with a header into (header, rows of cells).
+pub fn parse_csv(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
+    let mut lines = text.lines();
+    let header = lines
+        .next()
+        .expect("a header line")
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(str::to_string).collect())
+        .collect();
+    (header, rows)
+}
+
+pub fn num(cell: &str) -> f64 {
+    cell.parse()
+        .unwrap_or_else(|e| panic!("'{cell}' is not a number: {e}"))
+}
+
+pub fn map_args(more: &[&str]) -> Vec<String> {
+    with(
+        &with(&["map"], &FIG3B)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        more,
+    )
+}
+
+pub fn cmd_args(cmd: &str, more: &[&str]) -> Vec<String> {
+    with(
+        &with(&[cmd], &FIG3B)
+            .iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>(),
+        more,
+    )
+}
+
+/// Exit code 2, one line on stderr naming `flag`, no panic.
+pub fn assert_bad_input(args: &[String], flag: &str) {
+    let o = run(args);
+    let err = stderr(&o);
+    assert_eq!(o.status.code(), Some(2), "{args:?}: stderr {err}");
+    assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+    assert!(err.contains(flag), "{args:?} should name {flag}: {err}");
+    assert!(!err.contains("panicked"), "{err}");
+    assert!(o.stdout.is_empty(), "{args:?}: nothing on stdout");
+}
+
+/// Replaces the value of `flag` in `args`.
+pub fn set(mut args: Vec<String>, flag: &str, value: &str) -> Vec<String> {
+    let i = args
+        .iter()
+        .position(|a| a == flag)
+        .unwrap_or_else(|| panic!("no {flag}"));
+    args[i + 1] = value.to_string();
+    args
+}
