@@ -3,23 +3,27 @@
 
 mod analysis;
 mod cycle;
+pub mod cycles;
 mod error;
 pub mod field;
 mod orbit;
+pub mod period;
 pub mod phase;
 mod sweep;
 mod trajectory;
 mod trig;
 
 pub use analysis::{
-    DERIVATIVE_STEP, PERIOD_MAX, cycle_with_derivative, detect_period, fixed_point, map_derivative,
-    map_graph_grid, return_map_window,
+    DERIVATIVE_STEP, cycle_with_derivative, fixed_point, map_derivative, map_graph_grid,
+    return_map_window,
 };
 pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,
 };
+pub use cycles::{Cycle, CycleFailure, CycleOptions, solve_cycle};
 pub use error::SimError;
-pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
+pub use orbit::{Orbit, OrbitOptions, Period, Settled, mean_and_stderr};
+pub use period::{PERIOD_MAX, settled_period};
 pub use sweep::{
     Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
     sweep_segments, theta_nu_grid,
