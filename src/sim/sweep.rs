@@ -1,9 +1,19 @@
 //! Bifurcation sweeps over θν: each column's orbit starts from the last
 //! iterate of the previous column, so a sweep follows one attractor.
+//!
+//! A column stops integrating once its orbit has settled: when its onsets
+//! repeat with a period (`settled_period`), or when they contract onto a
+//! cycle too slowly to wait for, which is then solved (`super::cycles`) and
+//! confirmed to attract and to be approached. The rest of the column, and
+//! the onset its neighbour continues from, are then that cycle's points: a
+//! column starts where the attractor is, not where a slow orbit had got to,
+//! so no staircase of lagging columns can appear.
 
+use super::cycles::{CycleOptions, confirm_contraction};
+use super::period::{contraction, settled_period};
 use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
-use crate::model::{Params, project_onto_exit_arc, wrap_angle};
+use crate::model::{Params, project_onto_exit_arc};
 
 /// How long each column runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -91,7 +101,16 @@ struct ColumnRun {
     /// onsets[k] is the onset of cycle k.
     onsets: Vec<f64>,
     done: bool,
+    /// Solves of a slow contraction left, and the onset count before which
+    /// the next may not start (one that was not confirmed waits a while).
+    solves_left: usize,
+    next_solve: usize,
 }
+
+/// The most solves of a slow contraction a column attempts.
+const MAX_SOLVES: usize = 3;
+/// Onsets a column waits after a solve that was not confirmed.
+const SOLVE_COOLDOWN: usize = 16;
 
 impl ColumnRun {
     fn new(sim: &Simulator, theta_start: f64, opts: &SweepOptions) -> Self {
@@ -111,6 +130,8 @@ impl ColumnRun {
             rep_tol: (100.0 * sim.settings().rtol).clamp(1e-12, 1e-6),
             onsets,
             done: total == 0,
+            solves_left: MAX_SOLVES,
+            next_solve: 0,
         }
     }
 
@@ -152,6 +173,31 @@ impl ColumnRun {
             for k in self.onsets.len()..=self.total {
                 let next = self.onsets[k - p];
                 self.onsets.push(next);
+            }
+        } else if self.solves_left > 0 && self.onsets.len() >= self.next_solve {
+            // Contracting onto a cycle, but slowly: the cycle is solved, and
+            // once confirmed the column continues on it, the newest onset
+            // replaced by its point in the same phase.
+            let noise = self.rep_tol;
+            if let Some(c) = contraction(&self.onsets, noise) {
+                let opts = CycleOptions::for_classifier(sim.settings());
+                let mut spent = (0, 0);
+                let cycle = confirm_contraction(sim, &self.onsets, &c, &opts, noise, &mut spent);
+                self.col.rhs_evals += spent.1;
+                match cycle {
+                    Some(cycle) => {
+                        let last = self.onsets.len() - 1;
+                        for k in last..=self.total {
+                            let point = cycle.points[(k - last) % cycle.period()];
+                            self.onsets.truncate(k);
+                            self.onsets.push(point);
+                        }
+                    }
+                    None => {
+                        self.solves_left -= 1;
+                        self.next_solve = self.onsets.len() + SOLVE_COOLDOWN;
+                    }
+                }
             }
         }
         self.done = self.onsets.len() > self.total;
@@ -276,31 +322,6 @@ pub fn sweep_segments(
     out.into_iter().map_while(|c| c).collect()
 }
 
-/// The period p ≤ 16 onto which the onsets have settled, if any: over the
-/// last max(4p, 8) onsets, θ_k repeats θ_{k−p} within `tol`, and the
-/// differences are either at rounding level or shrinking fast enough that
-/// what is left of the approach (a geometric series) is below `tol` too.
-/// A slowly converging orbit (multiplier near 1) is therefore not cut short.
-fn settled_period(onsets: &[f64], tol: f64) -> Option<usize> {
-    let n = onsets.len();
-    (1..=16).find(|&p| {
-        let w = (4 * p).max(8);
-        if n < w + p {
-            return false;
-        }
-        let d = |j: usize| wrap_angle(onsets[j] - onsets[j - p]).abs();
-        if !(n - w..n).all(|j| d(j) <= tol) {
-            return false;
-        }
-        let (first, last) = (d(n - w), d(n - 1));
-        if last <= 1e-3 * tol {
-            return true;
-        }
-        let r = (last / first).powf(1.0 / (w - 1) as f64);
-        r < 1.0 && last * r / (1.0 - r) <= tol
-    })
-}
-
 /// A continued sweep over `theta_nus`, in order, starting from `theta0` (or
 /// θν). After a failed column the next one starts afresh from θν.
 pub fn sweep_columns(
@@ -336,6 +357,7 @@ pub fn sweep_columns(
 mod tests {
     use super::*;
     use crate::integrate::Method;
+    use crate::model::wrap_angle;
 
     /// Every cycle integrated: the reference the early exit must reproduce.
     fn brute_force(
@@ -365,26 +387,10 @@ mod tests {
             transient: 300,
             keep: 200,
         };
-        // Fig. 3b: fixed points, period 2 and 4, chaos, period 3; and a slow
-        // pure-creep fixed point (multiplier ≈ 0.99), which must not be cut short.
-        let creep = Params {
-            kappa: 3.0,
-            gamma: 0.5,
-            nu: 1e-3,
-            theta_nu: 0.7,
-            omega: 50.0,
-        };
-        for (p, tn) in [
-            (params, 0.3),
-            (params, 1.0),
-            (params, 1.12),
-            (params, 1.2),
-            (params, 1.25),
-            (params, 1.3),
-            (creep, 0.7),
-        ] {
-            let col = Column::run(p, settings, tn, tn, &opts, &|| false);
-            let reference = brute_force(p, settings, tn, &opts);
+        // Fig. 3b: fixed points, period 2 and 4, chaos, period 3.
+        for tn in [0.3, 1.0, 1.12, 1.2, 1.25, 1.3] {
+            let col = Column::run(params, settings, tn, tn, &opts, &|| false);
+            let reference = brute_force(params, settings, tn, &opts);
             assert_eq!(col.thetas.len(), reference.len());
             let worst = col
                 .thetas
@@ -396,6 +402,34 @@ mod tests {
             // others agree to far below a pixel (1e-3 of the θ range).
             assert!(worst < 1e-5, "θν = {tn}: early exit differs by {worst:e}");
         }
+    }
+
+    /// A slow pure-creep fixed point (multiplier ≈ 0.99): the column is its
+    /// solved fixed point, which the whole integration only approaches.
+    #[test]
+    fn a_slow_column_is_its_solved_fixed_point() {
+        let settings = SolverSettings::adaptive(Method::Dop853, 1e-10);
+        let opts = SweepOptions {
+            transient: 300,
+            keep: 200,
+        };
+        let creep = Params {
+            kappa: 3.0,
+            gamma: 0.5,
+            nu: 1e-3,
+            theta_nu: 0.7,
+            omega: 50.0,
+        };
+        let tn = creep.theta_nu;
+        let col = Column::run(creep, settings, tn, tn, &opts, &|| false);
+        let sim = Simulator::new(creep, settings).unwrap();
+        let (star, _) = crate::sim::fixed_point(&sim, tn, 1e-12).unwrap().unwrap();
+        let off = |xs: &[f64]| xs.iter().map(|x| (x - star).abs()).fold(0.0, f64::max);
+        assert_eq!(col.thetas.len(), opts.keep);
+        assert!(off(&col.thetas) < 1e-7, "{:e}", off(&col.thetas));
+        assert!((col.theta_last - star).abs() < 1e-7);
+        let reference = brute_force(creep, settings, tn, &opts);
+        assert!(off(&reference) > off(&col.thetas));
     }
 
     #[test]
