@@ -45,10 +45,11 @@ fn newton_converges_quadratically_onto_a_fixed_point() {
     let star = solve_cycle(&s, 0.45, 1, &full).expect("a fixed point");
     let th = star.points[0];
     assert!((s.map(th).unwrap() - th).abs() < 1e-9, "f(θ*) = θ*");
-    // The residual after k steps, from a seed 0.03 rad away: each at most
-    // a fixed multiple of the square of the one before, down to the map's
-    // own error.
-    let seed = th + 0.03;
+    // The residual after k steps, from a seed 0.01 rad away: each at most
+    // a fixed multiple of the square of the one before, and the ratio of
+    // successive residuals falling (superlinear), down to the map's own
+    // error.
+    let seed = th + 0.01;
     let residual = |k: usize| match solve_cycle(
         &s,
         seed,
@@ -63,18 +64,20 @@ fn newton_converges_quadratically_onto_a_fixed_point() {
         Err(CycleFailure::NoConvergence { residual, .. }) => residual,
         other => panic!("after {k} steps: {other:?}"),
     };
-    let r: Vec<f64> = (0..4).map(residual).collect();
-    assert!(r[0] > 1e-3, "{r:?}");
+    let r: Vec<f64> = (0..5).map(residual).collect();
+    assert!(r[0] > 5e-3, "{r:?}");
     let mut quadratic_steps = 0;
-    for k in 0..3 {
-        if r[k + 1] < 1e-10 {
+    for k in 0..4 {
+        if r[k + 1] < 1e-11 {
             break;
         }
-        assert!(r[k + 1] < 0.1 * r[k], "step {k}: {r:?}");
         assert!(
-            r[k + 1] <= 50.0 * r[k] * r[k],
+            r[k + 1] <= 20.0 * r[k] * r[k],
             "step {k} is not quadratic: {r:?}"
         );
+        if k > 0 {
+            assert!(r[k + 1] / r[k] < r[k] / r[k - 1], "step {k}: {r:?}");
+        }
         quadratic_steps += 1;
     }
     assert!(quadratic_steps >= 2, "{r:?}");

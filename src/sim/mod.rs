@@ -25,7 +25,7 @@ pub use error::SimError;
 pub use orbit::{Orbit, OrbitOptions, Period, Settled, mean_and_stderr};
 pub use period::{PERIOD_MAX, settled_period};
 pub use sweep::{
-    Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
+    Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, segments, sweep_columns,
     sweep_segments, theta_nu_grid,
 };
 pub use trajectory::{Phase, Sample, Sampler};

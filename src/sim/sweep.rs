@@ -7,9 +7,15 @@
 //! confirmed to attract and to be approached. The rest of the column, and
 //! the onset its neighbour continues from, are then that cycle's points: a
 //! column starts where the attractor is, not where a slow orbit had got to,
-//! so no staircase of lagging columns can appear.
+//! so no staircase of lagging columns can appear. A column whose neighbour
+//! was solved onto a slow cycle solves for that cycle first, from the
+//! neighbour's point ([`Handover`]), and continues on it if it attracts.
+//!
+//! Slow cycles are solved at tol 1e-10 whatever the sweep's own accuracy: a
+//! map error ε moves a cycle with multiplier m by ε/|1 − m|, which near
+//! m = 1 is many pixels even where ε is far below one.
 
-use super::cycles::{CycleOptions, confirm_contraction};
+use super::cycles::{Cycle, CycleOptions, approaches, solve_counting};
 use super::period::{contraction, settled_period};
 use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
@@ -34,6 +40,46 @@ pub struct Column {
     pub error: Option<SimError>,
     /// Right-hand-side evaluations the column cost.
     pub rhs_evals: u64,
+    /// The period of the slow cycle (|multiplier| ≥ 0.5) the column was
+    /// solved onto, if it was: its neighbour solves for it first.
+    pub slow_period: Option<usize>,
+}
+
+/// What a finished column hands the neighbour that continues from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Handover {
+    /// Its last onset.
+    pub theta: f64,
+    /// [`Column::slow_period`].
+    pub slow_period: Option<usize>,
+}
+
+impl Column {
+    /// Where a neighbour continues from; `None` after a failure (the
+    /// neighbour then starts afresh from θν).
+    pub fn handover(&self) -> Option<Handover> {
+        self.error.is_none().then_some(Handover {
+            theta: self.theta_last,
+            slow_period: self.slow_period,
+        })
+    }
+}
+
+/// The least |multiplier| of a cycle a neighbour solves for first: faster
+/// ones are reached by iterating within a few periods.
+pub const SLOW_MULTIPLIER: f64 = 0.5;
+
+/// The settings slow cycles are solved with (see the module notes).
+fn solve_settings(settings: &SolverSettings) -> SolverSettings {
+    if settings.method.is_adaptive() && settings.rtol > 1e-10 {
+        SolverSettings {
+            rtol: 1e-10,
+            atol: 1e-10,
+            ..*settings
+        }
+    } else {
+        *settings
+    }
 }
 
 /// `n` values of θν evenly spaced from `from` to `to` inclusive.
@@ -67,11 +113,25 @@ impl Column {
         opts: &SweepOptions,
         cancel: &dyn Fn() -> bool,
     ) -> Column {
+        Self::run_from(params, settings, theta_nu, theta_start, None, opts, cancel)
+    }
+
+    /// [`Column::run`], first solving for a slow cycle of period
+    /// `slow_period` from `theta_start` when the neighbour had one.
+    pub fn run_from(
+        params: Params,
+        settings: SolverSettings,
+        theta_nu: f64,
+        theta_start: f64,
+        slow_period: Option<usize>,
+        opts: &SweepOptions,
+        cancel: &dyn Fn() -> bool,
+    ) -> Column {
         let sim = match Simulator::new(params.with_theta_nu(theta_nu), settings) {
             Ok(s) => s,
             Err(e) => return Column::failed(theta_nu, theta_start, e),
         };
-        let mut run = ColumnRun::new(&sim, theta_start, opts);
+        let mut run = ColumnRun::new(&sim, theta_start, slow_period, opts);
         while let Some(theta) = run.next_onset(cancel) {
             run.take(&sim, sim.cycle(theta, 0.0, None));
         }
@@ -86,6 +146,7 @@ impl Column {
             theta_last: theta_start,
             error: Some(e),
             rhs_evals: 0,
+            slow_period: None,
         }
     }
 }
@@ -113,17 +174,23 @@ const MAX_SOLVES: usize = 3;
 const SOLVE_COOLDOWN: usize = 16;
 
 impl ColumnRun {
-    fn new(sim: &Simulator, theta_start: f64, opts: &SweepOptions) -> Self {
+    fn new(
+        sim: &Simulator,
+        theta_start: f64,
+        slow_period: Option<usize>,
+        opts: &SweepOptions,
+    ) -> Self {
         let total = opts.transient + opts.keep;
         let mut onsets = Vec::with_capacity(total + 1);
         onsets.push(theta_start);
-        ColumnRun {
+        let mut run = ColumnRun {
             col: Column {
                 theta_nu: sim.params().theta_nu,
                 thetas: Vec::with_capacity(opts.keep),
                 theta_last: theta_start,
                 error: None,
                 rhs_evals: 0,
+                slow_period: None,
             },
             transient: opts.transient,
             total,
@@ -132,7 +199,43 @@ impl ColumnRun {
             done: total == 0,
             solves_left: MAX_SOLVES,
             next_solve: 0,
+        };
+        // The neighbour's slow cycle, continued: if it still attracts here,
+        // the column is on it from the start.
+        if let Some(p) = slow_period
+            && !run.done
+            && let Some(cycle) = run.solve(sim, theta_start, p)
+            && cycle.stable
+        {
+            run.follow(&cycle);
         }
+        run
+    }
+
+    /// The p-cycle solved from `seed` at the solve settings, if it is a
+    /// genuine p-cycle; its cost is the column's.
+    fn solve(&mut self, sim: &Simulator, seed: f64, p: usize) -> Option<Cycle> {
+        let settings = solve_settings(sim.settings());
+        let accurate = Simulator::new(*sim.params(), settings).ok()?;
+        let opts = CycleOptions::for_classifier(&settings);
+        let mut spent = (0, 0);
+        let cycle = solve_counting(&accurate, seed, p, &opts, &mut spent);
+        self.col.rhs_evals += spent.1;
+        cycle.ok().filter(|c| c.minimal_period == p)
+    }
+
+    /// The column continues on `cycle` from its newest onset, which is
+    /// replaced by the cycle's point 0 (solved from it, so in its phase).
+    fn follow(&mut self, cycle: &Cycle) {
+        let last = self.onsets.len() - 1;
+        self.onsets.truncate(last);
+        for k in last..=self.total {
+            self.onsets.push(cycle.points[(k - last) % cycle.period()]);
+        }
+        if cycle.multiplier.abs() >= SLOW_MULTIPLIER {
+            self.col.slow_period = Some(cycle.period());
+        }
+        self.done = true;
     }
 
     /// The onset of the next cycle to compute, or `None` once the column
@@ -176,23 +279,13 @@ impl ColumnRun {
             }
         } else if self.solves_left > 0 && self.onsets.len() >= self.next_solve {
             // Contracting onto a cycle, but slowly: the cycle is solved, and
-            // once confirmed the column continues on it, the newest onset
-            // replaced by its point in the same phase.
-            let noise = self.rep_tol;
-            if let Some(c) = contraction(&self.onsets, noise) {
-                let opts = CycleOptions::for_classifier(sim.settings());
-                let mut spent = (0, 0);
-                let cycle = confirm_contraction(sim, &self.onsets, &c, &opts, noise, &mut spent);
-                self.col.rhs_evals += spent.1;
-                match cycle {
-                    Some(cycle) => {
-                        let last = self.onsets.len() - 1;
-                        for k in last..=self.total {
-                            let point = cycle.points[(k - last) % cycle.period()];
-                            self.onsets.truncate(k);
-                            self.onsets.push(point);
-                        }
-                    }
+            // once confirmed the column continues on it.
+            if let Some(c) = contraction(&self.onsets, self.rep_tol) {
+                let confirmed = self
+                    .solve(sim, c.limit, c.period)
+                    .filter(|cy| cy.stable && approaches(cy, &self.onsets, self.rep_tol));
+                match confirmed {
+                    Some(cycle) => self.follow(&cycle),
                     None => {
                         self.solves_left -= 1;
                         self.next_solve = self.onsets.len() + SOLVE_COOLDOWN;
@@ -218,6 +311,8 @@ pub struct ColumnJob<'s> {
     pub sim: Result<&'s Simulator, SimError>,
     pub theta_nu: f64,
     pub start: f64,
+    /// The neighbour's slow cycle's period ([`Handover`]).
+    pub slow_period: Option<usize>,
 }
 
 /// Runs columns on the lanes of [`run_lanes`] (several columns' slips
@@ -247,7 +342,10 @@ pub fn run_columns<'s>(
             }
             let job = next(lane, finished.take())?;
             match job.sim {
-                Ok(sim) => current[lane] = Some((sim, ColumnRun::new(sim, job.start, opts))),
+                Ok(sim) => {
+                    let run = ColumnRun::new(sim, job.start, job.slow_period, opts);
+                    current[lane] = Some((sim, run));
+                }
                 Err(e) => finished = Some(Column::failed(job.theta_nu, job.start, e)),
             }
         }
@@ -290,11 +388,15 @@ pub fn sweep_segments(
     // Each lane walks its segment: (index of its next column, end, where
     // the next column continues from).
     let mut first = 0;
-    let mut walk: Vec<(usize, usize, Option<f64>)> = segs
+    let start = theta0.map(|theta| Handover {
+        theta,
+        slow_period: None,
+    });
+    let mut walk: Vec<(usize, usize, Option<Handover>)> = segs
         .iter()
         .map(|s| {
             first += s.len();
-            (first - s.len(), first, theta0)
+            (first - s.len(), first, start)
         })
         .collect();
     let mut out: Vec<Option<Column>> = (0..theta_nus.len()).map(|_| None).collect();
@@ -303,7 +405,7 @@ pub fn sweep_segments(
         let w = walk.get_mut(lane)?;
         if let Some(col) = finished {
             on_column(&col);
-            w.2 = col.error.is_none().then_some(col.theta_last);
+            w.2 = col.handover();
             stopped |= matches!(col.error, Some(SimError::Cancelled));
             out[w.0] = Some(col);
             w.0 += 1;
@@ -315,7 +417,8 @@ pub fn sweep_segments(
         Some(ColumnJob {
             sim: sims[w.0].as_ref().map_err(Clone::clone),
             theta_nu: tn,
-            start: column_start(params.kappa, tn, w.2),
+            start: column_start(params.kappa, tn, w.2.map(|h| h.theta)),
+            slow_period: w.2.and_then(|h| h.slow_period),
         })
     });
     // A cancelled sweep ends short, as `sweep_columns` does.
@@ -334,15 +437,15 @@ pub fn sweep_columns(
     mut on_column: impl FnMut(&Column),
 ) -> Vec<Column> {
     let mut out = Vec::with_capacity(theta_nus.len());
-    let mut prev = theta0;
+    let mut prev = theta0.map(|theta| Handover {
+        theta,
+        slow_period: None,
+    });
     for &tn in theta_nus {
-        let start = column_start(params.kappa, tn, prev);
-        let col = Column::run(params, settings, tn, start, opts, cancel);
-        prev = if col.error.is_none() {
-            Some(col.theta_last)
-        } else {
-            None
-        };
+        let start = column_start(params.kappa, tn, prev.map(|h| h.theta));
+        let slow = prev.and_then(|h| h.slow_period);
+        let col = Column::run_from(params, settings, tn, start, slow, opts, cancel);
+        prev = col.handover();
         on_column(&col);
         let cancelled = matches!(col.error, Some(SimError::Cancelled));
         out.push(col);

@@ -27,8 +27,8 @@ use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{
-    Column, ColumnJob, LANES, SimError, Simulator, SweepOptions, column_start, run_columns,
-    theta_nu_grid,
+    Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
+    run_columns, theta_nu_grid,
 };
 
 /// One column of a sweep plan.
@@ -116,7 +116,7 @@ enum Slot {
     Waiting,
     Running,
     /// Done, with where a neighbour continues (`None` if it failed).
-    Done(Option<f64>),
+    Done(Option<Handover>),
 }
 
 /// The shared to-do list of one sweep.
@@ -143,7 +143,7 @@ impl Schedule {
 
     /// The next column that may start, with its neighbour's last onset.
     /// `Err(true)`: none is ready yet; `Err(false)`: none is left.
-    fn next(&mut self) -> Result<(PlannedColumn, Option<f64>), bool> {
+    fn next(&mut self) -> Result<(PlannedColumn, Option<Handover>), bool> {
         while self.scan_from < self.plan.len()
             && self.slots[self.plan[self.scan_from].index] != Slot::Waiting
         {
@@ -175,7 +175,7 @@ impl Schedule {
         Err(true)
     }
 
-    fn complete(&mut self, p: PlannedColumn, theta_last: Option<f64>) {
+    fn complete(&mut self, p: PlannedColumn, theta_last: Option<Handover>) {
         self.slots[p.index] = Slot::Done(theta_last);
         self.done += 1;
         if p.coarse {
@@ -257,7 +257,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
     // Sends a finished column (or the panic that ended it) to the front end
     // and marks it done in the schedule.
     let deliver = |p: PlannedColumn,
-                   start: f64,
+                   start: (f64, Option<usize>),
                    col: Result<Column, Box<dyn std::any::Any + Send>>|
      -> Result<(), JobError> {
         let tn = grid[p.index];
@@ -283,14 +283,19 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                 let empty = Column {
                     theta_nu: tn,
                     thetas: vec![],
-                    theta_last: start,
+                    theta_last: start.0,
                     error: None,
                     rhs_evals: 0,
+                    slow_period: None,
                 };
                 (empty, Some((msg, None)))
             }
         };
-        let theta_last = problem.is_none().then_some(col.theta_last);
+        let theta_last = if problem.is_none() {
+            col.handover()
+        } else {
+            None
+        };
         if let Some((message, parameter)) = problem {
             let e = Update::Error {
                 generation,
@@ -365,7 +370,8 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
             // finds nothing ready retires, and once all have, this loop waits
             // again.
             let mut pending = Some(first);
-            let mut in_flight: [Option<(PlannedColumn, f64)>; LANES] = [None; LANES];
+            let mut in_flight: [Option<(PlannedColumn, (f64, Option<usize>))>; LANES] =
+                [None; LANES];
             let mut stop: Option<JobError> = None;
             let lanes = catch_unwind(AssertUnwindSafe(|| {
                 run_columns(&s.opts, &cancel, |lane, finished| {
@@ -379,14 +385,16 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                     }
                     let (p, neighbour) = pending.take().or_else(|| lock(&schedule).next().ok())?;
                     let tn = grid[p.index];
-                    let start = column_start(s.params.kappa, tn, neighbour);
-                    in_flight[lane] = Some((p, start));
+                    let start = column_start(s.params.kappa, tn, neighbour.map(|h| h.theta));
+                    let slow_period = neighbour.and_then(|h| h.slow_period);
+                    in_flight[lane] = Some((p, (start, slow_period)));
                     #[cfg(test)]
                     tests::inject_panic(p.index);
                     Some(ColumnJob {
                         sim: sims[p.index].as_ref().map_err(Clone::clone),
                         theta_nu: tn,
                         start,
+                        slow_period,
                     })
                 })
             }));
@@ -400,7 +408,8 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                     let col = catch_unwind(AssertUnwindSafe(|| {
                         #[cfg(test)]
                         tests::inject_panic(p.index);
-                        Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
+                        let (theta, slow) = start;
+                        Column::run_from(s.params, s.settings, tn, theta, slow, &s.opts, &cancel)
                     }));
                     deliver(p, start, col)?;
                 }
