@@ -262,9 +262,11 @@ pub fn solve_counting(
 }
 
 /// Whether the end of `seq` keeps approaching `cycle`, whose point 0 is in
-/// the phase of the newest value: the distances of the newest value and of
-/// those 1, 2 and 3 periods before it from that point shrink strictly
-/// (or the newest is already within `noise` of it), and the oldest is
+/// the phase of the newest value: of the distances e₀ … e₃ of the newest
+/// value and of those 1, 2 and 3 periods before it from that point, each
+/// is below the one two periods earlier (e₀ < e₂, e₁ < e₃: an approach with
+/// a negative multiplier alternates sides, unevenly, so neighbours are not
+/// compared), or the newest is already within `noise` of it; and e₃ is
 /// within 0.1 rad.
 pub fn approaches(cycle: &Cycle, seq: &[f64], noise: f64) -> bool {
     let p = cycle.period();
@@ -274,7 +276,7 @@ pub fn approaches(cycle: &Cycle, seq: &[f64], noise: f64) -> bool {
     }
     let c0 = cycle.points[0];
     let e: [f64; 4] = std::array::from_fn(|k| wrap_angle(seq[n - 1 - k * p] - c0).abs());
-    e[3] < 0.1 && (e[0] <= noise || e.windows(2).all(|w| w[0] < w[1]))
+    e[3] < 0.1 && (e[0] <= noise || (e[0] < e[2] && e[1] < e[3]))
 }
 
 /// The cycle the end of `seq` contracts onto ([`super::contraction`]),
