@@ -13,7 +13,7 @@ use oneblock::sim::{
     CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, SweepOptions, default_settings,
     fixed_point, solve_cycle, sweep_segments, theta_nu_grid,
 };
-use oneblock::worker::{Command, Lane, Outcome, Update, Worker, WorkerConfig};
+use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, Update, Worker, WorkerConfig};
 use std::sync::Arc;
 
 fn params(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
@@ -238,13 +238,13 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     let w = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
     assert!(w.send(Command::Sweep {
         generation: 1,
-        params: p,
-        settings: auto,
-        theta_nu_from: from,
-        theta_nu_to: to,
-        columns,
-        transient: 300,
-        keep: 200,
+        spec: SweepSpec {
+            params: p,
+            settings: auto,
+            theta_nu: Axis::new(from, to, columns),
+            transient: 300,
+            keep: 200,
+        },
     }));
     let (ups, outcome) = until_finished(&w, 1, Lane::Sweep);
     assert_eq!(outcome, Outcome::Completed);
