@@ -287,3 +287,75 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
         "{gap:e} > one pixel {pixel:e} (Auto = {auto:?})"
     );
 }
+
+/// `oneblock cycle` with `args` after the Fig. 3b model flags at θν = 1.0.
+fn cycle_cli(args: &[&str]) -> std::process::Output {
+    let model = [
+        "cycle",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu",
+        "1.0",
+    ];
+    std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(model.iter().chain(args))
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn the_cycle_command_solves_and_refuses_bad_input_in_one_line() {
+    let ok = cycle_cli(&["--period", "1", "--theta", "0.45", "--json"]);
+    assert_eq!(ok.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&ok.stdout).expect("JSON");
+    let th = v["points"][0].as_f64().expect("a point");
+    let s = sim(params(18.95, 6.5, 1e-3, 1.0));
+    assert!((s.map(th).unwrap() - th).abs() < 1e-9);
+    assert_eq!(v["stable"], true);
+    for (args, flag) in [
+        (["--period", "0", "--theta", "0.45"], "--period"),
+        (["--period", "65", "--theta", "0.45"], "--period"),
+        (["--period", "-2", "--theta", "0.45"], "--period"),
+        (["--period", "1", "--theta", "NaN"], "--theta"),
+        (["--period", "1", "--theta", "3.0"], "--theta"),
+    ] {
+        let o = cycle_cli(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.starts_with("error: ") && err.contains(flag), "{err}");
+    }
+}
+
+#[test]
+fn a_failed_solve_is_one_line_with_its_reason_and_exit_1() {
+    // The intermittent orbit's map jumps where its large slips start: from
+    // this seed Newton stalls against the jump.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "cycle",
+            "--kappa",
+            "50",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-4",
+            "--theta-nu",
+            "1.4",
+            "--period",
+            "1",
+            "--theta",
+            "0.5",
+        ])
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("no 1-cycle from theta = 0.5") && err.contains("convergence"));
+    assert!(o.stdout.is_empty());
+}
