@@ -34,7 +34,7 @@ fn sim(p: Params) -> Simulator {
 /// of the solver's.
 fn slope(s: &Simulator, theta: f64) -> f64 {
     let h = 1e-4;
-    (s.map(theta + h).unwrap() - s.map(theta - h).unwrap()) / (2.0 * h)
+    (s.map(theta + h).expect("a value") - s.map(theta - h).expect("a value")) / (2.0 * h)
 }
 
 #[test]
@@ -44,7 +44,10 @@ fn newton_converges_quadratically_onto_a_fixed_point() {
     let full = CycleOptions::for_settings(s.settings());
     let star = solve_cycle(&s, 0.45, 1, &full).expect("a fixed point");
     let th = star.points[0];
-    assert!((s.map(th).unwrap() - th).abs() < 1e-9, "f(θ*) = θ*");
+    assert!(
+        (s.map(th).expect("a value") - th).abs() < 1e-9,
+        "f(θ*) = θ*"
+    );
     // The residual after k steps, from a seed 0.01 rad away: each at most
     // a fixed multiple of the square of the one before, and the ratio of
     // successive residuals falling (superlinear), down to the map's own
@@ -128,7 +131,7 @@ fn the_flip_of_fig_3b_lies_between_1_08_and_1_10() {
     assert!(fb.multiplier < -1.0 && !fb.stable, "{}", fb.multiplier);
     for (s, c) in [(&a, &fa), (&b, &fb)] {
         let th = c.points[0];
-        assert!((s.map(th).unwrap() - th).abs() < 1e-9);
+        assert!((s.map(th).expect("a value") - th).abs() < 1e-9);
         assert!((c.multiplier - slope(s, th)).abs() < 1e-4);
     }
 }
@@ -147,7 +150,9 @@ fn the_fig_3a_point_is_a_fixed_point_within_the_default_budget() {
     assert_eq!(o.period, Period::Periodic(1));
     let c = o.cycle.expect("solved");
     // The secant solver, started afresh, lands on the same point.
-    let (star, m) = fixed_point(&s, p.theta_nu, 1e-11).unwrap().unwrap();
+    let (star, m) = fixed_point(&s, p.theta_nu, 1e-11)
+        .expect("no error")
+        .expect("a fixed point");
     assert!(
         (c.points[0] - star).abs() < 1e-6,
         "{} vs {star}",
@@ -197,7 +202,9 @@ fn the_creep_grid_has_no_undecided_cell() {
     // from θν (a few cells across the grid).
     for c in cells.iter().step_by(97) {
         let s = sim(params(c.kappa, 0.5, 1e-3, c.theta_nu));
-        let (star, _) = fixed_point(&s, c.theta_nu, 1e-12).unwrap().unwrap();
+        let (star, _) = fixed_point(&s, c.theta_nu, 1e-12)
+            .expect("no error")
+            .expect("a fixed point");
         assert!(
             (c.theta_last - star).abs() < 1e-6,
             "κ {} θν {}: {} vs {star}",
@@ -314,7 +321,7 @@ fn the_cycle_command_solves_and_refuses_bad_input_in_one_line() {
     let v: serde_json::Value = serde_json::from_slice(&ok.stdout).expect("JSON");
     let th = v["points"][0].as_f64().expect("a point");
     let s = sim(params(18.95, 6.5, 1e-3, 1.0));
-    assert!((s.map(th).unwrap() - th).abs() < 1e-9);
+    assert!((s.map(th).expect("a value") - th).abs() < 1e-9);
     assert_eq!(v["stable"], true);
     for (args, flag) in [
         (["--period", "0", "--theta", "0.45"], "--period"),

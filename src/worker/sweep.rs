@@ -109,6 +109,10 @@ pub fn sweep_plan(columns: usize, coarse: usize, chains: usize) -> Vec<PlannedCo
     plan
 }
 
+/// A column running in a lane: its plan entry, its first onset and the
+/// period of its neighbour's slow cycle (`Handover`).
+type InFlight = (PlannedColumn, (f64, Option<usize>));
+
 /// Where each planned column stands.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Slot {
@@ -346,8 +350,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
             // finds nothing ready retires, and once all have, this loop waits
             // again.
             let mut pending = Some(first);
-            let mut in_flight: [Option<(PlannedColumn, (f64, Option<usize>))>; LANES] =
-                [None; LANES];
+            let mut in_flight: [Option<InFlight>; LANES] = [None; LANES];
             let mut stop: Option<JobError> = None;
             let lanes = catch_unwind(AssertUnwindSafe(|| {
                 run_columns(&opts, &cancel, |lane, finished| {
