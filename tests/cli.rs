@@ -114,8 +114,12 @@ fn orbit_json_summary_reports_period_and_lyapunov() {
     let v: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
     assert_eq!(v["period"], 1);
     assert_eq!(v["keep"], 20);
-    assert!(v["lyapunov"].as_f64().expect("lyapunov") < 0.0);
-    assert!(v["lyapunov_stderr"].as_f64().is_some());
+    // A periodic orbit's exponent is its solved cycle's ln|multiplier|/p:
+    // exact, so no standard error.
+    let l = v["lyapunov"].as_f64().expect("lyapunov");
+    let m = v["cycle"]["multiplier"].as_f64().expect("the solved cycle");
+    assert!(l < 0.0 && (l - m.abs().ln()).abs() < 1e-12, "{l} vs ln|{m}|");
+    assert!(v["lyapunov_stderr"].is_null());
 
     // θν = 1.25: the chaotic attractor of the benchmark (λ > 0).
     let mut args = cmd_args("orbit", &["--transient", "100", "--keep", "300", "--json"]);

@@ -17,8 +17,8 @@ use oneblock::model::Params;
 use oneblock::numerics::quick::{current_attractor, quick_subjects};
 use oneblock::numerics::{Row, Subject, build_sample, measure};
 use oneblock::sim::{
-    Column, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start, default_settings,
-    return_map_window, theta_nu_grid,
+    Column, Handover, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start,
+    default_settings, return_map_window, theta_nu_grid,
 };
 use oneblock::worker::{
     Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
@@ -269,15 +269,24 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
     let grid = theta_nu_grid(0.05, 1.5, columns);
     let params = fig3b(0.0);
     let opts = SweepOptions { transient, keep };
-    let mut last: Vec<Option<f64>> = vec![None; columns];
+    let mut last: Vec<Option<Handover>> = vec![None; columns];
     // Each thread steps LANES columns together: LANES chains per thread.
     let plan = sweep_plan(columns, coarse, threads * LANES);
     for p in &plan {
         let neighbour = p.parent.and_then(|q| last[q]);
-        let start = column_start(params.kappa, grid[p.index], neighbour);
-        let col = Column::run(params, settings(), grid[p.index], start, &opts, &|| false);
+        let start = column_start(params.kappa, grid[p.index], neighbour.map(|h| h.theta));
+        let slow = neighbour.and_then(|h| h.slow_period);
+        let col = Column::run_from(
+            params,
+            settings(),
+            grid[p.index],
+            start,
+            slow,
+            &opts,
+            &|| false,
+        );
         assert!(col.error.is_none(), "{:?}", col.error);
-        last[p.index] = Some(col.theta_last);
+        last[p.index] = col.handover();
         let d = delivered
             .iter()
             .find(|d| d.0 == p.index)

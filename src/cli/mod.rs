@@ -4,6 +4,7 @@
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;
+pub mod cycle;
 pub mod gui;
 pub mod map;
 pub mod orbit;
@@ -33,6 +34,8 @@ pub enum Command {
     Map(map::MapArgs),
     /// An orbit of the map: CSV of kept slip events, period and Lyapunov exponent.
     Orbit(orbit::OrbitArgs),
+    /// A period-p cycle solved by Newton's method: its points, multiplier and stability.
+    Cycle(cycle::CycleArgs),
     /// The block's path (t, x, y, u, w, phase) sampled for display.
     Trajectory(trajectory::TrajectoryArgs),
     /// Bifurcation diagram data: θ against θν, on both cores.
@@ -60,6 +63,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::BenchWorker(a)) => bench_worker::check(a).map(drop),
         Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
         Some(Command::Phase(a)) => phase::check(a).map(drop),
+        Some(Command::Cycle(a)) => cycle::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
     }
 }
@@ -114,6 +118,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         None => gui::run(gui::GuiArgs::default()),
         Some(Command::Map(a)) => map::run(a),
         Some(Command::Orbit(a)) => orbit::run(a),
+        Some(Command::Cycle(a)) => cycle::run(a),
         Some(Command::Trajectory(a)) => trajectory::run(a),
         Some(Command::Bifurcation(a)) => bifurcation::run(a),
         Some(Command::BenchWorker(a)) => bench_worker::run(a),

@@ -17,7 +17,8 @@ use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
-use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+use crate::sim::period::longest_testable;
+use crate::sim::{Orbit, OrbitOptions, Period, SimError, Simulator};
 
 /// The most iterates an orbit keeps: each is a slip event held in memory
 /// (and a CSV row) until the file is written atomically, ~400 bytes in all.
@@ -220,7 +221,7 @@ impl Summary<'_> {
     /// The longest period the kept iterates can reveal (a period is seen
     /// only when it repeats twice).
     fn longest_testable(&self) -> usize {
-        PERIOD_MAX.min(self.orbit.events.len() / 2)
+        longest_testable(self.orbit.events.len())
     }
 
     fn iterates(&self) -> usize {
@@ -249,7 +250,14 @@ impl Summary<'_> {
         let p = self.longest_testable();
         match o.period {
             _ if p == 0 => writeln!(s, "  period: not determined (needs --keep >= 2)"),
-            Period::Periodic(n) => writeln!(s, "  period: {n} (tolerance {:e})", self.period_tol),
+            Period::Periodic(n) => match &o.cycle {
+                Some(c) => writeln!(
+                    s,
+                    "  period: {n} (cycle solved by Newton: multiplier {}, residual {:e}; period tolerance {:e})",
+                    c.multiplier, c.residual, self.period_tol
+                ),
+                None => writeln!(s, "  period: {n} (tolerance {:e})", self.period_tol),
+            },
             Period::Aperiodic => writeln!(
                 s,
                 "  period: aperiodic (no period <= {p} within {:e})",
@@ -258,6 +266,10 @@ impl Summary<'_> {
         }
         .ok();
         match (o.lyapunov, o.lyapunov_stderr) {
+            (Some(l), _) if o.cycle.is_some() => writeln!(
+                s,
+                "  lyapunov exponent: {l:.6} (ln|multiplier|/p of the solved cycle: exact)"
+            ),
             (Some(l), Some(e)) => writeln!(
                 s,
                 "  lyapunov exponent: {l:.6} ± {e:.1e} (standard error; ln|f'| averaged over the kept iterates)"
@@ -288,6 +300,12 @@ impl Summary<'_> {
             "period_max_tested": self.longest_testable(),
             "lyapunov": o.lyapunov,
             "lyapunov_stderr": o.lyapunov_stderr,
+            "cycle": o.cycle.as_ref().map(|c| serde_json::json!({
+                "points": c.points,
+                "multiplier": c.multiplier,
+                "residual": c.residual,
+                "iterations": c.iterations,
+            })),
             "restarts": o.restarts,
             "rhs_evals": o.rhs_evals,
             "theta_last": o.theta_last,

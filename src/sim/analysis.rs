@@ -1,20 +1,8 @@
-//! Period detection of an orbit, the derivative of the map, and the grid
-//! its graph is drawn on.
+//! The derivative of the map, and the grid its graph is drawn on (periods
+//! are detected in `super::period`).
 
 use super::{SimError, Simulator, SlipEvent, cycle_pair, cycles_in_lanes};
 use crate::model::{is_on_exit_arc, wrap_angle};
-
-/// The longest period looked for.
-pub const PERIOD_MAX: usize = 64;
-
-/// The smallest p ≤ 64 such that θ_{i+p} = θ_i within `tol` (as angles) for
-/// every i of the sequence; `None` if there is none. The sequence must be at
-/// least 2p long for p to be tested, so that the repeat is seen twice.
-pub fn detect_period(thetas: &[f64], tol: f64) -> Option<usize> {
-    let n = thetas.len();
-    (1..=PERIOD_MAX.min(n / 2))
-        .find(|&p| (p..n).all(|i| wrap_angle(thetas[i] - thetas[i - p]).abs() <= tol))
-}
 
 /// The window of θ a return-map picture of `thetas` shows: their range
 /// padded by a quarter on each side (at least 0.02 rad), so a fixed point
@@ -202,24 +190,5 @@ mod tests {
             "{} vs {expected}",
             g.len()
         );
-    }
-
-    #[test]
-    fn finds_the_smallest_period() {
-        let p3: Vec<f64> = (0..60)
-            .map(|i| [0.1, 0.5, -0.2][i % 3] + 1e-9 * i as f64)
-            .collect();
-        assert_eq!(detect_period(&p3, 1e-6), Some(3));
-        let fixed = vec![0.3; 10];
-        assert_eq!(detect_period(&fixed, 1e-12), Some(1));
-        let chaos: Vec<f64> = (0..200).map(|i| (i as f64 * 1.234567).sin()).collect();
-        assert_eq!(detect_period(&chaos, 1e-6), None);
-        // Across the ±π seam a fixed point is still a fixed point.
-        let seam = vec![
-            std::f64::consts::PI - 1e-12,
-            -std::f64::consts::PI + 1e-12,
-            std::f64::consts::PI,
-        ];
-        assert_eq!(detect_period(&seam, 1e-9), Some(1));
     }
 }

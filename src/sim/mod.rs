@@ -3,9 +3,11 @@
 
 mod analysis;
 mod cycle;
+pub mod cycles;
 mod error;
 pub mod field;
 mod orbit;
+pub mod period;
 pub mod phase;
 pub mod stats;
 mod sweep;
@@ -13,17 +15,19 @@ mod trajectory;
 mod trig;
 
 pub use analysis::{
-    DERIVATIVE_STEP, PERIOD_MAX, cycle_with_derivative, detect_period, fixed_point, map_derivative,
-    map_graph_grid, return_map_window,
+    DERIVATIVE_STEP, cycle_with_derivative, fixed_point, map_derivative, map_graph_grid,
+    return_map_window,
 };
 pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,
 };
+pub use cycles::{Cycle, CycleFailure, CycleOptions, solve_cycle};
 pub use error::SimError;
-pub use orbit::{Orbit, OrbitOptions, Period};
+pub use orbit::{Orbit, OrbitOptions, Period, Settled};
 pub use stats::mean_and_stderr;
+pub use period::{PERIOD_MAX, settled_period};
 pub use sweep::{
-    Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
+    Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, segments, sweep_columns,
     sweep_segments, theta_nu_grid,
 };
 pub use trajectory::{Phase, Sample, Sampler};

@@ -1,9 +1,14 @@
 //! Orbits of the map: a transient, then kept iterates with their period and
-//! Lyapunov exponent.
+//! Lyapunov exponent. A period is either seen (the kept iterates repeat) or,
+//! where the orbit contracts onto a cycle too slowly to wait for, solved
+//! (`super::cycles`); either way the cycle is then solved exactly and its
+//! exponent is ln|multiplier|/p.
 
 use serde::{Deserialize, Serialize};
 
-use super::analysis::{cycle_with_derivative, detect_period};
+use super::analysis::cycle_with_derivative;
+use super::cycles::{Cycle, CycleOptions, confirm_contraction, solve_counting};
+use super::period::{contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::{SimError, Simulator, SlipEvent};
 use crate::model::{is_on_exit_arc, project_onto_exit_arc};
@@ -55,9 +60,15 @@ pub struct Orbit {
     /// How many cycles ended in a restart (stop on or outside C).
     pub restarts: usize,
     pub period: Period,
-    /// Mean of ln|f'(θ)| over the kept iterates.
+    /// The solved attracting cycle of a periodic orbit: ln|multiplier|/p
+    /// is then its exponent. `None` when aperiodic, or when the period was
+    /// seen but its cycle could not be solved or does not attract.
+    pub cycle: Option<Cycle>,
+    /// The cycle's ln|multiplier|/p, or else the mean of ln|f'(θ)| over the
+    /// kept iterates.
     pub lyapunov: Option<f64>,
-    /// Its standard error (naive, from the spread of ln|f'|).
+    /// The mean's standard error (naive, from the spread of ln|f'|); `None`
+    /// for a solved cycle, whose exponent is exact.
     pub lyapunov_stderr: Option<f64>,
     /// Right-hand-side evaluations for the whole run, derivatives included.
     pub rhs_evals: u64,
@@ -121,19 +132,90 @@ impl Simulator {
             theta = self.next_onset(&ev);
         }
         let thetas: Vec<f64> = events.iter().map(|e| e.theta).collect();
-        let period = match detect_period(&thetas, opts.period_tol) {
-            Some(p) => Period::Periodic(p),
-            None => Period::Aperiodic,
-        };
-        let (lyapunov, lyapunov_stderr) = mean_and_stderr(&logs);
+        let mut spent = (0, 0);
+        let s = self.settle(&thetas, theta, &logs, opts.period_tol, &mut spent);
         Ok(Orbit {
             events,
             restarts,
-            period,
-            lyapunov,
-            lyapunov_stderr,
-            rhs_evals: evals,
+            period: s.period,
+            cycle: s.cycle,
+            lyapunov: s.lyapunov,
+            lyapunov_stderr: s.lyapunov_stderr,
+            rhs_evals: evals + spent.1,
             theta_last: theta,
         })
     }
+
+    /// What the kept onsets `kept` of an orbit, followed by the next onset
+    /// `next`, settle to, with `logs` = ln|f'(θ)| of the kept iterates (may
+    /// be empty):
+    /// - a period seen within `period_tol` ([`settled_period`]): its cycle is
+    ///   solved from `next`; if it attracts, its exponent is ln|m|/p;
+    /// - no period, but the iterates contract onto a cycle slowly
+    ///   ([`contraction`]): that cycle, if it attracts and the orbit keeps
+    ///   approaching it ([`confirm_contraction`]);
+    /// - else aperiodic, with the mean of `logs` and its standard error.
+    ///
+    /// The evaluations spent solving are added to `spent` (map, rhs).
+    pub fn settle(
+        &self,
+        kept: &[f64],
+        next: f64,
+        logs: &[f64],
+        period_tol: f64,
+        spent: &mut (u64, u64),
+    ) -> Settled {
+        let opts = CycleOptions::for_classifier(self.settings());
+        let mean = || {
+            let (l, se) = mean_and_stderr(logs);
+            (l, se)
+        };
+        if let Some(p) = settled_period(kept, period_tol) {
+            let solved = solve_counting(self, next, p, &opts, spent)
+                .ok()
+                .filter(|c| c.minimal_period == p && c.stable);
+            let (lyapunov, lyapunov_stderr) = match &solved {
+                Some(c) => (Some(c.lyapunov()), None),
+                None => mean(),
+            };
+            return Settled {
+                period: Period::Periodic(p),
+                cycle: solved,
+                lyapunov,
+                lyapunov_stderr,
+            };
+        }
+        let mut seq = kept.to_vec();
+        seq.push(next);
+        let noise = 1e-2 * period_tol;
+        if let Some(c) = contraction(&seq, noise)
+            && let Some(cycle) = confirm_contraction(self, &seq, &c, &opts, noise, spent)
+        {
+            return Settled {
+                period: Period::Periodic(cycle.period()),
+                lyapunov: Some(cycle.lyapunov()),
+                lyapunov_stderr: None,
+                cycle: Some(cycle),
+            };
+        }
+        let (lyapunov, lyapunov_stderr) = mean();
+        Settled {
+            period: Period::Aperiodic,
+            cycle: None,
+            lyapunov,
+            lyapunov_stderr,
+        }
+    }
+}
+
+/// What an orbit's kept iterates settle to ([`Simulator::settle`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Settled {
+    pub period: Period,
+    /// The solved attracting cycle, when there is one.
+    pub cycle: Option<Cycle>,
+    /// ln|multiplier|/p of the cycle, or the mean of ln|f'(θ)|.
+    pub lyapunov: Option<f64>,
+    /// The mean's standard error (`None` for a solved cycle).
+    pub lyapunov_stderr: Option<f64>,
 }

@@ -8,19 +8,24 @@
 //! the same whatever the number of threads and whichever thread ran it.
 //!
 //! A cell stops as soon as its answer is established:
-//! - a period p is accepted once the last max(3p, 24) iterates repeat with
-//!   period p, every one within `period_tol` of the value a whole number of
-//!   periods before it at the window's start (so a slow drift across the
-//!   window fails the test), while no proper divisor of p comes within
-//!   10·`period_tol` of passing (else the orbit is still converging onto the
-//!   shorter period and gets more iterates), and the cycle attracts: its
-//!   exponent (1/p)·Σ ln|f'(θᵢ)| is negative (else the period test is off
-//!   until the Lyapunov exponent decides);
+//! - a period p is accepted once the iterates have settled on it
+//!   (`super::period::settled_period`: the last max(3p, 24) repeat with
+//!   period p within `period_tol`, with no drift across the window and no
+//!   proper divisor of p within 10·`period_tol` of passing) and the cycle,
+//!   solved by Newton from the next onset (`super::cycles`), attracts: its
+//!   exponent ln|m|/p is negative (else the period test is off until the
+//!   Lyapunov exponent decides);
+//! - when the iterates contract onto a cycle geometrically but slowly (the
+//!   ratio of successive p-differences, the multiplier's estimate, is in
+//!   [0.5, 1) in magnitude: `super::period::contraction`), that cycle is
+//!   solved from Aitken's limit; the cell is periodic at once if it is a
+//!   genuine p-cycle, attracts, and the iterates keep approaching it (at
+//!   most [`MAX_SOLVES`] unconfirmed solves a cell);
 //! - only when the transient ends without a period does the cell pay for
-//!   f'(θ) (two more cycles per iterate): the kept iterates then give the
-//!   Lyapunov exponent λ with a batch-means standard error, and the cell is
-//!   chaotic once λ − 3·stderr > 0 (checked every 16 kept iterates from 64);
-//!   the period test keeps running, so a late periodic orbit is still found;
+//!   f'(θ) on every iterate: the kept iterates then give the Lyapunov
+//!   exponent λ with a batch-means standard error, and the cell is chaotic
+//!   once λ − 3·stderr > 0 (checked every 16 kept iterates from 64); the
+//!   period tests keep running, so a late periodic orbit is still found;
 //! - otherwise the cell is undecided (period 0, class `undecided`).
 //!
 //! A cell whose left neighbour was chaotic looks for a period for at most
@@ -29,12 +34,14 @@
 
 use rayon::prelude::*;
 
-use super::analysis::{PERIOD_MAX, cycle_with_derivative, detect_period, map_derivative};
+use super::analysis::{cycle_with_derivative, map_derivative};
+use super::cycles::{CycleOptions, confirm_contraction, solve_counting};
+use super::period::{MIN_WINDOW, contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
 use crate::integrate::SolverSettings;
-use crate::model::{OnsetCharacter, Params, onset_character, wrap_angle};
+use crate::model::{OnsetCharacter, Params, onset_character};
 
 /// How much work a cell may do and how it is classified.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,10 +85,12 @@ impl PhaseOptions {
     }
 }
 
-/// Iterates before the first period test.
+/// Iterates before the first test for a slow contraction.
 pub const MIN_TRANSIENT: usize = 8;
-/// The shortest window a period is accepted on.
-pub const MIN_WINDOW: usize = 24;
+/// The most cycles a cell solves for a slow contraction that the solver
+/// does not confirm, and the iterates it waits after each before trying again.
+pub const MAX_SOLVES: usize = 4;
+const SOLVE_COOLDOWN: usize = 16;
 /// Kept iterates before λ is first tested, and between tests.
 pub const LYAPUNOV_MIN: usize = 64;
 const LYAPUNOV_EVERY: usize = 16;
@@ -201,86 +210,6 @@ impl PhaseCell {
     }
 }
 
-/// How far the last `w` values of `thetas` are from repeating with period p:
-/// the largest distance (as angles) of a value from the one a whole number
-/// of periods before it at the window's start. `None` if fewer than `w`.
-pub fn period_residual(thetas: &[f64], p: usize, w: usize) -> Option<f64> {
-    let n = thetas.len();
-    if n < w || w < p {
-        return None;
-    }
-    let s = n - w;
-    Some(
-        (s + p..n)
-            .map(|i| wrap_angle(thetas[i] - thetas[s + (i - s) % p]).abs())
-            .fold(0.0, f64::max),
-    )
-}
-
-/// A divisor q of a candidate period whose residual is within this factor of
-/// the tolerance means the orbit is still converging onto period q.
-pub const DIVISOR_MARGIN: f64 = 10.0;
-
-/// The smallest period p ≤ 64 that the end of `thetas` has settled on: on
-/// the window of the last max(3p, [`MIN_WINDOW`]) values, the residual of p
-/// ([`period_residual`]) is ≤ `tol`, and that of every proper divisor q of p
-/// is above [`DIVISOR_MARGIN`]·`tol`.
-///
-/// Comparing with the window's start (not with the previous period) makes a
-/// slow drift fail. The divisor margin is there because an orbit converging
-/// onto a fixed point passes the test of a multiple of its period first (its
-/// lag across the window is shorter): with multiplier −0.77 the period-2
-/// residual is about the distance d to the fixed point while the period-1
-/// residual is 1.77 d; such an orbit is given more iterates instead.
-pub fn settled_period(thetas: &[f64], tol: f64) -> Option<usize> {
-    (1..=PERIOD_MAX).find(|&p| {
-        let w = (3 * p).max(MIN_WINDOW);
-        match period_residual(thetas, p, w) {
-            Some(r) if r <= tol => (1..p)
-                .filter(|q| p % q == 0)
-                .all(|q| period_residual(thetas, q, w).is_some_and(|rq| rq > DIVISOR_MARGIN * tol)),
-            _ => false,
-        }
-    })
-}
-
-/// The most extrapolations a cell makes.
-pub const MAX_JUMPS: usize = 4;
-
-/// Where an orbit converging geometrically onto a period-p orbit (p = 1, 2
-/// or 4) is going, by Aitken's Δ² on every p-th iterate: `seq` are the onsets
-/// so far and `next` the coming one. Taken only when the last three ratios of
-/// successive p-differences agree within 2 % with |ratio| in [0.5, 0.98]
-/// (slow, clean geometric convergence; a chaotic orbit's ratios do not agree,
-/// and a settled period-2p orbit's period-p ratios are −1)
-/// and the differences are still above `tol`. The jump is never trusted: the
-/// period test must then pass on iterates computed from the new point, so an
-/// extrapolation can only save iterates, not decide a class.
-pub fn aitken_jump(seq: &[f64], next: f64, tol: f64) -> Option<f64> {
-    let y = |j: usize| if j == seq.len() { next } else { seq[j] };
-    let m = seq.len();
-    [1usize, 2, 4].into_iter().find_map(|p| {
-        if m < 4 * p {
-            return None;
-        }
-        let d: Vec<f64> = (0..4)
-            .map(|k| wrap_angle(y(m - k * p) - y(m - (k + 1) * p)))
-            .collect();
-        // d[0] is the newest difference.
-        if d.iter().any(|x| x.abs() <= tol) {
-            return None;
-        }
-        let r: Vec<f64> = (0..3).map(|k| d[k] / d[k + 1]).collect();
-        let r0 = r[0];
-        let consistent = r.iter().all(|x| (x - r0).abs() <= 0.02 * r0.abs());
-        if !consistent || !(0.5..=0.98).contains(&r0.abs()) {
-            return None;
-        }
-        let jump = d[0] * r0 / (1.0 - r0);
-        (jump.abs() < 0.1).then(|| wrap_angle(next + jump))
-    })
-}
-
 /// Runs one cell at `params` (its θν and κ) from the onset `theta_start`.
 /// `cancel` is polled every cycle; a cancelled cell has error `Cancelled`.
 pub fn phase_cell(
@@ -316,14 +245,22 @@ fn run_cell(
     let mut thetas: Vec<f64> = Vec::with_capacity(total);
     let mut logs: Vec<f64> = Vec::with_capacity(opts.keep);
     let mut theta = theta_start;
-    // The period test looks only at iterates since the last extrapolation.
-    let mut seg = 0;
-    let mut jumps = 0;
+    let cycle_opts = CycleOptions::for_classifier(&settings);
+    // Differences below this are the map's own error, not a contraction.
+    let noise = 1e-2 * opts.period_tol;
+    let mut solves = 0;
+    let mut next_solve = MIN_TRANSIENT;
     let mut unstable_seen = false;
-    let periodic = |cell: &mut PhaseCell, thetas: &[f64], p: usize| {
-        let cycle = &thetas[thetas.len() - p..];
-        cell.class = CellClass::Periodic(p);
+    let mut spent = (0, 0);
+    let periodic = |cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64| {
+        cell.class = CellClass::Periodic(cycle.len());
         cell.regime = AttractorRegime::of(kappa, gamma, cycle);
+        cell.lyapunov = Some(lyapunov);
+    };
+    let charge = |cell: &mut PhaseCell, spent: &mut (u64, u64)| {
+        cell.iterates += spent.0;
+        cell.rhs_evals += spent.1;
+        *spent = (0, 0);
     };
     for i in 0..total {
         if cancel() {
@@ -348,31 +285,29 @@ fn run_cell(
         if !opts.early_exit || i + 1 < MIN_TRANSIENT {
             continue;
         }
-        let test = !(unstable_seen && logs.is_empty());
-        if test && let Some(p) = settled_period(&thetas[seg..], opts.period_tol) {
-            // The cycle's exponent: from the kept iterates' f' when there
-            // are p of them, else p derivatives on its points.
-            let lc = if logs.len() >= p {
-                logs[logs.len() - p..].iter().sum::<f64>() / p as f64
-            } else {
-                let mut sum = 0.0;
-                for j in 0..p {
-                    let th = thetas[thetas.len() - p + j];
-                    let next = if j + 1 < p {
-                        thetas[thetas.len() - p + j + 1]
-                    } else {
-                        theta
-                    };
-                    let (d, n) = map_derivative(&sim, th, next)?;
-                    cell.iterates += 2;
-                    cell.rhs_evals += n;
-                    sum += d.abs().ln();
+        let test = !(unstable_seen && logs.is_empty()) && thetas.len() >= MIN_WINDOW;
+        if test && let Some(p) = settled_period(&thetas, opts.period_tol) {
+            // The cycle solved from the next onset gives the exponent
+            // ln|m|/p; if it cannot be solved, the mean of ln|f'| on its
+            // last p iterates does.
+            let solved = solve_counting(&sim, theta, p, &cycle_opts, &mut spent)
+                .ok()
+                .filter(|c| c.minimal_period == p);
+            charge(cell, &mut spent);
+            let (lc, points) = match solved {
+                Some(c) => {
+                    // The solve started from the next onset: its point 0
+                    // is where the next cell continues.
+                    cell.theta_last = c.points[0];
+                    (c.lyapunov(), c.points)
                 }
-                sum / p as f64
+                None => {
+                    let lc = cycle_exponent(cell, &sim, &thetas, theta, &logs, p)?;
+                    (lc, thetas[thetas.len() - p..].to_vec())
+                }
             };
             if lc < 0.0 {
-                periodic(cell, &thetas, p);
-                cell.lyapunov = Some(lc);
+                periodic(cell, &points, lc);
                 return Ok(());
             }
             // Repeats within the tolerance but does not attract: not a
@@ -380,15 +315,21 @@ fn run_cell(
             // tolerance). Let the Lyapunov exponent decide.
             unstable_seen = true;
         }
-        if i + 1 < opts.transient
-            && jumps < MAX_JUMPS
-            && let Some(t) = aitken_jump(&thetas[seg..], theta, opts.period_tol)
-            && sim.check_onset(t).is_ok()
-        {
-            theta = t;
-            cell.theta_last = t;
-            seg = thetas.len();
-            jumps += 1;
+        // Contracting onto a cycle, but slowly: solve it instead of waiting.
+        if solves < MAX_SOLVES && i + 1 >= next_solve && !unstable_seen {
+            let mut seq = thetas.clone();
+            seq.push(theta);
+            if let Some(c) = contraction(&seq, noise) {
+                let confirmed = confirm_contraction(&sim, &seq, &c, &cycle_opts, noise, &mut spent);
+                charge(cell, &mut spent);
+                if let Some(cycle) = confirmed {
+                    cell.theta_last = cycle.points[0];
+                    periodic(cell, &cycle.points, cycle.lyapunov());
+                    return Ok(());
+                }
+                solves += 1;
+                next_solve = i + 1 + SOLVE_COOLDOWN;
+            }
         }
         let k = logs.len();
         if k >= LYAPUNOV_MIN && k.is_multiple_of(LYAPUNOV_EVERY) {
@@ -405,15 +346,21 @@ fn run_cell(
         }
     }
     let kept = &thetas[opts.transient.min(thetas.len())..];
-    if !opts.early_exit
-        && let Some(p) = detect_period(kept, opts.period_tol)
-        && logs.len() >= p
-    {
-        let lc = logs[logs.len() - p..].iter().sum::<f64>() / p as f64;
-        if lc < 0.0 {
-            periodic(cell, &thetas, p);
-            cell.lyapunov = Some(lc);
+    if !opts.early_exit {
+        let s = sim.settle(kept, theta, &logs, opts.period_tol, &mut spent);
+        charge(cell, &mut spent);
+        if let Some(c) = s.cycle {
+            periodic(cell, &c.points, c.lyapunov());
             return Ok(());
+        }
+        if let super::Period::Periodic(p) = s.period
+            && logs.len() >= p
+        {
+            let lc = logs[logs.len() - p..].iter().sum::<f64>() / p as f64;
+            if lc < 0.0 {
+                periodic(cell, &kept[kept.len() - p..], lc);
+                return Ok(());
+            }
         }
     }
     let (l, se) = mean_and_stderr(&logs);
@@ -425,6 +372,37 @@ fn run_cell(
         _ => CellClass::Undecided,
     };
     Ok(())
+}
+
+/// A period-p cycle's exponent from the orbit alone, when the cycle could
+/// not be solved: the mean of ln|f'| over the last p iterates (`thetas`,
+/// then the next onset `theta`), from the kept iterates' `logs` when there
+/// are p of them, else by p derivatives charged to the cell.
+fn cycle_exponent(
+    cell: &mut PhaseCell,
+    sim: &Simulator,
+    thetas: &[f64],
+    theta: f64,
+    logs: &[f64],
+    p: usize,
+) -> Result<f64, SimError> {
+    if logs.len() >= p {
+        return Ok(logs[logs.len() - p..].iter().sum::<f64>() / p as f64);
+    }
+    let mut sum = 0.0;
+    for j in 0..p {
+        let th = thetas[thetas.len() - p + j];
+        let next = if j + 1 < p {
+            thetas[thetas.len() - p + j + 1]
+        } else {
+            theta
+        };
+        let (d, n) = map_derivative(sim, th, next)?;
+        cell.iterates += 2;
+        cell.rhs_evals += n;
+        sum += d.abs().ln();
+    }
+    Ok(sum / p as f64)
 }
 
 /// One κ row: the cells at `theta_nus` in order, each starting from the
@@ -497,61 +475,4 @@ pub fn phase_grid(
         return Err(SimError::Cancelled);
     }
     Ok(rows)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn settled_period_needs_a_whole_window_without_drift() {
-        let p3: Vec<f64> = (0..40).map(|i| [0.1, 0.5, -0.2][i % 3]).collect();
-        assert_eq!(settled_period(&p3, 1e-9), Some(3));
-        assert_eq!(settled_period(&p3[..20], 1e-9), None);
-        // A fixed point approached with multiplier −0.99: the period-2 test
-        // between neighbours passes long before the orbit has settled, the
-        // drift test does not.
-        let mut x = 1e-5;
-        let flip: Vec<f64> = (0..40)
-            .map(|_| {
-                x *= -0.99;
-                0.3 + x
-            })
-            .collect();
-        assert_eq!(settled_period(&flip, 1e-6), None);
-        let drift: Vec<f64> = (0..40).map(|i| 0.3 + 1e-7 * i as f64).collect();
-        assert_eq!(settled_period(&drift, 1e-6), None);
-        assert_eq!(settled_period(&drift, 1e-5), Some(1));
-        // Converging with multiplier −0.77: period 2 passes before period 1
-        // does, but period 1 is within the divisor margin, so wait.
-        let alt = |n: usize| -> Vec<f64> {
-            let mut x = 5e-6;
-            (0..n)
-                .map(|_| {
-                    x *= -0.77;
-                    0.3 + x
-                })
-                .collect()
-        };
-        assert_eq!(
-            period_residual(&alt(40), 2, 24).map(|r| r <= 1e-7),
-            Some(true)
-        );
-        assert_eq!(settled_period(&alt(40), 1e-7), None);
-        assert_eq!(settled_period(&alt(60), 1e-7), Some(1));
-    }
-
-    #[test]
-    fn aitken_lands_on_a_slowly_approached_fixed_point() {
-        let seq: Vec<f64> = (0..12).map(|i| 0.4 + 1e-2 * 0.95f64.powi(i)).collect();
-        let next = 0.4 + 1e-2 * 0.95f64.powi(12);
-        let t = aitken_jump(&seq, next, 1e-6).expect("a clean geometric approach");
-        assert!((t - 0.4).abs() < 1e-12, "{t}");
-        // A settled period-2 orbit: no jump onto its (unstable) midpoint.
-        let p2: Vec<f64> = (0..12).map(|i| [0.1, 0.5][i % 2]).collect();
-        assert_eq!(aitken_jump(&p2, 0.1, 1e-6), None);
-        // Chaos-like ratios do not agree.
-        let ch: Vec<f64> = (0..12).map(|i| (i as f64 * 1.234567).sin()).collect();
-        assert_eq!(aitken_jump(&ch, 0.3, 1e-6), None);
-    }
 }

@@ -1,9 +1,25 @@
 //! Bifurcation sweeps over θν: each column's orbit starts from the last
 //! iterate of the previous column, so a sweep follows one attractor.
+//!
+//! A column stops integrating once its orbit has settled: when its onsets
+//! repeat with a period (`settled_period`), or when they contract onto a
+//! cycle too slowly to wait for, which is then solved (`super::cycles`) and
+//! confirmed to attract and to be approached. The rest of the column, and
+//! the onset its neighbour continues from, are then that cycle's points: a
+//! column starts where the attractor is, not where a slow orbit had got to,
+//! so no staircase of lagging columns can appear. A column whose neighbour
+//! was solved onto a slow cycle solves for that cycle first, from the
+//! neighbour's point ([`Handover`]), and continues on it if it attracts.
+//!
+//! Slow cycles are solved at tol 1e-10 whatever the sweep's own accuracy: a
+//! map error ε moves a cycle with multiplier m by ε/|1 − m|, which near
+//! m = 1 is many pixels even where ε is far below one.
 
+use super::cycles::{Cycle, CycleOptions, approaches, solve_counting};
+use super::period::{PERIOD_MAX, contraction, settled_period};
 use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
-use crate::model::{Params, project_onto_exit_arc, wrap_angle};
+use crate::model::{Params, project_onto_exit_arc};
 
 /// How long each column runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -24,6 +40,46 @@ pub struct Column {
     pub error: Option<SimError>,
     /// Right-hand-side evaluations the column cost.
     pub rhs_evals: u64,
+    /// The period of the slow cycle (|multiplier| ≥ 0.5) the column was
+    /// solved onto, if it was: its neighbour solves for it first.
+    pub slow_period: Option<usize>,
+}
+
+/// What a finished column hands the neighbour that continues from it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Handover {
+    /// Its last onset.
+    pub theta: f64,
+    /// [`Column::slow_period`].
+    pub slow_period: Option<usize>,
+}
+
+impl Column {
+    /// Where a neighbour continues from; `None` after a failure (the
+    /// neighbour then starts afresh from θν).
+    pub fn handover(&self) -> Option<Handover> {
+        self.error.is_none().then_some(Handover {
+            theta: self.theta_last,
+            slow_period: self.slow_period,
+        })
+    }
+}
+
+/// The least |multiplier| of a cycle a neighbour solves for first: faster
+/// ones are reached by iterating within a few periods.
+pub const SLOW_MULTIPLIER: f64 = 0.5;
+
+/// The settings slow cycles are solved with (see the module notes).
+fn solve_settings(settings: &SolverSettings) -> SolverSettings {
+    if settings.method.is_adaptive() && settings.rtol > 1e-10 {
+        SolverSettings {
+            rtol: 1e-10,
+            atol: 1e-10,
+            ..*settings
+        }
+    } else {
+        *settings
+    }
 }
 
 /// `n` values of θν evenly spaced from `from` to `to` inclusive. Finite
@@ -66,11 +122,25 @@ impl Column {
         opts: &SweepOptions,
         cancel: &dyn Fn() -> bool,
     ) -> Column {
+        Self::run_from(params, settings, theta_nu, theta_start, None, opts, cancel)
+    }
+
+    /// [`Column::run`], first solving for a slow cycle of period
+    /// `slow_period` from `theta_start` when the neighbour had one.
+    pub fn run_from(
+        params: Params,
+        settings: SolverSettings,
+        theta_nu: f64,
+        theta_start: f64,
+        slow_period: Option<usize>,
+        opts: &SweepOptions,
+        cancel: &dyn Fn() -> bool,
+    ) -> Column {
         let sim = match Simulator::new(params.with_theta_nu(theta_nu), settings) {
             Ok(s) => s,
             Err(e) => return Column::failed(theta_nu, theta_start, e),
         };
-        let mut run = ColumnRun::new(&sim, theta_start, opts);
+        let mut run = ColumnRun::new(&sim, theta_start, slow_period, opts);
         while let Some(theta) = run.next_onset(cancel) {
             run.take(&sim, sim.cycle(theta, 0.0, None));
         }
@@ -85,14 +155,16 @@ impl Column {
             theta_last: theta_start,
             error: Some(e),
             rhs_evals: 0,
+            slow_period: None,
         }
     }
 }
 
 /// The onsets a column keeps during its transient: enough for
-/// [`settled_period`] (a window of 4p onsets plus p more, p ≤ 16), so that
-/// memory does not grow with the transient.
-const SETTLE_WINDOW: usize = 4 * 16 + 16;
+/// [`settled_period`] (the last 3p onsets, p ≤ [`PERIOD_MAX`]) and for
+/// [`contraction`] (4p + 1, p ≤ 16), so that memory does not grow with the
+/// transient.
+const SETTLE_WINDOW: usize = 3 * PERIOD_MAX;
 
 /// A column in progress, one cycle at a time, so that [`Column::run`] and
 /// the lanes of [`run_columns`] share the column's logic (the early exit
@@ -109,22 +181,37 @@ struct ColumnRun {
     /// The cycle of `onsets[0]` (never beyond `transient`).
     first: usize,
     done: bool,
+    /// Solves of a slow contraction left, and the onset count before which
+    /// the next may not start (one that was not confirmed waits a while).
+    solves_left: usize,
+    next_solve: usize,
 }
 
+/// The most solves of a slow contraction a column attempts.
+const MAX_SOLVES: usize = 3;
+/// Onsets a column waits after a solve that was not confirmed.
+const SOLVE_COOLDOWN: usize = 16;
+
 impl ColumnRun {
-    fn new(sim: &Simulator, theta_start: f64, opts: &SweepOptions) -> Self {
+    fn new(
+        sim: &Simulator,
+        theta_start: f64,
+        slow_period: Option<usize>,
+        opts: &SweepOptions,
+    ) -> Self {
         // Saturating: a sum past usize is refused by every caller first,
         // and a saturated total only means a run that never ends by count.
         let total = opts.transient.saturating_add(opts.keep);
         let mut onsets = Vec::with_capacity(opts.keep.min(1 << 20) + SETTLE_WINDOW);
         onsets.push(theta_start);
-        ColumnRun {
+        let mut run = ColumnRun {
             col: Column {
                 theta_nu: sim.params().theta_nu,
                 thetas: Vec::new(),
                 theta_last: theta_start,
                 error: None,
                 rhs_evals: 0,
+                slow_period: None,
             },
             transient: opts.transient,
             total,
@@ -132,7 +219,51 @@ impl ColumnRun {
             onsets,
             first: 0,
             done: total == 0,
+            solves_left: MAX_SOLVES,
+            next_solve: 0,
+        };
+        // The neighbour's slow cycle, continued: if it still attracts here,
+        // the column is on it from the start.
+        if let Some(p) = slow_period
+            && !run.done
+            && let Some(cycle) = run.solve(sim, theta_start, p)
+            && cycle.stable
+        {
+            run.follow(&cycle);
         }
+        run
+    }
+
+    /// The p-cycle solved from `seed` at the solve settings, if it is a
+    /// genuine p-cycle; its cost is the column's.
+    fn solve(&mut self, sim: &Simulator, seed: f64, p: usize) -> Option<Cycle> {
+        let settings = solve_settings(sim.settings());
+        let accurate = Simulator::new(*sim.params(), settings).ok()?;
+        let opts = CycleOptions::for_classifier(&settings);
+        let mut spent = (0, 0);
+        let cycle = solve_counting(&accurate, seed, p, &opts, &mut spent);
+        self.col.rhs_evals += spent.1;
+        cycle.ok().filter(|c| c.minimal_period == p)
+    }
+
+    /// The column continues on `cycle` from its newest onset, which is
+    /// replaced by the cycle's point 0 (solved from it, so in its phase).
+    /// Only the onsets from the transient's end on are written out.
+    fn follow(&mut self, cycle: &Cycle) {
+        let last = self.len() - 1;
+        self.onsets.pop();
+        let from = last.max(self.transient);
+        if from > last {
+            self.onsets.clear();
+            self.first = from;
+        }
+        for k in from..=self.total {
+            self.onsets.push(cycle.points[(k - last) % cycle.period()]);
+        }
+        if cycle.multiplier.abs() >= SLOW_MULTIPLIER {
+            self.col.slow_period = Some(cycle.period());
+        }
+        self.done = true;
     }
 
     /// The number of onsets known so far (cycles 0 ..= len − 1).
@@ -191,10 +322,26 @@ impl ColumnRun {
             for k in from..=self.total {
                 self.onsets.push(cycle[(k - (n - p)) % p]);
             }
-        } else {
+        } else if self.solves_left > 0 && self.len() >= self.next_solve {
+            // Contracting onto a cycle, but slowly: the cycle is solved, and
+            // once confirmed the column continues on it.
+            if let Some(c) = contraction(&self.onsets, self.rep_tol) {
+                let confirmed = self
+                    .solve(sim, c.limit, c.period)
+                    .filter(|cy| cy.stable && approaches(cy, &self.onsets, self.rep_tol));
+                match confirmed {
+                    Some(cycle) => self.follow(&cycle),
+                    None => {
+                        self.solves_left -= 1;
+                        self.next_solve = self.len() + SOLVE_COOLDOWN;
+                    }
+                }
+            }
+        }
+        if !self.done {
             self.forget_transient();
         }
-        self.done = self.len() > self.total;
+        self.done = self.done || self.len() > self.total;
     }
 
     /// Drops transient onsets no longer needed (older than the settle
@@ -222,6 +369,8 @@ pub struct ColumnJob<'s> {
     pub sim: Result<&'s Simulator, SimError>,
     pub theta_nu: f64,
     pub start: f64,
+    /// The neighbour's slow cycle's period ([`Handover`]).
+    pub slow_period: Option<usize>,
 }
 
 /// Runs columns on the lanes of [`run_lanes`] (several columns' slips
@@ -251,7 +400,10 @@ pub fn run_columns<'s>(
             }
             let job = next(lane, finished.take())?;
             match job.sim {
-                Ok(sim) => current[lane] = Some((sim, ColumnRun::new(sim, job.start, opts))),
+                Ok(sim) => {
+                    let run = ColumnRun::new(sim, job.start, job.slow_period, opts);
+                    current[lane] = Some((sim, run));
+                }
                 Err(e) => finished = Some(Column::failed(job.theta_nu, job.start, e)),
             }
         }
@@ -294,11 +446,15 @@ pub fn sweep_segments(
     // Each lane walks its segment: (index of its next column, end, where
     // the next column continues from).
     let mut first = 0;
-    let mut walk: Vec<(usize, usize, Option<f64>)> = segs
+    let start = theta0.map(|theta| Handover {
+        theta,
+        slow_period: None,
+    });
+    let mut walk: Vec<(usize, usize, Option<Handover>)> = segs
         .iter()
         .map(|s| {
             first += s.len();
-            (first - s.len(), first, theta0)
+            (first - s.len(), first, start)
         })
         .collect();
     let mut out: Vec<Option<Column>> = (0..theta_nus.len()).map(|_| None).collect();
@@ -307,7 +463,7 @@ pub fn sweep_segments(
         let w = walk.get_mut(lane)?;
         if let Some(col) = finished {
             on_column(&col);
-            w.2 = col.error.is_none().then_some(col.theta_last);
+            w.2 = col.handover();
             stopped |= matches!(col.error, Some(SimError::Cancelled));
             out[w.0] = Some(col);
             w.0 += 1;
@@ -319,36 +475,12 @@ pub fn sweep_segments(
         Some(ColumnJob {
             sim: sims[w.0].as_ref().map_err(Clone::clone),
             theta_nu: tn,
-            start: column_start(params.kappa, tn, w.2),
+            start: column_start(params.kappa, tn, w.2.map(|h| h.theta)),
+            slow_period: w.2.and_then(|h| h.slow_period),
         })
     });
     // A cancelled sweep ends short, as `sweep_columns` does.
     out.into_iter().map_while(|c| c).collect()
-}
-
-/// The period p ≤ 16 onto which the onsets have settled, if any: over the
-/// last max(4p, 8) onsets, θ_k repeats θ_{k−p} within `tol`, and the
-/// differences are either at rounding level or shrinking fast enough that
-/// what is left of the approach (a geometric series) is below `tol` too.
-/// A slowly converging orbit (multiplier near 1) is therefore not cut short.
-fn settled_period(onsets: &[f64], tol: f64) -> Option<usize> {
-    let n = onsets.len();
-    (1..=16).find(|&p| {
-        let w = (4 * p).max(8);
-        if n < w + p {
-            return false;
-        }
-        let d = |j: usize| wrap_angle(onsets[j] - onsets[j - p]).abs();
-        if !(n - w..n).all(|j| d(j) <= tol) {
-            return false;
-        }
-        let (first, last) = (d(n - w), d(n - 1));
-        if last <= 1e-3 * tol {
-            return true;
-        }
-        let r = (last / first).powf(1.0 / (w - 1) as f64);
-        r < 1.0 && last * r / (1.0 - r) <= tol
-    })
 }
 
 /// A continued sweep over `theta_nus`, in order, starting from `theta0` (or
@@ -363,15 +495,15 @@ pub fn sweep_columns(
     mut on_column: impl FnMut(&Column),
 ) -> Vec<Column> {
     let mut out = Vec::with_capacity(theta_nus.len());
-    let mut prev = theta0;
+    let mut prev = theta0.map(|theta| Handover {
+        theta,
+        slow_period: None,
+    });
     for &tn in theta_nus {
-        let start = column_start(params.kappa, tn, prev);
-        let col = Column::run(params, settings, tn, start, opts, cancel);
-        prev = if col.error.is_none() {
-            Some(col.theta_last)
-        } else {
-            None
-        };
+        let start = column_start(params.kappa, tn, prev.map(|h| h.theta));
+        let slow = prev.and_then(|h| h.slow_period);
+        let col = Column::run_from(params, settings, tn, start, slow, opts, cancel);
+        prev = col.handover();
         on_column(&col);
         let cancelled = matches!(col.error, Some(SimError::Cancelled));
         out.push(col);
@@ -386,6 +518,7 @@ pub fn sweep_columns(
 mod tests {
     use super::*;
     use crate::integrate::Method;
+    use crate::model::wrap_angle;
 
     /// Every cycle integrated: the reference the early exit must reproduce.
     fn brute_force(
@@ -415,26 +548,10 @@ mod tests {
             transient: 300,
             keep: 200,
         };
-        // Fig. 3b: fixed points, period 2 and 4, chaos, period 3; and a slow
-        // pure-creep fixed point (multiplier ≈ 0.99), which must not be cut short.
-        let creep = Params {
-            kappa: 3.0,
-            gamma: 0.5,
-            nu: 1e-3,
-            theta_nu: 0.7,
-            omega: 50.0,
-        };
-        for (p, tn) in [
-            (params, 0.3),
-            (params, 1.0),
-            (params, 1.12),
-            (params, 1.2),
-            (params, 1.25),
-            (params, 1.3),
-            (creep, 0.7),
-        ] {
-            let col = Column::run(p, settings, tn, tn, &opts, &|| false);
-            let reference = brute_force(p, settings, tn, &opts);
+        // Fig. 3b: fixed points, period 2 and 4, chaos, period 3.
+        for tn in [0.3, 1.0, 1.12, 1.2, 1.25, 1.3] {
+            let col = Column::run(params, settings, tn, tn, &opts, &|| false);
+            let reference = brute_force(params, settings, tn, &opts);
             assert_eq!(col.thetas.len(), reference.len());
             let worst = col
                 .thetas
@@ -446,6 +563,34 @@ mod tests {
             // others agree to far below a pixel (1e-3 of the θ range).
             assert!(worst < 1e-5, "θν = {tn}: early exit differs by {worst:e}");
         }
+    }
+
+    /// A slow pure-creep fixed point (multiplier ≈ 0.99): the column is its
+    /// solved fixed point, which the whole integration only approaches.
+    #[test]
+    fn a_slow_column_is_its_solved_fixed_point() {
+        let settings = SolverSettings::adaptive(Method::Dop853, 1e-10);
+        let opts = SweepOptions {
+            transient: 300,
+            keep: 200,
+        };
+        let creep = Params {
+            kappa: 3.0,
+            gamma: 0.5,
+            nu: 1e-3,
+            theta_nu: 0.7,
+            omega: 50.0,
+        };
+        let tn = creep.theta_nu;
+        let col = Column::run(creep, settings, tn, tn, &opts, &|| false);
+        let sim = Simulator::new(creep, settings).unwrap();
+        let (star, _) = crate::sim::fixed_point(&sim, tn, 1e-12).unwrap().unwrap();
+        let off = |xs: &[f64]| xs.iter().map(|x| (x - star).abs()).fold(0.0, f64::max);
+        assert_eq!(col.thetas.len(), opts.keep);
+        assert!(off(&col.thetas) < 1e-7, "{:e}", off(&col.thetas));
+        assert!((col.theta_last - star).abs() < 1e-7);
+        let reference = brute_force(creep, settings, tn, &opts);
+        assert!(off(&reference) > off(&col.thetas));
     }
 
     #[test]
@@ -470,7 +615,7 @@ mod tests {
             transient: 3000,
             keep: 5,
         };
-        let mut run = ColumnRun::new(&sim, 1.25, &opts);
+        let mut run = ColumnRun::new(&sim, 1.25, None, &opts);
         let mut most = 0;
         while let Some(theta) = run.next_onset(&|| false) {
             run.take(&sim, sim.cycle(theta, 0.0, None));

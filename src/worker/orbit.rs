@@ -1,6 +1,6 @@
 //! The orbit lane: one trajectory or map-iterate job at a time, polling its
 //! generation once per slip cycle. Everything it computes goes through the
-//! core (`Simulator::cycle`, `map_derivative`, `detect_period`), in the same
+//! core (`Simulator::cycle`, `map_derivative`, `settled_period`, `settle`), in the same
 //! order as `Simulator::orbit`, so the results are bit-for-bit the core's.
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -13,8 +13,8 @@ use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::{
     LANES, OrbitOptions, Period, Sampler, SimError, Simulator, cycle_with_derivative,
-    cycles_in_lanes, default_settings, detect_period, map_graph_grid, mean_and_stderr,
-    return_map_window,
+    cycles_in_lanes, default_settings, map_graph_grid, mean_and_stderr, return_map_window,
+    settled_period,
 };
 
 /// Most samples in one `TrajectoryChunk` (a slip sampled finely is split).
@@ -259,8 +259,8 @@ impl OrbitJob<'_> {
 
     /// Iterates the map: a transient, then kept iterates streamed in batches
     /// with the period of all kept so far and the running Lyapunov exponent
-    /// (the mean of ln|f'(θ)| over them), exactly as `Simulator::orbit`
-    /// computes them with `lyapunov: true`.
+    /// (the mean of ln|f'(θ)| over them); the last batch carries what
+    /// `Simulator::orbit` reports with `lyapunov: true` (`Simulator::settle`).
     fn iterate(
         &self,
         generation: Generation,
@@ -282,7 +282,7 @@ impl OrbitJob<'_> {
         let mut pacer = Pacer::new();
         let mut t = 0.0;
         let flush = |kept: &[f64], logs: &[f64], sent: usize| {
-            let period = match detect_period(kept, tol) {
+            let period = match settled_period(kept, tol) {
                 Some(p) => Period::Periodic(p),
                 None => Period::Aperiodic,
             };
@@ -319,9 +319,19 @@ impl OrbitJob<'_> {
                 self.progress(generation, fraction, &pacer, i as u64 + 1)?;
             }
         }
-        if sent < kept.len() {
-            self.send(generation, flush(&kept, &logs, sent))?;
-        }
+        // The last word settles what waiting could not: a slow approach to
+        // a cycle is solved, and a periodic orbit's exponent is its cycle's.
+        let settled = sim.settle(&kept, theta, &logs, tol, &mut (0, 0));
+        self.send(
+            generation,
+            Update::MapIterates {
+                generation,
+                first_index: sent,
+                thetas: kept[sent..].to_vec(),
+                period: settled.period,
+                lyapunov: settled.lyapunov,
+            },
+        )?;
         self.map_graph(generation, &sim, &kept)
     }
 

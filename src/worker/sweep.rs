@@ -31,8 +31,8 @@ use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::model::ParamError;
 use crate::sim::{
-    Column, ColumnJob, LANES, SimError, Simulator, SweepOptions, column_start, run_columns,
-    theta_nu_grid,
+    Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
+    run_columns, theta_nu_grid,
 };
 
 impl PlanItem for PlannedColumn {
@@ -50,11 +50,16 @@ impl PlanItem for PlannedColumn {
 }
 
 /// A sweep's schedule: a done column leaves its last onset for its
-/// neighbours (`None` if it failed: they start at θ = θν).
-type Columns = Schedule<PlannedColumn, Option<f64>>;
+/// neighbours, with its slow cycle's period ([`Handover`]; `None` if it
+/// failed: they start at θ = θν).
+type Columns = Schedule<PlannedColumn, Option<Handover>>;
+
+/// A column running in a lane: its plan entry, its first onset and the
+/// period of its neighbour's slow cycle (`Handover`).
+type InFlight = (PlannedColumn, (f64, Option<usize>));
 
 /// The next column of `sch` that may start, with its neighbour's last onset.
-fn next_column(sch: &mut Columns) -> Option<(PlannedColumn, Option<f64>)> {
+fn next_column(sch: &mut Columns) -> Option<(PlannedColumn, Option<Handover>)> {
     sch.next().ok().map(|(p, seed)| (p, seed.flatten()))
 }
 
@@ -108,7 +113,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
     // Sends a finished column (or the panic that ended it) to the front end
     // and marks it done in the schedule.
     let deliver = |p: PlannedColumn,
-                   start: f64,
+                   start: (f64, Option<usize>),
                    col: Result<Column, Box<dyn std::any::Any + Send>>|
      -> Result<(), JobError> {
         let tn = grid[p.index];
@@ -134,14 +139,19 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
                 let empty = Column {
                     theta_nu: tn,
                     thetas: vec![],
-                    theta_last: start,
+                    theta_last: start.0,
                     error: None,
                     rhs_evals: 0,
+                    slow_period: None,
                 };
                 (empty, Some((msg, None)))
             }
         };
-        let theta_last = problem.is_none().then_some(col.theta_last);
+        let theta_last = if problem.is_none() {
+            col.handover()
+        } else {
+            None
+        };
         if let Some((message, parameter)) = problem {
             let e = Update::Error {
                 generation,
@@ -201,7 +211,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
             // finds nothing ready retires, and once all have, this loop waits
             // again.
             let mut pending = Some(first);
-            let mut in_flight: [Option<(PlannedColumn, f64)>; LANES] = [None; LANES];
+            let mut in_flight: [Option<InFlight>; LANES] = [None; LANES];
             let mut stop: Option<JobError> = None;
             let lanes = catch_unwind(AssertUnwindSafe(|| {
                 run_columns(&opts, &cancel, |lane, finished| {
@@ -217,14 +227,16 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
                         .take()
                         .or_else(|| next_column(&mut lock(&schedule)))?;
                     let tn = grid[p.index];
-                    let start = column_start(s.params.kappa, tn, neighbour);
-                    in_flight[lane] = Some((p, start));
+                    let start = column_start(s.params.kappa, tn, neighbour.map(|h| h.theta));
+                    let slow_period = neighbour.and_then(|h| h.slow_period);
+                    in_flight[lane] = Some((p, (start, slow_period)));
                     #[cfg(test)]
                     tests::inject_panic(p.index);
                     Some(ColumnJob {
                         sim: sims[p.index].as_ref().map_err(Clone::clone),
                         theta_nu: tn,
                         start,
+                        slow_period,
                     })
                 })
             }));
@@ -238,7 +250,8 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
                     let col = catch_unwind(AssertUnwindSafe(|| {
                         #[cfg(test)]
                         tests::inject_panic(p.index);
-                        Column::run(s.params, s.settings, tn, start, &opts, &cancel)
+                        let (theta, slow) = start;
+                        Column::run_from(s.params, s.settings, tn, theta, slow, &opts, &cancel)
                     }));
                     deliver(p, start, col)?;
                 }

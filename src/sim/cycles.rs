@@ -1,0 +1,298 @@
+//! Periodic orbits solved rather than waited for: Newton's method on
+//! g(θ) = wrap(f^p(θ) − θ), whose slope is the chain rule's
+//! g'(θ) = Π f'(θᵢ) − 1 over the cycle's points, with a step that is halved
+//! whenever it leaves the exit arc or fails to shrink |g| (a jump of f, or
+//! a step too long for the linear model). Where convergence is slow the
+//! classifiers solve the cycle the orbit is heading for
+//! ([`confirm_contraction`]) instead of iterating until it gets there.
+
+use super::analysis::cycle_with_derivative;
+use super::period::{Contraction, PERIOD_MAX};
+use super::{SimError, Simulator};
+use crate::integrate::SolverSettings;
+use crate::model::wrap_angle;
+
+/// How hard the solver tries.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CycleOptions {
+    /// Converged once the Newton step |g/g'| is at most `tol`, in radians:
+    /// the distance left to the cycle, which near a multiplier of 1 is far
+    /// larger than the residual |g|.
+    pub tol: f64,
+    /// … or once |g| is at most this: the map's own error, below which no
+    /// step can be trusted.
+    pub floor: f64,
+    /// The most Newton steps.
+    pub max_iter: usize,
+    /// The most halvings of one step before the solver gives up on it.
+    pub max_halvings: usize,
+}
+
+/// The longest Newton step, in radians: past it the linear model of f^p is
+/// not trusted (a cycle's basin on the exit arc is rarely wider).
+pub const MAX_STEP: f64 = 0.2;
+
+impl CycleOptions {
+    /// A step and a residual floor both at the integrator's tolerance (the
+    /// map's own error is about the tolerance), within [1e-14, 1e-6]; 1e-10
+    /// for the fixed-step methods. 40 steps, 20 halvings each.
+    pub fn for_settings(settings: &SolverSettings) -> Self {
+        let tol = if settings.method.is_adaptive() {
+            settings.rtol.clamp(1e-14, 1e-6)
+        } else {
+            1e-10
+        };
+        CycleOptions {
+            tol,
+            floor: tol,
+            max_iter: 40,
+            max_halvings: 20,
+        }
+    }
+
+    /// The budget of a solve a classifier attempts on its own: a step of
+    /// 100× and a floor of 10× the tolerance (within [1e-13, 1e-6]: far
+    /// below a pixel or a period tolerance), and few steps, so that a seed
+    /// that leads nowhere costs little.
+    pub fn for_classifier(settings: &SolverSettings) -> Self {
+        let tol = Self::for_settings(settings).tol;
+        CycleOptions {
+            tol: (1e2 * tol).clamp(1e-13, 1e-6),
+            floor: (10.0 * tol).clamp(1e-13, 1e-6),
+            max_iter: 8,
+            max_halvings: 8,
+        }
+    }
+}
+
+/// A solved p-cycle.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cycle {
+    /// θ₀, f(θ₀), …, f^{p−1}(θ₀), θ₀ the converged Newton iterate.
+    pub points: Vec<f64>,
+    /// Π f'(θᵢ): the cycle attracts when its magnitude is below 1.
+    pub multiplier: f64,
+    /// |multiplier| < 1.
+    pub stable: bool,
+    /// |wrap(f^p(θ₀) − θ₀)|.
+    pub residual: f64,
+    /// Newton steps taken.
+    pub iterations: usize,
+    /// The smallest q dividing p whose shift maps the points onto themselves
+    /// (within 100× the tolerance): p unless Newton found a shorter cycle
+    /// traversed p/q times.
+    pub minimal_period: usize,
+    /// Map evaluations spent, those of f'(θ) included.
+    pub map_evals: u64,
+    /// Right-hand-side evaluations spent.
+    pub rhs_evals: u64,
+}
+
+impl Cycle {
+    /// p, the period solved for.
+    pub fn period(&self) -> usize {
+        self.points.len()
+    }
+
+    /// The cycle's Lyapunov exponent, ln|multiplier|/p: exact for a
+    /// periodic orbit, nothing to average.
+    pub fn lyapunov(&self) -> f64 {
+        self.multiplier.abs().ln() / self.period() as f64
+    }
+}
+
+/// Why a solve failed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum CycleFailure {
+    #[error("the period must lie in [1, {PERIOD_MAX}], not {0}")]
+    BadPeriod(usize),
+    #[error("the seed theta = {theta} is not on the exit arc")]
+    SeedOffArc { theta: f64 },
+    #[error("no convergence: after {iterations} Newton step(s) the residual is still {residual:e}")]
+    NoConvergence { iterations: usize, residual: f64 },
+    #[error(
+        "the cycle crosses a discontinuity of the map near theta = {theta} (f jumps or the slip restarts there, so f is not differentiable)"
+    )]
+    Discontinuity { theta: f64 },
+    #[error(transparent)]
+    Sim(#[from] SimError),
+}
+
+/// g, g' + 1 and the points of one pass round a candidate cycle.
+struct Pass {
+    g: f64,
+    multiplier: f64,
+    points: Vec<f64>,
+    restarted: bool,
+}
+
+/// Walks p iterates from θ with f'(θᵢ) at each.
+fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result<Pass, SimError> {
+    let mut th = theta;
+    let mut multiplier = 1.0;
+    let mut points = Vec::with_capacity(p);
+    let mut restarted = false;
+    for _ in 0..p {
+        points.push(th);
+        let (ev, d, n) = cycle_with_derivative(sim, th, 0.0)?;
+        spent.0 += 3;
+        spent.1 += ev.rhs_evals + n;
+        multiplier *= d;
+        restarted |= ev.restarted;
+        th = sim.next_onset(&ev);
+    }
+    Ok(Pass {
+        g: wrap_angle(th - theta),
+        multiplier,
+        points,
+        restarted,
+    })
+}
+
+/// Solves f^p(θ) = θ by Newton's method from `seed` (see the module notes).
+pub fn solve_cycle(
+    sim: &Simulator,
+    seed: f64,
+    p: usize,
+    opts: &CycleOptions,
+) -> Result<Cycle, CycleFailure> {
+    solve_counting(sim, seed, p, opts, &mut (0, 0))
+}
+
+/// [`solve_cycle`], adding the map and right-hand-side evaluations it
+/// spends to `spent`, whether it succeeds or not.
+pub fn solve_counting(
+    sim: &Simulator,
+    seed: f64,
+    p: usize,
+    opts: &CycleOptions,
+    spent: &mut (u64, u64),
+) -> Result<Cycle, CycleFailure> {
+    let before = *spent;
+    if !(1..=PERIOD_MAX).contains(&p) {
+        return Err(CycleFailure::BadPeriod(p));
+    }
+    if sim.check_onset(seed).is_err() {
+        return Err(CycleFailure::SeedOffArc { theta: seed });
+    }
+    let mut x = seed;
+    let mut e = pass(sim, x, p, spent)?;
+    let mut iterations = 0;
+    loop {
+        if !(e.g.is_finite() && e.multiplier.is_finite()) {
+            return Err(CycleFailure::NoConvergence {
+                iterations,
+                residual: e.g.abs(),
+            });
+        }
+        let slope = e.multiplier - 1.0;
+        if (e.g / slope).abs() <= opts.tol || e.g.abs() <= opts.floor {
+            if e.restarted {
+                return Err(CycleFailure::Discontinuity { theta: x });
+            }
+            let distinct = 1e2 * opts.tol;
+            let minimal_period = (1..=p)
+                .filter(|q| p.is_multiple_of(*q))
+                .find(|&q| {
+                    (0..p - q).all(|i| wrap_angle(e.points[i + q] - e.points[i]).abs() <= distinct)
+                })
+                .unwrap_or(p);
+            return Ok(Cycle {
+                stable: e.multiplier.abs() < 1.0,
+                multiplier: e.multiplier,
+                residual: e.g.abs(),
+                points: e.points,
+                iterations,
+                minimal_period,
+                map_evals: spent.0 - before.0,
+                rhs_evals: spent.1 - before.1,
+            });
+        }
+        if iterations == opts.max_iter {
+            return Err(CycleFailure::NoConvergence {
+                iterations,
+                residual: e.g.abs(),
+            });
+        }
+        let full = if slope != 0.0 { -e.g / slope } else { MAX_STEP };
+        let mut step = full.clamp(-MAX_STEP, MAX_STEP);
+        let mut next = None;
+        let mut last_trial: Option<(f64, f64)> = None;
+        for _ in 0..=opts.max_halvings {
+            let y = wrap_angle(x + step);
+            if sim.check_onset(y).is_ok() {
+                // A trial that fails to integrate is treated as a step too
+                // long: halve it.
+                if let Ok(ey) = pass(sim, y, p, spent) {
+                    if ey.g.abs() < e.g.abs() {
+                        next = Some((y, ey));
+                        break;
+                    }
+                    last_trial = Some((step, ey.g));
+                }
+            }
+            step *= 0.5;
+        }
+        match next {
+            Some((y, ey)) => {
+                x = y;
+                e = ey;
+                iterations += 1;
+            }
+            None => {
+                // The smallest step still did not shrink |g|. If g moved
+                // far more than its slope allows over that step, f jumps
+                // between x and x + step; otherwise Newton has stalled at
+                // the map's own error.
+                let jumped = last_trial.is_some_and(|(s, gy)| {
+                    (wrap_angle(gy - e.g) - slope * s).abs()
+                        > 1e-6 + 1e2 * ((slope * s).abs() + opts.floor)
+                });
+                return Err(if jumped {
+                    CycleFailure::Discontinuity { theta: x }
+                } else {
+                    CycleFailure::NoConvergence {
+                        iterations,
+                        residual: e.g.abs(),
+                    }
+                });
+            }
+        }
+    }
+}
+
+/// Whether the end of `seq` keeps approaching `cycle`, whose point 0 is in
+/// the phase of the newest value: of the distances e₀ … e₃ of the newest
+/// value and of those 1, 2 and 3 periods before it from that point, each
+/// is below the one two periods earlier (e₀ < e₂, e₁ < e₃: an approach with
+/// a negative multiplier alternates sides, unevenly, so neighbours are not
+/// compared), or the newest is already within `noise` of it; and e₃ is
+/// within 0.1 rad.
+pub fn approaches(cycle: &Cycle, seq: &[f64], noise: f64) -> bool {
+    let p = cycle.period();
+    let n = seq.len();
+    if n < 3 * p + 1 {
+        return false;
+    }
+    let c0 = cycle.points[0];
+    let e: [f64; 4] = std::array::from_fn(|k| wrap_angle(seq[n - 1 - k * p] - c0).abs());
+    e[3] < 0.1 && (e[0] <= noise || (e[0] < e[2] && e[1] < e[3]))
+}
+
+/// The cycle the end of `seq` contracts onto ([`super::contraction`]),
+/// solved from Aitken's limit, when it is a genuine p-cycle (not a shorter
+/// one traversed several times), attracts, and `seq` keeps approaching it;
+/// `None` otherwise (the caller then goes on iterating). The evaluations
+/// it spends are added to `spent` (map, right-hand side).
+pub fn confirm_contraction(
+    sim: &Simulator,
+    seq: &[f64],
+    c: &Contraction,
+    opts: &CycleOptions,
+    noise: f64,
+    spent: &mut (u64, u64),
+) -> Option<Cycle> {
+    let cycle = solve_counting(sim, c.limit, c.period, opts, spent).ok()?;
+    (cycle.minimal_period == c.period && cycle.stable && approaches(&cycle, seq, noise))
+        .then_some(cycle)
+}

@@ -1,0 +1,368 @@
+//! Cycles solved rather than waited for: Newton's method on f^p(θ) = θ, the
+//! exact exponent of a periodic orbit, and the classifiers (orbit, phase
+//! grid, sweeps) that solve a slowly approached cycle instead of giving up.
+
+mod common;
+
+use common::until_finished;
+use oneblock::integrate::SolverSettings;
+use oneblock::model::Params;
+use oneblock::numerics::{Accuracy, budget_for};
+use oneblock::sim::phase::{CellClass, PhaseOptions, phase_grid};
+use oneblock::sim::{
+    CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, SweepOptions, default_settings,
+    fixed_point, solve_cycle, sweep_segments, theta_nu_grid,
+};
+use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, Update, Worker, WorkerConfig};
+use std::sync::Arc;
+
+fn params(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
+    Params {
+        kappa,
+        gamma,
+        nu,
+        theta_nu,
+        omega: 50.0,
+    }
+}
+
+fn sim(p: Params) -> Simulator {
+    Simulator::new(p, default_settings(1e-10)).expect("valid")
+}
+
+/// f'(θ) by a central difference with a step of its own (1e-4), independent
+/// of the solver's.
+fn slope(s: &Simulator, theta: f64) -> f64 {
+    let h = 1e-4;
+    (s.map(theta + h).expect("a value") - s.map(theta - h).expect("a value")) / (2.0 * h)
+}
+
+#[test]
+fn newton_converges_quadratically_onto_a_fixed_point() {
+    // Fig. 3b at θν = 1.0: a stable stick-slip fixed point.
+    let s = sim(params(18.95, 6.5, 1e-3, 1.0));
+    let full = CycleOptions::for_settings(s.settings());
+    let star = solve_cycle(&s, 0.45, 1, &full).expect("a fixed point");
+    let th = star.points[0];
+    assert!(
+        (s.map(th).expect("a value") - th).abs() < 1e-9,
+        "f(θ*) = θ*"
+    );
+    // The residual after k steps, from a seed 0.01 rad away: each at most
+    // a fixed multiple of the square of the one before, and the ratio of
+    // successive residuals falling (superlinear), down to the map's own
+    // error.
+    let seed = th + 0.01;
+    let residual = |k: usize| match solve_cycle(
+        &s,
+        seed,
+        1,
+        &CycleOptions {
+            tol: 0.0,
+            floor: 0.0,
+            max_iter: k,
+            ..full
+        },
+    ) {
+        Err(CycleFailure::NoConvergence { residual, .. }) => residual,
+        other => panic!("after {k} steps: {other:?}"),
+    };
+    let r: Vec<f64> = (0..5).map(residual).collect();
+    assert!(r[0] > 5e-3, "{r:?}");
+    let mut quadratic_steps = 0;
+    for k in 0..4 {
+        if r[k + 1] < 1e-11 {
+            break;
+        }
+        assert!(
+            r[k + 1] <= 20.0 * r[k] * r[k],
+            "step {k} is not quadratic: {r:?}"
+        );
+        if k > 0 {
+            assert!(r[k + 1] / r[k] < r[k] / r[k - 1], "step {k}: {r:?}");
+        }
+        quadratic_steps += 1;
+    }
+    assert!(quadratic_steps >= 2, "{r:?}");
+    // The multiplier is f'(θ*) by an independent difference.
+    assert!((star.multiplier - slope(&s, th)).abs() < 1e-4);
+    assert!(star.stable && star.multiplier.abs() < 1.0);
+}
+
+#[test]
+fn a_period_two_orbit_has_the_exponent_ln_m_over_two() {
+    let p = params(18.95, 6.5, 1e-3, 1.15);
+    let s = sim(p);
+    let opts = OrbitOptions {
+        transient: 400,
+        keep: 128,
+        lyapunov: true,
+        period_tol: OrbitOptions::period_tol_for(1e-10),
+    };
+    let o = s.orbit(p.theta_nu, &opts, &|| false).expect("an orbit");
+    assert_eq!(o.period, Period::Periodic(2));
+    let c = o.cycle.as_ref().expect("a solved cycle");
+    assert_eq!(o.lyapunov_stderr, None, "an exact value has no error bar");
+    // The multiplier from the two points' slopes, computed independently.
+    let m = slope(&s, c.points[0]) * slope(&s, c.points[1]);
+    assert!((c.multiplier - m).abs() < 1e-4, "{} vs {m}", c.multiplier);
+    let l = o.lyapunov.expect("an exponent");
+    assert!(
+        (l - m.abs().ln() / 2.0).abs() < 1e-4,
+        "{l} vs {}",
+        m.abs().ln() / 2.0
+    );
+    // The two points are the orbit's, to the period tolerance.
+    let last = &o.thetas()[o.events.len() - 2..];
+    let near = |x: f64| c.points.iter().any(|q| (q - x).abs() < 1e-6);
+    assert!(last.iter().all(|&x| near(x)), "{last:?} vs {:?}", c.points);
+}
+
+#[test]
+fn the_flip_of_fig_3b_lies_between_1_08_and_1_10() {
+    // Fixed point from the stable side, then continued by Newton past the
+    // flip, where iterating could not find it.
+    let opts = CycleOptions::for_settings(&default_settings(1e-10));
+    let a = sim(params(18.95, 6.5, 1e-3, 1.08));
+    let fa = solve_cycle(&a, 1.0, 1, &opts).expect("a fixed point at 1.08");
+    let b = sim(params(18.95, 6.5, 1e-3, 1.10));
+    let fb = solve_cycle(&b, fa.points[0], 1, &opts).expect("a fixed point at 1.10");
+    assert!(fa.multiplier > -1.0 && fa.stable, "{}", fa.multiplier);
+    assert!(fb.multiplier < -1.0 && !fb.stable, "{}", fb.multiplier);
+    for (s, c) in [(&a, &fa), (&b, &fb)] {
+        let th = c.points[0];
+        assert!((s.map(th).expect("a value") - th).abs() < 1e-9);
+        assert!((c.multiplier - slope(s, th)).abs() < 1e-4);
+    }
+}
+
+#[test]
+fn the_fig_3a_point_is_a_fixed_point_within_the_default_budget() {
+    let p = params(50.0, 6.5, 1e-4, 0.3);
+    let s = sim(p);
+    let opts = OrbitOptions {
+        transient: 400,
+        keep: 128,
+        lyapunov: true,
+        period_tol: OrbitOptions::period_tol_for(1e-10),
+    };
+    let o = s.orbit(p.theta_nu, &opts, &|| false).expect("an orbit");
+    assert_eq!(o.period, Period::Periodic(1));
+    let c = o.cycle.expect("solved");
+    // The secant solver, started afresh, lands on the same point.
+    let (star, m) = fixed_point(&s, p.theta_nu, 1e-11)
+        .expect("no error")
+        .expect("a fixed point");
+    assert!(
+        (c.points[0] - star).abs() < 1e-6,
+        "{} vs {star}",
+        c.points[0]
+    );
+    assert!((c.multiplier - m).abs() < 1e-4);
+    // Slow: iterating alone leaves it undecided.
+    assert!(c.multiplier > 0.98 && c.multiplier < 1.0);
+}
+
+#[test]
+fn the_creep_grid_has_no_undecided_cell() {
+    let settings = default_settings(1e-10);
+    let kappas = theta_nu_grid(1.0, 42.0, 30);
+    let theta_nus = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30);
+    let opts = PhaseOptions::for_settings(&settings);
+    let base = params(1.0, 0.5, 1e-3, 0.0);
+    let rows = phase_grid(
+        base,
+        settings,
+        &kappas,
+        &theta_nus,
+        &opts,
+        &|| false,
+        &|_| {},
+    )
+    .expect("not cancelled");
+    let cells: Vec<_> = rows.iter().flatten().collect();
+    assert_eq!(cells.len(), 900);
+    let undecided = cells
+        .iter()
+        .filter(|c| c.class == CellClass::Undecided)
+        .count();
+    assert_eq!(undecided, 0);
+    // Pure creep: every cell is a fixed point that attracts.
+    for c in &cells {
+        assert_eq!(
+            c.class,
+            CellClass::Periodic(1),
+            "κ {} θν {}",
+            c.kappa,
+            c.theta_nu
+        );
+        assert!(c.lyapunov.is_some_and(|l| l < 0.0));
+    }
+    // Where a cell ends is its fixed point, as the secant solver finds it
+    // from θν (a few cells across the grid).
+    for c in cells.iter().step_by(97) {
+        let s = sim(params(c.kappa, 0.5, 1e-3, c.theta_nu));
+        let (star, _) = fixed_point(&s, c.theta_nu, 1e-12)
+            .expect("no error")
+            .expect("a fixed point");
+        assert!(
+            (c.theta_last - star).abs() < 1e-6,
+            "κ {} θν {}: {} vs {star}",
+            c.kappa,
+            c.theta_nu,
+            c.theta_last
+        );
+    }
+}
+
+/// Every column of `a` within `tol` of the column of `b` at the same θν
+/// (as sets of values).
+fn worst_gap(a: &[(f64, Vec<f64>)], b: &[(f64, Vec<f64>)]) -> f64 {
+    let dist = |x: f64, set: &[f64]| {
+        set.iter()
+            .map(|y| (x - y).abs())
+            .fold(f64::INFINITY, f64::min)
+    };
+    a.iter()
+        .zip(b)
+        .map(|((ta, ca), (tb, cb))| {
+            assert_eq!(ta, tb);
+            assert!(!ca.is_empty() && !cb.is_empty());
+            let ab = ca.iter().map(|&x| dist(x, cb)).fold(0.0, f64::max);
+            let ba = cb.iter().map(|&x| dist(x, ca)).fold(0.0, f64::max);
+            ab.max(ba)
+        })
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
+    let p = params(3.0, 0.5, 1e-3, 0.7);
+    let columns = 400;
+    let (from, to) = (0.0, std::f64::consts::FRAC_PI_2);
+    // The window: its sweep at Auto accuracy, 300 + 200 iterates a column.
+    let auto = budget_for(Accuracy::BifurcationDiagram.target()).settings;
+    let w = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
+    assert!(w.send(Command::Sweep {
+        generation: 1,
+        spec: SweepSpec {
+            params: p,
+            settings: auto,
+            theta_nu: Axis::new(from, to, columns),
+            transient: 300,
+            keep: 200,
+        },
+    }));
+    let (ups, outcome) = until_finished(&w, 1, Lane::Sweep);
+    assert_eq!(outcome, Outcome::Completed);
+    w.shutdown();
+    let mut window: Vec<(f64, Vec<f64>)> = vec![(f64::NAN, vec![]); columns];
+    for u in ups {
+        if let Update::Column {
+            index,
+            theta_nu,
+            thetas,
+            ..
+        } = u
+        {
+            window[index] = (theta_nu, thetas);
+        }
+    }
+    // `oneblock bifurcation` at tol 1e-10 (its defaults: 500 + 100).
+    let grid = theta_nu_grid(from, to, columns);
+    let reference_settings = SolverSettings::adaptive(oneblock::Method::Dop853, 1e-10);
+    let opts = SweepOptions {
+        transient: 500,
+        keep: 100,
+    };
+    let (lower, upper) = grid.split_at(grid.len().div_ceil(2));
+    let reference: Vec<(f64, Vec<f64>)> = [lower, upper]
+        .iter()
+        .flat_map(|half| {
+            sweep_segments(p, reference_settings, half, &opts, None, &|| false, |_| {})
+        })
+        .map(|c| (c.theta_nu, c.thetas))
+        .collect();
+    let all = reference.iter().flat_map(|(_, t)| t.iter().copied());
+    let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    let pixel = (hi - lo) / columns as f64;
+    let gap = worst_gap(&window, &reference);
+    assert!(
+        gap <= pixel,
+        "{gap:e} > one pixel {pixel:e} (Auto = {auto:?})"
+    );
+}
+
+/// `oneblock cycle` with `args` after the Fig. 3b model flags at θν = 1.0.
+fn cycle_cli(args: &[&str]) -> std::process::Output {
+    let model = [
+        "cycle",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu",
+        "1.0",
+    ];
+    std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(model.iter().chain(args))
+        .output()
+        .expect("the binary runs")
+}
+
+#[test]
+fn the_cycle_command_solves_and_refuses_bad_input_in_one_line() {
+    let ok = cycle_cli(&["--period", "1", "--theta", "0.45", "--json"]);
+    assert_eq!(ok.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&ok.stdout).expect("JSON");
+    let th = v["points"][0].as_f64().expect("a point");
+    let s = sim(params(18.95, 6.5, 1e-3, 1.0));
+    assert!((s.map(th).expect("a value") - th).abs() < 1e-9);
+    assert_eq!(v["stable"], true);
+    for (args, flag) in [
+        (["--period", "0", "--theta", "0.45"], "--period"),
+        (["--period", "65", "--theta", "0.45"], "--period"),
+        (["--period", "-2", "--theta", "0.45"], "--period"),
+        (["--period", "1", "--theta", "NaN"], "--theta"),
+        (["--period", "1", "--theta", "3.0"], "--theta"),
+    ] {
+        let o = cycle_cli(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.starts_with("error: ") && err.contains(flag), "{err}");
+    }
+}
+
+#[test]
+fn a_failed_solve_is_one_line_with_its_reason_and_exit_1() {
+    // The intermittent orbit's map jumps where its large slips start: from
+    // this seed Newton stalls against the jump.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "cycle",
+            "--kappa",
+            "50",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-4",
+            "--theta-nu",
+            "1.4",
+            "--period",
+            "1",
+            "--theta",
+            "0.5",
+        ])
+        .output()
+        .expect("the binary runs");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(err.contains("no 1-cycle from theta = 0.5") && err.contains("convergence"));
+    assert!(o.stdout.is_empty());
+}
