@@ -10,6 +10,7 @@ pub mod phase;
 mod sweep;
 mod trajectory;
 mod trig;
+pub mod variational;
 
 pub use analysis::{
     DERIVATIVE_STEP, PERIOD_MAX, cycle_with_derivative, detect_period, fixed_point, map_derivative,
