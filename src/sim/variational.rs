@@ -330,7 +330,7 @@ impl TanField {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
 pub enum NotDifferentiable {
     /// The stop landed on or outside C and a new slip started at once
-    /// (MODEL.md rule 5): f switches there between a stick phase and none.
+    /// (docs/model.md, rule 5): f switches there between a stick phase and none.
     #[error("the slip restarts at its stop (the stop is on or outside C)")]
     Restart,
     /// The next onset is at the edge of the exit arc, where the stick phase

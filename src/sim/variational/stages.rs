@@ -150,8 +150,11 @@ impl Tangents {
     }
 
     /// The field at `y` for the solver: evaluated on tangents during a step
-    /// (`Some` value), `None` when the evaluation is not part of one.
-    #[inline(always)]
+    /// (`Some` value), `None` when the evaluation is not part of one. Not
+    /// inlined: the stepping loops are unrolled per stage and per lane, and
+    /// a copy of the tangent field in each multiplied the code (and the
+    /// plain slip's) many times over for no gain.
+    #[inline(never)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
         match self.mode {
             Mode::Off => None,
