@@ -43,7 +43,12 @@ fn moved(p: Params, dir: usize, e: f64) -> Params {
 /// of each committed attractor. A point is compared when f is smooth over
 /// the differences' steps (the two central differences agree to 1e-3
 /// relative, else a jump lies in between); nearly all are.
-fn check(settings: SolverSettings, tol_rel: f64, tol_nu: f64, stride: usize) -> (usize, usize, f64) {
+fn check(
+    settings: SolverSettings,
+    tol_rel: f64,
+    tol_nu: f64,
+    stride: usize,
+) -> (usize, usize, f64) {
     let (mut compared, mut skipped, mut worst) = (0, 0, 0.0_f64);
     for a in default_attractors() {
         let p = a.params;
@@ -100,9 +105,17 @@ fn check(settings: SolverSettings, tol_rel: f64, tol_nu: f64, stride: usize) -> 
 
 #[test]
 fn derivatives_match_richardson_extrapolated_differences() {
-    let (compared, skipped, worst) = check(SolverSettings::adaptive(Method::Dop853, 1e-11), 1e-5, 3e-3, 8);
+    let (compared, skipped, worst) = check(
+        SolverSettings::adaptive(Method::Dop853, 1e-11),
+        1e-5,
+        3e-3,
+        8,
+    );
     eprintln!("compared {compared}, skipped {skipped}, worst relative error {worst:e}");
-    assert!(compared >= 10 * skipped, "compared {compared}, skipped {skipped}");
+    assert!(
+        compared >= 10 * skipped,
+        "compared {compared}, skipped {skipped}"
+    );
 }
 
 /// A cycle with derivatives is bitwise the plain cycle, alone or in lanes
@@ -117,8 +130,18 @@ fn cycles_with_derivatives_are_bitwise_the_plain_cycles_and_the_lanes() {
         for (&theta, lane) in points.iter().zip(lanes) {
             let (ev, _, _) = sim.cycle_derivatives(theta, 0.0).unwrap();
             let plain = sim.cycle(theta, 0.0, None).unwrap();
-            assert_eq!(format!("{ev:?}"), format!("{plain:?}"), "{} θ = {theta}", a.name);
-            assert_eq!(format!("{ev:?}"), format!("{:?}", lane.unwrap()), "{} θ = {theta}", a.name);
+            assert_eq!(
+                format!("{ev:?}"),
+                format!("{plain:?}"),
+                "{} θ = {theta}",
+                a.name
+            );
+            assert_eq!(
+                format!("{ev:?}"),
+                format!("{:?}", lane.unwrap()),
+                "{} θ = {theta}",
+                a.name
+            );
         }
     }
 }
@@ -146,11 +169,16 @@ fn the_fixed_point_multiplier_crosses_minus_one_at_the_period_doubling() {
             th = sim.map(th).unwrap();
         }
         let seed = 0.5 * (th + prev);
-        let (star, mult) = oneblock::sim::fixed_point(&sim, seed, 1e-12).unwrap().unwrap();
+        let (star, mult) = oneblock::sim::fixed_point(&sim, seed, 1e-12)
+            .unwrap()
+            .unwrap();
         let (_, d, _) = sim.cycle_derivatives(star, 0.0).unwrap();
         assert_eq!(mult.to_bits(), d.unwrap().d_theta.to_bits());
         mult
     };
     let (before, after) = (m(1.08), m(1.10));
-    assert!(before > -1.0 && after < -1.0, "f' = {before} at 1.08, {after} at 1.10");
+    assert!(
+        before > -1.0 && after < -1.0,
+        "f' = {before} at 1.08, {after} at 1.10"
+    );
 }

@@ -448,7 +448,12 @@ impl Simulator {
         // relaxes onto the manifold).
         let zvar = var.map(|var| {
             let var = var.borrow();
-            let mut zt = [var.y[0], var.y[1], [0.0; variational::DIRS], [0.0; variational::DIRS]];
+            let mut zt = [
+                var.y[0],
+                var.y[1],
+                [0.0; variational::DIRS],
+                [0.0; variational::DIRS],
+            ];
             for i in 0..variational::DIRS {
                 zt[2][i] = (y[2] * var.y[2][i] + y[3] * var.y[3][i]) / vr;
             }

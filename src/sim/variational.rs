@@ -502,8 +502,18 @@ mod tests {
                 yp[i] += h;
                 ym[i] -= h;
                 let pairs: [(State, [Tan; 4], State, State); 2] = [
-                    (field.accel(&y), fld.accel(&s), field.accel(&yp), field.accel(&ym)),
-                    (field.decel(&y), fld.decel(&s), field.decel(&yp), field.decel(&ym)),
+                    (
+                        field.accel(&y),
+                        fld.accel(&s),
+                        field.accel(&yp),
+                        field.accel(&ym),
+                    ),
+                    (
+                        field.decel(&y),
+                        fld.decel(&s),
+                        field.decel(&yp),
+                        field.decel(&ym),
+                    ),
                 ];
                 for (plain, tan, fp, fm) in pairs {
                     for c in 0..4 {

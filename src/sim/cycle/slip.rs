@@ -58,7 +58,11 @@ impl Rhs for Counted<'_> {
     fn eval(&mut self, y: &State) -> State {
         self.evals.set(self.evals.get() + 1);
         if let Some(var) = self.var {
-            let which = if self.accel { Field::Accel } else { Field::Decel };
+            let which = if self.accel {
+                Field::Accel
+            } else {
+                Field::Decel
+            };
             if let Some(v) = var.borrow_mut().eval(which, y) {
                 return v;
             }

@@ -44,7 +44,13 @@ pub(crate) fn accel_end(fld: &TanField, ya: &State, t: &Jet) -> Result<Jet, NotD
 /// The stop placed by linear extrapolation from the state `y` (tangent
 /// `t`, f = `k` with tangent `kt`), differentiated as it is computed:
 /// stop = (x, y) + (V + v_r/2)·dt with dt = v_r/|dv_r/dt|.
-pub(crate) fn extrapolated_stop(fld: &TanField, y: &State, t: &Jet, k: &State, kt: &Jet) -> [Grad; 2] {
+pub(crate) fn extrapolated_stop(
+    fld: &TanField,
+    y: &State,
+    t: &Jet,
+    k: &State,
+    kt: &Jet,
+) -> [Grad; 2] {
     let s = tan_state(y, t);
     let f = tan_state(k, kt);
     let vr = (s[2] * s[2] + s[3] * s[3]).sqrt();
