@@ -409,7 +409,6 @@ impl Simulator {
     fn stiff_stop(
         &self,
         y: &State,
-        vr: f64,
         decel: f64,
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
@@ -417,6 +416,8 @@ impl Simulator {
         var: Option<&RefCell<Box<Tangents>>>,
     ) -> StiffEnd {
         const MIN_STIFFNESS: f64 = 10.0;
+        // The caller's v_r, formed the same way.
+        let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
         const ERROR_SHARE: f64 = 0.01;
         const MAX_STEPS: u32 = 400;
         let field = self.field;

@@ -339,7 +339,7 @@ impl<'a> SlipRun<'a> {
                     let at = self.t_abs + t;
                     let var = self.var.as_ref();
                     let smp = sampler.as_deref_mut();
-                    match sim.stiff_stop(&y, vr, -dvr, at, smp, &self.evals, var) {
+                    match sim.stiff_stop(&y, -dvr, at, smp, &self.evals, var) {
                         StiffEnd::NotStiff => {}
                         StiffEnd::GaveUp { steps } => {
                             if let Stage::Decel { stiff_gave_up, .. } = &mut self.stage {
