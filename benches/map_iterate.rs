@@ -6,7 +6,8 @@
 //! setting's map error (max and median |θ' − θ'_ref| over 200 attractor
 //! points, committed, θ'_ref from DOP853 at 1e-14) and RHS evaluations per iterate
 //! (machine-independent) are printed, so speed and accuracy are read off
-//! the same run.  Run: `cargo bench --bench map_iterate`.
+//! the same run. At DOP853 1e-9 a `/derivatives` row times the same
+//! iterates with the map's six exact derivatives.  Run: `cargo bench --bench map_iterate`.
 
 #![allow(clippy::unwrap_used)]
 
@@ -85,6 +86,18 @@ fn bench(c: &mut Criterion) {
                     black_box(sim.map(black_box(thetas[i])).unwrap())
                 })
             });
+            // The same iterates with all six exact derivatives
+            // (`Simulator::cycle_derivatives`); its ratio to the plain row
+            // above is the derivatives' cost (docs/derivatives.md).
+            if method == Method::Dop853 && tol == 1e-9 {
+                let mut i = 0;
+                group.bench_function(format!("{name}/{method}/{tol:e}/derivatives"), |b| {
+                    b.iter(|| {
+                        i = (i + 1) % thetas.len();
+                        black_box(sim.cycle_derivatives(black_box(thetas[i]), 0.0).unwrap())
+                    })
+                });
+            }
             // Only DOP853 steps slips together (DP5(4) would time the
             // driver alone); tol 1e-12 adds nothing to the comparison.
             if method != Method::Dop853 || tol < 1e-11 {

@@ -1,5 +1,6 @@
 //! `oneblock map`: one iterate θ → θ' of the map, with the slip event's
-//! details, as text or as one JSON object.
+//! details and the map's exact derivatives f'(θ) and ∂f/∂(θν, κ, γ, ν, Ω),
+//! as text or as one JSON object.
 
 use std::path::Path;
 
@@ -13,6 +14,7 @@ use super::run_control::check_stdout;
 use super::values::parse_number;
 use crate::model::{OnsetCharacter, Regime, onset_character};
 use crate::sim::Simulator;
+use crate::sim::variational::{MapDerivatives, NotDifferentiable};
 
 /// One map iterate from the onset at `--theta`.
 #[derive(Debug, Clone, Args)]
@@ -50,7 +52,7 @@ pub fn run(args: MapArgs) -> Result<(), CliError> {
     let Plan { sim, theta } = check(&args)?;
     let (params, settings) = (*sim.params(), *sim.settings());
     warn_validity(&params);
-    let ev = sim.cycle(theta, 0.0, None)?;
+    let (ev, derivs, _) = sim.cycle_derivatives(theta, 0.0)?;
     warn_event(&ev);
     let regime = Regime::of(params.kappa, params.gamma);
     let onset = onset_character(params.kappa, params.gamma, theta);
@@ -72,6 +74,21 @@ pub fn run(args: MapArgs) -> Result<(), CliError> {
                 serde_json::to_value(params).unwrap_or_default(),
             );
             m.insert("solver".into(), settings_json(&settings));
+            // Where f has no derivative the keys are null and the reason
+            // is given, rather than a meaningless number.
+            match &derivs {
+                Ok(d) => {
+                    for (name, value) in d.named() {
+                        m.insert(name.into(), value.into());
+                    }
+                }
+                Err(reason) => {
+                    for (name, _) in MapDerivatives::default().named() {
+                        m.insert(name.into(), serde_json::Value::Null);
+                    }
+                    m.insert("not_differentiable".into(), reason.to_string().into());
+                }
+            }
         }
         format!("{obj}\n")
     } else {
@@ -93,7 +110,8 @@ pub fn run(args: MapArgs) -> Result<(), CliError> {
              energy released  {energy}\n\
              stick duration   {stick}\n\
              restarted        {restarted}\n\
-             rhs evaluations  {evals} in {steps} steps\n",
+             rhs evaluations  {evals} in {steps} steps\n\
+             {derivatives}",
             describe = describe(&params, &settings),
             theta_next = ev.theta_next,
             ox = ev.onset_x,
@@ -113,7 +131,20 @@ pub fn run(args: MapArgs) -> Result<(), CliError> {
             },
             evals = ev.rhs_evals,
             steps = ev.steps,
+            derivatives = derivative_lines(&derivs),
         )
     };
     emit(Path::new("-"), text.as_bytes(), false)
+}
+
+/// The text output's lines for the derivatives, or for their absence.
+fn derivative_lines(d: &Result<MapDerivatives, NotDifferentiable>) -> String {
+    match d {
+        Ok(d) => d
+            .named()
+            .iter()
+            .map(|(name, v)| format!("{:<17}{v}\n", name.replace('_', " ")))
+            .collect(),
+        Err(reason) => format!("derivative       none: {reason}\n"),
+    }
 }

@@ -1,7 +1,7 @@
 //! The derivative of the map, and the grid its graph is drawn on (periods
 //! are detected in `super::period`).
 
-use super::{SimError, Simulator, SlipEvent, cycle_pair, cycles_in_lanes};
+use super::{SimError, Simulator, SlipEvent, cycle_pair};
 use crate::model::{is_on_exit_arc, wrap_angle};
 
 /// The window of θ a return-map picture of `thetas` shows: their range
@@ -30,15 +30,29 @@ pub fn map_graph_grid(kappa: f64, theta_nu: f64, lo: f64, hi: f64, n: usize) -> 
         .collect()
 }
 
-/// The step of the central difference for f'(θ).
+/// The step of the central difference for f'(θ), used only where f has
+/// no derivative (see [`map_derivative`]).
 pub const DERIVATIVE_STEP: f64 = 1e-5;
 
-/// f'(θ), and the right-hand-side evaluations it cost, by a central difference with step h = 1e-5, given f(θ) = `f_theta`
-/// (used only when one side leaves the exit arc, for a one-sided
-/// difference). Its error is about ε/h + h² |f'''|/6 for a map error ε:
-/// with ε ≈ 1e-10 that is ~1e-5 absolute, far below what the Lyapunov
-/// exponent's statistical error is over a few hundred iterates.
+/// f'(θ), and the right-hand-side evaluations it cost, from the
+/// variational equations ([`Simulator::cycle_derivatives`]: one cycle
+/// whose evaluations carry the tangents). Where f has no derivative
+/// (`sim::variational::NotDifferentiable`: a restart at the stop, the edge
+/// of the exit arc, a jump) a number is still wanted by the Lyapunov
+/// exponent, so the slope of the secant over ±1e-5 is returned there,
+/// given f(θ) = `f_theta` (for a one-sided difference next to the edge of
+/// the exit arc).
 pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
+    let (ev, d, n) = sim.cycle_derivatives(theta, 0.0)?;
+    match d {
+        Ok(d) => Ok((d.d_theta, ev.rhs_evals + n)),
+        Err(_) => central_difference(sim, theta, f_theta),
+    }
+}
+
+/// The secant slope of f over θ ± 1e-5 (one-sided next to the edge of the
+/// exit arc), with the evaluations it cost.
+fn central_difference(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
     let h = DERIVATIVE_STEP;
     let p = sim.params();
     let up = is_on_exit_arc(p.kappa, p.theta_nu, theta + h);
@@ -47,8 +61,6 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
     let f = |th: f64| pick(sim.cycle(th, 0.0, None));
     match (up, down) {
         (true, true) => {
-            // Two independent cycles: their slips are stepped together
-            // (`cycle_pair`), bitwise the values `f` gives, ~1.2× sooner.
             let [p, m] = cycle_pair([(sim, theta + h, 0.0), (sim, theta - h, 0.0)]);
             let ((fp, np), (fm, nm)) = (pick(p)?, pick(m)?);
             Ok((wrap_angle(fp - fm) / (2.0 * h), np + nm))
@@ -64,40 +76,24 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
     }
 }
 
-/// The cycle from θ (onset time `t0`) and f'(θ) with the evaluations it
-/// cost: `(event, f'(θ), evaluations of f')`, bitwise what
-/// [`Simulator::cycle`] and then [`map_derivative`] give. When both sides
-/// of the central difference are on the exit arc, the cycle and the
-/// difference's two cycles are independent, so the three are stepped
-/// together in lanes (`sim::cycles_in_lanes`): an orbit with its Lyapunov
-/// exponent takes about the time of the cycle alone per kept iterate
-/// instead of that plus a pair. An error of the cycle comes first, as in
-/// the sequence.
+/// The cycle from θ (onset time `t0`) and f'(θ) with the evaluations the
+/// derivative cost beyond the cycle's own: one cycle with the variational
+/// equations ([`Simulator::cycle_derivatives`]); its event is bitwise what
+/// [`Simulator::cycle`] gives. Where f has no derivative, the secant slope
+/// of [`map_derivative`] and its cycles' evaluations.
 pub fn cycle_with_derivative(
     sim: &Simulator,
     theta: f64,
     t0: f64,
 ) -> Result<(SlipEvent, f64, u64), SimError> {
-    let h = DERIVATIVE_STEP;
-    let p = sim.params();
-    if is_on_exit_arc(p.kappa, p.theta_nu, theta + h)
-        && is_on_exit_arc(p.kappa, p.theta_nu, theta - h)
-    {
-        let tasks = [
-            (sim, theta, t0),
-            (sim, theta + h, 0.0),
-            (sim, theta - h, 0.0),
-        ];
-        // One result per task, in order (the fallback cannot happen).
-        let mut r = cycles_in_lanes(&tasks).into_iter();
-        let mut next = || r.next().unwrap_or(Err(SimError::Cancelled));
-        let (ev, plus, minus) = (next()?, next()?, next()?);
-        let d = wrap_angle(plus.theta_next - minus.theta_next) / (2.0 * h);
-        return Ok((ev, d, plus.rhs_evals + minus.rhs_evals));
+    let (ev, d, n) = sim.cycle_derivatives(theta, t0)?;
+    match d {
+        Ok(d) => Ok((ev, d.d_theta, n)),
+        Err(_) => {
+            let (d, n) = central_difference(sim, theta, ev.theta_next)?;
+            Ok((ev, d, n))
+        }
     }
-    let ev = sim.cycle(theta, t0, None)?;
-    let (d, n) = map_derivative(sim, ev.theta, ev.theta_next)?;
-    Ok((ev, d, n))
 }
 
 /// A fixed point θ* = f(θ*) found by the secant method on
@@ -141,11 +137,11 @@ mod tests {
     use crate::model::{Params, exit_arc};
     use crate::numerics::fixed_sample;
 
-    /// The cycle and f'(θ) in lanes are bitwise the cycle and then
-    /// `map_derivative`: on chaotic points (a central difference) and next
-    /// to both ends of the exit arc (one-sided, run in sequence).
+    /// The cycle with f'(θ) is bitwise the plain cycle (the tangents do
+    /// not change a step), on chaotic points and next to both ends of the
+    /// exit arc; its f' is the exact one where f has a derivative.
     #[test]
-    fn cycle_with_derivative_is_the_cycle_then_the_derivative() {
+    fn cycle_with_derivative_is_the_cycle_with_the_exact_slope() {
         let p = Params {
             kappa: 18.95,
             gamma: 6.5,
@@ -159,11 +155,13 @@ mod tests {
         thetas.extend([centre - half + 5e-6, centre + half - 5e-6]);
         for (i, &th) in thetas.iter().enumerate() {
             let t0 = i as f64;
-            let (ev, d, n) = cycle_with_derivative(&sim, th, t0).expect("a value");
+            let (ev, d, _) = cycle_with_derivative(&sim, th, t0).expect("a value");
             let alone = sim.cycle(th, t0, None).expect("a value");
-            let (d_alone, n_alone) = map_derivative(&sim, th, alone.theta_next).expect("a value");
             assert_eq!(format!("{ev:?}"), format!("{alone:?}"), "θ = {th}");
-            assert_eq!((d.to_bits(), n), (d_alone.to_bits(), n_alone), "θ = {th}");
+            let (_, exact, _) = sim.cycle_derivatives(th, t0).expect("a value");
+            if let Ok(exact) = exact {
+                assert_eq!(d.to_bits(), exact.d_theta.to_bits(), "θ = {th}");
+            }
         }
     }
 

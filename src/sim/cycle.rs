@@ -2,7 +2,7 @@
 //! phase → stop → closed-form stick phase → next onset (docs/model.md, "One
 //! cycle"). This is where the map θ → θ' is computed.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use serde::{Deserialize, Serialize};
 
@@ -12,6 +12,9 @@ mod slip;
 use super::SimError;
 use super::field::SlipField;
 use super::trajectory::{Phase, Sampler};
+use super::variational::{
+    self, Field, Grad, MapDerivatives, NotDifferentiable, Tan, TanField, Tangents,
+};
 use crate::integrate::{Method, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
@@ -93,6 +96,8 @@ enum StiffEnd {
         stop: [f64; 2],
         duration: f64,
         steps: u32,
+        /// The stop's tangent, for a slip with derivatives.
+        stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
     },
 }
 
@@ -104,6 +109,10 @@ struct SlipEnd {
     peak_vr: f64,
     rhs_evals: u64,
     steps: u32,
+    /// The stop's tangent, for a slip with derivatives.
+    stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
+    /// Evaluations the derivatives cost beyond the slip's own.
+    extra_evals: u64,
 }
 
 impl Simulator {
@@ -190,6 +199,41 @@ impl Simulator {
         Ok(self.cycle(theta, 0.0, None)?.theta_next)
     }
 
+    /// One cycle from the onset at θ (time `onset_time`) with the exact
+    /// derivatives of θ' = f(θ) (`sim::variational`): the event (bitwise
+    /// what [`Simulator::cycle`] gives), f' and ∂f/∂(θν, κ, γ, ν, Ω) or why
+    /// f has none there, and the evaluations the derivatives cost beyond
+    /// the cycle's own `rhs_evals` (every evaluation of the cycle carries
+    /// the tangents; these are the extra ones at the switching events).
+    pub fn cycle_derivatives(
+        &self,
+        theta: f64,
+        onset_time: f64,
+    ) -> Result<(SlipEvent, Result<MapDerivatives, NotDifferentiable>, u64), SimError> {
+        self.check_onset(theta)?;
+        let onset = point_from_theta(self.params.kappa, theta);
+        let end = self.slip(theta, onset, onset_time, None, true)?;
+        let (stop_d, extra) = (end.stop_d, end.extra_evals);
+        let ev = self.complete(theta, onset, onset_time, end, None);
+        let d = match stop_d {
+            _ if ev.restarted => Err(NotDifferentiable::Restart),
+            Some(Ok(sd)) => {
+                let fld = TanField::seeded(&self.params, &self.field);
+                let stop = [0, 1].map(|i| Tan {
+                    v: [ev.stop_x, ev.stop_y][i],
+                    d: sd[i],
+                });
+                match variational::next_theta_grad(&fld, stop) {
+                    Some(g) => g.map(|g| MapDerivatives::from_grad(&g)),
+                    None => Err(NotDifferentiable::Restart),
+                }
+            }
+            Some(Err(e)) => Err(e),
+            None => unreachable!("a slip with derivatives ends with its stop's tangent"),
+        };
+        Ok((ev, d, extra))
+    }
+
     /// One full cycle from the onset at θ (time `onset_time`), optionally
     /// sampling the path for display.
     pub fn cycle(
@@ -200,7 +244,7 @@ impl Simulator {
     ) -> Result<SlipEvent, SimError> {
         self.check_onset(theta)?;
         let onset = point_from_theta(self.params.kappa, theta);
-        let end = self.slip(theta, onset, onset_time, sampler.as_deref_mut())?;
+        let end = self.slip(theta, onset, onset_time, sampler.as_deref_mut(), false)?;
         Ok(self.complete(theta, onset, onset_time, end, sampler))
     }
 
@@ -287,13 +331,14 @@ impl Simulator {
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
+        derivatives: bool,
     ) -> Result<SlipEnd, SimError> {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
-            return unsafe { self.slip_avx2(theta, p0, t_abs, sampler) };
+            return unsafe { self.slip_avx2(theta, p0, t_abs, sampler, derivatives) };
         }
-        self.slip_impl(theta, p0, t_abs, sampler)
+        self.slip_impl(theta, p0, t_abs, sampler, derivatives)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -304,8 +349,9 @@ impl Simulator {
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
+        derivatives: bool,
     ) -> Result<SlipEnd, SimError> {
-        self.slip_impl(theta, p0, t_abs, sampler)
+        self.slip_impl(theta, p0, t_abs, sampler, derivatives)
     }
 
     /// One slip from its onset to its stop, step after step
@@ -317,8 +363,12 @@ impl Simulator {
         p0: [f64; 2],
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
+        derivatives: bool,
     ) -> Result<SlipEnd, SimError> {
         let mut run = SlipRun::start(self, theta, p0, t_abs, sampler.as_deref_mut())?;
+        if derivatives {
+            run = run.with_tangents();
+        }
         loop {
             match run.prepare(sampler.as_deref_mut())? {
                 Next::Done(end) => return Ok(end),
@@ -359,13 +409,15 @@ impl Simulator {
     fn stiff_stop(
         &self,
         y: &State,
-        vr: f64,
         decel: f64,
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
         evals: &Cell<u64>,
+        var: Option<&RefCell<Box<Tangents>>>,
     ) -> StiffEnd {
         const MIN_STIFFNESS: f64 = 10.0;
+        // The caller's v_r, formed the same way.
+        let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
         const ERROR_SHARE: f64 = 0.01;
         const MAX_STEPS: u32 = 400;
         let field = self.field;
@@ -392,10 +444,33 @@ impl Simulator {
         if !(bound <= ERROR_SHARE * self.settings.rtol) {
             return StiffEnd::NotStiff;
         }
-        // z = (x, y, v_r, unused) on the manifold, against time.
+        // z = (x, y, v_r, unused) on the manifold, against time; with
+        // derivatives, its tangent (the direction's is dropped with it: it
+        // relaxes onto the manifold).
+        let zvar = var.map(|var| {
+            let var = var.borrow();
+            let mut zt = [
+                var.y[0],
+                var.y[1],
+                [0.0; variational::DIRS],
+                [0.0; variational::DIRS],
+            ];
+            for i in 0..variational::DIRS {
+                zt[2][i] = (y[2] * var.y[2][i] + y[3] * var.y[3][i]) / vr;
+            }
+            let z0 = [y[0], y[1], vr, 0.0];
+            let mut t = Tangents::new(self.settings.method, var.fld, zt, zt);
+            t.k0 = t.field_at(Field::Manifold, &z0, &zt).1;
+            RefCell::new(t)
+        });
         let v = field.v;
         let mut rhs = |z: &State| -> State {
             evals.set(evals.get() + 1);
+            if let Some(zv) = &zvar
+                && let Some(r) = zv.borrow_mut().eval(Field::Manifold, z)
+            {
+                return r;
+            }
             let s = z[2];
             let m = field.manifold(z[0], z[1], s);
             [v[0] + s * m.dir[0], v[1] + s * m.dir[1], m.dvr, 0.0]
@@ -430,7 +505,31 @@ impl Simulator {
                     steps: solver.steps(),
                 };
             }
-            let Ok((tn, zn, fnew)) = solver.step(&mut rhs, t, &z, &f, self.h_max) else {
+            // `Solver::step`'s loop, with the tangents told where each
+            // attempt begins and ends.
+            let stepped = loop {
+                let h = match solver.begin_attempt(t, self.h_max) {
+                    Ok(h) => h,
+                    Err(e) => break Err(e),
+                };
+                if let Some(zv) = &zvar {
+                    zv.borrow_mut().begin(h);
+                }
+                let zn = solver.stages(&mut rhs, &z, &f, h);
+                if let Some(zv) = &zvar {
+                    zv.borrow_mut().finishing();
+                }
+                let r = solver.end_attempt(&mut rhs, t, &z, &zn, h);
+                if let Some(zv) = &zvar {
+                    zv.borrow_mut().end();
+                }
+                match r {
+                    Ok(Some(done)) => break Ok(done),
+                    Ok(None) => {}
+                    Err(e) => break Err(e),
+                }
+            };
+            let Ok((tn, zn, fnew)) = stepped else {
                 // The normal steps will get there: a step-size underflow
                 // here says the manifold was not smooth after all.
                 if let (Some(s), Some(mark)) = (sampler, mark) {
@@ -448,10 +547,20 @@ impl Simulator {
                     s.sample_step_with(t_abs, &d, ts, Phase::Decel, v, slip_state);
                 }
                 let stop = d.at(ts);
+                let stop_d = zvar.map(|zv| {
+                    let mut zv = zv.into_inner();
+                    let (zs, zt) = zv.partial_step(Field::Manifold, &z, &f, ts - t);
+                    let (fz, _) = zv.field_at(Field::Manifold, &zs, &zt);
+                    if let Some(var) = var {
+                        var.borrow_mut().extra_evals += zv.extra_evals + 1;
+                    }
+                    variational::stop_at_root(&zt, &fz, [1.0, 0.0], 2)
+                });
                 return StiffEnd::Stopped {
                     stop: [stop[0], stop[1]],
                     duration: ts,
                     steps: solver.steps(),
+                    stop_d,
                 };
             }
             if let Some(s) = sampler.as_deref_mut() {
@@ -459,6 +568,9 @@ impl Simulator {
                 s.sample_step_with(t_abs, &d, tn, Phase::Decel, v, slip_state);
             }
             (t, z, f) = (tn, zn, fnew);
+            if let Some(zv) = &zvar {
+                zv.borrow_mut().commit();
+            }
         }
     }
 }

@@ -82,7 +82,8 @@ pub struct Cycle {
     /// (within 100× the tolerance): p unless Newton found a shorter cycle
     /// traversed p/q times.
     pub minimal_period: usize,
-    /// Map evaluations spent, those of f'(θ) included.
+    /// Map evaluations spent (each carries f'(θ) exactly; a central
+    /// difference, where f has no derivative, counts 3 more).
     pub map_evals: u64,
     /// Right-hand-side evaluations spent.
     pub rhs_evals: u64,
@@ -126,7 +127,11 @@ struct Pass {
     restarted: bool,
 }
 
-/// Walks p iterates from θ with f'(θᵢ) at each.
+/// Walks p iterates from θ with the exact f'(θᵢ) at each
+/// ([`Simulator::cycle_derivatives`]: one map evaluation carrying its
+/// tangents). Where f has no derivative (a restart, an onset at the arc's
+/// edge, a tangential event) the slope of a central difference keeps Newton
+/// going, and the pass is marked: a cycle through such a point is refused.
 fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result<Pass, SimError> {
     let mut th = theta;
     let mut multiplier = 1.0;
@@ -134,10 +139,20 @@ fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result
     let mut restarted = false;
     for _ in 0..p {
         points.push(th);
-        let (ev, d, n) = cycle_with_derivative(sim, th, 0.0)?;
-        spent.0 += 3;
-        spent.1 += ev.rhs_evals + n;
-        multiplier *= d;
+        let (ev, d, extra) = sim.cycle_derivatives(th, 0.0)?;
+        spent.0 += 1;
+        spent.1 += ev.rhs_evals + extra;
+        let slope = match d {
+            Ok(d) => d.d_theta,
+            Err(_) => {
+                restarted = true;
+                let (fd, d, n) = cycle_with_derivative(sim, th, 0.0)?;
+                spent.0 += 3;
+                spent.1 += fd.rhs_evals + n;
+                d
+            }
+        };
+        multiplier *= slope;
         restarted |= ev.restarted;
         th = sim.next_onset(&ev);
     }

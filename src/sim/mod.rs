@@ -13,6 +13,7 @@ pub mod stats;
 mod sweep;
 mod trajectory;
 mod trig;
+pub mod variational;
 
 pub use analysis::{
     DERIVATIVE_STEP, cycle_with_derivative, fixed_point, map_derivative, map_graph_grid,

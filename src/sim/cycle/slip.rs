@@ -10,13 +10,14 @@
 //! the same code in the same order for each slip, so a slip's result does
 //! not depend on which one ran it.
 
-use std::cell::Cell;
+use std::cell::{Cell, RefCell};
 
 use super::{SimError, Simulator, SlipEnd, StiffEnd};
 use crate::integrate::{Dense, LaneAttempt, Rhs, Solver, State, find_root};
 use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
+use crate::sim::variational::{self, Field, Grad, NotDifferentiable, TanField, Tangents};
 
 /// How much tighter than the settings the acceleration phase of a creep or
 /// near-critical onset is integrated (see `SlipRun::start`).
@@ -29,16 +30,25 @@ pub(super) struct Counted<'a> {
     pub(super) field: &'a SlipField,
     pub(super) evals: &'a Cell<u64>,
     pub(super) accel: bool,
+    /// The tangents, for a slip with derivatives: each stage of a step is
+    /// evaluated on them (values bitwise the same).
+    pub(super) var: Option<&'a RefCell<Box<Tangents>>>,
 }
 
 impl<'a> Counted<'a> {
     /// The right-hand side of the phase `stage` is in.
     #[inline(always)]
-    fn of(field: &'a SlipField, evals: &'a Cell<u64>, stage: Stage) -> Self {
+    fn of(
+        field: &'a SlipField,
+        evals: &'a Cell<u64>,
+        stage: Stage,
+        var: Option<&'a RefCell<Box<Tangents>>>,
+    ) -> Self {
         Counted {
             field,
             evals,
             accel: matches!(stage, Stage::Accel { .. }),
+            var,
         }
     }
 }
@@ -47,6 +57,16 @@ impl Rhs for Counted<'_> {
     #[inline(always)]
     fn eval(&mut self, y: &State) -> State {
         self.evals.set(self.evals.get() + 1);
+        if let Some(var) = self.var {
+            let which = if self.accel {
+                Field::Accel
+            } else {
+                Field::Decel
+            };
+            if let Some(v) = var.borrow_mut().eval(which, y) {
+                return v;
+            }
+        }
         if self.accel {
             self.field.accel(y)
         } else {
@@ -97,6 +117,10 @@ pub(super) struct SlipRun<'a> {
     /// again.
     h_max: Option<f64>,
     extra_steps: u32,
+    /// The tangents of a slip with derivatives (`None`: a plain slip).
+    pub(super) var: Option<RefCell<Box<Tangents>>>,
+    /// The stop's tangent once the slip has ended (with derivatives).
+    stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
 }
 
 impl<'a> SlipRun<'a> {
@@ -141,6 +165,8 @@ impl<'a> SlipRun<'a> {
             },
             h_max: None,
             extra_steps: 0,
+            var: None,
+            stop_d: None,
         };
         // The acceleration phase of an onset that is creep or near-critical
         // stick-slip (A(θ) = κ cos²θ + sin²θ above 0.95 γ²) runs at a fifth of
@@ -166,10 +192,63 @@ impl<'a> SlipRun<'a> {
         Ok(run)
     }
 
+    /// The same slip with derivatives: the onset's tangent (θ and κ move
+    /// it) and f's there ride along (`sim::variational`).
+    pub(super) fn with_tangents(mut self) -> Self {
+        let sim = self.sim;
+        let fld = TanField::seeded(&sim.params, &sim.field);
+        let t0 = variational::onset_tangent(sim.params.kappa, self.theta);
+        let mut var = Tangents::new(sim.settings.method, fld, t0, t0);
+        var.k0 = var.field_at(Field::Accel, &self.y, &t0).1;
+        var.extra_evals += 1;
+        self.var = Some(RefCell::new(var));
+        self
+    }
+
+    /// The slip moves on to the accepted step's new state: so do its
+    /// tangents.
+    #[inline(always)]
+    fn commit(&mut self) {
+        if let Some(var) = &self.var {
+            var.borrow_mut().commit();
+        }
+    }
+
+    /// The tangents across the end of the acceleration phase at `ya`,
+    /// `dt` after the step's start `y` (f there: `self.k`); a switch met
+    /// tangentially leaves the slip without derivatives.
+    fn switch_tangents(&mut self, y: &State, ya: &State, dt: f64) {
+        let Some(var) = &self.var else { return };
+        let mut v = var.borrow_mut();
+        let (_, t) = v.partial_step(Field::Accel, y, &self.k, dt);
+        match variational::accel_end(&v.fld, ya, &t) {
+            Ok(t) => {
+                v.y = t;
+                v.k0 = v.field_at(Field::Decel, ya, &t).1;
+                v.extra_evals += 1;
+            }
+            Err(e) => {
+                drop(v);
+                self.stop_d = Some(Err(e));
+                self.var = None;
+            }
+        }
+    }
+
+    /// The tangent of a stop located at `ts` on the step from (t, `y`)
+    /// where v_r · `w` changes sign (a fixed step's reversal).
+    fn reversal_tangents(&mut self, y: &State, t: f64, ts: f64, w: [f64; 2]) {
+        let Some(var) = &self.var else { return };
+        let mut v = var.borrow_mut();
+        let (ys, yt) = v.partial_step(Field::Decel, y, &self.k, ts - t);
+        let (f, _) = v.field_at(Field::Decel, &ys, &yt);
+        self.stop_d = Some(variational::stop_at_root(&yt, &f, w, 2));
+    }
+
     /// The current phase's right-hand side.
     #[inline(always)]
     pub(super) fn rhs(&self) -> Counted<'_> {
-        Counted::of(&self.sim.field, &self.evals, self.stage)
+        Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref())
     }
 
     /// The stages of the attempt of length `h` that `prepare` asked for.
@@ -190,7 +269,7 @@ impl<'a> SlipRun<'a> {
     #[inline(always)]
     pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_>> {
         LaneAttempt {
-            f: Counted::of(&self.sim.field, &self.evals, self.stage),
+            f: Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref()),
             solver: &mut self.solver,
             y: &self.y,
             k0: &self.k,
@@ -228,6 +307,8 @@ impl<'a> SlipRun<'a> {
             peak_vr,
             rhs_evals: self.evals.get(),
             steps: self.solver.steps() + self.extra_steps,
+            stop_d: self.stop_d,
+            extra_evals: self.var.as_ref().map_or(0, |v| v.borrow().extra_evals),
         }
     }
 
@@ -256,7 +337,9 @@ impl<'a> SlipRun<'a> {
                 let dvr = speed_growth(&y, &self.k) / vr;
                 if adaptive && dvr < 0.0 && !stiff_gave_up && settings.stiff_stop {
                     let at = self.t_abs + t;
-                    match sim.stiff_stop(&y, vr, -dvr, at, sampler.as_deref_mut(), &self.evals) {
+                    let var = self.var.as_ref();
+                    let smp = sampler.as_deref_mut();
+                    match sim.stiff_stop(&y, -dvr, at, smp, &self.evals, var) {
                         StiffEnd::NotStiff => {}
                         StiffEnd::GaveUp { steps } => {
                             if let Stage::Decel { stiff_gave_up, .. } = &mut self.stage {
@@ -268,8 +351,12 @@ impl<'a> SlipRun<'a> {
                             stop,
                             duration,
                             steps,
+                            stop_d,
                         } => {
                             self.extra_steps += steps;
+                            if stop_d.is_some() {
+                                self.stop_d = stop_d;
+                            }
                             if let Some(s) = sampler {
                                 s.push(self.t_abs + (t + duration), stop, v, Phase::Decel);
                             }
@@ -302,6 +389,11 @@ impl<'a> SlipRun<'a> {
                         y[0] + (v[0] + 0.5 * y[2]) * dt,
                         y[1] + (v[1] + 0.5 * y[3]) * dt,
                     ];
+                    if let Some(var) = &self.var {
+                        let v = var.borrow();
+                        let d = variational::extrapolated_stop(&v.fld, &y, &v.y, &self.k, &v.k0);
+                        self.stop_d = Some(Ok(d));
+                    }
                     if let Some(s) = sampler {
                         s.push(self.t_abs + (t + dt), stop, v, Phase::Decel);
                     }
@@ -334,6 +426,9 @@ impl<'a> SlipRun<'a> {
             .solver
             .begin_attempt(self.t, h_max)
             .map_err(|e| sim.integrate_err(self.theta, e))?;
+        if let Some(var) = &self.var {
+            var.borrow_mut().begin(h);
+        }
         Ok(Next::Attempt(h))
     }
 
@@ -352,12 +447,16 @@ impl<'a> SlipRun<'a> {
         let adaptive = sim.settings.method.is_adaptive();
         let v = sim.field.v;
         let (t, y) = (self.t, self.y);
-        let mut f = Counted::of(&sim.field, &self.evals, self.stage);
-        let Some((tn, yn, kn)) = self
-            .solver
-            .end_attempt(&mut f, t, &y, y_new, h)
-            .map_err(|e| sim.integrate_err(self.theta, e))?
-        else {
+        if let Some(var) = &self.var {
+            var.borrow_mut().finishing();
+        }
+        let var = self.var.as_ref();
+        let mut f = Counted::of(&sim.field, &self.evals, self.stage, var);
+        let accepted = self.solver.end_attempt(&mut f, t, &y, y_new, h);
+        if let Some(var) = var {
+            var.borrow_mut().end();
+        }
+        let Some((tn, yn, kn)) = accepted.map_err(|e| sim.integrate_err(self.theta, e))? else {
             return Ok(None);
         };
         self.h_max = None;
@@ -398,6 +497,7 @@ impl<'a> SlipRun<'a> {
                         accel_steps: self.solver.stats.accepted,
                         stiff_gave_up: false,
                     };
+                    self.switch_tangents(&y, &ya, ta - t);
                     self.t = ta;
                     self.y = ya;
                     self.k = self.rhs().eval(&ya);
@@ -412,6 +512,7 @@ impl<'a> SlipRun<'a> {
                     armed: armed || gn > 0.0,
                 };
                 (self.t, self.y, self.k) = (tn, yn, kn);
+                self.commit();
                 Ok(None)
             }
             Stage::Decel { accel_steps, .. } => {
@@ -441,6 +542,7 @@ impl<'a> SlipRun<'a> {
                         sim.t_tol * tn.max(1.0),
                     );
                     let s = d.at(ts);
+                    self.reversal_tangents(&y, t, ts, v0);
                     if let Some(sm) = sampler.as_deref_mut() {
                         sm.push(self.t_abs + ts, [s[0], s[1]], v, Phase::Decel);
                     }
@@ -451,6 +553,7 @@ impl<'a> SlipRun<'a> {
                     s.sample_step(self.t_abs, &d, tn, Phase::Decel, v);
                 }
                 (self.t, self.y, self.k) = (tn, yn, kn);
+                self.commit();
                 Ok(None)
             }
         }

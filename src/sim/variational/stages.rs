@@ -1,0 +1,231 @@
+//! The tangents' share of each Runge–Kutta step: the same stages as the
+//! state's, with the same coefficients and step, on the tangents.
+//!
+//! The solver computes the state's stage arguments and calls the
+//! right-hand side once per stage, in order; the right-hand side of a slip
+//! with derivatives hands each call to [`Tangents::eval`], which forms the
+//! tangent's stage argument Y + h Σ a_ij K_j itself, evaluates the field on
+//! [`Tan`] numbers (value and tangent at once) and returns the value. The
+//! caller says where a step begins ([`Tangents::begin`]), when the next
+//! evaluation is f(y_new) ([`Tangents::finishing`]) and when the slip moves
+//! on to the new state ([`Tangents::commit`]): anything else (dense output,
+//! event location) is evaluated plain.
+
+use super::{DIRS, Jet, TanField, split, tan_state};
+use crate::integrate::{Method, State, tableau};
+
+/// The most stages of any method (DOP853's twelve).
+const MAX_STAGES: usize = 12;
+
+/// What the next evaluation is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Mode {
+    /// Not part of a step (dense output, events): plain.
+    Off,
+    /// Stage `idx` of the step being attempted.
+    Stage,
+    /// f at the new solution of an accepted step (methods without FSAL).
+    Final,
+}
+
+/// Which field the tangents are evaluated on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Field {
+    Accel,
+    Decel,
+    /// The stiff stop's motion on the slow manifold.
+    Manifold,
+}
+
+/// One integration's tangents: at the current state, and during a step.
+pub(crate) struct Tangents {
+    /// The parameters with their directions.
+    pub fld: TanField,
+    a: [[f64; MAX_STAGES]; MAX_STAGES],
+    b: [f64; MAX_STAGES],
+    stages: usize,
+    fsal: bool,
+    /// The tangent of the current state, and of f there.
+    pub y: Jet,
+    pub k0: Jet,
+    k: [Jet; MAX_STAGES],
+    h: f64,
+    idx: usize,
+    mode: Mode,
+    /// The accepted step's new tangent and f's, until `commit`.
+    new_y: Jet,
+    new_k: Jet,
+    /// Evaluations beyond the plain cycle's (partial steps to events).
+    pub extra_evals: u64,
+}
+
+impl Tangents {
+    /// Tangents for `method` from the state tangent `y`, where f's tangent
+    /// is `k0`.
+    pub fn new(method: Method, fld: TanField, y: Jet, k0: Jet) -> Box<Self> {
+        let mut a = [[0.0; MAX_STAGES]; MAX_STAGES];
+        let mut b = [0.0; MAX_STAGES];
+        let (stages, fsal) = match method {
+            Method::Dop853 => copy(&tableau::DOP853, &mut a, &mut b),
+            Method::Dp54 => copy(&tableau::DP54, &mut a, &mut b),
+            Method::Rk4 => copy(&tableau::RK4, &mut a, &mut b),
+            Method::Euler => copy(&tableau::EULER, &mut a, &mut b),
+        };
+        Box::new(Tangents {
+            fld,
+            a,
+            b,
+            stages,
+            fsal,
+            y,
+            k0,
+            k: [[[0.0; DIRS]; 4]; MAX_STAGES],
+            h: 0.0,
+            idx: 0,
+            mode: Mode::Off,
+            new_y: [[0.0; DIRS]; 4],
+            new_k: [[0.0; DIRS]; 4],
+            extra_evals: 0,
+        })
+    }
+
+    /// Evaluates `field` at the state y with tangent t.
+    #[inline(always)]
+    pub fn field_at(&self, field: Field, y: &State, t: &Jet) -> (State, Jet) {
+        let s = tan_state(y, t);
+        split(&match field {
+            Field::Accel => self.fld.accel(&s),
+            Field::Decel => self.fld.decel(&s),
+            Field::Manifold => self.fld.manifold_motion(&s),
+        })
+    }
+
+    /// An attempt of length `h` from the current state begins.
+    #[inline(always)]
+    pub fn begin(&mut self, h: f64) {
+        self.h = h;
+        self.idx = 1;
+        self.k[0] = self.k0;
+        self.mode = Mode::Stage;
+    }
+
+    /// The next evaluation, if any, is f at the new solution.
+    #[inline(always)]
+    pub fn finishing(&mut self) {
+        self.mode = Mode::Final;
+    }
+
+    /// The attempt is over (accepted or not); later evaluations are plain.
+    #[inline(always)]
+    pub fn end(&mut self) {
+        if self.mode == Mode::Final && self.fsal {
+            self.new_y = self.combine(&self.b);
+            self.new_k = self.k[self.stages - 1];
+        }
+        self.mode = Mode::Off;
+    }
+
+    /// The integration moves on to the accepted step's new state.
+    #[inline(always)]
+    pub fn commit(&mut self) {
+        self.y = self.new_y;
+        self.k0 = self.new_k;
+    }
+
+    /// Y + h Σ_j w_j K_j over the stages so far.
+    #[inline(always)]
+    fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
+        let mut out = self.y;
+        for (j, &wj) in w.iter().enumerate().take(self.stages) {
+            if wj != 0.0 {
+                let hw = self.h * wj;
+                for c in 0..4 {
+                    for i in 0..DIRS {
+                        out[c][i] += hw * self.k[j][c][i];
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// The field at `y` for the solver: evaluated on tangents during a step
+    /// (`Some` value), `None` when the evaluation is not part of one. Not
+    /// inlined: the stepping loops are unrolled per stage and per lane, and
+    /// a copy of the tangent field in each multiplied the code (and the
+    /// plain slip's) many times over for no gain.
+    #[inline(never)]
+    pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
+        match self.mode {
+            Mode::Off => None,
+            Mode::Stage => {
+                let i = self.idx;
+                self.idx += 1;
+                let t = self.combine(&self.a[i]);
+                let (v, k) = self.field_at(field, y, &t);
+                self.k[i] = k;
+                Some(v)
+            }
+            Mode::Final => {
+                let t = self.combine(&self.b);
+                let (v, k) = self.field_at(field, y, &t);
+                self.new_y = t;
+                self.new_k = k;
+                Some(v)
+            }
+        }
+    }
+
+    /// One step of length `h` from the current state (value `y`, f there
+    /// `f0`), state and tangent together, to the tangent at its end: the
+    /// tangent at an event inside the last step, which its dense output
+    /// does not carry. Leaves the integration's tangents as they were.
+    pub fn partial_step(&mut self, field: Field, y: &State, f0: &State, h: f64) -> (State, Jet) {
+        let saved_k = self.k;
+        let (saved_h, saved_mode) = (self.h, self.mode);
+        self.h = h;
+        self.k[0] = self.k0;
+        let mut kv = [[0.0; 4]; MAX_STAGES];
+        kv[0] = *f0;
+        for i in 1..self.stages {
+            let mut yi = *y;
+            for j in 0..i {
+                let a = self.a[i][j];
+                if a != 0.0 {
+                    for c in 0..4 {
+                        yi[c] += h * a * kv[j][c];
+                    }
+                }
+            }
+            let t = self.combine(&self.a[i]);
+            let (v, k) = self.field_at(field, &yi, &t);
+            kv[i] = v;
+            self.k[i] = k;
+        }
+        let mut yn = *y;
+        for j in 0..self.stages {
+            for c in 0..4 {
+                yn[c] += h * self.b[j] * kv[j][c];
+            }
+        }
+        let out = self.combine(&self.b);
+        self.extra_evals += self.stages as u64 - 1;
+        self.k = saved_k;
+        (self.h, self.mode) = (saved_h, saved_mode);
+        (yn, out)
+    }
+}
+
+/// Copies a tableau's a and b into the fixed-size arrays; its stage count
+/// and whether it is FSAL.
+fn copy<const S: usize>(
+    tab: &tableau::Tableau<S>,
+    a: &mut [[f64; MAX_STAGES]; MAX_STAGES],
+    b: &mut [f64; MAX_STAGES],
+) -> (usize, bool) {
+    for i in 0..S {
+        a[i][..S].copy_from_slice(&tab.a[i]);
+    }
+    b[..S].copy_from_slice(&tab.b);
+    (S, tab.fsal)
+}
