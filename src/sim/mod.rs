@@ -5,6 +5,7 @@ mod analysis;
 mod cycle;
 mod error;
 pub mod field;
+pub mod interpolant;
 mod orbit;
 pub mod phase;
 mod sweep;
@@ -19,6 +20,10 @@ pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,
 };
 pub use error::SimError;
+pub use interpolant::{
+    InterpolantError, InterpolantOptions, InterpolatedOrbit, MapChoice, MapInterpolant,
+    orbit_interpolated,
+};
 pub use orbit::{Orbit, OrbitOptions, Period, mean_and_stderr};
 pub use sweep::{
     Column, ColumnJob, SweepOptions, column_start, run_columns, segments, sweep_columns,
