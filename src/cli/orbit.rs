@@ -15,7 +15,10 @@ use super::common::{
     settings_json, stderr_is_terminal, total_iterates,
 };
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
-use crate::sim::{Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator};
+use crate::sim::{
+    InterpolantOptions, MapChoice, Orbit, OrbitOptions, PERIOD_MAX, Period, Simulator,
+    orbit_interpolated,
+};
 
 /// An orbit θ0, f(θ0), f(f(θ0)), … of the map.
 #[derive(Debug, Clone, Args)]
@@ -53,12 +56,50 @@ pub struct OrbitArgs {
     /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
     #[arg(long, allow_hyphen_values = true)]
     pub period_tol: Option<f64>,
+    /// How the map is evaluated: direct (every iterate integrated),
+    /// interpolant (a verified piecewise Chebyshev interpolant of the map,
+    /// built once; docs/interpolant.md) or auto (the interpolant from 20000
+    /// iterates on). Where the interpolant cannot be verified the run
+    /// integrates and says so.
+    #[arg(long, default_value = "auto")]
+    pub map: String,
+}
+
+/// The `--map` flag's value.
+fn map_choice(s: &str) -> Result<MapChoice, CliError> {
+    match s {
+        "direct" => Ok(MapChoice::Direct),
+        "interpolant" => Ok(MapChoice::Interpolant),
+        "auto" => Ok(MapChoice::Auto),
+        _ => Err(CliError::Usage(format!(
+            "--map: unknown value {s:?} (valid: direct, interpolant, auto)"
+        ))),
+    }
+}
+
+/// How the map was evaluated, for the summary.
+enum MapUsed {
+    Direct,
+    /// The interpolant was asked for but refused: why.
+    Refused(String),
+    Interpolant {
+        pieces: usize,
+        degree: usize,
+        interval: (f64, f64),
+        evaluations: usize,
+        points: usize,
+        max_error: f64,
+        max_event_error: f64,
+        direct_iterates: usize,
+        refused_extension: Option<String>,
+    },
 }
 
 pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let keep = count_in("keep", args.keep, MAX_ROWS)?;
+    let choice = map_choice(&args.map)?;
     let total = total_iterates(args.transient, ("keep", keep), 1)?;
     let period_tol = match args.period_tol {
         Some(t) => {
@@ -107,10 +148,43 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         ProgressBar::hidden()
     };
     let start = Instant::now();
-    let result = sim.orbit(theta0, &opts, &|| {
+    let tick = || {
         bar.inc(1);
         false
-    });
+    };
+    let mut used = MapUsed::Direct;
+    let mut result = None;
+    if choice.interpolates(args.transient + keep) {
+        // The interpolated run polls once per 4096 iterates.
+        let every = || {
+            bar.inc(4096);
+            false
+        };
+        let iopts = InterpolantOptions::for_settings(&settings);
+        match orbit_interpolated(&sim, theta0, &opts, iopts, &every) {
+            Ok(r) => {
+                let i = &r.interpolant;
+                let v = i.verification();
+                used = MapUsed::Interpolant {
+                    pieces: i.pieces().0,
+                    degree: i.max_degree(),
+                    interval: i.interval(),
+                    evaluations: i.evaluations(),
+                    points: v.points,
+                    max_error: v.max_map_error,
+                    max_event_error: v.max_event_error,
+                    direct_iterates: r.direct_iterates,
+                    refused_extension: r.refused_extension,
+                };
+                result = Some(Ok(r.orbit));
+            }
+            Err(e) => {
+                bar.reset();
+                used = MapUsed::Refused(e.to_string());
+            }
+        }
+    }
+    let result = result.unwrap_or_else(|| sim.orbit(theta0, &opts, &tick));
     bar.finish_and_clear();
     let orbit = result?;
     let seconds = start.elapsed().as_secs_f64();
@@ -130,6 +204,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         period_tol,
         orbit: &orbit,
         seconds,
+        used: &used,
     };
     if args.json {
         let mut obj = summary.json();
@@ -157,6 +232,7 @@ struct Summary<'a> {
     period_tol: f64,
     orbit: &'a Orbit,
     seconds: f64,
+    used: &'a MapUsed,
 }
 
 impl Summary<'_> {
@@ -189,6 +265,7 @@ impl Summary<'_> {
             }
         )
         .ok();
+        s.push_str(&self.map_text());
         let p = self.longest_testable();
         match o.period {
             _ if p == 0 => writeln!(s, "  period: not determined (needs --keep >= 2)"),
@@ -215,6 +292,66 @@ impl Summary<'_> {
         s
     }
 
+    fn map_text(&self) -> String {
+        match self.used {
+            MapUsed::Direct => "  map: direct integration of every iterate\n".into(),
+            MapUsed::Refused(why) => format!(
+                "  map: direct integration of every iterate (the interpolant was refused: {why})\n"
+            ),
+            MapUsed::Interpolant {
+                pieces,
+                degree,
+                interval,
+                evaluations,
+                points,
+                max_error,
+                max_event_error,
+                direct_iterates,
+                refused_extension,
+            } => {
+                let mut s = format!(
+                    "  map: interpolant, {pieces} piece(s) of degree <= {degree} over theta in [{:.6}, {:.6}], built from {evaluations} map evaluations; measured max error {max_error:.1e} rad in theta' (event quantities {max_event_error:.1e} relative) at {points} independent points; {direct_iterates} iterate(s) integrated directly\n",
+                    interval.0, interval.1
+                );
+                if let Some(why) = refused_extension {
+                    writeln!(s, "  map: an extension was refused ({why}); the iterates beyond were integrated").ok();
+                }
+                s
+            }
+        }
+    }
+
+    fn map_json(&self) -> serde_json::Value {
+        match self.used {
+            MapUsed::Direct => serde_json::json!({ "method": "direct" }),
+            MapUsed::Refused(why) => {
+                serde_json::json!({ "method": "direct", "interpolant_refused": why })
+            }
+            MapUsed::Interpolant {
+                pieces,
+                degree,
+                interval,
+                evaluations,
+                points,
+                max_error,
+                max_event_error,
+                direct_iterates,
+                refused_extension,
+            } => serde_json::json!({
+                "method": "interpolant",
+                "pieces": pieces,
+                "max_degree": degree,
+                "interval": [interval.0, interval.1],
+                "build_evaluations": evaluations,
+                "check_points": points,
+                "max_map_error": max_error,
+                "max_event_error": max_event_error,
+                "direct_iterates": direct_iterates,
+                "extension_refused": refused_extension,
+            }),
+        }
+    }
+
     fn json(&self) -> serde_json::Value {
         let o = self.orbit;
         let period = match o.period {
@@ -235,6 +372,7 @@ impl Summary<'_> {
             "rhs_evals": o.rhs_evals,
             "theta_last": o.theta_last,
             "seconds": self.seconds,
+            "map": self.map_json(),
         })
     }
 }
