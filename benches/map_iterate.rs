@@ -109,35 +109,6 @@ fn bench(c: &mut Criterion) {
 criterion_group!(benches, bench, rhs, lockstep);
 criterion_main!(benches);
 
-/// A prototype, not used by the simulation: the acceleration field with the
-/// friction direction (c, s) = (cos φ_fr, sin φ_fr), Δ and E = e^(−Ω v_r)
-/// carried as four more state variables. Their time derivatives are
-/// rational in the state (one square root, divisions by |v_r|² and
-/// |F_el|²), so atan2, e^x and sin/cos leave the chain each stage waits for.
-/// Measured here to see whether the 8-variable system would pay before
-/// anyone rebuilds the solver around it: it is 1.8× faster per evaluation,
-/// but needs 1.7–1.9× the steps for the same accuracy
-/// (`docs/experiments/augmented_steps.py`), so it was not built.
-#[inline(always)]
-fn accel_augmented(k: f64, two_gamma: f64, omega: f64, vel: [f64; 2], s: &[f64; 8]) -> [f64; 8] {
-    let [x, y, a, b, c, sn, delta, e] = *s;
-    let (fx, fy) = (-k * x, -y);
-    let q = a * a + b * b;
-    let vr = q.sqrt();
-    let inv_q = 1.0 / q;
-    let phi = 1.0 / (1.0 + two_gamma * vr);
-    let (ax, ay) = (fx + phi * c, fy + phi * sn);
-    let (xd, yd) = (a + vel[0], b + vel[1]);
-    let (dfx, dfy) = (-k * xd, -yd);
-    let dphi_el = (fx * dfy - fy * dfx) / (fx * fx + fy * fy);
-    let dphi_v = (a * ay - b * ax) * inv_q;
-    let dvr = (a * ax + b * ay) * (vr * inv_q);
-    let ddelta = dphi_el - dphi_v;
-    let de = -omega * e * dvr;
-    let dphi_fr = dphi_el - ddelta * (1.0 - e) + delta * de;
-    [xd, yd, ax, ay, -sn * dphi_fr, c * dphi_fr, ddelta, de]
-}
-
 /// The two right-hand sides alone, over 256 states spread like a slip's
 /// (positions inside C, relative speeds 1e-5 … 0.3 in every direction): what
 /// one evaluation costs without the stepping around it.
@@ -201,32 +172,6 @@ fn rhs(c: &mut Criterion) {
             })
         });
     }
-    // The prototype above, chained the same way, on the same states with
-    // the four extra variables at their algebraic values.
-    let aug: Vec<[f64; 8]> = states
-        .iter()
-        .map(|y| {
-            let (fx, fy) = (-p.kappa * y[0], -y[1]);
-            let vr = y[2].hypot(y[3]);
-            let delta = (y[2] * fy - y[3] * fx).atan2(y[2] * fx + y[3] * fy);
-            let e = (-p.omega * vr).exp();
-            let phi_fr = std::f64::consts::PI + fy.atan2(fx) - delta * (1.0 - e);
-            [y[0], y[1], y[2], y[3], phi_fr.cos(), phi_fr.sin(), delta, e]
-        })
-        .collect();
-    let (k, g2, om, vel) = (p.kappa, 2.0 * p.gamma, p.omega, p.velocity());
-    group.bench_function("accel_augmented_chained", |b| {
-        b.iter(|| {
-            let mut s = 0.0;
-            for y in &aug {
-                let mut y = *y;
-                y[2] += 1e-300 * s;
-                let k = accel_augmented(k, g2, om, vel, &y);
-                s = k[2] + k[3] + k[4] + k[5];
-            }
-            s
-        })
-    });
     group.finish();
 }
 
@@ -300,7 +245,7 @@ mod lanes {
 }
 
 /// How much throughput stepping independent slips together buys
-/// (docs/numerics.md, "Slips in lanes"): time per slip-step, one slip
+/// (docs/performance.md, "What worked", slips in lanes): time per slip-step, one slip
 /// against two (Throughput: slips), for both fields, each step starting
 /// from the last one's result as an integration does (pulled halfway back
 /// so the states stay in range).

@@ -1,5 +1,5 @@
 //! oneblock: the two-dimensional one-block earthquake model of Montagne &
-//! Vasconcelos, simulated exactly as `shared/MODEL.md` states it.
+//! Vasconcelos, simulated exactly as `docs/model.md` states it.
 //!
 //! - [`model`]: parameters, regimes, the curve C, the closed-form stick phase.
 //! - [`integrate`]: Runge–Kutta tableaus, one stepping loop, dense output.

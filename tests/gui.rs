@@ -59,14 +59,14 @@ fn wait_for_csv(
 /// The parameters of the latest trajectory command, if any.
 fn last_trajectory(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Trajectory { params, .. } => Some(params),
+        Command::Trajectory { spec, .. } => Some(spec.params),
         _ => None,
     })
 }
 
 fn last_sweep(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Sweep { params, .. } => Some(params),
+        Command::Sweep { spec, .. } => Some(spec.params),
         _ => None,
     })
 }
@@ -243,11 +243,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             _ => None,
         });
         let s = cmds.iter().find_map(|c| match c {
-            Command::Sweep {
-                generation,
-                columns,
-                ..
-            } => Some((*generation, *columns)),
+            Command::Sweep { generation, spec } => Some((*generation, spec.theta_nu.steps)),
             _ => None,
         });
         (t.expect("trajectory"), s.expect("sweep"))
@@ -338,11 +334,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep {
-                theta_nu_from,
-                theta_nu_to,
-                ..
-            } => Some((theta_nu_from, theta_nu_to)),
+            Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
             _ => None,
         })
         .expect("first sweep");
@@ -364,12 +356,9 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep {
-                theta_nu_from,
-                theta_nu_to,
-                params,
-                ..
-            } => Some((theta_nu_from, theta_nu_to, params)),
+            Command::Sweep { spec, .. } => {
+                Some((spec.theta_nu.from, spec.theta_nu.to, spec.params))
+            }
             _ => None,
         })
         .expect("a zoom recomputes the diagram");
@@ -384,11 +373,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
     h.get_by_label("Back").click();
     h.run_steps(3);
     let back = rec.commands().into_iter().find_map(|c| match c {
-        Command::Sweep {
-            theta_nu_from,
-            theta_nu_to,
-            ..
-        } => Some((theta_nu_from, theta_nu_to)),
+        Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
         _ => None,
     });
     assert_eq!(back, Some(full));
@@ -452,11 +437,11 @@ slip_distance,peak_vr,energy_released,stick_duration,theta_next,restarted,rhs_ev
 fn last_settings(rec: &Recorder) -> (Option<SolverSettings>, Option<SolverSettings>) {
     let cmds = rec.commands();
     let traj = cmds.iter().rev().find_map(|c| match c {
-        Command::Trajectory { settings, .. } => Some(*settings),
+        Command::Trajectory { spec, .. } => Some(spec.settings),
         _ => None,
     });
     let sweep = cmds.iter().rev().find_map(|c| match c {
-        Command::Sweep { settings, .. } => Some(*settings),
+        Command::Sweep { spec, .. } => Some(spec.settings),
         _ => None,
     });
     (traj, sweep)
@@ -512,7 +497,7 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     });
     h.run_steps(2);
     let iterate = rec.commands().iter().rev().find_map(|c| match c {
-        Command::Iterate { settings, .. } => Some(*settings),
+        Command::Iterate { spec, .. } => Some(spec.settings),
         _ => None,
     });
     assert_eq!(
@@ -581,13 +566,9 @@ fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::WorkPrecision {
-                generation,
-                params,
-                points,
-                subjects,
-                ..
-            } => Some((generation, params, points, subjects)),
+            Command::WorkPrecision { generation, spec } => {
+                Some((generation, spec.params, spec.points, spec.subjects))
+            }
             _ => None,
         })
         .expect("the job was sent");
@@ -708,21 +689,11 @@ fn phase_jobs(rec: &Recorder) -> Vec<PhaseJob> {
     rec.commands()
         .into_iter()
         .filter_map(|c| match c {
-            Command::Phase {
+            Command::Phase { generation, spec } => Some(PhaseJob {
                 generation,
-                params,
-                theta_nu_from,
-                theta_nu_to,
-                theta_nu_steps,
-                kappa_from,
-                kappa_to,
-                kappa_steps,
-                ..
-            } => Some(PhaseJob {
-                generation,
-                theta_nu: (theta_nu_from, theta_nu_to, theta_nu_steps),
-                kappa: (kappa_from, kappa_to, kappa_steps),
-                params,
+                theta_nu: (spec.theta_nu.from, spec.theta_nu.to, spec.theta_nu.steps),
+                kappa: (spec.kappa.from, spec.kappa.to, spec.kappa.steps),
+                params: spec.params,
             }),
             _ => None,
         })

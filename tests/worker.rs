@@ -20,7 +20,8 @@ use oneblock::sim::{
     return_map_window, theta_nu_grid,
 };
 use oneblock::worker::{
-    Command, Generation, Lane, Outcome, Update, Worker, WorkerConfig, sweep_plan,
+    Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
+    WorkPrecisionSpec, Worker, WorkerConfig, sweep_plan,
 };
 
 fn settings() -> SolverSettings {
@@ -60,35 +61,39 @@ fn spawn(
 fn iterate(generation: Generation, params: Params, transient: usize, keep: usize) -> Command {
     Command::Iterate {
         generation,
-        params,
-        settings: settings(),
-        theta0: None,
-        transient,
-        keep,
+        spec: IterateSpec {
+            params,
+            settings: settings(),
+            theta0: None,
+            transient,
+            keep,
+        },
     }
 }
 
 fn trajectory(generation: Generation, cycles: Option<usize>) -> Command {
     Command::Trajectory {
         generation,
-        params: fig3b(1.0),
-        settings: settings(),
-        theta0: Some(0.5),
-        spacing: 0.05,
-        cycles,
+        spec: TrajectorySpec {
+            params: fig3b(1.0),
+            settings: settings(),
+            theta0: Some(0.5),
+            spacing: 0.05,
+            cycles,
+        },
     }
 }
 
 fn sweep(generation: Generation, columns: usize, transient: usize, keep: usize) -> Command {
     Command::Sweep {
         generation,
-        params: fig3b(0.0),
-        settings: settings(),
-        theta_nu_from: 0.05,
-        theta_nu_to: 1.5,
-        columns,
-        transient,
-        keep,
+        spec: SweepSpec {
+            params: fig3b(0.0),
+            settings: settings(),
+            theta_nu: Axis::new(0.05, 1.5, columns),
+            transient,
+            keep,
+        },
     }
 }
 
@@ -561,11 +566,13 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
         (
             Command::Trajectory {
                 generation: 2,
-                params: fig3b(1.0),
-                settings: settings(),
-                theta0: Some(-2.0),
-                spacing: 0.05,
-                cycles: Some(3),
+                spec: TrajectorySpec {
+                    params: fig3b(1.0),
+                    settings: settings(),
+                    theta0: Some(-2.0),
+                    spacing: 0.05,
+                    cycles: Some(3),
+                },
             },
             Lane::Orbit,
             "theta",
@@ -573,11 +580,13 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
         (
             Command::Trajectory {
                 generation: 3,
-                params: fig3b(1.0),
-                settings: settings(),
-                theta0: None,
-                spacing: 0.0,
-                cycles: Some(3),
+                spec: TrajectorySpec {
+                    params: fig3b(1.0),
+                    settings: settings(),
+                    theta0: None,
+                    spacing: 0.0,
+                    cycles: Some(3),
+                },
             },
             Lane::Orbit,
             "spacing",
@@ -585,16 +594,16 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
         (
             Command::Sweep {
                 generation: 4,
-                params: Params {
-                    gamma: f64::NAN,
-                    ..fig3b(0.0)
+                spec: SweepSpec {
+                    params: Params {
+                        gamma: f64::NAN,
+                        ..fig3b(0.0)
+                    },
+                    settings: settings(),
+                    theta_nu: Axis::new(0.0, 1.0, 10),
+                    transient: 2,
+                    keep: 2,
                 },
-                settings: settings(),
-                theta_nu_from: 0.0,
-                theta_nu_to: 1.0,
-                columns: 10,
-                transient: 2,
-                keep: 2,
             },
             Lane::Sweep,
             "gamma",
@@ -602,16 +611,16 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
         (
             Command::Sweep {
                 generation: 5,
-                params: fig3b(0.0),
-                settings: SolverSettings {
-                    rtol: 1.0,
-                    ..settings()
+                spec: SweepSpec {
+                    params: fig3b(0.0),
+                    settings: SolverSettings {
+                        rtol: 1.0,
+                        ..settings()
+                    },
+                    theta_nu: Axis::new(0.0, 1.0, 10),
+                    transient: 2,
+                    keep: 2,
                 },
-                theta_nu_from: 0.0,
-                theta_nu_to: 1.0,
-                columns: 10,
-                transient: 2,
-                keep: 2,
             },
             Lane::Sweep,
             "tol",
@@ -858,11 +867,13 @@ fn set_params_without_settings_keeps_each_jobs_own() {
     let own = SolverSettings::adaptive(Method::Dp54, 1e-6);
     assert!(w.send(Command::Iterate {
         generation: 1,
-        params: fig3b(1.0),
-        settings: own,
-        theta0: None,
-        transient: 5,
-        keep: 10,
+        spec: IterateSpec {
+            params: fig3b(1.0),
+            settings: own,
+            theta0: None,
+            transient: 5,
+            keep: 10,
+        },
     }));
     let (_, outcome) = until_finished(&w, 1, Lane::Orbit);
     assert_eq!(outcome, Outcome::Completed);
@@ -904,12 +915,14 @@ fn set_params_without_settings_keeps_each_jobs_own() {
 fn work_precision(generation: Generation, params: Params, subjects: Vec<Subject>) -> Command {
     Command::WorkPrecision {
         generation,
-        params,
-        theta0: None,
-        transient: 100,
-        points: 4,
-        time_per_setting: Duration::ZERO,
-        subjects,
+        spec: WorkPrecisionSpec {
+            params,
+            theta0: None,
+            transient: 100,
+            points: 4,
+            time_per_setting: Duration::ZERO,
+            subjects,
+        },
     }
 }
 
@@ -988,12 +1001,14 @@ fn work_precision_is_cancelled_by_a_stop_and_by_a_newer_job() {
     // The whole panel's list, timed: seconds of work, stopped after a row.
     let long = |g| Command::WorkPrecision {
         generation: g,
-        params: fig3b(1.25),
-        theta0: None,
-        transient: 100,
-        points: 8,
-        time_per_setting: Duration::from_millis(40),
-        subjects: quick_subjects(),
+        spec: WorkPrecisionSpec {
+            params: fig3b(1.25),
+            theta0: None,
+            transient: 100,
+            points: 8,
+            time_per_setting: Duration::from_millis(40),
+            subjects: quick_subjects(),
+        },
     };
     let first_row_of = |w: &Worker, g: Generation, all: &mut Vec<Update>| loop {
         let u = recv(w);
@@ -1072,24 +1087,28 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
         (
             Command::WorkPrecision {
                 generation: 2,
-                params: fig3b(1.0),
-                theta0: None,
-                transient: 100,
-                points: 0,
-                time_per_setting: Duration::ZERO,
-                subjects: vec![dop853(1e-6)],
+                spec: WorkPrecisionSpec {
+                    params: fig3b(1.0),
+                    theta0: None,
+                    transient: 100,
+                    points: 0,
+                    time_per_setting: Duration::ZERO,
+                    subjects: vec![dop853(1e-6)],
+                },
             },
             "points",
         ),
         (
             Command::WorkPrecision {
                 generation: 3,
-                params: fig3b(1.0),
-                theta0: None,
-                transient: 100,
-                points: 4,
-                time_per_setting: Duration::from_secs(60),
-                subjects: vec![dop853(1e-6)],
+                spec: WorkPrecisionSpec {
+                    params: fig3b(1.0),
+                    theta0: None,
+                    transient: 100,
+                    points: 4,
+                    time_per_setting: Duration::from_secs(60),
+                    subjects: vec![dop853(1e-6)],
+                },
             },
             "time_per_setting",
         ),

@@ -18,8 +18,8 @@ use oneblock::model::Params;
 use oneblock::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell, phase_grid};
 use oneblock::sim::{column_start, default_settings, theta_nu_grid};
 use oneblock::worker::{
-    COARSE_STRIDE, Command, Generation, GridCell, Lane, Outcome, Update, Worker, WorkerConfig,
-    phase_plan,
+    Axis, COARSE_STRIDE, Command, Generation, GridCell, Lane, Outcome, PhaseSpec, SweepSpec,
+    TrajectorySpec, Update, Worker, WorkerConfig, phase_plan,
 };
 
 const THREADS: usize = 2;
@@ -70,16 +70,14 @@ impl Grid {
     fn command(&self, generation: Generation) -> Command {
         Command::Phase {
             generation,
-            params: self.params,
-            settings: self.settings,
-            theta_nu_from: self.t.0,
-            theta_nu_to: self.t.1,
-            theta_nu_steps: self.t.2,
-            kappa_from: self.k.0,
-            kappa_to: self.k.1,
-            kappa_steps: self.k.2,
-            transient: self.transient,
-            keep: self.keep,
+            spec: PhaseSpec {
+                params: self.params,
+                settings: self.settings,
+                theta_nu: Axis::new(self.t.0, self.t.1, self.t.2),
+                kappa: Axis::new(self.k.0, self.k.1, self.k.2),
+                transient: self.transient,
+                keep: self.keep,
+            },
         }
     }
 
@@ -365,21 +363,23 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
     let w = spawn(256);
     assert!(w.send(Command::Sweep {
         generation: 1,
-        params: params(6.5),
-        settings: default_settings(1e-8),
-        theta_nu_from: 0.5,
-        theta_nu_to: 1.4,
-        columns: 12,
-        transient: 20,
-        keep: 10,
+        spec: SweepSpec {
+            params: params(6.5),
+            settings: default_settings(1e-8),
+            theta_nu: Axis::new(0.5, 1.4, 12),
+            transient: 20,
+            keep: 10,
+        },
     }));
     assert!(w.send(Command::Trajectory {
         generation: 2,
-        params: params(6.5),
-        settings: default_settings(1e-8),
-        theta0: None,
-        spacing: 0.05,
-        cycles: Some(5),
+        spec: TrajectorySpec {
+            params: params(6.5),
+            settings: default_settings(1e-8),
+            theta0: None,
+            spacing: 0.05,
+            cycles: Some(5),
+        },
     }));
     assert!(w.send(Grid::small().command(3)));
     let mut outcomes = HashMap::new();
@@ -403,121 +403,30 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
 fn bad_phase_input_is_named_and_the_next_grid_runs() {
     let w = spawn(64);
     let g = Grid::small();
-    let with = |f: &dyn Fn(&mut Command)| {
-        let mut c = g.command(0);
-        f(&mut c);
-        c
-    };
-    type Case = (&'static str, Box<dyn Fn(&mut Command)>);
+    type Case = (&'static str, Box<dyn Fn(&mut PhaseSpec)>);
     let cases: Vec<Case> = vec![
-        (
-            "theta-nu-from",
-            Box::new(|c| {
-                if let Command::Phase { theta_nu_from, .. } = c {
-                    *theta_nu_from = f64::NAN;
-                }
-            }),
-        ),
-        (
-            "theta-nu-to",
-            Box::new(|c| {
-                if let Command::Phase { theta_nu_to, .. } = c {
-                    *theta_nu_to = f64::INFINITY;
-                }
-            }),
-        ),
-        (
-            "kappa-from",
-            Box::new(|c| {
-                if let Command::Phase { kappa_from, .. } = c {
-                    *kappa_from = 0.0;
-                }
-            }),
-        ),
-        (
-            "kappa-from",
-            Box::new(|c| {
-                if let Command::Phase { kappa_from, .. } = c {
-                    *kappa_from = -3.0;
-                }
-            }),
-        ),
-        (
-            "kappa-to",
-            Box::new(|c| {
-                if let Command::Phase { kappa_to, .. } = c {
-                    *kappa_to = f64::NAN;
-                }
-            }),
-        ),
-        (
-            "kappa-to",
-            Box::new(|c| {
-                if let Command::Phase { kappa_to, .. } = c {
-                    *kappa_to = 2e6;
-                }
-            }),
-        ),
-        (
-            "theta-nu-steps",
-            Box::new(|c| {
-                if let Command::Phase { theta_nu_steps, .. } = c {
-                    *theta_nu_steps = 0;
-                }
-            }),
-        ),
+        ("theta-nu-from", Box::new(|s| s.theta_nu.from = f64::NAN)),
+        ("theta-nu-to", Box::new(|s| s.theta_nu.to = f64::INFINITY)),
+        ("kappa-from", Box::new(|s| s.kappa.from = 0.0)),
+        ("kappa-from", Box::new(|s| s.kappa.from = -3.0)),
+        ("kappa-to", Box::new(|s| s.kappa.to = f64::NAN)),
+        ("kappa-to", Box::new(|s| s.kappa.to = 2e6)),
+        ("theta-nu-steps", Box::new(|s| s.theta_nu.steps = 0)),
+        ("kappa-steps", Box::new(|s| s.kappa.steps = 0)),
         (
             "kappa-steps",
-            Box::new(|c| {
-                if let Command::Phase { kappa_steps, .. } = c {
-                    *kappa_steps = 0;
-                }
-            }),
+            Box::new(|s| (s.kappa.steps, s.theta_nu.steps) = (5000, 5000)),
         ),
-        (
-            "kappa-steps",
-            Box::new(|c| {
-                if let Command::Phase {
-                    kappa_steps,
-                    theta_nu_steps,
-                    ..
-                } = c
-                {
-                    (*kappa_steps, *theta_nu_steps) = (5000, 5000);
-                }
-            }),
-        ),
-        (
-            "keep",
-            Box::new(|c| {
-                if let Command::Phase { keep, .. } = c {
-                    *keep = 3;
-                }
-            }),
-        ),
-        (
-            "gamma",
-            Box::new(|c| {
-                if let Command::Phase { params, .. } = c {
-                    params.gamma = f64::NAN;
-                }
-            }),
-        ),
-        (
-            "tol",
-            Box::new(|c| {
-                if let Command::Phase { settings, .. } = c {
-                    settings.rtol = 1.0;
-                }
-            }),
-        ),
+        ("keep", Box::new(|s| s.keep = 3)),
+        ("gamma", Box::new(|s| s.params.gamma = f64::NAN)),
+        ("tol", Box::new(|s| s.settings.rtol = 1.0)),
     ];
     let mut generation = 0;
     for (name, f) in &cases {
         generation += 1;
-        let mut cmd = with(f.as_ref());
-        if let Command::Phase { generation: g, .. } = &mut cmd {
-            *g = generation;
+        let mut cmd = g.command(generation);
+        if let Command::Phase { spec, .. } = &mut cmd {
+            f(spec);
         }
         assert!(w.send(cmd));
         let (ups, outcome) = until_finished(&w, generation, Lane::Phase);

@@ -1,6 +1,6 @@
 """Step counts of the acceleration phase: today's 4-variable field against
 the 8-variable formulation that carries the friction direction (cos φ_fr,
-sin φ_fr), Δ and e^(-Ω v_r) as state (docs/numerics.md, "Speed").
+sin φ_fr), Δ and e^(-Ω v_r) as state (docs/performance.md, "What was tried and not kept").
 
 Both run under SciPy's DOP853 (its own controller, not ours: the comparison
 is between the formulations, not with oneblock's figures), from onsets on
@@ -12,10 +12,11 @@ either left out of the error norm ("excl") or measured like the rest
 
     pip install scipy numpy && python3 docs/experiments/augmented_steps.py
 
-Session 4's output: with the extra variables left out of the norm the step
+The output when measured: with the extra variables left out of the norm the step
 count is the same but the end state is 10-100x less accurate; measured,
 the accuracy is back and the step count is 1.7-1.9x. At 24 against 44 ns
-per evaluation (benches/map_iterate.rs, rhs/accel_augmented_chained) that
+per evaluation (a criterion prototype of the 8-variable field, since
+removed from benches/map_iterate.rs; it is in git history) that
 is no gain, so the formulation was not built.
 """
 import math, numpy as np

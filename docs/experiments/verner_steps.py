@@ -1,5 +1,5 @@
 """Verner's "most efficient" 7(6) and 8(7) pairs against DOP853 on the slip
-equations (docs/numerics.md, "Speed": a better method than DOP853?).
+equations (docs/performance.md, "What was tried and not kept": a better method than DOP853?).
 
 One driver and one step-size controller for all three (the crate's PI
 controller and error norm: weights (κ, 1, √κ, 1), rtol = atol = tol, and
@@ -14,7 +14,7 @@ coefficients (https://www.sfu.ca/~jverner/, RKV76.IIa and RKV87.IIa
     python3 docs/experiments/verner_steps.py      # Fig. 3b, θ = 0.397
     python3 docs/experiments/verner_steps.py a    # Fig. 3a, θ = 0.2
 
-Session 5's output, at equal error: on Fig. 3b's acceleration phase Vern8
+The output when measured, at equal error: on Fig. 3b's acceleration phase Vern8
 needs 6-10 % fewer evaluations than DOP853 between 1e-9 and 3e-10 and the
 same at 1e-11; Vern7 needs 10-25 % more; on Fig. 3a's acceleration phase
 and both deceleration phases neither beats DOP853 by more than noise (Vern8

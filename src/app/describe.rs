@@ -1,5 +1,5 @@
 //! Plain words for a lecture audience: the regime badge and the "what you
-//! are seeing" line, from the regime (MODEL.md, linear stability of an
+//! are seeing" line, from the regime (docs/model.md, linear stability of an
 //! onset) and the orbit's detected period and Lyapunov exponent.
 
 use crate::model::{OnsetCharacter, Regime, onset_character};
@@ -85,7 +85,7 @@ pub fn attractor_line(
 }
 
 /// Mostly creep onsets with a few stick-slip ones: intermittent creep and
-/// large slips (MODEL.md, Fig. 3a for larger θν).
+/// large slips (docs/model.md, Fig. 3a for larger θν).
 pub fn is_intermittent(kappa: f64, gamma: f64, thetas: &[f64]) -> bool {
     if !matches!(Regime::of(kappa, gamma), Regime::Mixed { .. }) || thetas.len() < 20 {
         return false;

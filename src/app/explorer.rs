@@ -32,7 +32,10 @@ use crate::model::Params;
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
-use crate::worker::{Command, Generation, Lane};
+use crate::worker::{
+    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, SweepSpec, TrajectorySpec,
+    WorkPrecisionSpec,
+};
 
 /// A generation never issued: a job that waits for its turn.
 const NO_GENERATION: Generation = Generation::MAX;
@@ -300,11 +303,13 @@ impl Explorer {
         };
         self.send(Command::Trajectory {
             generation: g,
-            params,
-            settings: solver,
-            theta0: None,
-            spacing: SAMPLE_SPACING,
-            cycles,
+            spec: TrajectorySpec {
+                params,
+                settings: solver,
+                theta0: None,
+                spacing: SAMPLE_SPACING,
+                cycles,
+            },
         });
         self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
         // The analysis shows "computing" until its job starts.
@@ -348,11 +353,13 @@ impl Explorer {
         self.data.start_iterate(g);
         self.send(Command::Iterate {
             generation: g,
-            params,
-            settings: solver,
-            theta0,
-            transient,
-            keep: ITERATE_KEEP,
+            spec: IterateSpec {
+                params,
+                settings: solver,
+                theta0,
+                transient,
+                keep: ITERATE_KEEP,
+            },
         });
     }
 
@@ -369,13 +376,13 @@ impl Explorer {
         self.data.start_sweep(g, from, to, columns);
         self.send(Command::Sweep {
             generation: g,
-            params,
-            settings: solver,
-            theta_nu_from: from,
-            theta_nu_to: to,
-            columns,
-            transient,
-            keep,
+            spec: SweepSpec {
+                params,
+                settings: solver,
+                theta_nu: Axis::new(from, to, columns),
+                transient,
+                keep,
+            },
         });
         self.sent_sweep = Some((key, zoom));
         self.sweep_changed_at = None;
@@ -401,12 +408,14 @@ impl Explorer {
         self.numerics.run.start(g, params, subjects.len());
         self.send(Command::WorkPrecision {
             generation: g,
-            params,
-            theta0,
-            transient,
-            points: QUICK_POINTS,
-            time_per_setting: QUICK_TIME_PER_SETTING,
-            subjects,
+            spec: WorkPrecisionSpec {
+                params,
+                theta0,
+                transient,
+                points: QUICK_POINTS,
+                time_per_setting: QUICK_TIME_PER_SETTING,
+                subjects,
+            },
         });
     }
 
@@ -434,16 +443,14 @@ impl Explorer {
             .start_phase(g, key.range.theta_nu, key.range.kappa, columns, rows);
         self.send(Command::Phase {
             generation: g,
-            params,
-            settings: solver,
-            theta_nu_from: key.range.theta_nu.0,
-            theta_nu_to: key.range.theta_nu.1,
-            theta_nu_steps: columns,
-            kappa_from: key.range.kappa.0,
-            kappa_to: key.range.kappa.1,
-            kappa_steps: rows,
-            transient: key.transient,
-            keep: key.keep,
+            spec: PhaseSpec {
+                params,
+                settings: solver,
+                theta_nu: Axis::new(key.range.theta_nu.0, key.range.theta_nu.1, columns),
+                kappa: Axis::new(key.range.kappa.0, key.range.kappa.1, rows),
+                transient: key.transient,
+                keep: key.keep,
+            },
         });
         self.phase_job.started(key);
     }

@@ -17,7 +17,8 @@ use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
 use crate::worker::{
-    COARSE_STRIDE, Command, Lane, Outcome, Update, Worker, WorkerConfig, phase_plan, sweep_plan,
+    Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, SweepSpec, TrajectorySpec, Update,
+    Worker, WorkerConfig, phase_plan, sweep_plan,
 };
 
 #[derive(Debug, Clone, Args)]
@@ -107,13 +108,13 @@ fn worker(args: &BenchWorkerArgs) -> Worker {
 fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u64) -> Command {
     Command::Sweep {
         generation,
-        params: fig3b(),
-        settings,
-        theta_nu_from: 0.0,
-        theta_nu_to: std::f64::consts::FRAC_PI_2,
-        columns: args.columns,
-        transient: args.transient,
-        keep: args.keep,
+        spec: SweepSpec {
+            params: fig3b(),
+            settings,
+            theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, args.columns),
+            transient: args.transient,
+            keep: args.keep,
+        },
     }
 }
 
@@ -201,11 +202,13 @@ fn trajectory_latencies(
         let sent = Instant::now();
         w.send(Command::Trajectory {
             generation,
-            params: fig3b().with_theta_nu(1.0),
-            settings,
-            theta0: None,
-            spacing: 0.05,
-            cycles: Some(5),
+            spec: TrajectorySpec {
+                params: fig3b().with_theta_nu(1.0),
+                settings,
+                theta0: None,
+                spacing: 0.05,
+                cycles: Some(5),
+            },
         });
         loop {
             match recv(&w)? {
@@ -261,16 +264,14 @@ fn time_phase(
     let cpu0 = cpu_seconds();
     let sent = w.send(Command::Phase {
         generation: 1,
-        params: fig3b(),
-        settings,
-        theta_nu_from: 0.0,
-        theta_nu_to: std::f64::consts::FRAC_PI_2,
-        theta_nu_steps: n,
-        kappa_from: 1.0,
-        kappa_to: 42.0,
-        kappa_steps: n,
-        transient: 400,
-        keep: 128,
+        spec: PhaseSpec {
+            params: fig3b(),
+            settings,
+            theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, n),
+            kappa: Axis::new(1.0, 42.0, n),
+            transient: 400,
+            keep: 128,
+        },
     });
     if !sent {
         return Err(CliError::Failed("the worker refused the phase grid".into()));

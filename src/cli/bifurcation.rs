@@ -4,7 +4,7 @@
 //! The θν grid is split into two halves, the lower ⌈C/2⌉ columns and the
 //! rest, one per thread, and each half into [`LANES`] segments
 //! ([`segments`]); each segment is a continued sweep of its own (each
-//! column starts from the last iterate of the previous one; MODEL.md), and
+//! column starts from the last iterate of the previous one; docs/model.md), and
 //! a thread steps its segments' slips together ([`sweep_segments`]: one
 //! core runs three independent chains of dependent evaluations side by
 //! side, ~1.4× the iterates per second of one). The split does not depend

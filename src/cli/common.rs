@@ -50,7 +50,7 @@ impl From<OutputError> for CliError {
     }
 }
 
-/// The model's parameters (MODEL.md), angles in radians.
+/// The model's parameters (docs/model.md), angles in radians.
 #[derive(Debug, Clone, Args)]
 pub struct ModelArgs {
     /// κ = k_x/k_y, the spring anisotropy (> 0).
@@ -191,7 +191,7 @@ pub fn total_iterates(
 pub const MAX_ITERATES: u64 = 1_000_000_000_000_000;
 
 /// Checks that an onset angle given as `--{flag}` is a reachable slip onset
-/// (MODEL.md, "Domain"), naming the flag and the exit arc in the message.
+/// (docs/model.md, "The exit arc"), naming the flag and the exit arc in the message.
 pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliError> {
     match sim.check_onset(theta) {
         Ok(()) => Ok(theta),

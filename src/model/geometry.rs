@@ -14,7 +14,7 @@ pub fn wrap_angle(a: f64) -> f64 {
     if r > PI { r - TAU } else { r }
 }
 
-/// The point of C labelled θ: x = cos(θ)/κ, y = sin(θ) (MODEL.md).
+/// The point of C labelled θ: x = cos(θ)/κ, y = sin(θ) (docs/model.md).
 #[inline]
 pub fn point_from_theta(kappa: f64, theta: f64) -> [f64; 2] {
     let (s, c) = theta.sin_cos();

@@ -1,4 +1,4 @@
-//! The one-block model as `../shared/MODEL.md` states it: parameters, the
+//! The one-block model as `docs/model.md` states it: parameters, the
 //! regimes, the curve C and the critical ellipse, and the closed-form stick
 //! phase. Nothing here integrates and nothing here knows about screens.
 

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-/// The dimensionless parameters of the one-block model (MODEL.md, "Units and
+/// The dimensionless parameters of the one-block model (docs/model.md, "Units and
 /// parameters"). Lengths are in F0/k_y, time in sqrt(m/k_y).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Params {
@@ -60,7 +60,7 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<(), ParamError>
 }
 
 impl Params {
-    /// Checks every parameter against MODEL.md's ranges.
+    /// Checks every parameter against docs/model.md's ranges.
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("kappa", self.kappa)?;
         if !(self.gamma.is_finite() && self.gamma >= 0.0) {

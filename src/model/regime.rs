@@ -96,7 +96,7 @@ mod tests {
 
     #[test]
     fn paper_critical_angle() {
-        // MODEL.md: γ = 6.5, κ = 50 gives θc = 0.4090.
+        // docs/model.md: γ = 6.5, κ = 50 gives θc = 0.4090.
         let tc = critical_angles(50.0, 6.5).unwrap();
         assert!((tc - 0.4090).abs() < 5e-5, "{tc}");
         assert_eq!(Regime::of(50.0, 6.5), Regime::Mixed { theta_c: tc });

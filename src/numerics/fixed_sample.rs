@@ -1,7 +1,7 @@
 //! The default sample of attractor points, fixed: consecutive onsets of
 //! each default attractor's reference orbit (DOP853 at 1e-14, from the
 //! attractor's θ0 after its transient), as `oneblock orbit --tol 1e-14
-//! --theta0 θ0 --transient N --keep M` printed them on 2026-11-23.
+//! --theta0 θ0 --transient N --keep M` printed them when they were committed.
 //!
 //! Generated once and committed so that the work-precision chart and the
 //! `map_iterate` benchmark measure the same points whatever changes in the

@@ -393,7 +393,7 @@ mod tests {
 
     #[test]
     fn peer_reproduces_the_first_worked_example() {
-        // MODEL.md: κ = 18.95, γ = 6.5, ν = 1e-3, θν = 1, θ = 0.5.
+        // docs/model.md: κ = 18.95, γ = 6.5, ν = 1e-3, θν = 1, θ = 0.5.
         let p = Params::default();
         for m in [PeerMethod::Dopri5, PeerMethod::Dop853] {
             let it = Peer::new(m, 1e-11).cycle(&p, 0.5).unwrap();

@@ -25,7 +25,7 @@ pub struct Checked {
     /// Estimated |θ' − θ'_exact|.
     pub est_error: f64,
     /// `est_error` exceeds the accuracy asked for, or the stop landed
-    /// outside C (MODEL.md rule 5: in practice a sign of numerical error).
+    /// outside C (docs/model.md rule 5: in practice a sign of numerical error).
     pub unreliable: bool,
 }
 

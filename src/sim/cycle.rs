@@ -1,5 +1,5 @@
 //! One stick–slip cycle: slip onset on C → acceleration phase → deceleration
-//! phase → stop → closed-form stick phase → next onset (MODEL.md, "One
+//! phase → stop → closed-form stick phase → next onset (docs/model.md, "One
 //! cycle"). This is where the map θ → θ' is computed.
 
 use std::cell::Cell;
@@ -20,7 +20,7 @@ use crate::model::{
 pub use lanes::{LANES, Task, cycle_pair, cycles_in_lanes, run_lanes};
 use slip::{Next, SlipRun};
 
-/// Everything one cycle yields (MODEL.md, "What a slip event reports").
+/// Everything one cycle yields (docs/model.md, "What a slip event reports").
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SlipEvent {
     /// θ of the slip onset.
@@ -46,7 +46,7 @@ pub struct SlipEvent {
     /// θ of the next onset: the map value f(θ).
     pub theta_next: f64,
     /// The stop landed on or outside C and a new slip started at once there
-    /// (MODEL.md rule 5; in practice a sign of numerical error).
+    /// (docs/model.md rule 5; in practice a sign of numerical error).
     pub restarted: bool,
     /// Right-hand-side evaluations this cycle cost (machine-independent cost).
     pub rhs_evals: u64,
@@ -169,7 +169,7 @@ impl Simulator {
         &self.settings
     }
 
-    /// Checks that θ is a reachable onset (MODEL.md, "Domain").
+    /// Checks that θ is a reachable onset (docs/model.md, "The exit arc").
     pub fn check_onset(&self, theta: f64) -> Result<(), SimError> {
         let p = &self.params;
         if theta.is_finite() && is_on_exit_arc(p.kappa, p.theta_nu, theta) {

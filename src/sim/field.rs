@@ -1,6 +1,6 @@
 //! The slip equations of motion in the relative-velocity variables
 //! (x, y, v_r,x, v_r,y): integrating v_r instead of the lab velocity keeps
-//! creep-sized slips free of the cancellation u − V_x (MODEL.md).
+//! creep-sized slips free of the cancellation u − V_x (docs/model.md).
 
 use super::trig;
 use crate::integrate::State;

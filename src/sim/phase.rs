@@ -139,7 +139,7 @@ impl AttractorRegime {
     }
 
     /// The character of a set of onsets: creep or stick-slip when all agree
-    /// (MODEL.md, A(θ) against γ²), mixed otherwise; `None` when empty.
+    /// (docs/model.md, A(θ) against γ²), mixed otherwise; `None` when empty.
     pub fn of(kappa: f64, gamma: f64, thetas: &[f64]) -> Option<Self> {
         let mut creep = false;
         let mut slip = false;

@@ -37,7 +37,10 @@ use std::time::Duration;
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
 pub use phase::{COARSE_STRIDE, PlannedCell, Seed, phase_plan, run_cell};
-pub use protocol::{Command, Generation, GridCell, Lane, Outcome, Update};
+pub use protocol::{
+    Axis, Command, Generation, GridCell, IterateSpec, Lane, Outcome, PhaseSpec, SweepSpec,
+    TrajectorySpec, Update, WorkPrecisionSpec,
+};
 pub use sweep::{PlannedColumn, sweep_plan};
 
 use gate::Gate;
@@ -389,39 +392,20 @@ fn with_params(
     settings: Option<SolverSettings>,
 ) -> Option<Command> {
     let mut job = job.clone();
-    match &mut job {
-        Command::Trajectory {
-            generation: g,
-            params: p,
-            settings: s,
-            ..
+    let (g, p, s) = match &mut job {
+        Command::Trajectory { generation, spec } => {
+            (generation, &mut spec.params, &mut spec.settings)
         }
-        | Command::Iterate {
-            generation: g,
-            params: p,
-            settings: s,
-            ..
-        }
-        | Command::Sweep {
-            generation: g,
-            params: p,
-            settings: s,
-            ..
-        }
-        | Command::Phase {
-            generation: g,
-            params: p,
-            settings: s,
-            ..
-        } => {
-            (*g, *p) = (generation, params);
-            if let Some(settings) = settings {
-                *s = settings;
-            }
-            Some(job)
-        }
-        _ => None,
+        Command::Iterate { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
+        Command::Sweep { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
+        Command::Phase { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
+        _ => return None,
+    };
+    (*g, *p) = (generation, params);
+    if let Some(settings) = settings {
+        *s = settings;
     }
+    Some(job)
 }
 
 /// Whether a phase job would compute something else with `params` and
@@ -433,13 +417,10 @@ fn phase_depends_on_changed(
     settings: Option<SolverSettings>,
 ) -> bool {
     match job {
-        Command::Phase {
-            params: p,
-            settings: s,
-            ..
-        } => {
+        Command::Phase { spec, .. } => {
+            let p = &spec.params;
             (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
-                || settings.is_some_and(|n| n != *s)
+                || settings.is_some_and(|n| n != spec.settings)
         }
         _ => false,
     }

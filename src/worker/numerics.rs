@@ -24,25 +24,16 @@ pub const MAX_TRANSIENT: usize = 100_000;
 
 /// Runs one numerics-lane command.
 pub(crate) fn run(shared: &Shared, cmd: Command) {
-    if let Command::WorkPrecision {
-        generation,
-        params,
-        theta0,
-        transient,
-        points,
-        time_per_setting,
-        subjects,
-    } = cmd
-    {
+    if let Command::WorkPrecision { generation, spec } = cmd {
         let job = Job { shared, generation };
         run_guarded(&shared.numerics, generation, || {
             job.run(
-                params,
-                theta0,
-                transient,
-                points,
-                time_per_setting,
-                &subjects,
+                spec.params,
+                spec.theta0,
+                spec.transient,
+                spec.points,
+                spec.time_per_setting,
+                &spec.subjects,
             )
         });
     }

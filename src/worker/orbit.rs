@@ -7,7 +7,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::{Duration, Instant};
 
 use super::gate::{Gate, Stop};
-use super::protocol::{Command, Generation, Lane, Outcome, Update};
+use super::protocol::{Command, Generation, IterateSpec, Lane, Outcome, TrajectorySpec, Update};
 use super::{Shared, panic_message};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
@@ -87,24 +87,24 @@ pub(crate) fn run_guarded(
 pub(crate) fn run(shared: &Shared, cmd: Command) {
     let job = OrbitJob { shared };
     match cmd {
-        Command::Trajectory {
-            generation,
-            params,
-            settings,
-            theta0,
-            spacing,
-            cycles,
-        } => run_guarded(&shared.orbit, generation, || {
+        Command::Trajectory { generation, spec } => run_guarded(&shared.orbit, generation, || {
+            let TrajectorySpec {
+                params,
+                settings,
+                theta0,
+                spacing,
+                cycles,
+            } = spec;
             job.trajectory(generation, params, settings, theta0, spacing, cycles)
         }),
-        Command::Iterate {
-            generation,
-            params,
-            settings,
-            theta0,
-            transient,
-            keep,
-        } => run_guarded(&shared.orbit, generation, || {
+        Command::Iterate { generation, spec } => run_guarded(&shared.orbit, generation, || {
+            let IterateSpec {
+                params,
+                settings,
+                theta0,
+                transient,
+                keep,
+            } = spec;
             job.iterate(generation, params, settings, theta0, transient, keep)
         }),
         Command::InjectPanic {

@@ -26,7 +26,7 @@ use std::sync::{Condvar, Mutex};
 use std::time::{Duration, Instant};
 
 use super::orbit::{FLUSH_INTERVAL, JobError, Pacer, run_guarded};
-use super::protocol::{Command, Generation, GridCell, Lane, Update};
+use super::protocol::{Axis, Command, Generation, GridCell, Lane, PhaseSpec, Update};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
@@ -292,53 +292,28 @@ struct Outbox {
     last_flush: Instant,
 }
 
-/// What a phase job is asked to compute.
-struct PhaseSpec {
-    generation: Generation,
-    params: Params,
-    settings: SolverSettings,
-    theta_nu: (f64, f64, usize),
-    kappa: (f64, f64, usize),
-    opts: PhaseOptions,
-}
-
 /// Runs one phase-lane command.
 pub(crate) fn run(shared: &Shared, cmd: Command) {
-    if let Command::Phase {
-        generation,
-        params,
-        settings,
-        theta_nu_from,
-        theta_nu_to,
-        theta_nu_steps,
-        kappa_from,
-        kappa_to,
-        kappa_steps,
-        transient,
-        keep,
-    } = cmd
-    {
-        let spec = PhaseSpec {
-            generation,
-            params,
-            settings,
-            theta_nu: (theta_nu_from, theta_nu_to, theta_nu_steps),
-            kappa: (kappa_from, kappa_to, kappa_steps),
-            opts: PhaseOptions {
-                transient,
-                keep,
-                ..PhaseOptions::for_settings(&settings)
-            },
-        };
-        run_guarded(&shared.phase, generation, || phase(shared, &spec));
+    if let Command::Phase { generation, spec } = cmd {
+        run_guarded(&shared.phase, generation, || {
+            phase(shared, generation, &spec)
+        });
     }
 }
 
 /// Checks everything before any work; the error names the field and its
 /// valid range.
 fn validate(s: &PhaseSpec) -> Result<(), SimError> {
-    let (t0, t1, nt) = s.theta_nu;
-    let (k0, k1, nk) = s.kappa;
+    let Axis {
+        from: t0,
+        to: t1,
+        steps: nt,
+    } = s.theta_nu;
+    let Axis {
+        from: k0,
+        to: k1,
+        steps: nk,
+    } = s.kappa;
     for (name, v) in [("theta-nu-from", t0), ("theta-nu-to", t1)] {
         if !v.is_finite() {
             return Err(ParamError::new(name, v, "must be a finite angle in radians").into());
@@ -358,14 +333,14 @@ fn validate(s: &PhaseSpec) -> Result<(), SimError> {
         let range = "must be at most 4000000 cells with theta-nu-steps";
         return Err(ParamError::new("kappa-steps", nk as f64, range).into());
     }
-    if s.opts.transient > 1_000_000 {
+    if s.transient > 1_000_000 {
         let range = "must lie in [0, 1000000]";
-        return Err(ParamError::new("transient", s.opts.transient as f64, range).into());
+        return Err(ParamError::new("transient", s.transient as f64, range).into());
     }
-    if !(16..=1_000_000).contains(&s.opts.keep) {
+    if !(16..=1_000_000).contains(&s.keep) {
         let range =
             "must lie in [16, 1000000] (the Lyapunov exponent's error needs 8 batches of 2)";
-        return Err(ParamError::new("keep", s.opts.keep as f64, range).into());
+        return Err(ParamError::new("keep", s.keep as f64, range).into());
     }
     // The model's own ranges (γ, ν, Ω, κ in [1e-6, 1e6]) and the solver's.
     for (k, t) in [(k0, t0), (k1, t1)] {
@@ -391,15 +366,14 @@ fn validate(s: &PhaseSpec) -> Result<(), SimError> {
     Ok(())
 }
 
-fn phase(shared: &Shared, s: &PhaseSpec) -> Result<(), JobError> {
+fn phase(shared: &Shared, generation: Generation, s: &PhaseSpec) -> Result<(), JobError> {
     validate(s)?;
     let gate = &shared.phase;
-    let generation = s.generation;
     let threads = shared.config.sweep_threads;
-    let (t0, t1, columns) = s.theta_nu;
-    let (k0, k1, rows) = s.kappa;
-    let theta_nus = theta_nu_grid(t0, t1, columns);
-    let kappas = theta_nu_grid(k0, k1, rows);
+    let opts = s.options();
+    let (columns, rows) = (s.theta_nu.steps, s.kappa.steps);
+    let theta_nus = theta_nu_grid(s.theta_nu.from, s.theta_nu.to, columns);
+    let kappas = theta_nu_grid(s.kappa.from, s.kappa.to, rows);
     let total = rows * columns;
     let plan = phase_plan(rows, columns, COARSE_STRIDE);
     let schedule = Mutex::new(Schedule::new(plan, rows, columns));
@@ -466,7 +440,7 @@ fn phase(shared: &Shared, s: &PhaseSpec) -> Result<(), JobError> {
                 if p.row * columns + p.column == tests::PANIC_AT_CELL.load(Ordering::SeqCst) {
                     panic!("injected panic in cell {}", p.row * columns + p.column);
                 }
-                run_cell(s.params, s.settings, kappa, tn, seed, &s.opts, &cancel)
+                run_cell(s.params, s.settings, kappa, tn, seed, &opts, &cancel)
             }));
             let where_ = format!(
                 "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",
@@ -660,16 +634,14 @@ mod tests {
         let w = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
         let job = |generation| Command::Phase {
             generation,
-            params: Params::default(),
-            settings: default_settings(1e-8),
-            theta_nu_from: 0.2,
-            theta_nu_to: 0.6,
-            theta_nu_steps: 5,
-            kappa_from: 2.0,
-            kappa_to: 3.0,
-            kappa_steps: 2,
-            transient: 40,
-            keep: 16,
+            spec: PhaseSpec {
+                params: Params::default(),
+                settings: default_settings(1e-8),
+                theta_nu: Axis::new(0.2, 0.6, 5),
+                kappa: Axis::new(2.0, 3.0, 2),
+                transient: 40,
+                keep: 16,
+            },
         };
         PANIC_AT_CELL.store(7, Ordering::SeqCst);
         assert!(w.send(job(1)));

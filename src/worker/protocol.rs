@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
-use crate::sim::phase::PhaseCell;
+use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::{Period, Sample, SlipEvent};
 
 /// A monotonically increasing job stamp. The front end issues them (one per
@@ -37,61 +37,164 @@ pub enum Lane {
     Phase,
 }
 
-/// What the front end asks of the worker.
+/// One axis of a job's grid: `steps` values from `from` to `to`, both ends
+/// included (a single step is `from`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Axis {
+    /// The first value.
+    pub from: f64,
+    /// The last value.
+    pub to: f64,
+    /// How many values (columns or rows).
+    pub steps: usize,
+}
+
+impl Axis {
+    /// `steps` values over [`from`, `to`].
+    pub fn new(from: f64, to: f64, steps: usize) -> Axis {
+        Axis { from, to, steps }
+    }
+}
+
+/// A trajectory: follow the block from the onset θ0 (θν if `None`),
+/// streaming its path sampled every `spacing` time units during slips, and
+/// each slip event, for `cycles` cycles (until cancelled if `None`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrajectorySpec {
+    /// The model's parameters.
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The first onset (θν if `None`).
+    pub theta0: Option<f64>,
+    /// Time between path samples during a slip.
+    pub spacing: f64,
+    /// Cycles to run (until cancelled if `None`).
+    pub cycles: Option<usize>,
+}
+
+/// Map iterates: iterate the map from θ0 (θν if `None`), dropping
+/// `transient` iterates and streaming `keep` more with the detected period
+/// and the running Lyapunov exponent, then the graph of the map.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IterateSpec {
+    /// The model's parameters.
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The first onset (θν if `None`).
+    pub theta0: Option<f64>,
+    /// Iterates dropped before any is kept.
+    pub transient: usize,
+    /// Iterates kept and streamed.
+    pub keep: usize,
+}
+
+/// A bifurcation diagram over θν (`theta_nu`, one column per step): a
+/// coarse pass over the whole range first, then refinement, each column
+/// continued from its nearest computed neighbour (`sweep_plan`). The θν of
+/// `params` is ignored (it is the axis).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSpec {
+    /// The model's parameters (κ, γ, ν, Ω).
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The θν columns.
+    pub theta_nu: Axis,
+    /// Iterates each column drops before it keeps any.
+    pub transient: usize,
+    /// Iterates each column keeps.
+    pub keep: usize,
+}
+
+/// A phase diagram (the paper's Fig. 4) over θν (columns) and κ (rows) at
+/// the γ, ν and Ω of `params` (its κ and θν are ignored: they are the
+/// axes). A coarse lattice first, then refinement, each cell continued from
+/// its nearest computed neighbour (`phase_plan`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PhaseSpec {
+    /// The model's parameters (γ, ν, Ω).
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The θν columns.
+    pub theta_nu: Axis,
+    /// The κ rows (row 0 is `kappa.from`).
+    pub kappa: Axis,
+    /// Each cell's transient (`PhaseOptions::transient`).
+    pub transient: usize,
+    /// Each cell's kept iterates (`PhaseOptions::keep`).
+    pub keep: usize,
+}
+
+impl PhaseSpec {
+    /// A cell's budget: this spec's transient and keep, the rest as the
+    /// core chooses for its solver settings.
+    pub fn options(&self) -> PhaseOptions {
+        PhaseOptions {
+            transient: self.transient,
+            keep: self.keep,
+            ..PhaseOptions::for_settings(&self.settings)
+        }
+    }
+}
+
+/// A work-precision measurement: `subjects` (solver settings) against a
+/// reference on `points` orbit points of the attractor of `params` (from
+/// θ0, θν if `None`, after `transient` reference iterates), each setting
+/// timed for about `time_per_setting` in all.
+#[derive(Clone, Debug, PartialEq)]
+pub struct WorkPrecisionSpec {
+    /// The model's parameters.
+    pub params: Params,
+    /// Where the reference orbit starts (θν if `None`).
+    pub theta0: Option<f64>,
+    /// Reference iterates dropped before the sample.
+    pub transient: usize,
+    /// Orbit points in the sample.
+    pub points: usize,
+    /// Time spent measuring each setting, in all.
+    pub time_per_setting: Duration,
+    /// The settings measured, in order.
+    pub subjects: Vec<Subject>,
+}
+
+/// What the front end asks of the worker. A job command carries the
+/// generation it starts under and its typed spec.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Command {
-    /// Follow the block from the onset θ0 (θν if `None`), streaming its path
-    /// sampled every `spacing` time units during slips, and each slip event.
-    /// Runs `cycles` cycles, or until cancelled if `None`.
+    /// Run a trajectory (`TrajectorySpec`) on the orbit lane: `TrajectoryChunk`s
+    /// and `Slip`s.
     Trajectory {
+        /// The job's stamp.
         generation: Generation,
-        params: Params,
-        settings: SolverSettings,
-        theta0: Option<f64>,
-        spacing: f64,
-        cycles: Option<usize>,
+        /// What to run.
+        spec: TrajectorySpec,
     },
-    /// Iterate the map from θ0 (θν if `None`), streaming iterates with the
-    /// detected period and the running Lyapunov exponent.
+    /// Iterate the map (`IterateSpec`) on the orbit lane: `MapIterates`,
+    /// then one `MapGraph`.
     Iterate {
+        /// The job's stamp.
         generation: Generation,
-        params: Params,
-        settings: SolverSettings,
-        theta0: Option<f64>,
-        transient: usize,
-        keep: usize,
+        /// What to run.
+        spec: IterateSpec,
     },
-    /// A bifurcation diagram over θν ∈ [from, to] with `columns` columns:
-    /// a coarse pass over the whole range first, then refinement, each
-    /// column continued from its nearest computed neighbour.
+    /// A bifurcation diagram (`SweepSpec`) on the sweep lane: one `Column`
+    /// per θν, coarse pass first.
     Sweep {
+        /// The job's stamp.
         generation: Generation,
-        params: Params,
-        settings: SolverSettings,
-        theta_nu_from: f64,
-        theta_nu_to: f64,
-        columns: usize,
-        transient: usize,
-        keep: usize,
+        /// What to run.
+        spec: SweepSpec,
     },
-    /// A phase diagram (the paper's Fig. 4) over θν ∈ [from, to] (columns)
-    /// and κ ∈ [from, to] (rows), ends included, at the γ, ν and Ω of
-    /// `params` (its κ and θν are ignored: they are the axes). A coarse
-    /// lattice first, then refinement, each cell continued from its nearest
-    /// computed neighbour (`phase_plan`). `transient` and `keep` are the
-    /// cell's budget (`PhaseOptions`).
+    /// A phase diagram (`PhaseSpec`) on the phase lane: `PhaseCells`,
+    /// coarse lattice first.
     Phase {
+        /// The job's stamp.
         generation: Generation,
-        params: Params,
-        settings: SolverSettings,
-        theta_nu_from: f64,
-        theta_nu_to: f64,
-        theta_nu_steps: usize,
-        kappa_from: f64,
-        kappa_to: f64,
-        kappa_steps: usize,
-        transient: usize,
-        keep: usize,
+        /// What to run.
+        spec: PhaseSpec,
     },
     /// A new parameter set (κ, γ, ν, θν, Ω, and optionally the solver):
     /// each lane's latest trajectory/iterate, sweep or phase job runs again
@@ -108,20 +211,15 @@ pub enum Command {
         params: Params,
         settings: Option<SolverSettings>,
     },
-    /// Measure `subjects` (settings) against a reference on `points` orbit
-    /// points of the attractor of `params` (from θ0, θν if `None`, after
-    /// `transient` reference iterates), each setting timed for about
-    /// `time_per_setting` in all: `WorkPrecisionSample` once the sample is
-    /// built, then one `WorkPrecisionRow` (or `WorkPrecisionSkipped`) per
-    /// subject in order. Runs on the numerics lane.
+    /// Measure work against precision (`WorkPrecisionSpec`) on the
+    /// numerics lane: `WorkPrecisionSample` once the sample is built, then
+    /// one `WorkPrecisionRow` (or `WorkPrecisionSkipped`) per subject in
+    /// order.
     WorkPrecision {
+        /// The job's stamp.
         generation: Generation,
-        params: Params,
-        theta0: Option<f64>,
-        transient: usize,
-        points: usize,
-        time_per_setting: Duration,
-        subjects: Vec<Subject>,
+        /// What to measure.
+        spec: WorkPrecisionSpec,
     },
     /// Stop the lane's job (every lane if `None`); answered by `Cancelled`.
     Cancel {

@@ -22,10 +22,9 @@ use std::sync::{Condvar, Mutex};
 use std::time::Duration;
 
 use super::orbit::{JobError, Pacer, run_guarded};
-use super::protocol::{Command, Generation, Lane, Update};
+use super::protocol::{Command, Generation, Lane, SweepSpec, Update};
 use super::{Shared, lock, panic_message, run_scoped};
-use crate::integrate::SolverSettings;
-use crate::model::{ParamError, Params};
+use crate::model::ParamError;
 use crate::sim::{
     Column, ColumnJob, LANES, SimError, Simulator, SweepOptions, column_start, run_columns,
     theta_nu_grid,
@@ -186,65 +185,42 @@ impl Schedule {
 
 /// Runs one sweep-lane command.
 pub(crate) fn run(shared: &Shared, cmd: Command) {
-    if let Command::Sweep {
-        generation,
-        params,
-        settings,
-        theta_nu_from,
-        theta_nu_to,
-        columns,
-        transient,
-        keep,
-    } = cmd
-    {
-        let spec = SweepSpec {
-            generation,
-            params,
-            settings,
-            from: theta_nu_from,
-            to: theta_nu_to,
-            columns,
-            opts: SweepOptions { transient, keep },
-        };
-        run_guarded(&shared.sweep, generation, || sweep(shared, &spec));
+    if let Command::Sweep { generation, spec } = cmd {
+        run_guarded(&shared.sweep, generation, || {
+            sweep(shared, generation, &spec)
+        });
     }
-}
-
-struct SweepSpec {
-    generation: Generation,
-    params: Params,
-    settings: SolverSettings,
-    from: f64,
-    to: f64,
-    columns: usize,
-    opts: SweepOptions,
 }
 
 /// Checks what the columns cannot check for themselves, before any work.
 fn validate(s: &SweepSpec) -> Result<(), SimError> {
-    for v in [s.from, s.to] {
+    for v in [s.theta_nu.from, s.theta_nu.to] {
         if !v.is_finite() {
             let range = "the sweep's ends must be finite angles";
             return Err(ParamError::new("theta-nu", v, range).into());
         }
     }
-    if s.columns == 0 {
+    if s.theta_nu.steps == 0 {
         return Err(ParamError::new("columns", 0.0, "must be at least 1").into());
     }
-    Simulator::new(s.params.with_theta_nu(s.from), s.settings)?;
+    Simulator::new(s.params.with_theta_nu(s.theta_nu.from), s.settings)?;
     Ok(())
 }
 
-fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
+fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), JobError> {
     validate(s)?;
     let gate = &shared.sweep;
-    let generation = s.generation;
     let threads = shared.config.sweep_threads;
-    let grid = theta_nu_grid(s.from, s.to, s.columns);
+    let columns = s.theta_nu.steps;
+    let opts = SweepOptions {
+        transient: s.transient,
+        keep: s.keep,
+    };
+    let grid = theta_nu_grid(s.theta_nu.from, s.theta_nu.to, columns);
     // Each thread steps up to LANES columns together, so the coarse pass
     // has that many chains per thread.
-    let plan = sweep_plan(s.columns, shared.config.coarse_columns, threads * LANES);
-    let schedule = Mutex::new(Schedule::new(plan, s.columns));
+    let plan = sweep_plan(columns, shared.config.coarse_columns, threads * LANES);
+    let schedule = Mutex::new(Schedule::new(plan, columns));
     let sims: Vec<Result<Simulator, SimError>> = grid
         .iter()
         .map(|&tn| Simulator::new(s.params.with_theta_nu(tn), s.settings))
@@ -301,7 +277,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
             gate.send(generation, e)?;
         }
         // Iterates this column ran (a failed one counts what it kept).
-        let k = (s.opts.transient + col.thetas.len()) as u64;
+        let k = (opts.transient + col.thetas.len()) as u64;
         let n = iterates.fetch_add(k, Ordering::Relaxed) + k;
         gate.send(
             generation,
@@ -321,7 +297,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
         ready.notify_all();
         let rate = {
             let mut pc = lock(&pacer);
-            (pc.due() || done == s.columns).then(|| pc.rate(n))
+            (pc.due() || done == columns).then(|| pc.rate(n))
         };
         if let Some(iterates_per_second) = rate {
             gate.send(
@@ -329,7 +305,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                 Update::Progress {
                     generation,
                     lane: Lane::Sweep,
-                    fraction: done as f64 / s.columns as f64,
+                    fraction: done as f64 / columns as f64,
                     iterates_per_second,
                 },
             )?;
@@ -368,7 +344,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
             let mut in_flight: [Option<(PlannedColumn, f64)>; LANES] = [None; LANES];
             let mut stop: Option<JobError> = None;
             let lanes = catch_unwind(AssertUnwindSafe(|| {
-                run_columns(&s.opts, &cancel, |lane, finished| {
+                run_columns(&opts, &cancel, |lane, finished| {
                     if let (Some(col), Some((p, start))) = (finished, in_flight[lane].take())
                         && stop.is_none()
                     {
@@ -400,7 +376,7 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
                     let col = catch_unwind(AssertUnwindSafe(|| {
                         #[cfg(test)]
                         tests::inject_panic(p.index);
-                        Column::run(s.params, s.settings, tn, start, &s.opts, &cancel)
+                        Column::run(s.params, s.settings, tn, start, &opts, &cancel)
                     }));
                     deliver(p, start, col)?;
                 }
@@ -422,8 +398,9 @@ fn sweep(shared: &Shared, s: &SweepSpec) -> Result<(), JobError> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::Params;
     use crate::sim::default_settings;
-    use crate::worker::{Outcome, Worker, WorkerConfig};
+    use crate::worker::{Axis, Outcome, Worker, WorkerConfig};
     use std::collections::HashSet;
     use std::sync::Arc;
     use std::sync::atomic::AtomicUsize;
@@ -512,13 +489,13 @@ mod tests {
         );
         let sweep = |generation| Command::Sweep {
             generation,
-            params: Params::default(),
-            settings: default_settings(1e-8),
-            theta_nu_from: 0.2,
-            theta_nu_to: 1.4,
-            columns: 10,
-            transient: 3,
-            keep: 3,
+            spec: SweepSpec {
+                params: Params::default(),
+                settings: default_settings(1e-8),
+                theta_nu: Axis::new(0.2, 1.4, 10),
+                transient: 3,
+                keep: 3,
+            },
         };
         PANIC_AT_COLUMN.store(5, Ordering::SeqCst);
         assert!(w.send(sweep(1)));

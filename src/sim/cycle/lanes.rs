@@ -3,8 +3,8 @@
 //! stage, so that one slip's chain of dependent right-hand-side evaluations
 //! fills the cycles the others leave idle. One slip's step waits on a chain
 //! of ~120 cycles per evaluation (sqrt, e^x − 1, sin/cos); the CPU has the
-//! units to run two or three such chains side by side (docs/numerics.md,
-//! "Slips in lanes").
+//! units to run two or three such chains side by side (docs/performance.md,
+//! "What worked", slips in lanes).
 //!
 //! For work made of independent cycles: f'(θ)'s central difference, the
 //! return map's graph, the sample's reference cycles, a bifurcation sweep's
@@ -55,11 +55,11 @@ fn run_lanes_avx2<'s>(
     run_lanes_impl(feed)
 }
 
-/// How many slips are stepped together. Three: on a Zen 5 host (session 7,
-/// the 200 committed points of each chaotic attractor) three lanes took
-/// 11–13 % less time per iterate than two, and four 4–9 % more than three
-/// (more live registers than the CPU has); on session 5's older host three
-/// measured the same as two.
+/// How many slips are stepped together. Three: on the 200 committed points
+/// of each chaotic attractor three lanes took 11–13 % less time per iterate
+/// than two, and four 4–9 % more than three (more live registers than the
+/// CPU has); on an older host three measured the same as two
+/// (docs/performance.md).
 pub const LANES: usize = 3;
 
 #[inline(always)]
