@@ -122,13 +122,15 @@ mod tests {
         let x = points(17);
         let c = coefficients(&x.iter().map(|t| t.exp()).collect::<Vec<_>>());
         assert!((c[0] - 1.266_065_877_752_008_4).abs() < 1e-15, "{}", c[0]);
-        assert!((c[1] - 2.0 * 0.565_159_103_992_485_0).abs() < 1e-15);
-        assert!(resolved(&c, 1e-14));
+        assert!((c[1] - 2.0 * 0.565_159_103_992_485).abs() < 1e-15);
+        // c_13 ≈ 2·I_13(1) ≈ 3.9e-14: resolved to 1e-12, not to 1e-14.
+        assert!(resolved(&c, 1e-12) && !resolved(&c, 1e-14));
         let d = derivative(&c);
         for i in 0..101 {
             let t = -1.0 + 0.02 * i as f64;
             assert!((clenshaw(&c, t) - t.exp()).abs() < 5e-15, "{t}");
-            assert!((clenshaw(&d, t) - t.exp()).abs() < 5e-14, "{t}");
+            // The derivative loses up to ~n² roundings at the ends.
+            assert!((clenshaw(&d, t) - t.exp()).abs() < 1e-12, "{t}");
         }
         let short = chop(&c, 1e-10);
         assert!(short.len() < 14 && short.len() > 8, "{}", short.len());
