@@ -1,6 +1,12 @@
 //! `oneblock orbit`: an orbit of the map. One CSV row per kept slip event,
 //! then the detected period and the Lyapunov exponent (on stderr, or as a
 //! JSON summary on stdout with `--json`).
+//!
+//! With `--map interpolant` (or `auto` on long runs) the iterates come from
+//! the map's verified interpolant (docs/interpolant.md): a row taken from
+//! it cost no integration, so its `rhs_evals` and `steps` are 0, and the
+//! summary's evaluation count is that of the construction and of the
+//! iterates integrated directly.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
