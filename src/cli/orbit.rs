@@ -1,6 +1,12 @@
 //! `oneblock orbit`: an orbit of the map. One CSV row per kept slip event,
 //! then the detected period and the Lyapunov exponent (on stderr, or as a
 //! JSON summary on stdout with `--json`).
+//!
+//! With `--map interpolant` (or `auto` on long runs) the iterates come from
+//! the map's verified interpolant (docs/interpolant.md): a row taken from
+//! it cost no integration, so its `rhs_evals` and `steps` are 0, and the
+//! summary's evaluation count is that of the construction and of the
+//! iterates integrated directly.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -18,7 +24,10 @@ use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
 use crate::sim::period::longest_testable;
-use crate::sim::{Orbit, OrbitOptions, Period, SimError, Simulator};
+use crate::sim::{
+    InterpolantOptions, MapChoice, Orbit, OrbitOptions, Period, SimError, Simulator,
+    orbit_interpolated,
+};
 
 /// The most iterates an orbit keeps: each is a slip event held in memory
 /// (and a CSV row) until the file is written atomically, ~400 bytes in all.
@@ -64,6 +73,43 @@ pub struct OrbitArgs {
     /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
+    /// How the map is evaluated: direct (every iterate integrated),
+    /// interpolant (a verified piecewise Chebyshev interpolant of the map,
+    /// built once; docs/interpolant.md) or auto (the interpolant from 20000
+    /// iterates on). Where the interpolant cannot be verified the run
+    /// integrates and says so.
+    #[arg(long, default_value = "auto")]
+    pub map: String,
+}
+
+/// The `--map` flag's value.
+fn map_choice(s: &str) -> Result<MapChoice, CliError> {
+    match s {
+        "direct" => Ok(MapChoice::Direct),
+        "interpolant" => Ok(MapChoice::Interpolant),
+        "auto" => Ok(MapChoice::Auto),
+        _ => Err(CliError::Usage(format!(
+            "--map: unknown value {s:?} (valid: direct, interpolant, auto)"
+        ))),
+    }
+}
+
+/// How the map was evaluated, for the summary.
+enum MapUsed {
+    Direct,
+    /// The interpolant was asked for but refused: why.
+    Refused(String),
+    Interpolant {
+        pieces: usize,
+        degree: usize,
+        interval: (f64, f64),
+        evaluations: usize,
+        points: usize,
+        max_error: f64,
+        max_event_error: f64,
+        direct_iterates: usize,
+        refused_extension: Option<String>,
+    },
 }
 
 /// The checked inputs of `orbit`.
@@ -74,6 +120,7 @@ pub struct Plan {
     total: u64,
     csv_out: Option<PathBuf>,
     max_seconds: Option<f64>,
+    choice: MapChoice,
 }
 
 /// Checks the flags and the output before any work.
@@ -81,6 +128,7 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let keep = count_in("keep", args.keep, MAX_KEEP)?;
+    let choice = map_choice(&args.map)?;
     let total = total_iterates(args.transient, ("keep", keep), 1)?;
     let period_tol = match args.period_tol {
         Some(t) => {
@@ -128,6 +176,7 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
         total,
         csv_out,
         max_seconds,
+        choice,
     })
 }
 
@@ -139,6 +188,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         total,
         csv_out,
         max_seconds,
+        choice,
     } = check(&args)?;
     let (params, settings) = (*sim.params(), *sim.settings());
     let period_tol = opts.period_tol;
@@ -146,10 +196,42 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let progress = Progress::new("orbit", "iterates", total);
     let limits = Limits::start(max_seconds);
     let start = Instant::now();
-    let result = sim.orbit(theta0, &opts, &|| {
+    let tick = || {
         progress.inc(1);
         limits.stop()
-    });
+    };
+    let mut used = MapUsed::Direct;
+    let mut result = None;
+    if choice.interpolates(usize::try_from(total).unwrap_or(usize::MAX)) {
+        // The interpolated run polls once per 4096 iterates.
+        let every = || {
+            progress.inc(4096);
+            limits.stop()
+        };
+        let iopts = InterpolantOptions::for_settings(&settings);
+        match orbit_interpolated(&sim, theta0, &opts, iopts, &every) {
+            Ok(r) => {
+                let i = &r.interpolant;
+                let v = i.verification();
+                used = MapUsed::Interpolant {
+                    pieces: i.pieces().0,
+                    degree: i.max_degree(),
+                    interval: i.interval(),
+                    evaluations: i.evaluations(),
+                    points: v.points,
+                    max_error: v.max_map_error,
+                    max_event_error: v.max_event_error,
+                    direct_iterates: r.direct_iterates,
+                    refused_extension: r.refused_extension,
+                };
+                result = Some(Ok(r.orbit));
+            }
+            Err(e) => {
+                used = MapUsed::Refused(e.to_string());
+            }
+        }
+    }
+    let result = result.unwrap_or_else(|| sim.orbit(theta0, &opts, &tick));
     progress.finish();
     let orbit = match result {
         Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
@@ -188,6 +270,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         period_tol,
         orbit: &orbit,
         seconds,
+        used: &used,
     };
     if args.json {
         let mut obj = summary.json();
@@ -215,6 +298,7 @@ struct Summary<'a> {
     period_tol: f64,
     orbit: &'a Orbit,
     seconds: f64,
+    used: &'a MapUsed,
 }
 
 impl Summary<'_> {
@@ -247,6 +331,7 @@ impl Summary<'_> {
             }
         )
         .ok();
+        s.push_str(&self.map_text());
         let p = self.longest_testable();
         match o.period {
             _ if p == 0 => writeln!(s, "  period: not determined (needs --keep >= 2)"),
@@ -284,6 +369,66 @@ impl Summary<'_> {
         s
     }
 
+    fn map_text(&self) -> String {
+        match self.used {
+            MapUsed::Direct => "  map: direct integration of every iterate\n".into(),
+            MapUsed::Refused(why) => format!(
+                "  map: direct integration of every iterate (the interpolant was refused: {why})\n"
+            ),
+            MapUsed::Interpolant {
+                pieces,
+                degree,
+                interval,
+                evaluations,
+                points,
+                max_error,
+                max_event_error,
+                direct_iterates,
+                refused_extension,
+            } => {
+                let mut s = format!(
+                    "  map: interpolant, {pieces} piece(s) of degree <= {degree} over theta in [{:.6}, {:.6}], built from {evaluations} map evaluations; measured max error {max_error:.1e} rad in theta' (event quantities {max_event_error:.1e} relative) at {points} independent points; {direct_iterates} iterate(s) integrated directly\n",
+                    interval.0, interval.1
+                );
+                if let Some(why) = refused_extension {
+                    writeln!(s, "  map: an extension was refused ({why}); the iterates beyond were integrated").ok();
+                }
+                s
+            }
+        }
+    }
+
+    fn map_json(&self) -> serde_json::Value {
+        match self.used {
+            MapUsed::Direct => serde_json::json!({ "method": "direct" }),
+            MapUsed::Refused(why) => {
+                serde_json::json!({ "method": "direct", "interpolant_refused": why })
+            }
+            MapUsed::Interpolant {
+                pieces,
+                degree,
+                interval,
+                evaluations,
+                points,
+                max_error,
+                max_event_error,
+                direct_iterates,
+                refused_extension,
+            } => serde_json::json!({
+                "method": "interpolant",
+                "pieces": pieces,
+                "max_degree": degree,
+                "interval": [interval.0, interval.1],
+                "build_evaluations": evaluations,
+                "check_points": points,
+                "max_map_error": max_error,
+                "max_event_error": max_event_error,
+                "direct_iterates": direct_iterates,
+                "extension_refused": refused_extension,
+            }),
+        }
+    }
+
     fn json(&self) -> serde_json::Value {
         let o = self.orbit;
         let period = match o.period {
@@ -310,6 +455,7 @@ impl Summary<'_> {
             "rhs_evals": o.rhs_evals,
             "theta_last": o.theta_last,
             "seconds": self.seconds,
+            "map": self.map_json(),
         })
     }
 }

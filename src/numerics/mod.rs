@@ -10,6 +10,7 @@
 
 pub mod budget;
 pub mod chart;
+pub mod chebyshev;
 pub mod committed;
 pub mod fixed_sample;
 pub mod peer;

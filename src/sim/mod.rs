@@ -6,6 +6,7 @@ mod cycle;
 pub mod cycles;
 mod error;
 pub mod field;
+pub mod interpolant;
 mod orbit;
 pub mod period;
 pub mod phase;
@@ -24,9 +25,13 @@ pub use cycle::{
 };
 pub use cycles::{Cycle, CycleFailure, CycleOptions, solve_cycle};
 pub use error::SimError;
+pub use interpolant::{
+    InterpolantError, InterpolantOptions, InterpolatedOrbit, MapChoice, MapInterpolant,
+    orbit_interpolated,
+};
 pub use orbit::{Orbit, OrbitOptions, Period, Settled};
-pub use stats::mean_and_stderr;
 pub use period::{PERIOD_MAX, settled_period};
+pub use stats::mean_and_stderr;
 pub use sweep::{
     Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, segments, sweep_columns,
     sweep_segments, theta_nu_grid,

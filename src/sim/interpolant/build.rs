@@ -1,0 +1,311 @@
+//! The construction of a [`MapInterpolant`]: sampling in lanes, the decay
+//! test, splitting at jumps or in the middle, and the check at independent
+//! points (the module's doc in `sim::interpolant` says how they fit).
+
+use super::{
+    CHECKS, FIELDS, InterpolantError, JUMP_WIDTH, MIN_PIECE, MapInterpolant, Piece, SAMPLINGS,
+    Sample, clenshaw_fields,
+};
+use crate::model::wrap_angle;
+use crate::numerics::chebyshev;
+use crate::sim::cycles_in_lanes;
+
+/// A piece being resolved: its ends and its samples so far.
+struct Pending {
+    a: f64,
+    b: f64,
+    samples: Vec<Sample>,
+}
+
+impl MapInterpolant {
+    /// The samples of the events at the onsets u + ψ, computed in lanes.
+    fn sample(&mut self, us: &[f64]) -> Result<Vec<Sample>, InterpolantError> {
+        let tasks: Vec<_> = us.iter().map(|u| (&self.sim, self.psi + u, 0.0)).collect();
+        self.evaluations += tasks.len();
+        let psi = self.psi;
+        let mut rhs = 0;
+        let out = cycles_in_lanes(&tasks)
+            .into_iter()
+            .map(|r| {
+                let e = r?;
+                rhs += e.rhs_evals;
+                Ok((
+                    [
+                        wrap_angle(e.theta_next - psi),
+                        0.0,
+                        e.stop_x,
+                        e.stop_y,
+                        e.accel_duration,
+                        e.slip_duration,
+                        e.peak_vr,
+                        e.stick_duration,
+                    ],
+                    e.restarted,
+                ))
+            })
+            .collect();
+        self.rhs_evals += rhs;
+        out
+    }
+
+    /// Resolves [a, b] (in θ − ψ) into verified pieces, at most `budget`.
+    pub(super) fn resolve(
+        &mut self,
+        a: f64,
+        b: f64,
+        budget: usize,
+    ) -> Result<Vec<Piece>, InterpolantError> {
+        let mut pending = vec![Pending {
+            a,
+            b,
+            samples: Vec::new(),
+        }];
+        let mut done: Vec<Piece> = Vec::new();
+        while !pending.is_empty() {
+            if pending.len() + done.len() > budget {
+                let narrowest = pending
+                    .iter()
+                    .min_by(|x, y| (x.b - x.a).total_cmp(&(y.b - y.a)))
+                    .map_or(a, |p| 0.5 * (p.a + p.b));
+                return Err(InterpolantError::Unresolved {
+                    tol: self.opts.tol,
+                    max_pieces: self.opts.max_pieces,
+                    near: self.psi + narrowest,
+                });
+            }
+            // Every pending piece's next points, in one batch of lanes.
+            let mut us = Vec::new();
+            let mut wanted = Vec::new();
+            for p in &pending {
+                let n = next_sampling(p.samples.len());
+                let x = chebyshev::points(n);
+                let new: Vec<usize> = if p.samples.is_empty() {
+                    (0..n).collect()
+                } else {
+                    (1..n).step_by(2).collect()
+                };
+                for &j in &new {
+                    us.push(0.5 * (p.a + p.b) + 0.5 * (p.b - p.a) * x[j]);
+                }
+                wanted.push(new.len());
+            }
+            let mut fresh = self.sample(&us)?.into_iter();
+            let mut next = Vec::new();
+            for (mut p, count) in pending.into_iter().zip(wanted) {
+                let new: Vec<Sample> = fresh.by_ref().take(count).collect();
+                p.samples = interleave(std::mem::take(&mut p.samples), new);
+                self.settle(p, &mut done, &mut next)?;
+            }
+            pending = next;
+            // The check at independent points: a piece that fails it is
+            // split and resolved again.
+            let mut checked = Vec::new();
+            for piece in done.drain(..) {
+                match self.check(&piece)? {
+                    true => checked.push(piece),
+                    false => {
+                        let (pa, pb) = piece.ends();
+                        let m = 0.5 * (pa + pb);
+                        for (a, b) in [(pa, m), (m, pb)] {
+                            pending.push(Pending {
+                                a,
+                                b,
+                                samples: Vec::new(),
+                            });
+                        }
+                    }
+                }
+            }
+            done = checked;
+        }
+        Ok(done)
+    }
+
+    /// What becomes of a sampled pending piece: a series (to be checked),
+    /// more points, or a split.
+    fn settle(
+        &mut self,
+        p: Pending,
+        done: &mut Vec<Piece>,
+        next: &mut Vec<Pending>,
+    ) -> Result<(), InterpolantError> {
+        let n = p.samples.len();
+        let restarts = p.samples.iter().any(|s| s.1);
+        if !restarts && let Some(piece) = self.series(p.a, p.b, &p.samples) {
+            done.push(piece);
+            return Ok(());
+        }
+        if n < SAMPLINGS[SAMPLINGS.len() - 1] && !restarts {
+            next.push(p);
+            return Ok(());
+        }
+        if p.b - p.a < MIN_PIECE {
+            done.push(Piece::Direct { a: p.a, b: p.b });
+            return Ok(());
+        }
+        let x = chebyshev::points(n);
+        let at = |j: usize| 0.5 * (p.a + p.b) + 0.5 * (p.b - p.a) * x[j];
+        // A jump: one gap between neighbouring samples holds a quarter of
+        // the variation, or the restart flag changes there.
+        let gaps: Vec<f64> = p
+            .samples
+            .windows(2)
+            .map(|w| {
+                let flag = if w[0].1 != w[1].1 { 1.0 } else { 0.0 };
+                (w[1].0[0] - w[0].0[0]).abs() + flag
+            })
+            .collect();
+        let total: f64 = gaps.iter().sum();
+        let (j, &largest) = gaps
+            .iter()
+            .enumerate()
+            .max_by(|x, y| x.1.total_cmp(y.1))
+            .unwrap_or((0, &0.0));
+        let mut halves = Vec::new();
+        if largest > 0.25 * total && largest > 1e3 * self.opts.tol {
+            // Samples run from b down to a.
+            let (jl, jr) =
+                self.bracket_jump((at(j + 1), p.samples[j + 1]), (at(j), p.samples[j]))?;
+            done.push(Piece::Direct { a: jl, b: jr });
+            halves.extend([(p.a, jl), (jr, p.b)]);
+        } else {
+            let m = 0.5 * (p.a + p.b);
+            halves.extend([(p.a, m), (m, p.b)]);
+        }
+        for (a, b) in halves {
+            if b > a {
+                next.push(Pending {
+                    a,
+                    b,
+                    samples: Vec::new(),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Narrows [l, r] (in θ − ψ, with their samples) around the jump to
+    /// [`JUMP_WIDTH`], keeping the half across which θ' changes most (or
+    /// the restart flag changes).
+    fn bracket_jump(
+        &mut self,
+        mut l: (f64, Sample),
+        mut r: (f64, Sample),
+    ) -> Result<(f64, f64), InterpolantError> {
+        let change =
+            |x: &Sample, y: &Sample| (x.0[0] - y.0[0]).abs() + if x.1 != y.1 { 10.0 } else { 0.0 };
+        while r.0 - l.0 > JUMP_WIDTH {
+            let m = 0.5 * (l.0 + r.0);
+            if m <= l.0 || m >= r.0 {
+                break;
+            }
+            let sm = self.sample(&[m])?[0];
+            if change(&l.1, &sm) >= change(&sm, &r.1) {
+                r = (m, sm);
+            } else {
+                l = (m, sm);
+            }
+        }
+        Ok((l.0, r.0))
+    }
+
+    /// The series of [a, b] from its samples at `points(n)`, when every
+    /// quantity is resolved.
+    fn series(&self, a: f64, b: f64, samples: &[Sample]) -> Option<Piece> {
+        let n = samples.len();
+        let column = |f: usize| -> Vec<f64> { samples.iter().map(|s| s.0[f]).collect() };
+        let c0 = chebyshev::coefficients(&column(0));
+        if !chebyshev::resolved(&c0, self.opts.tol) {
+            return None;
+        }
+        let mut table = vec![[0.0; FIELDS]; n];
+        let mut d = chebyshev::derivative(&c0);
+        let scale = 2.0 / (b - a);
+        d.iter_mut().for_each(|x| *x *= scale);
+        for k in 0..n {
+            table[k][0] = c0[k];
+            table[k][1] = d.get(k).copied().unwrap_or(0.0);
+        }
+        for f in 2..FIELDS {
+            let c = chebyshev::coefficients(&column(f));
+            for k in 0..n {
+                table[k][f] = c[k];
+            }
+        }
+        let cycle: Vec<f64> = table.iter().map(|c| c[5] + c[7]).collect();
+        let big = samples
+            .iter()
+            .fold(1.0_f64, |m, s| m.max((s.0[5] + s.0[7]).abs()));
+        Some(Piece::Series {
+            a,
+            b,
+            map: chebyshev::chop(&c0, self.opts.tol),
+            cycle: chebyshev::chop(&cycle, 1e-12 * big),
+            table,
+        })
+    }
+
+    /// Compares a piece with the direct map at [`CHECKS`]; says whether θ'
+    /// is within the tolerance there, and records the errors of the pieces
+    /// that pass.
+    fn check(&mut self, piece: &Piece) -> Result<bool, InterpolantError> {
+        let Piece::Series {
+            a, b, map, table, ..
+        } = piece
+        else {
+            return Ok(true);
+        };
+        let us: Vec<f64> = CHECKS.iter().map(|f| a + f * (b - a)).collect();
+        let direct = self.sample(&us)?;
+        let (mut ok, mut worst, mut worst_event) = (true, 0.0_f64, 0.0_f64);
+        for (u, (s, restarted)) in us.iter().zip(direct) {
+            let x = (2.0 * u - a - b) / (b - a);
+            let v = clenshaw_fields(table, x);
+            let map_err = (chebyshev::clenshaw(map, x) - s[0]).abs();
+            let mut ev_err: f64 = 0.0;
+            for f in 2..FIELDS {
+                ev_err = ev_err.max((v[f] - s[f]).abs() / s[f].abs().max(1.0));
+            }
+            worst = worst.max(map_err);
+            worst_event = worst_event.max(ev_err);
+            ok &= !restarted && map_err <= self.opts.tol;
+        }
+        let vf = &mut self.verification;
+        if ok {
+            vf.points += CHECKS.len();
+            vf.max_map_error = vf.max_map_error.max(worst);
+            vf.max_event_error = vf.max_event_error.max(worst_event);
+        } else {
+            vf.failed += 1;
+        }
+        Ok(ok)
+    }
+}
+
+/// The next number of points for a piece with `have` samples.
+fn next_sampling(have: usize) -> usize {
+    SAMPLINGS
+        .iter()
+        .copied()
+        .find(|&n| n > have)
+        .unwrap_or(SAMPLINGS[SAMPLINGS.len() - 1])
+}
+
+/// The samples at `points(2n − 1)` from those at `points(n)` (the even
+/// indices) and the new ones (the odd).
+fn interleave(old: Vec<Sample>, new: Vec<Sample>) -> Vec<Sample> {
+    if old.is_empty() {
+        return new;
+    }
+    let mut out = Vec::with_capacity(old.len() + new.len());
+    let mut new = new.into_iter();
+    for (i, s) in old.into_iter().enumerate() {
+        if i > 0
+            && let Some(m) = new.next()
+        {
+            out.push(m);
+        }
+        out.push(s);
+    }
+    out
+}
