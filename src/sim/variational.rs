@@ -13,6 +13,7 @@
 //! differentiated as they are computed.
 
 mod events;
+mod linear;
 mod stages;
 
 use std::ops::{Add, Div, Mul, Neg, Sub};

@@ -5,14 +5,16 @@
 //! right-hand side once per stage, in order; the right-hand side of a slip
 //! with derivatives hands each call to [`Tangents::eval`], which forms the
 //! tangent's stage argument Y + h Σ a_ij K_j itself, evaluates the field on
-//! [`Tan`] numbers (value and tangent at once) and returns the value. The
+//! its Jacobian from the values it computes, applies that to the tangent's
+//! directions (`variational::linear`) and returns the value. The
 //! caller says where a step begins ([`Tangents::begin`]), when the next
 //! evaluation is f(y_new) ([`Tangents::finishing`]) and when the slip moves
 //! on to the new state ([`Tangents::commit`]): anything else (dense output,
 //! event location) is evaluated plain.
 
-use super::{DIRS, Jet, TanField, split, tan_state};
+use super::{DIRS, Jet, TanField, linear, split, tan_state};
 use crate::integrate::{Method, State, tableau};
+use crate::sim::field::SlipField;
 
 /// The most stages of any method (DOP853's twelve).
 const MAX_STAGES: usize = 12;
@@ -41,6 +43,10 @@ pub(crate) enum Field {
 pub(crate) struct Tangents {
     /// The parameters with their directions.
     pub fld: TanField,
+    /// The same parameters' values, for the plain field.
+    plain: SlipField,
+    /// The tangents' arithmetic may use AVX2 (as the plain slip does).
+    avx2: bool,
     a: [[f64; MAX_STAGES]; MAX_STAGES],
     b: [f64; MAX_STAGES],
     stages: usize,
@@ -71,8 +77,19 @@ impl Tangents {
             Method::Rk4 => copy(&tableau::RK4, &mut a, &mut b),
             Method::Euler => copy(&tableau::EULER, &mut a, &mut b),
         };
+        let plain = SlipField {
+            kappa: fld.kappa.v,
+            two_gamma: fld.two_gamma.v,
+            omega: fld.omega.v,
+            v: [fld.v[0].v, fld.v[1].v],
+        };
         Box::new(Tangents {
             fld,
+            plain,
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
             a,
             b,
             stages,
@@ -89,15 +106,17 @@ impl Tangents {
         })
     }
 
-    /// Evaluates `field` at the state y with tangent t.
+    /// Evaluates `field` at the state y with tangent t: the slip's two
+    /// fields by their Jacobian applied to t, the stiff stop's motion (a
+    /// handful of steps per stop) on [`super::Tan`] numbers.
     #[inline(always)]
     pub fn field_at(&self, field: Field, y: &State, t: &Jet) -> (State, Jet) {
-        let s = tan_state(y, t);
-        split(&match field {
-            Field::Accel => self.fld.accel(&s),
-            Field::Decel => self.fld.decel(&s),
-            Field::Manifold => self.fld.manifold_motion(&s),
-        })
+        let (v, lin) = match field {
+            Field::Accel => linear::accel(&self.plain, y),
+            Field::Decel => linear::decel(&self.plain, y),
+            Field::Manifold => return split(&self.fld.manifold_motion(&tan_state(y, t))),
+        };
+        (v, lin.apply(t, &self.fld))
     }
 
     /// An attempt of length `h` from the current state begins.
@@ -156,6 +175,24 @@ impl Tangents {
     /// plain slip's) many times over for no gain.
     #[inline(never)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
+            return unsafe { self.eval_avx2(field, y) };
+        }
+        self.eval_impl(field, y)
+    }
+
+    /// [`Tangents::eval`] compiled with AVX2: a tangent is 24 numbers, six
+    /// 4-wide registers.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn eval_avx2(&mut self, field: Field, y: &State) -> Option<State> {
+        self.eval_impl(field, y)
+    }
+
+    #[inline(always)]
+    fn eval_impl(&mut self, field: Field, y: &State) -> Option<State> {
         match self.mode {
             Mode::Off => None,
             Mode::Stage => {
