@@ -27,6 +27,12 @@ pub(crate) struct Lin {
 }
 
 impl Lin {
+    /// A placeholder before the first evaluation.
+    pub const ZERO: Lin = Lin {
+        js: [[0.0; 4]; 2],
+        jp: [[0.0; 3]; 2],
+    };
+
     /// K = J·T + J_p·P for the state tangent `t` and the parameters' seeds
     /// in `fld`, direction by direction.
     #[inline(always)]

@@ -3,16 +3,20 @@
 //!
 //! The solver computes the state's stage arguments and calls the
 //! right-hand side once per stage, in order; the right-hand side of a slip
-//! with derivatives hands each call to [`Tangents::eval`], which forms the
-//! tangent's stage argument Y + h Σ a_ij K_j itself, evaluates the field on
-//! its Jacobian from the values it computes, applies that to the tangent's
-//! directions (`variational::linear`) and returns the value. The
-//! caller says where a step begins ([`Tangents::begin`]), when the next
-//! evaluation is f(y_new) ([`Tangents::finishing`]) and when the slip moves
-//! on to the new state ([`Tangents::commit`]): anything else (dense output,
-//! event location) is evaluated plain.
+//! with derivatives hands each call to [`Tangents::eval`], which computes
+//! the field's value and its Jacobian there (`variational::linear`), keeps
+//! the Jacobian and returns the value. The tangent's stages,
+//! K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, are formed only once the step is
+//! accepted ([`Tangents::commit`]): a rejected attempt costs the tangents
+//! nothing, and their arithmetic is one tight loop off the state's chain of
+//! dependent evaluations. The caller says where a step begins
+//! ([`Tangents::begin`]), when the next evaluation is f(y_new)
+//! ([`Tangents::finishing`]) and when the slip moves on to the new state
+//! ([`Tangents::commit`]): anything else (dense output, event location) is
+//! evaluated plain.
 
-use super::{DIRS, Jet, TanField, linear, split, tan_state};
+use super::linear::{self, Lin};
+use super::{DIRS, Jet, TanField, split, tan_state};
 use crate::integrate::{Method, State, tableau};
 use crate::sim::field::SlipField;
 
@@ -58,9 +62,15 @@ pub(crate) struct Tangents {
     h: f64,
     idx: usize,
     mode: Mode,
-    /// The accepted step's new tangent and f's, until `commit`.
-    new_y: Jet,
-    new_k: Jet,
+    /// The Jacobians at the attempt's stages, and at its new solution
+    /// (methods without FSAL).
+    lin: [Lin; MAX_STAGES],
+    lin_final: Lin,
+    /// The stiff stop's motion: its tangent stages are formed as they are
+    /// evaluated, and the new solution's tangent and f's kept for `commit`.
+    eager: bool,
+    final_y: Jet,
+    final_k: Jet,
     /// Evaluations beyond the plain cycle's (partial steps to events).
     pub extra_evals: u64,
 }
@@ -100,8 +110,11 @@ impl Tangents {
             h: 0.0,
             idx: 0,
             mode: Mode::Off,
-            new_y: [[0.0; DIRS]; 4],
-            new_k: [[0.0; DIRS]; 4],
+            lin: [Lin::ZERO; MAX_STAGES],
+            lin_final: Lin::ZERO,
+            eager: false,
+            final_y: [[0.0; DIRS]; 4],
+            final_k: [[0.0; DIRS]; 4],
             extra_evals: 0,
         })
     }
@@ -137,31 +150,48 @@ impl Tangents {
     /// The attempt is over (accepted or not); later evaluations are plain.
     #[inline(always)]
     pub fn end(&mut self) {
-        if self.mode == Mode::Final && self.fsal {
-            self.new_y = self.combine(&self.b);
-            self.new_k = self.k[self.stages - 1];
-        }
         self.mode = Mode::Off;
     }
 
-    /// The integration moves on to the accepted step's new state.
+    /// The integration moves on to the accepted step's new state: the
+    /// tangent's stages from the Jacobians the attempt kept, and its new
+    /// tangent and f's there.
     #[inline(always)]
     pub fn commit(&mut self) {
-        self.y = self.new_y;
-        self.k0 = self.new_k;
+        if self.eager {
+            (self.y, self.k0) = if self.fsal {
+                (self.combine(&self.b), self.k[self.stages - 1])
+            } else {
+                (self.final_y, self.final_k)
+            };
+            return;
+        }
+        for i in 1..self.stages {
+            let t = self.combine(&self.a[i]);
+            self.k[i] = self.lin[i].apply(&t, &self.fld);
+        }
+        let y = self.combine(&self.b);
+        self.k0 = if self.fsal {
+            self.k[self.stages - 1]
+        } else {
+            self.lin_final.apply(&y, &self.fld)
+        };
+        self.y = y;
     }
 
-    /// Y + h Σ_j w_j K_j over the stages so far.
+    /// Y + h Σ_j w_j K_j over the stages so far. A tangent's 24 numbers
+    /// are taken as one flat run, so that the sums go four at a time
+    /// (rows of six do not fill 4-wide registers).
     #[inline(always)]
     fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
         let mut out = self.y;
-        for (j, &wj) in w.iter().enumerate().take(self.stages) {
+        for (kj, &wj) in self.k.iter().zip(w).take(self.stages) {
             if wj != 0.0 {
                 let hw = self.h * wj;
-                for c in 0..4 {
-                    for i in 0..DIRS {
-                        out[c][i] += hw * self.k[j][c][i];
-                    }
+                let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
+                let kf: &[f64; 4 * DIRS] = kj.as_flattened().try_into().expect("4 × DIRS");
+                for (o, &x) in flat.iter_mut().zip(kf) {
+                    *o += hw * x;
                 }
             }
         }
@@ -198,18 +228,39 @@ impl Tangents {
             Mode::Stage => {
                 let i = self.idx;
                 self.idx += 1;
-                let t = self.combine(&self.a[i]);
-                let (v, k) = self.field_at(field, y, &t);
-                self.k[i] = k;
+                let Some((v, lin)) = self.linearize(field, y) else {
+                    self.eager = true;
+                    let t = self.combine(&self.a[i]);
+                    let (v, k) = self.field_at(field, y, &t);
+                    self.k[i] = k;
+                    return Some(v);
+                };
+                self.lin[i] = lin;
                 Some(v)
             }
             Mode::Final => {
-                let t = self.combine(&self.b);
-                let (v, k) = self.field_at(field, y, &t);
-                self.new_y = t;
-                self.new_k = k;
+                let Some((v, lin)) = self.linearize(field, y) else {
+                    self.eager = true;
+                    let t = self.combine(&self.b);
+                    let (v, k) = self.field_at(field, y, &t);
+                    (self.final_y, self.final_k) = (t, k);
+                    return Some(v);
+                };
+                self.lin_final = lin;
                 Some(v)
             }
+        }
+    }
+
+    /// The slip's field and its Jacobian at `y`; `None` for the stiff
+    /// stop's motion, whose tangent is carried on [`super::Tan`] numbers
+    /// (a handful of steps per stop) and formed stage by stage.
+    #[inline(always)]
+    fn linearize(&self, field: Field, y: &State) -> Option<(State, Lin)> {
+        match field {
+            Field::Accel => Some(linear::accel(&self.plain, y)),
+            Field::Decel => Some(linear::decel(&self.plain, y)),
+            Field::Manifold => None,
         }
     }
 
