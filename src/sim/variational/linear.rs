@@ -36,7 +36,7 @@ impl Lin {
     /// K = J·T + J_p·P for the state tangent `t` and the parameters' seeds
     /// in `fld`, direction by direction.
     #[inline(always)]
-    pub fn apply(&self, t: &Jet, fld: &TanField) -> Jet {
+    pub fn apply<const FMA: bool>(&self, t: &Jet, fld: &TanField) -> Jet {
         let mut k = [[0.0; DIRS]; 4];
         let [r2, r3] = self.js;
         let [p2, p3] = self.jp;
@@ -44,19 +44,25 @@ impl Lin {
             let (kp, gp, op) = (fld.kappa.d[i], fld.two_gamma.d[i], fld.omega.d[i]);
             k[0][i] = t[2][i] + fld.v[0].d[i];
             k[1][i] = t[3][i] + fld.v[1].d[i];
-            k[2][i] = r2[0] * t[0][i]
-                + r2[1] * t[1][i]
-                + r2[2] * t[2][i]
-                + r2[3] * t[3][i]
-                + (p2[0] * kp + p2[1] * gp + p2[2] * op);
-            k[3][i] = r3[0] * t[0][i]
-                + r3[1] * t[1][i]
-                + r3[2] * t[2][i]
-                + r3[3] * t[3][i]
-                + (p3[0] * kp + p3[1] * gp + p3[2] * op);
+            let row = |r: [f64; 4], p: [f64; 3]| {
+                let mut acc = madd::<FMA>(p[0], kp, madd::<FMA>(p[1], gp, p[2] * op));
+                for (c, &rc) in r.iter().enumerate() {
+                    acc = madd::<FMA>(rc, t[c][i], acc);
+                }
+                acc
+            };
+            k[2][i] = row(r2, p2);
+            k[3][i] = row(r3, p3);
         }
         k
     }
+}
+
+/// a·b + c, fused (one rounding) when `FMA`: only in code compiled with
+/// the `fma` target feature, where it is one instruction.
+#[inline(always)]
+pub(crate) fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA { a.mul_add(b, c) } else { a * b + c }
 }
 
 /// [`SlipField::accel`] (its value, operation for operation, so bitwise
@@ -199,7 +205,7 @@ mod tests {
                 pairs.push((decel(&field, &y), split(&fld.decel(&s)), field.decel(&y)));
             }
             for ((v, lin), (tv, tt), plain) in pairs {
-                let k = lin.apply(&t, &fld);
+                let k = lin.apply::<false>(&t, &fld);
                 for c in 0..4 {
                     assert_eq!(v[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");
                     assert_eq!(tv[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");

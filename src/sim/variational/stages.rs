@@ -51,8 +51,15 @@ pub(crate) struct Tangents {
     plain: SlipField,
     /// The tangents' arithmetic may use AVX2 (as the plain slip does).
     avx2: bool,
+    /// The accepted step's tangent arithmetic may fuse its multiply-adds.
+    fma: bool,
     a: [[f64; MAX_STAGES]; MAX_STAGES],
     b: [f64; MAX_STAGES],
+    /// The stages each row of a (and, last, b) weighs: the nonzero
+    /// coefficients' columns, so that the tangent's sums skip the zeros
+    /// without a branch per coefficient.
+    nz: [[u8; MAX_STAGES]; MAX_STAGES + 1],
+    nz_len: [u8; MAX_STAGES + 1],
     stages: usize,
     fsal: bool,
     /// The tangent of the current state, and of f there.
@@ -87,6 +94,17 @@ impl Tangents {
             Method::Rk4 => copy(&tableau::RK4, &mut a, &mut b),
             Method::Euler => copy(&tableau::EULER, &mut a, &mut b),
         };
+        let mut nz = [[0u8; MAX_STAGES]; MAX_STAGES + 1];
+        let mut nz_len = [0u8; MAX_STAGES + 1];
+        for (row, w) in a.iter().take(stages).chain([&b]).enumerate() {
+            let r = if row < stages { row } else { MAX_STAGES };
+            for (j, &x) in w.iter().enumerate().take(stages) {
+                if x != 0.0 {
+                    nz[r][nz_len[r] as usize] = j as u8;
+                    nz_len[r] += 1;
+                }
+            }
+        }
         let plain = SlipField {
             kappa: fld.kappa.v,
             two_gamma: fld.two_gamma.v,
@@ -100,6 +118,13 @@ impl Tangents {
             avx2: std::arch::is_x86_feature_detected!("avx2"),
             #[cfg(not(target_arch = "x86_64"))]
             avx2: false,
+            #[cfg(target_arch = "x86_64")]
+            fma: std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma"),
+            #[cfg(not(target_arch = "x86_64"))]
+            fma: false,
+            nz,
+            nz_len,
             a,
             b,
             stages,
@@ -129,7 +154,7 @@ impl Tangents {
             Field::Decel => linear::decel(&self.plain, y),
             Field::Manifold => return split(&self.fld.manifold_motion(&tan_state(y, t))),
         };
-        (v, lin.apply(t, &self.fld))
+        (v, lin.apply::<false>(t, &self.fld))
     }
 
     /// An attempt of length `h` from the current state begins.
@@ -166,24 +191,69 @@ impl Tangents {
             };
             return;
         }
-        for i in 1..self.stages {
-            let t = self.combine(&self.a[i]);
-            self.k[i] = self.lin[i].apply(&t, &self.fld);
+        #[cfg(target_arch = "x86_64")]
+        if self.fma {
+            // SAFETY: `fma` was set from `is_x86_feature_detected!` for
+            // both features.
+            return unsafe { self.commit_fma() };
         }
-        let y = self.combine(&self.b);
+        self.commit_lazy::<false>();
+    }
+
+    /// [`Tangents::commit`] with fused multiply-adds: the tangents are not
+    /// the values that choose steps, so their last bits may differ by CPU
+    /// (the values, and so the steps, never do).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn commit_fma(&mut self) {
+        self.commit_lazy::<true>();
+    }
+
+    #[inline(always)]
+    fn commit_lazy<const FMA: bool>(&mut self) {
+        for i in 1..self.stages {
+            let t = self.combine_sparse::<FMA>(&self.a[i], i);
+            self.k[i] = self.lin[i].apply::<FMA>(&t, &self.fld);
+        }
+        let y = self.combine_sparse::<FMA>(&self.b, MAX_STAGES);
         self.k0 = if self.fsal {
             self.k[self.stages - 1]
         } else {
-            self.lin_final.apply(&y, &self.fld)
+            self.lin_final.apply::<FMA>(&y, &self.fld)
         };
         self.y = y;
+    }
+
+    /// Y + h Σ_j w_j K_j over row `row`'s nonzero weights `w` (a's rows,
+    /// or `MAX_STAGES` for b). A tangent's 24 numbers are taken as one flat
+    /// run, so that the sums go four at a time (rows of six do not fill
+    /// 4-wide registers).
+    #[inline(always)]
+    fn combine_sparse<const FMA: bool>(&self, w: &[f64; MAX_STAGES], row: usize) -> Jet {
+        let mut out = self.y;
+        let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
+        for &j in &self.nz[row][..self.nz_len[row] as usize] {
+            let j = j as usize;
+            let hw = self.h * w[j];
+            let kf: &[f64; 4 * DIRS] = self.k[j].as_flattened().try_into().expect("4 × DIRS");
+            for (o, &x) in flat.iter_mut().zip(kf) {
+                *o = linear::madd::<FMA>(hw, x, *o);
+            }
+        }
+        out
+    }
+
+    /// [`Tangents::combine_with`], unfused.
+    #[inline(always)]
+    fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
+        self.combine_with::<false>(w)
     }
 
     /// Y + h Σ_j w_j K_j over the stages so far. A tangent's 24 numbers
     /// are taken as one flat run, so that the sums go four at a time
     /// (rows of six do not fill 4-wide registers).
     #[inline(always)]
-    fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
+    fn combine_with<const FMA: bool>(&self, w: &[f64; MAX_STAGES]) -> Jet {
         let mut out = self.y;
         for (kj, &wj) in self.k.iter().zip(w).take(self.stages) {
             if wj != 0.0 {
@@ -191,7 +261,7 @@ impl Tangents {
                 let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
                 let kf: &[f64; 4 * DIRS] = kj.as_flattened().try_into().expect("4 × DIRS");
                 for (o, &x) in flat.iter_mut().zip(kf) {
-                    *o += hw * x;
+                    *o = linear::madd::<FMA>(hw, x, *o);
                 }
             }
         }
