@@ -18,6 +18,7 @@ pub mod variational;
 
 pub use analysis::{
     DERIVATIVE_STEP, cycle_with_derivative, fixed_point, map_derivative, map_graph_grid,
+    slope_counts,
     return_map_window,
 };
 pub use cycle::{
