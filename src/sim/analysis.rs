@@ -15,7 +15,10 @@ static SLOPES: [AtomicU64; 2] = [AtomicU64::new(0), AtomicU64::new(0)];
 /// because f has no derivative there (docs/derivatives.md gives the share
 /// on the paper's phase grid).
 pub fn slope_counts() -> (u64, u64) {
-    (SLOPES[0].load(Ordering::Relaxed), SLOPES[1].load(Ordering::Relaxed))
+    (
+        SLOPES[0].load(Ordering::Relaxed),
+        SLOPES[1].load(Ordering::Relaxed),
+    )
 }
 
 /// Counts one f'(θ), `secant` when it was the difference's.

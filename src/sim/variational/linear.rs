@@ -87,12 +87,7 @@ pub(crate) fn accel(f: &SlipField, s: &State) -> (State, Lin) {
     let (sn, cs) = trig::sin_cos(turn);
     let phi = f.phi(vr);
     let (ux, uy) = (ex * cs - ey * sn, ex * sn + ey * cs);
-    let value = [
-        a + f.v[0],
-        b + f.v[1],
-        fx - phi * ux,
-        fy - phi * uy,
-    ];
+    let value = [a + f.v[0], b + f.v[1], fx - phi * ux, fy - phi * uy];
     let w = e + 1.0;
     let inv_f2 = inv_f * inv_f;
     // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
@@ -149,12 +144,7 @@ pub(crate) fn decel(f: &SlipField, s: &State) -> (State, Lin) {
     let q = a * a + b * b;
     let vr = q.sqrt();
     let c = 1.0 / (vr + f.two_gamma * q);
-    let value = [
-        a + f.v[0],
-        b + f.v[1],
-        -f.kappa * x - c * a,
-        -y - c * b,
-    ];
+    let value = [a + f.v[0], b + f.v[1], -f.kappa * x - c * a, -y - c * b];
     // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
     let c2 = c * c;
     let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);

@@ -258,7 +258,8 @@ impl Tangents {
         for (kj, &wj) in self.k.iter().zip(w).take(self.stages) {
             if wj != 0.0 {
                 let hw = self.h * wj;
-                let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
+                let flat: &mut [f64; 4 * DIRS] =
+                    out.as_flattened_mut().try_into().expect("4 × DIRS");
                 let kf: &[f64; 4 * DIRS] = kj.as_flattened().try_into().expect("4 × DIRS");
                 for (o, &x) in flat.iter_mut().zip(kf) {
                     *o = linear::madd::<FMA>(hw, x, *o);
