@@ -165,7 +165,7 @@ impl Intermittency {
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         writeln!(
             s,
-            "# large slip: {measure} >= {} ({LARGE_FRACTION} x the largest unless given); \
+            "# large slip: {measure} >= {} ({LARGE_FRACTION} x the largest); \
              {} large, {} creep; {} complete laminar phases, mean length {} +- {}",
             self.threshold,
             self.large,
