@@ -7,6 +7,7 @@
 //! - [`style`], [`describe`], [`backend`]: colours and legends, the words
 //!   for a regime or an attractor, the worker behind a trait.
 //! - [`settings`]: everything that persists, and its sanitising on load.
+//! - [`axes`]: ticks and axis titles for every plot (and for exports).
 //! - [`data`], [`phase_data`]: what the worker sent for each kind of job.
 //! - [`jobs`]: the job model: one slot per job, `apply(Update)`, the
 //!   debounces, the phase grid's policy, each job's solver setting.
@@ -20,6 +21,7 @@
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
+pub mod axes;
 pub mod backend;
 pub mod bifurcation;
 pub mod block;
