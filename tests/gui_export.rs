@@ -98,3 +98,132 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
     assert_eq!(lines[1], "0,1,1,-0.2,,40,FP,");
     assert!(lines[900].starts_with("1.5707963267948966,42,0,0.3,,40,chaos,0.05"));
 }
+
+/// Whether `xvfb-run` is here (the real-window tests need it; CI installs it).
+fn have_xvfb() -> bool {
+    std::process::Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// `oneblock gui --session S --screenshot out.svg` under Xvfb for every
+/// view (a session with small grids, so that it is quick and also checks
+/// that a session renders headless): each SVG parses, labels its axes with
+/// at least five numeric ticks written as text, and has the series the
+/// view draws.
+#[test]
+fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
+    use oneblock::app::ViewKind;
+    use oneblock::app::session::Session;
+    use oneblock::app::settings::Layout;
+    if !have_xvfb() {
+        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
+        eprintln!("note: xvfb-run not found; SVG window test skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let xdg = dir.path().join("xdg");
+    std::fs::create_dir(&xdg).expect("xdg");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).expect("mode");
+    }
+    // The fewest series each view draws on the Fig. 3b orbit.
+    let expect = [
+        (ViewKind::Plane, 2),
+        (ViewKind::Block, 1),
+        (ViewKind::Bifurcation, 1),
+        (ViewKind::ReturnMap, 2),
+        (ViewKind::Events, 2),
+        (ViewKind::Numerics, 1),
+        (ViewKind::Phase, 1),
+    ];
+    for (v, min_series) in expect {
+        let mut s = Settings {
+            layout: Layout::Tabs,
+            tab: v,
+            columns: 60,
+            sweep_transient: 60,
+            sweep_keep: 40,
+            trajectory_cycles: 40,
+            ..Settings::default()
+        };
+        s.phase.theta_nu_steps = 6;
+        s.phase.kappa_steps = 6;
+        let session = dir.path().join(format!("{}.json", v.key()));
+        std::fs::write(
+            &session,
+            Session {
+                settings: s,
+                bifurcation_zoom: vec![],
+            }
+            .to_json(),
+        )
+        .expect("session");
+        let svg = dir.path().join(format!("{}.svg", v.key()));
+        let out = std::process::Command::new("timeout")
+            .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+            .arg(env!("CARGO_BIN_EXE_oneblock"))
+            .args(["gui", "--timeout", "300", "--session"])
+            .arg(&session)
+            .arg("--screenshot")
+            .arg(&svg)
+            .env("XDG_RUNTIME_DIR", &xdg)
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{}: {err}", v.key());
+        assert!(!err.contains("warning: session"), "{err}");
+        let text = std::fs::read_to_string(&svg).expect("svg");
+        let (texts, series) = parse_svg(&text);
+        let numeric = texts
+            .iter()
+            .filter(|t| t.replace('−', "-").trim().parse::<f64>().is_ok())
+            .count();
+        assert!(
+            numeric >= 5,
+            "{}: {numeric} numeric tick labels in {texts:?}",
+            v.key()
+        );
+        assert!(
+            series.len() >= min_series,
+            "{}: series {series:?}",
+            v.key()
+        );
+    }
+}
+
+/// The texts and the distinct series (`data-series`) of an SVG, which must
+/// parse as XML to the end.
+fn parse_svg(text: &str) -> (Vec<String>, std::collections::BTreeSet<String>) {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(text);
+    let (mut texts, mut series) = (Vec::new(), std::collections::BTreeSet::new());
+    let mut in_text = false;
+    let mut root = false;
+    loop {
+        match r.read_event().expect("the SVG parses") {
+            Event::Start(e) | Event::Empty(e) => {
+                root |= e.name().as_ref() == b"svg";
+                in_text = e.name().as_ref() == b"text";
+                for a in e.attributes().flatten() {
+                    if a.key.as_ref() == b"data-series" {
+                        series.insert(String::from_utf8_lossy(&a.value).to_string());
+                    }
+                }
+            }
+            Event::Text(t) if in_text => {
+                texts.push(String::from_utf8_lossy(t.as_ref()).to_string());
+            }
+            Event::End(_) => in_text = false,
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert!(root, "no <svg> element");
+    (texts, series)
+}
