@@ -92,6 +92,7 @@ fn points_d(points: &[Pos2], closed: bool) -> String {
 /// The SVG writer: shapes in, one document out.
 pub struct SvgWriter<'a> {
     frames: &'a [PlotFrame],
+    screen: Rect,
     textures: &'a Textures,
     body: String,
     defs: String,
@@ -104,11 +105,15 @@ fn same_rect(a: Rect, b: Rect) -> bool {
 }
 
 impl<'a> SvgWriter<'a> {
-    /// A writer for shapes whose plots have these frames, showing these
-    /// textures.
-    pub fn new(frames: &'a [PlotFrame], textures: &'a Textures) -> Self {
+    /// A writer for shapes drawn over `screen` whose plots have these
+    /// frames, showing these textures. Without frames, every clip
+    /// rectangle smaller than the screen is taken for a plot's (egui_plot
+    /// clips its items to its frame; the rest of a view is clipped to the
+    /// screen).
+    pub fn new(screen: Rect, frames: &'a [PlotFrame], textures: &'a Textures) -> Self {
         SvgWriter {
             frames,
+            screen,
             textures,
             body: String::new(),
             defs: String::new(),
@@ -116,12 +121,16 @@ impl<'a> SvgWriter<'a> {
         }
     }
 
-    /// The plot whose frame is this clip rectangle, if any.
-    fn plot_of(&self, clip: Rect) -> Option<&'static str> {
+    /// The plot whose frame is the clip rectangle `clip` (number `id`),
+    /// if any.
+    fn plot_of(&self, clip: Rect, id: usize) -> Option<String> {
+        if self.frames.is_empty() {
+            return (!same_rect(clip, self.screen)).then(|| format!("plot{id}"));
+        }
         self.frames
             .iter()
             .find(|(_, f)| same_rect(*f, clip) || f.contains_rect(clip) && clip.area() > 0.0)
-            .map(|(n, _)| *n)
+            .map(|(n, _)| n.to_string())
     }
 
     fn clip_id(&mut self, clip: Rect) -> usize {
@@ -149,10 +158,10 @@ impl<'a> SvgWriter<'a> {
             if !clip.is_positive() {
                 continue;
             }
-            let plot = self.plot_of(clip);
             let id = self.clip_id(clip);
+            let plot = self.plot_of(clip, id);
             let mut out = String::new();
-            self.shape(&cs.shape, plot, &mut out);
+            self.shape(&cs.shape, plot.as_deref(), &mut out);
             if !out.is_empty() {
                 writeln!(self.body, "<g clip-path=\"url(#c{id})\">{out}</g>").ok();
             }
@@ -170,7 +179,7 @@ impl<'a> SvgWriter<'a> {
         }
     }
 
-    fn shape(&self, shape: &Shape, plot: Option<&'static str>, out: &mut String) {
+    fn shape(&self, shape: &Shape, plot: Option<&str>, out: &mut String) {
         match shape {
             Shape::Noop | Shape::Callback(_) => {}
             Shape::Vec(v) => {
@@ -324,7 +333,7 @@ impl<'a> SvgWriter<'a> {
 
     /// A textured mesh (a plot image) as an embedded PNG over the mesh's
     /// bounds; an untextured one as its triangles.
-    fn mesh(&self, m: &Mesh, plot: Option<&'static str>, out: &mut String) {
+    fn mesh(&self, m: &Mesh, plot: Option<&str>, out: &mut String) {
         if m.vertices.is_empty() {
             return;
         }

@@ -105,7 +105,7 @@ pub fn render_svg(
     }
     // The font atlas is not needed: text is written as text.
     textures.remove(&egui::TextureId::default());
-    let mut w = SvgWriter::new(&frames, &textures);
+    let mut w = SvgWriter::new(area, &frames, &textures);
     w.add(&shapes);
     let bg = ctx.global_style().visuals.panel_fill;
     w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
