@@ -168,13 +168,21 @@ impl<'a> SvgWriter<'a> {
         }
     }
 
+    /// The series attributes of a shape of colour `c` in `plot`. The
+    /// colour is rounded to 3 bits per channel: one series drawn with
+    /// slightly different alphas (markers over a line) stays one series.
     fn series(plot: Option<&str>, c: Color32) -> String {
         match plot {
-            Some(p) => format!(
-                " class=\"series\" data-series=\"{}:{}\"",
-                escape(p),
-                colour(c).0
-            ),
+            Some(p) => {
+                let [r, g, b, _] = c.to_srgba_unmultiplied();
+                format!(
+                    " class=\"series\" data-series=\"{}:{:x}{:x}{:x}\"",
+                    escape(p),
+                    r >> 5,
+                    g >> 5,
+                    b >> 5
+                )
+            }
             None => String::new(),
         }
     }
@@ -342,7 +350,9 @@ impl<'a> SvgWriter<'a> {
             let Ok(png) = super::screenshot::encode_png(img, None, 1.0) else {
                 return;
             };
-            let tag = Self::series(plot, Color32::WHITE);
+            let tag = plot.map_or(String::new(), |p| {
+                format!(" class=\"series\" data-series=\"{}:image\"", escape(p))
+            });
             write!(
                 out,
                 "<image x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" preserveAspectRatio=\"none\"{tag} href=\"data:image/png;base64,{}\"/>",
@@ -437,9 +447,19 @@ fn text(t: &TextShape, out: &mut String) {
         }
         let x = t.pos.x + row.pos.x + first.pos.x;
         let y = t.pos.y + row.pos.y + first.pos.y;
+        // The width egui laid the row out at: another renderer's font
+        // stretches to it, so right-aligned and centred text stays put.
+        let width = row
+            .row
+            .glyphs
+            .iter()
+            .rev()
+            .find(|gl| !gl.chr.is_whitespace())
+            .map_or(0.0, |gl| gl.pos.x + gl.advance_width - first.pos.x);
         write!(
             out,
-            "<text x=\"{x:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} xml:space=\"preserve\">{}</text>",
+            "<text x=\"{x:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} textLength=\"{width:.2}\" \
+             lengthAdjust=\"spacingAndGlyphs\" xml:space=\"preserve\">{}</text>",
             paint("fill", c),
             escape(s)
         )
