@@ -89,3 +89,54 @@ fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
     assert_eq!(s.phase, g.phase);
     assert_eq!(l.session.bifurcation_zoom, good.bifurcation_zoom);
 }
+
+/// The Events view states the laminar statistics of the events after the
+/// transient: a synthetic run whose lengths are known.
+#[test]
+fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient() {
+    #[path = "common/window.rs"]
+    mod window;
+    use egui_kittest::kittest::Queryable;
+    use oneblock::app::Recorder;
+    use oneblock::worker::{Command, Update};
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::Events,
+        ..Settings::default()
+    };
+    let mut h = window::harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    // 40 events: the first 10 (a quarter, the transient) are left out;
+    // then large slips (0.8) with 4, 6, 6 and 3 creep slips (3e-3) between.
+    let mut sizes = vec![0.5; 10];
+    sizes.push(0.8);
+    for l in [4, 6, 6, 3] {
+        sizes.extend(std::iter::repeat_n(3e-3, l));
+        sizes.push(0.8);
+    }
+    sizes.extend(std::iter::repeat_n(3e-3, 40 - sizes.len()));
+    assert_eq!(sizes.len(), 40);
+    for (i, d) in sizes.iter().enumerate() {
+        let mut e = window::event(0.5, 0.5, i as f64);
+        e.slip_distance = *d;
+        rec.push(Update::Slip {
+            generation: g,
+            event: e,
+        });
+    }
+    h.run_steps(3);
+    let label = "5 large, 25 creep · 4 laminar phases, mean laminar length 4.8";
+    assert!(
+        h.query_by_label_contains(label).is_some(),
+        "no label containing {label:?}"
+    );
+}

@@ -163,3 +163,29 @@ fn orbit_stats_refuses_stdout_and_the_out_file() {
     b.extend(["--out".into(), f.clone(), "--stats".into(), f]);
     assert_bad_input(&b, "--stats");
 }
+
+#[test]
+fn the_intermittent_window_has_a_lower_end_and_its_laminar_phases_shorten_there() {
+    use oneblock::sim::intermittency::{CRITICAL_RESOLUTION, scaling};
+    use oneblock::{Method, SolverSettings};
+    let p = oneblock::model::preset("intermittent")
+        .expect("preset")
+        .params;
+    let sc = scaling(p, SolverSettings::adaptive(Method::Dop853, 1e-8), &|| false)
+        .expect("scan")
+        .expect("θν = 1.4 is intermittent, with a lower end within 0.4");
+    // Measured with `oneblock orbit --stats` at tol 1e-8: mean laminar
+    // length 0.69 at θν = 1.245, 1.76 at 1.247, 4.85 at 1.25 (≥ 2 is
+    // intermittent here).
+    assert!(
+        (1.245 - CRITICAL_RESOLUTION..1.25 + CRITICAL_RESOLUTION).contains(&sc.theta_nu_c),
+        "{}",
+        sc.theta_nu_c
+    );
+    assert!(sc.points.len() >= 5, "{:?}", sc.points);
+    // Here the phases get shorter towards θν_c, not longer as in type-I
+    // intermittency: the fitted slope is positive and −1/2 is not claimed.
+    let (slope, _) = sc.fit.expect("fit");
+    assert!(slope > 0.0, "{slope} from {:?}", sc.points);
+    assert!(!sc.supports_type_one());
+}

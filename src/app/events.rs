@@ -14,7 +14,14 @@ use super::settings::{Settings, SlipMeasure, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::sim::SlipEvent;
-use crate::sim::intermittency::{Intermittency, length_counts};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use crossbeam_channel::Receiver;
+
+use crate::integrate::{Method, SolverSettings};
+use crate::model::Params;
+use crate::sim::intermittency::{Intermittency, Scaling, TYPE_ONE_SLOPE, length_counts, scaling};
 
 /// Beyond this many events the series is drawn as a min/max envelope.
 const MAX_MARKERS: usize = 1500;
@@ -68,12 +75,108 @@ struct StatsCache {
     skipped: usize,
 }
 
+/// A scan of the mean laminar length against θν − θν_c, on a thread of
+/// its own (a few dozen orbits, seconds): cancelled when the parameters
+/// change or the view goes.
+struct ScalingJob {
+    params: Params,
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<Result<Option<Scaling>, String>>,
+}
+
+impl Drop for ScalingJob {
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
+    }
+}
+
+/// The scan's accuracy: the orbits' slip sizes to ~1e-8.
+fn scaling_settings() -> SolverSettings {
+    SolverSettings::adaptive(Method::Dop853, 1e-8)
+}
+
 #[derive(Default)]
 pub struct EventsView {
     cache: StatsCache,
+    job: Option<ScalingJob>,
+    /// The last scan's parameters and outcome.
+    scaled: Option<(Params, Result<Option<Scaling>, String>)>,
 }
 
 impl EventsView {
+    /// Starts the scan for `params` on a thread.
+    fn start_scaling(&mut self, ctx: &egui::Context, params: Params) {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        let (c, ctx) = (cancel.clone(), ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("oneblock-scaling".into())
+            .spawn(move || {
+                crate::worker::priority::lower_current_thread();
+                let r = scaling(params, scaling_settings(), &|| c.load(Ordering::Relaxed))
+                    .map_err(|e| e.to_string());
+                tx.send(r).ok();
+                ctx.request_repaint();
+            });
+        self.job = spawned.is_ok().then_some(ScalingJob { params, cancel, rx });
+    }
+
+    /// Collects the scan, or drops it when the parameters moved on.
+    fn poll_scaling(&mut self, params: &Params) {
+        let Some(job) = &self.job else { return };
+        if job.params != *params {
+            self.job = None;
+            return;
+        }
+        if let Ok(r) = job.rx.try_recv() {
+            self.scaled = Some((job.params, r));
+            self.job = None;
+        }
+    }
+
+    fn scaling_row_ui(&mut self, ui: &mut Ui, params: &Params) {
+        ui.horizontal_wrapped(|ui| {
+            if self.job.is_some() {
+                ui.spinner();
+                ui.label("measuring ⟨ℓ⟩ against θν − θν_c …");
+            } else if ui
+                .small_button("⟨ℓ⟩ vs θν − θν_c")
+                .on_hover_text(
+                    "Locate the lower end θν_c of the intermittent window below θν (by \
+                     bisection, to 1e-3) and measure the mean laminar length at θν_c + \
+                     (θν − θν_c)/2^k, k = 0…6, on log–log axes beside type-I \
+                     intermittency's slope −1/2 when the fitted slope is within 0.15 of it. \
+                     About 20 orbits of 2300 iterates, on a thread of its own.",
+                )
+                .clicked()
+            {
+                self.start_scaling(ui.ctx(), *params);
+            }
+            match &self.scaled {
+                Some((p, Ok(Some(sc)))) if p == params => {
+                    let fit = sc.fit.map_or("no fit (under 3 points)".into(), |(s, _)| {
+                        format!(
+                            "slope {s:.2}: {}",
+                            if sc.supports_type_one() {
+                                "type-I (−1/2) supported"
+                            } else {
+                                "not type-I (−1/2)"
+                            }
+                        )
+                    });
+                    ui.label(format!("θν_c ≈ {:.3} · {fit}", sc.theta_nu_c));
+                }
+                Some((p, Ok(None))) if p == params => {
+                    ui.label("not intermittent here, or no lower end within 0.4 below θν");
+                }
+                Some((p, Err(e))) if p == params => {
+                    ui.colored_label(style::ERROR, format!("scan failed: {e}"));
+                }
+                _ => {}
+            }
+        });
+    }
+
     fn stats(&mut self, jobs: &Jobs, m: SlipMeasure) -> (&Option<Intermittency>, usize) {
         let evs = &jobs.trajectory.data.events;
         let key = (
@@ -122,6 +225,13 @@ impl EventsView {
                  statistics as CSV.",
             );
         }
+        let params = s.params;
+        self.poll_scaling(&params);
+        self.scaling_row_ui(ui, &params);
+        let scaled = match &self.scaled {
+            Some((p, Ok(Some(sc)))) if *p == params => Some(sc.clone()),
+            _ => None,
+        };
         let h = ui.available_height();
         let width = ui.available_width();
         let threshold = stats.as_ref().map(|s| s.threshold);
@@ -164,9 +274,13 @@ impl EventsView {
                 });
             });
             ui.vertical(|ui| {
-                let half = (h - 16.0) / 2.0;
-                size_distribution_ui(ui, stats.as_ref(), unit, half);
-                laminar_ui(ui, stats.as_ref(), half);
+                let n = if scaled.is_some() { 3.0 } else { 2.0 };
+                let part = (h - 8.0 * n) / n;
+                size_distribution_ui(ui, stats.as_ref(), unit, part);
+                laminar_ui(ui, stats.as_ref(), part);
+                if let Some(sc) = &scaled {
+                    scaling_ui(ui, sc, part);
+                }
             });
         });
     }
@@ -232,6 +346,55 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
     )
     .show(ui, |p| {
         p.bar_chart(BarChart::new("laminar lengths", bars).color(style::DECEL));
+    });
+}
+
+/// ⟨ℓ⟩ against θν − θν_c on log–log axes, with the fitted line, and the
+/// type-I slope −1/2 through the points' centre when the fit supports it.
+fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
+    let pts: Vec<[f64; 2]> = sc
+        .points
+        .iter()
+        .map(|&(e, m)| [e.log10(), m.log10()])
+        .collect();
+    let span = |f: &dyn Fn(f64) -> f64| -> Vec<[f64; 2]> {
+        let (a, b) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+        vec![[a, f(a)], [b, f(b)]]
+    };
+    axes::apply(
+        Plot::new("events_scaling").show_background(false).height(h),
+        &AxisSpec::log10("θν − θν_c (rad, log scale)"),
+        &AxisSpec::log10("mean laminar length (log scale)"),
+    )
+    .show(ui, |p| {
+        p.add(
+            Points::new("⟨ℓ⟩", PlotPoints::from(pts.clone()))
+                .color(style::ACCEL)
+                .radius(3.0),
+        );
+        if let Some((slope, icpt)) = sc.fit {
+            p.line(
+                style::line("fit", PlotPoints::from(span(&|x| icpt + slope * x)))
+                    .color(style::STICK),
+            );
+            if sc.supports_type_one() && !pts.is_empty() {
+                let n = pts.len() as f64;
+                let (mx, my) = (
+                    pts.iter().map(|q| q[0]).sum::<f64>() / n,
+                    pts.iter().map(|q| q[1]).sum::<f64>() / n,
+                );
+                p.line(
+                    style::line(
+                        "type I: −1/2",
+                        PlotPoints::from(span(&|x| my + TYPE_ONE_SLOPE * (x - mx))),
+                    )
+                    .color(style::CRITICAL)
+                    .style(egui_plot::LineStyle::dashed_loose()),
+                );
+            }
+        }
     });
 }
 

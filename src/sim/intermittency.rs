@@ -215,6 +215,104 @@ pub fn supports_type_one(slope: f64) -> bool {
     (slope - TYPE_ONE_SLOPE).abs() <= SLOPE_TOLERANCE
 }
 
+/// The mean laminar length against the distance to the critical θν.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Scaling {
+    /// The lower end of the intermittent window below the θν scanned from,
+    /// to within [`CRITICAL_RESOLUTION`].
+    pub theta_nu_c: f64,
+    /// (θν − θν_c, mean laminar length), by decreasing distance.
+    pub points: Vec<(f64, f64)>,
+    /// The least-squares slope and intercept on log–log axes.
+    pub fit: Option<(f64, f64)>,
+}
+
+impl Scaling {
+    /// Whether the points support type-I intermittency's slope −1/2.
+    pub fn supports_type_one(&self) -> bool {
+        self.fit.is_some_and(|(s, _)| supports_type_one(s))
+    }
+}
+
+/// How finely [`scaling`] locates θν_c, in radians.
+pub const CRITICAL_RESOLUTION: f64 = 1e-3;
+/// How far below the θν scanned from [`scaling`] looks for θν_c.
+pub const SCAN_SPAN: f64 = 0.4;
+/// Distances from θν_c [`scaling`] measures at: (θν − θν_c)·2^−k.
+pub const SCAN_POINTS: usize = 7;
+
+/// Whether the orbit at `theta_nu` is intermittent, with its mean laminar
+/// length: at least 3 complete laminar phases of mean length ≥ 2 (a creep
+/// fixed point has phases of length 0, a creep/slip alternation of 1).
+fn intermittent_at(
+    params: crate::model::Params,
+    settings: crate::integrate::SolverSettings,
+    theta_nu: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Option<f64>, super::SimError> {
+    let p = crate::model::Params { theta_nu, ..params };
+    let sim = super::Simulator::new(p, settings)?;
+    let opts = super::OrbitOptions {
+        transient: 300,
+        keep: 2000,
+        lyapunov: false,
+        period_tol: 1e-6,
+    };
+    let orbit = sim.orbit(theta_nu, &opts, cancel)?;
+    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
+    Ok(Intermittency::of(&sizes, None)
+        .filter(|st| st.laminar.len() >= 3)
+        .and_then(|st| st.mean_laminar)
+        .filter(|m| *m >= 2.0))
+}
+
+/// The mean laminar length against θν − θν_c below `params.theta_nu`: θν_c
+/// is found by bisection between θν − [`SCAN_SPAN`] (not intermittent)
+/// and θν (intermittent), then [`SCAN_POINTS`] orbits measure the mean
+/// laminar length at θν_c + (θν − θν_c)·2^−k. `None` when θν is not
+/// intermittent or the window has no lower end in the span. Each orbit
+/// keeps 2000 iterates after 300; `cancel` stops the scan.
+pub fn scaling(
+    params: crate::model::Params,
+    settings: crate::integrate::SolverSettings,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Option<Scaling>, super::SimError> {
+    let top = params.theta_nu;
+    if intermittent_at(params, settings, top, cancel)?.is_none() {
+        return Ok(None);
+    }
+    let mut lo = (top - SCAN_SPAN).max(1e-3);
+    if intermittent_at(params, settings, lo, cancel)?.is_some() {
+        return Ok(None);
+    }
+    let mut hi = top;
+    while hi - lo > CRITICAL_RESOLUTION {
+        let mid = 0.5 * (lo + hi);
+        if intermittent_at(params, settings, mid, cancel)?.is_some() {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    let theta_nu_c = 0.5 * (lo + hi);
+    let mut points = Vec::new();
+    for k in 0..SCAN_POINTS {
+        let eps = (top - theta_nu_c) * 0.5f64.powi(k as i32);
+        if eps < 2.0 * CRITICAL_RESOLUTION {
+            break;
+        }
+        if let Some(m) = intermittent_at(params, settings, theta_nu_c + eps, cancel)? {
+            points.push((eps, m));
+        }
+    }
+    let fit = log_log_fit(&points);
+    Ok(Some(Scaling {
+        theta_nu_c,
+        points,
+        fit,
+    }))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
