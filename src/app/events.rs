@@ -138,9 +138,9 @@ impl EventsView {
         ui.horizontal_wrapped(|ui| {
             if self.job.is_some() {
                 ui.spinner();
-                ui.label("measuring ⟨ℓ⟩ against θν − θν_c …");
+                ui.label("measuring the mean laminar length against θν − θν_c ...");
             } else if ui
-                .small_button("⟨ℓ⟩ vs θν − θν_c")
+                .small_button("Laminar length vs θν − θν_c")
                 .on_hover_text(
                     "Locate the lower end θν_c of the intermittent window below θν (by \
                      bisection, to 1e-3) and measure the mean laminar length at θν_c + \
@@ -349,7 +349,7 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
     });
 }
 
-/// ⟨ℓ⟩ against θν − θν_c on log–log axes, with the fitted line, and the
+/// The mean laminar length against θν − θν_c on log–log axes, with the fitted line, and the
 /// type-I slope −1/2 through the points' centre when the fit supports it.
 fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
     let pts: Vec<[f64; 2]> = sc
@@ -370,7 +370,7 @@ fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
     )
     .show(ui, |p| {
         p.add(
-            Points::new("⟨ℓ⟩", PlotPoints::from(pts.clone()))
+            Points::new("mean laminar length", PlotPoints::from(pts.clone()))
                 .color(style::ACCEL)
                 .radius(3.0),
         );
