@@ -187,19 +187,18 @@ fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
             .count();
         eprintln!("{}: {numeric} numeric labels, series {series:?}", v.key());
         if let Some(keep) = std::env::var_os("ONEBLOCK_KEEP_SVG") {
-            std::fs::copy(&svg, std::path::Path::new(&keep).join(format!("{}.svg", v.key())))
-                .expect("keep the SVG");
+            std::fs::copy(
+                &svg,
+                std::path::Path::new(&keep).join(format!("{}.svg", v.key())),
+            )
+            .expect("keep the SVG");
         }
         assert!(
             numeric >= min_ticks,
             "{}: {numeric} numeric tick labels in {texts:?}",
             v.key()
         );
-        assert!(
-            series.len() >= min_series,
-            "{}: series {series:?}",
-            v.key()
-        );
+        assert!(series.len() >= min_series, "{}: series {series:?}", v.key());
     }
 }
 

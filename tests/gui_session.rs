@@ -75,7 +75,12 @@ fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
     let l = Session::from_json(&v.to_string(), "s.json");
     let m = l.message.expect("a message");
     assert_eq!(m.lines().count(), 1);
-    for name in ["settings.font_scale", "diagram columns", "settings.wobble", "extra"] {
+    for name in [
+        "settings.font_scale",
+        "diagram columns",
+        "settings.wobble",
+        "extra",
+    ] {
         assert!(m.contains(name), "{m} should name {name}");
     }
     let d = Settings::default();
@@ -84,7 +89,10 @@ fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
     // Nothing else is lost.
     let g = &good.settings;
     assert_eq!(s.params, g.params);
-    assert_eq!((s.accuracy, s.method, s.step), (g.accuracy, g.method, g.step));
+    assert_eq!(
+        (s.accuracy, s.method, s.step),
+        (g.accuracy, g.method, g.step)
+    );
     assert_eq!((s.layout, s.tab), (g.layout, g.tab));
     assert_eq!(s.phase, g.phase);
     assert_eq!(l.session.bifurcation_zoom, good.bifurcation_zoom);

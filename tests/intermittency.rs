@@ -118,9 +118,7 @@ fn orbit_stats_agree_with_the_orbits_own_events() {
         .collect();
     assert!(large.len() > 20, "{} large slips", large.len());
     assert!(
-        sizes
-            .iter()
-            .all(|&s| s >= 0.4 * max || s < 0.15 * max),
+        sizes.iter().all(|&s| s >= 0.4 * max || s < 0.15 * max),
         "the threshold sits in the gap between the modes"
     );
     let expected: Vec<usize> = large.windows(2).map(|w| w[1] - w[0] - 1).collect();

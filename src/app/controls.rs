@@ -306,7 +306,9 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
         }
         if ui
             .button("SVG")
-            .on_hover_text("A vector picture (SVG) of the views shown: lines as paths, text as text.")
+            .on_hover_text(
+                "A vector picture (SVG) of the views shown: lines as paths, text as text.",
+            )
             .clicked()
         {
             out.push(Action::SvgScreenshot(None));

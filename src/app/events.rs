@@ -360,7 +360,9 @@ fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
     let span = |f: &dyn Fn(f64) -> f64| -> Vec<[f64; 2]> {
         let (a, b) = pts
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| (a.min(p[0]), b.max(p[0])));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p[0]), b.max(p[0]))
+            });
         vec![[a, f(a)], [b, f(b)]]
     };
     axes::apply(

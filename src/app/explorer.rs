@@ -26,11 +26,11 @@ use super::plane::PlaneView;
 use super::return_map::ReturnMapView;
 use super::save;
 use super::screenshot::{Shots, fresh_path};
-use super::session::Session;
-use super::svg_render;
 use super::script::{Script, Window};
+use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
 use super::status;
+use super::svg_render;
 use super::view::{Action, View};
 
 /// The views' own state (textures, zoom stacks, switches).

@@ -10,10 +10,10 @@ use std::time::{Duration, Instant};
 use eframe::egui;
 use egui::Context;
 
+use super::bifurcation::Zoom;
 use super::frame_stats::FrameStats;
 use super::jobs::{JobState, Jobs};
 use super::screenshot::{Saved, Shots};
-use super::bifurcation::Zoom;
 use super::settings::{Settings, ViewKind};
 use super::svg_render;
 use crate::worker::Generation;
@@ -21,8 +21,7 @@ use crate::worker::Generation;
 /// Whether a scripted run saves an SVG (by the file's extension) rather
 /// than a PNG.
 pub fn is_svg(p: &std::path::Path) -> bool {
-    p.extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"))
 }
 
 /// A scripted run: wait for the views, optionally measure frame times,

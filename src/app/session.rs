@@ -149,7 +149,11 @@ impl Loaded {
 
 /// The settings from a JSON object, field by field: each field is tried on
 /// its own over the defaults, so one bad field costs only itself.
-fn settings_from(m: &Map<String, Value>, bad: &mut Vec<String>, unknown: &mut Vec<String>) -> Settings {
+fn settings_from(
+    m: &Map<String, Value>,
+    bad: &mut Vec<String>,
+    unknown: &mut Vec<String>,
+) -> Settings {
     let mut current = match serde_json::to_value(Settings::default()) {
         Ok(Value::Object(d)) => d,
         _ => return Settings::default(),

@@ -51,7 +51,11 @@ fn stroke_attrs(s: egui::Stroke) -> String {
     if s.width <= 0.0 || s.color.a() == 0 {
         return " stroke=\"none\"".into();
     }
-    format!("{} stroke-width=\"{:.2}\"", paint("stroke", s.color), s.width)
+    format!(
+        "{} stroke-width=\"{:.2}\"",
+        paint("stroke", s.color),
+        s.width
+    )
 }
 
 /// A path stroke's colour (a gradient's colour at its start).
@@ -81,7 +85,14 @@ pub fn escape(s: &str) -> String {
 fn points_d(points: &[Pos2], closed: bool) -> String {
     let mut d = String::with_capacity(points.len() * 16);
     for (i, p) in points.iter().enumerate() {
-        write!(d, "{}{:.2},{:.2}", if i == 0 { "M" } else { " L" }, p.x, p.y).ok();
+        write!(
+            d,
+            "{}{:.2},{:.2}",
+            if i == 0 { "M" } else { " L" },
+            p.x,
+            p.y
+        )
+        .ok();
     }
     if closed {
         d.push_str(" Z");
@@ -196,7 +207,14 @@ impl<'a> SvgWriter<'a> {
                 }
             }
             Shape::Circle(c) => {
-                let tag = Self::series(plot, if c.fill.a() > 0 { c.fill } else { c.stroke.color });
+                let tag = Self::series(
+                    plot,
+                    if c.fill.a() > 0 {
+                        c.fill
+                    } else {
+                        c.stroke.color
+                    },
+                );
                 write!(
                     out,
                     "<circle cx=\"{:.2}\" cy=\"{:.2}\" r=\"{:.2}\"{}{}{tag}/>",
@@ -369,8 +387,10 @@ impl<'a> SvgWriter<'a> {
             return;
         }
         for tri in m.indices.chunks_exact(3) {
-            let v: Vec<&egui::epaint::Vertex> =
-                tri.iter().filter_map(|&i| m.vertices.get(i as usize)).collect();
+            let v: Vec<&egui::epaint::Vertex> = tri
+                .iter()
+                .filter_map(|&i| m.vertices.get(i as usize))
+                .collect();
             if v.len() < 3 || v[0].color.a() == 0 {
                 continue;
             }
@@ -421,11 +441,13 @@ fn text(t: &TextShape, out: &mut String) {
     let Some(section) = g.job.sections.first() else {
         return;
     };
-    let c = t.override_text_color.unwrap_or(if section.format.color == Color32::PLACEHOLDER {
-        t.fallback_color
-    } else {
-        section.format.color
-    });
+    let c = t
+        .override_text_color
+        .unwrap_or(if section.format.color == Color32::PLACEHOLDER {
+            t.fallback_color
+        } else {
+            section.format.color
+        });
     let size = section.format.font_id.size;
     let rot = t.angle.to_degrees();
     if rot.abs() > 0.01 {

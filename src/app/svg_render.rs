@@ -69,11 +69,13 @@ pub fn render_svg(
             for (v, r) in views.iter().zip(rects) {
                 let view = state.get_mut(*v);
                 ui.scope_builder(egui::UiBuilder::new().max_rect(r).id_salt(v.key()), |ui| {
-                    egui::Frame::group(ui.style()).inner_margin(4.0).show(ui, |ui| {
-                        ui.set_min_size(ui.available_size());
-                        ui.label(RichText::new(view.title()).strong());
-                        view.ui(ui, &mut s, jobs, &mut actions);
-                    });
+                    egui::Frame::group(ui.style())
+                        .inner_margin(4.0)
+                        .show(ui, |ui| {
+                            ui.set_min_size(ui.available_size());
+                            ui.label(RichText::new(view.title()).strong());
+                            view.ui(ui, &mut s, jobs, &mut actions);
+                        });
                 });
             }
         });

@@ -16,8 +16,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit, finite, max_seconds,
-    settings_json, total_iterates, warn_validity,
+    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
+    finite, max_seconds, settings_json, total_iterates, warn_validity,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};

@@ -91,7 +91,11 @@ pub fn log_histogram(xs: &[f64], bins: usize) -> Vec<Bin> {
         return Vec::new();
     }
     let lo = pos.iter().copied().fold(f64::INFINITY, f64::min).log10();
-    let hi = pos.iter().copied().fold(f64::NEG_INFINITY, f64::max).log10();
+    let hi = pos
+        .iter()
+        .copied()
+        .fold(f64::NEG_INFINITY, f64::max)
+        .log10();
     // One value (or all equal): one bin a tenth of a decade wide.
     let (lo, hi, bins) = if hi - lo < 1e-12 {
         (lo - 0.05, hi + 0.05, 1)
