@@ -4,26 +4,13 @@
 //! lower priority than the window.
 
 mod common;
-use common::fixture::preset;
 use common::jobs::*;
 use common::{recv, until_finished};
-use std::collections::HashSet;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Duration;
 
-use oneblock::integrate::{Method, SolverSettings};
+use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
-use oneblock::numerics::quick::{current_attractor, quick_subjects};
-use oneblock::numerics::{Row, Subject, build_sample, measure};
-use oneblock::sim::{
-    Column, Handover, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start,
-    default_settings, return_map_window, theta_nu_grid,
-};
-use oneblock::worker::{
-    Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
-    WorkPrecisionSpec, Worker, WorkerConfig, sweep_plan,
-};
+use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, TrajectorySpec, Update};
 
 #[test]
 fn a_slow_consumer_never_sees_more_than_the_channel_bound() {

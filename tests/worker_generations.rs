@@ -5,81 +5,14 @@
 //! wall-clock time (timeouts only guard against hangs).
 
 mod common;
-use common::fixture::preset;
 use common::jobs::*;
 use common::{recv, until_finished};
 use std::collections::HashSet;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Duration;
 
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::model::Params;
-use oneblock::numerics::quick::{current_attractor, quick_subjects};
-use oneblock::numerics::{Row, Subject, build_sample, measure};
-use oneblock::sim::{
-    Column, Handover, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start,
-    default_settings, return_map_window, theta_nu_grid,
-};
-use oneblock::worker::{
-    Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
-    WorkPrecisionSpec, Worker, WorkerConfig, sweep_plan,
-};
-
-/// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
-/// update of an older generation on that lane arrives.
-fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 4];
-    let lane_ix = |l: Lane| match l {
-        Lane::Orbit => 0,
-        Lane::Sweep => 1,
-        Lane::Numerics => 2,
-        Lane::Phase => 3,
-    };
-    for u in ups {
-        let lane = match u {
-            Update::TrajectoryChunk { .. }
-            | Update::Slip { .. }
-            | Update::MapIterates { .. }
-            | Update::MapGraph { .. } => Some(Lane::Orbit),
-            Update::Column { .. } => Some(Lane::Sweep),
-            Update::WorkPrecisionSample { .. }
-            | Update::WorkPrecisionRow { .. }
-            | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
-            Update::PhaseCells { .. } => Some(Lane::Phase),
-            Update::Progress { lane, .. }
-            | Update::Error { lane, .. }
-            | Update::Finished { lane, .. } => Some(*lane),
-            Update::Cancelled { .. } => None,
-        };
-        if let Some(l) = lane {
-            assert!(
-                u.generation() >= floor[lane_ix(l)],
-                "{u:?} arrived after generation {} was acknowledged",
-                floor[lane_ix(l)]
-            );
-        }
-        match u {
-            Update::Finished {
-                generation,
-                lane,
-                outcome: Outcome::Cancelled,
-            } => {
-                let f = &mut floor[lane_ix(*lane)];
-                *f = (*f).max(generation + 1);
-            }
-            Update::Cancelled { generation, lane } => {
-                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics, Lane::Phase] {
-                    if lane.is_none_or(|x| x == l) {
-                        let f = &mut floor[lane_ix(l)];
-                        *f = (*f).max(*generation);
-                    }
-                }
-            }
-            _ => {}
-        }
-    }
-}
+use oneblock::sim::{OrbitOptions, Sampler, Simulator};
+use oneblock::worker::{Command, IterateSpec, Lane, Outcome, Update};
 
 #[test]
 fn cancel_acknowledgement_is_never_followed_by_an_older_generation() {

@@ -3,26 +3,16 @@
 //! sweep delivers each column once, coarse pass first.
 
 mod common;
-use common::fixture::preset;
 use common::jobs::*;
-use common::{recv, until_finished};
+use common::until_finished;
 use std::collections::HashSet;
-use std::sync::Arc;
-use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Duration;
+use std::sync::atomic::Ordering;
 
-use oneblock::integrate::{Method, SolverSettings};
-use oneblock::model::Params;
-use oneblock::numerics::quick::{current_attractor, quick_subjects};
-use oneblock::numerics::{Row, Subject, build_sample, measure};
 use oneblock::sim::{
     Column, Handover, LANES, OrbitOptions, Sampler, Simulator, SweepOptions, column_start,
-    default_settings, return_map_window, theta_nu_grid,
+    return_map_window, theta_nu_grid,
 };
-use oneblock::worker::{
-    Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
-    WorkPrecisionSpec, Worker, WorkerConfig, sweep_plan,
-};
+use oneblock::worker::{Lane, Outcome, Update, sweep_plan};
 
 #[test]
 fn map_iterates_equal_the_core_bit_for_bit() {

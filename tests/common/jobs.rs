@@ -9,7 +9,8 @@ use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::sim::default_settings;
 use oneblock::worker::{
-    Axis, Command, Generation, IterateSpec, SweepSpec, TrajectorySpec, Worker, WorkerConfig,
+    Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
+    Worker, WorkerConfig,
 };
 
 pub fn settings() -> SolverSettings {
@@ -76,5 +77,60 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
             transient,
             keep,
         },
+    }
+}
+
+/// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
+/// update of an older generation on that lane arrives.
+pub fn assert_nothing_older_after_acks(ups: &[Update]) {
+    let mut floor = [0u64; 4];
+    let lane_ix = |l: Lane| match l {
+        Lane::Orbit => 0,
+        Lane::Sweep => 1,
+        Lane::Numerics => 2,
+        Lane::Phase => 3,
+    };
+    for u in ups {
+        let lane = match u {
+            Update::TrajectoryChunk { .. }
+            | Update::Slip { .. }
+            | Update::MapIterates { .. }
+            | Update::MapGraph { .. } => Some(Lane::Orbit),
+            Update::Column { .. } => Some(Lane::Sweep),
+            Update::WorkPrecisionSample { .. }
+            | Update::WorkPrecisionRow { .. }
+            | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
+            Update::PhaseCells { .. } => Some(Lane::Phase),
+            Update::Progress { lane, .. }
+            | Update::Error { lane, .. }
+            | Update::Finished { lane, .. } => Some(*lane),
+            Update::Cancelled { .. } => None,
+        };
+        if let Some(l) = lane {
+            assert!(
+                u.generation() >= floor[lane_ix(l)],
+                "{u:?} arrived after generation {} was acknowledged",
+                floor[lane_ix(l)]
+            );
+        }
+        match u {
+            Update::Finished {
+                generation,
+                lane,
+                outcome: Outcome::Cancelled,
+            } => {
+                let f = &mut floor[lane_ix(*lane)];
+                *f = (*f).max(generation + 1);
+            }
+            Update::Cancelled { generation, lane } => {
+                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics, Lane::Phase] {
+                    if lane.is_none_or(|x| x == l) {
+                        let f = &mut floor[lane_ix(l)];
+                        *f = (*f).max(*generation);
+                    }
+                }
+            }
+            _ => {}
+        }
     }
 }

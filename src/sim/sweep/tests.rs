@@ -153,9 +153,7 @@ fn segments_in_lanes_are_the_segments_swept_alone() {
         assert_eq!(seen, n);
         let want: Vec<Column> = segments(&grid, LANES)
             .into_iter()
-            .flat_map(|seg| {
-                sweep_columns(params, settings, seg, &opts, theta0, &|| false, |_| {})
-            })
+            .flat_map(|seg| sweep_columns(params, settings, seg, &opts, theta0, &|| false, |_| {}))
             .collect();
         assert_eq!(got, want);
         assert!(
