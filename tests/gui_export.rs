@@ -232,3 +232,81 @@ fn parse_svg(text: &str) -> (Vec<String>, std::collections::BTreeSet<String>) {
     assert!(root, "no <svg> element");
     (texts, series)
 }
+
+/// Waits for a file ending in `ext` in `dir` (written on a thread).
+fn wait_for_ext(
+    h: &mut egui_kittest::Harness<'static, oneblock::app::Explorer>,
+    dir: &std::path::Path,
+    ext: &str,
+) -> Option<std::path::PathBuf> {
+    for _ in 0..200 {
+        h.step();
+        let found = std::fs::read_dir(dir)
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == ext));
+        if found.is_some() {
+            return found;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    None
+}
+
+/// The panel's SVG button writes a vector picture of the tiles, with the
+/// events the window was sent; Save session writes a file that reads back
+/// to the window's settings.
+#[test]
+fn the_window_saves_an_svg_of_the_tiles_and_a_session() {
+    use oneblock::app::session::Session;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    for i in 0..30 {
+        rec.push(Update::Slip {
+            generation: g,
+            event: event(0.5, 0.2, 103.0 * i as f64),
+        });
+    }
+    h.run_steps(2);
+    h.query_all_by_label("SVG")
+        .next()
+        .expect("an SVG button")
+        .click();
+    let svg = wait_for_ext(&mut h, dir.path(), "svg").expect("an SVG was written");
+    assert!(
+        svg.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-window-"))
+    );
+    let text = std::fs::read_to_string(&svg).expect("svg");
+    let (texts, series) = parse_svg(&text);
+    // The four default tiles' titles, as text.
+    for t in ["Plane (x, y)", "Bifurcation", "Return map", "Events"] {
+        assert!(texts.iter().any(|x| x == t), "{t} missing in {texts:?}");
+    }
+    // The events' series and distributions are there.
+    assert!(
+        series.iter().any(|s| s.starts_with("events_series:")),
+        "{series:?}"
+    );
+
+    h.get_by_label("Save session").click();
+    let json = wait_for_ext(&mut h, dir.path(), "json").expect("a session was written");
+    let back = Session::from_json(&std::fs::read_to_string(&json).expect("json"), "s");
+    assert_eq!(back.message, None);
+    assert_eq!(back.session.settings, h.state().settings);
+}

@@ -207,8 +207,8 @@ impl EventsView {
         });
         let m = s.slip_measure;
         let unit = match m {
-            SlipMeasure::Distance => "slip distance",
-            SlipMeasure::Energy => "energy released",
+            SlipMeasure::Distance => "slip distance |Δr| (F₀/k_y)",
+            SlipMeasure::Energy => "energy released ΔE (F₀²/k_y)",
         };
         let sizes: Vec<f64> = evs.iter().map(|e| slip_size(e, m)).collect();
         let series = decimate(&sizes, MAX_MARKERS);
@@ -238,11 +238,11 @@ impl EventsView {
         ui.horizontal(|ui| {
             ui.vertical(|ui| {
                 ui.set_width(width * 0.5);
-                axes::apply(
+                let r = axes::apply(
                     Plot::new("events_series")
                         .show_background(false)
                         .height(h - 8.0),
-                    &AxisSpec::linear("event number"),
+                    &AxisSpec::linear("event number n"),
                     &AxisSpec::linear(unit),
                 )
                 .show(ui, |p| {
@@ -272,6 +272,7 @@ impl EventsView {
                         );
                     }
                 });
+                axes::remember_frame(ui.ctx(), "events_series", *r.transform.frame());
             });
             ui.vertical(|ui| {
                 let n = if scaled.is_some() { 3.0 } else { 2.0 };
@@ -319,7 +320,7 @@ fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: 
                 .collect()
         })
         .unwrap_or_default();
-    axes::apply(
+    let r = axes::apply(
         Plot::new("events_hist").show_background(false).height(h),
         &AxisSpec::log10(format!("{unit} (log scale)")),
         &AxisSpec::log10("count + 1 (log scale)"),
@@ -327,6 +328,7 @@ fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: 
     .show(ui, |p| {
         p.bar_chart(BarChart::new("slip sizes", bars).color(style::STICK));
     });
+    axes::remember_frame(ui.ctx(), "events_hist", *r.transform.frame());
 }
 
 /// How many laminar phases had each length.
@@ -339,7 +341,7 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
                 .collect()
         })
         .unwrap_or_default();
-    axes::apply(
+    let r = axes::apply(
         Plot::new("events_laminar").show_background(false).height(h),
         &AxisSpec::linear("laminar length (creep slips between large slips)"),
         &AxisSpec::linear("phases"),
@@ -347,6 +349,7 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
     .show(ui, |p| {
         p.bar_chart(BarChart::new("laminar lengths", bars).color(style::DECEL));
     });
+    axes::remember_frame(ui.ctx(), "events_laminar", *r.transform.frame());
 }
 
 /// The mean laminar length against θν − θν_c on log–log axes, with the fitted line, and the
@@ -365,7 +368,7 @@ fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
             });
         vec![[a, f(a)], [b, f(b)]]
     };
-    axes::apply(
+    let r = axes::apply(
         Plot::new("events_scaling").show_background(false).height(h),
         &AxisSpec::log10("θν − θν_c (rad, log scale)"),
         &AxisSpec::log10("mean laminar length (log scale)"),
@@ -398,6 +401,7 @@ fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
             }
         }
     });
+    axes::remember_frame(ui.ctx(), "events_scaling", *r.transform.frame());
 }
 
 impl View for EventsView {

@@ -117,10 +117,10 @@ fn same_rect(a: Rect, b: Rect) -> bool {
 
 impl<'a> SvgWriter<'a> {
     /// A writer for shapes drawn over `screen` whose plots have these
-    /// frames, showing these textures. Without frames, every clip
-    /// rectangle smaller than the screen is taken for a plot's (egui_plot
-    /// clips its items to its frame; the rest of a view is clipped to the
-    /// screen).
+    /// frames, showing these textures. A clip rectangle smaller than the
+    /// screen that is no recorded frame is taken for an unnamed plot's
+    /// (egui_plot clips its items to its frame; the rest of a view is
+    /// clipped to the screen).
     pub fn new(screen: Rect, frames: &'a [PlotFrame], textures: &'a Textures) -> Self {
         SvgWriter {
             frames,
@@ -135,13 +135,11 @@ impl<'a> SvgWriter<'a> {
     /// The plot whose frame is the clip rectangle `clip` (number `id`),
     /// if any.
     fn plot_of(&self, clip: Rect, id: usize) -> Option<String> {
-        if self.frames.is_empty() {
-            return (!same_rect(clip, self.screen)).then(|| format!("plot{id}"));
-        }
         self.frames
             .iter()
             .find(|(_, f)| same_rect(*f, clip) || f.contains_rect(clip) && clip.area() > 0.0)
             .map(|(n, _)| n.to_string())
+            .or_else(|| (!same_rect(clip, self.screen)).then(|| format!("plot{id}")))
     }
 
     fn clip_id(&mut self, clip: Rect) -> usize {
