@@ -199,7 +199,97 @@ fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
             v.key()
         );
         assert!(series.len() >= min_series, "{}: series {series:?}", v.key());
+        if matches!(v, ViewKind::Plane | ViewKind::Events) {
+            same_series_as_the_png(&text, &session, dir.path(), &xdg, v.key());
+        }
     }
+}
+
+/// The PNG of the same session shows every series colour of the SVG: the
+/// two pictures draw the same series.
+fn same_series_as_the_png(
+    svg: &str,
+    session: &std::path::Path,
+    dir: &std::path::Path,
+    xdg: &std::path::Path,
+    key: &str,
+) {
+    let png = dir.join(format!("{key}.png"));
+    let out = std::process::Command::new("timeout")
+        .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+        .arg(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["gui", "--timeout", "300", "--session"])
+        .arg(session)
+        .arg("--screenshot")
+        .arg(&png)
+        .env("XDG_RUNTIME_DIR", xdg)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{key}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&png).expect("png").to_rgb8();
+    let colours = series_colours(svg);
+    assert!(!colours.is_empty(), "{key}: no series colours");
+    let found: Vec<[u8; 3]> = colours
+        .iter()
+        .copied()
+        .filter(|c| {
+            img.pixels().any(|p| {
+                p.0.iter()
+                    .zip(c)
+                    .all(|(a, b)| (i32::from(*a) - i32::from(*b)).abs() <= 12)
+            })
+        })
+        .collect();
+    assert_eq!(
+        found, colours,
+        "{key}: series colours of the SVG in the PNG"
+    );
+}
+
+/// The distinct opaque colours (`#rrggbb` fill or stroke) of the SVG's
+/// series, images aside.
+fn series_colours(svg: &str) -> Vec<[u8; 3]> {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(svg);
+    let mut out = std::collections::BTreeSet::new();
+    loop {
+        match r.read_event().expect("parses") {
+            Event::Start(e) | Event::Empty(e) => {
+                let attrs: Vec<(Vec<u8>, String)> = e
+                    .attributes()
+                    .flatten()
+                    .map(|a| {
+                        (
+                            a.key.as_ref().to_vec(),
+                            String::from_utf8_lossy(&a.value).to_string(),
+                        )
+                    })
+                    .collect();
+                let get = |k: &[u8]| attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
+                if get(b"class").as_deref() != Some("series") || e.name().as_ref() == b"image" {
+                    continue;
+                }
+                let pairs: [(&[u8], &[u8]); 2] =
+                    [(b"fill", b"fill-opacity"), (b"stroke", b"stroke-opacity")];
+                for (paint, opacity) in pairs {
+                    if let Some(c) = get(paint).filter(|c| c.len() == 7 && c.starts_with('#'))
+                        && get(opacity).is_none()
+                    {
+                        let h = |i: usize| u8::from_str_radix(&c[i..i + 2], 16).expect("hex");
+                        out.insert([h(1), h(3), h(5)]);
+                    }
+                }
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out.into_iter().collect()
 }
 
 /// The texts and the distinct series (`data-series`) of an SVG, which must
