@@ -118,7 +118,10 @@ fn orbit_json_summary_reports_period_and_lyapunov() {
     // exact, so no standard error.
     let l = v["lyapunov"].as_f64().expect("lyapunov");
     let m = v["cycle"]["multiplier"].as_f64().expect("the solved cycle");
-    assert!(l < 0.0 && (l - m.abs().ln()).abs() < 1e-12, "{l} vs ln|{m}|");
+    assert!(
+        l < 0.0 && (l - m.abs().ln()).abs() < 1e-12,
+        "{l} vs ln|{m}|"
+    );
     assert!(v["lyapunov_stderr"].is_null());
 
     // θν = 1.25: the chaotic attractor of the benchmark (λ > 0).
