@@ -7,6 +7,7 @@ pub mod common;
 pub mod continue_cmd;
 pub mod continue_out;
 pub mod cycle;
+mod error;
 pub mod gui;
 pub mod map;
 pub mod orbit;
@@ -20,7 +21,7 @@ pub mod work_precision;
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
 
-pub use common::CliError;
+pub use error::CliError;
 
 /// Explorer for the two-dimensional one-block earthquake model. With no
 /// subcommand it opens the window.
