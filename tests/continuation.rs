@@ -325,3 +325,44 @@ fn the_cli_writes_branches_and_points_and_keeps_existing_files() {
     assert_eq!(again.status.code(), Some(2));
     assert!(stderr(&again).contains("--out"), "{}", stderr(&again));
 }
+
+#[test]
+fn the_period_3_window_opens_at_a_fold() {
+    // Fig. 3b's period-3 window: the orbit diagram has P3 at θν = 1.3 and
+    // chaos at 1.295. Followed down from 1.3, the stable 3-cycle turns at
+    // a fold (multiplier +1) and comes back as the unstable one.
+    let prob = problem(18.95, 3);
+    let opts = ContOptions::for_range(&prob.settings, 1.3, 1.28);
+    let b = continue_branch(&prob, 1.3, 1.28, 0.2087, &opts, &|| false).unwrap();
+    assert_eq!(b.stop, Stop::Returned, "{}", b.stop_message());
+    let folds: Vec<_> = b.of_kind(SpecialKind::Fold).collect();
+    assert_eq!(folds.len(), 1, "{:?}", b.special);
+    let fold = folds[0];
+    assert!(fold.lambda > 1.295 && fold.lambda < 1.3, "{fold:?}");
+    assert!(b.points.iter().all(|p| p.lambda >= fold.lambda - 1e-9));
+    // Independently: just past the fold two 3-cycles near θ_fold, one on
+    // each side of multiplier 1; just before it, none near θ_fold.
+    let cyc = |tn: f64, seed: f64| {
+        let sim = Simulator::new(params(18.95, tn), default_settings(1e-10)).unwrap();
+        solve_cycle(&sim, seed, 3, &CycleOptions::for_settings(sim.settings())).ok()
+    };
+    let after = fold.lambda + 1e-4;
+    let ms: Vec<f64> = [fold.theta - 0.02, fold.theta + 0.02]
+        .iter()
+        .filter_map(|&s| cyc(after, s))
+        .filter(|c| c.minimal_period == 3)
+        .map(|c| c.multiplier)
+        .collect();
+    assert!(
+        ms.iter().any(|&m| m < 1.0) && ms.iter().any(|&m| m > 1.0),
+        "{ms:?}"
+    );
+    let before = fold.lambda - 1e-4;
+    if let Some(c) = cyc(before, fold.theta) {
+        let near = c
+            .points
+            .iter()
+            .any(|t| wrap_angle(t - fold.theta).abs() < 1e-3);
+        assert!(!near || c.minimal_period != 3, "{c:?}");
+    }
+}

@@ -131,6 +131,11 @@ pub struct SpecialPoint {
 pub enum Stop {
     /// It reached the end of its range.
     Reached,
+    /// It came back to the start of its range (past a fold).
+    Returned,
+    /// Its cycle's halves merged: λ turned where the p-cycle meets the
+    /// p/2-cycle it doubled from (a period doubling of that one).
+    Merged,
     /// At its first period doubling ([`ContOptions::stop_at_pd`]).
     PeriodDoubling,
     /// At a border (see the border point's note).
@@ -177,6 +182,11 @@ impl Branch {
             .unwrap_or_default();
         let why = match &self.stop {
             Stop::Reached => "reached the end of the range".to_string(),
+            Stop::Returned => "came back to the start of the range".to_string(),
+            Stop::Merged => format!(
+                "turned where it merges with the P{} cycle it doubles from",
+                self.period / 2
+            ),
             Stop::PeriodDoubling => "stopped at its first period doubling".to_string(),
             Stop::Border => {
                 let note = self
@@ -496,10 +506,21 @@ pub fn continue_branch(
             np.lambda = target;
         }
         points.push(np);
+        // λ turned without a fold: an even-period branch passes the tip of
+        // the pitchfork where it is born from the half-period cycle, and
+        // would come back as the same cycle with its halves swapped.
+        let turned = t[1] * tn[1] < 0.0 && found.is_empty() && prob.period % 2 == 0;
         cur = n;
         t = tn;
-        if last.is_some() {
-            break Stop::Reached;
+        if let Some(target) = last {
+            break if target == to {
+                Stop::Reached
+            } else {
+                Stop::Returned
+            };
+        }
+        if turned {
+            break Stop::Merged;
         }
         if pd && opts.stop_at_pd {
             break Stop::PeriodDoubling;
@@ -511,6 +532,8 @@ pub fn continue_branch(
     };
     let note = match &stop {
         Stop::Reached => "the end of the range".to_string(),
+        Stop::Returned => "back at the start of the range".to_string(),
+        Stop::Merged => "merged with the half-period cycle".to_string(),
         Stop::PeriodDoubling => "its first period doubling".to_string(),
         Stop::Border => "a border".to_string(),
         Stop::Failed(why) => why.clone(),

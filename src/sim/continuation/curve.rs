@@ -58,8 +58,12 @@ pub struct CurveOptions {
     pub h_max: f64,
     /// A shorter step that still fails ends that direction.
     pub h_min: f64,
-    /// The corrector's convergence: the last Newton step's size.
+    /// The corrector's convergence: the last Newton step's size …
     pub newton_tol: f64,
+    /// … or both |G| and |m − m*| at most this (the multiplier's own
+    /// error, ~1e-7 where the map is stiff, can keep the step above any
+    /// tighter bound).
+    pub residual_tol: f64,
     /// The forward difference's step for the multiplier's gradient.
     pub fd_step: f64,
     /// The most points in each direction.
@@ -67,7 +71,8 @@ pub struct CurveOptions {
 }
 
 impl CurveOptions {
-    /// Steps of 1/200 to 1/50 of the box, a corrector to 1e-10 (scaled).
+    /// Steps of 1/200 to 1/50 of the box, a corrector to 1e-10 (scaled)
+    /// or residuals of 1e-7, at most 2000 points each way.
     pub fn for_box(bounds: [[f64; 2]; 2]) -> Self {
         CurveOptions {
             bounds,
@@ -75,8 +80,9 @@ impl CurveOptions {
             h_max: 2e-2,
             h_min: 1e-7,
             newton_tol: 1e-10,
+            residual_tol: 1e-7,
             fd_step: 1e-6,
-            max_points: 4000,
+            max_points: 2000,
         }
     }
 
@@ -184,7 +190,8 @@ impl Ctx<'_> {
             let rhs = [r[0], r[1], dot(&t, &sub(&y, &pred))];
             let dy = solve3(&a, &rhs)?;
             let size = dy.iter().map(|v| v.abs()).sum::<f64>();
-            if size <= self.opts.newton_tol {
+            let small = r[0].abs().max(r[1].abs()) <= self.opts.residual_tol;
+            if size <= self.opts.newton_tol || small {
                 let point = CurvePoint {
                     lambda: [y[1] * self.scale[0], y[2] * self.scale[1]],
                     theta: wrap_angle(y[0]),
