@@ -17,8 +17,8 @@ use super::continue_out as out;
 use super::values::{count_between, echo, parse_count, parse_number, short};
 use crate::model::{Params, exit_arc};
 use crate::sim::continuation::{
-    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, cascade,
-    continue_branch, continue_curve,
+    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
+    cascade_reporting, continue_branch, continue_curve,
 };
 use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
 
@@ -323,7 +323,9 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let described = describe(sim.params(), sim.settings());
     let opts = ContOptions::for_range(&plan.prob.settings, plan.from, plan.to);
     let started = Instant::now();
-    let never = || false;
+    // Ctrl+C stops the run cleanly, writing nothing (as every long command).
+    let limits = super::run_control::Limits::start(None);
+    let never = || limits.stop();
     let (branches, extra): (Vec<Branch>, out::Extra) = match plan.mode {
         Mode::Branch => {
             let b = continue_branch(&plan.prob, plan.from, plan.to, seed, &opts, &never)
@@ -331,8 +333,23 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             (vec![b], out::Extra::None)
         }
         Mode::Cascade => {
-            let c = cascade(
-                &plan.prob, plan.from, plan.to, seed, PERIOD_MAX, &opts, &never,
+            let mut progress = |b: &Branch| {
+                eprintln!(
+                    "continue: P{} branch, {} points: it {}",
+                    b.period,
+                    b.points.len(),
+                    b.stop_message()
+                );
+            };
+            let c = cascade_reporting(
+                &plan.prob,
+                plan.from,
+                plan.to,
+                seed,
+                PERIOD_MAX,
+                &opts,
+                &never,
+                &mut progress,
             )
             .map_err(|e| start_error(&plan, seed, e))?;
             let branches = c.branches.clone();
@@ -370,6 +387,9 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             (vec![b], out::Extra::Curve(curve))
         }
     };
+    if limits.stop() {
+        return Err(limits.stopped("continue"));
+    }
     let seconds = started.elapsed().as_secs_f64();
     let data = match &extra {
         out::Extra::Curve(c) => out::curve_csv(c),

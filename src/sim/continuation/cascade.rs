@@ -62,6 +62,22 @@ pub fn cascade(
     opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Cascade, CycleFailure> {
+    cascade_reporting(prob, from, to, seed, max_period, opts, cancel, &mut |_| {})
+}
+
+/// [`cascade`], calling `on_level` with each level's branch as it ends
+/// (for progress lines).
+#[allow(clippy::too_many_arguments)]
+pub fn cascade_reporting(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_level: &mut dyn FnMut(&Branch),
+) -> Result<Cascade, CycleFailure> {
     let dir = if to >= from { 1.0 } else { -1.0 };
     let mut branches = Vec::new();
     let mut doublings: Vec<SpecialPoint> = Vec::new();
@@ -86,6 +102,7 @@ pub fn cascade(
             break format!("the P{period} branch collapsed onto a shorter cycle at its start");
         }
         let pd = branch.of_kind(SpecialKind::PeriodDoubling).next().cloned();
+        on_level(&branch);
         let message = branch.stop_message();
         let cancelled = branch.stop == Stop::Cancelled;
         branches.push(branch);

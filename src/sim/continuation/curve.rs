@@ -20,6 +20,9 @@ use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
 use crate::sim::cycles::MAX_STEP;
 
+/// How many consecutive creeping steps end a direction.
+const CREEP_POINTS: usize = 30;
+
 /// Which curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum CurveKind {
@@ -72,7 +75,7 @@ pub struct CurveOptions {
 
 impl CurveOptions {
     /// Steps of 1/200 to 1/50 of the box, a corrector to 1e-10 (scaled)
-    /// or residuals of 1e-7, at most 2000 points each way.
+    /// or residuals of 1e-6, at most 2000 points each way.
     pub fn for_box(bounds: [[f64; 2]; 2]) -> Self {
         CurveOptions {
             bounds,
@@ -80,7 +83,7 @@ impl CurveOptions {
             h_max: 2e-2,
             h_min: 1e-7,
             newton_tol: 1e-10,
-            residual_tol: 1e-7,
+            residual_tol: 1e-6,
             fd_step: 1e-6,
             max_points: 2000,
         }
@@ -219,11 +222,12 @@ impl Ctx<'_> {
         &mut self,
         mut y: [f64; 3],
         mut t: [f64; 3],
-        cancel: &dyn Fn() -> bool,
+        cancel: &(dyn Fn() -> bool + Sync),
     ) -> (Vec<CurvePoint>, String) {
         let mut out = Vec::new();
         let mut h = self.opts.h0;
         let mut grow = true;
+        let mut creeping = 0;
         loop {
             if cancel() {
                 return (out, "cancelled".into());
@@ -241,6 +245,22 @@ impl Ctx<'_> {
             match step {
                 Some((p, yn, tn)) => {
                     out.push(p);
+                    // Steps that stay a hundred times shorter than the
+                    // first: a cusp, or a stretch where the multiplier's
+                    // error is as large as its change over a step.
+                    creeping = if h < 1e-2 * self.opts.h0 {
+                        creeping + 1
+                    } else {
+                        0
+                    };
+                    if creeping >= CREEP_POINTS {
+                        return (
+                            out,
+                            format!(
+                                "{CREEP_POINTS} steps in a row below 1e-2 of the first (a cusp, or the multiplier's error as large as its change over a step)"
+                            ),
+                        );
+                    }
                     if !self.inside(&p) {
                         return (out, "left the box of the two ranges".into());
                     }
@@ -272,8 +292,8 @@ impl Ctx<'_> {
 
 /// Follows the `kind` curve of the p-cycle in (λ₁, λ₂) = `params` through
 /// `start`, a special point of that kind located on a branch in λ₁ with
-/// λ₂ at `base`'s value (see the module notes). `cancel` is polled once
-/// per point.
+/// λ₂ at `base`'s value (see the module notes), the two directions on
+/// two threads. `cancel` is polled once per point.
 #[allow(clippy::too_many_arguments)]
 pub fn continue_curve(
     base: &Params,
@@ -283,7 +303,7 @@ pub fn continue_curve(
     kind: CurveKind,
     start: &SpecialPoint,
     opts: &CurveOptions,
-    cancel: &dyn Fn() -> bool,
+    cancel: &(dyn Fn() -> bool + Sync),
 ) -> Curve {
     let base = params[0].set(base, start.lambda);
     let scale = opts.scale();
@@ -316,8 +336,20 @@ pub fn continue_curve(
             map_evals: ctx.evals,
         };
     };
-    let (back, why_back) = ctx.follow(y0, [-t0[0], -t0[1], -t0[2]], cancel);
-    let (fwd, why_fwd) = ctx.follow(y0, t0, cancel);
+    // The two directions are independent: one thread each.
+    let mut other = Ctx { evals: 0, ..ctx };
+    let ((back, why_back), (fwd, why_fwd)) = std::thread::scope(|s| {
+        let job = s.spawn(|| {
+            let r = other.follow(y0, [-t0[0], -t0[1], -t0[2]], cancel);
+            (r, other.evals)
+        });
+        let fwd = ctx.follow(y0, t0, cancel);
+        let (back, evals) = job
+            .join()
+            .unwrap_or_else(|_| ((Vec::new(), "its thread failed".into()), 0));
+        ctx.evals += evals;
+        (back, fwd)
+    });
     let mut points: Vec<CurvePoint> = back.into_iter().rev().collect();
     points.push(CurvePoint {
         lambda: [start.lambda, params[1].get(&base)],

@@ -21,7 +21,7 @@ use crate::sim::{SimError, Simulator};
 pub use branch::{
     Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
 };
-pub use cascade::{Cascade, cascade, feigenbaum_ratios};
+pub use cascade::{Cascade, cascade, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 
 /// A parameter a branch can be continued in.
