@@ -53,7 +53,7 @@ impl ContOptions {
     /// (1e-10 relative for a parameter far from 1).
     pub fn for_range(settings: &crate::integrate::SolverSettings, from: f64, to: f64) -> Self {
         let scale = (to - from).abs().max(1e-300);
-        let locate_tol = 1e-10 * from.abs().max(to.abs()).max(1.0).min(1e6);
+        let locate_tol = 1e-10 * from.abs().max(to.abs()).clamp(1.0, 1e6);
         let cycle_tol = CycleOptions::for_settings(settings).tol;
         ContOptions {
             scale,
@@ -509,7 +509,7 @@ pub fn continue_branch(
         // λ turned without a fold: an even-period branch passes the tip of
         // the pitchfork where it is born from the half-period cycle, and
         // would come back as the same cycle with its halves swapped.
-        let turned = t[1] * tn[1] < 0.0 && found.is_empty() && prob.period % 2 == 0;
+        let turned = t[1] * tn[1] < 0.0 && found.is_empty() && prob.period.is_multiple_of(2);
         cur = n;
         t = tn;
         if let Some(target) = last {

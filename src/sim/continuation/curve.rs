@@ -133,6 +133,9 @@ struct Ctx<'a> {
     evals: u64,
 }
 
+/// The Jacobian's two rows, the residual, and the evaluation at a point.
+type System = ([[f64; 3]; 2], [f64; 2], Ev);
+
 /// G, the multiplier, and G's gradient in (θ, μ₁, μ₂).
 struct Ev {
     g: f64,
@@ -172,7 +175,7 @@ impl Ctx<'_> {
     }
 
     /// The Jacobian's two rows and the residual at y.
-    fn system(&mut self, y: &[f64; 3]) -> Result<([[f64; 3]; 2], [f64; 2], Ev), EvalError> {
+    fn system(&mut self, y: &[f64; 3]) -> Result<System, EvalError> {
         let e = self.eval(y)?;
         let eta = self.opts.fd_step;
         let mut dm = [0.0; 3];
