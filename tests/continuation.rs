@@ -367,3 +367,28 @@ fn the_period_3_window_opens_at_a_fold() {
         assert!(!near || c.minimal_period != 3, "{c:?}");
     }
 }
+
+#[test]
+fn a_branch_whose_slope_diverges_ends_at_a_border() {
+    // κ = 1.22: the fixed point, followed up from θν = 0.5, doubles once
+    // and then reaches a point where f's slope diverges (f is not smooth
+    // there: the continuation cannot pass it).
+    let prob = problem(1.22, 1);
+    let opts = ContOptions::for_range(&prob.settings, 0.5, 1.2);
+    let b = continue_branch(&prob, 0.5, 1.2, 0.45, &opts, &|| false).unwrap();
+    assert_eq!(b.stop, Stop::Border, "{}", b.stop_message());
+    assert_eq!(b.of_kind(SpecialKind::PeriodDoubling).count(), 1);
+    let border = b.of_kind(SpecialKind::Border).next().unwrap();
+    assert!(border.multiplier.abs() > 1e6, "{border:?}");
+    // Independently: a central difference of the plain map at the border's
+    // point, over ±1e-7, is as steep.
+    let sim = Simulator::new(params(1.22, border.lambda), default_settings(1e-10)).unwrap();
+    let h = 1e-7;
+    let fd = wrap_angle(sim.map(border.theta + h).unwrap() - sim.map(border.theta - h).unwrap())
+        / (2.0 * h);
+    assert!(fd.abs() > 1e4, "{fd} at {border:?}");
+    // Before it the slope is moderate.
+    let calm = b.points.iter().filter(|p| p.lambda < border.lambda - 0.05);
+    assert!(calm.clone().count() > 5);
+    assert!(calm.into_iter().all(|p| p.multiplier.abs() < 1e3));
+}

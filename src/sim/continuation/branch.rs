@@ -23,6 +23,11 @@ use super::{ContParam, EvalError, Problem};
 use crate::model::wrap_angle;
 use crate::sim::cycles::{CycleFailure, CycleOptions, MAX_STEP, solve_cycle};
 
+/// A residual |G| (radians) that the corrector leaves at a step below the
+/// location accuracy only where f^p jumps or its slope diverges: a smooth
+/// G changes there by less than 1e-8 even with a multiplier of 1e3.
+const JUMP: f64 = 1e-4;
+
 /// How the branch is followed and its special points located.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct ContOptions {
@@ -447,6 +452,19 @@ pub fn continue_branch(
                 match f {
                     Fail::Eval(e) if e.is_border() => {
                         let note = format!("a cycle point reaches the map's edge {e}");
+                        special.push(SpecialPoint {
+                            kind: SpecialKind::Border,
+                            note,
+                            ..here
+                        });
+                        break Stop::Border;
+                    }
+                    // G cannot change by this much over a step shorter
+                    // than the location accuracy unless f^p jumps there.
+                    Fail::NoConvergence(r) if r > JUMP => {
+                        let note = format!(
+                            "f^p jumps or its slope diverges: |G| = {r:.1e} a step below the location accuracy away"
+                        );
                         special.push(SpecialPoint {
                             kind: SpecialKind::Border,
                             note,
