@@ -7,6 +7,7 @@
 //! - [`style`], [`describe`], [`backend`]: colours and legends, the words
 //!   for a regime or an attractor, the worker behind a trait.
 //! - [`settings`]: everything that persists, and its sanitising on load.
+//! - [`axes`]: ticks and axis titles for every plot (and for exports).
 //! - [`data`], [`phase_data`]: what the worker sent for each kind of job.
 //! - [`jobs`]: the job model: one slot per job, `apply(Update)`, the
 //!   debounces, the phase grid's policy, each job's solver setting.
@@ -20,6 +21,7 @@
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
+pub mod axes;
 pub mod backend;
 pub mod bifurcation;
 pub mod block;
@@ -39,9 +41,12 @@ pub mod return_map;
 pub mod save;
 pub mod screenshot;
 pub mod script;
+pub mod session;
 pub mod settings;
 pub mod status;
 pub mod style;
+pub mod svg;
+pub mod svg_render;
 pub mod view;
 
 use std::path::PathBuf;
@@ -74,6 +79,8 @@ pub struct RunOptions {
     pub font_scale: Option<f32>,
     /// Give up a scripted run after this long.
     pub timeout: Option<Duration>,
+    /// Open on this session file (`oneblock gui --session`).
+    pub session: Option<PathBuf>,
 }
 
 /// Whether OpenGL is a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast):
@@ -100,6 +107,18 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             None => None,
         };
     let scripted = opts.screenshot.is_some();
+    let session = match &opts.session {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("--session: cannot read {}: {e}", p.display()))?;
+            let loaded = session::Session::from_json(&text, &p.display().to_string());
+            if let Some(m) = &loaded.message {
+                eprintln!("warning: {m}");
+            }
+            Some(loaded)
+        }
+        None => None,
+    };
     if let Some(p) = &opts.screenshot {
         crate::output::check_writable(p, false).map_err(|e| e.to_string())?;
     }
@@ -161,7 +180,9 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 WorkerConfig::default(),
                 Arc::new(move || ctx.request_repaint()),
             );
-            let mut settings: Settings = if scripted {
+            let mut settings: Settings = if let Some(l) = &session {
+                l.session.settings.clone()
+            } else if scripted {
                 Settings::default()
             } else {
                 cc.storage
@@ -174,7 +195,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             if let Some(v) = opts.view {
                 settings.layout = Layout::Tabs;
                 settings.tab = v;
-            } else if scripted {
+            } else if scripted && session.is_none() {
                 settings.layout = Layout::Tiles;
             }
             if let Some(f) = opts.font_scale {
@@ -186,6 +207,12 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 settings.smooth_lines = Some(true);
             }
             let mut app = Explorer::new(Box::new(worker), settings);
+            if let Some(l) = &session {
+                app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
+                if let Some(m) = &l.message {
+                    app.shots.toast(m.clone(), true, 0.0);
+                }
+            }
             app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
             app.persist = !scripted;
             app.stats.enabled = opts.frame_stats;

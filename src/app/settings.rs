@@ -93,6 +93,18 @@ pub enum SlipMeasure {
     Energy,
 }
 
+/// How angle axes (θν, θ) are labelled.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum AngleUnit {
+    /// Radians at 1-2-5 steps.
+    #[default]
+    Radians,
+    /// Degrees at 1-2-5 steps.
+    Degrees,
+    /// Fractions of π (π/8, π/4, …).
+    PiFractions,
+}
+
 /// Everything persisted. Parameters are kept valid: typed values reach
 /// them only after validation.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -143,6 +155,8 @@ pub struct Settings {
     pub preset: Option<String>,
     /// The phase diagram's grid, range and zoom.
     pub phase: PhaseSettings,
+    /// How θν and θ axes are labelled.
+    pub angle_unit: AngleUnit,
 }
 
 impl Settings {
@@ -184,6 +198,7 @@ impl Default for Settings {
             block_speed: 1.0,
             preset: Some("fig3b".into()),
             phase: PhaseSettings::default(),
+            angle_unit: AngleUnit::Radians,
         }
     }
 }

@@ -1,0 +1,514 @@
+//! Axes fit for print, shared by every plot of the window (and by anything
+//! else that draws a plot, such as a vector export): ticks at round values,
+//! at least five per axis, labelled with units; angles in radians, degrees
+//! or fractions of π.
+//!
+//! The tick computation is pure ([`ticks`], [`angle_ticks`],
+//! [`log10_ticks`]); [`apply`] hands the same ticks to egui_plot as its
+//! grid and labels, so what a picture shows and what a file writes agree.
+
+use std::f64::consts::PI;
+use std::ops::RangeInclusive;
+
+use eframe::egui;
+use egui_plot::{AxisHints, GridInput, GridMark, Plot};
+
+pub use super::settings::AngleUnit;
+
+/// The fewest labelled ticks an axis shows.
+pub const MIN_TICKS: usize = 5;
+
+/// One labelled tick: where it is (in the plot's coordinates) and what it
+/// says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tick {
+    /// The position on the axis, in the data's own coordinates (radians
+    /// for angles, log10 of the value on a log axis).
+    pub value: f64,
+    /// The text written at it.
+    pub label: String,
+}
+
+/// The 1-2-5 steps (m · 10^e, m ∈ {1, 2, 5}) in increasing order, as
+/// (mantissa index, exponent).
+fn step_value(i: i32) -> f64 {
+    let e = i.div_euclid(3);
+    let m = [1.0, 2.0, 5.0][i.rem_euclid(3) as usize];
+    m * 10f64.powi(e)
+}
+
+/// How many multiples of `step` lie in [lo, hi] (with a little slack, so
+/// that an end on a tick counts).
+fn count(lo: f64, hi: f64, step: f64) -> usize {
+    let eps = 1e-9;
+    let first = (lo / step - eps).ceil();
+    let last = (hi / step + eps).floor();
+    if last < first {
+        0
+    } else {
+        (last - first) as usize + 1
+    }
+}
+
+/// The largest 1-2-5 step that puts at least `min_count` multiples of
+/// itself in [lo, hi]; `None` for an empty or non-finite range.
+pub fn nice_step(lo: f64, hi: f64, min_count: usize) -> Option<f64> {
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let span = hi - lo;
+    if !(span.is_finite() && span > 0.0 && lo.is_finite()) {
+        return None;
+    }
+    let n = min_count.max(2);
+    let raw = span / (n - 1) as f64;
+    // Index of the largest 1-2-5 value at or below `raw`.
+    let mut i = (raw.log10().floor() as i32) * 3;
+    while step_value(i + 1) <= raw {
+        i += 1;
+    }
+    while step_value(i) > raw {
+        i -= 1;
+    }
+    // A step of span/(n−1) may lose one tick to the ends' rounding.
+    for _ in 0..6 {
+        if count(lo, hi, step_value(i)) >= n {
+            break;
+        }
+        i -= 1;
+    }
+    while count(lo, hi, step_value(i + 1)) >= n {
+        i += 1;
+    }
+    Some(step_value(i))
+}
+
+/// `v` written with as many decimals as `step` needs, in plain notation
+/// unless the numbers are very large or very small; never "-0".
+pub fn format_value(v: f64, step: f64) -> String {
+    let step = step.abs();
+    let v = if (v / step).abs() < 1e-6 { 0.0 } else { v };
+    // The style is chosen by the step alone, so one axis never mixes them.
+    if !(1e-4..1e5).contains(&step) {
+        // Scientific, with the mantissa to the step's precision.
+        if v == 0.0 {
+            return "0".into();
+        }
+        let e = v.abs().log10().floor() as i32;
+        let digits = (e - step.log10().floor() as i32).clamp(0, 6) as usize;
+        let m = v / 10f64.powi(e);
+        let m = format!("{m:.digits$}");
+        return format!("{m}e{e}");
+    }
+    let decimals = (-step.log10().floor()).max(0.0) as usize;
+    let s = format!("{v:.decimals$}");
+    if s.starts_with('-') && s[1..].chars().all(|c| c == '0' || c == '.') {
+        s[1..].to_string()
+    } else {
+        s
+    }
+}
+
+/// At least `min_count` ticks over [lo, hi] at the multiples of the
+/// largest 1-2-5 step that gives them, each labelled with as many decimals
+/// as the step needs. Empty for an empty or non-finite range.
+pub fn ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
+    let Some(step) = nice_step(lo, hi, min_count) else {
+        return Vec::new();
+    };
+    multiples(lo, hi, step)
+        .map(|v| Tick {
+            value: v,
+            label: format_value(v, step),
+        })
+        .collect()
+}
+
+/// The multiples of `step` in [lo, hi].
+fn multiples(lo: f64, hi: f64, step: f64) -> impl Iterator<Item = f64> {
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let n = count(lo, hi, step) as i64;
+    (first..first + n).map(move |k| k as f64 * step)
+}
+
+/// The fractions of π offered as steps, coarsest first.
+const PI_DENOMINATORS: [u32; 9] = [1, 2, 3, 4, 6, 8, 12, 16, 24];
+
+fn gcd(a: u64, b: u64) -> u64 {
+    if b == 0 { a } else { gcd(b, a % b) }
+}
+
+/// k·π/d written as a reduced fraction: "0", "π", "-π/2", "3π/4".
+fn pi_fraction(k: i64, d: u32) -> String {
+    if k == 0 {
+        return "0".into();
+    }
+    let g = gcd(k.unsigned_abs(), d as u64) as i64;
+    let (num, den) = (k / g, d as i64 / g);
+    let sign = if num < 0 { "-" } else { "" };
+    let num = num.abs();
+    let top = if num == 1 {
+        "π".to_string()
+    } else {
+        format!("{num}π")
+    };
+    if den == 1 {
+        format!("{sign}{top}")
+    } else {
+        format!("{sign}{top}/{den}")
+    }
+}
+
+/// At least `min_count` ticks over the angles [lo, hi] (radians), at round
+/// values of `unit`: 1-2-5 steps of radians or of degrees, or fractions
+/// π/d (d up to 24; narrower ranges fall back to 1-2-5 multiples of π,
+/// "0.38π"). Each tick's `value` is in radians.
+pub fn angle_ticks(lo: f64, hi: f64, min_count: usize, unit: AngleUnit) -> Vec<Tick> {
+    match unit {
+        AngleUnit::Radians => ticks(lo, hi, min_count),
+        AngleUnit::Degrees => ticks(lo.to_degrees(), hi.to_degrees(), min_count)
+            .into_iter()
+            .map(|t| Tick {
+                value: t.value.to_radians(),
+                label: format!("{}°", t.label),
+            })
+            .collect(),
+        AngleUnit::PiFractions => {
+            let (a, b) = (lo.min(hi), lo.max(hi));
+            if !(a.is_finite() && b.is_finite() && b > a) {
+                return Vec::new();
+            }
+            let n = min_count.max(2);
+            if let Some(&d) = PI_DENOMINATORS
+                .iter()
+                .find(|&&d| count(a, b, PI / d as f64) >= n)
+            {
+                let step = PI / d as f64;
+                let first = (a / step - 1e-9).ceil() as i64;
+                return (first..first + count(a, b, step) as i64)
+                    .map(|k| Tick {
+                        value: k as f64 * step,
+                        label: pi_fraction(k, d),
+                    })
+                    .collect();
+            }
+            ticks(a / PI, b / PI, min_count)
+                .into_iter()
+                .map(|t| Tick {
+                    value: t.value * PI,
+                    label: if t.label == "0" {
+                        t.label
+                    } else {
+                        format!("{}π", t.label)
+                    },
+                })
+                .collect()
+        }
+    }
+}
+
+/// Ticks on a log axis whose coordinate is log10 of the value: the
+/// decades, then 1-2-5 and then every integer mantissa when the decades
+/// alone are fewer than `min_count`; labelled with the value ("1e-6",
+/// "5e-6", "0.01" → "1e-2").
+pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    if !(a.is_finite() && b.is_finite() && b > a) || b - a > 600.0 {
+        return Vec::new();
+    }
+    let n = min_count.max(2);
+    let mantissas: [&[u32]; 3] = [&[1], &[1, 2, 5], &[1, 2, 3, 4, 5, 6, 7, 8, 9]];
+    let eps = 1e-9;
+    let mut best = Vec::new();
+    for ms in mantissas {
+        best.clear();
+        for e in (a.floor() as i32)..=(b.ceil() as i32) {
+            for &m in ms {
+                let v = e as f64 + (m as f64).log10();
+                if v >= a - eps && v <= b + eps {
+                    best.push(Tick {
+                        value: v,
+                        label: if m == 1 {
+                            format!("1e{e}")
+                        } else {
+                            format!("{m}e{e}")
+                        },
+                    });
+                }
+            }
+        }
+        if best.len() >= n {
+            return best;
+        }
+    }
+    // Less than a decade wide: linear ticks of the log coordinate.
+    ticks(a, b, n)
+}
+
+/// How an axis is scaled and labelled.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Scale {
+    /// Plain numbers at 1-2-5 steps.
+    Linear,
+    /// An angle in radians, labelled in the given unit.
+    Angle(AngleUnit),
+    /// The coordinate is log10 of the value.
+    Log10,
+}
+
+impl Scale {
+    /// The ticks of this scale over [lo, hi].
+    pub fn ticks(self, lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
+        match self {
+            Scale::Linear => ticks(lo, hi, min_count),
+            Scale::Angle(u) => angle_ticks(lo, hi, min_count, u),
+            Scale::Log10 => log10_ticks(lo, hi, min_count),
+        }
+    }
+}
+
+/// An angle axis' title: the quantity and its symbol, then the unit.
+pub fn angle_title(quantity: &str, unit: AngleUnit) -> String {
+    let u = match unit {
+        AngleUnit::Radians => "rad",
+        AngleUnit::Degrees => "°",
+        AngleUnit::PiFractions => "rad",
+    };
+    format!("{quantity} ({u})")
+}
+
+/// One axis of a plot: its title (quantity, symbol and unit) and scale.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AxisSpec {
+    /// "θν, pull direction (rad)".
+    pub title: String,
+    pub scale: Scale,
+}
+
+impl AxisSpec {
+    /// A linear axis titled `title`.
+    pub fn linear(title: impl Into<String>) -> AxisSpec {
+        AxisSpec {
+            title: title.into(),
+            scale: Scale::Linear,
+        }
+    }
+
+    /// An angle axis: `quantity` ("θν, pull direction") with its unit.
+    pub fn angle(quantity: &str, unit: AngleUnit) -> AxisSpec {
+        AxisSpec {
+            title: angle_title(quantity, unit),
+            scale: Scale::Angle(unit),
+        }
+    }
+
+    /// A log axis (the coordinate is log10 of the value).
+    pub fn log10(title: impl Into<String>) -> AxisSpec {
+        AxisSpec {
+            title: title.into(),
+            scale: Scale::Log10,
+        }
+    }
+}
+
+/// The ticks as egui_plot grid marks (a grid line at each labelled tick,
+/// none between: a printed figure's grid).
+fn grid_marks(scale: Scale, input: GridInput) -> Vec<GridMark> {
+    let (lo, hi) = input.bounds;
+    let t = scale.ticks(lo, hi, MIN_TICKS);
+    // The spacing egui uses to fade and fit labels: the smallest gap.
+    let step = t
+        .windows(2)
+        .map(|w| w[1].value - w[0].value)
+        .fold(f64::INFINITY, f64::min);
+    let step = if step.is_finite() { step } else { hi - lo };
+    t.into_iter()
+        .map(|t| GridMark {
+            value: t.value,
+            step_size: step,
+        })
+        .collect()
+}
+
+/// The label of the tick at `mark` on an axis showing `range`.
+fn tick_label(scale: Scale, mark: GridMark, range: &RangeInclusive<f64>) -> String {
+    let (lo, hi) = (*range.start(), *range.end());
+    let tol = 1e-6 * (hi - lo).abs().max(f64::MIN_POSITIVE);
+    scale
+        .ticks(lo, hi, MIN_TICKS)
+        .into_iter()
+        .find(|t| (t.value - mark.value).abs() <= tol)
+        .map(|t| t.label)
+        .unwrap_or_default()
+}
+
+fn hints<'a>(spec: &AxisSpec, axis: egui_plot::Axis) -> AxisHints<'a> {
+    let scale = spec.scale;
+    let h = match axis {
+        egui_plot::Axis::X => AxisHints::new_x(),
+        egui_plot::Axis::Y => AxisHints::new_y(),
+    };
+    // Every tick is labelled whatever its spacing (egui only drops a label
+    // that would overlap its neighbour).
+    h.label(spec.title.clone())
+        .label_spacing(0.5..=1.0)
+        .formatter(move |m, r| tick_label(scale, m, r))
+}
+
+/// `plot` with these axes: titles, grid lines and labels at [`Scale::ticks`].
+pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
+    let (sx, sy) = (x.scale, y.scale);
+    plot.custom_x_axes(vec![hints(x, egui_plot::Axis::X)])
+        .custom_y_axes(vec![hints(y, egui_plot::Axis::Y)])
+        .x_grid_spacer(move |i| grid_marks(sx, i))
+        .y_grid_spacer(move |i| grid_marks(sy, i))
+}
+
+/// Where each plot's frame was drawn last frame, by plot name: for tests
+/// and for anything that crops a picture to one plot.
+#[derive(Clone, Debug, Default)]
+pub struct PlotFrames(pub Vec<(&'static str, egui::Rect)>);
+
+fn frames_id() -> egui::Id {
+    egui::Id::unique("oneblock-plot-frames")
+}
+
+/// Records that plot `name` was drawn in `frame` this frame.
+pub fn remember_frame(ctx: &egui::Context, name: &'static str, frame: egui::Rect) {
+    ctx.data_mut(|d| {
+        let f = d.get_temp_mut_or_default::<PlotFrames>(frames_id());
+        f.0.retain(|(n, _)| *n != name);
+        f.0.push((name, frame));
+    });
+}
+
+/// Forgets the recorded frames (at the start of a frame, so that a plot no
+/// longer shown is not listed).
+pub fn clear_frames(ctx: &egui::Context) {
+    ctx.data_mut(|d| d.remove::<PlotFrames>(frames_id()));
+}
+
+/// The plots drawn since the last [`clear_frames`], with their frames.
+pub fn plot_frames(ctx: &egui::Context) -> Vec<(&'static str, egui::Rect)> {
+    ctx.data(|d| {
+        d.get_temp::<PlotFrames>(frames_id())
+            .map(|f| f.0)
+            .unwrap_or_default()
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn labels(t: &[Tick]) -> Vec<&str> {
+        t.iter().map(|t| t.label.as_str()).collect()
+    }
+
+    #[test]
+    fn at_least_five_round_ticks_over_any_range() {
+        for &(lo, hi) in &[
+            (0.0, std::f64::consts::FRAC_PI_2),
+            (1.15, 1.35),
+            (-1.0, 1.0),
+            (0.0, 1.0),
+            (1e-6, 3e-6),
+            (-123456.0, 987654.0),
+            (0.999, 1.001),
+            (-0.3, 0.0),
+        ] {
+            let t = ticks(lo, hi, 5);
+            assert!(t.len() >= 5, "{lo}..{hi}: {:?}", labels(&t));
+            // No more than the next coarser 1-2-5 step would have given
+            // beyond five (coarser is at most 2.5× the step).
+            assert!(t.len() <= 13, "{lo}..{hi}: {}", t.len());
+            let step = t[1].value - t[0].value;
+            let m = step / 10f64.powf(step.log10().floor());
+            assert!(
+                [1.0, 2.0, 5.0, 10.0].iter().any(|r| (m - r).abs() < 1e-6),
+                "step {step} is not 1-2-5"
+            );
+            for tk in &t {
+                assert!(tk.value >= lo - 1e-9 * step && tk.value <= hi + 1e-9 * step);
+                // The label reads back as the value.
+                let back: f64 = tk.label.parse().expect("numeric label");
+                assert!(
+                    (back - tk.value).abs() <= 1e-6 * step,
+                    "{} vs {}",
+                    tk.label,
+                    tk.value
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_issue_ranges_get_dense_labels() {
+        assert_eq!(
+            labels(&ticks(0.0, std::f64::consts::FRAC_PI_2, 5)),
+            ["0.0", "0.2", "0.4", "0.6", "0.8", "1.0", "1.2", "1.4"]
+        );
+        assert_eq!(
+            labels(&ticks(1.15, 1.35, 5)),
+            ["1.15", "1.20", "1.25", "1.30", "1.35"]
+        );
+        assert_eq!(
+            labels(&ticks(-1.0, 1.0, 5)),
+            ["-1.0", "-0.5", "0.0", "0.5", "1.0"]
+        );
+        assert_eq!(
+            labels(&ticks(-0.01, 0.01, 5)),
+            ["-0.010", "-0.005", "0.000", "0.005", "0.010"]
+        );
+    }
+
+    #[test]
+    fn angles_in_degrees_and_fractions_of_pi() {
+        let deg = angle_ticks(0.0, std::f64::consts::FRAC_PI_2, 5, AngleUnit::Degrees);
+        assert_eq!(labels(&deg), ["0°", "20°", "40°", "60°", "80°"]);
+        assert!((deg[1].value - 20f64.to_radians()).abs() < 1e-12);
+        let pi = angle_ticks(0.0, std::f64::consts::FRAC_PI_2, 5, AngleUnit::PiFractions);
+        assert_eq!(labels(&pi), ["0", "π/8", "π/4", "3π/8", "π/2"]);
+        assert!((pi[3].value - 3.0 * PI / 8.0).abs() < 1e-12);
+        let full = angle_ticks(-PI, PI, 5, AngleUnit::PiFractions);
+        assert_eq!(labels(&full), ["-π", "-π/2", "0", "π/2", "π"]);
+        // Too narrow for π/24: decimal multiples of π, still at least five.
+        let narrow = angle_ticks(1.15, 1.35, 5, AngleUnit::PiFractions);
+        assert!(narrow.len() >= 5);
+        for t in &narrow {
+            let k: f64 = t
+                .label
+                .trim_end_matches('π')
+                .parse()
+                .expect("multiple of π");
+            assert!((k * PI - t.value).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn log_axes_label_decades_or_mantissas() {
+        let t = log10_ticks(-9.0, -3.0, 5);
+        assert_eq!(
+            labels(&t),
+            ["1e-9", "1e-8", "1e-7", "1e-6", "1e-5", "1e-4", "1e-3"]
+        );
+        let t = log10_ticks(-6.0, -4.0, 5);
+        assert_eq!(
+            labels(&t),
+            ["1e-6", "2e-6", "5e-6", "1e-5", "2e-5", "5e-5", "1e-4"]
+        );
+        assert!((t[2].value - 5e-6f64.log10()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn degenerate_ranges_give_no_ticks_and_never_minus_zero() {
+        assert!(ticks(1.0, 1.0, 5).is_empty());
+        assert!(ticks(f64::NAN, 1.0, 5).is_empty());
+        assert!(ticks(0.0, f64::INFINITY, 5).is_empty());
+        assert_eq!(format_value(-1e-17, 0.1), "0.0");
+        assert_eq!(format_value(2e-5, 1e-5), "2e-5");
+        assert_eq!(format_value(2.5e-5, 5e-6), "2.5e-5");
+        assert_eq!(format_value(0.9995, 5e-4), "0.9995");
+        // Reversed ends give the same ticks.
+        assert_eq!(ticks(1.0, 0.0, 5), ticks(0.0, 1.0, 5));
+    }
+}
