@@ -292,7 +292,8 @@ impl<'a> SlipRun<'a> {
     /// its stability limit; on a symmetry axis the state has no turn at all
     /// (near one, less than the tolerance) and the steps outgrew it
     /// (h λ ≈ 16), so the tangents, which do carry the mode, were amplified
-    /// some 10⁴ times a step (f' ≈ 10²⁷ at θ = θν = 0).
+    /// some 10⁴ times a step (f' ≈ 10²⁷ at θ = θν = 0). Decelerating, the cap
+    /// is ≥ 1e-6: Φ/v_r is unbounded as v_r → 0 (a slip at ν = 1e-12).
     #[inline(always)]
     fn stability_cap(&self, decelerating: bool) -> f64 {
         let reach = match self.sim.settings.method {
@@ -305,7 +306,7 @@ impl<'a> SlipRun<'a> {
         let field = &self.sim.field;
         let phi = field.phi(vr);
         let rate = match (vr > 0.0, decelerating) {
-            (true, true) => phi / vr,
+            (true, true) => (phi / vr).min(reach * 1e6),
             (true, false) => -phi * (-field.omega * vr).exp_m1() / vr,
             (false, _) => phi * field.omega,
         };
