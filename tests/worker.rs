@@ -62,6 +62,7 @@ fn iterate(generation: Generation, params: Params, transient: usize, keep: usize
             theta0: None,
             transient,
             keep,
+            graph_powers: 1,
         },
     }
 }
@@ -877,6 +878,7 @@ fn set_params_without_settings_keeps_each_jobs_own() {
             theta0: None,
             transient: 5,
             keep: 10,
+            graph_powers: 1,
         },
     }));
     let (_, outcome) = until_finished(&w, 1, Lane::Orbit);

@@ -29,6 +29,9 @@ pub struct IterateData {
     /// Points (θ, f(θ)) of the map's graph over the orbit's window (NaN
     /// where a cycle failed), once the job has drawn it.
     pub graph: Vec<[f64; 2]>,
+    /// f^k at the graph's θ for k = 2, 3, … (as many as were asked for and
+    /// have arrived; NaN where a cycle failed).
+    pub powers: Vec<Vec<f64>>,
     pub period: Option<Period>,
     pub lyapunov: Option<f64>,
 }

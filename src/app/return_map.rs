@@ -8,6 +8,7 @@ use eframe::egui;
 use egui::{RichText, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
 
+use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
 use super::settings::{Settings, ViewKind};
 use super::style;
@@ -78,9 +79,10 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
 pub struct ReturnMapView;
 
 impl ReturnMapView {
-    fn show(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
         legend_ui(ui, it.period, it.lyapunov, s.dark);
+        powers_ui(ui, s, &it.powers);
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;
@@ -96,7 +98,24 @@ impl ReturnMapView {
             .last()
             .zip(it.graph.first())
             .map_or(1.0, |(a, b)| (a[0] - b[0]).abs());
-        let pieces = graph_pieces(&it.graph, 0.1 * window.max(1e-3));
+        let jump = 0.1 * window.max(1e-3);
+        let pieces = graph_pieces(&it.graph, jump);
+        // f^k over the same θ, for each k asked for that has arrived.
+        let power_pieces: Vec<(usize, Vec<Vec<[f64; 2]>>)> = it
+            .powers
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| s.map_powers.get(*i).copied().unwrap_or(false))
+            .map(|(i, vals)| {
+                let pts: Vec<[f64; 2]> = it
+                    .graph
+                    .iter()
+                    .zip(vals)
+                    .map(|(g, &v)| [g[0], v])
+                    .collect();
+                (i, graph_pieces(&pts, jump))
+            })
+            .collect();
         let web = cobweb(tail);
         // Frame the attractor (the kept iterates; the transient may fall
         // outside) in the window the worker drew f over.
@@ -109,14 +128,18 @@ impl ReturnMapView {
             _ => None,
         };
         let dark = s.dark;
-        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
-        Plot::new("return_map")
+        let lw = style::width(ui.ctx(), 1.0);
+        let plot = Plot::new("return_map")
             .show_background(false)
             .data_aspect(1.0)
-            .x_axis_label("θ (this onset)")
-            .y_axis_label("θ' (next onset)")
-            .allow_double_click_reset(false)
-            .show(ui, |p| {
+            .allow_double_click_reset(false);
+        let plot = axes::apply(
+            plot,
+            &AxisSpec::angle("θ, this slip onset", s.angle_unit),
+            &AxisSpec::angle("θ', next slip onset", s.angle_unit),
+        );
+        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
+        let resp = plot.show(ui, |p| {
                 // Follow the attractor as it changes, in a square that fits.
                 let f = *p.transform().frame();
                 if f.height() > 0.0 {
@@ -153,11 +176,21 @@ impl ReturnMapView {
                         }
                     }
                 }
+                for (i, pieces) in power_pieces {
+                    let name = ["f²", "f³", "f⁴"][i.min(2)];
+                    for piece in pieces {
+                        p.line(
+                            style::line(name, PlotPoints::from(piece))
+                                .color(style::POWERS[i.min(2)])
+                                .width(1.5 * lw),
+                        );
+                    }
+                }
                 for piece in pieces {
                     p.line(
                         style::line("f", PlotPoints::from(piece))
                             .color(style::ACCEL)
-                            .width(1.5),
+                            .width(2.0 * lw),
                     );
                 }
                 p.add(
@@ -168,7 +201,7 @@ impl ReturnMapView {
                 p.line(
                     style::line("cobweb", PlotPoints::from(web))
                         .color(style::DECEL)
-                        .width(1.5),
+                        .width(1.5 * lw),
                 );
                 p.add(
                     Points::new("orbit iterates", PlotPoints::from(kept))
@@ -177,7 +210,32 @@ impl ReturnMapView {
                         .filled(true),
                 );
             });
+        axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
     }
+}
+
+/// The f², f³, f⁴ switches, each with its colour, and whether it is still
+/// being computed.
+fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("also draw:");
+        for (i, name) in ["f²", "f³", "f⁴"].into_iter().enumerate() {
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(18.0, 14.0), egui::Sense::hover());
+            ui.painter().line_segment(
+                [rect.left_center(), rect.right_center()],
+                egui::Stroke::new(2.0, style::POWERS[i]),
+            );
+            ui.checkbox(&mut s.map_powers[i], name).on_hover_text(
+                "The graph of the map composed with itself, each point from \
+                 k cycles integrated in turn: a period-k orbit is where it \
+                 meets θ' = θ, and a tangency marks a period-k window's birth.",
+            );
+        }
+        let want = s.graph_power();
+        if want >= 2 && arrived.len() + 1 < want {
+            ui.weak("computing…");
+        }
+    });
 }
 
 /// The period and λ, and the legend above the plot.

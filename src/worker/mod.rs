@@ -41,8 +41,8 @@ use crossbeam_channel::{Receiver, Sender, TrySendError};
 pub use phase::{COARSE_STRIDE, Seed, run_cell};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
-    Axis, Command, Generation, GridCell, IterateSpec, Lane, Outcome, PhaseSpec, SweepSpec,
-    TrajectorySpec, Update, WorkPrecisionSpec,
+    Axis, Command, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec,
+    SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use gate::Gate;
