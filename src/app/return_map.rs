@@ -107,12 +107,8 @@ impl ReturnMapView {
             .enumerate()
             .filter(|(i, _)| s.map_powers.get(*i).copied().unwrap_or(false))
             .map(|(i, vals)| {
-                let pts: Vec<[f64; 2]> = it
-                    .graph
-                    .iter()
-                    .zip(vals)
-                    .map(|(g, &v)| [g[0], v])
-                    .collect();
+                let pts: Vec<[f64; 2]> =
+                    it.graph.iter().zip(vals).map(|(g, &v)| [g[0], v]).collect();
                 (i, graph_pieces(&pts, jump))
             })
             .collect();
@@ -140,76 +136,76 @@ impl ReturnMapView {
         );
         // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
         let resp = plot.show(ui, |p| {
-                // Follow the attractor as it changes, in a square that fits.
-                let f = *p.transform().frame();
-                if f.height() > 0.0 {
-                    let asp = (f.width() / f.height()) as f64;
-                    let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-                    let (hx, hy) = if asp >= 1.0 {
-                        (h * asp, h)
-                    } else {
-                        (h, h / asp)
-                    };
-                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
-                        [c - hx, c - hy],
-                        [c + hx, c + hy],
-                    ));
-                }
-                p.line(
-                    style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
-                        .color(style::CRITICAL)
-                        .style(LineStyle::Dashed { length: 8.0 }),
-                );
-                if let Some(tc) = theta_c {
-                    for v in [tc, -tc] {
-                        if v > lo && v < hi {
-                            p.add(
-                                VLine::new("θc", v)
-                                    .color(style::ACCEL.gamma_multiply(0.6))
-                                    .style(LineStyle::Dashed { length: 6.0 }),
-                            );
-                            p.add(
-                                HLine::new("θc", v)
-                                    .color(style::ACCEL.gamma_multiply(0.6))
-                                    .style(LineStyle::Dashed { length: 6.0 }),
-                            );
-                        }
-                    }
-                }
-                for (i, pieces) in power_pieces {
-                    let name = ["f²", "f³", "f⁴"][i.min(2)];
-                    for piece in pieces {
-                        p.line(
-                            style::line(name, PlotPoints::from(piece))
-                                .color(style::POWERS[i.min(2)])
-                                .width(1.5 * lw),
+            // Follow the attractor as it changes, in a square that fits.
+            let f = *p.transform().frame();
+            if f.height() > 0.0 {
+                let asp = (f.width() / f.height()) as f64;
+                let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+                let (hx, hy) = if asp >= 1.0 {
+                    (h * asp, h)
+                } else {
+                    (h, h / asp)
+                };
+                p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
+                    [c - hx, c - hy],
+                    [c + hx, c + hy],
+                ));
+            }
+            p.line(
+                style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
+                    .color(style::CRITICAL)
+                    .style(LineStyle::Dashed { length: 8.0 }),
+            );
+            if let Some(tc) = theta_c {
+                for v in [tc, -tc] {
+                    if v > lo && v < hi {
+                        p.add(
+                            VLine::new("θc", v)
+                                .color(style::ACCEL.gamma_multiply(0.6))
+                                .style(LineStyle::Dashed { length: 6.0 }),
+                        );
+                        p.add(
+                            HLine::new("θc", v)
+                                .color(style::ACCEL.gamma_multiply(0.6))
+                                .style(LineStyle::Dashed { length: 6.0 }),
                         );
                     }
                 }
+            }
+            for (i, pieces) in power_pieces {
+                let name = ["f²", "f³", "f⁴"][i.min(2)];
                 for piece in pieces {
                     p.line(
-                        style::line("f", PlotPoints::from(piece))
-                            .color(style::ACCEL)
-                            .width(2.0 * lw),
+                        style::line(name, PlotPoints::from(piece))
+                            .color(style::POWERS[i.min(2)])
+                            .width(1.5 * lw),
                     );
                 }
-                p.add(
-                    Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
-                        .color(style::STICK.gamma_multiply(0.45))
-                        .radius(2.5),
-                );
+            }
+            for piece in pieces {
                 p.line(
-                    style::line("cobweb", PlotPoints::from(web))
-                        .color(style::DECEL)
-                        .width(1.5 * lw),
+                    style::line("f", PlotPoints::from(piece))
+                        .color(style::ACCEL)
+                        .width(2.0 * lw),
                 );
-                p.add(
-                    Points::new("orbit iterates", PlotPoints::from(kept))
-                        .color(style::ink(dark))
-                        .radius(3.5)
-                        .filled(true),
-                );
-            });
+            }
+            p.add(
+                Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
+                    .color(style::STICK.gamma_multiply(0.45))
+                    .radius(2.5),
+            );
+            p.line(
+                style::line("cobweb", PlotPoints::from(web))
+                    .color(style::DECEL)
+                    .width(1.5 * lw),
+            );
+            p.add(
+                Points::new("orbit iterates", PlotPoints::from(kept))
+                    .color(style::ink(dark))
+                    .radius(3.5)
+                    .filled(true),
+            );
+        });
         axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
     }
 }

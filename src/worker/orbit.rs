@@ -108,7 +108,14 @@ pub(crate) fn run(shared: &Shared, cmd: Command) {
                 keep,
                 graph_powers,
             } = spec;
-            job.iterate(generation, params, settings, theta0, (transient, keep), graph_powers)
+            job.iterate(
+                generation,
+                params,
+                settings,
+                theta0,
+                (transient, keep),
+                graph_powers,
+            )
         }),
         Command::InjectPanic {
             generation,
