@@ -38,6 +38,7 @@ use std::time::Duration;
 
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
+pub use numerics::TIMING_REPEATS;
 pub use phase::{COARSE_STRIDE, Seed, run_cell};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{

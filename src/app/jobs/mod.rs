@@ -359,8 +359,9 @@ impl Jobs {
         };
         let subjects = quick_subjects();
         let g = self.generation();
-        self.numerics
-            .start(g, WorkPrecisionData::new(params, subjects.len()));
+        let mut data = WorkPrecisionData::new(params, subjects.len());
+        data.load = super::data::load_average();
+        self.numerics.start(g, data);
         self.send(Command::WorkPrecision {
             generation: g,
             spec: WorkPrecisionSpec {
