@@ -159,6 +159,9 @@ pub struct Settings {
     pub angle_unit: AngleUnit,
     /// Which of f², f³, f⁴ the return map draws beside f.
     pub map_powers: [bool; 3],
+    /// The projector preset: thick lines and high contrast (and, when
+    /// switched on, large text).
+    pub projector: bool,
 }
 
 impl Settings {
@@ -202,6 +205,7 @@ impl Default for Settings {
             phase: PhaseSettings::default(),
             angle_unit: AngleUnit::Radians,
             map_powers: [false; 3],
+            projector: false,
         }
     }
 }
