@@ -483,7 +483,7 @@ fn ctrl_c_writes_nothing() {
     let o = child.wait_with_output().expect("the run ends");
     let err = String::from_utf8_lossy(&o.stderr);
     assert_eq!(o.status.code(), Some(1), "{err}");
-    assert!(err.contains("cancelled"), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
     assert!(!out.exists() && !png.exists());
     // No temporary file left behind either.
     assert_eq!(

@@ -1,11 +1,11 @@
-//! Flags every simulating subcommand shares, and the error type that maps
-//! bad input to exit code 2 and failures to exit code 1.
+//! Flags every simulating subcommand shares, and the checks and summaries
+//! built on them.
 
-use std::io::IsTerminal;
 use std::path::Path;
 
 use clap::Args;
 
+use super::CliError;
 use super::run_control::write_stdout;
 use super::values::{
     given_or_preset, param_error, parse_number, preset_params, short, short_count,
@@ -14,45 +14,7 @@ use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::model::{Regime, event_anomalies, exit_arc, validity};
 use crate::output::{OutputError, check_writable, write_output};
-use crate::sim::{SimError, Simulator};
-
-/// A command-line failure: `Usage` (bad input: exit 2) or `Failed` (exit 1).
-#[derive(Debug, thiserror::Error)]
-pub enum CliError {
-    #[error("{0}")]
-    Usage(String),
-    #[error("{0}")]
-    Failed(String),
-}
-
-impl CliError {
-    pub fn exit_code(&self) -> i32 {
-        match self {
-            CliError::Usage(_) => 2,
-            CliError::Failed(_) => 1,
-        }
-    }
-}
-
-impl From<SimError> for CliError {
-    /// Errors about a parameter, a setting or an off-arc θ are the user's
-    /// input; the rest are failures of the run.
-    fn from(e: SimError) -> Self {
-        match e {
-            SimError::Param(_)
-            | SimError::Settings(_)
-            | SimError::OffExitArc { .. }
-            | SimError::StepTooLarge { .. } => CliError::Usage(e.to_string()),
-            _ => CliError::Failed(e.to_string()),
-        }
-    }
-}
-
-impl From<OutputError> for CliError {
-    fn from(e: OutputError) -> Self {
-        CliError::Usage(e.to_string())
-    }
-}
+use crate::sim::Simulator;
 
 /// The model's parameters (docs/model.md), angles in radians: given one by
 /// one, or `--preset NAME` with any of them overriding the preset's value.
@@ -285,11 +247,6 @@ pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
         ))),
         r => r.map_err(out_error),
     }
-}
-
-/// Whether progress bars should be drawn: only on a terminal.
-pub fn stderr_is_terminal() -> bool {
-    std::io::stderr().is_terminal()
 }
 
 /// A one-line description of the parameters and the solver, for summaries.

@@ -5,6 +5,7 @@ pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;
 pub mod cycle;
+mod error;
 pub mod gui;
 pub mod map;
 pub mod orbit;
@@ -17,7 +18,7 @@ pub mod work_precision;
 use clap::error::{ContextKind, ContextValue, ErrorKind};
 use clap::{Parser, Subcommand};
 
-pub use common::CliError;
+pub use error::CliError;
 
 /// Explorer for the two-dimensional one-block earthquake model. With no
 /// subcommand it opens the window.

@@ -3,7 +3,7 @@
 //! written; progress, as a bar on a terminal and as a line every few
 //! seconds elsewhere; and writing to stdout with its failures reported.
 
-use std::io::Write;
+use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 use std::time::{Duration, Instant};
@@ -11,7 +11,6 @@ use std::time::{Duration, Instant};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use super::CliError;
-use super::common::stderr_is_terminal;
 use super::values::short;
 
 /// Set by the Ctrl+C handler; polled by every long run.
@@ -245,4 +244,9 @@ pub fn write_stdout(bytes: &[u8]) -> Result<(), CliError> {
 /// One line to stdout, as [`write_stdout`].
 pub fn say(line: &str) -> Result<(), CliError> {
     write_stdout(format!("{line}\n").as_bytes())
+}
+
+/// Whether stderr is a terminal (progress bars) or not (progress lines).
+pub fn stderr_is_terminal() -> bool {
+    std::io::stderr().is_terminal()
 }

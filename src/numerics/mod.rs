@@ -1,4 +1,4 @@
-//! Speed against accuracy (issue 5): the work-precision measurement, a peer
+//! Speed against accuracy: the work-precision measurement, a peer
 //! integrator from another crate on the same slip equations, the chart, an
 //! a-posteriori reliability check for the fixed-step methods, and the
 //! accuracy budget that picks the cheapest setting a view needs, the
@@ -10,7 +10,6 @@
 
 pub mod budget;
 pub mod chart;
-pub mod chebyshev;
 pub mod committed;
 pub mod fixed_sample;
 pub mod peer;

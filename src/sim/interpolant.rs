@@ -14,13 +14,13 @@
 //! integrates there instead.
 
 mod build;
+pub mod chebyshev;
 mod orbit;
 
 use std::f64::consts::FRAC_PI_2;
 
 use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, exit_arc, point_from_theta, wrap_angle};
-use crate::numerics::chebyshev;
 
 pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
 

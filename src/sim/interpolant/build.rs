@@ -2,12 +2,12 @@
 //! test, splitting at jumps or in the middle, and the check at independent
 //! points (the module's doc in `sim::interpolant` says how they fit).
 
+use super::chebyshev;
 use super::{
     CHECKS, FIELDS, InterpolantError, JUMP_WIDTH, MIN_PIECE, MapInterpolant, Piece, SAMPLINGS,
     Sample, clenshaw_fields,
 };
 use crate::model::wrap_angle;
-use crate::numerics::chebyshev;
 use crate::sim::cycles_in_lanes;
 
 /// A piece being resolved: its ends and its samples so far.

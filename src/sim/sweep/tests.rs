@@ -1,0 +1,164 @@
+use super::*;
+use crate::integrate::Method;
+use crate::model::wrap_angle;
+
+/// Every cycle integrated: the reference the early exit must reproduce.
+fn brute_force(
+    params: Params,
+    settings: SolverSettings,
+    theta_nu: f64,
+    opts: &SweepOptions,
+) -> Vec<f64> {
+    let sim = Simulator::new(params.with_theta_nu(theta_nu), settings).unwrap();
+    let mut theta = theta_nu;
+    let mut kept = vec![];
+    for i in 0..opts.transient + opts.keep {
+        let ev = sim.cycle(theta, 0.0, None).unwrap();
+        if i >= opts.transient {
+            kept.push(ev.theta);
+        }
+        theta = sim.next_onset(&ev);
+    }
+    kept
+}
+
+#[test]
+fn settled_columns_match_full_integration() {
+    let params = Params::default();
+    let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+    let opts = SweepOptions {
+        transient: 300,
+        keep: 200,
+    };
+    // Fig. 3b: fixed points, period 2 and 4, chaos, period 3.
+    for tn in [0.3, 1.0, 1.12, 1.2, 1.25, 1.3] {
+        let col = Column::run(params, settings, tn, tn, &opts, &|| false);
+        let reference = brute_force(params, settings, tn, &opts);
+        assert_eq!(col.thetas.len(), reference.len());
+        let worst = col
+            .thetas
+            .iter()
+            .zip(&reference)
+            .map(|(a, b)| wrap_angle(a - b).abs())
+            .fold(0.0, f64::max);
+        // Chaotic columns never settle, so they are bit-identical; the
+        // others agree to far below a pixel (1e-3 of the θ range).
+        assert!(worst < 1e-5, "θν = {tn}: early exit differs by {worst:e}");
+    }
+}
+
+/// A slow pure-creep fixed point (multiplier ≈ 0.99): the column is its
+/// solved fixed point, which the whole integration only approaches.
+#[test]
+fn a_slow_column_is_its_solved_fixed_point() {
+    let settings = SolverSettings::adaptive(Method::Dop853, 1e-10);
+    let opts = SweepOptions {
+        transient: 300,
+        keep: 200,
+    };
+    let creep = Params {
+        kappa: 3.0,
+        gamma: 0.5,
+        nu: 1e-3,
+        theta_nu: 0.7,
+        omega: 50.0,
+    };
+    let tn = creep.theta_nu;
+    let col = Column::run(creep, settings, tn, tn, &opts, &|| false);
+    let sim = Simulator::new(creep, settings).unwrap();
+    let (star, _) = crate::sim::fixed_point(&sim, tn, 1e-12).unwrap().unwrap();
+    let off = |xs: &[f64]| xs.iter().map(|x| (x - star).abs()).fold(0.0, f64::max);
+    assert_eq!(col.thetas.len(), opts.keep);
+    assert!(off(&col.thetas) < 1e-7, "{:e}", off(&col.thetas));
+    assert!((col.theta_last - star).abs() < 1e-7);
+    let reference = brute_force(creep, settings, tn, &opts);
+    assert!(off(&reference) > off(&col.thetas));
+}
+
+#[test]
+fn grids_over_the_widest_ranges_stay_finite() {
+    let g = theta_nu_grid(-1e308, 1e308, 5);
+    assert!(g.iter().all(|v| v.is_finite()), "{g:?}");
+    assert_eq!((g[0], g[2], g[4]), (-1e308, 0.0, 1e308));
+    assert_eq!(theta_nu_grid(0.0, 1.0, 3), [0.0, 0.5, 1.0]);
+}
+
+/// A long transient is streamed: a column holds the settle window and
+/// its kept iterates, not the transient, and keeps the same iterates
+/// as a short transient from the same settled state would.
+#[test]
+fn long_transients_are_streamed() {
+    let params = Params::default();
+    let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+    // Chaos (θν = 1.25) never settles, so every transient iterate is
+    // integrated and dropped as the column goes.
+    let sim = Simulator::new(params.with_theta_nu(1.25), settings).unwrap();
+    let opts = SweepOptions {
+        transient: 3000,
+        keep: 5,
+    };
+    let mut run = ColumnRun::new(&sim, 1.25, None, &opts);
+    let mut most = 0;
+    while let Some(theta) = run.next_onset(&|| false) {
+        run.take(&sim, sim.cycle(theta, 0.0, None));
+        most = most.max(run.onsets.len());
+    }
+    assert!(
+        most <= 5 * SETTLE_WINDOW + opts.keep + 1,
+        "held {most} onsets"
+    );
+    let col = run.finish();
+    assert_eq!(col.thetas.len(), 5);
+    assert_eq!(col.thetas, brute_force(params, settings, 1.25, &opts));
+    // A fixed point settles early; the transient's end is reached by
+    // repeating the cycle, without a vector the transient's length.
+    let huge = SweepOptions {
+        transient: 1 << 40,
+        keep: 3,
+    };
+    let col = Column::run(params, settings, 0.3, 0.3, &huge, &|| false);
+    assert!(col.error.is_none());
+    assert_eq!(col.thetas.len(), 3);
+    assert!(col.thetas.iter().all(|t| (t - col.thetas[0]).abs() < 1e-9));
+}
+
+#[test]
+fn segments_are_contiguous_and_even() {
+    let g: Vec<f64> = (0..8).map(f64::from).collect();
+    let lens: Vec<usize> = segments(&g, 3).iter().map(|s| s.len()).collect();
+    assert_eq!(lens, [3, 3, 2]);
+    assert_eq!(segments(&g, 3).concat(), g);
+    assert_eq!(segments(&g[..2], 3).len(), 2, "never an empty segment");
+    assert_eq!(segments(&[], 3).len(), 1);
+}
+
+/// The segments' sweeps in lanes are bitwise the segments swept one
+/// after the other with `sweep_columns`: fixed points and period 2 that
+/// settle early, chaos that never does, and a segment that is one
+/// column long.
+#[test]
+fn segments_in_lanes_are_the_segments_swept_alone() {
+    let params = Params::default();
+    let settings = SolverSettings::adaptive(Method::Dop853, 1e-8);
+    let opts = SweepOptions {
+        transient: 40,
+        keep: 30,
+    };
+    for (n, theta0) in [(7, None), (2, Some(0.5))] {
+        let grid = theta_nu_grid(0.9, 1.3, n);
+        let mut seen = 0;
+        let got = sweep_segments(params, settings, &grid, &opts, theta0, &|| false, |_| {
+            seen += 1
+        });
+        assert_eq!(seen, n);
+        let want: Vec<Column> = segments(&grid, LANES)
+            .into_iter()
+            .flat_map(|seg| sweep_columns(params, settings, seg, &opts, theta0, &|| false, |_| {}))
+            .collect();
+        assert_eq!(got, want);
+        assert!(
+            got.iter()
+                .all(|c| c.error.is_none() && c.thetas.len() == opts.keep)
+        );
+    }
+}
