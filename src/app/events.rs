@@ -5,6 +5,7 @@ use eframe::egui;
 use egui::Ui;
 use egui_plot::{Bar, BarChart, Plot, PlotPoints, Points};
 
+use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
 use super::settings::{Settings, SlipMeasure, ViewKind};
 use super::style;
@@ -83,8 +84,8 @@ impl EventsView {
         });
         let m = s.slip_measure;
         let unit = match m {
-            SlipMeasure::Distance => "slip distance",
-            SlipMeasure::Energy => "energy released",
+            SlipMeasure::Distance => "slip distance |Δr| (F₀/k_y)",
+            SlipMeasure::Energy => "energy released ΔE (F₀²/k_y)",
         };
         let sizes: Vec<f64> = evs.iter().map(|e| slip_size(e, m)).collect();
         let series = decimate(&sizes, MAX_MARKERS);
@@ -100,41 +101,49 @@ impl EventsView {
         ui.horizontal(|ui| {
             ui.vertical(|ui| {
                 ui.set_width(width * 0.58);
-                Plot::new("events_series")
+                let plot = Plot::new("events_series")
                     .show_background(false)
-                    .height(h - 8.0)
-                    .x_axis_label("event number")
-                    .y_axis_label(unit)
-                    .show(ui, |p| {
-                        if markers {
-                            p.line(
-                                style::line("size", PlotPoints::from(series.clone()))
-                                    .color(style::STICK.gamma_multiply(0.5)),
-                            );
-                            p.add(
-                                Points::new("slips", PlotPoints::from(series))
-                                    .color(style::ACCEL)
-                                    .radius(2.5),
-                            );
-                        } else {
-                            // Thousands of events: their envelope, not a marker each.
-                            p.line(
-                                style::line("size", PlotPoints::from(series))
-                                    .color(style::ACCEL)
-                                    .width(1.0),
-                            );
-                        }
-                    });
+                    .height(h - 8.0);
+                let r = axes::apply(
+                    plot,
+                    &AxisSpec::linear("event number n"),
+                    &AxisSpec::linear(unit),
+                )
+                .show(ui, |p| {
+                    if markers {
+                        p.line(
+                            style::line("size", PlotPoints::from(series.clone()))
+                                .color(style::STICK.gamma_multiply(0.5)),
+                        );
+                        p.add(
+                            Points::new("slips", PlotPoints::from(series))
+                                .color(style::ACCEL)
+                                .radius(2.5),
+                        );
+                    } else {
+                        // Thousands of events: their envelope, not a marker each.
+                        p.line(
+                            style::line("size", PlotPoints::from(series))
+                                .color(style::ACCEL)
+                                .width(1.0),
+                        );
+                    }
+                });
+                axes::remember_frame(ui.ctx(), "events_series", *r.transform.frame());
             });
             ui.vertical(|ui| {
-                Plot::new("events_hist")
+                let plot = Plot::new("events_hist")
                     .show_background(false)
-                    .height(h - 8.0)
-                    .x_axis_label(unit)
-                    .y_axis_label("count")
-                    .show(ui, |p| {
-                        p.bar_chart(BarChart::new("histogram", bars).color(style::STICK));
-                    });
+                    .height(h - 8.0);
+                let r = axes::apply(
+                    plot,
+                    &AxisSpec::linear(unit),
+                    &AxisSpec::linear("count of events"),
+                )
+                .show(ui, |p| {
+                    p.bar_chart(BarChart::new("histogram", bars).color(style::STICK));
+                });
+                axes::remember_frame(ui.ctx(), "events_hist", *r.transform.frame());
             });
         });
     }
