@@ -291,7 +291,7 @@ pub fn validity_ui(ui: &mut Ui, s: &Settings) {
         .inner_margin(egui::Margin::symmetric(8, 4))
         .show(ui, |ui| {
             ui.label(
-                RichText::new("⚠ outside the model's validity")
+                RichText::new("Outside the model's validity")
                     .color(Color32::WHITE)
                     .strong(),
             );

@@ -359,7 +359,7 @@ impl Explorer {
                     .inner_margin(egui::Margin::symmetric(6, 2))
                     .show(ui, |ui| {
                         ui.label(
-                            RichText::new("⚠ outside the model's validity")
+                            RichText::new("Outside the model's validity")
                                 .color(egui::Color32::WHITE)
                                 .strong(),
                         )

@@ -216,7 +216,7 @@ fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
         if let Some((l, cores)) = run.load {
             ui.label(
                 RichText::new(format!(
-                    "⚠ The machine was busy when this run started (load average {l:.1} on \
+                    "Caution: the machine was busy when this run started (load average {l:.1} on \
                      {cores} cores): its wall times are inflated. Each is the fastest of \
                      {} timings, but only RHS evaluations per iterate are unaffected.",
                     crate::worker::TIMING_REPEATS
@@ -271,7 +271,9 @@ impl NumericsView {
                 }
             }
         });
-        let plot_h = (ui.available_height() * 0.62).max(180.0);
+        // Tall enough for five labelled decades at any text size.
+        let line = ui.text_style_height(&egui::TextStyle::Body);
+        let plot_h = (ui.available_height() * 0.62).max(14.0 * line);
         let lw = style::width(ui.ctx(), 1.0);
         let plot = Plot::new("work_precision")
             .show_background(false)

@@ -119,6 +119,8 @@ impl ReturnMapView {
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
+        // Out to round values, so that even a short side has five ticks.
+        let (lo, hi) = axes::nice_bounds(lo, hi, axes::MIN_TICKS);
         let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
             Regime::Mixed { theta_c } => Some(theta_c),
             _ => None,
