@@ -5,23 +5,11 @@
 
 #![allow(clippy::unwrap_used)]
 
+mod cli_support;
+
+use cli_support::*;
 use std::path::Path;
 use std::process::{Command, Output, Stdio};
-
-fn oneblock(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oneblock"))
-        .args(args)
-        .output()
-        .expect("the oneblock binary runs")
-}
-
-fn stderr(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
-}
-
-fn stdout(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stdout).into_owned()
-}
 
 /// No panic, no abort, no non-finite number anywhere in the output.
 fn assert_sane(o: &Output) {
@@ -48,17 +36,6 @@ fn assert_bad_input(args: &[&str], flag: &str) {
     assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
     assert!(err.contains(flag), "{args:?} should name {flag}: {err}");
 }
-
-const FIG3B: [&str; 8] = [
-    "--kappa",
-    "18.95",
-    "--gamma",
-    "6.5",
-    "--nu",
-    "1e-3",
-    "--theta-nu",
-    "1.0",
-];
 
 #[cfg(unix)]
 #[test]

@@ -4,6 +4,8 @@
 
 mod common;
 
+use common::fixture::preset;
+
 use common::until_finished;
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
@@ -15,16 +17,6 @@ use oneblock::sim::{
 };
 use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, Update, Worker, WorkerConfig};
 use std::sync::Arc;
-
-fn params(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
-    Params {
-        kappa,
-        gamma,
-        nu,
-        theta_nu,
-        omega: 50.0,
-    }
-}
 
 fn sim(p: Params) -> Simulator {
     Simulator::new(p, default_settings(1e-10)).expect("valid")
@@ -40,7 +32,7 @@ fn slope(s: &Simulator, theta: f64) -> f64 {
 #[test]
 fn newton_converges_quadratically_onto_a_fixed_point() {
     // Fig. 3b at θν = 1.0: a stable stick-slip fixed point.
-    let s = sim(params(18.95, 6.5, 1e-3, 1.0));
+    let s = sim(preset("fig3b"));
     let full = CycleOptions::for_settings(s.settings());
     let star = solve_cycle(&s, 0.45, 1, &full).expect("a fixed point");
     let th = star.points[0];
@@ -91,7 +83,7 @@ fn newton_converges_quadratically_onto_a_fixed_point() {
 
 #[test]
 fn a_period_two_orbit_has_the_exponent_ln_m_over_two() {
-    let p = params(18.95, 6.5, 1e-3, 1.15);
+    let p = preset("fig3b").with_theta_nu(1.15);
     let s = sim(p);
     let opts = OrbitOptions {
         transient: 400,
@@ -123,9 +115,9 @@ fn the_flip_of_fig_3b_lies_between_1_08_and_1_10() {
     // Fixed point from the stable side, then continued by Newton past the
     // flip, where iterating could not find it.
     let opts = CycleOptions::for_settings(&default_settings(1e-10));
-    let a = sim(params(18.95, 6.5, 1e-3, 1.08));
+    let a = sim(preset("fig3b").with_theta_nu(1.08));
     let fa = solve_cycle(&a, 1.0, 1, &opts).expect("a fixed point at 1.08");
-    let b = sim(params(18.95, 6.5, 1e-3, 1.10));
+    let b = sim(preset("fig3b").with_theta_nu(1.10));
     let fb = solve_cycle(&b, fa.points[0], 1, &opts).expect("a fixed point at 1.10");
     assert!(fa.multiplier > -1.0 && fa.stable, "{}", fa.multiplier);
     assert!(fb.multiplier < -1.0 && !fb.stable, "{}", fb.multiplier);
@@ -138,7 +130,7 @@ fn the_flip_of_fig_3b_lies_between_1_08_and_1_10() {
 
 #[test]
 fn the_fig_3a_point_is_a_fixed_point_within_the_default_budget() {
-    let p = params(50.0, 6.5, 1e-4, 0.3);
+    let p = preset("fig3a");
     let s = sim(p);
     let opts = OrbitOptions {
         transient: 400,
@@ -169,7 +161,10 @@ fn the_creep_grid_has_no_undecided_cell() {
     let kappas = theta_nu_grid(1.0, 42.0, 30);
     let theta_nus = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30);
     let opts = PhaseOptions::for_settings(&settings);
-    let base = params(1.0, 0.5, 1e-3, 0.0);
+    let base = Params {
+        kappa: 1.0,
+        ..preset("creep").with_theta_nu(0.0)
+    };
     let rows = phase_grid(
         base,
         settings,
@@ -201,7 +196,10 @@ fn the_creep_grid_has_no_undecided_cell() {
     // Where a cell ends is its fixed point, as the secant solver finds it
     // from θν (a few cells across the grid).
     for c in cells.iter().step_by(97) {
-        let s = sim(params(c.kappa, 0.5, 1e-3, c.theta_nu));
+        let s = sim(Params {
+            kappa: c.kappa,
+            ..preset("creep").with_theta_nu(c.theta_nu)
+        });
         let (star, _) = fixed_point(&s, c.theta_nu, 1e-12)
             .expect("no error")
             .expect("a fixed point");
@@ -237,7 +235,7 @@ fn worst_gap(a: &[(f64, Vec<f64>)], b: &[(f64, Vec<f64>)]) -> f64 {
 
 #[test]
 fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
-    let p = params(3.0, 0.5, 1e-3, 0.7);
+    let p = preset("creep");
     let columns = 400;
     let (from, to) = (0.0, std::f64::consts::FRAC_PI_2);
     // The window: its sweep at Auto accuracy, 300 + 200 iterates a column.
@@ -295,21 +293,11 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     );
 }
 
-/// `oneblock cycle` with `args` after the Fig. 3b model flags at θν = 1.0.
+/// `oneblock cycle` with `args` after the Fig. 3b preset (θν = 1.0).
 fn cycle_cli(args: &[&str]) -> std::process::Output {
-    let model = [
-        "cycle",
-        "--kappa",
-        "18.95",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
-        "--theta-nu",
-        "1.0",
-    ];
     std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
-        .args(model.iter().chain(args))
+        .args(["cycle", "--preset", "fig3b"])
+        .args(args)
         .output()
         .expect("the binary runs")
 }
@@ -320,7 +308,7 @@ fn the_cycle_command_solves_and_refuses_bad_input_in_one_line() {
     assert_eq!(ok.status.code(), Some(0));
     let v: serde_json::Value = serde_json::from_slice(&ok.stdout).expect("JSON");
     let th = v["points"][0].as_f64().expect("a point");
-    let s = sim(params(18.95, 6.5, 1e-3, 1.0));
+    let s = sim(preset("fig3b"));
     assert!((s.map(th).expect("a value") - th).abs() < 1e-9);
     assert_eq!(v["stable"], true);
     for (args, flag) in [

@@ -182,3 +182,42 @@ fn the_fixed_point_multiplier_crosses_minus_one_at_the_period_doubling() {
         "f' = {before} at 1.08, {after} at 1.10"
     );
 }
+
+/// On a symmetry axis (θν = 0, onsets at and next to θ = 0) the slip has
+/// no turn of v_r, so the error control cannot see that stiff mode; f' and
+/// ∂f/∂θν must still match the differences there, for the isotropic and an
+/// anisotropic spring (they were off by up to 1e27 when the steps outgrew
+/// the mode's stability limit).
+#[test]
+fn derivatives_on_the_x_axis_match_richardson_extrapolated_differences() {
+    for kappa in [1.0, 2.0] {
+        let p = Params {
+            kappa,
+            gamma: 0.5,
+            nu: 1e-3,
+            theta_nu: 0.0,
+            omega: 50.0,
+        };
+        let sim = Simulator::new(p, SolverSettings::adaptive(Method::Dop853, 1e-10)).unwrap();
+        for theta in [0.0, 1e-12, 1e-8] {
+            let (ev, d, _) = sim.cycle_derivatives(theta, 0.0).unwrap();
+            assert!(!ev.restarted, "κ = {kappa}, θ = {theta}");
+            let d = d.unwrap();
+            let along = |dir: usize| {
+                move |e: f64| {
+                    let th = if dir == 0 { theta + e } else { theta };
+                    let r = reference(moved(p, dir, e)).cycle(th, 0.0, None).ok()?;
+                    (!r.restarted).then_some(r.theta_next)
+                }
+            };
+            for (dir, exact) in [(0, d.d_theta), (1, d.d_theta_nu)] {
+                let (rich, spread) = richardson(along(dir), 2e-4).unwrap();
+                assert!(spread < 1e-4, "κ = {kappa}, θ = {theta}: not smooth");
+                assert!(
+                    (exact - rich).abs() <= 1e-6 * rich.abs().max(1e-2),
+                    "κ = {kappa}, θ = {theta}, direction {dir}: {exact} vs {rich}"
+                );
+            }
+        }
+    }
+}

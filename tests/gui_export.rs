@@ -98,3 +98,305 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
     assert_eq!(lines[1], "0,1,1,-0.2,,40,FP,");
     assert!(lines[900].starts_with("1.5707963267948966,42,0,0.3,,40,chaos,0.05"));
 }
+
+/// Whether `xvfb-run` is here (the real-window tests need it; CI installs it).
+fn have_xvfb() -> bool {
+    std::process::Command::new("sh")
+        .args(["-c", "command -v xvfb-run"])
+        .output()
+        .map(|o| o.status.success())
+        .unwrap_or(false)
+}
+
+/// `oneblock gui --session S --screenshot out.svg` under Xvfb for every
+/// view (a session with small grids, so that it is quick and also checks
+/// that a session renders headless): each SVG parses, labels its axes with
+/// at least five numeric ticks written as text, and has the series the
+/// view draws.
+#[test]
+fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
+    use oneblock::app::ViewKind;
+    use oneblock::app::session::Session;
+    use oneblock::app::settings::Layout;
+    if !have_xvfb() {
+        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
+        eprintln!("note: xvfb-run not found; SVG window test skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let xdg = dir.path().join("xdg");
+    std::fs::create_dir(&xdg).expect("xdg");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).expect("mode");
+    }
+    // The fewest series each view draws on the Fig. 3b orbit, and the
+    // fewest numeric tick labels (the block view is a picture, not a plot).
+    let expect = [
+        (ViewKind::Plane, 2, 10),
+        (ViewKind::Block, 1, 0),
+        (ViewKind::Bifurcation, 1, 10),
+        (ViewKind::ReturnMap, 2, 10),
+        (ViewKind::Events, 2, 10),
+        (ViewKind::Numerics, 1, 10),
+        (ViewKind::Phase, 1, 10),
+    ];
+    for (v, min_series, min_ticks) in expect {
+        let mut s = Settings {
+            layout: Layout::Tabs,
+            tab: v,
+            columns: 60,
+            sweep_transient: 60,
+            sweep_keep: 40,
+            trajectory_cycles: 40,
+            ..Settings::default()
+        };
+        s.phase.theta_nu_steps = 6;
+        s.phase.kappa_steps = 6;
+        let session = dir.path().join(format!("{}.json", v.key()));
+        std::fs::write(
+            &session,
+            Session {
+                settings: s,
+                bifurcation_zoom: vec![],
+            }
+            .to_json(),
+        )
+        .expect("session");
+        let svg = dir.path().join(format!("{}.svg", v.key()));
+        let out = std::process::Command::new("timeout")
+            .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+            .arg(env!("CARGO_BIN_EXE_oneblock"))
+            .args(["gui", "--timeout", "300", "--session"])
+            .arg(&session)
+            .arg("--screenshot")
+            .arg(&svg)
+            .env("XDG_RUNTIME_DIR", &xdg)
+            .env_remove("WAYLAND_DISPLAY")
+            .output()
+            .expect("run");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{}: {err}", v.key());
+        assert!(!err.contains("warning: session"), "{err}");
+        let text = std::fs::read_to_string(&svg).expect("svg");
+        let (texts, series) = parse_svg(&text);
+        let numeric = texts
+            .iter()
+            .filter(|t| t.replace('−', "-").trim().parse::<f64>().is_ok())
+            .count();
+        eprintln!("{}: {numeric} numeric labels, series {series:?}", v.key());
+        if let Some(keep) = std::env::var_os("ONEBLOCK_KEEP_SVG") {
+            std::fs::copy(
+                &svg,
+                std::path::Path::new(&keep).join(format!("{}.svg", v.key())),
+            )
+            .expect("keep the SVG");
+        }
+        assert!(
+            numeric >= min_ticks,
+            "{}: {numeric} numeric tick labels in {texts:?}",
+            v.key()
+        );
+        assert!(series.len() >= min_series, "{}: series {series:?}", v.key());
+        if matches!(v, ViewKind::Plane | ViewKind::Events) {
+            same_series_as_the_png(&text, &session, dir.path(), &xdg, v.key());
+        }
+    }
+}
+
+/// The PNG of the same session shows every series colour of the SVG: the
+/// two pictures draw the same series.
+fn same_series_as_the_png(
+    svg: &str,
+    session: &std::path::Path,
+    dir: &std::path::Path,
+    xdg: &std::path::Path,
+    key: &str,
+) {
+    let png = dir.join(format!("{key}.png"));
+    let out = std::process::Command::new("timeout")
+        .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+        .arg(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["gui", "--timeout", "300", "--session"])
+        .arg(session)
+        .arg("--screenshot")
+        .arg(&png)
+        .env("XDG_RUNTIME_DIR", xdg)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run");
+    assert!(
+        out.status.success(),
+        "{key}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let img = image::open(&png).expect("png").to_rgb8();
+    let colours = series_colours(svg);
+    assert!(!colours.is_empty(), "{key}: no series colours");
+    let found: Vec<[u8; 3]> = colours
+        .iter()
+        .copied()
+        .filter(|c| {
+            img.pixels().any(|p| {
+                p.0.iter()
+                    .zip(c)
+                    .all(|(a, b)| (i32::from(*a) - i32::from(*b)).abs() <= 12)
+            })
+        })
+        .collect();
+    assert_eq!(
+        found, colours,
+        "{key}: series colours of the SVG in the PNG"
+    );
+}
+
+/// The distinct opaque colours (`#rrggbb` fill or stroke) of the SVG's
+/// series, images aside.
+fn series_colours(svg: &str) -> Vec<[u8; 3]> {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(svg);
+    let mut out = std::collections::BTreeSet::new();
+    loop {
+        match r.read_event().expect("parses") {
+            Event::Start(e) | Event::Empty(e) => {
+                let attrs: Vec<(Vec<u8>, String)> = e
+                    .attributes()
+                    .flatten()
+                    .map(|a| {
+                        (
+                            a.key.as_ref().to_vec(),
+                            String::from_utf8_lossy(&a.value).to_string(),
+                        )
+                    })
+                    .collect();
+                let get = |k: &[u8]| attrs.iter().find(|(n, _)| n == k).map(|(_, v)| v.clone());
+                if get(b"class").as_deref() != Some("series") || e.name().as_ref() == b"image" {
+                    continue;
+                }
+                let pairs: [(&[u8], &[u8]); 2] =
+                    [(b"fill", b"fill-opacity"), (b"stroke", b"stroke-opacity")];
+                for (paint, opacity) in pairs {
+                    if let Some(c) = get(paint).filter(|c| c.len() == 7 && c.starts_with('#'))
+                        && get(opacity).is_none()
+                    {
+                        let h = |i: usize| u8::from_str_radix(&c[i..i + 2], 16).expect("hex");
+                        out.insert([h(1), h(3), h(5)]);
+                    }
+                }
+            }
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out.into_iter().collect()
+}
+
+/// The texts and the distinct series (`data-series`) of an SVG, which must
+/// parse as XML to the end.
+fn parse_svg(text: &str) -> (Vec<String>, std::collections::BTreeSet<String>) {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(text);
+    let (mut texts, mut series) = (Vec::new(), std::collections::BTreeSet::new());
+    let mut in_text = false;
+    let mut root = false;
+    loop {
+        match r.read_event().expect("the SVG parses") {
+            Event::Start(e) | Event::Empty(e) => {
+                root |= e.name().as_ref() == b"svg";
+                in_text = e.name().as_ref() == b"text";
+                for a in e.attributes().flatten() {
+                    if a.key.as_ref() == b"data-series" {
+                        series.insert(String::from_utf8_lossy(&a.value).to_string());
+                    }
+                }
+            }
+            Event::Text(t) if in_text => {
+                texts.push(String::from_utf8_lossy(t.as_ref()).to_string());
+            }
+            Event::End(_) => in_text = false,
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    assert!(root, "no <svg> element");
+    (texts, series)
+}
+
+/// Waits for a file ending in `ext` in `dir` (written on a thread).
+fn wait_for_ext(
+    h: &mut egui_kittest::Harness<'static, oneblock::app::Explorer>,
+    dir: &std::path::Path,
+    ext: &str,
+) -> Option<std::path::PathBuf> {
+    for _ in 0..200 {
+        h.step();
+        let found = std::fs::read_dir(dir)
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == ext));
+        if found.is_some() {
+            return found;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    None
+}
+
+/// The panel's SVG button writes a vector picture of the tiles, with the
+/// events the window was sent; Save session writes a file that reads back
+/// to the window's settings.
+#[test]
+fn the_window_saves_an_svg_of_the_tiles_and_a_session() {
+    use oneblock::app::session::Session;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    for i in 0..30 {
+        rec.push(Update::Slip {
+            generation: g,
+            event: event(0.5, 0.2, 103.0 * i as f64),
+        });
+    }
+    h.run_steps(2);
+    h.query_all_by_label("SVG")
+        .next()
+        .expect("an SVG button")
+        .click();
+    let svg = wait_for_ext(&mut h, dir.path(), "svg").expect("an SVG was written");
+    assert!(
+        svg.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-window-"))
+    );
+    let text = std::fs::read_to_string(&svg).expect("svg");
+    let (texts, series) = parse_svg(&text);
+    // The four default tiles' titles, as text.
+    for t in ["Plane (x, y)", "Bifurcation", "Return map", "Events"] {
+        assert!(texts.iter().any(|x| x == t), "{t} missing in {texts:?}");
+    }
+    // The events' series and distributions are there.
+    assert!(
+        series.iter().any(|s| s.starts_with("events_series:")),
+        "{series:?}"
+    );
+
+    h.get_by_label("Save session").click();
+    let json = wait_for_ext(&mut h, dir.path(), "json").expect("a session was written");
+    let back = Session::from_json(&std::fs::read_to_string(&json).expect("json"), "s");
+    assert_eq!(back.message, None);
+    assert_eq!(back.session.settings, h.state().settings);
+}

@@ -371,6 +371,25 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
         {
             out.push(Action::Screenshot);
         }
+        if ui
+            .button("SVG")
+            .on_hover_text(
+                "A vector picture (SVG) of the views shown: lines as paths, text as text.",
+            )
+            .clicked()
+        {
+            out.push(Action::SvgScreenshot(None));
+        }
+        if ui
+            .button("Save session")
+            .on_hover_text(
+                "Parameters, accuracy, views and zoom as a JSON file: reopen it with \
+                 `oneblock gui --session FILE`.",
+            )
+            .clicked()
+        {
+            out.push(Action::SaveSession);
+        }
         ui.menu_button("Export data", |ui| {
             if ui.button("Events CSV").clicked() {
                 out.push(Action::Export(Export::Events));

@@ -1,9 +1,12 @@
 //! The event catalogue: the size of every slip (distance or energy) as a
-//! time series over the onsets, and its histogram.
+//! time series over the onsets, and the intermittency statistics of the
+//! events after the transient (`sim::intermittency`): the slip-size
+//! distribution on log–log axes and the distribution of laminar lengths
+//! (creep slips between two large slips).
 
 use eframe::egui;
 use egui::Ui;
-use egui_plot::{Bar, BarChart, Plot, PlotPoints, Points};
+use egui_plot::{Bar, BarChart, HLine, Plot, PlotPoints, Points};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
@@ -11,9 +14,15 @@ use super::settings::{Settings, SlipMeasure, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::sim::SlipEvent;
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 
-/// Bins of the histogram.
-const BINS: usize = 40;
+use crossbeam_channel::Receiver;
+
+use crate::integrate::{Method, SolverSettings};
+use crate::model::Params;
+use crate::sim::intermittency::{Intermittency, Scaling, TYPE_ONE_SLOPE, length_counts, scaling};
+
 /// Beyond this many events the series is drawn as a min/max envelope.
 const MAX_MARKERS: usize = 1500;
 
@@ -47,32 +56,146 @@ pub fn slip_size(e: &SlipEvent, m: SlipMeasure) -> f64 {
     }
 }
 
-/// Counts of `xs` in `bins` equal bins over [min, max]: (left edges, width, counts).
-pub fn histogram(xs: &[f64], bins: usize) -> (Vec<f64>, f64, Vec<usize>) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &x in xs.iter().filter(|x| x.is_finite()) {
-        lo = lo.min(x);
-        hi = hi.max(x);
+/// Events of the trajectory's start left out of the statistics: the
+/// trajectory starts at θ = θν, off the attractor. A quarter of the events,
+/// at most this many.
+pub const STATS_TRANSIENT: usize = 50;
+
+/// How many of `n` events the statistics leave out as the transient.
+pub fn stats_transient(n: usize) -> usize {
+    (n / 4).min(STATS_TRANSIENT)
+}
+
+/// The intermittency statistics of the events on screen, kept until the
+/// events or the measure change.
+#[derive(Default)]
+struct StatsCache {
+    key: Option<(u64, usize, bool)>,
+    stats: Option<Intermittency>,
+    skipped: usize,
+}
+
+/// A scan of the mean laminar length against θν − θν_c, on a thread of
+/// its own (a few dozen orbits, seconds): cancelled when the parameters
+/// change or the view goes.
+struct ScalingJob {
+    params: Params,
+    cancel: Arc<AtomicBool>,
+    rx: Receiver<Result<Option<Scaling>, String>>,
+}
+
+impl Drop for ScalingJob {
+    fn drop(&mut self) {
+        self.cancel.store(true, Ordering::Relaxed);
     }
-    if !lo.is_finite() || bins == 0 {
-        return (vec![], 1.0, vec![]);
-    }
-    if hi - lo < 1e-12 * hi.abs().max(1e-300) {
-        let w = (hi.abs() * 0.02).max(1e-12);
-        return (vec![lo - w / 2.0], w, vec![xs.len()]);
-    }
-    let w = (hi - lo) / bins as f64;
-    let mut c = vec![0usize; bins];
-    for &x in xs.iter().filter(|x| x.is_finite()) {
-        c[(((x - lo) / w) as usize).min(bins - 1)] += 1;
-    }
-    ((0..bins).map(|i| lo + i as f64 * w).collect(), w, c)
+}
+
+/// The scan's accuracy: the orbits' slip sizes to ~1e-8.
+fn scaling_settings() -> SolverSettings {
+    SolverSettings::adaptive(Method::Dop853, 1e-8)
 }
 
 #[derive(Default)]
-pub struct EventsView;
+pub struct EventsView {
+    cache: StatsCache,
+    job: Option<ScalingJob>,
+    /// The last scan's parameters and outcome.
+    scaled: Option<(Params, Result<Option<Scaling>, String>)>,
+}
 
 impl EventsView {
+    /// Starts the scan for `params` on a thread.
+    fn start_scaling(&mut self, ctx: &egui::Context, params: Params) {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let (tx, rx) = crossbeam_channel::bounded(1);
+        let (c, ctx) = (cancel.clone(), ctx.clone());
+        let spawned = std::thread::Builder::new()
+            .name("oneblock-scaling".into())
+            .spawn(move || {
+                crate::worker::priority::lower_current_thread();
+                let r = scaling(params, scaling_settings(), &|| c.load(Ordering::Relaxed))
+                    .map_err(|e| e.to_string());
+                tx.send(r).ok();
+                ctx.request_repaint();
+            });
+        self.job = spawned.is_ok().then_some(ScalingJob { params, cancel, rx });
+    }
+
+    /// Collects the scan, or drops it when the parameters moved on.
+    fn poll_scaling(&mut self, params: &Params) {
+        let Some(job) = &self.job else { return };
+        if job.params != *params {
+            self.job = None;
+            return;
+        }
+        if let Ok(r) = job.rx.try_recv() {
+            self.scaled = Some((job.params, r));
+            self.job = None;
+        }
+    }
+
+    fn scaling_row_ui(&mut self, ui: &mut Ui, params: &Params) {
+        ui.horizontal_wrapped(|ui| {
+            if self.job.is_some() {
+                ui.spinner();
+                ui.label("measuring the mean laminar length against θν − θν_c ...");
+            } else if ui
+                .small_button("Laminar length vs θν − θν_c")
+                .on_hover_text(
+                    "Locate the lower end θν_c of the intermittent window below θν (by \
+                     bisection, to 1e-3) and measure the mean laminar length at θν_c + \
+                     (θν − θν_c)/2^k, k = 0…6, on log–log axes beside type-I \
+                     intermittency's slope −1/2 when the fitted slope is within 0.15 of it. \
+                     About 20 orbits of 2300 iterates, on a thread of its own.",
+                )
+                .clicked()
+            {
+                self.start_scaling(ui.ctx(), *params);
+            }
+            match &self.scaled {
+                Some((p, Ok(Some(sc)))) if p == params => {
+                    let fit = sc.fit.map_or("no fit (under 3 points)".into(), |(s, _)| {
+                        format!(
+                            "slope {s:.2}: {}",
+                            if sc.supports_type_one() {
+                                "type-I (−1/2) supported"
+                            } else {
+                                "not type-I (−1/2)"
+                            }
+                        )
+                    });
+                    ui.label(format!("θν_c ≈ {:.3} · {fit}", sc.theta_nu_c));
+                }
+                Some((p, Ok(None))) if p == params => {
+                    ui.label("not intermittent here, or no lower end within 0.4 below θν");
+                }
+                Some((p, Err(e))) if p == params => {
+                    ui.colored_label(style::ERROR, format!("scan failed: {e}"));
+                }
+                _ => {}
+            }
+        });
+    }
+
+    fn stats(&mut self, jobs: &Jobs, m: SlipMeasure) -> (&Option<Intermittency>, usize) {
+        let evs = &jobs.trajectory.data.events;
+        let key = (
+            jobs.trajectory.generation,
+            evs.len(),
+            m == SlipMeasure::Distance,
+        );
+        if self.cache.key != Some(key) {
+            let skip = stats_transient(evs.len());
+            let sizes: Vec<f64> = evs[skip..].iter().map(|e| slip_size(e, m)).collect();
+            self.cache = StatsCache {
+                key: Some(key),
+                stats: Intermittency::of(&sizes, None),
+                skipped: skip,
+            };
+        }
+        (&self.cache.stats, self.cache.skipped)
+    }
+
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let evs = &jobs.trajectory.data.events;
         ui.horizontal_wrapped(|ui| {
@@ -90,22 +213,35 @@ impl EventsView {
         let sizes: Vec<f64> = evs.iter().map(|e| slip_size(e, m)).collect();
         let series = decimate(&sizes, MAX_MARKERS);
         let markers = sizes.len() <= MAX_MARKERS;
-        let (edges, w, counts) = histogram(&sizes, BINS);
-        let bars: Vec<Bar> = edges
-            .iter()
-            .zip(&counts)
-            .map(|(&e, &c)| Bar::new(e + w / 2.0, c as f64).width(w * 0.95))
-            .collect();
+        let (stats, skipped) = self.stats(jobs, m);
+        let stats = stats.clone();
+        if let Some(st) = &stats {
+            ui.label(summary(st, skipped, unit)).on_hover_text(
+                "A slip is large when its size is at least a quarter of the largest \
+                 (the intermittent orbit's sizes are bimodal: creep slips of a few \
+                 thousandths, large ones of tenths). A laminar phase is the run of creep \
+                 slips between two large ones. The trajectory's first events (its \
+                 transient) are left out; `oneblock orbit --stats` writes the same \
+                 statistics as CSV.",
+            );
+        }
+        let params = s.params;
+        self.poll_scaling(&params);
+        self.scaling_row_ui(ui, &params);
+        let scaled = match &self.scaled {
+            Some((p, Ok(Some(sc)))) if *p == params => Some(sc.clone()),
+            _ => None,
+        };
         let h = ui.available_height();
         let width = ui.available_width();
+        let threshold = stats.as_ref().map(|s| s.threshold);
         ui.horizontal(|ui| {
             ui.vertical(|ui| {
-                ui.set_width(width * 0.58);
-                let plot = Plot::new("events_series")
-                    .show_background(false)
-                    .height(h - 8.0);
+                ui.set_width(width * 0.5);
                 let r = axes::apply(
-                    plot,
+                    Plot::new("events_series")
+                        .show_background(false)
+                        .height(h - 8.0),
                     &AxisSpec::linear("event number n"),
                     &AxisSpec::linear(unit),
                 )
@@ -128,25 +264,144 @@ impl EventsView {
                                 .width(1.0),
                         );
                     }
+                    if let Some(t) = threshold {
+                        p.hline(
+                            HLine::new("large slip", t)
+                                .color(style::CRITICAL)
+                                .style(egui_plot::LineStyle::dashed_loose()),
+                        );
+                    }
                 });
                 axes::remember_frame(ui.ctx(), "events_series", *r.transform.frame());
             });
             ui.vertical(|ui| {
-                let plot = Plot::new("events_hist")
-                    .show_background(false)
-                    .height(h - 8.0);
-                let r = axes::apply(
-                    plot,
-                    &AxisSpec::linear(unit),
-                    &AxisSpec::linear("count of events"),
-                )
-                .show(ui, |p| {
-                    p.bar_chart(BarChart::new("histogram", bars).color(style::STICK));
-                });
-                axes::remember_frame(ui.ctx(), "events_hist", *r.transform.frame());
+                let n = if scaled.is_some() { 3.0 } else { 2.0 };
+                let part = (h - 8.0 * n) / n;
+                size_distribution_ui(ui, stats.as_ref(), unit, part);
+                laminar_ui(ui, stats.as_ref(), part);
+                if let Some(sc) = &scaled {
+                    scaling_ui(ui, sc, part);
+                }
             });
         });
     }
+}
+
+/// One line: the threshold, the counts and the mean laminar length.
+fn summary(st: &Intermittency, skipped: usize, unit: &str) -> String {
+    let mean = match (st.mean_laminar, st.mean_laminar_stderr) {
+        (Some(m), Some(e)) => format!("mean laminar length {m:.1} ± {e:.1}"),
+        (Some(m), None) => format!("mean laminar length {m:.1}"),
+        _ => "no complete laminar phase".into(),
+    };
+    format!(
+        "large slip: {unit} ≥ {:.3} · {} large, {} creep · {} laminar phases, {mean} · first {skipped} events left out",
+        st.threshold,
+        st.large,
+        st.creep,
+        st.laminar.len()
+    )
+}
+
+/// The slip-size distribution on log–log axes (log10 bins of the size,
+/// log10 of the count), the transient left out.
+fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: f32) {
+    let bars: Vec<Bar> = st
+        .map(|st| {
+            st.sizes
+                .iter()
+                .filter(|b| b.count > 0)
+                .map(|b| {
+                    let (lo, hi) = (b.lo.log10(), b.hi.log10());
+                    // log10(count + 1) so that a single event still shows.
+                    Bar::new((lo + hi) / 2.0, (b.count as f64 + 1.0).log10())
+                        .width((hi - lo) * 0.95)
+                })
+                .collect()
+        })
+        .unwrap_or_default();
+    let r = axes::apply(
+        Plot::new("events_hist").show_background(false).height(h),
+        &AxisSpec::log10(format!("{unit} (log scale)")),
+        &AxisSpec::log10("count + 1 (log scale)"),
+    )
+    .show(ui, |p| {
+        p.bar_chart(BarChart::new("slip sizes", bars).color(style::STICK));
+    });
+    axes::remember_frame(ui.ctx(), "events_hist", *r.transform.frame());
+}
+
+/// How many laminar phases had each length.
+fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
+    let bars: Vec<Bar> = st
+        .map(|st| {
+            length_counts(&st.laminar)
+                .into_iter()
+                .map(|(l, c)| Bar::new(l as f64, c as f64).width(0.9))
+                .collect()
+        })
+        .unwrap_or_default();
+    let r = axes::apply(
+        Plot::new("events_laminar").show_background(false).height(h),
+        &AxisSpec::linear("laminar length (creep slips between large slips)"),
+        &AxisSpec::linear("phases"),
+    )
+    .show(ui, |p| {
+        p.bar_chart(BarChart::new("laminar lengths", bars).color(style::DECEL));
+    });
+    axes::remember_frame(ui.ctx(), "events_laminar", *r.transform.frame());
+}
+
+/// The mean laminar length against θν − θν_c on log–log axes, with the fitted line, and the
+/// type-I slope −1/2 through the points' centre when the fit supports it.
+fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
+    let pts: Vec<[f64; 2]> = sc
+        .points
+        .iter()
+        .map(|&(e, m)| [e.log10(), m.log10()])
+        .collect();
+    let span = |f: &dyn Fn(f64) -> f64| -> Vec<[f64; 2]> {
+        let (a, b) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), p| {
+                (a.min(p[0]), b.max(p[0]))
+            });
+        vec![[a, f(a)], [b, f(b)]]
+    };
+    let r = axes::apply(
+        Plot::new("events_scaling").show_background(false).height(h),
+        &AxisSpec::log10("θν − θν_c (rad, log scale)"),
+        &AxisSpec::log10("mean laminar length (log scale)"),
+    )
+    .show(ui, |p| {
+        p.add(
+            Points::new("mean laminar length", PlotPoints::from(pts.clone()))
+                .color(style::ACCEL)
+                .radius(3.0),
+        );
+        if let Some((slope, icpt)) = sc.fit {
+            p.line(
+                style::line("fit", PlotPoints::from(span(&|x| icpt + slope * x)))
+                    .color(style::STICK),
+            );
+            if sc.supports_type_one() && !pts.is_empty() {
+                let n = pts.len() as f64;
+                let (mx, my) = (
+                    pts.iter().map(|q| q[0]).sum::<f64>() / n,
+                    pts.iter().map(|q| q[1]).sum::<f64>() / n,
+                );
+                p.line(
+                    style::line(
+                        "type I: −1/2",
+                        PlotPoints::from(span(&|x| my + TYPE_ONE_SLOPE * (x - mx))),
+                    )
+                    .color(style::CRITICAL)
+                    .style(egui_plot::LineStyle::dashed_loose()),
+                );
+            }
+        }
+    });
+    axes::remember_frame(ui.ctx(), "events_scaling", *r.transform.frame());
 }
 
 impl View for EventsView {

@@ -27,9 +27,11 @@ use super::return_map::ReturnMapView;
 use super::save;
 use super::screenshot::{Shots, fresh_path};
 use super::script::{Script, Window};
+use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
 use super::status;
 use super::style;
+use super::svg_render;
 use super::view::{Action, View};
 
 /// The views' own state (textures, zoom stacks, switches).
@@ -155,8 +157,12 @@ impl Explorer {
         if self.shots.in_flight > 0 || !self.shots.toasts.is_empty() {
             ctx.request_repaint_after(Duration::from_millis(100));
         }
+        let shown = svg_render::shown_views(&self.settings);
+        let area = self.views_area(&shown);
         if let Some(script) = &mut self.script {
             let w = Window {
+                area,
+                zoom: &self.views.bifurcation.zoom,
                 settings: &mut self.settings,
                 jobs: &mut self.jobs,
                 shots: &mut self.shots,
@@ -182,6 +188,30 @@ impl Explorer {
                 let path = fresh_path(&self.settings.save_dir, v.key(), "png");
                 let crop = self.view_rects.get(&v).copied();
                 self.shots.request(ctx, path, crop);
+            }
+            Action::SvgScreenshot(v) => {
+                let (views, what) = match v {
+                    Some(v) => (vec![v], v.key()),
+                    None => (svg_render::shown_views(&self.settings), "window"),
+                };
+                let area = self.views_area(&views);
+                let svg = svg_render::render_svg(
+                    &views,
+                    &self.settings,
+                    &self.jobs,
+                    &self.views.bifurcation.zoom,
+                    area,
+                );
+                let path = fresh_path(&self.settings.save_dir, what, "svg");
+                self.shots.write(path, svg.into_bytes());
+            }
+            Action::SaveSession => {
+                let s = Session {
+                    settings: self.settings.clone(),
+                    bifurcation_zoom: self.views.bifurcation.zoom.clone(),
+                };
+                let path = fresh_path(&self.settings.save_dir, "session", "json");
+                self.shots.write(path, s.to_json().into_bytes());
             }
             Action::Export(what) => {
                 save::export_csv(what, &self.settings, &self.jobs, &mut self.shots, now);
@@ -213,6 +243,17 @@ impl Explorer {
             Action::ComputePhase => self.jobs.compute_phase(&self.settings),
             Action::StopPhase => self.jobs.stop_phase(),
         }
+    }
+
+    /// The size of the area `views` take on screen now (the window's
+    /// default view area before the first frame).
+    pub fn views_area(&self, views: &[ViewKind]) -> egui::Vec2 {
+        views
+            .iter()
+            .filter_map(|v| self.view_rects.get(v))
+            .copied()
+            .reduce(|a, b| a.union(b))
+            .map_or(egui::vec2(940.0, 700.0), |r| r.size())
     }
 
     fn apply_style(&mut self, ctx: &Context) {
@@ -444,6 +485,16 @@ impl Explorer {
                                     {
                                         out.push(Action::ViewScreenshot(v));
                                     }
+                                    if ui
+                                        .small_button("SVG")
+                                        .on_hover_text(format!(
+                                            "Save an SVG (vector) picture of the {} view only",
+                                            view.title()
+                                        ))
+                                        .clicked()
+                                    {
+                                        out.push(Action::SvgScreenshot(Some(v)));
+                                    }
                                 },
                             );
                         });
@@ -456,7 +507,7 @@ impl Explorer {
 
 /// The tiles' rectangles in `area`: two columns (one for a single view),
 /// the last row's single tile spanning the width.
-fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
+pub(crate) fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
     let n = n.max(1);
     let cols = if n == 1 { 1 } else { 2 };
     let rows = n.div_ceil(cols);

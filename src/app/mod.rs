@@ -42,9 +42,12 @@ pub mod return_map;
 pub mod save;
 pub mod screenshot;
 pub mod script;
+pub mod session;
 pub mod settings;
 pub mod status;
 pub mod style;
+pub mod svg;
+pub mod svg_render;
 pub mod view;
 
 use std::path::PathBuf;
@@ -77,6 +80,8 @@ pub struct RunOptions {
     pub font_scale: Option<f32>,
     /// Give up a scripted run after this long.
     pub timeout: Option<Duration>,
+    /// Open on this session file (`oneblock gui --session`).
+    pub session: Option<PathBuf>,
 }
 
 /// Whether OpenGL is a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast):
@@ -103,6 +108,18 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             None => None,
         };
     let scripted = opts.screenshot.is_some();
+    let session = match &opts.session {
+        Some(p) => {
+            let text = std::fs::read_to_string(p)
+                .map_err(|e| format!("--session: cannot read {}: {e}", p.display()))?;
+            let loaded = session::Session::from_json(&text, &p.display().to_string());
+            if let Some(m) = &loaded.message {
+                eprintln!("warning: {m}");
+            }
+            Some(loaded)
+        }
+        None => None,
+    };
     if let Some(p) = &opts.screenshot {
         crate::output::check_writable(p, false).map_err(|e| e.to_string())?;
     }
@@ -164,7 +181,9 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 WorkerConfig::default(),
                 Arc::new(move || ctx.request_repaint()),
             );
-            let mut settings: Settings = if scripted {
+            let mut settings: Settings = if let Some(l) = &session {
+                l.session.settings.clone()
+            } else if scripted {
                 Settings::default()
             } else {
                 cc.storage
@@ -177,7 +196,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             if let Some(v) = opts.view {
                 settings.layout = Layout::Tabs;
                 settings.tab = v;
-            } else if scripted {
+            } else if scripted && session.is_none() {
                 settings.layout = Layout::Tiles;
             }
             if let Some(f) = opts.font_scale {
@@ -189,6 +208,12 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 settings.smooth_lines = Some(true);
             }
             let mut app = Explorer::new(Box::new(worker), settings);
+            if let Some(l) = &session {
+                app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
+                if let Some(m) = &l.message {
+                    app.shots.toast(m.clone(), true, 0.0);
+                }
+            }
             app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
             app.persist = !scripted;
             app.stats.enabled = opts.frame_stats;

@@ -1,6 +1,7 @@
 //! A scripted run (`oneblock gui --screenshot`): wait for the views to be
 //! complete, optionally measure frame times and the slider-to-picture
-//! latency (`--frame-stats`), take one screenshot, close the window.
+//! latency (`--frame-stats`), take one screenshot (a PNG, or an SVG when
+//! the file name ends in `.svg`), close the window.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -9,11 +10,19 @@ use std::time::{Duration, Instant};
 use eframe::egui;
 use egui::Context;
 
+use super::bifurcation::Zoom;
 use super::frame_stats::FrameStats;
 use super::jobs::{JobState, Jobs};
 use super::screenshot::{Saved, Shots};
 use super::settings::{Settings, ViewKind};
+use super::svg_render;
 use crate::worker::Generation;
+
+/// Whether a scripted run saves an SVG (by the file's extension) rather
+/// than a PNG.
+pub fn is_svg(p: &std::path::Path) -> bool {
+    p.extension().is_some_and(|e| e.eq_ignore_ascii_case("svg"))
+}
 
 /// A scripted run: wait for the views, optionally measure frame times,
 /// take one screenshot, close.
@@ -47,6 +56,10 @@ enum Stage {
 
 /// What a scripted step may touch.
 pub struct Window<'a> {
+    /// The size of the views' area on screen (for an SVG).
+    pub area: egui::Vec2,
+    /// The bifurcation diagram's zoom stack (for an SVG).
+    pub zoom: &'a [Zoom],
     pub settings: &'a mut Settings,
     pub jobs: &'a mut Jobs,
     pub shots: &'a mut Shots,
@@ -121,7 +134,14 @@ impl Script {
             Stage::Settling(n) => {
                 // A few frames so plots settle their bounds and textures upload.
                 if n >= 4 {
-                    w.shots.request(ctx, self.path.clone(), None);
+                    if is_svg(&self.path) {
+                        let views = svg_render::shown_views(w.settings);
+                        let svg =
+                            svg_render::render_svg(&views, w.settings, w.jobs, w.zoom, w.area);
+                        w.shots.write(self.path.clone(), svg.into_bytes());
+                    } else {
+                        w.shots.request(ctx, self.path.clone(), None);
+                    }
                     self.stage = Stage::Shooting;
                 } else {
                     self.stage = Stage::Settling(n + 1);

@@ -25,6 +25,10 @@ pub enum Action {
     Screenshot,
     /// A PNG of one view only.
     ViewScreenshot(ViewKind),
+    /// An SVG of one view, or (`None`) of the views shown.
+    SvgScreenshot(Option<ViewKind>),
+    /// The session (settings, zoom) as a JSON file.
+    SaveSession,
     /// A CSV into the save folder.
     Export(Export),
     /// Every parameter and view choice back to the first-launch demo.

@@ -526,3 +526,15 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     }
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::class_order;
+
+    #[test]
+    fn classes_sort_by_period_number_not_by_name() {
+        let mut l = vec!["chaos", "P12", "P2", "FP", "P3", "creep?", "P10"];
+        l.sort_by_key(|x| class_order(x));
+        assert_eq!(l, ["FP", "P2", "P3", "P10", "P12", "chaos", "creep?"]);
+    }
+}

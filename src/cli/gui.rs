@@ -29,8 +29,9 @@ pub struct GuiArgs {
     /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent.
     #[arg(long)]
     pub preset: Option<String>,
-    /// Save a PNG of the window here once the views are complete, then exit
-    /// (never overwrites an existing file).
+    /// Save a picture of the window here once the views are complete, then
+    /// exit: an SVG (vector: lines as paths, text as text) when FILE ends in
+    /// .svg, else a PNG (never overwrites an existing file).
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
     /// Window size in points, WIDTHxHEIGHT (default 1280x800).
@@ -51,6 +52,11 @@ pub struct GuiArgs {
     /// (default 180).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub timeout: Option<f64>,
+    /// Open on a session saved by the window's "Save session" (a JSON
+    /// file); with --screenshot, render it headless. Invalid or unknown
+    /// fields are named once and left at their defaults.
+    #[arg(long)]
+    pub session: Option<PathBuf>,
 }
 
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
@@ -100,6 +106,14 @@ pub fn check(args: &GuiArgs) -> Result<(), CliError> {
             short(f as f64)
         )));
     }
+    if let Some(p) = &args.session
+        && let Err(e) = std::fs::metadata(p)
+    {
+        return Err(CliError::Usage(format!(
+            "--session: cannot read {}: {e}",
+            p.display()
+        )));
+    }
     if let Some(p) = &args.screenshot {
         crate::output::check_writable(p, false).map_err(|e| match e {
             crate::output::OutputError::Exists { path } => CliError::Usage(format!(
@@ -129,10 +143,10 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         // The first launch is the Fig. 3b demo (the default settings); later
         // launches restore the saved parameters unless a preset is named. A
         // scripted run is reproducible: Fig. 3b unless told otherwise.
-        preset: args
-            .preset
-            .clone()
-            .or_else(|| args.screenshot.is_some().then(|| "fig3b".to_string())),
+        preset: args.preset.clone().or_else(|| {
+            (args.screenshot.is_some() && args.session.is_none()).then(|| "fig3b".to_string())
+        }),
+        session: args.session,
         screenshot: args.screenshot,
         size: args.size,
         frame_stats: args.frame_stats,

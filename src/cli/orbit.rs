@@ -16,13 +16,14 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, max_seconds,
-    settings_json, total_iterates, warn_validity,
+    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
+    finite, max_seconds, settings_json, total_iterates, warn_validity,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
+use crate::sim::intermittency::Intermittency;
 use crate::sim::period::longest_testable;
 use crate::sim::{
     InterpolantOptions, MapChoice, Orbit, OrbitOptions, Period, SimError, Simulator,
@@ -52,7 +53,7 @@ pub struct OrbitArgs {
     #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
     /// CSV file of the kept events ("-" = stdout) [default: stdout, or none
-    /// with --json].
+    /// with --json or --stats].
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print the summary (period, Lyapunov exponent, …) as one JSON object
@@ -80,6 +81,12 @@ pub struct OrbitArgs {
     /// integrates and says so.
     #[arg(long, default_value = "auto")]
     pub map: String,
+    /// CSV file of the kept events' intermittency statistics: the laminar
+    /// lengths (creep slips between two large slips, a large slip being one
+    /// of at least a quarter of the largest slip distance) and the slip-size
+    /// distribution in logarithmic bins (docs/cli.md).
+    #[arg(long)]
+    pub stats: Option<PathBuf>,
 }
 
 /// The `--map` flag's value.
@@ -152,10 +159,20 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
         }
         (Some(p), _) => Some(p.clone()),
         (None, true) => None,
+        (None, false) if args.stats.is_some() => None,
         (None, false) => Some(PathBuf::from("-")),
     };
     if let Some(p) = &csv_out {
         check_out(p, args.force)?;
+    }
+    if let Some(st) = &args.stats {
+        if st.as_os_str() == "-" {
+            return Err(CliError::Usage(
+                "--stats: give a file name (the statistics are not written to stdout)".into(),
+            ));
+        }
+        let other = csv_out.as_deref().unwrap_or(Path::new("-"));
+        check_second_out("stats", st, other, args.force)?;
     }
     if args.json {
         check_stdout()?;
@@ -263,6 +280,14 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             csv.push('\n');
         }
         emit(p, csv.as_bytes(), args.force)?;
+    }
+    if let Some(st) = &args.stats {
+        let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
+        let text = match Intermittency::of(&sizes, None) {
+            Some(i) => i.csv("slip_distance"),
+            None => "# no slip of positive size: no statistics\nstatistic,lo,hi,count\n".into(),
+        };
+        emit(st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {
         args: &args,

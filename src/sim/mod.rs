@@ -6,6 +6,7 @@ mod cycle;
 pub mod cycles;
 mod error;
 pub mod field;
+pub mod intermittency;
 pub mod interpolant;
 mod orbit;
 pub mod period;

@@ -13,7 +13,7 @@
 use std::cell::{Cell, RefCell};
 
 use super::{SimError, Simulator, SlipEnd, StiffEnd};
-use crate::integrate::{Dense, LaneAttempt, Rhs, Solver, State, find_root};
+use crate::integrate::{Dense, LaneAttempt, Method, Rhs, Solver, State, find_root};
 use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
@@ -22,6 +22,12 @@ use crate::sim::variational::{self, Field, Grad, NotDifferentiable, TanField, Ta
 /// How much tighter than the settings the acceleration phase of a creep or
 /// near-critical onset is integrated (see `SlipRun::start`).
 const NEAR_CRITICAL_ACCEL_TIGHTENING: f64 = 5.0;
+
+/// h λ within which DOP853's step damps a mode e^(−λt) (`SlipRun::stability_cap`):
+/// its stability interval on the negative axis is [−6.39, 0], |R(−5)| = 0.057.
+const DOP853_STABLE_REACH: f64 = 5.0;
+/// The same for DP54: its interval is [−3.30, 0], |R(−2.6)| = 0.28.
+const DP54_STABLE_REACH: f64 = 2.6;
 
 /// One phase's right-hand side, counting its evaluations. A type rather
 /// than a closure so that `eval` is always inlined into the stepping loop
@@ -277,6 +283,35 @@ impl<'a> SlipRun<'a> {
         }
     }
 
+    /// Steps at most this long for an adaptive method: inside its
+    /// stability interval for v̂_r's turning, the field's stiff mode.
+    ///
+    /// A turn of v_r decays at the rate λ = Φ(1 − e^(−Ω v_r))/v_r while the
+    /// block accelerates (up to Φ Ω) and Φ/v_r while it decelerates. Off
+    /// the axes the error control sees that mode and holds the steps near
+    /// its stability limit; on a symmetry axis the state has no turn at all
+    /// (near one, less than the tolerance) and the steps outgrew it
+    /// (h λ ≈ 16), so the tangents, which do carry the mode, were amplified
+    /// some 10⁴ times a step (f' ≈ 10²⁷ at θ = θν = 0).
+    #[inline(always)]
+    fn stability_cap(&self, decelerating: bool) -> f64 {
+        let reach = match self.sim.settings.method {
+            Method::Dop853 => DOP853_STABLE_REACH,
+            Method::Dp54 => DP54_STABLE_REACH,
+            Method::Rk4 | Method::Euler => return f64::INFINITY,
+        };
+        let y = &self.y;
+        let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
+        let field = &self.sim.field;
+        let phi = field.phi(vr);
+        let rate = match (vr > 0.0, decelerating) {
+            (true, true) => phi / vr,
+            (true, false) => -phi * (-field.omega * vr).exp_m1() / vr,
+            (false, _) => phi * field.omega,
+        };
+        reach / rate
+    }
+
     /// Steps at most this long: a sixth of the fastest oscillation for the
     /// adaptive methods, none for the fixed ones (they take their step).
     #[inline(always)]
@@ -328,7 +363,9 @@ impl<'a> SlipRun<'a> {
                 if self.t >= max_t {
                     return Err(self.too_long());
                 }
-                self.h_cap().min(max_t - self.t)
+                self.h_cap()
+                    .min(self.stability_cap(false))
+                    .min(max_t - self.t)
             }
             (None, Stage::Decel { stiff_gave_up, .. }) => {
                 let (y, t) = (self.y, self.t);
@@ -414,7 +451,7 @@ impl<'a> SlipRun<'a> {
                 // which an explicit step outruns once h·Φ/v_r > 1 (the stiff
                 // approach to a creep stop); steps are held below v_r/Φ there.
                 let cap = if adaptive {
-                    cap
+                    cap.min(self.stability_cap(true))
                 } else {
                     cap.min(vr / sim.field.phi(vr))
                 };

@@ -1,0 +1,534 @@
+//! egui's shapes as SVG: the vector picture of a view.
+//!
+//! A view is drawn once more into an off-screen egui context (see
+//! [`super::svg_render`]) and the shapes of that pass, before
+//! tessellation, are written out one by one: lines and plot series as
+//! `<path>`, markers as `<circle>`, bars and frames as `<rect>`, every
+//! text (tick labels, axis titles, legends) as `<text>` with the galley's
+//! string, a texture (the bifurcation and phase diagrams' density images)
+//! as an embedded PNG `<image>`. Walking the shapes rather than describing
+//! each plot again keeps one drawing code: the SVG has exactly the ticks,
+//! labels, legend and series the window draws.
+//!
+//! Each shape drawn inside a plot's frame that is a series (a polyline,
+//! markers, bars or an image, not a grid line) carries
+//! `class="series" data-series="<plot>:<colour>"`, so a reader (and the
+//! tests) can count a plot's series.
+
+use std::collections::HashMap;
+use std::fmt::Write as _;
+
+use eframe::egui;
+use egui::epaint::{ClippedShape, Mesh, Shape, TextShape};
+use egui::{Color32, ColorImage, Pos2, Rect, TextureId};
+
+/// One plot's frame, by name (see `axes::plot_frames`).
+pub type PlotFrame = (&'static str, Rect);
+
+/// The textures a mesh may show, by id (the font atlas is not needed:
+/// text is written as text).
+pub type Textures = HashMap<TextureId, ColorImage>;
+
+/// `#rrggbb` and the opacity of a colour.
+fn colour(c: Color32) -> (String, f32) {
+    let [r, g, b, a] = c.to_srgba_unmultiplied();
+    (format!("#{r:02x}{g:02x}{b:02x}"), f32::from(a) / 255.0)
+}
+
+fn paint(attr: &str, c: Color32) -> String {
+    if c.a() == 0 {
+        return format!(" {attr}=\"none\"");
+    }
+    let (hex, a) = colour(c);
+    if a >= 1.0 {
+        format!(" {attr}=\"{hex}\"")
+    } else {
+        format!(" {attr}=\"{hex}\" {attr}-opacity=\"{a:.3}\"")
+    }
+}
+
+fn stroke_attrs(s: egui::Stroke) -> String {
+    if s.width <= 0.0 || s.color.a() == 0 {
+        return " stroke=\"none\"".into();
+    }
+    format!(
+        "{} stroke-width=\"{:.2}\"",
+        paint("stroke", s.color),
+        s.width
+    )
+}
+
+/// A path stroke's colour (a gradient's colour at its start).
+fn solid(s: &egui::epaint::PathStroke) -> Color32 {
+    match &s.color {
+        egui::epaint::ColorMode::Solid(c) => *c,
+        egui::epaint::ColorMode::UV(f) => f(Rect::ZERO, Pos2::ZERO),
+    }
+}
+
+/// XML text escaping.
+pub fn escape(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            c if (c as u32) < 0x20 && c != '\t' => {}
+            c => o.push(c),
+        }
+    }
+    o
+}
+
+fn points_d(points: &[Pos2], closed: bool) -> String {
+    let mut d = String::with_capacity(points.len() * 16);
+    for (i, p) in points.iter().enumerate() {
+        write!(
+            d,
+            "{}{:.2},{:.2}",
+            if i == 0 { "M" } else { " L" },
+            p.x,
+            p.y
+        )
+        .ok();
+    }
+    if closed {
+        d.push_str(" Z");
+    }
+    d
+}
+
+/// The SVG writer: shapes in, one document out.
+pub struct SvgWriter<'a> {
+    frames: &'a [PlotFrame],
+    screen: Rect,
+    textures: &'a Textures,
+    body: String,
+    defs: String,
+    clips: Vec<Rect>,
+}
+
+/// Whether two rectangles are the same to within half a point.
+fn same_rect(a: Rect, b: Rect) -> bool {
+    (a.min - b.min).length() < 0.5 && (a.max - b.max).length() < 0.5
+}
+
+impl<'a> SvgWriter<'a> {
+    /// A writer for shapes drawn over `screen` whose plots have these
+    /// frames, showing these textures. A clip rectangle smaller than the
+    /// screen that is no recorded frame is taken for an unnamed plot's
+    /// (egui_plot clips its items to its frame; the rest of a view is
+    /// clipped to the screen).
+    pub fn new(screen: Rect, frames: &'a [PlotFrame], textures: &'a Textures) -> Self {
+        SvgWriter {
+            frames,
+            screen,
+            textures,
+            body: String::new(),
+            defs: String::new(),
+            clips: Vec::new(),
+        }
+    }
+
+    /// The plot whose frame is the clip rectangle `clip` (number `id`),
+    /// if any.
+    fn plot_of(&self, clip: Rect, id: usize) -> Option<String> {
+        self.frames
+            .iter()
+            .find(|(_, f)| same_rect(*f, clip) || f.contains_rect(clip) && clip.area() > 0.0)
+            .map(|(n, _)| n.to_string())
+            .or_else(|| (!same_rect(clip, self.screen)).then(|| format!("plot{id}")))
+    }
+
+    fn clip_id(&mut self, clip: Rect) -> usize {
+        if let Some(i) = self.clips.iter().position(|c| same_rect(*c, clip)) {
+            return i;
+        }
+        let i = self.clips.len();
+        writeln!(
+            self.defs,
+            "<clipPath id=\"c{i}\"><rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\"/></clipPath>",
+            clip.min.x,
+            clip.min.y,
+            clip.width(),
+            clip.height()
+        )
+        .ok();
+        self.clips.push(clip);
+        i
+    }
+
+    /// Adds the shapes of a pass, in painting order.
+    pub fn add(&mut self, shapes: &[ClippedShape]) {
+        for cs in shapes {
+            let clip = cs.clip_rect;
+            if !clip.is_positive() {
+                continue;
+            }
+            let id = self.clip_id(clip);
+            let plot = self.plot_of(clip, id);
+            let mut out = String::new();
+            self.shape(&cs.shape, plot.as_deref(), &mut out);
+            if !out.is_empty() {
+                writeln!(self.body, "<g clip-path=\"url(#c{id})\">{out}</g>").ok();
+            }
+        }
+    }
+
+    /// The series attributes of a shape of colour `c` in `plot`. The
+    /// colour is rounded to 3 bits per channel: one series drawn with
+    /// slightly different alphas (markers over a line) stays one series.
+    fn series(plot: Option<&str>, c: Color32) -> String {
+        match plot {
+            Some(p) => {
+                let [r, g, b, _] = c.to_srgba_unmultiplied();
+                format!(
+                    " class=\"series\" data-series=\"{}:{:x}{:x}{:x}\"",
+                    escape(p),
+                    r >> 5,
+                    g >> 5,
+                    b >> 5
+                )
+            }
+            None => String::new(),
+        }
+    }
+
+    fn shape(&self, shape: &Shape, plot: Option<&str>, out: &mut String) {
+        match shape {
+            Shape::Noop | Shape::Callback(_) => {}
+            Shape::Vec(v) => {
+                for s in v {
+                    self.shape(s, plot, out);
+                }
+            }
+            Shape::Circle(c) => {
+                let tag = Self::series(
+                    plot,
+                    if c.fill.a() > 0 {
+                        c.fill
+                    } else {
+                        c.stroke.color
+                    },
+                );
+                write!(
+                    out,
+                    "<circle cx=\"{:.2}\" cy=\"{:.2}\" r=\"{:.2}\"{}{}{tag}/>",
+                    c.center.x,
+                    c.center.y,
+                    c.radius,
+                    paint("fill", c.fill),
+                    stroke_attrs(c.stroke)
+                )
+                .ok();
+            }
+            Shape::Ellipse(e) => {
+                write!(
+                    out,
+                    "<ellipse cx=\"{:.2}\" cy=\"{:.2}\" rx=\"{:.2}\" ry=\"{:.2}\"{}{}/>",
+                    e.center.x,
+                    e.center.y,
+                    e.radius.x,
+                    e.radius.y,
+                    paint("fill", e.fill),
+                    stroke_attrs(e.stroke)
+                )
+                .ok();
+            }
+            // Grid lines, axis ticks, reference lines: never a series.
+            Shape::LineSegment { points, stroke } => {
+                write!(
+                    out,
+                    "<path d=\"{}\" fill=\"none\"{}/>",
+                    points_d(points, false),
+                    stroke_attrs(*stroke)
+                )
+                .ok();
+            }
+            Shape::Path(p) => {
+                if p.points.len() < 2 {
+                    return;
+                }
+                let stroke = solid(&p.stroke);
+                let c = if p.fill.a() > 0 { p.fill } else { stroke };
+                let tag = if p.points.len() > 2 {
+                    Self::series(plot, c)
+                } else {
+                    String::new()
+                };
+                let width = p.stroke.width;
+                let s = if width > 0.0 && stroke.a() > 0 {
+                    format!(
+                        "{} stroke-width=\"{width:.2}\" stroke-linejoin=\"round\"",
+                        paint("stroke", stroke)
+                    )
+                } else {
+                    " stroke=\"none\"".into()
+                };
+                write!(
+                    out,
+                    "<path d=\"{}\"{}{s}{tag}/>",
+                    points_d(&p.points, p.closed),
+                    if p.closed {
+                        paint("fill", p.fill)
+                    } else {
+                        " fill=\"none\"".into()
+                    }
+                )
+                .ok();
+            }
+            Shape::Band(b) => {
+                if b.points.is_empty() {
+                    return;
+                }
+                let mut pts: Vec<Pos2> = b.points.iter().map(|p| Pos2::new(p.x, p.y.min)).collect();
+                pts.extend(b.points.iter().rev().map(|p| Pos2::new(p.x, p.y.max)));
+                write!(
+                    out,
+                    "<path d=\"{}\"{}{}/>",
+                    points_d(&pts, true),
+                    paint("fill", b.fill),
+                    stroke_attrs(b.stroke)
+                )
+                .ok();
+            }
+            Shape::Rect(r) => {
+                // A filled rectangle in a plot is a bar (or a cell).
+                let tag = if r.fill.a() > 0 {
+                    Self::series(plot, r.fill)
+                } else {
+                    String::new()
+                };
+                let rad = r.corner_radius.average();
+                write!(
+                    out,
+                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" rx=\"{rad:.1}\"{}{}{tag}/>",
+                    r.rect.min.x,
+                    r.rect.min.y,
+                    r.rect.width(),
+                    r.rect.height(),
+                    paint("fill", r.fill),
+                    stroke_attrs(r.stroke)
+                )
+                .ok();
+            }
+            Shape::Text(t) => text(t, out),
+            Shape::Mesh(m) => self.mesh(m, plot, out),
+            Shape::QuadraticBezier(q) => {
+                let [a, b, c] = q.points;
+                write!(
+                    out,
+                    "<path d=\"M{:.2},{:.2} Q{:.2},{:.2} {:.2},{:.2}{}\"{}{}/>",
+                    a.x,
+                    a.y,
+                    b.x,
+                    b.y,
+                    c.x,
+                    c.y,
+                    if q.closed { " Z" } else { "" },
+                    paint("fill", q.fill),
+                    stroke_attrs(egui::Stroke::new(q.stroke.width, solid(&q.stroke)))
+                )
+                .ok();
+            }
+            Shape::CubicBezier(q) => {
+                let [a, b, c, d] = q.points;
+                write!(
+                    out,
+                    "<path d=\"M{:.2},{:.2} C{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}{}\"{}{}/>",
+                    a.x,
+                    a.y,
+                    b.x,
+                    b.y,
+                    c.x,
+                    c.y,
+                    d.x,
+                    d.y,
+                    if q.closed { " Z" } else { "" },
+                    paint("fill", q.fill),
+                    stroke_attrs(egui::Stroke::new(q.stroke.width, solid(&q.stroke)))
+                )
+                .ok();
+            }
+        }
+    }
+
+    /// A textured mesh (a plot image) as an embedded PNG over the mesh's
+    /// bounds; an untextured one as its triangles.
+    fn mesh(&self, m: &Mesh, plot: Option<&str>, out: &mut String) {
+        if m.vertices.is_empty() {
+            return;
+        }
+        let bounds = m.calc_bounds();
+        if let Some(img) = self.textures.get(&m.texture_id) {
+            let Ok(png) = super::screenshot::encode_png(img, None, 1.0) else {
+                return;
+            };
+            let tag = plot.map_or(String::new(), |p| {
+                format!(" class=\"series\" data-series=\"{}:image\"", escape(p))
+            });
+            write!(
+                out,
+                "<image x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" preserveAspectRatio=\"none\"{tag} href=\"data:image/png;base64,{}\"/>",
+                bounds.min.x,
+                bounds.min.y,
+                bounds.width(),
+                bounds.height(),
+                base64(&png)
+            )
+            .ok();
+            return;
+        }
+        if m.texture_id != TextureId::default() {
+            return;
+        }
+        for tri in m.indices.chunks_exact(3) {
+            let v: Vec<&egui::epaint::Vertex> = tri
+                .iter()
+                .filter_map(|&i| m.vertices.get(i as usize))
+                .collect();
+            if v.len() < 3 || v[0].color.a() == 0 {
+                continue;
+            }
+            write!(
+                out,
+                "<path d=\"M{:.2},{:.2} L{:.2},{:.2} L{:.2},{:.2} Z\"{}/>",
+                v[0].pos.x,
+                v[0].pos.y,
+                v[1].pos.x,
+                v[1].pos.y,
+                v[2].pos.x,
+                v[2].pos.y,
+                paint("fill", v[0].color)
+            )
+            .ok();
+        }
+    }
+
+    /// The document, `size` points wide and high, on `background`.
+    pub fn finish(self, size: egui::Vec2, background: Color32) -> String {
+        let mut s = String::with_capacity(self.body.len() + self.defs.len() + 400);
+        writeln!(
+            s,
+            "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" \
+             width=\"{w:.0}\" height=\"{h:.0}\" viewBox=\"0 0 {w:.2} {h:.2}\" \
+             font-family=\"Ubuntu, 'DejaVu Sans', sans-serif\">",
+            w = size.x,
+            h = size.y
+        )
+        .ok();
+        writeln!(s, "<defs>\n{}</defs>", self.defs).ok();
+        writeln!(
+            s,
+            "<rect width=\"100%\" height=\"100%\"{}/>",
+            paint("fill", background)
+        )
+        .ok();
+        s.push_str(&self.body);
+        s.push_str("</svg>\n");
+        s
+    }
+}
+
+/// A text shape: one `<text>` per row of its galley, at the row's
+/// baseline, in the first section's size and colour (rotated as drawn).
+fn text(t: &TextShape, out: &mut String) {
+    let g = &t.galley;
+    let Some(section) = g.job.sections.first() else {
+        return;
+    };
+    let c = t
+        .override_text_color
+        .unwrap_or(if section.format.color == Color32::PLACEHOLDER {
+            t.fallback_color
+        } else {
+            section.format.color
+        });
+    let size = section.format.font_id.size;
+    let rot = t.angle.to_degrees();
+    if rot.abs() > 0.01 {
+        write!(
+            out,
+            "<g transform=\"rotate({rot:.2} {:.2} {:.2})\">",
+            t.pos.x, t.pos.y
+        )
+        .ok();
+    }
+    for row in &g.rows {
+        let Some(first) = row.row.glyphs.first() else {
+            continue;
+        };
+        let s: String = row.row.glyphs.iter().map(|gl| gl.chr).collect();
+        let s = s.trim_end();
+        if s.trim().is_empty() {
+            continue;
+        }
+        let x = t.pos.x + row.pos.x + first.pos.x;
+        let y = t.pos.y + row.pos.y + first.pos.y;
+        // The width egui laid the row out at: another renderer's font
+        // stretches to it, so right-aligned and centred text stays put.
+        let width = row
+            .row
+            .glyphs
+            .iter()
+            .rev()
+            .find(|gl| !gl.chr.is_whitespace())
+            .map_or(0.0, |gl| gl.pos.x + gl.advance_width - first.pos.x);
+        write!(
+            out,
+            "<text x=\"{x:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} textLength=\"{width:.2}\" \
+             lengthAdjust=\"spacingAndGlyphs\" xml:space=\"preserve\">{}</text>",
+            paint("fill", c),
+            escape(s)
+        )
+        .ok();
+    }
+    if rot.abs() > 0.01 {
+        out.push_str("</g>");
+    }
+}
+
+/// Standard base64 (RFC 4648, with padding).
+pub fn base64(bytes: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut s = String::with_capacity(bytes.len().div_ceil(3) * 4);
+    for ch in bytes.chunks(3) {
+        let b = [ch[0], *ch.get(1).unwrap_or(&0), *ch.get(2).unwrap_or(&0)];
+        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
+        for i in 0..4 {
+            if i <= ch.len() {
+                s.push(A[((n >> (18 - 6 * i)) & 63) as usize] as char);
+            } else {
+                s.push('=');
+            }
+        }
+    }
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn base64_matches_the_rfc_examples() {
+        for (i, o) in [
+            ("", ""),
+            ("f", "Zg=="),
+            ("fo", "Zm8="),
+            ("foo", "Zm9v"),
+            ("foob", "Zm9vYg=="),
+            ("fooba", "Zm9vYmE="),
+            ("foobar", "Zm9vYmFy"),
+        ] {
+            assert_eq!(base64(i.as_bytes()), o);
+        }
+    }
+
+    #[test]
+    fn text_is_escaped() {
+        assert_eq!(escape("a<b & \"c\">"), "a&lt;b &amp; &quot;c&quot;&gt;");
+    }
+}

@@ -1,0 +1,122 @@
+//! The views drawn once more, off screen, for a vector picture: a fresh
+//! egui context with the window's theme and text size runs a few passes of
+//! the same view code over the same settings and results, and the last
+//! pass's shapes go to [`super::svg::SvgWriter`]. Nothing integrates here:
+//! the views only draw what the jobs already hold.
+
+use eframe::egui;
+use egui::{Color32, Rect, RichText, Vec2};
+
+use super::axes;
+use super::bifurcation::Zoom;
+use super::explorer::{Views, tile_rects};
+use super::jobs::Jobs;
+use super::settings::{Layout, Settings, ViewKind};
+use super::svg::{SvgWriter, Textures};
+
+/// Passes before the shapes are taken: plots settle their bounds and
+/// labels over the first ones.
+const PASSES: usize = 4;
+
+/// The SVG of `views` (one view, or the tiles in the window's tile layout)
+/// drawn over `size` points from `settings` and `jobs`, the bifurcation
+/// diagram at `zoom` (its zoom stack).
+pub fn render_svg(
+    views: &[ViewKind],
+    settings: &Settings,
+    jobs: &Jobs,
+    zoom: &[Zoom],
+    size: Vec2,
+) -> String {
+    let ctx = egui::Context::default();
+    ctx.set_theme(if settings.dark {
+        egui::Theme::Dark
+    } else {
+        egui::Theme::Light
+    });
+    let base = egui::Style::default().text_styles;
+    let scale = settings.font_scale.clamp(0.5, 3.0);
+    ctx.all_styles_mut(|s| {
+        for (ts, font) in s.text_styles.iter_mut() {
+            if let Some(b) = base.get(ts) {
+                font.size = b.size * scale;
+            }
+        }
+        // A picture for a document: no hover, no animation.
+        s.animation_time = 0.0;
+    });
+    let mut state = Views::default();
+    state.bifurcation.zoom = zoom.to_vec();
+    let mut s = settings.clone();
+    let mut textures = Textures::new();
+    let mut shapes = Vec::new();
+    let mut frames = Vec::new();
+    let area = Rect::from_min_size(egui::Pos2::ZERO, size);
+    for pass in 0..PASSES {
+        let input = egui::RawInput {
+            screen_rect: Some(area),
+            time: Some(pass as f64 * 0.1),
+            ..Default::default()
+        };
+        let mut out = ctx.run_ui(input, |ui| {
+            axes::clear_frames(ui.ctx());
+            let rects = if views.len() == 1 {
+                vec![area.shrink(4.0)]
+            } else {
+                tile_rects(area.shrink(4.0), views.len())
+            };
+            let mut actions = Vec::new();
+            for (v, r) in views.iter().zip(rects) {
+                let view = state.get_mut(*v);
+                ui.scope_builder(egui::UiBuilder::new().max_rect(r).id_salt(v.key()), |ui| {
+                    egui::Frame::group(ui.style())
+                        .inner_margin(4.0)
+                        .show(ui, |ui| {
+                            ui.set_min_size(ui.available_size());
+                            ui.label(RichText::new(view.title()).strong());
+                            view.ui(ui, &mut s, jobs, &mut actions);
+                        });
+                });
+            }
+        });
+        for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
+            for d in deltas {
+                let egui::ImageData::Color(img) = d.image;
+                match d.pos {
+                    None => {
+                        textures.insert(id, (*img).clone());
+                    }
+                    Some([x0, y0]) => {
+                        if let Some(t) = textures.get_mut(&id) {
+                            let [w, h] = img.size;
+                            for y in 0..h {
+                                for x in 0..w {
+                                    let (tx, ty) = (x0 + x, y0 + y);
+                                    if tx < t.size[0] && ty < t.size[1] {
+                                        t.pixels[ty * t.size[0] + tx] = img.pixels[y * w + x];
+                                    }
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        shapes = std::mem::take(&mut out.shapes);
+        frames = axes::plot_frames(&ctx);
+    }
+    // The font atlas is not needed: text is written as text.
+    textures.remove(&egui::TextureId::default());
+    let mut w = SvgWriter::new(area, &frames, &textures);
+    w.add(&shapes);
+    let bg = ctx.global_style().visuals.panel_fill;
+    w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
+}
+
+/// The views a picture of the window shows: the tab, or the tiles.
+pub fn shown_views(s: &Settings) -> Vec<ViewKind> {
+    match s.layout {
+        Layout::Tabs => vec![s.tab],
+        Layout::Tiles => s.tiled.clone(),
+    }
+}

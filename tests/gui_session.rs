@@ -1,0 +1,150 @@
+//! Sessions: a saved session reads back to identical settings and zoom; a
+//! corrupt or partly wrong file gives one message naming what was wrong,
+//! defaults for that, and keeps everything else as saved.
+#![cfg(feature = "gui")]
+
+use oneblock::Params;
+use oneblock::app::bifurcation::Zoom;
+use oneblock::app::session::Session;
+use oneblock::app::settings::{AccuracyMode, Layout, PhaseRange, Settings, ViewKind};
+use oneblock::integrate::Method;
+
+fn changed() -> Session {
+    let mut s = Settings {
+        params: Params {
+            kappa: 50.0,
+            gamma: 6.5,
+            nu: 1e-4,
+            theta_nu: 1.4,
+            ..Params::default()
+        },
+        accuracy: AccuracyMode::Custom,
+        method: Method::Rk4,
+        step: 2e-4,
+        layout: Layout::Tabs,
+        tab: ViewKind::Events,
+        font_scale: 1.5,
+        preset: Some("intermittent".into()),
+        columns: 123,
+        ..Settings::default()
+    };
+    s.phase.zoom.push(PhaseRange {
+        theta_nu: (1.0, 1.3),
+        kappa: (10.0, 20.0),
+    });
+    Session {
+        settings: s,
+        bifurcation_zoom: vec![Zoom {
+            theta_nu: (1.15, 1.35),
+            theta: (0.2, 0.9),
+        }],
+    }
+}
+
+#[test]
+fn a_session_round_trip_restores_identical_settings() {
+    let s = changed();
+    let text = s.to_json();
+    let back = Session::from_json(&text, "s.json");
+    assert_eq!(back.message, None);
+    assert_eq!(back.session, s);
+    // Every field differs from the defaults where it was changed: the
+    // round trip is not the defaults' by accident.
+    assert_ne!(back.session.settings, Settings::default());
+}
+
+#[test]
+fn a_corrupt_session_gives_one_message_and_defaults() {
+    for text in ["{\"settings\": {\"params\": ", "[1, 2]", ""] {
+        let l = Session::from_json(text, "bad.json");
+        let m = l.message.expect("a message");
+        assert!(m.contains("bad.json") && m.contains("default"), "{m}");
+        assert_eq!(l.session.settings, Settings::default());
+        assert!(l.session.bifurcation_zoom.is_empty());
+    }
+}
+
+#[test]
+fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
+    let good = changed();
+    let mut v: serde_json::Value = serde_json::from_str(&good.to_json()).expect("json");
+    v["settings"]["font_scale"] = serde_json::json!("big");
+    v["settings"]["columns"] = serde_json::json!(5);
+    v["settings"]["wobble"] = serde_json::json!(true);
+    v["extra"] = serde_json::json!(1);
+    let l = Session::from_json(&v.to_string(), "s.json");
+    let m = l.message.expect("a message");
+    assert_eq!(m.lines().count(), 1);
+    for name in [
+        "settings.font_scale",
+        "diagram columns",
+        "settings.wobble",
+        "extra",
+    ] {
+        assert!(m.contains(name), "{m} should name {name}");
+    }
+    let d = Settings::default();
+    let s = &l.session.settings;
+    assert_eq!((s.font_scale, s.columns), (d.font_scale, d.columns));
+    // Nothing else is lost.
+    let g = &good.settings;
+    assert_eq!(s.params, g.params);
+    assert_eq!(
+        (s.accuracy, s.method, s.step),
+        (g.accuracy, g.method, g.step)
+    );
+    assert_eq!((s.layout, s.tab), (g.layout, g.tab));
+    assert_eq!(s.phase, g.phase);
+    assert_eq!(l.session.bifurcation_zoom, good.bifurcation_zoom);
+}
+
+/// The Events view states the laminar statistics of the events after the
+/// transient: a synthetic run whose lengths are known.
+#[test]
+fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient() {
+    #[path = "common/window.rs"]
+    mod window;
+    use egui_kittest::kittest::Queryable;
+    use oneblock::app::Recorder;
+    use oneblock::worker::{Command, Update};
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::Events,
+        ..Settings::default()
+    };
+    let mut h = window::harness(&rec, settings);
+    h.run_steps(2);
+    let g = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("trajectory");
+    // 40 events: the first 10 (a quarter, the transient) are left out;
+    // then large slips (0.8) with 4, 6, 6 and 3 creep slips (3e-3) between.
+    let mut sizes = vec![0.5; 10];
+    sizes.push(0.8);
+    for l in [4, 6, 6, 3] {
+        sizes.extend(std::iter::repeat_n(3e-3, l));
+        sizes.push(0.8);
+    }
+    sizes.extend(std::iter::repeat_n(3e-3, 40 - sizes.len()));
+    assert_eq!(sizes.len(), 40);
+    for (i, d) in sizes.iter().enumerate() {
+        let mut e = window::event(0.5, 0.5, i as f64);
+        e.slip_distance = *d;
+        rec.push(Update::Slip {
+            generation: g,
+            event: e,
+        });
+    }
+    h.run_steps(3);
+    let label = "5 large, 25 creep · 4 laminar phases, mean laminar length 4.8";
+    assert!(
+        h.query_by_label_contains(label).is_some(),
+        "no label containing {label:?}"
+    );
+}

@@ -1,0 +1,189 @@
+//! Intermittency statistics: laminar lengths on synthetic sequences whose
+//! lengths are known, the log-log fit against a known power law, and
+//! `oneblock orbit --stats` on the paper's intermittent orbit checked
+//! against its own events CSV.
+
+mod cli_support;
+
+use cli_support::*;
+use oneblock::sim::intermittency::{
+    Intermittency, LARGE_FRACTION, laminar_lengths, length_counts, log_log_fit, supports_type_one,
+};
+
+/// A sequence of creep slips (sizes around 3e-3) broken by large slips
+/// (around 0.7) after the given laminar lengths, with a creep run before
+/// the first and after the last large slip that must not be counted.
+fn synthetic(lengths: &[usize]) -> Vec<f64> {
+    let mut s: Vec<f64> = (0..7).map(|i| 2.5e-3 + 1e-5 * i as f64).collect();
+    s.push(0.8);
+    for (k, &l) in lengths.iter().enumerate() {
+        s.extend((0..l).map(|i| 3e-3 * (1.0 + 0.01 * i as f64)));
+        s.push(0.6 + 0.01 * k as f64);
+    }
+    s.extend([3e-3, 4e-3, 5e-3]);
+    s
+}
+
+#[test]
+fn laminar_lengths_of_a_synthetic_sequence_are_the_known_ones() {
+    let lengths = [12, 0, 5, 40, 5, 3, 12, 12];
+    let s = synthetic(&lengths);
+    let st = Intermittency::of(&s, None).expect("stats");
+    assert_eq!(st.laminar, lengths);
+    assert_eq!(st.large, lengths.len() + 1);
+    assert_eq!(st.creep, s.len() - st.large);
+    assert!((st.threshold - LARGE_FRACTION * 0.8).abs() < 1e-15);
+    let mean = lengths.iter().sum::<usize>() as f64 / lengths.len() as f64;
+    assert!((st.mean_laminar.expect("mean") - mean).abs() < 1e-12);
+    assert_eq!(
+        length_counts(&st.laminar),
+        vec![(0, 1), (3, 1), (5, 2), (12, 3), (40, 1)]
+    );
+    // The size histogram holds every slip once.
+    assert_eq!(st.sizes.iter().map(|b| b.count).sum::<usize>(), s.len());
+    // A threshold above every creep slip and below every large one gives
+    // the same lengths, whatever its value.
+    for t in [0.01, 0.1, 0.5] {
+        assert_eq!(laminar_lengths(&s, t), lengths, "threshold {t}");
+    }
+}
+
+#[test]
+fn a_sequence_without_large_slips_has_no_laminar_phase() {
+    let s = vec![3e-3; 50];
+    let st = Intermittency::of(&s, None).expect("stats");
+    // Every slip is "large" relative to itself: phases of length 0, which
+    // is what a creep fixed point is (no re-injection to count).
+    assert!(st.laminar.iter().all(|&l| l == 0));
+    assert!(Intermittency::of(&[0.0, 0.0], None).is_none());
+}
+
+#[test]
+fn the_log_log_fit_recovers_a_known_exponent() {
+    let pts: Vec<(f64, f64)> = [1e-4, 3e-4, 1e-3, 3e-3, 1e-2]
+        .iter()
+        .map(|&e: &f64| (e, 2.0 * e.powf(-0.5)))
+        .collect();
+    let (slope, intercept) = log_log_fit(&pts).expect("fit");
+    assert!((slope + 0.5).abs() < 1e-12, "{slope}");
+    assert!((intercept - 2f64.log10()).abs() < 1e-12);
+    assert!(supports_type_one(slope));
+    let steep: Vec<(f64, f64)> = pts.iter().map(|&(e, _)| (e, e.powf(-1.0))).collect();
+    let (s2, _) = log_log_fit(&steep).expect("fit");
+    assert!(!supports_type_one(s2));
+    assert!(log_log_fit(&pts[..2]).is_none());
+}
+
+#[test]
+fn orbit_stats_agree_with_the_orbits_own_events() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (ev, st) = (dir.path().join("ev.csv"), dir.path().join("st.csv"));
+    let (ev_s, st_s) = (ev.display().to_string(), st.display().to_string());
+    let o = oneblock(&[
+        "orbit",
+        "--kappa",
+        "50",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-4",
+        "--theta-nu",
+        "1.4",
+        "--tol",
+        "1e-8",
+        "--transient",
+        "200",
+        "--keep",
+        "1500",
+        "--no-lyapunov",
+        "--out",
+        &ev_s,
+        "--stats",
+        &st_s,
+    ]);
+    assert_ok(&o);
+    let (head, rows) = parse_csv(&std::fs::read_to_string(&ev).expect("events"));
+    let col = head
+        .iter()
+        .position(|h| h == "slip_distance")
+        .expect("slip_distance column");
+    let sizes: Vec<f64> = rows.iter().map(|r| num(&r[col])).collect();
+    // The intermittent orbit's sizes are bimodal: creep slips of a few
+    // thousandths (growing to below a tenth before a re-injection), large
+    // slips of more than half a unit.
+    let max = sizes.iter().copied().fold(0.0, f64::max);
+    assert!(max > 0.5, "{max}");
+    let large: Vec<usize> = (0..sizes.len())
+        .filter(|&i| sizes[i] >= 0.25 * max)
+        .collect();
+    assert!(large.len() > 20, "{} large slips", large.len());
+    assert!(
+        sizes.iter().all(|&s| s >= 0.4 * max || s < 0.15 * max),
+        "the threshold sits in the gap between the modes"
+    );
+    let expected: Vec<usize> = large.windows(2).map(|w| w[1] - w[0] - 1).collect();
+    let text = std::fs::read_to_string(&st).expect("stats");
+    let mut lines = text.lines();
+    assert!(lines.next().is_some_and(|l| l.starts_with("# large slip")));
+    assert_eq!(lines.next(), Some("statistic,lo,hi,count"));
+    let mut from_file = Vec::new();
+    let mut binned = 0;
+    for l in lines {
+        let f: Vec<&str> = l.split(',').collect();
+        match f[0] {
+            "laminar_length" => {
+                let n: usize = f[1].parse().expect("length");
+                let c: usize = f[3].parse().expect("count");
+                from_file.extend(std::iter::repeat_n(n, c));
+            }
+            "slip_size" => binned += f[3].parse::<usize>().expect("count"),
+            other => panic!("unexpected statistic {other}"),
+        }
+    }
+    let mut sorted = expected.clone();
+    sorted.sort_unstable();
+    assert_eq!(from_file, sorted);
+    assert_eq!(binned, sizes.len());
+    // Creep phases of the intermittent orbit last tens of iterates.
+    let mean = expected.iter().sum::<usize>() as f64 / expected.len() as f64;
+    assert!((10.0..60.0).contains(&mean), "mean laminar length {mean}");
+}
+
+#[test]
+fn orbit_stats_refuses_stdout_and_the_out_file() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let f = dir.path().join("x.csv").display().to_string();
+    let base = cmd_args("orbit", &["--keep", "10"]);
+    let mut a = base.clone();
+    a.extend(["--stats".into(), "-".into()]);
+    assert_bad_input(&a, "--stats");
+    let mut b = base;
+    b.extend(["--out".into(), f.clone(), "--stats".into(), f]);
+    assert_bad_input(&b, "--stats");
+}
+
+#[test]
+fn the_intermittent_window_has_a_lower_end_and_its_laminar_phases_shorten_there() {
+    use oneblock::sim::intermittency::{CRITICAL_RESOLUTION, scaling};
+    use oneblock::{Method, SolverSettings};
+    let p = oneblock::model::preset("intermittent")
+        .expect("preset")
+        .params;
+    let sc = scaling(p, SolverSettings::adaptive(Method::Dop853, 1e-8), &|| false)
+        .expect("scan")
+        .expect("θν = 1.4 is intermittent, with a lower end within 0.4");
+    // Measured with `oneblock orbit --stats` at tol 1e-8: mean laminar
+    // length 0.69 at θν = 1.245, 1.76 at 1.247, 4.85 at 1.25 (≥ 2 is
+    // intermittent here).
+    assert!(
+        (1.245 - CRITICAL_RESOLUTION..1.25 + CRITICAL_RESOLUTION).contains(&sc.theta_nu_c),
+        "{}",
+        sc.theta_nu_c
+    );
+    assert!(sc.points.len() >= 5, "{:?}", sc.points);
+    // Here the phases get shorter towards θν_c, not longer as in type-I
+    // intermittency: the fitted slope is positive and −1/2 is not claimed.
+    let (slope, _) = sc.fit.expect("fit");
+    assert!(slope > 0.0, "{slope} from {:?}", sc.points);
+    assert!(!sc.supports_type_one());
+}
