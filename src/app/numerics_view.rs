@@ -212,18 +212,18 @@ fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
         _ => format!("Committed chart: {}", default_caption()),
     };
     ui.label(caption);
-    if run.loaded() {
-        if let Some((l, cores)) = run.load {
-            ui.label(
-                RichText::new(format!(
-                    "Caution: the machine was busy when this run started (load average {l:.1} on \
-                     {cores} cores): its wall times are inflated. Each is the fastest of \
-                     {} timings, but only RHS evaluations per iterate are unaffected.",
-                    crate::worker::TIMING_REPEATS
-                ))
-                .color(style::ERROR),
-            );
-        }
+    if run.loaded()
+        && let Some((l, cores)) = run.load
+    {
+        ui.label(
+            RichText::new(format!(
+                "Caution: the machine was busy when this run started (load average {l:.1} on \
+                 {cores} cores): its wall times are inflated. Each is the fastest of \
+                 {} timings, but only RHS evaluations per iterate are unaffected.",
+                crate::worker::TIMING_REPEATS
+            ))
+            .color(style::ERROR),
+        );
     }
     ui.label(
         RichText::new(format!(
