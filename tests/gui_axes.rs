@@ -173,21 +173,17 @@ fn every_plot_has_five_labelled_ticks_per_axis_alone_and_in_tiles() {
             },
             &rec,
         );
-        // Plane, bifurcation, return map and the events' two plots. At
-        // text ×1.5 the events tile's two plots side by side are each too
-        // narrow for five three-digit labels (a known limit of that view's
-        // layout), so only the others are held to five there.
-        let except: &[&str] = if scale > 1.0 {
-            &["events_series", "events_hist"]
-        } else {
-            &[]
-        };
-        check_ticks_except(
-            &h,
-            &format!("tiles at text ×{scale}"),
-            5 - except.len(),
-            except,
-        );
+        // Plane, bifurcation and return map. The events tile's plots side
+        // by side are each too narrow for five labels in a tile (a known
+        // limit of that view's layout): they are held to five in their tab
+        // only.
+        let except = [
+            "events_series",
+            "events_hist",
+            "events_laminar",
+            "events_scaling",
+        ];
+        check_ticks_except(&h, &format!("tiles at text ×{scale}"), 3, &except);
     }
 }
 
