@@ -4,12 +4,15 @@
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;
+pub mod continue_cmd;
+pub mod continue_out;
 pub mod cycle;
 mod error;
 pub mod gui;
 pub mod map;
 pub mod orbit;
 pub mod phase;
+pub mod phase_boundaries;
 pub mod run_control;
 pub mod trajectory;
 pub mod values;
@@ -37,6 +40,8 @@ pub enum Command {
     Orbit(orbit::OrbitArgs),
     /// A period-p cycle solved by Newton's method: its points, multiplier and stability.
     Cycle(cycle::CycleArgs),
+    /// A cycle followed in a parameter: period doublings, folds, borders; cascades; curves.
+    Continue(continue_cmd::ContinueArgs),
     /// The block's path (t, x, y, u, w, phase) sampled for display.
     Trajectory(trajectory::TrajectoryArgs),
     /// Bifurcation diagram data: θ against θν, on both cores.
@@ -65,6 +70,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
         Some(Command::Phase(a)) => phase::check(a).map(drop),
         Some(Command::Cycle(a)) => cycle::check(a).map(drop),
+        Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
     }
 }
@@ -120,6 +126,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Map(a)) => map::run(a),
         Some(Command::Orbit(a)) => orbit::run(a),
         Some(Command::Cycle(a)) => cycle::run(a),
+        Some(Command::Continue(a)) => continue_cmd::run(a),
         Some(Command::Trajectory(a)) => trajectory::run(a),
         Some(Command::Bifurcation(a)) => bifurcation::run(a),
         Some(Command::BenchWorker(a)) => bench_worker::run(a),

@@ -86,6 +86,10 @@ pub struct PhaseArgs {
     /// Also (or only) render the diagram as a PNG.
     #[arg(long)]
     pub png: Option<PathBuf>,
+    /// Draw these curves over the PNG: a CSV with theta_nu and kappa
+    /// columns, as `oneblock continue --curve` writes (needs --png).
+    #[arg(long, requires = "png")]
+    pub boundaries: Option<PathBuf>,
     /// Overwrite existing --out / --png files.
     #[arg(long)]
     pub force: bool,
@@ -109,6 +113,7 @@ pub struct Plan {
     threads: usize,
     out: Option<PathBuf>,
     max_seconds: Option<f64>,
+    boundaries: Vec<super::phase_boundaries::Polyline>,
 }
 
 /// Checks the flags and the outputs before any work.
@@ -199,6 +204,11 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         )?;
     }
     let max_seconds = max_seconds(args.max_seconds)?;
+    let boundaries = match &args.boundaries {
+        Some(b) => super::phase_boundaries::read_boundaries(b)
+            .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
+        None => Vec::new(),
+    };
     Ok(Plan {
         params: Params {
             kappa: k_from,
@@ -211,6 +221,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         threads,
         out,
         max_seconds,
+        boundaries,
     })
 }
 
@@ -224,6 +235,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         threads,
         out,
         max_seconds,
+        boundaries,
     } = check(&args)?;
     let (rows, cols) = (kappas.len(), theta_nus.len());
     let (k_from, k_to) = (kappas[0], kappas[rows - 1]);
@@ -265,7 +277,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     }
     // The picture first: if it cannot be written, neither is the CSV.
     if let Some(png) = &args.png {
-        let bytes = render_png(&grid, &kappas, &theta_nus);
+        let bytes = render_png_with(&grid, &kappas, &theta_nus, &boundaries);
         write_out(png, &bytes, args.force).map_err(|e| {
             CliError::Usage(format!(
                 "--png: {}",
@@ -437,6 +449,16 @@ fn tick_label(v: f64) -> String {
 /// Renders the grid: θν across, κ upwards, one colour per class, with axes,
 /// tick labels and a legend. Returns the PNG's bytes.
 pub fn render_png(grid: &[Vec<PhaseCell>], kappas: &[f64], theta_nus: &[f64]) -> Vec<u8> {
+    render_png_with(grid, kappas, theta_nus, &[])
+}
+
+/// [`render_png`] with bifurcation curves in (θν, κ) drawn over the cells.
+pub fn render_png_with(
+    grid: &[Vec<PhaseCell>],
+    kappas: &[f64],
+    theta_nus: &[f64],
+    curves: &[super::phase_boundaries::Polyline],
+) -> Vec<u8> {
     let (rows, cols) = (kappas.len().max(1), theta_nus.len().max(1));
     let cw = 600usize.div_ceil(cols).max(1);
     let ch = 480usize.div_ceil(rows).max(1);
@@ -492,6 +514,18 @@ pub fn render_png(grid: &[Vec<PhaseCell>], kappas: &[f64], theta_nus: &[f64]) ->
         cv.text(left - 10 - w, y.saturating_sub(7), s, &l, black);
     }
     cv.text(4, top + ph / 2 - 7, s, "KAPPA", black);
+    for poly in curves {
+        for w in poly.windows(2) {
+            let [a, b] = [w[0], w[1]].map(|p| [x_of(p[0]), y_of(p[1])]);
+            for [x, y] in super::phase_boundaries::segment_pixels(a, b) {
+                let inside = (left as i64..(left + pw) as i64 - 1).contains(&x)
+                    && (top as i64..(top + ph) as i64 - 1).contains(&y);
+                if inside {
+                    cv.rect(x as usize, y as usize, 2, 2, black);
+                }
+            }
+        }
+    }
     // Legend.
     let lx = left + pw + 20;
     for (i, (name, c)) in PHASE_LEGEND.iter().enumerate() {

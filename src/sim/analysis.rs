@@ -1,8 +1,33 @@
 //! The derivative of the map, and the grid its graph is drawn on (periods
 //! are detected in `super::period`).
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use super::{SimError, Simulator, SlipEvent, cycle_pair};
 use crate::model::{is_on_exit_arc, wrap_angle};
+
+/// f'(θ) asked of [`map_derivative`] and [`cycle_with_derivative`] in this
+/// process, and how many of those fell back to the secant.
+static SLOPES: [AtomicU64; 2] = [AtomicU64::new(0), AtomicU64::new(0)];
+
+/// How many f'(θ) [`map_derivative`] and [`cycle_with_derivative`] have
+/// computed in this process, and how many of them were the secant's
+/// because f has no derivative there (docs/derivatives.md gives the share
+/// on the paper's phase grid).
+pub fn slope_counts() -> (u64, u64) {
+    (
+        SLOPES[0].load(Ordering::Relaxed),
+        SLOPES[1].load(Ordering::Relaxed),
+    )
+}
+
+/// Counts one f'(θ), `secant` when it was the difference's.
+fn count_slope(secant: bool) {
+    SLOPES[0].fetch_add(1, Ordering::Relaxed);
+    if secant {
+        SLOPES[1].fetch_add(1, Ordering::Relaxed);
+    }
+}
 
 /// The window of θ a return-map picture of `thetas` shows: their range
 /// padded by a quarter on each side (at least 0.02 rad), so a fixed point
@@ -44,6 +69,7 @@ pub const DERIVATIVE_STEP: f64 = 1e-5;
 /// the exit arc).
 pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
     let (ev, d, n) = sim.cycle_derivatives(theta, 0.0)?;
+    count_slope(d.is_err());
     match d {
         Ok(d) => Ok((d.d_theta, ev.rhs_evals + n)),
         Err(_) => central_difference(sim, theta, f_theta),
@@ -87,6 +113,7 @@ pub fn cycle_with_derivative(
     t0: f64,
 ) -> Result<(SlipEvent, f64, u64), SimError> {
     let (ev, d, n) = sim.cycle_derivatives(theta, t0)?;
+    count_slope(d.is_err());
     match d {
         Ok(d) => Ok((ev, d.d_theta, n)),
         Err(_) => {

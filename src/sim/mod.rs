@@ -2,6 +2,7 @@
 //! period and Lyapunov exponent, and bifurcation sweeps over θν.
 
 mod analysis;
+pub mod continuation;
 mod cycle;
 pub mod cycles;
 mod error;
@@ -19,7 +20,7 @@ pub mod variational;
 
 pub use analysis::{
     DERIVATIVE_STEP, cycle_with_derivative, fixed_point, map_derivative, map_graph_grid,
-    return_map_window,
+    return_map_window, slope_counts,
 };
 pub use cycle::{
     LANES, Simulator, SlipEvent, Task, cycle_pair, cycles_in_lanes, default_settings, run_lanes,

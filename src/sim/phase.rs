@@ -266,11 +266,12 @@ fn run_cell(
         if cancel() {
             return Err(SimError::Cancelled);
         }
-        // Past the transient f'(θ) is needed too: its two cycles are
-        // stepped together with the iterate's own.
+        // Past the transient f'(θ) is needed too: it rides along the
+        // iterate's own integration (the variational equations), so it
+        // adds evaluations, not iterates (two where f has no derivative
+        // and the secant stands in).
         let ev = if i >= opts.transient {
             let (ev, d, n) = cycle_with_derivative(&sim, theta, 0.0)?;
-            cell.iterates += 2;
             cell.rhs_evals += n;
             logs.push(d.abs().ln());
             ev
@@ -398,7 +399,7 @@ fn cycle_exponent(
             theta
         };
         let (d, n) = map_derivative(sim, th, next)?;
-        cell.iterates += 2;
+        cell.iterates += 1;
         cell.rhs_evals += n;
         sum += d.abs().ln();
     }

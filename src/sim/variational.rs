@@ -2,17 +2,22 @@
 //! sensitivities: the variational equations are integrated together with
 //! the slip (docs/derivatives.md).
 //!
-//! Each right-hand-side evaluation of a slip is done once, on [`Tan`]
-//! numbers: a value and its derivatives along the six directions
-//! θ, θν, κ, γ, ν, Ω. The values are bitwise the plain field's, so a cycle
-//! with derivatives takes exactly the steps of the cycle without them; the
-//! tangents ride along through the same Runge–Kutta stages
-//! (`variational::stages`). At the two switching events (the end of the
+//! Each right-hand-side evaluation of a slip is done once, by the plain
+//! field's expressions, with the field's Jacobian formed from the values
+//! it computed (`variational::linear`); the variational equations are
+//! linear, so the six directions θ, θν, κ, γ, ν, Ω are that Jacobian
+//! applied to the tangent. The values are bitwise the plain field's, so a
+//! cycle with derivatives takes exactly the steps of the cycle without
+//! them; the tangents ride along through the same Runge–Kutta stages
+//! (`variational::stages`). [`Tan`] numbers (a value and its derivatives
+//! along the six directions) carry the rarer parts: the stiff stop's
+//! motion and the switching events. At the two switching events (the end of the
 //! acceleration phase and the stop) the event time's own sensitivity is
 //! added (the saltation rule), and the closed-form stick phase and θ' are
 //! differentiated as they are computed.
 
 mod events;
+mod linear;
 mod stages;
 
 use std::ops::{Add, Div, Mul, Neg, Sub};

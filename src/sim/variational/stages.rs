@@ -3,16 +3,22 @@
 //!
 //! The solver computes the state's stage arguments and calls the
 //! right-hand side once per stage, in order; the right-hand side of a slip
-//! with derivatives hands each call to [`Tangents::eval`], which forms the
-//! tangent's stage argument Y + h Σ a_ij K_j itself, evaluates the field on
-//! [`Tan`] numbers (value and tangent at once) and returns the value. The
-//! caller says where a step begins ([`Tangents::begin`]), when the next
-//! evaluation is f(y_new) ([`Tangents::finishing`]) and when the slip moves
-//! on to the new state ([`Tangents::commit`]): anything else (dense output,
-//! event location) is evaluated plain.
+//! with derivatives hands each call to [`Tangents::eval`], which computes
+//! the field's value and its Jacobian there (`variational::linear`), keeps
+//! the Jacobian and returns the value. The tangent's stages,
+//! K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, are formed only once the step is
+//! accepted ([`Tangents::commit`]): a rejected attempt costs the tangents
+//! nothing, and their arithmetic is one tight loop off the state's chain of
+//! dependent evaluations. The caller says where a step begins
+//! ([`Tangents::begin`]), when the next evaluation is f(y_new)
+//! ([`Tangents::finishing`]) and when the slip moves on to the new state
+//! ([`Tangents::commit`]): anything else (dense output, event location) is
+//! evaluated plain.
 
+use super::linear::{self, Lin};
 use super::{DIRS, Jet, TanField, split, tan_state};
 use crate::integrate::{Method, State, tableau};
+use crate::sim::field::SlipField;
 
 /// The most stages of any method (DOP853's twelve).
 const MAX_STAGES: usize = 12;
@@ -41,8 +47,19 @@ pub(crate) enum Field {
 pub(crate) struct Tangents {
     /// The parameters with their directions.
     pub fld: TanField,
+    /// The same parameters' values, for the plain field.
+    plain: SlipField,
+    /// The tangents' arithmetic may use AVX2 (as the plain slip does).
+    avx2: bool,
+    /// The accepted step's tangent arithmetic may fuse its multiply-adds.
+    fma: bool,
     a: [[f64; MAX_STAGES]; MAX_STAGES],
     b: [f64; MAX_STAGES],
+    /// The stages each row of a (and, last, b) weighs: the nonzero
+    /// coefficients' columns, so that the tangent's sums skip the zeros
+    /// without a branch per coefficient.
+    nz: [[u8; MAX_STAGES]; MAX_STAGES + 1],
+    nz_len: [u8; MAX_STAGES + 1],
     stages: usize,
     fsal: bool,
     /// The tangent of the current state, and of f there.
@@ -52,9 +69,15 @@ pub(crate) struct Tangents {
     h: f64,
     idx: usize,
     mode: Mode,
-    /// The accepted step's new tangent and f's, until `commit`.
-    new_y: Jet,
-    new_k: Jet,
+    /// The Jacobians at the attempt's stages, and at its new solution
+    /// (methods without FSAL).
+    lin: [Lin; MAX_STAGES],
+    lin_final: Lin,
+    /// The stiff stop's motion: its tangent stages are formed as they are
+    /// evaluated, and the new solution's tangent and f's kept for `commit`.
+    eager: bool,
+    final_y: Jet,
+    final_k: Jet,
     /// Evaluations beyond the plain cycle's (partial steps to events).
     pub extra_evals: u64,
 }
@@ -71,8 +94,37 @@ impl Tangents {
             Method::Rk4 => copy(&tableau::RK4, &mut a, &mut b),
             Method::Euler => copy(&tableau::EULER, &mut a, &mut b),
         };
+        let mut nz = [[0u8; MAX_STAGES]; MAX_STAGES + 1];
+        let mut nz_len = [0u8; MAX_STAGES + 1];
+        for (row, w) in a.iter().take(stages).chain([&b]).enumerate() {
+            let r = if row < stages { row } else { MAX_STAGES };
+            for (j, &x) in w.iter().enumerate().take(stages) {
+                if x != 0.0 {
+                    nz[r][nz_len[r] as usize] = j as u8;
+                    nz_len[r] += 1;
+                }
+            }
+        }
+        let plain = SlipField {
+            kappa: fld.kappa.v,
+            two_gamma: fld.two_gamma.v,
+            omega: fld.omega.v,
+            v: [fld.v[0].v, fld.v[1].v],
+        };
         Box::new(Tangents {
             fld,
+            plain,
+            #[cfg(target_arch = "x86_64")]
+            avx2: std::arch::is_x86_feature_detected!("avx2"),
+            #[cfg(not(target_arch = "x86_64"))]
+            avx2: false,
+            #[cfg(target_arch = "x86_64")]
+            fma: std::arch::is_x86_feature_detected!("avx2")
+                && std::arch::is_x86_feature_detected!("fma"),
+            #[cfg(not(target_arch = "x86_64"))]
+            fma: false,
+            nz,
+            nz_len,
             a,
             b,
             stages,
@@ -83,21 +135,26 @@ impl Tangents {
             h: 0.0,
             idx: 0,
             mode: Mode::Off,
-            new_y: [[0.0; DIRS]; 4],
-            new_k: [[0.0; DIRS]; 4],
+            lin: [Lin::ZERO; MAX_STAGES],
+            lin_final: Lin::ZERO,
+            eager: false,
+            final_y: [[0.0; DIRS]; 4],
+            final_k: [[0.0; DIRS]; 4],
             extra_evals: 0,
         })
     }
 
-    /// Evaluates `field` at the state y with tangent t.
+    /// Evaluates `field` at the state y with tangent t: the slip's two
+    /// fields by their Jacobian applied to t, the stiff stop's motion (a
+    /// handful of steps per stop) on [`super::Tan`] numbers.
     #[inline(always)]
     pub fn field_at(&self, field: Field, y: &State, t: &Jet) -> (State, Jet) {
-        let s = tan_state(y, t);
-        split(&match field {
-            Field::Accel => self.fld.accel(&s),
-            Field::Decel => self.fld.decel(&s),
-            Field::Manifold => self.fld.manifold_motion(&s),
-        })
+        let (v, lin) = match field {
+            Field::Accel => linear::accel(&self.plain, y),
+            Field::Decel => linear::decel(&self.plain, y),
+            Field::Manifold => return split(&self.fld.manifold_motion(&tan_state(y, t))),
+        };
+        (v, lin.apply::<false>(t, &self.fld))
     }
 
     /// An attempt of length `h` from the current state begins.
@@ -118,31 +175,94 @@ impl Tangents {
     /// The attempt is over (accepted or not); later evaluations are plain.
     #[inline(always)]
     pub fn end(&mut self) {
-        if self.mode == Mode::Final && self.fsal {
-            self.new_y = self.combine(&self.b);
-            self.new_k = self.k[self.stages - 1];
-        }
         self.mode = Mode::Off;
     }
 
-    /// The integration moves on to the accepted step's new state.
+    /// The integration moves on to the accepted step's new state: the
+    /// tangent's stages from the Jacobians the attempt kept, and its new
+    /// tangent and f's there.
     #[inline(always)]
     pub fn commit(&mut self) {
-        self.y = self.new_y;
-        self.k0 = self.new_k;
+        if self.eager {
+            (self.y, self.k0) = if self.fsal {
+                (self.combine(&self.b), self.k[self.stages - 1])
+            } else {
+                (self.final_y, self.final_k)
+            };
+            return;
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.fma {
+            // SAFETY: `fma` was set from `is_x86_feature_detected!` for
+            // both features.
+            return unsafe { self.commit_fma() };
+        }
+        self.commit_lazy::<false>();
     }
 
-    /// Y + h Σ_j w_j K_j over the stages so far.
+    /// [`Tangents::commit`] with fused multiply-adds: the tangents are not
+    /// the values that choose steps, so their last bits may differ by CPU
+    /// (the values, and so the steps, never do).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn commit_fma(&mut self) {
+        self.commit_lazy::<true>();
+    }
+
+    #[inline(always)]
+    fn commit_lazy<const FMA: bool>(&mut self) {
+        for i in 1..self.stages {
+            let t = self.combine_sparse::<FMA>(&self.a[i], i);
+            self.k[i] = self.lin[i].apply::<FMA>(&t, &self.fld);
+        }
+        let y = self.combine_sparse::<FMA>(&self.b, MAX_STAGES);
+        self.k0 = if self.fsal {
+            self.k[self.stages - 1]
+        } else {
+            self.lin_final.apply::<FMA>(&y, &self.fld)
+        };
+        self.y = y;
+    }
+
+    /// Y + h Σ_j w_j K_j over row `row`'s nonzero weights `w` (a's rows,
+    /// or `MAX_STAGES` for b). A tangent's 24 numbers are taken as one flat
+    /// run, so that the sums go four at a time (rows of six do not fill
+    /// 4-wide registers).
+    #[inline(always)]
+    fn combine_sparse<const FMA: bool>(&self, w: &[f64; MAX_STAGES], row: usize) -> Jet {
+        let mut out = self.y;
+        let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
+        for &j in &self.nz[row][..self.nz_len[row] as usize] {
+            let j = j as usize;
+            let hw = self.h * w[j];
+            let kf: &[f64; 4 * DIRS] = self.k[j].as_flattened().try_into().expect("4 × DIRS");
+            for (o, &x) in flat.iter_mut().zip(kf) {
+                *o = linear::madd::<FMA>(hw, x, *o);
+            }
+        }
+        out
+    }
+
+    /// [`Tangents::combine_with`], unfused.
     #[inline(always)]
     fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
+        self.combine_with::<false>(w)
+    }
+
+    /// Y + h Σ_j w_j K_j over the stages so far. A tangent's 24 numbers
+    /// are taken as one flat run, so that the sums go four at a time
+    /// (rows of six do not fill 4-wide registers).
+    #[inline(always)]
+    fn combine_with<const FMA: bool>(&self, w: &[f64; MAX_STAGES]) -> Jet {
         let mut out = self.y;
-        for (j, &wj) in w.iter().enumerate().take(self.stages) {
+        for (kj, &wj) in self.k.iter().zip(w).take(self.stages) {
             if wj != 0.0 {
                 let hw = self.h * wj;
-                for c in 0..4 {
-                    for i in 0..DIRS {
-                        out[c][i] += hw * self.k[j][c][i];
-                    }
+                let flat: &mut [f64; 4 * DIRS] =
+                    out.as_flattened_mut().try_into().expect("4 × DIRS");
+                let kf: &[f64; 4 * DIRS] = kj.as_flattened().try_into().expect("4 × DIRS");
+                for (o, &x) in flat.iter_mut().zip(kf) {
+                    *o = linear::madd::<FMA>(hw, x, *o);
                 }
             }
         }
@@ -156,23 +276,62 @@ impl Tangents {
     /// plain slip's) many times over for no gain.
     #[inline(never)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
+        #[cfg(target_arch = "x86_64")]
+        if self.avx2 {
+            // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
+            return unsafe { self.eval_avx2(field, y) };
+        }
+        self.eval_impl(field, y)
+    }
+
+    /// [`Tangents::eval`] compiled with AVX2: a tangent is 24 numbers, six
+    /// 4-wide registers.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2")]
+    fn eval_avx2(&mut self, field: Field, y: &State) -> Option<State> {
+        self.eval_impl(field, y)
+    }
+
+    #[inline(always)]
+    fn eval_impl(&mut self, field: Field, y: &State) -> Option<State> {
         match self.mode {
             Mode::Off => None,
             Mode::Stage => {
                 let i = self.idx;
                 self.idx += 1;
-                let t = self.combine(&self.a[i]);
-                let (v, k) = self.field_at(field, y, &t);
-                self.k[i] = k;
+                let Some((v, lin)) = self.linearize(field, y) else {
+                    self.eager = true;
+                    let t = self.combine(&self.a[i]);
+                    let (v, k) = self.field_at(field, y, &t);
+                    self.k[i] = k;
+                    return Some(v);
+                };
+                self.lin[i] = lin;
                 Some(v)
             }
             Mode::Final => {
-                let t = self.combine(&self.b);
-                let (v, k) = self.field_at(field, y, &t);
-                self.new_y = t;
-                self.new_k = k;
+                let Some((v, lin)) = self.linearize(field, y) else {
+                    self.eager = true;
+                    let t = self.combine(&self.b);
+                    let (v, k) = self.field_at(field, y, &t);
+                    (self.final_y, self.final_k) = (t, k);
+                    return Some(v);
+                };
+                self.lin_final = lin;
                 Some(v)
             }
+        }
+    }
+
+    /// The slip's field and its Jacobian at `y`; `None` for the stiff
+    /// stop's motion, whose tangent is carried on [`super::Tan`] numbers
+    /// (a handful of steps per stop) and formed stage by stage.
+    #[inline(always)]
+    fn linearize(&self, field: Field, y: &State) -> Option<(State, Lin)> {
+        match field {
+            Field::Accel => Some(linear::accel(&self.plain, y)),
+            Field::Decel => Some(linear::decel(&self.plain, y)),
+            Field::Manifold => None,
         }
     }
 

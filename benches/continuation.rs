@@ -1,0 +1,91 @@
+//! Continuation (docs/continuation.md) at γ = 6.5, ν = 1e-3, DOP853 at
+//! 1e-10: locating the fixed point's period doubling at Fig. 3b (κ = 18.95,
+//! the P1 branch over θν ∈ [1.0, 1.2], the doubling located to 1e-10);
+//! the cascades at κ = 18.95 and κ = 16 from θν = 1.0 (as far as each
+//! goes, printed before timing); and the FP→P2 curve over κ ∈ [1, 42].
+//! Run: `cargo bench --bench continuation -- --warm-up-time 1
+//! --measurement-time 3`.
+
+#![allow(clippy::unwrap_used)]
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use oneblock::model::Params;
+use oneblock::sim::continuation::{
+    ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, cascade,
+    continue_branch, continue_curve,
+};
+use oneblock::sim::default_settings;
+
+fn problem(kappa: f64) -> Problem {
+    Problem {
+        base: Params {
+            kappa,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: 1.0,
+            omega: 50.0,
+        },
+        settings: default_settings(1e-10),
+        param: ContParam::ThetaNu,
+        period: 1,
+    }
+}
+
+fn bench(c: &mut Criterion) {
+    let never = || false;
+    let mut g = c.benchmark_group("continuation");
+    g.sample_size(10).warm_up_time(Duration::from_secs(1));
+    let p = problem(18.95);
+    let opts = ContOptions::for_range(&p.settings, 1.0, 1.2);
+    g.bench_function("locate_pd_fig3b", |b| {
+        b.iter(|| black_box(continue_branch(&p, 1.0, 1.2, 0.4, &opts, &never).unwrap()))
+    });
+    for kappa in [18.95, 16.0] {
+        let p = problem(kappa);
+        let opts = ContOptions::for_range(&p.settings, 1.0, 1.6);
+        let c = cascade(&p, 1.0, 1.6, 0.4, 16, &opts, &never).unwrap();
+        let periods: Vec<usize> = c.doublings.iter().map(|d| d.period).collect();
+        eprintln!(
+            "kappa {kappa}: doublings of periods {periods:?}; {}",
+            c.stop
+        );
+        g.bench_function(format!("cascade_kappa_{kappa}"), |b| {
+            b.iter(|| black_box(cascade(&p, 1.0, 1.6, 0.4, 16, &opts, &never).unwrap()))
+        });
+    }
+    let p = problem(16.0);
+    let opts = ContOptions::for_range(&p.settings, 0.1, 1.55);
+    let start = continue_branch(&p, 0.1, 1.55, 0.1, &opts, &never)
+        .unwrap()
+        .of_kind(SpecialKind::PeriodDoubling)
+        .next()
+        .cloned()
+        .unwrap();
+    let copts = CurveOptions::for_box([[0.1, 1.55], [1.0, 42.0]]);
+    let run = || {
+        continue_curve(
+            &p.base,
+            &p.settings,
+            [ContParam::ThetaNu, ContParam::Kappa],
+            1,
+            CurveKind::PeriodDoubling,
+            &start,
+            &copts,
+            &never,
+        )
+    };
+    let curve = run();
+    eprintln!(
+        "FP->P2 curve: {} points, ends: {:?}",
+        curve.points.len(),
+        curve.ends
+    );
+    g.bench_function("pd_curve_kappa_1_42", |b| b.iter(|| black_box(run())));
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

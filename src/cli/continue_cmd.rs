@@ -1,0 +1,426 @@
+//! `oneblock continue`: a period-p cycle followed in one parameter, with
+//! its period doublings, folds and borders located (`--cascade`: the
+//! doubled cycles followed in turn), or a doubling or fold followed in two
+//! parameters (`--curve`). docs/continuation.md describes the method.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use clap::Args;
+
+use super::CliError;
+use super::common::{
+    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, finite,
+    warn_validity,
+};
+use super::continue_out as out;
+use super::values::{count_between, echo, parse_count, parse_number, short};
+use crate::model::{Params, exit_arc};
+use crate::sim::continuation::{
+    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
+    cascade_reporting, continue_branch, continue_curve,
+};
+use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+
+/// Follows a cycle, a cascade, or a bifurcation curve.
+#[derive(Debug, Clone, Args)]
+pub struct ContinueArgs {
+    #[command(flatten)]
+    pub model: ModelArgs,
+    #[command(flatten)]
+    pub solver: SolverArgs,
+    /// The parameter varied: theta-nu, kappa, gamma, nu or omega (its
+    /// model flag is then only the default of nothing: --from and --to set it).
+    #[arg(long, conflicts_with = "params")]
+    pub param: Option<String>,
+    /// With --curve: the two parameters, "P1,P2" (e.g. theta-nu,kappa); the
+    /// start is located along P1 over [--from, --to], the curve is followed
+    /// within that range and [--from2, --to2].
+    #[arg(long, requires = "curve")]
+    pub params: Option<String>,
+    /// The branch's first parameter value (where it starts).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub from: f64,
+    /// The branch's last parameter value (may be below --from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub to: f64,
+    /// The period p of the cycle followed (1 to 64; 1 is a fixed point).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_count)]
+    pub period: usize,
+    /// A point θ of the cycle at --from, in radians (a Newton seed)
+    /// [default: the attractor there, which must have period p].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub theta: Option<f64>,
+    /// Branch CSV ("-" = stdout): one row per computed point (with
+    /// --curve: one row per point of the curve).
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Special points CSV: kind,period,parameter,value,theta,multiplier.
+    #[arg(long)]
+    pub points: Option<PathBuf>,
+    /// Print one JSON summary on stdout instead of the text summary on stderr.
+    #[arg(long)]
+    pub json: bool,
+    /// Overwrite existing --out and --points files.
+    #[arg(long)]
+    pub force: bool,
+    /// Follow the period-doubling cascade: at each doubling switch to the
+    /// doubled cycle, until the doublings crowd within the location accuracy.
+    #[arg(long, conflicts_with = "curve")]
+    pub cascade: bool,
+    /// Follow a bifurcation curve in two parameters: pd or fold (needs
+    /// --params, --from2, --to2).
+    #[arg(long)]
+    pub curve: Option<String>,
+    /// With --curve: one end of the second parameter's range.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "curve")]
+    pub from2: Option<f64>,
+    /// With --curve: the other end of the second parameter's range.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "curve")]
+    pub to2: Option<f64>,
+}
+
+/// What is asked.
+pub enum Mode {
+    /// One branch.
+    Branch,
+    /// The cascade.
+    Cascade,
+    /// A curve: its kind, the second parameter and its range.
+    Curve(CurveKind, ContParam, [f64; 2]),
+}
+
+/// The checked inputs.
+pub struct Plan {
+    pub prob: Problem,
+    pub from: f64,
+    pub to: f64,
+    pub theta: Option<f64>,
+    pub mode: Mode,
+}
+
+fn param_name(flag: &str, name: &str) -> Result<ContParam, CliError> {
+    ContParam::parse(name.trim()).ok_or_else(|| {
+        CliError::Usage(format!(
+            "--{flag}: unknown parameter '{}': expected theta-nu, kappa, gamma, nu or omega",
+            echo(name)
+        ))
+    })
+}
+
+/// A range end: finite, and the parameters valid there (the message names
+/// the flag).
+fn end(flag: &str, v: f64, param: ContParam, base: &Params) -> Result<f64, CliError> {
+    let v = finite(flag, v)?;
+    if param == ContParam::ThetaNu && v.abs() > 1000.0 {
+        return Err(CliError::Usage(format!(
+            "--{flag} = {} is out of range: theta-nu must lie in [-1000, 1000] radians",
+            short(v)
+        )));
+    }
+    param.set(base, v).validate().map_err(|e| {
+        CliError::Usage(format!(
+            "--{flag} = {}: {} is out of range: {}",
+            short(v),
+            e.name,
+            e.range
+        ))
+    })?;
+    Ok(v)
+}
+
+fn range(
+    flags: [&str; 2],
+    a: f64,
+    b: f64,
+    param: ContParam,
+    base: &Params,
+) -> Result<(), CliError> {
+    let a = end(flags[0], a, param, base)?;
+    let b = end(flags[1], b, param, base)?;
+    if a == b {
+        return Err(CliError::Usage(format!(
+            "--{} = {} equals --{}: the range is empty",
+            flags[1],
+            short(b),
+            flags[0]
+        )));
+    }
+    Ok(())
+}
+
+/// Checks the flags and the outputs before any work.
+pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
+    let period = count_between("period", args.period, 1, PERIOD_MAX)?;
+    let base = args.model.params()?;
+    let settings = args.solver.settings()?;
+    let (param, mode) = match (&args.curve, &args.params, &args.param) {
+        (Some(kind), params, _) => {
+            let kind = match kind.trim() {
+                "pd" => CurveKind::PeriodDoubling,
+                "fold" => CurveKind::Fold,
+                k => {
+                    return Err(CliError::Usage(format!(
+                        "--curve: unknown curve '{}': expected pd or fold",
+                        echo(k)
+                    )));
+                }
+            };
+            let Some(params) = params else {
+                return Err(CliError::Usage(
+                    "--params: required with --curve (e.g. --params theta-nu,kappa)".into(),
+                ));
+            };
+            let names: Vec<&str> = params.split(',').collect();
+            let [a, b] = names[..] else {
+                return Err(CliError::Usage(format!(
+                    "--params: '{}' is not two names: expected P1,P2, e.g. theta-nu,kappa",
+                    echo(params)
+                )));
+            };
+            let (p1, p2) = (param_name("params", a)?, param_name("params", b)?);
+            if p1 == p2 {
+                return Err(CliError::Usage(format!(
+                    "--params: the two parameters must differ, not {} twice",
+                    p1.name()
+                )));
+            }
+            let (Some(a2), Some(b2)) = (args.from2, args.to2) else {
+                return Err(CliError::Usage(
+                    "--from2 and --to2: required with --curve (the second parameter's range)"
+                        .into(),
+                ));
+            };
+            range(["from2", "to2"], a2, b2, p2, &base)?;
+            let inside = p2.get(&base) >= a2.min(b2) && p2.get(&base) <= a2.max(b2);
+            if !inside {
+                return Err(CliError::Usage(format!(
+                    "--from2, --to2: the model's {} = {} is outside [{}, {}]: the curve starts there",
+                    p2.name(),
+                    short(p2.get(&base)),
+                    short(a2.min(b2)),
+                    short(a2.max(b2))
+                )));
+            }
+            (p1, Mode::Curve(kind, p2, [a2, b2]))
+        }
+        (None, _, Some(name)) => {
+            let p = param_name("param", name)?;
+            (
+                p,
+                if args.cascade {
+                    Mode::Cascade
+                } else {
+                    Mode::Branch
+                },
+            )
+        }
+        (None, _, None) => {
+            return Err(CliError::Usage(
+                "--param: required (theta-nu, kappa, gamma, nu or omega), or --curve with --params"
+                    .into(),
+            ));
+        }
+    };
+    range(["from", "to"], args.from, args.to, param, &base)?;
+    let prob = Problem {
+        base: param.set(&base, args.from),
+        settings,
+        param,
+        period,
+    };
+    let theta = match args.theta {
+        Some(th) => Some(check_theta(&prob.sim(args.from)?, "theta", th)?),
+        None => None,
+    };
+    if args.json && args.out.as_os_str() == "-" {
+        return Err(CliError::Usage(
+            "--out: with --json the summary is on stdout: give --out a file".into(),
+        ));
+    }
+    check_out(&args.out, args.force)?;
+    if let Some(p) = &args.points {
+        check_second_out("points", p, &args.out, args.force)?;
+    }
+    Ok(Plan {
+        prob,
+        from: args.from,
+        to: args.to,
+        theta,
+        mode,
+    })
+}
+
+/// The seed: `--theta`, or a point of the attractor at --from when it has
+/// period p.
+fn seed(plan: &Plan) -> Result<f64, CliError> {
+    if let Some(th) = plan.theta {
+        return Ok(th);
+    }
+    let sim = plan.prob.sim(plan.from)?;
+    let p = sim.params();
+    let (psi, _) = exit_arc(p.kappa, p.theta_nu);
+    let opts = OrbitOptions {
+        transient: 2000,
+        keep: 256,
+        lyapunov: false,
+        period_tol: OrbitOptions::period_tol_for(sim.settings().rtol),
+    };
+    let orbit = sim.orbit(psi, &opts, &|| false)?;
+    let found = match (orbit.period, &orbit.cycle) {
+        (Period::Periodic(q), Some(c)) if q == plan.prob.period => return Ok(c.points[0]),
+        (Period::Periodic(q), _) => format!("has period {q}"),
+        (Period::Aperiodic, _) => "is aperiodic".to_string(),
+    };
+    Err(CliError::Usage(format!(
+        "--theta: not given, and the attractor at {} = {} {found}, not {}: give --theta, a point of a {}-cycle there",
+        plan.prob.param.name(),
+        short(plan.from),
+        plan.prob.period,
+        plan.prob.period
+    )))
+}
+
+/// A start that is not on a cycle is the user's input (exit 2).
+fn start_error(plan: &Plan, seed: f64, e: CycleFailure) -> CliError {
+    match e {
+        CycleFailure::Sim(SimError::Cancelled) => CliError::Failed("cancelled".into()),
+        CycleFailure::Sim(e) if !matches!(e, SimError::OffExitArc { .. }) => CliError::from(e),
+        e => CliError::Usage(format!(
+            "--theta = {}: no {}-cycle through it at {} = {}: {e}",
+            short(seed),
+            plan.prob.period,
+            plan.prob.param.name(),
+            short(plan.from)
+        )),
+    }
+}
+
+pub fn run(args: ContinueArgs) -> Result<(), CliError> {
+    let plan = check(&args)?;
+    warn_validity(&plan.prob.base);
+    let seed = seed(&plan)?;
+    // A seed on a shorter cycle (a fixed point is also a 3-cycle) would
+    // follow that cycle under another name.
+    let solved = crate::sim::solve_cycle(
+        &plan.prob.sim(plan.from)?,
+        seed,
+        plan.prob.period,
+        &crate::sim::CycleOptions::for_settings(&plan.prob.settings),
+    )
+    .map_err(|e| start_error(&plan, seed, e))?;
+    if solved.minimal_period < plan.prob.period {
+        return Err(CliError::Usage(format!(
+            "--theta = {}: the cycle through it at {} = {} has period {}, not {}",
+            short(seed),
+            plan.prob.param.name(),
+            short(plan.from),
+            solved.minimal_period,
+            plan.prob.period
+        )));
+    }
+    let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
+    let described = describe(sim.params(), sim.settings());
+    let opts = ContOptions::for_range(&plan.prob.settings, plan.from, plan.to);
+    let started = Instant::now();
+    // Ctrl+C stops the run cleanly, writing nothing (as every long command).
+    let limits = super::run_control::Limits::start(None);
+    let never = || limits.stop();
+    let (branches, extra): (Vec<Branch>, out::Extra) = match plan.mode {
+        Mode::Branch => {
+            let b = continue_branch(&plan.prob, plan.from, plan.to, seed, &opts, &never)
+                .map_err(|e| start_error(&plan, seed, e))?;
+            (vec![b], out::Extra::None)
+        }
+        Mode::Cascade => {
+            let mut progress = |b: &Branch| {
+                eprintln!(
+                    "continue: P{} branch, {} points: it {}",
+                    b.period,
+                    b.points.len(),
+                    b.stop_message()
+                );
+            };
+            let c = cascade_reporting(
+                &plan.prob,
+                plan.from,
+                plan.to,
+                seed,
+                PERIOD_MAX,
+                &opts,
+                &never,
+                &mut progress,
+            )
+            .map_err(|e| start_error(&plan, seed, e))?;
+            let branches = c.branches.clone();
+            (branches, out::Extra::Cascade(c))
+        }
+        Mode::Curve(kind, p2, r2) => {
+            let b = continue_branch(&plan.prob, plan.from, plan.to, seed, &opts, &never)
+                .map_err(|e| start_error(&plan, seed, e))?;
+            let want = match kind {
+                CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
+                CurveKind::Fold => SpecialKind::Fold,
+            };
+            let Some(start) = b.of_kind(want).next().cloned() else {
+                return Err(CliError::Failed(format!(
+                    "no {} point on the P{} branch in {} from {} to {} to start the curve from (the branch {})",
+                    want.name(),
+                    plan.prob.period,
+                    plan.prob.param.name(),
+                    short(plan.from),
+                    short(plan.to),
+                    b.stop_message()
+                )));
+            };
+            let copts = CurveOptions::for_box([[plan.from, plan.to], r2]);
+            let curve = continue_curve(
+                &plan.prob.base,
+                &plan.prob.settings,
+                [plan.prob.param, p2],
+                plan.prob.period,
+                kind,
+                &start,
+                &copts,
+                &never,
+            );
+            (vec![b], out::Extra::Curve(curve))
+        }
+    };
+    if limits.stop() {
+        return Err(limits.stopped("continue"));
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let data = match &extra {
+        out::Extra::Curve(c) => out::curve_csv(c),
+        _ => out::branches_csv(&branches),
+    };
+    emit(&args.out, data.as_bytes(), args.force)?;
+    if let Some(p) = &args.points {
+        emit(p, out::points_csv(&branches).as_bytes(), args.force)?;
+    }
+    let summary = out::Summary {
+        described: &described,
+        branches: &branches,
+        extra: &extra,
+        seconds,
+    };
+    if args.json {
+        emit(Path::new("-"), summary.json().as_bytes(), false)?;
+    } else {
+        eprint!("{}", summary.text());
+    }
+    // A branch that failed mid-way has written what it has; the run failed.
+    let failed = branches.first().and_then(|b| match &b.stop {
+        crate::sim::continuation::Stop::Failed(_) => {
+            Some(format!("the P{} branch {}", b.period, b.stop_message()))
+        }
+        _ => None,
+    });
+    match failed {
+        Some(m) => Err(CliError::Failed(format!(
+            "{m} (the points computed before are written)"
+        ))),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,297 @@
+//! What `oneblock continue` writes: the branch and curve CSVs, the special
+//! points CSV, and the summary (text or JSON).
+
+use std::fmt::Write as _;
+
+use crate::sim::continuation::{Branch, Cascade, Curve, SpecialPoint};
+
+/// What a run computed beyond its branches.
+pub enum Extra {
+    /// Branches only.
+    None,
+    /// A cascade (its branches are the run's).
+    Cascade(Cascade),
+    /// A curve (the run's branch located its start).
+    Curve(Curve),
+}
+
+/// `<param>,period,theta_1,…,theta_P,multiplier,stable`, one row per
+/// computed point; P is the longest period (shorter cycles leave the
+/// extra cells empty).
+pub fn branches_csv(branches: &[Branch]) -> String {
+    let Some(first) = branches.first() else {
+        return String::new();
+    };
+    let width = branches.iter().map(|b| b.period).max().unwrap_or(1);
+    let rows: usize = branches.iter().map(|b| b.points.len()).sum();
+    let mut s = String::with_capacity((rows + 1) * (40 + 20 * width));
+    s.push_str(first.param.column());
+    s.push_str(",period");
+    for i in 1..=width {
+        write!(s, ",theta_{i}").ok();
+    }
+    s.push_str(",multiplier,stable\n");
+    for b in branches {
+        for p in &b.points {
+            write!(s, "{},{}", p.lambda, b.period).ok();
+            for i in 0..width {
+                match p.points.get(i) {
+                    Some(th) => write!(s, ",{th}").ok(),
+                    None => write!(s, ",").ok(),
+                };
+            }
+            writeln!(s, ",{},{}", p.multiplier, p.stable).ok();
+        }
+    }
+    s
+}
+
+/// `kind,period,parameter,value,theta,multiplier`, one row per special
+/// point of every branch, in order.
+pub fn points_csv(branches: &[Branch]) -> String {
+    let mut s = String::from("kind,period,parameter,value,theta,multiplier\n");
+    for b in branches {
+        for p in &b.special {
+            writeln!(
+                s,
+                "{},{},{},{},{},{}",
+                p.kind.name(),
+                p.period,
+                b.param.name(),
+                p.lambda,
+                p.theta,
+                p.multiplier
+            )
+            .ok();
+        }
+    }
+    s
+}
+
+/// `curve,kind,period,<p1>,<p2>,theta,multiplier`, one row per point of
+/// the polyline (`curve` numbers the polylines from 0).
+pub fn curve_csv(c: &Curve) -> String {
+    let mut s = format!(
+        "curve,kind,period,{},{},theta,multiplier\n",
+        c.params[0].column(),
+        c.params[1].column()
+    );
+    for p in &c.points {
+        writeln!(
+            s,
+            "0,{},{},{},{},{},{}",
+            c.kind.name(),
+            c.period,
+            p.lambda[0],
+            p.lambda[1],
+            p.theta,
+            p.multiplier
+        )
+        .ok();
+    }
+    s
+}
+
+/// The run's summary.
+pub struct Summary<'a> {
+    pub described: &'a str,
+    pub branches: &'a [Branch],
+    pub extra: &'a Extra,
+    pub seconds: f64,
+}
+
+fn special_line(s: &mut String, name: &str, p: &SpecialPoint) {
+    writeln!(
+        s,
+        "  {:<7}P{:<3} {name} = {}  theta = {}  multiplier = {}{}",
+        p.kind.name(),
+        p.period,
+        p.lambda,
+        p.theta,
+        p.multiplier,
+        if p.note.is_empty() {
+            String::new()
+        } else {
+            format!("  ({})", p.note)
+        }
+    )
+    .ok();
+}
+
+impl Summary<'_> {
+    /// The text summary (for stderr).
+    pub fn text(&self) -> String {
+        let mut s = format!("continue: {}\n", self.described);
+        let evals: u64 = self.branches.iter().map(|b| b.map_evals).sum();
+        for b in self.branches {
+            let name = b.param.name();
+            let count = |k| b.of_kind(k).count();
+            use crate::sim::continuation::SpecialKind::*;
+            let (from, to) = (
+                b.points.first().map_or(f64::NAN, |p| p.lambda),
+                b.points.last().map_or(f64::NAN, |p| p.lambda),
+            );
+            writeln!(
+                s,
+                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border; it {}",
+                b.period,
+                b.points.len(),
+                count(PeriodDoubling),
+                count(Fold),
+                count(Border),
+                b.stop_message()
+            )
+            .ok();
+            for p in &b.special {
+                special_line(&mut s, name, p);
+            }
+        }
+        match self.extra {
+            Extra::None => {}
+            Extra::Cascade(c) => {
+                let name = self.branches.first().map_or("", |b| b.param.name());
+                writeln!(
+                    s,
+                    "cascade: {} doublings; ended: {}",
+                    c.doublings.len(),
+                    c.stop
+                )
+                .ok();
+                writeln!(
+                    s,
+                    "  {:<3} {:<7} {:<22} {:<12} delta_n",
+                    "n", "period", name, "gap"
+                )
+                .ok();
+                let ratios = c.ratios();
+                for (i, d) in c.doublings.iter().enumerate() {
+                    let gap = if i > 0 {
+                        format!("{:.6e}", d.lambda - c.doublings[i - 1].lambda)
+                    } else {
+                        String::new()
+                    };
+                    let ratio = if i >= 2 {
+                        format!("{:.4}", ratios[i - 2])
+                    } else {
+                        String::new()
+                    };
+                    writeln!(
+                        s,
+                        "  {:<3} {:<7} {:<22} {:<12} {ratio}",
+                        i + 1,
+                        d.period,
+                        format!("{:.15}", d.lambda),
+                        gap
+                    )
+                    .ok();
+                }
+                if let Some(last) = ratios.last() {
+                    writeln!(
+                        s,
+                        "  Feigenbaum's delta is 4.6692...; the last ratio here is {last:.4} ({:+.1} %)",
+                        100.0 * (last / 4.669_201_609 - 1.0)
+                    )
+                    .ok();
+                }
+            }
+            Extra::Curve(c) => {
+                let (a, b) = (c.params[0].name(), c.params[1].name());
+                let ends = |i: usize| {
+                    let p = if i == 0 {
+                        c.points.first()
+                    } else {
+                        c.points.last()
+                    };
+                    p.map_or(String::new(), |p| {
+                        format!("({}, {})", p.lambda[0], p.lambda[1])
+                    })
+                };
+                writeln!(
+                    s,
+                    "{} curve of P{} in ({a}, {b}): {} points from {} to {}; ends: {}; {}",
+                    c.kind.name(),
+                    c.period,
+                    c.points.len(),
+                    ends(0),
+                    ends(1),
+                    c.ends[0],
+                    c.ends[1]
+                )
+                .ok();
+            }
+        }
+        let curve_evals = match self.extra {
+            Extra::Curve(c) => c.map_evals,
+            _ => 0,
+        };
+        writeln!(
+            s,
+            "{:.2} s, {} map evaluations (each with its derivatives)",
+            self.seconds,
+            evals + curve_evals
+        )
+        .ok();
+        s
+    }
+
+    /// One JSON object (for stdout).
+    pub fn json(&self) -> String {
+        let special = |p: &SpecialPoint| {
+            serde_json::json!({
+                "kind": p.kind.name(),
+                "period": p.period,
+                "value": p.lambda,
+                "theta": p.theta,
+                "multiplier": p.multiplier,
+                "note": p.note,
+            })
+        };
+        let branches: Vec<_> = self
+            .branches
+            .iter()
+            .map(|b| {
+                serde_json::json!({
+                    "param": b.param.name(),
+                    "period": b.period,
+                    "points": b.points.len(),
+                    "stop": b.stop_message(),
+                    "special": b.special.iter().map(special).collect::<Vec<_>>(),
+                    "map_evals": b.map_evals,
+                })
+            })
+            .collect();
+        let mut obj = serde_json::json!({
+            "branches": branches,
+            "seconds": self.seconds,
+        });
+        if let Some(m) = obj.as_object_mut() {
+            match self.extra {
+                Extra::None => {}
+                Extra::Cascade(c) => {
+                    m.insert(
+                        "cascade".into(),
+                        serde_json::json!({
+                            "doublings": c.doublings.iter().map(special).collect::<Vec<_>>(),
+                            "ratios": c.ratios(),
+                            "stop": c.stop,
+                        }),
+                    );
+                }
+                Extra::Curve(c) => {
+                    m.insert(
+                        "curve".into(),
+                        serde_json::json!({
+                            "kind": c.kind.name(),
+                            "period": c.period,
+                            "params": [c.params[0].name(), c.params[1].name()],
+                            "points": c.points.len(),
+                            "ends": c.ends,
+                            "map_evals": c.map_evals,
+                        }),
+                    );
+                }
+            }
+        }
+        format!("{obj}\n")
+    }
+}

@@ -1,0 +1,574 @@
+//! One-parameter continuation of a p-cycle by pseudo-arclength, with its
+//! period doublings, folds and borders located on the way.
+//!
+//! The unknowns are x = (θ, μ) with μ = λ/scale, so that a step of the
+//! arclength moves θ (radians) and λ (its range) by comparable amounts.
+//! A step predicts x + h·t along the unit tangent t ⟂ ∇G and corrects by
+//! Newton on (G = 0, t·(x − x_pred) = 0), whose 2×2 Jacobian is exact
+//! (G_θ = m − 1, G_μ = scale·G_λ). Folds are passed because the arclength,
+//! not λ, is the parameter.
+//!
+//! Special points are located by Illinois (regula falsi that halves the
+//! retained end's weight) on the arclength s between two branch points:
+//! each trial is a corrected point on the hyperplane t·(x − x_a) = s, and
+//! the test function is m + 1 (PD) or m − 1 (fold), with m exact. Newton on
+//! the augmented system (G = 0, m ± 1 = 0) would need ∂m/∂θ and ∂m/∂λ,
+//! second derivatives of f that the variational equations do not give; a
+//! bracket on an exact test function converges superlinearly and cannot
+//! leave the branch. A border is where the corrector stops finding a
+//! differentiable cycle: the step is halved down to a length below the
+//! location accuracy.
+
+use super::{ContParam, EvalError, Problem};
+use crate::model::wrap_angle;
+use crate::sim::cycles::{CycleFailure, CycleOptions, MAX_STEP, solve_cycle};
+
+/// A residual |G| (radians) that the corrector leaves at a step below the
+/// location accuracy only where f^p jumps or its slope diverges: a smooth
+/// G changes there by less than 1e-8 even with a multiplier of 1e3.
+const JUMP: f64 = 1e-4;
+
+/// How the branch is followed and its special points located.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ContOptions {
+    /// λ units per unit of μ (the λ of one unit of arclength).
+    pub scale: f64,
+    /// The first step, in arclength.
+    pub h0: f64,
+    /// The longest step.
+    pub h_max: f64,
+    /// A step shorter than this that still fails ends the branch.
+    pub h_min: f64,
+    /// The corrector's convergence: the last Newton step's size in (θ, μ).
+    pub newton_tol: f64,
+    /// The most Newton steps per point.
+    pub max_newton: usize,
+    /// Special points are located to this, in λ.
+    pub locate_tol: f64,
+    /// The most branch points.
+    pub max_points: usize,
+    /// Stop at the first period doubling (a cascade's levels).
+    pub stop_at_pd: bool,
+}
+
+impl ContOptions {
+    /// Steps scaled to the range [from, to]: the first 1/200 of it, none
+    /// longer than 1/20; a corrector at the integrator's tolerance (as
+    /// `oneblock cycle` uses) and special points located to 1e-10 in λ
+    /// (1e-10 relative for a parameter far from 1).
+    pub fn for_range(settings: &crate::integrate::SolverSettings, from: f64, to: f64) -> Self {
+        let scale = (to - from).abs().max(1e-300);
+        let locate_tol = 1e-10 * from.abs().max(to.abs()).clamp(1.0, 1e6);
+        let cycle_tol = CycleOptions::for_settings(settings).tol;
+        ContOptions {
+            scale,
+            h0: 5e-3,
+            h_max: 5e-2,
+            h_min: 0.1 * locate_tol / scale,
+            newton_tol: cycle_tol.min(0.1 * locate_tol / scale),
+            max_newton: 10,
+            locate_tol,
+            max_points: 5000,
+            stop_at_pd: false,
+        }
+    }
+}
+
+/// One computed point of a branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BranchPoint {
+    /// The parameter's value.
+    pub lambda: f64,
+    /// The cycle's points θ₀ … θ_{p−1}, in (−π, π].
+    pub points: Vec<f64>,
+    /// Π f'(θᵢ).
+    pub multiplier: f64,
+    /// |multiplier| < 1.
+    pub stable: bool,
+    /// The smallest shift that maps the points onto themselves.
+    pub minimal_period: usize,
+}
+
+/// What a special point is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum SpecialKind {
+    /// A period doubling: the multiplier crosses −1.
+    PeriodDoubling,
+    /// A fold (saddle-node): the multiplier crosses +1 and λ turns.
+    Fold,
+    /// A cycle point reaches a jump of f, a restart, or the exit arc's edge.
+    Border,
+    /// Where the branch ends (its range's end, or where it stopped).
+    End,
+}
+
+impl SpecialKind {
+    /// The name in points.csv: PD, fold, border, end.
+    pub fn name(self) -> &'static str {
+        match self {
+            SpecialKind::PeriodDoubling => "PD",
+            SpecialKind::Fold => "fold",
+            SpecialKind::Border => "border",
+            SpecialKind::End => "end",
+        }
+    }
+}
+
+/// A located special point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpecialPoint {
+    /// Which.
+    pub kind: SpecialKind,
+    /// The period of the branch it is on.
+    pub period: usize,
+    /// The located parameter value.
+    pub lambda: f64,
+    /// A point of the cycle there (θ₀).
+    pub theta: f64,
+    /// The multiplier there.
+    pub multiplier: f64,
+    /// For a border or an end: why the branch ends there.
+    pub note: String,
+}
+
+/// Why a branch ended.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stop {
+    /// It reached the end of its range.
+    Reached,
+    /// It came back to the start of its range (past a fold).
+    Returned,
+    /// Its cycle's halves merged: λ turned where the p-cycle meets the
+    /// p/2-cycle it doubled from (a period doubling of that one).
+    Merged,
+    /// At its first period doubling ([`ContOptions::stop_at_pd`]).
+    PeriodDoubling,
+    /// At a border (see the border point's note).
+    Border,
+    /// The continuation failed: why.
+    Failed(String),
+    /// After [`ContOptions::max_points`] points.
+    MaxPoints,
+    /// The caller cancelled.
+    Cancelled,
+}
+
+/// A continued branch.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Branch {
+    /// The parameter varied.
+    pub param: ContParam,
+    /// The period.
+    pub period: usize,
+    /// The computed points, in order along the branch.
+    pub points: Vec<BranchPoint>,
+    /// The located special points, in order along the branch; the last is
+    /// its end.
+    pub special: Vec<SpecialPoint>,
+    /// Why it ended.
+    pub stop: Stop,
+    /// Map evaluations spent (each with its derivatives).
+    pub map_evals: u64,
+}
+
+impl Branch {
+    /// The special points of one kind.
+    pub fn of_kind(&self, kind: SpecialKind) -> impl Iterator<Item = &SpecialPoint> {
+        self.special.iter().filter(move |s| s.kind == kind)
+    }
+
+    /// Why and where the branch ended, as a clause ("reached the end of
+    /// the range, at theta-nu = 1.2").
+    pub fn stop_message(&self) -> String {
+        let at = self
+            .points
+            .last()
+            .map(|p| format!("{} = {}", self.param.name(), p.lambda))
+            .unwrap_or_default();
+        let why = match &self.stop {
+            Stop::Reached => "reached the end of the range".to_string(),
+            Stop::Returned => "came back to the start of the range".to_string(),
+            Stop::Merged => format!(
+                "turned where it merges with the P{} cycle it doubles from",
+                self.period / 2
+            ),
+            Stop::PeriodDoubling => "stopped at its first period doubling".to_string(),
+            Stop::Border => {
+                let note = self
+                    .of_kind(SpecialKind::Border)
+                    .last()
+                    .map(|b| b.note.clone())
+                    .unwrap_or_default();
+                format!("ended at a border: {note}")
+            }
+            Stop::Failed(why) => format!("failed: {why}"),
+            Stop::MaxPoints => format!("stopped after {} points", self.points.len()),
+            Stop::Cancelled => "cancelled".to_string(),
+        };
+        format!("{why}, at {at}")
+    }
+}
+
+/// A corrected point: (θ, μ) and G's values there.
+#[derive(Clone, Debug)]
+struct Pt {
+    x: [f64; 2],
+    e: super::Eval,
+}
+
+impl Pt {
+    fn lambda(&self, scale: f64) -> f64 {
+        self.x[1] * scale
+    }
+    /// The unit tangent ⟂ ∇G = (m − 1, scale·G_λ), oriented along `prev`.
+    fn tangent(&self, scale: f64, prev: [f64; 2]) -> [f64; 2] {
+        let t = [-scale * self.e.g_lambda, self.e.multiplier - 1.0];
+        let n = t[0].hypot(t[1]);
+        let t = if n > 0.0 { [t[0] / n, t[1] / n] } else { prev };
+        if t[0] * prev[0] + t[1] * prev[1] < 0.0 {
+            [-t[0], -t[1]]
+        } else {
+            t
+        }
+    }
+}
+
+/// Why a correction failed.
+enum Fail {
+    Eval(EvalError),
+    NoConvergence(f64),
+}
+
+impl Fail {
+    fn describe(&self) -> String {
+        match self {
+            Fail::Eval(e) => e.to_string(),
+            Fail::NoConvergence(r) => {
+                format!("Newton's corrector did not converge (residual {r:e})")
+            }
+        }
+    }
+}
+
+struct Ctx<'a> {
+    prob: &'a Problem,
+    opts: &'a ContOptions,
+    evals: u64,
+}
+
+impl Ctx<'_> {
+    /// Newton on (G = 0, t·(x − pred) = 0) from `pred`. Returns the last
+    /// evaluated point once the step from it is below the tolerance (so the
+    /// point's cycle and multiplier are its own).
+    fn correct(&mut self, pred: [f64; 2], t: [f64; 2]) -> Result<Pt, Fail> {
+        let s = self.opts.scale;
+        let mut x = pred;
+        let mut last_g = f64::INFINITY;
+        for _ in 0..self.opts.max_newton {
+            let e = self
+                .prob
+                .eval(x[0], x[1] * s, &mut self.evals)
+                .map_err(Fail::Eval)?;
+            let r = [e.g, t[0] * (x[0] - pred[0]) + t[1] * (x[1] - pred[1])];
+            let (a, b) = (e.multiplier - 1.0, s * e.g_lambda);
+            let det = a * t[1] - b * t[0];
+            if !(det.is_finite() && det != 0.0) {
+                return Err(Fail::NoConvergence(e.g.abs()));
+            }
+            let dx = [
+                (r[0] * t[1] - b * r[1]) / det,
+                (a * r[1] - r[0] * t[0]) / det,
+            ];
+            if dx[0].abs() + dx[1].abs() <= self.opts.newton_tol {
+                return Ok(Pt { x, e });
+            }
+            if dx[0].abs() > MAX_STEP || dx[1].abs() > MAX_STEP || e.g.abs() > 4.0 * last_g {
+                return Err(Fail::NoConvergence(e.g.abs()));
+            }
+            last_g = e.g.abs();
+            x = [x[0] - dx[0], x[1] - dx[1]];
+        }
+        Err(Fail::NoConvergence(last_g))
+    }
+
+    fn point(&self, p: &Pt, tol: f64) -> BranchPoint {
+        let m = p.e.multiplier;
+        let pts = &p.e.points;
+        let n = pts.len();
+        let distinct = 1e2 * tol;
+        let minimal_period = (1..=n)
+            .filter(|q| n.is_multiple_of(*q))
+            .find(|&q| (0..n - q).all(|i| wrap_angle(pts[i + q] - pts[i]).abs() <= distinct))
+            .unwrap_or(n);
+        BranchPoint {
+            lambda: p.lambda(self.opts.scale),
+            points: pts.iter().map(|&t| wrap_angle(t)).collect(),
+            multiplier: m,
+            stable: m.abs() < 1.0,
+            minimal_period,
+        }
+    }
+
+    fn special(&self, kind: SpecialKind, p: &Pt, note: String) -> SpecialPoint {
+        SpecialPoint {
+            kind,
+            period: self.prob.period,
+            lambda: p.lambda(self.opts.scale),
+            theta: wrap_angle(p.x[0]),
+            multiplier: p.e.multiplier,
+            note,
+        }
+    }
+
+    /// The zero of `test` between `a` (s = 0) and `b` (s = h) along the
+    /// tangent `t` at `a`, by Illinois on s (see the module notes).
+    fn locate(&mut self, a: &Pt, b: &Pt, t: [f64; 2], h: f64, test: impl Fn(f64) -> f64) -> Pt {
+        let s_len = self.opts.scale;
+        let (mut sa, mut fa, mut la) = (0.0, test(a.e.multiplier), a.lambda(s_len));
+        let (mut sb, mut fb, mut lb) = (h, test(b.e.multiplier), b.lambda(s_len));
+        let mut best = if fa.abs() < fb.abs() {
+            a.clone()
+        } else {
+            b.clone()
+        };
+        let mut side = 0i8;
+        for _ in 0..80 {
+            if (lb - la).abs() <= self.opts.locate_tol {
+                break;
+            }
+            let mut s = sb - fb * (sb - sa) / (fb - fa);
+            if !(s > sa.min(sb) && s < sa.max(sb)) {
+                s = 0.5 * (sa + sb);
+            }
+            let pred = [a.x[0] + s * t[0], a.x[1] + s * t[1]];
+            let Ok(c) = self.correct(pred, t) else {
+                break;
+            };
+            let fc = test(c.e.multiplier);
+            let lc = c.lambda(s_len);
+            best = c;
+            if fc.abs() <= 1e-13 {
+                break;
+            }
+            if (fc > 0.0) == (fb > 0.0) {
+                (sb, fb, lb) = (s, fc, lc);
+                if side == 1 {
+                    fa *= 0.5;
+                }
+                side = 1;
+            } else {
+                (sa, fa, la) = (s, fc, lc);
+                if side == -1 {
+                    fb *= 0.5;
+                }
+                side = -1;
+            }
+        }
+        best
+    }
+}
+
+/// Follows the p-cycle through `seed` at λ = `from` towards λ = `to`
+/// (see the module notes). Fails only when no cycle is found at the start;
+/// a branch that fails later ends with [`Stop::Failed`] and keeps what it
+/// has. `cancel` is polled once per point.
+pub fn continue_branch(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Branch, CycleFailure> {
+    let sim = prob.sim(from)?;
+    let mut cyc_opts = CycleOptions::for_settings(&prob.settings);
+    cyc_opts.tol = cyc_opts.tol.min(opts.newton_tol);
+    let cycle = solve_cycle(&sim, seed, prob.period, &cyc_opts)?;
+    let mut ctx = Ctx {
+        prob,
+        opts,
+        evals: cycle.map_evals,
+    };
+    let scale = opts.scale;
+    let dir = if to >= from { 1.0 } else { -1.0 };
+    let end = |p: &Pt| dir * (p.lambda(scale) - to) >= 0.0;
+    let behind = |p: &Pt| dir * (p.lambda(scale) - from) < 0.0;
+    // The start, corrected at λ = from exactly.
+    let mut cur =
+        ctx.correct([cycle.points[0], from / scale], [0.0, 1.0])
+            .map_err(|f| match f {
+                Fail::Eval(EvalError::Sim(e)) => CycleFailure::Sim(e),
+                Fail::Eval(e) => CycleFailure::Discontinuity {
+                    theta: match e {
+                        EvalError::NotDifferentiable { theta, .. }
+                        | EvalError::OffArc { theta } => theta,
+                        _ => seed,
+                    },
+                },
+                Fail::NoConvergence(r) => CycleFailure::NoConvergence {
+                    iterations: opts.max_newton,
+                    residual: r,
+                },
+            })?;
+    let mut t = cur.tangent(scale, [0.0, dir]);
+    // Points closer than 100× the solver's tolerance are one point (as
+    // `solve_cycle` decides the minimal period).
+    let tol = CycleOptions::for_settings(&prob.settings).tol;
+    let mut points = vec![ctx.point(&cur, tol)];
+    // Exactly the λ asked for, not μ·scale rounded.
+    points[0].lambda = from;
+    let mut special = Vec::new();
+    let mut h = opts.h0;
+    let mut grow = true;
+    let stop = loop {
+        if cancel() {
+            break Stop::Cancelled;
+        }
+        if points.len() >= opts.max_points {
+            break Stop::MaxPoints;
+        }
+        let pred = [cur.x[0] + h * t[0], cur.x[1] + h * t[1]];
+        let next = match ctx.correct(pred, t) {
+            Ok(n) => {
+                let tn = n.tangent(scale, t);
+                let far = (n.x[0] - pred[0]).hypot(n.x[1] - pred[1]) > 0.5 * h + 1e-12;
+                if far || tn[0] * t[0] + tn[1] * t[1] < 0.95 {
+                    Err(Fail::NoConvergence(n.e.g.abs()))
+                } else {
+                    Ok((n, tn))
+                }
+            }
+            Err(f) => Err(f),
+        };
+        let (mut n, tn) = match next {
+            Ok(v) => v,
+            Err(f) => {
+                h *= 0.5;
+                grow = false;
+                if h >= opts.h_min {
+                    continue;
+                }
+                let here = ctx.special(SpecialKind::End, &cur, String::new());
+                match f {
+                    Fail::Eval(e) if e.is_border() => {
+                        let note = format!("a cycle point reaches the map's edge {e}");
+                        special.push(SpecialPoint {
+                            kind: SpecialKind::Border,
+                            note,
+                            ..here
+                        });
+                        break Stop::Border;
+                    }
+                    // G cannot change by this much over a step shorter
+                    // than the location accuracy unless f^p jumps there.
+                    Fail::NoConvergence(r) if r > JUMP => {
+                        let note = format!(
+                            "f^p jumps or its slope diverges: |G| = {r:.1e} a step below the location accuracy away"
+                        );
+                        special.push(SpecialPoint {
+                            kind: SpecialKind::Border,
+                            note,
+                            ..here
+                        });
+                        break Stop::Border;
+                    }
+                    f => break Stop::Failed(f.describe()),
+                }
+            }
+        };
+        // The range's end (or its start, after a fold): corrected at that λ.
+        let mut last = None;
+        if end(&n) || behind(&n) {
+            let target = if end(&n) { to } else { from };
+            let (l0, l1) = (cur.lambda(scale), n.lambda(scale));
+            let w = (target - l0) / (l1 - l0);
+            let th = cur.x[0] + w * (n.x[0] - cur.x[0]);
+            match ctx.correct([th, target / scale], [0.0, 1.0]) {
+                Ok(c) => n = c,
+                Err(_) => {
+                    h *= 0.5;
+                    grow = false;
+                    if h >= opts.h_min {
+                        continue;
+                    }
+                    break Stop::Failed("the cycle at the range's end did not converge".into());
+                }
+            }
+            last = Some(target);
+        }
+        // Special points crossed on this step, in order along it.
+        let (m0, m1) = (cur.e.multiplier, n.e.multiplier);
+        let mut found: Vec<(SpecialKind, Pt)> = Vec::new();
+        let dist = (n.x[0] - cur.x[0]) * t[0] + (n.x[1] - cur.x[1]) * t[1];
+        if (m0 + 1.0) * (m1 + 1.0) < 0.0 {
+            let p = ctx.locate(&cur, &n, t, dist, |m| m + 1.0);
+            found.push((SpecialKind::PeriodDoubling, p));
+        }
+        if (m0 - 1.0) * (m1 - 1.0) < 0.0 {
+            let p = ctx.locate(&cur, &n, t, dist, |m| m - 1.0);
+            found.push((SpecialKind::Fold, p));
+        }
+        found.sort_by(|a, b| {
+            let da = (a.1.x[0] - cur.x[0]) * t[0] + (a.1.x[1] - cur.x[1]) * t[1];
+            let db = (b.1.x[0] - cur.x[0]) * t[0] + (b.1.x[1] - cur.x[1]) * t[1];
+            da.total_cmp(&db)
+        });
+        let mut pd = false;
+        for (kind, p) in &found {
+            special.push(ctx.special(*kind, p, String::new()));
+            points.push(ctx.point(p, tol));
+            pd |= *kind == SpecialKind::PeriodDoubling;
+        }
+        let mut np = ctx.point(&n, tol);
+        if let Some(target) = last {
+            np.lambda = target;
+        }
+        points.push(np);
+        // λ turned without a fold: an even-period branch passes the tip of
+        // the pitchfork where it is born from the half-period cycle, and
+        // would come back as the same cycle with its halves swapped.
+        let turned = t[1] * tn[1] < 0.0 && found.is_empty() && prob.period.is_multiple_of(2);
+        cur = n;
+        t = tn;
+        if let Some(target) = last {
+            break if target == to {
+                Stop::Reached
+            } else {
+                Stop::Returned
+            };
+        }
+        if turned {
+            break Stop::Merged;
+        }
+        if pd && opts.stop_at_pd {
+            break Stop::PeriodDoubling;
+        }
+        if grow {
+            h = (1.5 * h).min(opts.h_max);
+        }
+        grow = true;
+    };
+    let note = match &stop {
+        Stop::Reached => "the end of the range".to_string(),
+        Stop::Returned => "back at the start of the range".to_string(),
+        Stop::Merged => "merged with the half-period cycle".to_string(),
+        Stop::PeriodDoubling => "its first period doubling".to_string(),
+        Stop::Border => "a border".to_string(),
+        Stop::Failed(why) => why.clone(),
+        Stop::MaxPoints => "the most points".to_string(),
+        Stop::Cancelled => "cancelled".to_string(),
+    };
+    let mut last_point = ctx.special(SpecialKind::End, &cur, note);
+    if let Some(p) = points.last() {
+        last_point.lambda = p.lambda;
+    }
+    special.push(last_point);
+    Ok(Branch {
+        param: prob.param,
+        period: prob.period,
+        points,
+        special,
+        stop,
+        map_evals: ctx.evals,
+    })
+}

@@ -1,0 +1,210 @@
+//! A period-doubling cascade followed branch by branch: P → 2P → 4P …,
+//! each level continued from just past the previous level's doubling to
+//! its own.
+//!
+//! The map is one-dimensional, so the critical eigen-direction at a
+//! doubling is θ itself: the doubled cycle is seeded at θ* ± ε, a little
+//! past the doubling (where the old cycle has a multiplier just below −1
+//! and the new one is born with +1), and solved by Newton at period 2p;
+//! a seed is kept when the solved cycle's minimal period is 2p.
+
+use super::Problem;
+use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch};
+use crate::model::wrap_angle;
+use crate::sim::PERIOD_MAX;
+use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
+
+/// A followed cascade.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cascade {
+    /// The branches, one per level, each from its birth to its doubling.
+    pub branches: Vec<Branch>,
+    /// The doublings b₁, b₂, … in order (periods p, 2p, 4p, …).
+    pub doublings: Vec<SpecialPoint>,
+    /// Why the cascade ended.
+    pub stop: String,
+}
+
+impl Cascade {
+    /// δₙ = (bₙ − bₙ₋₁)/(bₙ₊₁ − bₙ) of the doublings.
+    pub fn ratios(&self) -> Vec<f64> {
+        let b: Vec<f64> = self.doublings.iter().map(|d| d.lambda).collect();
+        feigenbaum_ratios(&b)
+    }
+}
+
+/// δₙ = (bₙ − bₙ₋₁)/(bₙ₊₁ − bₙ) for n = 1 … len − 2 (empty for fewer than
+/// three values).
+pub fn feigenbaum_ratios(b: &[f64]) -> Vec<f64> {
+    b.windows(3)
+        .map(|w| (w[1] - w[0]) / (w[2] - w[1]))
+        .collect()
+}
+
+/// How far past a doubling the doubled cycle is seeded, as a share of the
+/// last gap between doublings: far enough that its points are distinct
+/// (they separate like the square root of the distance), near enough to
+/// stay well before the next doubling (the gaps shrink about 4.7 times).
+const SWITCH_SHARE: f64 = 1e-2;
+
+/// Follows the cascade from the p-cycle through `seed` at λ = `from`
+/// towards `to` (see the module notes), until a level has no doubling
+/// before `to`, two doublings come closer than 100× `opts.locate_tol`
+/// (the δₙ would have no digits left), the period would pass
+/// `max_period` (at most [`PERIOD_MAX`]), or a switch fails. Fails only
+/// when the first level has no cycle at its start.
+pub fn cascade(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Cascade, CycleFailure> {
+    cascade_reporting(prob, from, to, seed, max_period, opts, cancel, &mut |_| {})
+}
+
+/// [`cascade`], calling `on_level` with each level's branch as it ends
+/// (for progress lines).
+#[allow(clippy::too_many_arguments)]
+pub fn cascade_reporting(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_level: &mut dyn FnMut(&Branch),
+) -> Result<Cascade, CycleFailure> {
+    let dir = if to >= from { 1.0 } else { -1.0 };
+    let mut branches = Vec::new();
+    let mut doublings: Vec<SpecialPoint> = Vec::new();
+    let (mut start, mut theta, mut period) = (from, seed, prob.period);
+    let mut level_opts = ContOptions {
+        stop_at_pd: true,
+        ..*opts
+    };
+    let stop = loop {
+        let level = prob.with_period(period);
+        let branch = match continue_branch(&level, start, to, theta, &level_opts, cancel) {
+            Ok(b) => b,
+            Err(e) if branches.is_empty() => return Err(e),
+            Err(e) => break format!("the P{period} cycle could not be followed: {e}"),
+        };
+        if branch
+            .points
+            .first()
+            .is_some_and(|q| q.minimal_period < period)
+        {
+            branches.push(branch);
+            break format!("the P{period} branch collapsed onto a shorter cycle at its start");
+        }
+        let pd = branch.of_kind(SpecialKind::PeriodDoubling).next().cloned();
+        on_level(&branch);
+        let message = branch.stop_message();
+        let cancelled = branch.stop == Stop::Cancelled;
+        branches.push(branch);
+        let Some(pd) = pd else {
+            break if cancelled {
+                "cancelled".into()
+            } else {
+                format!("no period doubling of the P{period} cycle: it {message}")
+            };
+        };
+        let gap = match doublings.last() {
+            Some(prev) => (pd.lambda - prev.lambda).abs(),
+            None => (pd.lambda - from)
+                .abs()
+                .min((to - pd.lambda).abs())
+                .max(1e2 * opts.locate_tol),
+        };
+        doublings.push(pd.clone());
+        if doublings.len() >= 2 && gap < 1e2 * opts.locate_tol {
+            break format!(
+                "the last two doublings are {gap:.1e} apart, within 100x the location accuracy ({:.0e})",
+                opts.locate_tol
+            );
+        }
+        let max = max_period.min(PERIOD_MAX);
+        if 2 * period > max {
+            break format!("the next period, {}, is above {max}", 2 * period);
+        }
+        match switch(&level, &pd, dir * SWITCH_SHARE * gap, opts) {
+            Ok((l1, th)) => {
+                (start, theta, period) = (l1, th, 2 * period);
+                // The next level is about gap/4.7 long: steps in its units.
+                let scale = gap;
+                level_opts = ContOptions {
+                    scale,
+                    h_min: 0.1 * opts.locate_tol / scale,
+                    newton_tol: opts.newton_tol.min(0.1 * opts.locate_tol / scale),
+                    ..level_opts
+                };
+            }
+            Err(why) => break why,
+        }
+    };
+    Ok(Cascade {
+        branches,
+        doublings,
+        stop,
+    })
+}
+
+/// The doubled cycle a step `delta` past the doubling `pd` of `level`: its
+/// λ and a point θ of it.
+fn switch(
+    level: &Problem,
+    pd: &SpecialPoint,
+    delta: f64,
+    _opts: &ContOptions,
+) -> Result<(f64, f64), String> {
+    // The solver's own tolerance: its points are no more accurate, so a
+    // tighter one would tell the old cycle traversed twice from a new one
+    // by noise.
+    let cyc = CycleOptions::for_settings(&level.settings);
+    // The halves of a genuine doubled cycle are apart by far more than
+    // the points' error.
+    let apart = 1e3 * cyc.tol;
+    let doubled = 2 * level.period;
+    let p = level.period;
+    for k in [1.0, 3.0, 10.0] {
+        let l1 = pd.lambda + delta * k;
+        let Ok(sim) = level.sim(l1) else { continue };
+        let Ok(old) = solve_cycle(&sim, pd.theta, level.period, &cyc) else {
+            continue;
+        };
+        // The doubled cycle nearest the old one: Newton from a seed may
+        // also find another 2p-cycle (a saddle born elsewhere).
+        let base = old.points[0];
+        let mut best: Option<(f64, f64)> = None;
+        for eps in [1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1] {
+            for sign in [1.0, -1.0] {
+                let seed = base + sign * eps;
+                if let Ok(c) = solve_cycle(&sim, seed, doubled, &cyc)
+                    && c.minimal_period == doubled
+                    && (0..p).all(|i| wrap_angle(c.points[i + p] - c.points[i]).abs() > apart)
+                {
+                    let near = c
+                        .points
+                        .iter()
+                        .map(|&t| wrap_angle(t - base).abs())
+                        .fold(f64::INFINITY, f64::min);
+                    if best.is_none_or(|(d, _)| near < d) {
+                        best = Some((near, c.points[0]));
+                    }
+                }
+            }
+        }
+        if let Some((_, th)) = best {
+            return Ok((l1, th));
+        }
+    }
+    Err(format!(
+        "no P{doubled} cycle found next to the doubling at {} = {}",
+        level.param.name(),
+        pd.lambda
+    ))
+}

@@ -1,0 +1,233 @@
+//! Continuation of cycles in one parameter, and of their period doublings
+//! and folds in two (docs/continuation.md).
+//!
+//! A period-p cycle is a zero of G(θ, λ) = wrap(f^p(θ; λ) − θ). Its
+//! partial derivatives come from the exact map derivatives
+//! ([`Simulator::cycle_derivatives`]) by the chain rule along the cycle:
+//! G_θ = Π f'(θᵢ) − 1 (the multiplier less one), and G_λ = d_p with
+//! d₀ = 0, d_{i+1} = f'(θᵢ)·dᵢ + ∂f/∂λ(θᵢ). The zero set is a curve in the
+//! (θ, λ) plane, followed by pseudo-arclength ([`continue_branch`]) through
+//! folds and through both its stable and unstable parts.
+
+mod branch;
+mod cascade;
+mod curve;
+
+use crate::integrate::SolverSettings;
+use crate::model::{Params, wrap_angle};
+use crate::sim::variational::{MapDerivatives, NotDifferentiable};
+use crate::sim::{SimError, Simulator};
+
+pub use branch::{
+    Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
+};
+pub use cascade::{Cascade, cascade, cascade_reporting, feigenbaum_ratios};
+pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
+
+/// A parameter a branch can be continued in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum ContParam {
+    /// θν, the pulling direction.
+    ThetaNu,
+    /// κ, the spring anisotropy.
+    Kappa,
+    /// γ, the friction weakening.
+    Gamma,
+    /// ν, the pulling speed.
+    Nu,
+    /// Ω, the memory of the friction direction.
+    Omega,
+}
+
+impl ContParam {
+    /// All five, in the command line's order.
+    pub const ALL: [ContParam; 5] = [
+        ContParam::ThetaNu,
+        ContParam::Kappa,
+        ContParam::Gamma,
+        ContParam::Nu,
+        ContParam::Omega,
+    ];
+
+    /// The parameter the command line calls `name` (`theta-nu`, `kappa`, …).
+    pub fn parse(name: &str) -> Option<Self> {
+        Self::ALL.into_iter().find(|p| p.name() == name)
+    }
+
+    /// The command line's name, as the model flags spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            ContParam::ThetaNu => "theta-nu",
+            ContParam::Kappa => "kappa",
+            ContParam::Gamma => "gamma",
+            ContParam::Nu => "nu",
+            ContParam::Omega => "omega",
+        }
+    }
+
+    /// The CSV column's name.
+    pub fn column(self) -> &'static str {
+        match self {
+            ContParam::ThetaNu => "theta_nu",
+            other => other.name(),
+        }
+    }
+
+    /// Its value in `p`.
+    pub fn get(self, p: &Params) -> f64 {
+        match self {
+            ContParam::ThetaNu => p.theta_nu,
+            ContParam::Kappa => p.kappa,
+            ContParam::Gamma => p.gamma,
+            ContParam::Nu => p.nu,
+            ContParam::Omega => p.omega,
+        }
+    }
+
+    /// `p` with this parameter set to `v`.
+    pub fn set(self, p: &Params, v: f64) -> Params {
+        let mut q = *p;
+        match self {
+            ContParam::ThetaNu => q.theta_nu = v,
+            ContParam::Kappa => q.kappa = v,
+            ContParam::Gamma => q.gamma = v,
+            ContParam::Nu => q.nu = v,
+            ContParam::Omega => q.omega = v,
+        }
+        q
+    }
+
+    /// ∂f/∂λ for this parameter.
+    pub fn partial(self, d: &MapDerivatives) -> f64 {
+        match self {
+            ContParam::ThetaNu => d.d_theta_nu,
+            ContParam::Kappa => d.d_kappa,
+            ContParam::Gamma => d.d_gamma,
+            ContParam::Nu => d.d_nu,
+            ContParam::Omega => d.d_omega,
+        }
+    }
+}
+
+/// Why G could not be evaluated with its derivatives at a point.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum EvalError {
+    /// A cycle point is where f has no derivative: a border of the branch.
+    #[error("at theta = {theta}: {reason}")]
+    NotDifferentiable {
+        /// The cycle point.
+        theta: f64,
+        /// Why.
+        reason: NotDifferentiable,
+    },
+    /// A cycle point left the exit arc (the map is not defined there).
+    #[error("theta = {theta} is off the exit arc")]
+    OffArc {
+        /// The point.
+        theta: f64,
+    },
+    /// The parameters are invalid or the integration failed.
+    #[error(transparent)]
+    Sim(SimError),
+    /// G or a derivative overflowed (a multiplier beyond f64's range).
+    #[error("the cycle's derivatives are not finite")]
+    NonFinite,
+}
+
+impl EvalError {
+    /// Whether this marks the edge of the map's smooth part (a border),
+    /// rather than a failure of the computation.
+    pub fn is_border(&self) -> bool {
+        matches!(
+            self,
+            EvalError::NotDifferentiable { .. } | EvalError::OffArc { .. }
+        )
+    }
+}
+
+/// G and its derivatives at one (θ, λ).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Eval {
+    /// G = wrap(f^p(θ) − θ).
+    pub g: f64,
+    /// Π f'(θᵢ): G_θ = multiplier − 1.
+    pub multiplier: f64,
+    /// G_λ = ∂f^p/∂λ.
+    pub g_lambda: f64,
+    /// θ₀ … θ_{p−1}.
+    pub points: Vec<f64>,
+}
+
+/// What every evaluation of G shares: the fixed parameters, the solver,
+/// the parameter varied and the period.
+#[derive(Clone, Copy, Debug)]
+pub struct Problem {
+    /// The parameters; the varied one is overridden at each evaluation.
+    pub base: Params,
+    /// The integrator.
+    pub settings: SolverSettings,
+    /// The parameter varied.
+    pub param: ContParam,
+    /// The period p.
+    pub period: usize,
+}
+
+impl Problem {
+    /// The simulator at λ.
+    pub fn sim(&self, lambda: f64) -> Result<Simulator, SimError> {
+        Simulator::new(self.param.set(&self.base, lambda), self.settings)
+    }
+
+    /// The same problem at another period.
+    pub fn with_period(&self, period: usize) -> Self {
+        Problem { period, ..*self }
+    }
+
+    /// G, G_θ + 1 and G_λ at (θ, λ), counting map evaluations in `evals`.
+    pub fn eval(&self, theta: f64, lambda: f64, evals: &mut u64) -> Result<Eval, EvalError> {
+        let sim = self.sim(lambda).map_err(EvalError::Sim)?;
+        eval_at(&sim, self.param, self.period, theta, evals)
+    }
+}
+
+/// G and its derivatives for `sim` (see the module notes).
+pub fn eval_at(
+    sim: &Simulator,
+    param: ContParam,
+    period: usize,
+    theta: f64,
+    evals: &mut u64,
+) -> Result<Eval, EvalError> {
+    let mut th = theta;
+    let mut multiplier = 1.0;
+    let mut d_lambda = 0.0;
+    let mut points = Vec::with_capacity(period);
+    for _ in 0..period {
+        if sim.check_onset(th).is_err() {
+            return Err(EvalError::OffArc { theta: th });
+        }
+        points.push(th);
+        let (ev, d, _) = sim.cycle_derivatives(th, 0.0).map_err(EvalError::Sim)?;
+        *evals += 1;
+        let d = d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
+        if ev.restarted {
+            return Err(EvalError::NotDifferentiable {
+                theta: th,
+                reason: NotDifferentiable::Restart,
+            });
+        }
+        d_lambda = d.d_theta * d_lambda + param.partial(&d);
+        multiplier *= d.d_theta;
+        th = ev.theta_next;
+    }
+    let g = wrap_angle(th - theta);
+    if !(g.is_finite() && multiplier.is_finite() && d_lambda.is_finite()) {
+        return Err(EvalError::NonFinite);
+    }
+    Ok(Eval {
+        g,
+        multiplier,
+        g_lambda: d_lambda,
+        points,
+    })
+}

@@ -1,0 +1,215 @@
+//! The variational equations' right-hand side as a small matrix product.
+//!
+//! The tangent's equation is linear: K = J_y·Y + J_p·P, with J the slip
+//! field's Jacobian at the stage's state and P the parameters' seeds. So
+//! each stage evaluates the field once, forms J from the values it has
+//! already computed (a few dozen operations, whatever the number of
+//! directions), and applies it to every direction: eight multiply-adds
+//! per direction for the two nontrivial rows, instead of pushing every
+//! elementary operation of the field through all directions.
+//!
+//! The first two rows are ẋ = v_r + V: K₀ = Y₂ + P_V₀, K₁ = Y₃ + P_V₁.
+//! Rows 2 and 3 (the relative acceleration) depend on the state and on κ,
+//! 2γ and Ω.
+
+use super::{DIRS, Jet, TanField};
+use crate::integrate::State;
+use crate::sim::field::SlipField;
+use crate::sim::trig;
+
+/// Rows 2 and 3 of the slip field's Jacobian at one state.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Lin {
+    /// ∂(row 2, row 3)/∂(x, y, v_r,x, v_r,y).
+    pub js: [[f64; 4]; 2],
+    /// ∂(row 2, row 3)/∂(κ, 2γ, Ω).
+    pub jp: [[f64; 3]; 2],
+}
+
+impl Lin {
+    /// A placeholder before the first evaluation.
+    pub const ZERO: Lin = Lin {
+        js: [[0.0; 4]; 2],
+        jp: [[0.0; 3]; 2],
+    };
+
+    /// K = J·T + J_p·P for the state tangent `t` and the parameters' seeds
+    /// in `fld`, direction by direction.
+    #[inline(always)]
+    pub fn apply<const FMA: bool>(&self, t: &Jet, fld: &TanField) -> Jet {
+        let mut k = [[0.0; DIRS]; 4];
+        let [r2, r3] = self.js;
+        let [p2, p3] = self.jp;
+        for i in 0..DIRS {
+            let (kp, gp, op) = (fld.kappa.d[i], fld.two_gamma.d[i], fld.omega.d[i]);
+            k[0][i] = t[2][i] + fld.v[0].d[i];
+            k[1][i] = t[3][i] + fld.v[1].d[i];
+            let row = |r: [f64; 4], p: [f64; 3]| {
+                let mut acc = madd::<FMA>(p[0], kp, madd::<FMA>(p[1], gp, p[2] * op));
+                for (c, &rc) in r.iter().enumerate() {
+                    acc = madd::<FMA>(rc, t[c][i], acc);
+                }
+                acc
+            };
+            k[2][i] = row(r2, p2);
+            k[3][i] = row(r3, p3);
+        }
+        k
+    }
+}
+
+/// a·b + c, fused (one rounding) when `FMA`: only in code compiled with
+/// the `fma` target feature, where it is one instruction.
+#[inline(always)]
+pub(crate) fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
+    if FMA { a.mul_add(b, c) } else { a * b + c }
+}
+
+/// [`SlipField::accel`] (its value, operation for operation, so bitwise
+/// the same) and its Jacobian.
+///
+/// With F = (−κx, −y) at angle ψ, v_r at angle φ_v, Δ = ψ − φ_v,
+/// W = e^(−Ω v_r), E = W − 1, u = R(EΔ) F̂ and u⊥ = R(π/2) u, the field is
+/// F − Φ u, so d(row 2, row 3) = dF − u dΦ − Φ u⊥ s with
+/// s = dψ + d(EΔ) = W dψ − E dφ_v − Δ W (Ω dv_r + v_r dΩ). At v_r = 0 (the onset)
+/// dv_r and dφ_v are taken as 0, as [`super::Tan`] takes them.
+#[inline(always)]
+pub(crate) fn accel(f: &SlipField, s: &State) -> (State, Lin) {
+    let [x, y, a, b] = *s;
+    let fx = -f.kappa * x;
+    let fy = -y;
+    let vr = (a * a + b * b).sqrt();
+    let inv_f = 1.0 / (fx * fx + fy * fy).sqrt();
+    let (ex, ey) = (fx * inv_f, fy * inv_f);
+    let delta = trig::atan2(a * fy - b * fx, a * fx + b * fy);
+    let e = trig::exp_m1_neg(-f.omega * vr);
+    let turn = e * delta;
+    let (sn, cs) = trig::sin_cos(turn);
+    let phi = f.phi(vr);
+    let (ux, uy) = (ex * cs - ey * sn, ex * sn + ey * cs);
+    let value = [a + f.v[0], b + f.v[1], fx - phi * ux, fy - phi * uy];
+    let w = e + 1.0;
+    let inv_f2 = inv_f * inv_f;
+    // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
+    let (psi_x, psi_y, psi_k) = (fy * f.kappa * inv_f2, -fx * inv_f2, fy * x * inv_f2);
+    // dv_r = (a da + b db)/v_r, dφ_v = (a db − b da)/v_r².
+    let (inv_vr, inv_vr2) = if vr > 0.0 {
+        (1.0 / vr, 1.0 / (vr * vr))
+    } else {
+        (0.0, 0.0)
+    };
+    let (vr_a, vr_b) = (a * inv_vr, b * inv_vr);
+    let (pv_a, pv_b) = (-b * inv_vr2, a * inv_vr2);
+    let dw = delta * w;
+    let s_a = -e * pv_a - dw * f.omega * vr_a;
+    let s_b = -e * pv_b - dw * f.omega * vr_b;
+    let (s_x, s_y, s_k, s_o) = (w * psi_x, w * psi_y, w * psi_k, -dw * vr);
+    // dΦ = −Φ² (2γ dv_r + v_r d(2γ)).
+    let phi2 = phi * phi;
+    let (ph_a, ph_b, ph_g) = (
+        -phi2 * f.two_gamma * vr_a,
+        -phi2 * f.two_gamma * vr_b,
+        -phi2 * vr,
+    );
+    // Row 2: dfx − ux dΦ + Φ uy s; row 3: dfy − uy dΦ − Φ ux s.
+    let (qx, qy) = (phi * uy, -phi * ux);
+    let lin = Lin {
+        js: [
+            [
+                -f.kappa + qx * s_x,
+                qx * s_y,
+                -ux * ph_a + qx * s_a,
+                -ux * ph_b + qx * s_b,
+            ],
+            [
+                qy * s_x,
+                -1.0 + qy * s_y,
+                -uy * ph_a + qy * s_a,
+                -uy * ph_b + qy * s_b,
+            ],
+        ],
+        jp: [
+            [-x + qx * s_k, -ux * ph_g, qx * s_o],
+            [qy * s_k, -uy * ph_g, qy * s_o],
+        ],
+    };
+    (value, lin)
+}
+
+/// [`SlipField::decel`] (bitwise its value) and its Jacobian:
+/// rows 2, 3 = (−κx, −y) − c (a, b) with c = 1/(v_r + 2γ q), q = v_r².
+#[inline(always)]
+pub(crate) fn decel(f: &SlipField, s: &State) -> (State, Lin) {
+    let [x, y, a, b] = *s;
+    let q = a * a + b * b;
+    let vr = q.sqrt();
+    let c = 1.0 / (vr + f.two_gamma * q);
+    let value = [a + f.v[0], b + f.v[1], -f.kappa * x - c * a, -y - c * b];
+    // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
+    let c2 = c * c;
+    let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);
+    let (c_a, c_b, c_g) = (m * a, m * b, -c2 * q);
+    let lin = Lin {
+        js: [
+            [-f.kappa, 0.0, -c_a * a - c, -c_b * a],
+            [0.0, -1.0, -c_a * b, -c_b * b - c],
+        ],
+        jp: [[-x, -c_g * a, 0.0], [0.0, -c_g * b, 0.0]],
+    };
+    (value, lin)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Params;
+    use crate::sim::variational::{DIRS, split, tan_state};
+
+    /// The values are bitwise the plain fields', and J·T + J_p·P is the
+    /// forward-mode tangent of the same field (six directions, the
+    /// parameters seeded), at slipping states and at an onset (v_r = 0).
+    #[test]
+    fn jacobian_times_tangent_is_the_forward_mode_tangent() {
+        let p = Params {
+            kappa: 18.95,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: 1.0,
+            omega: 50.0,
+        };
+        let field = SlipField::new(&p);
+        let fld = TanField::seeded(&p, &field);
+        let states = [
+            [0.01, 0.3, -0.04, 0.07],
+            [-0.02, 0.5, 1e-4, -3e-4],
+            [0.03, -0.2, 0.3, 0.01],
+            [0.05, 0.8, 0.0, 0.0],
+        ];
+        for (n, y) in states.into_iter().enumerate() {
+            let t: Jet = std::array::from_fn(|c| {
+                std::array::from_fn(|i| ((3 * c + 5 * i + n) % 7) as f64 * 0.3 - 0.9)
+            });
+            let s = tan_state(&y, &t);
+            let mut pairs = vec![(accel(&field, &y), split(&fld.accel(&s)), field.accel(&y))];
+            if n < 3 {
+                pairs.push((decel(&field, &y), split(&fld.decel(&s)), field.decel(&y)));
+            }
+            for ((v, lin), (tv, tt), plain) in pairs {
+                let k = lin.apply::<false>(&t, &fld);
+                for c in 0..4 {
+                    assert_eq!(v[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");
+                    assert_eq!(tv[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");
+                    for i in 0..DIRS {
+                        let scale = 1.0 + tt[c][i].abs();
+                        assert!(
+                            (k[c][i] - tt[c][i]).abs() < 1e-12 * scale,
+                            "{y:?} row {c} direction {i}: {} vs {}",
+                            k[c][i],
+                            tt[c][i]
+                        );
+                    }
+                }
+            }
+        }
+    }
+}
