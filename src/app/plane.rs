@@ -141,12 +141,7 @@ impl PlaneView {
         if scaled {
             plot = plot.data_aspect(1.0);
         }
-        let resp = axes::apply(
-            plot,
-            &x_axis,
-            &AxisSpec::linear("y, block position (F₀/k_y)"),
-        )
-        .show(ui, |p| {
+        let resp = axes::apply(plot, &x_axis, &AxisSpec::linear("y (F₀/k_y)")).show(ui, |p| {
             let f = *p.transform().frame();
             let size = [f.width() as u32, f.height() as u32];
             let key = (kbits, scaled, size);

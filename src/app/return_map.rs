@@ -133,8 +133,8 @@ impl ReturnMapView {
             .allow_double_click_reset(false);
         let plot = axes::apply(
             plot,
-            &AxisSpec::angle("θ, this slip onset", s.angle_unit),
-            &AxisSpec::angle("θ', next slip onset", s.angle_unit),
+            &AxisSpec::angle("θ, this onset", s.angle_unit),
+            &AxisSpec::angle("θ', next onset", s.angle_unit),
         );
         // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
         let resp = plot.show(ui, |p| {
