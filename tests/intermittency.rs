@@ -117,9 +117,12 @@ fn orbit_stats_agree_with_the_orbits_own_events() {
         .filter(|&i| sizes[i] >= 0.25 * max)
         .collect();
     assert!(large.len() > 20, "{} large slips", large.len());
+    // No slip lies near the threshold (0.25 of the largest), so which
+    // slips are large does not hang on rounding: the orbit is a
+    // pseudo-orbit, and an odd slip between the modes may occur.
     assert!(
-        sizes.iter().all(|&s| s >= 0.4 * max || s < 0.15 * max),
-        "the threshold sits in the gap between the modes"
+        sizes.iter().all(|&s| (s / max - 0.25).abs() > 0.05),
+        "a slip size lies within 0.05·max of the threshold"
     );
     let expected: Vec<usize> = large.windows(2).map(|w| w[1] - w[0] - 1).collect();
     let text = std::fs::read_to_string(&st).expect("stats");
