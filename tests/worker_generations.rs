@@ -357,6 +357,7 @@ fn set_params_without_settings_keeps_each_jobs_own() {
             theta0: None,
             transient: 5,
             keep: 10,
+            graph_powers: 1,
         },
     }));
     let (_, outcome) = until_finished(&w, 1, Lane::Orbit);

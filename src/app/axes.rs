@@ -8,7 +8,6 @@
 //! grid and labels, so what a picture shows and what a file writes agree.
 
 use std::f64::consts::PI;
-use std::ops::RangeInclusive;
 
 use eframe::egui;
 use egui_plot::{AxisHints, GridInput, GridMark, Plot};
@@ -79,6 +78,32 @@ pub fn nice_step(lo: f64, hi: f64, min_count: usize) -> Option<f64> {
         i += 1;
     }
     Some(step_value(i))
+}
+
+/// [lo, hi] widened to the multiples of the largest 1-2-5 step that then
+/// holds at least `min_count` ticks, ends included: bounds for a plot
+/// that frames its data itself, so that a short axis still gets five
+/// labels at round values. Unchanged for an empty or non-finite range.
+pub fn nice_bounds(lo: f64, hi: f64, min_count: usize) -> (f64, f64) {
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    let span = b - a;
+    if !(span.is_finite() && span > 0.0 && a.is_finite()) {
+        return (lo, hi);
+    }
+    let n = min_count.max(2);
+    let expanded = |s: f64| ((a / s + 1e-9).floor() * s, (b / s - 1e-9).ceil() * s);
+    let ticks_in = |s: f64| {
+        let (x, y) = expanded(s);
+        ((y - x) / s).round() as usize + 1
+    };
+    let mut i = (span.log10().floor() as i32) * 3 + 2;
+    for _ in 0..12 {
+        if ticks_in(step_value(i)) >= n {
+            break;
+        }
+        i -= 1;
+    }
+    expanded(step_value(i))
 }
 
 /// `v` written with as many decimals as `step` needs, in plain notation
@@ -207,16 +232,16 @@ pub fn angle_ticks(lo: f64, hi: f64, min_count: usize, unit: AngleUnit) -> Vec<T
 }
 
 /// Ticks on a log axis whose coordinate is log10 of the value: the
-/// decades, then 1-2-5 and then every integer mantissa when the decades
-/// alone are fewer than `min_count`; labelled with the value ("1e-6",
-/// "5e-6", "0.01" → "1e-2").
+/// decades, then 1-3 and then 1-2-5 mantissas when the decades alone are
+/// fewer than `min_count`, labelled with the value ("1e-6", "3e-6");
+/// less than about a decade wide, 1-2-5 steps of the value itself.
 pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
     let (a, b) = (lo.min(hi), lo.max(hi));
     if !(a.is_finite() && b.is_finite() && b > a) || b - a > 600.0 {
         return Vec::new();
     }
     let n = min_count.max(2);
-    let mantissas: [&[u32]; 3] = [&[1], &[1, 2, 5], &[1, 2, 3, 4, 5, 6, 7, 8, 9]];
+    let mantissas: [&[u32]; 3] = [&[1], &[1, 3], &[1, 2, 5]];
     let eps = 1e-9;
     let mut best = Vec::new();
     for ms in mantissas {
@@ -240,8 +265,18 @@ pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
             return best;
         }
     }
-    // Less than a decade wide: linear ticks of the log coordinate.
-    ticks(a, b, n)
+    // Less than about a decade wide: round values, placed at their log10.
+    let (va, vb) = (10f64.powf(a), 10f64.powf(b));
+    let Some(step) = nice_step(va, vb, n) else {
+        return Vec::new();
+    };
+    multiples(va, vb, step)
+        .filter(|v| *v > 0.0)
+        .map(|v| Tick {
+            value: v.log10(),
+            label: format_value(v, step),
+        })
+        .collect()
 }
 
 /// How an axis is scaled and labelled.
@@ -310,39 +345,49 @@ impl AxisSpec {
     }
 }
 
+/// The ticks an axis drew last, shared by its grid spacer (which computes
+/// them) and its label formatter (which writes them), so that the labels
+/// are exactly the ticks' whatever range egui hands the formatter.
+type Shared = std::rc::Rc<std::cell::RefCell<Vec<Tick>>>;
+
 /// The ticks as egui_plot grid marks (a grid line at each labelled tick,
 /// none between: a printed figure's grid).
-fn grid_marks(scale: Scale, input: GridInput) -> Vec<GridMark> {
+fn grid_marks(scale: Scale, input: GridInput, drawn: &Shared) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     let t = scale.ticks(lo, hi, MIN_TICKS);
-    // The spacing egui uses to fade and fit labels: the smallest gap.
-    let step = t
-        .windows(2)
-        .map(|w| w[1].value - w[0].value)
-        .fold(f64::INFINITY, f64::min);
-    let step = if step.is_finite() { step } else { hi - lo };
-    t.into_iter()
-        .map(|t| GridMark {
-            value: t.value,
-            step_size: step,
+    // The spacing egui fits each label into: the gap to its nearer
+    // neighbour (on a log axis the gaps differ), so that a crowded label
+    // is dropped alone rather than all of them.
+    let gap = |i: usize| {
+        let prev = i.checked_sub(1).map(|j| t[i].value - t[j].value);
+        let next = t.get(i + 1).map(|n| n.value - t[i].value);
+        match (prev, next) {
+            (Some(p), Some(n)) => p.min(n),
+            (Some(g), None) | (None, Some(g)) => g,
+            (None, None) => hi - lo,
+        }
+    };
+    let marks = (0..t.len())
+        .map(|i| GridMark {
+            value: t[i].value,
+            step_size: gap(i),
         })
-        .collect()
+        .collect();
+    *drawn.borrow_mut() = t;
+    marks
 }
 
-/// The label of the tick at `mark` on an axis showing `range`.
-fn tick_label(scale: Scale, mark: GridMark, range: &RangeInclusive<f64>) -> String {
-    let (lo, hi) = (*range.start(), *range.end());
-    let tol = 1e-6 * (hi - lo).abs().max(f64::MIN_POSITIVE);
-    scale
-        .ticks(lo, hi, MIN_TICKS)
-        .into_iter()
-        .find(|t| (t.value - mark.value).abs() <= tol)
-        .map(|t| t.label)
+/// The label of the tick at `mark`: the one the spacer computed there.
+fn tick_label(mark: GridMark, drawn: &Shared) -> String {
+    drawn
+        .borrow()
+        .iter()
+        .find(|t| t.value == mark.value)
+        .map(|t| t.label.clone())
         .unwrap_or_default()
 }
 
-fn hints<'a>(spec: &AxisSpec, axis: egui_plot::Axis) -> AxisHints<'a> {
-    let scale = spec.scale;
+fn hints<'a>(spec: &AxisSpec, axis: egui_plot::Axis, drawn: Shared) -> AxisHints<'a> {
     let h = match axis {
         egui_plot::Axis::X => AxisHints::new_x(),
         egui_plot::Axis::Y => AxisHints::new_y(),
@@ -351,16 +396,18 @@ fn hints<'a>(spec: &AxisSpec, axis: egui_plot::Axis) -> AxisHints<'a> {
     // that would overlap its neighbour).
     h.label(spec.title.clone())
         .label_spacing(0.5..=1.0)
-        .formatter(move |m, r| tick_label(scale, m, r))
+        .formatter(move |m, _| tick_label(m, &drawn))
 }
 
 /// `plot` with these axes: titles, grid lines and labels at [`Scale::ticks`].
 pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
     let (sx, sy) = (x.scale, y.scale);
-    plot.custom_x_axes(vec![hints(x, egui_plot::Axis::X)])
-        .custom_y_axes(vec![hints(y, egui_plot::Axis::Y)])
-        .x_grid_spacer(move |i| grid_marks(sx, i))
-        .y_grid_spacer(move |i| grid_marks(sy, i))
+    let (dx, dy) = (Shared::default(), Shared::default());
+    let (gx, gy) = (dx.clone(), dy.clone());
+    plot.custom_x_axes(vec![hints(x, egui_plot::Axis::X, dx)])
+        .custom_y_axes(vec![hints(y, egui_plot::Axis::Y, dy)])
+        .x_grid_spacer(move |i| grid_marks(sx, i, &gx))
+        .y_grid_spacer(move |i| grid_marks(sy, i, &gy))
 }
 
 /// Where each plot's frame was drawn last frame, by plot name: for tests
@@ -492,11 +539,30 @@ mod tests {
             ["1e-9", "1e-8", "1e-7", "1e-6", "1e-5", "1e-4", "1e-3"]
         );
         let t = log10_ticks(-6.0, -4.0, 5);
-        assert_eq!(
-            labels(&t),
-            ["1e-6", "2e-6", "5e-6", "1e-5", "2e-5", "5e-5", "1e-4"]
+        assert_eq!(labels(&t), ["1e-6", "3e-6", "1e-5", "3e-5", "1e-4"]);
+        assert!((t[1].value - 3e-6f64.log10()).abs() < 1e-12);
+        let t = log10_ticks(-6.0, -5.0, 5);
+        assert_eq!(labels(&t), ["2e-6", "4e-6", "6e-6", "8e-6", "1.0e-5"]);
+        // Within a decade: round values of the value itself.
+        let t = log10_ticks(2f64.log10(), 8f64.log10(), 5);
+        assert_eq!(labels(&t), ["2", "3", "4", "5", "6", "7", "8"]);
+        assert!((t[1].value - 3f64.log10()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn nice_bounds_reach_round_values_with_five_ticks() {
+        let (a, b) = nice_bounds(0.125, 0.575, 5);
+        assert!(
+            (a - 0.1).abs() < 1e-12 && (b - 0.6).abs() < 1e-12,
+            "{a} {b}"
         );
-        assert!((t[2].value - 5e-6f64.log10()).abs() < 1e-12);
+        assert!(ticks(a, b, 5).len() >= 5);
+        let (a, b) = nice_bounds(-0.93, 2.41, 5);
+        assert!(
+            (a + 1.0).abs() < 1e-12 && (b - 3.0).abs() < 1e-12,
+            "{a} {b}"
+        );
+        assert_eq!(nice_bounds(1.0, 1.0, 5), (1.0, 1.0));
     }
 
     #[test]

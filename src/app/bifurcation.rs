@@ -9,6 +9,7 @@ use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
 
+use super::axes::{self, AxisSpec};
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
@@ -190,48 +191,52 @@ impl BifurcationView {
             .allow_zoom(false)
             .allow_scroll(false)
             .allow_boxed_zoom(false)
-            .allow_double_click_reset(false)
-            .x_axis_label("θν (pull direction)")
-            .y_axis_label("θ (slip onset)")
-            .show(ui, |p| {
-                p.set_plot_bounds(PlotBounds::from_min_max(
-                    [from - dx / 2.0, lo],
-                    [to + dx / 2.0, hi],
+            .allow_double_click_reset(false);
+        let resp = axes::apply(
+            resp,
+            &AxisSpec::angle("θν, pull direction", s.angle_unit),
+            &AxisSpec::angle("θ, slip onset", s.angle_unit),
+        )
+        .show(ui, |p| {
+            p.set_plot_bounds(PlotBounds::from_min_max(
+                [from - dx / 2.0, lo],
+                [to + dx / 2.0, hi],
+            ));
+            if let Some(id) = tex {
+                p.add(PlotImage::new(
+                    "diagram",
+                    id,
+                    PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
+                    [(to - from + dx) as f32, (hi - lo) as f32],
                 ));
-                if let Some(id) = tex {
-                    p.add(PlotImage::new(
-                        "diagram",
-                        id,
-                        PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
-                        [(to - from + dx) as f32, (hi - lo) as f32],
-                    ));
+            }
+            p.line(
+                style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
+                    .color(style::CRITICAL.gamma_multiply(0.6))
+                    .style(LineStyle::Dotted { spacing: 6.0 }),
+            );
+            if let Some(tc) = theta_c {
+                for y in [tc, -tc] {
+                    p.add(
+                        HLine::new("θc", y)
+                            .color(style::ACCEL)
+                            .style(LineStyle::Dashed { length: 10.0 })
+                            .width(1.5),
+                    );
                 }
-                p.line(
-                    style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
-                        .color(style::CRITICAL.gamma_multiply(0.6))
-                        .style(LineStyle::Dotted { spacing: 6.0 }),
-                );
-                if let Some(tc) = theta_c {
-                    for y in [tc, -tc] {
-                        p.add(
-                            HLine::new("θc", y)
-                                .color(style::ACCEL)
-                                .style(LineStyle::Dashed { length: 10.0 })
-                                .width(1.5),
-                        );
-                    }
-                }
-                p.add(
-                    VLine::new("current θν", tn)
-                        .color(style::CURRENT)
-                        .width(2.0),
-                );
-                let pointer = p.pointer_coordinate();
-                if let (Some(a), Some(b)) = (drag_from, pointer) {
-                    p.add(style::zoom_box(a, b));
-                }
-                pointer
-            });
+            }
+            p.add(
+                VLine::new("current θν", tn)
+                    .color(style::CURRENT)
+                    .width(2.0),
+            );
+            let pointer = p.pointer_coordinate();
+            if let (Some(a), Some(b)) = (drag_from, pointer) {
+                p.add(style::zoom_box(a, b));
+            }
+            pointer
+        });
+        axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         let r = &resp.response;
         let pointer = resp.inner;
         if r.drag_started() {

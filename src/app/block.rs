@@ -176,11 +176,13 @@ impl BlockView {
         painter.rect_filled(rect, 4.0, bg);
 
         let Some((st, stick)) = state_at(samples, self.clock) else {
-            painter.text(
+            put_text(
+                &painter,
+                rect,
                 rect.center(),
                 Align2::CENTER_CENTER,
                 "waiting for the trajectory…",
-                FontId::proportional(18.0),
+                FontId::proportional(18.0 * s.font_scale),
                 ink,
             );
             return;
@@ -202,6 +204,7 @@ impl BlockView {
             half: unit * 0.22,
             ink,
             dark,
+            text_scale: s.font_scale,
         };
         scene.surface(&p, st.t);
         scene.walls_and_springs();
@@ -216,11 +219,13 @@ impl BlockView {
         };
         scene.legend(phase, fill, st.t);
         if self.magnify_x {
-            scene.painter.text(
+            put_text(
+                &scene.painter,
+                rect,
                 pos2(rect.left() + unit * 0.5, rect.bottom() - 8.0),
                 Align2::LEFT_BOTTOM,
                 format!("x displacements magnified ×κ = {:.3}", p.kappa),
-                FontId::proportional(13.0),
+                scene.font(13.0),
                 ink,
             );
         }
@@ -237,9 +242,16 @@ struct Scene {
     half: f32,
     ink: Color32,
     dark: bool,
+    /// The window's text size multiplier.
+    text_scale: f32,
 }
 
 impl Scene {
+    /// A font of `size` points at the window's text size.
+    fn font(&self, size: f32) -> FontId {
+        FontId::proportional(size * self.text_scale)
+    }
+
     /// The rough surface at time `t`: stripes across V moving with it, and
     /// its velocity arrow.
     fn surface(&self, p: &crate::model::Params, t: f64) {
@@ -286,11 +298,13 @@ impl Scene {
             dir * unit * 0.6,
             Stroke::new(3.0, style::PULL),
         );
-        painter.text(
+        put_text(
+            painter,
+            rect,
             v_from + dir * unit * 0.6 + vec2(4.0, -4.0),
             Align2::LEFT_BOTTOM,
             "V (surface)",
-            FontId::proportional(15.0),
+            self.font(15.0),
             style::PULL,
         );
     }
@@ -333,18 +347,22 @@ impl Scene {
             unit * 0.08,
             Stroke::new(2.5, ink),
         );
-        painter.text(
+        put_text(
+            painter,
+            rect,
             pos2(wall_x + 6.0, block_at.y - unit * 0.12),
             Align2::LEFT_BOTTOM,
             "kx = κ",
-            FontId::proportional(15.0),
+            self.font(15.0),
             ink,
         );
-        painter.text(
+        put_text(
+            painter,
+            rect,
             pos2(block_at.x + unit * 0.1, wall_y - 6.0),
             Align2::LEFT_BOTTOM,
             "ky = 1",
-            FontId::proportional(15.0),
+            self.font(15.0),
             ink,
         );
     }
@@ -391,7 +409,7 @@ impl Scene {
     fn legend(&self, phase: &str, fill: Color32, t: f64) {
         let (rect, ink) = (self.rect, self.ink);
         // Legend and state.
-        let font = FontId::proportional(17.0);
+        let font = self.font(17.0);
         let mut y = rect.top() + 12.0;
         let x = rect.right() - 12.0;
         for (text, color) in [
@@ -403,11 +421,57 @@ impl Scene {
             ("orange arrow: friction force".to_string(), style::ACCEL),
             (format!("t = {t:.1}"), ink),
         ] {
-            self.painter
-                .text(pos2(x, y), Align2::RIGHT_TOP, text, font.clone(), color);
-            y += 22.0;
+            let r = put_text(
+                &self.painter,
+                rect,
+                pos2(x, y),
+                Align2::RIGHT_TOP,
+                text,
+                font.clone(),
+                color,
+            );
+            y = r.bottom() + 4.0;
         }
     }
+}
+
+/// Writes `text` anchored at `pos`, wrapped to the width of `bounds` and
+/// moved inside it if it would stick out: a label is never clipped,
+/// whatever the tile's size or the text size. Returns where it went.
+#[allow(clippy::too_many_arguments)]
+fn put_text(
+    painter: &egui::Painter,
+    bounds: Rect,
+    pos: Pos2,
+    align: Align2,
+    text: impl ToString,
+    font: FontId,
+    color: Color32,
+) -> Rect {
+    let margin = 4.0;
+    let galley = painter.layout(
+        text.to_string(),
+        font,
+        color,
+        (bounds.width() - 2.0 * margin).max(20.0),
+    );
+    let r = align.anchor_size(pos, galley.size());
+    let inner = bounds.shrink(margin);
+    let shift = |lo: f32, hi: f32, a: f32, b: f32| {
+        if a < lo {
+            lo - a
+        } else if b > hi {
+            (hi - b).max(lo - a)
+        } else {
+            0.0
+        }
+    };
+    let r = r.translate(vec2(
+        shift(inner.left(), inner.right(), r.left(), r.right()),
+        shift(inner.top(), inner.bottom(), r.top(), r.bottom()),
+    ));
+    painter.galley(r.min, galley, color);
+    r
 }
 
 /// An arrow from `from` along `v`.

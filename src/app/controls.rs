@@ -14,11 +14,11 @@ use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 use super::accuracy;
 use super::describe;
 use super::jobs::Jobs;
-use super::settings::{AccuracyMode, Settings};
+use super::settings::{AccuracyMode, AngleUnit, Settings};
 use super::view::{Action, Export};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::PRESETS;
-use crate::model::{Params, Regime};
+use crate::model::{Params, Regime, validity};
 
 /// The numeric fields of the panel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -207,28 +207,30 @@ impl Controls {
             .and_then(|(_, i)| i.error.as_deref())
     }
 
-    /// The whole panel.
+    /// The whole panel: sections that collapse (egui remembers which, by
+    /// their titles), inside the window's scroll area.
     pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
-        ui.spacing_mut().slider_width = 150.0;
-        self.parameters_ui(ui, s);
-        accuracy::mode_ui(ui, s);
-        if s.accuracy == AccuracyMode::Custom {
-            self.custom_solver_ui(ui, s);
-        }
-        accuracy::estimates_ui(ui, s);
-        ui.separator();
-        regime_ui(ui, s, jobs);
-        ui.separator();
-        self.presets_ui(ui, s);
-        ui.separator();
-        view_options_ui(ui, s, self.software_gl);
-        ui.separator();
-        files_ui(ui, s, out);
+        // The slider shrinks with the panel, leaving room for the typed
+        // field (about 7 characters) and the symbol.
+        let field_w = 7.5 * ui.text_style_height(&egui::TextStyle::Body);
+        ui.spacing_mut().slider_width = (ui.available_width() - field_w - 40.0).clamp(60.0, 150.0);
+        validity_ui(ui, s);
+        section(ui, "Parameters", |ui| self.parameters_ui(ui, s));
+        section(ui, "Accuracy", |ui| {
+            accuracy::mode_ui(ui, s);
+            if s.accuracy == AccuracyMode::Custom {
+                self.custom_solver_ui(ui, s);
+            }
+            accuracy::estimates_ui(ui, s);
+        });
+        section(ui, "Regime", |ui| regime_ui(ui, s, jobs));
+        section(ui, "Presets", |ui| self.presets_ui(ui, s));
+        section(ui, "View", |ui| view_options_ui(ui, s, self.software_gl));
+        section(ui, "Files", |ui| files_ui(ui, s, out));
     }
 
     /// The model's parameters, each a slider with a typed field.
     fn parameters_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
-        ui.heading("Parameters");
         for field in Field::PARAMS {
             self.field_row(ui, s, field);
             if field == Field::ThetaNu {
@@ -247,7 +249,6 @@ impl Controls {
 
     /// One button per preset.
     fn presets_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
-        ui.heading("Presets");
         for p in &PRESETS {
             let r = ui
                 .add(egui::Button::new(p.label).wrap())
@@ -268,9 +269,75 @@ impl Controls {
     }
 }
 
-/// How the views look: cycles shown, columns, text size, colours, lines.
+/// A section of the panel under a heading that collapses; open at first.
+fn section(ui: &mut Ui, title: &str, body: impl FnOnce(&mut Ui)) {
+    egui::CollapsingHeader::new(RichText::new(title).heading())
+        .id_salt(("panel", title))
+        .default_open(true)
+        .show(ui, body);
+}
+
+/// A warning above everything when the parameters leave the model's
+/// physical assumptions (`model::validity`): the results are still
+/// computed, but are not those of a slowly pulled block.
+pub fn validity_ui(ui: &mut Ui, s: &Settings) {
+    let warnings = validity(&s.params);
+    if warnings.is_empty() {
+        return;
+    }
+    egui::Frame::new()
+        .fill(Color32::from_rgb(190, 40, 40))
+        .corner_radius(6.0)
+        .inner_margin(egui::Margin::symmetric(8, 4))
+        .show(ui, |ui| {
+            ui.label(
+                RichText::new("Outside the model's validity")
+                    .color(Color32::WHITE)
+                    .strong(),
+            );
+            for w in &warnings {
+                ui.label(RichText::new(w.to_string()).color(Color32::WHITE));
+            }
+        });
+}
+
+/// The projector preset: large text, thick lines, high contrast.
+pub const PROJECTOR_FONT_SCALE: f32 = 1.5;
+
+/// How the views look: cycles shown, columns, text size, colours, lines,
+/// angle units.
 fn view_options_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
-    ui.heading("View");
+    let was = s.projector;
+    ui.checkbox(
+        &mut s.projector,
+        "projector: large text, thick lines, high contrast",
+    )
+    .on_hover_text("For a lecture hall: text ×1.5, lines twice as thick, black on white.");
+    if s.projector != was {
+        s.font_scale = if s.projector {
+            PROJECTOR_FONT_SCALE
+        } else {
+            1.0
+        };
+        if s.projector {
+            s.dark = false;
+        }
+    }
+    ui.horizontal_wrapped(|ui| {
+        ui.label("angles in");
+        for (u, label, hover) in [
+            (AngleUnit::Radians, "rad", "θν and θ axes in radians"),
+            (AngleUnit::Degrees, "°", "θν and θ axes in degrees"),
+            (
+                AngleUnit::PiFractions,
+                "π",
+                "θν and θ axes in fractions of π (π/8, π/4, …)",
+            ),
+        ] {
+            ui.selectable_value(&mut s.angle_unit, u, label)
+                .on_hover_text(hover);
+        }
+    });
     ui.horizontal(|ui| {
         ui.label("cycles shown");
         ui.add(egui::DragValue::new(&mut s.keep_cycles).range(1..=1000))
@@ -338,7 +405,7 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
             }
         });
     });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label("folder");
         ui.add(TextEdit::singleline(&mut s.save_dir).desired_width(f32::INFINITY))
             .on_hover_text(
@@ -346,7 +413,7 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
                      an existing file is never overwritten.",
             );
     });
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         if ui
             .button("Restart orbit")
             .on_hover_text("Start the trajectory again from θ = θν (R).")
@@ -506,7 +573,7 @@ fn regime_ui(ui: &mut Ui, s: &Settings, jobs: &Jobs) {
 
 /// The anti-aliasing switch: Auto (off under software OpenGL), on, off.
 fn smooth_lines_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
-    ui.horizontal(|ui| {
+    ui.horizontal_wrapped(|ui| {
         ui.label("smooth lines");
         // What Auto would do here, whatever is selected now.
         let auto = if Settings::default().smooth_lines_on(software_gl) {

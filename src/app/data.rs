@@ -29,6 +29,9 @@ pub struct IterateData {
     /// Points (θ, f(θ)) of the map's graph over the orbit's window (NaN
     /// where a cycle failed), once the job has drawn it.
     pub graph: Vec<[f64; 2]>,
+    /// f^k at the graph's θ for k = 2, 3, … (as many as were asked for and
+    /// have arrived; NaN where a cycle failed).
+    pub powers: Vec<Vec<f64>>,
     pub period: Option<Period>,
     pub lyapunov: Option<f64>,
 }
@@ -130,6 +133,9 @@ pub struct WorkPrecisionData {
     /// Points of its sample, and how far its reference is from the check.
     pub points: usize,
     pub reference_spread: Option<f64>,
+    /// The machine's one-minute load average and core count when the run
+    /// started (Linux; `None` elsewhere).
+    pub load: Option<(f64, usize)>,
     /// The error it reported, naming the parameter.
     pub error: Option<String>,
 }
@@ -142,6 +148,14 @@ impl WorkPrecisionData {
             total,
             ..Default::default()
         }
+    }
+
+    /// Whether the cores were busy with other work when the run started,
+    /// so that its wall times are inflated: a load average above half the
+    /// cores beyond the one the measurement takes.
+    pub fn loaded(&self) -> bool {
+        self.load
+            .is_some_and(|(l, cores)| l > 1.0 + 0.5 * cores.saturating_sub(1) as f64)
     }
 
     /// Settings measured or skipped so far.
@@ -158,4 +172,13 @@ impl WorkPrecisionData {
             subject.method_name()
         ));
     }
+}
+
+/// The one-minute load average and the number of cores (Linux's
+/// `/proc/loadavg`; `None` where it cannot be read).
+pub fn load_average() -> Option<(f64, usize)> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let l: f64 = text.split_whitespace().next()?.parse().ok()?;
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    l.is_finite().then_some((l, cores))
 }

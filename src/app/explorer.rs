@@ -30,6 +30,7 @@ use super::script::{Script, Window};
 use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
 use super::status;
+use super::style;
 use super::svg_render;
 use super::view::{Action, View};
 
@@ -74,7 +75,7 @@ pub struct Explorer {
     /// Where the frame-time report goes when the window closes.
     pub stats_sink: Option<Arc<Mutex<Option<String>>>>,
     view_rects: HashMap<ViewKind, Rect>,
-    applied_style: Option<(f32, bool)>,
+    applied_style: Option<(f32, bool, bool)>,
     now: f64,
 }
 
@@ -256,7 +257,9 @@ impl Explorer {
     }
 
     fn apply_style(&mut self, ctx: &Context) {
-        let want = (self.settings.font_scale, self.settings.dark);
+        let projector = self.settings.projector;
+        style::set_line_scale(ctx, if projector { 2.0 } else { 1.0 });
+        let want = (self.settings.font_scale, self.settings.dark, projector);
         if self.applied_style == Some(want) {
             return;
         }
@@ -273,6 +276,12 @@ impl Explorer {
                     font.size = b.size * scale;
                 }
             }
+            // High contrast: text in full ink, not egui's greys.
+            s.visuals.override_text_color = projector.then_some(if s.visuals.dark_mode {
+                egui::Color32::WHITE
+            } else {
+                egui::Color32::BLACK
+            });
         });
         self.applied_style = Some(want);
     }
@@ -333,6 +342,7 @@ impl Explorer {
         let ctx = ui.ctx().clone();
         self.now = ctx.input(|i| i.time);
         self.apply_style(&ctx);
+        super::axes::clear_frames(&ctx);
         let mut actions = Vec::new();
         self.shortcuts(&ctx, &mut actions);
 
@@ -381,6 +391,23 @@ impl Explorer {
                     .strong()
                     .size(ui.text_style_height(&egui::TextStyle::Heading)),
             );
+            let warnings = crate::model::validity(&s.params);
+            if !warnings.is_empty() {
+                let text: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
+                egui::Frame::new()
+                    .fill(egui::Color32::from_rgb(190, 40, 40))
+                    .corner_radius(6.0)
+                    .inner_margin(egui::Margin::symmetric(6, 2))
+                    .show(ui, |ui| {
+                        ui.label(
+                            RichText::new("Outside the model's validity")
+                                .color(egui::Color32::WHITE)
+                                .strong(),
+                        )
+                    })
+                    .response
+                    .on_hover_text(text.join("\n"));
+            }
             ui.separator();
             ui.selectable_value(&mut s.layout, Layout::Tiles, "Tiles")
                 .on_hover_text("Several views at once (T toggles)");

@@ -14,7 +14,7 @@
 //! - [`view`]: the `View` trait and the `Action` enum.
 //! - [`accuracy`], [`controls`]: the side panel.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
-//!   [`numerics_view`], [`phase_view`]: the views.
+//!   [`numerics_view`] (with [`numerics_table`]), [`phase_view`]: the views.
 //! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
 //! - [`frame_stats`], [`script`]: `--frame-stats` and scripted runs.
 //! - [`status`]: the status bar.
@@ -33,6 +33,7 @@ pub mod explorer;
 pub mod export;
 pub mod frame_stats;
 pub mod jobs;
+pub mod numerics_table;
 pub mod numerics_view;
 pub mod phase_data;
 pub mod phase_view;

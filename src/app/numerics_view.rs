@@ -7,16 +7,18 @@
 
 use eframe::egui;
 use egui::{Color32, RichText, Ui};
-use egui_plot::{GridInput, GridMark, LineStyle, MarkerShape, Plot, PlotPoints, Points};
+use egui_plot::{LineStyle, MarkerShape, Plot, PlotPoints, Points};
 
+use super::axes::{self, AxisSpec};
 use super::data::WorkPrecisionData;
 use super::jobs::{JobKind, JobState, Jobs, Slot};
+use super::numerics_table::table_ui;
 use super::settings::{AccuracyMode, Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::numerics::committed::{default_caption, default_rows};
 use crate::numerics::quick::{QUICK_POINTS, QUICK_TIME_PER_SETTING, SLOW_ITERATE};
-use crate::numerics::{Row, Subject, estimate};
+use crate::numerics::{Row, estimate};
 
 /// The view's own state: the chart's switches (the run is the job
 /// model's `numerics` slot).
@@ -28,16 +30,31 @@ pub struct NumericsView {
     pub hide_committed: bool,
 }
 
-/// The colour of a method's curve (Okabe–Ito); the peer's are dashed.
+/// The colour of a method's curve (Okabe–Ito, one hue each: no two blues);
+/// the peer's are dashed.
 pub fn method_color(method: &str) -> Color32 {
     match method {
         "euler" => Color32::from_rgb(204, 121, 167),
         "rk4" => Color32::from_rgb(230, 159, 0),
         "dp54" => Color32::from_rgb(86, 180, 233),
-        "dop853" => Color32::from_rgb(0, 114, 178),
-        "ode_solvers-dopri5" => Color32::from_rgb(0, 158, 115),
+        "dop853" => Color32::from_rgb(0, 158, 115),
+        "ode_solvers-dopri5" => Color32::from_rgb(120, 120, 120),
         "ode_solvers-dop853" => Color32::from_rgb(213, 94, 0),
         _ => Color32::GRAY,
+    }
+}
+
+/// The marker of a method's points: a shape each, so that the curves part
+/// in grey print and for any colour vision.
+pub fn method_marker(method: &str) -> MarkerShape {
+    match method {
+        "euler" => MarkerShape::Cross,
+        "rk4" => MarkerShape::Square,
+        "dp54" => MarkerShape::Diamond,
+        "dop853" => MarkerShape::Circle,
+        "ode_solvers-dopri5" => MarkerShape::Down,
+        "ode_solvers-dop853" => MarkerShape::Up,
+        _ => MarkerShape::Plus,
     }
 }
 
@@ -85,56 +102,6 @@ pub fn in_use(rows: &[Row], s: &Settings, y_evals: bool) -> Vec<(JobKind, [f64; 
             (e.max_error.is_finite() && y > 0.0).then(|| (job, [lg(e.max_error), y.log10()]))
         })
         .collect()
-}
-
-/// The grid of a log10 axis, as on log paper: a line per decade (thicker
-/// every 5 and 10), and at 2 … 9 times each decade when few are shown.
-/// egui_plot's `log_grid_spacer` subdivides the log10 values evenly
-/// instead, which labels decades only every 10.
-fn log_paper(input: GridInput) -> Vec<GridMark> {
-    let (lo, hi) = input.bounds;
-    if !(lo.is_finite() && hi.is_finite()) || hi - lo > 400.0 {
-        return Vec::new();
-    }
-    let minor = hi - lo < 8.0;
-    let mut out = Vec::new();
-    // Marks outside the bounds would still get labels, drawn off the plot.
-    for n in lo.ceil() as i64..=hi.floor() as i64 {
-        let step_size = if n % 10 == 0 {
-            10.0
-        } else if n % 5 == 0 {
-            5.0
-        } else {
-            1.0
-        };
-        out.push(GridMark {
-            value: n as f64,
-            step_size,
-        });
-    }
-    if minor {
-        for n in lo.floor() as i64..=hi.floor() as i64 {
-            for k in 2..10 {
-                let value = n as f64 + (k as f64).log10();
-                if (lo..=hi).contains(&value) {
-                    out.push(GridMark {
-                        value,
-                        step_size: 0.1,
-                    });
-                }
-            }
-        }
-    }
-    out
-}
-
-/// A tick label on a log10 axis: decades only.
-fn log_tick(v: f64) -> String {
-    if (v - v.round()).abs() < 1e-6 {
-        format!("1e{}", v.round() as i64)
-    } else {
-        String::new()
-    }
 }
 
 fn job_marker(job: JobKind) -> MarkerShape {
@@ -244,7 +211,20 @@ fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
         }
         _ => format!("Committed chart: {}", default_caption()),
     };
-    ui.label(RichText::new(caption).small());
+    ui.label(caption);
+    if run.loaded()
+        && let Some((l, cores)) = run.load
+    {
+        ui.label(
+            RichText::new(format!(
+                "Caution: the machine was busy when this run started (load average {l:.1} on \
+                 {cores} cores): its wall times are inflated. Each is the fastest of \
+                 {} timings, but only RHS evaluations per iterate are unaffected.",
+                crate::worker::TIMING_REPEATS
+            ))
+            .color(style::ERROR),
+        );
+    }
     ui.label(
         RichText::new(format!(
             "Wall times measured while the other lanes run share the cores and are noisy; \
@@ -254,11 +234,10 @@ fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
             QUICK_TIME_PER_SETTING.as_millis(),
             SLOW_ITERATE.as_millis()
         ))
-        .small()
-        .italics(),
+        .weak(),
     );
     for sk in &run.skipped {
-        ui.label(RichText::new(format!("skipped {sk}")).small().italics());
+        ui.label(format!("skipped {sk}"));
     }
 }
 
@@ -279,7 +258,7 @@ impl NumericsView {
         // it would hide some corner of the curves.
         ui.horizontal_wrapped(|ui| {
             for (m, _) in curves(rows, y_evals) {
-                style::legend_line(ui, method_color(m), m.starts_with("ode_solvers"), m);
+                legend_method(ui, m);
             }
         });
         // The jobs' markers on a line of their own, so that wrapping never
@@ -292,20 +271,23 @@ impl NumericsView {
                 }
             }
         });
-        let plot_h = (ui.available_height() * 0.62).max(180.0);
-        Plot::new("work_precision")
+        // Tall enough for five labelled decades at any text size.
+        let line = ui.text_style_height(&egui::TextStyle::Body);
+        let plot_h = (ui.available_height() * 0.62).max(14.0 * line);
+        let lw = style::width(ui.ctx(), 1.0);
+        let plot = Plot::new("work_precision")
             .show_background(false)
-            .height(plot_h)
-            .x_axis_label("max map error |θ' − θ'_ref|")
-            .y_axis_label(if y_evals {
+            .height(plot_h);
+        let plot = axes::apply(
+            plot,
+            &AxisSpec::log10("max map error |θ' − θ'_ref| (rad)"),
+            &AxisSpec::log10(if y_evals {
                 "RHS evaluations per iterate"
             } else {
-                "µs per iterate"
-            })
-            .x_grid_spacer(log_paper)
-            .y_grid_spacer(log_paper)
-            .x_axis_formatter(|m, _| log_tick(m.value))
-            .y_axis_formatter(|m, _| log_tick(m.value))
+                "wall time per iterate (µs)"
+            }),
+        );
+        let resp = plot
             .label_formatter(|pos| {
                 let p = match pos {
                     egui_plot::HoverPosition::NearDataPoint { position, .. } => position,
@@ -333,12 +315,18 @@ impl NumericsView {
                     let c = method_color(m);
                     let mut line = style::line(m, PlotPoints::from(pts.clone()))
                         .color(c)
-                        .width(1.8);
+                        .width(1.8 * lw);
                     if m.starts_with("ode_solvers") {
                         line = line.style(LineStyle::Dashed { length: 6.0 });
                     }
                     p.line(line);
-                    p.add(Points::new(m, PlotPoints::from(pts)).color(c).radius(3.0));
+                    p.add(
+                        Points::new(m, PlotPoints::from(pts))
+                            .color(c)
+                            .shape(method_marker(m))
+                            .filled(true)
+                            .radius(4.0 * lw),
+                    );
                 }
                 for (job, pt) in marks {
                     p.add(
@@ -350,7 +338,79 @@ impl NumericsView {
                     );
                 }
             });
+        axes::remember_frame(ui.ctx(), "work_precision", *resp.transform.frame());
     }
+}
+
+/// A method's line and marker, and its name.
+fn legend_method(ui: &mut Ui, method: &str) {
+    let color = method_color(method);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(26.0, 14.0), egui::Sense::hover());
+    let y = rect.center().y;
+    let stroke = egui::Stroke::new(2.0, color);
+    let p = ui.painter();
+    if method.starts_with("ode_solvers") {
+        for i in 0..3 {
+            let x = rect.left() + i as f32 * 9.0;
+            p.line_segment([egui::pos2(x, y), egui::pos2(x + 5.0, y)], stroke);
+        }
+    } else {
+        p.line_segment([rect.left_center(), rect.right_center()], stroke);
+    }
+    let c = rect.center();
+    let r = 4.5;
+    match method_marker(method) {
+        MarkerShape::Cross => {
+            for d in [egui::vec2(r, r), egui::vec2(r, -r)] {
+                p.line_segment([c - d, c + d], stroke);
+            }
+        }
+        MarkerShape::Square => {
+            p.rect_filled(
+                egui::Rect::from_center_size(c, egui::vec2(2.0 * r, 2.0 * r)),
+                0.0,
+                color,
+            );
+        }
+        MarkerShape::Diamond => {
+            p.add(egui::Shape::convex_polygon(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, 0.0),
+                    c + egui::vec2(0.0, r),
+                    c + egui::vec2(-r, 0.0),
+                ],
+                color,
+                egui::Stroke::NONE,
+            ));
+        }
+        MarkerShape::Down => {
+            p.add(egui::Shape::convex_polygon(
+                vec![
+                    c + egui::vec2(-r, -0.8 * r),
+                    c + egui::vec2(r, -0.8 * r),
+                    c + egui::vec2(0.0, r),
+                ],
+                color,
+                egui::Stroke::NONE,
+            ));
+        }
+        MarkerShape::Up => {
+            p.add(egui::Shape::convex_polygon(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, 0.8 * r),
+                    c + egui::vec2(-r, 0.8 * r),
+                ],
+                color,
+                egui::Stroke::NONE,
+            ));
+        }
+        _ => {
+            p.circle_filled(c, r, color);
+        }
+    }
+    ui.label(method);
 }
 
 /// A job's marker outline and its label.
@@ -396,77 +456,6 @@ fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
     ui.label(label);
 }
 
-/// The table under the chart, with the rows the jobs run marked.
-fn table_ui(ui: &mut Ui, rows: &[Row], s: &Settings) {
-    let used: Vec<(JobKind, Subject)> = JobKind::SOLVED
-        .iter()
-        .filter_map(|&j| Some((j, Subject::Own(j.solver(s)?))))
-        .collect();
-    egui::ScrollArea::vertical()
-        .id_salt("work_precision_table")
-        .auto_shrink([false, false])
-        .show(ui, |ui| {
-            egui::Grid::new("work_precision_rows")
-                .striped(true)
-                .spacing([10.0, 1.0])
-                .show(ui, |ui| {
-                    for h in [
-                        "method",
-                        "setting",
-                        "max error",
-                        "median error",
-                        "µs / iterate",
-                        "evals / iterate",
-                        "failed",
-                        "used by",
-                    ] {
-                        ui.label(RichText::new(h).small().strong());
-                    }
-                    ui.end_row();
-                    for r in rows {
-                        let users: Vec<&str> = used
-                            .iter()
-                            .filter(|(_, sub)| {
-                                let (k, v) = sub.setting();
-                                sub.method_name() == r.method
-                                    && k == r.kind
-                                    && ((v - r.setting) / r.setting).abs() < 1e-9
-                            })
-                            .map(|(j, _)| j.label())
-                            .collect();
-                        let cell = |ui: &mut Ui, t: String| {
-                            let mut t = RichText::new(t).small().monospace();
-                            if !users.is_empty() {
-                                t = t.strong();
-                            }
-                            ui.label(t);
-                        };
-                        ui.label(
-                            RichText::new(r.method)
-                                .small()
-                                .color(method_color(r.method)),
-                        );
-                        cell(ui, format!("{} {:e}", r.kind, r.setting));
-                        cell(ui, format!("{:.2e}", r.max_error));
-                        cell(ui, format!("{:.2e}", r.median_error));
-                        cell(ui, format!("{:.1}", r.median_us));
-                        cell(ui, format!("{:.0}", r.evals_per_iterate));
-                        let failed = if r.failed > 0 {
-                            format!("{} of {}", r.failed, r.points)
-                        } else {
-                            String::new()
-                        };
-                        let fr = ui.label(RichText::new(failed).small().color(style::ERROR));
-                        if let Some(f) = &r.failure {
-                            fr.on_hover_text(f);
-                        }
-                        cell(ui, users.join(", "));
-                        ui.end_row();
-                    }
-                });
-        });
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -496,5 +485,24 @@ mod tests {
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);
         assert!((x - 4.535e-5f64.log10()).abs() < 1e-12 && (y - 236.4f64.log10()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn every_method_has_its_own_colour_and_marker() {
+        // Every method has its own colour and its own marker.
+        let ms = [
+            "euler",
+            "rk4",
+            "dp54",
+            "dop853",
+            "ode_solvers-dopri5",
+            "ode_solvers-dop853",
+        ];
+        for (i, a) in ms.iter().enumerate() {
+            for b in &ms[i + 1..] {
+                assert_ne!(method_color(a), method_color(b), "{a} {b}");
+                assert_ne!(method_marker(a), method_marker(b), "{a} {b}");
+            }
+        }
     }
 }

@@ -16,6 +16,7 @@ use egui_plot::{
     HLine, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, PlotTransform, Polygon, VLine,
 };
 
+use super::axes::{self, AxisSpec};
 use super::jobs::{JobState, Jobs};
 use super::phase_data::PhaseData;
 use super::settings::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseRange, Settings, ViewKind};
@@ -301,49 +302,53 @@ impl PhaseView {
             .show_x(false)
             .show_y(false)
             // Grid lines over a map of discrete cells read as cell borders.
-            .show_grid(false)
-            .x_axis_label("θν (pull direction)")
-            .y_axis_label("κ (anisotropy)")
-            .show(ui, |p| {
-                p.set_plot_bounds(PlotBounds::from_min_max(
-                    [t0 - dt / 2.0, k0 - dk / 2.0],
-                    [t1 + dt / 2.0, k1 + dk / 2.0],
+            .show_grid(false);
+        let resp = axes::apply(
+            resp,
+            &AxisSpec::angle("θν, pull direction", s.angle_unit),
+            &AxisSpec::linear("κ = k_x/k_y, anisotropy"),
+        )
+        .show(ui, |p| {
+            p.set_plot_bounds(PlotBounds::from_min_max(
+                [t0 - dt / 2.0, k0 - dk / 2.0],
+                [t1 + dt / 2.0, k1 + dk / 2.0],
+            ));
+            if let Some(id) = tex {
+                p.add(PlotImage::new(
+                    "phase diagram",
+                    id,
+                    PlotPoint::new((t0 + t1) / 2.0, (k0 + k1) / 2.0),
+                    [(t1 - t0 + dt) as f32, (k1 - k0 + dk) as f32],
                 ));
-                if let Some(id) = tex {
-                    p.add(PlotImage::new(
-                        "phase diagram",
-                        id,
-                        PlotPoint::new((t0 + t1) / 2.0, (k0 + k1) / 2.0),
-                        [(t1 - t0 + dt) as f32, (k1 - k0 + dk) as f32],
-                    ));
-                }
-                // The grid's outline: chaos is black, and so is a dark panel.
-                let (x0, x1) = (t0 - dt / 2.0, t1 + dt / 2.0);
-                let (y0, y1) = (k0 - dk / 2.0, k1 + dk / 2.0);
-                p.add(
-                    Polygon::new(
-                        "grid outline",
-                        PlotPoints::from(vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]),
-                    )
-                    .fill_color(Color32::TRANSPARENT)
-                    .stroke(egui::Stroke::new(1.0, style::CRITICAL)),
-                );
-                p.add(
-                    VLine::new("current θν", tn)
-                        .color(style::CURRENT)
-                        .width(1.5),
-                );
-                p.add(
-                    HLine::new("current κ", kappa)
-                        .color(style::CURRENT)
-                        .width(1.5),
-                );
-                let pointer = p.pointer_coordinate();
-                if let (Some(a), Some(b)) = (drag_from, pointer) {
-                    p.add(style::zoom_box(a, b));
-                }
-                pointer
-            });
+            }
+            // The grid's outline: chaos is black, and so is a dark panel.
+            let (x0, x1) = (t0 - dt / 2.0, t1 + dt / 2.0);
+            let (y0, y1) = (k0 - dk / 2.0, k1 + dk / 2.0);
+            p.add(
+                Polygon::new(
+                    "grid outline",
+                    PlotPoints::from(vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]]),
+                )
+                .fill_color(Color32::TRANSPARENT)
+                .stroke(egui::Stroke::new(1.0, style::CRITICAL)),
+            );
+            p.add(
+                VLine::new("current θν", tn)
+                    .color(style::CURRENT)
+                    .width(1.5),
+            );
+            p.add(
+                HLine::new("current κ", kappa)
+                    .color(style::CURRENT)
+                    .width(1.5),
+            );
+            let pointer = p.pointer_coordinate();
+            if let (Some(a), Some(b)) = (drag_from, pointer) {
+                p.add(style::zoom_box(a, b));
+            }
+            pointer
+        });
+        axes::remember_frame(ui.ctx(), "phase", *resp.transform.frame());
         self.transform = Some(resp.transform);
         let r = &resp.response;
         let pointer = resp.inner;

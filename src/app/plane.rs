@@ -1,12 +1,15 @@
 //! The (x, y) plane (paper, Fig. 2): the curve C, the critical ellipse, the
 //! block's path coloured by phase, the slip onsets, the block now, and the
-//! pulling direction θν. Equal aspect; optionally (κx, y) so that C is the
-//! unit circle.
+//! pulling direction θν. Optionally (κx, y), in equal aspect, so that C is
+//! the unit circle; else the true (x, y), with x stretched to fill the
+//! plot. Every direction is drawn as it runs in the axes shown: the pull
+//! arrow points where the stick segments go.
 
 use eframe::egui;
-use egui::Ui;
-use egui_plot::{Arrows, LineStyle, Plot, PlotPoints};
+use egui::{RichText, Ui};
+use egui_plot::{LineStyle, Plot, PlotPoints};
 
+use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
 use super::settings::{Settings, ViewKind};
 use super::style;
@@ -105,6 +108,7 @@ impl PlaneView {
         legend_ui(ui, s.dark);
         let tf = self.plot_ui(ui, s, c_pts, crit);
         paint_path(ui, &tf, [&stick, &accel, &decel], &onsets, now, s.dark);
+        paint_pull_arrow(ui, &tf, pull_direction(s.params.theta_nu, sx));
     }
 
     /// The plot with C, the critical ellipse and the pull arrow, framed on
@@ -119,61 +123,99 @@ impl PlaneView {
     ) -> egui_plot::PlotTransform {
         let k = s.params.kappa;
         let sx = if s.scale_x_by_kappa { k } else { 1.0 };
-        let x_label = if s.scale_x_by_kappa { "κ x" } else { "x" };
-        let tn = s.params.theta_nu;
-        let arrow_len = 0.45;
-        let dir = [arrow_len * tn.cos(), arrow_len * tn.sin()];
+        let x_axis = if s.scale_x_by_kappa {
+            AxisSpec::linear("κx, scaled block position (F₀/k_y)")
+        } else {
+            AxisSpec::linear("x, block position (F₀/k_y)")
+        };
         let dark = s.dark;
+        let lw = style::width(ui.ctx(), 1.0);
         // Frame C (not the critical ellipse, which can be γ times taller).
         let (bx, by) = (1.2 / k * sx, 1.2);
         let fitted_for = self.fitted_for;
         let kbits = k.to_bits();
         let scaled = s.scale_x_by_kappa;
-        let resp = Plot::new("plane")
+        let mut plot = Plot::new("plane")
             .show_background(false)
-            .data_aspect(1.0)
-            .allow_double_click_reset(false)
-            .x_axis_label(x_label)
-            .y_axis_label("y")
-            .show(ui, |p| {
-                let f = *p.transform().frame();
-                let size = [f.width() as u32, f.height() as u32];
-                let key = (kbits, scaled, size);
-                let refit = fitted_for != Some(key) || p.response().double_clicked();
-                if refit && f.height() > 0.0 {
+            .allow_double_click_reset(false);
+        if scaled {
+            plot = plot.data_aspect(1.0);
+        }
+        let resp = axes::apply(plot, &x_axis, &AxisSpec::linear("y (F₀/k_y)")).show(ui, |p| {
+            let f = *p.transform().frame();
+            let size = [f.width() as u32, f.height() as u32];
+            let key = (kbits, scaled, size);
+            let refit = fitted_for != Some(key) || p.response().double_clicked();
+            if refit && f.height() > 0.0 {
+                let (hx, hy) = if scaled {
+                    // Equal aspect: C round, the box widened to the plot.
                     let asp = (f.width() / f.height()) as f64;
-                    let (hx, hy) = if by * asp >= bx {
+                    if by * asp >= bx {
                         (by * asp, by)
                     } else {
                         (bx, bx / asp)
-                    };
-                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max([-hx, -hy], [hx, hy]));
-                }
-                p.line(
-                    style::line("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
-                        .color(style::ink(dark))
-                        .width(2.0),
-                );
-                p.line(
-                    style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(crit))
-                        .color(style::CRITICAL)
-                        .style(LineStyle::Dashed { length: 8.0 })
-                        .width(1.5),
-                );
-                p.add(
-                    Arrows::new(
-                        "pull direction θν",
-                        PlotPoints::from(vec![[0.0, 0.0]]),
-                        PlotPoints::from(vec![dir]),
-                    )
-                    .color(style::PULL)
-                    .tip_length(12.0),
-                );
-                key
-            });
+                    }
+                } else {
+                    // The true x is κ times narrower: fill the plot.
+                    (bx, by)
+                };
+                p.set_plot_bounds(egui_plot::PlotBounds::from_min_max([-hx, -hy], [hx, hy]));
+            }
+            p.line(
+                style::line("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
+                    .color(style::ink(dark))
+                    .width(2.0 * lw),
+            );
+            p.line(
+                style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(crit))
+                    .color(style::CRITICAL)
+                    .style(LineStyle::Dashed { length: 8.0 })
+                    .width(1.5 * lw),
+            );
+            key
+        });
         self.fitted_for = Some(resp.inner);
+        axes::remember_frame(ui.ctx(), "plane", *resp.transform.frame());
         resp.transform
     }
+}
+
+/// The pull direction V = (cos θν, sin θν) in the plotted coordinates:
+/// (κ cos θν, sin θν) when x is plotted as κx (`sx` = κ), so that it runs
+/// along the stick segments, which move with V; normalised.
+pub fn pull_direction(theta_nu: f64, sx: f64) -> [f64; 2] {
+    let (dx, dy) = (sx * theta_nu.cos(), theta_nu.sin());
+    let n = dx.hypot(dy);
+    [dx / n, dy / n]
+}
+
+/// The pull arrow from the origin along `dir` (plot coordinates), drawn in
+/// screen space through the plot's transform, so that it keeps its angle
+/// in any aspect; its length is a fixed share of the plot, not to scale.
+fn paint_pull_arrow(ui: &Ui, tf: &egui_plot::PlotTransform, dir: [f64; 2]) {
+    let frame = *tf.frame();
+    let o = tf.position_from_point(&egui_plot::PlotPoint::new(0.0, 0.0));
+    let tip = tf.position_from_point(&egui_plot::PlotPoint::new(dir[0], dir[1]));
+    let d = (tip - o).normalized();
+    if !d.x.is_finite() {
+        return;
+    }
+    let len = 0.3 * frame.width().min(frame.height());
+    let end = o + d * len;
+    let w = style::width(ui.ctx(), 2.5);
+    let painter = ui.painter().with_clip_rect(frame);
+    painter.line_segment([o, end], egui::Stroke::new(w, style::PULL));
+    let head = 12.0;
+    let n = egui::vec2(-d.y, d.x);
+    painter.add(egui::Shape::convex_polygon(
+        vec![
+            end + d * 2.0,
+            end - d * head + n * head * 0.45,
+            end - d * head - n * head * 0.45,
+        ],
+        style::PULL,
+        egui::Stroke::NONE,
+    ));
 }
 
 /// How many cycles are shown, and the κx switch.
@@ -198,6 +240,12 @@ fn legend_ui(ui: &mut Ui, dark: bool) {
         style::legend_line(ui, style::ink(dark), false, "C");
         style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
         style::legend_line(ui, style::PULL, false, "pull θν");
+        ui.label(
+            RichText::new(
+                "(the arrow's direction is the pull's in these axes; its length is not to scale)",
+            )
+            .weak(),
+        );
     });
 }
 
@@ -270,6 +318,23 @@ mod tests {
             w: 0.0,
             phase,
         }
+    }
+
+    #[test]
+    fn the_pull_arrow_runs_along_a_stick_segment_in_the_axes_shown() {
+        // A stick moves the block with V: from (x, y) to (x, y) + V t.
+        let (kappa, theta_nu) = (50.0f64, 1.4f64);
+        for sx in [kappa, 1.0] {
+            let a = [0.01, 0.2];
+            let b = [a[0] + 0.3 * theta_nu.cos(), a[1] + 0.3 * theta_nu.sin()];
+            let seg = [sx * (b[0] - a[0]), b[1] - a[1]];
+            let d = pull_direction(theta_nu, sx);
+            let cross = d[0] * seg[1] - d[1] * seg[0];
+            assert!(cross.abs() < 1e-12 && d[0] * seg[0] + d[1] * seg[1] > 0.0);
+        }
+        // In κx at κ = 50, θν = 1.4 the stick runs at about 6.6°, not 80°.
+        let d = pull_direction(theta_nu, kappa);
+        assert!((d[1].atan2(d[0]).to_degrees() - 6.6).abs() < 0.1);
     }
 
     #[test]

@@ -8,6 +8,7 @@ use eframe::egui;
 use egui::{RichText, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
 
+use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
 use super::settings::{Settings, ViewKind};
 use super::style;
@@ -78,9 +79,10 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
 pub struct ReturnMapView;
 
 impl ReturnMapView {
-    fn show(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
         legend_ui(ui, it.period, it.lyapunov, s.dark);
+        powers_ui(ui, s, &it.powers);
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;
@@ -96,7 +98,20 @@ impl ReturnMapView {
             .last()
             .zip(it.graph.first())
             .map_or(1.0, |(a, b)| (a[0] - b[0]).abs());
-        let pieces = graph_pieces(&it.graph, 0.1 * window.max(1e-3));
+        let jump = 0.1 * window.max(1e-3);
+        let pieces = graph_pieces(&it.graph, jump);
+        // f^k over the same θ, for each k asked for that has arrived.
+        let power_pieces: Vec<(usize, Vec<Vec<[f64; 2]>>)> = it
+            .powers
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| s.map_powers.get(*i).copied().unwrap_or(false))
+            .map(|(i, vals)| {
+                let pts: Vec<[f64; 2]> =
+                    it.graph.iter().zip(vals).map(|(g, &v)| [g[0], v]).collect();
+                (i, graph_pieces(&pts, jump))
+            })
+            .collect();
         let web = cobweb(tail);
         // Frame the attractor (the kept iterates; the transient may fall
         // outside) in the window the worker drew f over.
@@ -104,80 +119,121 @@ impl ReturnMapView {
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
+        // Out to round values, so that even a short side has five ticks.
+        let (lo, hi) = axes::nice_bounds(lo, hi, axes::MIN_TICKS);
         let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
             Regime::Mixed { theta_c } => Some(theta_c),
             _ => None,
         };
         let dark = s.dark;
-        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
-        Plot::new("return_map")
+        let lw = style::width(ui.ctx(), 1.0);
+        let plot = Plot::new("return_map")
             .show_background(false)
             .data_aspect(1.0)
-            .x_axis_label("θ (this onset)")
-            .y_axis_label("θ' (next onset)")
-            .allow_double_click_reset(false)
-            .show(ui, |p| {
-                // Follow the attractor as it changes, in a square that fits.
-                let f = *p.transform().frame();
-                if f.height() > 0.0 {
-                    let asp = (f.width() / f.height()) as f64;
-                    let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-                    let (hx, hy) = if asp >= 1.0 {
-                        (h * asp, h)
-                    } else {
-                        (h, h / asp)
-                    };
-                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
-                        [c - hx, c - hy],
-                        [c + hx, c + hy],
-                    ));
-                }
-                p.line(
-                    style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
-                        .color(style::CRITICAL)
-                        .style(LineStyle::Dashed { length: 8.0 }),
-                );
-                if let Some(tc) = theta_c {
-                    for v in [tc, -tc] {
-                        if v > lo && v < hi {
-                            p.add(
-                                VLine::new("θc", v)
-                                    .color(style::ACCEL.gamma_multiply(0.6))
-                                    .style(LineStyle::Dashed { length: 6.0 }),
-                            );
-                            p.add(
-                                HLine::new("θc", v)
-                                    .color(style::ACCEL.gamma_multiply(0.6))
-                                    .style(LineStyle::Dashed { length: 6.0 }),
-                            );
-                        }
+            .allow_double_click_reset(false);
+        let plot = axes::apply(
+            plot,
+            &AxisSpec::angle("θ, this onset", s.angle_unit),
+            &AxisSpec::angle("θ', next onset", s.angle_unit),
+        );
+        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
+        let resp = plot.show(ui, |p| {
+            // Follow the attractor as it changes, in a square that fits.
+            let f = *p.transform().frame();
+            if f.height() > 0.0 {
+                let asp = (f.width() / f.height()) as f64;
+                let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+                let (hx, hy) = if asp >= 1.0 {
+                    (h * asp, h)
+                } else {
+                    (h, h / asp)
+                };
+                p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
+                    [c - hx, c - hy],
+                    [c + hx, c + hy],
+                ));
+            }
+            p.line(
+                style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
+                    .color(style::CRITICAL)
+                    .style(LineStyle::Dashed { length: 8.0 }),
+            );
+            if let Some(tc) = theta_c {
+                for v in [tc, -tc] {
+                    if v > lo && v < hi {
+                        p.add(
+                            VLine::new("θc", v)
+                                .color(style::ACCEL.gamma_multiply(0.6))
+                                .style(LineStyle::Dashed { length: 6.0 }),
+                        );
+                        p.add(
+                            HLine::new("θc", v)
+                                .color(style::ACCEL.gamma_multiply(0.6))
+                                .style(LineStyle::Dashed { length: 6.0 }),
+                        );
                     }
                 }
+            }
+            for (i, pieces) in power_pieces {
+                let name = ["f²", "f³", "f⁴"][i.min(2)];
                 for piece in pieces {
                     p.line(
-                        style::line("f", PlotPoints::from(piece))
-                            .color(style::ACCEL)
-                            .width(1.5),
+                        style::line(name, PlotPoints::from(piece))
+                            .color(style::POWERS[i.min(2)])
+                            .width(1.5 * lw),
                     );
                 }
-                p.add(
-                    Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
-                        .color(style::STICK.gamma_multiply(0.45))
-                        .radius(2.5),
-                );
+            }
+            for piece in pieces {
                 p.line(
-                    style::line("cobweb", PlotPoints::from(web))
-                        .color(style::DECEL)
-                        .width(1.5),
+                    style::line("f", PlotPoints::from(piece))
+                        .color(style::ACCEL)
+                        .width(2.0 * lw),
                 );
-                p.add(
-                    Points::new("orbit iterates", PlotPoints::from(kept))
-                        .color(style::ink(dark))
-                        .radius(3.5)
-                        .filled(true),
-                );
-            });
+            }
+            p.add(
+                Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
+                    .color(style::STICK.gamma_multiply(0.45))
+                    .radius(2.5),
+            );
+            p.line(
+                style::line("cobweb", PlotPoints::from(web))
+                    .color(style::DECEL)
+                    .width(1.5 * lw),
+            );
+            p.add(
+                Points::new("orbit iterates", PlotPoints::from(kept))
+                    .color(style::ink(dark))
+                    .radius(3.5)
+                    .filled(true),
+            );
+        });
+        axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
     }
+}
+
+/// The f², f³, f⁴ switches, each with its colour, and whether it is still
+/// being computed.
+fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("also draw:");
+        for (i, name) in ["f²", "f³", "f⁴"].into_iter().enumerate() {
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(18.0, 14.0), egui::Sense::hover());
+            ui.painter().line_segment(
+                [rect.left_center(), rect.right_center()],
+                egui::Stroke::new(2.0, style::POWERS[i]),
+            );
+            ui.checkbox(&mut s.map_powers[i], name).on_hover_text(
+                "The graph of the map composed with itself, each point from \
+                 k cycles integrated in turn: a period-k orbit is where it \
+                 meets θ' = θ, and a tangency marks a period-k window's birth.",
+            );
+        }
+        let want = s.graph_power();
+        if want >= 2 && arrived.len() + 1 < want {
+            ui.weak("computing…");
+        }
+    });
 }
 
 /// The period and λ, and the legend above the plot.

@@ -157,6 +157,11 @@ pub struct Settings {
     pub phase: PhaseSettings,
     /// How θν and θ axes are labelled.
     pub angle_unit: AngleUnit,
+    /// Which of f², f³, f⁴ the return map draws beside f.
+    pub map_powers: [bool; 3],
+    /// The projector preset: thick lines and high contrast (and, when
+    /// switched on, large text).
+    pub projector: bool,
 }
 
 impl Settings {
@@ -199,6 +204,8 @@ impl Default for Settings {
             preset: Some("fig3b".into()),
             phase: PhaseSettings::default(),
             angle_unit: AngleUnit::Radians,
+            map_powers: [false; 3],
+            projector: false,
         }
     }
 }
@@ -321,6 +328,14 @@ impl Settings {
             bad.push("phase grid");
         }
         (self, bad)
+    }
+
+    /// The highest power f^k of the map the return map draws (1: f alone).
+    pub fn graph_power(&self) -> usize {
+        self.map_powers
+            .iter()
+            .rposition(|&on| on)
+            .map_or(1, |i| i + 2)
     }
 
     /// Whether `v` is on screen (as the tab, or one of the tiles).

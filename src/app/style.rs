@@ -12,6 +12,30 @@ pub const PULL: Color32 = Color32::from_rgb(0, 158, 115);
 pub const CRITICAL: Color32 = Color32::from_rgb(120, 120, 120);
 pub const CURRENT: Color32 = Color32::from_rgb(0, 158, 115);
 pub const ERROR: Color32 = Color32::from_rgb(220, 30, 30);
+/// f², f³, f⁴ on the return map (Okabe–Ito reddish purple, bluish green,
+/// sky blue: apart from f's vermilion and from each other).
+pub const POWERS: [Color32; 3] = [
+    Color32::from_rgb(204, 121, 167),
+    Color32::from_rgb(0, 158, 115),
+    Color32::from_rgb(86, 180, 233),
+];
+
+fn line_scale_id() -> egui::Id {
+    egui::Id::unique("oneblock-line-scale")
+}
+
+/// Sets how much thicker than usual every plot line is drawn (the
+/// projector preset's thick lines).
+pub fn set_line_scale(ctx: &egui::Context, scale: f32) {
+    ctx.data_mut(|d| d.insert_temp(line_scale_id(), scale));
+}
+
+/// A line width: `base` points times the window's line scale.
+pub fn width(ctx: &egui::Context, base: f32) -> f32 {
+    base * ctx
+        .data(|d| d.get_temp::<f32>(line_scale_id()))
+        .unwrap_or(1.0)
+}
 
 /// The colour of the main curves: dark on light, light on dark.
 pub fn ink(dark: bool) -> Color32 {

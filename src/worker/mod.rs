@@ -38,11 +38,12 @@ use std::time::Duration;
 
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
+pub use numerics::TIMING_REPEATS;
 pub use phase::{COARSE_STRIDE, Seed, run_cell};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
-    Axis, Command, Generation, GridCell, IterateSpec, Lane, Outcome, PhaseSpec, SweepSpec,
-    TrajectorySpec, Update, WorkPrecisionSpec,
+    Axis, Command, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec,
+    SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use gate::Gate;

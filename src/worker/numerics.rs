@@ -16,6 +16,9 @@ use crate::numerics::quick::{MAX_QUICK_POINTS, SLOW_ITERATE, combine, current_at
 use crate::numerics::{Row, Subject, build_sample_until, measure};
 use crate::sim::SimError;
 
+/// Timings of each point in a re-measure, of which the fastest is kept.
+pub const TIMING_REPEATS: u32 = 3;
+
 /// The longest timing a job accepts per setting (a run of 57 settings stays
 /// under a few minutes even at the limit).
 pub const MAX_TIME_PER_SETTING: Duration = Duration::from_secs(2);
@@ -121,10 +124,23 @@ impl Job<'_> {
             }
             let mut rows: Vec<Row> = Vec::with_capacity(sample.len());
             for sp in &sample {
-                if self.stale() {
-                    return Err(Stop::Stale.into());
+                // The fastest of a few timings: what the other lanes (or
+                // other programs) take of the cores only ever adds time.
+                let mut best: Option<Row> = None;
+                for _ in 0..TIMING_REPEATS {
+                    if self.stale() {
+                        return Err(Stop::Stale.into());
+                    }
+                    let r = measure(
+                        std::slice::from_ref(sp),
+                        subject,
+                        per_point / TIMING_REPEATS,
+                    );
+                    if best.as_ref().is_none_or(|b| r.median_us < b.median_us) {
+                        best = Some(r);
+                    }
                 }
-                rows.push(measure(std::slice::from_ref(sp), subject, per_point));
+                rows.extend(best);
             }
             let Some(row) = combine(&rows) else {
                 continue;

@@ -7,7 +7,9 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::{Duration, Instant};
 
 use super::gate::{Gate, Stop};
-use super::protocol::{Command, Generation, IterateSpec, Lane, Outcome, TrajectorySpec, Update};
+use super::protocol::{
+    Command, Generation, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, TrajectorySpec, Update,
+};
 use super::{Shared, panic_message};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
@@ -104,8 +106,16 @@ pub(crate) fn run(shared: &Shared, cmd: Command) {
                 theta0,
                 transient,
                 keep,
+                graph_powers,
             } = spec;
-            job.iterate(generation, params, settings, theta0, transient, keep)
+            job.iterate(
+                generation,
+                params,
+                settings,
+                theta0,
+                (transient, keep),
+                graph_powers,
+            )
         }),
         Command::InjectPanic {
             generation,
@@ -267,8 +277,8 @@ impl OrbitJob<'_> {
         params: Params,
         settings: SolverSettings,
         theta0: Option<f64>,
-        transient: usize,
-        keep: usize,
+        (transient, keep): (usize, usize),
+        graph_powers: usize,
     ) -> Result<(), JobError> {
         let sim = Simulator::new(params, settings)?;
         let mut theta = theta0.unwrap_or(params.theta_nu);
@@ -332,7 +342,32 @@ impl OrbitJob<'_> {
                 lyapunov: settled.lyapunov,
             },
         )?;
-        self.map_graph(generation, &sim, &kept)
+        self.map_graph(generation, &sim, &kept, graph_powers)
+    }
+
+    /// f at each of `thetas`, LANES cycles at a time stepped together
+    /// (bitwise the values one at a time would give), polling the job
+    /// between batches. A cycle that fails here (a bound hit far from the
+    /// attractor) leaves a gap in the picture (NaN), not an error for the
+    /// whole job; so does a NaN argument.
+    fn map_values(
+        &self,
+        generation: Generation,
+        sim: &Simulator,
+        thetas: &[f64],
+    ) -> Result<Vec<f64>, JobError> {
+        let mut values = vec![f64::NAN; thetas.len()];
+        let todo: Vec<usize> = (0..thetas.len())
+            .filter(|&i| thetas[i].is_finite())
+            .collect();
+        for batch in todo.chunks(LANES) {
+            self.poll(generation)?;
+            let tasks: Vec<_> = batch.iter().map(|&i| (sim, thetas[i], 0.0)).collect();
+            for (&i, r) in batch.iter().zip(cycles_in_lanes(&tasks)) {
+                values[i] = r.map_or(f64::NAN, |e| e.theta_next);
+            }
+        }
+        Ok(values)
     }
 
     /// The graph of f over the orbit's window, so that the return map shows
@@ -343,33 +378,34 @@ impl OrbitJob<'_> {
         generation: Generation,
         sim: &Simulator,
         kept: &[f64],
+        graph_powers: usize,
     ) -> Result<(), JobError> {
         let Some((lo, hi)) = return_map_window(kept) else {
             return Ok(());
         };
         let p = sim.params();
         let thetas = map_graph_grid(p.kappa, p.theta_nu, lo, hi, GRAPH_POINTS);
-        let mut values = Vec::with_capacity(thetas.len());
-        // Independent cycles: LANES at a time, stepped together (bitwise
-        // the values one at a time would give); the job is polled between
-        // batches.
-        for batch in thetas.chunks(LANES) {
-            self.poll(generation)?;
-            let tasks: Vec<_> = batch.iter().map(|&th| (sim, th, 0.0)).collect();
-            // A cycle that fails here (a bound hit far from the attractor)
-            // leaves a gap in the picture, not an error for the whole job.
-            for r in cycles_in_lanes(&tasks) {
-                values.push(r.map_or(f64::NAN, |e| e.theta_next));
-            }
-        }
-        self.send(
+        let values = self.map_values(generation, sim, &thetas)?;
+        let graph = |powers| Update::MapGraph {
             generation,
-            Update::MapGraph {
-                generation,
-                thetas,
-                values,
-            },
-        )
+            thetas: thetas.clone(),
+            values: values.clone(),
+            powers,
+        };
+        self.send(generation, graph(Vec::new()))?;
+        let top = graph_powers.min(MAX_GRAPH_POWER);
+        if top < 2 {
+            return Ok(());
+        }
+        // f^k(θ) = f(f^(k−1)(θ)): one more cycle from each point's last
+        // onset, so each power costs GRAPH_POINTS cycles.
+        let mut powers: Vec<Vec<f64>> = Vec::with_capacity(top - 1);
+        let mut last = values.clone();
+        for _ in 2..=top {
+            last = self.map_values(generation, sim, &last)?;
+            powers.push(last.clone());
+        }
+        self.send(generation, graph(powers))
     }
 
     /// Test-only fault injection: a few real cycles, then a panic.

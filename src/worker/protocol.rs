@@ -88,7 +88,13 @@ pub struct IterateSpec {
     pub transient: usize,
     /// Iterates kept and streamed.
     pub keep: usize,
+    /// The highest power f^k whose graph follows f's (1: f alone; at most
+    /// [`MAX_GRAPH_POWER`]).
+    pub graph_powers: usize,
 }
+
+/// The highest power of the map an iterate job draws the graph of.
+pub const MAX_GRAPH_POWER: usize = 4;
 
 /// A bifurcation diagram over θν (`theta_nu`, one column per step): a
 /// coarse pass over the whole range first, then refinement, each column
@@ -271,11 +277,17 @@ pub enum Update {
     },
     /// The graph of the map f over the window the iterate job's orbit is
     /// drawn in (`sim::return_map_window`): f(θ) at each θ of `thetas`, NaN
-    /// where that cycle failed. Sent once, after the kept iterates.
+    /// where that cycle failed. Sent after the kept iterates with f alone,
+    /// and again with `powers` when the job asks for f², f³, ….
     MapGraph {
         generation: Generation,
         thetas: Vec<f64>,
         values: Vec<f64>,
+        /// f^k at each of `thetas` for k = 2, 3, … (`graph_powers`), each
+        /// from k cycles integrated in turn (never a composition of the
+        /// sampled graph, which would carry its interpolation error k
+        /// times); NaN where a cycle failed. Empty in the first send.
+        powers: Vec<Vec<f64>>,
     },
     /// One finished bifurcation column.
     Column {

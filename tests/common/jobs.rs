@@ -50,6 +50,7 @@ pub fn iterate(generation: Generation, params: Params, transient: usize, keep: u
             theta0: None,
             transient,
             keep,
+            graph_powers: 1,
         },
     }
 }

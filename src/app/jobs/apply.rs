@@ -92,7 +92,13 @@ impl Jobs {
                 it.period = Some(period);
                 it.lyapunov = lyapunov;
             }
-            Update::MapGraph { thetas, values, .. } if job == JobKind::Iterate => {
+            Update::MapGraph {
+                thetas,
+                values,
+                powers,
+                ..
+            } if job == JobKind::Iterate => {
+                self.iterate.data.powers = powers;
                 self.iterate.data.graph = thetas
                     .into_iter()
                     .zip(values)

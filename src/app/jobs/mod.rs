@@ -150,6 +150,10 @@ pub struct Jobs {
     /// runs one job at a time; a new job there cancels the running one):
     /// the trajectory's generation and what to iterate once it is done.
     pending_iterate: Option<(Generation, Params, SolverSettings)>,
+    /// The highest power of f the return map asks to see, and the highest
+    /// the latest iterate job was asked for.
+    want_powers: usize,
+    sent_powers: usize,
 }
 
 /// The solver setting of a job that has one.
@@ -179,6 +183,8 @@ impl Jobs {
             last_orbit_send: f64::NEG_INFINITY,
             sweep_changed_at: None,
             pending_iterate: None,
+            want_powers: 1,
+            sent_powers: 1,
         }
     }
 
@@ -284,8 +290,33 @@ impl Jobs {
                 theta0,
                 transient,
                 keep: ITERATE_KEEP,
+                graph_powers: self.want_powers,
             },
         });
+        self.sent_powers = self.want_powers;
+    }
+
+    /// Draws f², f³, … asked for after the orbit analysis ran without
+    /// them: the same orbit again from its first kept onset (the kept
+    /// iterates come out bitwise as before), then the graphs.
+    fn add_graph_powers(&mut self, s: &Settings) {
+        let Some(&theta0) = self.iterate.data.thetas.first() else {
+            return;
+        };
+        let g = self.generation();
+        self.iterate.start(g, IterateData::default());
+        self.send(Command::Iterate {
+            generation: g,
+            spec: IterateSpec {
+                params: s.params,
+                settings: solver(JobKind::Iterate, s),
+                theta0: Some(theta0),
+                transient: 0,
+                keep: ITERATE_KEEP,
+                graph_powers: self.want_powers,
+            },
+        });
+        self.sent_powers = self.want_powers;
     }
 
     /// Starts the bifurcation sweep over `zoom`, or the whole range.
@@ -328,8 +359,9 @@ impl Jobs {
         };
         let subjects = quick_subjects();
         let g = self.generation();
-        self.numerics
-            .start(g, WorkPrecisionData::new(params, subjects.len()));
+        let mut data = WorkPrecisionData::new(params, subjects.len());
+        data.load = super::data::load_average();
+        self.numerics.start(g, data);
         self.send(Command::WorkPrecision {
             generation: g,
             spec: WorkPrecisionSpec {
@@ -416,6 +448,15 @@ impl Jobs {
             solver(JobKind::Trajectory, s),
             solver(JobKind::Iterate, s),
         ));
+        self.want_powers = s.graph_power();
+        if self.sent_orbit == orbit_now
+            && self.want_powers > self.sent_powers
+            && self.pending_iterate.is_none()
+            && self.iterate.issued()
+            && self.iterate.state == JobState::Done
+        {
+            self.add_graph_powers(s);
+        }
         if self.sent_orbit != orbit_now {
             let left = self.last_orbit_send + ORBIT_DEBOUNCE - now;
             if left <= 0.0 || self.sent_orbit.is_none() {
