@@ -13,17 +13,10 @@ use std::time::Duration;
 use egui::{Context, Key, KeyboardShortcut, Modifiers, Rect, RichText, Ui};
 
 use super::backend::Backend;
-use super::bifurcation::BifurcationView;
-use super::block::BlockView;
 use super::controls::Controls;
-use super::events::EventsView;
 use super::frame_stats::FrameStats;
 use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
-use super::numerics_view::NumericsView;
-use super::phase_view::PhaseView;
-use super::plane::PlaneView;
-use super::return_map::ReturnMapView;
 use super::save;
 use super::screenshot::{Shots, fresh_path};
 use super::script::{Script, Window};
@@ -32,34 +25,8 @@ use super::settings::{Layout, Settings, ViewKind};
 use super::status;
 use super::style;
 use super::svg_render;
-use super::view::{Action, View};
-
-/// The views' own state (textures, zoom stacks, switches).
-#[derive(Default)]
-pub struct Views {
-    pub plane: PlaneView,
-    pub block: BlockView,
-    pub bifurcation: BifurcationView,
-    pub return_map: ReturnMapView,
-    pub events: EventsView,
-    pub numerics: NumericsView,
-    pub phase: PhaseView,
-}
-
-impl Views {
-    /// The view of kind `v`.
-    pub fn get_mut(&mut self, v: ViewKind) -> &mut dyn View {
-        match v {
-            ViewKind::Plane => &mut self.plane,
-            ViewKind::Block => &mut self.block,
-            ViewKind::Bifurcation => &mut self.bifurcation,
-            ViewKind::ReturnMap => &mut self.return_map,
-            ViewKind::Events => &mut self.events,
-            ViewKind::Numerics => &mut self.numerics,
-            ViewKind::Phase => &mut self.phase,
-        }
-    }
-}
+use super::view::Action;
+use super::views::{Views, tile_rects};
 
 /// The explorer app.
 pub struct Explorer {
@@ -503,29 +470,6 @@ impl Explorer {
             },
         );
     }
-}
-
-/// The tiles' rectangles in `area`: two columns (one for a single view),
-/// the last row's single tile spanning the width.
-pub(crate) fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
-    let n = n.max(1);
-    let cols = if n == 1 { 1 } else { 2 };
-    let rows = n.div_ceil(cols);
-    let gap = 6.0;
-    let w = (area.width() - gap * (cols as f32 - 1.0)) / cols as f32;
-    let h = (area.height() - gap * (rows as f32 - 1.0)) / rows as f32;
-    (0..n)
-        .map(|i| {
-            let (r, c) = (i / cols, i % cols);
-            let span = if r == rows - 1 && n % cols == 1 && cols == 2 {
-                2.0
-            } else {
-                1.0
-            };
-            let min = area.min + egui::vec2(c as f32 * (w + gap), r as f32 * (h + gap));
-            Rect::from_min_size(min, egui::vec2(w * span + gap * (span - 1.0), h))
-        })
-        .collect()
 }
 
 impl eframe::App for Explorer {

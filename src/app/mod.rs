@@ -49,6 +49,7 @@ pub mod style;
 pub mod svg;
 pub mod svg_render;
 pub mod view;
+pub mod views;
 
 use std::path::PathBuf;
 use std::sync::{Arc, PoisonError};

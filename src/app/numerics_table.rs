@@ -5,7 +5,6 @@ use eframe::egui;
 use egui::{RichText, Ui};
 
 use super::jobs::JobKind;
-use super::numerics_view::method_color;
 use super::settings::Settings;
 use super::style;
 use crate::numerics::{Row, Subject};
@@ -58,7 +57,7 @@ pub fn table_ui(ui: &mut Ui, rows: &[Row], s: &Settings) {
                         ui.label(
                             RichText::new(r.method)
                                 .small()
-                                .color(method_color(r.method)),
+                                .color(style::method_color(r.method)),
                         );
                         cell(ui, format!("{} {:e}", r.kind, r.setting));
                         for t in row_numbers(r) {

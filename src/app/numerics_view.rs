@@ -30,34 +30,6 @@ pub struct NumericsView {
     pub hide_committed: bool,
 }
 
-/// The colour of a method's curve (Okabe–Ito, one hue each: no two blues);
-/// the peer's are dashed.
-pub fn method_color(method: &str) -> Color32 {
-    match method {
-        "euler" => Color32::from_rgb(204, 121, 167),
-        "rk4" => Color32::from_rgb(230, 159, 0),
-        "dp54" => Color32::from_rgb(86, 180, 233),
-        "dop853" => Color32::from_rgb(0, 158, 115),
-        "ode_solvers-dopri5" => Color32::from_rgb(120, 120, 120),
-        "ode_solvers-dop853" => Color32::from_rgb(213, 94, 0),
-        _ => Color32::GRAY,
-    }
-}
-
-/// The marker of a method's points: a shape each, so that the curves part
-/// in grey print and for any colour vision.
-pub fn method_marker(method: &str) -> MarkerShape {
-    match method {
-        "euler" => MarkerShape::Cross,
-        "rk4" => MarkerShape::Square,
-        "dp54" => MarkerShape::Diamond,
-        "dop853" => MarkerShape::Circle,
-        "ode_solvers-dopri5" => MarkerShape::Down,
-        "ode_solvers-dop853" => MarkerShape::Up,
-        _ => MarkerShape::Plus,
-    }
-}
-
 /// log10, with errors of exactly 0 put at 1e-17 (below any chart's floor).
 fn lg(v: f64) -> f64 {
     v.max(1e-17).log10()
@@ -306,13 +278,13 @@ impl NumericsView {
                         // Unnamed: the committed curves stay out of the legend.
                         p.line(
                             style::line("", PlotPoints::from(pts))
-                                .color(method_color(m).gamma_multiply(0.3))
+                                .color(style::method_color(m).gamma_multiply(0.3))
                                 .width(1.0),
                         );
                     }
                 }
                 for (m, pts) in curves(rows, y_evals) {
-                    let c = method_color(m);
+                    let c = style::method_color(m);
                     let mut line = style::line(m, PlotPoints::from(pts.clone()))
                         .color(c)
                         .width(1.8 * lw);
@@ -323,7 +295,7 @@ impl NumericsView {
                     p.add(
                         Points::new(m, PlotPoints::from(pts))
                             .color(c)
-                            .shape(method_marker(m))
+                            .shape(style::method_marker(m))
                             .filled(true)
                             .radius(4.0 * lw),
                     );
@@ -344,7 +316,7 @@ impl NumericsView {
 
 /// A method's line and marker, and its name.
 fn legend_method(ui: &mut Ui, method: &str) {
-    let color = method_color(method);
+    let color = style::method_color(method);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(26.0, 14.0), egui::Sense::hover());
     let y = rect.center().y;
     let stroke = egui::Stroke::new(2.0, color);
@@ -359,7 +331,7 @@ fn legend_method(ui: &mut Ui, method: &str) {
     }
     let c = rect.center();
     let r = 4.5;
-    match method_marker(method) {
+    match style::method_marker(method) {
         MarkerShape::Cross => {
             for d in [egui::vec2(r, r), egui::vec2(r, -r)] {
                 p.line_segment([c - d, c + d], stroke);
@@ -500,8 +472,8 @@ mod tests {
         ];
         for (i, a) in ms.iter().enumerate() {
             for b in &ms[i + 1..] {
-                assert_ne!(method_color(a), method_color(b), "{a} {b}");
-                assert_ne!(method_marker(a), method_marker(b), "{a} {b}");
+                assert_ne!(style::method_color(a), style::method_color(b), "{a} {b}");
+                assert_ne!(style::method_marker(a), style::method_marker(b), "{a} {b}");
             }
         }
     }

@@ -3,6 +3,7 @@
 
 use eframe::egui;
 use egui::{Color32, Ui};
+use egui_plot::MarkerShape;
 
 pub const STICK: Color32 = Color32::from_rgb(0, 114, 178);
 pub const ACCEL: Color32 = Color32::from_rgb(213, 94, 0);
@@ -120,5 +121,33 @@ pub fn phase_color(p: crate::sim::Phase) -> Color32 {
         crate::sim::Phase::Stick => STICK,
         crate::sim::Phase::Accel => ACCEL,
         crate::sim::Phase::Decel => DECEL,
+    }
+}
+
+/// The colour of a method's curve (Okabe–Ito, one hue each: no two blues);
+/// the peer's are dashed.
+pub fn method_color(method: &str) -> Color32 {
+    match method {
+        "euler" => Color32::from_rgb(204, 121, 167),
+        "rk4" => Color32::from_rgb(230, 159, 0),
+        "dp54" => Color32::from_rgb(86, 180, 233),
+        "dop853" => Color32::from_rgb(0, 158, 115),
+        "ode_solvers-dopri5" => Color32::from_rgb(120, 120, 120),
+        "ode_solvers-dop853" => Color32::from_rgb(213, 94, 0),
+        _ => Color32::GRAY,
+    }
+}
+
+/// The marker of a method's points: a shape each, so that the curves part
+/// in grey print and for any colour vision.
+pub fn method_marker(method: &str) -> MarkerShape {
+    match method {
+        "euler" => MarkerShape::Cross,
+        "rk4" => MarkerShape::Square,
+        "dp54" => MarkerShape::Diamond,
+        "dop853" => MarkerShape::Circle,
+        "ode_solvers-dopri5" => MarkerShape::Down,
+        "ode_solvers-dop853" => MarkerShape::Up,
+        _ => MarkerShape::Plus,
     }
 }

@@ -9,10 +9,10 @@ use egui::{Color32, Rect, RichText, Vec2};
 
 use super::axes;
 use super::bifurcation::Zoom;
-use super::explorer::{Views, tile_rects};
 use super::jobs::Jobs;
 use super::settings::{Layout, Settings, ViewKind};
 use super::svg::{SvgWriter, Textures};
+use super::views::{Views, tile_rects};
 
 /// Passes before the shapes are taken: plots settle their bounds and
 /// labels over the first ones.
