@@ -138,7 +138,7 @@ fn the_regime_badge_follows_gamma_and_kappa() {
         .set_value_accesskit(3.0);
     h.run_steps(2);
     assert!(h.query_by_label_contains("pure creep").is_some());
-    // γ = 6.5, κ = 50: mixed, θc = 0.4090 (MODEL.md).
+    // γ = 6.5, κ = 50: mixed, θc = 0.4090 (docs/model.md).
     h.get_by_role_and_label(Role::Slider, "γ")
         .set_value_accesskit(6.5);
     h.get_by_role_and_label(Role::Slider, "κ")

@@ -1,4 +1,4 @@
-//! The paper's checks (section 3, figures 3 and 4), as MODEL.md lists them.
+//! The paper's checks (section 3, figures 3 and 4), as docs/model.md lists them.
 
 #![allow(clippy::unwrap_used)]
 
@@ -67,7 +67,7 @@ fn pure_creep_fixed_point_approaches_theta_nu_linearly_in_nu() {
 }
 
 /// γ = 6.5, κ = 50 (mixed): for θν ≤ 0.4 the attractor is a fixed point
-/// below θν, whose gap shrinks as ν goes 1e-4 → 1e-6 (slowly: MODEL.md).
+/// below θν, whose gap shrinks as ν goes 1e-4 → 1e-6 (slowly: docs/model.md).
 #[test]
 fn fig3a_creep_fixed_point_below_theta_nu() {
     for theta_nu in [0.2, 0.3, 0.4] {

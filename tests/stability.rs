@@ -282,7 +282,7 @@ fn hard_corners_give_a_finite_value_or_a_clear_error() {
 fn a_stop_within_1e_12_of_c_is_a_value_not_noise() {
     // At ν = 1e-12 (the smallest ν allowed) a creep slip of ~2e-13 stops
     // within 1e-12 of C: |F_el| − 1 there is at the level of rounding, the
-    // stop lands just outside C and the cycle restarts at once (MODEL.md
+    // stop lands just outside C and the cycle restarts at once (docs/model.md
     // rule 5, counted as `restarted`); θ' must still be finite, on the exit
     // arc, and the same for both methods.
     let p = Params {

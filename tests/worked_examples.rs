@@ -1,4 +1,4 @@
-//! MODEL.md's worked examples: one map iterate each, from two independent
+//! docs/model.md's worked examples: one map iterate each, from two independent
 //! high-accuracy implementations (trust 10 digits). They pin the
 //! conventions: the angle wrap, the phase switch, the stop, the stick phase.
 

@@ -4,7 +4,7 @@
 
 use std::process::{Command, Output};
 
-/// MODEL.md's first worked example.
+/// docs/model.md's first worked example.
 pub const FIG3B: [&str; 8] = [
     "--kappa",
     "18.95",
