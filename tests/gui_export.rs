@@ -9,7 +9,7 @@ mod window;
 use egui_kittest::kittest::Queryable;
 
 use oneblock::app::{Recorder, Settings};
-use oneblock::worker::{Command, Update};
+use oneblock::worker::Update;
 use window::{event, feed_phase, harness, phase_jobs, phase_tab, wait_for_csv};
 
 #[test]
@@ -22,14 +22,7 @@ fn export_writes_the_events_csv_into_the_chosen_folder() {
     };
     let mut h = harness(&rec, settings);
     h.run_steps(2);
-    let g = rec
-        .commands()
-        .into_iter()
-        .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(generation),
-            _ => None,
-        })
-        .expect("trajectory");
+    let g = window::trajectory_generation(&rec);
     for i in 0..3 {
         rec.push(Update::Slip {
             generation: g,
@@ -358,14 +351,7 @@ fn the_window_saves_an_svg_of_the_tiles_and_a_session() {
     };
     let mut h = harness(&rec, settings);
     h.run_steps(2);
-    let g = rec
-        .commands()
-        .into_iter()
-        .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(generation),
-            _ => None,
-        })
-        .expect("trajectory");
+    let g = window::trajectory_generation(&rec);
     for i in 0..30 {
         rec.push(Update::Slip {
             generation: g,

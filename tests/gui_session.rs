@@ -106,7 +106,7 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
     mod window;
     use egui_kittest::kittest::Queryable;
     use oneblock::app::Recorder;
-    use oneblock::worker::{Command, Update};
+    use oneblock::worker::Update;
     let rec = Recorder::new();
     let settings = Settings {
         layout: Layout::Tabs,
@@ -115,14 +115,7 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
     };
     let mut h = window::harness(&rec, settings);
     h.run_steps(2);
-    let g = rec
-        .commands()
-        .into_iter()
-        .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(generation),
-            _ => None,
-        })
-        .expect("trajectory");
+    let g = window::trajectory_generation(&rec);
     // 40 events: the first 10 (a quarter, the transient) are left out;
     // then large slips (0.8) with 4, 6, 6 and 3 creep slips (3e-3) between.
     let mut sizes = vec![0.5; 10];

@@ -223,3 +223,14 @@ pub fn phase_cell_pos(
         .expect("the phase plot was drawn");
     t.position_from_point(&PlotPoint::new(tns[column], ks[row]))
 }
+
+/// The generation of the first trajectory job the window asked for.
+pub fn trajectory_generation(rec: &Recorder) -> Generation {
+    rec.commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Trajectory { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("the window starts a trajectory")
+}
