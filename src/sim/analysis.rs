@@ -78,7 +78,11 @@ pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64,
 
 /// The secant slope of f over θ ± 1e-5 (one-sided next to the edge of the
 /// exit arc), with the evaluations it cost.
-fn central_difference(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
+pub(crate) fn central_difference(
+    sim: &Simulator,
+    theta: f64,
+    f_theta: f64,
+) -> Result<(f64, u64), SimError> {
     let h = DERIVATIVE_STEP;
     let p = sim.params();
     let up = is_on_exit_arc(p.kappa, p.theta_nu, theta + h);

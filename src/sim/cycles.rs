@@ -6,7 +6,7 @@
 //! classifiers solve the cycle the orbit is heading for
 //! ([`confirm_contraction`]) instead of iterating until it gets there.
 
-use super::analysis::cycle_with_derivative;
+use super::analysis::central_difference;
 use super::period::{Contraction, PERIOD_MAX};
 use super::{SimError, Simulator};
 use crate::integrate::SolverSettings;
@@ -83,7 +83,7 @@ pub struct Cycle {
     /// traversed p/q times.
     pub minimal_period: usize,
     /// Map evaluations spent (each carries f'(θ) exactly; a central
-    /// difference, where f has no derivative, counts 3 more).
+    /// difference, where f has no derivative, counts 2 more).
     pub map_evals: u64,
     /// Right-hand-side evaluations spent.
     pub rhs_evals: u64,
@@ -146,9 +146,9 @@ fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result
             Ok(d) => d.d_theta,
             Err(_) => {
                 restarted = true;
-                let (fd, d, n) = cycle_with_derivative(sim, th, 0.0)?;
-                spent.0 += 3;
-                spent.1 += fd.rhs_evals + n;
+                let (d, n) = central_difference(sim, th, ev.theta_next)?;
+                spent.0 += 2;
+                spent.1 += n;
                 d
             }
         };
