@@ -242,7 +242,7 @@ fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
     let mut s = fig3b_tab();
     let shown = Shown {
         now: 0.0,
-        sweep_zoom: None,
+        sweep_zoom: Some((1.0, 1.2)),
         phase: false,
     };
     jobs.sync(&s, shown);
