@@ -426,7 +426,7 @@ fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
     } else if ui
         .button("Boundaries")
         .on_hover_text(
-            "Follow the period-doubling curves (FP→P2, P2→P4) through the box in (θν, κ), \
+            "Follow the period-doubling curves (FP to P2, P2 to P4) through the box in (θν, κ), \
              from the doublings found along θν at the κ slider's value. Runs on the \
              worker; a change of γ, ν, Ω or of the box stops it.",
         )

@@ -310,7 +310,7 @@ impl Job<'_> {
             .iter()
             .map(|c| {
                 format!(
-                    "P{}→P{} ({} points)",
+                    "P{} to P{} ({} points)",
                     c.period,
                     2 * c.period,
                     c.points.len()
