@@ -3,6 +3,7 @@
 //! directly, streams each branch as it ends, and a newer job or a
 //! parameter change stops it with nothing stale after; "Boundaries" sends
 //! doubling curves on which the multiplier is −1.
+#![allow(clippy::unwrap_used)]
 
 mod common;
 
