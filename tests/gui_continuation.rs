@@ -22,6 +22,7 @@ use oneblock::app::bifurcation::Zoom;
 use oneblock::app::branches::{csv_line, runs, sig9, special_rows};
 use oneblock::app::jobs::{JobState, Jobs, Shown};
 use oneblock::app::overlay;
+use oneblock::app::settings::PhaseRange;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
 use oneblock::sim::continuation::{ContParam, SpecialKind};
 use oneblock::worker::{Command, Lane, Update, Worker, WorkerConfig};
@@ -210,13 +211,7 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
 
     // The SVG export draws the same series: the branches' and the PD's
     // colours are series of the diagram's plot.
-    let svg = oneblock::app::svg_render::render_svg(
-        &[ViewKind::Bifurcation],
-        &h.state().settings,
-        &h.state().jobs,
-        &h.state().views.bifurcation.zoom,
-        egui::vec2(900.0, 650.0),
-    );
+    let svg = svg_of(&h, ViewKind::Bifurcation);
     let key = |c: egui::Color32| {
         format!(
             "bifurcation:{:x}{:x}{:x}",
@@ -253,7 +248,26 @@ fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
     s.params.theta_nu = 1.1;
     jobs.sync(&s, shown);
     assert_eq!(jobs.branches.generation, g);
-    // κ changes: the job is cancelled on its lane, and its result is gone.
+    // A zoom stops a running job but keeps what it found.
+    jobs.apply(Update::Summary {
+        generation: g,
+        lane: Lane::Continuation,
+        text: "following the cascade".into(),
+    });
+    let zoomed = Shown {
+        sweep_zoom: Some((1.05, 1.15)),
+        ..shown
+    };
+    jobs.sync(&s, zoomed);
+    assert_eq!(jobs.branches.state, JobState::Cancelled);
+    assert_eq!(
+        jobs.branches.data.summary.as_deref(),
+        Some("stopped: the θν range changed")
+    );
+    assert_eq!(jobs.branches.data.range, (1.0, 1.2));
+    // Started again; κ changes: cancelled on its lane, its result gone.
+    jobs.find_bifurcations(&s, (1.0, 1.2));
+    let g = jobs.branches.generation;
     rec.clear();
     s.params.kappa = 16.0;
     jobs.sync(&s, shown);
@@ -276,6 +290,72 @@ fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
         jobs.branches.data.summary.as_deref(),
         Some("stopped: the parameters changed")
     );
+}
+
+#[test]
+fn boundaries_draw_the_doubling_curves_over_the_phase_diagram() {
+    let rec = Recorder::new();
+    let mut s = Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::Phase,
+        ..Settings::default()
+    };
+    s.params = preset("fig4").expect("preset").params;
+    s.phase.range = PhaseRange {
+        theta_nu: (0.1, 1.55),
+        kappa: (10.0, 22.0),
+    };
+    let mut h = harness_on_worker(&rec, s);
+    h.run_steps(2);
+    let before = svg_of(&h, ViewKind::Phase);
+    let white = "data-series=\"phase:777\"";
+    assert!(!before.contains(white), "no curve before Boundaries");
+    h.get_by_label("Boundaries").click();
+    h.step();
+    let spec = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Boundaries { spec, .. } => Some(spec),
+            _ => None,
+        })
+        .expect("the job was sent");
+    assert_eq!((spec.theta_nu, spec.kappa), ((0.1, 1.55), (10.0, 22.0)));
+    assert_eq!(
+        spec.params.kappa, 16.0,
+        "from the doublings at the slider's κ"
+    );
+    for _ in 0..3000 {
+        h.step();
+        let c = &h.state().jobs.curves;
+        if c.issued() && c.state != JobState::Running {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    h.run_steps(2);
+    let jobs = &h.state().jobs;
+    assert_eq!(jobs.curves.state, JobState::Done);
+    let periods: Vec<usize> = jobs.curves.data.curves.iter().map(|c| c.period).collect();
+    assert!(periods.contains(&1) && periods.contains(&2), "{periods:?}");
+    // The view and the status bar say what was found.
+    assert_eq!(h.query_all_by_label_contains("boundaries: ").count(), 2);
+    // Drawn, also in the SVG: the curves' white line is a series now.
+    assert!(svg_of(&h, ViewKind::Phase).contains(white));
+    // γ changes: the curves belonged to the old γ.
+    h.state_mut().settings.params.gamma = 6.0;
+    h.run_steps(2);
+    assert!(h.state().jobs.curves.data.curves.is_empty());
+}
+
+fn svg_of(h: &Harness<'static, Explorer>, v: ViewKind) -> String {
+    oneblock::app::svg_render::render_svg(
+        &[v],
+        &h.state().settings,
+        &h.state().jobs,
+        &h.state().views.bifurcation.zoom,
+        egui::vec2(900.0, 650.0),
+    )
 }
 
 /// The UI thread never continues a branch: no continuation entry point is
