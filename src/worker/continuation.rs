@@ -70,6 +70,17 @@ fn attractor_seed(
     })
 }
 
+/// The parameter's letter, as the window writes it.
+fn symbol(p: ContParam) -> &'static str {
+    match p {
+        ContParam::ThetaNu => "θν",
+        ContParam::Kappa => "κ",
+        ContParam::Gamma => "γ",
+        ContParam::Nu => "ν",
+        ContParam::Omega => "Ω",
+    }
+}
+
 /// A start that is not on a cycle: the job ends, saying why.
 fn start_failure(e: CycleFailure) -> JobError {
     match e {
@@ -122,7 +133,7 @@ impl Job<'_> {
         let started = Instant::now();
         let cancel = || self.stale();
         let (from, to) = (spec.from, spec.to);
-        let name = spec.param.name();
+        let name = symbol(spec.param);
         if !(from.is_finite() && to.is_finite()) || from == to {
             return Err(JobError::Failed(format!(
                 "the range {name} from {from} to {to} is empty"
