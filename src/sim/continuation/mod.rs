@@ -22,6 +22,7 @@ use crate::sim::{SimError, Simulator};
 
 pub use branch::{
     Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
+    continue_branch_reporting,
 };
 pub use cascade::{Cascade, cascade, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
