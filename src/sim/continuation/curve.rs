@@ -392,10 +392,10 @@ impl<'a> Ctx<'a> {
                                 format!("a border: a cycle point reaches the map's edge {e}")
                             }
                             Failure::Eval(e) => format!("the map failed: {e}"),
-                            // m ~ 1/√d near a jump of f: its gradient
-                            // grows without bound as the cycle nears it.
+                            // Next to a (near) jump of f the multiplier's
+                            // gradient explodes, and its error with it.
                             _ if self.steepness > STEEP => format!(
-                                "the cycle meets a jump of f: |grad m| = {:.1e} and growing, the corrector fails even at the shortest step",
+                                "the multiplier turns too steep to follow (|grad m| = {:.1e}: f jumps or nearly jumps next to the cycle); the corrector fails even at the shortest step",
                                 self.steepness
                             ),
                             _ => "the corrector failed even at the shortest step".into(),
