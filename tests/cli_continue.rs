@@ -123,8 +123,23 @@ fn one_curve_run_writes_both_arms_of_the_fp_to_p2_boundary() {
     let out = dir.path().join("pd1.csv");
     let args = with(
         &[
-            "continue", "--preset", "fig4", "--curve", "pd", "--params", "theta-nu,kappa",
-            "--from", "0.1", "--to", "1.55", "--from2", "1", "--to2", "42", "--period", "1",
+            "continue",
+            "--preset",
+            "fig4",
+            "--curve",
+            "pd",
+            "--params",
+            "theta-nu,kappa",
+            "--from",
+            "0.1",
+            "--to",
+            "1.55",
+            "--from2",
+            "1",
+            "--to2",
+            "42",
+            "--period",
+            "1",
         ],
         &["--out", out.to_str().unwrap()],
     );
@@ -133,7 +148,15 @@ fn one_curve_run_writes_both_arms_of_the_fp_to_p2_boundary() {
     let (header, rows) = parse_csv(&std::fs::read_to_string(&out).unwrap());
     assert_eq!(
         header,
-        ["curve", "kind", "period", "theta_nu", "kappa", "theta", "multiplier"]
+        [
+            "curve",
+            "kind",
+            "period",
+            "theta_nu",
+            "kappa",
+            "theta",
+            "multiplier"
+        ]
     );
     let arms: std::collections::BTreeSet<&str> = rows.iter().map(|r| r[0].as_str()).collect();
     assert!(!arms.is_empty() && arms.len() <= 2, "{arms:?}");
@@ -141,13 +164,18 @@ fn one_curve_run_writes_both_arms_of_the_fp_to_p2_boundary() {
     let theta_nu: Vec<f64> = rows.iter().map(|r| num(&r[3])).collect();
     for r in &rows {
         assert!((num(&r[6]) + 1.0).abs() <= 1e-6, "{r:?}");
-        assert!(num(&r[3]) >= 0.1 - 0.05 && num(&r[3]) <= 1.55 + 0.05, "{r:?}");
+        assert!(
+            num(&r[3]) >= 0.1 - 0.05 && num(&r[3]) <= 1.55 + 0.05,
+            "{r:?}"
+        );
     }
     // From the top of the box down to κ ≈ 1.21, on both sides of the
     // κ = 16 doublings (θν = 1.04 and 1.54).
     let (lo, hi) = kappa
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &k| (a.min(k), b.max(k)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &k| {
+            (a.min(k), b.max(k))
+        });
     assert!(lo < 1.215 && lo > 1.2, "{lo}");
     assert!(hi >= 42.0 - 1.0, "{hi}");
     let at_16: Vec<f64> = rows

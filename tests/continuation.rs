@@ -273,7 +273,8 @@ fn one_pd_curve_run_traces_the_fp_to_p2_boundary_that_the_branches_cross() {
     // the fixed point's first sheet (before any fold or border, past
     // which other fixed points double on curves of their own) are the
     // curves' crossings of that κ, to 1e-6, and there are no others.
-    for kappa in [1.25, 1.5, 2.0, 3.0, 10.0, 25.0, 40.0] {
+    // κ = 13: the right arm's S, four doublings along θν.
+    for kappa in [1.25, 1.5, 2.0, 3.0, 10.0, 13.0, 25.0, 40.0] {
         let pk = problem(kappa, 1);
         let ok = ContOptions::for_range(&pk.settings, 0.1, 1.55);
         let br = continue_branch(&pk, 0.1, 1.55, 0.1, &ok, &|| false).unwrap();
@@ -289,10 +290,17 @@ fn one_pd_curve_run_traces_the_fp_to_p2_boundary_that_the_branches_cross() {
             .map(|p| p.lambda[0])
             .collect();
         crossings.sort_by(f64::total_cmp);
-        assert_eq!(crossings.len(), pds.len(), "kappa {kappa}: {crossings:?} vs {pds:?}");
+        assert_eq!(
+            crossings.len(),
+            pds.len(),
+            "kappa {kappa}: {crossings:?} vs {pds:?}"
+        );
         assert!(!pds.is_empty(), "kappa {kappa}");
         for (x, pd) in crossings.iter().zip(&pds) {
-            assert!((x - pd).abs() < 1e-6, "kappa {kappa}: curve {x} vs branch {pd}");
+            assert!(
+                (x - pd).abs() < 1e-6,
+                "kappa {kappa}: curve {x} vs branch {pd}"
+            );
         }
     }
     // The bottom: both arms come down to κ ≈ 1.21, so at κ = 1.2 the

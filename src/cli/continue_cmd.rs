@@ -13,8 +13,8 @@ use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, finite,
     max_seconds, warn_validity,
 };
-use super::run_control::{Limits, stderr_is_terminal};
 use super::continue_out as out;
+use super::run_control::{Limits, stderr_is_terminal};
 use super::values::{count_between, echo, parse_count, parse_number, short};
 use crate::model::{Params, exit_arc};
 use crate::sim::continuation::{

@@ -102,7 +102,9 @@ pub fn curve_end(c: &Curve, last: bool) -> String {
     } else {
         c.points.first()
     };
-    p.map_or(String::new(), |p| format!("({}, {})", p.lambda[0], p.lambda[1]))
+    p.map_or(String::new(), |p| {
+        format!("({}, {})", p.lambda[0], p.lambda[1])
+    })
 }
 
 /// One line on a curve: its size, its ends and why each ended.

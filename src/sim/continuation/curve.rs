@@ -14,12 +14,12 @@
 //! leaves the box of the two ranges.
 
 use super::branch::SpecialPoint;
+use super::vec3::{cross, dot, norm, normalize, orient, solve3, sub};
 use super::{ContParam, EvalError};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
 use crate::sim::cycles::MAX_STEP;
-use super::vec3::{cross, dot, norm, normalize, orient, solve3, sub};
 
 /// Creeping steps (below [`CREEP`] of the first) looked at by the noise
 /// test.

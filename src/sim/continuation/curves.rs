@@ -5,9 +5,9 @@
 //! corrected there to the multiplier's accuracy (to compare a curve with
 //! one-parameter branches).
 
+use super::ContParam;
 use super::branch::SpecialPoint;
 use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
-use super::ContParam;
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 
@@ -86,8 +86,8 @@ pub fn curve_crossings(
         let mut y = [0.0; 3];
         y[0] = w[0].theta + f * wrap_angle(w[1].theta - w[0].theta);
         y[1 + axis] = value / scale[axis];
-        y[1 + other] = (w[0].lambda[other] + f * (w[1].lambda[other] - w[0].lambda[other]))
-            / scale[other];
+        y[1 + other] =
+            (w[0].lambda[other] + f * (w[1].lambda[other] - w[0].lambda[other])) / scale[other];
         if let Some(p) = refine(&mut ctx, y, other, scale) {
             out.push(p);
         }

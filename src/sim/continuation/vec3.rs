@@ -1,17 +1,21 @@
 //! Small 3-vector helpers for the curve continuation.
 
+/// a·b.
 pub(super) fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
     a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
 }
 
+/// a − b.
 pub(super) fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
 
+/// |a|.
 pub(super) fn norm(a: &[f64; 3]) -> f64 {
     dot(a, a).sqrt()
 }
 
+/// a × b.
 pub(super) fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     [
         a[1] * b[2] - a[2] * b[1],
@@ -20,11 +24,13 @@ pub(super) fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// a/|a|, or `None` for a zero or non-finite a.
 pub(super) fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
     let n = norm(&a);
     (n > 0.0 && n.is_finite()).then(|| a.map(|v| v / n))
 }
 
+/// a, turned to point the way `prev` does.
 pub(super) fn orient(a: [f64; 3], prev: &[f64; 3]) -> [f64; 3] {
     if dot(&a, prev) < 0.0 {
         a.map(|v| -v)
