@@ -219,3 +219,152 @@ fn bad_values_of_the_run_flags_name_the_flag_and_exit_2() {
     );
     assert!(!out.exists() && !pts.exists(), "nothing written");
 }
+
+#[test]
+fn the_cascade_prints_its_doublings_and_ratios_that_follow_from_them() {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, pts) = (dir.path().join("c.csv"), dir.path().join("p.csv"));
+    let args = with(
+        &[
+            "continue",
+            "--preset",
+            "fig3b",
+            "--param",
+            "theta-nu",
+            "--from",
+            "1.0",
+            "--to",
+            "1.6",
+            "--period",
+            "1",
+            "--cascade",
+        ],
+        &[
+            "--out",
+            out.to_str().unwrap(),
+            "--points",
+            pts.to_str().unwrap(),
+        ],
+    );
+    let o = run(&args);
+    assert_ok(&o);
+    let err = stderr(&o);
+    // The table: "  n  period  b_n  gap  delta", after the "cascade:" line.
+    let table: Vec<Vec<&str>> = err
+        .lines()
+        .skip_while(|l| !l.starts_with("cascade: "))
+        .skip(2)
+        .take_while(|l| l.starts_with("  ") && !l.contains("Feigenbaum"))
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    assert!(table.len() >= 4, "{err}");
+    let periods: Vec<usize> = table.iter().map(|r| r[1].parse().unwrap()).collect();
+    let expected: Vec<usize> = (0..table.len()).map(|i| 1 << i).collect();
+    assert_eq!(periods, expected);
+    // The doublings are the PD rows of points.csv, one per level.
+    let (_, specials) = parse_csv(&std::fs::read_to_string(&pts).unwrap());
+    let pds: Vec<f64> = specials
+        .iter()
+        .filter(|r| r[0] == "PD")
+        .map(|r| num(&r[3]))
+        .collect();
+    let b: Vec<f64> = table.iter().map(|r| num(r[2])).collect();
+    assert_eq!(pds.len(), b.len());
+    for (x, y) in pds.iter().zip(&b) {
+        assert!((x - y).abs() < 1e-14, "{x} vs {y}");
+    }
+    // δₙ recomputed from the printed bₙ, and the last near Feigenbaum's.
+    for (i, row) in table.iter().enumerate().skip(2) {
+        let delta = (b[i - 1] - b[i - 2]) / (b[i] - b[i - 1]);
+        assert!((num(row[4]) - delta).abs() < 1e-4, "{row:?} vs {delta}");
+    }
+    let last = (b[b.len() - 2] - b[b.len() - 3]) / (b[b.len() - 1] - b[b.len() - 2]);
+    assert!((last - 4.6692).abs() < 0.1, "{b:?}");
+}
+
+#[test]
+fn phase_draws_the_curves_of_a_continue_run_over_its_picture() {
+    let dir = tempfile::tempdir().unwrap();
+    let curve = dir.path().join("pd.csv");
+    // A diagonal from (0.15, 2) to (0.95, 19) in the curve CSV's format,
+    // over four cells that are all FP (blue, so the black line shows).
+    let mut text = String::from("curve,kind,period,theta_nu,kappa,theta,multiplier\n");
+    for i in 0..=20 {
+        let f = i as f64 / 20.0;
+        text.push_str(&format!(
+            "0,pd,1,{},{},0.4,-1\n",
+            0.15 + 0.8 * f,
+            2.0 + 17.0 * f
+        ));
+    }
+    std::fs::write(&curve, text).unwrap();
+    let phase = |png: &std::path::Path, more: &[&str]| {
+        let args = with(
+            &[
+                "phase",
+                "--gamma",
+                "6.5",
+                "--nu",
+                "1e-3",
+                "--kappa-from",
+                "1",
+                "--kappa-to",
+                "20",
+                "--kappa-steps",
+                "2",
+                "--theta-nu-from",
+                "0.1",
+                "--theta-nu-to",
+                "1.0",
+                "--theta-nu-steps",
+                "2",
+                "--png",
+                png.to_str().unwrap(),
+            ],
+            more,
+        );
+        run(&args)
+    };
+    let (plain, drawn) = (dir.path().join("a.png"), dir.path().join("b.png"));
+    assert_ok(&phase(&plain, &[]));
+    assert_ok(&phase(&drawn, &["--boundaries", curve.to_str().unwrap()]));
+    let a = image::open(&plain).unwrap().to_rgb8();
+    let b = image::open(&drawn).unwrap().to_rgb8();
+    assert_eq!(a.dimensions(), b.dimensions());
+    let changed: Vec<(u32, u32)> = a
+        .enumerate_pixels()
+        .filter(|(x, y, p)| b.get_pixel(*x, *y) != *p)
+        .map(|(x, y, _)| (x, y))
+        .collect();
+    // Only black pixels added, along a line that rises to the right
+    // across most of the plot.
+    assert!(changed.len() > 300, "{}", changed.len());
+    assert!(
+        changed
+            .iter()
+            .all(|&(x, y)| b.get_pixel(x, y).0 == [0, 0, 0])
+    );
+    let (xs, ys): (Vec<u32>, Vec<u32>) = changed.iter().copied().unzip();
+    let span = |v: &[u32]| v.iter().max().unwrap() - v.iter().min().unwrap();
+    assert!(
+        span(&xs) > 200 && span(&ys) > 200,
+        "{} {}",
+        span(&xs),
+        span(&ys)
+    );
+    let left = changed.iter().min_by_key(|p| p.0).unwrap();
+    let right = changed.iter().max_by_key(|p| p.0).unwrap();
+    assert!(
+        right.1 < left.1,
+        "image y grows downwards: {left:?} {right:?}"
+    );
+    // A file without the two columns is refused, naming the flag.
+    let bad = dir.path().join("bad.csv");
+    std::fs::write(&bad, "a,b\n1,2\n").unwrap();
+    let o = phase(
+        &dir.path().join("c.png"),
+        &["--boundaries", bad.to_str().unwrap()],
+    );
+    assert_eq!(o.status.code(), Some(2));
+    assert!(stderr(&o).contains("--boundaries"), "{}", stderr(&o));
+}
