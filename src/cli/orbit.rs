@@ -90,7 +90,7 @@ pub struct OrbitArgs {
 }
 
 /// The `--map` flag's value.
-fn map_choice(s: &str) -> Result<MapChoice, CliError> {
+pub(crate) fn map_choice(s: &str) -> Result<MapChoice, CliError> {
     match s {
         "direct" => Ok(MapChoice::Direct),
         "interpolant" => Ok(MapChoice::Interpolant),

@@ -34,6 +34,16 @@ impl MapChoice {
             MapChoice::Auto => iterates >= Self::AUTO_ITERATES,
         }
     }
+
+    /// Whether a run with `iterates` still to go after its direct part uses
+    /// the interpolant, when `Auto` needs at least `threshold` of them.
+    pub fn interpolates_beyond(self, iterates: usize, threshold: usize) -> bool {
+        match self {
+            MapChoice::Direct => false,
+            MapChoice::Interpolant => iterates > 0,
+            MapChoice::Auto => iterates >= threshold,
+        }
+    }
 }
 
 /// Direct iterates run from θ0 to see where the orbit goes before the
