@@ -390,12 +390,12 @@ impl ColumnRun {
     fn interpolate(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) {
         let recent = &self.onsets[self.onsets.len().saturating_sub(300)..];
         let mut spent = (0, 0);
-        let built = Stepper::over(
-            sim,
-            recent,
-            InterpolantOptions::for_settings(sim.settings()),
-            &mut spent,
-        );
+        // A refusal may cost up to twice what the kept points would have.
+        let iopts = InterpolantOptions {
+            max_evaluations: self.total.saturating_sub(self.transient).saturating_mul(2),
+            ..InterpolantOptions::for_settings(sim.settings())
+        };
+        let built = Stepper::over(sim, recent, iopts, &mut spent);
         self.col.rhs_evals += spent.1;
         let mut st = match built {
             Ok(st) => st,

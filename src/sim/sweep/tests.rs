@@ -102,7 +102,7 @@ fn long_transients_are_streamed() {
     };
     let mut run = ColumnRun::new(&sim, 1.25, None, &opts);
     let mut most = 0;
-    while let Some(theta) = run.next_onset(&|| false) {
+    while let Some(theta) = run.next_onset(&sim, &|| false) {
         run.take(&sim, sim.cycle(theta, 0.0, None));
         most = most.max(run.onsets.len());
     }
