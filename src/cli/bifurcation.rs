@@ -76,7 +76,7 @@ pub struct BifurcationArgs {
     pub keep: usize,
     /// How a column that has not settled after its transient evaluates the
     /// map: direct, interpolant (the map's verified interpolant, built per
-    /// column; docs/interpolant.md) or auto (the interpolant from 2000 kept
+    /// column; docs/interpolant.md) or auto (the interpolant from 5000 kept
     /// iterates on). Where it is refused the column integrates.
     #[arg(long, default_value = "auto")]
     pub map: String,

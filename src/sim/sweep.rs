@@ -36,14 +36,10 @@ pub struct SweepOptions {
     /// Iterates (points) each column keeps.
     pub keep: usize,
     /// How an unsettled column evaluates the map after its transient:
-    /// `Auto` builds the interpolant from [`INTERPOLANT_KEEP`] kept points
+    /// `Auto` builds the interpolant from [`MapChoice::AUTO_COLUMN_KEEP`] kept points
     /// on, `Interpolant` always, `Direct` never.
     pub map: MapChoice,
 }
-
-/// The kept points from which `MapChoice::Auto` continues a column on the
-/// interpolant (whose construction costs hundreds to thousands of cycles).
-pub const INTERPOLANT_KEEP: usize = 2000;
 
 /// One column of a bifurcation diagram.
 #[derive(Clone, Debug, PartialEq)]
@@ -249,7 +245,7 @@ impl ColumnRun {
             next_solve: 0,
             switch_at: opts
                 .map
-                .interpolates_beyond(opts.keep, INTERPOLANT_KEEP)
+                .interpolates_beyond(opts.keep, MapChoice::AUTO_COLUMN_KEEP)
                 .then_some(opts.transient.max(MIN_DIRECT) + 1),
             switch_due: false,
         };
