@@ -3,6 +3,7 @@
 //! regime (κ = 50, γ = 6.5, ν = 1e-4, θν = 1.4): the mean laminar length
 //! and the slip-size distribution agree within their statistical errors,
 //! and `oneblock orbit --stats` says where its slip sizes came from.
+#![allow(clippy::unwrap_used)]
 
 mod common;
 use common::fixture::preset;

@@ -2,6 +2,7 @@
 //! cell with a long budget is classified as with direct integration for
 //! far fewer map evaluations; the paper's budget never builds it; where it
 //! is refused the cell integrates, exactly as without it.
+#![allow(clippy::unwrap_used)]
 
 mod common;
 use common::fixture::preset;

@@ -4,6 +4,7 @@
 //! and their distribution is the directly integrated column's: the same
 //! period for a periodic column, the same extent and histogram (within
 //! statistical error) for a chaotic one.
+#![allow(clippy::unwrap_used)]
 
 mod common;
 use common::jobs::spawn;

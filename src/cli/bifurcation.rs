@@ -245,7 +245,16 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     }
     emit(&args.out, csv.as_bytes(), args.force)?;
 
-    let n = iterates.load(Ordering::Relaxed);
+    // A column on the interpolant integrated its construction's samples and
+    // the iterates outside its series, not the ones counted above.
+    let n = iterates.load(Ordering::Relaxed)
+        + cols
+            .iter()
+            .map(|c| match &c.map {
+                MapUsed::Interpolant(s) => (s.evaluations + s.direct_iterates) as u64,
+                _ => 0,
+            })
+            .sum::<u64>();
     let evals: u64 = cols.iter().map(|c| c.rhs_evals).sum();
     let failed = failed.load(Ordering::Relaxed);
     eprintln!(

@@ -351,7 +351,7 @@ fn classify<'s>(
             // adds evaluations, not iterates (two where f has no derivative
             // and the secant stands in).
             let ev = if i >= opts.transient {
-                let (ev, d, n) = cycle_with_derivative(&sim, theta, 0.0)?;
+                let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
                 cell.rhs_evals += n;
                 logs.push(d.abs().ln());
                 ev
@@ -372,7 +372,7 @@ fn classify<'s>(
             // The cycle solved from the next onset gives the exponent
             // ln|m|/p; if it cannot be solved, the mean of ln|f'| on its
             // last p iterates does.
-            let solved = solve_counting(&sim, theta, p, &cycle_opts, &mut spent)
+            let solved = solve_counting(sim, theta, p, &cycle_opts, &mut spent)
                 .ok()
                 .filter(|c| c.minimal_period == p);
             charge(cell, &mut spent);
@@ -384,7 +384,7 @@ fn classify<'s>(
                     (c.lyapunov(), c.points)
                 }
                 None => {
-                    let lc = cycle_exponent(cell, &sim, &thetas, theta, &logs, p)?;
+                    let lc = cycle_exponent(cell, sim, &thetas, theta, &logs, p)?;
                     (lc, thetas[thetas.len() - p..].to_vec())
                 }
             };
@@ -405,7 +405,7 @@ fn classify<'s>(
             let mut seq = thetas[from..].to_vec();
             seq.push(theta);
             if let Some(c) = contraction(&seq, noise) {
-                let confirmed = confirm_contraction(&sim, &seq, &c, &cycle_opts, noise, &mut spent);
+                let confirmed = confirm_contraction(sim, &seq, &c, &cycle_opts, noise, &mut spent);
                 charge(cell, &mut spent);
                 if let Some(cycle) = confirmed {
                     cell.theta_last = cycle.points[0];
