@@ -22,17 +22,6 @@ pub enum MapUsed {
     Interpolant(InterpolantSummary),
 }
 
-impl MapUsed {
-    /// `direct`, `interpolant` or `direct (interpolant refused)`.
-    pub fn name(&self) -> &'static str {
-        match self {
-            MapUsed::Direct => "direct",
-            MapUsed::Refused(_) => "direct (interpolant refused)",
-            MapUsed::Interpolant(_) => "interpolant",
-        }
-    }
-}
-
 /// What an interpolated run reports about its interpolant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InterpolantSummary {
