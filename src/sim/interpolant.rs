@@ -16,6 +16,7 @@
 mod build;
 pub mod chebyshev;
 mod orbit;
+mod stepper;
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -23,6 +24,7 @@ use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, exit_arc, point_from_theta, wrap_angle};
 
 pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
+pub use stepper::{InterpolantSummary, MIN_DIRECT, MapUsed, Stepper};
 
 /// The width, in θ, to which a jump of f is bracketed; the bracket is
 /// integrated directly.
@@ -57,6 +59,10 @@ pub struct InterpolantOptions {
     pub tol: f64,
     /// The most pieces (jump brackets included) the whole interval may take.
     pub max_pieces: usize,
+    /// The most map evaluations construction and extensions may spend (a
+    /// caller that would otherwise integrate a few thousand iterates caps
+    /// what a refusal can cost); `usize::MAX` for no cap.
+    pub max_evaluations: usize,
 }
 
 impl InterpolantOptions {
@@ -73,6 +79,7 @@ impl InterpolantOptions {
         InterpolantOptions {
             tol,
             max_pieces: 400,
+            max_evaluations: usize::MAX,
         }
     }
 }
@@ -95,6 +102,14 @@ pub enum InterpolantError {
     Unresolved {
         tol: f64,
         max_pieces: usize,
+        near: f64,
+    },
+    #[error(
+        "the map could not be resolved to {tol:e} within {max_evaluations} map evaluations (still unresolved near theta = {near:.9})"
+    )]
+    OverBudget {
+        tol: f64,
+        max_evaluations: usize,
         near: f64,
     },
     #[error("a map evaluation failed while building the interpolant: {0}")]
@@ -187,6 +202,19 @@ impl MapInterpolant {
         hi: f64,
         opts: InterpolantOptions,
     ) -> Result<Self, InterpolantError> {
+        Self::build_counting(sim, lo, hi, opts, &mut (0, 0))
+    }
+
+    /// [`Self::build`], adding the map evaluations and the right-hand-side
+    /// evaluations spent to `spent`, also when the build is refused (a
+    /// refusal may have cost many).
+    pub fn build_counting(
+        sim: &Simulator,
+        lo: f64,
+        hi: f64,
+        opts: InterpolantOptions,
+        spent: &mut (u64, u64),
+    ) -> Result<Self, InterpolantError> {
         if !(opts.tol > 0.0 && opts.max_pieces >= 1) {
             return Err(InterpolantError::Options(
                 "tol must be > 0 and max_pieces >= 1",
@@ -205,8 +233,10 @@ impl MapInterpolant {
             rhs_evals: 0,
         };
         let (a, b) = me.check_interval(lo, hi)?;
-        let new = me.resolve(a, b, opts.max_pieces)?;
-        me.insert(new);
+        let new = me.resolve(a, b, opts.max_pieces);
+        spent.0 += me.evaluations as u64;
+        spent.1 += me.rhs_evals;
+        me.insert(new?);
         Ok(me)
     }
 
