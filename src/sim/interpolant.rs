@@ -193,6 +193,24 @@ pub struct MapInterpolant {
 /// and whether the cycle restarted.
 type Sample = ([f64; FIELDS], bool);
 
+/// The interval in θ − ψ that `onsets` span (their later two thirds, where
+/// an orbit has settled most), padded by `pad_fraction` of its length and
+/// at least 1e-3, kept inside the exit arc of centre ψ: (lo, hi, pad).
+/// `None` without onsets.
+pub(crate) fn onset_span(psi: f64, onsets: &[f64], pad_fraction: f64) -> Option<(f64, f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &th in &onsets[onsets.len() / 3..] {
+        let u = wrap_angle(th - psi);
+        (lo, hi) = (lo.min(u), hi.max(u));
+    }
+    if !(lo <= hi) {
+        return None;
+    }
+    let pad = (pad_fraction * (hi - lo)).max(1e-3);
+    let edge = FRAC_PI_2 - 1e-9;
+    Some(((lo - pad).max(-edge), (hi + pad).min(edge), pad))
+}
+
 impl MapInterpolant {
     /// Builds f over [lo, hi] (radians, on the exit arc: lo < hi, both
     /// strictly inside it).
@@ -288,6 +306,25 @@ impl MapInterpolant {
         let new = self.resolve(a, b, left)?;
         self.insert(new);
         Ok(())
+    }
+
+    /// Extends the interval to θ when θ lies outside it, unless an
+    /// extension was refused before (`refused` holds why; a new refusal is
+    /// recorded there, and θ is left to direct integration from then on).
+    /// Whether it extended.
+    pub(crate) fn cover(&mut self, theta: f64, pad: f64, refused: &mut Option<String>) -> bool {
+        let (lo, hi) = self.interval();
+        let u = wrap_angle(theta - lo) + lo;
+        if refused.is_some() || (u >= lo && u <= hi) {
+            return false;
+        }
+        match self.extend_to(theta, pad) {
+            Ok(()) => true,
+            Err(e) => {
+                *refused = Some(e.to_string());
+                false
+            }
+        }
     }
 
     /// The interval covered, in θ − ψ.

@@ -3,8 +3,8 @@
 //! the series where it is verified, the interval extended where an iterate
 //! leaves it, and direct integration where neither serves.
 
-use super::{InterpolantError, InterpolantOptions, MapInterpolant};
-use crate::model::{exit_arc, wrap_angle};
+use super::{InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use crate::model::exit_arc;
 use crate::sim::analysis::cycle_with_derivative;
 use crate::sim::{SimError, Simulator};
 
@@ -81,17 +81,8 @@ impl<'s> Stepper<'s> {
     ) -> Result<Self, InterpolantError> {
         let p = sim.params();
         let (psi, _) = exit_arc(p.kappa, p.theta_nu);
-        let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-        for &th in &recent[recent.len() / 3..] {
-            let u = wrap_angle(th - psi);
-            (lo, hi) = (lo.min(u), hi.max(u));
-        }
-        if !(lo <= hi) {
-            return Err(InterpolantError::Options("no onsets to build over"));
-        }
-        let pad = (0.02 * (hi - lo)).max(1e-3);
-        let edge = std::f64::consts::FRAC_PI_2 - 1e-9;
-        let (a, b) = ((lo - pad).max(-edge), (hi + pad).min(edge));
+        let (a, b, pad) = onset_span(psi, recent, 0.02)
+            .ok_or(InterpolantError::Options("no onsets to build over"))?;
         let before = *spent;
         let interp = MapInterpolant::build_counting(sim, psi + a, psi + b, iopts, spent)?;
         Ok(Stepper {
@@ -151,17 +142,8 @@ impl<'s> Stepper<'s> {
         }
     }
 
-    /// Extends the interval to θ once per excursion, until an extension is
-    /// refused (then θ is left to direct integration from there on).
     fn cover(&mut self, theta: f64) {
-        let (lo, hi) = self.interp.interval();
-        let u = wrap_angle(theta - lo) + lo;
-        if self.refused.is_some() || (u >= lo && u <= hi) {
-            return;
-        }
-        if let Err(e) = self.interp.extend_to(theta, self.pad) {
-            self.refused = Some(e.to_string());
-        }
+        self.interp.cover(theta, self.pad, &mut self.refused);
     }
 
     /// The next onset after θ, from the series or integrated.
