@@ -243,10 +243,22 @@ pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
     let n = min_count.max(2);
     let mantissas: [&[u32]; 3] = [&[1], &[1, 3], &[1, 2, 5]];
     let eps = 1e-9;
+    // Over many decades, every k-th one: the largest 1-2-5 stride that
+    // still gives n, as on a linear axis.
+    let decades = (b.floor() - a.ceil()) as usize + 1;
+    let stride = [1, 2, 5, 10, 20, 50, 100]
+        .into_iter()
+        .rev()
+        .find(|k| decades / k >= n)
+        .unwrap_or(1) as i32;
     let mut best = Vec::new();
     for ms in mantissas {
         best.clear();
+        let stride = if ms.len() == 1 { stride } else { 1 };
         for e in (a.floor() as i32)..=(b.ceil() as i32) {
+            if e.rem_euclid(stride) != 0 {
+                continue;
+            }
             for &m in ms {
                 let v = e as f64 + (m as f64).log10();
                 if v >= a - eps && v <= b + eps {
@@ -355,23 +367,44 @@ type Shared = std::rc::Rc<std::cell::RefCell<Vec<Tick>>>;
 /// in the axis's values.
 const GRID_MIN_POINTS: f64 = 8.0;
 
-thread_local! {
-    /// The tick labels' text size and row height in points, for the frame
-    /// being drawn (set by [`clear_frames`] from the context's style).
-    static LABEL_POINTS: std::cell::Cell<(f64, f64)> = const { std::cell::Cell::new((12.5, 14.5)) };
+/// The characters tick labels are made of, whose widths [`clear_frames`]
+/// measures.
+const LABEL_CHARS: &str = "0123456789.-e°π/";
+
+/// The tick labels' font, as [`clear_frames`] measured it for the frame
+/// being drawn.
+#[derive(Clone, Copy)]
+struct LabelFont {
+    /// Row height, points.
+    row: f64,
+    /// Width of each of [`LABEL_CHARS`], points.
+    widths: [f64; 16],
+    /// Width of any other character (the widest digit's, doubled).
+    other: f64,
 }
 
-/// The room a tick label needs along its axis, in points: its row height
-/// on a y axis, its width on an x axis (digits are at most 0.55 of the font
-/// size wide).
-fn label_room(axis: egui_plot::Axis, t: &[Tick]) -> f64 {
-    let (size, row) = LABEL_POINTS.with(|c| c.get());
+thread_local! {
+    static LABEL_FONT: std::cell::Cell<LabelFont> = const {
+        std::cell::Cell::new(LabelFont { row: 14.5, widths: [7.0; 16], other: 14.0 })
+    };
+}
+
+/// The room a tick's label needs along its axis, in points: its row height
+/// on a y axis, its width on an x axis.
+fn label_room(axis: egui_plot::Axis, t: &Tick) -> f64 {
+    let f = LABEL_FONT.with(|c| c.get());
     match axis {
-        egui_plot::Axis::Y => row,
-        egui_plot::Axis::X => {
-            let chars = t.iter().map(|t| t.label.chars().count()).max().unwrap_or(1);
-            0.55 * size * chars as f64
-        }
+        egui_plot::Axis::Y => f.row,
+        egui_plot::Axis::X => t
+            .label
+            .chars()
+            .map(|c| {
+                LABEL_CHARS
+                    .chars()
+                    .position(|l| l == c)
+                    .map_or(f.other, |i| f.widths[i])
+            })
+            .sum(),
     }
 }
 
@@ -379,8 +412,10 @@ fn label_room(axis: egui_plot::Axis, t: &[Tick]) -> f64 {
 /// [`MIN_TICKS`]), unless the axis is too short (`points_per_value` of it)
 /// for their labels: egui drops every label closer to its nearer
 /// neighbour than its size, so a plot squeezed small would show grid lines
-/// and no number at all. Then, of the tick sets for 5, 4, 3 and 2 ticks at
-/// least, the one with the most labels egui will draw.
+/// and no number at all. Then, unless [`MIN_TICKS`] of their labels show
+/// anyway (egui drops a crowded one alone), the first of the tick sets
+/// for 4, 3 and 2 ticks at least whose labels all show, or else the set
+/// with the most labels shown.
 fn legible_ticks(
     scale: Scale,
     axis: egui_plot::Axis,
@@ -388,20 +423,19 @@ fn legible_ticks(
     points_per_value: f64,
 ) -> Vec<Tick> {
     let shown = |t: &[Tick]| {
-        let room = label_room(axis, t);
         (0..t.len())
-            .filter(|&i| gap(t, i, hi - lo) * points_per_value >= room)
+            .filter(|&i| gap(t, i, hi - lo) * points_per_value >= label_room(axis, &t[i]))
             .count()
     };
     let mut best = scale.ticks(lo, hi, MIN_TICKS);
     let mut most = shown(&best);
-    if most == best.len() {
-        return best;
-    }
     for n in (2..MIN_TICKS).rev() {
+        if most == best.len() || most >= MIN_TICKS {
+            break;
+        }
         let t = scale.ticks(lo, hi, n);
         let k = shown(&t);
-        if k > most {
+        if k == t.len() || k > most {
             (best, most) = (t, k);
         }
     }
@@ -500,8 +534,19 @@ pub fn remember_frame(ctx: &egui::Context, name: &'static str, frame: egui::Rect
 pub fn clear_frames(ctx: &egui::Context) {
     ctx.data_mut(|d| d.remove::<PlotFrames>(frames_id()));
     let font = egui::TextStyle::Body.resolve(&ctx.global_style());
-    let row = ctx.fonts_mut(|f| f.row_height(&font));
-    LABEL_POINTS.with(|c| c.set((f64::from(font.size), f64::from(row))));
+    let measured = ctx.fonts_mut(|f| {
+        let mut widths = [0.0; 16];
+        for (w, ch) in widths.iter_mut().zip(LABEL_CHARS.chars()) {
+            *w = f64::from(f.glyph_width(&font, ch));
+        }
+        let widest = widths[..10].iter().copied().fold(0.0, f64::max);
+        LabelFont {
+            row: f64::from(f.row_height(&font)),
+            widths,
+            other: 2.0 * widest,
+        }
+    });
+    LABEL_FONT.with(|c| c.set(measured));
 }
 
 /// The plots drawn since the last [`clear_frames`], with their frames.

@@ -132,7 +132,8 @@ impl NumericsView {
                 let (done, total) = (run.data.done(), run.data.total);
                 ui.add(
                     egui::ProgressBar::new(done as f32 / total.max(1) as f32)
-                        .desired_width(110.0)
+                        // Room for "57/57 settings" at any text size.
+                        .desired_width(9.0 * ui.text_style_height(&egui::TextStyle::Body))
                         .text(format!("{done}/{total} settings")),
                 );
                 let state = match &run.state {

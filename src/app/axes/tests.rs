@@ -136,7 +136,13 @@ fn degenerate_ranges_give_no_ticks_and_never_minus_zero() {
 #[test]
 fn a_short_axis_gets_fewer_ticks_rather_than_no_labels() {
     let room = 22.0;
-    LABEL_POINTS.with(|c| c.set((18.75, room)));
+    LABEL_FONT.with(|c| {
+        c.set(LabelFont {
+            row: room,
+            widths: [10.0; 16],
+            other: 20.0,
+        })
+    });
     // 160 points over 0 … 1.75: five ticks (0.2 apart, 18 points) would
     // overlap, so egui would label none; fewer, farther apart, fit.
     let t = legible_ticks(Scale::Linear, egui_plot::Axis::Y, (0.0, 1.75), 160.0 / 1.75);
