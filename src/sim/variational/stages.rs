@@ -204,11 +204,11 @@ impl<const N: usize> Tangents<N> {
     }
 
     /// The field at `y` for the solver: evaluated on tangents during a step
-    /// (`Some` value), `None` when the evaluation is not part of one. Not
-    /// inlined: the stepping loops are unrolled per stage and per lane, and
-    /// a copy of the tangent field in each multiplied the code (and the
-    /// plain slip's) many times over for no gain.
-    #[inline(never)]
+    /// (`Some` value), `None` when the evaluation is not part of one. This
+    /// dispatch is inlined, the work behind it is not: the stepping loops
+    /// are unrolled per stage and per lane, and a copy of the tangent field
+    /// in each multiplied the code (and the plain slip's) many times over.
+    #[inline(always)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
         #[cfg(target_arch = "x86_64")]
         if self.fma {
@@ -221,7 +221,7 @@ impl<const N: usize> Tangents<N> {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
             return unsafe { self.eval_avx2(field, y) };
         }
-        self.eval_impl::<false>(field, y)
+        self.eval_plain(field, y)
     }
 
     /// [`Tangents::eval`] compiled with AVX2 and FMA: a tangent is 4·N
@@ -231,6 +231,7 @@ impl<const N: usize> Tangents<N> {
     /// fuses the field's own a·b + c).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
     fn eval_fma(&mut self, field: Field, y: &State) -> Option<State> {
         self.eval_impl::<true>(field, y)
     }
@@ -238,7 +239,14 @@ impl<const N: usize> Tangents<N> {
     /// [`Tangents::eval`] compiled with AVX2, unfused.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
+    #[inline(never)]
     fn eval_avx2(&mut self, field: Field, y: &State) -> Option<State> {
+        self.eval_impl::<false>(field, y)
+    }
+
+    /// [`Tangents::eval`] for any CPU.
+    #[inline(never)]
+    fn eval_plain(&mut self, field: Field, y: &State) -> Option<State> {
         self.eval_impl::<false>(field, y)
     }
 
