@@ -68,10 +68,10 @@ pub const DERIVATIVE_STEP: f64 = 1e-5;
 /// given f(θ) = `f_theta` (for a one-sided difference next to the edge of
 /// the exit arc).
 pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
-    let (ev, d, n) = sim.cycle_derivatives(theta, 0.0)?;
+    let (ev, d, n) = sim.cycle_slope(theta, 0.0)?;
     count_slope(d.is_err());
     match d {
-        Ok(d) => Ok((d.d_theta, ev.rhs_evals + n)),
+        Ok(d) => Ok((d, ev.rhs_evals + n)),
         Err(_) => central_difference(sim, theta, f_theta),
     }
 }
@@ -116,10 +116,10 @@ pub fn cycle_with_derivative(
     theta: f64,
     t0: f64,
 ) -> Result<(SlipEvent, f64, u64), SimError> {
-    let (ev, d, n) = sim.cycle_derivatives(theta, t0)?;
+    let (ev, d, n) = sim.cycle_slope(theta, t0)?;
     count_slope(d.is_err());
     match d {
-        Ok(d) => Ok((ev, d.d_theta, n)),
+        Ok(d) => Ok((ev, d, n)),
         Err(_) => {
             let (d, n) = central_difference(sim, theta, ev.theta_next)?;
             Ok((ev, d, n))

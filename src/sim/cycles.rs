@@ -139,11 +139,11 @@ fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result
     let mut restarted = false;
     for _ in 0..p {
         points.push(th);
-        let (ev, d, extra) = sim.cycle_derivatives(th, 0.0)?;
+        let (ev, d, extra) = sim.cycle_slope(th, 0.0)?;
         spent.0 += 1;
         spent.1 += ev.rhs_evals + extra;
         let slope = match d {
-            Ok(d) => d.d_theta,
+            Ok(d) => d,
             Err(_) => {
                 restarted = true;
                 let (d, n) = central_difference(sim, th, ev.theta_next)?;

@@ -47,6 +47,8 @@ impl Simulator {
         onset_time: f64,
         dirs: [usize; N],
     ) -> Result<WithPartials<Grad<N>>, SimError> {
+        // The switching events differentiate along the flow in slot 0.
+        const { assert!(N >= 1, "at least one direction") };
         self.check_onset(theta)?;
         let onset = point_from_theta(self.params.kappa, theta);
         let end = self.slip(theta, onset, onset_time, None, Some(dirs))?;
