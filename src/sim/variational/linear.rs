@@ -87,8 +87,11 @@ pub(crate) fn accel(f: &SlipField, s: &State) -> (State, Lin) {
     // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
     let (psi_x, psi_y, psi_k) = (fy * f.kappa * inv_f2, -fx * inv_f2, fy * x * inv_f2);
     // dv_r = (a da + b db)/v_r, dφ_v = (a db − b da)/v_r².
-    let inv_vr = if vr > 0.0 { 1.0 / vr } else { 0.0 };
-    let inv_vr2 = inv_vr * inv_vr;
+    let (inv_vr, inv_vr2) = if vr > 0.0 {
+        (1.0 / vr, 1.0 / (vr * vr))
+    } else {
+        (0.0, 0.0)
+    };
     let (vr_a, vr_b) = (a * inv_vr, b * inv_vr);
     let (pv_a, pv_b) = (-b * inv_vr2, a * inv_vr2);
     let dw = delta * w;
@@ -138,8 +141,7 @@ pub(crate) fn decel(f: &SlipField, s: &State) -> (State, Lin) {
     let value = [a + f.v[0], b + f.v[1], -f.kappa * x - c * a, -y - c * b];
     // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
     let c2 = c * c;
-    // 1/v_r = c (1 + 2γ v_r): one division fewer.
-    let m = -c2 * (c * (1.0 + f.two_gamma * vr) + 2.0 * f.two_gamma);
+    let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);
     let (c_a, c_b, c_g) = (m * a, m * b, -c2 * q);
     let lin = Lin {
         js: [
