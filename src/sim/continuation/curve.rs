@@ -18,8 +18,8 @@ use super::{ContParam, EvalError};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
-use crate::sim::variational::D_THETA;
 use crate::sim::cycles::MAX_STEP;
+use crate::sim::variational::D_THETA;
 
 /// How many consecutive creeping steps end a direction.
 const CREEP_POINTS: usize = 30;
@@ -158,7 +158,11 @@ impl Ctx<'_> {
             if sim.check_onset(th).is_err() {
                 return Err(EvalError::OffArc { theta: th });
             }
-            let dirs = [D_THETA, self.params[0].direction(), self.params[1].direction()];
+            let dirs = [
+                D_THETA,
+                self.params[0].direction(),
+                self.params[1].direction(),
+            ];
             let (ev, d, _) = sim.cycle_partials(th, 0.0, dirs).map_err(EvalError::Sim)?;
             self.evals += 1;
             let [d_theta, p1, p2] =

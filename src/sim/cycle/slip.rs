@@ -354,7 +354,10 @@ impl<'a, const N: usize> SlipRun<'a, N> {
     /// before a step runs once per step, not again when an attempt is
     /// retried after a rejection.
     #[inline(always)]
-    pub(super) fn prepare(&mut self, mut sampler: Option<&mut Sampler>) -> Result<Next<N>, SimError> {
+    pub(super) fn prepare(
+        &mut self,
+        mut sampler: Option<&mut Sampler>,
+    ) -> Result<Next<N>, SimError> {
         let sim = self.sim;
         let settings = &sim.settings;
         let adaptive = settings.method.is_adaptive();
