@@ -36,8 +36,7 @@ pub(super) struct Counted<'a, const N: usize = DIRS> {
     pub(super) field: &'a SlipField,
     pub(super) evals: &'a Cell<u64>,
     pub(super) accel: bool,
-    /// The tangents, for a slip with derivatives: each stage of a step is
-    /// evaluated on them (values bitwise the same).
+    /// The tangents, for a slip with derivatives (values bitwise the same).
     pub(super) var: Option<&'a RefCell<Box<Tangents<N>>>>,
 }
 
@@ -119,8 +118,7 @@ pub(super) struct SlipRun<'a, const N: usize = DIRS> {
     k: State,
     stage: Stage,
     /// The bound on the step being attempted: `Some` while an attempt is
-    /// retried after a rejection, when the logic before a step must not run
-    /// again.
+    /// retried after a rejection (the logic before a step must not rerun).
     h_max: Option<f64>,
     extra_steps: u32,
     /// The tangents of a slip with derivatives (`None`: a plain slip).
@@ -198,9 +196,8 @@ impl<'a, const N: usize> SlipRun<'a, N> {
         Ok(run)
     }
 
-    /// The same slip with derivatives along `dirs` (`sim::variational`'s
-    /// `D_` constants): the onset's tangent (θ and κ move it) and f's there
-    /// ride along.
+    /// The same slip with derivatives along `dirs` (`variational`'s `D_`
+    /// constants): the onset's tangent and f's there ride along.
     pub(super) fn with_tangents(mut self, dirs: [usize; N]) -> Self {
         let sim = self.sim;
         let fld = TanField::seeded(&sim.params, &sim.field, dirs);
