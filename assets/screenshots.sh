@@ -17,15 +17,19 @@ shots=(
   "intermittent events gui-events-intermittent.png"
   "chaos numerics gui-numerics-chaos.png"
   "fig4 phase gui-phase-fig4.png"
+  "intermittent events gui-events-intermittent.svg"
+  "intermittent - gui-tiles-text-1.5.png --font-scale 1.5"
 )
 # A neutral working directory: the export folder field shows it.
 work=/tmp/oneblock
 mkdir -p "$work"
 cd "$work"
 for s in "${shots[@]}"; do
-  read -r preset view file <<<"$s"
+  read -r preset view file extra <<<"$s"
   args=(gui --preset "$preset" --size 1280x800 --screenshot "$file")
   [ "$view" != "-" ] && args+=(--view "$view")
+  # shellcheck disable=SC2206 # extra flags, split on purpose
+  [ -n "${extra:-}" ] && args+=($extra)
   rm -f "$file"
   "$bin" "${args[@]}"
   mv -f "$file" "$out/$file"

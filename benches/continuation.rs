@@ -2,7 +2,9 @@
 //! 1e-10: locating the fixed point's period doubling at Fig. 3b (κ = 18.95,
 //! the P1 branch over θν ∈ [1.0, 1.2], the doubling located to 1e-10);
 //! the cascades at κ = 18.95 and κ = 16 from θν = 1.0 (as far as each
-//! goes, printed before timing); and the FP→P2 curve over κ ∈ [1, 42].
+//! goes, printed before timing); and the whole FP→P2 boundary over
+//! θν ∈ [0.1, 1.55] × κ ∈ [1, 42] (both arms, from the two doublings at
+//! κ = 16).
 //! Run: `cargo bench --bench continuation -- --warm-up-time 1
 //! --measurement-time 3`.
 
@@ -15,7 +17,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use oneblock::model::Params;
 use oneblock::sim::continuation::{
     ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, cascade,
-    continue_branch, continue_curve,
+    continue_branch, continue_curves,
 };
 use oneblock::sim::default_settings;
 
@@ -56,33 +58,36 @@ fn bench(c: &mut Criterion) {
             b.iter(|| black_box(cascade(&p, 1.0, 1.6, 0.4, 16, &opts, &never).unwrap()))
         });
     }
+    // The whole FP→P2 boundary, as `continue --curve pd` follows it: the
+    // curve through each doubling of the fixed point along θν at κ = 16
+    // that is not on an earlier curve.
     let p = problem(16.0);
     let opts = ContOptions::for_range(&p.settings, 0.1, 1.55);
-    let start = continue_branch(&p, 0.1, 1.55, 0.1, &opts, &never)
+    let starts: Vec<_> = continue_branch(&p, 0.1, 1.55, 0.1, &opts, &never)
         .unwrap()
         .of_kind(SpecialKind::PeriodDoubling)
-        .next()
         .cloned()
-        .unwrap();
+        .collect();
     let copts = CurveOptions::for_box([[0.1, 1.55], [1.0, 42.0]]);
     let run = || {
-        continue_curve(
+        continue_curves(
             &p.base,
             &p.settings,
             [ContParam::ThetaNu, ContParam::Kappa],
             1,
             CurveKind::PeriodDoubling,
-            &start,
+            &starts,
             &copts,
             &never,
         )
     };
-    let curve = run();
-    eprintln!(
-        "FP->P2 curve: {} points, ends: {:?}",
-        curve.points.len(),
-        curve.ends
-    );
+    for (i, c) in run().iter().enumerate() {
+        eprintln!(
+            "FP->P2 curve {i}: {} points, ends: {:?}",
+            c.points.len(),
+            c.ends
+        );
+    }
     g.bench_function("pd_curve_kappa_1_42", |b| b.iter(|| black_box(run())));
     g.finish();
 }

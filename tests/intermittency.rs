@@ -7,7 +7,8 @@ mod cli_support;
 
 use cli_support::*;
 use oneblock::sim::intermittency::{
-    Intermittency, LARGE_FRACTION, laminar_lengths, length_counts, log_log_fit, supports_type_one,
+    Intermittency, LARGE_FRACTION, Regime, laminar_lengths, length_counts, log_histogram,
+    log_log_fit, supports_type_one,
 };
 
 /// A sequence of creep slips (sizes around 3e-3) broken by large slips
@@ -56,6 +57,67 @@ fn a_sequence_without_large_slips_has_no_laminar_phase() {
     // is what a creep fixed point is (no re-injection to count).
     assert!(st.laminar.iter().all(|&l| l == 0));
     assert!(Intermittency::of(&[0.0, 0.0], None).is_none());
+}
+
+#[test]
+fn only_varying_long_laminar_phases_are_called_intermittent() {
+    let regime = |s: &[f64]| Intermittency::of(s, None).expect("stats").regime();
+    // Varied lengths, mean 11: intermittent.
+    assert_eq!(
+        regime(&synthetic(&[12, 0, 5, 40, 5, 3, 12, 12])),
+        Regime::Intermittent
+    );
+    // A stick-slip orbit: every slip large (the sizes of a chaotic one
+    // vary by a factor below 4), so no creep at all.
+    let chaotic: Vec<f64> = (0..300)
+        .map(|i| 0.3 + 0.5 * ((i * 37) % 100) as f64 / 100.0)
+        .collect();
+    assert_eq!(regime(&chaotic), Regime::NoCreep);
+    // A periodic orbit with 4 creep slips per large one, and one whose
+    // laminar lengths alternate 2, 7: periodic, whatever the lengths.
+    assert_eq!(
+        regime(&synthetic(&[4; 20])),
+        Regime::Periodic { every: 1, first: 4 }
+    );
+    let alt: Vec<usize> = (0..20).map(|i| if i % 2 == 0 { 2 } else { 7 }).collect();
+    assert_eq!(
+        regime(&synthetic(&alt)),
+        Regime::Periodic { every: 2, first: 2 }
+    );
+    // Large slips with one creep slip between them: an alternation.
+    assert_eq!(
+        regime(&synthetic(&[1, 1, 0, 1, 2, 1, 1, 0])),
+        Regime::Alternating
+    );
+    // Two complete phases only.
+    assert_eq!(regime(&synthetic(&[30, 9])), Regime::TooFewPhases);
+    // One large slip in a long creep: nothing to measure.
+    let mut creep = vec![3e-3; 40];
+    creep[20] = 0.7;
+    assert_eq!(regime(&creep), Regime::NoLargeSlips);
+    // The summary line says it.
+    assert!(
+        Intermittency::of(&chaotic, None)
+            .expect("stats")
+            .csv("slip_distance")
+            .contains("# not intermittent: every slip is large")
+    );
+}
+
+#[test]
+fn sizes_equal_to_one_percent_fill_one_bin() {
+    // A periodic orbit's slips still converging in their sixth digit.
+    let xs: Vec<f64> = (0..100).map(|i| 0.1 * (1.0 + 1e-6 * i as f64)).collect();
+    let b = log_histogram(&xs, 30);
+    assert_eq!(b.len(), 1);
+    assert_eq!(b[0].count, 100);
+    assert!(b[0].lo < 0.1 && b[0].hi > 0.1 * (1.0 + 1e-4));
+    // Two sizes 2 % apart are told apart.
+    let two: Vec<f64> = (0..100)
+        .map(|i| if i % 2 == 0 { 0.1 } else { 0.102 })
+        .collect();
+    let b = log_histogram(&two, 30);
+    assert_eq!(b.iter().filter(|b| b.count > 0).count(), 2);
 }
 
 #[test]
@@ -128,6 +190,7 @@ fn orbit_stats_agree_with_the_orbits_own_events() {
     let text = std::fs::read_to_string(&st).expect("stats");
     let mut lines = text.lines();
     assert!(lines.next().is_some_and(|l| l.starts_with("# large slip")));
+    assert_eq!(lines.next(), Some("# intermittent"));
     assert_eq!(lines.next(), Some("statistic,lo,hi,count"));
     let mut from_file = Vec::new();
     let mut binned = 0;

@@ -350,27 +350,93 @@ impl AxisSpec {
 /// are exactly the ticks' whatever range egui hands the formatter.
 type Shared = std::rc::Rc<std::cell::RefCell<Vec<Tick>>>;
 
+/// egui_plot's smallest grid spacing in points (its default, which
+/// [`apply`] keeps): its `GridInput::base_step_size` is this many points
+/// in the axis's values.
+const GRID_MIN_POINTS: f64 = 8.0;
+
+thread_local! {
+    /// The tick labels' text size and row height in points, for the frame
+    /// being drawn (set by [`clear_frames`] from the context's style).
+    static LABEL_POINTS: std::cell::Cell<(f64, f64)> = const { std::cell::Cell::new((12.5, 14.5)) };
+}
+
+/// The room a tick label needs along its axis, in points: its row height
+/// on a y axis, its width on an x axis (digits are at most 0.55 of the font
+/// size wide).
+fn label_room(axis: egui_plot::Axis, t: &[Tick]) -> f64 {
+    let (size, row) = LABEL_POINTS.with(|c| c.get());
+    match axis {
+        egui_plot::Axis::Y => row,
+        egui_plot::Axis::X => {
+            let chars = t.iter().map(|t| t.label.chars().count()).max().unwrap_or(1);
+            0.55 * size * chars as f64
+        }
+    }
+}
+
+/// The ticks of [lo, hi] as [`Scale::ticks`] gives them (at least
+/// [`MIN_TICKS`]), unless the axis is too short (`points_per_value` of it)
+/// for their labels: egui drops every label closer to its nearer
+/// neighbour than its size, so a plot squeezed small would show grid lines
+/// and no number at all. Then, of the tick sets for 5, 4, 3 and 2 ticks at
+/// least, the one with the most labels egui will draw.
+fn legible_ticks(
+    scale: Scale,
+    axis: egui_plot::Axis,
+    (lo, hi): (f64, f64),
+    points_per_value: f64,
+) -> Vec<Tick> {
+    let shown = |t: &[Tick]| {
+        let room = label_room(axis, t);
+        (0..t.len())
+            .filter(|&i| gap(t, i, hi - lo) * points_per_value >= room)
+            .count()
+    };
+    let mut best = scale.ticks(lo, hi, MIN_TICKS);
+    let mut most = shown(&best);
+    if most == best.len() {
+        return best;
+    }
+    for n in (2..MIN_TICKS).rev() {
+        let t = scale.ticks(lo, hi, n);
+        let k = shown(&t);
+        if k > most {
+            (best, most) = (t, k);
+        }
+    }
+    best
+}
+
+/// The distance from tick `i` to its nearer neighbour (`span` alone).
+fn gap(t: &[Tick], i: usize, span: f64) -> f64 {
+    let prev = i.checked_sub(1).map(|j| t[i].value - t[j].value);
+    let next = t.get(i + 1).map(|n| n.value - t[i].value);
+    match (prev, next) {
+        (Some(p), Some(n)) => p.min(n),
+        (Some(g), None) | (None, Some(g)) => g,
+        (None, None) => span,
+    }
+}
+
 /// The ticks as egui_plot grid marks (a grid line at each labelled tick,
 /// none between: a printed figure's grid).
-fn grid_marks(scale: Scale, input: GridInput, drawn: &Shared) -> Vec<GridMark> {
+fn grid_marks(
+    scale: Scale,
+    axis: egui_plot::Axis,
+    input: GridInput,
+    drawn: &Shared,
+) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
-    let t = scale.ticks(lo, hi, MIN_TICKS);
+    let points_per_value = GRID_MIN_POINTS / input.base_step_size;
+    let t = legible_ticks(scale, axis, (lo, hi), points_per_value);
     // The spacing egui fits each label into: the gap to its nearer
     // neighbour (on a log axis the gaps differ), so that a crowded label
     // is dropped alone rather than all of them.
-    let gap = |i: usize| {
-        let prev = i.checked_sub(1).map(|j| t[i].value - t[j].value);
-        let next = t.get(i + 1).map(|n| n.value - t[i].value);
-        match (prev, next) {
-            (Some(p), Some(n)) => p.min(n),
-            (Some(g), None) | (None, Some(g)) => g,
-            (None, None) => hi - lo,
-        }
-    };
     let marks = (0..t.len())
         .map(|i| GridMark {
             value: t[i].value,
-            step_size: gap(i),
+            step_size: gap(&t, i, hi - lo),
         })
         .collect();
     *drawn.borrow_mut() = t;
@@ -406,8 +472,8 @@ pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
     let (gx, gy) = (dx.clone(), dy.clone());
     plot.custom_x_axes(vec![hints(x, egui_plot::Axis::X, dx)])
         .custom_y_axes(vec![hints(y, egui_plot::Axis::Y, dy)])
-        .x_grid_spacer(move |i| grid_marks(sx, i, &gx))
-        .y_grid_spacer(move |i| grid_marks(sy, i, &gy))
+        .x_grid_spacer(move |i| grid_marks(sx, egui_plot::Axis::X, i, &gx))
+        .y_grid_spacer(move |i| grid_marks(sy, egui_plot::Axis::Y, i, &gy))
 }
 
 /// Where each plot's frame was drawn last frame, by plot name: for tests
@@ -428,10 +494,14 @@ pub fn remember_frame(ctx: &egui::Context, name: &'static str, frame: egui::Rect
     });
 }
 
-/// Forgets the recorded frames (at the start of a frame, so that a plot no
-/// longer shown is not listed).
+/// Starts a frame's plots: forgets the recorded frames (so that a plot no
+/// longer shown is not listed), and takes the tick labels' text size from
+/// the context's style.
 pub fn clear_frames(ctx: &egui::Context) {
     ctx.data_mut(|d| d.remove::<PlotFrames>(frames_id()));
+    let font = egui::TextStyle::Body.resolve(&ctx.global_style());
+    let row = ctx.fonts_mut(|f| f.row_height(&font));
+    LABEL_POINTS.with(|c| c.set((f64::from(font.size), f64::from(row))));
 }
 
 /// The plots drawn since the last [`clear_frames`], with their frames.
@@ -444,137 +514,4 @@ pub fn plot_frames(ctx: &egui::Context) -> Vec<(&'static str, egui::Rect)> {
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn labels(t: &[Tick]) -> Vec<&str> {
-        t.iter().map(|t| t.label.as_str()).collect()
-    }
-
-    #[test]
-    fn at_least_five_round_ticks_over_any_range() {
-        for &(lo, hi) in &[
-            (0.0, std::f64::consts::FRAC_PI_2),
-            (1.15, 1.35),
-            (-1.0, 1.0),
-            (0.0, 1.0),
-            (1e-6, 3e-6),
-            (-123456.0, 987654.0),
-            (0.999, 1.001),
-            (-0.3, 0.0),
-        ] {
-            let t = ticks(lo, hi, 5);
-            assert!(t.len() >= 5, "{lo}..{hi}: {:?}", labels(&t));
-            // No more than the next coarser 1-2-5 step would have given
-            // beyond five (coarser is at most 2.5× the step).
-            assert!(t.len() <= 13, "{lo}..{hi}: {}", t.len());
-            let step = t[1].value - t[0].value;
-            let m = step / 10f64.powf(step.log10().floor());
-            assert!(
-                [1.0, 2.0, 5.0, 10.0].iter().any(|r| (m - r).abs() < 1e-6),
-                "step {step} is not 1-2-5"
-            );
-            for tk in &t {
-                assert!(tk.value >= lo - 1e-9 * step && tk.value <= hi + 1e-9 * step);
-                // The label reads back as the value.
-                let back: f64 = tk.label.parse().expect("numeric label");
-                assert!(
-                    (back - tk.value).abs() <= 1e-6 * step,
-                    "{} vs {}",
-                    tk.label,
-                    tk.value
-                );
-            }
-        }
-    }
-
-    #[test]
-    fn the_issue_ranges_get_dense_labels() {
-        assert_eq!(
-            labels(&ticks(0.0, std::f64::consts::FRAC_PI_2, 5)),
-            ["0.0", "0.2", "0.4", "0.6", "0.8", "1.0", "1.2", "1.4"]
-        );
-        assert_eq!(
-            labels(&ticks(1.15, 1.35, 5)),
-            ["1.15", "1.20", "1.25", "1.30", "1.35"]
-        );
-        assert_eq!(
-            labels(&ticks(-1.0, 1.0, 5)),
-            ["-1.0", "-0.5", "0.0", "0.5", "1.0"]
-        );
-        assert_eq!(
-            labels(&ticks(-0.01, 0.01, 5)),
-            ["-0.010", "-0.005", "0.000", "0.005", "0.010"]
-        );
-    }
-
-    #[test]
-    fn angles_in_degrees_and_fractions_of_pi() {
-        let deg = angle_ticks(0.0, std::f64::consts::FRAC_PI_2, 5, AngleUnit::Degrees);
-        assert_eq!(labels(&deg), ["0°", "20°", "40°", "60°", "80°"]);
-        assert!((deg[1].value - 20f64.to_radians()).abs() < 1e-12);
-        let pi = angle_ticks(0.0, std::f64::consts::FRAC_PI_2, 5, AngleUnit::PiFractions);
-        assert_eq!(labels(&pi), ["0", "π/8", "π/4", "3π/8", "π/2"]);
-        assert!((pi[3].value - 3.0 * PI / 8.0).abs() < 1e-12);
-        let full = angle_ticks(-PI, PI, 5, AngleUnit::PiFractions);
-        assert_eq!(labels(&full), ["-π", "-π/2", "0", "π/2", "π"]);
-        // Too narrow for π/24: decimal multiples of π, still at least five.
-        let narrow = angle_ticks(1.15, 1.35, 5, AngleUnit::PiFractions);
-        assert!(narrow.len() >= 5);
-        for t in &narrow {
-            let k: f64 = t
-                .label
-                .trim_end_matches('π')
-                .parse()
-                .expect("multiple of π");
-            assert!((k * PI - t.value).abs() < 1e-9);
-        }
-    }
-
-    #[test]
-    fn log_axes_label_decades_or_mantissas() {
-        let t = log10_ticks(-9.0, -3.0, 5);
-        assert_eq!(
-            labels(&t),
-            ["1e-9", "1e-8", "1e-7", "1e-6", "1e-5", "1e-4", "1e-3"]
-        );
-        let t = log10_ticks(-6.0, -4.0, 5);
-        assert_eq!(labels(&t), ["1e-6", "3e-6", "1e-5", "3e-5", "1e-4"]);
-        assert!((t[1].value - 3e-6f64.log10()).abs() < 1e-12);
-        let t = log10_ticks(-6.0, -5.0, 5);
-        assert_eq!(labels(&t), ["2e-6", "4e-6", "6e-6", "8e-6", "1.0e-5"]);
-        // Within a decade: round values of the value itself.
-        let t = log10_ticks(2f64.log10(), 8f64.log10(), 5);
-        assert_eq!(labels(&t), ["2", "3", "4", "5", "6", "7", "8"]);
-        assert!((t[1].value - 3f64.log10()).abs() < 1e-12);
-    }
-
-    #[test]
-    fn nice_bounds_reach_round_values_with_five_ticks() {
-        let (a, b) = nice_bounds(0.125, 0.575, 5);
-        assert!(
-            (a - 0.1).abs() < 1e-12 && (b - 0.6).abs() < 1e-12,
-            "{a} {b}"
-        );
-        assert!(ticks(a, b, 5).len() >= 5);
-        let (a, b) = nice_bounds(-0.93, 2.41, 5);
-        assert!(
-            (a + 1.0).abs() < 1e-12 && (b - 3.0).abs() < 1e-12,
-            "{a} {b}"
-        );
-        assert_eq!(nice_bounds(1.0, 1.0, 5), (1.0, 1.0));
-    }
-
-    #[test]
-    fn degenerate_ranges_give_no_ticks_and_never_minus_zero() {
-        assert!(ticks(1.0, 1.0, 5).is_empty());
-        assert!(ticks(f64::NAN, 1.0, 5).is_empty());
-        assert!(ticks(0.0, f64::INFINITY, 5).is_empty());
-        assert_eq!(format_value(-1e-17, 0.1), "0.0");
-        assert_eq!(format_value(2e-5, 1e-5), "2e-5");
-        assert_eq!(format_value(2.5e-5, 5e-6), "2.5e-5");
-        assert_eq!(format_value(0.9995, 5e-4), "0.9995");
-        // Reversed ends give the same ticks.
-        assert_eq!(ticks(1.0, 0.0, 5), ticks(0.0, 1.0, 5));
-    }
-}
+mod tests;

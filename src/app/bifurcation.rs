@@ -3,18 +3,23 @@
 //! marker per point would cost ~80 ms a frame at 100k points (GUI-NOTES).
 //! Dragging a box zooms: the window asks the worker for that θν range at
 //! full resolution and rasterises the box's θ range. Back / reset walk the
-//! zoom stack; a click sets θν.
+//! zoom stack; a click sets θν. "Find bifurcations" asks the worker for the
+//! branches over the shown θν range, drawn over the diagram
+//! ([`super::overlay`]) with their special points in a table
+//! ([`super::points_table`]).
 
 use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
+use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
+use super::{overlay, points_table};
 use crate::model::Regime;
 
 /// Texel rows of the density image.
@@ -37,6 +42,8 @@ pub struct BifurcationView {
     /// Zoom levels, innermost last; empty = the whole range.
     pub zoom: Vec<Zoom>,
     drag_from: Option<PlotPoint>,
+    /// The last frame's plot transform (tests find points on screen with it).
+    pub transform: Option<egui_plot::PlotTransform>,
 }
 
 /// Rasterises the columns into an RGBA image `columns × ROWS` over
@@ -132,9 +139,16 @@ impl BifurcationView {
     }
 
     /// Back, reset zoom, and where the sweep stands.
-    fn controls_ui(&mut self, ui: &mut Ui, slot: &Slot<SweepData>) {
+    fn controls_ui(
+        &mut self,
+        ui: &mut Ui,
+        slot: &Slot<SweepData>,
+        jobs: &Jobs,
+        out: &mut Vec<Action>,
+    ) {
         let sweep = &slot.data;
         ui.horizontal_wrapped(|ui| {
+            find_button_ui(ui, jobs, out);
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
                 .on_hover_text("Previous zoom level (Backspace)")
@@ -172,8 +186,16 @@ impl BifurcationView {
         });
     }
 
-    /// The diagram; a box drawn zooms, a click sets θν.
-    fn plot_ui(&mut self, ui: &mut Ui, s: &Settings, sweep: &SweepData, out: &mut Vec<Action>) {
+    /// The diagram, with the branches over it; a box drawn zooms, a click
+    /// sets θν.
+    fn plot_ui(
+        &mut self,
+        ui: &mut Ui,
+        s: &Settings,
+        sweep: &SweepData,
+        found: &BranchData,
+        out: &mut Vec<Action>,
+    ) {
         let (from, to) = (sweep.from, sweep.to);
         let n = sweep.columns.len().max(2);
         let dx = (to - from) / (n - 1) as f64;
@@ -185,7 +207,9 @@ impl BifurcationView {
         };
         let tex = self.texture.as_ref().map(|t| t.id());
         let drag_from = self.drag_from;
+        let line_width = style::width(ui.ctx(), 1.5);
         let resp = Plot::new("bifurcation")
+            .label_formatter(overlay::label)
             .show_background(false)
             .allow_drag(false)
             .allow_zoom(false)
@@ -230,6 +254,7 @@ impl BifurcationView {
                     .color(style::CURRENT)
                     .width(2.0),
             );
+            overlay::branch_items(p, found, line_width);
             let pointer = p.pointer_coordinate();
             if let (Some(a), Some(b)) = (drag_from, pointer) {
                 p.add(style::zoom_box(a, b));
@@ -237,8 +262,21 @@ impl BifurcationView {
             pointer
         });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
+        self.transform = Some(resp.transform);
         let r = &resp.response;
         let pointer = resp.inner;
+        if self.drag_from.is_none()
+            && let Some(at) = r.hover_pos()
+        {
+            let t = resp.transform;
+            let to_screen = |xy: [f64; 2]| {
+                let q = t.position_from_point(&PlotPoint::new(xy[0], xy[1]));
+                [q.x, q.y]
+            };
+            if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
+                r.clone().on_hover_text_at_pointer(text);
+            }
+        }
         if r.drag_started() {
             self.drag_from = pointer;
         }
@@ -276,7 +314,34 @@ impl View for BifurcationView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        self.controls_ui(ui, &jobs.sweep);
-        self.plot_ui(ui, s, &jobs.sweep.data, out);
+        self.controls_ui(ui, &jobs.sweep, jobs, out);
+        overlay::branch_legend_ui(ui, &jobs.branches.data);
+        points_table::points_ui(ui, &jobs.branches.data);
+        self.plot_ui(ui, s, &jobs.sweep.data, &jobs.branches.data, out);
+    }
+}
+
+/// "Find bifurcations" (or "Stop" while it runs), and where it stands.
+fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
+    let slot = &jobs.branches;
+    if slot.state == JobState::Running {
+        if ui
+            .button("Stop")
+            .on_hover_text("Stop following the branches (those found so far stay)")
+            .clicked()
+        {
+            out.push(Action::StopBifurcations);
+        }
+    } else if ui
+        .button("Find bifurcations")
+        .on_hover_text(
+            "Follow the attractor's cycle at the left end of the shown θν range to the \
+             right end, locating its period doublings (PD), folds and borders to 1e-10, \
+             then the doubled cycles in turn up to period 32. Runs on the worker; a \
+             parameter or range change stops it.",
+        )
+        .clicked()
+    {
+        out.push(Action::FindBifurcations);
     }
 }

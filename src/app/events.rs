@@ -10,7 +10,7 @@ use egui_plot::{Bar, BarChart, HLine, Plot, PlotPoints, Points};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
-use super::settings::{Settings, SlipMeasure, ViewKind};
+use super::settings::{EventsPlot, Settings, SlipMeasure, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::sim::SlipEvent;
@@ -21,7 +21,9 @@ use crossbeam_channel::Receiver;
 
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
-use crate::sim::intermittency::{Intermittency, Scaling, TYPE_ONE_SLOPE, length_counts, scaling};
+use crate::sim::intermittency::{
+    Intermittency, Regime, Scaling, TYPE_ONE_SLOPE, length_counts, scaling,
+};
 
 /// Beyond this many events the series is drawn as a min/max envelope.
 const MAX_MARKERS: usize = 1500;
@@ -198,109 +200,238 @@ impl EventsView {
 
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let evs = &jobs.trajectory.data.events;
-        ui.horizontal_wrapped(|ui| {
-            ui.label(format!("{} slip events · size as", evs.len()));
-            ui.selectable_value(&mut s.slip_measure, SlipMeasure::Distance, "slip distance")
-                .on_hover_text("|stop − onset|: how far the block jumped");
-            ui.selectable_value(&mut s.slip_measure, SlipMeasure::Energy, "energy released")
-                .on_hover_text("½(κx² + y²) at onset minus at the stop");
-        });
-        let m = s.slip_measure;
-        let unit = match m {
-            SlipMeasure::Distance => "slip distance |Δr| (F₀/k_y)",
-            SlipMeasure::Energy => "energy released ΔE (F₀²/k_y)",
-        };
-        let sizes: Vec<f64> = evs.iter().map(|e| slip_size(e, m)).collect();
-        let series = decimate(&sizes, MAX_MARKERS);
-        let markers = sizes.len() <= MAX_MARKERS;
-        let (stats, skipped) = self.stats(jobs, m);
+        let (stats, skipped) = self.stats(jobs, s.slip_measure);
         let stats = stats.clone();
-        if let Some(st) = &stats {
-            ui.label(summary(st, skipped, unit)).on_hover_text(
-                "A slip is large when its size is at least a quarter of the largest \
-                 (the intermittent orbit's sizes are bimodal: creep slips of a few \
-                 thousandths, large ones of tenths). A laminar phase is the run of creep \
-                 slips between two large ones. The trajectory's first events (its \
-                 transient) are left out; `oneblock orbit --stats` writes the same \
-                 statistics as CSV.",
-            );
-        }
         let params = s.params;
         self.poll_scaling(&params);
-        self.scaling_row_ui(ui, &params);
         let scaled = match &self.scaled {
             Some((p, Ok(Some(sc)))) if *p == params => Some(sc.clone()),
             _ => None,
         };
-        let h = ui.available_height();
-        let width = ui.available_width();
-        let threshold = stats.as_ref().map(|s| s.threshold);
-        ui.horizontal(|ui| {
-            ui.vertical(|ui| {
-                ui.set_width(width * 0.5);
-                let r = axes::apply(
-                    Plot::new("events_series")
-                        .show_background(false)
-                        .height(h - 8.0),
-                    &AxisSpec::linear("event number n"),
-                    &AxisSpec::linear(unit),
-                )
-                .show(ui, |p| {
-                    if markers {
-                        p.line(
-                            style::line("size", PlotPoints::from(series.clone()))
-                                .color(style::STICK.gamma_multiply(0.5)),
-                        );
-                        p.add(
-                            Points::new("slips", PlotPoints::from(series))
-                                .color(style::ACCEL)
-                                .radius(2.5),
-                        );
-                    } else {
-                        // Thousands of events: their envelope, not a marker each.
-                        p.line(
-                            style::line("size", PlotPoints::from(series))
-                                .color(style::ACCEL)
-                                .width(1.0),
-                        );
-                    }
-                    if let Some(t) = threshold {
-                        p.hline(
-                            HLine::new("large slip", t)
-                                .color(style::CRITICAL)
-                                .style(egui_plot::LineStyle::dashed_loose()),
-                        );
-                    }
+        // All plots side by side need room for five ticks on each axis of
+        // each: about 36 lines of text across, and 8 down per stacked plot.
+        let em = ui.text_style_height(&egui::TextStyle::Body);
+        let stacked = if scaled.is_some() { 3.0 } else { 2.0 };
+        let wide = ui.available_width() >= 36.0 * em
+            && ui.available_height() >= (stacked * 8.0 + 4.0) * em;
+        if wide {
+            measure_ui(ui, s, evs.len());
+        } else {
+            // Too narrow for all plots: one at a time, and the choices in
+            // two menus on one row.
+            ui.horizontal_wrapped(|ui| {
+                ui.label(format!("{} slips", evs.len()));
+                egui::ComboBox::from_id_salt("events_measure")
+                    .selected_text(measure_name(s.slip_measure))
+                    .show_ui(ui, |ui| {
+                        for m in [SlipMeasure::Distance, SlipMeasure::Energy] {
+                            ui.selectable_value(&mut s.slip_measure, m, measure_name(m));
+                        }
+                    });
+                egui::ComboBox::from_id_salt("events_plot")
+                    .selected_text(plot_name(s.events_plot))
+                    .show_ui(ui, |ui| {
+                        for v in EventsPlot::ALL {
+                            ui.selectable_value(&mut s.events_plot, v, plot_name(v));
+                        }
+                    });
+            });
+        }
+        let m = s.slip_measure;
+        // The axis title: the quantity in full where there is room.
+        let unit = match (m, wide) {
+            (SlipMeasure::Distance, true) => "slip distance |Δr| (F₀/k_y)",
+            (SlipMeasure::Energy, true) => "energy released ΔE (F₀²/k_y)",
+            (SlipMeasure::Distance, false) => "|Δr| (F₀/k_y)",
+            (SlipMeasure::Energy, false) => "ΔE (F₀²/k_y)",
+        };
+        let plots = Plots {
+            sizes: evs.iter().map(|e| slip_size(e, m)).collect(),
+            stats: stats.as_ref(),
+            unit,
+            scaled: scaled.as_ref(),
+        };
+        if let Some(st) = &stats {
+            ui.label(summary(st, skipped, unit, wide))
+                .on_hover_text(summary(st, skipped, unit, true) + "\n\n" + STATS_HELP);
+        }
+        if wide {
+            self.scaling_row_ui(ui, &params);
+            let h = ui.available_height();
+            let width = ui.available_width();
+            ui.horizontal(|ui| {
+                ui.vertical(|ui| {
+                    ui.set_width(width * 0.5);
+                    plots.series_ui(ui, h - 8.0);
                 });
-                axes::remember_frame(ui.ctx(), "events_series", *r.transform.frame());
+                ui.vertical(|ui| {
+                    let part = (h - 8.0 * stacked) / stacked;
+                    plots.sizes_ui(ui, part);
+                    plots.laminar_ui(ui, part);
+                    plots.scaling_ui(ui, part);
+                });
             });
-            ui.vertical(|ui| {
-                let n = if scaled.is_some() { 3.0 } else { 2.0 };
-                let part = (h - 8.0 * n) / n;
-                size_distribution_ui(ui, stats.as_ref(), unit, part);
-                laminar_ui(ui, stats.as_ref(), part);
-                if let Some(sc) = &scaled {
-                    scaling_ui(ui, sc, part);
-                }
-            });
-        });
+            return;
+        }
+        if s.events_plot == EventsPlot::Scaling {
+            self.scaling_row_ui(ui, &params);
+        }
+        let h = ui.available_height() - 4.0;
+        match s.events_plot {
+            EventsPlot::Series => plots.series_ui(ui, h),
+            EventsPlot::Sizes => plots.sizes_ui(ui, h),
+            EventsPlot::Laminar => plots.laminar_ui(ui, h),
+            EventsPlot::Scaling => plots.scaling_ui(ui, h),
+        }
     }
 }
 
-/// One line: the threshold, the counts and the mean laminar length.
-fn summary(st: &Intermittency, skipped: usize, unit: &str) -> String {
-    let mean = match (st.mean_laminar, st.mean_laminar_stderr) {
-        (Some(m), Some(e)) => format!("mean laminar length {m:.1} ± {e:.1}"),
-        (Some(m), None) => format!("mean laminar length {m:.1}"),
-        _ => "no complete laminar phase".into(),
+/// The count of events and the choice of size measure, as buttons.
+fn measure_ui(ui: &mut Ui, s: &mut Settings, events: usize) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!("{events} slip events · size as"));
+        ui.selectable_value(&mut s.slip_measure, SlipMeasure::Distance, "slip distance")
+            .on_hover_text("|stop − onset|: how far the block jumped");
+        ui.selectable_value(&mut s.slip_measure, SlipMeasure::Energy, "energy released")
+            .on_hover_text("½(κx² + y²) at onset minus at the stop");
+    });
+}
+
+fn measure_name(m: SlipMeasure) -> &'static str {
+    match m {
+        SlipMeasure::Distance => "slip distance",
+        SlipMeasure::Energy => "energy released",
+    }
+}
+
+fn plot_name(p: EventsPlot) -> &'static str {
+    match p {
+        EventsPlot::Series => "series",
+        EventsPlot::Sizes => "size distribution",
+        EventsPlot::Laminar => "laminar lengths",
+        EventsPlot::Scaling => "laminar vs θν − θν_c",
+    }
+}
+
+/// What the summary's hover adds: the definitions.
+const STATS_HELP: &str = "A slip is large when its size is at least a quarter of the largest \
+     (the intermittent orbit's sizes are bimodal: creep slips of a few \
+     thousandths, large ones of tenths). A laminar phase is the run of creep \
+     slips between two large ones. The trajectory's first events (its \
+     transient) are left out; `oneblock orbit --stats` writes the same \
+     statistics as CSV.";
+
+/// One line: the counts, and the mean laminar length when the orbit is
+/// intermittent or why it is not; `full` adds the threshold and the
+/// events left out.
+fn summary(st: &Intermittency, skipped: usize, unit: &str, full: bool) -> String {
+    let regime = st.regime();
+    let verdict = if regime.is_intermittent() {
+        let mean = match (st.mean_laminar, st.mean_laminar_stderr) {
+            (Some(m), Some(e)) => format!("mean laminar length {m:.1} ± {e:.1}"),
+            (Some(m), None) => format!("mean laminar length {m:.1}"),
+            _ => "no complete laminar phase".into(),
+        };
+        format!("{} laminar phases, {mean}", st.laminar.len())
+    } else {
+        regime.describe()
     };
-    format!(
-        "large slip: {unit} ≥ {:.3} · {} large, {} creep · {} laminar phases, {mean} · first {skipped} events left out",
-        st.threshold,
-        st.large,
-        st.creep,
-        st.laminar.len()
-    )
+    if !full && !regime.is_intermittent() {
+        return format!(
+            "{} large, {} creep · {}",
+            st.large,
+            st.creep,
+            short_reason(regime)
+        );
+    }
+    let counts = format!("{} large, {} creep · {verdict}", st.large, st.creep);
+    if full {
+        format!(
+            "large slip: {unit} ≥ {:.3} · {counts} · first {skipped} events left out",
+            st.threshold
+        )
+    } else {
+        counts
+    }
+}
+
+/// Why an orbit is not intermittent, in a few words.
+fn short_reason(r: Regime) -> &'static str {
+    match r {
+        Regime::NoCreep => "not intermittent: no creep",
+        Regime::NoLargeSlips => "not intermittent: no large slips",
+        Regime::TooFewPhases => "too few laminar phases",
+        Regime::Alternating => "not intermittent: alternating",
+        Regime::Periodic { .. } => "not intermittent: periodic",
+        Regime::Intermittent => "intermittent",
+    }
+}
+
+/// The view's plots over one catalogue.
+struct Plots<'a> {
+    /// Every event's size, the transient included (the series shows it).
+    sizes: Vec<f64>,
+    stats: Option<&'a Intermittency>,
+    unit: &'a str,
+    scaled: Option<&'a Scaling>,
+}
+
+impl Plots<'_> {
+    /// The size of every slip against its number, with the large-slip
+    /// threshold.
+    fn series_ui(&self, ui: &mut Ui, h: f32) {
+        let series = decimate(&self.sizes, MAX_MARKERS);
+        let markers = self.sizes.len() <= MAX_MARKERS;
+        let threshold = self.stats.map(|s| s.threshold);
+        let r = axes::apply(
+            Plot::new("events_series").show_background(false).height(h),
+            &AxisSpec::linear("event number n"),
+            &AxisSpec::linear(self.unit),
+        )
+        .show(ui, |p| {
+            if markers {
+                p.line(
+                    style::line("size", PlotPoints::from(series.clone()))
+                        .color(style::STICK.gamma_multiply(0.5)),
+                );
+                p.add(
+                    Points::new("slips", PlotPoints::from(series))
+                        .color(style::ACCEL)
+                        .radius(2.5),
+                );
+            } else {
+                // Thousands of events: their envelope, not a marker each.
+                p.line(
+                    style::line("size", PlotPoints::from(series))
+                        .color(style::ACCEL)
+                        .width(1.0),
+                );
+            }
+            if let Some(t) = threshold {
+                p.hline(
+                    HLine::new("large slip", t)
+                        .color(style::CRITICAL)
+                        .style(egui_plot::LineStyle::dashed_loose()),
+                );
+            }
+        });
+        axes::remember_frame(ui.ctx(), "events_series", *r.transform.frame());
+    }
+
+    fn sizes_ui(&self, ui: &mut Ui, h: f32) {
+        size_distribution_ui(ui, self.stats, self.unit, h);
+    }
+
+    fn laminar_ui(&self, ui: &mut Ui, h: f32) {
+        laminar_ui(ui, self.stats, h);
+    }
+
+    /// The scan's plot, once there is one.
+    fn scaling_ui(&self, ui: &mut Ui, h: f32) {
+        if let Some(sc) = self.scaled {
+            scaling_ui(ui, sc, h);
+        }
+    }
 }
 
 /// The slip-size distribution on log–log axes (log10 bins of the size,
@@ -331,9 +462,14 @@ fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: 
     axes::remember_frame(ui.ctx(), "events_hist", *r.transform.frame());
 }
 
-/// How many laminar phases had each length.
+/// How many laminar phases had each length; where the orbit is not
+/// intermittent and its phases are no pattern of it (every slip large, say),
+/// no bars but the reason.
 fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
+    let regime = st.map(Intermittency::regime);
+    let meaningful = matches!(regime, Some(Regime::Intermittent | Regime::Periodic { .. }));
     let bars: Vec<Bar> = st
+        .filter(|_| meaningful)
         .map(|st| {
             length_counts(&st.laminar)
                 .into_iter()
@@ -343,11 +479,19 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
         .unwrap_or_default();
     let r = axes::apply(
         Plot::new("events_laminar").show_background(false).height(h),
-        &AxisSpec::linear("laminar length (creep slips between large slips)"),
+        &AxisSpec::linear("laminar length (creep slips)"),
         &AxisSpec::linear("phases"),
     )
     .show(ui, |p| {
         p.bar_chart(BarChart::new("laminar lengths", bars).color(style::DECEL));
+        if let Some(r) = regime.filter(|_| !meaningful) {
+            let b = p.plot_bounds();
+            let centre = egui_plot::PlotPoint::new(
+                0.5 * (b.min()[0] + b.max()[0]),
+                0.5 * (b.min()[1] + b.max()[1]),
+            );
+            p.text(egui_plot::Text::new("why", centre, short_reason(r)));
+        }
     });
     axes::remember_frame(ui.ctx(), "events_laminar", *r.transform.frame());
 }

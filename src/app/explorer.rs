@@ -209,6 +209,14 @@ impl Explorer {
             Action::StopWorkPrecision => self.jobs.stop_work_precision(),
             Action::ComputePhase => self.jobs.compute_phase(&self.settings),
             Action::StopPhase => self.jobs.stop_phase(),
+            Action::FindBifurcations => {
+                let zoom = self.views.bifurcation.theta_nu_range();
+                let range = super::jobs::continuation_range(&self.settings, zoom);
+                self.jobs.find_bifurcations(&self.settings, range);
+            }
+            Action::StopBifurcations => self.jobs.stop_bifurcations(),
+            Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
+            Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
     }
 

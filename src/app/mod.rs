@@ -8,11 +8,14 @@
 //!   for a regime or an attractor, the worker behind a trait.
 //! - [`settings`]: everything that persists, and its sanitising on load.
 //! - [`axes`]: ticks and axis titles for every plot (and for exports).
-//! - [`data`], [`phase_data`]: what the worker sent for each kind of job.
+//! - [`data`], [`phase_data`], [`branches`]: what the worker sent for
+//!   each kind of job.
 //! - [`jobs`]: the job model: one slot per job, `apply(Update)`, the
 //!   debounces, the phase grid's policy, each job's solver setting.
 //! - [`view`]: the `View` trait and the `Action` enum.
 //! - [`accuracy`], [`controls`]: the side panel.
+//! - [`overlay`], [`points_table`]: the continuation's branches and curves
+//!   drawn over the diagrams, and its special points as a table.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
 //!   [`numerics_view`] (with [`numerics_table`]), [`phase_view`]: the views.
 //! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
@@ -25,6 +28,7 @@ pub mod axes;
 pub mod backend;
 pub mod bifurcation;
 pub mod block;
+pub mod branches;
 pub mod controls;
 pub mod data;
 pub mod describe;
@@ -35,9 +39,11 @@ pub mod frame_stats;
 pub mod jobs;
 pub mod numerics_table;
 pub mod numerics_view;
+pub mod overlay;
 pub mod phase_data;
 pub mod phase_view;
 pub mod plane;
+pub mod points_table;
 pub mod return_map;
 pub mod save;
 pub mod screenshot;

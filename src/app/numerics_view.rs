@@ -83,6 +83,8 @@ fn job_marker(job: JobKind) -> MarkerShape {
         JobKind::Iterate => MarkerShape::Circle,
         JobKind::Phase => MarkerShape::Up,
         JobKind::Numerics => MarkerShape::Cross,
+        JobKind::Branches => MarkerShape::Down,
+        JobKind::Curves => MarkerShape::Left,
     }
 }
 

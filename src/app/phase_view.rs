@@ -6,7 +6,8 @@
 //! hovering a cell tells its class, λ and cost; a click sets the θν and κ
 //! sliders there; a dragged box is recomputed at full resolution, with back
 //! and reset. The grid and budget are set here; when the job runs is the
-//! job model's phase policy.
+//! job model's phase policy. "Boundaries" follows the doubling curves on
+//! the worker and draws them over the grid ([`super::overlay`]).
 
 use std::collections::VecDeque;
 
@@ -18,6 +19,7 @@ use egui_plot::{
 
 use super::axes::{self, AxisSpec};
 use super::jobs::{JobState, Jobs};
+use super::overlay;
 use super::phase_data::PhaseData;
 use super::settings::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseRange, Settings, ViewKind};
 use super::style;
@@ -187,6 +189,7 @@ impl PhaseView {
             {
                 out.push(Action::ComputePhase);
             }
+            boundaries_button_ui(ui, jobs, out);
             let zoomed = !s.phase.zoom.is_empty();
             if ui
                 .add_enabled(zoomed, egui::Button::new("Back"))
@@ -255,10 +258,14 @@ impl PhaseView {
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
         }
+        if let Some(text) = &jobs.curves.data.summary {
+            ui.label(RichText::new(format!("boundaries: {text}")).weak());
+        }
     }
 
     /// The grid of cells; a box drawn zooms, a click sets θν and κ.
-    fn plot_ui(&mut self, ui: &mut Ui, s: &mut Settings, data: &PhaseData, out: &mut Vec<Action>) {
+    fn plot_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        let data = &jobs.phase.data;
         // The grid drawn is the one computed (or being computed); before any,
         // the one that will be.
         let (range, columns, rows) = if data.rows * data.columns > 0 {
@@ -292,6 +299,7 @@ impl PhaseView {
             .then(|| self.texture.as_ref().map(|t| t.id()))
             .flatten();
         let drag_from = self.drag_from;
+        let line_width = style::width(ui.ctx(), 2.0);
         let resp = Plot::new("phase")
             .show_background(false)
             .allow_drag(false)
@@ -342,6 +350,7 @@ impl PhaseView {
                     .color(style::CURRENT)
                     .width(1.5),
             );
+            overlay::curve_items(p, &jobs.curves.data, line_width);
             let pointer = p.pointer_coordinate();
             if let (Some(a), Some(b)) = (drag_from, pointer) {
                 p.add(style::zoom_box(a, b));
@@ -400,7 +409,30 @@ impl View for PhaseView {
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
         self.controls_ui(ui, s, jobs, out);
-        self.plot_ui(ui, s, &jobs.phase.data, out);
+        self.plot_ui(ui, s, jobs, out);
+    }
+}
+
+/// "Boundaries" (or "Stop" while the curves are followed).
+fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
+    if jobs.curves.state == JobState::Running {
+        if ui
+            .button("Stop curves")
+            .on_hover_text("Stop following the doubling curves (those found stay)")
+            .clicked()
+        {
+            out.push(Action::StopBoundaries);
+        }
+    } else if ui
+        .button("Boundaries")
+        .on_hover_text(
+            "Follow the period-doubling curves (FP to P2, P2 to P4) through the box in (θν, κ), \
+             from the doublings found along θν at the κ slider's value. Runs on the \
+             worker; a change of γ, ν, Ω or of the box stops it.",
+        )
+        .clicked()
+    {
+        out.push(Action::Boundaries);
     }
 }
 

@@ -1,7 +1,10 @@
 //! A scripted run (`oneblock gui --screenshot`): wait for the views to be
 //! complete, optionally measure frame times and the slider-to-picture
 //! latency (`--frame-stats`), take one screenshot (a PNG, or an SVG when
-//! the file name ends in `.svg`), close the window.
+//! the file name ends in `.svg`), close the window. A picture of the
+//! bifurcation view alone shows its branches ("Find bifurcations"), one of
+//! the phase view alone its boundary curves: both are run once the other
+//! views are complete, and waited for.
 
 use std::path::PathBuf;
 use std::sync::{Arc, Mutex, PoisonError};
@@ -12,9 +15,9 @@ use egui::Context;
 
 use super::bifurcation::Zoom;
 use super::frame_stats::FrameStats;
-use super::jobs::{JobState, Jobs};
+use super::jobs::{JobState, Jobs, continuation_range};
 use super::screenshot::{Saved, Shots};
-use super::settings::{Settings, ViewKind};
+use super::settings::{Layout, Settings, ViewKind};
 use super::svg_render;
 use crate::worker::Generation;
 
@@ -189,10 +192,25 @@ impl Script {
             w.jobs.start_work_precision(w.settings);
             return;
         }
+        let alone = |v: ViewKind| w.settings.layout == Layout::Tabs && w.settings.tab == v;
+        let (branches, curves) = (alone(ViewKind::Bifurcation), alone(ViewKind::Phase));
+        if orbit_views && branches && !jobs.branches.issued() {
+            let zoom = w.zoom.last().map(|z| z.theta_nu);
+            let range = continuation_range(w.settings, zoom);
+            w.jobs.find_bifurcations(w.settings, range);
+            return;
+        }
+        if orbit_views && curves && jobs.phase.state == JobState::Done && !jobs.curves.issued() {
+            w.jobs.compute_boundaries(w.settings);
+            return;
+        }
         let jobs = &*w.jobs;
+        let settled = |state: &JobState| state != &JobState::Running;
         if orbit_views
             && (!shows_numerics || jobs.numerics_settled())
             && (!shows_phase || jobs.phase.state == JobState::Done)
+            && (!branches || settled(&jobs.branches.state))
+            && (!curves || (jobs.curves.issued() && settled(&jobs.curves.state)))
         {
             if self.measure.is_some() {
                 w.stats.enabled = true;

@@ -93,6 +93,31 @@ pub enum SlipMeasure {
     Energy,
 }
 
+/// Which of the Events view's plots it shows when it is too narrow for
+/// all of them (a tile, or large text).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub enum EventsPlot {
+    /// The slip sizes over the event number.
+    #[default]
+    Series,
+    /// The slip-size distribution.
+    Sizes,
+    /// The laminar lengths' distribution.
+    Laminar,
+    /// The mean laminar length against θν − θν_c.
+    Scaling,
+}
+
+impl EventsPlot {
+    /// Every plot, in the menu's order.
+    pub const ALL: [EventsPlot; 4] = [
+        EventsPlot::Series,
+        EventsPlot::Sizes,
+        EventsPlot::Laminar,
+        EventsPlot::Scaling,
+    ];
+}
+
 /// How angle axes (θν, θ) are labelled.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub enum AngleUnit {
@@ -162,6 +187,8 @@ pub struct Settings {
     /// The projector preset: thick lines and high contrast (and, when
     /// switched on, large text).
     pub projector: bool,
+    /// The Events view's plot when it shows one at a time.
+    pub events_plot: EventsPlot,
 }
 
 impl Settings {
@@ -206,6 +233,7 @@ impl Default for Settings {
             angle_unit: AngleUnit::Radians,
             map_powers: [false; 3],
             projector: false,
+            events_plot: EventsPlot::Series,
         }
     }
 }

@@ -21,6 +21,8 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
             &j.iterate.state,
             &j.sweep.state,
             &j.phase.state,
+            &j.branches.state,
+            &j.curves.state,
         ]
         .iter()
         .any(|s| matches!(s, JobState::Running));
@@ -70,11 +72,57 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
                 + j.orbit_progress().iterates_per_second
                 + j.phase.progress.iterates_per_second
         ));
+        for (name, slot_state, progress, summary) in [
+            (
+                "bifurcations",
+                &j.branches.state,
+                j.branches.progress.fraction,
+                &j.branches.data.summary,
+            ),
+            (
+                "boundaries",
+                &j.curves.state,
+                j.curves.progress.fraction,
+                &j.curves.data.summary,
+            ),
+        ] {
+            if let Some(text) = continuation_status(name, slot_state, progress, summary.as_deref())
+            {
+                ui.separator();
+                ui.label(text);
+            }
+        }
         if let Some(e) = &j.last_error {
             ui.separator();
             ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
         }
     });
+}
+
+/// "bifurcations 40%: 1 PD, 0 fold, 0 border · following the cascade…",
+/// or what the finished job said (`None` before any job).
+pub fn continuation_status(
+    name: &str,
+    state: &JobState,
+    fraction: f64,
+    summary: Option<&str>,
+) -> Option<String> {
+    let summary = summary.unwrap_or("");
+    Some(match state {
+        JobState::Idle if summary.is_empty() => return None,
+        JobState::Running => format!(
+            "{name} {:.0}%: {}",
+            100.0 * fraction.clamp(0.0, 1.0),
+            if summary.is_empty() {
+                "starting…"
+            } else {
+                summary
+            }
+        ),
+        JobState::Failed(m) => format!("{name}: failed: {m}"),
+        _ if summary.is_empty() => format!("{name}: {}", state_word(state)),
+        _ => format!("{name}: {summary}"),
+    })
 }
 
 fn state_word(s: &JobState) -> String {

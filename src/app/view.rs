@@ -47,6 +47,15 @@ pub enum Action {
     ComputePhase,
     /// Stop the phase grid.
     StopPhase,
+    /// Follow the attractor's cycle and its cascade over the bifurcation
+    /// diagram's θν range, locating doublings, folds and borders.
+    FindBifurcations,
+    /// Stop that.
+    StopBifurcations,
+    /// Follow the doubling curves (FP→P2, P2→P4) over the phase diagram.
+    Boundaries,
+    /// Stop that.
+    StopBoundaries,
 }
 
 /// One view of the window.

@@ -11,14 +11,15 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, finite,
-    warn_validity,
+    max_seconds, warn_validity,
 };
 use super::continue_out as out;
+use super::run_control::{Limits, stderr_is_terminal};
 use super::values::{count_between, echo, parse_count, parse_number, short};
 use crate::model::{Params, exit_arc};
 use crate::sim::continuation::{
-    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
-    cascade_reporting, continue_branch, continue_curve,
+    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, SpecialPoint,
+    Stop, cascade_reporting, continue_branch_reporting, continue_curves,
 };
 use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
 
@@ -78,6 +79,10 @@ pub struct ContinueArgs {
     /// With --curve: the other end of the second parameter's range.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "curve")]
     pub to2: Option<f64>,
+    /// Stop after this many seconds (at most 1e7), writing what was
+    /// computed and where it stopped, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// What is asked.
@@ -93,6 +98,7 @@ pub enum Mode {
 /// The checked inputs.
 pub struct Plan {
     pub prob: Problem,
+    pub max_seconds: Option<f64>,
     pub from: f64,
     pub to: f64,
     pub theta: Option<f64>,
@@ -152,6 +158,7 @@ fn range(
 /// Checks the flags and the outputs before any work.
 pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
     let period = count_between("period", args.period, 1, PERIOD_MAX)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
     let base = args.model.params()?;
     let settings = args.solver.settings()?;
     let (param, mode) = match (&args.curve, &args.params, &args.param) {
@@ -244,6 +251,7 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
     }
     Ok(Plan {
         prob,
+        max_seconds,
         from: args.from,
         to: args.to,
         theta,
@@ -322,14 +330,36 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
     let described = describe(sim.params(), sim.settings());
     let opts = ContOptions::for_range(&plan.prob.settings, plan.from, plan.to);
+    // The clock of --max-seconds starts no later than the limit's own, so
+    // a run the limit stopped has always passed it here (Ctrl+C has not).
     let started = Instant::now();
-    // Ctrl+C stops the run cleanly, writing nothing (as every long command).
-    let limits = super::run_control::Limits::start(None);
-    let never = || limits.stop();
+    let limits = Limits::start(plan.max_seconds);
+    let stop = || limits.stop();
+    // A line per located point where no bar or terminal shows progress.
+    let lines = !stderr_is_terminal();
+    let mut on_special = |p: &SpecialPoint| {
+        if lines {
+            eprintln!(
+                "continue: {} of the P{} branch at {} = {}",
+                p.kind.name(),
+                p.period,
+                plan.prob.param.name(),
+                p.lambda
+            );
+        }
+    };
     let (branches, extra): (Vec<Branch>, out::Extra) = match plan.mode {
         Mode::Branch => {
-            let b = continue_branch(&plan.prob, plan.from, plan.to, seed, &opts, &never)
-                .map_err(|e| start_error(&plan, seed, e))?;
+            let b = continue_branch_reporting(
+                &plan.prob,
+                plan.from,
+                plan.to,
+                seed,
+                &opts,
+                &stop,
+                &mut on_special,
+            )
+            .map_err(|e| start_error(&plan, seed, e))?;
             (vec![b], out::Extra::None)
         }
         Mode::Cascade => {
@@ -348,7 +378,7 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
                 seed,
                 PERIOD_MAX,
                 &opts,
-                &never,
+                &stop,
                 &mut progress,
             )
             .map_err(|e| start_error(&plan, seed, e))?;
@@ -356,13 +386,22 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             (branches, out::Extra::Cascade(c))
         }
         Mode::Curve(kind, p2, r2) => {
-            let b = continue_branch(&plan.prob, plan.from, plan.to, seed, &opts, &never)
-                .map_err(|e| start_error(&plan, seed, e))?;
+            let b = continue_branch_reporting(
+                &plan.prob,
+                plan.from,
+                plan.to,
+                seed,
+                &opts,
+                &stop,
+                &mut on_special,
+            )
+            .map_err(|e| start_error(&plan, seed, e))?;
             let want = match kind {
                 CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
                 CurveKind::Fold => SpecialKind::Fold,
             };
-            let Some(start) = b.of_kind(want).next().cloned() else {
+            let starts: Vec<SpecialPoint> = b.of_kind(want).cloned().collect();
+            if starts.is_empty() && b.stop != Stop::Cancelled {
                 return Err(CliError::Failed(format!(
                     "no {} point on the P{} branch in {} from {} to {} to start the curve from (the branch {})",
                     want.name(),
@@ -372,27 +411,37 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
                     short(plan.to),
                     b.stop_message()
                 )));
-            };
+            }
             let copts = CurveOptions::for_box([[plan.from, plan.to], r2]);
-            let curve = continue_curve(
+            // The curve through every start not on an earlier one: a
+            // boundary crossed twice along the branch may be two arms.
+            let curves = continue_curves(
                 &plan.prob.base,
                 &plan.prob.settings,
                 [plan.prob.param, p2],
                 plan.prob.period,
                 kind,
-                &start,
+                &starts,
                 &copts,
-                &never,
+                &stop,
             );
-            (vec![b], out::Extra::Curve(curve))
+            if lines {
+                for (i, c) in curves.iter().enumerate() {
+                    eprintln!("continue: {}", out::curve_line(i, c));
+                }
+            }
+            (vec![b], out::Extra::Curves([plan.prob.param, p2], curves))
         }
     };
-    if limits.stop() {
+    let timed_out = plan
+        .max_seconds
+        .is_some_and(|m| started.elapsed().as_secs_f64() >= m);
+    if limits.stop() && !timed_out {
         return Err(limits.stopped("continue"));
     }
     let seconds = started.elapsed().as_secs_f64();
     let data = match &extra {
-        out::Extra::Curve(c) => out::curve_csv(c),
+        out::Extra::Curves(params, c) => out::curve_csv(*params, c),
         _ => out::branches_csv(&branches),
     };
     emit(&args.out, data.as_bytes(), args.force)?;
@@ -410,11 +459,16 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     } else {
         eprint!("{}", summary.text());
     }
+    if timed_out {
+        return Err(CliError::Failed(format!(
+            "continue: stopped by --max-seconds = {} after {seconds:.1} s: what was computed is written; {}",
+            short(plan.max_seconds.unwrap_or(0.0)),
+            where_stopped(&branches, &extra)
+        )));
+    }
     // A branch that failed mid-way has written what it has; the run failed.
     let failed = branches.first().and_then(|b| match &b.stop {
-        crate::sim::continuation::Stop::Failed(_) => {
-            Some(format!("the P{} branch {}", b.period, b.stop_message()))
-        }
+        Stop::Failed(_) => Some(format!("the P{} branch {}", b.period, b.stop_message())),
         _ => None,
     });
     match failed {
@@ -422,5 +476,33 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             "{m} (the points computed before are written)"
         ))),
         None => Ok(()),
+    }
+}
+
+/// Where a run stopped by --max-seconds was: the last branch's end, and
+/// each curve's last point.
+fn where_stopped(branches: &[Branch], extra: &out::Extra) -> String {
+    let branch = branches
+        .last()
+        .map(|b| format!("the P{} branch {}", b.period, b.stop_message()))
+        .unwrap_or_default();
+    match extra {
+        out::Extra::Curves(_, curves) if !curves.is_empty() => {
+            let ends: Vec<String> = curves
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    format!(
+                        "curve {i} with {} points from {} to {}",
+                        c.points.len(),
+                        out::curve_end(c, false),
+                        out::curve_end(c, true)
+                    )
+                })
+                .collect();
+            format!("{}; {branch}", ends.join(", "))
+        }
+        out::Extra::Cascade(c) => format!("the cascade {}; {branch}", c.stop),
+        _ => branch,
     }
 }

@@ -3,7 +3,7 @@
 
 use std::fmt::Write as _;
 
-use crate::sim::continuation::{Branch, Cascade, Curve, SpecialPoint};
+use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, SpecialPoint};
 
 /// What a run computed beyond its branches.
 pub enum Extra {
@@ -11,8 +11,9 @@ pub enum Extra {
     None,
     /// A cascade (its branches are the run's).
     Cascade(Cascade),
-    /// A curve (the run's branch located its start).
-    Curve(Curve),
+    /// Curves, one per start not on an earlier one (the run's branch
+    /// located the starts).
+    Curves([ContParam; 2], Vec<Curve>),
 }
 
 /// `<param>,period,theta_1,…,theta_P,multiplier,stable`, one row per
@@ -69,27 +70,56 @@ pub fn points_csv(branches: &[Branch]) -> String {
 }
 
 /// `curve,kind,period,<p1>,<p2>,theta,multiplier`, one row per point of
-/// the polyline (`curve` numbers the polylines from 0).
-pub fn curve_csv(c: &Curve) -> String {
+/// each polyline (`curve` numbers the polylines from 0).
+pub fn curve_csv(params: [ContParam; 2], curves: &[Curve]) -> String {
     let mut s = format!(
         "curve,kind,period,{},{},theta,multiplier\n",
-        c.params[0].column(),
-        c.params[1].column()
+        params[0].column(),
+        params[1].column()
     );
-    for p in &c.points {
-        writeln!(
-            s,
-            "0,{},{},{},{},{},{}",
-            c.kind.name(),
-            c.period,
-            p.lambda[0],
-            p.lambda[1],
-            p.theta,
-            p.multiplier
-        )
-        .ok();
+    for (i, c) in curves.iter().enumerate() {
+        for p in &c.points {
+            writeln!(
+                s,
+                "{i},{},{},{},{},{},{}",
+                c.kind.name(),
+                c.period,
+                p.lambda[0],
+                p.lambda[1],
+                p.theta,
+                p.multiplier
+            )
+            .ok();
+        }
     }
     s
+}
+
+/// Where a curve ends, as "(λ₁, λ₂)".
+pub fn curve_end(c: &Curve, last: bool) -> String {
+    let p = if last {
+        c.points.last()
+    } else {
+        c.points.first()
+    };
+    p.map_or(String::new(), |p| {
+        format!("({}, {})", p.lambda[0], p.lambda[1])
+    })
+}
+
+/// One line on a curve: its size, its ends and why each ended.
+pub fn curve_line(i: usize, c: &Curve) -> String {
+    let (a, b) = (c.params[0].name(), c.params[1].name());
+    format!(
+        "{} curve {i} of P{} in ({a}, {b}): {} points from {} to {}; ends: {}; {}",
+        c.kind.name(),
+        c.period,
+        c.points.len(),
+        curve_end(c, false),
+        curve_end(c, true),
+        c.ends[0],
+        c.ends[1]
+    )
 }
 
 /// The run's summary.
@@ -194,34 +224,14 @@ impl Summary<'_> {
                     .ok();
                 }
             }
-            Extra::Curve(c) => {
-                let (a, b) = (c.params[0].name(), c.params[1].name());
-                let ends = |i: usize| {
-                    let p = if i == 0 {
-                        c.points.first()
-                    } else {
-                        c.points.last()
-                    };
-                    p.map_or(String::new(), |p| {
-                        format!("({}, {})", p.lambda[0], p.lambda[1])
-                    })
-                };
-                writeln!(
-                    s,
-                    "{} curve of P{} in ({a}, {b}): {} points from {} to {}; ends: {}; {}",
-                    c.kind.name(),
-                    c.period,
-                    c.points.len(),
-                    ends(0),
-                    ends(1),
-                    c.ends[0],
-                    c.ends[1]
-                )
-                .ok();
+            Extra::Curves(_, curves) => {
+                for (i, c) in curves.iter().enumerate() {
+                    writeln!(s, "{}", curve_line(i, c)).ok();
+                }
             }
         }
-        let curve_evals = match self.extra {
-            Extra::Curve(c) => c.map_evals,
+        let curve_evals: u64 = match self.extra {
+            Extra::Curves(_, curves) => curves.iter().map(|c| c.map_evals).sum(),
             _ => 0,
         };
         writeln!(
@@ -277,18 +287,21 @@ impl Summary<'_> {
                         }),
                     );
                 }
-                Extra::Curve(c) => {
-                    m.insert(
-                        "curve".into(),
-                        serde_json::json!({
-                            "kind": c.kind.name(),
-                            "period": c.period,
-                            "params": [c.params[0].name(), c.params[1].name()],
-                            "points": c.points.len(),
-                            "ends": c.ends,
-                            "map_evals": c.map_evals,
-                        }),
-                    );
+                Extra::Curves(_, curves) => {
+                    let list: Vec<_> = curves
+                        .iter()
+                        .map(|c| {
+                            serde_json::json!({
+                                "kind": c.kind.name(),
+                                "period": c.period,
+                                "params": [c.params[0].name(), c.params[1].name()],
+                                "points": c.points.len(),
+                                "ends": c.ends,
+                                "map_evals": c.map_evals,
+                            })
+                        })
+                        .collect();
+                    m.insert("curves".into(), serde_json::Value::Array(list));
                 }
             }
         }

@@ -79,6 +79,10 @@ pub struct Bin {
     pub count: usize,
 }
 
+/// Sizes whose log10 spread is below this (a ratio of 1.01) are binned as
+/// one size by [`log_histogram`].
+pub const MIN_LOG_SPAN: f64 = 0.004_3;
+
 /// The positive finite `xs` in `bins` bins of equal width in log10 between
 /// their smallest and largest value; empty when there is none.
 pub fn log_histogram(xs: &[f64], bins: usize) -> Vec<Bin> {
@@ -96,9 +100,12 @@ pub fn log_histogram(xs: &[f64], bins: usize) -> Vec<Bin> {
         .copied()
         .fold(f64::NEG_INFINITY, f64::max)
         .log10();
-    // One value (or all equal): one bin a tenth of a decade wide.
-    let (lo, hi, bins) = if hi - lo < 1e-12 {
-        (lo - 0.05, hi + 0.05, 1)
+    // Sizes that differ by less than 1 % (one value, or a periodic orbit's
+    // sizes still converging in their last digits) are one size: one bin
+    // a tenth of a decade wide, not their rounding spread over every bin.
+    let (lo, hi, bins) = if hi - lo < MIN_LOG_SPAN {
+        let mid = 0.5 * (lo + hi);
+        (mid - 0.05, mid + 0.05, 1)
     } else {
         (lo, hi, bins)
     };
@@ -140,6 +147,76 @@ pub struct Intermittency {
 /// Bins of the slip-size distribution.
 pub const SIZE_BINS: usize = 30;
 
+/// The fewest complete laminar phases, and their least mean length, for an
+/// orbit to be called intermittent: a creep fixed point has phases of
+/// length 0, a creep/slip alternation of 1, a periodic orbit the same
+/// length over and over.
+pub const MIN_PHASES: usize = 3;
+pub const MIN_MEAN_LENGTH: f64 = 2.0;
+
+/// The longest repeat period of the laminar lengths [`Regime`] looks for.
+pub const MAX_REPEAT: usize = 16;
+
+/// The smallest q ≤ [`MAX_REPEAT`] with `ls[i] == ls[i + q]` for every i,
+/// when the sequence holds at least three repeats of it.
+pub fn repeat_period(ls: &[usize]) -> Option<usize> {
+    (1..=MAX_REPEAT)
+        .take_while(|q| 3 * q <= ls.len())
+        .find(|&q| ls.iter().zip(&ls[q..]).all(|(a, b)| a == b))
+}
+
+/// What the kept slips say about intermittency.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Regime {
+    /// Every slip is large: no creep between them (stick-slip, periodic
+    /// or chaotic).
+    NoCreep,
+    /// Every slip is a creep slip but one or none: no laminar phase ends.
+    NoLargeSlips,
+    /// Fewer than [`MIN_PHASES`] complete laminar phases in the window.
+    TooFewPhases,
+    /// Large slips with at most a creep slip or two between them (mean
+    /// laminar length below [`MIN_MEAN_LENGTH`]).
+    Alternating,
+    /// The laminar lengths repeat with a short period (`every` phases; the
+    /// first length `first`): a periodic orbit.
+    Periodic { every: usize, first: usize },
+    /// Laminar phases of varying length, long on average.
+    Intermittent,
+}
+
+impl Regime {
+    /// Whether the laminar statistics mean something.
+    pub fn is_intermittent(self) -> bool {
+        self == Regime::Intermittent
+    }
+
+    /// A few words for a summary line.
+    pub fn describe(self) -> String {
+        match self {
+            Regime::NoCreep => {
+                "not intermittent: every slip is large, no creep between them".into()
+            }
+            Regime::NoLargeSlips => "not intermittent: no large slips between the creep".into(),
+            Regime::TooFewPhases => {
+                format!("too few laminar phases to tell (under {MIN_PHASES}): keep more events")
+            }
+            Regime::Alternating => format!(
+                "not intermittent: large slips with under {MIN_MEAN_LENGTH} creep slips between them"
+            ),
+            Regime::Periodic { every: 1, first } => {
+                format!("not intermittent: periodic, every laminar phase {first} creep slips long")
+            }
+            Regime::Periodic { every, .. } => {
+                format!(
+                    "not intermittent: periodic, the laminar lengths repeat every {every} phases"
+                )
+            }
+            Regime::Intermittent => "intermittent".into(),
+        }
+    }
+}
+
 impl Intermittency {
     /// The statistics of `sizes` (the transient already dropped), with the
     /// threshold [`large_threshold`] unless one is given.
@@ -158,6 +235,29 @@ impl Intermittency {
             mean_laminar_stderr: err,
             sizes: log_histogram(sizes, SIZE_BINS),
         })
+    }
+
+    /// Whether these slips are intermittent, and if not, why.
+    pub fn regime(&self) -> Regime {
+        if self.creep == 0 {
+            return Regime::NoCreep;
+        }
+        if self.large < 2 {
+            return Regime::NoLargeSlips;
+        }
+        if self.laminar.len() < MIN_PHASES {
+            return Regime::TooFewPhases;
+        }
+        if self.mean_laminar.is_none_or(|m| m < MIN_MEAN_LENGTH) {
+            return Regime::Alternating;
+        }
+        match repeat_period(&self.laminar) {
+            Some(every) => Regime::Periodic {
+                every,
+                first: self.laminar[0],
+            },
+            None => Regime::Intermittent,
+        }
     }
 
     /// The statistics as CSV: `#` lines with the summary, then
@@ -179,6 +279,7 @@ impl Intermittency {
             opt(self.mean_laminar_stderr),
         )
         .ok();
+        writeln!(s, "# {}", self.regime().describe()).ok();
         s.push_str("statistic,lo,hi,count\n");
         for (l, c) in length_counts(&self.laminar) {
             writeln!(s, "laminar_length,{l},{l},{c}").ok();
@@ -245,9 +346,8 @@ pub const SCAN_SPAN: f64 = 0.4;
 /// Distances from θν_c [`scaling`] measures at: (θν − θν_c)·2^−k.
 pub const SCAN_POINTS: usize = 7;
 
-/// Whether the orbit at `theta_nu` is intermittent, with its mean laminar
-/// length: at least 3 complete laminar phases of mean length ≥ 2 (a creep
-/// fixed point has phases of length 0, a creep/slip alternation of 1).
+/// Whether the orbit at `theta_nu` is intermittent ([`Regime`]), with its
+/// mean laminar length.
 fn intermittent_at(
     params: crate::model::Params,
     settings: crate::integrate::SolverSettings,
@@ -265,9 +365,8 @@ fn intermittent_at(
     let orbit = sim.orbit(theta_nu, &opts, cancel)?;
     let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
     Ok(Intermittency::of(&sizes, None)
-        .filter(|st| st.laminar.len() >= 3)
-        .and_then(|st| st.mean_laminar)
-        .filter(|m| *m >= 2.0))
+        .filter(|st| st.regime().is_intermittent())
+        .and_then(|st| st.mean_laminar))
 }
 
 /// The mean laminar length against θν − θν_c below `params.theta_nu`: θν_c

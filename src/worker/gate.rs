@@ -80,6 +80,11 @@ impl Gate {
         self.current() != generation
     }
 
+    /// Whether a job was started and has not yet sent its `Finished`.
+    pub fn is_running(&self) -> bool {
+        self.lock().running.is_some()
+    }
+
     /// Sends from the dispatcher side (blocking: waits for room).
     fn send_now(&self, u: Update) {
         if self.tx.send(u).is_ok() {

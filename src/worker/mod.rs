@@ -15,12 +15,16 @@
 //!   time (its own lane so that measuring never pauses a view's job).
 //! - `oneblock-phase`: the phase lane's coordinator, running each phase
 //!   diagram on `sweep_threads` scoped threads `oneblock-phase-<i>`.
+//! - `oneblock-continuation`: the continuation lane, one `FindBifurcations`
+//!   job at a time; `oneblock-curves`: the curves lane, one `Boundaries`
+//!   job at a time (a curve's two directions on two threads).
 //!
 //! Ordering (module `gate`): every update of a lane is sent under that lane's
 //! lock after re-checking its generation, and the generation only changes
 //! under the same lock, so after a `Cancelled` (or a job's
 //! `Finished{Cancelled}`) nothing of the older generation follows.
 
+mod continuation;
 mod gate;
 mod numerics;
 mod orbit;
@@ -42,8 +46,8 @@ pub use numerics::TIMING_REPEATS;
 pub use phase::{COARSE_STRIDE, Seed, run_cell};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
-    Axis, Command, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec,
-    SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
+    Axis, BoundarySpec, Command, ContinuationSpec, Generation, GridCell, IterateSpec, Lane,
+    MAX_GRAPH_POWER, Outcome, PhaseSpec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use gate::Gate;
@@ -134,6 +138,8 @@ pub(crate) struct Shared {
     pub sweep: Gate,
     pub numerics: Gate,
     pub phase: Gate,
+    pub continuation: Gate,
+    pub curves: Gate,
     pub stats: Arc<WorkerStats>,
     pub config: WorkerConfig,
 }
@@ -145,6 +151,8 @@ impl Shared {
         self.sweep.stop();
         self.numerics.stop();
         self.phase.stop();
+        self.continuation.stop();
+        self.curves.stop();
         self.stats.mark_stopped();
     }
 }
@@ -175,7 +183,9 @@ impl Worker {
             orbit: Gate::new(Lane::Orbit, up_tx.clone(), wake.clone()),
             sweep: Gate::new(Lane::Sweep, up_tx.clone(), wake.clone()),
             numerics: Gate::new(Lane::Numerics, up_tx.clone(), wake.clone()),
-            phase: Gate::new(Lane::Phase, up_tx, wake),
+            phase: Gate::new(Lane::Phase, up_tx.clone(), wake.clone()),
+            continuation: Gate::new(Lane::Continuation, up_tx.clone(), wake.clone()),
+            curves: Gate::new(Lane::Curves, up_tx, wake),
             stats: Arc::new(WorkerStats::default()),
             config,
         });
@@ -284,8 +294,25 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
             priority::lower_current_thread();
             lane_loop(phase_rx, |job| phase::run(&sh, job))
         });
+    let (continuation_tx, continuation_rx) = crossbeam_channel::unbounded::<Command>();
+    let sh = shared.clone();
+    let continuation_thread = std::thread::Builder::new()
+        .name("oneblock-continuation".into())
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(continuation_rx, |job| continuation::run(&sh, job))
+        });
+    let (curves_tx, curves_rx) = crossbeam_channel::unbounded::<Command>();
+    let sh = shared.clone();
+    let curves_thread = std::thread::Builder::new()
+        .name("oneblock-curves".into())
+        .spawn(move || {
+            priority::lower_current_thread();
+            lane_loop(curves_rx, |job| continuation::run(&sh, job))
+        });
 
-    // Each lane's latest job, for SetParams to run again.
+    // Each lane's latest job, for SetParams to run again (a continuation
+    // or curves job is not: it is asked for, and a change cancels it).
     let mut last_orbit: Option<Command> = None;
     let mut last_sweep: Option<Command> = None;
     // Cleared by a cancellation: a grid the user stopped is not restarted.
@@ -314,6 +341,13 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                     last_sweep = Some(job.clone());
                     sweep_tx.send(job).ok();
                 }
+                // A branch or curve of the old parameters is stale: stop it
+                // (it is not run again: it was asked for).
+                for g in [&shared.continuation, &shared.curves] {
+                    if g.is_running() {
+                        gate::cancel(&[g], generation, Some(g.lane));
+                    }
+                }
                 // The grid's axes are κ and θν: only γ, ν, Ω or the solver
                 // change it.
                 if let Some(job) = last_phase
@@ -331,11 +365,15 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                     Some(Lane::Orbit) => vec![&shared.orbit],
                     Some(Lane::Sweep) => vec![&shared.sweep],
                     Some(Lane::Numerics) => vec![&shared.numerics],
+                    Some(Lane::Continuation) => vec![&shared.continuation],
+                    Some(Lane::Curves) => vec![&shared.curves],
                     None => vec![
                         &shared.orbit,
                         &shared.sweep,
                         &shared.numerics,
                         &shared.phase,
+                        &shared.continuation,
+                        &shared.curves,
                     ],
                     Some(Lane::Phase) => vec![&shared.phase],
                 };
@@ -353,6 +391,16 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
             Command::WorkPrecision { generation, .. } => {
                 if shared.numerics.start(generation) {
                     numerics_tx.send(cmd).ok();
+                }
+            }
+            Command::FindBifurcations { generation, .. } => {
+                if shared.continuation.start(generation) {
+                    continuation_tx.send(cmd).ok();
+                }
+            }
+            Command::Boundaries { generation, .. } => {
+                if shared.curves.start(generation) {
+                    curves_tx.send(cmd).ok();
                 }
             }
             Command::Phase { generation, .. } => {
@@ -378,9 +426,18 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     drop(sweep_tx);
     drop(numerics_tx);
     drop(phase_tx);
-    for t in [orbit_thread, sweep_thread, numerics_thread, phase_thread]
-        .into_iter()
-        .flatten()
+    drop(continuation_tx);
+    drop(curves_tx);
+    for t in [
+        orbit_thread,
+        sweep_thread,
+        numerics_thread,
+        phase_thread,
+        continuation_thread,
+        curves_thread,
+    ]
+    .into_iter()
+    .flatten()
     {
         t.join().ok();
     }

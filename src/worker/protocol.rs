@@ -1,11 +1,13 @@
 //! The typed messages between the front end and the simulation worker.
 //!
-//! The worker runs four lanes: the *orbit lane* (trajectory or map iterates,
+//! The worker runs six lanes: the *orbit lane* (trajectory or map iterates,
 //! one job at a time), the *sweep lane* (bifurcation columns, on its own
 //! threads), the *numerics lane* (a work-precision measurement on the
-//! current parameters) and the *phase lane* (phase-diagram cells, on its own
-//! threads), so that a trajectory stays responsive while a diagram fills in
-//! and measuring never pauses the views.
+//! current parameters), the *phase lane* (phase-diagram cells, on its own
+//! threads), the *continuation lane* (branches and their bifurcations) and
+//! the *curves lane* (bifurcation curves in (θν, κ)), so that a trajectory
+//! stays responsive while a diagram fills in and measuring never pauses
+//! the views.
 //! Every job carries the generation it was started under; a receiver drops
 //! any update whose generation is older than the latest it asked for.
 
@@ -16,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
+use crate::sim::continuation::{Branch, ContParam, Curve};
 use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::{Period, Sample, SlipEvent};
 
@@ -35,6 +38,10 @@ pub enum Lane {
     Numerics,
     /// Phase diagrams in (θν, κ).
     Phase,
+    /// Branches of cycles continued in one parameter (`FindBifurcations`).
+    Continuation,
+    /// Bifurcation curves in (θν, κ) (`Boundaries`).
+    Curves,
 }
 
 /// One axis of a job's grid: `steps` values from `from` to `to`, both ends
@@ -146,6 +153,45 @@ impl PhaseSpec {
     }
 }
 
+/// Find bifurcations: follow the attractor's cycle at `from` (its period
+/// found by the orbit's period detector) in `param` over [`from`, `to`],
+/// locating its period doublings, folds and borders; if it doubles, follow
+/// the cascade from there up to period `max_period`. Each branch is sent
+/// as it ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContinuationSpec {
+    /// The model's parameters (`param`'s value is the range's).
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The parameter varied.
+    pub param: ContParam,
+    /// Where the branch starts (the attractor there is followed).
+    pub from: f64,
+    /// Where it ends (may be below `from`).
+    pub to: f64,
+    /// The cascade's longest period (at most `sim::PERIOD_MAX`).
+    pub max_period: usize,
+}
+
+/// Boundaries of the phase diagram as curves: the doublings of the
+/// attractor's cycle at θν = `theta_nu.0` (and of the cycle it doubles
+/// into) located along θν at the κ of `params`, each followed in (θν, κ)
+/// within the box `theta_nu` × `kappa` (FP→P2 and P2→P4 when the attractor
+/// there is the fixed point). Each curve is sent as it ends.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BoundarySpec {
+    /// The model's parameters: γ, ν, Ω, and the κ the doublings are
+    /// located at (inside `kappa`).
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The θν range (the box's first side).
+    pub theta_nu: (f64, f64),
+    /// The κ range (the box's second side).
+    pub kappa: (f64, f64),
+}
+
 /// A work-precision measurement: `subjects` (solver settings) against a
 /// reference on `points` orbit points of the attractor of `params` (from
 /// θ0, θν if `None`, after `transient` reference iterates), each setting
@@ -211,7 +257,8 @@ pub enum Command {
     /// front end that gives each kind of job its own accuracy wants; `Some`
     /// sets them all. A lane that has had no job stays idle; invalid values
     /// are reported by the re-run job, naming them. The numerics lane is not
-    /// re-run.
+    /// re-run; a running continuation or curves job is cancelled (answered
+    /// by `Cancelled` for its lane), not re-run.
     SetParams {
         generation: Generation,
         params: Params,
@@ -226,6 +273,22 @@ pub enum Command {
         generation: Generation,
         /// What to measure.
         spec: WorkPrecisionSpec,
+    },
+    /// Find bifurcations (`ContinuationSpec`) on the continuation lane: one
+    /// `Branch` per followed branch, `Progress` and `Summary` as they come.
+    FindBifurcations {
+        /// The job's stamp.
+        generation: Generation,
+        /// What to follow.
+        spec: ContinuationSpec,
+    },
+    /// Bifurcation curves in (θν, κ) (`BoundarySpec`) on the curves lane:
+    /// one `Curve` per followed curve, `Progress` and `Summary`.
+    Boundaries {
+        /// The job's stamp.
+        generation: Generation,
+        /// What to follow.
+        spec: BoundarySpec,
     },
     /// Stop the lane's job (every lane if `None`); answered by `Cancelled`.
     Cancel {
@@ -333,6 +396,24 @@ pub enum Update {
         /// Whether these cells belong to the first, coarse lattice.
         coarse: bool,
     },
+    /// One continued branch of a `FindBifurcations` job (the first one
+    /// over the whole range, then each level of the cascade).
+    Branch {
+        generation: Generation,
+        branch: Branch,
+    },
+    /// One bifurcation curve of a `Boundaries` job.
+    Curve {
+        generation: Generation,
+        curve: Curve,
+    },
+    /// What a continuation or curves job has found so far and, once it
+    /// ends, why it stopped (one line for the status bar).
+    Summary {
+        generation: Generation,
+        lane: Lane,
+        text: String,
+    },
     /// How far the lane's job is, and how fast it goes.
     Progress {
         generation: Generation,
@@ -374,6 +455,9 @@ impl Update {
             | Update::WorkPrecisionRow { generation, .. }
             | Update::WorkPrecisionSkipped { generation, .. }
             | Update::PhaseCells { generation, .. }
+            | Update::Branch { generation, .. }
+            | Update::Curve { generation, .. }
+            | Update::Summary { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }
             | Update::Finished { generation, .. }

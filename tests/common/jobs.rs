@@ -84,12 +84,14 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 pub fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 4];
+    let mut floor = [0u64; 6];
     let lane_ix = |l: Lane| match l {
         Lane::Orbit => 0,
         Lane::Sweep => 1,
         Lane::Numerics => 2,
         Lane::Phase => 3,
+        Lane::Continuation => 4,
+        Lane::Curves => 5,
     };
     for u in ups {
         let lane = match u {
@@ -102,7 +104,10 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
             | Update::WorkPrecisionRow { .. }
             | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
             Update::PhaseCells { .. } => Some(Lane::Phase),
-            Update::Progress { lane, .. }
+            Update::Branch { .. } => Some(Lane::Continuation),
+            Update::Curve { .. } => Some(Lane::Curves),
+            Update::Summary { lane, .. }
+            | Update::Progress { lane, .. }
             | Update::Error { lane, .. }
             | Update::Finished { lane, .. } => Some(*lane),
             Update::Cancelled { .. } => None,
@@ -124,7 +129,14 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
                 *f = (*f).max(generation + 1);
             }
             Update::Cancelled { generation, lane } => {
-                for l in [Lane::Orbit, Lane::Sweep, Lane::Numerics, Lane::Phase] {
+                for l in [
+                    Lane::Orbit,
+                    Lane::Sweep,
+                    Lane::Numerics,
+                    Lane::Phase,
+                    Lane::Continuation,
+                    Lane::Curves,
+                ] {
                     if lane.is_none_or(|x| x == l) {
                         let f = &mut floor[lane_ix(l)];
                         *f = (*f).max(*generation);

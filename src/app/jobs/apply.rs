@@ -17,6 +17,8 @@ impl Jobs {
             JobKind::Sweep => &mut self.sweep.state,
             JobKind::Phase => &mut self.phase.state,
             JobKind::Numerics => &mut self.numerics.state,
+            JobKind::Branches => &mut self.branches.state,
+            JobKind::Curves => &mut self.curves.state,
         }
     }
 
@@ -27,6 +29,8 @@ impl Jobs {
             JobKind::Sweep => &mut self.sweep.progress,
             JobKind::Phase => &mut self.phase.progress,
             JobKind::Numerics => &mut self.numerics.progress,
+            JobKind::Branches => &mut self.branches.progress,
+            JobKind::Curves => &mut self.curves.progress,
         }
     }
 
@@ -37,6 +41,8 @@ impl Jobs {
             JobKind::Sweep => self.sweep.generation,
             JobKind::Phase => self.phase.generation,
             JobKind::Numerics => self.numerics.generation,
+            JobKind::Branches => self.branches.generation,
+            JobKind::Curves => self.curves.generation,
         }
     }
 
@@ -121,6 +127,18 @@ impl Jobs {
             }
             Update::PhaseCells { cells, coarse, .. } if job == JobKind::Phase => {
                 self.phase.data.insert(cells, coarse);
+            }
+            Update::Branch { branch, .. } if job == JobKind::Branches => {
+                self.branches.data.branches.push(branch);
+            }
+            Update::Curve { curve, .. } if job == JobKind::Curves => {
+                self.curves.data.curves.push(curve);
+            }
+            Update::Summary { text, .. } if job == JobKind::Branches => {
+                self.branches.data.summary = Some(text);
+            }
+            Update::Summary { text, .. } if job == JobKind::Curves => {
+                self.curves.data.summary = Some(text);
             }
             Update::WorkPrecisionSample {
                 points,

@@ -25,16 +25,22 @@ pub enum JobKind {
     /// The Numerics view's work-precision measurement (it runs every
     /// method, so it has no solver setting of its own).
     Numerics,
+    /// "Find bifurcations": branches over the diagram's θν range.
+    Branches,
+    /// "Boundaries": doubling curves over the phase diagram.
+    Curves,
 }
 
 impl JobKind {
     /// Every kind of job.
-    pub const ALL: [JobKind; 5] = [
+    pub const ALL: [JobKind; 7] = [
         JobKind::Trajectory,
         JobKind::Sweep,
         JobKind::Iterate,
         JobKind::Phase,
         JobKind::Numerics,
+        JobKind::Branches,
+        JobKind::Curves,
     ];
 
     /// The jobs that integrate with one solver setting (the side panel's
@@ -53,18 +59,22 @@ impl JobKind {
             JobKind::Sweep => Lane::Sweep,
             JobKind::Phase => Lane::Phase,
             JobKind::Numerics => Lane::Numerics,
+            JobKind::Branches => Lane::Continuation,
+            JobKind::Curves => Lane::Curves,
         }
     }
 
     /// The accuracy its view can show: a pixel of the (x, y) view; 1e-3 of
     /// the diagram's θ range per pixel; 1e-10 for the map; 1e-8 for the
-    /// phase diagram's classes. `None` for the work-precision job.
+    /// phase diagram's classes; the command line's 1e-10 for continuation
+    /// (its points are located to 1e-10). `None` for the work-precision job.
     pub fn accuracy(self) -> Option<Accuracy> {
         match self {
             JobKind::Trajectory => Some(Accuracy::TrajectoryView),
             JobKind::Sweep => Some(Accuracy::BifurcationDiagram),
             JobKind::Iterate => Some(Accuracy::ReturnMap),
             JobKind::Phase => Some(Accuracy::PhaseDiagram),
+            JobKind::Branches | JobKind::Curves => Some(Accuracy::CommandLine),
             JobKind::Numerics => None,
         }
     }
@@ -88,6 +98,8 @@ impl JobKind {
             JobKind::Iterate => "map iterates",
             JobKind::Phase => "phase diagram",
             JobKind::Numerics => "work-precision",
+            JobKind::Branches => "bifurcations",
+            JobKind::Curves => "boundaries",
         }
     }
 
@@ -99,6 +111,8 @@ impl JobKind {
             JobKind::Iterate => "map",
             JobKind::Phase => "phase",
             JobKind::Numerics => "numerics",
+            JobKind::Branches => "branches",
+            JobKind::Curves => "curves",
         }
     }
 
@@ -126,6 +140,10 @@ impl JobKind {
             JobKind::Numerics => {
                 "The Numerics view's measurement runs every method against a \
                  reference at tol 1e-14."
+            }
+            JobKind::Branches | JobKind::Curves => {
+                "Continuation locates doublings and folds to 1e-10 in the \
+                 parameter: the command line's accuracy, 1e-10."
             }
         }
     }

@@ -6,13 +6,18 @@
 //! their job are dropped here. Nothing here draws.
 
 mod apply;
+mod continuation;
 pub mod kind;
 pub mod policy;
 
+pub use continuation::{
+    BranchKey, CurveKey, MAX_CASCADE_PERIOD, diagram_range as continuation_range,
+};
 pub use kind::JobKind;
 pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
 
 use super::backend::Backend;
+use super::branches::{BranchData, CurveData};
 use super::data::{IterateData, SweepData, TrajectoryData, WorkPrecisionData};
 use super::phase_data::PhaseData;
 use super::settings::Settings;
@@ -129,6 +134,10 @@ pub struct Jobs {
     pub sweep: Slot<SweepData>,
     pub phase: Slot<PhaseData>,
     pub numerics: Slot<WorkPrecisionData>,
+    /// "Find bifurcations": the bifurcation view's overlay.
+    pub branches: Slot<BranchData>,
+    /// "Boundaries": the phase view's overlay.
+    pub curves: Slot<CurveData>,
     /// The last error the worker reported (not the Numerics view's own),
     /// with the parameter it names.
     pub last_error: Option<String>,
@@ -144,6 +153,9 @@ pub struct Jobs {
     /// the trajectory's and the map iterates' solver settings.
     sent_orbit: Option<(Params, SolverSettings, SolverSettings)>,
     sent_sweep: Option<(SweepKey, Option<(f64, f64)>)>,
+    /// What the latest continuation and curves jobs were started with.
+    sent_branches: Option<BranchKey>,
+    sent_curves: Option<CurveKey>,
     last_orbit_send: f64,
     sweep_changed_at: Option<f64>,
     /// The orbit analysis waits for the trajectory (the worker's orbit lane
@@ -173,6 +185,8 @@ impl Jobs {
             sweep: Slot::default(),
             phase: Slot::default(),
             numerics: Slot::default(),
+            branches: Slot::default(),
+            curves: Slot::default(),
             last_error: None,
             stale_dropped: 0,
             trajectory_revision: 0,
@@ -180,6 +194,8 @@ impl Jobs {
             stream_forever: false,
             sent_orbit: None,
             sent_sweep: None,
+            sent_branches: None,
+            sent_curves: None,
             last_orbit_send: f64::NEG_INFINITY,
             sweep_changed_at: None,
             pending_iterate: None,
@@ -209,6 +225,8 @@ impl Jobs {
             JobKind::Sweep => &self.sweep.state,
             JobKind::Phase => &self.phase.state,
             JobKind::Numerics => &self.numerics.state,
+            JobKind::Branches => &self.branches.state,
+            JobKind::Curves => &self.curves.state,
         }
     }
 
@@ -483,6 +501,7 @@ impl Jobs {
             }
             _ => {}
         }
+        self.cancel_stale_continuation(s, shown);
         let running = self.phase.state == JobState::Running;
         match self
             .phase_policy

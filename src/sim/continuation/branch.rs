@@ -264,6 +264,7 @@ impl Ctx<'_> {
         let s = self.opts.scale;
         let mut x = pred;
         let mut last_g = f64::INFINITY;
+        let g_floor = 0.5 * CycleOptions::for_settings(&self.prob.settings).tol;
         for _ in 0..self.opts.max_newton {
             let e = self
                 .prob
@@ -279,7 +280,11 @@ impl Ctx<'_> {
                 (r[0] * t[1] - b * r[1]) / det,
                 (a * r[1] - r[0] * t[0]) / det,
             ];
-            if dx[0].abs() + dx[1].abs() <= self.opts.newton_tol {
+            // Or G at half the solver's tolerance: G's own error is about
+            // that (a P32 cycle sums 32 integrations), and where m is near
+            // 1 (a doubled cycle just born) it keeps the step above any
+            // tighter bound.
+            if dx[0].abs() + dx[1].abs() <= self.opts.newton_tol || e.g.abs() <= g_floor {
                 return Ok(Pt { x, e });
             }
             if dx[0].abs() > MAX_STEP || dx[1].abs() > MAX_STEP || e.g.abs() > 4.0 * last_g {
@@ -380,6 +385,20 @@ pub fn continue_branch(
     opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Branch, CycleFailure> {
+    continue_branch_reporting(prob, from, to, seed, opts, cancel, &mut |_| {})
+}
+
+/// [`continue_branch`], calling `on_special` with each PD, fold and border
+/// as it is located (for progress lines).
+pub fn continue_branch_reporting(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_special: &mut dyn FnMut(&SpecialPoint),
+) -> Result<Branch, CycleFailure> {
     let sim = prob.sim(from)?;
     let mut cyc_opts = CycleOptions::for_settings(&prob.settings);
     cyc_opts.tol = cyc_opts.tol.min(opts.newton_tol);
@@ -457,6 +476,7 @@ pub fn continue_branch(
                             note,
                             ..here
                         });
+                        on_special(&special[special.len() - 1]);
                         break Stop::Border;
                     }
                     // G cannot change by this much over a step shorter
@@ -470,6 +490,7 @@ pub fn continue_branch(
                             note,
                             ..here
                         });
+                        on_special(&special[special.len() - 1]);
                         break Stop::Border;
                     }
                     f => break Stop::Failed(f.describe()),
@@ -516,6 +537,7 @@ pub fn continue_branch(
         let mut pd = false;
         for (kind, p) in &found {
             special.push(ctx.special(*kind, p, String::new()));
+            on_special(&special[special.len() - 1]);
             points.push(ctx.point(p, tol));
             pd |= *kind == SpecialKind::PeriodDoubling;
         }

@@ -14,6 +14,7 @@
 //! leaves the box of the two ranges.
 
 use super::branch::SpecialPoint;
+use super::vec3::{cross, dot, norm, normalize, orient, solve3, sub};
 use super::{ContParam, EvalError};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
@@ -21,8 +22,27 @@ use crate::sim::Simulator;
 use crate::sim::cycles::MAX_STEP;
 use crate::sim::variational::D_THETA;
 
-/// How many consecutive creeping steps end a direction.
+/// Creeping steps (below [`CREEP`] of the first) looked at by the noise
+/// test.
 const CREEP_POINTS: usize = 30;
+/// A step this share of the first is creeping.
+const CREEP: f64 = 1e-3;
+/// The change of the multiplier aimed at over a difference step.
+const FD_CHANGE: f64 = 1e-3;
+/// The shortest and longest difference steps, in (θ, μ₁, μ₂).
+const FD_MIN: f64 = 1e-11;
+const FD_MAX: f64 = 1e-4;
+/// Newton steps per point.
+const NEWTON_STEPS: usize = 12;
+/// Residuals that end Newton at once (the multiplier's accuracy where the
+/// map is smooth).
+const TIGHT_RESIDUAL: f64 = 1e-10;
+/// A gradient of the multiplier (in (θ, μ₁, μ₂)) beyond which a failing
+/// corrector is put down to a jump of f nearby, not to the curve ending.
+const STEEP: f64 = 1e4;
+/// The tangent's turn aimed at per step, and the most allowed (radians).
+const TURN: f64 = 0.1;
+const MAX_TURN: f64 = 0.3;
 
 /// Which curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -90,7 +110,8 @@ impl CurveOptions {
         }
     }
 
-    fn scale(&self) -> [f64; 2] {
+    /// λ per unit of μ: the box's widths.
+    pub fn scale(&self) -> [f64; 2] {
         self.bounds.map(|b| (b[1] - b[0]).abs().max(1e-300))
     }
 }
@@ -123,7 +144,8 @@ pub struct Curve {
     pub map_evals: u64,
 }
 
-struct Ctx<'a> {
+/// What every evaluation along a curve shares.
+pub(super) struct Ctx<'a> {
     base: Params,
     settings: SolverSettings,
     params: [ContParam; 2],
@@ -131,20 +153,55 @@ struct Ctx<'a> {
     kind: CurveKind,
     opts: &'a CurveOptions,
     scale: [f64; 2],
-    evals: u64,
+    pub(super) evals: u64,
+    /// The difference steps for ∂m, per component of (θ, μ₁, μ₂).
+    fd: [f64; 3],
+    /// |∇m| at the last evaluated system, for the end's diagnosis.
+    steepness: f64,
 }
 
 /// The Jacobian's two rows, the residual, and the evaluation at a point.
-type System = ([[f64; 3]; 2], [f64; 2], Ev);
+pub(super) type System = ([[f64; 3]; 2], [f64; 2], Ev);
 
 /// G, the multiplier, and G's gradient in (θ, μ₁, μ₂).
-struct Ev {
-    g: f64,
-    m: f64,
-    grad: [f64; 3],
+pub(super) struct Ev {
+    /// G.
+    pub(super) g: f64,
+    /// The multiplier.
+    pub(super) m: f64,
+    /// G's gradient.
+    pub(super) grad: [f64; 3],
 }
 
-impl Ctx<'_> {
+impl<'a> Ctx<'a> {
+    /// The context of a curve of `kind` in `params` over `opts`'s box.
+    pub(super) fn new(
+        base: Params,
+        settings: SolverSettings,
+        params: [ContParam; 2],
+        period: usize,
+        kind: CurveKind,
+        opts: &'a CurveOptions,
+    ) -> Self {
+        Ctx {
+            base,
+            settings,
+            params,
+            period,
+            kind,
+            opts,
+            scale: opts.scale(),
+            evals: 0,
+            fd: [opts.fd_step; 3],
+            steepness: 0.0,
+        }
+    }
+
+    /// λ per unit of μ, for each parameter.
+    pub(super) fn scale(&self) -> [f64; 2] {
+        self.scale
+    }
+
     fn params_at(&self, y: &[f64; 3]) -> Params {
         let p = self.params[0].set(&self.base, y[1] * self.scale[0]);
         self.params[1].set(&p, y[2] * self.scale[1])
@@ -182,42 +239,90 @@ impl Ctx<'_> {
     }
 
     /// The Jacobian's two rows and the residual at y.
-    fn system(&mut self, y: &[f64; 3]) -> Result<System, EvalError> {
+    pub(super) fn system(&mut self, y: &[f64; 3]) -> Result<System, EvalError> {
         let e = self.eval(y)?;
-        let eta = self.opts.fd_step;
         let mut dm = [0.0; 3];
         for (i, d) in dm.iter_mut().enumerate() {
-            let mut z = *y;
-            z[i] += eta;
-            *d = (self.eval(&z)?.m - e.m) / eta;
+            *d = self.dm(y, i, e.m)?;
         }
+        self.steepness = norm(&dm);
         Ok(([e.grad, dm], [e.g, e.m - self.kind.target()], e))
     }
 
-    /// Newton on (G, m − m*, t·(y − pred)) = 0 from `pred`.
-    fn correct(&mut self, pred: [f64; 3], t: [f64; 3]) -> Option<(CurvePoint, [f64; 3], [f64; 3])> {
+    /// ∂m/∂yᵢ by a central difference whose step is chosen so that m
+    /// changes by about [`FD_CHANGE`] over it: much less and m's own error
+    /// (~1e-8 relative) dominates the quotient, much more and m's
+    /// curvature does (near a grazing, m ~ 1/√d changes by orders of
+    /// magnitude over a fixed step). The step is kept per component from
+    /// point to point and re-chosen at most twice here. Where one side
+    /// leaves the map's smooth part, the other side's one-sided quotient.
+    fn dm(&mut self, y: &[f64; 3], i: usize, m0: f64) -> Result<f64, EvalError> {
+        let mut h = self.fd[i];
+        let mut d = 0.0;
+        for _ in 0..3 {
+            d = self.quotient(y, i, h, m0)?;
+            let want = if d != 0.0 {
+                (FD_CHANGE / d.abs()).clamp(FD_MIN, FD_MAX)
+            } else {
+                FD_MAX
+            };
+            let close = want > 0.25 * h && want < 4.0 * h;
+            h = want;
+            if close {
+                break;
+            }
+        }
+        self.fd[i] = h;
+        Ok(d)
+    }
+
+    fn quotient(&mut self, y: &[f64; 3], i: usize, h: f64, m0: f64) -> Result<f64, EvalError> {
+        let (mut zp, mut zm) = (*y, *y);
+        zp[i] += h;
+        zm[i] -= h;
+        match (self.eval(&zp), self.eval(&zm)) {
+            (Ok(a), Ok(b)) => Ok((a.m - b.m) / (2.0 * h)),
+            (Ok(a), Err(_)) => Ok((a.m - m0) / h),
+            (Err(_), Ok(b)) => Ok((m0 - b.m) / h),
+            (Err(e), Err(_)) => Err(e),
+        }
+    }
+
+    /// Newton on (G, m − m*, t·(y − pred)) = 0 from `pred`: the point, y
+    /// and the tangent there, the Newton steps taken; or why it failed.
+    fn correct(&mut self, pred: [f64; 3], t: [f64; 3]) -> Result<Corrected, Failure> {
         let mut y = pred;
-        for _ in 0..12 {
-            let (rows, r, e) = self.system(&y).ok()?;
+        let mut best: Option<(f64, Corrected)> = None;
+        for k in 0..NEWTON_STEPS {
+            let (rows, r, e) = self.system(&y).map_err(Failure::Eval)?;
+            let residual = r[0].abs().max(r[1].abs());
+            let point = CurvePoint {
+                lambda: [y[1] * self.scale[0], y[2] * self.scale[1]],
+                theta: wrap_angle(y[0]),
+                multiplier: e.m,
+            };
+            let here = (point, y, cross(&rows[0], &rows[1]), k + 1);
             let a = [rows[0], rows[1], t];
             let rhs = [r[0], r[1], dot(&t, &sub(&y, &pred))];
-            let dy = solve3(&a, &rhs)?;
+            let Some(dy) = solve3(&a, &rhs) else {
+                return Err(Failure::Singular);
+            };
             let size = dy.iter().map(|v| v.abs()).sum::<f64>();
-            let small = r[0].abs().max(r[1].abs()) <= self.opts.residual_tol;
-            if size <= self.opts.newton_tol || small {
-                let point = CurvePoint {
-                    lambda: [y[1] * self.scale[0], y[2] * self.scale[1]],
-                    theta: wrap_angle(y[0]),
-                    multiplier: e.m,
-                };
-                return Some((point, y, cross(&rows[0], &rows[1])));
+            let within = residual <= self.opts.residual_tol;
+            if residual <= TIGHT_RESIDUAL || (within && size <= self.opts.newton_tol) {
+                return Ok(here);
+            }
+            if within && best.as_ref().is_none_or(|b| residual < b.0) {
+                best = Some((residual, here));
             }
             if dy.iter().any(|v| v.abs() > MAX_STEP) {
-                return None;
+                break;
             }
             y = sub(&y, &dy);
         }
-        None
+        // Where m's own error keeps Newton from its tolerance, the best
+        // iterate within the residual bound.
+        best.map(|b| b.1).ok_or(Failure::NoConvergence)
     }
 
     fn inside(&self, p: &CurvePoint) -> bool {
@@ -234,10 +339,11 @@ impl Ctx<'_> {
         mut t: [f64; 3],
         cancel: &(dyn Fn() -> bool + Sync),
     ) -> (Vec<CurvePoint>, String) {
-        let mut out = Vec::new();
+        let mut out: Vec<CurvePoint> = Vec::new();
+        // The last creeping points in (θ, μ₁, μ₂), for the noise test.
+        let mut creep: Vec<[f64; 3]> = Vec::new();
         let mut h = self.opts.h0;
         let mut grow = true;
-        let mut creeping = 0;
         loop {
             if cancel() {
                 return (out, "cancelled".into());
@@ -247,56 +353,108 @@ impl Ctx<'_> {
                 return (out, format!("after {n} points"));
             }
             let pred = [y[0] + h * t[0], y[1] + h * t[1], y[2] + h * t[2]];
-            let step = self.correct(pred, t).and_then(|(p, yn, tn)| {
-                let tn = orient(normalize(tn)?, &t);
+            let step = self.correct(pred, t).and_then(|(p, yn, tn, k)| {
+                let tn = orient(normalize(tn).ok_or(Failure::Singular)?, &t);
                 let far = norm(&sub(&yn, &pred)) > 0.5 * h + 1e-12;
-                (!far && dot(&tn, &t) > 0.95).then_some((p, yn, tn))
+                if far || dot(&tn, &t) < MAX_TURN.cos() {
+                    return Err(Failure::Turned);
+                }
+                Ok((p, yn, tn, k))
             });
             match step {
-                Some((p, yn, tn)) => {
+                Ok((p, yn, tn, newton)) => {
                     out.push(p);
-                    // Steps that stay a hundred times shorter than the
-                    // first: a cusp, or a stretch where the multiplier's
-                    // error is as large as its change over a step.
-                    creeping = if h < 1e-2 * self.opts.h0 {
-                        creeping + 1
-                    } else {
-                        0
-                    };
-                    if creeping >= CREEP_POINTS {
-                        return (
-                            out,
-                            format!(
-                                "{CREEP_POINTS} steps in a row below 1e-2 of the first (a cusp, or the multiplier's error as large as its change over a step)"
-                            ),
-                        );
-                    }
+                    let turn = dot(&tn, &t).clamp(-1.0, 1.0).acos();
+                    (y, t) = (yn, tn);
                     if !self.inside(&p) {
                         return (out, "left the box of the two ranges".into());
                     }
-                    (y, t) = (yn, tn);
-                    if grow {
-                        h = (1.5 * h).min(self.opts.h_max);
+                    if h < CREEP * self.opts.h0 {
+                        creep.push(y);
+                        if let Some(why) = noise(&creep) {
+                            return (out, why);
+                        }
+                    } else {
+                        creep.clear();
+                    }
+                    // The next step: a turn of about TURN per step, and
+                    // shorter after a slow corrector.
+                    let by_turn = if turn > 0.0 { TURN / turn } else { 1.5 };
+                    let by_newton = if newton > 4 { 0.7 } else { 1.5 };
+                    let factor = by_turn.min(by_newton).clamp(0.5, 1.5);
+                    if grow || factor < 1.0 {
+                        h = (h * factor).min(self.opts.h_max);
                     }
                     grow = true;
                 }
-                None => {
+                Err(why) => {
                     h *= 0.5;
                     grow = false;
                     if h < self.opts.h_min {
                         let at = out.last().map_or(String::new(), |p: &CurvePoint| {
                             format!(" after ({}, {})", p.lambda[0], p.lambda[1])
                         });
-                        return (
-                            out,
-                            format!(
-                                "the corrector failed even at the shortest step{at} (a border, or the curve ends)"
+                        let what = match why {
+                            Failure::Eval(e) if e.is_border() => {
+                                format!("a border: a cycle point reaches the map's edge {e}")
+                            }
+                            Failure::Eval(e) => format!("the map failed: {e}"),
+                            // Next to a (near) jump of f the multiplier's
+                            // gradient explodes, and its error with it.
+                            _ if self.steepness > STEEP => format!(
+                                "the multiplier turns too steep to follow (|grad m| = {:.1e}: f jumps or nearly jumps next to the cycle); the corrector fails even at the shortest step",
+                                self.steepness
                             ),
-                        );
+                            _ => "the corrector failed even at the shortest step".into(),
+                        };
+                        return (out, format!("{what}{at}"));
                     }
                 }
             }
         }
+    }
+}
+
+/// Why a step failed.
+enum Failure {
+    /// G or m could not be evaluated (a border, or the integration).
+    Eval(EvalError),
+    /// The Jacobian, with the tangent, is singular.
+    Singular,
+    /// Newton did not reach the residual bound.
+    NoConvergence,
+    /// The corrected point is far from the prediction, or the tangent
+    /// turned by more than [`MAX_TURN`].
+    Turned,
+}
+
+/// A corrected point, y, the tangent there, and the Newton steps taken.
+type Corrected = (CurvePoint, [f64; 3], [f64; 3], usize);
+
+/// Whether the creeping points are noise: [`CREEP_POINTS`] of them whose
+/// net displacement in (θ, μ₁, μ₂) is under a third of their path, i.e.
+/// points that step back and forth (the multiplier's error as large as
+/// its change over a step). A cusp of the curve's shadow in (λ₁, λ₂) is
+/// no such thing: in (θ, μ₁, μ₂) the curve is smooth there and its points
+/// advance, so it is followed through.
+fn noise(creep: &[[f64; 3]]) -> Option<String> {
+    if creep.len() < CREEP_POINTS {
+        return None;
+    }
+    let w = &creep[creep.len() - CREEP_POINTS..];
+    let path: f64 = w.windows(2).map(|p| norm(&sub(&p[1], &p[0]))).sum();
+    let net = norm(&sub(&w[CREEP_POINTS - 1], &w[0]));
+    if net < path / 3.0 {
+        Some(format!(
+            "noise: {CREEP_POINTS} steps below {CREEP:e} of the first that step back and forth (the multiplier's error is as large as its change over a step)"
+        ))
+    } else if creep.len() >= 10 * CREEP_POINTS {
+        Some(format!(
+            "{} steps in a row below {CREEP:e} of the first",
+            creep.len()
+        ))
+    } else {
+        None
     }
 }
 
@@ -317,16 +475,7 @@ pub fn continue_curve(
 ) -> Curve {
     let base = params[0].set(base, start.lambda);
     let scale = opts.scale();
-    let mut ctx = Ctx {
-        base,
-        settings: *settings,
-        params,
-        period,
-        kind,
-        opts,
-        scale,
-        evals: 0,
-    };
+    let mut ctx = Ctx::new(base, *settings, params, period, kind, opts);
     let y0 = [
         start.theta,
         start.lambda / scale[0],
@@ -375,55 +524,4 @@ pub fn continue_curve(
         ends: [why_back, why_fwd],
         map_evals: ctx.evals,
     }
-}
-
-fn dot(a: &[f64; 3], b: &[f64; 3]) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
-
-fn sub(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
-}
-
-fn norm(a: &[f64; 3]) -> f64 {
-    dot(a, a).sqrt()
-}
-
-fn cross(a: &[f64; 3], b: &[f64; 3]) -> [f64; 3] {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-fn normalize(a: [f64; 3]) -> Option<[f64; 3]> {
-    let n = norm(&a);
-    (n > 0.0 && n.is_finite()).then(|| a.map(|v| v / n))
-}
-
-fn orient(a: [f64; 3], prev: &[f64; 3]) -> [f64; 3] {
-    if dot(&a, prev) < 0.0 {
-        a.map(|v| -v)
-    } else {
-        a
-    }
-}
-
-/// Solves the 3×3 system a·x = b by Cramer's rule (`None` when singular).
-fn solve3(a: &[[f64; 3]; 3], b: &[f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: &[[f64; 3]; 3]| dot(&m[0], &cross(&m[1], &m[2]));
-    let d = det(a);
-    if !(d.is_finite() && d != 0.0) {
-        return None;
-    }
-    let mut x = [0.0; 3];
-    for (j, xj) in x.iter_mut().enumerate() {
-        let mut m = *a;
-        for i in 0..3 {
-            m[i][j] = b[i];
-        }
-        *xj = det(&m) / d;
-    }
-    Some(x)
 }

@@ -12,6 +12,8 @@
 mod branch;
 mod cascade;
 mod curve;
+mod curves;
+mod vec3;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
@@ -22,9 +24,11 @@ use crate::sim::{SimError, Simulator};
 
 pub use branch::{
     Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
+    continue_branch_reporting,
 };
 pub use cascade::{Cascade, cascade, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
+pub use curves::{continue_curves, curve_crossings};
 
 /// A parameter a branch can be continued in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

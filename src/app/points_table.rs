@@ -1,0 +1,80 @@
+//! The special points "Find bifurcations" located, as a table under the
+//! bifurcation view's toolbar: kind, period, parameter value, θ and
+//! multiplier to 9 significant digits, each row with a "Copy" button that
+//! puts the row's `oneblock continue --points` line on the clipboard, and
+//! "Copy all" for the header and every row.
+
+use eframe::egui;
+use egui::{RichText, Ui};
+
+use super::branches::{BranchData, CSV_HEADER, csv_line, sig9, special_rows};
+use crate::sim::continuation::ContParam;
+
+/// The table's most height, as a share of the view's.
+const HEIGHT_SHARE: f32 = 0.35;
+
+/// The lines "Copy all" puts on the clipboard: the header, then a row per
+/// special point.
+pub fn all_lines(data: &BranchData) -> String {
+    let param = data.param.unwrap_or(ContParam::ThetaNu);
+    let mut s = String::from(CSV_HEADER);
+    for p in special_rows(data) {
+        s.push('\n');
+        s.push_str(&csv_line(param, p));
+    }
+    s.push('\n');
+    s
+}
+
+/// The collapsing "Special points" section (nothing before any branch).
+pub fn points_ui(ui: &mut Ui, data: &BranchData) {
+    let rows = special_rows(data);
+    if data.branches.is_empty() {
+        return;
+    }
+    let param = data.param.unwrap_or(ContParam::ThetaNu);
+    let max_height = ui.available_height() * HEIGHT_SHARE;
+    egui::CollapsingHeader::new(format!("Special points ({})", rows.len()))
+        .id_salt("special points")
+        .show(ui, |ui| {
+            if rows.is_empty() {
+                ui.label(RichText::new("no doubling, fold or border on these branches").weak());
+                return;
+            }
+            if ui
+                .small_button("Copy all")
+                .on_hover_text("Every row as CSV, with its header (oneblock continue --points)")
+                .clicked()
+            {
+                ui.ctx().copy_text(all_lines(data));
+            }
+            egui::ScrollArea::vertical()
+                .max_height(max_height)
+                .show(ui, |ui| {
+                    egui::Grid::new("special points grid")
+                        .striped(true)
+                        .num_columns(6)
+                        .show(ui, |ui| {
+                            for h in ["kind", "period", param.column(), "θ", "multiplier", ""] {
+                                ui.label(RichText::new(h).strong());
+                            }
+                            ui.end_row();
+                            for p in &rows {
+                                ui.label(p.kind.name());
+                                ui.label(format!("{}", p.period));
+                                ui.label(sig9(p.lambda));
+                                ui.label(sig9(p.theta));
+                                ui.label(sig9(p.multiplier));
+                                if ui
+                                    .small_button("Copy")
+                                    .on_hover_text("This row as a CSV line: kind,period,parameter,value,theta,multiplier")
+                                    .clicked()
+                                {
+                                    ui.ctx().copy_text(csv_line(param, p));
+                                }
+                                ui.end_row();
+                            }
+                        });
+                });
+        });
+}

@@ -1,0 +1,131 @@
+//! A whole boundary in one run: the curve through every located start
+//! that is not on a curve already followed (a boundary such as Fig. 4's
+//! FP→P2 is crossed twice along θν, and its two arms may not join inside
+//! the box), and the points where a curve crosses a line λᵢ = value,
+//! corrected there to the multiplier's accuracy (to compare a curve with
+//! one-parameter branches).
+
+use super::ContParam;
+use super::branch::SpecialPoint;
+use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
+use crate::integrate::SolverSettings;
+use crate::model::{Params, wrap_angle};
+
+/// A start closer than this (in λ, relative to the box) to a crossing of
+/// a curve already followed is on that curve.
+const SAME_CURVE: f64 = 1e-6;
+
+/// Follows the `kind` curve through each of `starts` (special points of
+/// that kind on one branch in λ₁, at `base`'s λ₂), skipping a start that
+/// an earlier curve already passes through; see [`continue_curve`].
+/// `cancel` is polled once per point; a cancelled run returns the curves
+/// so far.
+#[allow(clippy::too_many_arguments)]
+pub fn continue_curves(
+    base: &Params,
+    settings: &SolverSettings,
+    params: [ContParam; 2],
+    period: usize,
+    kind: CurveKind,
+    starts: &[SpecialPoint],
+    opts: &CurveOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Vec<Curve> {
+    let mut curves: Vec<Curve> = Vec::new();
+    let scale = opts.scale();
+    let level = params[1].get(base);
+    for start in starts {
+        if cancel() {
+            break;
+        }
+        let known = curves.iter().any(|c| {
+            curve_crossings(base, settings, c, opts, 1, level)
+                .iter()
+                .any(|p| (p.lambda[0] - start.lambda).abs() <= SAME_CURVE * scale[0])
+        });
+        if !known {
+            curves.push(continue_curve(
+                base, settings, params, period, kind, start, opts, cancel,
+            ));
+        }
+    }
+    curves
+}
+
+/// Where `curve` crosses λ_axis = `value` (axis 0 or 1), each crossing
+/// corrected by Newton on (G, m − m*) in (θ, the other λ) with λ_axis
+/// held, to residuals of 1e-12 (or as far as the multiplier's accuracy
+/// allows, at most 1e-7): the curve's points there, not a chord's. `base` holds the
+/// parameters not on the curve; `opts` the box the curve was followed in.
+pub fn curve_crossings(
+    base: &Params,
+    settings: &SolverSettings,
+    curve: &Curve,
+    opts: &CurveOptions,
+    axis: usize,
+    value: f64,
+) -> Vec<CurvePoint> {
+    let axis = axis.min(1);
+    let other = 1 - axis;
+    let mut ctx = Ctx::new(
+        *base,
+        *settings,
+        curve.params,
+        curve.period,
+        curve.kind,
+        opts,
+    );
+    let scale = ctx.scale();
+    let mut out = Vec::new();
+    for w in curve.points.windows(2) {
+        let (a, b) = (w[0].lambda[axis] - value, w[1].lambda[axis] - value);
+        if a * b > 0.0 || a == b {
+            continue;
+        }
+        let f = a / (a - b);
+        let mut y = [0.0; 3];
+        y[0] = w[0].theta + f * wrap_angle(w[1].theta - w[0].theta);
+        y[1 + axis] = value / scale[axis];
+        y[1 + other] =
+            (w[0].lambda[other] + f * (w[1].lambda[other] - w[0].lambda[other])) / scale[other];
+        if let Some(p) = refine(&mut ctx, y, other, scale) {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Newton on (G, m − m*) in (θ, μ_other), the other μ held. The
+/// multiplier's own error (1e-11 to 1e-9) is the floor Newton stalls at:
+/// the best iterate within [`CROSSING_RESIDUAL`] is kept.
+fn refine(ctx: &mut Ctx, mut y: [f64; 3], other: usize, scale: [f64; 2]) -> Option<CurvePoint> {
+    let j = 1 + other;
+    let mut best: Option<(f64, CurvePoint)> = None;
+    for _ in 0..12 {
+        let Ok((rows, r, e)) = ctx.system(&y) else {
+            break;
+        };
+        let residual = r[0].abs().max(r[1].abs());
+        let point = CurvePoint {
+            lambda: [y[1] * scale[0], y[2] * scale[1]],
+            theta: wrap_angle(y[0]),
+            multiplier: e.m,
+        };
+        if best.as_ref().is_none_or(|b| residual < b.0) {
+            best = Some((residual, point));
+        }
+        if residual <= 1e-12 {
+            break;
+        }
+        let det = rows[0][0] * rows[1][j] - rows[0][j] * rows[1][0];
+        if !(det.is_finite() && det != 0.0) {
+            break;
+        }
+        y[0] -= (r[0] * rows[1][j] - rows[0][j] * r[1]) / det;
+        y[j] -= (rows[0][0] * r[1] - rows[1][0] * r[0]) / det;
+    }
+    best.filter(|b| b.0 <= CROSSING_RESIDUAL).map(|b| b.1)
+}
+
+/// The largest residual |G|, |m − m*| a crossing is given with.
+const CROSSING_RESIDUAL: f64 = 1e-7;

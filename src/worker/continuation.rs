@@ -1,0 +1,351 @@
+//! The continuation and curves lanes: a cycle followed in one parameter
+//! with its bifurcations (`FindBifurcations`), and the doublings followed
+//! in (θν, κ) (`Boundaries`), by the library's `sim::continuation`. Each
+//! branch or curve is sent as it ends; the library polls the job's
+//! generation once per computed point, so a newer job or a cancel stops it
+//! within one point.
+
+use std::time::Instant;
+
+use super::Shared;
+use super::gate::Gate;
+use super::orbit::{JobError, run_guarded};
+use super::protocol::{BoundarySpec, Command, ContinuationSpec, Generation, Update};
+use crate::integrate::SolverSettings;
+use crate::model::{Params, exit_arc};
+use crate::sim::continuation::{
+    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, SpecialPoint,
+    cascade_reporting, continue_branch, continue_curve,
+};
+use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+
+/// Runs one continuation-lane or curves-lane command.
+pub(crate) fn run(shared: &Shared, cmd: Command) {
+    match cmd {
+        Command::FindBifurcations { generation, spec } => {
+            let job = Job {
+                gate: &shared.continuation,
+                generation,
+            };
+            run_guarded(job.gate, generation, || job.find(&spec));
+        }
+        Command::Boundaries { generation, spec } => {
+            let job = Job {
+                gate: &shared.curves,
+                generation,
+            };
+            run_guarded(job.gate, generation, || job.boundaries(&spec));
+        }
+        _ => {}
+    }
+}
+
+struct Job<'a> {
+    gate: &'a Gate,
+    generation: Generation,
+}
+
+/// The attractor's period and a point of its cycle at `params`, as
+/// `oneblock continue` seeds without `--theta`: from the exit arc's start,
+/// 2000 iterates dropped, the period detector on 256 more. `Err` says what
+/// the attractor is instead (aperiodic, or no cycle found).
+fn attractor_seed(
+    params: Params,
+    settings: SolverSettings,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Result<(usize, f64), String>, SimError> {
+    let sim = Simulator::new(params, settings)?;
+    let (psi, _) = exit_arc(params.kappa, params.theta_nu);
+    let opts = OrbitOptions {
+        transient: 2000,
+        keep: 256,
+        lyapunov: false,
+        period_tol: OrbitOptions::period_tol_for(settings.rtol),
+    };
+    let orbit = sim.orbit(psi, &opts, cancel)?;
+    Ok(match (orbit.period, &orbit.cycle) {
+        (Period::Periodic(q), Some(c)) => Ok((q, c.points[0])),
+        (Period::Periodic(q), None) => Err(format!("has period {q} but no cycle was solved")),
+        (Period::Aperiodic, _) => Err("is aperiodic".into()),
+    })
+}
+
+/// The parameter's letter, as the window writes it.
+fn symbol(p: ContParam) -> &'static str {
+    match p {
+        ContParam::ThetaNu => "θν",
+        ContParam::Kappa => "κ",
+        ContParam::Gamma => "γ",
+        ContParam::Nu => "ν",
+        ContParam::Omega => "Ω",
+    }
+}
+
+/// A start that is not on a cycle: the job ends, saying why.
+fn start_failure(e: CycleFailure) -> JobError {
+    match e {
+        CycleFailure::Sim(SimError::Cancelled) => JobError::Stop,
+        CycleFailure::Sim(e) => JobError::Sim(e),
+        e => JobError::Failed(format!("no cycle to follow at the start: {e}")),
+    }
+}
+
+/// "1 PD, 0 fold, 1 border" over `branches`.
+fn counts(branches: &[Branch]) -> String {
+    let n = |k| branches.iter().map(|b| b.of_kind(k).count()).sum::<usize>();
+    format!(
+        "{} PD, {} fold, {} border",
+        n(SpecialKind::PeriodDoubling),
+        n(SpecialKind::Fold),
+        n(SpecialKind::Border)
+    )
+}
+
+impl Job<'_> {
+    fn stale(&self) -> bool {
+        self.gate.is_stale(self.generation)
+    }
+
+    fn send(&self, u: Update) -> Result<(), JobError> {
+        Ok(self.gate.send(self.generation, u)?)
+    }
+
+    fn summary(&self, text: String) -> Result<(), JobError> {
+        self.send(Update::Summary {
+            generation: self.generation,
+            lane: self.gate.lane,
+            text,
+        })
+    }
+
+    fn progress(&self, fraction: f64, evals: u64, since: Instant) -> Result<(), JobError> {
+        let secs = since.elapsed().as_secs_f64().max(1e-9);
+        self.send(Update::Progress {
+            generation: self.generation,
+            lane: self.gate.lane,
+            fraction,
+            iterates_per_second: evals as f64 / secs,
+        })
+    }
+
+    /// The attractor at `from` followed over the range, then its cascade.
+    fn find(&self, spec: &ContinuationSpec) -> Result<(), JobError> {
+        let started = Instant::now();
+        let cancel = || self.stale();
+        let (from, to) = (spec.from, spec.to);
+        let name = symbol(spec.param);
+        if !(from.is_finite() && to.is_finite()) || from == to {
+            return Err(JobError::Failed(format!(
+                "the range {name} from {from} to {to} is empty"
+            )));
+        }
+        let base = spec.param.set(&spec.params, from);
+        let (period, seed) = match attractor_seed(base, spec.settings, &cancel)? {
+            Ok(found) => found,
+            Err(what) => {
+                let text = format!(
+                    "stopped: the attractor at {name} = {from:.6} {what}: no cycle to follow"
+                );
+                self.summary(text)?;
+                return Ok(());
+            }
+        };
+        let prob = Problem {
+            base,
+            settings: spec.settings,
+            param: spec.param,
+            period,
+        };
+        let opts = ContOptions::for_range(&spec.settings, from, to);
+        let branch =
+            continue_branch(&prob, from, to, seed, &opts, &cancel).map_err(start_failure)?;
+        if self.stale() {
+            return Err(JobError::Stop);
+        }
+        let max_period = spec.max_period.clamp(period, PERIOD_MAX);
+        let levels = (max_period / period).max(1).ilog2() as f64 + 1.0;
+        let mut evals = branch.map_evals;
+        let doubles = branch.of_kind(SpecialKind::PeriodDoubling).next().is_some();
+        let first = format!("P{period} branch: it {}", branch.stop_message());
+        let mut all = vec![branch.clone()];
+        self.send(Update::Branch {
+            generation: self.generation,
+            branch,
+        })?;
+        if !doubles || 2 * period > max_period {
+            self.progress(1.0, evals, started)?;
+            let why = if doubles {
+                format!("the cascade's period is capped at {max_period}")
+            } else {
+                "no period doubling".to_string()
+            };
+            self.summary(format!("{} · stopped: {first}; {why}", counts(&all)))?;
+            return Ok(());
+        }
+        self.progress(1.0 / levels, evals, started)?;
+        self.summary(format!("{} · following the cascade…", counts(&all)))?;
+        // The first level is the branch above cut at its doubling: only
+        // the doubled levels are new.
+        let mut sent: Result<(), JobError> = Ok(());
+        let mut done = 1.0;
+        let mut on_level = |b: &Branch| {
+            if b.period == period || sent.is_err() {
+                return;
+            }
+            evals += b.map_evals;
+            done += 1.0;
+            all.push(b.clone());
+            sent = self
+                .send(Update::Branch {
+                    generation: self.generation,
+                    branch: b.clone(),
+                })
+                .and_then(|()| self.progress((done / levels).min(1.0), evals, started));
+        };
+        let cascade = cascade_reporting(
+            &prob,
+            from,
+            to,
+            seed,
+            max_period,
+            &opts,
+            &cancel,
+            &mut on_level,
+        )
+        .map_err(start_failure)?;
+        sent?;
+        if self.stale() {
+            return Err(JobError::Stop);
+        }
+        self.progress(1.0, evals, started)?;
+        let top = cascade.branches.last().map_or(period, |b| b.period);
+        self.summary(format!(
+            "{} · cascade P{period}…P{top} · stopped: {}",
+            counts(&all),
+            cascade.stop
+        ))
+    }
+
+    /// The doublings of the attractor's cycle at the box's left edge, and
+    /// of the cycle it doubles into, each followed as a curve in (θν, κ).
+    fn boundaries(&self, spec: &BoundarySpec) -> Result<(), JobError> {
+        let started = Instant::now();
+        let cancel = || self.stale();
+        let (t0, t1) = spec.theta_nu;
+        let (k0, k1) = spec.kappa;
+        let kappa = spec.params.kappa;
+        if !(t0 < t1 && k0 < k1 && (k0..=k1).contains(&kappa)) {
+            return Err(JobError::Failed(format!(
+                "the box θν ∈ [{t0}, {t1}], κ ∈ [{k0}, {k1}] is empty or does not hold κ = {kappa}"
+            )));
+        }
+        let base = ContParam::ThetaNu.set(&spec.params, t0);
+        let (period, seed) = match attractor_seed(base, spec.settings, &cancel)? {
+            Ok(found) => found,
+            Err(what) => {
+                self.summary(format!(
+                    "stopped: the attractor at θν = {t0:.6}, κ = {kappa:.6} {what}: no cycle to follow"
+                ))?;
+                return Ok(());
+            }
+        };
+        let prob = Problem {
+            base,
+            settings: spec.settings,
+            param: ContParam::ThetaNu,
+            period,
+        };
+        let opts = ContOptions::for_range(&spec.settings, t0, t1);
+        // Every doubling of the attractor's cycle along θν (the fixed
+        // point's boundary is crossed twice at most κ), and the first of
+        // the cycle it doubles into.
+        let branch = continue_branch(&prob, t0, t1, seed, &opts, &cancel).map_err(start_failure)?;
+        let mut starts: Vec<SpecialPoint> = branch
+            .of_kind(SpecialKind::PeriodDoubling)
+            .cloned()
+            .collect();
+        if !starts.is_empty() && 2 * period <= PERIOD_MAX {
+            let c = cascade(&prob, t0, t1, seed, 2 * period, &opts, &cancel)?;
+            starts.extend(c.doublings.into_iter().filter(|d| d.period == 2 * period));
+        }
+        if self.stale() {
+            return Err(JobError::Stop);
+        }
+        if starts.is_empty() {
+            self.summary(format!(
+                "stopped: the P{period} cycle does not double along θν ∈ [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
+            ))?;
+            return Ok(());
+        }
+        let copts = CurveOptions::for_box([[t0, t1], [k0, k1]]);
+        let scale = [t1 - t0, k1 - k0];
+        let mut curves: Vec<crate::sim::continuation::Curve> = Vec::new();
+        let mut evals = branch.map_evals;
+        let total = starts.len() as f64;
+        for (i, start) in starts.iter().enumerate() {
+            // A doubling already on a followed curve of its period would
+            // draw that curve again.
+            let on_curve = curves.iter().any(|c| {
+                c.period == start.period
+                    && c.points.iter().any(|q| {
+                        ((q.lambda[0] - start.lambda) / scale[0])
+                            .hypot((q.lambda[1] - kappa) / scale[1])
+                            < 2e-3
+                    })
+            });
+            if on_curve {
+                continue;
+            }
+            let curve = continue_curve(
+                &base,
+                &spec.settings,
+                [ContParam::ThetaNu, ContParam::Kappa],
+                start.period,
+                CurveKind::PeriodDoubling,
+                start,
+                &copts,
+                &cancel,
+            );
+            if self.stale() {
+                return Err(JobError::Stop);
+            }
+            evals += curve.map_evals;
+            curves.push(curve.clone());
+            self.send(Update::Curve {
+                generation: self.generation,
+                curve,
+            })?;
+            self.progress((i + 1) as f64 / total, evals, started)?;
+        }
+        let names: Vec<String> = curves
+            .iter()
+            .map(|c| {
+                format!(
+                    "P{} to P{} ({} points)",
+                    c.period,
+                    2 * c.period,
+                    c.points.len()
+                )
+            })
+            .collect();
+        self.summary(format!(
+            "{} curves: {} · done",
+            curves.len(),
+            names.join(", ")
+        ))
+    }
+}
+
+/// The cascade without progress reports.
+fn cascade(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<crate::sim::continuation::Cascade, JobError> {
+    crate::sim::continuation::cascade(prob, from, to, seed, max_period, opts, cancel)
+        .map_err(start_failure)
+}
