@@ -60,8 +60,8 @@ pub fn map_graph_grid(kappa: f64, theta_nu: f64, lo: f64, hi: f64, n: usize) -> 
 pub const DERIVATIVE_STEP: f64 = 1e-5;
 
 /// f'(θ), and the right-hand-side evaluations it cost, from the
-/// variational equations ([`Simulator::cycle_derivatives`]: one cycle
-/// whose evaluations carry the tangents). Where f has no derivative
+/// variational equations ([`Simulator::cycle_slope`]: one cycle whose
+/// evaluations carry the tangent along θ alone). Where f has no derivative
 /// (`sim::variational::NotDifferentiable`: a restart at the stop, the edge
 /// of the exit arc, a jump) a number is still wanted by the Lyapunov
 /// exponent, so the slope of the secant over ±1e-5 is returned there,
@@ -108,7 +108,7 @@ pub(crate) fn central_difference(
 
 /// The cycle from θ (onset time `t0`) and f'(θ) with the evaluations the
 /// derivative cost beyond the cycle's own: one cycle with the variational
-/// equations ([`Simulator::cycle_derivatives`]); its event is bitwise what
+/// equations ([`Simulator::cycle_slope`]); its event is bitwise what
 /// [`Simulator::cycle`] gives. Where f has no derivative, the secant slope
 /// of [`map_derivative`] and its cycles' evaluations.
 pub fn cycle_with_derivative(

@@ -128,8 +128,8 @@ struct Pass {
 }
 
 /// Walks p iterates from θ with the exact f'(θᵢ) at each
-/// ([`Simulator::cycle_derivatives`]: one map evaluation carrying its
-/// tangents). Where f has no derivative (a restart, an onset at the arc's
+/// ([`Simulator::cycle_slope`]: one map evaluation carrying its tangent
+/// along θ). Where f has no derivative (a restart, an onset at the arc's
 /// edge, a tangential event) the slope of a central difference keeps Newton
 /// going, and the pass is marked: a cycle through such a point is refused.
 fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result<Pass, SimError> {
