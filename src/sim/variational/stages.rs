@@ -210,8 +210,10 @@ impl<const N: usize> Tangents<N> {
     /// in each multiplied the code (and the plain slip's) many times over.
     #[inline(always)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
+        // The stiff stop's few steps keep their sums unfused, as its
+        // [`super::Tan`] field is.
         #[cfg(target_arch = "x86_64")]
-        if self.fma {
+        if self.fma && field != Field::Manifold {
             // SAFETY: `fma` was set from `is_x86_feature_detected!` for
             // both features.
             return unsafe { self.eval_fma(field, y) };
@@ -257,7 +259,7 @@ impl<const N: usize> Tangents<N> {
             Mode::Stage => {
                 let i = self.idx;
                 self.idx += 1;
-                let t = self.stage_argument::<FMA>(field, i);
+                let t = self.combine::<FMA>(&self.a[i], i);
                 let (v, k) = self.field_with::<FMA>(field, y, &t);
                 self.k[i] = k;
                 if self.fsal && i == self.stages - 1 {
@@ -267,28 +269,11 @@ impl<const N: usize> Tangents<N> {
                 Some(v)
             }
             Mode::Final => {
-                let t = self.stage_argument::<FMA>(field, MAX_STAGES);
+                let t = self.combine::<FMA>(&self.b, MAX_STAGES);
                 let (v, k) = self.field_with::<FMA>(field, y, &t);
                 (self.final_y, self.final_k) = (t, k);
                 Some(v)
             }
-        }
-    }
-
-    /// The tangent's argument for stage `row` (`MAX_STAGES`: the new
-    /// solution). The stiff stop's few steps keep their sums unfused, as
-    /// its [`super::Tan`] field is.
-    #[inline(always)]
-    fn stage_argument<const FMA: bool>(&self, field: Field, row: usize) -> Jet<N> {
-        let w = if row < MAX_STAGES {
-            &self.a[row]
-        } else {
-            &self.b
-        };
-        if field == Field::Manifold {
-            self.combine::<false>(w, row)
-        } else {
-            self.combine::<FMA>(w, row)
         }
     }
 
