@@ -232,7 +232,11 @@ fn bifurcation_equals_its_continued_segments() {
     };
     let settings = SolverSettings::default();
     let grid = theta_nu_grid(from, to, columns);
-    let opts = SweepOptions { transient, keep };
+    let opts = SweepOptions {
+        transient,
+        keep,
+        map: oneblock::sim::MapChoice::Auto,
+    };
     let mut want = Vec::new();
     let segs: Vec<&[f64]> = [&grid[..5], &grid[5..]]
         .into_iter()

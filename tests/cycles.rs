@@ -272,6 +272,7 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     let opts = SweepOptions {
         transient: 500,
         keep: 100,
+        map: oneblock::sim::MapChoice::Direct,
     };
     let (lower, upper) = grid.split_at(grid.len().div_ceil(2));
     let reference: Vec<(f64, Vec<f64>)> = [lower, upper]

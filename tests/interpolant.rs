@@ -294,3 +294,41 @@ fn orbit_says_which_map_it_used() {
     assert_eq!(err.trim().lines().count(), 1, "{err}");
     assert!(err.contains("--map"), "{err}");
 }
+
+/// Where the map cannot be resolved within the piece budget (κ = 3,
+/// θν = 1.1257: rough near θ = 1.064), `orbit --map interpolant` says so
+/// and integrates every iterate: the same orbit as `--map direct`, never a
+/// worse one.
+#[test]
+fn orbit_says_so_and_integrates_when_the_interpolant_is_refused() {
+    let run = |map: &str| {
+        let o = oneblock(&[
+            "orbit",
+            "--kappa",
+            "3",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-3",
+            "--theta-nu",
+            "1.1257373675363425",
+            "--transient",
+            "300",
+            "--keep",
+            "100",
+            "--json",
+            "--map",
+            map,
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()
+    };
+    let tried = run("interpolant");
+    assert_eq!(tried["map"]["method"], "direct");
+    let why = tried["map"]["interpolant_refused"].as_str().unwrap();
+    assert!(why.contains("could not be resolved"), "{why}");
+    let direct = run("direct");
+    for key in ["period", "lyapunov", "lyapunov_stderr", "keep"] {
+        assert_eq!(tried[key], direct[key], "{key}");
+    }
+}

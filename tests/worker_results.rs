@@ -190,7 +190,11 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
     // Bit for bit against the core, following the same plan.
     let grid = theta_nu_grid(0.05, 1.5, columns);
     let params = fig3b(0.0);
-    let opts = SweepOptions { transient, keep };
+    let opts = SweepOptions {
+        transient,
+        keep,
+        map: oneblock::sim::MapChoice::Auto,
+    };
     let mut last: Vec<Option<Handover>> = vec![None; columns];
     // Each thread steps LANES columns together: LANES chains per thread.
     let plan = sweep_plan(columns, coarse, threads * LANES);

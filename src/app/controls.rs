@@ -11,6 +11,8 @@ use std::ops::RangeInclusive;
 
 use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 
+mod sweep;
+
 use super::accuracy;
 use super::describe;
 use super::jobs::Jobs;
@@ -348,6 +350,7 @@ fn view_options_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
         ui.add(egui::DragValue::new(&mut s.columns).range(20..=2000))
             .on_hover_text("θν columns of the bifurcation diagram (recomputes it).");
     });
+    sweep::points_per_column_ui(ui, s);
     ui.horizontal(|ui| {
         ui.label("text size");
         ui.add(

@@ -497,6 +497,7 @@ mod tests {
             rhs_evals: 0,
             theta_last: 0.0,
             error: None,
+            map: Default::default(),
         }
     }
 

@@ -404,6 +404,7 @@ fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option
     let opts = SweepOptions {
         transient: args.transient,
         keep: args.keep,
+        map: crate::sim::MapChoice::Direct,
     };
     let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, args.columns);
     let coarse: Vec<f64> = sweep_plan(args.columns, args.coarse, 1)

@@ -29,6 +29,7 @@ use super::values::{
     given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
 use crate::model::Params;
+use crate::sim::interpolant::MapUsed;
 use crate::sim::{Column, SimError, Simulator, SweepOptions, sweep_segments, theta_nu_grid};
 #[cfg(doc)]
 use crate::sim::{LANES, segments, sweep_columns};
@@ -73,6 +74,12 @@ pub struct BifurcationArgs {
     /// Iterates kept at each θν: one CSV row each (≥ 1; columns × keep ≤ 1e7).
     #[arg(long, default_value_t = 100, value_parser = parse_count, allow_hyphen_values = true)]
     pub keep: usize,
+    /// How a column that has not settled after its transient evaluates the
+    /// map: direct, interpolant (the map's verified interpolant, built per
+    /// column; docs/interpolant.md) or auto (the interpolant from 5000 kept
+    /// iterates on). Where it is refused the column integrates.
+    #[arg(long, default_value = "auto")]
+    pub map: String,
     /// θ where each half's first column starts [default: that column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
@@ -122,6 +129,7 @@ pub struct Plan {
     keep: usize,
     total: u64,
     max_seconds: Option<f64>,
+    map: crate::sim::MapChoice,
 }
 
 /// Checks the flags and the output before any work.
@@ -141,6 +149,7 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let columns = count_in("columns", args.columns, MAX_COLUMNS)?;
     let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
     let total = total_iterates(args.transient, ("keep", keep), columns)?;
+    let map = super::orbit::map_choice(&args.map)?;
     if let Some(th) = args.theta0 {
         // On the arc of the first column; later columns project it onto theirs.
         let sim = Simulator::new(params, settings)?;
@@ -157,6 +166,7 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
         keep,
         total,
         max_seconds,
+        map,
     })
 }
 
@@ -170,6 +180,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         keep,
         total,
         max_seconds,
+        map,
     } = check(&args)?;
     warn_validity(&params);
     let grid = theta_nu_grid(from, to, columns);
@@ -177,6 +188,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let opts = SweepOptions {
         transient: args.transient,
         keep,
+        map,
     };
     let progress = Progress::new("bifurcation", "iterates", total);
     let limits = Limits::start(max_seconds);
@@ -233,7 +245,16 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     }
     emit(&args.out, csv.as_bytes(), args.force)?;
 
-    let n = iterates.load(Ordering::Relaxed);
+    // A column on the interpolant integrated its construction's samples and
+    // the iterates outside its series, not the ones counted above.
+    let n = iterates.load(Ordering::Relaxed)
+        + cols
+            .iter()
+            .map(|c| match &c.map {
+                MapUsed::Interpolant(s) => (s.evaluations + s.direct_iterates) as u64,
+                _ => 0,
+            })
+            .sum::<u64>();
     let evals: u64 = cols.iter().map(|c| c.rhs_evals).sum();
     let failed = failed.load(Ordering::Relaxed);
     eprintln!(
@@ -249,10 +270,34 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
             String::new()
         }
     );
+    if let Some(line) = map_line(&cols) {
+        eprintln!("{line}");
+    }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
             "every one of the {columns} columns failed"
         )));
     }
     Ok(())
+}
+
+/// The summary's line on the interpolant, when any column asked for it.
+fn map_line(cols: &[&Column]) -> Option<String> {
+    let (mut used, mut refused, mut evaluations, mut max_error) = (0, 0, 0, 0.0f64);
+    for c in cols {
+        match &c.map {
+            MapUsed::Interpolant(s) => {
+                used += 1;
+                evaluations += s.evaluations;
+                max_error = max_error.max(s.max_map_error);
+            }
+            MapUsed::Refused(_) => refused += 1,
+            MapUsed::Direct => {}
+        }
+    }
+    (used + refused > 0).then(|| {
+        format!(
+            "  map: {used} column(s) kept their points from the interpolant (built from {evaluations} map evaluations, measured max error {max_error:.1e} rad), {refused} refused it and integrated"
+        )
+    })
 }

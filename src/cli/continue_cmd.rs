@@ -16,12 +16,13 @@ use super::common::{
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
 use super::values::{count_between, echo, parse_count, parse_number, short};
-use crate::model::{Params, exit_arc};
+use crate::model::Params;
 use crate::sim::continuation::{
-    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, SpecialPoint,
-    Stop, cascade_reporting, continue_branch_reporting, continue_curves,
+    Attractor, Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
+    SpecialPoint, Stop, attractor_cycle, cascade_reporting, continue_branch_reporting,
+    continue_curves,
 };
-use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+use crate::sim::{CycleFailure, PERIOD_MAX, SimError, Simulator};
 
 /// Follows a cycle, a cascade, or a bifurcation curve.
 #[derive(Debug, Clone, Args)]
@@ -266,19 +267,12 @@ fn seed(plan: &Plan) -> Result<f64, CliError> {
         return Ok(th);
     }
     let sim = plan.prob.sim(plan.from)?;
-    let p = sim.params();
-    let (psi, _) = exit_arc(p.kappa, p.theta_nu);
-    let opts = OrbitOptions {
-        transient: 2000,
-        keep: 256,
-        lyapunov: false,
-        period_tol: OrbitOptions::period_tol_for(sim.settings().rtol),
-    };
-    let orbit = sim.orbit(psi, &opts, &|| false)?;
-    let found = match (orbit.period, &orbit.cycle) {
-        (Period::Periodic(q), Some(c)) if q == plan.prob.period => return Ok(c.points[0]),
-        (Period::Periodic(q), _) => format!("has period {q}"),
-        (Period::Aperiodic, _) => "is aperiodic".to_string(),
+    let found = match attractor_cycle(*sim.params(), *sim.settings(), &|| false)? {
+        Attractor::Cycle { period, theta } if period == plan.prob.period => return Ok(theta),
+        Attractor::Cycle { period, .. } | Attractor::Unsolved(period) => {
+            format!("has period {period}")
+        }
+        a => a.describe(),
     };
     Err(CliError::Usage(format!(
         "--theta: not given, and the attractor at {} = {} {found}, not {}: give --theta, a point of a {}-cycle there",

@@ -90,7 +90,7 @@ pub struct OrbitArgs {
 }
 
 /// The `--map` flag's value.
-fn map_choice(s: &str) -> Result<MapChoice, CliError> {
+pub(crate) fn map_choice(s: &str) -> Result<MapChoice, CliError> {
     match s {
         "direct" => Ok(MapChoice::Direct),
         "interpolant" => Ok(MapChoice::Interpolant),
@@ -286,6 +286,18 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         let text = match Intermittency::of(&sizes, None) {
             Some(i) => i.csv("slip_distance"),
             None => "# no slip of positive size: no statistics\nstatistic,lo,hi,count\n".into(),
+        };
+        // The first line also says where the slip sizes came from.
+        let source = match &used {
+            MapUsed::Interpolant { max_error, .. } => format!(
+                "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
+            ),
+            MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
+            MapUsed::Direct => "; slip sizes integrated".into(),
+        };
+        let text = match text.split_once('\n') {
+            Some((first, rest)) => format!("{first}{source}\n{rest}"),
+            None => text,
         };
         emit(st, text.as_bytes(), args.force)?;
     }

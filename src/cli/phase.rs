@@ -20,6 +20,7 @@ use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
 use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
 use crate::model::Params;
+use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions, phase_grid};
 use crate::sim::{SimError, theta_nu_grid};
 
@@ -76,6 +77,11 @@ pub struct PhaseArgs {
     /// iterate with f'(θ) (the reference the fast path is compared with).
     #[arg(long)]
     pub brute_force: bool,
+    /// How a cell evaluates the map after its first 400 iterates: direct,
+    /// interpolant (docs/interpolant.md) or auto (the interpolant when at
+    /// least 20000 iterates are left). Where refused, the cell integrates.
+    #[arg(long, default_value = "auto")]
+    pub map: String,
     /// Worker threads, 1 to 1024 [default: the number of cores]. The output
     /// does not depend on it.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
@@ -167,6 +173,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     opts.transient = args.transient;
     opts.keep = keep;
     opts.early_exit = !args.brute_force;
+    opts.map = super::orbit::map_choice(&args.map)?;
     if let Some(t) = args.period_tol {
         if !(t.is_finite() && t > 0.0 && t <= 1.0) {
             return Err(CliError::Usage(format!(
@@ -327,6 +334,9 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         iterates as f64 / cells.len().max(1) as f64,
         evals as f64 / iterates.max(1) as f64,
     );
+    if let Some(line) = map_line(&cells) {
+        eprintln!("{line}");
+    }
     if !failed.is_empty() && failed.len() == cells.len() {
         return Err(CliError::Failed(format!(
             "every one of the {} cells failed",
@@ -563,4 +573,27 @@ pub fn read_classes(path: &Path) -> std::io::Result<Vec<(f64, f64, String)>> {
             ))
         })
         .collect())
+}
+
+/// The summary's line on the interpolant, when any cell asked for it: how
+/// many cells iterated it (with the largest error measured and the map
+/// evaluations their constructions took) and how many it was refused.
+fn map_line(cells: &[&PhaseCell]) -> Option<String> {
+    let (mut used, mut refused, mut evaluations, mut max_error) = (0, 0, 0, 0.0f64);
+    for c in cells {
+        match &c.map {
+            MapUsed::Interpolant(s) => {
+                used += 1;
+                evaluations += s.evaluations;
+                max_error = max_error.max(s.max_map_error);
+            }
+            MapUsed::Refused(_) => refused += 1,
+            MapUsed::Direct => {}
+        }
+    }
+    (used + refused > 0).then(|| {
+        format!(
+            "  map: {used} cell(s) continued on the interpolant (built from {evaluations} map evaluations, measured max error {max_error:.1e} rad), {refused} refused it and integrated"
+        )
+    })
 }

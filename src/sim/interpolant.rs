@@ -16,6 +16,7 @@
 mod build;
 pub mod chebyshev;
 mod orbit;
+mod stepper;
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -23,6 +24,7 @@ use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, exit_arc, point_from_theta, wrap_angle};
 
 pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
+pub use stepper::{InterpolantSummary, MIN_DIRECT, MapUsed, Stepper};
 
 /// The width, in θ, to which a jump of f is bracketed; the bracket is
 /// integrated directly.
@@ -57,6 +59,10 @@ pub struct InterpolantOptions {
     pub tol: f64,
     /// The most pieces (jump brackets included) the whole interval may take.
     pub max_pieces: usize,
+    /// The most map evaluations construction and extensions may spend (a
+    /// caller that would otherwise integrate a few thousand iterates caps
+    /// what a refusal can cost); `usize::MAX` for no cap.
+    pub max_evaluations: usize,
 }
 
 impl InterpolantOptions {
@@ -73,6 +79,7 @@ impl InterpolantOptions {
         InterpolantOptions {
             tol,
             max_pieces: 400,
+            max_evaluations: usize::MAX,
         }
     }
 }
@@ -95,6 +102,14 @@ pub enum InterpolantError {
     Unresolved {
         tol: f64,
         max_pieces: usize,
+        near: f64,
+    },
+    #[error(
+        "the map could not be resolved to {tol:e} within {max_evaluations} map evaluations (still unresolved near theta = {near:.9})"
+    )]
+    OverBudget {
+        tol: f64,
+        max_evaluations: usize,
         near: f64,
     },
     #[error("a map evaluation failed while building the interpolant: {0}")]
@@ -178,6 +193,24 @@ pub struct MapInterpolant {
 /// and whether the cycle restarted.
 type Sample = ([f64; FIELDS], bool);
 
+/// The interval in θ − ψ that `onsets` span (their later two thirds, where
+/// an orbit has settled most), padded by `pad_fraction` of its length and
+/// at least 1e-3, kept inside the exit arc of centre ψ: (lo, hi, pad).
+/// `None` without onsets.
+pub(crate) fn onset_span(psi: f64, onsets: &[f64], pad_fraction: f64) -> Option<(f64, f64, f64)> {
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &th in &onsets[onsets.len() / 3..] {
+        let u = wrap_angle(th - psi);
+        (lo, hi) = (lo.min(u), hi.max(u));
+    }
+    if !(lo <= hi) {
+        return None;
+    }
+    let pad = (pad_fraction * (hi - lo)).max(1e-3);
+    let edge = FRAC_PI_2 - 1e-9;
+    Some(((lo - pad).max(-edge), (hi + pad).min(edge), pad))
+}
+
 impl MapInterpolant {
     /// Builds f over [lo, hi] (radians, on the exit arc: lo < hi, both
     /// strictly inside it).
@@ -186,6 +219,19 @@ impl MapInterpolant {
         lo: f64,
         hi: f64,
         opts: InterpolantOptions,
+    ) -> Result<Self, InterpolantError> {
+        Self::build_counting(sim, lo, hi, opts, &mut (0, 0))
+    }
+
+    /// [`Self::build`], adding the map evaluations and the right-hand-side
+    /// evaluations spent to `spent`, also when the build is refused (a
+    /// refusal may have cost many).
+    pub fn build_counting(
+        sim: &Simulator,
+        lo: f64,
+        hi: f64,
+        opts: InterpolantOptions,
+        spent: &mut (u64, u64),
     ) -> Result<Self, InterpolantError> {
         if !(opts.tol > 0.0 && opts.max_pieces >= 1) {
             return Err(InterpolantError::Options(
@@ -205,8 +251,10 @@ impl MapInterpolant {
             rhs_evals: 0,
         };
         let (a, b) = me.check_interval(lo, hi)?;
-        let new = me.resolve(a, b, opts.max_pieces)?;
-        me.insert(new);
+        let new = me.resolve(a, b, opts.max_pieces);
+        spent.0 += me.evaluations as u64;
+        spent.1 += me.rhs_evals;
+        me.insert(new?);
         Ok(me)
     }
 
@@ -258,6 +306,25 @@ impl MapInterpolant {
         let new = self.resolve(a, b, left)?;
         self.insert(new);
         Ok(())
+    }
+
+    /// Extends the interval to θ when θ lies outside it, unless an
+    /// extension was refused before (`refused` holds why; a new refusal is
+    /// recorded there, and θ is left to direct integration from then on).
+    /// Whether it extended.
+    pub(crate) fn cover(&mut self, theta: f64, pad: f64, refused: &mut Option<String>) -> bool {
+        let (lo, hi) = self.interval();
+        let u = wrap_angle(theta - lo) + lo;
+        if refused.is_some() || (u >= lo && u <= hi) {
+            return false;
+        }
+        match self.extend_to(theta, pad) {
+            Ok(()) => true,
+            Err(e) => {
+                *refused = Some(e.to_string());
+                false
+            }
+        }
     }
 
     /// The interval covered, in θ − ψ.

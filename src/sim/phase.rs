@@ -31,12 +31,21 @@
 //! A cell whose left neighbour was chaotic looks for a period for at most
 //! `transient_after_chaos` iterates (200) before it starts on λ: inside the
 //! chaotic region the transient is most of a grid's cost.
+//!
+//! A cell with a long budget continues on the map's verified interpolant
+//! (`super::interpolant`, [`PhaseOptions::map`]): after its first
+//! [`DIRECT_PART`] iterates (or its whole transient, if shorter) it builds
+//! the interpolant over their range, when at least [`INTERPOLANT_LEFT`]
+//! iterates are left, and iterates the series from there, with f'(θ) from
+//! the series too. The tests and solves above are unchanged (the solves
+//! still integrate). Where the interpolant is refused the cell integrates.
 
 use rayon::prelude::*;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
 use super::cycles::{CycleOptions, confirm_contraction, solve_counting};
-use super::period::{MIN_WINDOW, contraction, settled_period};
+use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
+use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
@@ -64,6 +73,10 @@ pub struct PhaseOptions {
     /// `early_exit`): its attractor most likely is too, and 400 iterates of
     /// looking for a period there are the largest cost of a grid.
     pub transient_after_chaos: usize,
+    /// How a cell evaluates the map after its direct part: `Auto` builds
+    /// the interpolant when at least [`INTERPOLANT_LEFT`] iterates are left
+    /// (the paper's 400 + 128 never are), `Interpolant` whenever any are.
+    pub map: MapChoice,
 }
 
 impl PhaseOptions {
@@ -81,8 +94,26 @@ impl PhaseOptions {
             sigmas: 3.0,
             early_exit: true,
             transient_after_chaos: 200,
+            map: MapChoice::Auto,
         }
     }
+}
+
+/// The iterates a cell integrates before it may build the interpolant (its
+/// whole transient if that is shorter, but at least [`MIN_DIRECT`]): the
+/// paper's transient, after which most cells have settled or are chaotic.
+pub const DIRECT_PART: usize = 400;
+/// The iterates that must be left after the direct part for `Auto` to build
+/// the interpolant: its construction costs tens of map evaluations near a
+/// slowly approached cycle but 3 000 to 10 000 on a chaotic attractor
+/// (measured on the paper's grid), which this many iterates repay.
+pub const INTERPOLANT_LEFT: usize = 20_000;
+
+/// What the interpolant may spend, in map evaluations, for a cell with
+/// `left` iterates to go: a refusal then costs at most half of what the
+/// iterates would have.
+fn evaluation_budget(left: usize) -> usize {
+    left / 2
 }
 
 /// Iterates before the first test for a slow contraction.
@@ -188,6 +219,8 @@ pub struct PhaseCell {
     pub theta_last: f64,
     /// Why the cell failed, if it did.
     pub error: Option<SimError>,
+    /// How the cell evaluated the map after its direct part.
+    pub map: MapUsed,
 }
 
 impl PhaseCell {
@@ -206,6 +239,7 @@ impl PhaseCell {
             rhs_evals: 0,
             theta_last,
             error: None,
+            map: MapUsed::Direct,
         }
     }
 }
@@ -240,6 +274,25 @@ fn run_cell(
 ) -> Result<(), SimError> {
     let sim = Simulator::new(params, settings)?;
     sim.check_onset(theta_start)?;
+    let mut stepper = None;
+    let r = classify(cell, &sim, theta_start, opts, cancel, &mut stepper);
+    if let Some(st) = &stepper {
+        cell.map = MapUsed::Interpolant(st.summary());
+    }
+    r
+}
+
+/// The cell's iterates and tests (see the module's doc); the interpolant,
+/// once built, is left in `stepper` for the cell's summary.
+fn classify<'s>(
+    cell: &mut PhaseCell,
+    sim: &'s Simulator,
+    theta_start: f64,
+    opts: &PhaseOptions,
+    cancel: &dyn Fn() -> bool,
+    stepper: &mut Option<Stepper<'s>>,
+) -> Result<(), SimError> {
+    let (params, settings) = (*sim.params(), *sim.settings());
     let (kappa, gamma) = (params.kappa, params.gamma);
     let total = opts.transient + opts.keep;
     let mut thetas: Vec<f64> = Vec::with_capacity(total);
@@ -262,26 +315,54 @@ fn run_cell(
         cell.rhs_evals += spent.1;
         *spent = (0, 0);
     };
+    let switch = opts.transient.clamp(MIN_DIRECT, DIRECT_PART);
     for i in 0..total {
         if cancel() {
             return Err(SimError::Cancelled);
         }
-        // Past the transient f'(θ) is needed too: it rides along the
-        // iterate's own integration (the variational equations), so it
-        // adds evaluations, not iterates (two where f has no derivative
-        // and the secant stands in).
-        let ev = if i >= opts.transient {
-            let (ev, d, n) = cycle_with_derivative(&sim, theta, 0.0)?;
-            cell.rhs_evals += n;
-            logs.push(d.abs().ln());
-            ev
+        if i == switch && opts.map.interpolates_beyond(total - i, INTERPOLANT_LEFT) {
+            let iopts = InterpolantOptions {
+                max_evaluations: evaluation_budget(total - i),
+                ..InterpolantOptions::for_settings(&settings)
+            };
+            let recent = &thetas[thetas.len().saturating_sub(300)..];
+            match Stepper::over(sim, recent, iopts, &mut spent) {
+                Ok(s) => *stepper = Some(s),
+                Err(e) => cell.map = MapUsed::Refused(e.to_string()),
+            }
+            charge(cell, &mut spent);
+        }
+        if let Some(st) = stepper.as_mut() {
+            // The same iterate from the series: f'(θ) from it too.
+            thetas.push(theta);
+            theta = if i >= opts.transient {
+                let (next, d) = st.next_with_derivative(theta)?;
+                logs.push(d.abs().ln());
+                next
+            } else {
+                st.next(theta)?
+            };
+            let (n, rhs) = st.take_cost();
+            cell.iterates += n;
+            cell.rhs_evals += rhs;
         } else {
-            sim.cycle(theta, 0.0, None)?
-        };
-        cell.iterates += 1;
-        cell.rhs_evals += ev.rhs_evals;
-        thetas.push(ev.theta);
-        theta = sim.next_onset(&ev);
+            // Past the transient f'(θ) is needed too: it rides along the
+            // iterate's own integration (the variational equations), so it
+            // adds evaluations, not iterates (two where f has no derivative
+            // and the secant stands in).
+            let ev = if i >= opts.transient {
+                let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
+                cell.rhs_evals += n;
+                logs.push(d.abs().ln());
+                ev
+            } else {
+                sim.cycle(theta, 0.0, None)?
+            };
+            cell.iterates += 1;
+            cell.rhs_evals += ev.rhs_evals;
+            thetas.push(ev.theta);
+            theta = sim.next_onset(&ev);
+        }
         cell.theta_last = theta;
         if !opts.early_exit || i + 1 < MIN_TRANSIENT {
             continue;
@@ -291,7 +372,7 @@ fn run_cell(
             // The cycle solved from the next onset gives the exponent
             // ln|m|/p; if it cannot be solved, the mean of ln|f'| on its
             // last p iterates does.
-            let solved = solve_counting(&sim, theta, p, &cycle_opts, &mut spent)
+            let solved = solve_counting(sim, theta, p, &cycle_opts, &mut spent)
                 .ok()
                 .filter(|c| c.minimal_period == p);
             charge(cell, &mut spent);
@@ -303,7 +384,7 @@ fn run_cell(
                     (c.lyapunov(), c.points)
                 }
                 None => {
-                    let lc = cycle_exponent(cell, &sim, &thetas, theta, &logs, p)?;
+                    let lc = cycle_exponent(cell, sim, &thetas, theta, &logs, p)?;
                     (lc, thetas[thetas.len() - p..].to_vec())
                 }
             };
@@ -318,10 +399,13 @@ fn run_cell(
         }
         // Contracting onto a cycle, but slowly: solve it instead of waiting.
         if solves < MAX_SOLVES && i + 1 >= next_solve && !unstable_seen {
-            let mut seq = thetas.clone();
+            // `contraction` and the confirmation read the last 4p + 1
+            // values, p ≤ 16: a copy of those, not of the whole orbit.
+            let from = thetas.len().saturating_sub(4 * CONTRACTION_PERIOD_MAX + 1);
+            let mut seq = thetas[from..].to_vec();
             seq.push(theta);
             if let Some(c) = contraction(&seq, noise) {
-                let confirmed = confirm_contraction(&sim, &seq, &c, &cycle_opts, noise, &mut spent);
+                let confirmed = confirm_contraction(sim, &seq, &c, &cycle_opts, noise, &mut spent);
                 charge(cell, &mut spent);
                 if let Some(cycle) = confirmed {
                     cell.theta_last = cycle.points[0];

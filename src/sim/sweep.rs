@@ -14,8 +14,15 @@
 //! Slow cycles are solved at tol 1e-10 whatever the sweep's own accuracy: a
 //! map error ε moves a cycle with multiplier m by ε/|1 − m|, which near
 //! m = 1 is many pixels even where ε is far below one.
+//!
+//! A column that keeps many points ([`SweepOptions::map`]) and has not
+//! settled after its transient (at least [`MIN_DIRECT`] direct iterates)
+//! builds the map's verified interpolant over the range of its recent
+//! onsets and takes the rest of its points from it; where the interpolant
+//! is refused, the column goes on integrating.
 
 use super::cycles::{Cycle, CycleOptions, approaches, solve_counting};
+use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
 use super::period::{PERIOD_MAX, contraction, settled_period};
 use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
@@ -24,8 +31,14 @@ use crate::model::{Params, project_onto_exit_arc};
 /// How long each column runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweepOptions {
+    /// Iterates dropped before any is kept.
     pub transient: usize,
+    /// Iterates (points) each column keeps.
     pub keep: usize,
+    /// How an unsettled column evaluates the map after its transient:
+    /// `Auto` builds the interpolant from [`MapChoice::AUTO_COLUMN_KEEP`] kept points
+    /// on, `Interpolant` always, `Direct` never.
+    pub map: MapChoice,
 }
 
 /// One column of a bifurcation diagram.
@@ -43,6 +56,8 @@ pub struct Column {
     /// The period of the slow cycle (|multiplier| ≥ 0.5) the column was
     /// solved onto, if it was: its neighbour solves for it first.
     pub slow_period: Option<usize>,
+    /// How the column's points after its transient were computed.
+    pub map: MapUsed,
 }
 
 /// What a finished column hands the neighbour that continues from it.
@@ -141,7 +156,7 @@ impl Column {
             Err(e) => return Column::failed(theta_nu, theta_start, e),
         };
         let mut run = ColumnRun::new(&sim, theta_start, slow_period, opts);
-        while let Some(theta) = run.next_onset(cancel) {
+        while let Some(theta) = run.next_onset(&sim, cancel) {
             run.take(&sim, sim.cycle(theta, 0.0, None));
         }
         run.finish()
@@ -156,6 +171,7 @@ impl Column {
             error: Some(e),
             rhs_evals: 0,
             slow_period: None,
+            map: MapUsed::Direct,
         }
     }
 }
@@ -185,6 +201,11 @@ struct ColumnRun {
     /// the next may not start (one that was not confirmed waits a while).
     solves_left: usize,
     next_solve: usize,
+    /// The onset count at which an unsettled column turns to the
+    /// interpolant (`None`: it does not, or it has tried).
+    switch_at: Option<usize>,
+    /// Whether it is time to try.
+    switch_due: bool,
 }
 
 /// The most solves of a slow contraction a column attempts.
@@ -212,6 +233,7 @@ impl ColumnRun {
                 error: None,
                 rhs_evals: 0,
                 slow_period: None,
+                map: MapUsed::Direct,
             },
             transient: opts.transient,
             total,
@@ -221,6 +243,11 @@ impl ColumnRun {
             done: total == 0,
             solves_left: MAX_SOLVES,
             next_solve: 0,
+            switch_at: opts
+                .map
+                .interpolates_beyond(opts.keep, MapChoice::AUTO_COLUMN_KEEP)
+                .then_some(opts.transient.max(MIN_DIRECT) + 1),
+            switch_due: false,
         };
         // The neighbour's slow cycle, continued: if it still attracts here,
         // the column is on it from the start.
@@ -278,7 +305,12 @@ impl ColumnRun {
 
     /// The onset of the next cycle to compute, or `None` once the column
     /// is complete (or cancelled: `cancel` is polled here, once a cycle).
-    fn next_onset(&mut self, cancel: &dyn Fn() -> bool) -> Option<f64> {
+    /// A column due to turn to the interpolant does so here, and is then
+    /// complete unless the interpolant was refused.
+    fn next_onset(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) -> Option<f64> {
+        if std::mem::take(&mut self.switch_due) && !self.done {
+            self.interpolate(sim, cancel);
+        }
         if self.done {
             return None;
         }
@@ -342,6 +374,52 @@ impl ColumnRun {
             self.forget_transient();
         }
         self.done = self.done || self.len() > self.total;
+        if !self.done && self.switch_at.is_some_and(|k| self.len() >= k) {
+            self.switch_at = None;
+            self.switch_due = true;
+        }
+    }
+
+    /// The rest of the column from the interpolant built over the range of
+    /// its recent onsets; on a refusal nothing changes but the column's
+    /// `map`, and it goes on integrating.
+    fn interpolate(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) {
+        let recent = &self.onsets[self.onsets.len().saturating_sub(300)..];
+        let mut spent = (0, 0);
+        // A refusal may cost up to twice what the kept points would have.
+        let iopts = InterpolantOptions {
+            max_evaluations: self.total.saturating_sub(self.transient).saturating_mul(2),
+            ..InterpolantOptions::for_settings(sim.settings())
+        };
+        let built = Stepper::over(sim, recent, iopts, &mut spent);
+        self.col.rhs_evals += spent.1;
+        let mut st = match built {
+            Ok(st) => st,
+            Err(e) => {
+                self.col.map = MapUsed::Refused(e.to_string());
+                return;
+            }
+        };
+        let mut theta = self.onsets[self.onsets.len() - 1];
+        while self.len() <= self.total {
+            if self.len().is_multiple_of(4096) && cancel() {
+                self.col.error = Some(SimError::Cancelled);
+                break;
+            }
+            match st.next(theta) {
+                Ok(next) => theta = next,
+                Err(e) => {
+                    let i = self.len() - 1;
+                    self.col.error = Some(e);
+                    self.col.thetas = self.span(self.transient.min(i), i).to_vec();
+                    break;
+                }
+            }
+            self.onsets.push(theta);
+        }
+        self.col.rhs_evals += st.take_cost().1;
+        self.col.map = MapUsed::Interpolant(st.summary());
+        self.done = true;
     }
 
     /// Drops transient onsets no longer needed (older than the settle
@@ -393,7 +471,7 @@ pub fn run_columns<'s>(
         }
         loop {
             if let Some((sim, run)) = &mut current[lane] {
-                if let Some(theta) = run.next_onset(cancel) {
+                if let Some(theta) = run.next_onset(sim, cancel) {
                     return Some((*sim, theta, 0.0));
                 }
                 finished = current[lane].take().map(|(_, run)| run.finish());

@@ -12,12 +12,12 @@ use super::gate::Gate;
 use super::orbit::{JobError, run_guarded};
 use super::protocol::{BoundarySpec, Command, ContinuationSpec, Generation, Update};
 use crate::integrate::SolverSettings;
-use crate::model::{Params, exit_arc};
+use crate::model::Params;
 use crate::sim::continuation::{
-    Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, SpecialPoint,
-    cascade_reporting, continue_branch, continue_curve,
+    Attractor, Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
+    SpecialPoint, attractor_cycle, cascade_reporting, continue_branch, continue_curves,
 };
-use crate::sim::{CycleFailure, OrbitOptions, PERIOD_MAX, Period, SimError, Simulator};
+use crate::sim::{CycleFailure, PERIOD_MAX, SimError};
 
 /// Runs one continuation-lane or curves-lane command.
 pub(crate) fn run(shared: &Shared, cmd: Command) {
@@ -45,28 +45,16 @@ struct Job<'a> {
     generation: Generation,
 }
 
-/// The attractor's period and a point of its cycle at `params`, as
-/// `oneblock continue` seeds without `--theta`: from the exit arc's start,
-/// 2000 iterates dropped, the period detector on 256 more. `Err` says what
-/// the attractor is instead (aperiodic, or no cycle found).
+/// The attractor's cycle at `params` ([`attractor_cycle`]); `Err` says
+/// what the attractor is instead.
 fn attractor_seed(
     params: Params,
     settings: SolverSettings,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Result<(usize, f64), String>, SimError> {
-    let sim = Simulator::new(params, settings)?;
-    let (psi, _) = exit_arc(params.kappa, params.theta_nu);
-    let opts = OrbitOptions {
-        transient: 2000,
-        keep: 256,
-        lyapunov: false,
-        period_tol: OrbitOptions::period_tol_for(settings.rtol),
-    };
-    let orbit = sim.orbit(psi, &opts, cancel)?;
-    Ok(match (orbit.period, &orbit.cycle) {
-        (Period::Periodic(q), Some(c)) => Ok((q, c.points[0])),
-        (Period::Periodic(q), None) => Err(format!("has period {q} but no cycle was solved")),
-        (Period::Aperiodic, _) => Err("is aperiodic".into()),
+    Ok(match attractor_cycle(params, settings, cancel)? {
+        Attractor::Cycle { period, theta } => Ok((period, theta)),
+        a => Err(a.describe()),
     })
 }
 
@@ -278,44 +266,39 @@ impl Job<'_> {
             return Ok(());
         }
         let copts = CurveOptions::for_box([[t0, t1], [k0, k1]]);
-        let scale = [t1 - t0, k1 - k0];
         let mut curves: Vec<crate::sim::continuation::Curve> = Vec::new();
         let mut evals = branch.map_evals;
-        let total = starts.len() as f64;
-        for (i, start) in starts.iter().enumerate() {
-            // A doubling already on a followed curve of its period would
-            // draw that curve again.
-            let on_curve = curves.iter().any(|c| {
-                c.period == start.period
-                    && c.points.iter().any(|q| {
-                        ((q.lambda[0] - start.lambda) / scale[0])
-                            .hypot((q.lambda[1] - kappa) / scale[1])
-                            < 2e-3
-                    })
-            });
-            if on_curve {
-                continue;
-            }
-            let curve = continue_curve(
+        let periods: Vec<usize> = [period, 2 * period]
+            .into_iter()
+            .filter(|p| starts.iter().any(|s| s.period == *p))
+            .collect();
+        for (i, &p) in periods.iter().enumerate() {
+            // One curve per boundary: a doubling on a curve already
+            // followed is not followed again.
+            let of_p: Vec<SpecialPoint> =
+                starts.iter().filter(|s| s.period == p).cloned().collect();
+            let found = continue_curves(
                 &base,
                 &spec.settings,
                 [ContParam::ThetaNu, ContParam::Kappa],
-                start.period,
+                p,
                 CurveKind::PeriodDoubling,
-                start,
+                &of_p,
                 &copts,
                 &cancel,
             );
             if self.stale() {
                 return Err(JobError::Stop);
             }
-            evals += curve.map_evals;
-            curves.push(curve.clone());
-            self.send(Update::Curve {
-                generation: self.generation,
-                curve,
-            })?;
-            self.progress((i + 1) as f64 / total, evals, started)?;
+            for curve in found {
+                evals += curve.map_evals;
+                curves.push(curve.clone());
+                self.send(Update::Curve {
+                    generation: self.generation,
+                    curve,
+                })?;
+            }
+            self.progress((i + 1) as f64 / periods.len() as f64, evals, started)?;
         }
         let names: Vec<String> = curves
             .iter()

@@ -30,6 +30,8 @@ use super::protocol::{Command, Generation, Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Shared, lock, panic_message, run_scoped};
 use crate::model::ParamError;
+use crate::sim::MapChoice;
+use crate::sim::interpolant::MapUsed;
 use crate::sim::{
     Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
     run_columns, theta_nu_grid,
@@ -95,6 +97,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
     let opts = SweepOptions {
         transient: s.transient,
         keep: s.keep,
+        map: MapChoice::Auto,
     };
     let grid = theta_nu_grid(s.theta_nu.from, s.theta_nu.to, columns);
     // Each thread steps up to LANES columns together, so the coarse pass
@@ -143,6 +146,7 @@ fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), J
                     error: None,
                     rhs_evals: 0,
                     slow_period: None,
+                    map: MapUsed::Direct,
                 };
                 (empty, Some((msg, None)))
             }

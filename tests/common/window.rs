@@ -183,6 +183,7 @@ pub fn feed_phase(rec: &Recorder, job: &PhaseJob) {
                     rhs_evals: 20_000,
                     theta_last: theta_nu,
                     error: None,
+                    map: Default::default(),
                 },
             });
         }

@@ -251,3 +251,53 @@ pub fn eval_at(
         points,
     })
 }
+
+/// The attractor a branch starts from, when no seed is given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Attractor {
+    /// A solved p-cycle through `theta`.
+    Cycle { period: usize, theta: f64 },
+    /// Periodic with this period, but its cycle was not solved.
+    Unsolved(usize),
+    /// No period up to the detector's limit.
+    Aperiodic,
+}
+
+impl Attractor {
+    /// What it is, for a message: "has period 2", "is aperiodic".
+    pub fn describe(self) -> String {
+        match self {
+            Attractor::Cycle { period, .. } => format!("has period {period}"),
+            Attractor::Unsolved(q) => format!("has period {q} but no cycle was solved"),
+            Attractor::Aperiodic => "is aperiodic".into(),
+        }
+    }
+}
+
+/// The attractor at `params` from the exit arc's start: 2000 iterates
+/// dropped, the period detector on 256 more, the cycle solved where it is
+/// periodic. The seed of a branch when none is given (the command line's
+/// `continue` without `--theta`, the window's Find bifurcations).
+pub fn attractor_cycle(
+    params: Params,
+    settings: SolverSettings,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Attractor, SimError> {
+    let sim = Simulator::new(params, settings)?;
+    let (psi, _) = crate::model::exit_arc(params.kappa, params.theta_nu);
+    let opts = crate::sim::OrbitOptions {
+        transient: 2000,
+        keep: 256,
+        lyapunov: false,
+        period_tol: crate::sim::OrbitOptions::period_tol_for(settings.rtol),
+    };
+    let orbit = sim.orbit(psi, &opts, cancel)?;
+    Ok(match (orbit.period, &orbit.cycle) {
+        (crate::sim::Period::Periodic(period), Some(c)) => Attractor::Cycle {
+            period,
+            theta: c.points[0],
+        },
+        (crate::sim::Period::Periodic(q), None) => Attractor::Unsolved(q),
+        (crate::sim::Period::Aperiodic, _) => Attractor::Aperiodic,
+    })
+}

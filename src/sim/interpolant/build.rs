@@ -62,6 +62,17 @@ impl MapInterpolant {
         }];
         let mut done: Vec<Piece> = Vec::new();
         while !pending.is_empty() {
+            let next_batch: usize = pending
+                .iter()
+                .map(|p| next_sampling(p.samples.len()) - p.samples.len())
+                .sum();
+            if self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations {
+                return Err(InterpolantError::OverBudget {
+                    tol: self.opts.tol,
+                    max_evaluations: self.opts.max_evaluations,
+                    near: self.psi + 0.5 * (pending[0].a + pending[0].b),
+                });
+            }
             if pending.len() + done.len() > budget {
                 let narrowest = pending
                     .iter()

@@ -2,8 +2,8 @@
 //! [`Simulator::orbit`] gives, its iterates from the series wherever they
 //! are verified and from direct integration elsewhere.
 
-use super::{InterpolantError, InterpolantOptions, MapInterpolant};
-use crate::model::{exit_arc, wrap_angle};
+use super::{InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use crate::model::exit_arc;
 use crate::sim::analysis::cycle_with_derivative;
 use crate::sim::{Orbit, OrbitOptions, SimError, Simulator};
 
@@ -26,12 +26,29 @@ impl MapChoice {
     /// evaluations) is then a small part of the run.
     pub const AUTO_ITERATES: usize = 20_000;
 
+    /// The kept points from which `Auto` continues a bifurcation column
+    /// that has not settled on the interpolant: on Fig. 3b's chaotic
+    /// columns its construction costs about 3 300 map evaluations (a
+    /// refusal up to its cap, twice the kept points), so that 5000 points
+    /// cost about what integrating them does and more points cost less.
+    pub const AUTO_COLUMN_KEEP: usize = 5000;
+
     /// Whether a run of `iterates` iterates uses the interpolant.
     pub fn interpolates(self, iterates: usize) -> bool {
         match self {
             MapChoice::Direct => false,
             MapChoice::Interpolant => true,
             MapChoice::Auto => iterates >= Self::AUTO_ITERATES,
+        }
+    }
+
+    /// Whether a run with `iterates` still to go after its direct part uses
+    /// the interpolant, when `Auto` needs at least `threshold` of them.
+    pub fn interpolates_beyond(self, iterates: usize, threshold: usize) -> bool {
+        match self {
+            MapChoice::Direct => false,
+            MapChoice::Interpolant => iterates > 0,
+            MapChoice::Auto => iterates >= threshold,
         }
     }
 }
@@ -97,14 +114,8 @@ pub fn orbit_interpolated(
         probe = sim.next_onset(&ev);
         seen.push(probe);
     }
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for &th in &seen[seen.len() / 3..] {
-        let u = wrap_angle(th - psi);
-        (lo, hi) = (lo.min(u), hi.max(u));
-    }
-    let pad = (0.1 * (hi - lo)).max(1e-3);
-    let edge = std::f64::consts::FRAC_PI_2 - 1e-9;
-    let (a, b) = ((lo - pad).max(-edge), (hi + pad).min(edge));
+    let (a, b, pad) =
+        onset_span(psi, &seen, 0.1).ok_or(InterpolantError::Options("no onsets to build over"))?;
     let mut interp = MapInterpolant::build(sim, psi + a, psi + b, iopts)?;
     let mut run = Run {
         sim,
@@ -155,14 +166,8 @@ impl Run<'_> {
     /// Makes sure θ is inside the interval, extending it once per excursion
     /// until an extension is refused.
     fn cover(&mut self, theta: f64) {
-        let (lo, hi) = self.interp.interval();
-        let u = wrap_angle(theta - lo) + lo;
-        if self.refused.is_some() || (u >= lo && u <= hi) {
-            return;
-        }
-        match self.interp.extend_to(theta, self.pad) {
-            Ok(()) => self.extensions += 1,
-            Err(e) => self.refused = Some(e.to_string()),
+        if self.interp.cover(theta, self.pad, &mut self.refused) {
+            self.extensions += 1;
         }
     }
 

@@ -29,6 +29,7 @@ fn settled_columns_match_full_integration() {
     let opts = SweepOptions {
         transient: 300,
         keep: 200,
+        map: crate::sim::MapChoice::Direct,
     };
     // Fig. 3b: fixed points, period 2 and 4, chaos, period 3.
     for tn in [0.3, 1.0, 1.12, 1.2, 1.25, 1.3] {
@@ -55,6 +56,7 @@ fn a_slow_column_is_its_solved_fixed_point() {
     let opts = SweepOptions {
         transient: 300,
         keep: 200,
+        map: crate::sim::MapChoice::Direct,
     };
     let creep = Params {
         kappa: 3.0,
@@ -96,10 +98,11 @@ fn long_transients_are_streamed() {
     let opts = SweepOptions {
         transient: 3000,
         keep: 5,
+        map: crate::sim::MapChoice::Direct,
     };
     let mut run = ColumnRun::new(&sim, 1.25, None, &opts);
     let mut most = 0;
-    while let Some(theta) = run.next_onset(&|| false) {
+    while let Some(theta) = run.next_onset(&sim, &|| false) {
         run.take(&sim, sim.cycle(theta, 0.0, None));
         most = most.max(run.onsets.len());
     }
@@ -115,6 +118,7 @@ fn long_transients_are_streamed() {
     let huge = SweepOptions {
         transient: 1 << 40,
         keep: 3,
+        map: crate::sim::MapChoice::Direct,
     };
     let col = Column::run(params, settings, 0.3, 0.3, &huge, &|| false);
     assert!(col.error.is_none());
@@ -143,6 +147,7 @@ fn segments_in_lanes_are_the_segments_swept_alone() {
     let opts = SweepOptions {
         transient: 40,
         keep: 30,
+        map: crate::sim::MapChoice::Direct,
     };
     for (n, theta0) in [(7, None), (2, Some(0.5))] {
         let grid = theta_nu_grid(0.9, 1.3, n);

@@ -1,0 +1,179 @@
+//! One map iterate at a time on the interpolant, for the callers that run
+//! their own loop over the iterates (a phase cell, a bifurcation column):
+//! the series where it is verified, the interval extended where an iterate
+//! leaves it, and direct integration where neither serves.
+
+use super::{InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use crate::model::exit_arc;
+use crate::sim::analysis::cycle_with_derivative;
+use crate::sim::{SimError, Simulator};
+
+/// How a run evaluated the map, for the caller's summary.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum MapUsed {
+    /// Every iterate integrated (the interpolant was not asked for, or the
+    /// run was too short for it).
+    #[default]
+    Direct,
+    /// The interpolant was asked for but refused (the reason): every
+    /// iterate was integrated.
+    Refused(String),
+    /// The interpolant.
+    Interpolant(InterpolantSummary),
+}
+
+/// What an interpolated run reports about its interpolant.
+#[derive(Clone, Debug, PartialEq)]
+pub struct InterpolantSummary {
+    /// Pieces, jump brackets included.
+    pub pieces: usize,
+    /// The largest number of coefficients of θ' on a piece, less one.
+    pub degree: usize,
+    /// The interval covered, in θ.
+    pub interval: (f64, f64),
+    /// Map evaluations spent building and checking it.
+    pub evaluations: usize,
+    /// Independent points it was checked at.
+    pub points: usize,
+    /// The largest |θ' − θ'_direct| measured there.
+    pub max_map_error: f64,
+    /// The other tabulated quantities' largest relative error there.
+    pub max_event_error: f64,
+    /// Iterates integrated directly after it was built (a jump's bracket,
+    /// or beyond a refused extension).
+    pub direct_iterates: usize,
+    /// Why an extension was refused, if one was.
+    pub refused_extension: Option<String>,
+}
+
+/// Direct iterates a caller runs before it builds the interpolant over
+/// their range: fewer give a poor picture of where the orbit goes.
+pub const MIN_DIRECT: usize = 100;
+
+/// The map for a run's remaining iterates: the interpolant where it is
+/// verified, direct integration elsewhere.
+#[derive(Clone, Debug)]
+pub struct Stepper<'s> {
+    sim: &'s Simulator,
+    interp: MapInterpolant,
+    pad: f64,
+    /// Iterates integrated since it was built.
+    direct: usize,
+    /// Right-hand-side evaluations those cost.
+    rhs_evals: u64,
+    refused: Option<String>,
+    /// The cost already handed to the caller: (map evaluations, RHS
+    /// evaluations), construction and direct iterates together.
+    charged: (u64, u64),
+}
+
+impl<'s> Stepper<'s> {
+    /// Builds the interpolant over the range of `recent` onsets (the later
+    /// two thirds of them, where the orbit has settled most), padded by a
+    /// tenth of that range and at least 1e-3. The map evaluations and
+    /// right-hand-side evaluations spent are added to `spent`, also when the
+    /// build is refused.
+    pub fn over(
+        sim: &'s Simulator,
+        recent: &[f64],
+        iopts: InterpolantOptions,
+        spent: &mut (u64, u64),
+    ) -> Result<Self, InterpolantError> {
+        let p = sim.params();
+        let (psi, _) = exit_arc(p.kappa, p.theta_nu);
+        let (a, b, pad) = onset_span(psi, recent, 0.02)
+            .ok_or(InterpolantError::Options("no onsets to build over"))?;
+        let before = *spent;
+        let interp = MapInterpolant::build_counting(sim, psi + a, psi + b, iopts, spent)?;
+        Ok(Stepper {
+            sim,
+            interp,
+            pad,
+            direct: 0,
+            rhs_evals: 0,
+            refused: None,
+            charged: (spent.0 - before.0, spent.1 - before.1),
+        })
+    }
+
+    /// The cost (map evaluations, RHS evaluations) since the last call (or
+    /// since [`Self::over`], which charged the construction): extensions of
+    /// the interval and iterates integrated directly.
+    pub fn take_cost(&mut self) -> (u64, u64) {
+        let total = (
+            self.interp.evaluations() as u64 + self.direct as u64,
+            self.interp.rhs_evals() + self.rhs_evals,
+        );
+        let new = (total.0 - self.charged.0, total.1 - self.charged.1);
+        self.charged = total;
+        new
+    }
+
+    /// The interpolant as it is now.
+    pub fn interpolant(&self) -> &MapInterpolant {
+        &self.interp
+    }
+
+    /// Right-hand-side evaluations of the iterates integrated directly (the
+    /// construction's are [`MapInterpolant::rhs_evals`]).
+    pub fn direct_rhs_evals(&self) -> u64 {
+        self.rhs_evals
+    }
+
+    /// Iterates integrated directly so far.
+    pub fn direct_iterates(&self) -> usize {
+        self.direct
+    }
+
+    /// The summary of the run so far.
+    pub fn summary(&self) -> InterpolantSummary {
+        let i = &self.interp;
+        let v = i.verification();
+        InterpolantSummary {
+            pieces: i.pieces().0,
+            degree: i.max_degree(),
+            interval: i.interval(),
+            evaluations: i.evaluations(),
+            points: v.points,
+            max_map_error: v.max_map_error,
+            max_event_error: v.max_event_error,
+            direct_iterates: self.direct,
+            refused_extension: self.refused.clone(),
+        }
+    }
+
+    fn cover(&mut self, theta: f64) {
+        self.interp.cover(theta, self.pad, &mut self.refused);
+    }
+
+    /// The next onset after θ, from the series or integrated.
+    pub fn next(&mut self, theta: f64) -> Result<f64, SimError> {
+        if let Some(next) = self.interp.map(theta) {
+            return Ok(next);
+        }
+        self.cover(theta);
+        if let Some(next) = self.interp.map(theta) {
+            return Ok(next);
+        }
+        self.direct += 1;
+        let ev = self.sim.cycle(theta, 0.0, None)?;
+        self.rhs_evals += ev.rhs_evals;
+        Ok(self.sim.next_onset(&ev))
+    }
+
+    /// The next onset after θ and f'(θ), from the series or integrated.
+    pub fn next_with_derivative(&mut self, theta: f64) -> Result<(f64, f64), SimError> {
+        let from_series = |i: &MapInterpolant| i.event(theta).map(|t| (t.theta_next, t.derivative));
+        if let Some(r) = from_series(&self.interp) {
+            return Ok(r);
+        }
+        self.cover(theta);
+        if let Some(r) = from_series(&self.interp) {
+            return Ok(r);
+        }
+        self.direct += 1;
+        let (ev, d, n) = cycle_with_derivative(self.sim, theta, 0.0)?;
+        self.rhs_evals += ev.rhs_evals + n;
+        Ok((self.sim.next_onset(&ev), d))
+    }
+}
