@@ -7,7 +7,8 @@
 //! points, committed, θ'_ref from DOP853 at 1e-14) and RHS evaluations per iterate
 //! (machine-independent) are printed, so speed and accuracy are read off
 //! the same run. At DOP853 1e-9 a `/derivatives` row times the same
-//! iterates with the map's six exact derivatives.  Run: `cargo bench --bench map_iterate`.
+//! iterates with the map's six exact derivatives, and a `/slope` row with
+//! f' alone.  Run: `cargo bench --bench map_iterate`.
 
 #![allow(clippy::unwrap_used)]
 
@@ -95,6 +96,15 @@ fn bench(c: &mut Criterion) {
                     b.iter(|| {
                         i = (i + 1) % thetas.len();
                         black_box(sim.cycle_derivatives(black_box(thetas[i]), 0.0).unwrap())
+                    })
+                });
+                // f' alone (`Simulator::cycle_slope`), what the Lyapunov
+                // exponents and the cycle solver ask for.
+                let mut i = 0;
+                group.bench_function(format!("{name}/{method}/{tol:e}/slope"), |b| {
+                    b.iter(|| {
+                        i = (i + 1) % thetas.len();
+                        black_box(sim.cycle_slope(black_box(thetas[i]), 0.0).unwrap())
                     })
                 });
             }

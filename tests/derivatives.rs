@@ -146,6 +146,39 @@ fn cycles_with_derivatives_are_bitwise_the_plain_cycles_and_the_lanes() {
     }
 }
 
+/// Fewer directions give the same numbers: f' alone
+/// (`Simulator::cycle_slope`) and any subset of the six in any order
+/// (`Simulator::cycle_partials`, as continuation asks for f' with one or
+/// two parameters) are bitwise the matching entries of all six, each
+/// direction's arithmetic being its own.
+#[test]
+fn fewer_directions_are_bitwise_the_same_derivatives() {
+    use oneblock::sim::variational::{D_GAMMA, D_KAPPA, D_NU, D_OMEGA, D_THETA, D_THETA_NU};
+    for a in default_attractors() {
+        let sim = Simulator::new(a.params, SolverSettings::default()).unwrap();
+        for &theta in a.fixed.unwrap().iter().step_by(10) {
+            let (ev, all, n) = sim.cycle_derivatives(theta, 0.0).unwrap();
+            let Ok(all) = all else { continue };
+            let (ev1, slope, n1) = sim.cycle_slope(theta, 0.0).unwrap();
+            assert_eq!(format!("{ev:?}"), format!("{ev1:?}"));
+            assert_eq!((slope.unwrap().to_bits(), n1), (all.d_theta.to_bits(), n));
+            let dirs = [D_OMEGA, D_THETA, D_NU, D_KAPPA, D_THETA_NU, D_GAMMA];
+            let named = all.named();
+            for param in [D_THETA_NU, D_KAPPA, D_GAMMA, D_NU, D_OMEGA] {
+                let some = [D_THETA, param];
+                let (_, d, _) = sim.cycle_partials(theta, 0.0, some).unwrap();
+                for (slot, &dir) in some.iter().enumerate() {
+                    assert_eq!(d.unwrap()[slot].to_bits(), named[dir].1.to_bits(), "{dir}");
+                }
+            }
+            let (_, d, _) = sim.cycle_partials(theta, 0.0, dirs).unwrap();
+            for (slot, &dir) in dirs.iter().enumerate() {
+                assert_eq!(d.unwrap()[slot].to_bits(), named[dir].1.to_bits(), "{dir}");
+            }
+        }
+    }
+}
+
 /// f' at a fixed point is its multiplier: at the Fig. 3b parameters
 /// (κ = 18.95, γ = 6.5, ν = 1e-3) the fixed point loses stability by a
 /// period doubling between θν = 1.08 and 1.10 (f' crosses −1 there).

@@ -60,18 +60,18 @@ pub fn map_graph_grid(kappa: f64, theta_nu: f64, lo: f64, hi: f64, n: usize) -> 
 pub const DERIVATIVE_STEP: f64 = 1e-5;
 
 /// f'(θ), and the right-hand-side evaluations it cost, from the
-/// variational equations ([`Simulator::cycle_derivatives`]: one cycle
-/// whose evaluations carry the tangents). Where f has no derivative
+/// variational equations ([`Simulator::cycle_slope`]: one cycle whose
+/// evaluations carry the tangent along θ alone). Where f has no derivative
 /// (`sim::variational::NotDifferentiable`: a restart at the stop, the edge
 /// of the exit arc, a jump) a number is still wanted by the Lyapunov
 /// exponent, so the slope of the secant over ±1e-5 is returned there,
 /// given f(θ) = `f_theta` (for a one-sided difference next to the edge of
 /// the exit arc).
 pub fn map_derivative(sim: &Simulator, theta: f64, f_theta: f64) -> Result<(f64, u64), SimError> {
-    let (ev, d, n) = sim.cycle_derivatives(theta, 0.0)?;
+    let (ev, d, n) = sim.cycle_slope(theta, 0.0)?;
     count_slope(d.is_err());
     match d {
-        Ok(d) => Ok((d.d_theta, ev.rhs_evals + n)),
+        Ok(d) => Ok((d, ev.rhs_evals + n)),
         Err(_) => central_difference(sim, theta, f_theta),
     }
 }
@@ -108,7 +108,7 @@ pub(crate) fn central_difference(
 
 /// The cycle from θ (onset time `t0`) and f'(θ) with the evaluations the
 /// derivative cost beyond the cycle's own: one cycle with the variational
-/// equations ([`Simulator::cycle_derivatives`]); its event is bitwise what
+/// equations ([`Simulator::cycle_slope`]); its event is bitwise what
 /// [`Simulator::cycle`] gives. Where f has no derivative, the secant slope
 /// of [`map_derivative`] and its cycles' evaluations.
 pub fn cycle_with_derivative(
@@ -116,10 +116,10 @@ pub fn cycle_with_derivative(
     theta: f64,
     t0: f64,
 ) -> Result<(SlipEvent, f64, u64), SimError> {
-    let (ev, d, n) = sim.cycle_derivatives(theta, t0)?;
+    let (ev, d, n) = sim.cycle_slope(theta, t0)?;
     count_slope(d.is_err());
     match d {
-        Ok(d) => Ok((ev, d.d_theta, n)),
+        Ok(d) => Ok((ev, d, n)),
         Err(_) => {
             let (d, n) = central_difference(sim, theta, ev.theta_next)?;
             Ok((ev, d, n))

@@ -6,15 +6,14 @@ use std::cell::{Cell, RefCell};
 
 use serde::{Deserialize, Serialize};
 
+mod derivatives;
 mod lanes;
 mod slip;
 
 use super::SimError;
 use super::field::SlipField;
 use super::trajectory::{Phase, Sampler};
-use super::variational::{
-    self, Field, Grad, MapDerivatives, NotDifferentiable, Tan, TanField, Tangents,
-};
+use super::variational::{self, DIRS, Field, Grad, NotDifferentiable, Tangents};
 use crate::integrate::{Method, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
@@ -85,7 +84,7 @@ pub struct Simulator {
 }
 
 /// How a try at a stiff stop ended (see `Simulator::stiff_stop`).
-enum StiffEnd {
+enum StiffEnd<const N: usize = DIRS> {
     /// The slip's end is not (yet) stiff enough: nothing was integrated.
     NotStiff,
     /// The reduced motion was integrated for `steps` steps, then left: the
@@ -97,12 +96,12 @@ enum StiffEnd {
         duration: f64,
         steps: u32,
         /// The stop's tangent, for a slip with derivatives.
-        stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
+        stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
     },
 }
 
 /// The state at the end of a slip.
-struct SlipEnd {
+struct SlipEnd<const N: usize = DIRS> {
     stop: [f64; 2],
     accel_duration: f64,
     duration: f64,
@@ -110,7 +109,7 @@ struct SlipEnd {
     rhs_evals: u64,
     steps: u32,
     /// The stop's tangent, for a slip with derivatives.
-    stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
+    stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
     /// Evaluations the derivatives cost beyond the slip's own.
     extra_evals: u64,
 }
@@ -199,41 +198,6 @@ impl Simulator {
         Ok(self.cycle(theta, 0.0, None)?.theta_next)
     }
 
-    /// One cycle from the onset at θ (time `onset_time`) with the exact
-    /// derivatives of θ' = f(θ) (`sim::variational`): the event (bitwise
-    /// what [`Simulator::cycle`] gives), f' and ∂f/∂(θν, κ, γ, ν, Ω) or why
-    /// f has none there, and the evaluations the derivatives cost beyond
-    /// the cycle's own `rhs_evals` (every evaluation of the cycle carries
-    /// the tangents; these are the extra ones at the switching events).
-    pub fn cycle_derivatives(
-        &self,
-        theta: f64,
-        onset_time: f64,
-    ) -> Result<(SlipEvent, Result<MapDerivatives, NotDifferentiable>, u64), SimError> {
-        self.check_onset(theta)?;
-        let onset = point_from_theta(self.params.kappa, theta);
-        let end = self.slip(theta, onset, onset_time, None, true)?;
-        let (stop_d, extra) = (end.stop_d, end.extra_evals);
-        let ev = self.complete(theta, onset, onset_time, end, None);
-        let d = match stop_d {
-            _ if ev.restarted => Err(NotDifferentiable::Restart),
-            Some(Ok(sd)) => {
-                let fld = TanField::seeded(&self.params, &self.field);
-                let stop = [0, 1].map(|i| Tan {
-                    v: [ev.stop_x, ev.stop_y][i],
-                    d: sd[i],
-                });
-                match variational::next_theta_grad(&fld, stop) {
-                    Some(g) => g.map(|g| MapDerivatives::from_grad(&g)),
-                    None => Err(NotDifferentiable::Restart),
-                }
-            }
-            Some(Err(e)) => Err(e),
-            None => unreachable!("a slip with derivatives ends with its stop's tangent"),
-        };
-        Ok((ev, d, extra))
-    }
-
     /// One full cycle from the onset at θ (time `onset_time`), optionally
     /// sampling the path for display.
     pub fn cycle(
@@ -244,18 +208,18 @@ impl Simulator {
     ) -> Result<SlipEvent, SimError> {
         self.check_onset(theta)?;
         let onset = point_from_theta(self.params.kappa, theta);
-        let end = self.slip(theta, onset, onset_time, sampler.as_deref_mut(), false)?;
+        let end = self.slip::<DIRS>(theta, onset, onset_time, sampler.as_deref_mut(), None)?;
         Ok(self.complete(theta, onset, onset_time, end, sampler))
     }
 
     /// The cycle whose slip from `onset` (at θ, time `onset_time`) ended
     /// with `end`: the closed-form stick phase, the next onset, the event.
-    fn complete(
+    fn complete<const N: usize>(
         &self,
         theta: f64,
         onset: [f64; 2],
         onset_time: f64,
-        end: SlipEnd,
+        end: SlipEnd<N>,
         sampler: Option<&mut Sampler>,
     ) -> SlipEvent {
         let kappa = self.params.kappa;
@@ -325,14 +289,14 @@ impl Simulator {
     /// both versions round identically. (The step controller's ln and e^x
     /// are libm's, which glibc may dispatch to FMA builds by CPU: across
     /// machines a step size can, rarely, differ in its last bit.)
-    fn slip(
+    fn slip<const N: usize>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
-        derivatives: bool,
-    ) -> Result<SlipEnd, SimError> {
+        derivatives: Option<[usize; N]>,
+    ) -> Result<SlipEnd<N>, SimError> {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
@@ -343,31 +307,31 @@ impl Simulator {
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn slip_avx2(
+    fn slip_avx2<const N: usize>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
-        derivatives: bool,
-    ) -> Result<SlipEnd, SimError> {
+        derivatives: Option<[usize; N]>,
+    ) -> Result<SlipEnd<N>, SimError> {
         self.slip_impl(theta, p0, t_abs, sampler, derivatives)
     }
 
     /// One slip from its onset to its stop, step after step
     /// (`slip::SlipRun` holds the logic between the steps).
     #[inline(always)]
-    fn slip_impl(
+    fn slip_impl<const N: usize>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
-        derivatives: bool,
-    ) -> Result<SlipEnd, SimError> {
+        derivatives: Option<[usize; N]>,
+    ) -> Result<SlipEnd<N>, SimError> {
         let mut run = SlipRun::start(self, theta, p0, t_abs, sampler.as_deref_mut())?;
-        if derivatives {
-            run = run.with_tangents();
+        if let Some(dirs) = derivatives {
+            run = run.with_tangents(dirs);
         }
         loop {
             match run.prepare(sampler.as_deref_mut())? {
@@ -406,15 +370,15 @@ impl Simulator {
     /// started, its samples dropped) when on the way v_r stops falling, k
     /// falls below 5, a step fails or 400 steps pass: then the manifold was
     /// not what it seemed.
-    fn stiff_stop(
+    fn stiff_stop<const N: usize>(
         &self,
         y: &State,
         decel: f64,
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
         evals: &Cell<u64>,
-        var: Option<&RefCell<Box<Tangents>>>,
-    ) -> StiffEnd {
+        var: Option<&RefCell<Box<Tangents<N>>>>,
+    ) -> StiffEnd<N> {
         const MIN_STIFFNESS: f64 = 10.0;
         // The caller's v_r, formed the same way.
         let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
@@ -449,13 +413,8 @@ impl Simulator {
         // relaxes onto the manifold).
         let zvar = var.map(|var| {
             let var = var.borrow();
-            let mut zt = [
-                var.y[0],
-                var.y[1],
-                [0.0; variational::DIRS],
-                [0.0; variational::DIRS],
-            ];
-            for i in 0..variational::DIRS {
+            let mut zt = [var.y[0], var.y[1], [0.0; N], [0.0; N]];
+            for i in 0..N {
                 zt[2][i] = (y[2] * var.y[2][i] + y[3] * var.y[3][i]) / vr;
             }
             let z0 = [y[0], y[1], vr, 0.0];

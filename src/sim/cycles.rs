@@ -128,8 +128,8 @@ struct Pass {
 }
 
 /// Walks p iterates from θ with the exact f'(θᵢ) at each
-/// ([`Simulator::cycle_derivatives`]: one map evaluation carrying its
-/// tangents). Where f has no derivative (a restart, an onset at the arc's
+/// ([`Simulator::cycle_slope`]: one map evaluation carrying its tangent
+/// along θ). Where f has no derivative (a restart, an onset at the arc's
 /// edge, a tangential event) the slope of a central difference keeps Newton
 /// going, and the pass is marked: a cycle through such a point is refused.
 fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result<Pass, SimError> {
@@ -139,11 +139,11 @@ fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result
     let mut restarted = false;
     for _ in 0..p {
         points.push(th);
-        let (ev, d, extra) = sim.cycle_derivatives(th, 0.0)?;
+        let (ev, d, extra) = sim.cycle_slope(th, 0.0)?;
         spent.0 += 1;
         spent.1 += ev.rhs_evals + extra;
         let slope = match d {
-            Ok(d) => d.d_theta,
+            Ok(d) => d,
             Err(_) => {
                 restarted = true;
                 let (d, n) = central_difference(sim, th, ev.theta_next)?;

@@ -44,33 +44,39 @@ pub const D_NU: usize = 4;
 /// The direction of Ω.
 pub const D_OMEGA: usize = 5;
 
-/// Derivatives along the six directions.
-pub type Grad = [f64; DIRS];
-/// The tangent of a slip state: one [`Grad`] per component.
-pub type Jet = [Grad; 4];
+/// The six directions in their order: what [`Simulator::cycle_derivatives`]
+/// carries.
+///
+/// [`Simulator::cycle_derivatives`]: crate::Simulator::cycle_derivatives
+pub const ALL_DIRS: [usize; DIRS] = [D_THETA, D_THETA_NU, D_KAPPA, D_GAMMA, D_NU, D_OMEGA];
 
-/// A value with its derivatives along the six directions (forward-mode
+/// Derivatives along `N` of the six directions (all six by default).
+pub type Grad<const N: usize = DIRS> = [f64; N];
+/// The tangent of a slip state: one [`Grad`] per component.
+pub type Jet<const N: usize = DIRS> = [Grad<N>; 4];
+
+/// A value with its derivatives along `N` directions (forward-mode
 /// automatic differentiation). Every operation computes its value exactly
 /// as the plain `f64` code does, so values agree to the bit.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Tan {
+pub struct Tan<const N: usize = DIRS> {
     /// The value.
     pub v: f64,
     /// Its derivatives.
-    pub d: Grad,
+    pub d: Grad<N>,
 }
 
-impl Tan {
+impl<const N: usize> Tan<N> {
     /// A constant: no derivative.
     #[inline(always)]
     pub fn c(v: f64) -> Self {
-        Tan { v, d: [0.0; DIRS] }
+        Tan { v, d: [0.0; N] }
     }
 
     #[inline(always)]
-    fn map_d(v: f64, d: &Grad, k: f64) -> Self {
-        let mut o = [0.0; DIRS];
-        for i in 0..DIRS {
+    fn map_d(v: f64, d: &Grad<N>, k: f64) -> Self {
+        let mut o = [0.0; N];
+        for i in 0..N {
             o[i] = d[i] * k;
         }
         Tan { v, d: o }
@@ -95,12 +101,12 @@ impl Tan {
     /// atan2(y, x) with the slip field's own `atan2`; derivative 0 at the
     /// origin (as for [`Tan::sqrt`]).
     #[inline(always)]
-    pub fn atan2(y: Tan, x: Tan) -> Tan {
+    pub fn atan2(y: Self, x: Self) -> Self {
         let v = trig::atan2(y.v, x.v);
         let r2 = x.v * x.v + y.v * y.v;
         let inv = if r2 > 0.0 { 1.0 / r2 } else { 0.0 };
-        let mut d = [0.0; DIRS];
-        for i in 0..DIRS {
+        let mut d = [0.0; N];
+        for i in 0..N {
             d[i] = (x.v * y.d[i] - y.v * x.d[i]) * inv;
         }
         Tan { v, d }
@@ -115,7 +121,7 @@ impl Tan {
 
     /// (sin, cos) with the slip field's own function.
     #[inline(always)]
-    pub fn sin_cos(self) -> (Tan, Tan) {
+    pub fn sin_cos(self) -> (Self, Self) {
         let (s, c) = trig::sin_cos(self.v);
         (Tan::map_d(s, &self.d, c), Tan::map_d(c, &self.d, -s))
     }
@@ -143,60 +149,60 @@ impl Tan {
     }
 }
 
-impl Add for Tan {
-    type Output = Tan;
+impl<const N: usize> Add for Tan<N> {
+    type Output = Self;
     #[inline(always)]
-    fn add(self, o: Tan) -> Tan {
+    fn add(self, o: Self) -> Self {
         let mut d = self.d;
-        for i in 0..DIRS {
+        for i in 0..N {
             d[i] += o.d[i];
         }
         Tan { v: self.v + o.v, d }
     }
 }
 
-impl Sub for Tan {
-    type Output = Tan;
+impl<const N: usize> Sub for Tan<N> {
+    type Output = Self;
     #[inline(always)]
-    fn sub(self, o: Tan) -> Tan {
+    fn sub(self, o: Self) -> Self {
         let mut d = self.d;
-        for i in 0..DIRS {
+        for i in 0..N {
             d[i] -= o.d[i];
         }
         Tan { v: self.v - o.v, d }
     }
 }
 
-impl Mul for Tan {
-    type Output = Tan;
+impl<const N: usize> Mul for Tan<N> {
+    type Output = Self;
     #[inline(always)]
-    fn mul(self, o: Tan) -> Tan {
-        let mut d = [0.0; DIRS];
-        for i in 0..DIRS {
+    fn mul(self, o: Self) -> Self {
+        let mut d = [0.0; N];
+        for i in 0..N {
             d[i] = self.v * o.d[i] + o.v * self.d[i];
         }
         Tan { v: self.v * o.v, d }
     }
 }
 
-impl Div for Tan {
-    type Output = Tan;
+impl<const N: usize> Div for Tan<N> {
+    type Output = Self;
     #[inline(always)]
-    fn div(self, o: Tan) -> Tan {
+    fn div(self, o: Self) -> Self {
         let v = self.v / o.v;
         let inv = 1.0 / o.v;
-        let mut d = [0.0; DIRS];
-        for i in 0..DIRS {
+        let mut d = [0.0; N];
+        for i in 0..N {
             d[i] = (self.d[i] - v * o.d[i]) * inv;
         }
         Tan { v, d }
     }
 }
 
-impl Neg for Tan {
-    type Output = Tan;
+impl<const N: usize> Neg for Tan<N> {
+    type Output = Self;
     #[inline(always)]
-    fn neg(self) -> Tan {
+    fn neg(self) -> Self {
         let mut d = self.d;
         for x in d.iter_mut() {
             *x = -*x;
@@ -207,42 +213,46 @@ impl Neg for Tan {
 
 /// A state with its tangent, as [`Tan`] numbers.
 #[inline(always)]
-pub fn tan_state(y: &State, t: &Jet) -> [Tan; 4] {
+pub fn tan_state<const N: usize>(y: &State, t: &Jet<N>) -> [Tan<N>; 4] {
     std::array::from_fn(|i| Tan { v: y[i], d: t[i] })
 }
 
 /// The values and the tangent of a [`Tan`] state.
 #[inline(always)]
-pub fn split(s: &[Tan; 4]) -> (State, Jet) {
+pub fn split<const N: usize>(s: &[Tan<N>; 4]) -> (State, Jet<N>) {
     (s.map(|x| x.v), s.map(|x| x.d))
 }
 
 /// The slip field's parameters as [`Tan`] numbers: seeded with their
 /// directions (κ, γ, Ω, and V through θν and ν), or constant.
 #[derive(Clone, Copy, Debug)]
-pub struct TanField {
-    pub kappa: Tan,
-    pub two_gamma: Tan,
-    pub omega: Tan,
-    pub v: [Tan; 2],
+pub struct TanField<const N: usize = DIRS> {
+    pub kappa: Tan<N>,
+    pub two_gamma: Tan<N>,
+    pub omega: Tan<N>,
+    pub v: [Tan<N>; 2],
 }
 
-impl TanField {
-    /// The parameters of `field` (built from `p`) with their directions.
-    pub fn seeded(p: &Params, field: &SlipField) -> Self {
+impl<const N: usize> TanField<N> {
+    /// The parameters of `field` (built from `p`), slot s carrying the
+    /// direction `dirs[s]` (one of the `D_` constants).
+    pub fn seeded(p: &Params, field: &SlipField, dirs: [usize; N]) -> Self {
         let mut kappa = Tan::c(field.kappa);
-        kappa.d[D_KAPPA] = 1.0;
         let mut two_gamma = Tan::c(field.two_gamma);
-        two_gamma.d[D_GAMMA] = 2.0;
         let mut omega = Tan::c(field.omega);
-        omega.d[D_OMEGA] = 1.0;
         let (s, c) = p.theta_nu.sin_cos();
         let mut v = [Tan::c(field.v[0]), Tan::c(field.v[1])];
-        // V = ν (cos θν, sin θν).
-        v[0].d[D_THETA_NU] = -field.v[1];
-        v[1].d[D_THETA_NU] = field.v[0];
-        v[0].d[D_NU] = c;
-        v[1].d[D_NU] = s;
+        for (slot, dir) in dirs.into_iter().enumerate() {
+            match dir {
+                D_KAPPA => kappa.d[slot] = 1.0,
+                D_GAMMA => two_gamma.d[slot] = 2.0,
+                D_OMEGA => omega.d[slot] = 1.0,
+                // V = ν (cos θν, sin θν).
+                D_THETA_NU => (v[0].d[slot], v[1].d[slot]) = (-field.v[1], field.v[0]),
+                D_NU => (v[0].d[slot], v[1].d[slot]) = (c, s),
+                _ => {}
+            }
+        }
         TanField {
             kappa,
             two_gamma,
@@ -263,7 +273,7 @@ impl TanField {
 
     /// [`SlipField::accel`] on tangents, operation for operation.
     #[inline(always)]
-    pub fn accel(&self, s: &[Tan; 4]) -> [Tan; 4] {
+    pub fn accel(&self, s: &[Tan<N>; 4]) -> [Tan<N>; 4] {
         let [x, y, a, b] = *s;
         let fx = -self.kappa * x;
         let fy = -y;
@@ -284,7 +294,7 @@ impl TanField {
 
     /// [`SlipField::decel`] on tangents, operation for operation.
     #[inline(always)]
-    pub fn decel(&self, s: &[Tan; 4]) -> [Tan; 4] {
+    pub fn decel(&self, s: &[Tan<N>; 4]) -> [Tan<N>; 4] {
         let [x, y, a, b] = *s;
         let q = a * a + b * b;
         let vr = q.sqrt();
@@ -300,7 +310,7 @@ impl TanField {
     /// The right-hand side of the stiff stop's motion on the slow manifold,
     /// z = (x, y, v_r, unused), from [`SlipField::manifold`] on tangents.
     #[inline(always)]
-    pub fn manifold_motion(&self, z: &[Tan; 4]) -> [Tan; 4] {
+    pub fn manifold_motion(&self, z: &[Tan<N>; 4]) -> [Tan<N>; 4] {
         let (x, y, vr) = (z[0], z[1], z[2]);
         let k = self.kappa;
         let (fx, fy) = (-k * x, -y);
@@ -370,7 +380,7 @@ pub struct MapDerivatives {
 }
 
 impl MapDerivatives {
-    /// From the gradient of θ' along the six directions.
+    /// From the gradient of θ' along the six directions ([`ALL_DIRS`]).
     pub fn from_grad(g: &Grad) -> Self {
         MapDerivatives {
             d_theta: g[D_THETA],
@@ -396,13 +406,18 @@ impl MapDerivatives {
 }
 
 /// The onset's state (on C, at rest relative to the surface) with its
-/// tangent: x = cos θ/κ, y = sin θ depend on θ and κ.
-pub fn onset_tangent(kappa: f64, theta: f64) -> Jet {
+/// tangent, slot s along `dirs[s]`: x = cos θ/κ, y = sin θ depend on θ
+/// and κ.
+pub fn onset_tangent<const N: usize>(kappa: f64, theta: f64, dirs: [usize; N]) -> Jet<N> {
     let (s, c) = theta.sin_cos();
-    let mut t = [[0.0; DIRS]; 4];
-    t[0][D_THETA] = -s / kappa;
-    t[0][D_KAPPA] = -c / (kappa * kappa);
-    t[1][D_THETA] = c;
+    let mut t = [[0.0; N]; 4];
+    for (slot, dir) in dirs.into_iter().enumerate() {
+        match dir {
+            D_THETA => (t[0][slot], t[1][slot]) = (-s / kappa, c),
+            D_KAPPA => t[0][slot] = -c / (kappa * kappa),
+            _ => {}
+        }
+    }
     t
 }
 
@@ -411,20 +426,20 @@ pub fn onset_tangent(kappa: f64, theta: f64) -> Jet {
 /// `dg` = ∂g/∂y·Y + ∂g/∂p and `g_dot` = ∂g/∂y·ẏ. Returns that tangent and
 /// τ_p. `g_dot` must have the sign of a crossing from above (negative):
 /// otherwise the event is met tangentially and f jumps there.
-pub fn event_tangent(
-    y: &Jet,
+pub fn event_tangent<const N: usize>(
+    y: &Jet<N>,
     f: &State,
-    dg: &Grad,
+    dg: &Grad<N>,
     g_dot: f64,
     event: &'static str,
-) -> Result<(Jet, Grad), NotDifferentiable> {
+) -> Result<(Jet<N>, Grad<N>), NotDifferentiable> {
     if !(g_dot < 0.0) {
         return Err(NotDifferentiable::Jump { event });
     }
-    let tau: Grad = std::array::from_fn(|i| -dg[i] / g_dot);
+    let tau: Grad<N> = std::array::from_fn(|i| -dg[i] / g_dot);
     let mut out = *y;
     for c in 0..4 {
-        for i in 0..DIRS {
+        for i in 0..N {
             out[c][i] += f[c] * tau[i];
         }
     }
@@ -439,7 +454,10 @@ pub fn event_tangent(
 /// the closed-form stick phase (`model::stick_exit_time`) and
 /// θ' = atan2(y, κx), differentiated as computed. `None` when the stop is
 /// not strictly inside C.
-pub fn next_theta_grad(fld: &TanField, stop: [Tan; 2]) -> Option<Result<Grad, NotDifferentiable>> {
+pub fn next_theta_grad<const N: usize>(
+    fld: &TanField<N>,
+    stop: [Tan<N>; 2],
+) -> Option<Result<Grad<N>, NotDifferentiable>> {
     let k = fld.kappa;
     let v = fld.v;
     let k2 = k * k;
@@ -489,7 +507,7 @@ mod tests {
             omega: 50.0,
         };
         let field = SlipField::new(&p);
-        let fld = TanField::seeded(&p, &field);
+        let fld = TanField::seeded(&p, &field, ALL_DIRS);
         let states = [
             [0.01, 0.3, -0.04, 0.07],
             [-0.02, 0.5, 1e-4, -3e-4],

@@ -20,6 +20,7 @@ use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
 use crate::sim::cycles::MAX_STEP;
+use crate::sim::variational::D_THETA;
 
 /// Creeping steps (below [`CREEP`] of the first) looked at by the noise
 /// test.
@@ -214,12 +215,18 @@ impl<'a> Ctx<'a> {
             if sim.check_onset(th).is_err() {
                 return Err(EvalError::OffArc { theta: th });
             }
-            let (ev, d, _) = sim.cycle_derivatives(th, 0.0).map_err(EvalError::Sim)?;
+            let dirs = [
+                D_THETA,
+                self.params[0].direction(),
+                self.params[1].direction(),
+            ];
+            let (ev, d, _) = sim.cycle_partials(th, 0.0, dirs).map_err(EvalError::Sim)?;
             self.evals += 1;
-            let d = d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
-            d1 = d.d_theta * d1 + self.params[0].partial(&d);
-            d2 = d.d_theta * d2 + self.params[1].partial(&d);
-            m *= d.d_theta;
+            let [d_theta, p1, p2] =
+                d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
+            d1 = d_theta * d1 + p1;
+            d2 = d_theta * d2 + p2;
+            m *= d_theta;
             th = ev.theta_next;
         }
         let g = wrap_angle(th - y[0]);

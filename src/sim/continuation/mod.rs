@@ -17,7 +17,9 @@ mod vec3;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
-use crate::sim::variational::{MapDerivatives, NotDifferentiable};
+use crate::sim::variational::{
+    D_GAMMA, D_KAPPA, D_NU, D_OMEGA, D_THETA, D_THETA_NU, MapDerivatives, NotDifferentiable,
+};
 use crate::sim::{SimError, Simulator};
 
 pub use branch::{
@@ -99,6 +101,18 @@ impl ContParam {
             ContParam::Omega => q.omega = v,
         }
         q
+    }
+
+    /// This parameter's direction among the map's derivatives
+    /// (`Simulator::cycle_partials`).
+    pub fn direction(self) -> usize {
+        match self {
+            ContParam::ThetaNu => D_THETA_NU,
+            ContParam::Kappa => D_KAPPA,
+            ContParam::Gamma => D_GAMMA,
+            ContParam::Nu => D_NU,
+            ContParam::Omega => D_OMEGA,
+        }
     }
 
     /// ∂f/∂λ for this parameter.
@@ -211,17 +225,19 @@ pub fn eval_at(
             return Err(EvalError::OffArc { theta: th });
         }
         points.push(th);
-        let (ev, d, _) = sim.cycle_derivatives(th, 0.0).map_err(EvalError::Sim)?;
+        let dirs = [D_THETA, param.direction()];
+        let (ev, d, _) = sim.cycle_partials(th, 0.0, dirs).map_err(EvalError::Sim)?;
         *evals += 1;
-        let d = d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
+        let [d_theta, d_param] =
+            d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
         if ev.restarted {
             return Err(EvalError::NotDifferentiable {
                 theta: th,
                 reason: NotDifferentiable::Restart,
             });
         }
-        d_lambda = d.d_theta * d_lambda + param.partial(&d);
-        multiplier *= d.d_theta;
+        d_lambda = d_theta * d_lambda + d_param;
+        multiplier *= d_theta;
         th = ev.theta_next;
     }
     let g = wrap_angle(th - theta);

@@ -17,7 +17,7 @@ use crate::integrate::{Dense, LaneAttempt, Method, Rhs, Solver, State, find_root
 use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
-use crate::sim::variational::{self, Field, Grad, NotDifferentiable, TanField, Tangents};
+use crate::sim::variational::{self, DIRS, Field, Grad, NotDifferentiable, TanField, Tangents};
 
 /// How much tighter than the settings the acceleration phase of a creep or
 /// near-critical onset is integrated (see `SlipRun::start`).
@@ -32,23 +32,22 @@ const DP54_STABLE_REACH: f64 = 2.6;
 /// One phase's right-hand side, counting its evaluations. A type rather
 /// than a closure so that `eval` is always inlined into the stepping loop
 /// and compiled with its target features (see [`Rhs`]).
-pub(super) struct Counted<'a> {
+pub(super) struct Counted<'a, const N: usize = DIRS> {
     pub(super) field: &'a SlipField,
     pub(super) evals: &'a Cell<u64>,
     pub(super) accel: bool,
-    /// The tangents, for a slip with derivatives: each stage of a step is
-    /// evaluated on them (values bitwise the same).
-    pub(super) var: Option<&'a RefCell<Box<Tangents>>>,
+    /// The tangents, for a slip with derivatives (values bitwise the same).
+    pub(super) var: Option<&'a RefCell<Box<Tangents<N>>>>,
 }
 
-impl<'a> Counted<'a> {
+impl<'a, const N: usize> Counted<'a, N> {
     /// The right-hand side of the phase `stage` is in.
     #[inline(always)]
     fn of(
         field: &'a SlipField,
         evals: &'a Cell<u64>,
         stage: Stage,
-        var: Option<&'a RefCell<Box<Tangents>>>,
+        var: Option<&'a RefCell<Box<Tangents<N>>>>,
     ) -> Self {
         Counted {
             field,
@@ -59,7 +58,7 @@ impl<'a> Counted<'a> {
     }
 }
 
-impl Rhs for Counted<'_> {
+impl<const N: usize> Rhs for Counted<'_, N> {
     #[inline(always)]
     fn eval(&mut self, y: &State) -> State {
         self.evals.set(self.evals.get() + 1);
@@ -99,15 +98,15 @@ enum Stage {
 }
 
 /// What a slip asks for next.
-pub(super) enum Next {
+pub(super) enum Next<const N: usize = DIRS> {
     /// Compute the stages of an attempt of this length from `state()`.
     Attempt(f64),
     /// The slip is over.
-    Done(SlipEnd),
+    Done(SlipEnd<N>),
 }
 
 /// One slip in progress.
-pub(super) struct SlipRun<'a> {
+pub(super) struct SlipRun<'a, const N: usize = DIRS> {
     sim: &'a Simulator,
     theta: f64,
     /// Time of the onset since the start of the run (for samples).
@@ -119,17 +118,16 @@ pub(super) struct SlipRun<'a> {
     k: State,
     stage: Stage,
     /// The bound on the step being attempted: `Some` while an attempt is
-    /// retried after a rejection, when the logic before a step must not run
-    /// again.
+    /// retried after a rejection (the logic before a step must not rerun).
     h_max: Option<f64>,
     extra_steps: u32,
     /// The tangents of a slip with derivatives (`None`: a plain slip).
-    pub(super) var: Option<RefCell<Box<Tangents>>>,
+    pub(super) var: Option<RefCell<Box<Tangents<N>>>>,
     /// The stop's tangent once the slip has ended (with derivatives).
-    stop_d: Option<Result<[Grad; 2], NotDifferentiable>>,
+    stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
 }
 
-impl<'a> SlipRun<'a> {
+impl<'a, const N: usize> SlipRun<'a, N> {
     /// A slip from rest relative to the surface at `p0`.
     #[inline(always)]
     pub(super) fn start(
@@ -198,12 +196,12 @@ impl<'a> SlipRun<'a> {
         Ok(run)
     }
 
-    /// The same slip with derivatives: the onset's tangent (θ and κ move
-    /// it) and f's there ride along (`sim::variational`).
-    pub(super) fn with_tangents(mut self) -> Self {
+    /// The same slip with derivatives along `dirs` (`variational`'s `D_`
+    /// constants): the onset's tangent and f's there ride along.
+    pub(super) fn with_tangents(mut self, dirs: [usize; N]) -> Self {
         let sim = self.sim;
-        let fld = TanField::seeded(&sim.params, &sim.field);
-        let t0 = variational::onset_tangent(sim.params.kappa, self.theta);
+        let fld = TanField::seeded(&sim.params, &sim.field, dirs);
+        let t0 = variational::onset_tangent(sim.params.kappa, self.theta, dirs);
         let mut var = Tangents::new(sim.settings.method, fld, t0, t0);
         var.k0 = var.field_at(Field::Accel, &self.y, &t0).1;
         var.extra_evals += 1;
@@ -253,7 +251,7 @@ impl<'a> SlipRun<'a> {
 
     /// The current phase's right-hand side.
     #[inline(always)]
-    pub(super) fn rhs(&self) -> Counted<'_> {
+    pub(super) fn rhs(&self) -> Counted<'_, N> {
         Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref())
     }
 
@@ -273,7 +271,7 @@ impl<'a> SlipRun<'a> {
     /// The attempt of length `h` that `prepare` asked for, for stages
     /// computed beside other slips' (`Solver::stages_lanes`).
     #[inline(always)]
-    pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_>> {
+    pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_, N>> {
         LaneAttempt {
             f: Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref()),
             solver: &mut self.solver,
@@ -332,7 +330,7 @@ impl<'a> SlipRun<'a> {
         }
     }
 
-    fn end(&self, stop: [f64; 2], duration: f64) -> SlipEnd {
+    fn end(&self, stop: [f64; 2], duration: f64) -> SlipEnd<N> {
         let Stage::Decel { t_a, peak_vr, .. } = self.stage else {
             unreachable!("a slip ends in its deceleration phase");
         };
@@ -353,7 +351,10 @@ impl<'a> SlipRun<'a> {
     /// before a step runs once per step, not again when an attempt is
     /// retried after a rejection.
     #[inline(always)]
-    pub(super) fn prepare(&mut self, mut sampler: Option<&mut Sampler>) -> Result<Next, SimError> {
+    pub(super) fn prepare(
+        &mut self,
+        mut sampler: Option<&mut Sampler>,
+    ) -> Result<Next<N>, SimError> {
         let sim = self.sim;
         let settings = &sim.settings;
         let adaptive = settings.method.is_adaptive();
@@ -480,7 +481,7 @@ impl<'a> SlipRun<'a> {
         y_new: &State,
         h: f64,
         mut sampler: Option<&mut Sampler>,
-    ) -> Result<Option<SlipEnd>, SimError> {
+    ) -> Result<Option<SlipEnd<N>>, SimError> {
         let sim = self.sim;
         let adaptive = sim.settings.method.is_adaptive();
         let v = sim.field.v;

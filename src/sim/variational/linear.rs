@@ -12,7 +12,7 @@
 //! Rows 2 and 3 (the relative acceleration) depend on the state and on κ,
 //! 2γ and Ω.
 
-use super::{DIRS, Jet, TanField};
+use super::{Jet, TanField};
 use crate::integrate::State;
 use crate::sim::field::SlipField;
 use crate::sim::trig;
@@ -27,20 +27,14 @@ pub(crate) struct Lin {
 }
 
 impl Lin {
-    /// A placeholder before the first evaluation.
-    pub const ZERO: Lin = Lin {
-        js: [[0.0; 4]; 2],
-        jp: [[0.0; 3]; 2],
-    };
-
     /// K = J·T + J_p·P for the state tangent `t` and the parameters' seeds
     /// in `fld`, direction by direction.
     #[inline(always)]
-    pub fn apply<const FMA: bool>(&self, t: &Jet, fld: &TanField) -> Jet {
-        let mut k = [[0.0; DIRS]; 4];
+    pub fn apply<const N: usize, const FMA: bool>(&self, t: &Jet<N>, fld: &TanField<N>) -> Jet<N> {
+        let mut k = [[0.0; N]; 4];
         let [r2, r3] = self.js;
         let [p2, p3] = self.jp;
-        for i in 0..DIRS {
+        for i in 0..N {
             let (kp, gp, op) = (fld.kappa.d[i], fld.two_gamma.d[i], fld.omega.d[i]);
             k[0][i] = t[2][i] + fld.v[0].d[i];
             k[1][i] = t[3][i] + fld.v[1].d[i];
@@ -163,7 +157,7 @@ pub(crate) fn decel(f: &SlipField, s: &State) -> (State, Lin) {
 mod tests {
     use super::*;
     use crate::model::Params;
-    use crate::sim::variational::{DIRS, split, tan_state};
+    use crate::sim::variational::{ALL_DIRS, DIRS, split, tan_state};
 
     /// The values are bitwise the plain fields', and J·T + J_p·P is the
     /// forward-mode tangent of the same field (six directions, the
@@ -178,7 +172,7 @@ mod tests {
             omega: 50.0,
         };
         let field = SlipField::new(&p);
-        let fld = TanField::seeded(&p, &field);
+        let fld = TanField::seeded(&p, &field, ALL_DIRS);
         let states = [
             [0.01, 0.3, -0.04, 0.07],
             [-0.02, 0.5, 1e-4, -3e-4],
@@ -195,7 +189,7 @@ mod tests {
                 pairs.push((decel(&field, &y), split(&fld.decel(&s)), field.decel(&y)));
             }
             for ((v, lin), (tv, tt), plain) in pairs {
-                let k = lin.apply::<false>(&t, &fld);
+                let k = lin.apply::<DIRS, false>(&t, &fld);
                 for c in 0..4 {
                     assert_eq!(v[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");
                     assert_eq!(tv[c].to_bits(), plain[c].to_bits(), "{y:?} {c}");

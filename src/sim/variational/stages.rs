@@ -4,18 +4,21 @@
 //! The solver computes the state's stage arguments and calls the
 //! right-hand side once per stage, in order; the right-hand side of a slip
 //! with derivatives hands each call to [`Tangents::eval`], which computes
-//! the field's value and its Jacobian there (`variational::linear`), keeps
-//! the Jacobian and returns the value. The tangent's stages,
-//! K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, are formed only once the step is
-//! accepted ([`Tangents::commit`]): a rejected attempt costs the tangents
-//! nothing, and their arithmetic is one tight loop off the state's chain of
-//! dependent evaluations. The caller says where a step begins
-//! ([`Tangents::begin`]), when the next evaluation is f(y_new)
-//! ([`Tangents::finishing`]) and when the slip moves on to the new state
-//! ([`Tangents::commit`]): anything else (dense output, event location) is
-//! evaluated plain.
+//! the field's value and its Jacobian there (`variational::linear`),
+//! returns the value and forms the tangent's stage,
+//! K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, at once. The state's stages are
+//! a chain of dependent evaluations that leaves most of the CPU's
+//! arithmetic idle (`lockstep` in benches/map_iterate.rs); a tangent stage
+//! depends on nothing the next state stage needs, so the CPU runs it in
+//! those idle slots. (Formed all together once the step was accepted, the
+//! same sums cost a third more of the iterate: they then ran alone.) A
+//! rejected attempt's tangent stages are thrown away, as its state stages
+//! are. The caller says where a step begins ([`Tangents::begin`]), when
+//! the next evaluation is f(y_new) ([`Tangents::finishing`]) and when the
+//! slip moves on to the new state ([`Tangents::commit`]): anything else
+//! (dense output, event location) is evaluated plain.
 
-use super::linear::{self, Lin};
+use super::linear;
 use super::{DIRS, Jet, TanField, split, tan_state};
 use crate::integrate::{Method, State, tableau};
 use crate::sim::field::SlipField;
@@ -43,15 +46,16 @@ pub(crate) enum Field {
     Manifold,
 }
 
-/// One integration's tangents: at the current state, and during a step.
-pub(crate) struct Tangents {
+/// One integration's tangents along `N` directions: at the current
+/// state, and during a step.
+pub(crate) struct Tangents<const N: usize = DIRS> {
     /// The parameters with their directions.
-    pub fld: TanField,
+    pub fld: TanField<N>,
     /// The same parameters' values, for the plain field.
     plain: SlipField,
     /// The tangents' arithmetic may use AVX2 (as the plain slip does).
     avx2: bool,
-    /// The accepted step's tangent arithmetic may fuse its multiply-adds.
+    /// ... and fuse its multiply-adds.
     fma: bool,
     a: [[f64; MAX_STAGES]; MAX_STAGES],
     b: [f64; MAX_STAGES],
@@ -63,29 +67,23 @@ pub(crate) struct Tangents {
     stages: usize,
     fsal: bool,
     /// The tangent of the current state, and of f there.
-    pub y: Jet,
-    pub k0: Jet,
-    k: [Jet; MAX_STAGES],
+    pub y: Jet<N>,
+    pub k0: Jet<N>,
+    k: [Jet<N>; MAX_STAGES],
     h: f64,
     idx: usize,
     mode: Mode,
-    /// The Jacobians at the attempt's stages, and at its new solution
-    /// (methods without FSAL).
-    lin: [Lin; MAX_STAGES],
-    lin_final: Lin,
-    /// The stiff stop's motion: its tangent stages are formed as they are
-    /// evaluated, and the new solution's tangent and f's kept for `commit`.
-    eager: bool,
-    final_y: Jet,
-    final_k: Jet,
+    /// The attempt's new solution's tangent and f's there, for `commit`.
+    final_y: Jet<N>,
+    final_k: Jet<N>,
     /// Evaluations beyond the plain cycle's (partial steps to events).
     pub extra_evals: u64,
 }
 
-impl Tangents {
+impl<const N: usize> Tangents<N> {
     /// Tangents for `method` from the state tangent `y`, where f's tangent
     /// is `k0`.
-    pub fn new(method: Method, fld: TanField, y: Jet, k0: Jet) -> Box<Self> {
+    pub fn new(method: Method, fld: TanField<N>, y: Jet<N>, k0: Jet<N>) -> Box<Self> {
         let mut a = [[0.0; MAX_STAGES]; MAX_STAGES];
         let mut b = [0.0; MAX_STAGES];
         let (stages, fsal) = match method {
@@ -131,15 +129,12 @@ impl Tangents {
             fsal,
             y,
             k0,
-            k: [[[0.0; DIRS]; 4]; MAX_STAGES],
+            k: [[[0.0; N]; 4]; MAX_STAGES],
             h: 0.0,
             idx: 0,
             mode: Mode::Off,
-            lin: [Lin::ZERO; MAX_STAGES],
-            lin_final: Lin::ZERO,
-            eager: false,
-            final_y: [[0.0; DIRS]; 4],
-            final_k: [[0.0; DIRS]; 4],
+            final_y: [[0.0; N]; 4],
+            final_k: [[0.0; N]; 4],
             extra_evals: 0,
         })
     }
@@ -148,13 +143,18 @@ impl Tangents {
     /// fields by their Jacobian applied to t, the stiff stop's motion (a
     /// handful of steps per stop) on [`super::Tan`] numbers.
     #[inline(always)]
-    pub fn field_at(&self, field: Field, y: &State, t: &Jet) -> (State, Jet) {
+    pub fn field_at(&self, field: Field, y: &State, t: &Jet<N>) -> (State, Jet<N>) {
+        self.field_with::<false>(field, y, t)
+    }
+
+    #[inline(always)]
+    fn field_with<const FMA: bool>(&self, field: Field, y: &State, t: &Jet<N>) -> (State, Jet<N>) {
         let (v, lin) = match field {
             Field::Accel => linear::accel(&self.plain, y),
             Field::Decel => linear::decel(&self.plain, y),
             Field::Manifold => return split(&self.fld.manifold_motion(&tan_state(y, t))),
         };
-        (v, lin.apply::<false>(t, &self.fld))
+        (v, lin.apply::<N, FMA>(t, &self.fld))
     }
 
     /// An attempt of length `h` from the current state begins.
@@ -178,160 +178,102 @@ impl Tangents {
         self.mode = Mode::Off;
     }
 
-    /// The integration moves on to the accepted step's new state: the
-    /// tangent's stages from the Jacobians the attempt kept, and its new
-    /// tangent and f's there.
+    /// The integration moves on to the accepted step's new state: so do
+    /// the tangents, to the new solution's tangent and f's there.
     #[inline(always)]
     pub fn commit(&mut self) {
-        if self.eager {
-            (self.y, self.k0) = if self.fsal {
-                (self.combine(&self.b), self.k[self.stages - 1])
-            } else {
-                (self.final_y, self.final_k)
-            };
-            return;
-        }
-        #[cfg(target_arch = "x86_64")]
-        if self.fma {
-            // SAFETY: `fma` was set from `is_x86_feature_detected!` for
-            // both features.
-            return unsafe { self.commit_fma() };
-        }
-        self.commit_lazy::<false>();
-    }
-
-    /// [`Tangents::commit`] with fused multiply-adds: the tangents are not
-    /// the values that choose steps, so their last bits may differ by CPU
-    /// (the values, and so the steps, never do).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn commit_fma(&mut self) {
-        self.commit_lazy::<true>();
-    }
-
-    #[inline(always)]
-    fn commit_lazy<const FMA: bool>(&mut self) {
-        for i in 1..self.stages {
-            let t = self.combine_sparse::<FMA>(&self.a[i], i);
-            self.k[i] = self.lin[i].apply::<FMA>(&t, &self.fld);
-        }
-        let y = self.combine_sparse::<FMA>(&self.b, MAX_STAGES);
-        self.k0 = if self.fsal {
-            self.k[self.stages - 1]
-        } else {
-            self.lin_final.apply::<FMA>(&y, &self.fld)
-        };
-        self.y = y;
+        (self.y, self.k0) = (self.final_y, self.final_k);
     }
 
     /// Y + h Σ_j w_j K_j over row `row`'s nonzero weights `w` (a's rows,
-    /// or `MAX_STAGES` for b). A tangent's 24 numbers are taken as one flat
-    /// run, so that the sums go four at a time (rows of six do not fill
-    /// 4-wide registers).
+    /// or `MAX_STAGES` for b). A tangent's 4·N numbers are taken as one
+    /// flat run, so that the sums go four at a time (rows of six do not
+    /// fill 4-wide registers).
     #[inline(always)]
-    fn combine_sparse<const FMA: bool>(&self, w: &[f64; MAX_STAGES], row: usize) -> Jet {
+    fn combine<const FMA: bool>(&self, w: &[f64; MAX_STAGES], row: usize) -> Jet<N> {
         let mut out = self.y;
-        let flat: &mut [f64; 4 * DIRS] = out.as_flattened_mut().try_into().expect("4 × DIRS");
+        let flat = out.as_flattened_mut();
         for &j in &self.nz[row][..self.nz_len[row] as usize] {
             let j = j as usize;
             let hw = self.h * w[j];
-            let kf: &[f64; 4 * DIRS] = self.k[j].as_flattened().try_into().expect("4 × DIRS");
-            for (o, &x) in flat.iter_mut().zip(kf) {
+            for (o, &x) in flat.iter_mut().zip(self.k[j].as_flattened()) {
                 *o = linear::madd::<FMA>(hw, x, *o);
             }
         }
         out
     }
 
-    /// [`Tangents::combine_with`], unfused.
-    #[inline(always)]
-    fn combine(&self, w: &[f64; MAX_STAGES]) -> Jet {
-        self.combine_with::<false>(w)
-    }
-
-    /// Y + h Σ_j w_j K_j over the stages so far. A tangent's 24 numbers
-    /// are taken as one flat run, so that the sums go four at a time
-    /// (rows of six do not fill 4-wide registers).
-    #[inline(always)]
-    fn combine_with<const FMA: bool>(&self, w: &[f64; MAX_STAGES]) -> Jet {
-        let mut out = self.y;
-        for (kj, &wj) in self.k.iter().zip(w).take(self.stages) {
-            if wj != 0.0 {
-                let hw = self.h * wj;
-                let flat: &mut [f64; 4 * DIRS] =
-                    out.as_flattened_mut().try_into().expect("4 × DIRS");
-                let kf: &[f64; 4 * DIRS] = kj.as_flattened().try_into().expect("4 × DIRS");
-                for (o, &x) in flat.iter_mut().zip(kf) {
-                    *o = linear::madd::<FMA>(hw, x, *o);
-                }
-            }
-        }
-        out
-    }
-
     /// The field at `y` for the solver: evaluated on tangents during a step
-    /// (`Some` value), `None` when the evaluation is not part of one. Not
-    /// inlined: the stepping loops are unrolled per stage and per lane, and
-    /// a copy of the tangent field in each multiplied the code (and the
-    /// plain slip's) many times over for no gain.
-    #[inline(never)]
+    /// (`Some` value), `None` when the evaluation is not part of one. This
+    /// dispatch is inlined, the work behind it is not: the stepping loops
+    /// are unrolled per stage and per lane, and a copy of the tangent field
+    /// in each multiplied the code (and the plain slip's) many times over.
+    #[inline(always)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
+        // The stiff stop's few steps keep their sums unfused, as its
+        // [`super::Tan`] field is.
+        #[cfg(target_arch = "x86_64")]
+        if self.fma && field != Field::Manifold {
+            // SAFETY: `fma` was set from `is_x86_feature_detected!` for
+            // both features.
+            return unsafe { self.eval_fma(field, y) };
+        }
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
             return unsafe { self.eval_avx2(field, y) };
         }
-        self.eval_impl(field, y)
+        self.eval_plain(field, y)
     }
 
-    /// [`Tangents::eval`] compiled with AVX2: a tangent is 24 numbers, six
-    /// 4-wide registers.
+    /// [`Tangents::eval`] compiled with AVX2 and FMA: a tangent is 4·N
+    /// numbers, N 4-wide registers, and its sums are fused (the tangents
+    /// are not the values that choose steps, so their last bits may
+    /// differ by CPU; the values, and so the steps, never do: Rust never
+    /// fuses the field's own a·b + c).
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    #[inline(never)]
+    fn eval_fma(&mut self, field: Field, y: &State) -> Option<State> {
+        self.eval_impl::<true>(field, y)
+    }
+
+    /// [`Tangents::eval`] compiled with AVX2, unfused.
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
+    #[inline(never)]
     fn eval_avx2(&mut self, field: Field, y: &State) -> Option<State> {
-        self.eval_impl(field, y)
+        self.eval_impl::<false>(field, y)
+    }
+
+    /// [`Tangents::eval`] for any CPU.
+    #[inline(never)]
+    fn eval_plain(&mut self, field: Field, y: &State) -> Option<State> {
+        self.eval_impl::<false>(field, y)
     }
 
     #[inline(always)]
-    fn eval_impl(&mut self, field: Field, y: &State) -> Option<State> {
+    fn eval_impl<const FMA: bool>(&mut self, field: Field, y: &State) -> Option<State> {
         match self.mode {
             Mode::Off => None,
             Mode::Stage => {
                 let i = self.idx;
                 self.idx += 1;
-                let Some((v, lin)) = self.linearize(field, y) else {
-                    self.eager = true;
-                    let t = self.combine(&self.a[i]);
-                    let (v, k) = self.field_at(field, y, &t);
-                    self.k[i] = k;
-                    return Some(v);
-                };
-                self.lin[i] = lin;
+                let t = self.combine::<FMA>(&self.a[i], i);
+                let (v, k) = self.field_with::<FMA>(field, y, &t);
+                self.k[i] = k;
+                if self.fsal && i == self.stages - 1 {
+                    // The last stage's argument is the new solution.
+                    (self.final_y, self.final_k) = (t, k);
+                }
                 Some(v)
             }
             Mode::Final => {
-                let Some((v, lin)) = self.linearize(field, y) else {
-                    self.eager = true;
-                    let t = self.combine(&self.b);
-                    let (v, k) = self.field_at(field, y, &t);
-                    (self.final_y, self.final_k) = (t, k);
-                    return Some(v);
-                };
-                self.lin_final = lin;
+                let t = self.combine::<FMA>(&self.b, MAX_STAGES);
+                let (v, k) = self.field_with::<FMA>(field, y, &t);
+                (self.final_y, self.final_k) = (t, k);
                 Some(v)
             }
-        }
-    }
-
-    /// The slip's field and its Jacobian at `y`; `None` for the stiff
-    /// stop's motion, whose tangent is carried on [`super::Tan`] numbers
-    /// (a handful of steps per stop) and formed stage by stage.
-    #[inline(always)]
-    fn linearize(&self, field: Field, y: &State) -> Option<(State, Lin)> {
-        match field {
-            Field::Accel => Some(linear::accel(&self.plain, y)),
-            Field::Decel => Some(linear::decel(&self.plain, y)),
-            Field::Manifold => None,
         }
     }
 
@@ -339,7 +281,7 @@ impl Tangents {
     /// `f0`), state and tangent together, to the tangent at its end: the
     /// tangent at an event inside the last step, which its dense output
     /// does not carry. Leaves the integration's tangents as they were.
-    pub fn partial_step(&mut self, field: Field, y: &State, f0: &State, h: f64) -> (State, Jet) {
+    pub fn partial_step(&mut self, field: Field, y: &State, f0: &State, h: f64) -> (State, Jet<N>) {
         let saved_k = self.k;
         let (saved_h, saved_mode) = (self.h, self.mode);
         self.h = h;
@@ -356,7 +298,7 @@ impl Tangents {
                     }
                 }
             }
-            let t = self.combine(&self.a[i]);
+            let t = self.combine::<false>(&self.a[i], i);
             let (v, k) = self.field_at(field, &yi, &t);
             kv[i] = v;
             self.k[i] = k;
@@ -367,7 +309,7 @@ impl Tangents {
                 yn[c] += h * self.b[j] * kv[j][c];
             }
         }
-        let out = self.combine(&self.b);
+        let out = self.combine::<false>(&self.b, MAX_STAGES);
         self.extra_evals += self.stages as u64 - 1;
         self.k = saved_k;
         (self.h, self.mode) = (saved_h, saved_mode);

@@ -1,0 +1,75 @@
+//! One cycle with exact derivatives of θ' = f(θ) along chosen directions
+//! (`sim::variational`): all six, f' alone, or f' with a few parameters.
+//! A direction costs the same whichever it is, and the tangents' share of
+//! an iterate grows with their number, so each caller asks for what it
+//! uses (docs/derivatives.md, "Cost").
+
+use super::{SimError, Simulator, SlipEvent};
+use crate::model::point_from_theta;
+use crate::sim::variational::{
+    self, ALL_DIRS, D_THETA, Grad, MapDerivatives, NotDifferentiable, Tan, TanField,
+};
+
+/// The cycle's event, the derivatives (or why f has none there) and the
+/// evaluations they cost beyond the cycle's own.
+pub type WithPartials<T> = (SlipEvent, Result<T, NotDifferentiable>, u64);
+
+impl Simulator {
+    /// One cycle from the onset at θ (time `onset_time`) with the exact
+    /// derivatives of θ' = f(θ): the event (bitwise what
+    /// [`Simulator::cycle`] gives), f' and ∂f/∂(θν, κ, γ, ν, Ω) or why
+    /// f has none there, and the evaluations the derivatives cost beyond
+    /// the cycle's own `rhs_evals` (every evaluation of the cycle carries
+    /// the tangents; these are the extra ones at the switching events).
+    pub fn cycle_derivatives(
+        &self,
+        theta: f64,
+        onset_time: f64,
+    ) -> Result<WithPartials<MapDerivatives>, SimError> {
+        let (ev, d, n) = self.cycle_partials(theta, onset_time, ALL_DIRS)?;
+        Ok((ev, d.map(|g| MapDerivatives::from_grad(&g)), n))
+    }
+
+    /// [`Simulator::cycle_derivatives`] with f'(θ) alone: one tangent
+    /// direction instead of six, for the callers that use only the slope
+    /// (Lyapunov exponents, the cycle solver).
+    pub fn cycle_slope(&self, theta: f64, onset_time: f64) -> Result<WithPartials<f64>, SimError> {
+        let (ev, d, n) = self.cycle_partials(theta, onset_time, [D_THETA])?;
+        Ok((ev, d.map(|[g]| g), n))
+    }
+
+    /// [`Simulator::cycle_derivatives`] along the directions `dirs` only
+    /// (`sim::variational`'s `D_` constants, in any order): ∂θ'/∂`dirs[i]`
+    /// in slot i. Continuation's corrector, for one, needs f' and ∂f/∂λ.
+    pub fn cycle_partials<const N: usize>(
+        &self,
+        theta: f64,
+        onset_time: f64,
+        dirs: [usize; N],
+    ) -> Result<WithPartials<Grad<N>>, SimError> {
+        // The switching events differentiate along the flow in slot 0.
+        const { assert!(N >= 1, "at least one direction") };
+        self.check_onset(theta)?;
+        let onset = point_from_theta(self.params.kappa, theta);
+        let end = self.slip(theta, onset, onset_time, None, Some(dirs))?;
+        let (stop_d, extra) = (end.stop_d, end.extra_evals);
+        let ev = self.complete(theta, onset, onset_time, end, None);
+        let d = match stop_d {
+            _ if ev.restarted => Err(NotDifferentiable::Restart),
+            Some(Ok(sd)) => {
+                let fld = TanField::seeded(&self.params, &self.field, dirs);
+                let stop = [0, 1].map(|i| Tan {
+                    v: [ev.stop_x, ev.stop_y][i],
+                    d: sd[i],
+                });
+                match variational::next_theta_grad(&fld, stop) {
+                    Some(g) => g,
+                    None => Err(NotDifferentiable::Restart),
+                }
+            }
+            Some(Err(e)) => Err(e),
+            None => unreachable!("a slip with derivatives ends with its stop's tangent"),
+        };
+        Ok((ev, d, extra))
+    }
+}
