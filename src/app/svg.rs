@@ -317,40 +317,12 @@ impl<'a> SvgWriter<'a> {
             Shape::Text(t) => text(t, out),
             Shape::Mesh(m) => self.mesh(m, plot, out),
             Shape::QuadraticBezier(q) => {
-                let [a, b, c] = q.points;
-                write!(
-                    out,
-                    "<path d=\"M{:.2},{:.2} Q{:.2},{:.2} {:.2},{:.2}{}\"{}{}/>",
-                    a.x,
-                    a.y,
-                    b.x,
-                    b.y,
-                    c.x,
-                    c.y,
-                    if q.closed { " Z" } else { "" },
-                    paint("fill", q.fill),
-                    stroke_attrs(egui::Stroke::new(q.stroke.width, solid(&q.stroke)))
-                )
-                .ok();
+                let stroke = egui::Stroke::new(q.stroke.width, solid(&q.stroke));
+                bezier(out, 'Q', &q.points, q.closed, q.fill, stroke);
             }
             Shape::CubicBezier(q) => {
-                let [a, b, c, d] = q.points;
-                write!(
-                    out,
-                    "<path d=\"M{:.2},{:.2} C{:.2},{:.2} {:.2},{:.2} {:.2},{:.2}{}\"{}{}/>",
-                    a.x,
-                    a.y,
-                    b.x,
-                    b.y,
-                    c.x,
-                    c.y,
-                    d.x,
-                    d.y,
-                    if q.closed { " Z" } else { "" },
-                    paint("fill", q.fill),
-                    stroke_attrs(egui::Stroke::new(q.stroke.width, solid(&q.stroke)))
-                )
-                .ok();
+                let stroke = egui::Stroke::new(q.stroke.width, solid(&q.stroke));
+                bezier(out, 'C', &q.points, q.closed, q.fill, stroke);
             }
         }
     }
@@ -506,6 +478,36 @@ pub fn base64(bytes: &[u8]) -> String {
         }
     }
     s
+}
+
+/// A Bézier curve as a path: `M` to the first point, then `command` (`Q`
+/// quadratic, `C` cubic) through the others.
+fn bezier(
+    out: &mut String,
+    command: char,
+    points: &[egui::Pos2],
+    closed: bool,
+    fill: egui::Color32,
+    stroke: egui::Stroke,
+) {
+    let Some((first, rest)) = points.split_first() else {
+        return;
+    };
+    let mut d = format!("M{:.2},{:.2} {command}", first.x, first.y);
+    for (k, p) in rest.iter().enumerate() {
+        let sep = if k == 0 { "" } else { " " };
+        write!(d, "{sep}{:.2},{:.2}", p.x, p.y).ok();
+    }
+    if closed {
+        d.push_str(" Z");
+    }
+    write!(
+        out,
+        "<path d=\"{d}\"{}{}/>",
+        paint("fill", fill),
+        stroke_attrs(stroke)
+    )
+    .ok();
 }
 
 #[cfg(test)]

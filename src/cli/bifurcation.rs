@@ -29,7 +29,7 @@ use super::values::{
     given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
 use crate::model::Params;
-use crate::sim::interpolant::MapUsed;
+use crate::sim::interpolant::{MapTally, MapUsed};
 use crate::sim::{Column, SimError, Simulator, SweepOptions, sweep_segments, theta_nu_grid};
 #[cfg(doc)]
 use crate::sim::{LANES, segments, sweep_columns};
@@ -283,21 +283,10 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
 
 /// The summary's line on the interpolant, when any column asked for it.
 fn map_line(cols: &[&Column]) -> Option<String> {
-    let (mut used, mut refused, mut evaluations, mut max_error) = (0, 0, 0, 0.0f64);
-    for c in cols {
-        match &c.map {
-            MapUsed::Interpolant(s) => {
-                used += 1;
-                evaluations += s.evaluations;
-                max_error = max_error.max(s.max_map_error);
-            }
-            MapUsed::Refused(_) => refused += 1,
-            MapUsed::Direct => {}
-        }
-    }
-    (used + refused > 0).then(|| {
+    MapTally::of(cols.iter().map(|c| &c.map)).map(|t| {
         format!(
-            "  map: {used} column(s) kept their points from the interpolant (built from {evaluations} map evaluations, measured max error {max_error:.1e} rad), {refused} refused it and integrated"
+            "  map: {} column(s) kept their points from the interpolant (built from {} map evaluations, measured max error {:.1e} rad), {} refused it and integrated",
+            t.used, t.evaluations, t.max_error, t.refused
         )
     })
 }

@@ -20,7 +20,7 @@ use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
 use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
 use crate::model::Params;
-use crate::sim::interpolant::MapUsed;
+use crate::sim::interpolant::MapTally;
 use crate::sim::phase::{PhaseCell, PhaseOptions, phase_grid};
 use crate::sim::{SimError, theta_nu_grid};
 
@@ -579,21 +579,10 @@ pub fn read_classes(path: &Path) -> std::io::Result<Vec<(f64, f64, String)>> {
 /// many cells iterated it (with the largest error measured and the map
 /// evaluations their constructions took) and how many it was refused.
 fn map_line(cells: &[&PhaseCell]) -> Option<String> {
-    let (mut used, mut refused, mut evaluations, mut max_error) = (0, 0, 0, 0.0f64);
-    for c in cells {
-        match &c.map {
-            MapUsed::Interpolant(s) => {
-                used += 1;
-                evaluations += s.evaluations;
-                max_error = max_error.max(s.max_map_error);
-            }
-            MapUsed::Refused(_) => refused += 1,
-            MapUsed::Direct => {}
-        }
-    }
-    (used + refused > 0).then(|| {
+    MapTally::of(cells.iter().map(|c| &c.map)).map(|t| {
         format!(
-            "  map: {used} cell(s) continued on the interpolant (built from {evaluations} map evaluations, measured max error {max_error:.1e} rad), {refused} refused it and integrated"
+            "  map: {} cell(s) continued on the interpolant (built from {} map evaluations, measured max error {:.1e} rad), {} refused it and integrated",
+            t.used, t.evaluations, t.max_error, t.refused
         )
     })
 }

@@ -24,7 +24,7 @@ use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, exit_arc, point_from_theta, wrap_angle};
 
 pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
-pub use stepper::{InterpolantSummary, MIN_DIRECT, MapUsed, Stepper};
+pub use stepper::{InterpolantSummary, MIN_DIRECT, MapTally, MapUsed, Stepper};
 
 /// The width, in θ, to which a jump of f is bracketed; the bracket is
 /// integrated directly.

@@ -22,6 +22,39 @@ pub enum MapUsed {
     Interpolant(InterpolantSummary),
 }
 
+/// How a set of runs (a grid's cells, a diagram's columns) used the
+/// interpolant.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MapTally {
+    /// Runs that iterated it.
+    pub used: usize,
+    /// Runs it was refused for (they integrated).
+    pub refused: usize,
+    /// Map evaluations the used ones' constructions took.
+    pub evaluations: usize,
+    /// The largest map error measured on any of them.
+    pub max_error: f64,
+}
+
+impl MapTally {
+    /// The tally of `runs`; `None` when none asked for the interpolant.
+    pub fn of<'a>(runs: impl IntoIterator<Item = &'a MapUsed>) -> Option<MapTally> {
+        let mut t = MapTally::default();
+        for m in runs {
+            match m {
+                MapUsed::Interpolant(s) => {
+                    t.used += 1;
+                    t.evaluations += s.evaluations;
+                    t.max_error = t.max_error.max(s.max_map_error);
+                }
+                MapUsed::Refused(_) => t.refused += 1,
+                MapUsed::Direct => {}
+            }
+        }
+        (t.used + t.refused > 0).then_some(t)
+    }
+}
+
 /// What an interpolated run reports about its interpolant.
 #[derive(Clone, Debug, PartialEq)]
 pub struct InterpolantSummary {
