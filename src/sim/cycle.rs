@@ -13,7 +13,9 @@ mod slip;
 use super::SimError;
 use super::field::SlipField;
 use super::trajectory::{Phase, Sampler};
-use super::variational::{self, DIRS, Field, Grad, NotDifferentiable, Tangents};
+use super::variational::{
+    self, EV, Field, Grad, NotDifferentiable, Tangents, Tape, ev_field, ev_seed,
+};
 use crate::integrate::{Method, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
@@ -84,7 +86,7 @@ pub struct Simulator {
 }
 
 /// How a try at a stiff stop ended (see `Simulator::stiff_stop`).
-enum StiffEnd<const N: usize = DIRS> {
+enum StiffEnd {
     /// The slip's end is not (yet) stiff enough: nothing was integrated.
     NotStiff,
     /// The reduced motion was integrated for `steps` steps, then left: the
@@ -95,23 +97,23 @@ enum StiffEnd<const N: usize = DIRS> {
         stop: [f64; 2],
         duration: f64,
         steps: u32,
-        /// The stop's tangent, for a slip with derivatives.
-        stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
+        /// The stop's tangent against the [`EV`] slots where the try
+        /// started, for a slip with derivatives.
+        stop_d: Option<Result<[Grad<EV>; 2], NotDifferentiable>>,
     },
 }
 
 /// The state at the end of a slip.
-struct SlipEnd<const N: usize = DIRS> {
+struct SlipEnd {
     stop: [f64; 2],
     accel_duration: f64,
     duration: f64,
     peak_vr: f64,
     rhs_evals: u64,
     steps: u32,
-    /// The stop's tangent, for a slip with derivatives.
-    stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
-    /// Evaluations the derivatives cost beyond the slip's own.
-    extra_evals: u64,
+    /// A slip with derivatives: its tape, with the stop's tangent, or why
+    /// f has no derivative there.
+    derivs: Option<Result<Box<Tape>, NotDifferentiable>>,
 }
 
 impl Simulator {
@@ -208,18 +210,18 @@ impl Simulator {
     ) -> Result<SlipEvent, SimError> {
         self.check_onset(theta)?;
         let onset = point_from_theta(self.params.kappa, theta);
-        let end = self.slip::<DIRS>(theta, onset, onset_time, sampler.as_deref_mut(), None)?;
-        Ok(self.complete(theta, onset, onset_time, end, sampler))
+        let end = self.slip::<false>(theta, onset, onset_time, sampler.as_deref_mut())?;
+        Ok(self.complete(theta, onset, onset_time, &end, sampler))
     }
 
     /// The cycle whose slip from `onset` (at θ, time `onset_time`) ended
     /// with `end`: the closed-form stick phase, the next onset, the event.
-    fn complete<const N: usize>(
+    fn complete(
         &self,
         theta: f64,
         onset: [f64; 2],
         onset_time: f64,
-        end: SlipEnd<N>,
+        end: &SlipEnd,
         sampler: Option<&mut Sampler>,
     ) -> SlipEvent {
         let kappa = self.params.kappa;
@@ -289,49 +291,46 @@ impl Simulator {
     /// both versions round identically. (The step controller's ln and e^x
     /// are libm's, which glibc may dispatch to FMA builds by CPU: across
     /// machines a step size can, rarely, differ in its last bit.)
-    fn slip<const N: usize>(
+    fn slip<const TAPE: bool>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
-        derivatives: Option<[usize; N]>,
-    ) -> Result<SlipEnd<N>, SimError> {
+    ) -> Result<SlipEnd, SimError> {
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
-            return unsafe { self.slip_avx2(theta, p0, t_abs, sampler, derivatives) };
+            return unsafe { self.slip_avx2::<TAPE>(theta, p0, t_abs, sampler) };
         }
-        self.slip_impl(theta, p0, t_abs, sampler, derivatives)
+        self.slip_impl::<TAPE>(theta, p0, t_abs, sampler)
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2")]
-    fn slip_avx2<const N: usize>(
+    fn slip_avx2<const TAPE: bool>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         sampler: Option<&mut Sampler>,
-        derivatives: Option<[usize; N]>,
-    ) -> Result<SlipEnd<N>, SimError> {
-        self.slip_impl(theta, p0, t_abs, sampler, derivatives)
+    ) -> Result<SlipEnd, SimError> {
+        self.slip_impl::<TAPE>(theta, p0, t_abs, sampler)
     }
 
     /// One slip from its onset to its stop, step after step
     /// (`slip::SlipRun` holds the logic between the steps).
     #[inline(always)]
-    fn slip_impl<const N: usize>(
+    fn slip_impl<const TAPE: bool>(
         &self,
         theta: f64,
         p0: [f64; 2],
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
-        derivatives: Option<[usize; N]>,
-    ) -> Result<SlipEnd<N>, SimError> {
-        let mut run = SlipRun::start(self, theta, p0, t_abs, sampler.as_deref_mut())?;
-        if let Some(dirs) = derivatives {
-            run = run.with_tangents(dirs);
+    ) -> Result<SlipEnd, SimError> {
+        let mut run = SlipRun::<TAPE>::start(self, theta, p0, t_abs, sampler.as_deref_mut())?;
+        if TAPE {
+            run = run.with_tape();
         }
         loop {
             match run.prepare(sampler.as_deref_mut())? {
@@ -370,15 +369,15 @@ impl Simulator {
     /// started, its samples dropped) when on the way v_r stops falling, k
     /// falls below 5, a step fails or 400 steps pass: then the manifold was
     /// not what it seemed.
-    fn stiff_stop<const N: usize>(
+    fn stiff_stop(
         &self,
         y: &State,
         decel: f64,
         t_abs: f64,
         mut sampler: Option<&mut Sampler>,
         evals: &Cell<u64>,
-        var: Option<&RefCell<Box<Tangents<N>>>>,
-    ) -> StiffEnd<N> {
+        tape: Option<&RefCell<Box<Tape>>>,
+    ) -> StiffEnd {
         const MIN_STIFFNESS: f64 = 10.0;
         // The caller's v_r, formed the same way.
         let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
@@ -409,16 +408,17 @@ impl Simulator {
             return StiffEnd::NotStiff;
         }
         // z = (x, y, v_r, unused) on the manifold, against time; with
-        // derivatives, its tangent (the direction's is dropped with it: it
-        // relaxes onto the manifold).
-        let zvar = var.map(|var| {
-            let var = var.borrow();
-            let mut zt = [var.y[0], var.y[1], [0.0; N], [0.0; N]];
-            for i in 0..N {
-                zt[2][i] = (y[2] * var.y[2][i] + y[3] * var.y[3][i]) / vr;
+        // derivatives, its tangent against the [`EV`] slots at `y` (the
+        // direction's is dropped with it: it relaxes onto the manifold).
+        let zvar = tape.map(|_| {
+            let seed = ev_seed();
+            let mut zt = [seed[0], seed[1], [0.0; EV], [0.0; EV]];
+            for i in 0..EV {
+                zt[2][i] = (y[2] * seed[2][i] + y[3] * seed[3][i]) / vr;
             }
             let z0 = [y[0], y[1], vr, 0.0];
-            let mut t = Tangents::new(self.settings.method, var.fld, zt, zt);
+            let fld = ev_field(&self.params, &self.field);
+            let mut t = Tangents::new(self.settings.method, fld, zt, zt);
             t.k0 = t.field_at(Field::Manifold, &z0, &zt).1;
             RefCell::new(t)
         });
@@ -510,8 +510,8 @@ impl Simulator {
                     let mut zv = zv.into_inner();
                     let (zs, zt) = zv.partial_step(Field::Manifold, &z, &f, ts - t);
                     let (fz, _) = zv.field_at(Field::Manifold, &zs, &zt);
-                    if let Some(var) = var {
-                        var.borrow_mut().extra_evals += zv.extra_evals + 1;
+                    if let Some(tape) = tape {
+                        tape.borrow_mut().extra_evals += zv.extra_evals + 1;
                     }
                     variational::stop_at_root(&zt, &fz, [1.0, 0.0], 2)
                 });

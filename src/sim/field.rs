@@ -42,6 +42,16 @@ impl SlipField {
     /// −F̂_el rotated by −Δ(1 − e^(−Ω v_r)).
     #[inline(always)]
     pub fn accel(&self, s: &State) -> State {
+        self.accel_aux(s).0
+    }
+
+    /// [`SlipField::accel`] and what it computed on the way that its
+    /// Jacobian needs ([`AccelAux`], packed): the same expressions, so the value is
+    /// bitwise the same. A slip with derivatives keeps these for its
+    /// backward sweep (`variational::tape`), which then forms the Jacobian
+    /// without the transcendentals.
+    #[inline(always)]
+    pub fn accel_aux(&self, s: &State) -> (State, Aux) {
         let [x, y, a, b] = *s;
         let fx = -self.kappa * x;
         let fy = -y;
@@ -50,15 +60,26 @@ impl SlipField {
         let (ex, ey) = (fx * inv_f, fy * inv_f);
         let delta = trig::atan2(a * fy - b * fx, a * fx + b * fy);
         // −expm1 keeps the turn accurate while Ω v_r is tiny (early slip).
-        let turn = trig::exp_m1_neg(-self.omega * vr) * delta; // = −Δ(1 − e^(−Ω v_r))
+        let e = trig::exp_m1_neg(-self.omega * vr);
+        let turn = e * delta; // = −Δ(1 − e^(−Ω v_r))
         let (sn, cs) = trig::sin_cos(turn);
         let phi = self.phi(vr);
-        [
+        let value = [
             a + self.v[0],
             b + self.v[1],
             fx - phi * (ex * cs - ey * sn),
             fy - phi * (ex * sn + ey * cs),
-        ]
+        ];
+        let aux = AccelAux {
+            vr,
+            phi,
+            inv_f,
+            delta,
+            e,
+            sn,
+            cs,
+        };
+        (value, aux.pack())
     }
 
     /// The direction v̂_r takes, to first order in 1/k, when it relaxes
@@ -107,6 +128,13 @@ impl SlipField {
     /// Deceleration phase: friction −Φ v̂_r. Only called with v_r > 0.
     #[inline(always)]
     pub fn decel(&self, s: &State) -> State {
+        self.decel_aux(s).0
+    }
+
+    /// [`SlipField::decel`] and what its Jacobian needs ([`DecelAux`], packed),
+    /// as [`SlipField::accel_aux`].
+    #[inline(always)]
+    pub fn decel_aux(&self, s: &State) -> (State, Aux) {
         let [x, y, a, b] = *s;
         let q = a * a + b * b;
         let vr = q.sqrt();
@@ -114,12 +142,84 @@ impl SlipField {
         // instead of two in a row (decel_chained 20 → 15.5 ns, the Fig. 3b
         // iterate −6 %).
         let c = 1.0 / (vr + self.two_gamma * q);
-        [
+        let value = [
             a + self.v[0],
             b + self.v[1],
             -self.kappa * x - c * a,
             -y - c * b,
+        ];
+        (value, DecelAux { vr, q, c }.pack())
+    }
+}
+
+/// What an evaluation of a slip field computed that its Jacobian needs
+/// (`variational::linear`), kept per stage by a slip with derivatives
+/// (`variational::tape`): the acceleration phase's values, or the
+/// deceleration's in the first three slots.
+pub type Aux = [f64; 7];
+
+/// The acceleration phase's [`Aux`], by name.
+#[derive(Clone, Copy, Debug)]
+pub struct AccelAux {
+    pub vr: f64,
+    pub phi: f64,
+    /// 1/|F_el|.
+    pub inv_f: f64,
+    /// Δ, the angle from v_r to F_el.
+    pub delta: f64,
+    /// e^(−Ω v_r) − 1.
+    pub e: f64,
+    /// sin and cos of the turn e·Δ.
+    pub sn: f64,
+    pub cs: f64,
+}
+
+impl AccelAux {
+    #[inline(always)]
+    pub fn pack(self) -> Aux {
+        [
+            self.vr, self.phi, self.inv_f, self.delta, self.e, self.sn, self.cs,
         ]
+    }
+
+    #[inline(always)]
+    pub fn unpack(a: &Aux) -> Self {
+        let [vr, phi, inv_f, delta, e, sn, cs] = *a;
+        AccelAux {
+            vr,
+            phi,
+            inv_f,
+            delta,
+            e,
+            sn,
+            cs,
+        }
+    }
+}
+
+/// The deceleration phase's [`Aux`], by name.
+#[derive(Clone, Copy, Debug)]
+pub struct DecelAux {
+    pub vr: f64,
+    /// v_r².
+    pub q: f64,
+    /// Φ/v_r = 1/(v_r + 2γ v_r²).
+    pub c: f64,
+}
+
+impl DecelAux {
+    #[inline(always)]
+    pub fn pack(self) -> Aux {
+        [self.vr, self.q, self.c, 0.0, 0.0, 0.0, 0.0]
+    }
+
+    #[inline(always)]
+    pub fn unpack(a: &Aux) -> Self {
+        DecelAux {
+            vr: a[0],
+            q: a[1],
+            c: a[2],
+        }
     }
 }
 

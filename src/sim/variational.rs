@@ -1,24 +1,22 @@
-//! Exact derivatives of the map θ' = f(θ; θν, κ, γ, ν, Ω) by forward
-//! sensitivities: the variational equations are integrated together with
-//! the slip (docs/derivatives.md).
+//! Exact derivatives of the map θ' = f(θ; θν, κ, γ, ν, Ω)
+//! (docs/derivatives.md).
 //!
-//! Each right-hand-side evaluation of a slip is done once, by the plain
-//! field's expressions, with the field's Jacobian formed from the values
-//! it computed (`variational::linear`); the variational equations are
-//! linear, so the six directions θ, θν, κ, γ, ν, Ω are that Jacobian
-//! applied to the tangent. The values are bitwise the plain field's, so a
-//! cycle with derivatives takes exactly the steps of the cycle without
-//! them; the tangents ride along through the same Runge–Kutta stages
-//! (`variational::stages`). [`Tan`] numbers (a value and its derivatives
-//! along the six directions) carry the rarer parts: the stiff stop's
-//! motion and the switching events. At the two switching events (the end of the
-//! acceleration phase and the stop) the event time's own sensitivity is
-//! added (the saltation rule), and the closed-form stick phase and θ' are
-//! differentiated as they are computed.
+//! θ' is one number and the directions are six, so the gradient is taken
+//! in reverse: a slip with derivatives runs as a plain slip does and
+//! leaves on its tape (`variational::tape`) what each evaluation's
+//! Jacobian needs; a backward sweep of one 4-component adjoint through the
+//! steps then gives all six derivatives at once. The field's Jacobian is
+//! formed from the values an evaluation computed (`variational::linear`).
+//! The rarer parts are differentiated forward, on [`Tan`] numbers (a value
+//! and its derivatives along a few directions): the switching events (the
+//! end of the acceleration phase and the stop, with the event time's own
+//! sensitivity: the saltation rule), the stiff stop's motion
+//! (`variational::stages`), and the closed-form stick phase and θ'.
 
 mod events;
 mod linear;
 mod stages;
+mod tape;
 
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -27,7 +25,9 @@ use super::trig;
 use crate::integrate::State;
 use crate::model::Params;
 pub(crate) use events::{accel_end, extrapolated_stop, stop_at_root};
-pub(crate) use stages::{Field, Tangents};
+pub(crate) use stages::{Field, Tangents, field_tangent};
+pub(crate) use tape::Tape;
+pub use tape::{EV, ev_field, ev_seed, stop_gradient};
 
 /// How many directions a [`Tan`] carries.
 pub const DIRS: usize = 6;
@@ -403,22 +403,6 @@ impl MapDerivatives {
             ("d_omega", self.d_omega),
         ]
     }
-}
-
-/// The onset's state (on C, at rest relative to the surface) with its
-/// tangent, slot s along `dirs[s]`: x = cos θ/κ, y = sin θ depend on θ
-/// and κ.
-pub fn onset_tangent<const N: usize>(kappa: f64, theta: f64, dirs: [usize; N]) -> Jet<N> {
-    let (s, c) = theta.sin_cos();
-    let mut t = [[0.0; N]; 4];
-    for (slot, dir) in dirs.into_iter().enumerate() {
-        match dir {
-            D_THETA => (t[0][slot], t[1][slot]) = (-s / kappa, c),
-            D_KAPPA => t[0][slot] = -c / (kappa * kappa),
-            _ => {}
-        }
-    }
-    t
 }
 
 /// The tangent of the state where an event g = 0 is crossed at time τ:

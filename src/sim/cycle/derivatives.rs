@@ -7,7 +7,7 @@
 use super::{SimError, Simulator, SlipEvent};
 use crate::model::point_from_theta;
 use crate::sim::variational::{
-    self, ALL_DIRS, D_THETA, Grad, MapDerivatives, NotDifferentiable, Tan, TanField,
+    self, ALL_DIRS, D_THETA, Grad, MapDerivatives, NotDifferentiable, ev_field,
 };
 
 /// The cycle's event, the derivatives (or why f has none there) and the
@@ -38,37 +38,41 @@ impl Simulator {
         Ok((ev, d.map(|[g]| g), n))
     }
 
-    /// [`Simulator::cycle_derivatives`] along the directions `dirs` only
+    /// [`Simulator::cycle_derivatives`] along the directions `dirs`
     /// (`sim::variational`'s `D_` constants, in any order): ∂θ'/∂`dirs[i]`
-    /// in slot i. Continuation's corrector, for one, needs f' and ∂f/∂λ.
+    /// in slot i. The backward sweep gives all six at once; this picks.
     pub fn cycle_partials<const N: usize>(
         &self,
         theta: f64,
         onset_time: f64,
         dirs: [usize; N],
     ) -> Result<WithPartials<Grad<N>>, SimError> {
-        // The switching events differentiate along the flow in slot 0.
-        const { assert!(N >= 1, "at least one direction") };
         self.check_onset(theta)?;
         let onset = point_from_theta(self.params.kappa, theta);
-        let end = self.slip(theta, onset, onset_time, None, Some(dirs))?;
-        let (stop_d, extra) = (end.stop_d, end.extra_evals);
-        let ev = self.complete(theta, onset, onset_time, end, None);
-        let d = match stop_d {
-            _ if ev.restarted => Err(NotDifferentiable::Restart),
-            Some(Ok(sd)) => {
-                let fld = TanField::seeded(&self.params, &self.field, dirs);
-                let stop = [0, 1].map(|i| Tan {
-                    v: [ev.stop_x, ev.stop_y][i],
-                    d: sd[i],
-                });
-                match variational::next_theta_grad(&fld, stop) {
-                    Some(g) => g,
-                    None => Err(NotDifferentiable::Restart),
-                }
+        let end = self.slip::<true>(theta, onset, onset_time, None)?;
+        let ev = self.complete(theta, onset, onset_time, &end, None);
+        let (d, extra) = match end.derivs {
+            Some(Ok(tape)) => {
+                let extra = tape.extra_evals;
+                let fld = ev_field(&self.params, &self.field);
+                let d = if ev.restarted {
+                    Err(NotDifferentiable::Restart)
+                } else {
+                    match variational::stop_gradient(&fld, [ev.stop_x, ev.stop_y], &tape.stop) {
+                        Some(Ok(g)) => {
+                            let all = tape.gradient(&g, theta, &self.params);
+                            Ok(dirs.map(|d| all[d]))
+                        }
+                        Some(Err(e)) => Err(e),
+                        None => Err(NotDifferentiable::Restart),
+                    }
+                };
+                tape.recycle();
+                (d, extra)
             }
-            Some(Err(e)) => Err(e),
-            None => unreachable!("a slip with derivatives ends with its stop's tangent"),
+            Some(Err(_)) if ev.restarted => (Err(NotDifferentiable::Restart), 0),
+            Some(Err(e)) => (Err(e), 0),
+            None => unreachable!("a slip with derivatives ends with its tape or a reason"),
         };
         Ok((ev, d, extra))
     }

@@ -83,7 +83,7 @@ fn run_lanes_impl<'s>(
                         break;
                     }
                     Ok(Next::Done(end)) => {
-                        let ev = c.sim.complete(c.theta, c.onset, c.onset_time, end, None);
+                        let ev = c.sim.complete(c.theta, c.onset, c.onset_time, &end, None);
                         lanes[i] = launch(i, Some(Ok(ev)), feed);
                     }
                     Err(e) => lanes[i] = launch(i, Some(Err(e)), feed),
@@ -98,7 +98,7 @@ fn run_lanes_impl<'s>(
             match c.run.finish(y, hi, None) {
                 Ok(None) => {}
                 Ok(Some(end)) => {
-                    let ev = c.sim.complete(c.theta, c.onset, c.onset_time, end, None);
+                    let ev = c.sim.complete(c.theta, c.onset, c.onset_time, &end, None);
                     lanes[i] = launch(i, Some(Ok(ev)), feed);
                 }
                 Err(e) => lanes[i] = launch(i, Some(Err(e)), feed),

@@ -17,7 +17,9 @@ use crate::integrate::{Dense, LaneAttempt, Method, Rhs, Solver, State, find_root
 use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
-use crate::sim::variational::{self, DIRS, Field, Grad, NotDifferentiable, TanField, Tangents};
+use crate::sim::variational::{
+    self, EV, Field, Grad, NotDifferentiable, Tape, ev_field, ev_seed, field_tangent,
+};
 
 /// How much tighter than the settings the acceleration phase of a creep or
 /// near-critical onset is integrated (see `SlipRun::start`).
@@ -31,46 +33,48 @@ const DP54_STABLE_REACH: f64 = 2.6;
 
 /// One phase's right-hand side, counting its evaluations. A type rather
 /// than a closure so that `eval` is always inlined into the stepping loop
-/// and compiled with its target features (see [`Rhs`]).
-pub(super) struct Counted<'a, const N: usize = DIRS> {
+/// and compiled with its target features (see [`Rhs`]). With `TAPE` (a
+/// slip with derivatives) each evaluation also leaves what its Jacobian
+/// needs on the slip's tape; the value is bitwise the same.
+pub(super) struct Counted<'a, const TAPE: bool = false> {
     pub(super) field: &'a SlipField,
     pub(super) evals: &'a Cell<u64>,
     pub(super) accel: bool,
-    /// The tangents, for a slip with derivatives (values bitwise the same).
-    pub(super) var: Option<&'a RefCell<Box<Tangents<N>>>>,
+    pub(super) tape: Option<&'a RefCell<Box<Tape>>>,
 }
 
-impl<'a, const N: usize> Counted<'a, N> {
+impl<'a, const TAPE: bool> Counted<'a, TAPE> {
     /// The right-hand side of the phase `stage` is in.
     #[inline(always)]
     fn of(
         field: &'a SlipField,
         evals: &'a Cell<u64>,
         stage: Stage,
-        var: Option<&'a RefCell<Box<Tangents<N>>>>,
+        tape: Option<&'a RefCell<Box<Tape>>>,
     ) -> Self {
         Counted {
             field,
             evals,
             accel: matches!(stage, Stage::Accel { .. }),
-            var,
+            tape,
         }
     }
 }
 
-impl<const N: usize> Rhs for Counted<'_, N> {
+impl<const TAPE: bool> Rhs for Counted<'_, TAPE> {
     #[inline(always)]
     fn eval(&mut self, y: &State) -> State {
         self.evals.set(self.evals.get() + 1);
-        if let Some(var) = self.var {
-            let which = if self.accel {
-                Field::Accel
+        if TAPE {
+            let (v, aux) = if self.accel {
+                self.field.accel_aux(y)
             } else {
-                Field::Decel
+                self.field.decel_aux(y)
             };
-            if let Some(v) = var.borrow_mut().eval(which, y) {
-                return v;
+            if let Some(tape) = self.tape {
+                tape.borrow_mut().record(y, aux);
             }
+            return v;
         }
         if self.accel {
             self.field.accel(y)
@@ -98,15 +102,15 @@ enum Stage {
 }
 
 /// What a slip asks for next.
-pub(super) enum Next<const N: usize = DIRS> {
+pub(super) enum Next {
     /// Compute the stages of an attempt of this length from `state()`.
     Attempt(f64),
     /// The slip is over.
-    Done(SlipEnd<N>),
+    Done(SlipEnd),
 }
 
-/// One slip in progress.
-pub(super) struct SlipRun<'a, const N: usize = DIRS> {
+/// One slip in progress; with `TAPE`, one with derivatives.
+pub(super) struct SlipRun<'a, const TAPE: bool = false> {
     sim: &'a Simulator,
     theta: f64,
     /// Time of the onset since the start of the run (for samples).
@@ -121,13 +125,15 @@ pub(super) struct SlipRun<'a, const N: usize = DIRS> {
     /// retried after a rejection (the logic before a step must not rerun).
     h_max: Option<f64>,
     extra_steps: u32,
-    /// The tangents of a slip with derivatives (`None`: a plain slip).
-    pub(super) var: Option<RefCell<Box<Tangents<N>>>>,
-    /// The stop's tangent once the slip has ended (with derivatives).
-    stop_d: Option<Result<[Grad<N>; 2], NotDifferentiable>>,
+    /// The tape of a slip with derivatives (`None`: a plain slip, or one
+    /// whose derivatives were found not to exist).
+    pub(super) tape: Option<RefCell<Box<Tape>>>,
+    /// The stop's tangent against the [`EV`] slots at the slip's last
+    /// state, once the slip has ended (with derivatives).
+    stop_d: Option<Result<[Grad<EV>; 2], NotDifferentiable>>,
 }
 
-impl<'a, const N: usize> SlipRun<'a, N> {
+impl<'a, const TAPE: bool> SlipRun<'a, TAPE> {
     /// A slip from rest relative to the surface at `p0`.
     #[inline(always)]
     pub(super) fn start(
@@ -169,7 +175,7 @@ impl<'a, const N: usize> SlipRun<'a, N> {
             },
             h_max: None,
             extra_steps: 0,
-            var: None,
+            tape: None,
             stop_d: None,
         };
         // The acceleration phase of an onset that is creep or near-critical
@@ -196,63 +202,71 @@ impl<'a, const N: usize> SlipRun<'a, N> {
         Ok(run)
     }
 
-    /// The same slip with derivatives along `dirs` (`variational`'s `D_`
-    /// constants): the onset's tangent and f's there ride along.
-    pub(super) fn with_tangents(mut self, dirs: [usize; N]) -> Self {
+    /// The same slip with derivatives: its tape.
+    pub(super) fn with_tape(mut self) -> Self {
         let sim = self.sim;
-        let fld = TanField::seeded(&sim.params, &sim.field, dirs);
-        let t0 = variational::onset_tangent(sim.params.kappa, self.theta, dirs);
-        let mut var = Tangents::new(sim.settings.method, fld, t0, t0);
-        var.k0 = var.field_at(Field::Accel, &self.y, &t0).1;
-        var.extra_evals += 1;
-        self.var = Some(RefCell::new(var));
+        self.tape = Some(RefCell::new(Tape::new(
+            sim.settings.method,
+            sim.field,
+            &self.y,
+        )));
         self
     }
 
-    /// The slip moves on to the accepted step's new state: so do its
-    /// tangents.
+    /// The slip moves on to the accepted step's new state: so does its
+    /// tape.
     #[inline(always)]
     fn commit(&mut self) {
-        if let Some(var) = &self.var {
-            var.borrow_mut().commit();
+        if let Some(tape) = &self.tape {
+            tape.borrow_mut().commit();
         }
     }
 
-    /// The tangents across the end of the acceleration phase at `ya`,
-    /// `dt` after the step's start `y` (f there: `self.k`); a switch met
-    /// tangentially leaves the slip without derivatives.
-    fn switch_tangents(&mut self, y: &State, ya: &State, dt: f64) {
-        let Some(var) = &self.var else { return };
-        let mut v = var.borrow_mut();
-        let (_, t) = v.partial_step(Field::Accel, y, &self.k, dt);
-        match variational::accel_end(&v.fld, ya, &t) {
-            Ok(t) => {
-                v.y = t;
-                v.k0 = v.field_at(Field::Decel, ya, &t).1;
-                v.extra_evals += 1;
-            }
+    /// Adds `n` evaluations to the tape's extra ones.
+    fn count_extra(&self, n: u64) {
+        if let Some(tape) = &self.tape {
+            tape.borrow_mut().extra_evals += n;
+        }
+    }
+
+    /// The tape across the end of the acceleration phase at `ya`, `dt`
+    /// after the current state (f there: `self.k`): the step to it, then
+    /// the switch's own Jacobian. A switch met tangentially leaves the slip
+    /// without derivatives.
+    fn switch_tangents(&mut self, ya: &State, dt: f64) {
+        let Some(tape) = &self.tape else { return };
+        let sim = self.sim;
+        let mut tape = tape.borrow_mut();
+        tape.partial_step(Field::Accel, &self.y, &self.k, dt);
+        let fld = ev_field(&sim.params, &sim.field);
+        match variational::accel_end(&fld, ya, &ev_seed()) {
+            Ok(m) => tape.switch(m, ya),
             Err(e) => {
-                drop(v);
+                drop(tape);
                 self.stop_d = Some(Err(e));
-                self.var = None;
+                self.tape = None;
             }
         }
     }
 
-    /// The tangent of a stop located at `ts` on the step from (t, `y`)
-    /// where v_r · `w` changes sign (a fixed step's reversal).
-    fn reversal_tangents(&mut self, y: &State, t: f64, ts: f64, w: [f64; 2]) {
-        let Some(var) = &self.var else { return };
-        let mut v = var.borrow_mut();
-        let (ys, yt) = v.partial_step(Field::Decel, y, &self.k, ts - t);
-        let (f, _) = v.field_at(Field::Decel, &ys, &yt);
-        self.stop_d = Some(variational::stop_at_root(&yt, &f, w, 2));
+    /// The tangent of a stop located `dt` after the current state, where
+    /// v_r · `w` changes sign (a fixed step's reversal): the step to it on
+    /// the tape, the root's own derivative against the [`EV`] slots there.
+    fn reversal_tangents(&mut self, dt: f64, w: [f64; 2]) {
+        let Some(tape) = &self.tape else { return };
+        let sim = self.sim;
+        let ys = tape
+            .borrow_mut()
+            .partial_step(Field::Decel, &self.y, &self.k, dt);
+        let f = sim.field.decel(&ys);
+        self.count_extra(1);
+        self.stop_d = Some(variational::stop_at_root(&ev_seed(), &f, w, 2));
     }
 
     /// The current phase's right-hand side.
     #[inline(always)]
-    pub(super) fn rhs(&self) -> Counted<'_, N> {
-        Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref())
+    pub(super) fn rhs(&self) -> Counted<'_, TAPE> {
+        Counted::of(&self.sim.field, &self.evals, self.stage, self.tape.as_ref())
     }
 
     /// The stages of the attempt of length `h` that `prepare` asked for.
@@ -271,9 +285,9 @@ impl<'a, const N: usize> SlipRun<'a, N> {
     /// The attempt of length `h` that `prepare` asked for, for stages
     /// computed beside other slips' (`Solver::stages_lanes`).
     #[inline(always)]
-    pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_, N>> {
+    pub(super) fn attempt(&mut self, h: f64) -> LaneAttempt<'_, Counted<'_, TAPE>> {
         LaneAttempt {
-            f: Counted::of(&self.sim.field, &self.evals, self.stage, self.var.as_ref()),
+            f: Counted::of(&self.sim.field, &self.evals, self.stage, self.tape.as_ref()),
             solver: &mut self.solver,
             y: &self.y,
             k0: &self.k,
@@ -330,7 +344,7 @@ impl<'a, const N: usize> SlipRun<'a, N> {
         }
     }
 
-    fn end(&self, stop: [f64; 2], duration: f64) -> SlipEnd<N> {
+    fn end(&mut self, stop: [f64; 2], duration: f64) -> SlipEnd {
         let Stage::Decel { t_a, peak_vr, .. } = self.stage else {
             unreachable!("a slip ends in its deceleration phase");
         };
@@ -341,8 +355,16 @@ impl<'a, const N: usize> SlipRun<'a, N> {
             peak_vr,
             rhs_evals: self.evals.get(),
             steps: self.solver.steps() + self.extra_steps,
-            stop_d: self.stop_d,
-            extra_evals: self.var.as_ref().map_or(0, |v| v.borrow().extra_evals),
+            derivs: match (self.stop_d, self.tape.take()) {
+                (Some(Ok(d)), Some(tape)) => {
+                    let mut tape = tape.into_inner();
+                    tape.stop = d;
+                    Some(Ok(tape))
+                }
+                (Some(Err(e)), _) => Some(Err(e)),
+                (None, None) => None,
+                _ => unreachable!("a slip with derivatives ends with its stop's tangent"),
+            },
         }
     }
 
@@ -351,10 +373,7 @@ impl<'a, const N: usize> SlipRun<'a, N> {
     /// before a step runs once per step, not again when an attempt is
     /// retried after a rejection.
     #[inline(always)]
-    pub(super) fn prepare(
-        &mut self,
-        mut sampler: Option<&mut Sampler>,
-    ) -> Result<Next<N>, SimError> {
+    pub(super) fn prepare(&mut self, mut sampler: Option<&mut Sampler>) -> Result<Next, SimError> {
         let sim = self.sim;
         let settings = &sim.settings;
         let adaptive = settings.method.is_adaptive();
@@ -376,9 +395,8 @@ impl<'a, const N: usize> SlipRun<'a, N> {
                 let dvr = speed_growth(&y, &self.k) / vr;
                 if adaptive && dvr < 0.0 && !stiff_gave_up && settings.stiff_stop {
                     let at = self.t_abs + t;
-                    let var = self.var.as_ref();
                     let smp = sampler.as_deref_mut();
-                    match sim.stiff_stop(&y, -dvr, at, smp, &self.evals, var) {
+                    match sim.stiff_stop(&y, -dvr, at, smp, &self.evals, self.tape.as_ref()) {
                         StiffEnd::NotStiff => {}
                         StiffEnd::GaveUp { steps } => {
                             if let Stage::Decel { stiff_gave_up, .. } = &mut self.stage {
@@ -428,10 +446,13 @@ impl<'a, const N: usize> SlipRun<'a, N> {
                         y[0] + (v[0] + 0.5 * y[2]) * dt,
                         y[1] + (v[1] + 0.5 * y[3]) * dt,
                     ];
-                    if let Some(var) = &self.var {
-                        let v = var.borrow();
-                        let d = variational::extrapolated_stop(&v.fld, &y, &v.y, &self.k, &v.k0);
+                    if self.tape.is_some() {
+                        let (fld, seed) = (ev_field(&sim.params, &sim.field), ev_seed());
+                        let field = Field::Decel;
+                        let kt = field_tangent::<EV, false>(field, &sim.field, &fld, &y, &seed).1;
+                        let d = variational::extrapolated_stop(&fld, &y, &seed, &self.k, &kt);
                         self.stop_d = Some(Ok(d));
+                        self.count_extra(1);
                     }
                     if let Some(s) = sampler {
                         s.push(self.t_abs + (t + dt), stop, v, Phase::Decel);
@@ -465,8 +486,12 @@ impl<'a, const N: usize> SlipRun<'a, N> {
             .solver
             .begin_attempt(self.t, h_max)
             .map_err(|e| sim.integrate_err(self.theta, e))?;
-        if let Some(var) = &self.var {
-            var.borrow_mut().begin(h);
+        if let Some(tape) = &self.tape {
+            let field = match self.stage {
+                Stage::Accel { .. } => Field::Accel,
+                Stage::Decel { .. } => Field::Decel,
+            };
+            tape.borrow_mut().begin(h, field);
         }
         Ok(Next::Attempt(h))
     }
@@ -481,19 +506,19 @@ impl<'a, const N: usize> SlipRun<'a, N> {
         y_new: &State,
         h: f64,
         mut sampler: Option<&mut Sampler>,
-    ) -> Result<Option<SlipEnd<N>>, SimError> {
+    ) -> Result<Option<SlipEnd>, SimError> {
         let sim = self.sim;
         let adaptive = sim.settings.method.is_adaptive();
         let v = sim.field.v;
         let (t, y) = (self.t, self.y);
-        if let Some(var) = &self.var {
-            var.borrow_mut().finishing();
+        if let Some(tape) = &self.tape {
+            tape.borrow_mut().finishing();
         }
-        let var = self.var.as_ref();
-        let mut f = Counted::of(&sim.field, &self.evals, self.stage, var);
+        let tape = self.tape.as_ref();
+        let mut f = Counted::<TAPE>::of(&sim.field, &self.evals, self.stage, tape);
         let accepted = self.solver.end_attempt(&mut f, t, &y, y_new, h);
-        if let Some(var) = var {
-            var.borrow_mut().end();
+        if let Some(tape) = tape {
+            tape.borrow_mut().end();
         }
         let Some((tn, yn, kn)) = accepted.map_err(|e| sim.integrate_err(self.theta, e))? else {
             return Ok(None);
@@ -536,7 +561,7 @@ impl<'a, const N: usize> SlipRun<'a, N> {
                         accel_steps: self.solver.stats.accepted,
                         stiff_gave_up: false,
                     };
-                    self.switch_tangents(&y, &ya, ta - t);
+                    self.switch_tangents(&ya, ta - t);
                     self.t = ta;
                     self.y = ya;
                     self.k = self.rhs().eval(&ya);
@@ -581,7 +606,7 @@ impl<'a, const N: usize> SlipRun<'a, N> {
                         sim.t_tol * tn.max(1.0),
                     );
                     let s = d.at(ts);
-                    self.reversal_tangents(&y, t, ts, v0);
+                    self.reversal_tangents(ts - t, v0);
                     if let Some(sm) = sampler.as_deref_mut() {
                         sm.push(self.t_abs + ts, [s[0], s[1]], v, Phase::Decel);
                     }

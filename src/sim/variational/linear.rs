@@ -14,8 +14,7 @@
 
 use super::{Jet, TanField};
 use crate::integrate::State;
-use crate::sim::field::SlipField;
-use crate::sim::trig;
+use crate::sim::field::{AccelAux, DecelAux, SlipField};
 
 /// Rows 2 and 3 of the slip field's Jacobian at one state.
 #[derive(Clone, Copy, Debug)]
@@ -59,98 +58,130 @@ pub(crate) fn madd<const FMA: bool>(a: f64, b: f64, c: f64) -> f64 {
     if FMA { a.mul_add(b, c) } else { a * b + c }
 }
 
-/// [`SlipField::accel`] (its value, operation for operation, so bitwise
-/// the same) and its Jacobian.
-///
-/// With F = (−κx, −y) at angle ψ, v_r at angle φ_v, Δ = ψ − φ_v,
-/// W = e^(−Ω v_r), E = W − 1, u = R(EΔ) F̂ and u⊥ = R(π/2) u, the field is
-/// F − Φ u, so d(row 2, row 3) = dF − u dΦ − Φ u⊥ s with
-/// s = dψ + d(EΔ) = W dψ − E dφ_v − Δ W (Ω dv_r + v_r dΩ). At v_r = 0 (the onset)
-/// dv_r and dφ_v are taken as 0, as [`super::Tan`] takes them.
+/// [`SlipField::accel`] (its value, bitwise) and its Jacobian.
 #[inline(always)]
 pub(crate) fn accel(f: &SlipField, s: &State) -> (State, Lin) {
-    let [x, y, a, b] = *s;
-    let fx = -f.kappa * x;
-    let fy = -y;
-    let vr = (a * a + b * b).sqrt();
-    let inv_f = 1.0 / (fx * fx + fy * fy).sqrt();
-    let (ex, ey) = (fx * inv_f, fy * inv_f);
-    let delta = trig::atan2(a * fy - b * fx, a * fx + b * fy);
-    let e = trig::exp_m1_neg(-f.omega * vr);
-    let turn = e * delta;
-    let (sn, cs) = trig::sin_cos(turn);
-    let phi = f.phi(vr);
-    let (ux, uy) = (ex * cs - ey * sn, ex * sn + ey * cs);
-    let value = [a + f.v[0], b + f.v[1], fx - phi * ux, fy - phi * uy];
-    let w = e + 1.0;
-    let inv_f2 = inv_f * inv_f;
-    // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
-    let (psi_x, psi_y, psi_k) = (fy * f.kappa * inv_f2, -fx * inv_f2, fy * x * inv_f2);
-    // dv_r = (a da + b db)/v_r, dφ_v = (a db − b da)/v_r².
-    let (inv_vr, inv_vr2) = if vr > 0.0 {
-        (1.0 / vr, 1.0 / (vr * vr))
-    } else {
-        (0.0, 0.0)
-    };
-    let (vr_a, vr_b) = (a * inv_vr, b * inv_vr);
-    let (pv_a, pv_b) = (-b * inv_vr2, a * inv_vr2);
-    let dw = delta * w;
-    let s_a = -e * pv_a - dw * f.omega * vr_a;
-    let s_b = -e * pv_b - dw * f.omega * vr_b;
-    let (s_x, s_y, s_k, s_o) = (w * psi_x, w * psi_y, w * psi_k, -dw * vr);
-    // dΦ = −Φ² (2γ dv_r + v_r d(2γ)).
-    let phi2 = phi * phi;
-    let (ph_a, ph_b, ph_g) = (
-        -phi2 * f.two_gamma * vr_a,
-        -phi2 * f.two_gamma * vr_b,
-        -phi2 * vr,
-    );
-    // Row 2: dfx − ux dΦ + Φ uy s; row 3: dfy − uy dΦ − Φ ux s.
-    let (qx, qy) = (phi * uy, -phi * ux);
-    let lin = Lin {
-        js: [
-            [
-                -f.kappa + qx * s_x,
-                qx * s_y,
-                -ux * ph_a + qx * s_a,
-                -ux * ph_b + qx * s_b,
-            ],
-            [
-                qy * s_x,
-                -1.0 + qy * s_y,
-                -uy * ph_a + qy * s_a,
-                -uy * ph_b + qy * s_b,
-            ],
-        ],
-        jp: [
-            [-x + qx * s_k, -ux * ph_g, qx * s_o],
-            [qy * s_k, -uy * ph_g, qy * s_o],
-        ],
-    };
-    (value, lin)
+    let (value, aux) = f.accel_aux(s);
+    (value, Lin::accel(f, s, &AccelAux::unpack(&aux)))
 }
 
-/// [`SlipField::decel`] (bitwise its value) and its Jacobian:
-/// rows 2, 3 = (−κx, −y) − c (a, b) with c = 1/(v_r + 2γ q), q = v_r².
+/// [`SlipField::decel`] (its value, bitwise) and its Jacobian.
 #[inline(always)]
 pub(crate) fn decel(f: &SlipField, s: &State) -> (State, Lin) {
-    let [x, y, a, b] = *s;
-    let q = a * a + b * b;
-    let vr = q.sqrt();
-    let c = 1.0 / (vr + f.two_gamma * q);
-    let value = [a + f.v[0], b + f.v[1], -f.kappa * x - c * a, -y - c * b];
-    // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
-    let c2 = c * c;
-    let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);
-    let (c_a, c_b, c_g) = (m * a, m * b, -c2 * q);
-    let lin = Lin {
-        js: [
-            [-f.kappa, 0.0, -c_a * a - c, -c_b * a],
-            [0.0, -1.0, -c_a * b, -c_b * b - c],
-        ],
-        jp: [[-x, -c_g * a, 0.0], [0.0, -c_g * b, 0.0]],
-    };
-    (value, lin)
+    let (value, aux) = f.decel_aux(s);
+    (value, Lin::decel(f, s, &DecelAux::unpack(&aux)))
+}
+
+impl Lin {
+    /// The Jacobian of [`SlipField::accel`] at `s`, from what the
+    /// evaluation computed there (`aux`).
+    ///
+    /// With F = (−κx, −y) at angle ψ, v_r at angle φ_v, Δ = ψ − φ_v,
+    /// W = e^(−Ω v_r), E = W − 1, u = R(EΔ) F̂ and u⊥ = R(π/2) u, the field is
+    /// F − Φ u, so d(row 2, row 3) = dF − u dΦ − Φ u⊥ s with
+    /// s = dψ + d(EΔ) = W dψ − E dφ_v − Δ W (Ω dv_r + v_r dΩ). At v_r = 0 (the onset)
+    /// dv_r and dφ_v are taken as 0, as [`super::Tan`] takes them.
+    #[inline(always)]
+    pub(crate) fn accel(f: &SlipField, s: &State, aux: &AccelAux) -> Lin {
+        let [x, y, a, b] = *s;
+        let AccelAux {
+            vr,
+            phi,
+            inv_f,
+            delta,
+            e,
+            sn,
+            cs,
+        } = *aux;
+        let fx = -f.kappa * x;
+        let fy = -y;
+        let (ex, ey) = (fx * inv_f, fy * inv_f);
+        let (ux, uy) = (ex * cs - ey * sn, ex * sn + ey * cs);
+        let w = e + 1.0;
+        let inv_f2 = inv_f * inv_f;
+        // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
+        let (psi_x, psi_y, psi_k) = (fy * f.kappa * inv_f2, -fx * inv_f2, fy * x * inv_f2);
+        // dv_r = (a da + b db)/v_r, dφ_v = (a db − b da)/v_r².
+        let inv_vr = if vr > 0.0 { 1.0 / vr } else { 0.0 };
+        let inv_vr2 = inv_vr * inv_vr;
+        let (vr_a, vr_b) = (a * inv_vr, b * inv_vr);
+        let (pv_a, pv_b) = (-b * inv_vr2, a * inv_vr2);
+        let dw = delta * w;
+        let s_a = -e * pv_a - dw * f.omega * vr_a;
+        let s_b = -e * pv_b - dw * f.omega * vr_b;
+        let (s_x, s_y, s_k, s_o) = (w * psi_x, w * psi_y, w * psi_k, -dw * vr);
+        // dΦ = −Φ² (2γ dv_r + v_r d(2γ)).
+        let phi2 = phi * phi;
+        let (ph_a, ph_b, ph_g) = (
+            -phi2 * f.two_gamma * vr_a,
+            -phi2 * f.two_gamma * vr_b,
+            -phi2 * vr,
+        );
+        // Row 2: dfx − ux dΦ + Φ uy s; row 3: dfy − uy dΦ − Φ ux s.
+        let (qx, qy) = (phi * uy, -phi * ux);
+        Lin {
+            js: [
+                [
+                    -f.kappa + qx * s_x,
+                    qx * s_y,
+                    -ux * ph_a + qx * s_a,
+                    -ux * ph_b + qx * s_b,
+                ],
+                [
+                    qy * s_x,
+                    -1.0 + qy * s_y,
+                    -uy * ph_a + qy * s_a,
+                    -uy * ph_b + qy * s_b,
+                ],
+            ],
+            jp: [
+                [-x + qx * s_k, -ux * ph_g, qx * s_o],
+                [qy * s_k, -uy * ph_g, qy * s_o],
+            ],
+        }
+    }
+
+    /// The Jacobian of [`SlipField::decel`] at `s`, from what the
+    /// evaluation computed there: rows 2, 3 = (−κx, −y) − c (a, b) with
+    /// c = 1/(v_r + 2γ q), q = v_r².
+    #[inline(always)]
+    pub(crate) fn decel(f: &SlipField, s: &State, aux: &DecelAux) -> Lin {
+        let [x, _, a, b] = *s;
+        let DecelAux { vr, q, c } = *aux;
+        // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
+        let c2 = c * c;
+        let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);
+        let (c_a, c_b, c_g) = (m * a, m * b, -c2 * q);
+        Lin {
+            js: [
+                [-f.kappa, 0.0, -c_a * a - c, -c_b * a],
+                [0.0, -1.0, -c_a * b, -c_b * b - c],
+            ],
+            jp: [[-x, -c_g * a, 0.0], [0.0, -c_g * b, 0.0]],
+        }
+    }
+
+    /// The adjoint of [`Lin::apply`]: for the adjoint `nu` of a stage's K,
+    /// the adjoint of its argument, J_yᵀ·ν (rows 0 and 1 are ẋ = v_r + V),
+    /// and of the field's parameters (κ, 2γ, Ω, V_x, V_y), J_pᵀ·ν.
+    #[inline(always)]
+    pub fn transpose_apply<const FMA: bool>(&self, nu: &[f64; 4]) -> ([f64; 4], [f64; 5]) {
+        let [r2, r3] = self.js;
+        let [p2, p3] = self.jp;
+        // Four wide: ν₂ row 2 + ν₃ row 3 + (0, 0, ν₀, ν₁).
+        let shifted = [0.0, 0.0, nu[0], nu[1]];
+        let mu: [f64; 4] = std::array::from_fn(|c| {
+            madd::<FMA>(r2[c], nu[2], madd::<FMA>(r3[c], nu[3], shifted[c]))
+        });
+        let pf = [
+            madd::<FMA>(p2[0], nu[2], p3[0] * nu[3]),
+            madd::<FMA>(p2[1], nu[2], p3[1] * nu[3]),
+            madd::<FMA>(p2[2], nu[2], p3[2] * nu[3]),
+            nu[0],
+            nu[1],
+        ];
+        (mu, pf)
+    }
 }
 
 #[cfg(test)]

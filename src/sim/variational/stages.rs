@@ -1,22 +1,21 @@
-//! The tangents' share of each Runge–Kutta step: the same stages as the
-//! state's, with the same coefficients and step, on the tangents.
+//! Forward tangents through Runge–Kutta steps: the same stages as the
+//! state's, with the same coefficients and step, on the tangents. The
+//! slip's own steps are differentiated in reverse (`variational::tape`);
+//! these carry the stiff stop's few steps on the slow manifold, whose
+//! field is differentiated on [`super::Tan`] numbers, against the [`EV`]
+//! slots where the stiff stop begins.
 //!
 //! The solver computes the state's stage arguments and calls the
-//! right-hand side once per stage, in order; the right-hand side of a slip
-//! with derivatives hands each call to [`Tangents::eval`], which computes
-//! the field's value and its Jacobian there (`variational::linear`),
-//! returns the value and forms the tangent's stage,
-//! K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, at once. The state's stages are
-//! a chain of dependent evaluations that leaves most of the CPU's
-//! arithmetic idle (`lockstep` in benches/map_iterate.rs); a tangent stage
-//! depends on nothing the next state stage needs, so the CPU runs it in
-//! those idle slots. (Formed all together once the step was accepted, the
-//! same sums cost a third more of the iterate: they then ran alone.) A
-//! rejected attempt's tangent stages are thrown away, as its state stages
-//! are. The caller says where a step begins ([`Tangents::begin`]), when
-//! the next evaluation is f(y_new) ([`Tangents::finishing`]) and when the
-//! slip moves on to the new state ([`Tangents::commit`]): anything else
+//! right-hand side once per stage, in order; the right-hand side hands
+//! each call to [`Tangents::eval`], which returns the field's value and
+//! forms the tangent's stage, K_i = J_i (Y + h Σ a_ij K_j) + J_p,i P, at
+//! once. A rejected attempt's tangent stages are thrown away, as its state
+//! stages are. The caller says where a step begins ([`Tangents::begin`]),
+//! when the next evaluation is f(y_new) ([`Tangents::finishing`]) and when
+//! it moves on to the new state ([`Tangents::commit`]): anything else
 //! (dense output, event location) is evaluated plain.
+//!
+//! [`EV`]: super::EV
 
 use super::linear;
 use super::{DIRS, Jet, TanField, split, tan_state};
@@ -24,7 +23,7 @@ use crate::integrate::{Method, State, tableau};
 use crate::sim::field::SlipField;
 
 /// The most stages of any method (DOP853's twelve).
-const MAX_STAGES: usize = 12;
+pub(crate) const MAX_STAGES: usize = 12;
 
 /// What the next evaluation is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -46,44 +45,23 @@ pub(crate) enum Field {
     Manifold,
 }
 
-/// One integration's tangents along `N` directions: at the current
-/// state, and during a step.
-pub(crate) struct Tangents<const N: usize = DIRS> {
-    /// The parameters with their directions.
-    pub fld: TanField<N>,
-    /// The same parameters' values, for the plain field.
-    plain: SlipField,
-    /// The tangents' arithmetic may use AVX2 (as the plain slip does).
-    avx2: bool,
-    /// ... and fuse its multiply-adds.
-    fma: bool,
-    a: [[f64; MAX_STAGES]; MAX_STAGES],
-    b: [f64; MAX_STAGES],
+/// A method's Runge–Kutta coefficients, laid out for the tangents' sums
+/// (forward, here) and the adjoint's (backward, `variational::tape`).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct Coeffs {
+    pub a: [[f64; MAX_STAGES]; MAX_STAGES],
+    pub b: [f64; MAX_STAGES],
     /// The stages each row of a (and, last, b) weighs: the nonzero
-    /// coefficients' columns, so that the tangent's sums skip the zeros
-    /// without a branch per coefficient.
+    /// coefficients' columns, so that the sums skip the zeros without a
+    /// branch per coefficient.
     nz: [[u8; MAX_STAGES]; MAX_STAGES + 1],
     nz_len: [u8; MAX_STAGES + 1],
-    stages: usize,
-    fsal: bool,
-    /// The tangent of the current state, and of f there.
-    pub y: Jet<N>,
-    pub k0: Jet<N>,
-    k: [Jet<N>; MAX_STAGES],
-    h: f64,
-    idx: usize,
-    mode: Mode,
-    /// The attempt's new solution's tangent and f's there, for `commit`.
-    final_y: Jet<N>,
-    final_k: Jet<N>,
-    /// Evaluations beyond the plain cycle's (partial steps to events).
-    pub extra_evals: u64,
+    pub stages: usize,
+    pub fsal: bool,
 }
 
-impl<const N: usize> Tangents<N> {
-    /// Tangents for `method` from the state tangent `y`, where f's tangent
-    /// is `k0`.
-    pub fn new(method: Method, fld: TanField<N>, y: Jet<N>, k0: Jet<N>) -> Box<Self> {
+impl Coeffs {
+    pub fn new(method: Method) -> Self {
         let mut a = [[0.0; MAX_STAGES]; MAX_STAGES];
         let mut b = [0.0; MAX_STAGES];
         let (stages, fsal) = match method {
@@ -103,6 +81,54 @@ impl<const N: usize> Tangents<N> {
                 }
             }
         }
+        Coeffs {
+            a,
+            b,
+            nz,
+            nz_len,
+            stages,
+            fsal,
+        }
+    }
+
+    /// The columns of row `row`'s nonzero coefficients (a's rows, or
+    /// `MAX_STAGES` for b).
+    #[inline(always)]
+    pub fn nonzero(&self, row: usize) -> &[u8] {
+        &self.nz[row][..self.nz_len[row] as usize]
+    }
+}
+
+/// One integration's tangents along `N` directions: at the current
+/// state, and during a step.
+pub(crate) struct Tangents<const N: usize = DIRS> {
+    /// The parameters with their directions.
+    pub fld: TanField<N>,
+    /// The same parameters' values, for the plain field.
+    plain: SlipField,
+    /// The tangents' arithmetic may use AVX2 (as the plain slip does).
+    avx2: bool,
+    /// ... and fuse its multiply-adds.
+    fma: bool,
+    c: Coeffs,
+    /// The tangent of the current state, and of f there.
+    pub y: Jet<N>,
+    pub k0: Jet<N>,
+    k: [Jet<N>; MAX_STAGES],
+    h: f64,
+    idx: usize,
+    mode: Mode,
+    /// The attempt's new solution's tangent and f's there, for `commit`.
+    final_y: Jet<N>,
+    final_k: Jet<N>,
+    /// Evaluations beyond the plain cycle's (partial steps to events).
+    pub extra_evals: u64,
+}
+
+impl<const N: usize> Tangents<N> {
+    /// Tangents for `method` from the state tangent `y`, where f's tangent
+    /// is `k0`.
+    pub fn new(method: Method, fld: TanField<N>, y: Jet<N>, k0: Jet<N>) -> Box<Self> {
         let plain = SlipField {
             kappa: fld.kappa.v,
             two_gamma: fld.two_gamma.v,
@@ -121,12 +147,7 @@ impl<const N: usize> Tangents<N> {
                 && std::arch::is_x86_feature_detected!("fma"),
             #[cfg(not(target_arch = "x86_64"))]
             fma: false,
-            nz,
-            nz_len,
-            a,
-            b,
-            stages,
-            fsal,
+            c: Coeffs::new(method),
             y,
             k0,
             k: [[[0.0; N]; 4]; MAX_STAGES],
@@ -149,12 +170,7 @@ impl<const N: usize> Tangents<N> {
 
     #[inline(always)]
     fn field_with<const FMA: bool>(&self, field: Field, y: &State, t: &Jet<N>) -> (State, Jet<N>) {
-        let (v, lin) = match field {
-            Field::Accel => linear::accel(&self.plain, y),
-            Field::Decel => linear::decel(&self.plain, y),
-            Field::Manifold => return split(&self.fld.manifold_motion(&tan_state(y, t))),
-        };
-        (v, lin.apply::<N, FMA>(t, &self.fld))
+        field_tangent::<N, FMA>(field, &self.plain, &self.fld, y, t)
     }
 
     /// An attempt of length `h` from the current state begins.
@@ -193,7 +209,7 @@ impl<const N: usize> Tangents<N> {
     fn combine<const FMA: bool>(&self, w: &[f64; MAX_STAGES], row: usize) -> Jet<N> {
         let mut out = self.y;
         let flat = out.as_flattened_mut();
-        for &j in &self.nz[row][..self.nz_len[row] as usize] {
+        for &j in self.c.nonzero(row) {
             let j = j as usize;
             let hw = self.h * w[j];
             for (o, &x) in flat.iter_mut().zip(self.k[j].as_flattened()) {
@@ -259,17 +275,17 @@ impl<const N: usize> Tangents<N> {
             Mode::Stage => {
                 let i = self.idx;
                 self.idx += 1;
-                let t = self.combine::<FMA>(&self.a[i], i);
+                let t = self.combine::<FMA>(&self.c.a[i], i);
                 let (v, k) = self.field_with::<FMA>(field, y, &t);
                 self.k[i] = k;
-                if self.fsal && i == self.stages - 1 {
+                if self.c.fsal && i == self.c.stages - 1 {
                     // The last stage's argument is the new solution.
                     (self.final_y, self.final_k) = (t, k);
                 }
                 Some(v)
             }
             Mode::Final => {
-                let t = self.combine::<FMA>(&self.b, MAX_STAGES);
+                let t = self.combine::<FMA>(&self.c.b, MAX_STAGES);
                 let (v, k) = self.field_with::<FMA>(field, y, &t);
                 (self.final_y, self.final_k) = (t, k);
                 Some(v)
@@ -288,33 +304,54 @@ impl<const N: usize> Tangents<N> {
         self.k[0] = self.k0;
         let mut kv = [[0.0; 4]; MAX_STAGES];
         kv[0] = *f0;
-        for i in 1..self.stages {
+        let c = self.c;
+        for i in 1..c.stages {
             let mut yi = *y;
             for j in 0..i {
-                let a = self.a[i][j];
+                let a = c.a[i][j];
                 if a != 0.0 {
                     for c in 0..4 {
                         yi[c] += h * a * kv[j][c];
                     }
                 }
             }
-            let t = self.combine::<false>(&self.a[i], i);
+            let t = self.combine::<false>(&c.a[i], i);
             let (v, k) = self.field_at(field, &yi, &t);
             kv[i] = v;
             self.k[i] = k;
         }
         let mut yn = *y;
-        for j in 0..self.stages {
-            for c in 0..4 {
-                yn[c] += h * self.b[j] * kv[j][c];
+        for j in 0..c.stages {
+            for (m, ym) in yn.iter_mut().enumerate() {
+                *ym += h * c.b[j] * kv[j][m];
             }
         }
-        let out = self.combine::<false>(&self.b, MAX_STAGES);
-        self.extra_evals += self.stages as u64 - 1;
+        let out = self.combine::<false>(&c.b, MAX_STAGES);
+        self.extra_evals += c.stages as u64 - 1;
         self.k = saved_k;
         (self.h, self.mode) = (saved_h, saved_mode);
         (yn, out)
     }
+}
+
+/// `field` at the state y with tangent t: its value from the plain
+/// field's parameters `plain`, bitwise, and its tangent with the
+/// parameters' seeds `fld`. The slip's two fields by their Jacobian
+/// applied to t, the stiff stop's motion on [`super::Tan`] numbers.
+#[inline(always)]
+pub(crate) fn field_tangent<const N: usize, const FMA: bool>(
+    field: Field,
+    plain: &SlipField,
+    fld: &TanField<N>,
+    y: &State,
+    t: &Jet<N>,
+) -> (State, Jet<N>) {
+    let (v, lin) = match field {
+        Field::Accel => linear::accel(plain, y),
+        Field::Decel => linear::decel(plain, y),
+        Field::Manifold => return split(&fld.manifold_motion(&tan_state(y, t))),
+    };
+    (v, lin.apply::<N, FMA>(t, fld))
 }
 
 /// Copies a tableau's a and b into the fixed-size arrays; its stage count

@@ -1,0 +1,453 @@
+//! Reverse mode: a slip's tape and its backward sweep.
+//!
+//! θ' is one number and the directions it is wanted along are six, so the
+//! map's gradient is cheapest by the adjoint: one 4-component adjoint
+//! swept back through the slip's steps gives the derivatives along all
+//! six for about the price of one forward tangent (docs/derivatives.md).
+//!
+//! **Forward**, the slip runs as a plain slip does, and each evaluation of
+//! an accepted step leaves on the tape its state and what the field
+//! computed there that the Jacobian needs (`SlipField::accel_aux`; the
+//! values are bitwise the plain field's, so the steps are the plain
+//! slip's). The switching events (the end of the acceleration phase, the
+//! stop) are short and few: their Jacobians against the state where they
+//! begin and against the parameters are taken by forward mode there, with
+//! [`EV`] slots (the four state components, then θν, κ, γ, ν, Ω), and
+//! kept on the tape.
+//!
+//! **Backward**, from the gradient of θ' with respect to the state where
+//! the slip's steps ended: each step is the discrete map
+//! Y⁺ = Y + h Σ b_j K_j, K_i = J_i T_i + J_p,i P, T_i = Y + h Σ a_ij K_j,
+//! whose transpose runs its stages in reverse: ν_i = h (b_i λ + Σ_l a_li μ_l),
+//! μ_i = J_iᵀ ν_i, λ⁻ = λ + Σ μ_i, and the parameters gather J_p,iᵀ ν_i.
+//! This is the exact transpose of the forward tangent's recurrence with
+//! the same Jacobians: the same numbers up to rounding.
+
+use std::cell::RefCell;
+
+use super::linear::{Lin, madd};
+use super::stages::{Coeffs, Field};
+use super::{
+    D_GAMMA, D_KAPPA, D_NU, D_OMEGA, D_THETA_NU, DIRS, Grad, Jet, NotDifferentiable, TanField,
+};
+use crate::integrate::tableau::{self, Tableau};
+use crate::integrate::{Method, State};
+use crate::model::Params;
+use crate::sim::field::{AccelAux, Aux, DecelAux, SlipField};
+
+/// Calls `$f` with each of the literal stage indices in turn.
+macro_rules! stages_rev {
+    ($f:ident; $($i:literal)*) => {{
+        $( $f($i); )*
+    }};
+}
+
+/// The slots of an event's forward-mode derivatives: the four state
+/// components where it begins, then θν, κ, γ, ν, Ω.
+pub const EV: usize = 9;
+/// A slot that seeds no parameter (`TanField::seeded` ignores it): a
+/// state component's.
+const STATE: usize = usize::MAX;
+/// What the [`EV`] slots seed, for `TanField::seeded`.
+pub const EV_DIRS: [usize; EV] = [
+    STATE, STATE, STATE, STATE, D_THETA_NU, D_KAPPA, D_GAMMA, D_NU, D_OMEGA,
+];
+
+/// The tangent an event starts from: the identity on the state's slots.
+pub fn ev_seed() -> Jet<EV> {
+    let mut t = [[0.0; EV]; 4];
+    for (c, row) in t.iter_mut().enumerate() {
+        row[c] = 1.0;
+    }
+    t
+}
+
+/// The parameters with their [`EV`] slots.
+pub fn ev_field(p: &Params, field: &SlipField) -> TanField<EV> {
+    TanField::seeded(p, field, EV_DIRS)
+}
+
+thread_local! {
+    /// The thread's last tape, for reuse ([`Tape::recycle`]).
+    static SPARE: RefCell<Option<Box<Tape>>> = const { RefCell::new(None) };
+}
+
+/// One evaluation on the tape: its state and the field's [`Aux`] there.
+#[derive(Clone, Copy, Debug)]
+struct Rec {
+    y: State,
+    aux: Aux,
+}
+
+/// What the tape holds, in order.
+#[derive(Clone, Copy, Debug)]
+enum Entry {
+    /// An accepted step of length `h` on `field`: its stages' [`Rec`]s,
+    /// stage 0 the step's start.
+    Step { h: f64, field: Field },
+    /// A switching event: its Jacobian, the next of `Tape::events`.
+    Event,
+}
+
+/// A slip's tape (see the module's text). The slip says where an attempt
+/// begins ([`Tape::begin`]), when its next evaluation is f at the new
+/// solution ([`Tape::finishing`]), when it is over ([`Tape::end`]) and
+/// when the slip moves on to its new state ([`Tape::commit`]); what is
+/// evaluated outside an attempt (dense output, event location) is not
+/// recorded, and a rejected attempt's records are dropped.
+pub(crate) struct Tape {
+    method: Method,
+    c: Coeffs,
+    field: SlipField,
+    recs: Vec<Rec>,
+    entries: Vec<Entry>,
+    /// Each event's tangent after it against the [`EV`] slots before it.
+    events: Vec<Jet<EV>>,
+    /// The records of the committed steps: `recs[..committed]`.
+    committed: usize,
+    recording: bool,
+    finishing: bool,
+    /// The field's record at the current state, and at the attempt's new
+    /// solution (methods without FSAL evaluate f there once accepted).
+    cur: Rec,
+    next: Rec,
+    h: f64,
+    step_field: Field,
+    /// Evaluations beyond the plain slip's (the events' forward mode).
+    pub extra_evals: u64,
+    /// The stop's tangent against the [`EV`] slots at the slip's last
+    /// state, once the slip has ended.
+    pub stop: [Grad<EV>; 2],
+}
+
+impl Tape {
+    /// A tape for a slip of `method` on `field` from rest at `y0`.
+    pub fn new(method: Method, field: SlipField, y0: &State) -> Box<Self> {
+        let cur = Rec {
+            y: *y0,
+            aux: field.accel_aux(y0).1,
+        };
+        // A thread's last tape, its buffers kept: a cycle with derivatives
+        // then allocates nothing.
+        if let Some(mut t) = SPARE.with(|s| s.borrow_mut().take()) {
+            if t.method != method {
+                t.c = Coeffs::new(method);
+            }
+            t.recs.clear();
+            t.entries.clear();
+            t.events.clear();
+            *t = Tape {
+                method,
+                field,
+                committed: 0,
+                recording: false,
+                finishing: false,
+                cur,
+                next: cur,
+                h: 0.0,
+                step_field: Field::Accel,
+                extra_evals: 1,
+                stop: [[0.0; EV]; 2],
+                ..*t
+            };
+            return t;
+        }
+        let c = Coeffs::new(method);
+        Box::new(Tape {
+            method,
+            c,
+            field,
+            recs: Vec::with_capacity(64 * c.stages),
+            entries: Vec::with_capacity(64),
+            events: Vec::new(),
+            committed: 0,
+            recording: false,
+            finishing: false,
+            cur,
+            next: cur,
+            h: 0.0,
+            step_field: Field::Accel,
+            extra_evals: 1,
+            stop: [[0.0; EV]; 2],
+        })
+    }
+
+    /// Keeps this tape's buffers for the thread's next [`Tape::new`].
+    pub fn recycle(self: Box<Self>) {
+        SPARE.with(|s| *s.borrow_mut() = Some(self));
+    }
+
+    /// Records an evaluation at `y` (its field's `aux`) if it belongs to
+    /// the attempt in progress.
+    #[inline(always)]
+    pub fn record(&mut self, y: &State, aux: Aux) {
+        if !self.recording {
+            return;
+        }
+        let r = Rec { y: *y, aux };
+        if self.finishing {
+            self.next = r;
+        } else {
+            self.recs.push(r);
+        }
+    }
+
+    /// An attempt of length `h` on `field` begins from the current state.
+    #[inline(always)]
+    pub fn begin(&mut self, h: f64, field: Field) {
+        self.recs.truncate(self.committed);
+        self.recs.push(self.cur);
+        (self.h, self.step_field) = (h, field);
+        self.recording = true;
+        self.finishing = false;
+    }
+
+    /// The next evaluation, if any, is f at the new solution.
+    #[inline(always)]
+    pub fn finishing(&mut self) {
+        self.finishing = true;
+    }
+
+    /// The attempt is over (accepted or not).
+    #[inline(always)]
+    pub fn end(&mut self) {
+        self.recording = false;
+    }
+
+    /// The slip moves on to the accepted attempt's new state.
+    #[inline(always)]
+    pub fn commit(&mut self) {
+        debug_assert_eq!(self.recs.len(), self.committed + self.c.stages);
+        self.entries.push(Entry::Step {
+            h: self.h,
+            field: self.step_field,
+        });
+        self.committed = self.recs.len();
+        self.cur = if self.c.fsal {
+            self.recs[self.committed - 1]
+        } else {
+            self.next
+        };
+    }
+
+    /// A step of length `h` on `field` from the current state `y` (f
+    /// there: `f0`) to an event inside the step that the slip just took,
+    /// which its dense output located: recorded as a step. Returns its end.
+    pub fn partial_step(&mut self, field: Field, y: &State, f0: &State, h: f64) -> State {
+        let c = self.c;
+        self.recs.truncate(self.committed);
+        self.recs.push(self.cur);
+        let mut k = [[0.0; 4]; super::stages::MAX_STAGES];
+        k[0] = *f0;
+        for i in 1..c.stages {
+            let mut yi = *y;
+            for &j in c.nonzero(i) {
+                let w = h * c.a[i][j as usize];
+                for m in 0..4 {
+                    yi[m] += w * k[j as usize][m];
+                }
+            }
+            let (v, aux) = match field {
+                Field::Accel => self.field.accel_aux(&yi),
+                _ => self.field.decel_aux(&yi),
+            };
+            k[i] = v;
+            self.recs.push(Rec { y: yi, aux });
+        }
+        let mut yn = *y;
+        for &j in c.nonzero(super::stages::MAX_STAGES) {
+            let w = h * c.b[j as usize];
+            for m in 0..4 {
+                yn[m] += w * k[j as usize][m];
+            }
+        }
+        self.entries.push(Entry::Step { h, field });
+        self.committed = self.recs.len();
+        self.extra_evals += c.stages as u64 - 1;
+        yn
+    }
+
+    /// The acceleration phase ended at `ya`, the end of the tape's last
+    /// step: the deceleration's tangent there is `m` against the [`EV`]
+    /// slots before the switch.
+    pub fn switch(&mut self, m: Jet<EV>, ya: &State) {
+        self.recs.truncate(self.committed);
+        self.entries.push(Entry::Event);
+        self.events.push(m);
+        self.cur = Rec {
+            y: *ya,
+            aux: self.field.decel_aux(ya).1,
+        };
+        self.extra_evals += 1;
+    }
+
+    /// The derivatives of θ' along the six directions (θ, θν, κ, γ, ν, Ω)
+    /// of a slip from the onset at `theta`, given `g`, θ''s gradient
+    /// against the [`EV`] slots at the slip's last committed state.
+    pub fn gradient(&self, g: &Grad<EV>, theta: f64, p: &Params) -> Grad<DIRS> {
+        let (lam, pf, pm) = self.backward(g);
+        // The onset (cos θ/κ, sin θ, 0, 0).
+        let (s, c) = theta.sin_cos();
+        let k = p.kappa;
+        // V = ν (cos θν, sin θν).
+        let (snu, cnu) = p.theta_nu.sin_cos();
+        let v = self.field.v;
+        let [pk, p2g, po, pvx, pvy] = pf;
+        [
+            lam[0] * (-s / k) + lam[1] * c,
+            pm[0] + (-v[1] * pvx + v[0] * pvy),
+            pm[1] + pk + lam[0] * (-c / (k * k)),
+            pm[2] + 2.0 * p2g,
+            pm[3] + (cnu * pvx + snu * pvy),
+            pm[4] + po,
+        ]
+    }
+
+    /// The backward sweep: the adjoint at the onset's state, and the
+    /// gradient against the field's parameters (κ, 2γ, Ω, V_x, V_y) and
+    /// against the model's (θν, κ, γ, ν, Ω, from the events).
+    fn backward(&self, g: &Grad<EV>) -> ([f64; 4], [f64; 5], [f64; 5]) {
+        #[cfg(target_arch = "x86_64")]
+        if std::arch::is_x86_feature_detected!("avx2") && std::arch::is_x86_feature_detected!("fma")
+        {
+            // SAFETY: both features were just detected.
+            return unsafe { self.backward_fma(g) };
+        }
+        self.backward_impl::<false>(g)
+    }
+
+    /// [`Tape::backward`] with AVX2 and fused multiply-adds: a derivative's
+    /// last bits may differ by CPU, a value never does.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn backward_fma(&self, g: &Grad<EV>) -> ([f64; 4], [f64; 5], [f64; 5]) {
+        self.backward_impl::<true>(g)
+    }
+
+    #[inline(always)]
+    fn backward_impl<const FMA: bool>(&self, g: &Grad<EV>) -> ([f64; 4], [f64; 5], [f64; 5]) {
+        match self.method {
+            Method::Dop853 => self.sweep::<12, FMA>(&tableau::DOP853, g),
+            Method::Dp54 => self.sweep::<7, FMA>(&tableau::DP54, g),
+            Method::Rk4 => self.sweep::<4, FMA>(&tableau::RK4, g),
+            Method::Euler => self.sweep::<1, FMA>(&tableau::EULER, g),
+        }
+    }
+
+    /// The sweep for a method of `S` stages. The tableau is a constant,
+    /// so its zeros drop out and the stages' adjoints stay in registers:
+    /// the sweep is one chain of dependent operations (stage after stage,
+    /// step after step), whose length is what it costs.
+    #[inline(always)]
+    fn sweep<const S: usize, const FMA: bool>(
+        &self,
+        tab: &Tableau<S>,
+        g: &Grad<EV>,
+    ) -> ([f64; 4], [f64; 5], [f64; 5]) {
+        let mut lam = [g[0], g[1], g[2], g[3]];
+        let mut pm = [g[4], g[5], g[6], g[7], g[8]];
+        let mut pf = [0.0; 5];
+        let mut end = self.committed;
+        let mut events = self.events.iter().rev();
+        for entry in self.entries.iter().rev() {
+            match *entry {
+                Entry::Event => {
+                    let m = events.next().expect("one Jacobian per event");
+                    let mut before = [0.0; 4];
+                    for (r, row) in m.iter().enumerate() {
+                        for (col, b) in before.iter_mut().enumerate() {
+                            *b = madd::<FMA>(row[col], lam[r], *b);
+                        }
+                        for (j, p) in pm.iter_mut().enumerate() {
+                            *p = madd::<FMA>(row[4 + j], lam[r], *p);
+                        }
+                    }
+                    lam = before;
+                }
+                Entry::Step { h, field } => {
+                    let recs = &self.recs[end - S..end];
+                    end -= S;
+                    // The Jacobians first: they do not wait for the chain.
+                    let lins: [Lin; S] = std::array::from_fn(|i| {
+                        let r = &recs[i];
+                        match field {
+                            Field::Accel => {
+                                Lin::accel(&self.field, &r.y, &AccelAux::unpack(&r.aux))
+                            }
+                            Field::Decel => {
+                                Lin::decel(&self.field, &r.y, &DecelAux::unpack(&r.aux))
+                            }
+                            Field::Manifold => unreachable!("the stiff stop is not on the tape"),
+                        }
+                    });
+                    let mut nu: [[f64; 4]; S] = std::array::from_fn(|j| {
+                        let w = h * tab.b[j];
+                        lam.map(|l| w * l)
+                    });
+                    let mut acc = lam;
+                    let mut stage = |i: usize| {
+                        adjoint_stage::<S, FMA>(tab, h, i, &lins[i], &mut nu, &mut acc, &mut pf)
+                    };
+                    // Stage by stage, last first, each index a constant:
+                    // the sums over the tableau's nonzeros are unrolled and
+                    // the adjoints kept in registers.
+                    match S {
+                        12 => stages_rev!(stage; 11 10 9 8 7 6 5 4 3 2 1 0),
+                        7 => stages_rev!(stage; 6 5 4 3 2 1 0),
+                        4 => stages_rev!(stage; 3 2 1 0),
+                        1 => stage(0),
+                        _ => (0..S).rev().for_each(stage),
+                    }
+                    lam = acc;
+                }
+            }
+        }
+        debug_assert_eq!(end, 0);
+        (lam, pf, pm)
+    }
+}
+
+/// Stage `i` of a step's adjoint: μ_i = J_iᵀ ν_i into the step's adjoint
+/// `acc` and the parameters' `pf`, and its share h a_ij μ_i of the earlier
+/// stages' ν_j.
+#[inline(always)]
+fn adjoint_stage<const S: usize, const FMA: bool>(
+    tab: &Tableau<S>,
+    h: f64,
+    i: usize,
+    lin: &Lin,
+    nu: &mut [[f64; 4]; S],
+    acc: &mut [f64; 4],
+    pf: &mut [f64; 5],
+) {
+    let (mu, p) = lin.transpose_apply::<FMA>(&nu[i]);
+    for k in 0..5 {
+        pf[k] += p[k];
+    }
+    for k in 0..4 {
+        acc[k] += mu[k];
+    }
+    for j in 0..i {
+        let a = tab.a[i][j];
+        if a != 0.0 {
+            let w = h * a;
+            for k in 0..4 {
+                nu[j][k] = madd::<FMA>(w, mu[k], nu[j][k]);
+            }
+        }
+    }
+}
+
+/// The gradient of θ' against the [`EV`] slots at a slip's last state,
+/// from its stop's tangent there (`None`: not strictly inside C).
+pub fn stop_gradient(
+    fld: &TanField<EV>,
+    stop: [f64; 2],
+    d: &[Grad<EV>; 2],
+) -> Option<Result<Grad<EV>, NotDifferentiable>> {
+    let stop = [0, 1].map(|i| super::Tan {
+        v: stop[i],
+        d: d[i],
+    });
+    super::next_theta_grad(fld, stop)
+}
