@@ -101,37 +101,36 @@ impl Lin {
         let inv_f2 = inv_f * inv_f;
         // dψ = (fx dfy − fy dfx)/|F|², dfx = −κ dx − x dκ, dfy = −dy.
         let (psi_x, psi_y, psi_k) = (fy * f.kappa * inv_f2, -fx * inv_f2, fy * x * inv_f2);
-        // dv_r = (a da + b db)/v_r, dφ_v = (a db − b da)/v_r².
+        // With v̂ = (a, b)/v_r: dv_r = v̂·dv, dφ_v = v̂⊥·dv/v_r; so
+        // s = W dψ − E dφ_v − ΔW (Ω dv_r + v_r dΩ) has
+        // (∂s/∂a, ∂s/∂b) = c₁ (b̂, −â) − c₂ (â, b̂), c₁ = E/v_r, c₂ = ΔWΩ.
         let inv_vr = if vr > 0.0 { 1.0 / vr } else { 0.0 };
-        let inv_vr2 = inv_vr * inv_vr;
-        let (vr_a, vr_b) = (a * inv_vr, b * inv_vr);
-        let (pv_a, pv_b) = (-b * inv_vr2, a * inv_vr2);
+        let (ia, ib) = (a * inv_vr, b * inv_vr);
         let dw = delta * w;
-        let s_a = -e * pv_a - dw * f.omega * vr_a;
-        let s_b = -e * pv_b - dw * f.omega * vr_b;
+        let (c1, c2) = (e * inv_vr, dw * f.omega);
         let (s_x, s_y, s_k, s_o) = (w * psi_x, w * psi_y, w * psi_k, -dw * vr);
-        // dΦ = −Φ² (2γ dv_r + v_r d(2γ)).
+        // dΦ = −Φ² (2γ dv_r + v_r d(2γ)): (∂Φ/∂a, ∂Φ/∂b) = c₃ (â, b̂).
         let phi2 = phi * phi;
-        let (ph_a, ph_b, ph_g) = (
-            -phi2 * f.two_gamma * vr_a,
-            -phi2 * f.two_gamma * vr_b,
-            -phi2 * vr,
-        );
-        // Row 2: dfx − ux dΦ + Φ uy s; row 3: dfy − uy dΦ − Φ ux s.
+        let c3 = -phi2 * f.two_gamma;
+        let ph_g = -phi2 * vr;
+        // Row 2: dfx − ux dΦ + Φ uy s; row 3: dfy − uy dΦ − Φ ux s. Their
+        // (a, b) columns are â A + b̂ B and b̂ A − â B.
         let (qx, qy) = (phi * uy, -phi * ux);
+        let (a2, b2) = (-ux * c3 - qx * c2, qx * c1);
+        let (a3, b3) = (-uy * c3 - qy * c2, qy * c1);
         Lin {
             js: [
                 [
                     -f.kappa + qx * s_x,
                     qx * s_y,
-                    -ux * ph_a + qx * s_a,
-                    -ux * ph_b + qx * s_b,
+                    ia * a2 + ib * b2,
+                    ib * a2 - ia * b2,
                 ],
                 [
                     qy * s_x,
                     -1.0 + qy * s_y,
-                    -uy * ph_a + qy * s_a,
-                    -uy * ph_b + qy * s_b,
+                    ia * a3 + ib * b3,
+                    ib * a3 - ia * b3,
                 ],
             ],
             jp: [
@@ -150,7 +149,8 @@ impl Lin {
         let DecelAux { vr, q, c } = *aux;
         // dc = −c² ((1/v_r + 2·2γ)(a da + b db) + q d(2γ)).
         let c2 = c * c;
-        let m = -c2 * (1.0 / vr + 2.0 * f.two_gamma);
+        // 1/v_r = c (1 + 2γ v_r): no division.
+        let m = -c2 * (c * (1.0 + f.two_gamma * vr) + 2.0 * f.two_gamma);
         let (c_a, c_b, c_g) = (m * a, m * b, -c2 * q);
         Lin {
             js: [
