@@ -17,7 +17,7 @@ use crate::integrate::State;
 use crate::sim::field::{AccelAux, DecelAux, SlipField};
 
 /// Rows 2 and 3 of the slip field's Jacobian at one state.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, Default)]
 pub(crate) struct Lin {
     /// ∂(row 2, row 3)/∂(x, y, v_r,x, v_r,y).
     pub js: [[f64; 4]; 2],
@@ -170,9 +170,10 @@ impl Lin {
         let [p2, p3] = self.jp;
         // Four wide: ν₂ row 2 + ν₃ row 3 + (0, 0, ν₀, ν₁).
         let shifted = [0.0, 0.0, nu[0], nu[1]];
-        let mu: [f64; 4] = std::array::from_fn(|c| {
-            madd::<FMA>(r2[c], nu[2], madd::<FMA>(r3[c], nu[3], shifted[c]))
-        });
+        let mut mu = [0.0; 4];
+        for c in 0..4 {
+            mu[c] = madd::<FMA>(r2[c], nu[2], madd::<FMA>(r3[c], nu[3], shifted[c]));
+        }
         let pf = [
             madd::<FMA>(p2[0], nu[2], p3[0] * nu[3]),
             madd::<FMA>(p2[1], nu[2], p3[1] * nu[3]),

@@ -35,10 +35,25 @@ use crate::integrate::{Method, State};
 use crate::model::Params;
 use crate::sim::field::{AccelAux, Aux, DecelAux, SlipField};
 
-/// Calls `$f` with each of the literal stage indices in turn.
+/// Runs `$body` for each stage of an `$s`-stage method, last first, with
+/// `$i` bound to the stage's index as a constant (no closure: one build
+/// left a closure's body out of line, and with it the intrinsics).
 macro_rules! stages_rev {
-    ($f:ident; $($i:literal)*) => {{
-        $( $f($i); )*
+    ($s:expr, $i:ident => $body:expr) => {
+        match $s {
+            12 => stages_rev!(@each $i => $body; 11 10 9 8 7 6 5 4 3 2 1 0),
+            7 => stages_rev!(@each $i => $body; 6 5 4 3 2 1 0),
+            4 => stages_rev!(@each $i => $body; 3 2 1 0),
+            1 => stages_rev!(@each $i => $body; 0),
+            _ => {
+                for $i in (0..$s).rev() {
+                    $body;
+                }
+            }
+        }
+    };
+    (@each $i:ident => $body:expr; $($n:literal)*) => {{
+        $( { let $i: usize = $n; $body; } )*
     }};
 }
 
@@ -375,54 +390,52 @@ impl Tape {
                     let recs = &self.recs[end - S..end];
                     end -= S;
                     // The Jacobians first: they do not wait for the chain.
-                    let lins: [Lin; S] = std::array::from_fn(|i| {
-                        let r = &recs[i];
-                        match field {
-                            Field::Accel => {
-                                Lin::accel(&self.field, &r.y, &AccelAux::unpack(&r.aux))
-                            }
-                            Field::Decel => {
-                                Lin::decel(&self.field, &r.y, &DecelAux::unpack(&r.aux))
-                            }
-                            Field::Manifold => unreachable!("the stiff stop is not on the tape"),
-                        }
-                    });
+                    // Each stage's Jacobian is formed where the stage is
+                    // swept: it does not wait for the chain, so the CPU
+                    // forms the next one while the chain waits.
+                    let lin = |i: usize| jacobian(&self.field, field, &recs[i]);
                     #[cfg(target_arch = "x86_64")]
                     if FMA {
                         // SAFETY: `FMA` is set only by `backward_fma`, which
                         // is compiled with AVX2 and FMA and called only
                         // where the CPU has both.
-                        let (l, p) = unsafe { simd::step_adjoint(tab, h, &lins, lam) };
+                        let (l, p) =
+                            unsafe { simd::step_adjoint(tab, h, &self.field, field, recs, lam) };
                         lam = l;
                         for k in 0..5 {
                             pf[k] += p[k];
                         }
                         continue;
                     }
-                    let mut nu: [[f64; 4]; S] = std::array::from_fn(|j| {
-                        let w = h * tab.b[j];
-                        lam.map(|l| w * l)
-                    });
+                    let mut nu = [[0.0; 4]; S];
+                    for (n, b) in nu.iter_mut().zip(tab.b) {
+                        for k in 0..4 {
+                            n[k] = h * b * lam[k];
+                        }
+                    }
                     let mut acc = lam;
-                    let mut stage = |i: usize| {
-                        adjoint_stage::<S, FMA>(tab, h, i, &lins[i], &mut nu, &mut acc, &mut pf)
-                    };
                     // Stage by stage, last first, each index a constant:
                     // the sums over the tableau's nonzeros are unrolled and
                     // the adjoints kept in registers.
-                    match S {
-                        12 => stages_rev!(stage; 11 10 9 8 7 6 5 4 3 2 1 0),
-                        7 => stages_rev!(stage; 6 5 4 3 2 1 0),
-                        4 => stages_rev!(stage; 3 2 1 0),
-                        1 => stage(0),
-                        _ => (0..S).rev().for_each(stage),
-                    }
+                    stages_rev!(S, i => adjoint_stage::<S, FMA>(
+                        tab, h, i, &lin(i), &mut nu, &mut acc, &mut pf
+                    ));
                     lam = acc;
                 }
             }
         }
         debug_assert_eq!(end, 0);
         (lam, pf, pm)
+    }
+}
+
+/// The Jacobian of `field` at a record.
+#[inline(always)]
+fn jacobian(sf: &SlipField, field: Field, r: &Rec) -> Lin {
+    match field {
+        Field::Accel => Lin::accel(sf, &r.y, &AccelAux::unpack(&r.aux)),
+        Field::Decel => Lin::decel(sf, &r.y, &DecelAux::unpack(&r.aux)),
+        Field::Manifold => unreachable!("the stiff stop is not on the tape"),
     }
 }
 
@@ -465,7 +478,7 @@ fn adjoint_stage<const S: usize, const FMA: bool>(
 mod simd {
     use std::arch::x86_64::*;
 
-    use super::{Lin, Tableau};
+    use super::{Field, Lin, Rec, SlipField, Tableau};
 
     /// λ before the step from λ after it, and the step's share of the
     /// field parameters' gradient (κ, 2γ, Ω, V_x, V_y).
@@ -476,25 +489,34 @@ mod simd {
     pub(super) unsafe fn step_adjoint<const S: usize>(
         tab: &Tableau<S>,
         h: f64,
-        lins: &[Lin; S],
+        sf: &SlipField,
+        field: Field,
+        recs: &[Rec],
         lam: [f64; 4],
     ) -> ([f64; 4], [f64; 5]) {
         // SAFETY (all intrinsics): the caller's target features.
         unsafe {
             let l = _mm256_loadu_pd(lam.as_ptr());
-            let mut nu: [__m256d; S] =
-                std::array::from_fn(|j| _mm256_mul_pd(_mm256_set1_pd(h * tab.b[j]), l));
+            let mut nu = [_mm256_setzero_pd(); S];
+            for (n, b) in nu.iter_mut().zip(tab.b) {
+                *n = _mm256_mul_pd(_mm256_set1_pd(h * b), l);
+            }
             let mut acc = l;
             let mut pk = _mm256_setzero_pd();
             let mut pv = _mm256_setzero_pd();
-            let mut stage =
-                |i: usize| stage_adjoint(tab, h, i, &lins[i], &mut nu, &mut acc, &mut pk, &mut pv);
-            match S {
-                12 => stages_rev!(stage; 11 10 9 8 7 6 5 4 3 2 1 0),
-                7 => stages_rev!(stage; 6 5 4 3 2 1 0),
-                4 => stages_rev!(stage; 3 2 1 0),
-                1 => stage(0),
-                _ => (0..S).rev().for_each(stage),
+            // Each stage's Jacobian is formed one stage ahead of its use:
+            // it waits for nothing, and so runs while the chain does.
+            let mut next = super::jacobian(sf, field, &recs[S - 1]);
+            // (The last stage's `next` is not read.)
+            #[allow(unused_assignments)]
+            {
+                stages_rev!(S, i => {
+                    let lin = next;
+                    if i > 0 {
+                        next = super::jacobian(sf, field, &recs[i - 1]);
+                    }
+                    stage_adjoint(tab, h, i, &lin, &mut nu, &mut acc, &mut pk, &mut pv)
+                });
             }
             let mut out = [0.0; 4];
             _mm256_storeu_pd(out.as_mut_ptr(), acc);
