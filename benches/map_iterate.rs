@@ -91,6 +91,7 @@ fn bench(c: &mut Criterion) {
             // (`Simulator::cycle_derivatives`); its ratio to the plain row
             // above is the derivatives' cost (docs/derivatives.md).
             if method == Method::Dop853 && tol == 1e-9 {
+                derivatives_by_thread_time(name, &sim, &thetas);
                 let mut i = 0;
                 group.bench_function(format!("{name}/{method}/{tol:e}/derivatives"), |b| {
                     b.iter(|| {
@@ -127,6 +128,52 @@ fn bench(c: &mut Criterion) {
         }
     }
     group.finish();
+}
+
+/// The derivatives' cost as a ratio, by this thread's CPU time (which a
+/// loaded host's other work does not count): plain iterates, all six
+/// derivatives and f' alone over the attractor's points, alternated in 21
+/// rounds of 1000 iterates each; the medians and their ratios.
+fn derivatives_by_thread_time(name: &str, sim: &Simulator, thetas: &[f64]) {
+    #[cfg(target_os = "linux")]
+    {
+        let cpu = || {
+            let mut t = libc::timespec {
+                tv_sec: 0,
+                tv_nsec: 0,
+            };
+            // SAFETY: `t` is a valid timespec for the call to write.
+            unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut t) };
+            t.tv_sec as f64 + t.tv_nsec as f64 * 1e-9
+        };
+        const N: usize = 1000;
+        let mut times: [Vec<f64>; 3] = Default::default();
+        for _ in 0..21 {
+            for (v, times) in times.iter_mut().enumerate() {
+                let t0 = cpu();
+                for k in 0..N {
+                    let t = black_box(thetas[k % thetas.len()]);
+                    match v {
+                        0 => drop(black_box(sim.map(t))),
+                        1 => drop(black_box(sim.cycle_derivatives(t, 0.0))),
+                        _ => drop(black_box(sim.cycle_slope(t, 0.0))),
+                    }
+                }
+                times.push((cpu() - t0) / N as f64 * 1e6);
+            }
+        }
+        let [plain, all, slope] = times.map(|mut v| {
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        });
+        eprintln!(
+            "{name}: by thread CPU time, plain {plain:.1} µs, all six derivatives {all:.1} µs ({:.2}×), f' alone {slope:.1} µs ({:.2}×)",
+            all / plain,
+            slope / plain
+        );
+    }
+    #[cfg(not(target_os = "linux"))]
+    let _ = (name, sim, thetas);
 }
 
 criterion_group!(benches, bench, rhs, lockstep);
