@@ -11,7 +11,8 @@ use cli_support::*;
 use oneblock::model::{Params, wrap_angle};
 use oneblock::sim::continuation::{
     ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, Stop, cascade,
-    continue_branch, continue_curve, continue_curves, curve_crossings, feigenbaum_ratios,
+    cascade_from, continue_branch, continue_curve, continue_curves, curve_crossings,
+    feigenbaum_ratios,
 };
 use oneblock::sim::{CycleOptions, OrbitOptions, Period, Simulator, default_settings, solve_cycle};
 
@@ -172,6 +173,35 @@ fn the_paper_rows_kappa_10_twice_kappa_1_2_never() {
             assert!(b.points.iter().all(|p| p.stable));
         }
     }
+}
+
+/// A cascade that goes on from a branch already followed past its
+/// doubling (the window's Find bifurcations) finds the doublings a cascade
+/// from the seed finds, and reports only the levels after the given one.
+#[test]
+fn a_cascade_from_a_given_branch_finds_the_same_doublings() {
+    let prob = problem(18.95, 1);
+    let opts = ContOptions::for_range(&prob.settings, 1.0, 1.3);
+    let whole = continue_branch(&prob, 1.0, 1.3, 0.4, &opts, &|| false).unwrap();
+    assert_eq!(whole.stop, Stop::Reached, "past its doubling");
+    let fresh = cascade(&prob, 1.0, 1.3, 0.4, 8, &opts, &|| false).unwrap();
+    let mut reported = vec![];
+    let given = cascade_from(
+        &prob,
+        1.0,
+        1.3,
+        whole.clone(),
+        8,
+        &opts,
+        &|| false,
+        &mut |b| reported.push(b.period),
+    )
+    .unwrap();
+    assert!(fresh.doublings.len() >= 3, "{}", fresh.stop);
+    assert_eq!(given.doublings, fresh.doublings);
+    assert_eq!(given.branches[0], whole);
+    assert_eq!(given.branches[1..], fresh.branches[1..]);
+    assert_eq!(reported, vec![2, 4, 8]);
 }
 
 #[test]

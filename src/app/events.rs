@@ -252,8 +252,11 @@ impl EventsView {
             scaled: scaled.as_ref(),
         };
         if let Some(st) = &stats {
+            // The full text is formatted only while the summary is hovered.
             ui.label(summary(st, skipped, unit, wide))
-                .on_hover_text(summary(st, skipped, unit, true) + "\n\n" + STATS_HELP);
+                .on_hover_ui(|ui| {
+                    ui.label(summary(st, skipped, unit, true) + "\n\n" + STATS_HELP);
+                });
         }
         if wide {
             self.scaling_row_ui(ui, &params);

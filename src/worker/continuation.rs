@@ -15,7 +15,7 @@ use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{
     Attractor, Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
-    SpecialPoint, attractor_cycle, cascade_reporting, continue_branch, continue_curves,
+    SpecialPoint, attractor_cycle, cascade_from, continue_branch, continue_curves,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError};
 
@@ -172,12 +172,13 @@ impl Job<'_> {
         }
         self.progress(1.0 / levels, evals, started)?;
         self.summary(format!("{} · following the cascade…", counts(&all)))?;
-        // The first level is the branch above cut at its doubling: only
-        // the doubled levels are new.
+        // The cascade goes on from the branch above: only the doubled
+        // levels are new.
+        let first = all[0].clone();
         let mut sent: Result<(), JobError> = Ok(());
         let mut done = 1.0;
         let mut on_level = |b: &Branch| {
-            if b.period == period || sent.is_err() {
+            if sent.is_err() {
                 return;
             }
             evals += b.map_evals;
@@ -190,11 +191,11 @@ impl Job<'_> {
                 })
                 .and_then(|()| self.progress((done / levels).min(1.0), evals, started));
         };
-        let cascade = cascade_reporting(
+        let cascade = cascade_from(
             &prob,
             from,
             to,
-            seed,
+            first,
             max_period,
             &opts,
             &cancel,
@@ -253,7 +254,17 @@ impl Job<'_> {
             .cloned()
             .collect();
         if !starts.is_empty() && 2 * period <= PERIOD_MAX {
-            let c = cascade(&prob, t0, t1, seed, 2 * period, &opts, &cancel)?;
+            let c = cascade_from(
+                &prob,
+                t0,
+                t1,
+                branch.clone(),
+                2 * period,
+                &opts,
+                &cancel,
+                &mut |_| {},
+            )
+            .map_err(start_failure)?;
             starts.extend(c.doublings.into_iter().filter(|d| d.period == 2 * period));
         }
         if self.stale() {
@@ -317,18 +328,4 @@ impl Job<'_> {
             names.join(", ")
         ))
     }
-}
-
-/// The cascade without progress reports.
-fn cascade(
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    seed: f64,
-    max_period: usize,
-    opts: &ContOptions,
-    cancel: &dyn Fn() -> bool,
-) -> Result<crate::sim::continuation::Cascade, JobError> {
-    crate::sim::continuation::cascade(prob, from, to, seed, max_period, opts, cancel)
-        .map_err(start_failure)
 }

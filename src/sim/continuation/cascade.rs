@@ -17,7 +17,8 @@ use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
 /// A followed cascade.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cascade {
-    /// The branches, one per level, each from its birth to its doubling.
+    /// The branches, one per level, each from its birth to its doubling
+    /// (the first as the caller gave it, with [`cascade_from`]).
     pub branches: Vec<Branch>,
     /// The doublings b₁, b₂, … in order (periods p, 2p, 4p, …).
     pub doublings: Vec<SpecialPoint>,
@@ -78,6 +79,57 @@ pub fn cascade_reporting(
     cancel: &dyn Fn() -> bool,
     on_level: &mut dyn FnMut(&Branch),
 ) -> Result<Cascade, CycleFailure> {
+    let first = Level::Seed(seed);
+    cascade_impl(prob, from, to, first, max_period, opts, cancel, on_level)
+}
+
+/// [`cascade_reporting`] whose first level is `first`, a branch of
+/// `prob`'s p-cycle from `from` towards `to` that the caller has already
+/// followed (with [`continue_branch`] and `opts`, past its doubling or not:
+/// its first doubling is the one a cascade's level stops at, so the
+/// levels after it are those [`cascade`] finds). `first` is the cascade's
+/// first branch as given; `on_level` is called for the levels after it.
+#[allow(clippy::too_many_arguments)]
+pub fn cascade_from(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    first: Branch,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_level: &mut dyn FnMut(&Branch),
+) -> Result<Cascade, CycleFailure> {
+    let first = Level::Given(first);
+    cascade_impl(prob, from, to, first, max_period, opts, cancel, on_level)
+}
+
+/// Where a cascade's first level comes from.
+enum Level {
+    /// Followed from the cycle through this θ.
+    Seed(f64),
+    /// Already followed.
+    Given(Branch),
+}
+
+#[allow(clippy::too_many_arguments)]
+fn cascade_impl(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    first: Level,
+    max_period: usize,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_level: &mut dyn FnMut(&Branch),
+) -> Result<Cascade, CycleFailure> {
+    // (With a given first level the seed is never used.)
+    let (seed, mut given) = match first {
+        Level::Seed(seed) => (seed, None),
+        Level::Given(b) => (0.0, Some(b)),
+    };
+    // The caller has its own branch: only the levels after it are news.
+    let report_first = given.is_none();
     let dir = if to >= from { 1.0 } else { -1.0 };
     let mut branches = Vec::new();
     let mut doublings: Vec<SpecialPoint> = Vec::new();
@@ -88,7 +140,11 @@ pub fn cascade_reporting(
     };
     let stop = loop {
         let level = prob.with_period(period);
-        let branch = match continue_branch(&level, start, to, theta, &level_opts, cancel) {
+        let followed = match given.take() {
+            Some(b) => Ok(b),
+            None => continue_branch(&level, start, to, theta, &level_opts, cancel),
+        };
+        let branch = match followed {
             Ok(b) => b,
             Err(e) if branches.is_empty() => return Err(e),
             Err(e) => break format!("the P{period} cycle could not be followed: {e}"),
@@ -102,7 +158,9 @@ pub fn cascade_reporting(
             break format!("the P{period} branch collapsed onto a shorter cycle at its start");
         }
         let pd = branch.of_kind(SpecialKind::PeriodDoubling).next().cloned();
-        on_level(&branch);
+        if report_first || !branches.is_empty() {
+            on_level(&branch);
+        }
         let message = branch.stop_message();
         let cancelled = branch.stop == Stop::Cancelled;
         branches.push(branch);

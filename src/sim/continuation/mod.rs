@@ -26,7 +26,7 @@ pub use branch::{
     Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
     continue_branch_reporting,
 };
-pub use cascade::{Cascade, cascade, cascade_reporting, feigenbaum_ratios};
+pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
 
