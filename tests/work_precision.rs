@@ -40,7 +40,11 @@ fn bifurcation_budget_keeps_period_and_lyapunov_sign() {
         "bifurcation: {} tol {:e} (max map error {err:.1e}, {evals} RHS evaluations per iterate)",
         cheap.method, cheap.rtol
     );
-    assert!(err <= 1e-3 && evals < budget_for(1e-10).est_evals / 3.0);
+    // At most 1/2.5 of the return map's evaluations: 224 against 605 on
+    // the chart (2.7×) since the steps are capped inside the stability
+    // interval of v̂_r's stiff turning, which costs loose tolerances most;
+    // 195 against 620 (3.2×) before.
+    assert!(err <= 1e-3 && evals < budget_for(1e-10).est_evals / 2.5);
     let cases = [
         // Fig. 3b (pure stick-slip): fixed point, period 2, period 4, chaos
         // (`chaos`), the period-3 window.

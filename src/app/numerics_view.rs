@@ -456,10 +456,10 @@ mod tests {
         let marks = in_use(default_rows(), &s, true);
         // One mark per kind of job: trajectory, sweep, map iterates, phase.
         assert_eq!(marks.len(), 4);
-        // The trajectory's DP5(4) tol 1e-5: 4.535e-5, 236.4 evaluations.
+        // The trajectory's DP5(4) tol 1e-5: 3.628e-5, 259.3 evaluations.
         let (job, [x, y]) = marks[0];
         assert_eq!(job, JobKind::Trajectory);
-        assert!((x - 4.535e-5f64.log10()).abs() < 1e-12 && (y - 236.4f64.log10()).abs() < 1e-12);
+        assert!((x - 3.628e-5f64.log10()).abs() < 1e-12 && (y - 259.3f64.log10()).abs() < 1e-12);
     }
 
     #[test]
