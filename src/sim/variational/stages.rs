@@ -108,8 +108,6 @@ pub(crate) struct Tangents<const N: usize = DIRS> {
     plain: SlipField,
     /// The tangents' arithmetic may use AVX2 (as the plain slip does).
     avx2: bool,
-    /// ... and fuse its multiply-adds.
-    fma: bool,
     c: Coeffs,
     /// The tangent of the current state, and of f there.
     pub y: Jet<N>,
@@ -142,11 +140,6 @@ impl<const N: usize> Tangents<N> {
             avx2: std::arch::is_x86_feature_detected!("avx2"),
             #[cfg(not(target_arch = "x86_64"))]
             avx2: false,
-            #[cfg(target_arch = "x86_64")]
-            fma: std::arch::is_x86_feature_detected!("avx2")
-                && std::arch::is_x86_feature_detected!("fma"),
-            #[cfg(not(target_arch = "x86_64"))]
-            fma: false,
             c: Coeffs::new(method),
             y,
             k0,
@@ -226,32 +219,13 @@ impl<const N: usize> Tangents<N> {
     /// in each multiplied the code (and the plain slip's) many times over.
     #[inline(always)]
     pub fn eval(&mut self, field: Field, y: &State) -> Option<State> {
-        // The stiff stop's few steps keep their sums unfused, as its
-        // [`super::Tan`] field is.
-        #[cfg(target_arch = "x86_64")]
-        if self.fma && field != Field::Manifold {
-            // SAFETY: `fma` was set from `is_x86_feature_detected!` for
-            // both features.
-            return unsafe { self.eval_fma(field, y) };
-        }
+        // Unfused, as the [`super::Tan`] field of the stiff stop is.
         #[cfg(target_arch = "x86_64")]
         if self.avx2 {
             // SAFETY: `avx2` was set from `is_x86_feature_detected!("avx2")`.
             return unsafe { self.eval_avx2(field, y) };
         }
         self.eval_plain(field, y)
-    }
-
-    /// [`Tangents::eval`] compiled with AVX2 and FMA: a tangent is 4·N
-    /// numbers, N 4-wide registers, and its sums are fused (the tangents
-    /// are not the values that choose steps, so their last bits may
-    /// differ by CPU; the values, and so the steps, never do: Rust never
-    /// fuses the field's own a·b + c).
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    #[inline(never)]
-    fn eval_fma(&mut self, field: Field, y: &State) -> Option<State> {
-        self.eval_impl::<true>(field, y)
     }
 
     /// [`Tangents::eval`] compiled with AVX2, unfused.
