@@ -17,9 +17,9 @@ use crate::integrate::{Dense, LaneAttempt, Method, Rhs, Solver, State, find_root
 use crate::model::onset_stiffness;
 use crate::sim::field::{SlipField, speed_growth};
 use crate::sim::trajectory::{Phase, Sampler};
-use crate::sim::variational::{
-    self, EV, Field, Grad, NotDifferentiable, Tape, ev_field, ev_seed, field_tangent,
-};
+use crate::sim::variational::{EV, Field, Grad, NotDifferentiable, Tape};
+
+mod derivs;
 
 /// How much tighter than the settings the acceleration phase of a creep or
 /// near-critical onset is integrated (see `SlipRun::start`).
@@ -200,67 +200,6 @@ impl<'a, const TAPE: bool> SlipRun<'a, TAPE> {
             s.start_slip(t_abs, &y, sim.field.v);
         }
         Ok(run)
-    }
-
-    /// The same slip with derivatives: its tape.
-    pub(super) fn with_tape(mut self) -> Self {
-        let sim = self.sim;
-        self.tape = Some(RefCell::new(Tape::new(
-            sim.settings.method,
-            sim.field,
-            &self.y,
-        )));
-        self
-    }
-
-    /// The slip moves on to the accepted step's new state: so does its
-    /// tape.
-    #[inline(always)]
-    fn commit(&mut self) {
-        if let Some(tape) = &self.tape {
-            tape.borrow_mut().commit();
-        }
-    }
-
-    /// Adds `n` evaluations to the tape's extra ones.
-    fn count_extra(&self, n: u64) {
-        if let Some(tape) = &self.tape {
-            tape.borrow_mut().extra_evals += n;
-        }
-    }
-
-    /// The tape across the end of the acceleration phase at `ya`, `dt`
-    /// after the current state (f there: `self.k`): the step to it, then
-    /// the switch's own Jacobian. A switch met tangentially leaves the slip
-    /// without derivatives.
-    fn switch_tangents(&mut self, ya: &State, dt: f64) {
-        let Some(tape) = &self.tape else { return };
-        let sim = self.sim;
-        let mut tape = tape.borrow_mut();
-        tape.partial_step(Field::Accel, &self.y, &self.k, dt);
-        let fld = ev_field(&sim.params, &sim.field);
-        match variational::accel_end(&fld, ya, &ev_seed()) {
-            Ok(m) => tape.switch(m, ya),
-            Err(e) => {
-                drop(tape);
-                self.stop_d = Some(Err(e));
-                self.tape = None;
-            }
-        }
-    }
-
-    /// The tangent of a stop located `dt` after the current state, where
-    /// v_r · `w` changes sign (a fixed step's reversal): the step to it on
-    /// the tape, the root's own derivative against the [`EV`] slots there.
-    fn reversal_tangents(&mut self, dt: f64, w: [f64; 2]) {
-        let Some(tape) = &self.tape else { return };
-        let sim = self.sim;
-        let ys = tape
-            .borrow_mut()
-            .partial_step(Field::Decel, &self.y, &self.k, dt);
-        let f = sim.field.decel(&ys);
-        self.count_extra(1);
-        self.stop_d = Some(variational::stop_at_root(&ev_seed(), &f, w, 2));
     }
 
     /// The current phase's right-hand side.
@@ -446,14 +385,7 @@ impl<'a, const TAPE: bool> SlipRun<'a, TAPE> {
                         y[0] + (v[0] + 0.5 * y[2]) * dt,
                         y[1] + (v[1] + 0.5 * y[3]) * dt,
                     ];
-                    if self.tape.is_some() {
-                        let (fld, seed) = (ev_field(&sim.params, &sim.field), ev_seed());
-                        let field = Field::Decel;
-                        let kt = field_tangent::<EV, false>(field, &sim.field, &fld, &y, &seed).1;
-                        let d = variational::extrapolated_stop(&fld, &y, &seed, &self.k, &kt);
-                        self.stop_d = Some(Ok(d));
-                        self.count_extra(1);
-                    }
+                    self.extrapolated_stop_tangent();
                     if let Some(s) = sampler {
                         s.push(self.t_abs + (t + dt), stop, v, Phase::Decel);
                     }

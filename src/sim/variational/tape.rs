@@ -142,39 +142,34 @@ impl Tape {
             y: *y0,
             aux: field.accel_aux(y0).1,
         };
-        // A thread's last tape, its buffers kept: a cycle with derivatives
-        // then allocates nothing.
-        if let Some(mut t) = SPARE.with(|s| s.borrow_mut().take()) {
-            if t.method != method {
-                t.c = Coeffs::new(method);
+        // A thread's last tape's buffers (and coefficients, for the same
+        // method): a cycle with derivatives then allocates next to nothing.
+        let spare = SPARE.with(|s| s.borrow_mut().take()).map(|t| *t);
+        let (c, mut recs, mut entries, mut events) = match spare {
+            Some(t) => {
+                let c = if t.method == method {
+                    t.c
+                } else {
+                    Coeffs::new(method)
+                };
+                (c, t.recs, t.entries, t.events)
             }
-            t.recs.clear();
-            t.entries.clear();
-            t.events.clear();
-            *t = Tape {
-                method,
-                field,
-                committed: 0,
-                recording: false,
-                finishing: false,
-                cur,
-                next: cur,
-                h: 0.0,
-                step_field: Field::Accel,
-                extra_evals: 1,
-                stop: [[0.0; EV]; 2],
-                ..*t
-            };
-            return t;
-        }
-        let c = Coeffs::new(method);
+            None => {
+                let c = Coeffs::new(method);
+                let recs = Vec::with_capacity(64 * c.stages);
+                (c, recs, Vec::with_capacity(64), Vec::new())
+            }
+        };
+        recs.clear();
+        entries.clear();
+        events.clear();
         Box::new(Tape {
             method,
             c,
             field,
-            recs: Vec::with_capacity(64 * c.stages),
-            entries: Vec::with_capacity(64),
-            events: Vec::new(),
+            recs,
+            entries,
+            events,
             committed: 0,
             recording: false,
             finishing: false,
