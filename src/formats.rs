@@ -1,9 +1,13 @@
 //! The file formats every front end writes, so that the command line and the
-//! window export the same bytes: the slip-event CSV, the phase-diagram CSV,
-//! and the phase classes' names and colours.
+//! window export the same bytes: the slip-event CSV, the trajectory CSV, the
+//! bifurcation CSV, the phase-diagram CSV, and the phase classes' names and
+//! colours. Numbers are written in Rust's shortest round-trip form, so
+//! parsing gives back the exact f64.
 
-use crate::sim::SlipEvent;
+use std::fmt::Write as _;
+
 use crate::sim::phase::{CellClass, PhaseCell};
+use crate::sim::{Sample, SlipEvent};
 
 /// The CSV columns of a slip event: every `SlipEvent` field, in order.
 pub const SLIP_EVENT_COLUMNS: [&str; 16] = [
@@ -48,6 +52,40 @@ pub fn slip_event_row(e: &SlipEvent) -> String {
         e.rhs_evals,
         e.steps
     )
+}
+
+/// The trajectory CSV (`t,x,y,u,w,phase`, one row per sample).
+pub fn trajectory_csv(samples: &[Sample]) -> String {
+    let mut s = String::with_capacity(64 * (samples.len() + 1));
+    s.push_str("t,x,y,u,w,phase\n");
+    for p in samples {
+        writeln!(
+            s,
+            "{},{},{},{},{},{}",
+            p.t,
+            p.x,
+            p.y,
+            p.u,
+            p.w,
+            p.phase.name()
+        )
+        .ok();
+    }
+    s
+}
+
+/// The bifurcation CSV (`theta_nu,theta`): one row per kept iterate,
+/// column by column in the order given.
+pub fn bifurcation_csv<'a>(columns: impl Iterator<Item = (f64, &'a [f64])> + Clone) -> String {
+    let rows: usize = columns.clone().map(|(_, t)| t.len()).sum();
+    let mut s = String::with_capacity(40 * (rows + 1));
+    s.push_str("theta_nu,theta\n");
+    for (theta_nu, thetas) in columns {
+        for t in thetas {
+            writeln!(s, "{theta_nu},{t}").ok();
+        }
+    }
+    s
 }
 
 /// The phase CSV's header.

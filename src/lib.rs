@@ -4,7 +4,8 @@
 //! - [`model`]: parameters, regimes, the curve C, the closed-form stick phase.
 //! - [`integrate`]: Runge–Kutta tableaus, one stepping loop, dense output.
 //! - [`sim`]: one stick–slip cycle, the map θ → θ', orbits, sweeps.
-//! - [`worker`]: the background thread the GUI talks to.
+//! - [`jobs`]: every long computation, defined once, run by any host.
+//! - [`worker`]: the background threads the GUI talks to (the jobs' threaded host).
 //! - [`cli`]: the headless subcommands.
 //! - [`formats`]: the CSV formats and class colours every front end writes.
 //! - `app` (feature `gui`): the eframe/egui explorer.
@@ -14,6 +15,7 @@ pub mod app;
 pub mod cli;
 pub mod formats;
 pub mod integrate;
+pub mod jobs;
 pub mod model;
 pub mod numerics;
 pub mod output;

@@ -6,7 +6,8 @@ mod cli_support;
 use cli_support::*;
 
 use oneblock::formats::SLIP_EVENT_COLUMNS;
-use oneblock::sim::{LANES, SweepOptions, segments, sweep_columns, theta_nu_grid};
+use oneblock::jobs::{Shape, sweep_plan};
+use oneblock::sim::{Column, Handover, SweepOptions, column_start, theta_nu_grid};
 use oneblock::{Params, SolverSettings};
 
 #[test]
@@ -191,7 +192,7 @@ fn trajectory_phases_follow_the_cycle_and_time_runs_forward() {
 }
 
 #[test]
-fn bifurcation_equals_its_continued_segments() {
+fn bifurcation_equals_the_windows_sweep_plan_recomputed_by_the_core() {
     let (from, to, columns, transient, keep) = (0.9, 1.3, 9, 20, 10);
     let o = oneblock(&[
         "bifurcation",
@@ -220,9 +221,8 @@ fn bifurcation_equals_its_continued_segments() {
     assert_eq!(rows.len(), columns * keep);
     let got: Vec<(f64, f64)> = rows.iter().map(|r| (num(&r[0]), num(&r[1]))).collect();
 
-    // The documented split: the first ⌈C/2⌉ columns, then the rest, each
-    // in LANES segments, each segment a continued sweep starting from its
-    // first θν.
+    // The window's sweep plan, each column recomputed with the core alone
+    // from the neighbour the plan names.
     let params = Params {
         kappa: 18.95,
         gamma: 6.5,
@@ -237,25 +237,28 @@ fn bifurcation_equals_its_continued_segments() {
         keep,
         map: oneblock::sim::MapChoice::Auto,
     };
-    let mut want = Vec::new();
-    let segs: Vec<&[f64]> = [&grid[..5], &grid[5..]]
-        .into_iter()
-        .flat_map(|half| segments(half, LANES))
-        .collect();
-    assert_eq!(segs.len(), 6, "{segs:?}");
-    for seg in segs {
-        for col in sweep_columns(params, settings, seg, &opts, None, &|| false, |_| {}) {
-            assert!(col.error.is_none());
-            want.extend(col.thetas.iter().map(|&th| (col.theta_nu, th)));
-        }
+    let shape = Shape::default();
+    let mut last: Vec<Option<Handover>> = vec![None; columns];
+    let mut cols: Vec<Vec<(f64, f64)>> = vec![Vec::new(); columns];
+    for p in sweep_plan(columns, shape.coarse_columns, shape.chains) {
+        let neighbour = p.parent.and_then(|q| last[q]);
+        let start = column_start(params.kappa, grid[p.index], neighbour.map(|h| h.theta));
+        let slow = neighbour.and_then(|h| h.slow_period);
+        let col = Column::run_from(params, settings, grid[p.index], start, slow, &opts, &|| {
+            false
+        });
+        assert!(col.error.is_none());
+        last[p.index] = col.handover();
+        cols[p.index] = col.thetas.iter().map(|&th| (col.theta_nu, th)).collect();
     }
+    let want: Vec<(f64, f64)> = cols.concat();
     assert_eq!(got, want, "bit for bit");
     let err = stderr(&o);
     // No progress bar when stderr is not a terminal: just the summary.
     assert!(!err.contains('\u{1b}') && !err.contains('\r'), "{err:?}");
     assert_eq!(err.lines().count(), 2, "{err}");
     assert!(
-        err.contains("iterates integrated") && err.contains(" s on 2 threads"),
+        err.contains("iterates integrated") && err.contains(" thread(s)"),
         "{err}"
     );
 }

@@ -10,6 +10,7 @@ use common::until_finished;
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::numerics::{Accuracy, budget_for};
+use oneblock::sim::MapChoice;
 use oneblock::sim::phase::{CellClass, PhaseOptions, phase_grid};
 use oneblock::sim::{
     CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, SweepOptions, default_settings,
@@ -249,6 +250,8 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
             theta_nu: Axis::new(from, to, columns),
             transient: 300,
             keep: 200,
+            map: MapChoice::Auto,
+            theta0: None,
         },
     }));
     let (ups, outcome) = until_finished(&w, 1, Lane::Sweep);

@@ -77,6 +77,8 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
                 .map(|k| 0.1 + 0.001 * (k % 7) as f64 + i as f64 * 1e-3)
                 .collect(),
             coarse: i % 8 == 0,
+            rhs_evals: 0,
+            map: Default::default(),
         });
     }
     rec.push(Update::Finished {

@@ -355,6 +355,47 @@ fn same_csv_on_one_and_two_threads_and_a_png() {
     assert_eq!(&bytes[1..4], b"PNG");
 }
 
+/// The command line runs the window's phase job: its CSV is the job's
+/// cells, each written as `formats::phase_row`, rows of increasing κ, as the
+/// single-threaded host computes them.
+#[test]
+fn the_command_line_grid_is_the_windows_phase_job() {
+    use oneblock::jobs::{Axis, Local, PhaseSpec, PhaseTuning, Shape, Spec, Update};
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let out = dir.path().join("grid.csv");
+    let out_s = out.to_string_lossy().to_string();
+    let o = oneblock(&grid_args(&out_s, "2"));
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&out).expect("csv");
+    let spec = PhaseSpec {
+        params: Params {
+            kappa: 14.0,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: 1.2,
+            omega: 50.0,
+        },
+        settings: oneblock::SolverSettings::default(),
+        theta_nu: Axis::new(1.2, 1.5, 5),
+        kappa: Axis::new(14.0, 20.0, 3),
+        transient: 200,
+        keep: 64,
+        tuning: PhaseTuning::default(),
+    };
+    let updates = Local::start(Spec::Phase(spec), 1, Shape::default()).run_to_end(1);
+    let mut cells = std::collections::BTreeMap::new();
+    for u in updates {
+        if let Update::PhaseCells { cells: cs, .. } = u {
+            for c in cs {
+                cells.insert((c.row, c.column), oneblock::formats::phase_row(&c.cell));
+            }
+        }
+    }
+    let want: Vec<String> = cells.into_values().collect();
+    let got: Vec<&str> = text.lines().skip(1).collect();
+    assert_eq!(got, want);
+}
+
 fn usage_error(extra: &[&str], flag: &str) {
     let dir = tempfile::tempdir().expect("a temporary folder");
     let out = dir.path().join("x.csv");

@@ -10,6 +10,7 @@ use std::time::Duration;
 
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
+use oneblock::sim::MapChoice;
 use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, TrajectorySpec, Update};
 
 #[test]
@@ -83,6 +84,8 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                     theta_nu: Axis::new(0.0, 1.0, 10),
                     transient: 2,
                     keep: 2,
+                    map: MapChoice::Auto,
+                    theta0: None,
                 },
             },
             Lane::Sweep,
@@ -100,6 +103,8 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                     theta_nu: Axis::new(0.0, 1.0, 10),
                     transient: 2,
                     keep: 2,
+                    map: MapChoice::Auto,
+                    theta0: None,
                 },
             },
             Lane::Sweep,

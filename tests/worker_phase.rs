@@ -16,8 +16,10 @@ use std::time::Duration;
 
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
+use oneblock::sim::MapChoice;
 use oneblock::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell, phase_grid};
 use oneblock::sim::{column_start, default_settings, theta_nu_grid};
+use oneblock::worker::PhaseTuning;
 use oneblock::worker::{
     Axis, COARSE_STRIDE, Command, Generation, GridCell, Lane, Outcome, PhaseSpec, SweepSpec,
     TrajectorySpec, Update, Worker, WorkerConfig, phase_plan,
@@ -75,6 +77,7 @@ impl Grid {
                 kappa: Axis::new(self.k.0, self.k.1, self.k.2),
                 transient: self.transient,
                 keep: self.keep,
+                tuning: PhaseTuning::default(),
             },
         }
     }
@@ -367,6 +370,8 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
             theta_nu: Axis::new(0.5, 1.4, 12),
             transient: 20,
             keep: 10,
+            map: MapChoice::Auto,
+            theta0: None,
         },
     }));
     assert!(w.send(Command::Trajectory {

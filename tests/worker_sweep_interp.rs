@@ -41,6 +41,8 @@ fn worker_column(generation: u64, kappa: f64, theta_nu: f64) -> Vec<f64> {
             theta_nu: Axis::new(theta_nu, theta_nu, 1),
             transient: TRANSIENT,
             keep: KEEP,
+            map: MapChoice::Auto,
+            theta0: None,
         },
     };
     assert!(w.send(cmd));

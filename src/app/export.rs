@@ -4,11 +4,9 @@
 //! diagram (`oneblock phase --out`'s columns and rows). Floats
 //! in Rust's shortest round-trip form, so parsing gives back the exact f64.
 
-use std::fmt::Write as _;
-
 use super::data::SweepData;
 use super::phase_data::PhaseData;
-use crate::formats::{PHASE_COLUMNS, SLIP_EVENT_COLUMNS, phase_row, slip_event_row};
+use crate::formats::{self, PHASE_COLUMNS, SLIP_EVENT_COLUMNS, phase_row, slip_event_row};
 use crate::sim::{Sample, SlipEvent};
 
 /// The events CSV: the command line's header and rows, from the same code.
@@ -23,33 +21,15 @@ pub fn events_csv(events: &[SlipEvent]) -> String {
     s
 }
 
+/// The trajectory CSV, as `oneblock trajectory` writes it.
 pub fn trajectory_csv(samples: &[Sample]) -> String {
-    let mut s = String::with_capacity(80 * (samples.len() + 1));
-    s.push_str("t,x,y,u,w,phase\n");
-    for p in samples {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{}",
-            p.t,
-            p.x,
-            p.y,
-            p.u,
-            p.w,
-            p.phase.name()
-        );
-    }
-    s
+    formats::trajectory_csv(samples)
 }
 
+/// The diagram's computed columns, as `oneblock bifurcation` writes them.
 pub fn bifurcation_csv(sweep: &SweepData) -> String {
-    let mut s = String::with_capacity(40 * (sweep.points() + 1));
-    s.push_str("theta_nu,theta\n");
-    for c in sweep.columns.iter().flatten() {
-        for t in &c.thetas {
-            let _ = writeln!(s, "{},{}", c.theta_nu, t);
-        }
-    }
-    s
+    let columns = sweep.columns.iter().flatten();
+    formats::bifurcation_csv(columns.map(|c| (c.theta_nu, c.thetas.as_slice())))
 }
 
 /// The phase diagram as `oneblock phase --out` writes it (rows of

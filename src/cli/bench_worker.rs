@@ -18,10 +18,10 @@ use super::values::{count_between, parse_count, parse_number, settings_error};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::stats::median;
-use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
+use crate::sim::{MapChoice, SweepOptions, sweep_columns, theta_nu_grid};
 use crate::worker::{
-    Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, SweepSpec, TrajectorySpec, Update,
-    Worker, WorkerConfig, phase_plan, sweep_plan,
+    Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, PhaseTuning, SweepSpec, TrajectorySpec,
+    Update, Worker, WorkerConfig, phase_plan, sweep_plan,
 };
 
 #[derive(Debug, Clone, Args)]
@@ -118,6 +118,8 @@ fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u
             theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, args.columns),
             transient: args.transient,
             keep: args.keep,
+            map: MapChoice::Auto,
+            theta0: None,
         },
     }
 }
@@ -275,6 +277,7 @@ fn time_phase(
             kappa: Axis::new(1.0, 42.0, n),
             transient: 400,
             keep: 128,
+            tuning: PhaseTuning::default(),
         },
     });
     if !sent {

@@ -1,18 +1,10 @@
 //! `oneblock bifurcation`: the data of a bifurcation diagram, CSV
-//! `theta_nu,theta`, computed on two threads.
-//!
-//! The θν grid is split into two halves, the lower ⌈C/2⌉ columns and the
-//! rest, one per thread, and each half into [`LANES`] segments
-//! ([`segments`]); each segment is a continued sweep of its own (each
-//! column starts from the last iterate of the previous one; docs/model.md), and
-//! a thread steps its segments' slips together ([`sweep_segments`]: one
-//! core runs three independent chains of dependent evaluations side by
-//! side, ~1.4× the iterates per second of one). The split does not depend
-//! on the number of cores, so the output depends only on the flags: it is
-//! the same file on any machine and equals [`sweep_columns`] called on each
-//! segment in turn.
+//! `theta_nu,theta`: the window's sweep job ([`crate::jobs`]) run on every
+//! core. Its plan (a coarse pass in chains, then fill-in, each column
+//! continued from a named neighbour; [`crate::jobs::sweep_plan`]) is fixed
+//! by the flags alone, so the file is the same on any machine, and the
+//! same as the window's diagram of the same parameters and range.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -28,11 +20,11 @@ use super::run_control::{Limits, Progress};
 use super::values::{
     given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
+use crate::formats::bifurcation_csv;
+use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
 use crate::model::Params;
+use crate::sim::Simulator;
 use crate::sim::interpolant::{MapTally, MapUsed};
-use crate::sim::{Column, SimError, Simulator, SweepOptions, sweep_segments, theta_nu_grid};
-#[cfg(doc)]
-use crate::sim::{LANES, segments, sweep_columns};
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
@@ -80,7 +72,8 @@ pub struct BifurcationArgs {
     /// iterates on). Where it is refused the column integrates.
     #[arg(long, default_value = "auto")]
     pub map: String,
-    /// θ where each half's first column starts [default: that column's θν].
+    /// θ where each chain of the coarse pass starts [default: its first
+    /// column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
     /// CSV file ("-" = stdout).
@@ -112,11 +105,6 @@ pub fn theta_nu_end(flag: &str, v: f64) -> Result<f64, CliError> {
             short(v)
         )))
     }
-}
-
-/// The two halves the grid is split into: the first ⌈n/2⌉ values, then the rest.
-pub fn halves(grid: &[f64]) -> (&[f64], &[f64]) {
-    grid.split_at(grid.len().div_ceil(2))
 }
 
 /// The checked inputs of `bifurcation`.
@@ -183,82 +171,76 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         map,
     } = check(&args)?;
     warn_validity(&params);
-    let grid = theta_nu_grid(from, to, columns);
-    let (lower, upper) = halves(&grid);
-    let opts = SweepOptions {
+    let spec = SweepSpec {
+        params,
+        settings,
+        theta_nu: Axis::new(from, to, columns),
         transient: args.transient,
         keep,
         map,
+        theta0: args.theta0,
     };
+    let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let progress = Progress::new("bifurcation", "iterates", total);
     let limits = Limits::start(max_seconds);
-    let iterates = AtomicU64::new(0);
     let failed = AtomicU64::new(0);
-    let count = || {
-        iterates.fetch_add(1, Ordering::Relaxed);
+    let report = |u: &Update| {
+        if let Update::Error { message, .. } = u {
+            failed.fetch_add(1, Ordering::Relaxed);
+            progress.println(&format!("warning: {message}"));
+        }
+    };
+    // Polled before every slip cycle: the progress bar counts them.
+    let stop = || {
         progress.inc(1);
         limits.stop()
     };
-    let report = |col: &Column| {
-        if let Some(e) = &col.error
-            && !matches!(e, SimError::Cancelled)
-        {
-            failed.fetch_add(1, Ordering::Relaxed);
-            progress.println(&format!(
-                "warning: column theta-nu = {} failed after {} of {} kept iterates: {e}",
-                col.theta_nu,
-                col.thetas.len(),
-                keep
-            ));
-        }
-    };
-    let theta0 = args.theta0;
     let start = Instant::now();
-    let (cols_lower, cols_upper) = std::thread::scope(|s| {
-        let upper_job =
-            s.spawn(|| sweep_segments(params, settings, upper, &opts, theta0, &count, report));
-        let lower_cols = sweep_segments(params, settings, lower, &opts, theta0, &count, report);
-        (lower_cols, upper_job.join())
-    });
+    let run = run_collect(Spec::Sweep(spec), threads, report, stop);
     progress.finish();
-    let cols_upper = cols_upper.map_err(|_| {
-        CliError::Failed("the thread computing the upper half of the θν range failed".into())
-    })?;
-    if limits.stop()
-        || cols_lower
-            .iter()
-            .chain(&cols_upper)
-            .any(|c| matches!(c.error, Some(SimError::Cancelled)))
-    {
-        return Err(limits.stopped("bifurcation"));
-    }
+    let updates = match run {
+        Ok(u) => u,
+        Err(JobError::Stop) => return Err(limits.stopped("bifurcation")),
+        Err(JobError::Sim(e)) => return Err(e.into()),
+        Err(JobError::Failed(m)) => return Err(CliError::Failed(m)),
+    };
     let seconds = start.elapsed().as_secs_f64();
 
-    let cols: Vec<&Column> = cols_lower.iter().chain(&cols_upper).collect();
-    let rows: usize = cols.iter().map(|c| c.thetas.len()).sum();
-    let mut csv = String::with_capacity(48 * (rows + 1));
-    csv.push_str("theta_nu,theta\n");
-    for c in &cols {
-        for th in &c.thetas {
-            writeln!(csv, "{},{}", c.theta_nu, th).ok();
+    // The columns in grid order: (θν, kept iterates, cost, map used).
+    type Done = (f64, Vec<f64>, u64, MapUsed);
+    let mut cols: Vec<Option<Done>> = vec![None; columns];
+    for u in updates {
+        if let Update::Column {
+            index,
+            theta_nu,
+            thetas,
+            rhs_evals,
+            map,
+            ..
+        } = u
+        {
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
         }
     }
+    let cols: Vec<Done> = cols.into_iter().flatten().collect();
+    let rows: usize = cols.iter().map(|c| c.1.len()).sum();
+    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
     emit(&args.out, csv.as_bytes(), args.force)?;
 
     // A column on the interpolant integrated its construction's samples and
-    // the iterates outside its series, not the ones counted above.
-    let n = iterates.load(Ordering::Relaxed)
+    // the iterates outside its series, not the cycles counted by the bar.
+    let n = progress.done()
         + cols
             .iter()
-            .map(|c| match &c.map {
+            .map(|c| match &c.3 {
                 MapUsed::Interpolant(s) => (s.evaluations + s.direct_iterates) as u64,
                 _ => 0,
             })
             .sum::<u64>();
-    let evals: u64 = cols.iter().map(|c| c.rhs_evals).sum();
+    let evals: u64 = cols.iter().map(|c| c.2).sum();
     let failed = failed.load(Ordering::Relaxed);
     eprintln!(
-        "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on 2 threads; {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
+        "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
         args.transient,
         columns as u64 * (args.transient + keep) as u64,
@@ -270,7 +252,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
             String::new()
         }
     );
-    if let Some(line) = map_line(&cols) {
+    if let Some(line) = map_line(cols.iter().map(|c| &c.3)) {
         eprintln!("{line}");
     }
     if failed == columns as u64 {
@@ -282,8 +264,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
 }
 
 /// The summary's line on the interpolant, when any column asked for it.
-fn map_line(cols: &[&Column]) -> Option<String> {
-    MapTally::of(cols.iter().map(|c| &c.map)).map(|t| {
+fn map_line<'a>(maps: impl Iterator<Item = &'a MapUsed>) -> Option<String> {
+    MapTally::of(maps).map(|t| {
         format!(
             "  map: {} column(s) kept their points from the interpolant (built from {} map evaluations, measured max error {:.1e} rad), {} refused it and integrated",
             t.used, t.evaluations, t.max_error, t.refused

@@ -19,10 +19,11 @@ use super::common::{
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
 use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
+use crate::jobs::{Axis, JobError, PhaseSpec, PhaseTuning, Spec, Update, run_collect};
 use crate::model::Params;
 use crate::sim::interpolant::MapTally;
-use crate::sim::phase::{PhaseCell, PhaseOptions, phase_grid};
-use crate::sim::{SimError, theta_nu_grid};
+use crate::sim::phase::{PhaseCell, PhaseOptions};
+use crate::sim::theta_nu_grid;
 
 /// A phase diagram: the attractor's class over a (θν, κ) grid.
 #[derive(Debug, Clone, Args)]
@@ -251,29 +252,52 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     warn_validity(&params);
     let progress = Progress::with_extra("phase", "cells", (rows * cols) as u64, "iterates");
     let limits = Limits::start(max_seconds);
-    let on_cell = |c: &PhaseCell| {
-        // The shown count only grows: both counts are read under one lock.
-        progress.add_extra(c.iterates);
-        progress.inc(1);
+    let stop = || limits.stop();
+    let spec = PhaseSpec {
+        params,
+        settings,
+        theta_nu: Axis::new(t_from, t_to, cols),
+        kappa: Axis::new(k_from, k_to, rows),
+        transient: opts.transient,
+        keep: opts.keep,
+        tuning: PhaseTuning {
+            early_exit: opts.early_exit,
+            map: opts.map,
+            period_tol: Some(opts.period_tol),
+        },
     };
-    let cancel = || limits.stop();
-    let pool = rayon::ThreadPoolBuilder::new()
-        .num_threads(threads)
-        .build()
-        .map_err(|e| CliError::Failed(format!("cannot start {threads} threads: {e}")))?;
+    let on_update = |u: &Update| {
+        if let Update::PhaseCells { cells, .. } = u {
+            for c in cells {
+                // The shown count only grows: both counts are read under
+                // one lock.
+                progress.add_extra(c.cell.iterates);
+                progress.inc(1);
+            }
+        }
+    };
     let start = Instant::now();
-    let grid = pool.install(|| {
-        phase_grid(
-            params, settings, &kappas, &theta_nus, &opts, &cancel, &on_cell,
-        )
-    });
+    let run = run_collect(Spec::Phase(spec), threads, on_update, stop);
     progress.finish();
     let seconds = start.elapsed().as_secs_f64();
-    let grid = match grid {
-        Ok(g) => g,
-        Err(SimError::Cancelled) => return Err(limits.stopped("phase")),
-        Err(e) => return Err(e.into()),
+    let updates = match run {
+        Ok(u) => u,
+        Err(JobError::Stop) => return Err(limits.stopped("phase")),
+        Err(JobError::Sim(e)) => return Err(e.into()),
+        Err(JobError::Failed(m)) => return Err(CliError::Failed(m)),
     };
+    let mut grid: Vec<Vec<Option<PhaseCell>>> = vec![vec![None; cols]; rows];
+    for u in updates {
+        if let Update::PhaseCells { cells, .. } = u {
+            for c in cells {
+                grid[c.row][c.column] = Some(c.cell);
+            }
+        }
+    }
+    let grid: Vec<Vec<PhaseCell>> = grid
+        .into_iter()
+        .map(|row| row.into_iter().flatten().collect())
+        .collect();
 
     let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
     let mut csv = String::with_capacity(80 * (cells.len() + 1));

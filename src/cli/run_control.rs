@@ -134,6 +134,11 @@ impl Progress {
     }
 
     /// Counts `n` more units done.
+    /// Units counted so far.
+    pub fn done(&self) -> u64 {
+        self.done.load(Ordering::Relaxed)
+    }
+
     pub fn inc(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);
         let now = Instant::now();

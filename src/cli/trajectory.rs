@@ -2,7 +2,6 @@
 //! from the dense output at a settable spacing during slips; a stick phase
 //! (a straight line at the surface velocity) contributes its two ends.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 
 use clap::Args;
@@ -14,6 +13,7 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress};
 use super::values::{parse_count, parse_number, short};
+use crate::formats::trajectory_csv;
 use crate::sim::{Sampler, Simulator};
 
 /// The smallest sampling spacing accepted: finer than any plot needs, and a
@@ -145,21 +145,7 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
     }
     progress.finish();
     let samples = sampler.take();
-    let mut csv = String::with_capacity(64 * (samples.len() + 1));
-    csv.push_str("t,x,y,u,w,phase\n");
-    for s in &samples {
-        writeln!(
-            csv,
-            "{},{},{},{},{},{}",
-            s.t,
-            s.x,
-            s.y,
-            s.u,
-            s.w,
-            s.phase.name()
-        )
-        .ok();
-    }
+    let csv = trajectory_csv(&samples);
     emit(&args.out, csv.as_bytes(), args.force)?;
     eprintln!(
         "trajectory: {}\n  {} cycle(s) after {} transient, {} samples over t in [0, {t}], {} restart(s)",

@@ -15,7 +15,7 @@ use std::time::Duration;
 
 use crossbeam_channel::{SendTimeoutError, Sender};
 
-use super::protocol::{Generation, Lane, Outcome, Update};
+use crate::jobs::{Generation, Lane, Outcome, Stop, Update};
 
 /// The generation a stopped worker moves every lane to: no job matches it.
 pub(crate) const STOPPED: Generation = Generation::MAX;
@@ -23,14 +23,6 @@ pub(crate) const STOPPED: Generation = Generation::MAX;
 /// How long a job's send waits for room before letting go of the lock, so
 /// that a cancellation is never stuck behind a job blocked on a full channel.
 const SEND_SLICE: Duration = Duration::from_millis(5);
-
-/// Why a job's update was not sent: its generation is no longer current, or
-/// the receiving end is gone. Either way the job must stop.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum Stop {
-    Stale,
-    Gone,
-}
 
 /// Bookkeeping guarded by the gate's lock.
 #[derive(Debug, Default)]

@@ -1,40 +1,31 @@
-//! The background simulation worker: all simulation the GUI needs runs here,
-//! fed by a bounded crossbeam channel of [`Command`]s and answering on a
-//! bounded channel of [`Update`]s. No GUI types: the front end passes a
-//! wake-up callback (`ctx.request_repaint`), tests pass a counter.
+//! The background simulation worker: the window's host for the jobs of
+//! [`crate::jobs`], fed by a bounded crossbeam channel of [`Command`]s and
+//! answering on a bounded channel of [`Update`]s. No GUI types: the front
+//! end passes a wake-up callback (`ctx.request_repaint`), tests pass a
+//! counter.
 //!
-//! Threads (all named, all joined on shutdown or drop):
+//! Threads (all named, all joined on shutdown or drop), all started in
+//! [`Worker::spawn`]:
 //! - `oneblock-worker`: the dispatcher. It reads commands, moves each lane's
 //!   generation on (which cancels the running job within one slip cycle)
 //!   and hands jobs to the lanes. It never simulates, so it always answers.
-//! - `oneblock-orbit`: the orbit lane, one trajectory or map-iterate job at
-//!   a time.
-//! - `oneblock-sweep`: the sweep lane's coordinator, running each sweep on
-//!   `sweep_threads` scoped threads `oneblock-sweep-<i>`.
-//! - `oneblock-numerics`: the numerics lane, one work-precision job at a
-//!   time (its own lane so that measuring never pauses a view's job).
-//! - `oneblock-phase`: the phase lane's coordinator, running each phase
-//!   diagram on `sweep_threads` scoped threads `oneblock-phase-<i>`.
-//! - `oneblock-continuation`: the continuation lane, one `FindBifurcations`
-//!   job at a time; `oneblock-curves`: the curves lane, one `Boundaries`
-//!   job at a time (a curve's two directions on two threads).
+//! - `oneblock-<lane>`, one per [`Lane`]: runs its lane's newest job to its
+//!   end, one at a time; a parallel job (a sweep, a phase grid) runs on
+//!   `sweep_threads` scoped threads `oneblock-<lane>-<i>`. Which job goes on
+//!   which lane, and what new parameters do to it, is the job's own
+//!   definition ([`Spec::lane`], [`Spec::on_params`]): the worker has no
+//!   code for any lane in particular.
 //!
 //! Ordering (module `gate`): every update of a lane is sent under that lane's
 //! lock after re-checking its generation, and the generation only changes
 //! under the same lock, so after a `Cancelled` (or a job's
 //! `Finished{Cancelled}`) nothing of the older generation follows.
 
-mod continuation;
+mod command;
 mod gate;
-mod numerics;
-mod orbit;
-mod phase;
-mod plan;
 pub mod priority;
-mod protocol;
-mod schedule;
-mod sweep;
 
+use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
@@ -42,18 +33,16 @@ use std::time::Duration;
 
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
-pub use numerics::TIMING_REPEATS;
-pub use phase::{COARSE_STRIDE, Seed, run_cell};
-pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
-pub use protocol::{
-    Axis, BoundarySpec, Command, ContinuationSpec, Generation, GridCell, IterateSpec, Lane,
-    MAX_GRAPH_POWER, Outcome, PhaseSpec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
+pub use crate::jobs::{
+    Axis, BoundarySpec, COARSE_STRIDE, ContinuationSpec, Generation, GridCell, IterateSpec, Lane,
+    MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, Seed, SweepSpec,
+    TIMING_REPEATS, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, run_cell, sweep_plan,
 };
+pub use command::Command;
 
 use gate::Gate;
 
-use crate::integrate::SolverSettings;
-use crate::model::Params;
+use crate::jobs::{Job, OnParams, Shape, Sink, Spec, Stop, ending, run_threads};
 
 /// How the worker is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -64,8 +53,8 @@ pub struct WorkerConfig {
     /// Threads a sweep, or a phase diagram, runs on (default 2, the
     /// machine's two cores).
     pub sweep_threads: usize,
-    /// Columns in a sweep's first, coarse pass (default 64; a sweep with
-    /// fewer columns is all coarse).
+    /// Columns in a sweep's first, coarse pass (default 64, as
+    /// [`Shape::default`]; a sweep with fewer columns is all coarse).
     pub coarse_columns: usize,
 }
 
@@ -74,7 +63,7 @@ impl Default for WorkerConfig {
         WorkerConfig {
             update_capacity: 256,
             sweep_threads: 2,
-            coarse_columns: 64,
+            coarse_columns: Shape::default().coarse_columns,
         }
     }
 }
@@ -134,26 +123,125 @@ impl WorkerStats {
 
 /// What the dispatcher and the lanes share.
 pub(crate) struct Shared {
-    pub orbit: Gate,
-    pub sweep: Gate,
-    pub numerics: Gate,
-    pub phase: Gate,
-    pub continuation: Gate,
-    pub curves: Gate,
+    /// One gate per lane, in the order of [`Lane::ALL`].
+    gates: Vec<Gate>,
     pub stats: Arc<WorkerStats>,
     pub config: WorkerConfig,
 }
 
 impl Shared {
+    fn gate(&self, lane: Lane) -> &Gate {
+        &self.gates[lane.index()]
+    }
+
     /// Stops every job for good.
     fn stop(&self) {
-        self.orbit.stop();
-        self.sweep.stop();
-        self.numerics.stop();
-        self.phase.stop();
-        self.continuation.stop();
-        self.curves.stop();
+        for g in &self.gates {
+            g.stop();
+        }
         self.stats.mark_stopped();
+    }
+
+    /// The plan shape every progressive job of this worker has.
+    fn shape(&self) -> Shape {
+        Shape {
+            coarse_columns: self.config.coarse_columns,
+            ..Shape::default()
+        }
+    }
+}
+
+/// A job's sink in the worker: its lane's gate under its generation.
+struct GateSink<'a> {
+    gate: &'a Gate,
+    generation: Generation,
+    stats: &'a WorkerStats,
+}
+
+impl Sink for GateSink<'_> {
+    fn generation(&self) -> Generation {
+        self.generation
+    }
+
+    fn send(&self, update: Update) -> Result<(), Stop> {
+        self.gate.send(self.generation, update)
+    }
+
+    fn stale(&self) -> bool {
+        self.gate.is_stale(self.generation)
+    }
+
+    fn cycle(&self) -> bool {
+        self.stats.poll(self.gate, self.generation)
+    }
+}
+
+/// A job queued for a lane.
+type Queued = (Generation, Spec);
+
+/// One lane as the dispatcher holds it: where its jobs go, its thread, why
+/// that thread could not start (if it could not), and its latest job (for
+/// new parameters to run again).
+struct LaneRunner {
+    lane: Lane,
+    jobs: Option<Sender<Queued>>,
+    thread: Option<JoinHandle<()>>,
+    broken: Option<String>,
+    last: Option<Spec>,
+}
+
+impl LaneRunner {
+    /// Starts the lane's thread.
+    fn spawn(shared: &Arc<Shared>, lane: Lane) -> LaneRunner {
+        let (tx, rx) = crossbeam_channel::unbounded::<Queued>();
+        let sh = shared.clone();
+        let started = std::thread::Builder::new()
+            .name(format!("oneblock-{}", lane.name()))
+            .spawn(move || {
+                priority::lower_current_thread();
+                lane_loop(&sh, lane, rx)
+            });
+        let (thread, broken) = match started {
+            Ok(t) => (Some(t), None),
+            Err(e) => (
+                None,
+                Some(format!(
+                    "the {} lane's thread could not start: {e}",
+                    lane.name()
+                )),
+            ),
+        };
+        LaneRunner {
+            lane,
+            jobs: thread.is_some().then_some(tx),
+            thread,
+            broken,
+            last: None,
+        }
+    }
+
+    /// Starts `spec` under `generation` (superseding the lane's job), unless
+    /// `generation` is stale; a lane whose thread is gone fails the job at
+    /// once, saying why.
+    fn start(&mut self, shared: &Shared, generation: Generation, spec: Spec) {
+        let gate = shared.gate(self.lane);
+        if !gate.start(generation) {
+            return;
+        }
+        if spec.remembered() {
+            self.last = Some(spec.clone());
+        }
+        let sent = self
+            .jobs
+            .as_ref()
+            .is_some_and(|tx| tx.send((generation, spec)).is_ok());
+        if !sent {
+            let why = self
+                .broken
+                .clone()
+                .unwrap_or_else(|| format!("the {} lane has stopped", self.lane.name()));
+            gate.finish(generation, Some((why.clone(), None)), Outcome::Failed(why));
+        }
     }
 }
 
@@ -166,11 +254,13 @@ pub struct Worker {
 }
 
 impl Worker {
-    /// Starts the worker's threads. `wake` is called after updates are sent
-    /// (the GUI passes `ctx.request_repaint`).
+    /// Starts the worker's threads: the dispatcher and one per lane. `wake`
+    /// is called after updates are sent (the GUI passes
+    /// `ctx.request_repaint`). A lane whose thread cannot start fails each
+    /// job sent to it with an `Error` saying so.
     ///
     /// # Panics
-    /// If the operating system refuses to start a thread.
+    /// If the operating system refuses to start the dispatcher's thread.
     pub fn spawn(config: WorkerConfig, wake: Arc<dyn Fn() + Send + Sync>) -> Worker {
         let config = WorkerConfig {
             update_capacity: config.update_capacity.max(1),
@@ -180,19 +270,22 @@ impl Worker {
         let (cmd_tx, cmd_rx) = crossbeam_channel::bounded(COMMAND_CAPACITY);
         let (up_tx, up_rx) = crossbeam_channel::bounded(config.update_capacity);
         let shared = Arc::new(Shared {
-            orbit: Gate::new(Lane::Orbit, up_tx.clone(), wake.clone()),
-            sweep: Gate::new(Lane::Sweep, up_tx.clone(), wake.clone()),
-            numerics: Gate::new(Lane::Numerics, up_tx.clone(), wake.clone()),
-            phase: Gate::new(Lane::Phase, up_tx.clone(), wake.clone()),
-            continuation: Gate::new(Lane::Continuation, up_tx.clone(), wake.clone()),
-            curves: Gate::new(Lane::Curves, up_tx, wake),
+            gates: Lane::ALL
+                .iter()
+                .map(|&lane| Gate::new(lane, up_tx.clone(), wake.clone()))
+                .collect(),
             stats: Arc::new(WorkerStats::default()),
             config,
         });
+        drop(up_tx);
+        let lanes: Vec<LaneRunner> = Lane::ALL
+            .iter()
+            .map(|&lane| LaneRunner::spawn(&shared, lane))
+            .collect();
         let sh = shared.clone();
         let dispatcher = std::thread::Builder::new()
             .name("oneblock-worker".into())
-            .spawn(move || dispatch(sh, cmd_rx))
+            .spawn(move || dispatch(sh, cmd_rx, lanes))
             .expect("cannot start the worker thread");
         Worker {
             commands: Some(cmd_tx),
@@ -260,63 +353,9 @@ impl Drop for Worker {
     }
 }
 
-/// The dispatcher loop: runs until `Shutdown` or until the handle is gone.
-fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
-    let (orbit_tx, orbit_rx) = crossbeam_channel::unbounded::<Command>();
-    let (sweep_tx, sweep_rx) = crossbeam_channel::unbounded::<Command>();
-    let sh = shared.clone();
-    let orbit_thread = std::thread::Builder::new()
-        .name("oneblock-orbit".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(orbit_rx, |job| orbit::run(&sh, job))
-        });
-    let sh = shared.clone();
-    let sweep_thread = std::thread::Builder::new()
-        .name("oneblock-sweep".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(sweep_rx, |job| sweep::run(&sh, job))
-        });
-    let (numerics_tx, numerics_rx) = crossbeam_channel::unbounded::<Command>();
-    let sh = shared.clone();
-    let numerics_thread = std::thread::Builder::new()
-        .name("oneblock-numerics".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(numerics_rx, |job| numerics::run(&sh, job))
-        });
-    let (phase_tx, phase_rx) = crossbeam_channel::unbounded::<Command>();
-    let sh = shared.clone();
-    let phase_thread = std::thread::Builder::new()
-        .name("oneblock-phase".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(phase_rx, |job| phase::run(&sh, job))
-        });
-    let (continuation_tx, continuation_rx) = crossbeam_channel::unbounded::<Command>();
-    let sh = shared.clone();
-    let continuation_thread = std::thread::Builder::new()
-        .name("oneblock-continuation".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(continuation_rx, |job| continuation::run(&sh, job))
-        });
-    let (curves_tx, curves_rx) = crossbeam_channel::unbounded::<Command>();
-    let sh = shared.clone();
-    let curves_thread = std::thread::Builder::new()
-        .name("oneblock-curves".into())
-        .spawn(move || {
-            priority::lower_current_thread();
-            lane_loop(curves_rx, |job| continuation::run(&sh, job))
-        });
-
-    // Each lane's latest job, for SetParams to run again (a continuation
-    // or curves job is not: it is asked for, and a change cancels it).
-    let mut last_orbit: Option<Command> = None;
-    let mut last_sweep: Option<Command> = None;
-    // Cleared by a cancellation: a grid the user stopped is not restarted.
-    let mut last_phase: Option<Command> = None;
+/// The dispatcher loop: runs until `Shutdown` or until the handle is gone,
+/// then ends the lanes and joins their threads.
+fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>, mut lanes: Vec<LaneRunner>) {
     while let Ok(cmd) = commands.recv() {
         match cmd {
             Command::Shutdown => break,
@@ -325,223 +364,81 @@ fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
                 params,
                 settings,
             } => {
-                if let Some(job) = last_orbit
-                    .as_ref()
-                    .and_then(|c| with_params(c, generation, params, settings))
-                    && shared.orbit.start(generation)
-                {
-                    last_orbit = Some(job.clone());
-                    orbit_tx.send(job).ok();
-                }
-                if let Some(job) = last_sweep
-                    .as_ref()
-                    .and_then(|c| with_params(c, generation, params, settings))
-                    && shared.sweep.start(generation)
-                {
-                    last_sweep = Some(job.clone());
-                    sweep_tx.send(job).ok();
-                }
-                // A branch or curve of the old parameters is stale: stop it
-                // (it is not run again: it was asked for).
-                for g in [&shared.continuation, &shared.curves] {
-                    if g.is_running() {
-                        gate::cancel(&[g], generation, Some(g.lane));
+                for lane in &mut lanes {
+                    let Some(last) = &lane.last else { continue };
+                    match last.on_params(params, settings) {
+                        OnParams::Rerun(spec) => lane.start(&shared, generation, spec),
+                        OnParams::Cancel => {
+                            let g = shared.gate(lane.lane);
+                            if g.is_running() {
+                                gate::cancel(&[g], generation, Some(lane.lane));
+                            }
+                        }
+                        OnParams::Keep => {}
                     }
-                }
-                // The grid's axes are κ and θν: only γ, ν, Ω or the solver
-                // change it.
-                if let Some(job) = last_phase
-                    .as_ref()
-                    .filter(|c| phase_depends_on_changed(c, params, settings))
-                    .and_then(|c| with_params(c, generation, params, settings))
-                    && shared.phase.start(generation)
-                {
-                    last_phase = Some(job.clone());
-                    phase_tx.send(job).ok();
                 }
             }
             Command::Cancel { generation, lane } => {
-                let gates: Vec<&Gate> = match lane {
-                    Some(Lane::Orbit) => vec![&shared.orbit],
-                    Some(Lane::Sweep) => vec![&shared.sweep],
-                    Some(Lane::Numerics) => vec![&shared.numerics],
-                    Some(Lane::Continuation) => vec![&shared.continuation],
-                    Some(Lane::Curves) => vec![&shared.curves],
-                    None => vec![
-                        &shared.orbit,
-                        &shared.sweep,
-                        &shared.numerics,
-                        &shared.phase,
-                        &shared.continuation,
-                        &shared.curves,
-                    ],
-                    Some(Lane::Phase) => vec![&shared.phase],
-                };
-                if lane.is_none_or(|l| l == Lane::Phase) {
-                    last_phase = None;
-                }
+                let gates: Vec<&Gate> = lanes
+                    .iter_mut()
+                    .filter(|r| lane.is_none_or(|l| l == r.lane))
+                    .map(|r| {
+                        if r.last.as_ref().is_some_and(Spec::forgotten_when_cancelled) {
+                            r.last = None;
+                        }
+                        shared.gate(r.lane)
+                    })
+                    .collect();
                 gate::cancel(&gates, generation, lane);
             }
-            Command::Sweep { generation, .. } => {
-                if shared.sweep.start(generation) {
-                    last_sweep = Some(cmd.clone());
-                    sweep_tx.send(cmd).ok();
-                }
-            }
-            Command::WorkPrecision { generation, .. } => {
-                if shared.numerics.start(generation) {
-                    numerics_tx.send(cmd).ok();
-                }
-            }
-            Command::FindBifurcations { generation, .. } => {
-                if shared.continuation.start(generation) {
-                    continuation_tx.send(cmd).ok();
-                }
-            }
-            Command::Boundaries { generation, .. } => {
-                if shared.curves.start(generation) {
-                    curves_tx.send(cmd).ok();
-                }
-            }
-            Command::Phase { generation, .. } => {
-                if shared.phase.start(generation) {
-                    last_phase = Some(cmd.clone());
-                    phase_tx.send(cmd).ok();
-                }
-            }
-            Command::Trajectory { generation, .. }
-            | Command::Iterate { generation, .. }
-            | Command::InjectPanic { generation, .. } => {
-                if shared.orbit.start(generation) {
-                    if !matches!(cmd, Command::InjectPanic { .. }) {
-                        last_orbit = Some(cmd.clone());
-                    }
-                    orbit_tx.send(cmd).ok();
+            job => {
+                if let Some((generation, spec)) = job.into_job() {
+                    let lane = spec.lane();
+                    lanes[lane.index()].start(&shared, generation, spec);
                 }
             }
         }
     }
     shared.stop();
-    drop(orbit_tx);
-    drop(sweep_tx);
-    drop(numerics_tx);
-    drop(phase_tx);
-    drop(continuation_tx);
-    drop(curves_tx);
-    for t in [
-        orbit_thread,
-        sweep_thread,
-        numerics_thread,
-        phase_thread,
-        continuation_thread,
-        curves_thread,
-    ]
-    .into_iter()
-    .flatten()
-    {
-        t.join().ok();
+    for lane in &mut lanes {
+        drop(lane.jobs.take());
     }
-}
-
-/// `job` again under `generation` with new parameters, and new solver
-/// settings if given (None for commands that are not jobs).
-fn with_params(
-    job: &Command,
-    generation: Generation,
-    params: Params,
-    settings: Option<SolverSettings>,
-) -> Option<Command> {
-    let mut job = job.clone();
-    let (g, p, s) = match &mut job {
-        Command::Trajectory { generation, spec } => {
-            (generation, &mut spec.params, &mut spec.settings)
+    for lane in lanes {
+        if let Some(t) = lane.thread {
+            t.join().ok();
         }
-        Command::Iterate { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
-        Command::Sweep { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
-        Command::Phase { generation, spec } => (generation, &mut spec.params, &mut spec.settings),
-        _ => return None,
-    };
-    (*g, *p) = (generation, params);
-    if let Some(settings) = settings {
-        *s = settings;
-    }
-    Some(job)
-}
-
-/// Whether a phase job would compute something else with `params` and
-/// `settings`: its κ and θν are the grid's axes, so only γ, ν, Ω and the
-/// solver count (`settings: None` keeps the job's own solver).
-fn phase_depends_on_changed(
-    job: &Command,
-    params: Params,
-    settings: Option<SolverSettings>,
-) -> bool {
-    match job {
-        Command::Phase { spec, .. } => {
-            let p = &spec.params;
-            (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
-                || settings.is_some_and(|n| n != spec.settings)
-        }
-        _ => false,
     }
 }
 
 /// A lane thread: runs the newest queued job, skipping any a newer one has
 /// already superseded (the dispatcher finished those as cancelled).
-fn lane_loop(jobs: Receiver<Command>, mut run: impl FnMut(Command)) {
+fn lane_loop(shared: &Shared, lane: Lane, jobs: Receiver<Queued>) {
     while let Ok(mut job) = jobs.recv() {
         while let Ok(newer) = jobs.try_recv() {
             job = newer;
         }
-        run(job);
+        run_job(shared, lane, job);
     }
 }
 
-/// Runs `worker` on `threads` scoped threads named `{name}-{i}` and joins
-/// them all: the sweep and phase lanes' pools. A thread that cannot start
-/// is an error; the first error of any thread is returned (a panic inside
-/// `worker` itself is resumed: the jobs catch their own per item).
-pub(crate) fn run_scoped<F>(name: &str, threads: usize, worker: &F) -> Result<(), orbit::JobError>
-where
-    F: Fn() -> Result<(), orbit::JobError> + Sync,
-{
-    let results: Vec<Result<(), orbit::JobError>> = std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..threads.max(1))
-            .map(|i| {
-                std::thread::Builder::new()
-                    .name(format!("{name}-{i}"))
-                    .spawn_scoped(scope, || {
-                        priority::lower_current_thread();
-                        worker()
-                    })
-            })
-            .collect();
-        handles
-            .into_iter()
-            .map(|h| match h {
-                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
-                Err(e) => Err(orbit::JobError::Failed(format!(
-                    "cannot start a {name} thread: {e}"
-                ))),
-            })
-            .collect()
-    });
-    results.into_iter().collect()
-}
-
-/// A mutex's guard even if a panicking holder poisoned it: the pools'
-/// shared state stays consistent (each item is caught and reported).
-pub(crate) fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
-    m.lock().unwrap_or_else(|e| e.into_inner())
-}
-
-/// The text of a caught panic's payload.
-pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = p.downcast_ref::<&str>() {
-        (*s).to_string()
-    } else if let Some(s) = p.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "unknown panic payload".to_string()
+/// Runs one job to its end on its lane, and sends how it ended.
+fn run_job(shared: &Shared, lane: Lane, (generation, spec): Queued) {
+    let gate = shared.gate(lane);
+    if gate.is_stale(generation) {
+        return;
+    }
+    let sink = GateSink {
+        gate,
+        generation,
+        stats: &shared.stats,
+    };
+    let name = format!("oneblock-{}", lane.name());
+    let threads = shared.config.sweep_threads;
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        let job: Box<dyn Job> = spec.start(shared.shape())?;
+        run_threads(job.as_ref(), threads, &name, &sink)
+    }));
+    if let Some((error, outcome)) = ending(result) {
+        gate.finish(generation, error, outcome);
     }
 }

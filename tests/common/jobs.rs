@@ -7,6 +7,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use super::fixture::preset;
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
+use oneblock::sim::MapChoice;
 use oneblock::sim::default_settings;
 use oneblock::worker::{
     Axis, Command, Generation, IterateSpec, Lane, Outcome, SweepSpec, TrajectorySpec, Update,
@@ -77,6 +78,8 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
             theta_nu: Axis::new(0.05, 1.5, columns),
             transient,
             keep,
+            map: MapChoice::Auto,
+            theta0: None,
         },
     }
 }

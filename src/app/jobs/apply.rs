@@ -10,47 +10,11 @@ use crate::worker::{Generation, Outcome, Update};
 const MAX_UPDATES_PER_FRAME: usize = 20_000;
 
 impl Jobs {
-    fn state_mut(&mut self, kind: JobKind) -> &mut JobState {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.state,
-            JobKind::Iterate => &mut self.iterate.state,
-            JobKind::Sweep => &mut self.sweep.state,
-            JobKind::Phase => &mut self.phase.state,
-            JobKind::Numerics => &mut self.numerics.state,
-            JobKind::Branches => &mut self.branches.state,
-            JobKind::Curves => &mut self.curves.state,
-        }
-    }
-
-    fn progress_mut(&mut self, kind: JobKind) -> &mut LaneProgress {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.progress,
-            JobKind::Iterate => &mut self.iterate.progress,
-            JobKind::Sweep => &mut self.sweep.progress,
-            JobKind::Phase => &mut self.phase.progress,
-            JobKind::Numerics => &mut self.numerics.progress,
-            JobKind::Branches => &mut self.branches.progress,
-            JobKind::Curves => &mut self.curves.progress,
-        }
-    }
-
-    fn generation_of(&self, kind: JobKind) -> Generation {
-        match kind {
-            JobKind::Trajectory => self.trajectory.generation,
-            JobKind::Iterate => self.iterate.generation,
-            JobKind::Sweep => self.sweep.generation,
-            JobKind::Phase => self.phase.generation,
-            JobKind::Numerics => self.numerics.generation,
-            JobKind::Branches => self.branches.generation,
-            JobKind::Curves => self.curves.generation,
-        }
-    }
-
     /// Which current job `generation` belongs to, if any.
     fn job_of(&self, generation: Generation) -> Option<JobKind> {
         JobKind::ALL
             .into_iter()
-            .find(|&k| generation != NO_GENERATION && self.generation_of(k) == generation)
+            .find(|&k| generation != NO_GENERATION && self.slot(k).generation == generation)
     }
 
     /// Takes what the worker sent (at most a frame's worth) and chains the
@@ -76,6 +40,18 @@ impl Jobs {
             self.stale_dropped += 1;
             return false;
         };
+        match u {
+            Update::Progress { .. }
+            | Update::Error { .. }
+            | Update::Finished { .. }
+            | Update::Cancelled { .. } => self.apply_status(job, u),
+            data => self.apply_data(job, data),
+        }
+        true
+    }
+
+    /// A partial result of job `job` into its data.
+    fn apply_data(&mut self, job: JobKind, u: Update) {
         match u {
             Update::TrajectoryChunk { samples, .. } if job == JobKind::Trajectory => {
                 self.trajectory.data.push_samples(samples);
@@ -160,12 +136,20 @@ impl Jobs {
             } if job == JobKind::Numerics => {
                 self.numerics.data.skip(total, subject, &reason);
             }
+            // An update of the right generation but the wrong kind.
+            _ => {}
+        }
+    }
+
+    /// How job `job` stands: its progress, an error, its end.
+    fn apply_status(&mut self, job: JobKind, u: Update) {
+        match u {
             Update::Progress {
                 fraction,
                 iterates_per_second,
                 ..
             } => {
-                *self.progress_mut(job) = LaneProgress {
+                self.slot_mut(job).progress = LaneProgress {
                     fraction,
                     iterates_per_second,
                 };
@@ -191,7 +175,7 @@ impl Jobs {
                     }
                     _ => {
                         self.last_error = Some(named);
-                        *self.state_mut(job) = JobState::Failed(message);
+                        self.slot_mut(job).state = JobState::Failed(message);
                     }
                 }
             }
@@ -206,7 +190,7 @@ impl Jobs {
                         JobState::Failed(m)
                     }
                 };
-                *self.state_mut(job) = state;
+                self.slot_mut(job).state = state;
                 match job {
                     JobKind::Sweep => self.sweep.data.revision += 1,
                     JobKind::Phase => self.phase.data.revision += 1,
@@ -218,11 +202,9 @@ impl Jobs {
             {
                 self.numerics.state = JobState::Cancelled;
             }
-            // An acknowledgement, or an update of the right generation but
-            // the wrong kind: nothing to do.
+            // An acknowledgement: nothing to do.
             _ => {}
         }
-        true
     }
 }
 

@@ -7,42 +7,14 @@
 
 use crate::integrate::SolverSettings;
 use crate::numerics::{Accuracy, budget_for};
-use crate::worker::Lane;
 
 use super::super::settings::{AccuracyMode, Settings};
 
-/// One kind of job, by what its results are shown in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum JobKind {
-    /// The trajectory: the plane, the block and the event catalogue.
-    Trajectory,
-    /// The bifurcation sweep.
-    Sweep,
-    /// Map iterates: the return map, the period and the Lyapunov exponent.
-    Iterate,
-    /// The phase diagram's cells.
-    Phase,
-    /// The Numerics view's work-precision measurement (it runs every
-    /// method, so it has no solver setting of its own).
-    Numerics,
-    /// "Find bifurcations": branches over the diagram's θν range.
-    Branches,
-    /// "Boundaries": doubling curves over the phase diagram.
-    Curves,
-}
+/// The kinds of job, from the job model: here, what the window shows of
+/// each and the accuracy it runs with.
+pub use crate::jobs::Kind as JobKind;
 
 impl JobKind {
-    /// Every kind of job.
-    pub const ALL: [JobKind; 7] = [
-        JobKind::Trajectory,
-        JobKind::Sweep,
-        JobKind::Iterate,
-        JobKind::Phase,
-        JobKind::Numerics,
-        JobKind::Branches,
-        JobKind::Curves,
-    ];
-
     /// The jobs that integrate with one solver setting (the side panel's
     /// accuracy table), in its order.
     pub const SOLVED: [JobKind; 4] = [
@@ -51,18 +23,6 @@ impl JobKind {
         JobKind::Iterate,
         JobKind::Phase,
     ];
-
-    /// The worker lane it runs on.
-    pub fn lane(self) -> Lane {
-        match self {
-            JobKind::Trajectory | JobKind::Iterate => Lane::Orbit,
-            JobKind::Sweep => Lane::Sweep,
-            JobKind::Phase => Lane::Phase,
-            JobKind::Numerics => Lane::Numerics,
-            JobKind::Branches => Lane::Continuation,
-            JobKind::Curves => Lane::Curves,
-        }
-    }
 
     /// The accuracy its view can show: a pixel of the (x, y) view; 1e-3 of
     /// the diagram's θ range per pixel; 1e-10 for the map; 1e-8 for the

@@ -26,9 +26,10 @@ use crate::model::Params;
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
+use crate::sim::MapChoice;
 use crate::worker::{
-    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, SweepSpec, TrajectorySpec,
-    WorkPrecisionSpec,
+    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, PhaseTuning, SweepSpec,
+    TrajectorySpec, WorkPrecisionSpec,
 };
 use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 
@@ -59,33 +60,54 @@ pub struct LaneProgress {
     pub iterates_per_second: f64,
 }
 
-/// One job: the generation it runs under, where it stands, and what it
-/// has sent.
-#[derive(Clone, Debug)]
-pub struct Slot<T> {
+/// What every job has, whatever its data: the generation it runs under,
+/// where it stands, and its progress.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SlotHead {
     pub generation: Generation,
     pub state: JobState,
     pub progress: LaneProgress,
-    pub data: T,
 }
 
-impl<T: Default> Default for Slot<T> {
+impl Default for SlotHead {
     fn default() -> Self {
-        Slot {
+        SlotHead {
             generation: NO_GENERATION,
             state: JobState::Idle,
             progress: LaneProgress::default(),
-            data: T::default(),
         }
+    }
+}
+
+/// One job: its [`SlotHead`] (reached through the slot, as `slot.state`)
+/// and what it has sent.
+#[derive(Clone, Debug, Default)]
+pub struct Slot<T> {
+    pub head: SlotHead,
+    pub data: T,
+}
+
+impl<T> std::ops::Deref for Slot<T> {
+    type Target = SlotHead;
+    fn deref(&self) -> &SlotHead {
+        &self.head
+    }
+}
+
+impl<T> std::ops::DerefMut for Slot<T> {
+    fn deref_mut(&mut self) -> &mut SlotHead {
+        &mut self.head
     }
 }
 
 impl<T> Slot<T> {
     /// A new job under `generation`, starting from `data`.
     fn start(&mut self, generation: Generation, data: T) {
-        self.generation = generation;
-        self.state = JobState::Running;
-        self.progress = LaneProgress::default();
+        self.head = SlotHead {
+            generation,
+            state: JobState::Running,
+            progress: LaneProgress::default(),
+        };
         self.data = data;
     }
 
@@ -219,14 +241,31 @@ impl Jobs {
 
     /// The state of the job of `kind`.
     pub fn state(&self, kind: JobKind) -> &JobState {
+        &self.slot(kind).state
+    }
+
+    /// The bookkeeping of the job of `kind`, whatever its data.
+    fn slot(&self, kind: JobKind) -> &SlotHead {
         match kind {
-            JobKind::Trajectory => &self.trajectory.state,
-            JobKind::Iterate => &self.iterate.state,
-            JobKind::Sweep => &self.sweep.state,
-            JobKind::Phase => &self.phase.state,
-            JobKind::Numerics => &self.numerics.state,
-            JobKind::Branches => &self.branches.state,
-            JobKind::Curves => &self.curves.state,
+            JobKind::Trajectory => &self.trajectory.head,
+            JobKind::Iterate => &self.iterate.head,
+            JobKind::Sweep => &self.sweep.head,
+            JobKind::Phase => &self.phase.head,
+            JobKind::Numerics => &self.numerics.head,
+            JobKind::Branches => &self.branches.head,
+            JobKind::Curves => &self.curves.head,
+        }
+    }
+
+    fn slot_mut(&mut self, kind: JobKind) -> &mut SlotHead {
+        match kind {
+            JobKind::Trajectory => &mut self.trajectory.head,
+            JobKind::Iterate => &mut self.iterate.head,
+            JobKind::Sweep => &mut self.sweep.head,
+            JobKind::Phase => &mut self.phase.head,
+            JobKind::Numerics => &mut self.numerics.head,
+            JobKind::Branches => &mut self.branches.head,
+            JobKind::Curves => &mut self.curves.head,
         }
     }
 
@@ -354,6 +393,8 @@ impl Jobs {
                 theta_nu: Axis::new(from, to, s.columns),
                 transient: s.sweep_transient,
                 keep: s.sweep_keep,
+                map: MapChoice::Auto,
+                theta0: None,
             },
         });
         self.sent_sweep = Some((key, zoom));
@@ -427,6 +468,7 @@ impl Jobs {
                 kappa: Axis::new(kappa.0, kappa.1, rows),
                 transient: key.transient,
                 keep: key.keep,
+                tuning: PhaseTuning::default(),
             },
         });
         self.phase_policy.started(key);

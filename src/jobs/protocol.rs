@@ -19,8 +19,9 @@ use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
 use crate::sim::continuation::{Branch, ContParam, Curve};
+use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions};
-use crate::sim::{Period, Sample, SlipEvent};
+use crate::sim::{MapChoice, Period, Sample, SlipEvent};
 
 /// A monotonically increasing job stamp. The front end issues them (one per
 /// command that starts or cancels work), so it knows which updates are stale
@@ -42,6 +43,35 @@ pub enum Lane {
     Continuation,
     /// Bifurcation curves in (θν, κ) (`Boundaries`).
     Curves,
+}
+
+impl Lane {
+    /// Every lane, in the order of [`Lane::index`].
+    pub const ALL: [Lane; 6] = [
+        Lane::Orbit,
+        Lane::Sweep,
+        Lane::Numerics,
+        Lane::Phase,
+        Lane::Continuation,
+        Lane::Curves,
+    ];
+
+    /// Its position in [`Lane::ALL`] (a lane table's index).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// Its name in thread names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Lane::Orbit => "orbit",
+            Lane::Sweep => "sweep",
+            Lane::Numerics => "numerics",
+            Lane::Phase => "phase",
+            Lane::Continuation => "continuation",
+            Lane::Curves => "curves",
+        }
+    }
 }
 
 /// One axis of a job's grid: `steps` values from `from` to `to`, both ends
@@ -119,6 +149,11 @@ pub struct SweepSpec {
     pub transient: usize,
     /// Iterates each column keeps.
     pub keep: usize,
+    /// How an unsettled column evaluates the map after its transient
+    /// ([`crate::sim::SweepOptions::map`]; the window's is `Auto`).
+    pub map: MapChoice,
+    /// Where each chain's first column starts (`None`: at its own θν).
+    pub theta0: Option<f64>,
 }
 
 /// A phase diagram (the paper's Fig. 4) over θν (columns) and κ (rows) at
@@ -139,16 +174,44 @@ pub struct PhaseSpec {
     pub transient: usize,
     /// Each cell's kept iterates (`PhaseOptions::keep`).
     pub keep: usize,
+    /// What the command line may set beyond the budget.
+    pub tuning: PhaseTuning,
+}
+
+/// The phase options the command line exposes beyond the budget (the
+/// window keeps the defaults).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PhaseTuning {
+    /// [`PhaseOptions::early_exit`] (`false`: brute force).
+    pub early_exit: bool,
+    /// [`PhaseOptions::map`].
+    pub map: MapChoice,
+    /// [`PhaseOptions::period_tol`], if not the solver's own.
+    pub period_tol: Option<f64>,
+}
+
+impl Default for PhaseTuning {
+    fn default() -> Self {
+        PhaseTuning {
+            early_exit: true,
+            map: MapChoice::Auto,
+            period_tol: None,
+        }
+    }
 }
 
 impl PhaseSpec {
-    /// A cell's budget: this spec's transient and keep, the rest as the
-    /// core chooses for its solver settings.
+    /// A cell's budget: this spec's transient, keep and tuning, the rest as
+    /// the core chooses for its solver settings.
     pub fn options(&self) -> PhaseOptions {
+        let base = PhaseOptions::for_settings(&self.settings);
         PhaseOptions {
             transient: self.transient,
             keep: self.keep,
-            ..PhaseOptions::for_settings(&self.settings)
+            early_exit: self.tuning.early_exit,
+            map: self.tuning.map,
+            period_tol: self.tuning.period_tol.unwrap_or(base.period_tol),
+            ..base
         }
     }
 }
@@ -212,99 +275,6 @@ pub struct WorkPrecisionSpec {
     pub subjects: Vec<Subject>,
 }
 
-/// What the front end asks of the worker. A job command carries the
-/// generation it starts under and its typed spec.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Command {
-    /// Run a trajectory (`TrajectorySpec`) on the orbit lane: `TrajectoryChunk`s
-    /// and `Slip`s.
-    Trajectory {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to run.
-        spec: TrajectorySpec,
-    },
-    /// Iterate the map (`IterateSpec`) on the orbit lane: `MapIterates`,
-    /// then one `MapGraph`.
-    Iterate {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to run.
-        spec: IterateSpec,
-    },
-    /// A bifurcation diagram (`SweepSpec`) on the sweep lane: one `Column`
-    /// per θν, coarse pass first.
-    Sweep {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to run.
-        spec: SweepSpec,
-    },
-    /// A phase diagram (`PhaseSpec`) on the phase lane: `PhaseCells`,
-    /// coarse lattice first.
-    Phase {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to run.
-        spec: PhaseSpec,
-    },
-    /// A new parameter set (κ, γ, ν, θν, Ω, and optionally the solver):
-    /// each lane's latest trajectory/iterate, sweep or phase job runs again
-    /// with it under `generation`, superseding whatever runs (a sweep keeps
-    /// its θν range; a phase grid keeps both ranges and runs again only if
-    /// γ, ν, Ω or the solver changed, and not after its lane was cancelled).
-    /// `settings: None` keeps each job's own solver settings, which is what a
-    /// front end that gives each kind of job its own accuracy wants; `Some`
-    /// sets them all. A lane that has had no job stays idle; invalid values
-    /// are reported by the re-run job, naming them. The numerics lane is not
-    /// re-run; a running continuation or curves job is cancelled (answered
-    /// by `Cancelled` for its lane), not re-run.
-    SetParams {
-        generation: Generation,
-        params: Params,
-        settings: Option<SolverSettings>,
-    },
-    /// Measure work against precision (`WorkPrecisionSpec`) on the
-    /// numerics lane: `WorkPrecisionSample` once the sample is built, then
-    /// one `WorkPrecisionRow` (or `WorkPrecisionSkipped`) per subject in
-    /// order.
-    WorkPrecision {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to measure.
-        spec: WorkPrecisionSpec,
-    },
-    /// Find bifurcations (`ContinuationSpec`) on the continuation lane: one
-    /// `Branch` per followed branch, `Progress` and `Summary` as they come.
-    FindBifurcations {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to follow.
-        spec: ContinuationSpec,
-    },
-    /// Bifurcation curves in (θν, κ) (`BoundarySpec`) on the curves lane:
-    /// one `Curve` per followed curve, `Progress` and `Summary`.
-    Boundaries {
-        /// The job's stamp.
-        generation: Generation,
-        /// What to follow.
-        spec: BoundarySpec,
-    },
-    /// Stop the lane's job (every lane if `None`); answered by `Cancelled`.
-    Cancel {
-        generation: Generation,
-        lane: Option<Lane>,
-    },
-    /// Stop everything and end the worker's threads.
-    Shutdown,
-    /// Test-only fault injection: the job panics after `after_cycles` cycles.
-    #[doc(hidden)]
-    InjectPanic {
-        generation: Generation,
-        after_cycles: usize,
-    },
-}
-
 /// How a job ended.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Outcome {
@@ -361,6 +331,10 @@ pub enum Update {
         thetas: Vec<f64>,
         /// Whether this column belongs to the first, coarse pass.
         coarse: bool,
+        /// Right-hand-side evaluations it cost.
+        rhs_evals: u64,
+        /// How its points after the transient were computed.
+        map: MapUsed,
     },
     /// The sample of a work-precision job: how many points, and how far
     /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the

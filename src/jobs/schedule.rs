@@ -11,8 +11,8 @@
 use std::sync::{Condvar, Mutex};
 use std::time::Duration;
 
+use super::JobError;
 use super::lock;
-use super::orbit::JobError;
 
 /// An item of a plan, as the schedule needs to see it.
 pub(crate) trait PlanItem: Copy {

@@ -1,16 +1,16 @@
-//! The continuation and curves lanes: a cycle followed in one parameter
-//! with its bifurcations (`FindBifurcations`), and the doublings followed
-//! in (θν, κ) (`Boundaries`), by the library's `sim::continuation`. Each
-//! branch or curve is sent as it ends; the library polls the job's
-//! generation once per computed point, so a newer job or a cancel stops it
-//! within one point.
+//! The continuation jobs: a cycle followed in one parameter with its
+//! bifurcations (find bifurcations), and the doublings followed in
+//! (θν, κ) (boundaries), by the library's `sim::continuation`. Each branch
+//! or curve is sent as it ends; the library polls the sink once per
+//! computed point, so a newer job or a cancel stops it within one point.
+//! Each job is one unit: the library's continuation is not yet steppable
+//! point by point.
 
+use std::sync::Mutex;
 use std::time::Instant;
 
-use super::Shared;
-use super::gate::Gate;
-use super::orbit::{JobError, run_guarded};
-use super::protocol::{BoundarySpec, Command, ContinuationSpec, Generation, Update};
+use super::protocol::{BoundarySpec, ContinuationSpec, Lane, Update};
+use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{
@@ -18,32 +18,6 @@ use crate::sim::continuation::{
     SpecialPoint, attractor_cycle, cascade_from, continue_branch, continue_curves,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError};
-
-/// Runs one continuation-lane or curves-lane command.
-pub(crate) fn run(shared: &Shared, cmd: Command) {
-    match cmd {
-        Command::FindBifurcations { generation, spec } => {
-            let job = Job {
-                gate: &shared.continuation,
-                generation,
-            };
-            run_guarded(job.gate, generation, || job.find(&spec));
-        }
-        Command::Boundaries { generation, spec } => {
-            let job = Job {
-                gate: &shared.curves,
-                generation,
-            };
-            run_guarded(job.gate, generation, || job.boundaries(&spec));
-        }
-        _ => {}
-    }
-}
-
-struct Job<'a> {
-    gate: &'a Gate,
-    generation: Generation,
-}
 
 /// The attractor's cycle at `params` ([`attractor_cycle`]); `Err` says
 /// what the attractor is instead.
@@ -89,19 +63,25 @@ fn counts(branches: &[Branch]) -> String {
     )
 }
 
-impl Job<'_> {
+/// One continuation job's way to its sink.
+struct Out<'a> {
+    sink: &'a dyn Sink,
+    lane: Lane,
+}
+
+impl Out<'_> {
     fn stale(&self) -> bool {
-        self.gate.is_stale(self.generation)
+        self.sink.stale()
     }
 
     fn send(&self, u: Update) -> Result<(), JobError> {
-        Ok(self.gate.send(self.generation, u)?)
+        Ok(self.sink.send(u)?)
     }
 
     fn summary(&self, text: String) -> Result<(), JobError> {
         self.send(Update::Summary {
-            generation: self.generation,
-            lane: self.gate.lane,
+            generation: self.sink.generation(),
+            lane: self.lane,
             text,
         })
     }
@@ -109,8 +89,8 @@ impl Job<'_> {
     fn progress(&self, fraction: f64, evals: u64, since: Instant) -> Result<(), JobError> {
         let secs = since.elapsed().as_secs_f64().max(1e-9);
         self.send(Update::Progress {
-            generation: self.generation,
-            lane: self.gate.lane,
+            generation: self.sink.generation(),
+            lane: self.lane,
             fraction,
             iterates_per_second: evals as f64 / secs,
         })
@@ -157,7 +137,7 @@ impl Job<'_> {
         let first = format!("P{period} branch: it {}", branch.stop_message());
         let mut all = vec![branch.clone()];
         self.send(Update::Branch {
-            generation: self.generation,
+            generation: self.sink.generation(),
             branch,
         })?;
         if !doubles || 2 * period > max_period {
@@ -186,7 +166,7 @@ impl Job<'_> {
             all.push(b.clone());
             sent = self
                 .send(Update::Branch {
-                    generation: self.generation,
+                    generation: self.sink.generation(),
                     branch: b.clone(),
                 })
                 .and_then(|()| self.progress((done / levels).min(1.0), evals, started));
@@ -305,7 +285,7 @@ impl Job<'_> {
                 evals += curve.map_evals;
                 curves.push(curve.clone());
                 self.send(Update::Curve {
-                    generation: self.generation,
+                    generation: self.sink.generation(),
                     curve,
                 })?;
             }
@@ -327,5 +307,73 @@ impl Job<'_> {
             curves.len(),
             names.join(", ")
         ))
+    }
+}
+
+/// Find bifurcations, as a job of one unit.
+pub(crate) struct FindJob {
+    spec: ContinuationSpec,
+    done: Mutex<bool>,
+}
+
+impl FindJob {
+    pub fn new(spec: ContinuationSpec) -> Self {
+        FindJob {
+            spec,
+            done: Mutex::new(false),
+        }
+    }
+}
+
+impl Job for FindJob {
+    fn lane(&self) -> Lane {
+        Lane::Continuation
+    }
+
+    fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
+        let mut done = lock(&self.done);
+        if !*done {
+            *done = true;
+            let out = Out {
+                sink,
+                lane: Lane::Continuation,
+            };
+            out.find(&self.spec)?;
+        }
+        Ok(Status::Done)
+    }
+}
+
+/// Boundaries, as a job of one unit.
+pub(crate) struct BoundariesJob {
+    spec: BoundarySpec,
+    done: Mutex<bool>,
+}
+
+impl BoundariesJob {
+    pub fn new(spec: BoundarySpec) -> Self {
+        BoundariesJob {
+            spec,
+            done: Mutex::new(false),
+        }
+    }
+}
+
+impl Job for BoundariesJob {
+    fn lane(&self) -> Lane {
+        Lane::Curves
+    }
+
+    fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
+        let mut done = lock(&self.done);
+        if !*done {
+            *done = true;
+            let out = Out {
+                sink,
+                lane: Lane::Curves,
+            };
+            out.boundaries(&self.spec)?;
+        }
+        Ok(Status::Done)
     }
 }

@@ -1,5 +1,5 @@
-//! The phase lane: a progressive phase diagram in (θν, κ) on `sweep_threads`
-//! threads, calling the core's `phase_cell` for every cell.
+//! The phase job: a progressive phase diagram in (θν, κ), a unit a cell
+//! (the core's `phase_cell`), on as many threads as its host gives it.
 //!
 //! As for the bifurcation sweep, the order and each cell's starting neighbour
 //! are fixed in advance by [`phase_plan`], so the diagram does not depend on
@@ -20,7 +20,7 @@
 //! A cell continued from a chaotic one gets the shorter transient, as in
 //! `phase_row`; one continued from a failed one starts at θ = θν.
 //!
-//! The threads take cells from the job's [`Schedule`], which hands out a
+//! Each step takes cells from the job's [`Schedule`], which hands out a
 //! cell once its parent is done, with the parent's [`Seed`].
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
@@ -28,11 +28,11 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
 use std::time::Instant;
 
-use super::orbit::{FLUSH_INTERVAL, JobError, Pacer, run_guarded};
+use super::orbit::{FLUSH_INTERVAL, Pacer};
 use super::plan::{PlannedCell, phase_plan};
-use super::protocol::{Axis, Command, Generation, GridCell, Lane, PhaseSpec, Update};
+use super::protocol::{Axis, GridCell, Lane, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
-use super::{Shared, lock, panic_message, run_scoped};
+use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell};
@@ -125,15 +125,6 @@ struct Outbox {
     last_flush: Instant,
 }
 
-/// Runs one phase-lane command.
-pub(crate) fn run(shared: &Shared, cmd: Command) {
-    if let Command::Phase { generation, spec } = cmd {
-        run_guarded(&shared.phase, generation, || {
-            phase(shared, generation, &spec)
-        });
-    }
-}
-
 /// Checks everything before any work; the error names the field and its
 /// valid range.
 fn validate(s: &PhaseSpec) -> Result<(), SimError> {
@@ -199,172 +190,228 @@ fn validate(s: &PhaseSpec) -> Result<(), SimError> {
     Ok(())
 }
 
-fn phase(shared: &Shared, generation: Generation, s: &PhaseSpec) -> Result<(), JobError> {
-    validate(s)?;
-    let gate = &shared.phase;
-    let threads = shared.config.sweep_threads;
-    let opts = s.options();
-    let (columns, rows) = (s.theta_nu.steps, s.kappa.steps);
-    let theta_nus = theta_nu_grid(s.theta_nu.from, s.theta_nu.to, columns);
-    let kappas = theta_nu_grid(s.kappa.from, s.kappa.to, rows);
-    let total = rows * columns;
-    let plan = phase_plan(rows, columns, COARSE_STRIDE)
-        .into_iter()
-        .map(|cell| Item { cell, columns })
-        .collect();
-    let schedule: Mutex<Schedule<Item, Seed>> = Mutex::new(Schedule::new(plan, total));
-    let ready = Condvar::new();
-    let outbox = Mutex::new(Outbox {
-        coarse: Vec::new(),
-        fine: Vec::new(),
-        last_flush: Instant::now(),
-    });
-    let iterates = AtomicU64::new(0);
-    let pacer = Mutex::new(Pacer::new());
-    let failure: Mutex<Option<String>> = Mutex::new(None);
-    let first_failed_cell = Mutex::new(false);
+/// A phase diagram in progress.
+pub(crate) struct PhaseJob {
+    spec: PhaseSpec,
+    opts: PhaseOptions,
+    theta_nus: Vec<f64>,
+    kappas: Vec<f64>,
+    schedule: Mutex<Schedule<Item, Seed>>,
+    ready: Condvar,
+    outbox: Mutex<Outbox>,
+    iterates: AtomicU64,
+    pacer: Mutex<Pacer>,
+    /// The first cell that panicked (the grid goes on, and fails at its end).
+    failure: Mutex<Option<String>>,
+    /// Whether a cell has failed (only the first failure is reported: a
+    /// flood of errors would hide the picture).
+    failed_once: Mutex<bool>,
+}
 
-    // Sends what is waiting, coarse cells first, under the outbox lock so
-    // that two threads flushing cannot reorder batches.
-    let flush = || -> Result<(), JobError> {
-        let mut ob = lock(&outbox);
+impl PhaseJob {
+    pub fn new(spec: PhaseSpec) -> Result<Self, JobError> {
+        validate(&spec)?;
+        let opts = spec.options();
+        let (columns, rows) = (spec.theta_nu.steps, spec.kappa.steps);
+        let theta_nus = theta_nu_grid(spec.theta_nu.from, spec.theta_nu.to, columns);
+        let kappas = theta_nu_grid(spec.kappa.from, spec.kappa.to, rows);
+        let plan = phase_plan(rows, columns, COARSE_STRIDE)
+            .into_iter()
+            .map(|cell| Item { cell, columns })
+            .collect();
+        Ok(PhaseJob {
+            spec,
+            opts,
+            theta_nus,
+            kappas,
+            schedule: Mutex::new(Schedule::new(plan, rows * columns)),
+            ready: Condvar::new(),
+            outbox: Mutex::new(Outbox {
+                coarse: Vec::new(),
+                fine: Vec::new(),
+                last_flush: Instant::now(),
+            }),
+            iterates: AtomicU64::new(0),
+            pacer: Mutex::new(Pacer::new()),
+            failure: Mutex::new(None),
+            failed_once: Mutex::new(false),
+        })
+    }
+
+    fn total(&self) -> usize {
+        self.theta_nus.len() * self.kappas.len()
+    }
+
+    /// Sends what is waiting, coarse cells first, under the outbox lock so
+    /// that two threads flushing cannot reorder batches.
+    fn flush(&self, sink: &dyn Sink) -> Result<(), JobError> {
+        let mut ob = lock(&self.outbox);
         for (cells, coarse) in [
             (std::mem::take(&mut ob.coarse), true),
             (std::mem::take(&mut ob.fine), false),
         ] {
             if !cells.is_empty() {
-                gate.send(
-                    generation,
-                    Update::PhaseCells {
-                        generation,
-                        cells,
-                        coarse,
-                    },
-                )?;
+                sink.send(Update::PhaseCells {
+                    generation: sink.generation(),
+                    cells,
+                    coarse,
+                })?;
             }
         }
         ob.last_flush = Instant::now();
         Ok(())
-    };
+    }
 
-    let worker = || -> Result<(), JobError> {
-        loop {
-            let Some((Item { cell: p, .. }, seed)) =
-                wait_next(&schedule, &ready, || gate.is_stale(generation))?
-            else {
-                return Ok(());
-            };
-            let (kappa, tn) = (kappas[p.row], theta_nus[p.column]);
-            let cancel = || shared.stats.poll(gate, generation);
-            let cell = catch_unwind(AssertUnwindSafe(|| {
-                #[cfg(test)]
-                if p.row * columns + p.column == tests::PANIC_AT_CELL.load(Ordering::SeqCst) {
-                    panic!("injected panic in cell {}", p.row * columns + p.column);
+    /// Runs the cell of plan entry `p` from its parent's `seed`, under its
+    /// own guard: the cell, and the error to report if any.
+    fn compute(
+        &self,
+        p: PlannedCell,
+        seed: Option<Seed>,
+        sink: &dyn Sink,
+    ) -> Result<(PhaseCell, Option<Report>), JobError> {
+        let (kappa, tn) = (self.kappas[p.row], self.theta_nus[p.column]);
+        let cancel = || sink.cycle();
+        let (params, settings, opts) = (self.spec.params, self.spec.settings, &self.opts);
+        let cell = catch_unwind(AssertUnwindSafe(|| {
+            #[cfg(test)]
+            if p.row * self.theta_nus.len() + p.column
+                == tests::PANIC_AT_CELL.load(Ordering::SeqCst)
+            {
+                panic!(
+                    "injected panic in cell {}",
+                    p.row * self.theta_nus.len() + p.column
+                );
+            }
+            run_cell(params, settings, kappa, tn, seed, opts, &cancel)
+        }));
+        let where_ = format!(
+            "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",
+            p.row, p.column
+        );
+        Ok(match cell {
+            Ok(c) => match &c.error {
+                None => (c, None),
+                Some(SimError::Cancelled) => return Err(JobError::Stop),
+                Some(e) => {
+                    let first = !std::mem::replace(&mut *lock(&self.failed_once), true);
+                    let report = first.then(|| (format!("{where_}: {e}"), e.parameter()));
+                    (c, report)
                 }
-                run_cell(s.params, s.settings, kappa, tn, seed, &opts, &cancel)
-            }));
-            let where_ = format!(
-                "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",
-                p.row, p.column
-            );
-            let (cell, problem) = match cell {
-                Ok(c) => match &c.error {
-                    None => (c, None),
-                    Some(SimError::Cancelled) => return Err(JobError::Stop),
-                    Some(e) => {
-                        // The first failure is reported; the rest show as
-                        // failed cells in the grid (a flood of errors would
-                        // hide the picture).
-                        let first = !std::mem::replace(&mut *lock(&first_failed_cell), true);
-                        let report = first.then(|| (format!("{where_}: {e}"), e.parameter()));
-                        (c, report)
-                    }
-                },
-                Err(payload) => {
-                    let msg = format!("{where_} panicked: {}", panic_message(&*payload));
-                    *lock(&failure) = Some(msg.clone());
-                    let failed = PhaseCell::failed(tn, kappa, tn);
-                    (failed, Some((msg, None)))
-                }
-            };
-            let mut seed_out = Seed::of(&cell);
-            if cell.class == CellClass::Failed {
-                seed_out.theta_last = None;
+            },
+            Err(payload) => {
+                let msg = format!("{where_} panicked: {}", panic_message(&*payload));
+                *lock(&self.failure) = Some(msg.clone());
+                (PhaseCell::failed(tn, kappa, tn), Some((msg, None)))
             }
-            if let Some((message, parameter)) = problem {
-                gate.send(
-                    generation,
-                    Update::Error {
-                        generation,
-                        lane: Lane::Phase,
-                        message,
-                        parameter,
-                    },
-                )?;
-            }
-            let n = iterates.fetch_add(cell.iterates, Ordering::Relaxed) + cell.iterates;
-            // Into the outbox before the schedule hears of it: once the last
-            // coarse cell is marked done, every coarse cell is in the outbox,
-            // ahead of any refinement cell.
-            let queued = {
-                let mut ob = lock(&outbox);
-                let gc = GridCell {
-                    row: p.row,
-                    column: p.column,
-                    cell,
-                };
-                if p.coarse {
-                    ob.coarse.push(gc);
-                } else {
-                    ob.fine.push(gc);
-                }
-                (
-                    ob.coarse.len() + ob.fine.len(),
-                    ob.last_flush.elapsed() >= FLUSH_INTERVAL,
-                )
-            };
-            let (done, coarse_done) = {
-                let mut sch = lock(&schedule);
-                let last_coarse = sch.complete(Item { cell: p, columns }, seed_out);
-                (sch.done(), last_coarse)
-            };
-            ready.notify_all();
-            if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
-                flush()?;
-            }
-            let rate = {
-                let mut pc = lock(&pacer);
-                (pc.due() || done == total).then(|| pc.rate(n))
-            };
-            if let Some(iterates_per_second) = rate {
-                gate.send(
-                    generation,
-                    Update::Progress {
-                        generation,
-                        lane: Lane::Phase,
-                        fraction: done as f64 / total as f64,
-                        iterates_per_second,
-                    },
-                )?;
-            }
+        })
+    }
+
+    /// One cell: computed, queued for sending (coarse before fine), marked
+    /// done in the schedule, and flushed when a batch is due.
+    fn one(&self, p: PlannedCell, seed: Option<Seed>, sink: &dyn Sink) -> Result<(), JobError> {
+        let generation = sink.generation();
+        let (cell, problem) = self.compute(p, seed, sink)?;
+        let mut seed_out = Seed::of(&cell);
+        if cell.class == CellClass::Failed {
+            seed_out.theta_last = None;
         }
-    };
+        if let Some((message, parameter)) = problem {
+            sink.send(Update::Error {
+                generation,
+                lane: Lane::Phase,
+                message,
+                parameter,
+            })?;
+        }
+        let n = self.iterates.fetch_add(cell.iterates, Ordering::Relaxed) + cell.iterates;
+        // Into the outbox before the schedule hears of it: once the last
+        // coarse cell is marked done, every coarse cell is in the outbox,
+        // ahead of any refinement cell.
+        let queued = {
+            let mut ob = lock(&self.outbox);
+            let gc = GridCell {
+                row: p.row,
+                column: p.column,
+                cell,
+            };
+            if p.coarse {
+                ob.coarse.push(gc);
+            } else {
+                ob.fine.push(gc);
+            }
+            (
+                ob.coarse.len() + ob.fine.len(),
+                ob.last_flush.elapsed() >= FLUSH_INTERVAL,
+            )
+        };
+        let columns = self.theta_nus.len();
+        let (done, coarse_done) = {
+            let mut sch = lock(&self.schedule);
+            let last_coarse = sch.complete(Item { cell: p, columns }, seed_out);
+            (sch.done(), last_coarse)
+        };
+        self.ready.notify_all();
+        let total = self.total();
+        if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
+            self.flush(sink)?;
+        }
+        let rate = {
+            let mut pc = lock(&self.pacer);
+            (pc.due() || done == total).then(|| pc.rate(n))
+        };
+        if let Some(iterates_per_second) = rate {
+            sink.send(Update::Progress {
+                generation,
+                lane: Lane::Phase,
+                fraction: done as f64 / total as f64,
+                iterates_per_second,
+            })?;
+        }
+        Ok(())
+    }
+}
 
-    run_scoped("oneblock-phase", threads.min(total), &worker)?;
-    // Whatever a thread left behind (normally nothing: the last cell flushes).
-    flush()?;
-    match failure.into_inner().unwrap_or_else(|e| e.into_inner()) {
-        // The panic was reported with its cell; the grid went on.
-        Some(msg) => Err(JobError::Failed(msg)),
-        None => Ok(()),
+impl Job for PhaseJob {
+    fn lane(&self) -> Lane {
+        Lane::Phase
+    }
+
+    fn parallel(&self) -> bool {
+        true
+    }
+
+    /// Up to `width` cells, each waiting for its parent.
+    fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
+        for _ in 0..width.max(1) {
+            let Some((Item { cell: p, .. }, seed)) =
+                wait_next(&self.schedule, &self.ready, || sink.stale())?
+            else {
+                return Ok(Status::Done);
+            };
+            self.one(p, seed, sink)?;
+        }
+        Ok(Status::Working)
+    }
+
+    fn finish(&self, sink: &dyn Sink) -> Result<(), JobError> {
+        // Whatever a thread left behind (normally nothing: the last cell
+        // flushes).
+        self.flush(sink)?;
+        match lock(&self.failure).take() {
+            // The panic was reported with its cell; the grid went on.
+            Some(msg) => Err(JobError::Failed(msg)),
+            None => Ok(()),
+        }
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::jobs::{Outcome, PhaseTuning};
     use crate::sim::default_settings;
-    use crate::worker::{Outcome, Worker, WorkerConfig};
+    use crate::worker::{Command, Worker, WorkerConfig};
     use std::collections::HashSet;
     use std::sync::Arc;
     use std::sync::atomic::AtomicUsize;
@@ -387,6 +434,7 @@ mod tests {
                 kappa: Axis::new(2.0, 3.0, 2),
                 transient: 40,
                 keep: 16,
+                tuning: PhaseTuning::default(),
             },
         };
         PANIC_AT_CELL.store(7, Ordering::SeqCst);

@@ -1,0 +1,176 @@
+//! The single-threaded host: a job run on the caller's thread, a few units
+//! per call, within a time budget. A browser build has no threads and runs
+//! its jobs this way between frames; tests drive it deterministically.
+//!
+//! Updates queue in the host until [`Local::drain`] takes them; how the job
+//! ended is queued last (`Error` if it failed, then `Finished`), as the
+//! worker sends it.
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+use super::{Generation, Job, JobError, Lane, Outcome, Shape, Sink, Spec, Status, Stop, Update};
+use super::{ending, lock};
+
+/// One job on the caller's thread.
+pub struct Local {
+    lane: Lane,
+    job: Option<Box<dyn Job>>,
+    sink: Queue,
+}
+
+/// The host's sink: a queue, and a flag that stops the job.
+struct Queue {
+    generation: Generation,
+    updates: Mutex<Vec<Update>>,
+    cancelled: AtomicBool,
+    cycles: AtomicU64,
+}
+
+impl Sink for Queue {
+    fn generation(&self) -> Generation {
+        self.generation
+    }
+
+    fn send(&self, update: Update) -> Result<(), Stop> {
+        if self.stale() {
+            return Err(Stop::Stale);
+        }
+        lock(&self.updates).push(update);
+        Ok(())
+    }
+
+    fn stale(&self) -> bool {
+        self.cancelled.load(Ordering::Relaxed)
+    }
+
+    fn cycle(&self) -> bool {
+        if self.stale() {
+            return true;
+        }
+        self.cycles.fetch_add(1, Ordering::Relaxed);
+        false
+    }
+}
+
+impl Local {
+    /// The job of `spec` under `generation`, not yet stepped. A spec that
+    /// does not validate ends at once (its `Error` and `Finished` queued).
+    pub fn start(spec: Spec, generation: Generation, shape: Shape) -> Local {
+        let lane = spec.lane();
+        let mut host = Local {
+            lane,
+            job: None,
+            sink: Queue {
+                generation,
+                updates: Mutex::new(Vec::new()),
+                cancelled: AtomicBool::new(false),
+                cycles: AtomicU64::new(0),
+            },
+        };
+        match catch_unwind(AssertUnwindSafe(|| spec.start(shape))) {
+            Ok(Ok(job)) => host.job = Some(job),
+            Ok(Err(e)) => host.end(Ok(Err(e))),
+            Err(payload) => host.end(Err(payload)),
+        }
+        host
+    }
+
+    /// The lane of the job.
+    pub fn lane(&self) -> Lane {
+        self.lane
+    }
+
+    /// The generation it runs under.
+    pub fn generation(&self) -> Generation {
+        self.sink.generation
+    }
+
+    /// Whether the job has ended (completed, failed or cancelled).
+    pub fn is_done(&self) -> bool {
+        self.job.is_none()
+    }
+
+    /// Slip cycles the job has started.
+    pub fn cycles(&self) -> u64 {
+        self.sink.cycles.load(Ordering::Relaxed)
+    }
+
+    /// Runs units of `width` until `budget` has passed (at least one step,
+    /// so a job always moves on); true once the job has ended.
+    pub fn run_for(&mut self, budget: Duration, width: usize) -> bool {
+        let started = Instant::now();
+        while self.job.is_some() {
+            if !self.step(width) || started.elapsed() >= budget {
+                break;
+            }
+        }
+        self.is_done()
+    }
+
+    /// One step of `width` units; false once the job has ended.
+    pub fn step(&mut self, width: usize) -> bool {
+        let Some(job) = self.job.as_ref() else {
+            return false;
+        };
+        let sink = &self.sink;
+        let stepped = catch_unwind(AssertUnwindSafe(|| job.step(width, sink)));
+        let result = match stepped {
+            Ok(Ok(Status::Working)) => return true,
+            Ok(Ok(Status::Done)) => Ok(job.finish(sink)),
+            Ok(Err(e)) => Ok(Err(e)),
+            Err(payload) => Err(payload),
+        };
+        self.end(result);
+        false
+    }
+
+    /// Runs the job to its end and returns every update (tests).
+    pub fn run_to_end(mut self, width: usize) -> Vec<Update> {
+        while self.step(width) {}
+        self.drain()
+    }
+
+    /// Stops the job: nothing more of it is queued but its
+    /// `Finished{Cancelled}`.
+    pub fn cancel(&mut self) {
+        if self.job.take().is_some() {
+            self.sink.cancelled.store(true, Ordering::Relaxed);
+            lock(&self.sink.updates).push(Update::Finished {
+                generation: self.sink.generation,
+                lane: self.lane,
+                outcome: Outcome::Cancelled,
+            });
+        }
+    }
+
+    /// The updates queued so far, in order.
+    pub fn drain(&mut self) -> Vec<Update> {
+        std::mem::take(&mut *lock(&self.sink.updates))
+    }
+
+    /// Ends the job with how it ended.
+    fn end(&mut self, result: std::thread::Result<Result<(), JobError>>) {
+        self.job = None;
+        let Some((error, outcome)) = ending(result) else {
+            return;
+        };
+        let generation = self.sink.generation;
+        let mut q = lock(&self.sink.updates);
+        if let Some((message, parameter)) = error {
+            q.push(Update::Error {
+                generation,
+                lane: self.lane,
+                message,
+                parameter,
+            });
+        }
+        q.push(Update::Finished {
+            generation,
+            lane: self.lane,
+            outcome,
+        });
+    }
+}

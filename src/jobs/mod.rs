@@ -1,0 +1,517 @@
+//! The job model: every long computation of the explorer and the command
+//! line (a trajectory, map iterates, a bifurcation diagram, a phase grid,
+//! continuation, boundary curves, a work-precision measurement) is defined
+//! once here, as a [`Job`] built from its typed [`Spec`], and run by any of
+//! three hosts:
+//!
+//! - the worker ([`crate::worker`]): one generic lane runner, threads and
+//!   generations, for the window;
+//! - [`run_threads`]: a job to its end on this thread and, for a
+//!   [`Job::parallel`] one, helper threads (the command line);
+//! - [`Local`]: one thread, units within a time budget per call (a browser
+//!   build without threads, and deterministic tests).
+//!
+//! A job does its work in units ([`Job::step`]) and sends typed [`Update`]s
+//! to a [`Sink`]: its partial results as they come, `Progress`, and
+//! `Summary` lines. How it ended (`Finished`, with an `Error` before it if it
+//! failed) is the host's to send, from the step's result ([`ending`]). A
+//! job polls [`Sink::cycle`] before every slip cycle, so a host stops it
+//! within one cycle.
+//!
+//! The plans of the progressive jobs (which unit continues from which)
+//! are fixed by the spec and [`Shape`] before any work starts, so every
+//! host computes the same numbers, bit for bit, whatever its threads.
+
+mod continuation;
+mod local;
+mod numerics;
+mod orbit;
+mod phase;
+pub mod plan;
+mod protocol;
+mod schedule;
+mod sweep;
+
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
+
+pub use local::Local;
+pub use numerics::TIMING_REPEATS;
+pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
+pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS, Seed, run_cell};
+pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
+pub use protocol::{
+    Axis, BoundarySpec, ContinuationSpec, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER,
+    Outcome, PhaseSpec, PhaseTuning, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
+};
+
+use serde::{Deserialize, Serialize};
+
+use crate::integrate::SolverSettings;
+use crate::model::Params;
+use crate::sim::{LANES, SimError};
+
+/// Why a job's update was not taken: its generation is no longer current,
+/// or nobody listens any more. Either way the job must stop.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    Stale,
+    Gone,
+}
+
+/// Why a job ended before its end.
+#[derive(Debug)]
+pub enum JobError {
+    /// Cancelled, superseded or nobody listens: end without a word.
+    Stop,
+    /// The simulation refused or failed: the host reports it.
+    Sim(SimError),
+    /// Failed; any `Error` update was already sent.
+    Failed(String),
+}
+
+impl From<Stop> for JobError {
+    fn from(_: Stop) -> Self {
+        JobError::Stop
+    }
+}
+
+impl From<SimError> for JobError {
+    fn from(e: SimError) -> Self {
+        JobError::Sim(e)
+    }
+}
+
+/// Where a job's updates go, and how it learns that it must stop.
+pub trait Sink: Sync {
+    /// The generation the job runs under (every update names it).
+    fn generation(&self) -> Generation;
+    /// Takes one update; `Err` when the job must stop.
+    fn send(&self, update: Update) -> Result<(), Stop>;
+    /// Whether the job must stop (cheap; polled while waiting).
+    fn stale(&self) -> bool;
+    /// Polled before every slip cycle: true when the job must stop instead.
+    /// Hosts count these polls (machine-independent work counters).
+    fn cycle(&self) -> bool {
+        self.stale()
+    }
+}
+
+/// Where a job stands after a step.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Status {
+    /// More units are to come.
+    Working,
+    /// No unit is left for this caller (others may still be running theirs).
+    Done,
+}
+
+/// One computation, run unit by unit by whichever host holds it.
+pub trait Job: Send + Sync {
+    /// The lane it runs on (which job it supersedes in the worker).
+    fn lane(&self) -> Lane;
+    /// Whether several threads may step it at once: its units are
+    /// independent once their parents are done.
+    fn parallel(&self) -> bool {
+        false
+    }
+    /// Runs units (at most `width` of them where the job can count them;
+    /// `usize::MAX`: as many as are ready), sending their results to `sink`.
+    fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError>;
+    /// Called once after every caller's steps returned `Done`: how the job
+    /// as a whole ended (a unit that failed on its own may fail it).
+    fn finish(&self, _sink: &dyn Sink) -> Result<(), JobError> {
+        Ok(())
+    }
+}
+
+/// The shape of a progressive job's plan: how many columns the sweep's
+/// coarse pass has, and in how many chains it runs. Part of what a diagram
+/// is, so a host with other threads computes the same one.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Shape {
+    /// Columns in a sweep's first, coarse pass (a sweep with fewer columns
+    /// is all coarse).
+    pub coarse_columns: usize,
+    /// Chains the coarse pass is split into, each continued along θν from
+    /// its first column (which starts at θ = θν).
+    pub chains: usize,
+}
+
+impl Default for Shape {
+    /// 64 coarse columns in 8 chains: two threads of [`LANES`] lanes.
+    fn default() -> Self {
+        Shape {
+            coarse_columns: 64,
+            chains: 2 * LANES,
+        }
+    }
+}
+
+/// Every kind of job, with its typed spec.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Spec {
+    /// The block's path and slip events.
+    Trajectory(TrajectorySpec),
+    /// Map iterates, their period and Lyapunov exponent, the map's graph.
+    Iterate(IterateSpec),
+    /// A bifurcation diagram over θν.
+    Sweep(SweepSpec),
+    /// A phase diagram over (θν, κ).
+    Phase(PhaseSpec),
+    /// A work-precision measurement.
+    Numerics(WorkPrecisionSpec),
+    /// Find bifurcations: a branch and its cascade.
+    Branches(ContinuationSpec),
+    /// Boundaries: doubling curves in (θν, κ).
+    Curves(BoundarySpec),
+    /// Test-only fault injection: a few cycles, then a panic.
+    #[doc(hidden)]
+    Panic { after_cycles: usize },
+}
+
+/// Every kind of job, by what its results are: the key of a front end's
+/// job table (the window's `Jobs`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
+pub enum Kind {
+    /// The trajectory: the plane, the block and the event catalogue.
+    Trajectory,
+    /// The bifurcation sweep.
+    Sweep,
+    /// Map iterates: the return map, the period and the Lyapunov exponent.
+    Iterate,
+    /// The phase diagram's cells.
+    Phase,
+    /// A work-precision measurement (it runs every method, so it has no
+    /// solver setting of its own).
+    Numerics,
+    /// Find bifurcations: branches over a parameter range.
+    Branches,
+    /// Boundaries: doubling curves over the phase diagram.
+    Curves,
+}
+
+impl Kind {
+    /// Every kind, in the order of [`Kind::index`].
+    pub const ALL: [Kind; 7] = [
+        Kind::Trajectory,
+        Kind::Sweep,
+        Kind::Iterate,
+        Kind::Phase,
+        Kind::Numerics,
+        Kind::Branches,
+        Kind::Curves,
+    ];
+
+    /// Its position in [`Kind::ALL`] (a job table's index).
+    pub fn index(self) -> usize {
+        self as usize
+    }
+
+    /// The worker lane it runs on (a trajectory and map iterates share
+    /// one: the orbit's).
+    pub fn lane(self) -> Lane {
+        match self {
+            Kind::Trajectory | Kind::Iterate => Lane::Orbit,
+            Kind::Sweep => Lane::Sweep,
+            Kind::Phase => Lane::Phase,
+            Kind::Numerics => Lane::Numerics,
+            Kind::Branches => Lane::Continuation,
+            Kind::Curves => Lane::Curves,
+        }
+    }
+}
+
+/// What a new parameter set does to a lane's latest job.
+#[derive(Clone, Debug, PartialEq)]
+pub enum OnParams {
+    /// Run it again with the new parameters.
+    Rerun(Spec),
+    /// Stop it if it runs (it was asked for; it is not run again).
+    Cancel,
+    /// Leave it be.
+    Keep,
+}
+
+impl Spec {
+    /// Its kind (the fault injection counts as a trajectory).
+    pub fn kind(&self) -> Kind {
+        match self {
+            Spec::Trajectory(_) | Spec::Panic { .. } => Kind::Trajectory,
+            Spec::Iterate(_) => Kind::Iterate,
+            Spec::Sweep(_) => Kind::Sweep,
+            Spec::Phase(_) => Kind::Phase,
+            Spec::Numerics(_) => Kind::Numerics,
+            Spec::Branches(_) => Kind::Branches,
+            Spec::Curves(_) => Kind::Curves,
+        }
+    }
+
+    /// The lane it runs on.
+    pub fn lane(&self) -> Lane {
+        self.kind().lane()
+    }
+
+    /// Checks the spec and builds its job (nothing is computed yet but
+    /// what validation needs).
+    pub fn start(self, shape: Shape) -> Result<Box<dyn Job>, JobError> {
+        Ok(match self {
+            Spec::Trajectory(s) => Box::new(orbit::TrajectoryJob::new(s)?),
+            Spec::Iterate(s) => Box::new(orbit::IterateJob::new(s)?),
+            Spec::Sweep(s) => Box::new(sweep::SweepJob::new(s, shape)?),
+            Spec::Phase(s) => Box::new(phase::PhaseJob::new(s)?),
+            Spec::Numerics(s) => Box::new(numerics::WorkPrecisionJob::new(s)?),
+            Spec::Branches(s) => Box::new(continuation::FindJob::new(s)),
+            Spec::Curves(s) => Box::new(continuation::BoundariesJob::new(s)),
+            Spec::Panic { after_cycles } => Box::new(orbit::PanicJob::new(after_cycles)),
+        })
+    }
+
+    /// What new parameters (and solver settings, if given) do to this job
+    /// when it is its lane's latest: a trajectory, iterates and a sweep run
+    /// again (a sweep keeps its θν range); a phase grid keeps both its
+    /// ranges and runs again only if γ, ν, Ω or the solver changed; a
+    /// branch or curve of the old parameters is stale and is stopped; a
+    /// work-precision measurement is left alone.
+    pub fn on_params(&self, params: Params, settings: Option<SolverSettings>) -> OnParams {
+        let rerun = |mut spec: Spec| {
+            if let Some((p, s)) = spec.params_mut() {
+                *p = params;
+                if let Some(settings) = settings {
+                    *s = settings;
+                }
+            }
+            OnParams::Rerun(spec)
+        };
+        match self {
+            Spec::Trajectory(_) | Spec::Iterate(_) | Spec::Sweep(_) => rerun(self.clone()),
+            Spec::Phase(s) => {
+                let p = &s.params;
+                let changed = (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
+                    || settings.is_some_and(|n| n != s.settings);
+                if changed {
+                    rerun(self.clone())
+                } else {
+                    OnParams::Keep
+                }
+            }
+            Spec::Branches(_) | Spec::Curves(_) => OnParams::Cancel,
+            Spec::Numerics(_) | Spec::Panic { .. } => OnParams::Keep,
+        }
+    }
+
+    /// Whether a cancelled job of this kind is forgotten, so that new
+    /// parameters do not start it again (a grid the user stopped stays
+    /// stopped).
+    pub fn forgotten_when_cancelled(&self) -> bool {
+        matches!(self, Spec::Phase(_))
+    }
+
+    /// Whether new parameters may run it again at all (the fault injection
+    /// is never remembered).
+    pub fn remembered(&self) -> bool {
+        !matches!(self, Spec::Panic { .. })
+    }
+
+    fn params_mut(&mut self) -> Option<(&mut Params, &mut SolverSettings)> {
+        match self {
+            Spec::Trajectory(s) => Some((&mut s.params, &mut s.settings)),
+            Spec::Iterate(s) => Some((&mut s.params, &mut s.settings)),
+            Spec::Sweep(s) => Some((&mut s.params, &mut s.settings)),
+            Spec::Phase(s) => Some((&mut s.params, &mut s.settings)),
+            _ => None,
+        }
+    }
+}
+
+/// An error to report: its message and the parameter it names, if any.
+pub type Report = (String, Option<&'static str>);
+
+/// How a job that returned `result` (or panicked) ended: the `Error` to send
+/// first, if any, and the outcome for `Finished`. `None`: it was stopped,
+/// and sends nothing more.
+pub fn ending(
+    result: std::thread::Result<Result<(), JobError>>,
+) -> Option<(Option<Report>, Outcome)> {
+    match result {
+        Ok(Ok(())) => Some((None, Outcome::Completed)),
+        Ok(Err(JobError::Stop | JobError::Sim(SimError::Cancelled))) => None,
+        Ok(Err(JobError::Sim(e))) => {
+            let msg = e.to_string();
+            Some((Some((msg.clone(), e.parameter())), Outcome::Failed(msg)))
+        }
+        Ok(Err(JobError::Failed(msg))) => Some((None, Outcome::Failed(msg))),
+        Err(payload) => {
+            let msg = format!("the job panicked: {}", panic_message(&*payload));
+            Some((Some((msg.clone(), None)), Outcome::Failed(msg)))
+        }
+    }
+}
+
+/// Runs `job` to its end with the caller's thread and, for a parallel job,
+/// `threads − 1` more (named `{name}-{i}`), then its [`Job::finish`]. Panics
+/// are the caller's to catch ([`ending`]).
+pub fn run_threads(
+    job: &dyn Job,
+    threads: usize,
+    name: &str,
+    sink: &dyn Sink,
+) -> Result<(), JobError> {
+    let drive = || -> Result<(), JobError> {
+        while job.step(usize::MAX, sink)? == Status::Working {}
+        Ok(())
+    };
+    if job.parallel() && threads > 1 {
+        run_scoped(name, threads, &drive)?;
+    } else {
+        drive()?;
+    }
+    job.finish(sink)
+}
+
+/// Runs `worker` on `threads` scoped threads named `{name}-{i}` and joins
+/// them all. A thread that cannot start is an error; the first error of any
+/// thread is returned (a panic inside `worker` is resumed: jobs catch their
+/// own per unit).
+fn run_scoped<F>(name: &str, threads: usize, worker: &F) -> Result<(), JobError>
+where
+    F: Fn() -> Result<(), JobError> + Sync,
+{
+    let results: Vec<Result<(), JobError>> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..threads.max(1))
+            .map(|i| {
+                std::thread::Builder::new()
+                    .name(format!("{name}-{i}"))
+                    .spawn_scoped(scope, || {
+                        crate::worker::priority::lower_current_thread();
+                        worker()
+                    })
+            })
+            .collect();
+        handles
+            .into_iter()
+            .map(|h| match h {
+                Ok(h) => h.join().unwrap_or_else(|p| std::panic::resume_unwind(p)),
+                Err(e) => Err(JobError::Failed(format!(
+                    "cannot start a {name} thread: {e}"
+                ))),
+            })
+            .collect()
+    });
+    results.into_iter().collect()
+}
+
+/// A sink that keeps every update and never goes stale until told: for the
+/// command line's hosts and tests. `on_update` sees each update as it comes.
+pub struct Collect<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> {
+    updates: std::sync::Mutex<Vec<Update>>,
+    stopped: AtomicBool,
+    cycles: AtomicU64,
+    on_update: F,
+    stop_when: S,
+}
+
+impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
+    /// A sink that calls `on_update` for each update and stops the job once
+    /// `stop_when` says so (called once before every slip cycle, so it may
+    /// count them).
+    pub fn new(on_update: F, stop_when: S) -> Self {
+        Collect {
+            updates: std::sync::Mutex::new(Vec::new()),
+            stopped: AtomicBool::new(false),
+            cycles: AtomicU64::new(0),
+            on_update,
+            stop_when,
+        }
+    }
+
+    /// Every update so far, in order.
+    pub fn into_updates(self) -> Vec<Update> {
+        self.updates.into_inner().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// Slip cycles the job started.
+    pub fn cycles(&self) -> u64 {
+        self.cycles.load(Ordering::Relaxed)
+    }
+
+    /// Whether the job was stopped by `stop_when`.
+    pub fn stopped(&self) -> bool {
+        self.stopped.load(Ordering::Relaxed)
+    }
+}
+
+impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Sink for Collect<F, S> {
+    fn generation(&self) -> Generation {
+        0
+    }
+
+    fn send(&self, update: Update) -> Result<(), Stop> {
+        if self.stale() {
+            return Err(Stop::Stale);
+        }
+        (self.on_update)(&update);
+        lock(&self.updates).push(update);
+        Ok(())
+    }
+
+    fn stale(&self) -> bool {
+        self.stopped.load(Ordering::Relaxed)
+    }
+
+    fn cycle(&self) -> bool {
+        if self.stale() {
+            return true;
+        }
+        if (self.stop_when)() {
+            self.stopped.store(true, Ordering::Relaxed);
+            return true;
+        }
+        self.cycles.fetch_add(1, Ordering::Relaxed);
+        false
+    }
+}
+
+/// Runs a job from `spec` to its end on `threads` threads (the command
+/// line's host), collecting its updates: `Ok` with them when it completed,
+/// the job's error otherwise (`JobError::Stop` when `stop_when` stopped it).
+pub fn run_collect(
+    spec: Spec,
+    threads: usize,
+    on_update: impl Fn(&Update) + Sync,
+    stop_when: impl Fn() -> bool + Sync,
+) -> Result<Vec<Update>, JobError> {
+    let name = format!("oneblock-{}", spec.lane().name());
+    let job = spec.start(Shape::default())?;
+    let sink = Collect::new(on_update, stop_when);
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        run_threads(job.as_ref(), threads, &name, &sink)
+    }));
+    match result {
+        Ok(Ok(())) if !sink.stopped() => Ok(sink.into_updates()),
+        Ok(Ok(())) | Ok(Err(JobError::Stop)) => Err(JobError::Stop),
+        Ok(Err(JobError::Sim(SimError::Cancelled))) => Err(JobError::Stop),
+        Ok(Err(e)) => Err(e),
+        Err(payload) => Err(JobError::Failed(format!(
+            "the job panicked: {}",
+            panic_message(&*payload)
+        ))),
+    }
+}
+
+/// A mutex's guard even if a panicking holder poisoned it: the jobs' shared
+/// state stays consistent (each unit is caught and reported).
+pub(crate) fn lock<T>(m: &std::sync::Mutex<T>) -> std::sync::MutexGuard<'_, T> {
+    m.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// The text of a caught panic's payload.
+pub(crate) fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
+    if let Some(s) = p.downcast_ref::<&str>() {
+        (*s).to_string()
+    } else if let Some(s) = p.downcast_ref::<String>() {
+        s.clone()
+    } else {
+        "unknown panic payload".to_string()
+    }
+}

@@ -1,0 +1,329 @@
+//! Every kind of job, run to completion by the single-threaded host
+//! (`jobs::Local`, a unit per step, as a browser build runs them), by the
+//! worker (threads and generations, as the window runs them) and by the
+//! command line's host (`jobs::run_collect`), gives the same results, bit
+//! for bit: a job is defined once, and its plan does not depend on who
+//! runs it or on how many threads.
+
+mod common;
+
+use std::collections::BTreeMap;
+
+use common::fixture::preset;
+use common::until_finished;
+use oneblock::integrate::{Method, SolverSettings};
+use oneblock::jobs::{
+    Axis, BoundarySpec, ContinuationSpec, IterateSpec, Local, Outcome, PhaseSpec, PhaseTuning,
+    Shape, Spec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
+};
+use oneblock::numerics::Subject;
+use oneblock::sim::continuation::ContParam;
+use oneblock::sim::{MapChoice, default_settings};
+use oneblock::worker::{Command, Worker, WorkerConfig};
+
+/// What a job computed, in a form that does not depend on how its updates
+/// were batched or ordered in time: progress (timing) is left out, columns
+/// and cells are keyed by their place, streamed iterates concatenated, and
+/// work-precision rows keep their errors and costs but not their timings.
+#[derive(Debug, PartialEq, Default)]
+struct Results {
+    samples: Vec<(f64, f64, f64)>,
+    slips: Vec<String>,
+    iterates: Vec<f64>,
+    last_analysis: String,
+    graphs: Vec<String>,
+    columns: BTreeMap<usize, (f64, Vec<f64>)>,
+    cells: BTreeMap<(usize, usize), String>,
+    rows: Vec<String>,
+    other: Vec<String>,
+    outcome: Option<Outcome>,
+}
+
+fn results(ups: &[Update]) -> Results {
+    let mut r = Results::default();
+    for u in ups {
+        match u {
+            Update::TrajectoryChunk { samples, .. } => {
+                r.samples.extend(samples.iter().map(|s| (s.t, s.x, s.y)));
+            }
+            Update::Slip { event, .. } => r.slips.push(format!("{event:?}")),
+            Update::MapIterates {
+                thetas,
+                period,
+                lyapunov,
+                ..
+            } => {
+                r.iterates.extend(thetas);
+                r.last_analysis = format!("{period:?} {lyapunov:?}");
+            }
+            Update::MapGraph {
+                thetas,
+                values,
+                powers,
+                ..
+            } => {
+                r.graphs.push(format!("{thetas:?} {values:?} {powers:?}"));
+            }
+            Update::Column {
+                index,
+                theta_nu,
+                thetas,
+                ..
+            } => {
+                assert!(
+                    r.columns
+                        .insert(*index, (*theta_nu, thetas.clone()))
+                        .is_none()
+                );
+            }
+            Update::PhaseCells { cells, .. } => {
+                for c in cells {
+                    let key = (c.row, c.column);
+                    assert!(r.cells.insert(key, format!("{:?}", c.cell)).is_none());
+                }
+            }
+            Update::WorkPrecisionRow { index, row, .. } => r.rows.push(format!(
+                "{index} {} {} {} {} {} {} {}",
+                row.method,
+                row.setting,
+                row.failed,
+                row.max_error,
+                row.median_error,
+                row.max_stop_error,
+                row.evals_per_iterate
+            )),
+            Update::Progress { .. } => {}
+            Update::Finished { outcome, .. } => r.outcome = Some(outcome.clone()),
+            Update::Error { message, .. } => r.other.push(format!("error: {message}")),
+            other => r.other.push(strip_generation(other)),
+        }
+    }
+    r
+}
+
+/// An update's text without its generation (the hosts number jobs apart).
+fn strip_generation(u: &Update) -> String {
+    let text = format!("{u:?}");
+    let g = format!("generation: {}", u.generation());
+    text.replacen(&g, "generation: _", 1)
+}
+
+/// The job to its end on the single-threaded host, one unit per step.
+fn local(spec: Spec) -> Results {
+    let updates = Local::start(spec, 1, Shape::default()).run_to_end(1);
+    results(&updates)
+}
+
+/// The job to its end on the worker (two threads for a parallel job), sent
+/// as the generic `Command::Run`.
+fn threaded(cmd: Command) -> Results {
+    let (generation, spec) = cmd.into_job().expect("a job");
+    let lane = spec.lane();
+    let w = Worker::spawn(WorkerConfig::default(), std::sync::Arc::new(|| {}));
+    assert!(w.send(Command::Run { generation, spec }));
+    let (mut ups, outcome) = until_finished(&w, generation, lane);
+    ups.push(Update::Finished {
+        generation,
+        lane,
+        outcome,
+    });
+    w.shutdown();
+    results(&ups)
+}
+
+/// Runs `cmd` on both hosts and checks they agree and completed.
+fn same_on_both_hosts(cmd: Command) -> Results {
+    let spec = cmd.clone().into_job().expect("a job").1;
+    let single = local(spec);
+    let many = threaded(cmd);
+    assert_eq!(single.outcome, Some(Outcome::Completed), "{single:?}");
+    assert_eq!(single, many);
+    single
+}
+
+fn settings() -> SolverSettings {
+    default_settings(1e-8)
+}
+
+#[test]
+fn a_trajectory_is_the_same_on_every_host() {
+    let r = same_on_both_hosts(Command::Trajectory {
+        generation: 3,
+        spec: TrajectorySpec {
+            params: preset("fig3b"),
+            settings: settings(),
+            theta0: Some(0.5),
+            spacing: 0.05,
+            cycles: Some(12),
+        },
+    });
+    assert_eq!(r.slips.len(), 12);
+    assert!(r.samples.len() > 12);
+}
+
+#[test]
+fn map_iterates_are_the_same_on_every_host() {
+    let r = same_on_both_hosts(Command::Iterate {
+        generation: 4,
+        spec: IterateSpec {
+            params: preset("fig3b"),
+            settings: settings(),
+            theta0: None,
+            transient: 30,
+            keep: 40,
+            graph_powers: 2,
+        },
+    });
+    assert_eq!(r.iterates.len(), 40);
+    assert_eq!(r.graphs.len(), 2, "f, then f with f²");
+}
+
+#[test]
+fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
+    let spec = SweepSpec {
+        params: preset("fig3b"),
+        settings: default_settings(1e-6),
+        theta_nu: Axis::new(0.9, 1.5, 21),
+        transient: 60,
+        keep: 12,
+        map: MapChoice::Auto,
+        theta0: None,
+    };
+    let r = same_on_both_hosts(Command::Sweep {
+        generation: 5,
+        spec: spec.clone(),
+    });
+    assert_eq!(r.columns.len(), 21);
+    // The command line's host, on one thread and on three.
+    for threads in [1, 3] {
+        let ups = run_collect(Spec::Sweep(spec.clone()), threads, |_| {}, || false)
+            .expect("the sweep completes");
+        assert_eq!(results(&ups).columns, r.columns, "{threads} thread(s)");
+    }
+}
+
+#[test]
+fn a_phase_grid_is_the_same_on_every_host() {
+    let r = same_on_both_hosts(Command::Phase {
+        generation: 6,
+        spec: PhaseSpec {
+            params: preset("fig3b"),
+            settings: default_settings(1e-8),
+            theta_nu: Axis::new(0.6, 1.5, 6),
+            kappa: Axis::new(10.0, 20.0, 5),
+            transient: 100,
+            keep: 32,
+            tuning: PhaseTuning::default(),
+        },
+    });
+    assert_eq!(r.cells.len(), 30);
+}
+
+#[test]
+fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
+    let subjects = [Method::Dop853, Method::Dp54]
+        .into_iter()
+        .flat_map(|m| [1e-6, 1e-8].map(|tol| Subject::Own(SolverSettings::adaptive(m, tol))))
+        .collect();
+    let r = same_on_both_hosts(Command::WorkPrecision {
+        generation: 7,
+        spec: WorkPrecisionSpec {
+            params: preset("fig3b"),
+            theta0: None,
+            transient: 100,
+            points: 3,
+            time_per_setting: std::time::Duration::from_millis(3),
+            subjects,
+        },
+    });
+    assert_eq!(r.rows.len(), 4);
+}
+
+#[test]
+fn find_bifurcations_is_the_same_on_every_host() {
+    let r = same_on_both_hosts(Command::FindBifurcations {
+        generation: 8,
+        spec: ContinuationSpec {
+            params: preset("fig3b"),
+            settings: settings(),
+            param: ContParam::ThetaNu,
+            from: 1.0,
+            to: 1.2,
+            max_period: 4,
+        },
+    });
+    assert!(r.other.iter().any(|s| s.starts_with("Branch")), "{r:?}");
+}
+
+#[test]
+fn boundaries_are_the_same_on_every_host() {
+    let r = same_on_both_hosts(Command::Boundaries {
+        generation: 9,
+        spec: BoundarySpec {
+            params: preset("fig3b"),
+            settings: settings(),
+            theta_nu: (0.9, 1.3),
+            kappa: (17.0, 21.0),
+        },
+    });
+    assert!(r.other.iter().any(|s| s.starts_with("Curve")), "{r:?}");
+}
+
+#[test]
+fn the_single_threaded_host_runs_within_its_budget_and_cancels() {
+    let spec = Spec::Sweep(SweepSpec {
+        params: preset("fig3b"),
+        settings: default_settings(1e-6),
+        theta_nu: Axis::new(0.9, 1.5, 40),
+        transient: 200,
+        keep: 50,
+        map: MapChoice::Auto,
+        theta0: None,
+    });
+    let mut host = Local::start(spec, 11, Shape::default());
+    // A tiny budget still moves the job on by one unit, and no more than a
+    // few: each call returns soon after its budget.
+    assert!(!host.run_for(std::time::Duration::ZERO, 1));
+    let first = host.drain();
+    let columns = first
+        .iter()
+        .filter(|u| matches!(u, Update::Column { .. }))
+        .count();
+    assert_eq!(columns, 1, "one unit per step: {first:?}");
+    host.cancel();
+    let last = host.drain();
+    assert_eq!(
+        last,
+        vec![Update::Finished {
+            generation: 11,
+            lane: host.lane(),
+            outcome: Outcome::Cancelled
+        }]
+    );
+    assert!(host.is_done());
+}
+
+#[test]
+fn a_spec_that_does_not_validate_fails_on_every_host_naming_its_parameter() {
+    let mut params = preset("fig3b");
+    params.kappa = -1.0;
+    let spec = TrajectorySpec {
+        params,
+        settings: settings(),
+        theta0: None,
+        spacing: 0.05,
+        cycles: Some(3),
+    };
+    let single = local(Spec::Trajectory(spec.clone()));
+    let many = threaded(Command::Trajectory {
+        generation: 2,
+        spec: spec.clone(),
+    });
+    assert_eq!(single, many);
+    assert!(matches!(single.outcome, Some(Outcome::Failed(_))));
+    assert!(
+        single.other.iter().any(|s| s.contains("kappa")),
+        "{single:?}"
+    );
+    assert!(run_collect(Spec::Trajectory(spec), 1, |_| {}, || false).is_err());
+}
