@@ -28,6 +28,7 @@ mod numerics;
 mod orbit;
 mod phase;
 pub mod plan;
+pub mod priority;
 mod protocol;
 mod schedule;
 mod sweep;
@@ -383,7 +384,7 @@ where
                 std::thread::Builder::new()
                     .name(format!("{name}-{i}"))
                     .spawn_scoped(scope, || {
-                        crate::worker::priority::lower_current_thread();
+                        priority::lower_current_thread();
                         worker()
                     })
             })

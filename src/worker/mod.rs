@@ -23,7 +23,8 @@
 
 mod command;
 mod gate;
-pub mod priority;
+
+pub use crate::jobs::priority;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
