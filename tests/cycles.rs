@@ -13,8 +13,8 @@ use oneblock::numerics::{Accuracy, budget_for};
 use oneblock::sim::MapChoice;
 use oneblock::sim::phase::{CellClass, PhaseOptions, phase_grid};
 use oneblock::sim::{
-    CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, SweepOptions, default_settings,
-    fixed_point, solve_cycle, sweep_segments, theta_nu_grid,
+    CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, default_settings, fixed_point,
+    solve_cycle, theta_nu_grid,
 };
 use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, Update, Worker, WorkerConfig};
 use std::sync::Arc;
@@ -269,22 +269,32 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
             window[index] = (theta_nu, thetas);
         }
     }
-    // `oneblock bifurcation` at tol 1e-10 (its defaults: 500 + 100).
-    let grid = theta_nu_grid(from, to, columns);
+    // `oneblock bifurcation` at tol 1e-10 (its defaults: 500 + 100), the
+    // same sweep job without the interpolant.
     let reference_settings = SolverSettings::adaptive(oneblock::Method::Dop853, 1e-10);
-    let opts = SweepOptions {
+    let spec = SweepSpec {
+        params: p,
+        settings: reference_settings,
+        theta_nu: Axis::new(from, to, columns),
         transient: 500,
         keep: 100,
-        map: oneblock::sim::MapChoice::Direct,
+        map: MapChoice::Direct,
+        theta0: None,
     };
-    let (lower, upper) = grid.split_at(grid.len().div_ceil(2));
-    let reference: Vec<(f64, Vec<f64>)> = [lower, upper]
-        .iter()
-        .flat_map(|half| {
-            sweep_segments(p, reference_settings, half, &opts, None, &|| false, |_| {})
-        })
-        .map(|c| (c.theta_nu, c.thetas))
-        .collect();
+    let ups = oneblock::jobs::run_collect(oneblock::jobs::Spec::Sweep(spec), 2, |_| {}, || false)
+        .expect("the reference sweep completes");
+    let mut reference: Vec<(f64, Vec<f64>)> = vec![(f64::NAN, vec![]); columns];
+    for u in ups {
+        if let Update::Column {
+            index,
+            theta_nu,
+            thetas,
+            ..
+        } = u
+        {
+            reference[index] = (theta_nu, thetas);
+        }
+    }
     let all = reference.iter().flat_map(|(_, t)| t.iter().copied());
     let (lo, hi) = all.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
         (a.min(x), b.max(x))

@@ -39,7 +39,7 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 pub use local::Local;
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
-pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS, Seed, run_cell};
+pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
     Axis, BoundarySpec, ContinuationSpec, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER,

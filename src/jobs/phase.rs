@@ -33,10 +33,9 @@ use super::plan::{PlannedCell, phase_plan};
 use super::protocol::{Axis, GridCell, Lane, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
-use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
-use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell};
-use crate::sim::{SimError, Simulator, column_start, theta_nu_grid};
+use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell};
+use crate::sim::{SimError, Simulator, theta_nu_grid};
 
 /// Rows and columns of the coarse lattice: about every this many.
 pub const COARSE_STRIDE: usize = 4;
@@ -46,55 +45,6 @@ pub const CELL_BATCH: usize = 16;
 pub const MAX_STEPS: usize = 10_000;
 /// The most cells of a grid (as `oneblock phase`).
 pub const MAX_CELLS: usize = 4_000_000;
-
-/// Where a finished cell's neighbours continue.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Seed {
-    /// Its last onset (`None` if it failed: neighbours start at θ = θν).
-    pub theta_last: Option<f64>,
-    /// Whether it was chaotic (neighbours get the shorter transient).
-    pub chaos: bool,
-}
-
-impl Seed {
-    /// What `cell` leaves for its neighbours, as `phase_row` keeps it.
-    pub fn of(cell: &PhaseCell) -> Seed {
-        Seed {
-            theta_last: cell.error.is_none().then_some(cell.theta_last),
-            chaos: cell.class == CellClass::Chaos,
-        }
-    }
-}
-
-/// Runs one cell at (`kappa`, `theta_nu`) continued from `parent` (its seed)
-/// exactly as `phase_row` runs the cell after it: the start moved onto the
-/// new exit arc, and the shorter transient after a chaotic neighbour.
-pub fn run_cell(
-    params: Params,
-    settings: SolverSettings,
-    kappa: f64,
-    theta_nu: f64,
-    parent: Option<Seed>,
-    opts: &PhaseOptions,
-    cancel: &dyn Fn() -> bool,
-) -> PhaseCell {
-    let start = column_start(kappa, theta_nu, parent.and_then(|s| s.theta_last));
-    let after_chaos = PhaseOptions {
-        transient: opts.transient.min(opts.transient_after_chaos),
-        ..*opts
-    };
-    let o = if parent.is_some_and(|s| s.chaos) && opts.early_exit {
-        &after_chaos
-    } else {
-        opts
-    };
-    let p = Params {
-        kappa,
-        theta_nu,
-        ..params
-    };
-    phase_cell(p, settings, start, o, cancel)
-}
 
 /// A planned cell as the schedule sees it: its slot is its flat index
 /// (row·columns + column).
@@ -283,7 +233,7 @@ impl PhaseJob {
                     p.row * self.theta_nus.len() + p.column
                 );
             }
-            run_cell(params, settings, kappa, tn, seed, opts, &cancel)
+            continue_cell(params, settings, kappa, tn, seed, opts, &cancel)
         }));
         let where_ = format!(
             "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",

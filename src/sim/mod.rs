@@ -35,7 +35,7 @@ pub use orbit::{Orbit, OrbitOptions, Period, Settled};
 pub use period::{PERIOD_MAX, settled_period};
 pub use stats::mean_and_stderr;
 pub use sweep::{
-    Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, segments, sweep_columns,
-    sweep_segments, theta_nu_grid,
+    Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, sweep_columns,
+    theta_nu_grid,
 };
 pub use trajectory::{Phase, Sample, Sampler};

@@ -490,6 +490,56 @@ fn cycle_exponent(
     Ok(sum / p as f64)
 }
 
+/// Where a finished cell's neighbours continue.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Seed {
+    /// Its last onset (`None` if it failed: neighbours start at θ = θν).
+    pub theta_last: Option<f64>,
+    /// Whether it was chaotic (neighbours get the shorter transient).
+    pub chaos: bool,
+}
+
+impl Seed {
+    /// What `cell` leaves for its neighbours.
+    pub fn of(cell: &PhaseCell) -> Seed {
+        Seed {
+            theta_last: cell.error.is_none().then_some(cell.theta_last),
+            chaos: cell.class == CellClass::Chaos,
+        }
+    }
+}
+
+/// The one neighbour rule of every phase grid: the cell at (`kappa`,
+/// `theta_nu`) continued from `parent` (its seed), its start moved onto the
+/// new exit arc, with the shorter transient after a chaotic neighbour; with
+/// no parent (or after a failed one), from θ = θν.
+pub fn continue_cell(
+    params: Params,
+    settings: SolverSettings,
+    kappa: f64,
+    theta_nu: f64,
+    parent: Option<Seed>,
+    opts: &PhaseOptions,
+    cancel: &dyn Fn() -> bool,
+) -> PhaseCell {
+    let start = column_start(kappa, theta_nu, parent.and_then(|s| s.theta_last));
+    let after_chaos = PhaseOptions {
+        transient: opts.transient.min(opts.transient_after_chaos),
+        ..*opts
+    };
+    let o = if parent.is_some_and(|s| s.chaos) && opts.early_exit {
+        &after_chaos
+    } else {
+        opts
+    };
+    let p = Params {
+        kappa,
+        theta_nu,
+        ..params
+    };
+    phase_cell(p, settings, start, o, cancel)
+}
+
 /// One κ row: the cells at `theta_nus` in order, each starting from the
 /// previous cell's last onset (the first, and any after a failed cell, from
 /// θ = θν). `on_cell` sees every cell as it is finished. Stops after a
@@ -503,26 +553,10 @@ pub fn phase_row(
     on_cell: &dyn Fn(&PhaseCell),
 ) -> Vec<PhaseCell> {
     let mut row = Vec::with_capacity(theta_nus.len());
-    let mut prev: Option<f64> = None;
-    let mut prev_chaos = false;
-    let after_chaos = PhaseOptions {
-        transient: opts.transient.min(opts.transient_after_chaos),
-        ..*opts
-    };
+    let mut prev: Option<Seed> = None;
     for &tn in theta_nus {
-        let start = column_start(params.kappa, tn, prev);
-        let o = if prev_chaos && opts.early_exit {
-            &after_chaos
-        } else {
-            opts
-        };
-        let cell = phase_cell(params.with_theta_nu(tn), settings, start, o, cancel);
-        prev_chaos = cell.class == CellClass::Chaos;
-        prev = if cell.error.is_none() {
-            Some(cell.theta_last)
-        } else {
-            None
-        };
+        let cell = continue_cell(params, settings, params.kappa, tn, prev, opts, cancel);
+        prev = Some(Seed::of(&cell));
         on_cell(&cell);
         let cancelled = matches!(cell.error, Some(SimError::Cancelled));
         row.push(cell);

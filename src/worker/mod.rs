@@ -36,8 +36,8 @@ use crossbeam_channel::{Receiver, Sender, TrySendError};
 
 pub use crate::jobs::{
     Axis, BoundarySpec, COARSE_STRIDE, ContinuationSpec, Generation, GridCell, IterateSpec, Lane,
-    MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, Seed, SweepSpec,
-    TIMING_REPEATS, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, run_cell, sweep_plan,
+    MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, SweepSpec,
+    TIMING_REPEATS, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
 };
 pub use command::Command;
 
