@@ -342,3 +342,23 @@ fn trajectory_events_range_is_what_the_sample_cap_allows() {
     let err = one_error_line(&o, 2);
     assert!(err.contains("--events") && err.contains("400000"), "{err}");
 }
+
+/// A session whose keys hold control characters (an escape sequence), read
+/// where no window can open: the warning about them is escaped and folded
+/// into the error's one line.
+#[test]
+fn a_warning_then_an_error_is_one_escaped_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let s = dir.path().join("s.json");
+    std::fs::write(
+        &s,
+        "{\"oneblock_session\": 1, \"settings\": {\"\\u001b[31mred\": 1}, \"x\\ny\": 2}",
+    )
+    .unwrap();
+    let o = gui_session(&s, &dir.path().join("shot.png"));
+    let err = stderr(&o);
+    assert!(!o.status.success());
+    assert_eq!(err.lines().count(), 1, "{err:?}");
+    assert!(!err.contains('\u{1b}'), "{err:?}");
+    assert!(err.contains("\\u{1b}[31mred") && err.contains("x\\ny"), "{err}");
+}
