@@ -360,5 +360,42 @@ fn a_warning_then_an_error_is_one_escaped_line() {
     assert!(!o.status.success());
     assert_eq!(err.lines().count(), 1, "{err:?}");
     assert!(!err.contains('\u{1b}'), "{err:?}");
-    assert!(err.contains("\\u{1b}[31mred") && err.contains("x\\ny"), "{err}");
+    assert!(
+        err.contains("\\u{1b}[31mred") && err.contains("x\\ny"),
+        "{err}"
+    );
+}
+
+/// The attractor search before a branch (no --theta) is bounded too: a
+/// limit shorter than the search stops it, one line, exit 1, no file.
+#[test]
+fn continues_attractor_search_stops_at_max_seconds() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b.csv");
+    let o = Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "continue",
+            "--preset",
+            "fig4",
+            "--param",
+            "theta-nu",
+            "--from",
+            "0.1",
+            "--to",
+            "1.55",
+            "--period",
+            "1",
+            "--max-seconds",
+            "0.0001",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = one_error_line(&o, 1);
+    assert!(
+        err.contains("--max-seconds") && err.contains("nothing was written"),
+        "{err}"
+    );
+    assert!(!out.exists());
 }
