@@ -180,23 +180,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let outcome = Arc::new(std::sync::Mutex::new(None));
     let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
     if scripted {
-        // Never hang: if a frame stalls (so the script's own check of the
-        // time never runs), give up loudly soon after --timeout. The grace
-        // covers taking and encoding the picture once the views are done.
-        let limit = timeout + SCREENSHOT_GRACE;
-        std::thread::Builder::new()
-            .name("oneblock-watchdog".into())
-            .spawn(move || {
-                std::thread::sleep(limit);
-                eprintln!(
-                    "error: the window did not finish within --timeout {:.0} s \
-                     (and {:.0} s to save the picture)",
-                    timeout.as_secs_f64(),
-                    SCREENSHOT_GRACE.as_secs_f64()
-                );
-                std::process::exit(1);
-            })
-            .map_err(|e| e.to_string())?;
+        spawn_watchdog(timeout)?;
     }
 
     let out2 = outcome.clone();
@@ -267,22 +251,50 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         eprintln!("{rep}");
     }
     r.map_err(|e| with_warnings(format!("the window failed: {e}"), &warnings))?;
-    let done = if scripted {
-        match outcome
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take()
-        {
-            Some(Ok(path)) => Ok(format!("saved {path}")),
-            Some(Err(e)) => Err(e),
-            None => Err("the window closed before the screenshot was taken".into()),
-        }
-    } else {
-        Ok(String::new())
+    let shot = outcome
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take();
+    finish(scripted, shot, &warnings)
+}
+
+/// Never hang: if a frame stalls (so the script's own check of the time
+/// never runs), a scripted run gives up loudly soon after `timeout`. The
+/// grace covers taking and encoding the picture once the views are done.
+fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
+    let limit = timeout + SCREENSHOT_GRACE;
+    std::thread::Builder::new()
+        .name("oneblock-watchdog".into())
+        .spawn(move || {
+            std::thread::sleep(limit);
+            eprintln!(
+                "error: the window did not finish within --timeout {:.0} s \
+                 (and {:.0} s to save the picture)",
+                timeout.as_secs_f64(),
+                SCREENSHOT_GRACE.as_secs_f64()
+            );
+            std::process::exit(1);
+        })
+        .map(drop)
+        .map_err(|e| e.to_string())
+}
+
+/// The end of a run: a scripted run's outcome (`shot`), the warnings on
+/// their own lines after a success or folded into the error's one line.
+fn finish(
+    scripted: bool,
+    shot: Option<Result<String, String>>,
+    warnings: &[String],
+) -> Result<(), String> {
+    let done = match (scripted, shot) {
+        (false, _) => Ok(String::new()),
+        (true, Some(Ok(path))) => Ok(format!("saved {path}")),
+        (true, Some(Err(e))) => Err(e),
+        (true, None) => Err("the window closed before the screenshot was taken".into()),
     };
     match done {
         Ok(said) => {
-            for w in &warnings {
+            for w in warnings {
                 eprintln!("warning: {w}");
             }
             if !said.is_empty() {
@@ -290,7 +302,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             }
             Ok(())
         }
-        Err(e) => Err(with_warnings(e, &warnings)),
+        Err(e) => Err(with_warnings(e, warnings)),
     }
 }
 
