@@ -14,13 +14,17 @@ fn main() {
             // house rule is one line naming the flag, exit code 2.
             eprintln!(
                 "error: {} (see 'oneblock help')",
-                oneblock::cli::usage_line(&e)
+                oneblock::cli::values::escape_controls(&oneblock::cli::usage_line(&e))
             );
             std::process::exit(2);
         }
     };
     if let Err(e) = oneblock::cli::run(cli) {
-        eprintln!("error: {e}");
+        // One line, whatever a path or value in it holds.
+        eprintln!(
+            "error: {}",
+            oneblock::cli::values::escape_controls(&e.to_string())
+        );
         std::process::exit(e.exit_code());
     }
 }

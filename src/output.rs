@@ -50,10 +50,21 @@ pub fn resolve_links(path: &Path) -> Result<PathBuf, OutputError> {
 }
 
 /// Whether two output paths name the same file (after following links),
-/// so that one would silently overwrite the other.
+/// so that one would silently overwrite the other. A device (such as
+/// `/dev/null`) given twice is not: each output is written to it in turn,
+/// and nothing is lost that was not meant to be.
 pub fn same_output(a: &Path, b: &Path) -> bool {
     if a.as_os_str() == "-" || b.as_os_str() == "-" {
         return a.as_os_str() == b.as_os_str();
+    }
+    let is_device = |p: &Path| {
+        resolve_links(p)
+            .ok()
+            .and_then(|r| fs::metadata(r).ok())
+            .is_some_and(|m| !m.is_file() && !m.is_dir())
+    };
+    if is_device(a) && is_device(b) {
+        return false;
     }
     let key = |p: &Path| -> Option<PathBuf> {
         let r = resolve_links(p).ok()?;
@@ -67,7 +78,9 @@ pub fn same_output(a: &Path, b: &Path) -> bool {
 }
 
 /// Checks, before any work, that `path` can be written: "-" always can; an
-/// existing regular file needs `force`; the parent folder must exist. A
+/// existing regular file needs `force`; in the parent folder a file must
+/// really be creatable (tried, then removed: permission bits alone miss a
+/// read-only mount, found otherwise only after the computation). A
 /// symbolic link is checked at its target.
 pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
     if path.as_os_str() == "-" {
@@ -99,13 +112,14 @@ pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
     let parent = parent_dir(&target);
     match fs::metadata(&parent) {
         Ok(m) if m.is_dir() => {
-            if m.permissions().readonly() {
-                return Err(io_err(io::Error::new(
-                    io::ErrorKind::PermissionDenied,
-                    "folder is read-only",
-                )));
-            }
-            Ok(())
+            // The same kind of file the write will create, dropped (and so
+            // removed) at once.
+            tempfile::Builder::new()
+                .prefix(".oneblock-")
+                .suffix(".tmp")
+                .tempfile_in(&parent)
+                .map(drop)
+                .map_err(io_err)
         }
         Ok(_) => Err(io_err(io::Error::new(
             io::ErrorKind::NotADirectory,
@@ -225,6 +239,19 @@ mod tests {
             );
         }
         assert!(check_writable(&dir.path().join("missing/x.csv"), false).is_err());
+        // The probe leaves nothing behind.
+        check_writable(&dir.path().join("b.csv"), false).unwrap();
+        assert_eq!(fs::read_dir(dir.path()).unwrap().count(), 1);
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn two_device_outputs_are_not_the_same_file() {
+        let null = Path::new("/dev/null");
+        assert!(!same_output(null, null));
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("f.csv");
+        assert!(same_output(&f, &f));
     }
 
     #[cfg(unix)]

@@ -38,7 +38,9 @@ fn max_seconds_writes_what_was_computed_and_says_where_it_stopped() {
     let args = fig4(
         out.to_str().unwrap(),
         pts.to_str().unwrap(),
-        &["--max-seconds", "0.001"],
+        // The seed given: the attractor search at --from (50 ms) is under
+        // the same limit and would stop first, writing nothing.
+        &["--max-seconds", "0.001", "--theta", "0.06"],
     );
     let o = run(&args);
     let err = stderr(&o);

@@ -28,6 +28,29 @@ pub struct Tick {
     pub label: String,
 }
 
+/// The narrowest span an axis labels, relative to the size of its ends:
+/// below it the ticks' round values are no longer distinct doubles.
+pub const MIN_RELATIVE_SPAN: f64 = 1e-12;
+/// The narrowest and widest spans an axis labels at all: outside them a
+/// 1-2-5 step (10^e) under- or overflows.
+pub const MIN_SPAN: f64 = 1e-200;
+pub const MAX_SPAN: f64 = 1e200;
+
+/// Whether [lo, hi] (either order) is a range the tick code can label:
+/// finite ends, a span within [`MIN_SPAN`, `MAX_SPAN`] and at least
+/// [`MIN_RELATIVE_SPAN`] of the ends' size. Every public entry checks it,
+/// whoever calls (a saved zoom of width 5e-324 once froze the window in
+/// the step search, which started from log10(0) = −∞).
+pub fn labelable(lo: f64, hi: f64) -> bool {
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    let span = b - a;
+    a.is_finite()
+        && b.is_finite()
+        && span.is_finite()
+        && (MIN_SPAN..=MAX_SPAN).contains(&span)
+        && span >= MIN_RELATIVE_SPAN * a.abs().max(b.abs())
+}
+
 /// The 1-2-5 steps (m · 10^e, m ∈ {1, 2, 5}) in increasing order, as
 /// (mantissa index, exponent).
 fn step_value(i: i32) -> f64 {
@@ -50,21 +73,31 @@ fn count(lo: f64, hi: f64, step: f64) -> usize {
 }
 
 /// The largest 1-2-5 step that puts at least `min_count` multiples of
-/// itself in [lo, hi]; `None` for an empty or non-finite range.
+/// itself in [lo, hi]; `None` for a range that is not [`labelable`].
 pub fn nice_step(lo: f64, hi: f64, min_count: usize) -> Option<f64> {
-    let (lo, hi) = (lo.min(hi), lo.max(hi));
-    let span = hi - lo;
-    if !(span.is_finite() && span > 0.0 && lo.is_finite()) {
+    if !labelable(lo, hi) {
         return None;
     }
-    let n = min_count.max(2);
+    let (lo, hi) = (lo.min(hi), lo.max(hi));
+    let span = hi - lo;
+    // More ticks than this are never legible; the bound also keeps the
+    // searches below short.
+    let n = min_count.clamp(2, 1000);
     let raw = span / (n - 1) as f64;
     // Index of the largest 1-2-5 value at or below `raw`.
+    // Each search is bounded: the guard above keeps `raw` within about
+    // 1e-203 … 1e200, a few steps from this start.
     let mut i = (raw.log10().floor() as i32) * 3;
-    while step_value(i + 1) <= raw {
+    for _ in 0..8 {
+        if step_value(i + 1) > raw {
+            break;
+        }
         i += 1;
     }
-    while step_value(i) > raw {
+    for _ in 0..8 {
+        if step_value(i) <= raw {
+            break;
+        }
         i -= 1;
     }
     // A step of span/(n−1) may lose one tick to the ends' rounding.
@@ -74,7 +107,10 @@ pub fn nice_step(lo: f64, hi: f64, min_count: usize) -> Option<f64> {
         }
         i -= 1;
     }
-    while count(lo, hi, step_value(i + 1)) >= n {
+    for _ in 0..8 {
+        if count(lo, hi, step_value(i + 1)) < n {
+            break;
+        }
         i += 1;
     }
     Some(step_value(i))
@@ -83,14 +119,15 @@ pub fn nice_step(lo: f64, hi: f64, min_count: usize) -> Option<f64> {
 /// [lo, hi] widened to the multiples of the largest 1-2-5 step that then
 /// holds at least `min_count` ticks, ends included: bounds for a plot
 /// that frames its data itself, so that a short axis still gets five
-/// labels at round values. Unchanged for an empty or non-finite range.
+/// labels at round values. Unchanged for a range that is not
+/// [`labelable`].
 pub fn nice_bounds(lo: f64, hi: f64, min_count: usize) -> (f64, f64) {
-    let (a, b) = (lo.min(hi), lo.max(hi));
-    let span = b - a;
-    if !(span.is_finite() && span > 0.0 && a.is_finite()) {
+    if !labelable(lo, hi) {
         return (lo, hi);
     }
-    let n = min_count.max(2);
+    let (a, b) = (lo.min(hi), lo.max(hi));
+    let span = b - a;
+    let n = min_count.clamp(2, 1000);
     let expanded = |s: f64| ((a / s + 1e-9).floor() * s, (b / s - 1e-9).ceil() * s);
     let ticks_in = |s: f64| {
         let (x, y) = expanded(s);
@@ -199,7 +236,7 @@ pub fn angle_ticks(lo: f64, hi: f64, min_count: usize, unit: AngleUnit) -> Vec<T
             .collect(),
         AngleUnit::PiFractions => {
             let (a, b) = (lo.min(hi), lo.max(hi));
-            if !(a.is_finite() && b.is_finite() && b > a) {
+            if !labelable(a, b) {
                 return Vec::new();
             }
             let n = min_count.max(2);
@@ -237,7 +274,7 @@ pub fn angle_ticks(lo: f64, hi: f64, min_count: usize, unit: AngleUnit) -> Vec<T
 /// less than about a decade wide, 1-2-5 steps of the value itself.
 pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
     let (a, b) = (lo.min(hi), lo.max(hi));
-    if !(a.is_finite() && b.is_finite() && b > a) || b - a > 600.0 {
+    if !labelable(a, b) || b - a > 600.0 {
         return Vec::new();
     }
     let n = min_count.max(2);

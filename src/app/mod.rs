@@ -6,7 +6,8 @@
 //!
 //! - [`style`], [`describe`], [`backend`]: colours and legends, the words
 //!   for a regime or an attractor, the worker behind a trait.
-//! - [`settings`]: everything that persists, and its sanitising on load.
+//! - [`settings`]: everything that persists, and its sanitising on load;
+//!   [`saved_state`]: the saved file checked, and set aside if unusable.
 //! - [`axes`]: ticks and axis titles for every plot (and for exports).
 //! - [`data`], [`phase_data`], [`branches`]: what the worker sent for
 //!   each kind of job.
@@ -46,6 +47,7 @@ pub mod plane;
 pub mod points_table;
 pub mod return_map;
 pub mod save;
+pub mod saved_state;
 pub mod screenshot;
 pub mod script;
 pub mod session;
@@ -89,7 +91,15 @@ pub struct RunOptions {
     pub timeout: Option<Duration>,
     /// Open on this session file (`oneblock gui --session`).
     pub session: Option<PathBuf>,
+    /// A scripted run that opens on the saved state as a plain launch does
+    /// (checked, and set aside if unusable) but never writes it: how the
+    /// tests check that no saved state bricks a launch.
+    pub saved_state: bool,
 }
+
+/// How long past `--timeout` a scripted run may take to save its picture
+/// before the watchdog ends it.
+pub const SCREENSHOT_GRACE: Duration = Duration::from_secs(20);
 
 /// Whether OpenGL is a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast):
 /// fill-bound, so the window saves on anti-aliasing there (`smooth_lines`).
@@ -115,20 +125,20 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             None => None,
         };
     let scripted = opts.screenshot.is_some();
+    // Warnings are said once the run is over: on their own lines after a
+    // success, folded into the one line of an error otherwise.
+    let mut warnings: Vec<String> = Vec::new();
     let session = match &opts.session {
         Some(p) => {
-            let text = std::fs::read_to_string(p)
-                .map_err(|e| format!("--session: cannot read {}: {e}", p.display()))?;
-            let loaded = session::Session::from_json(&text, &p.display().to_string());
-            if let Some(m) = &loaded.message {
-                eprintln!("warning: {m}");
-            }
+            let loaded = session::Session::read(p).map_err(|e| format!("--session: {e}"))?;
+            warnings.extend(loaded.message.clone());
             Some(loaded)
         }
         None => None,
     };
     if let Some(p) = &opts.screenshot {
-        crate::output::check_writable(p, false).map_err(|e| e.to_string())?;
+        crate::output::check_writable(p, false)
+            .map_err(|e| with_warnings(format!("--screenshot: {e}"), &warnings))?;
     }
     let size = opts.size.unwrap_or([1280.0, 800.0]);
     let timeout = opts.timeout.unwrap_or(Duration::from_secs(180));
@@ -152,7 +162,16 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         // Measure drawing, not waiting for the display.
         native.glow_options.vsync = false;
     }
-    if scripted {
+    // The saved state is read by a plain launch (and by a scripted run
+    // asked to): checked first, and set aside if it cannot be used.
+    let reads_state = (!scripted || opts.saved_state) && session.is_none();
+    let state_message = if reads_state {
+        saved_state::default_path().and_then(|p| saved_state::check(&p))
+    } else {
+        None
+    };
+    warnings.extend(state_message.clone());
+    if scripted && !opts.saved_state {
         // A scripted run never reads or writes the user's saved state.
         native.persistence_path =
             Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
@@ -161,19 +180,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let outcome = Arc::new(std::sync::Mutex::new(None));
     let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
     if scripted {
-        // Never hang: if the event loop itself stalls, give up loudly.
-        let limit = timeout + Duration::from_secs(60);
-        std::thread::Builder::new()
-            .name("oneblock-watchdog".into())
-            .spawn(move || {
-                std::thread::sleep(limit);
-                eprintln!(
-                    "error: the window did not finish within {:.0} s",
-                    limit.as_secs_f64()
-                );
-                std::process::exit(1);
-            })
-            .map_err(|e| e.to_string())?;
+        spawn_watchdog(timeout)?;
     }
 
     let out2 = outcome.clone();
@@ -190,7 +197,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             );
             let mut settings: Settings = if let Some(l) = &session {
                 l.session.settings.clone()
-            } else if scripted {
+            } else if !reads_state {
                 Settings::default()
             } else {
                 cc.storage
@@ -221,6 +228,9 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                     app.shots.toast(m.clone(), true, 0.0);
                 }
             }
+            if let Some(m) = &state_message {
+                app.shots.toast(m.clone(), true, 0.0);
+            }
             app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
             app.persist = !scripted;
             app.stats.enabled = opts.frame_stats;
@@ -240,21 +250,67 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     {
         eprintln!("{rep}");
     }
-    r.map_err(|e| format!("the window failed: {e}"))?;
-    if scripted {
-        match outcome
-            .lock()
-            .unwrap_or_else(PoisonError::into_inner)
-            .take()
-        {
-            Some(Ok(path)) => {
-                eprintln!("saved {path}");
-                Ok(())
+    r.map_err(|e| with_warnings(format!("the window failed: {e}"), &warnings))?;
+    let shot = outcome
+        .lock()
+        .unwrap_or_else(PoisonError::into_inner)
+        .take();
+    finish(scripted, shot, &warnings)
+}
+
+/// Never hang: if a frame stalls (so the script's own check of the time
+/// never runs), a scripted run gives up loudly soon after `timeout`. The
+/// grace covers taking and encoding the picture once the views are done.
+fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
+    let limit = timeout + SCREENSHOT_GRACE;
+    std::thread::Builder::new()
+        .name("oneblock-watchdog".into())
+        .spawn(move || {
+            std::thread::sleep(limit);
+            eprintln!(
+                "error: the window did not finish within --timeout {:.0} s \
+                 (and {:.0} s to save the picture)",
+                timeout.as_secs_f64(),
+                SCREENSHOT_GRACE.as_secs_f64()
+            );
+            std::process::exit(1);
+        })
+        .map(drop)
+        .map_err(|e| e.to_string())
+}
+
+/// The end of a run: a scripted run's outcome (`shot`), the warnings on
+/// their own lines after a success or folded into the error's one line.
+fn finish(
+    scripted: bool,
+    shot: Option<Result<String, String>>,
+    warnings: &[String],
+) -> Result<(), String> {
+    let done = match (scripted, shot) {
+        (false, _) => Ok(String::new()),
+        (true, Some(Ok(path))) => Ok(format!("saved {path}")),
+        (true, Some(Err(e))) => Err(e),
+        (true, None) => Err("the window closed before the screenshot was taken".into()),
+    };
+    match done {
+        Ok(said) => {
+            for w in warnings {
+                eprintln!("warning: {w}");
             }
-            Some(Err(e)) => Err(e),
-            None => Err("the window closed before the screenshot was taken".into()),
+            if !said.is_empty() {
+                eprintln!("{said}");
+            }
+            Ok(())
         }
+        Err(e) => Err(with_warnings(e, warnings)),
+    }
+}
+
+/// An error with the warnings before it folded in: one line in all.
+fn with_warnings(error: String, warnings: &[String]) -> String {
+    if warnings.is_empty() {
+        error
     } else {
-        Ok(())
+        format!("{error} (after warning: {})", warnings.join("; "))
     }
 }

@@ -157,7 +157,7 @@ impl Script {
                         Saved::Failed(e) => Err(format!("screenshot failed: {e}")),
                     };
                     self.finish(ctx, r);
-                } else if start.elapsed() > self.timeout + Duration::from_secs(30) {
+                } else if start.elapsed() > self.timeout + super::SCREENSHOT_GRACE / 2 {
                     self.finish(ctx, Err("the window never delivered the screenshot".into()));
                 }
             }

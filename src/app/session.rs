@@ -5,17 +5,29 @@
 //! stack, which lives in its view.
 //!
 //! Reading is forgiving field by field: a field the file gets wrong (a
-//! wrong type, a value out of range) or one this version does not know is
-//! named in one message, and every other field is kept as the file has it.
+//! wrong type, a value out of range, a zoom too narrow to draw, a list or
+//! string too long) or one this version does not know is named in one
+//! message, and every other field is kept as the file has it. What cannot
+//! be a session at all is refused in one line by [`Session::read`]: a
+//! version this build does not understand, a FIFO, a directory, a file
+//! too large or not UTF-8.
+
+use std::io::Read as _;
+use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::bifurcation::Zoom;
-use super::settings::Settings;
+use super::settings::{MAX_ZOOM_LEVELS, Settings, is_usable_range};
+use crate::cli::values::echo;
 
 /// The format's version, written as `oneblock_session`.
 pub const VERSION: u32 = 1;
+
+/// The largest session file read, in bytes. A session the window writes
+/// is about 2 KB; the bound keeps a hostile file's parse small.
+pub const MAX_FILE_BYTES: u64 = 1 << 20;
 
 /// A session: the settings and the bifurcation zoom stack (innermost last).
 #[derive(Clone, Debug, PartialEq)]
@@ -33,8 +45,7 @@ struct ZoomFile {
 
 impl ZoomFile {
     fn is_valid(&self) -> bool {
-        let ok = |(a, b): (f64, f64)| a.is_finite() && b.is_finite() && a < b;
-        ok(self.theta_nu) && ok(self.theta)
+        is_usable_range(self.theta_nu) && is_usable_range(self.theta)
     }
 }
 
@@ -68,6 +79,27 @@ impl Session {
         s
     }
 
+    /// Reads the session file at `path`: refused (one line, naming the
+    /// file) when it is not a regular file (a FIFO is opened without
+    /// blocking and refused), larger than [`MAX_FILE_BYTES`], not UTF-8,
+    /// or of a version this build does not understand; otherwise
+    /// [`Session::from_json`].
+    pub fn read(path: &Path) -> Result<Loaded, String> {
+        let name = echo(&path.display().to_string());
+        let text = read_text(path).map_err(|e| format!("cannot read {name}: {e}"))?;
+        if let Ok(Value::Object(m)) = serde_json::from_str::<Value>(&text)
+            && let Some(v) = m.get("oneblock_session")
+            && v.as_u64() != Some(u64::from(VERSION))
+        {
+            let shown = echo(&v.to_string());
+            return Err(format!(
+                "{name} is a session of version {shown}, which this oneblock does not \
+                 understand (it reads version {VERSION})"
+            ));
+        }
+        Ok(Session::from_json(&text, &name))
+    }
+
     /// Reads a session from `text`, `what` naming it in the message (the
     /// file name). Never fails: what cannot be read is left at its default.
     pub fn from_json(text: &str, what: &str) -> Loaded {
@@ -88,7 +120,7 @@ impl Session {
         };
         for k in root.keys() {
             if !["oneblock_session", "settings", "bifurcation_zoom"].contains(&k.as_str()) {
-                unknown.push(k.clone());
+                unknown.push(echo(k));
             }
         }
         let settings = match root.get("settings") {
@@ -104,7 +136,7 @@ impl Session {
         let bifurcation_zoom = match root.get("bifurcation_zoom") {
             None => Vec::new(),
             Some(v) => match serde_json::from_value::<Vec<ZoomFile>>(v.clone()) {
-                Ok(z) if z.iter().all(ZoomFile::is_valid) => z
+                Ok(z) if z.len() <= MAX_ZOOM_LEVELS && z.iter().all(ZoomFile::is_valid) => z
                     .into_iter()
                     .map(|z| Zoom {
                         theta_nu: z.theta_nu,
@@ -119,10 +151,10 @@ impl Session {
         };
         let mut parts = Vec::new();
         if !bad.is_empty() {
-            parts.push(format!("invalid {} (defaults used)", bad.join(", ")));
+            parts.push(format!("invalid {} (defaults used)", listed(&bad)));
         }
         if !unknown.is_empty() {
-            parts.push(format!("unknown {} (ignored)", unknown.join(", ")));
+            parts.push(format!("unknown {} (ignored)", listed(&unknown)));
         }
         Loaded {
             session: Session {
@@ -147,6 +179,75 @@ impl Loaded {
     }
 }
 
+/// Names joined by commas, at most eight of them (a file may hold
+/// thousands of unknown keys; the message stays one short line).
+fn listed(names: &[String]) -> String {
+    const SHOWN: usize = 8;
+    let mut s = names
+        .iter()
+        .take(SHOWN)
+        .cloned()
+        .collect::<Vec<_>>()
+        .join(", ");
+    if names.len() > SHOWN {
+        s.push_str(&format!(" and {} more", names.len() - SHOWN));
+    }
+    s
+}
+
+/// The text of a session file, read without ever blocking: the file is
+/// opened non-blocking (a FIFO with no writer would otherwise wait
+/// forever) and must then be a regular file of at most
+/// [`MAX_FILE_BYTES`], holding UTF-8.
+fn read_text(path: &Path) -> Result<String, String> {
+    // The name first (it never blocks): a FIFO or a directory is refused
+    // before anything opens it.
+    let meta = std::fs::metadata(path).map_err(|e| e.to_string())?;
+    if meta.is_dir() {
+        return Err("it is a directory, not a session file".into());
+    }
+    if !meta.is_file() {
+        return Err("it is not a regular file (a FIFO, socket or device)".into());
+    }
+    let mut opts = std::fs::OpenOptions::new();
+    opts.read(true);
+    // And non-blocking, in case the name now points at a FIFO.
+    #[cfg(target_os = "linux")]
+    {
+        use std::os::unix::fs::OpenOptionsExt as _;
+        opts.custom_flags(libc::O_NONBLOCK);
+    }
+    let file = opts.open(path).map_err(|e| e.to_string())?;
+    let meta = file.metadata().map_err(|e| e.to_string())?;
+    if meta.is_dir() {
+        return Err("it is a directory, not a session file".into());
+    }
+    if !meta.is_file() {
+        return Err("it is not a regular file (a FIFO, socket or device)".into());
+    }
+    if meta.len() > MAX_FILE_BYTES {
+        return Err(format!(
+            "it holds {} bytes, more than a session's {MAX_FILE_BYTES}",
+            meta.len()
+        ));
+    }
+    let mut bytes = Vec::new();
+    file.take(MAX_FILE_BYTES + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| e.to_string())?;
+    if bytes.len() as u64 > MAX_FILE_BYTES {
+        return Err(format!(
+            "it holds more than a session's {MAX_FILE_BYTES} bytes"
+        ));
+    }
+    String::from_utf8(bytes).map_err(|e| {
+        format!(
+            "it is not UTF-8 text (invalid byte at offset {})",
+            e.utf8_error().valid_up_to()
+        )
+    })
+}
+
 /// The settings from a JSON object, field by field: each field is tried on
 /// its own over the defaults, so one bad field costs only itself.
 fn settings_from(
@@ -160,7 +261,7 @@ fn settings_from(
     };
     for (k, v) in m {
         if !current.contains_key(k) {
-            unknown.push(format!("settings.{k}"));
+            unknown.push(format!("settings.{}", echo(k)));
             continue;
         }
         let old = current.insert(k.clone(), v.clone());

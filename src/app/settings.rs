@@ -72,6 +72,21 @@ pub enum AccuracyMode {
     Custom,
 }
 
+/// The longest save folder a saved file may name, in bytes (a path this
+/// long is already far past any file system's limit; a 10 MB string once
+/// made the window abort laying out its text field).
+pub const MAX_SAVE_DIR_LEN: usize = 4096;
+/// The most zoom levels a saved file may stack (phase or bifurcation).
+pub const MAX_ZOOM_LEVELS: usize = 64;
+
+/// Whether (a, b) is a range a view can show: finite, increasing, and
+/// wider than 1e-12 of its ends' size (and than 1e-12 absolutely). A
+/// narrower range has no distinct round values to label, and a saved
+/// zoom of width 5e-324 once froze the window.
+pub fn is_usable_range((a, b): (f64, f64)) -> bool {
+    a.is_finite() && b.is_finite() && b - a > 1e-12 * a.abs().max(b.abs()).max(1.0)
+}
+
 /// The most cycles a saved trajectory length may ask for.
 pub const MAX_TRAJECTORY_CYCLES: usize = 100_000;
 /// The most iterates a saved diagram column may drop or keep.
@@ -346,9 +361,30 @@ impl Settings {
             "block speed",
             &mut bad,
         );
-        if self.tiled.is_empty() {
-            self.tiled = d.tiled;
+        // Tiles are the views that exist, each once (a file once held
+        // 10,000, and laying them out aborted the window).
+        let mut tiles = Vec::new();
+        for v in &self.tiled {
+            if !tiles.contains(v) {
+                tiles.push(*v);
+            }
+        }
+        if tiles.is_empty() || tiles.len() != self.tiled.len() {
+            self.tiled = if tiles.is_empty() { d.tiled } else { tiles };
             bad.push("tiles");
+        }
+        if self.save_dir.len() > MAX_SAVE_DIR_LEN || self.save_dir.contains('\0') {
+            self.save_dir = d.save_dir;
+            bad.push("save folder");
+        }
+        // The preset only names the window's title: a known key or none.
+        if self
+            .preset
+            .as_deref()
+            .is_some_and(|k| crate::model::preset(k).is_none())
+        {
+            self.preset = None;
+            bad.push("preset");
         }
         let phase = self.phase.clone().sanitised();
         if phase != self.phase {
@@ -404,20 +440,17 @@ impl PhaseRange {
         kappa: (1.0, 42.0),
     };
 
-    /// Finite, increasing ends, θν within [−π, π] and κ within the model's
+    /// Finite, increasing ends ([`is_usable_range`]: not narrower than
+    /// 1e-12 of their size), θν within [−π, π] and κ within the model's
     /// [1e-6, 1e6].
     pub fn is_valid(&self) -> bool {
         let (t0, t1) = self.theta_nu;
         let (k0, k1) = self.kappa;
-        t0.is_finite()
-            && t1.is_finite()
+        is_usable_range(self.theta_nu)
             && -PI <= t0
-            && t0 < t1
             && t1 <= PI
-            && k0.is_finite()
-            && k1.is_finite()
+            && is_usable_range(self.kappa)
             && 1e-6 <= k0
-            && k0 < k1
             && k1 <= 1e6
     }
 }
@@ -471,6 +504,7 @@ impl PhaseSettings {
             self.zoom.clear();
         }
         self.zoom.retain(PhaseRange::is_valid);
+        self.zoom.truncate(MAX_ZOOM_LEVELS);
         self
     }
 }

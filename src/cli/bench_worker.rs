@@ -12,8 +12,11 @@ use std::time::{Duration, Instant};
 
 use clap::Args;
 
+use std::cell::RefCell;
+
 use super::CliError;
-use super::run_control::say;
+use super::common::max_seconds;
+use super::run_control::{Limits, check_stdout, run_bounded, write_stdout};
 use super::values::{count_between, parse_count, parse_number, settings_error};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
@@ -55,6 +58,27 @@ pub struct BenchWorkerArgs {
     /// (N from 1 to 200).
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub phase: Option<usize>,
+    /// Give up after this many seconds, in (0, 1e7], printing nothing;
+    /// Ctrl+C also stops it.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
+}
+
+thread_local! {
+    /// The report, gathered on the benchmark's thread and printed whole
+    /// when it is done: a run stopped by Ctrl+C or --max-seconds prints
+    /// nothing of it.
+    static REPORT: RefCell<String> = const { RefCell::new(String::new()) };
+}
+
+/// One line of the report.
+fn say(line: &str) -> Result<(), CliError> {
+    REPORT.with(|r| {
+        let mut r = r.borrow_mut();
+        r.push_str(line);
+        r.push('\n');
+    });
+    Ok(())
 }
 
 impl Default for BenchWorkerArgs {
@@ -69,6 +93,7 @@ impl Default for BenchWorkerArgs {
             repeats: 3,
             latency_samples: 9,
             phase: None,
+            max_seconds: None,
         }
     }
 }
@@ -445,15 +470,28 @@ pub fn check(args: &BenchWorkerArgs) -> Result<SolverSettings, CliError> {
     }
     let settings = SolverSettings::adaptive(Method::Dop853, args.tol);
     settings.validate().map_err(settings_error)?;
+    max_seconds(args.max_seconds)?;
     super::run_control::check_stdout()?;
     Ok(settings)
 }
 
 pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     let settings = check(&args)?;
-    if let Some(n) = args.phase {
-        return run_phase(&args, settings, n);
-    }
+    let limits = Limits::start(max_seconds(args.max_seconds)?);
+    check_stdout()?;
+    let (done, text) = run_bounded("bench-worker", &limits, move || {
+        let done = match args.phase {
+            Some(n) => run_phase(&args, settings, n),
+            None => run_sweeps(&args, settings),
+        };
+        (done, REPORT.with(|r| r.take()))
+    })?;
+    done?;
+    write_stdout(text.as_bytes())
+}
+
+/// The sweep benchmark's report.
+fn run_sweeps(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<(), CliError> {
     say(&format!(
         "bench-worker: Fig. 3b (gamma = 6.5, kappa = 18.95, nu = 1e-3, omega = 50), dop853, tol = {:e}",
         args.tol
@@ -470,7 +508,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     if let Some(l) = load_average() {
         say(&format!("load average before the run: {l:.2}"))?;
     }
-    let (serial_wall, serial_cpu) = serial_rate(&args, settings);
+    let (serial_wall, serial_cpu) = serial_rate(args, settings);
     let total = (args.columns * (args.transient + args.keep)) as f64;
     let per_cpu = serial_cpu.unwrap_or(serial_wall);
     say(&format!(
@@ -489,7 +527,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     ))?;
     let mut timings = Vec::new();
     for r in 0..args.repeats {
-        let t = time_sweep(&args, settings)?;
+        let t = time_sweep(args, settings)?;
         say(&format!(
             "  sweep {}: coarse {:.3} s (CPU {}), full {:.3} s (CPU {}), {:.0} iterates/s{}",
             r + 1,
@@ -509,7 +547,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     let coarse = median(&timings.iter().map(|t| t.coarse).collect::<Vec<_>>());
     let full = median(&timings.iter().map(|t| t.full).collect::<Vec<_>>());
     let lat = if args.latency_samples > 0 {
-        trajectory_latencies(&args, settings, Duration::from_secs_f64(0.8 * full))?
+        trajectory_latencies(args, settings, Duration::from_secs_f64(0.8 * full))?
     } else {
         vec![]
     };

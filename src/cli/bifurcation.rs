@@ -42,7 +42,8 @@ pub struct BifurcationArgs {
     /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] [default: 50,
+    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
+    /// assumes [1, 1e4]) [default: 50,
     /// or the preset's].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
@@ -82,7 +83,7 @@ pub struct BifurcationArgs {
     /// Overwrite an existing --out file.
     #[arg(long)]
     pub force: bool,
-    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    /// Stop after this many seconds, in (0, 1e7], writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
 }

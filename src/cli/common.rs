@@ -155,11 +155,6 @@ pub fn max_seconds(v: Option<f64>) -> Result<Option<f64>, CliError> {
         .transpose()
 }
 
-/// Writes a finished output atomically to the `--out` path.
-pub fn write_out(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
-    write_output(path, bytes, force).map_err(out_error)
-}
-
 fn out_error(e: OutputError) -> CliError {
     CliError::Usage(format!("--out: {e}"))
 }
@@ -232,6 +227,14 @@ pub fn check_theta(sim: &Simulator, flag: &str, theta: f64) -> Result<f64, CliEr
 /// Writes `bytes` to `--out` (or stdout for "-"). A closed pipe on stdout
 /// (`| head`) is not an error: the reader has what it wanted.
 pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
+    emit_as("out", path, bytes, force)
+}
+
+/// Writes a finished output given by `--{flag}` (stdout for "-"). Every
+/// output was checked before the run (exit 2 for what the user can fix
+/// then); a write that fails now is a failure of the run: exit 1, the
+/// message naming the flag.
+pub fn emit_as(flag: &str, path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
     if path.as_os_str() == "-" {
         return write_stdout(bytes);
     }
@@ -240,12 +243,11 @@ pub fn emit(path: &Path, bytes: &[u8], force: bool) -> Result<(), CliError> {
         Err(OutputError::Io { source, .. }) if source.kind() == std::io::ErrorKind::BrokenPipe => {
             Ok(())
         }
-        // A device that refused the bytes (/dev/full): the run failed.
-        Err(OutputError::Io { path, source }) => Err(CliError::Failed(format!(
-            "--out: cannot write {}: {source}",
-            path.display()
+        Err(e) => Err(CliError::Failed(format!(
+            "--{flag}: {}",
+            super::values::escape_controls(&e.to_string())
         ))),
-        r => r.map_err(out_error),
+        Ok(()) => Ok(()),
     }
 }
 

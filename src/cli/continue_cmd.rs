@@ -10,8 +10,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, finite,
-    max_seconds, warn_validity,
+    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, emit_as,
+    finite, max_seconds, warn_validity,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
@@ -24,15 +24,68 @@ use crate::sim::continuation::{
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError, Simulator};
 
+/// The model's flags as `continue` takes them: each optional at the
+/// parser, because the varied parameter's flag is not needed (--from and
+/// --to set it); every other one is required unless --preset gives it,
+/// checked with the others in [`check`].
+#[derive(Debug, Clone, Default, Args)]
+pub struct ContinueModelArgs {
+    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
+    /// intermittent (the flags below override its values).
+    #[arg(long)]
+    pub preset: Option<String>,
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub kappa: Option<f64>,
+    /// γ, the friction weakening, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub nu: Option<f64>,
+    /// θν, the pulling direction in radians.
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
+    pub theta_nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
+    /// assumes [1, 1e4]) [default: 50, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
+}
+
+impl ContinueModelArgs {
+    /// The model's flags with the varied parameter's (if left out) set to
+    /// `from`, where the branch starts.
+    fn with_varied(&self, varied: Option<ContParam>, from: f64) -> ModelArgs {
+        let mut m = ModelArgs {
+            preset: self.preset.clone(),
+            kappa: self.kappa,
+            gamma: self.gamma,
+            nu: self.nu,
+            theta_nu: self.theta_nu,
+            omega: self.omega,
+        };
+        let slot = match varied {
+            Some(ContParam::ThetaNu) => &mut m.theta_nu,
+            Some(ContParam::Kappa) => &mut m.kappa,
+            Some(ContParam::Gamma) => &mut m.gamma,
+            Some(ContParam::Nu) => &mut m.nu,
+            Some(ContParam::Omega) => &mut m.omega,
+            None => return m,
+        };
+        slot.get_or_insert(from);
+        m
+    }
+}
+
 /// Follows a cycle, a cascade, or a bifurcation curve.
 #[derive(Debug, Clone, Args)]
 pub struct ContinueArgs {
     #[command(flatten)]
-    pub model: ModelArgs,
+    pub model: ContinueModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// The parameter varied: theta-nu, kappa, gamma, nu or omega (its
-    /// model flag is then only the default of nothing: --from and --to set it).
+    /// The parameter varied: theta-nu, kappa, gamma, nu or omega. Its own
+    /// flag (such as --theta-nu) may be left out: --from and --to set it.
     #[arg(long, conflicts_with = "params")]
     pub param: Option<String>,
     /// With --curve: the two parameters, "P1,P2" (e.g. theta-nu,kappa); the
@@ -80,7 +133,7 @@ pub struct ContinueArgs {
     /// With --curve: the other end of the second parameter's range.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "curve")]
     pub to2: Option<f64>,
-    /// Stop after this many seconds (at most 1e7), writing what was
+    /// Stop after this many seconds, in (0, 1e7], writing what was
     /// computed and where it stopped, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
@@ -160,7 +213,17 @@ fn range(
 pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
     let period = count_between("period", args.period, 1, PERIOD_MAX)?;
     let max_seconds = max_seconds(args.max_seconds)?;
-    let base = args.model.params()?;
+    // The varied parameter, as far as the flags say it (a wrong name is
+    // refused below, with its flag).
+    let varied = match (&args.curve, &args.params, &args.param) {
+        (Some(_), Some(ps), _) => ps
+            .split(',')
+            .next()
+            .and_then(|n| ContParam::parse(n.trim())),
+        (None, _, Some(n)) => ContParam::parse(n.trim()),
+        _ => None,
+    };
+    let base = args.model.with_varied(varied, args.from).params()?;
     let settings = args.solver.settings()?;
     let (param, mode) = match (&args.curve, &args.params, &args.param) {
         (Some(kind), params, _) => {
@@ -261,13 +324,17 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
 }
 
 /// The seed: `--theta`, or a point of the attractor at --from when it has
-/// period p.
-fn seed(plan: &Plan) -> Result<f64, CliError> {
+/// period p (a search that stops with `limits`: Ctrl+C, --max-seconds).
+fn seed(plan: &Plan, limits: &Limits) -> Result<f64, CliError> {
     if let Some(th) = plan.theta {
         return Ok(th);
     }
     let sim = plan.prob.sim(plan.from)?;
-    let found = match attractor_cycle(*sim.params(), *sim.settings(), &|| false)? {
+    let attractor = match attractor_cycle(*sim.params(), *sim.settings(), &|| limits.stop()) {
+        Err(_) if limits.stop() => return Err(limits.stopped("continue")),
+        r => r?,
+    };
+    let found = match attractor {
         Attractor::Cycle { period, theta } if period == plan.prob.period => return Ok(theta),
         Attractor::Cycle { period, .. } | Attractor::Unsolved(period) => {
             format!("has period {period}")
@@ -301,7 +368,12 @@ fn start_error(plan: &Plan, seed: f64, e: CycleFailure) -> CliError {
 pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let plan = check(&args)?;
     warn_validity(&plan.prob.base);
-    let seed = seed(&plan)?;
+    // The clock of --max-seconds starts no later than the limit's own, so
+    // a run the limit stopped has always passed it here (Ctrl+C has not).
+    // Both start before the attractor search, which Ctrl+C also stops.
+    let started = Instant::now();
+    let limits = Limits::start(plan.max_seconds);
+    let seed = seed(&plan, &limits)?;
     // A seed on a shorter cycle (a fixed point is also a 3-cycle) would
     // follow that cycle under another name.
     let solved = crate::sim::solve_cycle(
@@ -324,10 +396,6 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
     let described = describe(sim.params(), sim.settings());
     let opts = ContOptions::for_range(&plan.prob.settings, plan.from, plan.to);
-    // The clock of --max-seconds starts no later than the limit's own, so
-    // a run the limit stopped has always passed it here (Ctrl+C has not).
-    let started = Instant::now();
-    let limits = Limits::start(plan.max_seconds);
     let stop = || limits.stop();
     // A line per located point where no bar or terminal shows progress.
     let lines = !stderr_is_terminal();
@@ -440,7 +508,12 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     };
     emit(&args.out, data.as_bytes(), args.force)?;
     if let Some(p) = &args.points {
-        emit(p, out::points_csv(&branches).as_bytes(), args.force)?;
+        emit_as(
+            "points",
+            p,
+            out::points_csv(&branches).as_bytes(),
+            args.force,
+        )?;
     }
     let summary = out::Summary {
         described: &described,

@@ -9,9 +9,9 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_theta, describe, emit, settings_json, warn_validity,
+    ModelArgs, SolverArgs, check_theta, describe, emit, max_seconds, settings_json, warn_validity,
 };
-use super::run_control::check_stdout;
+use super::run_control::{Limits, check_stdout, run_bounded};
 use super::values::{count_between, parse_count, parse_number};
 use crate::model::{OnsetCharacter, onset_character};
 use crate::sim::{Cycle, CycleFailure, CycleOptions, PERIOD_MAX, Simulator, solve_cycle};
@@ -32,6 +32,10 @@ pub struct CycleArgs {
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
+    /// Give up after this many seconds, in (0, 1e7], printing nothing (a
+    /// long period at a small ν can take minutes); Ctrl+C also stops it.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// What `run` needs, checked before any work.
@@ -39,6 +43,7 @@ pub struct Plan {
     pub sim: Simulator,
     pub period: usize,
     pub seed: f64,
+    pub max_seconds: Option<f64>,
 }
 
 /// Checks the flags (values, bounds, the seed on the exit arc, stdout).
@@ -48,16 +53,31 @@ pub fn check(args: &CycleArgs) -> Result<Plan, CliError> {
     let settings = args.solver.settings()?;
     let sim = Simulator::new(params, settings)?;
     let seed = check_theta(&sim, "theta", args.theta)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
     check_stdout()?;
-    Ok(Plan { sim, period, seed })
+    Ok(Plan {
+        sim,
+        period,
+        seed,
+        max_seconds,
+    })
 }
 
 pub fn run(args: CycleArgs) -> Result<(), CliError> {
-    let Plan { sim, period, seed } = check(&args)?;
+    let Plan {
+        sim,
+        period,
+        seed,
+        max_seconds,
+    } = check(&args)?;
     let (params, settings) = (*sim.params(), *sim.settings());
     warn_validity(&params);
     let opts = CycleOptions::for_settings(&settings);
-    let cycle = solve_cycle(&sim, seed, period, &opts).map_err(|e| match e {
+    let limits = Limits::start(max_seconds);
+    let solved = run_bounded("cycle", &limits, move || {
+        solve_cycle(&sim, seed, period, &opts)
+    })?;
+    let cycle = solved.map_err(|e| match e {
         CycleFailure::Sim(e) => CliError::from(e),
         e => CliError::Failed(format!("no {period}-cycle from theta = {seed}: {e}")),
     })?;

@@ -34,8 +34,9 @@ pub struct GuiArgs {
     /// .svg, else a PNG (never overwrites an existing file).
     #[arg(long)]
     pub screenshot: Option<PathBuf>,
-    /// Window size in points, WIDTHxHEIGHT (default 1280x800).
-    #[arg(long, value_parser = parse_size)]
+    /// Window size in points, WIDTHxHEIGHT, each in [200, 10000] (default
+    /// 1280x800).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
     pub size: Option<[f32; 2]>,
     /// Measure frame times (with --screenshot: for 5 s with the diagram full
     /// and a trajectory streaming) and print the median.
@@ -57,6 +58,10 @@ pub struct GuiArgs {
     /// fields are named once and left at their defaults.
     #[arg(long)]
     pub session: Option<PathBuf>,
+    /// With --screenshot: open on the saved state as a plain launch does
+    /// (checked, set aside if unusable), never writing it. For tests.
+    #[arg(long, hide = true)]
+    pub saved_state: bool,
 }
 
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
@@ -106,13 +111,25 @@ pub fn check(args: &GuiArgs) -> Result<(), CliError> {
             short(f as f64)
         )));
     }
-    if let Some(p) = &args.session
-        && let Err(e) = std::fs::metadata(p)
-    {
-        return Err(CliError::Usage(format!(
-            "--session: cannot read {}: {e}",
-            p.display()
-        )));
+    if let Some(p) = &args.session {
+        // Read (and its version checked) before the window opens: a FIFO,
+        // a directory, a file not UTF-8 or of an unknown version is the
+        // user's to fix, in one line.
+        #[cfg(feature = "gui")]
+        crate::app::session::Session::read(p)
+            .map_err(|e| CliError::Usage(format!("--session: {e}")))?;
+        #[cfg(not(feature = "gui"))]
+        std::fs::metadata(p).map_err(|e| {
+            CliError::Usage(format!(
+                "--session: cannot read {}: {e}",
+                super::values::echo(&p.display().to_string())
+            ))
+        })?;
+    }
+    if args.saved_state && args.screenshot.is_none() {
+        return Err(CliError::Usage(
+            "--saved-state: only with --screenshot (a plain launch always reads it)".into(),
+        ));
     }
     if let Some(p) = &args.screenshot {
         crate::output::check_writable(p, false).map_err(|e| match e {
@@ -144,9 +161,11 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         // launches restore the saved parameters unless a preset is named. A
         // scripted run is reproducible: Fig. 3b unless told otherwise.
         preset: args.preset.clone().or_else(|| {
-            (args.screenshot.is_some() && args.session.is_none()).then(|| "fig3b".to_string())
+            (args.screenshot.is_some() && args.session.is_none() && !args.saved_state)
+                .then(|| "fig3b".to_string())
         }),
         session: args.session,
+        saved_state: args.saved_state,
         screenshot: args.screenshot,
         size: args.size,
         frame_stats: args.frame_stats,

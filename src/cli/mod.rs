@@ -91,11 +91,7 @@ pub fn usage_line(e: &clap::Error) -> String {
         let reason = std::error::Error::source(e)
             .map(|s| s.to_string())
             .unwrap_or_else(|| "invalid value".into());
-        let shown = if value.chars().count() > 40 {
-            format!("{}…", value.chars().take(40).collect::<String>())
-        } else {
-            value.clone()
-        };
+        let shown = values::echo(value);
         return format!("{flag} = '{shown}': {reason}");
     }
     let text = e.to_string();

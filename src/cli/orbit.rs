@@ -17,7 +17,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
-    finite, max_seconds, settings_json, total_iterates, warn_validity,
+    emit_as, finite, max_seconds, settings_json, total_iterates, warn_validity,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
@@ -71,7 +71,7 @@ pub struct OrbitArgs {
     /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub period_tol: Option<f64>,
-    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    /// Stop after this many seconds, in (0, 1e7], writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
     /// How the map is evaluated: direct (every iterate integrated),
@@ -96,7 +96,8 @@ pub(crate) fn map_choice(s: &str) -> Result<MapChoice, CliError> {
         "interpolant" => Ok(MapChoice::Interpolant),
         "auto" => Ok(MapChoice::Auto),
         _ => Err(CliError::Usage(format!(
-            "--map: unknown value {s:?} (valid: direct, interpolant, auto)"
+            "--map: unknown value '{}' (valid: direct, interpolant, auto)",
+            super::values::echo(s)
         ))),
     }
 }
@@ -299,7 +300,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             Some((first, rest)) => format!("{first}{source}\n{rest}"),
             None => text,
         };
-        emit(st, text.as_bytes(), args.force)?;
+        emit_as("stats", st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {
         args: &args,

@@ -13,8 +13,8 @@ use clap::Args;
 use super::CliError;
 use super::bifurcation::theta_nu_end;
 use super::common::{
-    SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, finite, max_seconds,
-    warn_validity, write_out,
+    SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, emit_as, finite,
+    max_seconds, warn_validity,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
@@ -38,7 +38,8 @@ pub struct PhaseArgs {
     /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] [default: 50,
+    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
+    /// assumes [1, 1e4]) [default: 50,
     /// or the preset's].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
@@ -70,8 +71,8 @@ pub struct PhaseArgs {
     pub keep: usize,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// Tolerance of the period test, in radians [default: 1e4·tol within
-    /// [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
+    /// Tolerance of the period test, in radians, in (0, 1] [default: 1e4·tol
+    /// within [1e-9, 1e-3]; 1e-6 for the fixed-step methods].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub period_tol: Option<f64>,
     /// No early exit: every cell runs the whole transient and keeps every
@@ -100,7 +101,7 @@ pub struct PhaseArgs {
     /// Overwrite existing --out / --png files.
     #[arg(long)]
     pub force: bool,
-    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    /// Stop after this many seconds, in (0, 1e7], writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
 }
@@ -309,12 +310,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     // The picture first: if it cannot be written, neither is the CSV.
     if let Some(png) = &args.png {
         let bytes = render_png_with(&grid, &kappas, &theta_nus, &boundaries);
-        write_out(png, &bytes, args.force).map_err(|e| {
-            CliError::Usage(format!(
-                "--png: {}",
-                e.to_string().trim_start_matches("--out: ")
-            ))
-        })?;
+        emit_as("png", png, &bytes, args.force)?;
     }
     if let Some(o) = &out {
         emit(o, csv.as_bytes(), args.force)?;

@@ -62,6 +62,66 @@ impl Limits {
     }
 }
 
+/// Runs `work` on a thread of its own and waits for it under `limits`:
+/// a spinner with the time so far on a terminal (a line every
+/// [`PROGRESS_EVERY`] elsewhere), and on Ctrl+C or at --max-seconds the
+/// wait ends with [`Limits::stopped`] (exit 1, one line). The work is then
+/// left to end with the process: it writes nothing itself, so nothing is
+/// half-written. For computations with no stop hook of their own (a
+/// Newton solve, a benchmark's report).
+pub fn run_bounded<T: Send + 'static>(
+    what: &'static str,
+    limits: &Limits,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> Result<T, CliError> {
+    let (tx, rx) = crossbeam_channel::bounded(1);
+    std::thread::Builder::new()
+        .name(format!("oneblock-{what}"))
+        .spawn(move || {
+            tx.send(work()).ok();
+        })
+        .map_err(|e| CliError::Failed(format!("{what}: cannot start a thread: {e}")))?;
+    let spinner = stderr_is_terminal().then(|| {
+        let b = ProgressBar::new_spinner();
+        if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}, {elapsed}") {
+            b.set_style(style);
+        }
+        b.set_message(format!("{what}: working (Ctrl+C stops)"));
+        b.enable_steady_tick(Duration::from_millis(120));
+        b
+    });
+    let clear = || {
+        if let Some(b) = &spinner {
+            b.finish_and_clear();
+        }
+    };
+    let start = Instant::now();
+    let mut shown = start;
+    loop {
+        match rx.recv_timeout(Duration::from_millis(50)) {
+            Ok(v) => {
+                clear();
+                return Ok(v);
+            }
+            Err(crossbeam_channel::RecvTimeoutError::Disconnected) => {
+                clear();
+                return Err(CliError::Failed(format!(
+                    "{what}: the computation ended without a result"
+                )));
+            }
+            Err(crossbeam_channel::RecvTimeoutError::Timeout) => {}
+        }
+        if limits.stop() {
+            clear();
+            return Err(limits.stopped(what));
+        }
+        if spinner.is_none() && shown.elapsed() >= PROGRESS_EVERY {
+            shown = Instant::now();
+            eprintln!("{what}: working, {:.0} s", start.elapsed().as_secs_f64());
+        }
+    }
+}
+
 /// How often a progress line is printed when stderr is not a terminal.
 pub const PROGRESS_EVERY: Duration = Duration::from_secs(5);
 

@@ -20,13 +20,18 @@ use crate::sim::{Sampler, Simulator};
 /// slip of a few time units still yields a bounded number of rows.
 pub const MIN_SPACING: f64 = 1e-6;
 
-/// The most cycles recorded: each yields hundreds of rows at the default
-/// spacing.
-pub const MAX_EVENTS: usize = 1_000_000;
-
 /// The most samples (CSV rows) a path may have: they are held in memory
 /// until the file is written atomically (~150 bytes each with the text).
 pub const MAX_SAMPLES: usize = 2_000_000;
+
+/// The fewest samples a cycle records, whatever the spacing: the slip's
+/// onset and stop and the stick's ends (tests/cli_reliability.rs measures
+/// it at a spacing longer than any slip).
+pub const MIN_SAMPLES_PER_CYCLE: usize = 5;
+
+/// The most cycles recorded: as many as the sample cap can hold at the
+/// coarsest spacing. More could never succeed, whatever --spacing.
+pub const MAX_EVENTS: usize = MAX_SAMPLES / MIN_SAMPLES_PER_CYCLE;
 
 /// The path of the block over a few cycles.
 #[derive(Debug, Clone, Args)]
@@ -43,8 +48,8 @@ pub struct TrajectoryArgs {
     /// attractor; the recorded path starts at t = 0 (transient + events ≤ 1e12).
     #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
-    /// Cycles (slip + the stick that follows) recorded (1 to 1e6; at most
-    /// 2e6 samples in all).
+    /// Cycles (slip + the stick that follows) recorded, 1 to 400000: a
+    /// path holds at most 2e6 samples, and a cycle at least 5.
     #[arg(long, default_value_t = 1, value_parser = parse_count, allow_hyphen_values = true)]
     pub events: usize,
     /// CSV file ("-" = stdout).
@@ -56,7 +61,7 @@ pub struct TrajectoryArgs {
     /// Overwrite an existing --out file.
     #[arg(long)]
     pub force: bool,
-    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    /// Stop after this many seconds, in (0, 1e7], writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
 }
@@ -133,7 +138,7 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
         if sampler.dropped() > 0 {
             progress.finish();
             return Err(CliError::Usage(format!(
-                "--spacing = {} with --events = {events} would record more than {MAX_SAMPLES:e} samples: raise --spacing or lower --events (nothing was written)",
+                "--spacing = {} with --events = {events} would record more than {MAX_SAMPLES:e} samples: raise --spacing (a cycle records at least {MIN_SAMPLES_PER_CYCLE}, whatever the spacing) or lower --events (nothing was written)",
                 short(spacing)
             )));
         }

@@ -15,13 +15,29 @@ pub fn short(v: f64) -> String {
     }
 }
 
-/// A user's string as a message echoes it: at most 40 characters.
+/// A user's string as a message echoes it: at most 40 characters, and
+/// control characters escaped (`\n`, `\u{1b}`), so that a message stays
+/// one line and never sends a terminal an escape sequence.
 pub fn echo(s: &str) -> String {
-    if s.chars().count() > 40 {
-        format!("{}…", s.chars().take(40).collect::<String>())
-    } else {
-        s.to_string()
+    let mut out = escape_controls(&s.chars().take(40).collect::<String>());
+    if s.chars().nth(40).is_some() {
+        out.push('…');
     }
+    out
+}
+
+/// `s` with every control character escaped as Rust writes it (`\n`,
+/// `\t`, `\u{1b}`): what a message prints of a value it did not choose.
+pub fn escape_controls(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        if c.is_control() {
+            out.extend(c.escape_default());
+        } else {
+            out.push(c);
+        }
+    }
+    out
 }
 
 /// The largest count any flag accepts before its own bound is checked;
@@ -181,5 +197,15 @@ mod tests {
         assert_eq!(short_count(1_000_000), "1e6");
         assert_eq!(short_count(10_000), "10000");
         assert_eq!(short_count(4_000_000), "4000000");
+    }
+
+    #[test]
+    fn echoes_are_short_and_escape_control_characters() {
+        assert_eq!(echo("a\nb\u{1b}[31m"), "a\\nb\\u{1b}[31m");
+        let long = "x".repeat(5000);
+        let e = echo(&long);
+        assert_eq!(e.chars().count(), 41);
+        assert!(e.ends_with('…'));
+        assert_eq!(echo(&"y".repeat(40)), "y".repeat(40));
     }
 }

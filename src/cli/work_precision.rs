@@ -10,7 +10,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    check_out, check_second_out, count_in, emit, finite, max_seconds, warn_validity,
+    check_out, check_second_out, check_theta, count_in, emit, emit_as, finite, max_seconds,
+    warn_validity,
 };
 use super::run_control::Limits;
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
@@ -39,7 +40,8 @@ pub struct WorkPrecisionArgs {
     /// θν of that attractor, in radians.
     #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu: Option<f64>,
-    /// Ω of that attractor [default: 50, or the preset's].
+    /// Ω of that attractor, in (0, 1e8] (the model assumes [1, 1e4])
+    /// [default: 50, or the preset's].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
     /// Where that attractor's orbit starts [default: θν].
@@ -68,7 +70,7 @@ pub struct WorkPrecisionArgs {
     /// Overwrite existing output files.
     #[arg(long)]
     pub force: bool,
-    /// Stop after this many seconds (at most 1e7), writing nothing, exit 1.
+    /// Stop after this many seconds, in (0, 1e7], writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
 }
@@ -112,7 +114,19 @@ pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
         };
         params.validate().map_err(param_error)?;
         let theta0 = match args.theta0 {
-            Some(t) => finite("theta0", t)?,
+            Some(t) => {
+                // On the exit arc, said with the flag and a short number
+                // (the sample's own error would print all 309 digits of 1e308).
+                let sim = crate::sim::Simulator::new(
+                    params,
+                    crate::integrate::SolverSettings::adaptive(
+                        crate::integrate::Method::Dop853,
+                        1e-10,
+                    ),
+                )
+                .map_err(CliError::from)?;
+                check_theta(&sim, "theta0", finite("theta0", t)?)?
+            }
             None => params.theta_nu,
         };
         vec![Attractor {
@@ -229,7 +243,7 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
             &format!("{} points, reference spread {spread:.1e}", sample.len()),
         )
         .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?;
-        emit(svg, text.as_bytes(), args.force)?;
+        emit_as("svg", svg, text.as_bytes(), args.force)?;
     }
     for r in rows.iter().filter(|r| r.failed > 0) {
         eprintln!(
@@ -239,11 +253,17 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
             r.setting,
             r.failed,
             r.points,
-            r.failure.as_deref().unwrap_or("?")
+            super::values::escape_controls(r.failure.as_deref().unwrap_or("?"))
         );
     }
+    let failed = rows.iter().filter(|r| r.all_failed()).count();
+    let failed = if failed > 0 {
+        format!(" ({failed} failed on every point: no measurement, empty columns)")
+    } else {
+        String::new()
+    };
     eprintln!(
-        "work-precision: {} settings on {} points in {:.1} s; reference spread (DOP853 1e-14 vs DP5(4) 1e-13) {spread:.2e}; load average {} → {}",
+        "work-precision: {} settings{failed} on {} points in {:.1} s; reference spread (DOP853 1e-14 vs DP5(4) 1e-13) {spread:.2e}; load average {} → {}",
         rows.len(),
         sample.len(),
         start.elapsed().as_secs_f64(),

@@ -176,22 +176,49 @@ pub fn measure(sample: &[SamplePoint], subject: &Subject, min_time: Duration) ->
 /// The CSV header of [`Row`]s.
 pub const CSV_HEADER: &str = "method,kind,setting,points,failed,max_error,median_error,max_stop_error,max_duration_error,median_us_per_iterate,rhs_evals_per_iterate";
 
+/// A measured number as the CSV writes it: empty when there is none (every
+/// point of the setting failed), never "NaN".
+fn field(v: f64, exp: bool, decimals: usize) -> String {
+    if !v.is_finite() {
+        String::new()
+    } else if exp {
+        format!("{v:.decimals$e}")
+    } else {
+        format!("{v:.decimals$}")
+    }
+}
+
 impl Row {
-    /// One CSV line (no newline); the failure message is left to the summary.
+    /// Whether every point failed: the row then has no measurement.
+    pub fn all_failed(&self) -> bool {
+        self.failed >= self.points
+    }
+
+    /// One CSV line (no newline); the failure message is left to the
+    /// summary. A setting whose every point failed has its `failed` column
+    /// equal to `points` and its measured columns empty, never NaN.
     pub fn csv(&self) -> String {
+        let none = self.all_failed();
+        let m = |v: f64, exp: bool, d: usize| {
+            if none {
+                String::new()
+            } else {
+                field(v, exp, d)
+            }
+        };
         format!(
-            "{},{},{:e},{},{},{:.3e},{:.3e},{:.3e},{:.3e},{:.4},{:.1}",
+            "{},{},{:e},{},{},{},{},{},{},{},{}",
             self.method,
             self.kind,
             self.setting,
             self.points,
             self.failed,
-            self.max_error,
-            self.median_error,
-            self.max_stop_error,
-            self.max_duration_error,
-            self.median_us,
-            self.evals_per_iterate
+            m(self.max_error, true, 3),
+            m(self.median_error, true, 3),
+            m(self.max_stop_error, true, 3),
+            m(self.max_duration_error, true, 3),
+            m(self.median_us, false, 4),
+            m(self.evals_per_iterate, false, 1)
         )
     }
 }

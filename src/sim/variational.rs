@@ -360,6 +360,16 @@ pub enum NotDifferentiable {
         /// "end of acceleration" or "stop".
         event: &'static str,
     },
+    /// Not a property of f: the slip took more steps than the derivatives'
+    /// tape holds (`tape::MAX_TAPE_BYTES`, a few MB), so its derivatives
+    /// are not computed; θ' itself is.
+    #[error(
+        "the slip took more than {steps} steps, more than the derivatives' tape holds (4 MB): no derivatives"
+    )]
+    TapeFull {
+        /// The steps on the tape when it filled.
+        steps: usize,
+    },
 }
 
 /// f(θ) and its derivatives at one onset.

@@ -154,3 +154,44 @@ fn a_short_axis_gets_fewer_ticks_rather_than_no_labels() {
     let t = legible_ticks(Scale::Linear, egui_plot::Axis::Y, (0.0, 1.75), 400.0 / 1.75);
     assert_eq!(t, ticks(0.0, 1.75, MIN_TICKS));
 }
+
+/// A degenerate range (subnormal, zero-width, relatively negligible,
+/// overflowing, non-finite) gives no ticks and unchanged bounds at once,
+/// whoever asks: a zoom of width 5e-324 once froze the window in the step
+/// search.
+#[test]
+fn degenerate_ranges_give_no_ticks_and_return() {
+    let t0 = std::time::Instant::now();
+    for &(lo, hi) in &[
+        (0.0, 5e-324),
+        (0.0, 1e-310),
+        (1.0, 1.0),
+        (1.0, 1.0 + 1e-15),
+        (-1e308, 1e308),
+        (0.0, f64::INFINITY),
+        (f64::NAN, 1.0),
+        (f64::NEG_INFINITY, f64::INFINITY),
+    ] {
+        assert!(!labelable(lo, hi), "{lo}..{hi}");
+        assert!(ticks(lo, hi, 5).is_empty(), "{lo}..{hi}");
+        assert!(nice_step(lo, hi, usize::MAX).is_none(), "{lo}..{hi}");
+        for unit in [
+            AngleUnit::Radians,
+            AngleUnit::Degrees,
+            AngleUnit::PiFractions,
+        ] {
+            assert!(angle_ticks(lo, hi, 5, unit).is_empty(), "{lo}..{hi}");
+        }
+        assert!(log10_ticks(lo, hi, 5).is_empty(), "{lo}..{hi}");
+        let (a, b) = nice_bounds(lo, hi, 5);
+        assert!(a.to_bits() == lo.to_bits() && b.to_bits() == hi.to_bits());
+    }
+    // The narrowest ranges still labelled get their five ticks.
+    for &(lo, hi) in &[(0.0, 1e-199), (1.0, 1.0 + 1e-11), (-1e199, 1e199)] {
+        assert!(labelable(lo, hi));
+        assert!(ticks(lo, hi, 5).len() >= 5, "{lo}..{hi}");
+        // A huge tick count is bounded, not allocated.
+        assert!(ticks(lo, hi, usize::MAX).len() <= 3000, "{lo}..{hi}");
+    }
+    assert!(t0.elapsed() < std::time::Duration::from_secs(1));
+}

@@ -82,6 +82,17 @@ pub fn ev_field(p: &Params, field: &SlipField) -> TanField<EV> {
     TanField::seeded(p, field, EV_DIRS)
 }
 
+/// The most a slip's tape holds, in bytes of its records: a few MB,
+/// whatever the slip costs. A slip of more steps than fit (one near
+/// κ = 16,570 once took 210 MB of tape) ends without derivatives,
+/// [`NotDifferentiable::TapeFull`], rather than with unbounded memory.
+///
+/// [`NotDifferentiable::TapeFull`]: super::NotDifferentiable::TapeFull
+pub const MAX_TAPE_BYTES: usize = 4 << 20;
+
+/// [`MAX_TAPE_BYTES`] in records.
+const MAX_RECS: usize = MAX_TAPE_BYTES / std::mem::size_of::<Rec>();
+
 thread_local! {
     /// The thread's last tape, for reuse ([`Tape::recycle`]).
     static SPARE: RefCell<Option<Box<Tape>>> = const { RefCell::new(None) };
@@ -182,6 +193,29 @@ impl Tape {
         })
     }
 
+    /// Room for one more step's records, growing the buffer by doubling
+    /// but never past [`MAX_RECS`] (plus the step): the records' memory
+    /// stays within [`MAX_TAPE_BYTES`] whatever the slip's length.
+    #[inline(always)]
+    fn reserve_step(&mut self) {
+        let need = self.recs.len() + self.c.stages + 2;
+        if need > self.recs.capacity() {
+            let target = (2 * self.recs.capacity()).min(MAX_RECS).max(need);
+            self.recs.reserve_exact(target - self.recs.len());
+        }
+    }
+
+    /// Whether another step would take the tape past [`MAX_TAPE_BYTES`]:
+    /// the slip then goes on without derivatives.
+    pub fn is_full(&self) -> bool {
+        self.recs.len() + self.c.stages + 2 > MAX_RECS
+    }
+
+    /// The steps on the tape.
+    pub fn steps(&self) -> usize {
+        self.entries.len()
+    }
+
     /// Keeps this tape's buffers for the thread's next [`Tape::new`].
     pub fn recycle(self: Box<Self>) {
         SPARE.with(|s| *s.borrow_mut() = Some(self));
@@ -206,6 +240,7 @@ impl Tape {
     #[inline(always)]
     pub fn begin(&mut self, h: f64, field: Field) {
         self.recs.truncate(self.committed);
+        self.reserve_step();
         self.recs.push(self.cur);
         (self.h, self.step_field) = (h, field);
         self.recording = true;
@@ -246,6 +281,7 @@ impl Tape {
     pub fn partial_step(&mut self, field: Field, y: &State, f0: &State, h: f64) -> State {
         let c = self.c;
         self.recs.truncate(self.committed);
+        self.reserve_step();
         self.recs.push(self.cur);
         let mut k = [[0.0; 4]; super::stages::MAX_STAGES];
         k[0] = *f0;

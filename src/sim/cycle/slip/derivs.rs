@@ -6,7 +6,9 @@ use std::cell::RefCell;
 
 use super::SlipRun;
 use crate::integrate::State;
-use crate::sim::variational::{self, EV, Field, Tape, ev_field, ev_seed, field_tangent};
+use crate::sim::variational::{
+    self, EV, Field, NotDifferentiable, Tape, ev_field, ev_seed, field_tangent,
+};
 
 impl<const TAPE: bool> SlipRun<'_, TAPE> {
     /// The same slip with derivatives: its tape.
@@ -21,11 +23,19 @@ impl<const TAPE: bool> SlipRun<'_, TAPE> {
     }
 
     /// The slip moves on to the accepted step's new state: so does its
-    /// tape.
+    /// tape. A tape that is full is dropped (its memory with it): the slip
+    /// goes on without derivatives, and says why.
     #[inline(always)]
     pub(super) fn commit(&mut self) {
-        if let Some(tape) = &self.tape {
-            tape.borrow_mut().commit();
+        let Some(tape) = &self.tape else { return };
+        let full = {
+            let mut tape = tape.borrow_mut();
+            tape.commit();
+            tape.is_full().then(|| tape.steps())
+        };
+        if let Some(steps) = full {
+            self.tape = None;
+            self.stop_d = Some(Err(NotDifferentiable::TapeFull { steps }));
         }
     }
 
