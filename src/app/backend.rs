@@ -1,11 +1,14 @@
 //! The one door between the window and the simulation: commands out, updates
-//! in, never blocking. The real worker implements it; tests use a
-//! [`Recorder`] that keeps every command and lets the test feed updates.
+//! in, never blocking. The threaded worker implements it, and so does the
+//! worker without threads ([`LocalWorker`], run a time slice per frame by
+//! [`Backend::pump`]); tests use a [`Recorder`] that keeps every command and
+//! lets the test feed updates.
 
 use std::collections::VecDeque;
 use std::sync::{Arc, Mutex, PoisonError};
+use std::time::Duration;
 
-use crate::worker::{Command, Update};
+use crate::worker::{Command, LocalWorker, Update};
 
 /// Where simulation commands go and updates come from.
 pub trait Backend {
@@ -13,6 +16,24 @@ pub trait Backend {
     fn send(&mut self, cmd: Command) -> bool;
     /// The next update, if one is waiting.
     fn try_recv(&mut self) -> Option<Update>;
+    /// Runs jobs on the caller's thread for about `budget` (a backend
+    /// without threads; the others run on their own): true while work
+    /// remains, so that the window asks for another frame.
+    fn pump(&mut self, _budget: Duration) -> bool {
+        false
+    }
+}
+
+impl Backend for LocalWorker {
+    fn send(&mut self, cmd: Command) -> bool {
+        LocalWorker::send(self, cmd)
+    }
+    fn try_recv(&mut self) -> Option<Update> {
+        LocalWorker::try_recv(self)
+    }
+    fn pump(&mut self, budget: Duration) -> bool {
+        LocalWorker::pump(self, budget)
+    }
 }
 
 impl Backend for crate::worker::Worker {

@@ -28,6 +28,10 @@ use super::svg_render;
 use super::view::Action;
 use super::views::{Views, tile_rects};
 
+/// The slice of each frame a backend without threads may compute in: the
+/// rest of a 30 fps frame is left for drawing.
+pub const PUMP_BUDGET: Duration = Duration::from_millis(12);
+
 /// The explorer app.
 pub struct Explorer {
     pub settings: Settings,
@@ -116,7 +120,10 @@ impl Explorer {
             ctx.tessellation_options_mut(|o| o.feathering = smooth);
         }
         self.now = ctx.input(|i| i.time);
-        if self.jobs.receive() {
+        // A backend without threads computes here, within a slice of the
+        // frame; the threaded worker wakes the window itself.
+        let pumping = self.jobs.pump(PUMP_BUDGET);
+        if self.jobs.receive() || pumping {
             ctx.request_repaint();
         }
         self.sync_jobs(ctx);

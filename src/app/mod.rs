@@ -69,7 +69,7 @@ pub use explorer::Explorer;
 pub use script::Script;
 pub use settings::{Layout, Settings, ViewKind};
 
-use crate::worker::{Worker, WorkerConfig};
+use crate::worker::{LocalWorker, Worker, WorkerConfig};
 use eframe::egui;
 
 /// How to open the window.
@@ -95,6 +95,9 @@ pub struct RunOptions {
     /// (checked, and set aside if unusable) but never writes it: how the
     /// tests check that no saved state bricks a launch.
     pub saved_state: bool,
+    /// Run the jobs on the window's thread, a slice of each frame
+    /// (`LocalWorker`), as the browser build does.
+    pub single_thread: bool,
 }
 
 /// How long past `--timeout` a scripted run may take to save its picture
@@ -186,15 +189,20 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let out2 = outcome.clone();
     let stats2 = stats_report.clone();
     let shot = opts.screenshot.clone();
+    let single_thread = opts.single_thread;
     let r = eframe::run_native(
         "oneblock",
         native,
         Box::new(move |cc| {
             let ctx = cc.egui_ctx.clone();
-            let worker = Worker::spawn(
-                WorkerConfig::default(),
-                Arc::new(move || ctx.request_repaint()),
-            );
+            let worker: Box<dyn Backend> = if single_thread {
+                Box::new(LocalWorker::default())
+            } else {
+                Box::new(Worker::spawn(
+                    WorkerConfig::default(),
+                    Arc::new(move || ctx.request_repaint()),
+                ))
+            };
             let mut settings: Settings = if let Some(l) = &session {
                 l.session.settings.clone()
             } else if !reads_state {
@@ -221,7 +229,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 // even under software OpenGL, where it only costs time.
                 settings.smooth_lines = Some(true);
             }
-            let mut app = Explorer::new(Box::new(worker), settings);
+            let mut app = Explorer::new(worker, settings);
             if let Some(l) = &session {
                 app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
                 if let Some(m) = &l.message {

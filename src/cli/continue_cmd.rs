@@ -223,6 +223,11 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
         (None, _, Some(n)) => ContParam::parse(n.trim()),
         _ => None,
     };
+    // Where --from stands in for the varied parameter's own flag, a bad
+    // value is --from's, whatever else is wrong.
+    if let Some(p) = varied {
+        end("from", args.from, p, &Params::default())?;
+    }
     let base = args.model.with_varied(varied, args.from).params()?;
     let settings = args.solver.settings()?;
     let (param, mode) = match (&args.curve, &args.params, &args.param) {

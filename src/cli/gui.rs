@@ -62,6 +62,10 @@ pub struct GuiArgs {
     /// (checked, set aside if unusable), never writing it. For tests.
     #[arg(long, hide = true)]
     pub saved_state: bool,
+    /// Run every job on the window's own thread, a slice of each frame, as
+    /// the browser build does (no simulation threads).
+    #[arg(long)]
+    pub single_thread: bool,
 }
 
 fn parse_size(s: &str) -> Result<[f32; 2], String> {
@@ -166,6 +170,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         }),
         session: args.session,
         saved_state: args.saved_state,
+        single_thread: args.single_thread,
         screenshot: args.screenshot,
         size: args.size,
         frame_stats: args.frame_stats,

@@ -23,6 +23,8 @@
 
 mod command;
 mod gate;
+mod local;
+mod orders;
 
 pub use crate::jobs::priority;
 
@@ -40,10 +42,12 @@ pub use crate::jobs::{
     TIMING_REPEATS, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
 };
 pub use command::Command;
+pub use local::LocalWorker;
 
 use gate::Gate;
 
-use crate::jobs::{Job, OnParams, Shape, Sink, Spec, Stop, ending, run_threads};
+use crate::jobs::{Job, Shape, Sink, Spec, Stop, ending, run_threads};
+use orders::{Latest, Order};
 
 /// How the worker is set up.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -180,15 +184,13 @@ impl Sink for GateSink<'_> {
 /// A job queued for a lane.
 type Queued = (Generation, Spec);
 
-/// One lane as the dispatcher holds it: where its jobs go, its thread, why
-/// that thread could not start (if it could not), and its latest job (for
-/// new parameters to run again).
+/// One lane as the dispatcher holds it: where its jobs go, its thread, and
+/// why that thread could not start (if it could not).
 struct LaneRunner {
     lane: Lane,
     jobs: Option<Sender<Queued>>,
     thread: Option<JoinHandle<()>>,
     broken: Option<String>,
-    last: Option<Spec>,
 }
 
 impl LaneRunner {
@@ -196,12 +198,9 @@ impl LaneRunner {
     fn spawn(shared: &Arc<Shared>, lane: Lane) -> LaneRunner {
         let (tx, rx) = crossbeam_channel::unbounded::<Queued>();
         let sh = shared.clone();
-        let started = std::thread::Builder::new()
-            .name(format!("oneblock-{}", lane.name()))
-            .spawn(move || {
-                priority::lower_current_thread();
-                lane_loop(&sh, lane, rx)
-            });
+        let started = start_thread(format!("oneblock-{}", lane.name()), move || {
+            lane_loop(&sh, lane, rx)
+        });
         let (thread, broken) = match started {
             Ok(t) => (Some(t), None),
             Err(e) => (
@@ -217,20 +216,16 @@ impl LaneRunner {
             jobs: thread.is_some().then_some(tx),
             thread,
             broken,
-            last: None,
         }
     }
 
     /// Starts `spec` under `generation` (superseding the lane's job), unless
     /// `generation` is stale; a lane whose thread is gone fails the job at
-    /// once, saying why.
-    fn start(&mut self, shared: &Shared, generation: Generation, spec: Spec) {
+    /// once, saying why. True if the job started.
+    fn start(&mut self, shared: &Shared, generation: Generation, spec: Spec) -> bool {
         let gate = shared.gate(self.lane);
         if !gate.start(generation) {
-            return;
-        }
-        if spec.remembered() {
-            self.last = Some(spec.clone());
+            return false;
         }
         let sent = self
             .jobs
@@ -243,6 +238,7 @@ impl LaneRunner {
                 .unwrap_or_else(|| format!("the {} lane has stopped", self.lane.name()));
             gate.finish(generation, Some((why.clone(), None)), Outcome::Failed(why));
         }
+        true
     }
 }
 
@@ -284,10 +280,10 @@ impl Worker {
             .map(|&lane| LaneRunner::spawn(&shared, lane))
             .collect();
         let sh = shared.clone();
-        let dispatcher = std::thread::Builder::new()
-            .name("oneblock-worker".into())
-            .spawn(move || dispatch(sh, cmd_rx, lanes))
-            .expect("cannot start the worker thread");
+        let dispatcher = start_thread("oneblock-worker".into(), move || {
+            dispatch(sh, cmd_rx, lanes)
+        })
+        .expect("cannot start the worker thread");
         Worker {
             commands: Some(cmd_tx),
             updates: Some(up_rx),
@@ -354,48 +350,42 @@ impl Drop for Worker {
     }
 }
 
+/// Starts one of the worker's threads (the dispatcher and the lanes; a
+/// parallel job's pool is started by `jobs::run_threads`), at the lowered
+/// priority of background work.
+fn start_thread(
+    name: String,
+    body: impl FnOnce() + Send + 'static,
+) -> std::io::Result<JoinHandle<()>> {
+    std::thread::Builder::new().name(name).spawn(move || {
+        priority::lower_current_thread();
+        body()
+    })
+}
+
 /// The dispatcher loop: runs until `Shutdown` or until the handle is gone,
 /// then ends the lanes and joins their threads.
 fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>, mut lanes: Vec<LaneRunner>) {
-    while let Ok(cmd) = commands.recv() {
-        match cmd {
-            Command::Shutdown => break,
-            Command::SetParams {
-                generation,
-                params,
-                settings,
-            } => {
-                for lane in &mut lanes {
-                    let Some(last) = &lane.last else { continue };
-                    match last.on_params(params, settings) {
-                        OnParams::Rerun(spec) => lane.start(&shared, generation, spec),
-                        OnParams::Cancel => {
-                            let g = shared.gate(lane.lane);
-                            if g.is_running() {
-                                gate::cancel(&[g], generation, Some(lane.lane));
-                            }
-                        }
-                        OnParams::Keep => {}
+    let mut latest = Latest::default();
+    'commands: while let Ok(cmd) = commands.recv() {
+        for order in latest.orders(cmd) {
+            match order {
+                Order::Shutdown => break 'commands,
+                Order::Start(generation, spec) => {
+                    let runner = &mut lanes[spec.lane().index()];
+                    if runner.start(&shared, generation, spec.clone()) {
+                        latest.started(&spec);
                     }
                 }
-            }
-            Command::Cancel { generation, lane } => {
-                let gates: Vec<&Gate> = lanes
-                    .iter_mut()
-                    .filter(|r| lane.is_none_or(|l| l == r.lane))
-                    .map(|r| {
-                        if r.last.as_ref().is_some_and(Spec::forgotten_when_cancelled) {
-                            r.last = None;
-                        }
-                        shared.gate(r.lane)
-                    })
-                    .collect();
-                gate::cancel(&gates, generation, lane);
-            }
-            job => {
-                if let Some((generation, spec)) = job.into_job() {
-                    let lane = spec.lane();
-                    lanes[lane.index()].start(&shared, generation, spec);
+                Order::StopRunning(lane, generation) => {
+                    let g = shared.gate(lane);
+                    if g.is_running() {
+                        gate::cancel(&[g], generation, Some(lane));
+                    }
+                }
+                Order::Cancel(of, generation, ack) => {
+                    let gates: Vec<&Gate> = of.iter().map(|&l| shared.gate(l)).collect();
+                    gate::cancel(&gates, generation, ack);
                 }
             }
         }

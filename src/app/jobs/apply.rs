@@ -17,6 +17,12 @@ impl Jobs {
             .find(|&k| generation != NO_GENERATION && self.slot(k).generation == generation)
     }
 
+    /// Lets a backend without threads run its jobs for about `budget`;
+    /// true while work remains.
+    pub fn pump(&mut self, budget: std::time::Duration) -> bool {
+        self.backend.pump(budget)
+    }
+
     /// Takes what the worker sent (at most a frame's worth) and chains the
     /// orbit analysis; returns whether more may be waiting.
     pub fn receive(&mut self) -> bool {
