@@ -104,6 +104,52 @@ fn is_software_gl(gl: &eframe::glow::Context) -> bool {
         .any(|k| renderer.contains(k))
 }
 
+/// The window's options: title and size, the glow renderer, and for a
+/// scripted run (a screenshot) no saved state read or written.
+fn native_options(opts: &RunOptions, size: [f32; 2], scripted: bool) -> eframe::NativeOptions {
+    let mut native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("oneblock: one-block earthquake model")
+            .with_app_id("oneblock")
+            .with_inner_size(size)
+            .with_min_inner_size([800.0, 560.0]),
+        renderer: eframe::Renderer::Glow,
+        // Dithering costs a noticeable share of each frame under software
+        // rendering (llvmpipe is fill-bound here) and the plots have no
+        // gradients to band.
+        dithering: false,
+        persist_window: !scripted,
+        ..Default::default()
+    };
+    if opts.frame_stats {
+        // Measure drawing, not waiting for the display.
+        native.glow_options.vsync = false;
+    }
+    if scripted {
+        // A scripted run never reads or writes the user's saved state.
+        native.persistence_path =
+            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
+    }
+    native
+}
+
+/// A scripted run never hangs: if the event loop itself stalls past
+/// `limit`, the process gives up loudly.
+fn start_watchdog(limit: Duration) -> Result<(), String> {
+    std::thread::Builder::new()
+        .name("oneblock-watchdog".into())
+        .spawn(move || {
+            std::thread::sleep(limit);
+            eprintln!(
+                "error: the window did not finish within {:.0} s",
+                limit.as_secs_f64()
+            );
+            std::process::exit(1);
+        })
+        .map(drop)
+        .map_err(|e| format!("cannot start the watchdog thread: {e}"))
+}
+
 /// Opens the window; returns when it is closed. A scripted run (with
 /// `screenshot`) returns an error if the picture could not be made.
 pub fn run(opts: RunOptions) -> Result<(), String> {
@@ -134,46 +180,11 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let timeout = opts.timeout.unwrap_or(Duration::from_secs(180));
     let measure = opts.frame_stats.then(|| Duration::from_secs(5));
 
-    let mut native = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("oneblock: one-block earthquake model")
-            .with_app_id("oneblock")
-            .with_inner_size(size)
-            .with_min_inner_size([800.0, 560.0]),
-        renderer: eframe::Renderer::Glow,
-        // Dithering costs a noticeable share of each frame under software
-        // rendering (llvmpipe is fill-bound here) and the plots have no
-        // gradients to band.
-        dithering: false,
-        persist_window: !scripted,
-        ..Default::default()
-    };
-    if opts.frame_stats {
-        // Measure drawing, not waiting for the display.
-        native.glow_options.vsync = false;
-    }
-    if scripted {
-        // A scripted run never reads or writes the user's saved state.
-        native.persistence_path =
-            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
-    }
-
+    let native = native_options(&opts, size, scripted);
     let outcome = Arc::new(std::sync::Mutex::new(None));
     let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
     if scripted {
-        // Never hang: if the event loop itself stalls, give up loudly.
-        let limit = timeout + Duration::from_secs(60);
-        std::thread::Builder::new()
-            .name("oneblock-watchdog".into())
-            .spawn(move || {
-                std::thread::sleep(limit);
-                eprintln!(
-                    "error: the window did not finish within {:.0} s",
-                    limit.as_secs_f64()
-                );
-                std::process::exit(1);
-            })
-            .map_err(|e| e.to_string())?;
+        start_watchdog(timeout + Duration::from_secs(60))?;
     }
 
     let out2 = outcome.clone();

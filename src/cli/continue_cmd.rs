@@ -298,6 +298,9 @@ fn start_error(plan: &Plan, seed: f64, e: CycleFailure) -> CliError {
     }
 }
 
+// Over clippy.toml's 150 lines until issue 27 splits it (listed in
+// tests/function_lengths.rs).
+#[allow(clippy::too_many_lines)]
 pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let plan = check(&args)?;
     warn_validity(&plan.prob.base);

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
-use super::values::{parse_number, preset_params, seconds, short};
+use super::values::{parse_number, seconds, short};
+use crate::model::Preset;
 
 /// The views `--view` names.
 pub const VIEW_KEYS: [&str; 7] = [
@@ -28,7 +29,7 @@ pub const MAX_TIMEOUT: f64 = 86_400.0;
 pub struct GuiArgs {
     /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent.
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// Save a picture of the window here once the views are complete, then
     /// exit: an SVG (vector: lines as paths, text as text) when FILE ends in
     /// .svg, else a PNG (never overwrites an existing file).
@@ -79,7 +80,6 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
 
 /// Checks the flags before the window opens.
 pub fn check(args: &GuiArgs) -> Result<(), CliError> {
-    preset_params(args.preset.as_deref())?;
     if let Some(v) = &args.view
         && !VIEW_KEYS.contains(&v.as_str())
     {
@@ -126,10 +126,25 @@ pub fn check(args: &GuiArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+/// What `oneblock gui` says where there is no display to open a window on
+/// (rather than the windowing library's own error).
+pub const NO_DISPLAY: &str = "no display: the window needs X11 or Wayland (DISPLAY and WAYLAND_DISPLAY are unset); \
+     for a --screenshot without a display, run it under xvfb-run";
+
+/// Whether the environment (read by `var`) names an X11 or Wayland display.
+pub fn has_display(var: impl Fn(&str) -> Option<std::ffi::OsString>) -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|k| var(k).is_some_and(|v| !v.is_empty()))
+}
+
 #[cfg(feature = "gui")]
 pub fn run(args: GuiArgs) -> Result<(), CliError> {
     use crate::app::{RunOptions, ViewKind};
     check(&args)?;
+    if !has_display(|k| std::env::var_os(k)) {
+        return Err(CliError::Failed(NO_DISPLAY.into()));
+    }
     let view = match &args.view {
         Some(v) => Some(ViewKind::from_key(v).ok_or_else(|| {
             CliError::Usage(format!(
@@ -143,7 +158,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         // The first launch is the Fig. 3b demo (the default settings); later
         // launches restore the saved parameters unless a preset is named. A
         // scripted run is reproducible: Fig. 3b unless told otherwise.
-        preset: args.preset.clone().or_else(|| {
+        preset: args.preset.map(|p| p.key.to_string()).or_else(|| {
             (args.screenshot.is_some() && args.session.is_none()).then(|| "fig3b".to_string())
         }),
         session: args.session,

@@ -261,6 +261,9 @@ impl Drop for Worker {
 }
 
 /// The dispatcher loop: runs until `Shutdown` or until the handle is gone.
+// Over clippy.toml's 150 lines until issue 27 splits it (listed in
+// tests/function_lengths.rs).
+#[allow(clippy::too_many_lines)]
 fn dispatch(shared: Arc<Shared>, commands: Receiver<Command>) {
     let (orbit_tx, orbit_rx) = crossbeam_channel::unbounded::<Command>();
     let (sweep_tx, sweep_rx) = crossbeam_channel::unbounded::<Command>();

@@ -89,6 +89,9 @@ fn validate(s: &SweepSpec) -> Result<(), SimError> {
     Ok(())
 }
 
+// Over clippy.toml's 150 lines until issue 27 splits it (listed in
+// tests/function_lengths.rs).
+#[allow(clippy::too_many_lines)]
 fn sweep(shared: &Shared, generation: Generation, s: &SweepSpec) -> Result<(), JobError> {
     validate(s)?;
     let gate = &shared.sweep;
