@@ -122,7 +122,8 @@ impl Svg {
         .ok();
     }
 
-    /// A black polyline clipped to the rectangle `clip` (x, y, w, h).
+    /// A black polyline clipped to the rectangle `clip` (x, y, w, h), not
+    /// anti-aliased: drawn over the cells it adds black pixels only.
     pub fn polyline(&mut self, points: &[[f64; 2]], width: f64, clip: [f64; 4]) {
         if points.len() < 2 {
             return;
@@ -133,7 +134,7 @@ impl Svg {
             .collect();
         writeln!(
             self.body,
-            r#"<svg x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" viewBox="{:.2} {:.2} {:.2} {:.2}" overflow="hidden"><polyline points="{}" fill="none" stroke="black" stroke-width="{width}" stroke-linejoin="round"/></svg>"#,
+            r#"<svg x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" viewBox="{:.2} {:.2} {:.2} {:.2}" overflow="hidden"><polyline points="{}" fill="none" stroke="black" stroke-width="{width}" stroke-linejoin="round" shape-rendering="crispEdges"/></svg>"#,
             clip[0],
             clip[1],
             clip[2],
