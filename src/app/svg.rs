@@ -197,6 +197,62 @@ impl<'a> SvgWriter<'a> {
         }
     }
 
+    /// A path: a series when it has more than two points.
+    fn path(p: &egui::epaint::PathShape, plot: Option<&str>, out: &mut String) {
+        if p.points.len() < 2 {
+            return;
+        }
+        let stroke = solid(&p.stroke);
+        let c = if p.fill.a() > 0 { p.fill } else { stroke };
+        let tag = if p.points.len() > 2 {
+            Self::series(plot, c)
+        } else {
+            String::new()
+        };
+        let width = p.stroke.width;
+        let s = if width > 0.0 && stroke.a() > 0 {
+            format!(
+                "{} stroke-width=\"{width:.2}\" stroke-linejoin=\"round\"",
+                paint("stroke", stroke)
+            )
+        } else {
+            " stroke=\"none\"".into()
+        };
+        write!(
+            out,
+            "<path d=\"{}\"{}{s}{tag}/>",
+            points_d(&p.points, p.closed),
+            if p.closed {
+                paint("fill", p.fill)
+            } else {
+                " fill=\"none\"".into()
+            }
+        )
+        .ok();
+    }
+
+    /// A rectangle: a filled one in a plot is a bar (or a cell), a series.
+    fn rect(r: &egui::epaint::RectShape, plot: Option<&str>, out: &mut String) {
+        // A filled rectangle in a plot is a bar (or a cell).
+        let tag = if r.fill.a() > 0 {
+            Self::series(plot, r.fill)
+        } else {
+            String::new()
+        };
+        let rad = r.corner_radius.average();
+        write!(
+            out,
+            "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" rx=\"{rad:.1}\"{}{}{tag}/>",
+            r.rect.min.x,
+            r.rect.min.y,
+            r.rect.width(),
+            r.rect.height(),
+            paint("fill", r.fill),
+            stroke_attrs(r.stroke)
+        )
+        .ok();
+    }
+
     fn shape(&self, shape: &Shape, plot: Option<&str>, out: &mut String) {
         match shape {
             Shape::Noop | Shape::Callback(_) => {}
@@ -248,38 +304,7 @@ impl<'a> SvgWriter<'a> {
                 )
                 .ok();
             }
-            Shape::Path(p) => {
-                if p.points.len() < 2 {
-                    return;
-                }
-                let stroke = solid(&p.stroke);
-                let c = if p.fill.a() > 0 { p.fill } else { stroke };
-                let tag = if p.points.len() > 2 {
-                    Self::series(plot, c)
-                } else {
-                    String::new()
-                };
-                let width = p.stroke.width;
-                let s = if width > 0.0 && stroke.a() > 0 {
-                    format!(
-                        "{} stroke-width=\"{width:.2}\" stroke-linejoin=\"round\"",
-                        paint("stroke", stroke)
-                    )
-                } else {
-                    " stroke=\"none\"".into()
-                };
-                write!(
-                    out,
-                    "<path d=\"{}\"{}{s}{tag}/>",
-                    points_d(&p.points, p.closed),
-                    if p.closed {
-                        paint("fill", p.fill)
-                    } else {
-                        " fill=\"none\"".into()
-                    }
-                )
-                .ok();
-            }
+            Shape::Path(p) => Self::path(p, plot, out),
             Shape::Band(b) => {
                 if b.points.is_empty() {
                     return;
@@ -295,26 +320,7 @@ impl<'a> SvgWriter<'a> {
                 )
                 .ok();
             }
-            Shape::Rect(r) => {
-                // A filled rectangle in a plot is a bar (or a cell).
-                let tag = if r.fill.a() > 0 {
-                    Self::series(plot, r.fill)
-                } else {
-                    String::new()
-                };
-                let rad = r.corner_radius.average();
-                write!(
-                    out,
-                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" rx=\"{rad:.1}\"{}{}{tag}/>",
-                    r.rect.min.x,
-                    r.rect.min.y,
-                    r.rect.width(),
-                    r.rect.height(),
-                    paint("fill", r.fill),
-                    stroke_attrs(r.stroke)
-                )
-                .ok();
-            }
+            Shape::Rect(r) => Self::rect(r, plot, out),
             Shape::Text(t) => text(t, out),
             Shape::Mesh(m) => self.mesh(m, plot, out),
             Shape::QuadraticBezier(q) => {

@@ -44,7 +44,7 @@ pub struct GuiArgs {
     pub frame_stats: bool,
     /// Show one view full size: plane, block, bifurcation, return-map, events,
     /// numerics, phase.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(VIEW_KEYS))]
     pub view: Option<String>,
     /// Text size multiplier in [0.5, 3] (e.g. 1.5 on a projector).
     #[arg(long, allow_hyphen_values = true)]
@@ -80,15 +80,6 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
 
 /// Checks the flags before the window opens.
 pub fn check(args: &GuiArgs) -> Result<(), CliError> {
-    if let Some(v) = &args.view
-        && !VIEW_KEYS.contains(&v.as_str())
-    {
-        return Err(CliError::Usage(format!(
-            "--view: unknown view '{}': expected one of {}",
-            super::values::echo(v),
-            VIEW_KEYS.join(", ")
-        )));
-    }
     if let Some(t) = args.timeout {
         seconds("timeout", t)?;
         if t > MAX_TIMEOUT {
