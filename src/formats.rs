@@ -33,25 +33,41 @@ pub const SLIP_EVENT_COLUMNS: [&str; 16] = [
 /// Rust's shortest round-trip formatting, so parsing gives back the exact
 /// f64; `restarted` is 0 or 1 so that the whole file is numeric.
 pub fn slip_event_row(e: &SlipEvent) -> String {
-    format!(
-        "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
-        e.theta,
-        e.onset_x,
-        e.onset_y,
-        e.onset_time,
-        e.accel_duration,
-        e.slip_duration,
-        e.stop_x,
-        e.stop_y,
-        e.slip_distance,
-        e.peak_vr,
-        e.energy_released,
-        e.stick_duration,
-        e.theta_next,
-        u8::from(e.restarted),
-        e.rhs_evals,
-        e.steps
-    )
+    csv_line(&[
+        e.theta.to_string(),
+        e.onset_x.to_string(),
+        e.onset_y.to_string(),
+        e.onset_time.to_string(),
+        e.accel_duration.to_string(),
+        e.slip_duration.to_string(),
+        e.stop_x.to_string(),
+        e.stop_y.to_string(),
+        e.slip_distance.to_string(),
+        e.peak_vr.to_string(),
+        e.energy_released.to_string(),
+        e.stick_duration.to_string(),
+        e.theta_next.to_string(),
+        u8::from(e.restarted).to_string(),
+        e.rhs_evals.to_string(),
+        e.steps.to_string(),
+    ])
+}
+
+/// One CSV record without its newline, quoted by the csv crate where a
+/// field needs it (numbers and class names never do, so the bytes are the
+/// fields joined by commas).
+pub fn csv_line(fields: &[String]) -> String {
+    let mut w = csv::WriterBuilder::new()
+        .terminator(csv::Terminator::Any(b'\n'))
+        .from_writer(Vec::new());
+    // Writing to memory cannot fail, and the fields are UTF-8.
+    if w.write_record(fields).is_err() {
+        return fields.join(",");
+    }
+    let bytes = w.into_inner().unwrap_or_default();
+    let mut line = String::from_utf8(bytes).unwrap_or_default();
+    line.pop();
+    line
 }
 
 /// The trajectory CSV (`t,x,y,u,w,phase`, one row per sample).
@@ -96,17 +112,16 @@ pub const PHASE_COLUMNS: &str =
 /// `lyapunov_stderr` and `regime` are empty when not computed.
 pub fn phase_row(c: &PhaseCell) -> String {
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-    format!(
-        "{},{},{},{},{},{},{},{}",
-        c.theta_nu,
-        c.kappa,
-        c.class.period(),
+    csv_line(&[
+        c.theta_nu.to_string(),
+        c.kappa.to_string(),
+        c.class.period().to_string(),
         opt(c.lyapunov),
-        c.regime.map_or("", |r| r.name()),
-        c.iterates,
-        c.class.label(),
-        opt(c.lyapunov_stderr)
-    )
+        c.regime.map_or("", |r| r.name()).to_string(),
+        c.iterates.to_string(),
+        c.class.label().to_string(),
+        opt(c.lyapunov_stderr),
+    ])
 }
 
 /// The picture's classes and colours, in legend order.
@@ -173,7 +188,14 @@ mod tests {
         let obj = json.as_object().expect("an object");
         assert_eq!(obj.len(), SLIP_EVENT_COLUMNS.len());
         let row = slip_event_row(&e);
-        let cells: Vec<&str> = row.split(',').collect();
+        let record = csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(row.as_bytes())
+            .into_records()
+            .next()
+            .expect("one record")
+            .expect("valid CSV");
+        let cells: Vec<&str> = record.iter().collect();
         assert_eq!(cells.len(), SLIP_EVENT_COLUMNS.len());
         for (name, cell) in SLIP_EVENT_COLUMNS.iter().zip(cells) {
             let v = &obj[*name];

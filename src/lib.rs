@@ -13,6 +13,7 @@
 #[cfg(feature = "gui")]
 pub mod app;
 pub mod cli;
+pub mod figure;
 pub mod formats;
 pub mod integrate;
 pub mod jobs;

@@ -399,3 +399,37 @@ fn continues_attractor_search_stops_at_max_seconds() {
     );
     assert!(!out.exists());
 }
+
+/// An output in a folder where no file can be made is found before any
+/// work, by trying to make one: a read-only file system refuses even root,
+/// whose permission bits say yes. /proc stands in for a read-only mount
+/// (it accepts no new files); the run is long enough that finding the
+/// problem afterwards would take seconds, not milliseconds.
+#[test]
+fn an_output_where_no_file_can_be_made_is_refused_before_the_run() {
+    if !std::path::Path::new("/proc/self").exists() {
+        eprintln!("note: no /proc here; skipped");
+        return;
+    }
+    let started = Instant::now();
+    let o = oneblock(&[
+        "bifurcation",
+        "--preset",
+        "fig3b",
+        "--columns",
+        "400",
+        "--transient",
+        "2000",
+        "--keep",
+        "500",
+        "--out",
+        "/proc/oneblock-out.csv",
+    ]);
+    let err = one_error_line(&o, 2);
+    assert!(err.contains("--out"), "{err}");
+    assert!(
+        started.elapsed() < Duration::from_secs(5),
+        "refused only after {:?}",
+        started.elapsed()
+    );
+}

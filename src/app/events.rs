@@ -120,7 +120,14 @@ impl EventsView {
                 tx.send(r).ok();
                 ctx.request_repaint();
             });
-        self.job = spawned.is_ok().then_some(ScalingJob { params, cancel, rx });
+        match spawned {
+            Ok(_) => self.job = Some(ScalingJob { params, cancel, rx }),
+            // Shown where the scan's result would be, not dropped.
+            Err(e) => {
+                self.job = None;
+                self.scaled = Some((params, Err(format!("cannot start the scan's thread: {e}"))));
+            }
+        }
     }
 
     /// Collects the scan, or drops it when the parameters moved on.

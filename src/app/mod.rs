@@ -117,6 +117,47 @@ fn is_software_gl(gl: &eframe::glow::Context) -> bool {
         .any(|k| renderer.contains(k))
 }
 
+/// What `oneblock gui` says where there is no display to open a window on
+/// (rather than the windowing library's own error).
+const NO_DISPLAY: &str = "no display: the window needs X11 or Wayland (DISPLAY and WAYLAND_DISPLAY are unset); \
+     for a --screenshot without a display, run it under xvfb-run";
+
+/// Whether the environment (read by `var`) names an X11 or Wayland display.
+fn has_display(var: impl Fn(&str) -> Option<std::ffi::OsString>) -> bool {
+    ["DISPLAY", "WAYLAND_DISPLAY"]
+        .iter()
+        .any(|k| var(k).is_some_and(|v| !v.is_empty()))
+}
+
+/// The window's options: title and size, the glow renderer, and for a
+/// scripted run (a screenshot) no saved state read or written.
+fn native_options(opts: &RunOptions, size: [f32; 2], scripted: bool) -> eframe::NativeOptions {
+    let mut native = eframe::NativeOptions {
+        viewport: egui::ViewportBuilder::default()
+            .with_title("oneblock: one-block earthquake model")
+            .with_app_id("oneblock")
+            .with_inner_size(size)
+            .with_min_inner_size([800.0, 560.0]),
+        renderer: eframe::Renderer::Glow,
+        // Dithering costs a noticeable share of each frame under software
+        // rendering (llvmpipe is fill-bound here) and the plots have no
+        // gradients to band.
+        dithering: false,
+        persist_window: !scripted,
+        ..Default::default()
+    };
+    if opts.frame_stats {
+        // Measure drawing, not waiting for the display.
+        native.glow_options.vsync = false;
+    }
+    if scripted && !opts.saved_state {
+        // A scripted run never reads or writes the user's saved state.
+        native.persistence_path =
+            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
+    }
+    native
+}
+
 /// Opens the window; returns when it is closed. A scripted run (with
 /// `screenshot`) returns an error if the picture could not be made.
 pub fn run(opts: RunOptions) -> Result<(), String> {
@@ -143,28 +184,16 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         crate::output::check_writable(p, false)
             .map_err(|e| with_warnings(format!("--screenshot: {e}"), &warnings))?;
     }
+    // Without a display the window cannot open: one line saying so (after
+    // any warning about the session), not the windowing library's error.
+    if !has_display(|k| std::env::var_os(k)) {
+        return Err(with_warnings(NO_DISPLAY.into(), &warnings));
+    }
     let size = opts.size.unwrap_or([1280.0, 800.0]);
     let timeout = opts.timeout.unwrap_or(Duration::from_secs(180));
     let measure = opts.frame_stats.then(|| Duration::from_secs(5));
 
-    let mut native = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("oneblock: one-block earthquake model")
-            .with_app_id("oneblock")
-            .with_inner_size(size)
-            .with_min_inner_size([800.0, 560.0]),
-        renderer: eframe::Renderer::Glow,
-        // Dithering costs a noticeable share of each frame under software
-        // rendering (llvmpipe is fill-bound here) and the plots have no
-        // gradients to band.
-        dithering: false,
-        persist_window: !scripted,
-        ..Default::default()
-    };
-    if opts.frame_stats {
-        // Measure drawing, not waiting for the display.
-        native.glow_options.vsync = false;
-    }
+    let native = native_options(&opts, size, scripted);
     // The saved state is read by a plain launch (and by a scripted run
     // asked to): checked first, and set aside if it cannot be used.
     let reads_state = (!scripted || opts.saved_state) && session.is_none();
@@ -174,11 +203,6 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         None
     };
     warnings.extend(state_message.clone());
-    if scripted && !opts.saved_state {
-        // A scripted run never reads or writes the user's saved state.
-        native.persistence_path =
-            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
-    }
 
     let outcome = Arc::new(std::sync::Mutex::new(None));
     let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));

@@ -79,13 +79,20 @@ pub fn encode_png(
     Ok(bytes.into_inner())
 }
 
+/// A save whose thread could not start: a failure the user sees as a
+/// toast (and a scripted run as its error), not a file silently missing.
+fn not_started(path: &str, e: &std::io::Error) -> Saved {
+    Saved::Failed(format!("cannot save {path}: cannot start a thread: {e}"))
+}
+
 impl Shots {
     /// Asks for a screenshot of the window, cropped to `crop`, saved to `path`.
     pub fn request(&mut self, ctx: &Context, path: PathBuf, crop: Option<Rect>) {
         let tx = self.tx.clone();
         let ppp = ctx.pixels_per_point();
         ctx.request_screenshot(move |img: Arc<ColorImage>| {
-            std::thread::Builder::new()
+            let (failed_tx, shown) = (tx.clone(), path.display().to_string());
+            let spawned = std::thread::Builder::new()
                 .name("oneblock-png".into())
                 .spawn(move || {
                     let r = encode_png(&img, crop, ppp).and_then(|bytes| {
@@ -96,8 +103,10 @@ impl Shots {
                         Err(e) => Saved::Failed(e),
                     })
                     .ok();
-                })
-                .ok();
+                });
+            if let Err(e) = spawned {
+                failed_tx.send(not_started(&shown, &e)).ok();
+            }
         });
         self.in_flight += 1;
         ctx.request_repaint();
@@ -107,7 +116,8 @@ impl Shots {
     pub fn write(&mut self, path: PathBuf, bytes: Vec<u8>) {
         let tx = self.tx.clone();
         self.in_flight += 1;
-        std::thread::Builder::new()
+        let (failed_tx, shown) = (tx.clone(), path.display().to_string());
+        let spawned = std::thread::Builder::new()
             .name("oneblock-export".into())
             .spawn(move || {
                 let r = write_output(&path, &bytes, false);
@@ -116,8 +126,10 @@ impl Shots {
                     Err(e) => Saved::Failed(e.to_string()),
                 })
                 .ok();
-            })
-            .ok();
+            });
+        if let Err(e) = spawned {
+            failed_tx.send(not_started(&shown, &e)).ok();
+        }
     }
 
     /// Collects finished saves into toasts; `now` is the ui time.

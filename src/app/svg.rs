@@ -15,6 +15,7 @@
 //! `class="series" data-series="<plot>:<colour>"`, so a reader (and the
 //! tests) can count a plot's series.
 
+use base64::Engine as _;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 
@@ -196,6 +197,62 @@ impl<'a> SvgWriter<'a> {
         }
     }
 
+    /// A path: a series when it has more than two points.
+    fn path(p: &egui::epaint::PathShape, plot: Option<&str>, out: &mut String) {
+        if p.points.len() < 2 {
+            return;
+        }
+        let stroke = solid(&p.stroke);
+        let c = if p.fill.a() > 0 { p.fill } else { stroke };
+        let tag = if p.points.len() > 2 {
+            Self::series(plot, c)
+        } else {
+            String::new()
+        };
+        let width = p.stroke.width;
+        let s = if width > 0.0 && stroke.a() > 0 {
+            format!(
+                "{} stroke-width=\"{width:.2}\" stroke-linejoin=\"round\"",
+                paint("stroke", stroke)
+            )
+        } else {
+            " stroke=\"none\"".into()
+        };
+        write!(
+            out,
+            "<path d=\"{}\"{}{s}{tag}/>",
+            points_d(&p.points, p.closed),
+            if p.closed {
+                paint("fill", p.fill)
+            } else {
+                " fill=\"none\"".into()
+            }
+        )
+        .ok();
+    }
+
+    /// A rectangle: a filled one in a plot is a bar (or a cell), a series.
+    fn rect(r: &egui::epaint::RectShape, plot: Option<&str>, out: &mut String) {
+        // A filled rectangle in a plot is a bar (or a cell).
+        let tag = if r.fill.a() > 0 {
+            Self::series(plot, r.fill)
+        } else {
+            String::new()
+        };
+        let rad = r.corner_radius.average();
+        write!(
+            out,
+            "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" rx=\"{rad:.1}\"{}{}{tag}/>",
+            r.rect.min.x,
+            r.rect.min.y,
+            r.rect.width(),
+            r.rect.height(),
+            paint("fill", r.fill),
+            stroke_attrs(r.stroke)
+        )
+        .ok();
+    }
+
     fn shape(&self, shape: &Shape, plot: Option<&str>, out: &mut String) {
         match shape {
             Shape::Noop | Shape::Callback(_) => {}
@@ -247,38 +304,7 @@ impl<'a> SvgWriter<'a> {
                 )
                 .ok();
             }
-            Shape::Path(p) => {
-                if p.points.len() < 2 {
-                    return;
-                }
-                let stroke = solid(&p.stroke);
-                let c = if p.fill.a() > 0 { p.fill } else { stroke };
-                let tag = if p.points.len() > 2 {
-                    Self::series(plot, c)
-                } else {
-                    String::new()
-                };
-                let width = p.stroke.width;
-                let s = if width > 0.0 && stroke.a() > 0 {
-                    format!(
-                        "{} stroke-width=\"{width:.2}\" stroke-linejoin=\"round\"",
-                        paint("stroke", stroke)
-                    )
-                } else {
-                    " stroke=\"none\"".into()
-                };
-                write!(
-                    out,
-                    "<path d=\"{}\"{}{s}{tag}/>",
-                    points_d(&p.points, p.closed),
-                    if p.closed {
-                        paint("fill", p.fill)
-                    } else {
-                        " fill=\"none\"".into()
-                    }
-                )
-                .ok();
-            }
+            Shape::Path(p) => Self::path(p, plot, out),
             Shape::Band(b) => {
                 if b.points.is_empty() {
                     return;
@@ -294,26 +320,7 @@ impl<'a> SvgWriter<'a> {
                 )
                 .ok();
             }
-            Shape::Rect(r) => {
-                // A filled rectangle in a plot is a bar (or a cell).
-                let tag = if r.fill.a() > 0 {
-                    Self::series(plot, r.fill)
-                } else {
-                    String::new()
-                };
-                let rad = r.corner_radius.average();
-                write!(
-                    out,
-                    "<rect x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" rx=\"{rad:.1}\"{}{}{tag}/>",
-                    r.rect.min.x,
-                    r.rect.min.y,
-                    r.rect.width(),
-                    r.rect.height(),
-                    paint("fill", r.fill),
-                    stroke_attrs(r.stroke)
-                )
-                .ok();
-            }
+            Shape::Rect(r) => Self::rect(r, plot, out),
             Shape::Text(t) => text(t, out),
             Shape::Mesh(m) => self.mesh(m, plot, out),
             Shape::QuadraticBezier(q) => {
@@ -348,7 +355,7 @@ impl<'a> SvgWriter<'a> {
                 bounds.min.y,
                 bounds.width(),
                 bounds.height(),
-                base64(&png)
+                base64::engine::general_purpose::STANDARD.encode(&png)
             )
             .ok();
             return;
@@ -462,24 +469,6 @@ fn text(t: &TextShape, out: &mut String) {
     }
 }
 
-/// Standard base64 (RFC 4648, with padding).
-pub fn base64(bytes: &[u8]) -> String {
-    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-    let mut s = String::with_capacity(bytes.len().div_ceil(3) * 4);
-    for ch in bytes.chunks(3) {
-        let b = [ch[0], *ch.get(1).unwrap_or(&0), *ch.get(2).unwrap_or(&0)];
-        let n = (u32::from(b[0]) << 16) | (u32::from(b[1]) << 8) | u32::from(b[2]);
-        for i in 0..4 {
-            if i <= ch.len() {
-                s.push(A[((n >> (18 - 6 * i)) & 63) as usize] as char);
-            } else {
-                s.push('=');
-            }
-        }
-    }
-    s
-}
-
 /// A Bézier curve as a path: `M` to the first point, then `command` (`Q`
 /// quadratic, `C` cubic) through the others.
 fn bezier(
@@ -513,21 +502,6 @@ fn bezier(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn base64_matches_the_rfc_examples() {
-        for (i, o) in [
-            ("", ""),
-            ("f", "Zg=="),
-            ("fo", "Zm8="),
-            ("foo", "Zm9v"),
-            ("foob", "Zm9vYg=="),
-            ("fooba", "Zm9vYmE="),
-            ("foobar", "Zm9vYmFy"),
-        ] {
-            assert_eq!(base64(i.as_bytes()), o);
-        }
-    }
 
     #[test]
     fn text_is_escaped() {

@@ -28,23 +28,7 @@ pub fn render_svg(
     zoom: &[Zoom],
     size: Vec2,
 ) -> String {
-    let ctx = egui::Context::default();
-    ctx.set_theme(if settings.dark {
-        egui::Theme::Dark
-    } else {
-        egui::Theme::Light
-    });
-    let base = egui::Style::default().text_styles;
-    let scale = settings.font_scale.clamp(0.5, 3.0);
-    ctx.all_styles_mut(|s| {
-        for (ts, font) in s.text_styles.iter_mut() {
-            if let Some(b) = base.get(ts) {
-                font.size = b.size * scale;
-            }
-        }
-        // A picture for a document: no hover, no animation.
-        s.animation_time = 0.0;
-    });
+    let ctx = document_context(settings);
     let mut state = Views::default();
     state.bifurcation.zoom = zoom.to_vec();
     let mut s = settings.clone();
@@ -81,25 +65,7 @@ pub fn render_svg(
         });
         for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
             for d in deltas {
-                let egui::ImageData::Color(img) = d.image;
-                match d.pos {
-                    None => {
-                        textures.insert(id, (*img).clone());
-                    }
-                    Some([x0, y0]) => {
-                        if let Some(t) = textures.get_mut(&id) {
-                            let [w, h] = img.size;
-                            for y in 0..h {
-                                for x in 0..w {
-                                    let (tx, ty) = (x0 + x, y0 + y);
-                                    if tx < t.size[0] && ty < t.size[1] {
-                                        t.pixels[ty * t.size[0] + tx] = img.pixels[y * w + x];
-                                    }
-                                }
-                            }
-                        }
-                    }
-                }
+                apply_delta(&mut textures, id, d);
             }
         }
         shapes = std::mem::take(&mut out.shapes);
@@ -111,6 +77,51 @@ pub fn render_svg(
     w.add(&shapes);
     let bg = ctx.global_style().visuals.panel_fill;
     w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
+}
+
+/// A context styled as the window is (theme, text size), without hover or
+/// animation: a picture for a document.
+fn document_context(settings: &Settings) -> egui::Context {
+    let ctx = egui::Context::default();
+    ctx.set_theme(if settings.dark {
+        egui::Theme::Dark
+    } else {
+        egui::Theme::Light
+    });
+    let base = egui::Style::default().text_styles;
+    let scale = settings.font_scale.clamp(0.5, 3.0);
+    ctx.all_styles_mut(|s| {
+        for (ts, font) in s.text_styles.iter_mut() {
+            if let Some(b) = base.get(ts) {
+                font.size = b.size * scale;
+            }
+        }
+        s.animation_time = 0.0;
+    });
+    ctx
+}
+
+/// A texture update of one frame: a whole new image, or a patch of one.
+fn apply_delta(textures: &mut Textures, id: egui::TextureId, d: egui::epaint::ImageDelta) {
+    let egui::ImageData::Color(img) = d.image;
+    match d.pos {
+        None => {
+            textures.insert(id, (*img).clone());
+        }
+        Some([x0, y0]) => {
+            if let Some(t) = textures.get_mut(&id) {
+                let [w, h] = img.size;
+                for y in 0..h {
+                    for x in 0..w {
+                        let (tx, ty) = (x0 + x, y0 + y);
+                        if tx < t.size[0] && ty < t.size[1] {
+                            t.pixels[ty * t.size[0] + tx] = img.pixels[y * w + x];
+                        }
+                    }
+                }
+            }
+        }
+    }
 }
 
 /// The views a picture of the window shows: the tab, or the tiles.

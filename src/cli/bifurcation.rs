@@ -22,9 +22,9 @@ use super::values::{
 };
 use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
-use crate::model::Params;
+use crate::model::{Params, Preset};
 use crate::sim::Simulator;
-use crate::sim::interpolant::{MapTally, MapUsed};
+use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
@@ -32,7 +32,7 @@ pub struct BifurcationArgs {
     /// Start from a named parameter set (fig3a, fig3b, fig4, creep, chaos,
     /// intermittent; its θν is not used): the flags below override it.
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub kappa: Option<f64>,
@@ -71,8 +71,8 @@ pub struct BifurcationArgs {
     /// map: direct, interpolant (the map's verified interpolant, built per
     /// column; docs/interpolant.md) or auto (the interpolant from 5000 kept
     /// iterates on). Where it is refused the column integrates.
-    #[arg(long, default_value = "auto")]
-    pub map: String,
+    #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
+    pub map: MapChoice,
     /// θ where each chain of the coarse pass starts [default: its first
     /// column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -125,7 +125,7 @@ pub struct Plan {
 pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
     let to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
-    let base = preset_params(args.preset.as_deref())?;
+    let base = preset_params(args.preset);
     let params = Params {
         kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
         gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
@@ -138,7 +138,7 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let columns = count_in("columns", args.columns, MAX_COLUMNS)?;
     let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
     let total = total_iterates(args.transient, ("keep", keep), columns)?;
-    let map = super::orbit::map_choice(&args.map)?;
+    let map = args.map;
     if let Some(th) = args.theta0 {
         // On the arc of the first column; later columns project it onto theirs.
         let sim = Simulator::new(params, settings)?;

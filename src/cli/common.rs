@@ -11,7 +11,7 @@ use super::values::{
     given_or_preset, param_error, parse_number, preset_params, short, short_count,
 };
 use crate::integrate::{Method, SolverSettings};
-use crate::model::Params;
+use crate::model::{Params, Preset};
 use crate::model::{Regime, event_anomalies, exit_arc, validity};
 use crate::output::{OutputError, check_writable, write_output};
 use crate::sim::Simulator;
@@ -23,7 +23,7 @@ pub struct ModelArgs {
     /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
     /// intermittent (the flags below override its values).
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub kappa: Option<f64>,
@@ -45,7 +45,7 @@ pub struct ModelArgs {
 impl ModelArgs {
     /// The parameters, checked; each error names its flag.
     pub fn params(&self) -> Result<Params, CliError> {
-        let base = preset_params(self.preset.as_deref())?;
+        let base = preset_params(self.preset);
         let p = Params {
             kappa: given_or_preset("kappa", self.kappa, base.map(|b| b.kappa))?,
             gamma: given_or_preset("gamma", self.gamma, base.map(|b| b.gamma))?,
@@ -78,8 +78,8 @@ pub fn warn_event(ev: &crate::sim::SlipEvent) {
 #[derive(Debug, Clone, Args)]
 pub struct SolverArgs {
     /// Integration method: dp54, dop853, rk4 or euler.
-    #[arg(long, default_value = "dop853")]
-    pub method: String,
+    #[arg(long, value_enum, ignore_case = true, default_value_t = Method::Dop853)]
+    pub method: Method,
     /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
     /// [default: 1e-10].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, conflicts_with = "step")]
@@ -91,12 +91,7 @@ pub struct SolverArgs {
 
 impl SolverArgs {
     pub fn settings(&self) -> Result<SolverSettings, CliError> {
-        let method: Method = self.method.parse().map_err(|_: String| {
-            CliError::Usage(format!(
-                "--method: unknown method '{}': expected dp54, dop853, rk4 or euler",
-                super::values::echo(&self.method)
-            ))
-        })?;
+        let method = self.method;
         let s = if method.is_adaptive() {
             if self.step.is_some() {
                 return Err(CliError::Usage(format!(

@@ -8,7 +8,8 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
-use super::values::{parse_number, preset_params, seconds, short};
+use super::values::{parse_number, seconds, short};
+use crate::model::Preset;
 
 /// The views `--view` names.
 pub const VIEW_KEYS: [&str; 7] = [
@@ -28,7 +29,7 @@ pub const MAX_TIMEOUT: f64 = 86_400.0;
 pub struct GuiArgs {
     /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent.
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// Save a picture of the window here once the views are complete, then
     /// exit: an SVG (vector: lines as paths, text as text) when FILE ends in
     /// .svg, else a PNG (never overwrites an existing file).
@@ -44,7 +45,7 @@ pub struct GuiArgs {
     pub frame_stats: bool,
     /// Show one view full size: plane, block, bifurcation, return-map, events,
     /// numerics, phase.
-    #[arg(long)]
+    #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(VIEW_KEYS))]
     pub view: Option<String>,
     /// Text size multiplier in [0.5, 3] (e.g. 1.5 on a projector).
     #[arg(long, allow_hyphen_values = true)]
@@ -88,16 +89,6 @@ fn parse_size(s: &str) -> Result<[f32; 2], String> {
 
 /// Checks the flags before the window opens.
 pub fn check(args: &GuiArgs) -> Result<(), CliError> {
-    preset_params(args.preset.as_deref())?;
-    if let Some(v) = &args.view
-        && !VIEW_KEYS.contains(&v.as_str())
-    {
-        return Err(CliError::Usage(format!(
-            "--view: unknown view '{}': expected one of {}",
-            super::values::echo(v),
-            VIEW_KEYS.join(", ")
-        )));
-    }
     if let Some(t) = args.timeout {
         seconds("timeout", t)?;
         if t > MAX_TIMEOUT {
@@ -164,7 +155,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         // The first launch is the Fig. 3b demo (the default settings); later
         // launches restore the saved parameters unless a preset is named. A
         // scripted run is reproducible: Fig. 3b unless told otherwise.
-        preset: args.preset.clone().or_else(|| {
+        preset: args.preset.map(|p| p.key.to_string()).or_else(|| {
             (args.screenshot.is_some() && args.session.is_none() && !args.saved_state)
                 .then(|| "fig3b".to_string())
         }),

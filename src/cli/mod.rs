@@ -94,6 +94,16 @@ pub fn usage_line(e: &clap::Error) -> String {
         let shown = values::echo(value);
         return format!("{flag} = '{shown}': {reason}");
     }
+    if let (ErrorKind::InvalidValue, Some(flag), Some(value), Some(ContextValue::Strings(valid))) =
+        (e.kind(), &flag, &value, e.get(ContextKind::ValidValue))
+    {
+        // A flag with a fixed set of values: the list on the same line.
+        return format!(
+            "{flag}: unknown value '{}': expected one of {}",
+            values::echo(value),
+            valid.join(", ")
+        );
+    }
     let text = e.to_string();
     let mut lines = text.lines().map(str::trim).filter(|l| !l.is_empty());
     let mut msg = lines

@@ -79,27 +79,14 @@ pub struct OrbitArgs {
     /// built once; docs/interpolant.md) or auto (the interpolant from 20000
     /// iterates on). Where the interpolant cannot be verified the run
     /// integrates and says so.
-    #[arg(long, default_value = "auto")]
-    pub map: String,
+    #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
+    pub map: MapChoice,
     /// CSV file of the kept events' intermittency statistics: the laminar
     /// lengths (creep slips between two large slips, a large slip being one
     /// of at least a quarter of the largest slip distance) and the slip-size
     /// distribution in logarithmic bins (docs/cli.md).
     #[arg(long)]
     pub stats: Option<PathBuf>,
-}
-
-/// The `--map` flag's value.
-pub(crate) fn map_choice(s: &str) -> Result<MapChoice, CliError> {
-    match s {
-        "direct" => Ok(MapChoice::Direct),
-        "interpolant" => Ok(MapChoice::Interpolant),
-        "auto" => Ok(MapChoice::Auto),
-        _ => Err(CliError::Usage(format!(
-            "--map: unknown value '{}' (valid: direct, interpolant, auto)",
-            super::values::echo(s)
-        ))),
-    }
 }
 
 /// How the map was evaluated, for the summary.
@@ -136,7 +123,7 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let keep = count_in("keep", args.keep, MAX_KEEP)?;
-    let choice = map_choice(&args.map)?;
+    let choice = args.map;
     let total = total_iterates(args.transient, ("keep", keep), 1)?;
     let period_tol = match args.period_tol {
         Some(t) => {

@@ -18,10 +18,10 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
-use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, class_colour, legend_class, phase_row};
+use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, legend_class, phase_row};
 use crate::jobs::{Axis, JobError, PhaseSpec, PhaseTuning, Spec, Update, run_collect};
-use crate::model::Params;
-use crate::sim::interpolant::MapTally;
+use crate::model::{Params, Preset};
+use crate::sim::interpolant::{MapChoice, MapTally};
 use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::theta_nu_grid;
 
@@ -31,7 +31,7 @@ pub struct PhaseArgs {
     /// Take γ, ν and Ω from a named parameter set (fig3a, fig3b, fig4,
     /// creep, chaos, intermittent); the flags below override them.
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// γ, the friction weakening, in [0, 1e6].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub gamma: Option<f64>,
@@ -82,8 +82,8 @@ pub struct PhaseArgs {
     /// How a cell evaluates the map after its first 400 iterates: direct,
     /// interpolant (docs/interpolant.md) or auto (the interpolant when at
     /// least 20000 iterates are left). Where refused, the cell integrates.
-    #[arg(long, default_value = "auto")]
-    pub map: String,
+    #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
+    pub map: MapChoice,
     /// Worker threads, 1 to 1024 [default: the number of cores]. The output
     /// does not depend on it.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
@@ -91,7 +91,8 @@ pub struct PhaseArgs {
     /// CSV file ("-" = stdout) [default: stdout, or none with --png].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Also (or only) render the diagram as a PNG.
+    /// Also (or only) render the diagram as a PNG, or as SVG when FILE ends
+    /// in .svg (labels in the DejaVu Sans the binary carries).
     #[arg(long)]
     pub png: Option<PathBuf>,
     /// Draw these curves over the PNG: a CSV with theta_nu and kappa
@@ -128,7 +129,7 @@ pub struct Plan {
 pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     let t_from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
     let t_to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
-    let base = preset_params(args.preset.as_deref())?;
+    let base = preset_params(args.preset);
     let params = Params {
         kappa: 1.0,
         gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
@@ -175,7 +176,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     opts.transient = args.transient;
     opts.keep = keep;
     opts.early_exit = !args.brute_force;
-    opts.map = super::orbit::map_choice(&args.map)?;
+    opts.map = args.map;
     if let Some(t) = args.period_tol {
         if !(t.is_finite() && t > 0.0 && t <= 1.0) {
             return Err(CliError::Usage(format!(
@@ -309,7 +310,14 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     }
     // The picture first: if it cannot be written, neither is the CSV.
     if let Some(png) = &args.png {
-        let bytes = render_png_with(&grid, &kappas, &theta_nus, &boundaries);
+        // Written as SVG when the name says so, else rasterised; a picture
+        // that cannot be encoded is an error, never an empty file.
+        let svg = crate::figure::phase::phase_svg(&grid, &kappas, &theta_nus, &boundaries);
+        let bytes = if crate::figure::is_svg(png) {
+            svg.into_bytes()
+        } else {
+            crate::figure::svg_to_png(&svg).map_err(|e| CliError::Failed(format!("--png: {e}")))?
+        };
         emit_as("png", png, &bytes, args.force)?;
     }
     if let Some(o) = &out {
@@ -366,228 +374,15 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// A 5×7 bitmap font for the few characters the picture needs: each glyph is
-/// 7 rows of 5 bits, most significant bit on the left.
-fn glyph(ch: char) -> [u8; 7] {
-    match ch {
-        '0' => [14, 17, 19, 21, 25, 17, 14],
-        '1' => [4, 12, 4, 4, 4, 4, 14],
-        '2' => [14, 17, 1, 2, 4, 8, 31],
-        '3' => [31, 2, 4, 2, 1, 17, 14],
-        '4' => [2, 6, 10, 18, 31, 2, 2],
-        '5' => [31, 16, 30, 1, 1, 17, 14],
-        '6' => [6, 8, 16, 30, 17, 17, 14],
-        '7' => [31, 1, 2, 4, 8, 8, 8],
-        '8' => [14, 17, 17, 14, 17, 17, 14],
-        '9' => [14, 17, 17, 15, 1, 2, 12],
-        '.' => [0, 0, 0, 0, 0, 12, 12],
-        '-' => [0, 0, 0, 31, 0, 0, 0],
-        '+' => [0, 4, 4, 31, 4, 4, 0],
-        '/' => [1, 1, 2, 4, 8, 16, 16],
-        'A' => [14, 17, 17, 31, 17, 17, 17],
-        'C' => [14, 17, 16, 16, 16, 17, 14],
-        'D' => [28, 18, 17, 17, 17, 18, 28],
-        'E' => [31, 16, 16, 30, 16, 16, 31],
-        'F' => [31, 16, 16, 30, 16, 16, 16],
-        'H' => [17, 17, 17, 31, 17, 17, 17],
-        'I' => [14, 4, 4, 4, 4, 4, 14],
-        'K' => [17, 18, 20, 24, 20, 18, 17],
-        'L' => [16, 16, 16, 16, 16, 16, 31],
-        'N' => [17, 17, 25, 21, 19, 17, 17],
-        'O' => [14, 17, 17, 17, 17, 17, 14],
-        'P' => [30, 17, 17, 30, 16, 16, 16],
-        'S' => [15, 16, 16, 14, 1, 1, 30],
-        'T' => [31, 4, 4, 4, 4, 4, 4],
-        'U' => [17, 17, 17, 17, 17, 17, 14],
-        _ => [0; 7],
-    }
-}
-
-/// An RGB canvas with the few drawing operations the picture needs.
-struct Canvas {
-    w: usize,
-    h: usize,
-    px: Vec<u8>,
-}
-
-impl Canvas {
-    fn new(w: usize, h: usize) -> Self {
-        Canvas {
-            w,
-            h,
-            px: vec![255; w * h * 3],
-        }
-    }
-
-    fn rect(&mut self, x0: usize, y0: usize, w: usize, h: usize, c: [u8; 3]) {
-        for y in y0..(y0 + h).min(self.h) {
-            for x in x0..(x0 + w).min(self.w) {
-                let i = 3 * (y * self.w + x);
-                self.px[i..i + 3].copy_from_slice(&c);
-            }
-        }
-    }
-
-    /// Text at (x, y) (top left), each font pixel `s`×`s`; returns its width.
-    fn text(&mut self, x: usize, y: usize, s: usize, t: &str, c: [u8; 3]) -> usize {
-        for (k, ch) in t.chars().enumerate() {
-            let g = glyph(ch);
-            for (r, bits) in g.iter().enumerate() {
-                for b in 0..5 {
-                    if bits & (16 >> b) != 0 {
-                        self.rect(x + (6 * k + b) * s, y + r * s, s, s, c);
-                    }
-                }
-            }
-        }
-        text_width(t, s)
-    }
-}
-
-fn text_width(t: &str, s: usize) -> usize {
-    (6 * t.chars().count()).saturating_sub(1) * s
-}
-
-/// Ticks for an axis from `a` to `b`: about five round values.
-fn ticks(a: f64, b: f64) -> Vec<f64> {
-    let (lo, hi) = (a.min(b), a.max(b));
-    if hi - lo <= 0.0 {
-        return vec![lo];
-    }
-    let raw = (hi - lo) / 5.0;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    let mut v = Vec::new();
-    let mut t = (lo / step).ceil() * step;
-    while t <= hi + 1e-9 * step {
-        v.push(t);
-        t += step;
-    }
-    v
-}
-
-fn tick_label(v: f64) -> String {
-    let s = format!("{:.3}", v);
-    let s = s.trim_end_matches('0').trim_end_matches('.');
-    if s == "-0" { "0".into() } else { s.into() }
-}
-
-/// Renders the grid: θν across, κ upwards, one colour per class, with axes,
-/// tick labels and a legend. Returns the PNG's bytes.
-pub fn render_png(grid: &[Vec<PhaseCell>], kappas: &[f64], theta_nus: &[f64]) -> Vec<u8> {
-    render_png_with(grid, kappas, theta_nus, &[])
-}
-
-/// [`render_png`] with bifurcation curves in (θν, κ) drawn over the cells.
-pub fn render_png_with(
-    grid: &[Vec<PhaseCell>],
-    kappas: &[f64],
-    theta_nus: &[f64],
-    curves: &[super::phase_boundaries::Polyline],
-) -> Vec<u8> {
-    let (rows, cols) = (kappas.len().max(1), theta_nus.len().max(1));
-    let cw = 600usize.div_ceil(cols).max(1);
-    let ch = 480usize.div_ceil(rows).max(1);
-    let (pw, ph) = (cw * cols, ch * rows);
-    let s = 2;
-    let (left, top, bottom, right) = (110, 20, 70, 180);
-    let mut cv = Canvas::new(left + pw + right, top + ph + bottom);
-    let black = [0, 0, 0];
-    for (r, row) in grid.iter().enumerate() {
-        for (c, cell) in row.iter().enumerate() {
-            // κ grows upwards: the first row is at the bottom.
-            let y = top + (rows - 1 - r) * ch;
-            cv.rect(left + c * cw, y, cw, ch, class_colour(cell.class));
-        }
-    }
-    // Frame.
-    cv.rect(left - 1, top - 1, pw + 2, 1, black);
-    cv.rect(left - 1, top + ph, pw + 2, 1, black);
-    cv.rect(left - 1, top - 1, 1, ph + 2, black);
-    cv.rect(left + pw, top - 1, 1, ph + 2, black);
-    // θν axis: cell centres map linearly onto the grid's values.
-    let (t0, t1) = (theta_nus[0], theta_nus[cols - 1]);
-    let x_of = |v: f64| -> f64 {
-        if cols == 1 || t1 == t0 {
-            (left + pw / 2) as f64
-        } else {
-            left as f64 + cw as f64 * (0.5 + (v - t0) / (t1 - t0) * (cols - 1) as f64)
-        }
-    };
-    for v in ticks(t0, t1) {
-        let x = x_of(v).round() as usize;
-        cv.rect(x, top + ph, 1, 6, black);
-        let l = tick_label(v);
-        let w = text_width(&l, s);
-        cv.text(x.saturating_sub(w / 2), top + ph + 10, s, &l, black);
-    }
-    let title = "THETA NU";
-    let w = text_width(title, s);
-    cv.text(left + pw / 2 - w / 2, top + ph + 40, s, title, black);
-    let (k0, k1) = (kappas[0], kappas[rows - 1]);
-    let y_of = |v: f64| -> f64 {
-        if rows == 1 || k1 == k0 {
-            (top + ph / 2) as f64
-        } else {
-            (top + ph) as f64 - ch as f64 * (0.5 + (v - k0) / (k1 - k0) * (rows - 1) as f64)
-        }
-    };
-    for v in ticks(k0, k1) {
-        let y = y_of(v).round() as usize;
-        cv.rect(left - 6, y, 6, 1, black);
-        let l = tick_label(v);
-        let w = text_width(&l, s);
-        cv.text(left - 10 - w, y.saturating_sub(7), s, &l, black);
-    }
-    cv.text(4, top + ph / 2 - 7, s, "KAPPA", black);
-    for poly in curves {
-        for w in poly.windows(2) {
-            let [a, b] = [w[0], w[1]].map(|p| [x_of(p[0]), y_of(p[1])]);
-            for [x, y] in super::phase_boundaries::segment_pixels(a, b) {
-                let inside = (left as i64..(left + pw) as i64 - 1).contains(&x)
-                    && (top as i64..(top + ph) as i64 - 1).contains(&y);
-                if inside {
-                    cv.rect(x as usize, y as usize, 2, 2, black);
-                }
-            }
-        }
-    }
-    // Legend.
-    let lx = left + pw + 20;
-    for (i, (name, c)) in PHASE_LEGEND.iter().enumerate() {
-        let y = top + 10 + 26 * i;
-        cv.rect(lx, y, 18, 18, *c);
-        cv.rect(lx, y, 18, 1, black);
-        cv.rect(lx, y + 17, 18, 1, black);
-        cv.rect(lx, y, 1, 18, black);
-        cv.rect(lx + 17, y, 1, 18, black);
-        cv.text(lx + 26, y + 2, s, name, black);
-    }
-    let img = image::RgbImage::from_raw(cv.w as u32, cv.h as u32, cv.px)
-        .unwrap_or_else(|| image::RgbImage::new(1, 1));
-    let mut bytes = Vec::new();
-    img.write_to(
-        &mut std::io::Cursor::new(&mut bytes),
-        image::ImageFormat::Png,
-    )
-    .ok();
-    bytes
-}
-
 /// Reads back a phase CSV's class column per cell (for tests and tools).
 pub fn read_classes(path: &Path) -> std::io::Result<Vec<(f64, f64, String)>> {
-    let text = std::fs::read_to_string(path)?;
-    Ok(text
-        .lines()
-        .skip(1)
-        .filter_map(|l| {
-            let f: Vec<&str> = l.split(',').collect();
+    let mut reader = csv::ReaderBuilder::new().flexible(true).from_path(path)?;
+    Ok(reader
+        .records()
+        .filter_map(|r| {
+            let f = r.ok()?;
             Some((
-                f.first()?.parse().ok()?,
+                f.get(0)?.parse().ok()?,
                 f.get(1)?.parse().ok()?,
                 f.get(6)?.to_string(),
             ))

@@ -12,16 +12,24 @@ pub type Polyline = Vec<[f64; 2]>;
 /// concatenated) starts new ones. Errors are one line.
 pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read it: {e}"))?;
-    let mut lines = text.lines().enumerate();
-    let Some((_, header)) = lines.next() else {
+    // No header row for the reader: a repeated header (files concatenated)
+    // must be seen as a row to start new polylines.
+    let mut records = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes())
+        .into_records();
+    let Some(header) = records.next() else {
         return Err("the file is empty".into());
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
-    let col = |n: &str| names.iter().position(|h| *h == n);
+    let header = header.map_err(|e| format!("not CSV: {e}"))?;
+    let col = |n: &str| header.iter().position(|h| h == n);
     let (Some(x), Some(y)) = (col("theta_nu"), col("kappa")) else {
+        let shown = header.iter().collect::<Vec<_>>().join(",");
         return Err(format!(
             "the header '{}' has no theta_nu and kappa columns (write it with oneblock continue --curve ... --params theta-nu,kappa)",
-            super::values::echo(header)
+            super::values::echo(&shown)
         ));
     };
     let keys: Vec<usize> = ["curve", "kind", "period"]
@@ -30,25 +38,26 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
         .collect();
     let mut out: Vec<Polyline> = Vec::new();
     let mut last_key: Option<Vec<String>> = None;
-    for (i, line) in lines {
-        if line.trim().is_empty() {
+    for record in records {
+        let f = record.map_err(|e| format!("not CSV: {e}"))?;
+        let line = f.position().map_or(0, |p| p.line());
+        if f.iter().all(str::is_empty) {
             continue;
         }
-        if line == header {
+        if f == header {
             last_key = None;
             continue;
         }
-        let f: Vec<&str> = line.split(',').map(str::trim).collect();
         let num = |j: usize| -> Result<f64, String> {
             f.get(j)
                 .and_then(|s| s.parse::<f64>().ok())
                 .filter(|v| v.is_finite())
-                .ok_or_else(|| format!("line {}: no finite number in column {}", i + 1, j + 1))
+                .ok_or_else(|| format!("line {line}: no finite number in column {}", j + 1))
         };
         let p = [num(x)?, num(y)?];
         let key: Vec<String> = keys
             .iter()
-            .map(|&k| f.get(k).unwrap_or(&"").to_string())
+            .map(|&k| f.get(k).unwrap_or("").to_string())
             .collect();
         match out.last_mut() {
             Some(poly) if last_key.as_ref() == Some(&key) => poly.push(p),

@@ -2,7 +2,12 @@
 //! durations with an upper bound, numbers echoed short, and the presets.
 
 use super::CliError;
-use crate::model::{ParamError, Params, preset, preset_keys};
+use clap::ValueEnum;
+use clap::builder::PossibleValue;
+
+use crate::integrate::Method;
+use crate::model::{PRESETS, ParamError, Params, Preset, preset_keys};
+use crate::sim::interpolant::MapChoice;
 
 /// A number as a message echoes it: as typed when that is short, else in
 /// exponent form (`1e308`, not 309 digits).
@@ -121,17 +126,49 @@ pub fn settings_error(e: crate::integrate::SettingsError) -> CliError {
     ))
 }
 
-/// The parameters of `--preset NAME`, or an error naming the presets.
-pub fn preset_params(name: Option<&str>) -> Result<Option<Params>, CliError> {
-    match name {
-        None => Ok(None),
-        Some(k) => preset(k).map(|p| Some(p.params)).ok_or_else(|| {
-            CliError::Usage(format!(
-                "--preset: unknown preset '{}': expected one of {}",
-                echo(k),
-                preset_keys()
-            ))
-        }),
+/// The parameters of `--preset NAME` (clap has checked the name).
+pub fn preset_params(preset: Option<Preset>) -> Option<Params> {
+    preset.map(|p| p.params)
+}
+
+// The flags that take one of a fixed set of values are parsed by clap from
+// these lists, so `--help` shows them and a wrong value is refused with the
+// list (cli::usage_line folds it into one line). The core types stay free of
+// the command line's crate: the impls are here.
+
+impl ValueEnum for Preset {
+    fn value_variants<'a>() -> &'a [Self] {
+        &PRESETS
+    }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.key).help(self.label))
+    }
+}
+
+impl ValueEnum for Method {
+    fn value_variants<'a>() -> &'a [Self] {
+        &Method::ALL
+    }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        let v = PossibleValue::new(self.name());
+        Some(match self {
+            // The names other programs give Dormand–Prince 5(4).
+            Method::Dp54 => v.aliases(["dopri5", "rk45"]),
+            _ => v,
+        })
+    }
+}
+
+impl ValueEnum for MapChoice {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[MapChoice::Direct, MapChoice::Interpolant, MapChoice::Auto]
+    }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(match self {
+            MapChoice::Direct => "direct",
+            MapChoice::Interpolant => "interpolant",
+            MapChoice::Auto => "auto",
+        }))
     }
 }
 

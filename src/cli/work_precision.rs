@@ -15,7 +15,7 @@ use super::common::{
 };
 use super::run_control::Limits;
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
-use crate::model::Params;
+use crate::model::{Params, Preset};
 use crate::numerics::sample::{Attractor, build_sample, default_attractors};
 use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects, measure};
 use crate::numerics::{Subject, chart};
@@ -26,7 +26,7 @@ pub struct WorkPrecisionArgs {
     /// Measure on a single attractor from a named parameter set (fig3a,
     /// fig3b, fig4, creep, chaos, intermittent); the flags below override it.
     #[arg(long)]
-    pub preset: Option<String>,
+    pub preset: Option<Preset>,
     /// κ of a single attractor to measure on [default: the four-attractor
     /// sample], in [1e-6, 1e6].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -104,7 +104,7 @@ pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
     let attractors = if !single {
         default_attractors()
     } else {
-        let base = preset_params(args.preset.as_deref())?;
+        let base = preset_params(args.preset);
         let params = Params {
             kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
             gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,

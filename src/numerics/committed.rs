@@ -29,16 +29,26 @@ const METHODS: [&str; 6] = [
 /// start with `#`; the failure messages are not in it).
 pub fn parse_csv(text: &str) -> Result<Vec<Row>, String> {
     let mut rows = Vec::new();
-    for (n, line) in text.lines().enumerate() {
-        let line = line.trim();
-        if line.is_empty() || line.starts_with('#') || line.starts_with("method,") {
+    // Flexible: a header and the rows differ in length, and a row of the
+    // wrong length is reported below with its line.
+    let mut reader = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .comment(Some(b'#'))
+        .trim(csv::Trim::All)
+        .flexible(true)
+        .from_reader(text.as_bytes());
+    for record in reader.records() {
+        let f = record.map_err(|e| format!("not CSV: {e}"))?;
+        let n = f.position().map_or(0, |p| p.line());
+        if f.get(0) == Some("method") || f.iter().all(str::is_empty) {
             continue;
         }
-        let f: Vec<&str> = line.split(',').collect();
-        let bad = |what: &str| format!("line {}: {what}: {line}", n + 1);
+        let line = f.iter().collect::<Vec<_>>().join(",");
+        let bad = |what: &str| format!("line {n}: {what}: {line}");
         if f.len() != 11 {
             return Err(bad("expected 11 fields"));
         }
+        let f: Vec<&str> = f.iter().collect();
         let method = METHODS
             .iter()
             .copied()

@@ -16,7 +16,7 @@ use super::trajectory::{Phase, Sampler};
 use super::variational::{
     self, EV, Field, Grad, NotDifferentiable, Tangents, Tape, ev_field, ev_seed,
 };
-use crate::integrate::{Method, Solver, SolverSettings, State, find_root};
+use crate::integrate::{IntegrateError, Method, Rhs, Solver, SolverSettings, State, find_root};
 use crate::model::{
     Params, elastic_energy, exit_arc, is_on_exit_arc, point_from_theta, stick_exit_point,
     theta_from_point,
@@ -345,6 +345,35 @@ impl Simulator {
         }
     }
 
+    /// Where [`Self::stiff_stop`] may take over: v_r at `y` when the slip is
+    /// stiff (k = |F_el|/D ≥ [`MIN_STIFFNESS`]), v̂_r points along F̂_el and
+    /// the manifold's error bound is below [`ERROR_SHARE`] of the tolerance.
+    fn stiff_entry(&self, y: &State, decel: f64) -> Option<f64> {
+        // The caller's v_r, formed the same way.
+        let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
+        let kappa = self.params.kappa;
+        let (fx, fy) = (-kappa * y[0], -y[1]);
+        let fnorm = fx.hypot(fy);
+        let k = fnorm / decel;
+        if !(k >= MIN_STIFFNESS) {
+            return None;
+        }
+        // v̂_r must point along F̂_el, not against it (sin α alone cannot
+        // tell: a slip along an axis has sin α = 0 both before and after
+        // the block passes the centre, where F_el turns round).
+        let cos0 = (fx * y[2] + fy * y[3]) / (fnorm * vr);
+        if !(cos0 > 0.5) {
+            return None;
+        }
+        let sin0 = (fx * y[3] - fy * y[2]) / (fnorm * vr);
+        let m = self.field.manifold(y[0], y[1], vr);
+        let moved = vr * vr / decel;
+        let bound = ((sin0 - m.sin_alpha).abs() / (k + 2.0) + m.sin_alpha.abs() / (k * k))
+            * moved
+            * kappa.max(1.0);
+        (bound <= ERROR_SHARE * self.settings.rtol).then_some(vr)
+    }
+
     /// The end of a creep-sized slip, where the deceleration is stiff.
     ///
     /// Near a stop the direction of v_r relaxes towards F̂_el at the rate
@@ -378,35 +407,11 @@ impl Simulator {
         evals: &Cell<u64>,
         tape: Option<&RefCell<Box<Tape>>>,
     ) -> StiffEnd {
-        const MIN_STIFFNESS: f64 = 10.0;
-        // The caller's v_r, formed the same way.
-        let vr = (y[2] * y[2] + y[3] * y[3]).sqrt();
-        const ERROR_SHARE: f64 = 0.01;
-        const MAX_STEPS: u32 = 400;
+        let Some(vr) = self.stiff_entry(y, decel) else {
+            return StiffEnd::NotStiff;
+        };
         let field = self.field;
         let kappa = self.params.kappa;
-        let (fx, fy) = (-kappa * y[0], -y[1]);
-        let fnorm = fx.hypot(fy);
-        let k = fnorm / decel;
-        if !(k >= MIN_STIFFNESS) {
-            return StiffEnd::NotStiff;
-        }
-        // v̂_r must point along F̂_el, not against it (sin α alone cannot
-        // tell: a slip along an axis has sin α = 0 both before and after
-        // the block passes the centre, where F_el turns round).
-        let cos0 = (fx * y[2] + fy * y[3]) / (fnorm * vr);
-        if !(cos0 > 0.5) {
-            return StiffEnd::NotStiff;
-        }
-        let sin0 = (fx * y[3] - fy * y[2]) / (fnorm * vr);
-        let m = field.manifold(y[0], y[1], vr);
-        let moved = vr * vr / decel;
-        let bound = ((sin0 - m.sin_alpha).abs() / (k + 2.0) + m.sin_alpha.abs() / (k * k))
-            * moved
-            * kappa.max(1.0);
-        if !(bound <= ERROR_SHARE * self.settings.rtol) {
-            return StiffEnd::NotStiff;
-        }
         // z = (x, y, v_r, unused) on the manifold, against time; with
         // derivatives, its tangent against the [`EV`] slots at `y` (the
         // direction's is dropped with it: it relaxes onto the manifold).
@@ -464,30 +469,8 @@ impl Simulator {
                     steps: solver.steps(),
                 };
             }
-            // `Solver::step`'s loop, with the tangents told where each
-            // attempt begins and ends.
-            let stepped = loop {
-                let h = match solver.begin_attempt(t, self.h_max) {
-                    Ok(h) => h,
-                    Err(e) => break Err(e),
-                };
-                if let Some(zv) = &zvar {
-                    zv.borrow_mut().begin(h);
-                }
-                let zn = solver.stages(&mut rhs, &z, &f, h);
-                if let Some(zv) = &zvar {
-                    zv.borrow_mut().finishing();
-                }
-                let r = solver.end_attempt(&mut rhs, t, &z, &zn, h);
-                if let Some(zv) = &zvar {
-                    zv.borrow_mut().end();
-                }
-                match r {
-                    Ok(Some(done)) => break Ok(done),
-                    Ok(None) => {}
-                    Err(e) => break Err(e),
-                }
-            };
+            let stepped =
+                manifold_step(&mut solver, &mut rhs, zvar.as_ref(), t, &z, &f, self.h_max);
             let Ok((tn, zn, fnew)) = stepped else {
                 // The normal steps will get there: a step-size underflow
                 // here says the manifold was not smooth after all.
@@ -530,6 +513,44 @@ impl Simulator {
             if let Some(zv) = &zvar {
                 zv.borrow_mut().commit();
             }
+        }
+    }
+}
+
+/// Stiff stops ([`Simulator::stiff_stop`]): the least k = |F_el|/D taken
+/// as stiff, the manifold's error allowed as a share of the tolerance, and
+/// the most steps on the manifold before giving up.
+const MIN_STIFFNESS: f64 = 10.0;
+const ERROR_SHARE: f64 = 0.01;
+const MAX_STEPS: u32 = 400;
+
+/// One accepted step on the slow manifold: `Solver::step`'s loop, with the
+/// tangents (when derivatives are taken) told where each attempt begins
+/// and ends.
+fn manifold_step<F: Rhs>(
+    solver: &mut Solver,
+    rhs: &mut F,
+    zvar: Option<&RefCell<Box<Tangents<EV>>>>,
+    t: f64,
+    z: &State,
+    f: &State,
+    h_max: f64,
+) -> Result<(f64, State, State), IntegrateError> {
+    loop {
+        let h = solver.begin_attempt(t, h_max)?;
+        if let Some(zv) = zvar {
+            zv.borrow_mut().begin(h);
+        }
+        let zn = solver.stages(rhs, z, f, h);
+        if let Some(zv) = zvar {
+            zv.borrow_mut().finishing();
+        }
+        let r = solver.end_attempt(rhs, t, z, &zn, h);
+        if let Some(zv) = zvar {
+            zv.borrow_mut().end();
+        }
+        if let Some(done) = r? {
+            return Ok(done);
         }
     }
 }
