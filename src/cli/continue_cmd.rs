@@ -78,6 +78,17 @@ impl ContinueModelArgs {
         slot.get_or_insert(from);
         m
     }
+
+    /// The value `param`'s own flag gave, if any.
+    fn own(&self, param: ContParam) -> Option<f64> {
+        match param {
+            ContParam::ThetaNu => self.theta_nu,
+            ContParam::Kappa => self.kappa,
+            ContParam::Gamma => self.gamma,
+            ContParam::Nu => self.nu,
+            ContParam::Omega => self.omega,
+        }
+    }
 }
 
 /// Follows a cycle, a cascade, or a bifurcation curve.
@@ -226,7 +237,20 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
         (None, _, Some(n)) => ContParam::parse(n.trim()),
         _ => None,
     };
-    let base = args.model.with_varied(varied, args.from).params()?;
+    let base = args
+        .model
+        .with_varied(varied, args.from)
+        .params()
+        .map_err(|e| {
+            // The varied parameter's own flag left out, its value is --from's:
+            // the message names --from, as it does for --to.
+            match (varied, args.model.with_varied(None, args.from).params()) {
+                (Some(p), Ok(b)) if args.model.own(p).is_none() => {
+                    end("from", args.from, p, &b).err().unwrap_or(e)
+                }
+                _ => e,
+            }
+        })?;
     let settings = args.solver.settings()?;
     let (param, mode) = match (&args.curve, &args.params, &args.param) {
         (Some(kind), params, _) => {
