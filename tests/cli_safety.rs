@@ -415,11 +415,11 @@ fn presets_work_everywhere_and_flags_override_them() {
 
 #[test]
 fn results_outside_the_model_are_flagged() {
-    // ν = 1 is outside the slow-pulling assumption: computed, with a warning.
-    let o = oneblock(&["map", "--preset", "fig3b", "--nu", "1", "--theta", "1"]);
+    // ν = 0.1 is outside the slow-pulling assumption: computed, with a warning.
+    let o = oneblock(&["map", "--preset", "fig3b", "--nu", "0.1", "--theta", "1"]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
     assert!(
-        stderr(&o).contains("warning: nu = 1 is outside"),
+        stderr(&o).contains("warning: nu = 0.1 is outside"),
         "{}",
         stderr(&o)
     );

@@ -38,9 +38,9 @@ fn count(lo: usize, hi: usize) -> impl Strategy<Value = usize> {
 /// The ranges the window documents for each field (docs/gui.md, the
 /// controls' hover texts), written out here independently of the code.
 fn params_sound(p: &Params) -> bool {
-    (1e-6..=1e6).contains(&p.kappa)
-        && (0.0..=1e6).contains(&p.gamma)
-        && (1e-12..=1e3).contains(&p.nu)
+    (1e-6..=1e3).contains(&p.kappa)
+        && (0.1..=1e4).contains(&p.gamma)
+        && (1e-12..=0.1).contains(&p.nu)
         && (-PI..=PI).contains(&p.theta_nu)
         && p.omega > 0.0
         && p.omega <= 1e8

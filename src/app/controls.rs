@@ -62,12 +62,13 @@ impl Field {
             Field::Kappa => {
                 "κ = kx/ky (paper: κ): anisotropy of the two springs holding the block. \
                  κ = 1 is isotropic; a large κ makes the x spring stiff, so the curve C \
-                 (κ²x² + y² = 1) becomes a thin ellipse. Slider 0.1–100; type any value in [1e-6, 1e6]."
+                 (κ²x² + y² = 1) becomes a thin ellipse. Slider 0.1–100; type any value in [1e-6, 1e3] (beyond, slips turn into steady sliding)."
             }
             Field::Gamma => {
                 "γ = 1/(2ν_f) (paper: γ): how fast friction weakens as the block speeds up \
                  (velocity weakening). γ² < min(1, κ): only creep; γ² > max(1, κ): only \
-                 stick-slip earthquakes; in between, both (mixed regime). The paper uses 6.5."
+                 stick-slip earthquakes; in between, both (mixed regime). The paper uses 6.5. \
+                 Type any value in [0.1, 1e4] (outside, slips never stop)."
             }
             Field::ThetaNu => {
                 "θν (paper: θ_ν): the direction, in radians from the x axis, in which the \
@@ -77,7 +78,8 @@ impl Field {
             Field::Nu => {
                 "ν (paper: ν): the pulling speed of the surface, tiny next to slip speeds. \
                  It sets how long the block sticks between slips (about 1/ν time units). \
-                 The paper uses 1e-3 and 1e-4."
+                 The paper uses 1e-3 and 1e-4. \
+                 Type any value in [1e-12, 0.1] (beyond, slips turn into steady sliding)."
             }
             Field::Omega => {
                 "Ω (paper: Ω): the memory of the friction's direction: how quickly, once \
@@ -94,7 +96,7 @@ impl Field {
     fn slider_range(self, full_circle: bool) -> RangeInclusive<f64> {
         match self {
             Field::Kappa => 0.1..=100.0,
-            Field::Gamma => 0.0..=10.0,
+            Field::Gamma => 0.1..=10.0,
             Field::ThetaNu if full_circle => -PI..=PI,
             Field::ThetaNu => 0.0..=FRAC_PI_2,
             Field::Nu => 1e-6..=1e-1,

@@ -25,6 +25,7 @@ use super::settings::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseRange, Settings, Vi
 use super::style;
 use super::view::{Action, View};
 use crate::formats::class_colour as png_colour;
+use crate::model::KAPPA_RANGE;
 use crate::sim::phase::{CellClass, PhaseCell};
 
 /// The legend, in the order of `oneblock phase --png`'s.
@@ -464,7 +465,7 @@ fn range_ui(ui: &mut Ui, range: &mut PhaseRange, zoom: &mut Vec<PhaseRange>) {
         ui.label("to");
         ui.add(
             egui::DragValue::new(&mut kappa.1)
-                .range(kappa.0 * 1.001..=1e6)
+                .range(kappa.0 * 1.001..=*KAPPA_RANGE.end())
                 .speed(0.1),
         );
         ui.end_row();

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::integrate::{Method, SolverSettings};
-use crate::model::Params;
+use crate::model::{KAPPA_RANGE, Params};
 
 /// The views the window can show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -442,7 +442,7 @@ impl PhaseRange {
 
     /// Finite, increasing ends ([`is_usable_range`]: not narrower than
     /// 1e-12 of their size), θν within [−π, π] and κ within the model's
-    /// [1e-6, 1e6].
+    /// [`KAPPA_RANGE`].
     pub fn is_valid(&self) -> bool {
         let (t0, t1) = self.theta_nu;
         let (k0, k1) = self.kappa;
@@ -450,8 +450,8 @@ impl PhaseRange {
             && -PI <= t0
             && t1 <= PI
             && is_usable_range(self.kappa)
-            && 1e-6 <= k0
-            && k1 <= 1e6
+            && KAPPA_RANGE.contains(&k0)
+            && KAPPA_RANGE.contains(&k1)
     }
 }
 

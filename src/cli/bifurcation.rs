@@ -33,13 +33,16 @@ pub struct BifurcationArgs {
     /// intermittent; its θν is not used): the flags below override it.
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
+    /// into steady sliding, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0, 1e6].
+    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
+    /// steady sliding or never stop, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub nu: Option<f64>,
     /// Ω, the memory of the friction direction, in (0, 1e8] (the model

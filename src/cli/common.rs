@@ -24,13 +24,16 @@ pub struct ModelArgs {
     /// intermittent (the flags below override its values).
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
+    /// into steady sliding, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0, 1e6].
+    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
+    /// steady sliding or never stop, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub nu: Option<f64>,
     /// θν, the pulling direction in radians.

@@ -34,13 +34,16 @@ pub struct ContinueModelArgs {
     /// intermittent (the flags below override its values).
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e6].
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
+    /// into steady sliding, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0, 1e6].
+    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
+    /// steady sliding or never stop, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub nu: Option<f64>,
     /// θν, the pulling direction in radians.
@@ -74,6 +77,17 @@ impl ContinueModelArgs {
         };
         slot.get_or_insert(from);
         m
+    }
+
+    /// The value `param`'s own flag gave, if any.
+    fn own(&self, param: ContParam) -> Option<f64> {
+        match param {
+            ContParam::ThetaNu => self.theta_nu,
+            ContParam::Kappa => self.kappa,
+            ContParam::Gamma => self.gamma,
+            ContParam::Nu => self.nu,
+            ContParam::Omega => self.omega,
+        }
     }
 }
 
@@ -223,12 +237,20 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
         (None, _, Some(n)) => ContParam::parse(n.trim()),
         _ => None,
     };
-    // Where --from stands in for the varied parameter's own flag, a bad
-    // value is --from's, whatever else is wrong.
-    if let Some(p) = varied {
-        end("from", args.from, p, &Params::default())?;
-    }
-    let base = args.model.with_varied(varied, args.from).params()?;
+    let base = args
+        .model
+        .with_varied(varied, args.from)
+        .params()
+        .map_err(|e| {
+            // The varied parameter's own flag left out, its value is --from's:
+            // the message names --from, as it does for --to.
+            match (varied, args.model.with_varied(None, args.from).params()) {
+                (Some(p), Ok(b)) if args.model.own(p).is_none() => {
+                    end("from", args.from, p, &b).err().unwrap_or(e)
+                }
+                _ => e,
+            }
+        })?;
     let settings = args.solver.settings()?;
     let (param, mode) = match (&args.curve, &args.params, &args.param) {
         (Some(kind), params, _) => {

@@ -32,10 +32,12 @@ pub struct PhaseArgs {
     /// creep, chaos, intermittent); the flags below override them.
     #[arg(long)]
     pub preset: Option<Preset>,
-    /// γ, the friction weakening, in [0, 1e6].
+    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
+    /// steady sliding or never stop, which the map cannot represent).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 1e3] (the model assumes ν ≤ 1e-2).
+    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
     pub nu: Option<f64>,
     /// Ω, the memory of the friction direction, in (0, 1e8] (the model
@@ -43,10 +45,10 @@ pub struct PhaseArgs {
     /// or the preset's].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
-    /// First κ (the bottom row), in [1e-6, 1e6].
+    /// First κ (the bottom row), in [1e-6, 1e3].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_from: f64,
-    /// Last κ (the top row), in [1e-6, 1e6].
+    /// Last κ (the top row), in [1e-6, 1e3].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_to: f64,
     /// Number of κ rows, evenly spaced, ends included (1 to 10000).

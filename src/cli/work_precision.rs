@@ -28,13 +28,14 @@ pub struct WorkPrecisionArgs {
     #[arg(long)]
     pub preset: Option<Preset>,
     /// κ of a single attractor to measure on [default: the four-attractor
-    /// sample], in [1e-6, 1e6].
+    /// sample], in [1e-6, 1e3] (beyond, slips turn into steady sliding).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa: Option<f64>,
-    /// γ of that attractor, in [0, 1e6].
+    /// γ of that attractor, in [0.1, 1e4] (outside, slips never stop).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub gamma: Option<f64>,
-    /// ν of that attractor, in [1e-12, 1e3].
+    /// ν of that attractor, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub nu: Option<f64>,
     /// θν of that attractor, in radians.

@@ -116,7 +116,7 @@ fn validate(s: &PhaseSpec) -> Result<(), SimError> {
             "must lie in [16, 1000000] (the Lyapunov exponent's error needs 8 batches of 2)";
         return Err(ParamError::new("keep", s.keep as f64, range).into());
     }
-    // The model's own ranges (γ, ν, Ω, κ in [1e-6, 1e6]) and the solver's.
+    // The model's own ranges (γ, ν, Ω, κ in [1e-6, 1e3]) and the solver's.
     for (k, t) in [(k0, t0), (k1, t1)] {
         Simulator::new(
             Params {

@@ -13,7 +13,7 @@ pub use geometry::{
     critical_ellipse_point, elastic_energy, ellipse_c_point, exit_arc, is_on_exit_arc,
     point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
 };
-pub use params::{ParamError, Params};
+pub use params::{GAMMA_RANGE, KAPPA_RANGE, NU_RANGE, ParamError, Params};
 pub use presets::{PRESETS, Preset, preset, preset_keys};
 pub use regime::{OnsetCharacter, Regime, critical_angles, onset_character, onset_stiffness};
 pub use stick::{stick_exit_point, stick_exit_time};

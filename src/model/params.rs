@@ -1,17 +1,33 @@
 //! The model's parameters, with validation that names the parameter and its
 //! valid range so that the command line and the app can show it as is.
 
+use std::ops::RangeInclusive;
+
 use serde::{Deserialize, Serialize};
+
+/// κ's valid range. Above 1e3 a slip can stay on the stiff x spring for
+/// ever (steady sliding, which the stick-slip map cannot represent); below
+/// 1e-6 the time scale 1/sqrt(κ) leaves what step control can span.
+pub const KAPPA_RANGE: RangeInclusive<f64> = 1e-6..=1e3;
+/// γ's valid range. Below 0.1 friction barely weakens and, at some presets,
+/// a slip never stops (steady sliding); above 1e4 friction all but vanishes
+/// once the block moves, and a slip runs past any time bound (γ = 1e5 at
+/// Fig. 3b). The map cannot represent either.
+pub const GAMMA_RANGE: RangeInclusive<f64> = 0.1..=1e4;
+/// ν's valid range. Above 0.1 the surface drags the block into steady
+/// sliding; below 1e-12 the stick time 1/ν leaves what f64 can time.
+pub const NU_RANGE: RangeInclusive<f64> = 1e-12..=0.1;
 
 /// The dimensionless parameters of the one-block model (docs/model.md, "Units and
 /// parameters"). Lengths are in F0/k_y, time in sqrt(m/k_y).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Params {
-    /// κ = k_x/k_y, the anisotropy of the two springs (κ > 0).
+    /// κ = k_x/k_y, the anisotropy of the two springs ([`KAPPA_RANGE`]).
     pub kappa: f64,
-    /// γ = 1/(2ν_f), how fast friction weakens with the relative speed (γ ≥ 0).
+    /// γ = 1/(2ν_f), how fast friction weakens with the relative speed
+    /// ([`GAMMA_RANGE`]).
     pub gamma: f64,
-    /// ν, the pulling speed: magnitude of the surface velocity (ν > 0).
+    /// ν, the pulling speed: magnitude of the surface velocity ([`NU_RANGE`]).
     pub nu: f64,
     /// θν, the direction of the surface velocity, in radians (finite).
     pub theta_nu: f64,
@@ -59,18 +75,47 @@ pub(crate) fn positive(name: &'static str, value: f64) -> Result<(), ParamError>
     }
 }
 
+/// Checks `value` lies in `range` (NaN does not); `words` says the range
+/// and why.
+fn within(
+    name: &'static str,
+    value: f64,
+    range: &RangeInclusive<f64>,
+    words: &'static str,
+) -> Result<(), ParamError> {
+    if range.contains(&value) {
+        Ok(())
+    } else {
+        Err(ParamError::new(name, value, words))
+    }
+}
+
 impl Params {
-    /// Checks every parameter against docs/model.md's ranges.
+    /// Checks every parameter against docs/model.md's ranges. The ranges of
+    /// κ, γ and ν are those where one map iterate finishes at every preset
+    /// (tests/ranges_run.rs); past them slips turn into steady sliding.
     pub fn validate(&self) -> Result<(), ParamError> {
+        // A value <= 0 (or not a number) is told so before the range.
         positive("kappa", self.kappa)?;
-        if !(self.gamma.is_finite() && self.gamma >= 0.0) {
-            return Err(ParamError::new(
-                "gamma",
-                self.gamma,
-                "must be a finite number >= 0",
-            ));
-        }
+        within(
+            "kappa",
+            self.kappa,
+            &KAPPA_RANGE,
+            "must lie in [1e-6, 1e3] (beyond 1e3 slips turn into steady sliding, which the map cannot represent)",
+        )?;
+        within(
+            "gamma",
+            self.gamma,
+            &GAMMA_RANGE,
+            "must lie in [0.1, 1e4] (below 0.1 slips turn into steady sliding, above 1e4 they barely feel friction and never stop; the map cannot represent either)",
+        )?;
         positive("nu", self.nu)?;
+        within(
+            "nu",
+            self.nu,
+            &NU_RANGE,
+            "must lie in [1e-12, 0.1] (beyond 0.1 slips turn into steady sliding, which the map cannot represent)",
+        )?;
         if !self.theta_nu.is_finite() {
             return Err(ParamError::new(
                 "theta-nu",
@@ -79,21 +124,6 @@ impl Params {
             ));
         }
         positive("omega", self.omega)?;
-        // Beyond these the dimensionless model stops meaning anything and the
-        // time scales (1/sqrt(κ), 1/ν) leave what f64 step control can span.
-        if self.kappa > 1e6 || self.kappa < 1e-6 {
-            return Err(ParamError::new(
-                "kappa",
-                self.kappa,
-                "must lie in [1e-6, 1e6]",
-            ));
-        }
-        if self.nu > 1e3 || self.nu < 1e-12 {
-            return Err(ParamError::new("nu", self.nu, "must lie in [1e-12, 1e3]"));
-        }
-        if self.gamma > 1e6 {
-            return Err(ParamError::new("gamma", self.gamma, "must lie in [0, 1e6]"));
-        }
         if self.omega > 1e8 {
             return Err(ParamError::new("omega", self.omega, "must lie in (0, 1e8]"));
         }
@@ -153,7 +183,33 @@ mod tests {
             Params { omega: 0.0, ..p }.validate().unwrap_err().name,
             "omega"
         );
-        assert!(Params { gamma: 0.0, ..p }.validate().is_ok());
         assert!(p.validate().is_ok());
+    }
+
+    /// The messages quote the range the check uses, so they cannot drift.
+    #[test]
+    fn each_range_message_states_its_range() {
+        let p = Params::default();
+        for (bad, name, range) in [
+            (Params { kappa: 2e3, ..p }, "kappa", &KAPPA_RANGE),
+            (Params { gamma: 0.0, ..p }, "gamma", &GAMMA_RANGE),
+            (Params { nu: 1.0, ..p }, "nu", &NU_RANGE),
+        ] {
+            let e = bad.validate().unwrap_err();
+            assert_eq!(e.name, name);
+            let ends = format!("[{:e}, {:e}]", range.start(), range.end());
+            let ends = ends.replace("1e-1,", "0.1,").replace("1e-1]", "0.1]");
+            assert!(e.range.contains(&ends), "{} vs {ends}", e.range);
+            assert!(e.range.contains("steady sliding"), "{}", e.range);
+            for v in [*range.start(), *range.end()] {
+                let mut ok = p;
+                match name {
+                    "kappa" => ok.kappa = v,
+                    "gamma" => ok.gamma = v,
+                    _ => ok.nu = v,
+                }
+                assert!(ok.validate().is_ok(), "{name} = {v}");
+            }
+        }
     }
 }
