@@ -27,15 +27,21 @@ pub fn marker(kind: SpecialKind) -> (MarkerShape, Color32, &'static str) {
         SpecialKind::PeriodDoubling => (MarkerShape::Diamond, Color32::from_rgb(204, 0, 102), "PD"),
         SpecialKind::Fold => (MarkerShape::Square, Color32::from_rgb(230, 159, 0), "fold"),
         SpecialKind::Border => (MarkerShape::Cross, Color32::from_rgb(213, 94, 0), "border"),
+        SpecialKind::Jump => (
+            MarkerShape::Asterisk,
+            Color32::from_rgb(120, 120, 120),
+            "jump of m",
+        ),
         SpecialKind::End => (MarkerShape::Circle, style::CRITICAL, "end"),
     }
 }
 
 /// The kinds marked, in the legend's order.
-pub const MARKED: [SpecialKind; 3] = [
+pub const MARKED: [SpecialKind; 4] = [
     SpecialKind::PeriodDoubling,
     SpecialKind::Fold,
     SpecialKind::Border,
+    SpecialKind::Jump,
 ];
 
 /// Whether `name` is one of the overlay's items (their hover is the

@@ -163,12 +163,16 @@ impl Summary<'_> {
             );
             writeln!(
                 s,
-                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border; it {}",
+                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border{}; it {}",
                 b.period,
                 b.points.len(),
                 count(PeriodDoubling),
                 count(Fold),
                 count(Border),
+                match count(Jump) {
+                    0 => String::new(),
+                    n => format!(", {n} jump of m (no bifurcation)"),
+                },
                 b.stop_message()
             )
             .ok();

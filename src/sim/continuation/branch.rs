@@ -98,17 +98,23 @@ pub enum SpecialKind {
     Fold,
     /// A cycle point reaches a jump of f, a restart, or the exit arc's edge.
     Border,
+    /// The multiplier changes sign about −1 or +1 across a jump or a pole
+    /// of m (the cycle passes a point where f' jumps or diverges): no
+    /// bifurcation, since m never equals ∓1 there. Kept so that the sign
+    /// change is told as what it is.
+    Jump,
     /// Where the branch ends (its range's end, or where it stopped).
     End,
 }
 
 impl SpecialKind {
-    /// The name in points.csv: PD, fold, border, end.
+    /// The name in points.csv: PD, fold, border, jump, end.
     pub fn name(self) -> &'static str {
         match self {
             SpecialKind::PeriodDoubling => "PD",
             SpecialKind::Fold => "fold",
             SpecialKind::Border => "border",
+            SpecialKind::Jump => "jump",
             SpecialKind::End => "end",
         }
     }
@@ -326,11 +332,22 @@ impl Ctx<'_> {
     }
 
     /// The zero of `test` between `a` (s = 0) and `b` (s = h) along the
-    /// tangent `t` at `a`, by Illinois on s (see the module notes).
-    fn locate(&mut self, a: &Pt, b: &Pt, t: [f64; 2], h: f64, test: impl Fn(f64) -> f64) -> Pt {
+    /// tangent `t` at `a`, by Illinois on s (see the module notes), and
+    /// whether it is a zero at all: see [`Located`].
+    fn locate(
+        &mut self,
+        a: &Pt,
+        b: &Pt,
+        t: [f64; 2],
+        h: f64,
+        test: impl Fn(f64) -> f64,
+    ) -> Located {
         let s_len = self.opts.scale;
         let (mut sa, mut fa, mut la) = (0.0, test(a.e.multiplier), a.lambda(s_len));
         let (mut sb, mut fb, mut lb) = (h, test(b.e.multiplier), b.lambda(s_len));
+        // The test's true values at the bracket's ends (Illinois halves
+        // the retained end's weight, not its value).
+        let (mut ta, mut tb) = (fa, fb);
         let mut best = if fa.abs() < fb.abs() {
             a.clone()
         } else {
@@ -351,26 +368,57 @@ impl Ctx<'_> {
             };
             let fc = test(c.e.multiplier);
             let lc = c.lambda(s_len);
-            best = c;
+            if fc.abs() < test(best.e.multiplier).abs() {
+                best = c;
+            }
             if fc.abs() <= 1e-13 {
                 break;
             }
             if (fc > 0.0) == (fb > 0.0) {
-                (sb, fb, lb) = (s, fc, lc);
+                (sb, fb, lb, tb) = (s, fc, lc, fc);
                 if side == 1 {
                     fa *= 0.5;
                 }
                 side = 1;
             } else {
-                (sa, fa, la) = (s, fc, lc);
+                (sa, fa, la, ta) = (s, fc, lc, fc);
                 if side == -1 {
                     fb *= 0.5;
                 }
                 side = -1;
             }
         }
-        best
+        let off = test(best.e.multiplier).abs();
+        // A smooth test function is within M_ACCURACY of zero at the
+        // located point, or changes by no more than that across the final
+        // bracket (a steep m located to the λ accuracy); across a jump or
+        // a pole both ends keep their distance from zero.
+        let real = off <= M_ACCURACY
+            || ((lb - la).abs() <= self.opts.locate_tol && (ta - tb).abs() <= M_ACCURACY);
+        Located {
+            pt: best,
+            real,
+            off,
+        }
     }
+}
+
+/// The largest |m ∓ 1| a located PD or fold is reported with (or the
+/// largest change of m across its λ interval of the location accuracy):
+/// the multiplier is exact to about 1e-9, and Illinois on a smooth test
+/// function converges superlinearly to |m ∓ 1| ≲ 1e-10. A sign change
+/// that ends further from zero is a jump or a pole of m.
+pub const M_ACCURACY: f64 = 1e-5;
+
+/// A zero of a test function located between two branch points.
+struct Located {
+    /// The closest point to the zero that was corrected.
+    pt: Pt,
+    /// Whether the test function is zero there (to [`M_ACCURACY`]), rather
+    /// than changing sign across a jump or pole of the multiplier.
+    real: bool,
+    /// |test| there.
+    off: f64,
 }
 
 /// Follows the p-cycle through `seed` at λ = `from` towards λ = `to`
@@ -519,15 +567,27 @@ pub fn continue_branch_reporting(
         }
         // Special points crossed on this step, in order along it.
         let (m0, m1) = (cur.e.multiplier, n.e.multiplier);
-        let mut found: Vec<(SpecialKind, Pt)> = Vec::new();
+        let mut found: Vec<(SpecialKind, Pt, String)> = Vec::new();
         let dist = (n.x[0] - cur.x[0]) * t[0] + (n.x[1] - cur.x[1]) * t[1];
-        if (m0 + 1.0) * (m1 + 1.0) < 0.0 {
-            let p = ctx.locate(&cur, &n, t, dist, |m| m + 1.0);
-            found.push((SpecialKind::PeriodDoubling, p));
-        }
-        if (m0 - 1.0) * (m1 - 1.0) < 0.0 {
-            let p = ctx.locate(&cur, &n, t, dist, |m| m - 1.0);
-            found.push((SpecialKind::Fold, p));
+        let tests: [(SpecialKind, f64); 2] = [
+            (SpecialKind::PeriodDoubling, -1.0),
+            (SpecialKind::Fold, 1.0),
+        ];
+        for (kind, at) in tests {
+            if (m0 - at) * (m1 - at) < 0.0 {
+                let l = ctx.locate(&cur, &n, t, dist, |m| m - at);
+                if l.real {
+                    found.push((kind, l.pt, String::new()));
+                } else {
+                    let note = format!(
+                        "m goes from {m0:.6} to {m1:.6} across the step but stays |m {} 1| >= {:.2e} away to the location accuracy: a jump or pole of m, not a {}",
+                        if at < 0.0 { '+' } else { '-' },
+                        l.off,
+                        kind.name()
+                    );
+                    found.push((SpecialKind::Jump, l.pt, note));
+                }
+            }
         }
         found.sort_by(|a, b| {
             let da = (a.1.x[0] - cur.x[0]) * t[0] + (a.1.x[1] - cur.x[1]) * t[1];
@@ -535,8 +595,8 @@ pub fn continue_branch_reporting(
             da.total_cmp(&db)
         });
         let mut pd = false;
-        for (kind, p) in &found {
-            special.push(ctx.special(*kind, p, String::new()));
+        for (kind, p, note) in &found {
+            special.push(ctx.special(*kind, p, note.clone()));
             on_special(&special[special.len() - 1]);
             points.push(ctx.point(p, tol));
             pd |= *kind == SpecialKind::PeriodDoubling;

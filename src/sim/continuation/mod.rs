@@ -23,7 +23,7 @@ use crate::sim::variational::{
 use crate::sim::{SimError, Simulator};
 
 pub use branch::{
-    Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
+    Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop, continue_branch,
     continue_branch_reporting,
 };
 pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};

@@ -1,0 +1,105 @@
+//! Special points that are real (issue 28): a sign change of m ± 1 across
+//! a jump or a pole of the multiplier is reported as a `jump`, never as a
+//! fold or a period doubling; every PD and fold reported has |m ∓ 1|
+//! within the location accuracy; a cascade counts only real doublings.
+//! The three runs are the ones that reported false points before.
+
+#![allow(clippy::unwrap_used)]
+
+mod cli_support;
+
+use cli_support::*;
+use oneblock::sim::continuation::M_ACCURACY;
+
+/// The points CSV's rows (kind, period, parameter, value, theta,
+/// multiplier) of `continue` with `args`, and its summary on stderr.
+fn special_points(args: &[&str]) -> (Vec<Vec<String>>, String) {
+    let dir = tempfile::tempdir().unwrap();
+    let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
+    let mut all = vec!["continue"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&[
+        "--out",
+        out.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
+    ]);
+    let o = oneblock(&all);
+    assert_ok(&o);
+    let (header, rows) = parse_csv(&std::fs::read_to_string(&pts).unwrap());
+    assert_eq!(header[0], "kind");
+    assert_eq!(header[5], "multiplier");
+    (rows, stderr(&o))
+}
+
+/// Every PD has |m + 1| and every fold |m − 1| within the accuracy;
+/// returns the number of jumps.
+fn only_real(rows: &[Vec<String>]) -> usize {
+    for r in rows {
+        let m = num(&r[5]);
+        match r[0].as_str() {
+            "PD" => assert!((m + 1.0).abs() <= M_ACCURACY, "{r:?}"),
+            "fold" => assert!((m - 1.0).abs() <= M_ACCURACY, "{r:?}"),
+            _ => {}
+        }
+    }
+    rows.iter().filter(|r| r[0] == "jump").count()
+}
+
+#[test]
+fn a_jump_of_m_in_nu_is_neither_a_fold_nor_a_doubling() {
+    let (rows, err) = special_points(&[
+        "--preset", "fig3b", "--param", "nu", "--from", "1e-12", "--to", "1e3", "--period", "1",
+    ]);
+    // The false fold at m = −4.5 and PD at m = 1.25 were these jumps.
+    let jumps = only_real(&rows);
+    assert!(jumps >= 2, "{rows:?}");
+    // m jumps from about −4.5 to 1.25 across one step: both the +1 and
+    // the −1 crossings there are jumps, and the multiplier at the closest
+    // point stays far from either.
+    let big: Vec<_> = rows
+        .iter()
+        .filter(|r| r[0] == "jump" && (num(&r[5]) - 1.25).abs() < 0.01)
+        .collect();
+    assert_eq!(big.len(), 2, "{rows:?}");
+    // The real doubling of the branch is kept, at m = −1.
+    assert_eq!(rows.iter().filter(|r| r[0] == "PD").count(), 1, "{rows:?}");
+    assert!(err.contains("jump of m (no bifurcation)"), "{err}");
+}
+
+#[test]
+fn a_jump_of_m_in_kappa_is_not_a_fold() {
+    let (rows, _) = special_points(&[
+        "--preset", "fig3b", "--param", "kappa", "--from", "1", "--to", "1e6", "--period", "1",
+    ]);
+    // The false folds were at m = 0.36 and 0.64.
+    let jumps = only_real(&rows);
+    assert!(jumps >= 1, "{rows:?}");
+    assert!(rows.iter().all(|r| r[0] != "fold"), "{rows:?}");
+}
+
+#[test]
+fn a_cascade_counts_only_real_doublings() {
+    let (rows, err) = special_points(&[
+        "--preset",
+        "fig3a",
+        "--kappa",
+        "1.5",
+        "--param",
+        "theta-nu",
+        "--from",
+        "0.1",
+        "--to",
+        "1.0",
+        "--period",
+        "1",
+        "--cascade",
+    ]);
+    only_real(&rows);
+    // The false P4 doubling at m = −11605 (and its δ = 50) is gone.
+    assert!(
+        rows.iter().all(|r| r[0] != "PD" || num(&r[5]) > -1.5),
+        "{rows:?}"
+    );
+    assert!(!err.contains("-11605"), "{err}");
+}
