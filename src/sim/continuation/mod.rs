@@ -13,7 +13,6 @@ mod branch;
 mod cascade;
 mod curve;
 mod curves;
-mod vec3;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
