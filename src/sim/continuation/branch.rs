@@ -136,6 +136,17 @@ pub struct SpecialPoint {
     pub multiplier: f64,
     /// For a border or an end: why the branch ends there.
     pub note: String,
+    /// For a period doubling: the flip's normal form (its criticality and
+    /// the born cycle's amplitude), when its derivatives could be taken.
+    pub flip: Option<super::Flip>,
+}
+
+impl SpecialPoint {
+    /// "supercritical", "subcritical" or "undecided" for a PD with its
+    /// normal form; empty otherwise.
+    pub fn criticality_name(&self) -> &'static str {
+        self.flip.map_or("", |f| f.criticality().name())
+    }
 }
 
 /// Why a branch ended.
@@ -321,6 +332,15 @@ impl Ctx<'_> {
         }
     }
 
+    /// The flip's normal form at the located doubling `p` (see
+    /// [`super::flip`]); `None` where f^p has no derivatives around it.
+    fn flip(&mut self, p: &Pt) -> Option<super::Flip> {
+        let lambda = p.lambda(self.opts.scale);
+        let scale = self.opts.scale;
+        let g_lambda = p.e.g_lambda;
+        super::flip_at(self.prob, lambda, p.x[0], g_lambda, scale, &mut self.evals).ok()
+    }
+
     fn special(&self, kind: SpecialKind, p: &Pt, note: String) -> SpecialPoint {
         SpecialPoint {
             kind,
@@ -329,6 +349,7 @@ impl Ctx<'_> {
             theta: wrap_angle(p.x[0]),
             multiplier: p.e.multiplier,
             note,
+            flip: None,
         }
     }
 
@@ -569,7 +590,10 @@ impl<'a, 'b> Walk<'a, 'b> {
         let found = self.detect(&n);
         let mut pd = false;
         for (kind, p, note) in &found {
-            let sp = self.ctx.special(*kind, p, note.clone());
+            let mut sp = self.ctx.special(*kind, p, note.clone());
+            if *kind == SpecialKind::PeriodDoubling {
+                sp.flip = self.ctx.flip(p);
+            }
             (self.on_special)(&sp);
             self.special.push(sp);
             self.points.push(self.ctx.point(p, self.tol));
