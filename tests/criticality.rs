@@ -97,3 +97,28 @@ fn fig3a_last_flip_of_the_fixed_point_is_subcritical() {
         "measured half-width {measured} vs predicted {eta}"
     );
 }
+
+#[test]
+fn a_cascade_at_a_subcritical_flip_follows_the_unstable_cycle_to_its_fold() {
+    let prob = problem(50.0, 1e-4);
+    let opts = ContOptions::for_range(&prob.settings, 1.56, 1.50);
+    let c =
+        oneblock::sim::continuation::cascade(&prob, 1.56, 1.50, 1.0, 64, &opts, &|| false).unwrap();
+    // The flip is a doubling of the fixed point, but nothing is switched
+    // onto: the cascade ends there and says so.
+    assert_eq!(c.doublings.len(), 1, "{}", c.stop);
+    assert!(
+        c.stop.starts_with("subcritical flip of the P1 cycle"),
+        "{}",
+        c.stop
+    );
+    let b = c.branches.last().unwrap();
+    assert_eq!(b.period, 2);
+    // The P2 cycle next to the flip is unstable, and it turns at a real
+    // fold above the flip (m = +1 there).
+    assert!(!b.points[0].stable, "{:?}", b.points[0]);
+    let fold = b.of_kind(SpecialKind::Fold).next().unwrap();
+    assert!(fold.lambda > c.doublings[0].lambda, "{fold:?}");
+    assert!((fold.multiplier - 1.0).abs() <= oneblock::sim::continuation::M_ACCURACY);
+    assert!(c.stop.contains("turns at a fold"), "{}", c.stop);
+}

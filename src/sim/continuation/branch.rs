@@ -365,8 +365,8 @@ impl Ctx<'_> {
         test: impl Fn(f64) -> f64,
     ) -> Located {
         let s_len = self.opts.scale;
-        let (mut sa, mut fa, mut la) = (0.0, test(a.e.multiplier), a.lambda(s_len));
-        let (mut sb, mut fb, mut lb) = (h, test(b.e.multiplier), b.lambda(s_len));
+        let (mut sa, mut fa) = (0.0, test(a.e.multiplier));
+        let (mut sb, mut fb) = (h, test(b.e.multiplier));
         // The test's true values at the bracket's ends (Illinois halves
         // the retained end's weight, not its value).
         let (mut ta, mut tb) = (fa, fb);
@@ -376,8 +376,11 @@ impl Ctx<'_> {
             b.clone()
         };
         let mut side = 0i8;
+        // The bracket is closed in arclength (in λ's units), not in λ: at
+        // a fold λ barely moves along the branch while m still does.
+        let closed = |sa: f64, sb: f64| (sb - sa).abs() * s_len <= self.opts.locate_tol;
         for _ in 0..80 {
-            if (lb - la).abs() <= self.opts.locate_tol {
+            if closed(sa, sb) {
                 break;
             }
             let mut s = sb - fb * (sb - sa) / (fb - fa);
@@ -389,7 +392,6 @@ impl Ctx<'_> {
                 break;
             };
             let fc = test(c.e.multiplier);
-            let lc = c.lambda(s_len);
             if fc.abs() < test(best.e.multiplier).abs() {
                 best = c;
             }
@@ -397,13 +399,13 @@ impl Ctx<'_> {
                 break;
             }
             if (fc > 0.0) == (fb > 0.0) {
-                (sb, fb, lb, tb) = (s, fc, lc, fc);
+                (sb, fb, tb) = (s, fc, fc);
                 if side == 1 {
                     fa *= 0.5;
                 }
                 side = 1;
             } else {
-                (sa, fa, la, ta) = (s, fc, lc, fc);
+                (sa, fa, ta) = (s, fc, fc);
                 if side == -1 {
                     fb *= 0.5;
                 }
@@ -415,8 +417,7 @@ impl Ctx<'_> {
         // located point, or changes by no more than that across the final
         // bracket (a steep m located to the λ accuracy); across a jump or
         // a pole both ends keep their distance from zero.
-        let real = off <= M_ACCURACY
-            || ((lb - la).abs() <= self.opts.locate_tol && (ta - tb).abs() <= M_ACCURACY);
+        let real = off <= M_ACCURACY || (closed(sa, sb) && (ta - tb).abs() <= M_ACCURACY);
         Located {
             pt: best,
             real,
