@@ -230,9 +230,11 @@ impl Regime {
     pub fn describe(self) -> String {
         match self {
             Regime::NoCreep => {
-                "not intermittent: every slip is large, no creep between them".into()
+                "not intermittent: every slip is large, no small slips between them".into()
             }
-            Regime::NoLargeSlips => "not intermittent: no large slips between the creep".into(),
+            Regime::NoLargeSlips => {
+                "not intermittent: no large slips between the small ones".into()
+            }
             Regime::TooFewPhases => {
                 format!("too few laminar phases to tell (under {MIN_PHASES}): keep more events")
             }
