@@ -1,5 +1,7 @@
 //! Every attractor at one parameter point (docs/attractors.md): at κ = 10
-//! inside the hysteresis range the fixed point and a P2 cycle coexist,
+//! inside the hysteresis range (θν from the fixed point's second flip,
+//! 1.3708, to the P2 branch's fold, 1.4202) the fixed point and a P2 cycle
+//! coexist,
 //! each a cycle of the plain map with a positive basin fraction.
 
 #![allow(clippy::unwrap_used)]
