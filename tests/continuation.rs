@@ -443,11 +443,15 @@ fn the_cli_writes_branches_and_points_and_keeps_existing_files() {
             "parameter",
             "value",
             "theta",
-            "multiplier"
+            "multiplier",
+            "criticality"
         ]
     );
     let kinds: Vec<&str> = rows.iter().map(|r| r[0].as_str()).collect();
     assert_eq!(kinds, ["PD", "end"]);
+    // Fig. 3b's first flip is supercritical (tests/criticality.rs).
+    assert_eq!(rows[0][6], "supercritical");
+    assert_eq!(rows[1][6], "");
     assert_eq!(rows[0][2], "theta-nu");
     // A second run without --force refuses, naming the flag.
     let again = run(&args);

@@ -368,3 +368,44 @@ fn a_failed_solve_is_one_line_with_its_reason_and_exit_1() {
     assert!(err.contains("no 1-cycle from theta = 0.5") && err.contains("convergence"));
     assert!(o.stdout.is_empty());
 }
+
+/// Issue 28: where f hugs the identity (creep, multiplier 0.99998) a
+/// residual below the floor is still 3e-6 from the fixed point; Newton
+/// goes on until its step |g/(1 − m)| is within the tolerance, and lands
+/// on the zero of f(θ) − θ that a bisection of the plain map finds.
+#[test]
+fn the_creep_fixed_point_is_where_bisection_on_the_map_puts_it() {
+    let s = sim(Params {
+        kappa: 18.95,
+        gamma: 0.5,
+        nu: 1e-5,
+        theta_nu: 0.2,
+        omega: 50.0,
+    });
+    let opts = CycleOptions::for_settings(s.settings());
+    let c = solve_cycle(&s, 0.2, 1, &opts).expect("a fixed point");
+    assert!((c.multiplier - 1.0).abs() < 1e-3, "{c:?}");
+    assert!(c.step <= opts.tol, "{c:?}");
+    assert!(c.iterations >= 1, "{c:?}");
+    // Bisection on g(θ) = f(θ) − θ over a bracket round the seed.
+    let g = |th: f64| oneblock::model::wrap_angle(s.map(th).expect("a value") - th);
+    let (mut a, mut b) = (0.2 - 1e-3, 0.2 + 1e-3);
+    let (mut ga, gb) = (g(a), g(b));
+    assert!(ga * gb < 0.0, "{ga} {gb}");
+    for _ in 0..60 {
+        let m = 0.5 * (a + b);
+        let gm = g(m);
+        if gm * ga > 0.0 {
+            (a, ga) = (m, gm);
+        } else {
+            b = m;
+        }
+    }
+    let bisected = 0.5 * (a + b);
+    // Within the map's own error over the slope: |g| ~ 1e-13 / 2e-5.
+    assert!(
+        (c.points[0] - bisected).abs() < 1e-7,
+        "Newton {} vs bisection {bisected}",
+        c.points[0]
+    );
+}

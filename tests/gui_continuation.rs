@@ -206,7 +206,7 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
     h.step();
     let all = copied(&h);
     assert_eq!(all.len(), 1);
-    assert!(all[0].starts_with("kind,period,parameter,value,theta,multiplier\n"));
+    assert!(all[0].starts_with("kind,period,parameter,value,theta,multiplier,criticality\n"));
     assert!(all[0].contains(&line));
 
     // The SVG export draws the same series: the branches' and the PD's

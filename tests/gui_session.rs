@@ -135,7 +135,9 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
         });
     }
     h.run_steps(3);
-    let label = "5 large, 25 creep · 4 laminar phases, mean laminar length 4.8";
+    // After the creep/stick-slip counts by onset (these synthetic events
+    // all start at one θ), the sizes' counts.
+    let label = "5 large, 25 small · 4 laminar phases, mean laminar length 4.8";
     assert!(
         h.query_by_label_contains(label).is_some(),
         "no label containing {label:?}"

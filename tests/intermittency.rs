@@ -189,6 +189,12 @@ fn orbit_stats_agree_with_the_orbits_own_events() {
     let expected: Vec<usize> = large.windows(2).map(|w| w[1] - w[0] - 1).collect();
     let text = std::fs::read_to_string(&st).expect("stats");
     let mut lines = text.lines();
+    // The mixed regime: slips of both kinds by where they start.
+    let onsets = lines.next().expect("the onset line");
+    assert!(
+        onsets.contains(" creep, ") && onsets.contains(" stick-slip: by where"),
+        "{onsets}"
+    );
     assert!(lines.next().is_some_and(|l| l.starts_with("# large slip")));
     assert_eq!(lines.next(), Some("# intermittent"));
     assert_eq!(lines.next(), Some("statistic,lo,hi,count"));
@@ -252,4 +258,42 @@ fn the_intermittent_window_has_a_lower_end_and_its_laminar_phases_shorten_there(
     let (slope, _) = sc.fit.expect("fit");
     assert!(slope > 0.0, "{slope} from {:?}", sc.points);
     assert!(!sc.supports_type_one());
+}
+
+/// `orbit --stats`'s first line for `preset`: (creep, stick-slip) by
+/// where each slip starts.
+fn onset_counts(preset: &str) -> (usize, usize) {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let st = dir.path().join("st.csv");
+    let st_s = st.display().to_string();
+    let o = oneblock(&[
+        "orbit",
+        "--preset",
+        preset,
+        "--transient",
+        "200",
+        "--keep",
+        "300",
+        "--no-lyapunov",
+        "--stats",
+        &st_s,
+    ]);
+    assert_ok(&o);
+    let text = std::fs::read_to_string(&st).expect("stats");
+    let first = text.lines().next().expect("a first line");
+    let words: Vec<&str> = first.trim_start_matches("# ").split_whitespace().collect();
+    assert_eq!(words[1], "creep,", "{first}");
+    assert_eq!(words[3], "stick-slip:", "{first}");
+    let n = |w: &str| w.parse::<usize>().expect("a count");
+    (n(words[0]), n(words[2]))
+}
+
+/// Issue 28: creep and stick-slip by the model's criterion (γ² < A(θ) at
+/// the onset), not by size: the pure-creep preset and Fig. 3a's creep
+/// fixed point have only creep, the chaos preset (pure stick-slip) none.
+#[test]
+fn creep_is_where_the_slip_starts() {
+    assert_eq!(onset_counts("creep"), (300, 0));
+    assert_eq!(onset_counts("fig3a"), (300, 0));
+    assert_eq!(onset_counts("chaos"), (0, 300));
 }

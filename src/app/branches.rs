@@ -129,22 +129,23 @@ fn trim_zeros(s: &str) -> String {
 }
 
 /// The row's line of `oneblock continue --points`:
-/// `kind,period,parameter,value,theta,multiplier` (full precision, as the
-/// command line writes it).
+/// `kind,period,parameter,value,theta,multiplier,criticality` (full
+/// precision, as the command line writes it).
 pub fn csv_line(param: ContParam, p: &SpecialPoint) -> String {
     format!(
-        "{},{},{},{},{},{}",
+        "{},{},{},{},{},{},{}",
         p.kind.name(),
         p.period,
         param.name(),
         p.lambda,
         p.theta,
-        p.multiplier
+        p.multiplier,
+        p.criticality_name()
     )
 }
 
 /// The header of `oneblock continue --points`.
-pub const CSV_HEADER: &str = "kind,period,parameter,value,theta,multiplier";
+pub const CSV_HEADER: &str = "kind,period,parameter,value,theta,multiplier,criticality";
 
 /// The words a hover shows for a point at (λ, θ) with its multiplier.
 pub fn hover_text(

@@ -22,7 +22,7 @@ use crossbeam_channel::Receiver;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::intermittency::{
-    Intermittency, Regime, Scaling, TYPE_ONE_SLOPE, length_counts, scaling,
+    Intermittency, OnsetCounts, Regime, Scaling, TYPE_ONE_SLOPE, length_counts, scaling,
 };
 
 /// Beyond this many events the series is drawn as a min/max envelope.
@@ -74,6 +74,8 @@ pub fn stats_transient(n: usize) -> usize {
 struct StatsCache {
     key: Option<(u64, usize, bool)>,
     stats: Option<Intermittency>,
+    /// Creep and stick-slip by where each kept slip starts.
+    onsets: Option<OnsetCounts>,
     skipped: usize,
 }
 
@@ -186,7 +188,12 @@ impl EventsView {
         });
     }
 
-    fn stats(&mut self, jobs: &Jobs, m: SlipMeasure) -> (&Option<Intermittency>, usize) {
+    fn stats(
+        &mut self,
+        jobs: &Jobs,
+        m: SlipMeasure,
+        params: &Params,
+    ) -> (&Option<Intermittency>, Option<OnsetCounts>, usize) {
         let evs = &jobs.trajectory.data.events;
         let key = (
             jobs.trajectory.generation,
@@ -196,20 +203,26 @@ impl EventsView {
         if self.cache.key != Some(key) {
             let skip = stats_transient(evs.len());
             let sizes: Vec<f64> = evs[skip..].iter().map(|e| slip_size(e, m)).collect();
+            let onsets = OnsetCounts::of(
+                params.kappa,
+                params.gamma,
+                evs[skip..].iter().map(|e| e.theta),
+            );
             self.cache = StatsCache {
                 key: Some(key),
                 stats: Intermittency::of(&sizes, None),
+                onsets: Some(onsets),
                 skipped: skip,
             };
         }
-        (&self.cache.stats, self.cache.skipped)
+        (&self.cache.stats, self.cache.onsets, self.cache.skipped)
     }
 
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let evs = &jobs.trajectory.data.events;
-        let (stats, skipped) = self.stats(jobs, s.slip_measure);
-        let stats = stats.clone();
         let params = s.params;
+        let (stats, onsets, skipped) = self.stats(jobs, s.slip_measure, &params);
+        let stats = stats.clone();
         self.poll_scaling(&params);
         let scaled = match &self.scaled {
             Some((p, Ok(Some(sc)))) if *p == params => Some(sc.clone()),
@@ -260,9 +273,10 @@ impl EventsView {
         };
         if let Some(st) = &stats {
             // The full text is formatted only while the summary is hovered.
-            ui.label(summary(st, skipped, unit, wide))
+            let kinds = onsets.map_or(String::new(), |o| format!("{} · ", o.describe()));
+            ui.label(kinds.clone() + &summary(st, skipped, unit, wide))
                 .on_hover_ui(|ui| {
-                    ui.label(summary(st, skipped, unit, true) + "\n\n" + STATS_HELP);
+                    ui.label(kinds + &summary(st, skipped, unit, true) + "\n\n" + STATS_HELP);
                 });
         }
         if wide {
@@ -324,9 +338,11 @@ fn plot_name(p: EventsPlot) -> &'static str {
 }
 
 /// What the summary's hover adds: the definitions.
-const STATS_HELP: &str = "A slip is large when its size is at least a quarter of the largest \
-     (the intermittent orbit's sizes are bimodal: creep slips of a few \
-     thousandths, large ones of tenths). A laminar phase is the run of creep \
+const STATS_HELP: &str = "A slip is creep or stick-slip by where it starts, the model's \
+     criterion: creep where γ² < A(θ) = κ cos²θ + sin²θ. Large and small are \
+     sizes: a slip is large when its size is at least a quarter of the largest \
+     (the intermittent orbit's sizes are bimodal: small slips of a few \
+     thousandths, large ones of tenths). A laminar phase is the run of small \
      slips between two large ones. The trajectory's first events (its \
      transient) are left out; `oneblock orbit --stats` writes the same \
      statistics as CSV.";
@@ -348,13 +364,13 @@ fn summary(st: &Intermittency, skipped: usize, unit: &str, full: bool) -> String
     };
     if !full && !regime.is_intermittent() {
         return format!(
-            "{} large, {} creep · {}",
+            "{} large, {} small · {}",
             st.large,
             st.creep,
             short_reason(regime)
         );
     }
-    let counts = format!("{} large, {} creep · {verdict}", st.large, st.creep);
+    let counts = format!("{} large, {} small · {verdict}", st.large, st.creep);
     if full {
         format!(
             "large slip: {unit} ≥ {:.3} · {counts} · first {skipped} events left out",
@@ -368,7 +384,7 @@ fn summary(st: &Intermittency, skipped: usize, unit: &str, full: bool) -> String
 /// Why an orbit is not intermittent, in a few words.
 fn short_reason(r: Regime) -> &'static str {
     match r {
-        Regime::NoCreep => "not intermittent: no creep",
+        Regime::NoCreep => "not intermittent: no small slips",
         Regime::NoLargeSlips => "not intermittent: no large slips",
         Regime::TooFewPhases => "too few laminar phases",
         Regime::Alternating => "not intermittent: alternating",

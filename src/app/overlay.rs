@@ -1,7 +1,7 @@
 //! The continuation's results drawn over the diagrams: the branches of
 //! "Find bifurcations" over the bifurcation diagram (stable parts solid,
-//! unstable parts dashed, PD, fold and border points each with a marker of
-//! its own), and the doubling curves of "Boundaries" over the phase
+//! unstable parts dashed, PD, subcritical PD, fold, border and jump points
+//! each with a marker of its own), and the doubling curves of "Boundaries" over the phase
 //! diagram. Only drawing: the numbers come from [`super::branches`].
 
 use eframe::egui;
@@ -10,7 +10,7 @@ use egui_plot::{HoverPosition, Line, LineStyle, MarkerShape, PlotPoints, PlotUi,
 
 use super::branches::{BranchData, CurveData, runs, special_rows};
 use super::style;
-use crate::sim::continuation::SpecialKind;
+use crate::sim::continuation::{Criticality, SpecialKind, SpecialPoint};
 
 /// The branches' colour.
 pub const BRANCH: Color32 = Color32::from_rgb(0, 114, 178);
@@ -27,16 +27,30 @@ pub fn marker(kind: SpecialKind) -> (MarkerShape, Color32, &'static str) {
         SpecialKind::PeriodDoubling => (MarkerShape::Diamond, Color32::from_rgb(204, 0, 102), "PD"),
         SpecialKind::Fold => (MarkerShape::Square, Color32::from_rgb(230, 159, 0), "fold"),
         SpecialKind::Border => (MarkerShape::Cross, Color32::from_rgb(213, 94, 0), "border"),
+        SpecialKind::Jump => (
+            MarkerShape::Asterisk,
+            Color32::from_rgb(120, 120, 120),
+            "jump of m",
+        ),
         SpecialKind::End => (MarkerShape::Circle, style::CRITICAL, "end"),
     }
 }
 
 /// The kinds marked, in the legend's order.
-pub const MARKED: [SpecialKind; 3] = [
+pub const MARKED: [SpecialKind; 4] = [
     SpecialKind::PeriodDoubling,
     SpecialKind::Fold,
     SpecialKind::Border,
+    SpecialKind::Jump,
 ];
+
+/// The marker of a subcritical period doubling (where the attractor jumps
+/// away, rather than doubling): the PD's colour, another shape.
+pub const SUBCRITICAL: (MarkerShape, Color32, &str) = (
+    MarkerShape::Up,
+    Color32::from_rgb(204, 0, 102),
+    "subcritical PD",
+);
 
 /// Whether `name` is one of the overlay's items (their hover is the
 /// overlay's own, to 9 digits; the plot's 3-decimal label is left out).
@@ -44,6 +58,7 @@ pub fn is_overlay_item(name: &str) -> bool {
     name == STABLE
         || name == UNSTABLE
         || name == CURVE
+        || name == SUBCRITICAL.2
         || MARKED.iter().any(|&k| marker(k).2 == name)
 }
 
@@ -74,16 +89,23 @@ pub fn branch_items(p: &mut PlotUi<'_>, data: &BranchData, line_width: f32) {
         }
     }
     let rows = special_rows(data);
-    for kind in MARKED {
+    let subcritical = |s: &&&SpecialPoint| {
+        s.flip
+            .is_some_and(|f| f.criticality() == Criticality::Subcritical)
+    };
+    let groups = MARKED
+        .map(|kind| (marker(kind), kind, false))
+        .into_iter()
+        .chain([(SUBCRITICAL, SpecialKind::PeriodDoubling, true)]);
+    for ((shape, colour, name), kind, sub) in groups {
         let pts: Vec<[f64; 2]> = rows
             .iter()
-            .filter(|s| s.kind == kind)
+            .filter(|s| s.kind == kind && subcritical(s) == sub)
             .map(|s| [s.lambda, s.theta])
             .collect();
         if pts.is_empty() {
             continue;
         }
-        let (shape, colour, name) = marker(kind);
         p.points(
             Points::new(name, PlotPoints::from(pts))
                 .shape(shape)
@@ -106,6 +128,8 @@ pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
             let (shape, colour, name) = marker(kind);
             legend_shape(ui, shape, colour, name);
         }
+        let (shape, colour, name) = SUBCRITICAL;
+        legend_shape(ui, shape, colour, name);
     });
 }
 
@@ -138,6 +162,24 @@ fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
                 colour,
                 egui::Stroke::NONE,
             ));
+        }
+        MarkerShape::Up => {
+            painter.add(egui::Shape::convex_polygon(
+                vec![
+                    c + egui::vec2(0.0, -r),
+                    c + egui::vec2(r, r),
+                    c + egui::vec2(-r, r),
+                ],
+                colour,
+                egui::Stroke::NONE,
+            ));
+        }
+        MarkerShape::Asterisk => {
+            let s = egui::Stroke::new(1.5, colour);
+            for (dx, dy) in [(0.0, r), (0.87 * r, 0.5 * r), (0.87 * r, -0.5 * r)] {
+                let d = egui::vec2(dx, dy);
+                painter.line_segment([c - d, c + d], s);
+            }
         }
         _ => {
             painter.circle_filled(c, r, colour);

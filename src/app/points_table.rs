@@ -53,9 +53,9 @@ pub fn points_ui(ui: &mut Ui, data: &BranchData) {
                 .show(ui, |ui| {
                     egui::Grid::new("special points grid")
                         .striped(true)
-                        .num_columns(6)
+                        .num_columns(7)
                         .show(ui, |ui| {
-                            for h in ["kind", "period", param.column(), "θ", "multiplier", ""] {
+                            for h in ["kind", "period", param.column(), "θ", "multiplier", "criticality", ""] {
                                 ui.label(RichText::new(h).strong());
                             }
                             ui.end_row();
@@ -65,9 +65,10 @@ pub fn points_ui(ui: &mut Ui, data: &BranchData) {
                                 ui.label(sig9(p.lambda));
                                 ui.label(sig9(p.theta));
                                 ui.label(sig9(p.multiplier));
+                                ui.label(p.criticality_name());
                                 if ui
                                     .small_button("Copy")
-                                    .on_hover_text("This row as a CSV line: kind,period,parameter,value,theta,multiplier")
+                                    .on_hover_text("This row as a CSV line: kind,period,parameter,value,theta,multiplier,criticality")
                                     .clicked()
                                 {
                                     ui.ctx().copy_text(csv_line(param, p));

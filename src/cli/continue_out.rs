@@ -47,21 +47,23 @@ pub fn branches_csv(branches: &[Branch]) -> String {
     s
 }
 
-/// `kind,period,parameter,value,theta,multiplier`, one row per special
-/// point of every branch, in order.
+/// `kind,period,parameter,value,theta,multiplier,criticality`, one row
+/// per special point of every branch, in order (`criticality` empty but
+/// for a PD).
 pub fn points_csv(branches: &[Branch]) -> String {
-    let mut s = String::from("kind,period,parameter,value,theta,multiplier\n");
+    let mut s = String::from("kind,period,parameter,value,theta,multiplier,criticality\n");
     for b in branches {
         for p in &b.special {
             writeln!(
                 s,
-                "{},{},{},{},{},{}",
+                "{},{},{},{},{},{},{}",
                 p.kind.name(),
                 p.period,
                 b.param.name(),
                 p.lambda,
                 p.theta,
-                p.multiplier
+                p.multiplier,
+                p.criticality_name()
             )
             .ok();
         }
@@ -133,12 +135,14 @@ pub struct Summary<'a> {
 fn special_line(s: &mut String, name: &str, p: &SpecialPoint) {
     writeln!(
         s,
-        "  {:<7}P{:<3} {name} = {}  theta = {}  multiplier = {}{}",
+        "  {:<7}P{:<3} {name} = {}  theta = {}  multiplier = {}{}{}",
         p.kind.name(),
         p.period,
         p.lambda,
         p.theta,
         p.multiplier,
+        p.flip
+            .map_or(String::new(), |f| flip_words(name, p.period, &f)),
         if p.note.is_empty() {
             String::new()
         } else {
@@ -146,6 +150,32 @@ fn special_line(s: &mut String, name: &str, p: &SpecialPoint) {
         }
     )
     .ok();
+}
+
+/// "  supercritical: a stable P2 cycle above, half-width 0.35·√(theta-nu − b)".
+fn flip_words(name: &str, period: usize, f: &crate::sim::continuation::Flip) -> String {
+    use crate::sim::continuation::Criticality::*;
+    let (side, delta) = if f.side() > 0.0 {
+        ("above", format!("{name} - b"))
+    } else {
+        ("below", format!("b - {name}"))
+    };
+    let cycle = match f.criticality() {
+        Supercritical => "a stable",
+        Subcritical => "an unstable",
+        Undecided => {
+            return format!(
+                "  undecided criticality (c = {:.3e} ± {:.1e})",
+                f.coefficient, f.error
+            );
+        }
+    };
+    format!(
+        "  {}: {cycle} P{} cycle {side}, half-width {:.4e}*sqrt({delta})",
+        f.criticality().name(),
+        2 * period,
+        f.amplitude()
+    )
 }
 
 impl Summary<'_> {
@@ -163,12 +193,16 @@ impl Summary<'_> {
             );
             writeln!(
                 s,
-                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border; it {}",
+                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border{}; it {}",
                 b.period,
                 b.points.len(),
                 count(PeriodDoubling),
                 count(Fold),
                 count(Border),
+                match count(Jump) {
+                    0 => String::new(),
+                    n => format!(", {n} jump of m (no bifurcation)"),
+                },
                 b.stop_message()
             )
             .ok();
@@ -254,6 +288,14 @@ impl Summary<'_> {
                 "theta": p.theta,
                 "multiplier": p.multiplier,
                 "note": p.note,
+                "criticality": p.flip.map(|f| f.criticality().name()),
+                "normal_form": p.flip.map(|f| serde_json::json!({
+                    "coefficient": f.coefficient,
+                    "error": f.error,
+                    "dm_dlambda": f.dm_dlambda,
+                    "amplitude": f.amplitude(),
+                    "side": f.side(),
+                })),
             })
         };
         let branches: Vec<_> = self

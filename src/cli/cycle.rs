@@ -92,6 +92,7 @@ pub fn run(args: CycleArgs) -> Result<(), CliError> {
             "lyapunov": cycle.lyapunov(),
             "residual": cycle.residual,
             "iterations": cycle.iterations,
+            "newton_step": cycle.step,
             "tol": opts.tol,
             "residual_floor": opts.floor,
             "map_evals": cycle.map_evals,
@@ -158,8 +159,8 @@ fn summary(
     writeln!(s, "lyapunov         {}  (ln|m|/p)", c.lyapunov()).ok();
     writeln!(
         s,
-        "newton           {} step(s) from theta = {seed}, residual {:e} (converged: last step <= {:e} or residual <= {:e}), {} map evaluations",
-        c.iterations, c.residual, opts.tol, opts.floor, c.map_evals
+        "newton           {} step(s) from theta = {seed}, residual {:e}, step |residual/(1 - m)| {:e} (converged: step <= {:e}, or no step shrinks a residual <= {:e}), {} map evaluations",
+        c.iterations, c.residual, c.step, opts.tol, opts.floor, c.map_evals
     )
     .ok();
     s

@@ -1,6 +1,7 @@
 //! The headless command line: one file per subcommand, shared flags in
 //! `common`. `main.rs` only parses and dispatches.
 
+pub mod attractors;
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;
@@ -40,6 +41,8 @@ pub enum Command {
     Orbit(orbit::OrbitArgs),
     /// A period-p cycle solved by Newton's method: its points, multiplier and stability.
     Cycle(cycle::CycleArgs),
+    /// Every attractor at one parameter point, from seeds spread over the exit arc, with basin fractions.
+    Attractors(attractors::AttractorsArgs),
     /// A cycle followed in a parameter: period doublings, folds, borders; cascades; curves.
     Continue(continue_cmd::ContinueArgs),
     /// The block's path (t, x, y, u, w, phase) sampled for display.
@@ -70,6 +73,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
         Some(Command::Phase(a)) => phase::check(a).map(drop),
         Some(Command::Cycle(a)) => cycle::check(a).map(drop),
+        Some(Command::Attractors(a)) => attractors::check(a).map(drop),
         Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
     }
@@ -132,6 +136,7 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::Map(a)) => map::run(a),
         Some(Command::Orbit(a)) => orbit::run(a),
         Some(Command::Cycle(a)) => cycle::run(a),
+        Some(Command::Attractors(a)) => attractors::run(a),
         Some(Command::Continue(a)) => continue_cmd::run(a),
         Some(Command::Trajectory(a)) => trajectory::run(a),
         Some(Command::Bifurcation(a)) => bifurcation::run(a),

@@ -23,7 +23,7 @@ use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
-use crate::sim::intermittency::Intermittency;
+use crate::sim::intermittency::{Intermittency, OnsetCounts};
 use crate::sim::period::longest_testable;
 use crate::sim::{
     InterpolantOptions, MapChoice, Orbit, OrbitOptions, Period, SimError, Simulator,
@@ -287,6 +287,17 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             Some((first, rest)) => format!("{first}{source}\n{rest}"),
             None => text,
         };
+        // Creep or stick-slip by the model's criterion, where each slip
+        // starts; "large" and "small" above are sizes only.
+        let onsets = OnsetCounts::of(
+            params.kappa,
+            params.gamma,
+            orbit.events.iter().map(|e| e.theta),
+        );
+        let text = format!(
+            "# {}: by where each slip starts (creep where gamma^2 < kappa cos^2 theta + sin^2 theta)\n{text}",
+            onsets.describe()
+        );
         emit_as("stats", st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {

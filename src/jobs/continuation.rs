@@ -52,11 +52,16 @@ fn start_failure(e: CycleFailure) -> JobError {
     }
 }
 
-/// "1 PD, 0 fold, 1 border" over `branches`.
+/// "1 PD, 0 fold, 1 border" over `branches`, and the jumps of the
+/// multiplier if any (never counted as bifurcations).
 fn counts(branches: &[Branch]) -> String {
     let n = |k| branches.iter().map(|b| b.of_kind(k).count()).sum::<usize>();
+    let jumps = match n(SpecialKind::Jump) {
+        0 => String::new(),
+        j => format!(", {j} jump of m (no bifurcation)"),
+    };
     format!(
-        "{} PD, {} fold, {} border",
+        "{} PD, {} fold, {} border{jumps}",
         n(SpecialKind::PeriodDoubling),
         n(SpecialKind::Fold),
         n(SpecialKind::Border)

@@ -19,8 +19,10 @@ pub struct CycleOptions {
     /// the distance left to the cycle, which near a multiplier of 1 is far
     /// larger than the residual |g|.
     pub tol: f64,
-    /// … or once |g| is at most this: the map's own error, below which no
-    /// step can be trusted.
+    /// … or once |g| is at most this and no step shrinks it further: the
+    /// map's own error, below which no step can be trusted. A residual
+    /// below the floor alone does not stop Newton (where f hugs the
+    /// identity, m = 0.99998, a residual of 6e-11 is 3e-6 from the cycle).
     pub floor: f64,
     /// The most Newton steps.
     pub max_iter: usize,
@@ -78,6 +80,9 @@ pub struct Cycle {
     pub residual: f64,
     /// Newton steps taken.
     pub iterations: usize,
+    /// The Newton step |g/(m − 1)| at θ₀: the distance left to the cycle
+    /// (at most `tol` unless Newton stalled at the map's error).
+    pub step: f64,
     /// The smallest q dividing p whose shift maps the points onto themselves
     /// (within 100× the tolerance): p unless Newton found a shorter cycle
     /// traversed p/q times.
@@ -201,29 +206,14 @@ pub fn solve_counting(
             });
         }
         let slope = e.multiplier - 1.0;
-        if (e.g / slope).abs() <= opts.tol || e.g.abs() <= opts.floor {
-            if e.restarted {
-                return Err(CycleFailure::Discontinuity { theta: x });
-            }
-            let distinct = 1e2 * opts.tol;
-            let minimal_period = (1..=p)
-                .filter(|q| p.is_multiple_of(*q))
-                .find(|&q| {
-                    (0..p - q).all(|i| wrap_angle(e.points[i + q] - e.points[i]).abs() <= distinct)
-                })
-                .unwrap_or(p);
-            return Ok(Cycle {
-                stable: e.multiplier.abs() < 1.0,
-                multiplier: e.multiplier,
-                residual: e.g.abs(),
-                points: e.points,
-                iterations,
-                minimal_period,
-                map_evals: spent.0 - before.0,
-                rhs_evals: spent.1 - before.1,
-            });
+        let newton = (e.g / slope).abs();
+        if newton <= opts.tol {
+            return finish(e, x, p, opts, iterations, newton, spent, before);
         }
         if iterations == opts.max_iter {
+            if e.g.abs() <= opts.floor {
+                return finish(e, x, p, opts, iterations, newton, spent, before);
+            }
             return Err(CycleFailure::NoConvergence {
                 iterations,
                 residual: e.g.abs(),
@@ -254,6 +244,11 @@ pub fn solve_counting(
                 e = ey;
                 iterations += 1;
             }
+            // No step shrinks a residual already at the map's own error:
+            // Newton has gone as far as the map allows.
+            None if e.g.abs() <= opts.floor => {
+                return finish(e, x, p, opts, iterations, newton, spent, before);
+            }
             None => {
                 // The smallest step still did not shrink |g|. If g moved
                 // far more than its slope allows over that step, f jumps
@@ -274,6 +269,40 @@ pub fn solve_counting(
             }
         }
     }
+}
+
+/// The solved cycle at θ₀ = `x` (refused where it passes a restart), its
+/// minimal period decided with a tolerance of 100× the solver's.
+#[allow(clippy::too_many_arguments)]
+fn finish(
+    e: Pass,
+    x: f64,
+    p: usize,
+    opts: &CycleOptions,
+    iterations: usize,
+    step: f64,
+    spent: &(u64, u64),
+    before: (u64, u64),
+) -> Result<Cycle, CycleFailure> {
+    if e.restarted {
+        return Err(CycleFailure::Discontinuity { theta: x });
+    }
+    let distinct = 1e2 * opts.tol;
+    let minimal_period = (1..=p)
+        .filter(|q| p.is_multiple_of(*q))
+        .find(|&q| (0..p - q).all(|i| wrap_angle(e.points[i + q] - e.points[i]).abs() <= distinct))
+        .unwrap_or(p);
+    Ok(Cycle {
+        stable: e.multiplier.abs() < 1.0,
+        multiplier: e.multiplier,
+        residual: e.g.abs(),
+        points: e.points,
+        iterations,
+        step,
+        minimal_period,
+        map_evals: spent.0 - before.0,
+        rhs_evals: spent.1 - before.1,
+    })
 }
 
 /// Whether the end of `seq` keeps approaching `cycle`, whose point 0 is in

@@ -57,6 +57,41 @@ pub fn laminar_lengths(sizes: &[f64], threshold: f64) -> Vec<usize> {
     out
 }
 
+/// How many slips are creep and how many stick-slip by the model's own
+/// criterion: by where each starts, creep on the part of C where
+/// γ² < A(θ) = κ cos²θ + sin²θ ([`crate::model::onset_character`]), not by
+/// its size. Pure creep has only creep, pure stick-slip only stick-slip.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct OnsetCounts {
+    /// Slips starting on the creep arc.
+    pub creep: usize,
+    /// Slips starting on the stick-slip arc.
+    pub stick_slip: usize,
+}
+
+impl OnsetCounts {
+    /// The counts of slips starting at `onsets` for κ and γ.
+    pub fn of(kappa: f64, gamma: f64, onsets: impl IntoIterator<Item = f64>) -> Self {
+        use crate::model::{OnsetCharacter, onset_character};
+        let mut c = OnsetCounts {
+            creep: 0,
+            stick_slip: 0,
+        };
+        for th in onsets {
+            match onset_character(kappa, gamma, th) {
+                OnsetCharacter::Creep => c.creep += 1,
+                OnsetCharacter::StickSlip => c.stick_slip += 1,
+            }
+        }
+        c
+    }
+
+    /// "N creep, M stick-slip".
+    pub fn describe(&self) -> String {
+        format!("{} creep, {} stick-slip", self.creep, self.stick_slip)
+    }
+}
+
 /// (length, how many laminar phases had it), by increasing length.
 pub fn length_counts(lengths: &[usize]) -> Vec<(usize, usize)> {
     let mut sorted = lengths.to_vec();
@@ -195,9 +230,11 @@ impl Regime {
     pub fn describe(self) -> String {
         match self {
             Regime::NoCreep => {
-                "not intermittent: every slip is large, no creep between them".into()
+                "not intermittent: every slip is large, no small slips between them".into()
             }
-            Regime::NoLargeSlips => "not intermittent: no large slips between the creep".into(),
+            Regime::NoLargeSlips => {
+                "not intermittent: no large slips between the small ones".into()
+            }
             Regime::TooFewPhases => {
                 format!("too few laminar phases to tell (under {MIN_PHASES}): keep more events")
             }
@@ -270,7 +307,7 @@ impl Intermittency {
         writeln!(
             s,
             "# large slip: {measure} >= {} ({LARGE_FRACTION} x the largest); \
-             {} large, {} creep; {} complete laminar phases, mean length {} +- {}",
+             {} large, {} small; {} complete laminar phases, mean length {} +- {}",
             self.threshold,
             self.large,
             self.creep,

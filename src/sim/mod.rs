@@ -2,6 +2,7 @@
 //! period and Lyapunov exponent, and bifurcation sweeps over θν.
 
 mod analysis;
+pub mod attractors;
 pub mod continuation;
 mod cycle;
 pub mod cycles;

@@ -10,6 +10,7 @@
 
 use super::Problem;
 use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch};
+use super::{Criticality, Flip};
 use crate::model::wrap_angle;
 use crate::sim::PERIOD_MAX;
 use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
@@ -189,6 +190,27 @@ fn cascade_impl(
         if 2 * period > max {
             break format!("the next period, {}, is above {max}", 2 * period);
         }
+        // Only a supercritical flip hands the attractor on to the doubled
+        // cycle; at a subcritical one that cycle is unstable and lies
+        // behind.
+        if let Some(f) = pd.flip {
+            if f.criticality() == Criticality::Subcritical {
+                let (why, unstable) = subcritical(&level, &pd, &f, from, to, gap, opts, cancel);
+                if let Some(b) = unstable {
+                    on_level(&b);
+                    branches.push(b);
+                }
+                break why;
+            }
+            if f.criticality() == Criticality::Supercritical && f.side() != dir {
+                break format!(
+                    "the P{period} cycle regains stability at {} = {} (a supercritical flip whose P{} cycle lies behind): no doubling ahead",
+                    prob.param.name(),
+                    pd.lambda,
+                    2 * period
+                );
+            }
+        }
         match switch(&level, &pd, dir * SWITCH_SHARE * gap, opts) {
             Ok((l1, th)) => {
                 (start, theta, period) = (l1, th, 2 * period);
@@ -228,6 +250,9 @@ fn switch(
     let apart = 1e3 * cyc.tol;
     let doubled = 2 * level.period;
     let p = level.period;
+    let fast = pd
+        .flip
+        .filter(|f| f.criticality() == Criticality::Supercritical);
     for k in [1.0, 3.0, 10.0] {
         let l1 = pd.lambda + delta * k;
         let Ok(sim) = level.sim(l1) else { continue };
@@ -238,7 +263,13 @@ fn switch(
         // also find another 2p-cycle (a saddle born elsewhere).
         let base = old.points[0];
         let mut best: Option<(f64, f64)> = None;
-        for eps in [1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1] {
+        // The normal form's half-width first: a cycle that grows fast is
+        // further out than the fixed seeds reach.
+        let predicted = fast.and_then(|f| f.predicted(pd.lambda, l1));
+        for eps in predicted
+            .into_iter()
+            .chain([1e-5, 1e-4, 1e-3, 3e-3, 1e-2, 3e-2, 1e-1])
+        {
             for sign in [1.0, -1.0] {
                 let seed = base + sign * eps;
                 if let Ok(c) = solve_cycle(&sim, seed, doubled, &cyc)
@@ -265,4 +296,97 @@ fn switch(
         level.param.name(),
         pd.lambda
     ))
+}
+
+/// At the subcritical flip `pd` of `level`: the unstable doubled cycle
+/// followed from next to the flip (on the side the normal form puts it)
+/// to where it turns, and the words for where the attractor goes.
+#[allow(clippy::too_many_arguments)]
+fn subcritical(
+    level: &Problem,
+    pd: &SpecialPoint,
+    f: &Flip,
+    from: f64,
+    to: f64,
+    gap: f64,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+) -> (String, Option<Branch>) {
+    let name = level.param.name();
+    let (p, q) = (level.period, 2 * level.period);
+    let head = format!(
+        "subcritical flip of the P{p} cycle at {name} = {}: past it the attractor jumps away (no P{q} cycle takes over)",
+        pd.lambda
+    );
+    let side = f.side();
+    let delta = SWITCH_SHARE * gap;
+    let l1 = pd.lambda + side * delta;
+    let cyc = CycleOptions::for_settings(&level.settings);
+    let doubled = level.with_period(q);
+    let seed = level.sim(l1).ok().and_then(|sim| {
+        let eta = f.predicted(pd.lambda, l1)?;
+        [1.0, -1.0].into_iter().find_map(|sign| {
+            let c = solve_cycle(&sim, pd.theta + sign * eta, q, &cyc).ok()?;
+            (c.minimal_period == q).then_some(c.points[0])
+        })
+    });
+    let Some(seed) = seed else {
+        return (
+            format!("{head}; the unstable P{q} cycle next to it was not solved"),
+            None,
+        );
+    };
+    // Towards the end of the range on the cycle's side.
+    let end = if (to - from) * side > 0.0 { to } else { from };
+    let o = ContOptions::for_range(&level.settings, l1, end);
+    let o = ContOptions {
+        locate_tol: opts.locate_tol,
+        ..o
+    };
+    let Ok(b) = continue_branch(&doubled, l1, end, seed, &o, cancel) else {
+        return (
+            format!("{head}; the unstable P{q} cycle could not be followed"),
+            None,
+        );
+    };
+    let why = match b.of_kind(SpecialKind::Fold).next() {
+        Some(fold) => {
+            // The branch's points include the located fold itself; its
+            // stable stretch beyond the fold, in λ.
+            let at = b.points.iter().position(|x| x.lambda == fold.lambda);
+            let stable: Vec<f64> = at.map_or(Vec::new(), |i| {
+                b.points[i + 1..]
+                    .iter()
+                    .skip_while(|x| !x.stable)
+                    .take_while(|x| x.stable)
+                    .map(|x| x.lambda)
+                    .collect()
+            });
+            let lo = stable.iter().copied().fold(f64::INFINITY, f64::min);
+            let hi = stable.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+            // Past the flip is the side opposite the doubled cycle's.
+            let reaches = stable.iter().any(|&l| (l - pd.lambda) * side < 0.0);
+            let after = if stable.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    "; beyond it the P{q} cycle is stable for {name} in [{lo}, {hi}]{}",
+                    if reaches {
+                        ", and past the flip the attractor jumps onto it".to_string()
+                    } else {
+                        ", which does not reach past the flip: there the attractor jumps off these branches".to_string()
+                    }
+                )
+            };
+            format!(
+                "{head}; the unstable P{q} cycle born there turns at a fold at {name} = {}{after}",
+                fold.lambda
+            )
+        }
+        None => format!(
+            "{head}; the unstable P{q} cycle born there has no fold before it {}",
+            b.stop_message()
+        ),
+    };
+    (why, Some(b))
 }

@@ -14,13 +14,13 @@
 //! leaves the box of the two ranges.
 
 use super::branch::SpecialPoint;
-use super::vec3::{cross, dot, norm, normalize, orient, solve3, sub};
 use super::{ContParam, EvalError};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
 use crate::sim::cycles::MAX_STEP;
 use crate::sim::variational::D_THETA;
+use nalgebra::{Matrix3, Vector3};
 
 /// Creeping steps (below [`CREEP`] of the first) looked at by the noise
 /// test.
@@ -43,6 +43,20 @@ const STEEP: f64 = 1e4;
 /// The tangent's turn aimed at per step, and the most allowed (radians).
 const TURN: f64 = 0.1;
 const MAX_TURN: f64 = 0.3;
+
+/// A point or direction in (θ, μ₁, μ₂).
+pub(super) type V3 = Vector3<f64>;
+
+/// a/|a|, or `None` for a zero or non-finite a.
+fn normalize(a: V3) -> Option<V3> {
+    let n = a.norm();
+    (n > 0.0 && n.is_finite()).then(|| a / n)
+}
+
+/// a, turned to point the way `prev` does.
+fn orient(a: V3, prev: &V3) -> V3 {
+    if a.dot(prev) < 0.0 { -a } else { a }
+}
 
 /// Which curve.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -161,7 +175,7 @@ pub(super) struct Ctx<'a> {
 }
 
 /// The Jacobian's two rows, the residual, and the evaluation at a point.
-pub(super) type System = ([[f64; 3]; 2], [f64; 2], Ev);
+pub(super) type System = ([V3; 2], [f64; 2], Ev);
 
 /// G, the multiplier, and G's gradient in (θ, μ₁, μ₂).
 pub(super) struct Ev {
@@ -170,7 +184,7 @@ pub(super) struct Ev {
     /// The multiplier.
     pub(super) m: f64,
     /// G's gradient.
-    pub(super) grad: [f64; 3],
+    pub(super) grad: V3,
 }
 
 impl<'a> Ctx<'a> {
@@ -202,12 +216,12 @@ impl<'a> Ctx<'a> {
         self.scale
     }
 
-    fn params_at(&self, y: &[f64; 3]) -> Params {
+    fn params_at(&self, y: &V3) -> Params {
         let p = self.params[0].set(&self.base, y[1] * self.scale[0]);
         self.params[1].set(&p, y[2] * self.scale[1])
     }
 
-    fn eval(&mut self, y: &[f64; 3]) -> Result<Ev, EvalError> {
+    fn eval(&mut self, y: &V3) -> Result<Ev, EvalError> {
         let sim = Simulator::new(self.params_at(y), self.settings).map_err(EvalError::Sim)?;
         let mut th = y[0];
         let (mut m, mut d1, mut d2) = (1.0, 0.0, 0.0);
@@ -230,7 +244,7 @@ impl<'a> Ctx<'a> {
             th = ev.theta_next;
         }
         let g = wrap_angle(th - y[0]);
-        let grad = [m - 1.0, d1 * self.scale[0], d2 * self.scale[1]];
+        let grad = V3::new(m - 1.0, d1 * self.scale[0], d2 * self.scale[1]);
         if g.is_finite() && grad.iter().all(|x| x.is_finite()) {
             Ok(Ev { g, m, grad })
         } else {
@@ -239,13 +253,13 @@ impl<'a> Ctx<'a> {
     }
 
     /// The Jacobian's two rows and the residual at y.
-    pub(super) fn system(&mut self, y: &[f64; 3]) -> Result<System, EvalError> {
+    pub(super) fn system(&mut self, y: &V3) -> Result<System, EvalError> {
         let e = self.eval(y)?;
-        let mut dm = [0.0; 3];
-        for (i, d) in dm.iter_mut().enumerate() {
-            *d = self.dm(y, i, e.m)?;
+        let mut dm = V3::zeros();
+        for i in 0..3 {
+            dm[i] = self.dm(y, i, e.m)?;
         }
-        self.steepness = norm(&dm);
+        self.steepness = dm.norm();
         Ok(([e.grad, dm], [e.g, e.m - self.kind.target()], e))
     }
 
@@ -256,7 +270,7 @@ impl<'a> Ctx<'a> {
     /// magnitude over a fixed step). The step is kept per component from
     /// point to point and re-chosen at most twice here. Where one side
     /// leaves the map's smooth part, the other side's one-sided quotient.
-    fn dm(&mut self, y: &[f64; 3], i: usize, m0: f64) -> Result<f64, EvalError> {
+    fn dm(&mut self, y: &V3, i: usize, m0: f64) -> Result<f64, EvalError> {
         let mut h = self.fd[i];
         let mut d = 0.0;
         for _ in 0..3 {
@@ -276,7 +290,7 @@ impl<'a> Ctx<'a> {
         Ok(d)
     }
 
-    fn quotient(&mut self, y: &[f64; 3], i: usize, h: f64, m0: f64) -> Result<f64, EvalError> {
+    fn quotient(&mut self, y: &V3, i: usize, h: f64, m0: f64) -> Result<f64, EvalError> {
         let (mut zp, mut zm) = (*y, *y);
         zp[i] += h;
         zm[i] -= h;
@@ -290,7 +304,11 @@ impl<'a> Ctx<'a> {
 
     /// Newton on (G, m − m*, t·(y − pred)) = 0 from `pred`: the point, y
     /// and the tangent there, the Newton steps taken; or why it failed.
-    fn correct(&mut self, pred: [f64; 3], t: [f64; 3]) -> Result<Corrected, Failure> {
+    /// Each step solves the bordered 3×3 system by LU with partial
+    /// pivoting: G's row and m's row can differ by orders of magnitude
+    /// (a multiplier's gradient near a grazing), which Cramer's rule's
+    /// cofactors do not survive as well.
+    fn correct(&mut self, pred: V3, t: V3) -> Result<Corrected, Failure> {
         let mut y = pred;
         let mut best: Option<(f64, Corrected)> = None;
         for k in 0..NEWTON_STEPS {
@@ -301,11 +319,12 @@ impl<'a> Ctx<'a> {
                 theta: wrap_angle(y[0]),
                 multiplier: e.m,
             };
-            let here = (point, y, cross(&rows[0], &rows[1]), k + 1);
-            let a = [rows[0], rows[1], t];
-            let rhs = [r[0], r[1], dot(&t, &sub(&y, &pred))];
-            let Some(dy) = solve3(&a, &rhs) else {
-                return Err(Failure::Singular);
+            let here = (point, y, rows[0].cross(&rows[1]), k + 1);
+            let a = Matrix3::from_rows(&[rows[0].transpose(), rows[1].transpose(), t.transpose()]);
+            let rhs = V3::new(r[0], r[1], t.dot(&(y - pred)));
+            let dy = match a.lu().solve(&rhs) {
+                Some(dy) if dy.iter().all(|v| v.is_finite()) => dy,
+                _ => return Err(Failure::Singular),
             };
             let size = dy.iter().map(|v| v.abs()).sum::<f64>();
             let within = residual <= self.opts.residual_tol;
@@ -318,7 +337,7 @@ impl<'a> Ctx<'a> {
             if dy.iter().any(|v| v.abs() > MAX_STEP) {
                 break;
             }
-            y = sub(&y, &dy);
+            y -= dy;
         }
         // Where m's own error keeps Newton from its tolerance, the best
         // iterate within the residual bound.
@@ -335,13 +354,13 @@ impl<'a> Ctx<'a> {
     /// Follows the curve from y along `t` until it leaves the box or fails.
     fn follow(
         &mut self,
-        mut y: [f64; 3],
-        mut t: [f64; 3],
+        mut y: V3,
+        mut t: V3,
         cancel: &(dyn Fn() -> bool + Sync),
     ) -> (Vec<CurvePoint>, String) {
         let mut out: Vec<CurvePoint> = Vec::new();
         // The last creeping points in (θ, μ₁, μ₂), for the noise test.
-        let mut creep: Vec<[f64; 3]> = Vec::new();
+        let mut creep: Vec<V3> = Vec::new();
         let mut h = self.opts.h0;
         let mut grow = true;
         loop {
@@ -352,11 +371,11 @@ impl<'a> Ctx<'a> {
                 let n = out.len();
                 return (out, format!("after {n} points"));
             }
-            let pred = [y[0] + h * t[0], y[1] + h * t[1], y[2] + h * t[2]];
+            let pred = y + h * t;
             let step = self.correct(pred, t).and_then(|(p, yn, tn, k)| {
                 let tn = orient(normalize(tn).ok_or(Failure::Singular)?, &t);
-                let far = norm(&sub(&yn, &pred)) > 0.5 * h + 1e-12;
-                if far || dot(&tn, &t) < MAX_TURN.cos() {
+                let far = (yn - pred).norm() > 0.5 * h + 1e-12;
+                if far || tn.dot(&t) < MAX_TURN.cos() {
                     return Err(Failure::Turned);
                 }
                 Ok((p, yn, tn, k))
@@ -364,7 +383,7 @@ impl<'a> Ctx<'a> {
             match step {
                 Ok((p, yn, tn, newton)) => {
                     out.push(p);
-                    let turn = dot(&tn, &t).clamp(-1.0, 1.0).acos();
+                    let turn = tn.dot(&t).clamp(-1.0, 1.0).acos();
                     (y, t) = (yn, tn);
                     if !self.inside(&p) {
                         return (out, "left the box of the two ranges".into());
@@ -429,7 +448,7 @@ enum Failure {
 }
 
 /// A corrected point, y, the tangent there, and the Newton steps taken.
-type Corrected = (CurvePoint, [f64; 3], [f64; 3], usize);
+type Corrected = (CurvePoint, V3, V3, usize);
 
 /// Whether the creeping points are noise: [`CREEP_POINTS`] of them whose
 /// net displacement in (θ, μ₁, μ₂) is under a third of their path, i.e.
@@ -437,13 +456,13 @@ type Corrected = (CurvePoint, [f64; 3], [f64; 3], usize);
 /// its change over a step). A cusp of the curve's shadow in (λ₁, λ₂) is
 /// no such thing: in (θ, μ₁, μ₂) the curve is smooth there and its points
 /// advance, so it is followed through.
-fn noise(creep: &[[f64; 3]]) -> Option<String> {
+fn noise(creep: &[V3]) -> Option<String> {
     if creep.len() < CREEP_POINTS {
         return None;
     }
     let w = &creep[creep.len() - CREEP_POINTS..];
-    let path: f64 = w.windows(2).map(|p| norm(&sub(&p[1], &p[0]))).sum();
-    let net = norm(&sub(&w[CREEP_POINTS - 1], &w[0]));
+    let path: f64 = w.windows(2).map(|p| (p[1] - p[0]).norm()).sum();
+    let net = (w[CREEP_POINTS - 1] - w[0]).norm();
     if net < path / 3.0 {
         Some(format!(
             "noise: {CREEP_POINTS} steps below {CREEP:e} of the first that step back and forth (the multiplier's error is as large as its change over a step)"
@@ -476,15 +495,15 @@ pub fn continue_curve(
     let base = params[0].set(base, start.lambda);
     let scale = opts.scale();
     let mut ctx = Ctx::new(base, *settings, params, period, kind, opts);
-    let y0 = [
+    let y0 = V3::new(
         start.theta,
         start.lambda / scale[0],
         params[1].get(&base) / scale[1],
-    ];
+    );
     let first = ctx
         .system(&y0)
         .ok()
-        .and_then(|(rows, _, _)| normalize(cross(&rows[0], &rows[1])));
+        .and_then(|(rows, _, _)| normalize(rows[0].cross(&rows[1])));
     let Some(t0) = first else {
         return Curve {
             kind,
@@ -499,7 +518,7 @@ pub fn continue_curve(
     let mut other = Ctx { evals: 0, ..ctx };
     let ((back, why_back), (fwd, why_fwd)) = std::thread::scope(|s| {
         let job = s.spawn(|| {
-            let r = other.follow(y0, [-t0[0], -t0[1], -t0[2]], cancel);
+            let r = other.follow(y0, -t0, cancel);
             (r, other.evals)
         });
         let fwd = ctx.follow(y0, t0, cancel);

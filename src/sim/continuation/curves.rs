@@ -7,9 +7,10 @@
 
 use super::ContParam;
 use super::branch::SpecialPoint;
-use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
+use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, V3, continue_curve};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
+use nalgebra::{Matrix2, Vector2};
 
 /// A start closer than this (in λ, relative to the box) to a crossing of
 /// a curve already followed is on that curve.
@@ -83,7 +84,7 @@ pub fn curve_crossings(
             continue;
         }
         let f = a / (a - b);
-        let mut y = [0.0; 3];
+        let mut y = V3::zeros();
         y[0] = w[0].theta + f * wrap_angle(w[1].theta - w[0].theta);
         y[1 + axis] = value / scale[axis];
         y[1 + other] =
@@ -98,7 +99,7 @@ pub fn curve_crossings(
 /// Newton on (G, m − m*) in (θ, μ_other), the other μ held. The
 /// multiplier's own error (1e-11 to 1e-9) is the floor Newton stalls at:
 /// the best iterate within [`CROSSING_RESIDUAL`] is kept.
-fn refine(ctx: &mut Ctx, mut y: [f64; 3], other: usize, scale: [f64; 2]) -> Option<CurvePoint> {
+fn refine(ctx: &mut Ctx, mut y: V3, other: usize, scale: [f64; 2]) -> Option<CurvePoint> {
     let j = 1 + other;
     let mut best: Option<(f64, CurvePoint)> = None;
     for _ in 0..12 {
@@ -117,12 +118,14 @@ fn refine(ctx: &mut Ctx, mut y: [f64; 3], other: usize, scale: [f64; 2]) -> Opti
         if residual <= 1e-12 {
             break;
         }
-        let det = rows[0][0] * rows[1][j] - rows[0][j] * rows[1][0];
-        if !(det.is_finite() && det != 0.0) {
-            break;
-        }
-        y[0] -= (r[0] * rows[1][j] - rows[0][j] * r[1]) / det;
-        y[j] -= (rows[0][0] * r[1] - rows[1][0] * r[0]) / det;
+        // LU with partial pivoting: G's row and m's row differ in size.
+        let a = Matrix2::new(rows[0][0], rows[0][j], rows[1][0], rows[1][j]);
+        let d = match a.lu().solve(&Vector2::new(r[0], r[1])) {
+            Some(d) if d.iter().all(|v| v.is_finite()) => d,
+            _ => break,
+        };
+        y[0] -= d[0];
+        y[j] -= d[1];
     }
     best.filter(|b| b.0 <= CROSSING_RESIDUAL).map(|b| b.1)
 }

@@ -13,7 +13,7 @@ mod branch;
 mod cascade;
 mod curve;
 mod curves;
-mod vec3;
+mod flip;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
@@ -23,12 +23,13 @@ use crate::sim::variational::{
 use crate::sim::{SimError, Simulator};
 
 pub use branch::{
-    Branch, BranchPoint, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch,
+    Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop, continue_branch,
     continue_branch_reporting,
 };
 pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
+pub use flip::{Criticality, Flip, flip_at};
 
 /// A parameter a branch can be continued in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -43,6 +44,28 @@ pub enum ContParam {
     Nu,
     /// Ω, the memory of the friction direction.
     Omega,
+}
+
+/// `lambda` moved onto the end of the model's range of `param` when it
+/// lies past it by a rounding (1e-9 relative): a branch that ends at the
+/// range's end reaches it through the scaled coordinate λ/scale·scale,
+/// which may land a few ulps outside.
+fn snap(param: ContParam, lambda: f64) -> f64 {
+    let range = match param {
+        ContParam::Kappa => crate::model::KAPPA_RANGE,
+        ContParam::Gamma => crate::model::GAMMA_RANGE,
+        ContParam::Nu => crate::model::NU_RANGE,
+        ContParam::ThetaNu | ContParam::Omega => return lambda,
+    };
+    let (lo, hi) = (*range.start(), *range.end());
+    let near = |end: f64| (lambda - end).abs() <= 1e-9 * end.abs();
+    if lambda > hi && near(hi) {
+        hi
+    } else if lambda < lo && near(lo) {
+        lo
+    } else {
+        lambda
+    }
 }
 
 impl ContParam {
@@ -193,7 +216,10 @@ pub struct Problem {
 impl Problem {
     /// The simulator at λ.
     pub fn sim(&self, lambda: f64) -> Result<Simulator, SimError> {
-        Simulator::new(self.param.set(&self.base, lambda), self.settings)
+        Simulator::new(
+            self.param.set(&self.base, snap(self.param, lambda)),
+            self.settings,
+        )
     }
 
     /// The same problem at another period.
