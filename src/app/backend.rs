@@ -78,3 +78,45 @@ impl Backend for Recorder {
             .pop_front()
     }
 }
+
+/// A backend without threads: each job runs to its end on the caller's
+/// thread as it is sent (the job model's [`crate::jobs::Local`] host), its
+/// updates queued for [`Backend::try_recv`]. What `oneblock figure` computes
+/// a view's data with, headless; never behind a window, whose thread must
+/// not integrate. Jobs on a lane in `skip` are dropped unrun (a figure of
+/// one view needs only its own jobs).
+pub struct LocalBackend {
+    inbox: VecDeque<Update>,
+    skip: Vec<crate::jobs::Lane>,
+    shape: crate::jobs::Shape,
+}
+
+impl LocalBackend {
+    /// Runs every job but those on the lanes in `skip`, with the plan
+    /// shape the window's worker uses (so its diagram is the window's).
+    pub fn new(skip: Vec<crate::jobs::Lane>) -> Self {
+        LocalBackend {
+            inbox: VecDeque::new(),
+            skip,
+            shape: crate::jobs::Shape {
+                coarse_columns: crate::worker::WorkerConfig::default().coarse_columns,
+                ..crate::jobs::Shape::default()
+            },
+        }
+    }
+}
+
+impl Backend for LocalBackend {
+    fn send(&mut self, cmd: Command) -> bool {
+        if let Some((generation, spec)) = cmd.into_job()
+            && !self.skip.contains(&spec.lane())
+        {
+            let host = crate::jobs::Local::start(spec, generation, self.shape);
+            self.inbox.extend(host.run_to_end(usize::MAX));
+        }
+        true
+    }
+    fn try_recv(&mut self) -> Option<Update> {
+        self.inbox.pop_front()
+    }
+}

@@ -314,9 +314,14 @@ impl View for BifurcationView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        self.controls_ui(ui, &jobs.sweep, jobs, out);
+        let figure = style::figure_only(ui.ctx());
+        if !figure {
+            self.controls_ui(ui, &jobs.sweep, jobs, out);
+        }
         overlay::branch_legend_ui(ui, &jobs.branches.data);
-        points_table::points_ui(ui, &jobs.branches.data);
+        if !figure {
+            points_table::points_ui(ui, &jobs.branches.data);
+        }
         self.plot_ui(ui, s, &jobs.sweep.data, &jobs.branches.data, out);
     }
 }

@@ -214,7 +214,11 @@ impl EventsView {
         let stacked = if scaled.is_some() { 3.0 } else { 2.0 };
         let wide = ui.available_width() >= 36.0 * em
             && ui.available_height() >= (stacked * 8.0 + 4.0) * em;
-        if wide {
+        let figure = style::figure_only(ui.ctx());
+        if figure {
+            // A picture has no menus: the count only.
+            ui.label(format!("{} slip events", evs.len()));
+        } else if wide {
             measure_ui(ui, s, evs.len());
         } else {
             // Too narrow for all plots: one at a time, and the choices in
@@ -259,7 +263,9 @@ impl EventsView {
                 });
         }
         if wide {
-            self.scaling_row_ui(ui, &params);
+            if !figure {
+                self.scaling_row_ui(ui, &params);
+            }
             let h = ui.available_height();
             let width = ui.available_width();
             ui.horizontal(|ui| {
@@ -276,7 +282,7 @@ impl EventsView {
             });
             return;
         }
-        if s.events_plot == EventsPlot::Scaling {
+        if s.events_plot == EventsPlot::Scaling && !figure {
             self.scaling_row_ui(ui, &params);
         }
         let h = ui.available_height() - 4.0;

@@ -19,7 +19,8 @@
 //!   drawn over the diagrams, and its special points as a table.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
 //!   [`numerics_view`] (with [`numerics_table`]), [`phase_view`]: the views.
-//! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
+//! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them;
+//!   [`figure`]: one view drawn headless (`oneblock figure`).
 //! - [`frame_stats`], [`script`]: `--frame-stats` and scripted runs.
 //! - [`status`]: the status bar.
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
@@ -36,6 +37,7 @@ pub mod describe;
 pub mod events;
 pub mod explorer;
 pub mod export;
+pub mod figure;
 pub mod frame_stats;
 pub mod jobs;
 pub mod numerics_table;
@@ -64,7 +66,7 @@ use std::sync::{Arc, PoisonError};
 use std::time::Duration;
 
 pub use crate::model::{PRESETS, preset, preset_keys};
-pub use backend::{Backend, Recorder};
+pub use backend::{Backend, LocalBackend, Recorder};
 pub use explorer::Explorer;
 pub use script::Script;
 pub use settings::{Layout, Settings, ViewKind};

@@ -104,7 +104,9 @@ impl PlaneView {
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
         let now = samples.last().map(|p| [p.x * sx, p.y]);
-        controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
+        if !style::figure_only(ui.ctx()) {
+            controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
+        }
         legend_ui(ui, s.dark);
         let tf = self.plot_ui(ui, s, c_pts, crit);
         paint_path(ui, &tf, [&stick, &accel, &decel], &onsets, now, s.dark);

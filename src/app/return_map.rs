@@ -82,7 +82,9 @@ impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
         legend_ui(ui, it.period, it.lyapunov, s.dark);
-        powers_ui(ui, s, &it.powers);
+        if !style::figure_only(ui.ctx()) {
+            powers_ui(ui, s, &it.powers);
+        }
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;

@@ -64,7 +64,7 @@ pub struct GuiArgs {
     pub saved_state: bool,
 }
 
-fn parse_size(s: &str) -> Result<[f32; 2], String> {
+pub(crate) fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| "must be WIDTHxHEIGHT, e.g. 1280x800".to_string())?;

@@ -8,6 +8,7 @@ pub mod continue_cmd;
 pub mod continue_out;
 pub mod cycle;
 mod error;
+pub mod figure;
 pub mod gui;
 pub mod map;
 pub mod orbit;
@@ -54,6 +55,9 @@ pub enum Command {
     Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
+    /// One view as an SVG or PNG file, drawn headless by the window's code
+    /// (needs the default `gui` feature).
+    Figure(figure::FigureArgs),
 }
 
 /// Checks a parsed command line as `run` does before any work (values,
@@ -72,6 +76,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::Cycle(a)) => cycle::check(a).map(drop),
         Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
+        Some(Command::Figure(a)) => figure::check(a).map(drop),
     }
 }
 
@@ -129,5 +134,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::run(a),
         Some(Command::Phase(a)) => phase::run(a),
         Some(Command::Gui(a)) => gui::run(a),
+        Some(Command::Figure(a)) => figure::run(a),
     }
 }
