@@ -486,8 +486,19 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
                 .collect()
         })
         .unwrap_or_default();
+    // No phases: the axes of a typical histogram (lengths to 10, counts
+    // to 5), not egui_plot's ±0.4 around nothing.
+    let empty = bars.is_empty();
+    let mut plot = Plot::new("events_laminar").show_background(false).height(h);
+    if empty {
+        plot = plot
+            .include_x(0.0)
+            .include_x(10.0)
+            .include_y(0.0)
+            .include_y(5.0);
+    }
     let r = axes::apply(
-        Plot::new("events_laminar").show_background(false).height(h),
+        plot,
         &AxisSpec::linear("laminar length (creep slips)"),
         &AxisSpec::linear("phases"),
     )

@@ -81,7 +81,11 @@ pub struct ReturnMapView;
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(ui, it.period, it.lyapunov, s.dark);
+        let mixed = matches!(
+            Regime::of(s.params.kappa, s.params.gamma),
+            Regime::Mixed { .. }
+        );
+        legend_ui(ui, it.period, it.lyapunov, s.dark, mixed);
         if !style::figure_only(ui.ctx()) {
             powers_ui(ui, s, &it.powers);
         }
@@ -193,10 +197,24 @@ impl ReturnMapView {
                         .width(2.0 * lw),
                 );
             }
+            // Only the transient points inside the frame: one far off would
+            // be drawn past the frame's edge in a picture, which does not clip.
+            let b = p.plot_bounds();
+            let (bmin, bmax) = (b.min(), b.max());
+            let inside: Vec<[f64; 2]> = traj
+                .iter()
+                .copied()
+                .filter(|q| {
+                    (bmin[0]..=bmax[0]).contains(&q[0]) && (bmin[1]..=bmax[1]).contains(&q[1])
+                })
+                .collect();
             p.add(
-                Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
-                    .color(style::STICK.gamma_multiply(0.45))
-                    .radius(2.5),
+                Points::new(
+                    "trajectory cycles (with transient)",
+                    PlotPoints::from(inside),
+                )
+                .color(style::STICK.gamma_multiply(0.45))
+                .radius(2.5),
             );
             p.line(
                 style::line("cobweb", PlotPoints::from(web))
@@ -239,7 +257,7 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
 }
 
 /// The period and λ, and the legend above the plot.
-fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool) {
+fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool, mixed: bool) {
     ui.label(RichText::new(summary(period, lyapunov)).strong());
     ui.horizontal_wrapped(|ui| {
         style::legend_line(ui, style::ACCEL, false, "f");
@@ -251,6 +269,9 @@ fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: b
         );
         style::legend_line(ui, style::DECEL, false, "cobweb");
         style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
+        if mixed {
+            style::legend_line(ui, style::ACCEL, true, "±θc");
+        }
     });
 }
 
