@@ -486,17 +486,16 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
                 .collect()
         })
         .unwrap_or_default();
-    // No phases: the axes of a typical histogram (lengths to 10, counts
-    // to 5), not egui_plot's ±0.4 around nothing.
-    let empty = bars.is_empty();
-    let mut plot = Plot::new("events_laminar").show_background(false).height(h);
-    if empty {
-        plot = plot
-            .include_x(0.0)
-            .include_x(10.0)
-            .include_y(0.0)
-            .include_y(5.0);
-    }
+    // Lengths from 0 and counts from 0 to at least 10 and 5: whole
+    // numbers have whole ticks then (a step of at least 1), and no phases
+    // at all get these axes, not egui_plot's ±0.4 around nothing.
+    let plot = Plot::new("events_laminar")
+        .show_background(false)
+        .height(h)
+        .include_x(0.0)
+        .include_x(10.0)
+        .include_y(0.0)
+        .include_y(5.0);
     let r = axes::apply(
         plot,
         &AxisSpec::linear("laminar length (creep slips)"),
