@@ -242,12 +242,12 @@ fn legend_ui(ui: &mut Ui, dark: bool) {
         style::legend_line(ui, style::ink(dark), false, "C");
         style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
         style::legend_line(ui, style::PULL, false, "pull θν");
-        ui.label(
-            RichText::new(
-                "(the arrow's direction is the pull's in these axes; its length is not to scale)",
-            )
-            .weak(),
-        );
+        // Short, so that at text size 1.5 the legend keeps to two rows of
+        // a tile; the full sentence on hover.
+        ui.label(RichText::new("(arrow: direction only)").weak())
+            .on_hover_text(
+                "The arrow's direction is the pull's in these axes; its length is not to scale.",
+            );
     });
 }
 
