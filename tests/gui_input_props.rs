@@ -338,3 +338,35 @@ fn bricking_sessions_and_saved_states_render_under_xvfb() {
     assert!(o.status.success(), "{err}");
     assert!(shot.exists());
 }
+
+/// A frame that stalls cannot keep a scripted run alive: the watchdog
+/// ends it within --timeout and its grace, with one line naming the flag
+/// and exit 1 (the first frame here sleeps for an hour).
+#[test]
+fn timeout_bounds_a_run_whose_frame_stalls() {
+    if !have_xvfb() {
+        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
+        eprintln!("note: xvfb-run not found; stalled-frame case skipped");
+        return;
+    }
+    let home = tempfile::tempdir().unwrap();
+    let shot = home.path().join("shot.png");
+    let started = std::time::Instant::now();
+    let o = gui_in(
+        home.path(),
+        &[
+            "--screenshot".as_ref(),
+            shot.as_os_str(),
+            "--timeout".as_ref(),
+            "1".as_ref(),
+            "--stall-first-frame".as_ref(),
+        ],
+    );
+    let took = started.elapsed();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(err.contains("--timeout"), "{err}");
+    assert!(!shot.exists());
+    // The hour-long frame is cut at 1 s + the 20 s grace (and the start).
+    assert!(took < std::time::Duration::from_secs(120), "{took:?}");
+}

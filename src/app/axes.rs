@@ -301,7 +301,11 @@ pub fn log10_ticks(lo: f64, hi: f64, min_count: usize) -> Vec<Tick> {
                 if v >= a - eps && v <= b + eps {
                     best.push(Tick {
                         value: v,
-                        label: if m == 1 {
+                        // Counts and other values from 1 to 50,000 as
+                        // plain integers ("2", not "2e0").
+                        label: if (0..=4).contains(&e) {
+                            (u64::from(m) * 10u64.pow(e as u32)).to_string()
+                        } else if m == 1 {
                             format!("1e{e}")
                         } else {
                             format!("{m}e{e}")
@@ -541,10 +545,60 @@ pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
     let (sx, sy) = (x.scale, y.scale);
     let (dx, dy) = (Shared::default(), Shared::default());
     let (gx, gy) = (dx.clone(), dy.clone());
-    plot.custom_x_axes(vec![hints(x, egui_plot::Axis::X, dx)])
+    let (hx, hy) = (x.clone(), y.clone());
+    plot.label_formatter(move |pos| hover_label(&hx, &hy, pos))
+        .custom_x_axes(vec![hints(x, egui_plot::Axis::X, dx)])
         .custom_y_axes(vec![hints(y, egui_plot::Axis::Y, dy)])
         .x_grid_spacer(move |i| grid_marks(sx, egui_plot::Axis::X, i, &gx))
         .y_grid_spacer(move |i| grid_marks(sy, egui_plot::Axis::Y, i, &gy))
+}
+
+/// An axis's quantity in short: its title up to the first ", " or " ("
+/// ("θν" of "θν, pull direction (rad)").
+pub fn short_name(title: &str) -> &str {
+    let end = [title.find(", "), title.find(" (")]
+        .into_iter()
+        .flatten()
+        .min()
+        .unwrap_or(title.len());
+    &title[..end]
+}
+
+/// A coordinate as its axis reads it: a log axis's value, not its log10.
+fn hover_value(scale: Scale, v: f64) -> String {
+    match scale {
+        Scale::Log10 => format!("{:.3e}", 10f64.powf(v)),
+        _ => format!("{v:.4}"),
+    }
+}
+
+/// The hover label of a plot: the item's name, then each axis's quantity
+/// and value ("θν = 1.0950, θ = 0.2580"), not egui_plot's "x = …, y = …".
+pub fn hover_label(
+    x: &AxisSpec,
+    y: &AxisSpec,
+    pos: &egui_plot::HoverPosition<'_>,
+) -> Option<String> {
+    let (name, p) = match pos {
+        egui_plot::HoverPosition::NearDataPoint {
+            plot_name,
+            position,
+            ..
+        } => (*plot_name, position),
+        egui_plot::HoverPosition::Elsewhere { position } => ("", position),
+    };
+    let xy = format!(
+        "{} = {}\n{} = {}",
+        short_name(&x.title),
+        hover_value(x.scale, p.x),
+        short_name(&y.title),
+        hover_value(y.scale, p.y)
+    );
+    Some(if name.is_empty() {
+        xy
+    } else {
+        format!("{name}\n{xy}")
+    })
 }
 
 /// Where each plot's frame was drawn last frame, by plot name: for tests

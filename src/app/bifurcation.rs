@@ -209,58 +209,67 @@ impl BifurcationView {
         let drag_from = self.drag_from;
         let line_width = style::width(ui.ctx(), 1.5);
         let resp = Plot::new("bifurcation")
-            .label_formatter(overlay::label)
             .show_background(false)
             .allow_drag(false)
             .allow_zoom(false)
             .allow_scroll(false)
             .allow_boxed_zoom(false)
             .allow_double_click_reset(false);
-        let resp = axes::apply(
-            resp,
-            &AxisSpec::angle("θν, pull direction", s.angle_unit),
-            &AxisSpec::angle("θ, slip onset", s.angle_unit),
-        )
-        .show(ui, |p| {
-            p.set_plot_bounds(PlotBounds::from_min_max(
-                [from - dx / 2.0, lo],
-                [to + dx / 2.0, hi],
-            ));
-            if let Some(id) = tex {
-                p.add(PlotImage::new(
-                    "diagram",
-                    id,
-                    PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
-                    [(to - from + dx) as f32, (hi - lo) as f32],
-                ));
-            }
-            p.line(
-                style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
-                    .color(style::CRITICAL.gamma_multiply(0.6))
-                    .style(LineStyle::Dotted { spacing: 6.0 }),
-            );
-            if let Some(tc) = theta_c {
-                for y in [tc, -tc] {
-                    p.add(
-                        HLine::new("θc", y)
-                            .color(style::ACCEL)
-                            .style(LineStyle::Dashed { length: 10.0 })
-                            .width(1.5),
-                    );
+        let (ax, ay) = (
+            AxisSpec::angle("θν, pull direction", s.angle_unit),
+            AxisSpec::angle("θ, slip onset", s.angle_unit),
+        );
+        let (hx, hy) = (ax.clone(), ay.clone());
+        let resp = axes::apply(resp, &ax, &ay)
+            // The overlay's items have hover labels of their own.
+            .label_formatter(move |pos| match pos {
+                egui_plot::HoverPosition::NearDataPoint { plot_name, .. }
+                    if overlay::is_overlay_item(plot_name) =>
+                {
+                    None
                 }
-            }
-            p.add(
-                VLine::new("current θν", tn)
-                    .color(style::CURRENT)
-                    .width(2.0),
-            );
-            overlay::branch_items(p, found, line_width);
-            let pointer = p.pointer_coordinate();
-            if let (Some(a), Some(b)) = (drag_from, pointer) {
-                p.add(style::zoom_box(a, b));
-            }
-            pointer
-        });
+                _ => axes::hover_label(&hx, &hy, pos),
+            })
+            .show(ui, |p| {
+                p.set_plot_bounds(PlotBounds::from_min_max(
+                    [from - dx / 2.0, lo],
+                    [to + dx / 2.0, hi],
+                ));
+                if let Some(id) = tex {
+                    p.add(PlotImage::new(
+                        "diagram",
+                        id,
+                        PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
+                        [(to - from + dx) as f32, (hi - lo) as f32],
+                    ));
+                }
+                p.line(
+                    style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
+                        .color(style::CRITICAL.gamma_multiply(0.6))
+                        .style(LineStyle::Dotted { spacing: 6.0 }),
+                );
+                if let Some(tc) = theta_c {
+                    for y in [tc, -tc] {
+                        p.add(
+                            HLine::new("θc", y)
+                                .color(style::ACCEL)
+                                .style(LineStyle::Dashed { length: 10.0 })
+                                .width(1.5),
+                        );
+                    }
+                }
+                p.add(
+                    VLine::new("current θν", tn)
+                        .color(style::CURRENT)
+                        .width(2.0),
+                );
+                overlay::branch_items(p, found, line_width);
+                let pointer = p.pointer_coordinate();
+                if let (Some(a), Some(b)) = (drag_from, pointer) {
+                    p.add(style::zoom_box(a, b));
+                }
+                pointer
+            });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         self.transform = Some(resp.transform);
         let r = &resp.response;
@@ -314,14 +323,32 @@ impl View for BifurcationView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        self.controls_ui(ui, &jobs.sweep, jobs, out);
+        let figure = style::figure_only(ui.ctx());
+        if !figure {
+            self.controls_ui(ui, &jobs.sweep, jobs, out);
+        }
+        lines_legend_ui(ui, s);
         overlay::branch_legend_ui(ui, &jobs.branches.data);
-        points_table::points_ui(ui, &jobs.branches.data);
+        if !figure {
+            points_table::points_ui(ui, &jobs.branches.data);
+        }
         self.plot_ui(ui, s, &jobs.sweep.data, &jobs.branches.data, out);
     }
 }
 
 /// "Find bifurcations" (or "Stop" while it runs), and where it stands.
+/// The lines drawn over the diagram: the diagonal θ = θν, the critical
+/// angles ±θc (mixed regime only) and the current θν.
+fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
+    ui.horizontal_wrapped(|ui| {
+        style::legend_line(ui, style::CRITICAL, true, "θ = θν");
+        if let Regime::Mixed { .. } = Regime::of(s.params.kappa, s.params.gamma) {
+            style::legend_line(ui, style::ACCEL, true, "±θc");
+        }
+        style::legend_line(ui, style::CURRENT, false, "current θν");
+    });
+}
+
 fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
     let slot = &jobs.branches;
     if slot.state == JobState::Running {

@@ -130,7 +130,9 @@ impl BlockView {
             self.clock = 0.0;
         }
         self.trajectory_revision_seen = jobs.trajectory_revision;
-        self.controls_ui(ui, s);
+        if !style::figure_only(ui.ctx()) {
+            self.controls_ui(ui, s);
+        }
         let start = jobs.trajectory.data.recent_start(s.keep_cycles.min(4));
         let window_start = samples.get(start).map_or(0.0, |p| p.t);
         let now = ui.input(|i| i.time);

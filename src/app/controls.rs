@@ -17,6 +17,7 @@ use super::accuracy;
 use super::describe;
 use super::jobs::Jobs;
 use super::settings::{AccuracyMode, AngleUnit, Settings};
+use super::style;
 use super::view::{Action, Export};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::PRESETS;
@@ -551,7 +552,8 @@ fn regime_ui(ui: &mut Ui, s: &Settings, jobs: &Jobs) {
     let (fill, text) = match Regime::of(k, g) {
         Regime::PureCreep => (Color32::from_rgb(40, 130, 60), Color32::WHITE),
         Regime::Mixed { .. } => (Color32::from_rgb(200, 130, 20), Color32::BLACK),
-        Regime::PureStickSlip => (Color32::from_rgb(190, 40, 40), Color32::WHITE),
+        // Blue, not red: red is kept for warnings (the validity line).
+        Regime::PureStickSlip => (style::STICK, Color32::WHITE),
     };
     let badge = describe::regime_badge(k, g);
     ui.horizontal(|ui| {

@@ -234,7 +234,11 @@ impl EventsView {
         let stacked = if scaled.is_some() { 3.0 } else { 2.0 };
         let wide = ui.available_width() >= 36.0 * em
             && ui.available_height() >= (stacked * 8.0 + 4.0) * em;
-        if wide {
+        let figure = style::figure_only(ui.ctx());
+        if figure {
+            // A picture has no menus: the count only.
+            ui.label(format!("{} slip events", evs.len()));
+        } else if wide {
             measure_ui(ui, s, evs.len());
         } else {
             // Too narrow for all plots: one at a time, and the choices in
@@ -280,7 +284,9 @@ impl EventsView {
                 });
         }
         if wide {
-            self.scaling_row_ui(ui, &params);
+            if !figure {
+                self.scaling_row_ui(ui, &params);
+            }
             let h = ui.available_height();
             let width = ui.available_width();
             ui.horizontal(|ui| {
@@ -297,7 +303,7 @@ impl EventsView {
             });
             return;
         }
-        if s.events_plot == EventsPlot::Scaling {
+        if s.events_plot == EventsPlot::Scaling && !figure {
             self.scaling_row_ui(ui, &params);
         }
         let h = ui.available_height() - 4.0;
@@ -503,8 +509,18 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
                 .collect()
         })
         .unwrap_or_default();
+    // Lengths from 0 and counts from 0 to at least 10 and 5: whole
+    // numbers have whole ticks then (a step of at least 1), and no phases
+    // at all get these axes, not egui_plot's ±0.4 around nothing.
+    let plot = Plot::new("events_laminar")
+        .show_background(false)
+        .height(h)
+        .include_x(0.0)
+        .include_x(10.0)
+        .include_y(0.0)
+        .include_y(5.0);
     let r = axes::apply(
-        Plot::new("events_laminar").show_background(false).height(h),
+        plot,
         &AxisSpec::linear("laminar length (creep slips)"),
         &AxisSpec::linear("phases"),
     )

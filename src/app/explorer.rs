@@ -41,6 +41,9 @@ pub struct Explorer {
     pub shots: Shots,
     pub script: Option<Script>,
     pub stats: FrameStats,
+    /// Test-only: the next frame stalls for an hour (`gui
+    /// --stall-first-frame`).
+    pub stall_first_frame: bool,
     /// Whether `save` writes the settings (not in scripted runs).
     pub persist: bool,
     /// Where the frame-time report goes when the window closes.
@@ -74,6 +77,7 @@ impl Explorer {
             shots,
             script: None,
             stats: FrameStats::default(),
+            stall_first_frame: false,
             persist: true,
             stats_sink: None,
             view_rects: HashMap::new(),
@@ -115,6 +119,9 @@ impl Explorer {
     /// The non-drawing half of a frame: drain the worker, restart jobs,
     /// collect saved files, drive a scripted run.
     pub fn logic_step(&mut self, ctx: &Context) {
+        if std::mem::take(&mut self.stall_first_frame) {
+            std::thread::sleep(Duration::from_secs(3600));
+        }
         let smooth = self.settings.smooth_lines_on(self.controls.software_gl);
         if ctx.tessellation_options(|o| o.feathering) != smooth {
             ctx.tessellation_options_mut(|o| o.feathering = smooth);

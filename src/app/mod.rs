@@ -19,7 +19,8 @@
 //!   drawn over the diagrams, and its special points as a table.
 //! - [`plane`], [`block`], [`bifurcation`], [`return_map`], [`events`],
 //!   [`numerics_view`] (with [`numerics_table`]), [`phase_view`]: the views.
-//! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them.
+//! - [`export`], [`screenshot`], [`save`]: CSV, PNG, writing them;
+//!   [`figure`]: one view drawn headless (`oneblock figure`).
 //! - [`frame_stats`], [`script`]: `--frame-stats` and scripted runs.
 //! - [`status`]: the status bar.
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
@@ -36,6 +37,7 @@ pub mod describe;
 pub mod events;
 pub mod explorer;
 pub mod export;
+pub mod figure;
 pub mod frame_stats;
 pub mod jobs;
 pub mod numerics_table;
@@ -98,6 +100,9 @@ pub struct RunOptions {
     /// Run the jobs on the window's thread, a slice of each frame
     /// (`LocalWorker`), as the browser build does.
     pub single_thread: bool,
+    /// Test-only: the first frame stalls for an hour, so that the tests can
+    /// check that `timeout` bounds a stalled run.
+    pub stall_first_frame: bool,
 }
 
 /// How long past `--timeout` a scripted run may take to save its picture
@@ -214,6 +219,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let stats2 = stats_report.clone();
     let shot = opts.screenshot.clone();
     let single_thread = opts.single_thread;
+    let stall_first_frame = opts.stall_first_frame;
     let r = eframe::run_native(
         "oneblock",
         native,
@@ -254,6 +260,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
                 settings.smooth_lines = Some(true);
             }
             let mut app = Explorer::new(worker, settings);
+            app.stall_first_frame = stall_first_frame;
             if let Some(l) = &session {
                 app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
                 if let Some(m) = &l.message {

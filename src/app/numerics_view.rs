@@ -95,7 +95,9 @@ impl View for NumericsView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let run = &jobs.numerics;
-        self.controls_ui(ui, run, out);
+        if !style::figure_only(ui.ctx()) {
+            self.controls_ui(ui, run, out);
+        }
         notes_ui(ui, s, run);
         let rows: &[Row] = if run.data.rows.is_empty() {
             default_rows()

@@ -250,12 +250,7 @@ impl PhaseView {
                 );
             ui.menu_button("range", |ui| range_ui(ui, &mut p.range, &mut p.zoom));
         });
-        ui.horizontal_wrapped(|ui| {
-            for (c, name) in LEGEND_CLASSES {
-                style::legend_swatch(ui, class_colour(c, 255), name);
-            }
-            ui.label(RichText::new("pale: not refined yet").weak());
-        });
+        legend_row_ui(ui);
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
         }
@@ -409,12 +404,26 @@ impl View for PhaseView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
-        self.controls_ui(ui, s, jobs, out);
+        if style::figure_only(ui.ctx()) {
+            legend_row_ui(ui);
+        } else {
+            self.controls_ui(ui, s, jobs, out);
+        }
         self.plot_ui(ui, s, jobs, out);
     }
 }
 
 /// "Boundaries" (or "Stop" while the curves are followed).
+/// The classes' colours, one swatch each.
+fn legend_row_ui(ui: &mut Ui) {
+    ui.horizontal_wrapped(|ui| {
+        for (c, name) in LEGEND_CLASSES {
+            style::legend_swatch(ui, class_colour(c, 255), name);
+        }
+        ui.label(RichText::new("pale: not refined yet").weak());
+    });
+}
+
 fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
     if jobs.curves.state == JobState::Running {
         if ui

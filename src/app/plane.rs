@@ -104,7 +104,9 @@ impl PlaneView {
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
         let now = samples.last().map(|p| [p.x * sx, p.y]);
-        controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
+        if !style::figure_only(ui.ctx()) {
+            controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
+        }
         legend_ui(ui, s.dark);
         let tf = self.plot_ui(ui, s, c_pts, crit);
         paint_path(ui, &tf, [&stick, &accel, &decel], &onsets, now, s.dark);
@@ -240,12 +242,12 @@ fn legend_ui(ui: &mut Ui, dark: bool) {
         style::legend_line(ui, style::ink(dark), false, "C");
         style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
         style::legend_line(ui, style::PULL, false, "pull θν");
-        ui.label(
-            RichText::new(
-                "(the arrow's direction is the pull's in these axes; its length is not to scale)",
-            )
-            .weak(),
-        );
+        // Short, so that at text size 1.5 the legend keeps to two rows of
+        // a tile; the full sentence on hover.
+        ui.label(RichText::new("(arrow: direction only)").weak())
+            .on_hover_text(
+                "The arrow's direction is the pull's in these axes; its length is not to scale.",
+            );
     });
 }
 

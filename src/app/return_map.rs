@@ -81,8 +81,14 @@ pub struct ReturnMapView;
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(ui, it.period, it.lyapunov, s.dark);
-        powers_ui(ui, s, &it.powers);
+        let mixed = matches!(
+            Regime::of(s.params.kappa, s.params.gamma),
+            Regime::Mixed { .. }
+        );
+        legend_ui(ui, it.period, it.lyapunov, s.dark, mixed);
+        if !style::figure_only(ui.ctx()) {
+            powers_ui(ui, s, &it.powers);
+        }
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;
@@ -138,41 +144,14 @@ impl ReturnMapView {
         );
         // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
         let resp = plot.show(ui, |p| {
-            // Follow the attractor as it changes, in a square that fits.
-            let f = *p.transform().frame();
-            if f.height() > 0.0 {
-                let asp = (f.width() / f.height()) as f64;
-                let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
-                let (hx, hy) = if asp >= 1.0 {
-                    (h * asp, h)
-                } else {
-                    (h, h / asp)
-                };
-                p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
-                    [c - hx, c - hy],
-                    [c + hx, c + hy],
-                ));
-            }
+            frame_square(p, lo, hi);
             p.line(
                 style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
                     .color(style::CRITICAL)
                     .style(LineStyle::Dashed { length: 8.0 }),
             );
             if let Some(tc) = theta_c {
-                for v in [tc, -tc] {
-                    if v > lo && v < hi {
-                        p.add(
-                            VLine::new("θc", v)
-                                .color(style::ACCEL.gamma_multiply(0.6))
-                                .style(LineStyle::Dashed { length: 6.0 }),
-                        );
-                        p.add(
-                            HLine::new("θc", v)
-                                .color(style::ACCEL.gamma_multiply(0.6))
-                                .style(LineStyle::Dashed { length: 6.0 }),
-                        );
-                    }
-                }
+                critical_angles(p, tc, lo, hi);
             }
             for (i, pieces) in power_pieces {
                 let name = ["f²", "f³", "f⁴"][i.min(2)];
@@ -191,10 +170,24 @@ impl ReturnMapView {
                         .width(2.0 * lw),
                 );
             }
+            // Only the transient points inside the frame: one far off would
+            // be drawn past the frame's edge in a picture, which does not clip.
+            let b = p.plot_bounds();
+            let (bmin, bmax) = (b.min(), b.max());
+            let inside: Vec<[f64; 2]> = traj
+                .iter()
+                .copied()
+                .filter(|q| {
+                    (bmin[0]..=bmax[0]).contains(&q[0]) && (bmin[1]..=bmax[1]).contains(&q[1])
+                })
+                .collect();
             p.add(
-                Points::new("trajectory cycles (with transient)", PlotPoints::from(traj))
-                    .color(style::STICK.gamma_multiply(0.45))
-                    .radius(2.5),
+                Points::new(
+                    "trajectory cycles (with transient)",
+                    PlotPoints::from(inside),
+                )
+                .color(style::STICK.gamma_multiply(0.45))
+                .radius(2.5),
             );
             p.line(
                 style::line("cobweb", PlotPoints::from(web))
@@ -209,6 +202,44 @@ impl ReturnMapView {
             );
         });
         axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
+    }
+}
+
+/// Follows the attractor as it changes: the plot's bounds a square around
+/// [`lo`, `hi`] that fits the frame.
+fn frame_square(p: &mut egui_plot::PlotUi<'_>, lo: f64, hi: f64) {
+    let f = *p.transform().frame();
+    if f.height() > 0.0 {
+        let asp = (f.width() / f.height()) as f64;
+        let (c, h) = ((lo + hi) / 2.0, (hi - lo) / 2.0);
+        let (hx, hy) = if asp >= 1.0 {
+            (h * asp, h)
+        } else {
+            (h, h / asp)
+        };
+        p.set_plot_bounds(egui_plot::PlotBounds::from_min_max(
+            [c - hx, c - hy],
+            [c + hx, c + hy],
+        ));
+    }
+}
+
+/// The critical angles ±θc (where creep onsets meet stick-slip onsets) as
+/// dashed lines across both axes, where they fall inside [`lo`, `hi`].
+fn critical_angles(p: &mut egui_plot::PlotUi<'_>, theta_c: f64, lo: f64, hi: f64) {
+    for v in [theta_c, -theta_c] {
+        if v > lo && v < hi {
+            p.add(
+                VLine::new("θc", v)
+                    .color(style::ACCEL.gamma_multiply(0.6))
+                    .style(LineStyle::Dashed { length: 6.0 }),
+            );
+            p.add(
+                HLine::new("θc", v)
+                    .color(style::ACCEL.gamma_multiply(0.6))
+                    .style(LineStyle::Dashed { length: 6.0 }),
+            );
+        }
     }
 }
 
@@ -237,7 +268,7 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
 }
 
 /// The period and λ, and the legend above the plot.
-fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool) {
+fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool, mixed: bool) {
     ui.label(RichText::new(summary(period, lyapunov)).strong());
     ui.horizontal_wrapped(|ui| {
         style::legend_line(ui, style::ACCEL, false, "f");
@@ -249,6 +280,9 @@ fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: b
         );
         style::legend_line(ui, style::DECEL, false, "cobweb");
         style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
+        if mixed {
+            style::legend_line(ui, style::ACCEL, true, "±θc");
+        }
     });
 }
 

@@ -21,6 +21,24 @@ pub const POWERS: [Color32; 3] = [
     Color32::from_rgb(86, 180, 233),
 ];
 
+fn figure_only_id() -> egui::Id {
+    egui::Id::unique("oneblock-figure-only")
+}
+
+/// Draws only the figure in `ctx` from now on (title, axes, legend): no
+/// buttons, sliders or switches. What a picture for a document is made of
+/// (`oneblock figure`, the views' SVG and PNG buttons).
+pub fn set_figure_only(ctx: &egui::Context, on: bool) {
+    ctx.data_mut(|d| d.insert_temp(figure_only_id(), on));
+}
+
+/// Whether `ctx` draws only the figure (see [`set_figure_only`]): the views
+/// leave out their controls then.
+pub fn figure_only(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp::<bool>(figure_only_id()))
+        .unwrap_or(false)
+}
+
 fn line_scale_id() -> egui::Id {
     egui::Id::unique("oneblock-line-scale")
 }

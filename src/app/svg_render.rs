@@ -11,6 +11,7 @@ use super::axes;
 use super::bifurcation::Zoom;
 use super::jobs::Jobs;
 use super::settings::{Layout, Settings, ViewKind};
+use super::style;
 use super::svg::{SvgWriter, Textures};
 use super::views::{Views, tile_rects};
 
@@ -29,6 +30,8 @@ pub fn render_svg(
     size: Vec2,
 ) -> String {
     let ctx = document_context(settings);
+    // Only the figure: title, axes, legend; no buttons or switches.
+    style::set_figure_only(&ctx, true);
     let mut state = Views::default();
     state.bifurcation.zoom = zoom.to_vec();
     let mut s = settings.clone();

@@ -60,7 +60,7 @@ impl ContinueModelArgs {
     /// `from`, where the branch starts.
     fn with_varied(&self, varied: Option<ContParam>, from: f64) -> ModelArgs {
         let mut m = ModelArgs {
-            preset: self.preset.clone(),
+            preset: self.preset,
             kappa: self.kappa,
             gamma: self.gamma,
             nu: self.nu,

@@ -67,9 +67,13 @@ pub struct GuiArgs {
     /// the browser build does (no simulation threads).
     #[arg(long)]
     pub single_thread: bool,
+    /// Test-only: the first frame stalls for an hour (how the tests check
+    /// that --timeout bounds a run whose frames stall).
+    #[arg(long, hide = true)]
+    pub stall_first_frame: bool,
 }
 
-fn parse_size(s: &str) -> Result<[f32; 2], String> {
+pub(crate) fn parse_size(s: &str) -> Result<[f32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| "must be WIDTHxHEIGHT, e.g. 1280x800".to_string())?;
@@ -162,6 +166,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         session: args.session,
         saved_state: args.saved_state,
         single_thread: args.single_thread,
+        stall_first_frame: args.stall_first_frame,
         screenshot: args.screenshot,
         size: args.size,
         frame_stats: args.frame_stats,

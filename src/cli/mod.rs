@@ -9,6 +9,7 @@ pub mod continue_cmd;
 pub mod continue_out;
 pub mod cycle;
 mod error;
+pub mod figure;
 pub mod gui;
 pub mod map;
 pub mod orbit;
@@ -57,6 +58,9 @@ pub enum Command {
     Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
+    /// One view as an SVG or PNG file, drawn headless by the window's code
+    /// (needs the default `gui` feature).
+    Figure(figure::FigureArgs),
 }
 
 /// Checks a parsed command line as `run` does before any work (values,
@@ -76,6 +80,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::Attractors(a)) => attractors::check(a).map(drop),
         Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
+        Some(Command::Figure(a)) => figure::check(a).map(drop),
     }
 }
 
@@ -144,5 +149,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::run(a),
         Some(Command::Phase(a)) => phase::run(a),
         Some(Command::Gui(a)) => gui::run(a),
+        Some(Command::Figure(a)) => figure::run(a),
     }
 }

@@ -210,7 +210,7 @@ impl Out<'_> {
         let kappa = spec.params.kappa;
         if !(t0 < t1 && k0 < k1 && (k0..=k1).contains(&kappa)) {
             return Err(JobError::Failed(format!(
-                "the box θν ∈ [{t0}, {t1}], κ ∈ [{k0}, {k1}] is empty or does not hold κ = {kappa}"
+                "the box θν in [{t0}, {t1}], κ in [{k0}, {k1}] is empty or does not hold κ = {kappa}"
             )));
         }
         let base = ContParam::ThetaNu.set(&spec.params, t0);
@@ -257,7 +257,7 @@ impl Out<'_> {
         }
         if starts.is_empty() {
             self.summary(format!(
-                "stopped: the P{period} cycle does not double along θν ∈ [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
+                "stopped: the P{period} cycle does not double along θν in [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
             ))?;
             return Ok(());
         }

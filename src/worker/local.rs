@@ -39,6 +39,9 @@ pub struct LocalWorker {
     /// Where the round-robin over the lanes goes on.
     next_lane: usize,
     stopped: bool,
+    /// Lanes whose jobs are dropped unrun (a headless figure of one view
+    /// needs only that view's jobs).
+    skip: Vec<Lane>,
 }
 
 impl Default for LocalWorker {
@@ -59,7 +62,15 @@ impl LocalWorker {
             width: width.max(1),
             next_lane: 0,
             stopped: false,
+            skip: Vec::new(),
         }
+    }
+
+    /// The same worker, dropping the jobs of `lanes` unrun (no update of
+    /// theirs ever comes).
+    pub fn skipping(mut self, lanes: Vec<Lane>) -> Self {
+        self.skip = lanes;
+        self
     }
 
     /// Takes a command (never blocks); false once shut down.
@@ -133,6 +144,9 @@ impl LocalWorker {
     /// running job's own).
     fn start(&mut self, generation: Generation, spec: Spec) {
         let lane = spec.lane();
+        if self.skip.contains(&lane) {
+            return;
+        }
         let slot = &mut self.lanes[lane.index()];
         if generation < slot.current || (generation == slot.current && slot.job.is_some()) {
             return;

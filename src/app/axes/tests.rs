@@ -102,6 +102,10 @@ fn log_axes_label_decades_or_mantissas() {
     let t = log10_ticks(2f64.log10(), 8f64.log10(), 5);
     assert_eq!(labels(&t), ["2", "3", "4", "5", "6", "7", "8"]);
     assert!((t[1].value - 3f64.log10()).abs() < 1e-12);
+    // Counts over decades: plain integers, not "3e0".
+    let t = log10_ticks(0.0, 3.0, 5);
+    assert_eq!(labels(&t), ["1", "3", "10", "30", "100", "300", "1000"]);
+    assert!((t[3].value - 30f64.log10()).abs() < 1e-12);
 }
 
 #[test]
@@ -194,4 +198,21 @@ fn degenerate_ranges_give_no_ticks_and_return() {
         assert!(ticks(lo, hi, usize::MAX).len() <= 3000, "{lo}..{hi}");
     }
     assert!(t0.elapsed() < std::time::Duration::from_secs(1));
+}
+
+#[test]
+fn hover_labels_name_the_axes() {
+    let x = AxisSpec::linear("θν, pull direction (rad)");
+    let y = AxisSpec::log10("count + 1 (log scale)");
+    assert_eq!(short_name(&x.title), "θν");
+    assert_eq!(short_name(&y.title), "count + 1");
+    let pos = egui_plot::HoverPosition::NearDataPoint {
+        plot_name: "cobweb",
+        position: egui_plot::PlotPoint::new(1.095, 2.0),
+        index: 0,
+    };
+    assert_eq!(
+        hover_label(&x, &y, &pos).as_deref(),
+        Some("cobweb\nθν = 1.0950\ncount + 1 = 1.000e2")
+    );
 }

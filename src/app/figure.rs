@@ -1,0 +1,194 @@
+//! `oneblock figure`: one view drawn headless, with no display, GPU or
+//! window. The view's data is computed by the job model's single-threaded
+//! worker ([`LocalWorker`], pumped until the view's jobs are done, the
+//! others dropped unrun, through the window's same [`Jobs`]), then the view
+//! is drawn by
+//! [`svg_render::render_svg`], the window's own SVG export: a fresh egui
+//! context runs the same view code, figure only (no buttons, no sliders),
+//! and its shapes are written as SVG. A PNG is that SVG rasterised by
+//! resvg, with the fonts egui laid the text out with, so both files come
+//! from one drawing path.
+
+use std::time::Duration;
+
+use eframe::egui;
+
+use super::bifurcation::{Zoom, auto_theta_range};
+use super::jobs::{JobState, Jobs, Shown};
+use super::settings::{Layout, Settings, ViewKind};
+use super::svg_render;
+use crate::jobs::Lane;
+use crate::worker::LocalWorker;
+
+/// Rounds of the job model's sync before a figure gives up: each round
+/// runs every job it sends to its end, and a view needs at most three
+/// (trajectory, then the orbit analysis, then a measurement).
+const MAX_ROUNDS: usize = 16;
+
+/// Seconds of ui time between rounds: past every debounce of the job
+/// model, so each round sends what the settings call for.
+const ROUND_SECONDS: f64 = 10.0;
+
+/// One figure to draw: a view over `size` points, from `settings`, the
+/// bifurcation diagram at `zoom` (innermost last, as a session holds it)
+/// and then, if given, over `theta_nu` × `theta` (θ by default the range
+/// of the computed columns).
+#[derive(Clone, Debug)]
+pub struct Figure {
+    pub view: ViewKind,
+    pub settings: Settings,
+    pub zoom: Vec<Zoom>,
+    pub theta_nu: Option<(f64, f64)>,
+    pub theta: Option<(f64, f64)>,
+    pub size: egui::Vec2,
+}
+
+impl Figure {
+    /// The diagram's θν range the sweep computes, if not the whole one.
+    fn sweep_zoom(&self) -> Option<(f64, f64)> {
+        match (self.theta_nu, self.theta) {
+            (Some(tn), _) => Some(tn),
+            (None, Some(_)) => Some(self.settings.sweep_range()),
+            (None, None) => self.zoom.last().map(|z| z.theta_nu),
+        }
+    }
+}
+
+/// The lanes a view's data comes from (every other lane's jobs are not run).
+fn lanes(view: ViewKind) -> &'static [Lane] {
+    match view {
+        ViewKind::Plane | ViewKind::Block | ViewKind::Events | ViewKind::ReturnMap => {
+            &[Lane::Orbit]
+        }
+        ViewKind::Bifurcation => &[Lane::Sweep],
+        ViewKind::Phase => &[Lane::Phase],
+        ViewKind::Numerics => &[Lane::Orbit, Lane::Numerics],
+    }
+}
+
+/// The states of the jobs `view` draws from.
+fn states(jobs: &Jobs, view: ViewKind) -> Vec<&JobState> {
+    let orbit = [&jobs.trajectory.state, &jobs.iterate.state];
+    match view {
+        ViewKind::Bifurcation => vec![&jobs.sweep.state],
+        ViewKind::Phase => vec![&jobs.phase.state],
+        ViewKind::Numerics => orbit.into_iter().chain([&jobs.numerics.state]).collect(),
+        _ => orbit.to_vec(),
+    }
+}
+
+/// The figure's settings: its view alone, as the tab.
+fn view_settings(fig: &Figure) -> Settings {
+    let mut s = fig.settings.clone();
+    s.layout = Layout::Tabs;
+    s.tab = fig.view;
+    // A picture for a document: anti-aliased.
+    s.smooth_lines = Some(true);
+    s
+}
+
+/// Computes what `fig`'s view shows, on this thread; the error says which
+/// job failed and why.
+pub fn compute(fig: &Figure) -> Result<Jobs, String> {
+    let needed = lanes(fig.view);
+    let skip = [
+        Lane::Orbit,
+        Lane::Sweep,
+        Lane::Numerics,
+        Lane::Phase,
+        Lane::Continuation,
+        Lane::Curves,
+    ]
+    .into_iter()
+    .filter(|l| !needed.contains(l))
+    .collect();
+    let mut jobs = Jobs::new(Box::new(LocalWorker::default().skipping(skip)));
+    let s = view_settings(fig);
+    for round in 0..MAX_ROUNDS {
+        let shown = Shown {
+            now: round as f64 * ROUND_SECONDS,
+            sweep_zoom: fig.sweep_zoom(),
+            phase: fig.view == ViewKind::Phase,
+        };
+        jobs.sync(&s, shown);
+        while jobs.pump(Duration::from_secs(3600)) || jobs.receive() {}
+        if let Some(m) = states(&jobs, fig.view).iter().find_map(|st| match st {
+            JobState::Failed(m) => Some(m.clone()),
+            _ => None,
+        }) {
+            return Err(format!("the simulation failed: {m}"));
+        }
+        let orbit_done = jobs.trajectory.state == JobState::Done
+            && !matches!(jobs.iterate.state, JobState::Running | JobState::Idle);
+        if fig.view == ViewKind::Numerics && orbit_done && !jobs.numerics.issued() {
+            // Measured on the attractor, as the window does.
+            jobs.start_work_precision(&s);
+            while jobs.pump(Duration::from_secs(3600)) || jobs.receive() {}
+        }
+        if states(&jobs, fig.view)
+            .iter()
+            .all(|st| **st == JobState::Done)
+        {
+            return Ok(jobs);
+        }
+    }
+    Err(format!(
+        "the {} view's data did not arrive after {MAX_ROUNDS} rounds",
+        fig.view.key()
+    ))
+}
+
+/// The figure as SVG: its data computed here, then drawn by the window's
+/// view code, figure only.
+pub fn svg(fig: &Figure) -> Result<String, String> {
+    let jobs = compute(fig)?;
+    let s = view_settings(fig);
+    let mut zoom = fig.zoom.clone();
+    if fig.theta_nu.is_some() || fig.theta.is_some() {
+        zoom.push(Zoom {
+            theta_nu: fig.sweep_zoom().unwrap_or_else(|| s.sweep_range()),
+            theta: fig
+                .theta
+                .unwrap_or_else(|| auto_theta_range(&jobs.sweep.data)),
+        });
+    }
+    Ok(svg_render::render_svg(
+        &[fig.view],
+        &s,
+        &jobs,
+        &zoom,
+        fig.size,
+    ))
+}
+
+/// Rasterises `svg` (drawn over `size` points) to a PNG of `scale` pixels
+/// per point. Text is set in the fonts egui measured it with (its built-in
+/// fonts, the only ones in resvg's font database: no system font), so the
+/// PNG's labels take the room the layout gave them on any machine.
+pub fn png_of_svg(svg: &str, size: egui::Vec2, scale: f32) -> Result<Vec<u8>, String> {
+    use resvg::{tiny_skia, usvg};
+    let mut opt = usvg::Options::default();
+    {
+        let db = opt.fontdb_mut();
+        for data in egui::FontDefinitions::default().font_data.values() {
+            db.load_font_data(data.font.as_ref().as_ref().to_vec());
+        }
+        db.set_sans_serif_family("Ubuntu");
+    }
+    let tree =
+        usvg::Tree::from_str(svg, &opt).map_err(|e| format!("the SVG did not parse: {e}"))?;
+    let (w, h) = (
+        (size.x * scale).round() as u32,
+        (size.y * scale).round() as u32,
+    );
+    let mut pixmap =
+        tiny_skia::Pixmap::new(w, h).ok_or_else(|| format!("cannot make a {w}x{h} picture"))?;
+    resvg::render(
+        &tree,
+        tiny_skia::Transform::from_scale(scale, scale),
+        &mut pixmap.as_mut(),
+    );
+    pixmap
+        .encode_png()
+        .map_err(|e| format!("PNG encoding failed: {e}"))
+}

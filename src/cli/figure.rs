@@ -1,0 +1,269 @@
+//! `oneblock figure`: one view of the window as a file, drawn headless by
+//! the window's own view code (no display, no GPU): an SVG, or a PNG
+//! rasterised from that SVG, by the output's extension. Only the figure is
+//! drawn (title, axes with units, legend), never the view's buttons. Needs
+//! the `gui` feature (egui draws the view).
+
+use std::path::{Path, PathBuf};
+
+use clap::Args;
+
+use super::CliError;
+use super::gui::{VIEW_KEYS, parse_size};
+use super::values::{echo, parse_count, parse_number, short};
+use crate::model::Preset;
+
+/// The default figure size in points.
+pub const DEFAULT_SIZE: [f32; 2] = [900.0, 600.0];
+/// PNG pixels per point: sharp on a slide or a page.
+pub const PNG_SCALE: f32 = 2.0;
+
+#[derive(Debug, Clone, Args)]
+pub struct FigureArgs {
+    /// The view: plane, block, bifurcation, return-map, events, numerics, phase.
+    #[arg(long)]
+    pub view: String,
+    /// Where the figure goes; its extension picks the format: .svg (vector:
+    /// lines as paths, text as text) or .png (that SVG rasterised at 2
+    /// pixels per point). Never overwrites an existing file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
+    /// intermittent [default: fig3b, or the session's].
+    #[arg(long)]
+    pub preset: Option<Preset>,
+    /// Start from a session saved by the window's "Save session" (its
+    /// parameters, views' settings and diagram zoom); the flags override it.
+    #[arg(long)]
+    pub session: Option<PathBuf>,
+    /// κ = k_x/k_y, in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub kappa: Option<f64>,
+    /// γ, the friction weakening, in [0, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 1e3].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub nu: Option<f64>,
+    /// θν, the pulling direction in radians.
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
+    pub theta_nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
+    /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
+    pub size: Option<[f32; 2]>,
+    /// Lower end of θν: the bifurcation diagram's or the phase grid's range (radians).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
+    pub theta_nu_from: Option<f64>,
+    /// Upper end of θν (with --theta-nu-from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_from")]
+    pub theta_nu_to: Option<f64>,
+    /// Lower end of the bifurcation diagram's θ axis [default: the columns' range].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_to")]
+    pub theta_from: Option<f64>,
+    /// Upper end of the diagram's θ axis (with --theta-from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_from")]
+    pub theta_to: Option<f64>,
+    /// Lower end of the phase grid's κ range, in [1e-6, 1e6].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_to")]
+    pub kappa_from: Option<f64>,
+    /// Upper end of the phase grid's κ range (with --kappa-from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_from")]
+    pub kappa_to: Option<f64>,
+    /// The phase grid's θν columns, in [2, 200].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub theta_nu_steps: Option<usize>,
+    /// The phase grid's κ rows, in [2, 200].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub kappa_steps: Option<usize>,
+}
+
+/// The file formats `--out` may name.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    Svg,
+    Png,
+}
+
+/// The format `path`'s extension names, or why it names none.
+pub fn format_of(path: &Path) -> Result<Format, CliError> {
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    match ext.as_deref() {
+        Some("svg") => Ok(Format::Svg),
+        Some("png") => Ok(Format::Png),
+        Some("gif") => Err(CliError::Usage(
+            "--out: a .gif (an animation) is not made yet: name a .svg or .png file".into(),
+        )),
+        _ => Err(CliError::Usage(format!(
+            "--out: {} has no known extension: name a .svg or .png file",
+            echo(&path.display().to_string())
+        ))),
+    }
+}
+
+/// A range flag pair: finite, increasing ends.
+fn range(name: &str, from: Option<f64>, to: Option<f64>) -> Result<Option<(f64, f64)>, CliError> {
+    match (from, to) {
+        (Some(a), Some(b)) => {
+            if !(a.is_finite() && b.is_finite() && a < b) {
+                return Err(CliError::Usage(format!(
+                    "--{name}-from = {}, --{name}-to = {}: must be finite with from < to",
+                    short(a),
+                    short(b)
+                )));
+            }
+            Ok(Some((a, b)))
+        }
+        _ => Ok(None),
+    }
+}
+
+/// The checked flags: the view, format and ranges.
+#[derive(Clone, Debug)]
+pub struct Checked {
+    pub view: String,
+    pub format: Format,
+    pub theta_nu: Option<(f64, f64)>,
+    pub theta: Option<(f64, f64)>,
+    pub kappa: Option<(f64, f64)>,
+}
+
+/// Checks the flags before any work: the view, the output's extension and
+/// that it can be written, the ranges and counts.
+pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
+    if !VIEW_KEYS.contains(&a.view.as_str()) {
+        return Err(CliError::Usage(format!(
+            "--view: unknown view '{}': expected one of {}",
+            echo(&a.view),
+            VIEW_KEYS.join(", ")
+        )));
+    }
+    let format = format_of(&a.out)?;
+    let theta_nu = range("theta-nu", a.theta_nu_from, a.theta_nu_to)?;
+    if let Some((lo, hi)) = theta_nu
+        && (lo < -std::f64::consts::PI || hi > std::f64::consts::PI)
+    {
+        return Err(CliError::Usage(format!(
+            "--theta-nu-from = {}, --theta-nu-to = {}: must lie in [-pi, pi]",
+            short(lo),
+            short(hi)
+        )));
+    }
+    let theta = range("theta", a.theta_from, a.theta_to)?;
+    let kappa = range("kappa", a.kappa_from, a.kappa_to)?;
+    if let Some((lo, hi)) = kappa
+        && (lo < 1e-6 || hi > 1e6)
+    {
+        return Err(CliError::Usage(format!(
+            "--kappa-from = {}, --kappa-to = {}: must lie in [1e-6, 1e6]",
+            short(lo),
+            short(hi)
+        )));
+    }
+    for (name, v) in [
+        ("theta-nu-steps", a.theta_nu_steps),
+        ("kappa-steps", a.kappa_steps),
+    ] {
+        if let Some(n) = v
+            && !(2..=200).contains(&n)
+        {
+            return Err(CliError::Usage(format!(
+                "--{name} = {n} is out of range: must lie in [2, 200]"
+            )));
+        }
+    }
+    crate::output::check_writable(&a.out, false).map_err(|e| match e {
+        crate::output::OutputError::Exists { path } => CliError::Usage(format!(
+            "--out: {} already exists: a figure never overwrites a file, choose another name",
+            path.display()
+        )),
+        e => CliError::Usage(format!("--out: {e}")),
+    })?;
+    Ok(Checked {
+        view: a.view.clone(),
+        format,
+        theta_nu,
+        theta,
+        kappa,
+    })
+}
+
+/// Draws the figure and writes it.
+#[cfg(feature = "gui")]
+pub fn run(a: FigureArgs) -> Result<(), CliError> {
+    use crate::app::figure::{Figure, png_of_svg, svg};
+    use crate::app::{Settings, ViewKind, controls::apply_preset, session::Session};
+    let c = check(&a)?;
+    let view = ViewKind::from_key(&c.view)
+        .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
+    let (mut settings, zoom) = match &a.session {
+        Some(p) => {
+            let loaded =
+                Session::read(p).map_err(|e| CliError::Usage(format!("--session: {e}")))?;
+            if let Some(m) = &loaded.message {
+                eprintln!("warning: {m}");
+            }
+            (loaded.session.settings, loaded.session.bifurcation_zoom)
+        }
+        None => (Settings::default(), Vec::new()),
+    };
+    let preset = a
+        .preset
+        .map(|p| p.key)
+        .or_else(|| a.session.is_none().then_some("fig3b"));
+    if let Some(k) = preset
+        && let Some(p) = crate::model::preset(k)
+    {
+        apply_preset(&mut settings, &p.params, p.key);
+    }
+    let p = &mut settings.params;
+    p.kappa = a.kappa.unwrap_or(p.kappa);
+    p.gamma = a.gamma.unwrap_or(p.gamma);
+    p.nu = a.nu.unwrap_or(p.nu);
+    p.theta_nu = a.theta_nu.unwrap_or(p.theta_nu);
+    p.omega = a.omega.unwrap_or(p.omega);
+    p.validate().map_err(super::values::param_error)?;
+    if view == ViewKind::Phase {
+        let ph = &mut settings.phase;
+        let mut r = ph.current();
+        r.theta_nu = c.theta_nu.unwrap_or(r.theta_nu);
+        r.kappa = c.kappa.unwrap_or(r.kappa);
+        ph.range = r;
+        ph.zoom.clear();
+        ph.theta_nu_steps = a.theta_nu_steps.unwrap_or(ph.theta_nu_steps);
+        ph.kappa_steps = a.kappa_steps.unwrap_or(ph.kappa_steps);
+    }
+    let size = a.size.unwrap_or(DEFAULT_SIZE);
+    let fig = Figure {
+        view,
+        settings,
+        zoom,
+        theta_nu: c.theta_nu.filter(|_| view != ViewKind::Phase),
+        theta: c.theta,
+        size: eframe::egui::vec2(size[0], size[1]),
+    };
+    let text = svg(&fig).map_err(CliError::Failed)?;
+    let bytes = match c.format {
+        Format::Svg => text.into_bytes(),
+        Format::Png => png_of_svg(&text, fig.size, PNG_SCALE).map_err(CliError::Failed)?,
+    };
+    crate::output::write_output(&a.out, &bytes, false)
+        .map_err(|e| CliError::Failed(format!("--out: {e}")))?;
+    eprintln!("saved {}", a.out.display());
+    Ok(())
+}
+
+/// Without the window's code there is nothing to draw with.
+#[cfg(not(feature = "gui"))]
+pub fn run(a: FigureArgs) -> Result<(), CliError> {
+    check(&a)?;
+    Err(CliError::Failed(
+        "figure draws with the window's code: this oneblock was built without it \
+         (cargo feature 'gui'); rebuild with default features"
+            .into(),
+    ))
+}

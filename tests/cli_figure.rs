@@ -1,0 +1,270 @@
+//! `oneblock figure`: every view drawn headless with no display at all
+//! (DISPLAY and WAYLAND_DISPLAY unset): the SVG parses, each axis has at
+//! least five numeric tick labels, no control of the window is drawn, the
+//! bifurcation diagram spans the θν range asked for; a PNG is a PNG of the
+//! size asked for; an extension the command cannot write is refused.
+#![cfg(feature = "gui")]
+
+use std::collections::HashMap;
+use std::path::Path;
+use std::process::{Command, Output};
+
+use oneblock::app::Settings;
+use oneblock::app::session::Session;
+
+/// Words of the views' controls, none of which belongs in a figure.
+const CONTROLS: [&str; 12] = [
+    "Compute",
+    "Find bifurcations",
+    "Reset zoom",
+    "Back",
+    "Boundaries",
+    "Play",
+    "Pause",
+    "cycles shown",
+    "also draw",
+    "x axis as κx",
+    "Run for current parameters",
+    "Laminar length vs",
+];
+
+/// A session with small jobs, so that every view is quick.
+fn small_session(dir: &Path) -> std::path::PathBuf {
+    let mut s = Settings {
+        columns: 60,
+        sweep_transient: 60,
+        sweep_keep: 40,
+        trajectory_cycles: 40,
+        ..Settings::default()
+    };
+    s.phase.theta_nu_steps = 6;
+    s.phase.kappa_steps = 6;
+    let p = dir.join("small.json");
+    std::fs::write(
+        &p,
+        Session {
+            settings: s,
+            bifurcation_zoom: vec![],
+        }
+        .to_json(),
+    )
+    .expect("session");
+    p
+}
+
+/// Runs `oneblock figure ARGS` with no display of any kind.
+fn figure(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .arg("figure")
+        .args(args)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run oneblock figure")
+}
+
+/// A `<text>` of the SVG: where it starts, how wide it is, its string,
+/// and whether it is turned (an axis title on its side).
+struct Text {
+    x: f64,
+    y: f64,
+    width: f64,
+    text: String,
+    rotated: bool,
+}
+
+/// Every `<text>` of the SVG (parsing it on the way: a malformed SVG fails).
+fn texts(svg: &str) -> Vec<Text> {
+    use quick_xml::events::Event;
+    let mut r = quick_xml::Reader::from_str(svg);
+    let mut out = Vec::new();
+    let mut open: Option<HashMap<String, String>> = None;
+    let mut rotated = 0usize;
+    loop {
+        match r.read_event().expect("the SVG parses") {
+            Event::Start(e) => {
+                let attrs: HashMap<String, String> = e
+                    .attributes()
+                    .flatten()
+                    .map(|a| {
+                        (
+                            String::from_utf8_lossy(a.key.as_ref()).into_owned(),
+                            String::from_utf8_lossy(&a.value).into_owned(),
+                        )
+                    })
+                    .collect();
+                match e.name().as_ref() {
+                    b"text" => open = Some(attrs),
+                    b"g" if attrs.get("transform").is_some_and(|t| t.contains("rotate")) => {
+                        rotated += 1
+                    }
+                    _ => {}
+                }
+            }
+            Event::Text(t) => {
+                if let Some(a) = open.take() {
+                    let num = |k: &str| a.get(k).and_then(|v| v.parse().ok()).unwrap_or(f64::NAN);
+                    out.push(Text {
+                        x: num("x"),
+                        y: num("y"),
+                        width: num("textLength"),
+                        text: t.decode().expect("utf-8").into_owned(),
+                        rotated: rotated > 0,
+                    });
+                }
+            }
+            Event::End(e) => match e.name().as_ref() {
+                b"text" => open = None,
+                b"g" => rotated = rotated.saturating_sub(1),
+                _ => {}
+            },
+            Event::Eof => break,
+            _ => {}
+        }
+    }
+    out
+}
+
+fn number(t: &Text) -> Option<f64> {
+    if t.rotated {
+        return None;
+    }
+    t.text.replace('−', "-").trim().parse::<f64>().ok()
+}
+
+/// The largest set of numeric labels on one row (an x axis's ticks) and
+/// the largest set right-aligned on one column (a y axis's ticks), within
+/// two points.
+fn axis_ticks(texts: &[Text]) -> (Vec<f64>, Vec<f64>) {
+    let labels: Vec<(&Text, f64)> = texts.iter().filter_map(|t| Some((t, number(t)?))).collect();
+    let largest = |key: &dyn Fn(&Text) -> f64| -> Vec<f64> {
+        labels
+            .iter()
+            .map(|(a, _)| {
+                labels
+                    .iter()
+                    .filter(|(b, _)| (key(a) - key(b)).abs() <= 2.0)
+                    .map(|(_, v)| *v)
+                    .collect::<Vec<f64>>()
+            })
+            .max_by_key(Vec::len)
+            .unwrap_or_default()
+    };
+    (largest(&|t| t.y), largest(&|t| t.x + t.width))
+}
+
+#[test]
+fn every_view_is_drawn_headless_with_its_axes_and_no_controls() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8 path");
+    for view in [
+        "plane",
+        "block",
+        "bifurcation",
+        "return-map",
+        "events",
+        "phase",
+        "numerics",
+    ] {
+        let out = dir.path().join(format!("{view}.svg"));
+        let o = figure(&[
+            "--view",
+            view,
+            "--session",
+            session,
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{view}: {err}");
+        let svg = std::fs::read_to_string(&out).expect("svg written");
+        let t = texts(&svg);
+        for c in CONTROLS {
+            assert!(
+                !t.iter().any(|x| x.text.contains(c)),
+                "{view}: the control '{c}' is drawn"
+            );
+        }
+        if view == "block" {
+            // A picture of the block, not a plot: its title is there.
+            assert!(t.iter().any(|x| x.text.contains("Block")), "{view}");
+            continue;
+        }
+        let (x, y) = axis_ticks(&t);
+        assert!(x.len() >= 5, "{view}: x ticks {x:?}");
+        assert!(y.len() >= 5, "{view}: y ticks {y:?}");
+    }
+}
+
+#[test]
+fn the_diagram_spans_the_theta_nu_range_asked_for_and_a_png_is_made() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let svg = dir.path().join("fig3b.svg");
+    let o = figure(&[
+        "--view",
+        "bifurcation",
+        "--preset",
+        "fig3b",
+        "--session",
+        session.to_str().expect("utf-8"),
+        "--theta-nu-from",
+        "1.0",
+        "--theta-nu-to",
+        "1.57",
+        "--out",
+        svg.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = texts(&std::fs::read_to_string(&svg).expect("svg"));
+    let (x, _) = axis_ticks(&t);
+    assert!(x.len() >= 5, "θν ticks {x:?}");
+    let (lo, hi) = x
+        .iter()
+        .fold((f64::MAX, f64::MIN), |(a, b), v| (a.min(*v), b.max(*v)));
+    // Ticks inside the range asked for, and spread over most of it.
+    assert!(lo >= 1.0 - 1e-9 && hi <= 1.57 + 1e-9, "θν ticks {x:?}");
+    assert!(lo <= 1.1 && hi >= 1.45, "θν ticks {x:?}");
+
+    let png = dir.path().join("fig3b.png");
+    let o = figure(&[
+        "--view",
+        "bifurcation",
+        "--session",
+        session.to_str().expect("utf-8"),
+        "--size",
+        "400x300",
+        "--out",
+        png.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&png).expect("a PNG").to_rgb8();
+    // Two pixels per point.
+    assert_eq!(img.dimensions(), (800, 600));
+    // Not blank: the diagram's points and the labels are drawn.
+    let first = *img.get_pixel(0, 0);
+    let differ = img.pixels().filter(|p| **p != first).count();
+    assert!(differ > 800 * 600 / 50, "{differ} pixels drawn");
+}
+
+#[test]
+fn an_extension_the_command_cannot_write_is_refused() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (name, flag) in [("a.gif", "--out"), ("a.txt", "--out"), ("a", "--out")] {
+        let out = dir.path().join(name);
+        let o = figure(&[
+            "--view",
+            "plane",
+            "--preset",
+            "fig3b",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{name}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
+        assert!(err.contains(flag), "{name}: {err}");
+        assert!(!out.exists(), "{name} written");
+    }
+}
