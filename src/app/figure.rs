@@ -91,17 +91,10 @@ fn view_settings(fig: &Figure) -> Settings {
 /// job failed and why.
 pub fn compute(fig: &Figure) -> Result<Jobs, String> {
     let needed = lanes(fig.view);
-    let skip = [
-        Lane::Orbit,
-        Lane::Sweep,
-        Lane::Numerics,
-        Lane::Phase,
-        Lane::Continuation,
-        Lane::Curves,
-    ]
-    .into_iter()
-    .filter(|l| !needed.contains(l))
-    .collect();
+    let skip = Lane::ALL
+        .into_iter()
+        .filter(|l| !needed.contains(l))
+        .collect();
     let mut jobs = Jobs::new(Box::new(LocalWorker::default().skipping(skip)));
     let s = view_settings(fig);
     for round in 0..MAX_ROUNDS {

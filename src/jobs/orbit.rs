@@ -63,6 +63,29 @@ impl Pacer {
     }
 }
 
+/// Sends a progressive job's `Progress` (`done` of `total` units after `n`
+/// iterates), at most every `PROGRESS_INTERVAL` and at the end.
+pub(crate) fn paced_progress(
+    pacer: &std::sync::Mutex<Pacer>,
+    lane: Lane,
+    (done, total, n): (usize, usize, u64),
+    sink: &dyn Sink,
+) -> Result<(), JobError> {
+    let rate = {
+        let mut pc = lock(pacer);
+        (pc.due() || done == total).then(|| pc.rate(n))
+    };
+    if let Some(iterates_per_second) = rate {
+        sink.send(Update::Progress {
+            generation: sink.generation(),
+            lane,
+            fraction: done as f64 / total as f64,
+            iterates_per_second,
+        })?;
+    }
+    Ok(())
+}
+
 /// Polls `sink` before a cycle: `Err` when the job must stop.
 fn poll(sink: &dyn Sink) -> Result<(), JobError> {
     if sink.cycle() {

@@ -28,7 +28,7 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
 use std::time::Instant;
 
-use super::orbit::{FLUSH_INTERVAL, Pacer};
+use super::orbit::{FLUSH_INTERVAL, Pacer, paced_progress};
 use super::plan::{PlannedCell, phase_plan};
 use super::protocol::{Axis, GridCell, Lane, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
@@ -306,19 +306,7 @@ impl PhaseJob {
         if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
             self.flush(sink)?;
         }
-        let rate = {
-            let mut pc = lock(&self.pacer);
-            (pc.due() || done == total).then(|| pc.rate(n))
-        };
-        if let Some(iterates_per_second) = rate {
-            sink.send(Update::Progress {
-                generation,
-                lane: Lane::Phase,
-                fraction: done as f64 / total as f64,
-                iterates_per_second,
-            })?;
-        }
-        Ok(())
+        paced_progress(&self.pacer, Lane::Phase, (done, total, n), sink)
     }
 }
 

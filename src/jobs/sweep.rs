@@ -24,7 +24,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
 
-use super::orbit::Pacer;
+use super::orbit::{Pacer, paced_progress};
 use super::plan::{PlannedColumn, sweep_plan};
 use super::protocol::{Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
@@ -194,19 +194,7 @@ impl SweepJob {
         };
         self.ready.notify_all();
         let columns = self.grid.len();
-        let rate = {
-            let mut pc = lock(&self.pacer);
-            (pc.due() || done == columns).then(|| pc.rate(n))
-        };
-        if let Some(iterates_per_second) = rate {
-            sink.send(Update::Progress {
-                generation,
-                lane: Lane::Sweep,
-                fraction: done as f64 / columns as f64,
-                iterates_per_second,
-            })?;
-        }
-        Ok(())
+        paced_progress(&self.pacer, Lane::Sweep, (done, columns, n), sink)
     }
 
     /// The column of plan entry `p`, to start at `neighbour`'s handover.
