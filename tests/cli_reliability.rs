@@ -40,6 +40,8 @@ fn gui_session(session: &std::path::Path, shot: &std::path::Path) -> Output {
         .unwrap()
 }
 
+// Sessions are the window's: a build without it says so instead.
+#[cfg(feature = "gui")]
 #[test]
 fn sessions_that_are_not_sessions_are_refused_in_one_line() {
     let dir = tempfile::tempdir().unwrap();
@@ -346,6 +348,7 @@ fn trajectory_events_range_is_what_the_sample_cap_allows() {
 /// A session whose keys hold control characters (an escape sequence), read
 /// where no window can open: the warning about them is escaped and folded
 /// into the error's one line.
+#[cfg(feature = "gui")]
 #[test]
 fn a_warning_then_an_error_is_one_escaped_line() {
     let dir = tempfile::tempdir().unwrap();
