@@ -227,13 +227,53 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         }
     }
     let cols: Vec<Done> = cols.into_iter().flatten().collect();
-    let rows: usize = cols.iter().map(|c| c.1.len()).sum();
     let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
     emit(&args.out, csv.as_bytes(), args.force)?;
+    let plan_summary = Summary {
+        params,
+        settings,
+        from,
+        to,
+        columns,
+        keep,
+    };
 
+    let run = Ran {
+        columns: &cols,
+        integrated: progress.done(),
+        failed: failed.load(Ordering::Relaxed),
+        seconds,
+        threads,
+    };
+    summarise(&args, &plan_summary, &run)
+}
+
+/// What a finished run reports on: its columns in grid order (θν, kept
+/// iterates, cost, map used), the cycles the progress bar counted, the
+/// columns that failed, its time and threads.
+struct Ran<'a> {
+    columns: &'a [(f64, Vec<f64>, u64, MapUsed)],
+    integrated: u64,
+    failed: u64,
+    seconds: f64,
+    threads: usize,
+}
+
+/// The summary on stderr; an error if every column failed.
+fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), CliError> {
+    let Summary {
+        params,
+        settings,
+        from,
+        to,
+        columns,
+        keep,
+    } = *plan;
+    let cols = run.columns;
+    let rows: usize = cols.iter().map(|c| c.1.len()).sum();
     // A column on the interpolant integrated its construction's samples and
     // the iterates outside its series, not the cycles counted by the bar.
-    let n = progress.done()
+    let n = run.integrated
         + cols
             .iter()
             .map(|c| match &c.3 {
@@ -242,7 +282,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
             })
             .sum::<u64>();
     let evals: u64 = cols.iter().map(|c| c.2).sum();
-    let failed = failed.load(Ordering::Relaxed);
+    let (failed, seconds, threads) = (run.failed, run.seconds, run.threads);
     eprintln!(
         "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
@@ -265,6 +305,17 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         )));
     }
     Ok(())
+}
+
+/// What the summary names of the checked flags.
+#[derive(Clone, Copy)]
+struct Summary {
+    params: Params,
+    settings: crate::SolverSettings,
+    from: f64,
+    to: f64,
+    columns: usize,
+    keep: usize,
 }
 
 /// The summary's line on the interpolant, when any column asked for it.

@@ -238,30 +238,50 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
 }
 
 pub fn run(args: PhaseArgs) -> Result<(), CliError> {
-    let Plan {
-        params,
-        settings,
-        kappas,
-        theta_nus,
-        opts,
-        threads,
-        out,
-        max_seconds,
-        boundaries,
-    } = check(&args)?;
-    let (rows, cols) = (kappas.len(), theta_nus.len());
-    let (k_from, k_to) = (kappas[0], kappas[rows - 1]);
-    let (t_from, t_to) = (theta_nus[0], theta_nus[cols - 1]);
-    let keep = opts.keep;
-    warn_validity(&params);
+    let plan = check(&args)?;
+    warn_validity(&plan.params);
+    let start = Instant::now();
+    let grid = compute(&plan)?;
+    let seconds = start.elapsed().as_secs_f64();
+    let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
+    let mut csv = String::with_capacity(80 * (cells.len() + 1));
+    csv.push_str(PHASE_COLUMNS);
+    csv.push('\n');
+    for c in &cells {
+        writeln!(csv, "{}", phase_row(c)).ok();
+    }
+    // The picture first: if it cannot be written, neither is the CSV.
+    if let Some(png) = &args.png {
+        // Written as SVG when the name says so, else rasterised; a picture
+        // that cannot be encoded is an error, never an empty file.
+        let svg =
+            crate::figure::phase::phase_svg(&grid, &plan.kappas, &plan.theta_nus, &plan.boundaries);
+        let bytes = if crate::figure::is_svg(png) {
+            svg.into_bytes()
+        } else {
+            crate::figure::svg_to_png(&svg).map_err(|e| CliError::Failed(format!("--png: {e}")))?
+        };
+        emit_as("png", png, &bytes, args.force)?;
+    }
+    if let Some(o) = &plan.out {
+        emit(o, csv.as_bytes(), args.force)?;
+    }
+    report(&plan, &cells, seconds)
+}
+
+/// The grid of `plan`, computed by the window's phase job on the plan's
+/// threads, rows of increasing κ.
+fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
+    let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
+    let opts = &plan.opts;
     let progress = Progress::with_extra("phase", "cells", (rows * cols) as u64, "iterates");
-    let limits = Limits::start(max_seconds);
+    let limits = Limits::start(plan.max_seconds);
     let stop = || limits.stop();
     let spec = PhaseSpec {
-        params,
-        settings,
-        theta_nu: Axis::new(t_from, t_to, cols),
-        kappa: Axis::new(k_from, k_to, rows),
+        params: plan.params,
+        settings: plan.settings,
+        theta_nu: Axis::new(plan.theta_nus[0], plan.theta_nus[cols - 1], cols),
+        kappa: Axis::new(plan.kappas[0], plan.kappas[rows - 1], rows),
         transient: opts.transient,
         keep: opts.keep,
         tuning: PhaseTuning {
@@ -280,10 +300,8 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
             }
         }
     };
-    let start = Instant::now();
-    let run = run_collect(Spec::Phase(spec), threads, on_update, stop);
+    let run = run_collect(Spec::Phase(spec), plan.threads, on_update, stop);
     progress.finish();
-    let seconds = start.elapsed().as_secs_f64();
     let updates = match run {
         Ok(u) => u,
         Err(JobError::Stop) => return Err(limits.stopped("phase")),
@@ -298,38 +316,23 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
             }
         }
     }
-    let grid: Vec<Vec<PhaseCell>> = grid
+    Ok(grid
         .into_iter()
         .map(|row| row.into_iter().flatten().collect())
-        .collect();
+        .collect())
+}
 
-    let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
-    let mut csv = String::with_capacity(80 * (cells.len() + 1));
-    csv.push_str(PHASE_COLUMNS);
-    csv.push('\n');
-    for c in &cells {
-        writeln!(csv, "{}", phase_row(c)).ok();
-    }
-    // The picture first: if it cannot be written, neither is the CSV.
-    if let Some(png) = &args.png {
-        // Written as SVG when the name says so, else rasterised; a picture
-        // that cannot be encoded is an error, never an empty file.
-        let svg = crate::figure::phase::phase_svg(&grid, &kappas, &theta_nus, &boundaries);
-        let bytes = if crate::figure::is_svg(png) {
-            svg.into_bytes()
-        } else {
-            crate::figure::svg_to_png(&svg).map_err(|e| CliError::Failed(format!("--png: {e}")))?
-        };
-        emit_as("png", png, &bytes, args.force)?;
-    }
-    if let Some(o) = &out {
-        emit(o, csv.as_bytes(), args.force)?;
-    }
-
+/// The summary on stderr (the first failed cells, the classes' counts, the
+/// cost); an error if every cell failed.
+fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliError> {
+    let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
+    let (k_from, k_to) = (plan.kappas[0], plan.kappas[rows - 1]);
+    let (t_from, t_to) = (plan.theta_nus[0], plan.theta_nus[cols - 1]);
+    let (opts, threads) = (&plan.opts, plan.threads);
     let iterates: u64 = cells.iter().map(|c| c.iterates).sum();
     let evals: u64 = cells.iter().map(|c| c.rhs_evals).sum();
     let mut counts: Vec<(String, usize)> = Vec::new();
-    for c in &cells {
+    for c in cells {
         let label = legend_class(c.class).to_string();
         match counts.iter_mut().find(|(l, _)| *l == label) {
             Some((_, n)) => *n += 1,
@@ -347,9 +350,10 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         }
     }
     eprintln!(
-        "phase: {}\n  {rows} x {cols} cells (kappa [{k_from}, {k_to}], theta-nu [{t_from}, {t_to}]), at most {} transient + {keep} kept iterates{}, period tol {:e}\n  {}\n  {iterates} iterates ({:.1} per cell), {:.0} rhs evaluations per iterate; {seconds:.2} s on {threads} thread(s)",
-        describe_sweep(&params, &settings),
+        "phase: {}\n  {rows} x {cols} cells (kappa [{k_from}, {k_to}], theta-nu [{t_from}, {t_to}]), at most {} transient + {} kept iterates{}, period tol {:e}\n  {}\n  {iterates} iterates ({:.1} per cell), {:.0} rhs evaluations per iterate; {seconds:.2} s on {threads} thread(s)",
+        describe_sweep(&plan.params, &plan.settings),
         opts.transient,
+        opts.keep,
         if opts.early_exit {
             ", early exit"
         } else {
@@ -364,7 +368,7 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         iterates as f64 / cells.len().max(1) as f64,
         evals as f64 / iterates.max(1) as f64,
     );
-    if let Some(line) = map_line(&cells) {
+    if let Some(line) = map_line(cells) {
         eprintln!("{line}");
     }
     if !failed.is_empty() && failed.len() == cells.len() {
