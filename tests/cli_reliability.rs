@@ -436,3 +436,21 @@ fn an_output_where_no_file_can_be_made_is_refused_before_the_run() {
         started.elapsed()
     );
 }
+
+/// `attractors` is bounded like every long command: a limit shorter than
+/// its search stops it with one line, exit 1, and nothing on stdout.
+#[test]
+fn attractors_stops_at_max_seconds() {
+    let o = oneblock(&[
+        "attractors",
+        "--preset",
+        "fig3b",
+        "--seeds",
+        "512",
+        "--max-seconds",
+        "0.001",
+    ]);
+    let err = one_error_line(&o, 1);
+    assert!(err.contains("--max-seconds"), "{err}");
+    assert!(o.stdout.is_empty());
+}

@@ -8,9 +8,9 @@ use std::path::Path;
 use clap::Args;
 
 use super::CliError;
-use super::common::{ModelArgs, SolverArgs, describe, emit, warn_validity};
-use super::run_control::check_stdout;
-use super::values::{count_between, parse_count};
+use super::common::{ModelArgs, SolverArgs, describe, emit, max_seconds, warn_validity};
+use super::run_control::{Limits, check_stdout, run_bounded};
+use super::values::{count_between, parse_count, parse_number};
 use crate::sim::attractors::{Attractor, KEEP, TRANSIENT, attractors};
 use crate::sim::{SimError, Simulator};
 
@@ -30,12 +30,16 @@ pub struct AttractorsArgs {
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
+    /// Stop after this many seconds (0 < S ≤ 1e7), printing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
 }
 
 /// What `run` needs, checked before any work.
 pub struct Plan {
     pub sim: Simulator,
     pub seeds: usize,
+    pub max_seconds: Option<f64>,
 }
 
 /// Checks the flags (values, bounds, stdout).
@@ -44,15 +48,30 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let sim = Simulator::new(params, settings)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
     check_stdout()?;
-    Ok(Plan { sim, seeds })
+    Ok(Plan {
+        sim,
+        seeds,
+        max_seconds,
+    })
 }
 
 pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
-    let Plan { sim, seeds } = check(&args)?;
+    let Plan {
+        sim,
+        seeds,
+        max_seconds,
+    } = check(&args)?;
     let (params, settings) = (*sim.params(), *sim.settings());
     warn_validity(&params);
-    let found = attractors(params, settings, seeds, None, &|| false).map_err(|e| match e {
+    // Bounded like every long command: a line of life on a terminal, and
+    // --max-seconds or Ctrl+C end it with one line, printing nothing.
+    let limits = Limits::start(max_seconds);
+    let found = run_bounded("attractors", &limits, move || {
+        attractors(params, settings, seeds, None, &|| false)
+    })?
+    .map_err(|e| match e {
         SimError::Cancelled => CliError::Failed("cancelled".into()),
         e => CliError::from(e),
     })?;
