@@ -454,3 +454,28 @@ fn attractors_stops_at_max_seconds() {
     assert!(err.contains("--max-seconds"), "{err}");
     assert!(o.stdout.is_empty());
 }
+
+/// `figure` is bounded too (a large phase grid takes a while): one line,
+/// exit 1, no file.
+#[cfg(feature = "gui")]
+#[test]
+fn figure_stops_at_max_seconds() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("phase.svg");
+    let o = oneblock(&[
+        "figure",
+        "--view",
+        "phase",
+        "--kappa-steps",
+        "60",
+        "--theta-nu-steps",
+        "60",
+        "--max-seconds",
+        "0.001",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let err = one_error_line(&o, 1);
+    assert!(err.contains("--max-seconds"), "{err}");
+    assert!(!out.exists());
+}

@@ -10,6 +10,8 @@ use clap::Args;
 
 use super::CliError;
 use super::gui::{VIEW_KEYS, parse_size};
+#[cfg(feature = "gui")]
+use super::run_control::{Limits, run_bounded};
 use super::values::{echo, parse_count, parse_number, short};
 use crate::model::Preset;
 
@@ -54,6 +56,9 @@ pub struct FigureArgs {
     /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
     pub size: Option<[f32; 2]>,
+    /// Stop after this many seconds (0 < S ≤ 1e7), writing nothing, exit 1.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub max_seconds: Option<f64>,
     /// Lower end of θν: the bifurcation diagram's or the phase grid's range (radians).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
     pub theta_nu_from: Option<f64>,
@@ -246,10 +251,15 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         theta: c.theta,
         size: eframe::egui::vec2(size[0], size[1]),
     };
-    let text = svg(&fig).map_err(CliError::Failed)?;
+    // Bounded like every long command (a large phase grid takes a while):
+    // a line of life on a terminal; --max-seconds or Ctrl+C end it with one
+    // line, writing nothing.
+    let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
+    let size = fig.size;
+    let text = run_bounded("figure", &limits, move || svg(&fig))?.map_err(CliError::Failed)?;
     let bytes = match c.format {
         Format::Svg => text.into_bytes(),
-        Format::Png => png_of_svg(&text, fig.size, PNG_SCALE).map_err(CliError::Failed)?,
+        Format::Png => png_of_svg(&text, size, PNG_SCALE).map_err(CliError::Failed)?,
     };
     crate::output::write_output(&a.out, &bytes, false)
         .map_err(|e| CliError::Failed(format!("--out: {e}")))?;
