@@ -1,6 +1,7 @@
 //! The ticks' unit tests.
 
 use super::*;
+use std::f64::consts::PI;
 
 fn labels(t: &[Tick]) -> Vec<&str> {
     t.iter().map(|t| t.label.as_str()).collect()
