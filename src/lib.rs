@@ -6,12 +6,15 @@
 //! - [`sim`]: one stick–slip cycle, the map θ → θ', orbits, sweeps.
 //! - [`jobs`]: every long computation, defined once, run by any host.
 //! - [`worker`]: the background threads the GUI talks to (the jobs' threaded host).
-//! - [`cli`]: the headless subcommands.
+//! - [`cli`]: the headless subcommands (not in the browser build).
 //! - [`formats`]: the CSV formats and class colours every front end writes.
 //! - `app` (feature `gui`): the eframe/egui explorer.
 
 #[cfg(feature = "gui")]
 pub mod app;
+// The browser build (wasm32) has no command line, no terminal and no file
+// system to write into: the commands and the atomic file writer are native.
+#[cfg(not(target_arch = "wasm32"))]
 pub mod cli;
 pub mod figure;
 pub mod formats;
@@ -19,8 +22,10 @@ pub mod integrate;
 pub mod jobs;
 pub mod model;
 pub mod numerics;
+#[cfg(not(target_arch = "wasm32"))]
 pub mod output;
 pub mod sim;
+pub mod text;
 pub mod worker;
 
 pub use integrate::{Method, SolverSettings};

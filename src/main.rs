@@ -1,8 +1,21 @@
 //! `oneblock`: with no arguments opens the window; subcommands run headless.
 
+#[cfg(not(target_arch = "wasm32"))]
 use clap::Parser;
+#[cfg(not(target_arch = "wasm32"))]
 use clap::error::ErrorKind;
 
+/// The browser build (web/build.sh): the explorer on the page's canvas.
+#[cfg(all(target_arch = "wasm32", feature = "gui"))]
+fn main() {
+    oneblock::app::web::start();
+}
+
+/// A browser build without the window has nothing to run.
+#[cfg(all(target_arch = "wasm32", not(feature = "gui")))]
+fn main() {}
+
+#[cfg(not(target_arch = "wasm32"))]
 fn main() {
     let cli = match oneblock::cli::Cli::try_parse() {
         Ok(cli) => cli,

@@ -143,3 +143,29 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
         "no label containing {label:?}"
     );
 }
+
+#[test]
+fn opening_a_session_in_the_window_replaces_settings_and_zoom_but_not_the_folder() {
+    // What the browser's "Open session…" does with an uploaded file.
+    use oneblock::app::{Explorer, Recorder};
+    let mut app = Explorer::new(Box::new(Recorder::new()), Settings::default());
+    app.settings.save_dir = "/my/figures".into();
+    let s = changed();
+    let loaded = Session::from_text(&s.to_json(), "s.json").expect("a current session");
+    app.open_session(loaded);
+    assert_eq!(app.settings.params, s.settings.params);
+    assert_eq!(app.settings.tab, ViewKind::Events);
+    assert_eq!(app.views.bifurcation.zoom, s.bifurcation_zoom);
+    assert_eq!(app.settings.save_dir, "/my/figures");
+    // A session of another version is refused with one line.
+    let future = s
+        .to_json()
+        .replacen("\"oneblock_session\": 1", "\"oneblock_session\": 99", 1);
+    assert_ne!(
+        future,
+        s.to_json(),
+        "the version field is where the test expects it"
+    );
+    let e = Session::from_text(&future, "f.json").expect_err("refused");
+    assert!(e.contains("version 99") && !e.contains('\n'), "{e}");
+}

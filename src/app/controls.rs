@@ -368,6 +368,7 @@ fn view_options_ui(ui: &mut Ui, s: &mut Settings, software_gl: bool) {
 }
 
 /// Screenshot, exports, the save folder, restart and reset.
+#[cfg_attr(target_arch = "wasm32", allow(unused_variables))]
 fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
     ui.horizontal_wrapped(|ui| {
         if ui
@@ -396,6 +397,8 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
         {
             out.push(Action::SaveSession);
         }
+        #[cfg(target_arch = "wasm32")]
+        web_files_ui(ui, out);
         ui.menu_button("Export data", |ui| {
             if ui.button("Events CSV").clicked() {
                 out.push(Action::Export(Export::Events));
@@ -411,6 +414,8 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
             }
         });
     });
+    // The browser chooses where downloads go.
+    #[cfg(not(target_arch = "wasm32"))]
     ui.horizontal_wrapped(|ui| {
         ui.label("folder");
         ui.add(TextEdit::singleline(&mut s.save_dir).desired_width(f32::INFINITY))
@@ -544,6 +549,29 @@ pub fn apply_preset(s: &mut Settings, p: &Params, key: &str) {
         s.full_circle = true;
     }
     s.preset = Some(key.to_string());
+}
+
+/// The browser build's own file controls: a session opened by upload, and
+/// the state as a link.
+#[cfg(target_arch = "wasm32")]
+fn web_files_ui(ui: &mut Ui, out: &mut Vec<Action>) {
+    if ui
+        .button("Open session…")
+        .on_hover_text("A session saved before (a JSON file): its parameters, views and zoom.")
+        .clicked()
+    {
+        out.push(Action::OpenSession);
+    }
+    if ui
+        .button("Copy link")
+        .on_hover_text(
+            "The address of this state (preset, view and parameters): \
+             it opens the explorer here, for students or a slide.",
+        )
+        .clicked()
+    {
+        out.push(Action::CopyLink);
+    }
 }
 
 /// The regime badge, θc, and the plain-words line.

@@ -51,6 +51,9 @@ pub struct Explorer {
     view_rects: HashMap<ViewKind, Rect>,
     applied_style: Option<(f32, bool, bool)>,
     now: f64,
+    /// The browser build's uploads and page context.
+    #[cfg(target_arch = "wasm32")]
+    pub web: super::web::WebState,
 }
 
 impl Explorer {
@@ -83,6 +86,8 @@ impl Explorer {
             view_rects: HashMap::new(),
             applied_style: None,
             now: 0.0,
+            #[cfg(target_arch = "wasm32")]
+            web: Default::default(),
         }
     }
 
@@ -110,6 +115,22 @@ impl Explorer {
         }
     }
 
+    /// Opens a session (an uploaded file in the browser): its settings and
+    /// zoom replace the current ones, and what had to be set to a default
+    /// is said in a toast. The save folder stays the window's own.
+    pub fn open_session(&mut self, loaded: super::session::Loaded) {
+        let dir = std::mem::take(&mut self.settings.save_dir);
+        self.settings = loaded.session.settings;
+        self.settings.save_dir = dir;
+        self.views.bifurcation.zoom = loaded.session.bifurcation_zoom;
+        self.views.bifurcation.invalidate();
+        self.controls.resync();
+        match loaded.message {
+            Some(m) => self.shots.toast(m, true, self.now),
+            None => self.shots.toast("session opened".into(), false, self.now),
+        }
+    }
+
     /// Sends everything pending now (tests; the end of a scripted wait).
     pub fn flush(&mut self, ctx: &Context) {
         self.now += SWEEP_DEBOUNCE + ORBIT_DEBOUNCE;
@@ -133,6 +154,8 @@ impl Explorer {
         if self.jobs.receive() || pumping {
             ctx.request_repaint();
         }
+        #[cfg(target_arch = "wasm32")]
+        self.take_upload();
         self.sync_jobs(ctx);
         self.shots.poll(self.now);
         if self.shots.in_flight > 0 || !self.shots.toasts.is_empty() {
@@ -196,6 +219,28 @@ impl Explorer {
             }
             Action::Export(what) => {
                 save::export_csv(what, &self.settings, &self.jobs, &mut self.shots, now);
+            }
+            #[cfg(target_arch = "wasm32")]
+            Action::OpenSession => {
+                let ctx = self.web.ctx.clone();
+                if let Err(e) = super::web::pick_session(&self.web.upload, ctx) {
+                    self.shots
+                        .toast(format!("cannot open a session: {e}"), true, now);
+                }
+            }
+            #[cfg(target_arch = "wasm32")]
+            Action::CopyLink => {
+                let query = super::url_state::query_of(&self.settings);
+                match super::web::link_to(&query) {
+                    Some(url) => {
+                        ctx.copy_text(url);
+                        self.shots
+                            .toast("link copied (and in the address bar)".into(), false, now);
+                    }
+                    None => self
+                        .shots
+                        .toast("cannot make a link here".into(), true, now),
+                }
             }
             Action::ResetDefaults => {
                 let dir = std::mem::take(&mut self.settings.save_dir);
@@ -491,6 +536,24 @@ impl Explorer {
                     });
             },
         );
+    }
+}
+
+#[cfg(target_arch = "wasm32")]
+impl Explorer {
+    /// Opens a session whose upload has arrived, or says why it could not.
+    fn take_upload(&mut self) {
+        let arrived = self.web.upload.borrow_mut().take();
+        match arrived {
+            None => {}
+            Some(Ok((name, text))) => {
+                match super::session::Session::from_text(&text, &crate::text::echo(&name)) {
+                    Ok(loaded) => self.open_session(loaded),
+                    Err(e) => self.shots.toast(e, true, self.now),
+                }
+            }
+            Some(Err(e)) => self.shots.toast(e, true, self.now),
+        }
     }
 }
 

@@ -3,7 +3,7 @@
 //! time per frame, and the slider-to-picture latency; the one-line report
 //! and the small overlay that shows the running median.
 
-use std::time::Instant;
+use web_time::Instant;
 
 use eframe::egui;
 use egui::{Color32, Context, RichText};

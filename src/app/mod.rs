@@ -40,6 +40,8 @@ pub mod export;
 pub mod figure;
 pub mod frame_stats;
 pub mod jobs;
+#[cfg(not(target_arch = "wasm32"))]
+mod native;
 pub mod numerics_table;
 pub mod numerics_view;
 pub mod overlay;
@@ -58,12 +60,11 @@ pub mod status;
 pub mod style;
 pub mod svg;
 pub mod svg_render;
+pub mod url_state;
 pub mod view;
 pub mod views;
-
-use std::path::PathBuf;
-use std::sync::{Arc, PoisonError};
-use std::time::Duration;
+#[cfg(target_arch = "wasm32")]
+pub mod web;
 
 pub use crate::model::{PRESETS, preset, preset_keys};
 pub use backend::{Backend, Recorder};
@@ -71,47 +72,16 @@ pub use explorer::Explorer;
 pub use script::Script;
 pub use settings::{Layout, Settings, ViewKind};
 
-use crate::worker::{LocalWorker, Worker, WorkerConfig};
-use eframe::egui;
-
-/// How to open the window.
-#[derive(Clone, Debug, Default)]
-pub struct RunOptions {
-    /// Start on this preset (and ignore the saved parameters).
-    pub preset: Option<String>,
-    /// Take a screenshot here once the views are complete, then exit.
-    pub screenshot: Option<PathBuf>,
-    /// Inner window size in points.
-    pub size: Option<[f32; 2]>,
-    /// Measure and report frame times.
-    pub frame_stats: bool,
-    /// Show one view full size instead of the tiles.
-    pub view: Option<ViewKind>,
-    /// Text size multiplier.
-    pub font_scale: Option<f32>,
-    /// Give up a scripted run after this long.
-    pub timeout: Option<Duration>,
-    /// Open on this session file (`oneblock gui --session`).
-    pub session: Option<PathBuf>,
-    /// A scripted run that opens on the saved state as a plain launch does
-    /// (checked, and set aside if unusable) but never writes it: how the
-    /// tests check that no saved state bricks a launch.
-    pub saved_state: bool,
-    /// Run the jobs on the window's thread, a slice of each frame
-    /// (`LocalWorker`), as the browser build does.
-    pub single_thread: bool,
-    /// Test-only: the first frame stalls for an hour, so that the tests can
-    /// check that `timeout` bounds a stalled run.
-    pub stall_first_frame: bool,
-}
+#[cfg(not(target_arch = "wasm32"))]
+pub use native::{RunOptions, run};
 
 /// How long past `--timeout` a scripted run may take to save its picture
 /// before the watchdog ends it.
-pub const SCREENSHOT_GRACE: Duration = Duration::from_secs(20);
+pub const SCREENSHOT_GRACE: std::time::Duration = std::time::Duration::from_secs(20);
 
 /// Whether OpenGL is a CPU rasteriser (Mesa's llvmpipe, softpipe, swrast):
 /// fill-bound, so the window saves on anti-aliasing there (`smooth_lines`).
-fn is_software_gl(gl: &eframe::glow::Context) -> bool {
+pub(crate) fn is_software_gl(gl: &eframe::glow::Context) -> bool {
     use eframe::glow::HasContext as _;
     // SAFETY: called on the thread that owns the current context (eframe's
     // app-creation callback), with a valid enum; glGetString has no other
@@ -120,236 +90,4 @@ fn is_software_gl(gl: &eframe::glow::Context) -> bool {
     ["llvmpipe", "softpipe", "swrast", "software"]
         .iter()
         .any(|k| renderer.contains(k))
-}
-
-/// What `oneblock gui` says where there is no display to open a window on
-/// (rather than the windowing library's own error).
-const NO_DISPLAY: &str = "no display: the window needs X11 or Wayland (DISPLAY and WAYLAND_DISPLAY are unset); \
-     for a --screenshot without a display, run it under xvfb-run";
-
-/// Whether the environment (read by `var`) names an X11 or Wayland display.
-fn has_display(var: impl Fn(&str) -> Option<std::ffi::OsString>) -> bool {
-    ["DISPLAY", "WAYLAND_DISPLAY"]
-        .iter()
-        .any(|k| var(k).is_some_and(|v| !v.is_empty()))
-}
-
-/// The window's options: title and size, the glow renderer, and for a
-/// scripted run (a screenshot) no saved state read or written.
-fn native_options(opts: &RunOptions, size: [f32; 2], scripted: bool) -> eframe::NativeOptions {
-    let mut native = eframe::NativeOptions {
-        viewport: egui::ViewportBuilder::default()
-            .with_title("oneblock: one-block earthquake model")
-            .with_app_id("oneblock")
-            .with_inner_size(size)
-            .with_min_inner_size([800.0, 560.0]),
-        renderer: eframe::Renderer::Glow,
-        // Dithering costs a noticeable share of each frame under software
-        // rendering (llvmpipe is fill-bound here) and the plots have no
-        // gradients to band.
-        dithering: false,
-        persist_window: !scripted,
-        ..Default::default()
-    };
-    if opts.frame_stats {
-        // Measure drawing, not waiting for the display.
-        native.glow_options.vsync = false;
-    }
-    if scripted && !opts.saved_state {
-        // A scripted run never reads or writes the user's saved state.
-        native.persistence_path =
-            Some(std::env::temp_dir().join(format!("oneblock-script-{}", std::process::id())));
-    }
-    native
-}
-
-/// Opens the window; returns when it is closed. A scripted run (with
-/// `screenshot`) returns an error if the picture could not be made.
-pub fn run(opts: RunOptions) -> Result<(), String> {
-    let preset =
-        match &opts.preset {
-            Some(k) => Some(*preset(k).ok_or_else(|| {
-                format!("unknown preset '{k}': expected one of {}", preset_keys())
-            })?),
-            None => None,
-        };
-    let scripted = opts.screenshot.is_some();
-    // Warnings are said once the run is over: on their own lines after a
-    // success, folded into the one line of an error otherwise.
-    let mut warnings: Vec<String> = Vec::new();
-    let session = match &opts.session {
-        Some(p) => {
-            let loaded = session::Session::read(p).map_err(|e| format!("--session: {e}"))?;
-            warnings.extend(loaded.message.clone());
-            Some(loaded)
-        }
-        None => None,
-    };
-    if let Some(p) = &opts.screenshot {
-        crate::output::check_writable(p, false)
-            .map_err(|e| with_warnings(format!("--screenshot: {e}"), &warnings))?;
-    }
-    // Without a display the window cannot open: one line saying so (after
-    // any warning about the session), not the windowing library's error.
-    if !has_display(|k| std::env::var_os(k)) {
-        return Err(with_warnings(NO_DISPLAY.into(), &warnings));
-    }
-    let size = opts.size.unwrap_or([1280.0, 800.0]);
-    let timeout = opts.timeout.unwrap_or(Duration::from_secs(180));
-    let measure = opts.frame_stats.then(|| Duration::from_secs(5));
-
-    let native = native_options(&opts, size, scripted);
-    // The saved state is read by a plain launch (and by a scripted run
-    // asked to): checked first, and set aside if it cannot be used.
-    let reads_state = (!scripted || opts.saved_state) && session.is_none();
-    let state_message = if reads_state {
-        saved_state::default_path().and_then(|p| saved_state::check(&p))
-    } else {
-        None
-    };
-    warnings.extend(state_message.clone());
-
-    let outcome = Arc::new(std::sync::Mutex::new(None));
-    let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
-    if scripted {
-        spawn_watchdog(timeout)?;
-    }
-
-    let out2 = outcome.clone();
-    let stats2 = stats_report.clone();
-    let shot = opts.screenshot.clone();
-    let single_thread = opts.single_thread;
-    let stall_first_frame = opts.stall_first_frame;
-    let r = eframe::run_native(
-        "oneblock",
-        native,
-        Box::new(move |cc| {
-            let ctx = cc.egui_ctx.clone();
-            let worker: Box<dyn Backend> = if single_thread {
-                Box::new(LocalWorker::default())
-            } else {
-                Box::new(Worker::spawn(
-                    WorkerConfig::default(),
-                    Arc::new(move || ctx.request_repaint()),
-                ))
-            };
-            let mut settings: Settings = if let Some(l) = &session {
-                l.session.settings.clone()
-            } else if !reads_state {
-                Settings::default()
-            } else {
-                cc.storage
-                    .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
-                    .unwrap_or_default()
-            };
-            if let Some(p) = &preset {
-                controls::apply_preset(&mut settings, &p.params, p.key);
-            }
-            if let Some(v) = opts.view {
-                settings.layout = Layout::Tabs;
-                settings.tab = v;
-            } else if scripted && session.is_none() {
-                settings.layout = Layout::Tiles;
-            }
-            if let Some(f) = opts.font_scale {
-                settings.font_scale = f;
-            }
-            if scripted && !opts.frame_stats {
-                // A screenshot is a picture for a document: anti-aliased
-                // even under software OpenGL, where it only costs time.
-                settings.smooth_lines = Some(true);
-            }
-            let mut app = Explorer::new(worker, settings);
-            app.stall_first_frame = stall_first_frame;
-            if let Some(l) = &session {
-                app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
-                if let Some(m) = &l.message {
-                    app.shots.toast(m.clone(), true, 0.0);
-                }
-            }
-            if let Some(m) = &state_message {
-                app.shots.toast(m.clone(), true, 0.0);
-            }
-            app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
-            app.persist = !scripted;
-            app.stats.enabled = opts.frame_stats;
-            if let Some(path) = shot {
-                let mut sc = Script::new(path, timeout, measure);
-                sc.outcome = out2;
-                app.script = Some(sc);
-            }
-            app.stats_sink = Some(stats2);
-            Ok(Box::new(app))
-        }),
-    );
-    if let Some(rep) = stats_report
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .take()
-    {
-        eprintln!("{rep}");
-    }
-    r.map_err(|e| with_warnings(format!("the window failed: {e}"), &warnings))?;
-    let shot = outcome
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .take();
-    finish(scripted, shot, &warnings)
-}
-
-/// Never hang: if a frame stalls (so the script's own check of the time
-/// never runs), a scripted run gives up loudly soon after `timeout`. The
-/// grace covers taking and encoding the picture once the views are done.
-fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
-    let limit = timeout + SCREENSHOT_GRACE;
-    std::thread::Builder::new()
-        .name("oneblock-watchdog".into())
-        .spawn(move || {
-            std::thread::sleep(limit);
-            eprintln!(
-                "error: the window did not finish within --timeout {:.0} s \
-                 (and {:.0} s to save the picture)",
-                timeout.as_secs_f64(),
-                SCREENSHOT_GRACE.as_secs_f64()
-            );
-            std::process::exit(1);
-        })
-        .map(drop)
-        .map_err(|e| e.to_string())
-}
-
-/// The end of a run: a scripted run's outcome (`shot`), the warnings on
-/// their own lines after a success or folded into the error's one line.
-fn finish(
-    scripted: bool,
-    shot: Option<Result<String, String>>,
-    warnings: &[String],
-) -> Result<(), String> {
-    let done = match (scripted, shot) {
-        (false, _) => Ok(String::new()),
-        (true, Some(Ok(path))) => Ok(format!("saved {path}")),
-        (true, Some(Err(e))) => Err(e),
-        (true, None) => Err("the window closed before the screenshot was taken".into()),
-    };
-    match done {
-        Ok(said) => {
-            for w in warnings {
-                eprintln!("warning: {w}");
-            }
-            if !said.is_empty() {
-                eprintln!("{said}");
-            }
-            Ok(())
-        }
-        Err(e) => Err(with_warnings(e, warnings)),
-    }
-}
-
-/// An error with the warnings before it folded in: one line in all.
-fn with_warnings(error: String, warnings: &[String]) -> String {
-    if warnings.is_empty() {
-        error
-    } else {
-        format!("{error} (after warning: {})", warnings.join("; "))
-    }
 }

@@ -11,7 +11,7 @@ use std::io::Read as _;
 use std::path::{Path, PathBuf};
 
 use super::settings::Settings;
-use crate::cli::values::echo;
+use crate::text::echo;
 
 /// The largest saved state read, in bytes. The window's own state is a
 /// few KB of settings and some tens of KB of egui's memory; a 10 MB save
@@ -20,8 +20,16 @@ pub const MAX_BYTES: u64 = 4 << 20;
 
 /// Where eframe keeps the window's state for this app (None where the
 /// platform has no such folder).
+#[cfg(not(target_arch = "wasm32"))]
 pub fn default_path() -> Option<PathBuf> {
     eframe::storage_dir("oneblock").map(|d| d.join("app.ron"))
+}
+
+/// In a browser the state is in the page's local storage, read by eframe
+/// (and its settings sanitised when the window opens): no file to check.
+#[cfg(target_arch = "wasm32")]
+pub fn default_path() -> Option<PathBuf> {
+    None
 }
 
 /// Checks the saved state at `path`. `None` when it is absent or usable

@@ -11,6 +11,7 @@ use std::sync::mpsc::{Receiver, Sender, channel};
 use egui::{ColorImage, Context, Rect, RichText};
 
 use super::style;
+#[cfg(not(target_arch = "wasm32"))]
 use crate::output::write_output;
 
 /// How a save ended.
@@ -81,11 +82,13 @@ pub fn encode_png(
 
 /// A save whose thread could not start: a failure the user sees as a
 /// toast (and a scripted run as its error), not a file silently missing.
+#[cfg(not(target_arch = "wasm32"))]
 fn not_started(path: &str, e: &std::io::Error) -> Saved {
     Saved::Failed(format!("cannot save {path}: cannot start a thread: {e}"))
 }
 
 impl Shots {
+    #[cfg(not(target_arch = "wasm32"))]
     /// Asks for a screenshot of the window, cropped to `crop`, saved to `path`.
     pub fn request(&mut self, ctx: &Context, path: PathBuf, crop: Option<Rect>) {
         let tx = self.tx.clone();
@@ -112,6 +115,7 @@ impl Shots {
         ctx.request_repaint();
     }
 
+    #[cfg(not(target_arch = "wasm32"))]
     /// Writes `bytes` to `path` on a thread (for CSV exports).
     pub fn write(&mut self, path: PathBuf, bytes: Vec<u8>) {
         let tx = self.tx.clone();
@@ -130,6 +134,39 @@ impl Shots {
         if let Err(e) = spawned {
             failed_tx.send(not_started(&shown, &e)).ok();
         }
+    }
+
+    /// Asks for a screenshot of the page, cropped to `crop`, downloaded as
+    /// `path`'s file name (the browser build: encoded in the callback, as a
+    /// page has no threads).
+    #[cfg(target_arch = "wasm32")]
+    pub fn request(&mut self, ctx: &Context, path: PathBuf, crop: Option<Rect>) {
+        let tx = self.tx.clone();
+        let ppp = ctx.pixels_per_point();
+        ctx.request_screenshot(move |img: Arc<ColorImage>| {
+            let r =
+                encode_png(&img, crop, ppp).and_then(|bytes| super::web::download(&path, &bytes));
+            tx.send(match r {
+                Ok(()) => Saved::Ok(path),
+                Err(e) => Saved::Failed(e),
+            })
+            .ok();
+        });
+        self.in_flight += 1;
+        ctx.request_repaint();
+    }
+
+    /// Downloads `bytes` as `path`'s file name (the browser build).
+    #[cfg(target_arch = "wasm32")]
+    pub fn write(&mut self, path: PathBuf, bytes: Vec<u8>) {
+        self.in_flight += 1;
+        let r = super::web::download(&path, &bytes);
+        self.tx
+            .send(match r {
+                Ok(()) => Saved::Ok(path),
+                Err(e) => Saved::Failed(e),
+            })
+            .ok();
     }
 
     /// Collects finished saves into toasts; `now` is the ui time.
@@ -189,6 +226,12 @@ impl Shots {
 /// A fresh file name in `dir`: `oneblock-<what>-<timestamp>.<ext>`, with a
 /// counter if that exists already.
 pub fn fresh_path(dir: &str, what: &str, ext: &str) -> PathBuf {
+    // In a browser the name is the download's; the browser picks the folder
+    // and never overwrites.
+    if cfg!(target_arch = "wasm32") {
+        let stamp = super::export::timestamp();
+        return PathBuf::from(format!("oneblock-{what}-{stamp}.{ext}"));
+    }
     let dir = if dir.trim().is_empty() {
         "."
     } else {

@@ -20,7 +20,7 @@ use serde_json::{Map, Value};
 
 use super::bifurcation::Zoom;
 use super::settings::{MAX_ZOOM_LEVELS, Settings, is_usable_range};
-use crate::cli::values::echo;
+use crate::text::echo;
 
 /// The format's version, written as `oneblock_session`.
 pub const VERSION: u32 = 1;
@@ -87,7 +87,14 @@ impl Session {
     pub fn read(path: &Path) -> Result<Loaded, String> {
         let name = echo(&path.display().to_string());
         let text = read_text(path).map_err(|e| format!("cannot read {name}: {e}"))?;
-        if let Ok(Value::Object(m)) = serde_json::from_str::<Value>(&text)
+        Session::from_text(&text, &name)
+    }
+
+    /// A session from the text of a file named `name` (an upload in the
+    /// browser, or [`Session::read`]): refused if it is of a version this
+    /// build does not understand, otherwise [`Session::from_json`].
+    pub fn from_text(text: &str, name: &str) -> Result<Loaded, String> {
+        if let Ok(Value::Object(m)) = serde_json::from_str::<Value>(text)
             && let Some(v) = m.get("oneblock_session")
             && v.as_u64() != Some(u64::from(VERSION))
         {
@@ -97,7 +104,7 @@ impl Session {
                  understand (it reads version {VERSION})"
             ));
         }
-        Ok(Session::from_json(&text, &name))
+        Ok(Session::from_json(text, name))
     }
 
     /// Reads a session from `text`, `what` naming it in the message (the

@@ -31,6 +31,13 @@ pub enum Action {
     SaveSession,
     /// A CSV into the save folder.
     Export(Export),
+    /// Open a session file (the browser build: an upload).
+    #[cfg(target_arch = "wasm32")]
+    OpenSession,
+    /// Write the current state into the page's URL and copy it (the
+    /// browser build).
+    #[cfg(target_arch = "wasm32")]
+    CopyLink,
     /// Every parameter and view choice back to the first-launch demo.
     ResetDefaults,
     /// The trajectory again from θ = θν.

@@ -7,7 +7,7 @@
 //! point by point.
 
 use std::sync::Mutex;
-use std::time::Instant;
+use web_time::Instant;
 
 use super::protocol::{BoundarySpec, ContinuationSpec, Lane, Update};
 use super::{Job, JobError, Sink, Status, lock};

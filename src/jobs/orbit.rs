@@ -5,7 +5,8 @@
 //! the results are bit for bit the core's.
 
 use std::sync::Mutex;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 use super::protocol::{IterateSpec, Lane, MAX_GRAPH_POWER, TrajectorySpec, Update};
 use super::{Job, JobError, Sink, Status, Stop, lock};

@@ -26,7 +26,7 @@
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::sync::{Condvar, Mutex};
-use std::time::Instant;
+use web_time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, Pacer, paced_progress};
 use super::plan::{PlannedCell, phase_plan};

@@ -1,7 +1,8 @@
 //! The work-precision measurement: for one method and setting, the map error
 //! over the sample against the reference, and the cost per iterate.
 
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 use serde::Serialize;
 

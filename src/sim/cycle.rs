@@ -82,6 +82,9 @@ pub struct Simulator {
     /// settings' own cut-off.
     pub(super) decel_err_scale: f64,
     t_tol: f64,
+    /// AVX2 detected at run time (x86_64); elsewhere (the browser's wasm)
+    /// always false: the portable path, tested against the AVX2 one.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx2: bool,
 }
 

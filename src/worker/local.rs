@@ -11,7 +11,8 @@
 //! acknowledgement nothing older of that lane follows.
 
 use std::collections::VecDeque;
-use std::time::{Duration, Instant};
+use std::time::Duration;
+use web_time::Instant;
 
 use super::Command;
 use super::orders::{Latest, Order};

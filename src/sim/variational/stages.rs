@@ -106,7 +106,9 @@ pub(crate) struct Tangents<const N: usize = DIRS> {
     pub fld: TanField<N>,
     /// The same parameters' values, for the plain field.
     plain: SlipField,
-    /// The tangents' arithmetic may use AVX2 (as the plain slip does).
+    /// The tangents' arithmetic may use AVX2 (as the plain slip does); on
+    /// other targets (wasm) the portable path.
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
     avx2: bool,
     c: Coeffs,
     /// The tangent of the current state, and of f there.

@@ -1,0 +1,265 @@
+//! The browser's entry (wasm32; built by `web/build.sh`): the same
+//! explorer on the page's canvas, its jobs run by [`LocalWorker`] a slice
+//! of each frame (a page has no threads). What differs from the native
+//! window is only how things leave and enter the page:
+//!
+//! - files (PNG, SVG, CSV, a session's JSON) are downloads ([`download`]);
+//! - a session is opened from an uploaded file ([`Upload`]);
+//! - the URL's query opens a state, and "Copy link" writes one
+//!   ([`super::url_state`]);
+//! - settings persist in the page's local storage (eframe's persistence).
+//!
+//! `web/index.html` shows a loading note and, if the app cannot start (no
+//! WebGL2, no wasm, a panic), the reason: [`show_failure`] writes it there.
+
+use std::cell::RefCell;
+use std::path::Path;
+use std::rc::Rc;
+
+use wasm_bindgen::JsCast as _;
+use wasm_bindgen::prelude::*;
+
+use super::{Explorer, Settings, controls, preset, url_state};
+use crate::worker::LocalWorker;
+
+/// The id of the page's canvas (`web/index.html`).
+const CANVAS_ID: &str = "oneblock_canvas";
+/// The id of the page's status line (loading note, or why it failed).
+const STATUS_ID: &str = "oneblock_status";
+
+/// Starts the explorer on the page (`main` of the wasm binary).
+pub fn start() {
+    let runner = eframe::WebRunner::new();
+    wasm_bindgen_futures::spawn_local(async move {
+        let Some(canvas) = canvas() else {
+            show_failure("the page has no canvas with id 'oneblock_canvas'");
+            return;
+        };
+        let options = eframe::WebOptions {
+            // No gradients to band; dithering costs fill rate, and many a
+            // lecture-hall PC renders WebGL in software.
+            dithering: false,
+            ..Default::default()
+        };
+        let started = runner
+            .start(canvas, options, Box::new(|cc| Ok(Box::new(explorer(cc)))))
+            .await;
+        match started {
+            Ok(()) => set_status(None),
+            Err(e) => show_failure(&format!(
+                "the explorer could not start: {} (it needs WebGL2; try another browser or \
+                 enable hardware acceleration)",
+                js_text(&e)
+            )),
+        }
+    });
+    // A panic after the start: the page says so instead of freezing.
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        previous(info);
+        show_failure(&format!("the explorer stopped: {info}"));
+    }));
+}
+
+/// The explorer as the page opens it: the saved settings (local storage),
+/// then the link's state over them, on a worker without threads.
+fn explorer(cc: &eframe::CreationContext<'_>) -> Explorer {
+    let mut settings: Settings = cc
+        .storage
+        .and_then(|s| eframe::get_value(s, eframe::APP_KEY))
+        .unwrap_or_default();
+    let query = page_query();
+    let message = url_state::apply_query(&query, &mut settings);
+    if let Some(p) = settings.preset.as_deref().and_then(preset)
+        && p.params == settings.params
+    {
+        controls::apply_preset(&mut settings, &p.params, p.key);
+    }
+    let mut app = Explorer::new(Box::new(LocalWorker::default()), settings);
+    if let Some(m) = message {
+        app.shots.toast(m, true, 0.0);
+    }
+    // WebGL usually hides the renderer's name; where it shows a software
+    // rasteriser, lines are drawn without feathering as natively.
+    app.set_software_gl(cc.gl.as_deref().is_some_and(super::is_software_gl));
+    app.web.ctx = Some(cc.egui_ctx.clone());
+    app
+}
+
+/// The page's canvas, if it has one.
+fn canvas() -> Option<web_sys::HtmlCanvasElement> {
+    web_sys::window()?
+        .document()?
+        .get_element_by_id(CANVAS_ID)?
+        .dyn_into()
+        .ok()
+}
+
+/// The page's status line: hidden (`None`) or showing `text`.
+fn set_status(text: Option<&str>) {
+    let Some(el) = web_sys::window()
+        .and_then(|w| w.document())
+        .and_then(|d| d.get_element_by_id(STATUS_ID))
+    else {
+        return;
+    };
+    match text {
+        None => el.remove(),
+        Some(t) => el.set_text_content(Some(t)),
+    }
+}
+
+/// Says on the page (and in the console) why the explorer is not running.
+fn show_failure(why: &str) {
+    web_sys::console::error_1(&JsValue::from_str(why));
+    if let Some(doc) = web_sys::window().and_then(|w| w.document()) {
+        let el = doc.get_element_by_id(STATUS_ID).or_else(|| {
+            let el = doc.create_element("div").ok()?;
+            el.set_id(STATUS_ID);
+            doc.body()?.append_child(&el).ok()?;
+            Some(el)
+        });
+        if let Some(el) = el {
+            el.set_class_name("failed");
+            el.set_text_content(Some(why));
+        }
+    }
+}
+
+/// A JS value (an error) as text.
+fn js_text(v: &JsValue) -> String {
+    v.as_string()
+        .or_else(|| {
+            v.dyn_ref::<js_sys::Error>()
+                .map(|e| String::from(e.message()))
+        })
+        .unwrap_or_else(|| format!("{v:?}"))
+}
+
+/// The URL's query (`?…`), or "" if there is none.
+fn page_query() -> String {
+    web_sys::window()
+        .and_then(|w| w.location().search().ok())
+        .unwrap_or_default()
+}
+
+/// The page's address with `query` as its query, also put in the address
+/// bar (without a reload or a history entry): what "Copy link" copies.
+pub fn link_to(query: &str) -> Option<String> {
+    let window = web_sys::window()?;
+    let loc = window.location();
+    let base = format!("{}{}", loc.origin().ok()?, loc.pathname().ok()?);
+    let url = format!("{base}?{query}");
+    if let Ok(history) = window.history() {
+        // Failing only on a cross-origin URL, which this is not.
+        let _ = history.replace_state_with_url(&JsValue::NULL, "", Some(&url));
+    }
+    Some(url)
+}
+
+/// Hands `bytes` to the browser as a download named after `path`'s file
+/// name (the folder is the browser's to choose).
+pub fn download(path: &Path, bytes: &[u8]) -> Result<(), String> {
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "oneblock-download".into());
+    let mime = match path.extension().and_then(|e| e.to_str()) {
+        Some("png") => "image/png",
+        Some("svg") => "image/svg+xml",
+        Some("csv") => "text/csv",
+        Some("json") => "application/json",
+        _ => "application/octet-stream",
+    };
+    let fail = |e: JsValue| format!("cannot download {name}: {}", js_text(&e));
+    let parts = js_sys::Array::of1(&js_sys::Uint8Array::from(bytes));
+    let props = web_sys::BlobPropertyBag::new();
+    props.set_type(mime);
+    let blob =
+        web_sys::Blob::new_with_u8_array_sequence_and_options(&parts, &props).map_err(fail)?;
+    let url = web_sys::Url::create_object_url_with_blob(&blob).map_err(fail)?;
+    let doc = web_sys::window()
+        .and_then(|w| w.document())
+        .ok_or_else(|| format!("cannot download {name}: no document"))?;
+    let a: web_sys::HtmlAnchorElement = doc
+        .create_element("a")
+        .map_err(fail)?
+        .dyn_into()
+        .map_err(|_| format!("cannot download {name}: no anchor element"))?;
+    a.set_href(&url);
+    a.set_download(&name);
+    a.click();
+    // The click has started the download; the URL may go.
+    let _ = web_sys::Url::revoke_object_url(&url);
+    Ok(())
+}
+
+/// What the browser build keeps beside the explorer: the egui context (to
+/// wake the page when an upload arrives) and the upload under way.
+#[derive(Default)]
+pub struct WebState {
+    /// Set when the page starts (none in tests).
+    pub ctx: Option<eframe::egui::Context>,
+    /// A session file being read: (file name, its text) or why not.
+    pub upload: Upload,
+}
+
+/// A file the user picked, read asynchronously by the browser.
+pub type Upload = Rc<RefCell<Option<Result<(String, String), String>>>>;
+
+/// Opens the browser's file picker for a session (`.json`); the file's text
+/// arrives in `slot` when read, and the page is woken to take it.
+pub fn pick_session(slot: &Upload, ctx: Option<eframe::egui::Context>) -> Result<(), String> {
+    let doc = web_sys::window()
+        .and_then(|w| w.document())
+        .ok_or("no document")?;
+    let input: web_sys::HtmlInputElement = doc
+        .create_element("input")
+        .map_err(|e| js_text(&e))?
+        .dyn_into()
+        .map_err(|_| "no input element".to_string())?;
+    input.set_type("file");
+    input.set_accept(".json,application/json");
+    let (slot, picked) = (slot.clone(), input.clone());
+    let on_change = Closure::once_into_js(move || {
+        let Some(file) = picked.files().and_then(|f| f.get(0)) else {
+            return;
+        };
+        let name = file.name();
+        if file.size() > super::session::MAX_FILE_BYTES as f64 {
+            *slot.borrow_mut() = Some(Err(format!(
+                "session {name}: over {} bytes, not read",
+                super::session::MAX_FILE_BYTES
+            )));
+            if let Some(c) = &ctx {
+                c.request_repaint();
+            }
+            return;
+        }
+        let reader = match web_sys::FileReader::new() {
+            Ok(r) => r,
+            Err(e) => {
+                *slot.borrow_mut() = Some(Err(format!("session {name}: {}", js_text(&e))));
+                return;
+            }
+        };
+        let (slot2, reader2, ctx2) = (slot.clone(), reader.clone(), ctx.clone());
+        let on_load = Closure::once_into_js(move || {
+            let text = reader2.result().ok().and_then(|v| v.as_string());
+            *slot2.borrow_mut() = Some(match text {
+                Some(t) => Ok((name, t)),
+                None => Err(format!("session {name}: could not be read as text")),
+            });
+            if let Some(c) = &ctx2 {
+                c.request_repaint();
+            }
+        });
+        reader.set_onloadend(Some(on_load.unchecked_ref()));
+        if let Err(e) = reader.read_as_text(&file) {
+            *slot.borrow_mut() = Some(Err(format!("session {}: {}", file.name(), js_text(&e))));
+        }
+    });
+    input.set_onchange(Some(on_change.unchecked_ref()));
+    input.click();
+    Ok(())
+}
