@@ -36,7 +36,7 @@ if command -v wasm-opt >/dev/null 2>&1; then
     --enable-mutable-globals "$tmp/oneblock_bg.wasm" -o "$tmp/oneblock_bg.opt.wasm"
   mv "$tmp/oneblock_bg.opt.wasm" "$tmp/oneblock_bg.wasm"
 fi
-cp web/index.html "$tmp/"
+cp web/index.html web/bench.html "$tmp/"
 # Replace the old folder in one step: a server never sees half a build.
 rm -rf "$out.old"
 [ -d "$out" ] && mv "$out" "$out.old"

@@ -155,7 +155,10 @@ impl Explorer {
             ctx.request_repaint();
         }
         #[cfg(target_arch = "wasm32")]
-        self.take_upload();
+        {
+            self.take_upload();
+            self.web.set_title(super::status::title(&self.jobs));
+        }
         self.sync_jobs(ctx);
         self.shots.poll(self.now);
         if self.shots.in_flight > 0 || !self.shots.toasts.is_empty() {

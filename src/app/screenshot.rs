@@ -213,12 +213,19 @@ impl Shots {
             });
     }
 
-    /// Adds a toast directly (e.g. nothing to export).
+    /// Adds a toast directly (e.g. nothing to export). An error stays
+    /// long enough to be read: 6 s and a second for every 15 characters
+    /// (a link's or a session's message may name several values).
     pub fn toast(&mut self, text: String, error: bool, now: f64) {
+        let reading = if error {
+            text.chars().count() as f64 / 15.0
+        } else {
+            0.0
+        };
         self.toasts.push(Toast {
             text,
             error,
-            until: now + 6.0,
+            until: now + 6.0 + reading,
         });
     }
 }

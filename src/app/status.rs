@@ -16,17 +16,7 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
         &j.phase.data,
     );
     ui.horizontal_wrapped(|ui| {
-        let busy = [
-            &j.trajectory.state,
-            &j.iterate.state,
-            &j.sweep.state,
-            &j.phase.state,
-            &j.branches.state,
-            &j.curves.state,
-        ]
-        .iter()
-        .any(|s| matches!(s, JobState::Running));
-        if busy {
+        if busy(j) {
             ui.spinner();
         }
         let traj = match &j.trajectory.state {
@@ -97,6 +87,37 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
             ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
         }
     });
+}
+
+/// Whether any job runs.
+fn busy(j: &Jobs) -> bool {
+    [
+        &j.trajectory.state,
+        &j.iterate.state,
+        &j.sweep.state,
+        &j.phase.state,
+        &j.branches.state,
+        &j.curves.state,
+    ]
+    .iter()
+    .any(|s| matches!(s, JobState::Running))
+}
+
+/// The title of the window (the browser tab's): the app's name, and while
+/// jobs run, how far the diagram is ("computing: diagram 37 %"), so that
+/// a tab in the background still tells when it is done.
+pub fn title(j: &Jobs) -> String {
+    const NAME: &str = "oneblock: one-block earthquake model";
+    if !busy(j) {
+        return NAME.into();
+    }
+    let sweep = &j.sweep.data;
+    if matches!(j.sweep.state, JobState::Running) && !sweep.columns.is_empty() {
+        let pct = 100 * sweep.filled / sweep.columns.len();
+        format!("oneblock · computing: diagram {pct} %")
+    } else {
+        "oneblock · computing".into()
+    }
 }
 
 /// "bifurcations 40%: 1 PD, 0 fold, 0 border · following the cascade…",

@@ -29,12 +29,12 @@ const STATUS_ID: &str = "oneblock_status";
 
 /// Starts the explorer on the page (`main` of the wasm binary).
 pub fn start() {
+    // A page without the canvas (web/bench.html) only calls the exports.
+    let Some(canvas) = canvas() else {
+        return;
+    };
     let runner = eframe::WebRunner::new();
     wasm_bindgen_futures::spawn_local(async move {
-        let Some(canvas) = canvas() else {
-            show_failure("the page has no canvas with id 'oneblock_canvas'");
-            return;
-        };
         let options = eframe::WebOptions {
             // No gradients to band; dithering costs fill rate, and many a
             // lecture-hall PC renders WebGL in software.
@@ -61,6 +61,22 @@ pub fn start() {
     }));
 }
 
+/// Times the Fig. 3b diagram on the single-threaded host, as
+/// `oneblock bench-worker --single-thread` does natively: seconds of wall
+/// time (web/test compares the two in one run).
+#[wasm_bindgen]
+pub fn bench_diagram(
+    columns: usize,
+    transient: usize,
+    keep: usize,
+    tol: f64,
+) -> Result<f64, JsValue> {
+    let spec = crate::jobs::bench::fig3b_diagram(columns, transient, keep, tol);
+    crate::jobs::bench::time_diagram(spec)
+        .map(|t| t.seconds)
+        .map_err(|e| JsValue::from_str(&e))
+}
+
 /// The explorer as the page opens it: the saved settings (local storage),
 /// then the link's state over them, on a worker without threads.
 fn explorer(cc: &eframe::CreationContext<'_>) -> Explorer {
@@ -79,11 +95,49 @@ fn explorer(cc: &eframe::CreationContext<'_>) -> Explorer {
     if let Some(m) = message {
         app.shots.toast(m, true, 0.0);
     }
-    // WebGL usually hides the renderer's name; where it shows a software
-    // rasteriser, lines are drawn without feathering as natively.
-    app.set_software_gl(cc.gl.as_deref().is_some_and(super::is_software_gl));
+    // WebGL hides the renderer's name behind "WebKit WebGL"; the debug
+    // extension tells it. On a software rasteriser (SwiftShader, llvmpipe)
+    // lines are drawn without feathering, as natively.
+    let software = cc.gl.as_deref().is_some_and(super::is_software_gl) || software_webgl();
+    app.set_software_gl(software);
     app.web.ctx = Some(cc.egui_ctx.clone());
     app
+}
+
+/// Whether the browser renders WebGL in software (Chrome's SwiftShader,
+/// Mesa's llvmpipe), as its unmasked renderer name says where the browser
+/// tells it (`WEBGL_debug_renderer_info`). Called through JS reflection:
+/// no WebGL bindings are needed for one string.
+fn software_webgl() -> bool {
+    use js_sys::{Function, Reflect};
+    let call = |obj: &JsValue, name: &str, args: &js_sys::Array| -> Option<JsValue> {
+        let f: Function = Reflect::get(obj, &name.into()).ok()?.dyn_into().ok()?;
+        f.apply(obj, args).ok()
+    };
+    let renderer = (|| {
+        let doc = web_sys::window()?.document()?;
+        let canvas: JsValue = doc.create_element("canvas").ok()?.into();
+        let gl = call(&canvas, "getContext", &js_sys::Array::of1(&"webgl2".into()))?;
+        if gl.is_null() {
+            return None;
+        }
+        let ext = call(
+            &gl,
+            "getExtension",
+            &js_sys::Array::of1(&"WEBGL_debug_renderer_info".into()),
+        )?;
+        if ext.is_null() {
+            return None;
+        }
+        let which = Reflect::get(&ext, &"UNMASKED_RENDERER_WEBGL".into()).ok()?;
+        call(&gl, "getParameter", &js_sys::Array::of1(&which))?.as_string()
+    })();
+    renderer.is_some_and(|r| {
+        let r = r.to_lowercase();
+        ["swiftshader", "llvmpipe", "softpipe", "software"]
+            .iter()
+            .any(|k| r.contains(k))
+    })
 }
 
 /// The page's canvas, if it has one.
@@ -202,6 +256,20 @@ pub struct WebState {
     pub ctx: Option<eframe::egui::Context>,
     /// A session file being read: (file name, its text) or why not.
     pub upload: Upload,
+    /// The page's title as last set.
+    pub title: String,
+}
+
+impl WebState {
+    /// Sets the page's title to `title` if it changed.
+    pub fn set_title(&mut self, title: String) {
+        if title != self.title
+            && let Some(doc) = web_sys::window().and_then(|w| w.document())
+        {
+            doc.set_title(&title);
+            self.title = title;
+        }
+    }
 }
 
 /// A file the user picked, read asynchronously by the browser.

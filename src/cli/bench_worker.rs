@@ -58,6 +58,11 @@ pub struct BenchWorkerArgs {
     /// (N from 1 to 200).
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub phase: Option<usize>,
+    /// Time the diagram on the single-threaded host instead, one unit per
+    /// step as the browser build runs it (the native side of web/test's
+    /// browser-against-native ratio).
+    #[arg(long, conflicts_with = "phase")]
+    pub single_thread: bool,
     /// Give up after this many seconds, in (0, 1e7], printing nothing;
     /// Ctrl+C also stops it.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -93,6 +98,7 @@ impl Default for BenchWorkerArgs {
             repeats: 3,
             latency_samples: 9,
             phase: None,
+            single_thread: false,
             max_seconds: None,
         }
     }
@@ -482,12 +488,40 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     let (done, text) = run_bounded("bench-worker", &limits, move || {
         let done = match args.phase {
             Some(n) => run_phase(&args, settings, n),
+            None if args.single_thread => run_single_thread(&args),
             None => run_sweeps(&args, settings),
         };
         (done, REPORT.with(|r| r.take()))
     })?;
     done?;
     write_stdout(text.as_bytes())
+}
+
+/// The diagram timed on the single-threaded host (`--single-thread`): the
+/// median wall time of `repeats` runs, as web/test times the browser's.
+fn run_single_thread(args: &BenchWorkerArgs) -> Result<(), CliError> {
+    let mut times = Vec::with_capacity(args.repeats);
+    let mut points = 0;
+    for _ in 0..args.repeats {
+        let spec =
+            crate::jobs::bench::fig3b_diagram(args.columns, args.transient, args.keep, args.tol);
+        let t = crate::jobs::bench::time_diagram(spec).map_err(CliError::Failed)?;
+        times.push(t.seconds);
+        points = t.points;
+    }
+    times.sort_by(f64::total_cmp);
+    say(&format!(
+        "single-threaded host: Fig. 3b diagram, {} columns x ({} transient + {} kept), dop853, tol = {:e}: \
+         median {:.3} s (min {:.3}, max {:.3}) over {} runs; {points} points",
+        args.columns,
+        args.transient,
+        args.keep,
+        args.tol,
+        times[times.len() / 2],
+        times[0],
+        times[times.len() - 1],
+        times.len(),
+    ))
 }
 
 /// The sweep benchmark's report.

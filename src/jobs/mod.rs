@@ -22,6 +22,7 @@
 //! are fixed by the spec and [`Shape`] before any work starts, so every
 //! host computes the same numbers, bit for bit, whatever its threads.
 
+pub mod bench;
 mod continuation;
 mod local;
 mod numerics;

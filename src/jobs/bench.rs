@@ -1,0 +1,67 @@
+//! The Fig. 3b diagram timed on the single-threaded host ([`Local`]), the
+//! browser's: the same job, plan and code path natively and in wasm, so
+//! that `oneblock bench-worker --single-thread` and the page's
+//! `bench_diagram` (web/test) measure what the browser costs against one
+//! native core, in the same run.
+
+use web_time::Instant;
+
+use super::protocol::{Axis, Outcome, SweepSpec, Update};
+use super::{Local, Shape, Spec};
+use crate::integrate::{Method, SolverSettings};
+use crate::model::Params;
+use crate::sim::MapChoice;
+
+/// The paper's Fig. 3b diagram as the worker benchmark times it: κ = 18.95,
+/// γ = 6.5, ν = 1e-3 over θν ∈ [0, π/2], dop853 at `tol`.
+pub fn fig3b_diagram(columns: usize, transient: usize, keep: usize, tol: f64) -> SweepSpec {
+    SweepSpec {
+        params: Params {
+            theta_nu: 0.0,
+            ..Params::default()
+        },
+        settings: SolverSettings::adaptive(Method::Dop853, tol),
+        theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, columns),
+        transient,
+        keep,
+        map: MapChoice::Auto,
+        theta0: None,
+    }
+}
+
+/// What a single-threaded run of a diagram took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LocalTiming {
+    /// Wall-clock seconds from the job's start to its end.
+    pub seconds: f64,
+    /// Points the diagram kept.
+    pub points: usize,
+}
+
+/// Runs `spec` to its end on the single-threaded host, one unit per step
+/// as the browser does, and times it; the job's error if it failed.
+pub fn time_diagram(spec: SweepSpec) -> Result<LocalTiming, String> {
+    let started = Instant::now();
+    let mut host = Local::start(Spec::Sweep(spec), 1, Shape::default());
+    let mut points = 0;
+    let mut outcome = None;
+    loop {
+        let more = host.step(1);
+        for u in host.drain() {
+            match u {
+                Update::Column { thetas, .. } => points += thetas.len(),
+                Update::Error { message, .. } => return Err(message),
+                Update::Finished { outcome: o, .. } => outcome = Some(o),
+                _ => {}
+            }
+        }
+        if !more {
+            break;
+        }
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    match outcome {
+        Some(Outcome::Completed) => Ok(LocalTiming { seconds, points }),
+        o => Err(format!("the diagram did not complete ({o:?})")),
+    }
+}

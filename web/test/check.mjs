@@ -1,0 +1,237 @@
+// The browser build, loaded as a user opens it: web/dist served from a local
+// server, opened in headless Chromium (software WebGL2 through SwiftShader).
+//
+//   node web/test/check.mjs [--dist web/dist] [--shot FILE] [--bench NATIVE_BINARY]
+//
+// Checks, each failing the run (exit 1) with one line saying what failed:
+//   1. ?preset=fig3b&view=bifurcation opens and the diagram fills in: the
+//      page's title goes from "computing" to done, and a screenshot shows
+//      the density image (thousands of dark points inside the plot);
+//   2. the page never freezes while it fills (no frame gap over 2 s);
+//   3. the view's SVG and PNG buttons download an SVG and a PNG file;
+//   4. a link with bad values still opens, on valid values, and fills in;
+//   5. the console logs no error and no page error occurs.
+// Reported, not asserted (timings belong to benchmarks): frame times while
+// the diagram fills in. With --bench, the Fig. 3b diagram is timed on the
+// single-threaded host in the page (bench.html) and natively by
+// `NATIVE_BINARY bench-worker --single-thread`, in the same run.
+
+import { chromium } from "playwright-core";
+import http from "node:http";
+import fs from "node:fs";
+import path from "node:path";
+import zlib from "node:zlib";
+import { execFileSync } from "node:child_process";
+
+const args = process.argv.slice(2);
+const opt = (name, fallback) => {
+  const i = args.indexOf(name);
+  return i >= 0 ? args[i + 1] : fallback;
+};
+const dist = path.resolve(opt("--dist", "web/dist"));
+const shot = opt("--shot", null);
+const native = opt("--bench", null);
+
+function fail(why) {
+  console.error(`web test: FAILED: ${why}`);
+  process.exit(1);
+}
+
+if (!fs.existsSync(path.join(dist, "index.html"))) {
+  fail(`${dist}/index.html is missing: run bash web/build.sh first`);
+}
+
+// A static server for dist/, with the wasm MIME type streaming compilation wants.
+const types = { ".html": "text/html", ".js": "text/javascript", ".wasm": "application/wasm" };
+const server = http.createServer((req, res) => {
+  const url = new URL(req.url, "http://localhost");
+  const file = path.join(dist, url.pathname === "/" ? "index.html" : path.normalize(url.pathname));
+  if (!file.startsWith(dist) || !fs.existsSync(file) || !fs.statSync(file).isFile()) {
+    res.writeHead(404).end();
+    return;
+  }
+  res.writeHead(200, { "content-type": types[path.extname(file)] ?? "application/octet-stream" });
+  fs.createReadStream(file).pipe(res);
+});
+await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
+const base = `http://127.0.0.1:${server.address().port}`;
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM ?? "/usr/bin/chromium",
+  args: [
+    "--no-sandbox",
+    // Recent Chromium no longer falls back to software WebGL by itself.
+    "--enable-unsafe-swiftshader",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+  ],
+});
+
+const errors = [];
+async function open(query) {
+  const page = await browser.newPage({
+    viewport: { width: 1280, height: 800 },
+    acceptDownloads: true,
+  });
+  page.on("console", (m) => {
+    if (m.type() === "error") errors.push(`${query}: console error: ${m.text()}`);
+  });
+  page.on("pageerror", (e) => errors.push(`${query}: page error: ${e}`));
+  // Every animation frame's time, from the first: how long frames take.
+  await page.addInitScript(() => {
+    window.__frames = [];
+    const tick = (t) => {
+      window.__frames.push(t);
+      requestAnimationFrame(tick);
+    };
+    requestAnimationFrame(tick);
+  });
+  await page.goto(`${base}/${query}`);
+  return page;
+}
+
+/// Waits for the diagram to be computed: the title says "computing" while
+/// jobs run and the app's name when they are done.
+async function filled(page, query) {
+  try {
+    await page.waitForFunction(() => document.title.includes("computing"), null, {
+      timeout: 90_000,
+      polling: "raf",
+    });
+    const start = await page.evaluate(() => performance.now());
+    await page.waitForFunction(() => document.title.startsWith("oneblock:"), null, {
+      timeout: 180_000,
+      polling: "raf",
+    });
+    const end = await page.evaluate(() => performance.now());
+    return { start, end };
+  } catch (e) {
+    const status = await page.evaluate(() => document.getElementById("oneblock_status")?.textContent);
+    fail(`${query}: the diagram did not fill in (title '${await page.title()}'${status ? `, page says '${status}'` : ""}): ${e.message.split("\n")[0]}`);
+  }
+}
+
+/// Frame intervals (ms) between `start` and `end`.
+async function frames(page, { start, end }) {
+  const t = await page.evaluate(() => window.__frames);
+  const inside = t.filter((x) => x >= start && x <= end);
+  const d = inside.slice(1).map((x, i) => x - inside[i]).sort((a, b) => a - b);
+  const q = (p) => d[Math.min(d.length - 1, Math.floor(p * d.length))];
+  return { n: d.length, median: q(0.5), p95: q(0.95), max: d[d.length - 1] ?? 0 };
+}
+
+/// The RGB(A) pixels of a PNG (8-bit, non-interlaced, as Chromium writes).
+function decodePng(buf) {
+  let i = 8, w = 0, h = 0, ct = 0;
+  const idat = [];
+  while (i < buf.length) {
+    const n = buf.readUInt32BE(i), type = buf.toString("ascii", i + 4, i + 8);
+    const c = buf.subarray(i + 8, i + 8 + n);
+    if (type === "IHDR") [w, h, ct] = [c.readUInt32BE(0), c.readUInt32BE(4), c[9]];
+    if (type === "IDAT") idat.push(c);
+    i += 12 + n;
+  }
+  const bpp = { 2: 3, 6: 4 }[ct];
+  if (!bpp) fail(`screenshot PNG of colour type ${ct} is not read here`);
+  const raw = zlib.inflateSync(Buffer.concat(idat));
+  const stride = w * bpp, out = Buffer.alloc(h * stride);
+  for (let y = 0; y < h; y++) {
+    const f = raw[y * (stride + 1)], line = raw.subarray(y * (stride + 1) + 1, (y + 1) * (stride + 1));
+    for (let x = 0; x < stride; x++) {
+      const a = x >= bpp ? out[y * stride + x - bpp] : 0;
+      const b = y > 0 ? out[(y - 1) * stride + x] : 0;
+      const c = x >= bpp && y > 0 ? out[(y - 1) * stride + x - bpp] : 0;
+      const p = a + b - c, pa = Math.abs(p - a), pb = Math.abs(p - b), pc = Math.abs(p - c);
+      const pred = [0, a, b, (a + b) >> 1, pa <= pb && pa <= pc ? a : pb <= pc ? b : c][f];
+      out[y * stride + x] = (line[x] + pred) & 255;
+    }
+  }
+  return { w, h, bpp, px: out };
+}
+
+/// Dark pixels inside the diagram's plot (the tab's area right of the side
+/// panel): the density image's points; grid lines and the light theme's
+/// background are not dark.
+function darkInPlot(png) {
+  const { w, h, bpp, px } = decodePng(png);
+  let n = 0;
+  for (let y = Math.round(h * 0.14); y < Math.round(h * 0.87); y++) {
+    for (let x = Math.round(w * 0.31); x < w - 10; x++) {
+      const o = (y * w + x) * bpp;
+      if (px[o] < 60 && px[o + 1] < 60 && px[o + 2] < 60) n++;
+    }
+  }
+  return n;
+}
+
+// 1, 2: the paper's Fig. 3b diagram from a link.
+const q1 = "?preset=fig3b&view=bifurcation";
+const page = await open(q1);
+const span = await filled(page, q1);
+const f = await frames(page, span);
+const png = await page.screenshot();
+if (shot) fs.writeFileSync(shot, png);
+const dark = darkInPlot(png);
+console.log(
+  `web test: ${q1}: diagram filled in ${((span.end - span.start) / 1000).toFixed(2)} s; ` +
+    `${dark} dark pixels in the plot; frames while filling: ${f.n}, median ${f.median?.toFixed(1)} ms, ` +
+    `p95 ${f.p95?.toFixed(1)} ms, max ${f.max.toFixed(1)} ms`,
+);
+if (dark < 3000) fail(`${q1}: the screenshot shows no density image (${dark} dark pixels in the plot, want ≥ 3000)`);
+if (f.max > 2000) fail(`${q1}: the page froze for ${f.max.toFixed(0)} ms while the diagram filled in`);
+
+// 3: figures download: the view's SVG and PNG buttons (top right of the
+// tab at 1280×800).
+for (const [what, x, magic] of [["svg", 1197, "<?xml"], ["png", 1246, "\x89PNG"]]) {
+  const download = page.waitForEvent("download", { timeout: 30_000 });
+  await page.mouse.click(x, 52);
+  let d;
+  try {
+    d = await download;
+  } catch (e) {
+    fail(`${q1}: the ${what.toUpperCase()} button started no download`);
+  }
+  const bytes = fs.readFileSync(await d.path());
+  const name = d.suggestedFilename();
+  if (!name.startsWith("oneblock-bifurcation-") || !name.endsWith(`.${what}`)) {
+    fail(`${q1}: the ${what.toUpperCase()} download is named ${name}`);
+  }
+  if (bytes.subarray(0, magic.length).toString("latin1") !== magic) {
+    fail(`${q1}: ${name} is not ${what.toUpperCase()} (starts ${JSON.stringify(bytes.subarray(0, 8).toString("latin1"))})`);
+  }
+  console.log(`web test: ${q1}: ${what.toUpperCase()} button downloads ${name} (${bytes.length} bytes)`);
+}
+await page.close();
+
+// 4: a link with bad values opens on valid ones (the message is a toast).
+const q2 = "?kappa=-3&gamma=abc&view=nope&theta_nu=1.2";
+const bad = await open(q2);
+await filled(bad, q2);
+const dark2 = darkInPlot(await bad.screenshot());
+console.log(`web test: ${q2}: opened and filled in (${dark2} dark pixels in its first view)`);
+await bad.close();
+
+// 5: a clean console.
+if (errors.length) fail(errors.join(" | "));
+
+if (native) {
+  const b = await browser.newPage();
+  b.on("pageerror", (e) => errors.push(`bench: ${e}`));
+  await b.goto(`${base}/bench.html?runs=3`);
+  await b.waitForFunction(() => document.getElementById("result").dataset.median, null, {
+    timeout: 600_000,
+  });
+  const web = Number(await b.evaluate(() => document.getElementById("result").dataset.median));
+  const line = execFileSync(native, ["bench-worker", "--single-thread", "--repeats", "3"], {
+    encoding: "utf8",
+  });
+  const nat = Number(/median ([0-9.]+) s/.exec(line)?.[1]);
+  console.log(`web bench: Fig. 3b diagram on one thread, median of 3: browser ${web.toFixed(3)} s, ` +
+    `native ${nat.toFixed(3)} s, ratio ${(web / nat).toFixed(2)} (target ≤ 2.5)`);
+}
+
+await browser.close();
+server.close();
+console.log("web test: ok");
