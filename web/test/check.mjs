@@ -9,6 +9,9 @@
 //      the density image (thousands of dark points inside the plot);
 //   2. the page never freezes while it fills (no frame gap over 2 s);
 //   3. the view's SVG and PNG buttons download an SVG and a PNG file;
+//      Save session downloads the session; Open session… uploads an edited
+//      one, which the explorer opens; Copy link puts its state in the URL;
+//      reopened without a query, the page keeps those settings (local storage);
 //   4. a link with bad values still opens, on valid values, and fills in;
 //   5. the console logs no error and no page error occurs.
 // Reported, not asserted (timings belong to benchmarks): frame times while
@@ -79,6 +82,9 @@ async function open(query) {
     if (m.type() === "error") errors.push(`${query}: console error: ${m.text()}`);
   });
   page.on("pageerror", (e) => errors.push(`${query}: page error: ${e}`));
+  // File choosers are intercepted from the start (enabling it only when
+  // waiting for one races with the click that opens it).
+  page.on("filechooser", () => {});
   // Every animation frame's time, from the first: how long frames take.
   await page.addInitScript(() => {
     window.__frames = [];
@@ -203,6 +209,46 @@ for (const [what, x, magic] of [["svg", 1197, "<?xml"], ["png", 1246, "\x89PNG"]
   }
   console.log(`web test: ${q1}: ${what.toUpperCase()} button downloads ${name} (${bytes.length} bytes)`);
 }
+
+// Sessions: download one, edit it, upload it, and read the state back
+// from the link Copy link writes. The buttons are in the side panel's
+// Files section, scrolled into view.
+await page.mouse.move(150, 500);
+for (let i = 0; i < 10; i++) await page.mouse.wheel(0, 400);
+await page.waitForTimeout(500);
+const button = { save: [234, 717], open: [78, 740], link: [174, 740] };
+const saved = page.waitForEvent("download", { timeout: 30_000 });
+await page.mouse.click(...button.save);
+const session = JSON.parse(fs.readFileSync(await (await saved).path(), "utf8"));
+if (session.settings?.params?.kappa !== 18.95) fail(`Save session downloaded ${JSON.stringify(session).slice(0, 80)}`);
+session.settings.params.kappa = 12.5;
+const upload = path.join(path.dirname(dist), ".check-session.json");
+fs.writeFileSync(upload, JSON.stringify(session));
+const chooser = page.waitForEvent("filechooser", { timeout: 30_000 });
+await page.mouse.click(...button.open);
+await (await chooser).setFiles(upload);
+fs.rmSync(upload);
+await page.waitForFunction(() => document.title.includes("computing"), null, { timeout: 60_000, polling: "raf" });
+await page.mouse.click(...button.link);
+await page.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 30_000 });
+const link = new URL(page.url()).searchParams;
+if (link.get("kappa") !== "12.5" || link.get("view") !== "bifurcation") {
+  fail(`after opening the edited session, Copy link wrote ?${link}`);
+}
+console.log(`web test: Save session, Open session… (κ edited to 12.5) and Copy link: ?${link}`);
+
+// Settings persist in local storage: the page reopened without a query
+// comes back on κ = 12.5.
+await page.goto(`${base}/`);
+await filled(page, "/ (reopened)");
+await page.mouse.move(150, 500);
+for (let i = 0; i < 10; i++) await page.mouse.wheel(0, 400);
+await page.waitForTimeout(500);
+await page.mouse.click(...button.link);
+await page.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 30_000 });
+const again = new URL(page.url()).searchParams;
+if (again.get("kappa") !== "12.5") fail(`the reopened page forgot the settings: ?${again}`);
+console.log(`web test: reopened without a query, the page keeps its settings: ?${again}`);
 await page.close();
 
 // 4: a link with bad values opens on valid ones (the message is a toast).
