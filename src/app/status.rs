@@ -103,9 +103,9 @@ fn busy(j: &Jobs) -> bool {
     .any(|s| matches!(s, JobState::Running))
 }
 
-/// The title of the window (the browser tab's): the app's name, and while
-/// jobs run, how far the diagram is ("computing: diagram 37 %"), so that
-/// a tab in the background still tells when it is done.
+/// The title of the browser tab: the app's name, and while jobs run, how
+/// far the diagram is ("computing: diagram 37 %"); the browser test waits
+/// on it.
 pub fn title(j: &Jobs) -> String {
     const NAME: &str = "oneblock: one-block earthquake model";
     if !busy(j) {
