@@ -13,8 +13,8 @@ use common::fixture::preset;
 use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
-    Axis, BoundarySpec, ContinuationSpec, IterateSpec, Local, Outcome, PhaseSpec, PhaseTuning,
-    Shape, Spec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
+    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, IterateSpec, Local, Outcome, PhaseSpec,
+    PhaseTuning, Shape, Spec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
 };
 use oneblock::numerics::Subject;
 use oneblock::sim::continuation::ContParam;
@@ -250,6 +250,9 @@ fn find_bifurcations_is_the_same_on_every_host() {
             from: 1.0,
             to: 1.2,
             max_period: 4,
+            cycle: None,
+            cascade: CascadeFrom::Branch,
+            curves: None,
         },
     });
     assert!(r.other.iter().any(|s| s.starts_with("Branch")), "{r:?}");
