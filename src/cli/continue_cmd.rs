@@ -11,8 +11,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, emit_as,
-    finite, max_seconds, warn_validity,
+    OptionalModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit,
+    emit_as, finite, max_seconds, warn_validity,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
@@ -20,84 +20,32 @@ use super::values::{count_between, echo, parse_count, parse_number, short};
 use crate::jobs::{
     CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, JobError, Spec, Update, run_kept,
 };
-use crate::model::{Params, Preset};
+use crate::model::Params;
 use crate::sim::continuation::{
     Attractor, Branch, ContParam, CurveKind, Problem, SpecialKind, Stop, attractor_cycle,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError, Simulator};
 
-/// The model's flags as `continue` takes them: each optional at the
-/// parser, because the varied parameter's flag is not needed (--from and
-/// --to set it); every other one is required unless --preset gives it,
-/// checked with the others in [`check`].
-#[derive(Debug, Clone, Default, Args)]
-pub struct ContinueModelArgs {
-    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent (the flags below override its values).
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
-    /// into steady sliding, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
-    /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub nu: Option<f64>,
-    /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
-    pub theta_nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
-    /// assumes [1, 1e4]) [default: 50, or the preset's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
-}
-
-impl ContinueModelArgs {
-    /// The model's flags with the varied parameter's (if left out) set to
-    /// `from`, where the branch starts.
-    fn with_varied(&self, varied: Option<ContParam>, from: f64) -> ModelArgs {
-        let mut m = ModelArgs {
-            preset: self.preset,
-            kappa: self.kappa,
-            gamma: self.gamma,
-            nu: self.nu,
-            theta_nu: self.theta_nu,
-            omega: self.omega,
-        };
-        let slot = match varied {
-            Some(ContParam::ThetaNu) => &mut m.theta_nu,
-            Some(ContParam::Kappa) => &mut m.kappa,
-            Some(ContParam::Gamma) => &mut m.gamma,
-            Some(ContParam::Nu) => &mut m.nu,
-            Some(ContParam::Omega) => &mut m.omega,
-            None => return m,
-        };
-        slot.get_or_insert(from);
-        m
+/// The model's flags with the varied parameter's (if left out) set to
+/// `from`, where the branch starts.
+fn with_varied(
+    model: &OptionalModelArgs,
+    varied: Option<ContParam>,
+    from: f64,
+) -> OptionalModelArgs {
+    let mut m = model.clone();
+    if let Some(p) = varied {
+        m.flag_mut(p).get_or_insert(from);
     }
-
-    /// The value `param`'s own flag gave, if any.
-    fn own(&self, param: ContParam) -> Option<f64> {
-        match param {
-            ContParam::ThetaNu => self.theta_nu,
-            ContParam::Kappa => self.kappa,
-            ContParam::Gamma => self.gamma,
-            ContParam::Nu => self.nu,
-            ContParam::Omega => self.omega,
-        }
-    }
+    m
 }
 
 /// Follows a cycle, a cascade, or a bifurcation curve.
 #[derive(Debug, Clone, Args)]
 pub struct ContinueArgs {
+    /// The model's flags: the varied parameter's own may be left out.
     #[command(flatten)]
-    pub model: ContinueModelArgs,
+    pub model: OptionalModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
     /// The parameter varied. Its own flag (such as --theta-nu) may be left
@@ -284,14 +232,13 @@ fn base_params(args: &ContinueArgs) -> Result<Params, CliError> {
         (None, _, p) => p,
         _ => None,
     };
-    args.model
-        .with_varied(varied, args.from)
+    with_varied(&args.model, varied, args.from)
         .params()
         .map_err(|e| {
             // The varied parameter's own flag left out, its value is --from's:
             // the message names --from, as it does for --to.
-            match (varied, args.model.with_varied(None, args.from).params()) {
-                (Some(p), Ok(b)) if args.model.own(p).is_none() => {
+            match (varied, args.model.params()) {
+                (Some(p), Ok(b)) if args.model.flag(p).is_none() => {
                     end("from", args.from, p, &b).err().unwrap_or(e)
                 }
                 _ => e,
