@@ -539,7 +539,7 @@ fn ended(plan: &Plan, ran: &Ran, seconds: f64, timed_out: bool) -> Result<(), Cl
         return Err(CliError::Failed(format!(
             "continue: stopped by --max-seconds = {} after {seconds:.1} s: what was computed is written; {}",
             short(plan.max_seconds.unwrap_or(0.0)),
-            where_stopped(&ran.branches, &ran.extra)
+            out::where_stopped(&ran.branches, &ran.extra)
         )));
     }
     // A branch that failed mid-way has written what it has; the run failed.
@@ -552,33 +552,5 @@ fn ended(plan: &Plan, ran: &Ran, seconds: f64, timed_out: bool) -> Result<(), Cl
             "{m} (the points computed before are written)"
         ))),
         None => Ok(()),
-    }
-}
-
-/// Where a run stopped by --max-seconds was: the last branch's end, and
-/// each curve's last point.
-fn where_stopped(branches: &[Branch], extra: &out::Extra) -> String {
-    let branch = branches
-        .last()
-        .map(|b| format!("the P{} branch {}", b.period, b.stop_message()))
-        .unwrap_or_default();
-    match extra {
-        out::Extra::Curves(_, curves) if !curves.is_empty() => {
-            let ends: Vec<String> = curves
-                .iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    format!(
-                        "curve {i} with {} points from {} to {}",
-                        c.points.len(),
-                        out::curve_end(c, false),
-                        out::curve_end(c, true)
-                    )
-                })
-                .collect();
-            format!("{}; {branch}", ends.join(", "))
-        }
-        out::Extra::Cascade(c) => format!("the cascade {}; {branch}", c.stop),
-        _ => branch,
     }
 }

@@ -124,6 +124,34 @@ pub fn curve_line(i: usize, c: &Curve) -> String {
     )
 }
 
+/// Where a run stopped by --max-seconds was: the last branch's end, and
+/// each curve's last point.
+pub fn where_stopped(branches: &[Branch], extra: &Extra) -> String {
+    let branch = branches
+        .last()
+        .map(|b| format!("the P{} branch {}", b.period, b.stop_message()))
+        .unwrap_or_default();
+    match extra {
+        Extra::Curves(_, curves) if !curves.is_empty() => {
+            let ends: Vec<String> = curves
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    format!(
+                        "curve {i} with {} points from {} to {}",
+                        c.points.len(),
+                        curve_end(c, false),
+                        curve_end(c, true)
+                    )
+                })
+                .collect();
+            format!("{}; {branch}", ends.join(", "))
+        }
+        Extra::Cascade(c) => format!("the cascade {}; {branch}", c.stop),
+        _ => branch,
+    }
+}
+
 /// The run's summary.
 pub struct Summary<'a> {
     pub described: &'a str,
