@@ -13,11 +13,12 @@ use common::fixture::preset;
 use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
-    Axis, BoundarySpec, ContinuationSpec, IterateSpec, Local, Outcome, PhaseSpec, PhaseTuning,
-    Shape, Spec, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
+    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, IterateSpec, Local,
+    Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TrajectorySpec, Update,
+    WorkPrecisionSpec, run_collect,
 };
 use oneblock::numerics::Subject;
-use oneblock::sim::continuation::ContParam;
+use oneblock::sim::continuation::{Attractor, ContParam, CurveKind, attractor_cycle};
 use oneblock::sim::{MapChoice, default_settings};
 use oneblock::worker::{Command, Worker, WorkerConfig};
 
@@ -250,9 +251,46 @@ fn find_bifurcations_is_the_same_on_every_host() {
             from: 1.0,
             to: 1.2,
             max_period: 4,
+            cycle: None,
+            cascade: CascadeFrom::Branch,
+            curves: None,
         },
     });
     assert!(r.other.iter().any(|s| s.starts_with("Branch")), "{r:?}");
+}
+
+/// `oneblock continue --curve pd`'s job: a given cycle (the attractor's
+/// fixed point at θν = 0.9, as the command finds it), its branch with each
+/// special point as it is located, and the doubling curves through it.
+#[test]
+fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
+    let params = ContParam::ThetaNu.set(&preset("fig3b"), 0.9);
+    let Attractor::Cycle { period, theta } =
+        attractor_cycle(params, settings(), &|| false).unwrap()
+    else {
+        panic!("fig3b at θν = 0.9 has a cycle for an attractor");
+    };
+    let r = same_on_both_hosts(Command::FindBifurcations {
+        generation: 10,
+        spec: ContinuationSpec {
+            params,
+            settings: settings(),
+            param: ContParam::ThetaNu,
+            from: 0.9,
+            to: 1.3,
+            max_period: period,
+            cycle: Some(GivenCycle { period, theta }),
+            cascade: CascadeFrom::Branch,
+            curves: Some(CurveFollow {
+                kind: CurveKind::PeriodDoubling,
+                param: ContParam::Kappa,
+                range: [17.0, 21.0],
+            }),
+        },
+    });
+    for kind in ["Special", "Branch", "Curve"] {
+        assert!(r.other.iter().any(|s| s.starts_with(kind)), "{kind}: {r:?}");
+    }
 }
 
 #[test]

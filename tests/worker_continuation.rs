@@ -16,7 +16,7 @@ use oneblock::sim::continuation::{
 };
 use oneblock::sim::{CycleOptions, Simulator, default_settings, solve_cycle};
 use oneblock::worker::{
-    BoundarySpec, Command, ContinuationSpec, Generation, Lane, Outcome, Update,
+    BoundarySpec, CascadeFrom, Command, ContinuationSpec, Generation, Lane, Outcome, Update,
 };
 
 fn settings() -> SolverSettings {
@@ -33,6 +33,9 @@ fn find(generation: Generation, params: Params, from: f64, to: f64) -> Command {
             from,
             to,
             max_period: 32,
+            cycle: None,
+            cascade: CascadeFrom::Branch,
+            curves: None,
         },
     }
 }

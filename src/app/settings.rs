@@ -259,6 +259,20 @@ fn default_save_dir() -> String {
         .unwrap_or_else(|_| ".".into())
 }
 
+/// Resets `v` to `default` if it is outside `range`, naming it in `bad`.
+fn within<T: PartialOrd + Copy>(
+    v: &mut T,
+    range: std::ops::RangeInclusive<T>,
+    default: T,
+    name: &'static str,
+    bad: &mut Vec<&'static str>,
+) {
+    if !range.contains(v) {
+        *v = default;
+        bad.push(name);
+    }
+}
+
 impl Settings {
     /// The Custom choice of method and tolerance/step (each job's setting
     /// is `JobKind::solver`).
@@ -277,6 +291,14 @@ impl Settings {
     pub fn sanitised(mut self) -> (Settings, Vec<&'static str>) {
         let d = Settings::default();
         let mut bad = Vec::new();
+        self.sanitise_model(&d, &mut bad);
+        self.sanitise_counts(&d, &mut bad);
+        self.sanitise_layout(&d, &mut bad);
+        (self, bad)
+    }
+
+    /// The parameters and the solver's tolerance and step.
+    fn sanitise_model(&mut self, d: &Settings, bad: &mut Vec<&'static str>) {
         let params_ok =
             self.params.validate().is_ok() && (-PI..=PI).contains(&self.params.theta_nu);
         if !params_ok {
@@ -300,67 +322,63 @@ impl Settings {
             self.step = d.step;
             bad.push("step");
         }
-        fn within<T: PartialOrd + Copy>(
-            v: &mut T,
-            range: std::ops::RangeInclusive<T>,
-            default: T,
-            name: &'static str,
-            bad: &mut Vec<&'static str>,
-        ) {
-            if !range.contains(v) {
-                *v = default;
-                bad.push(name);
-            }
-        }
+    }
+
+    /// The counts and sizes, each within its slider's range.
+    fn sanitise_counts(&mut self, d: &Settings, bad: &mut Vec<&'static str>) {
         within(
             &mut self.keep_cycles,
             1..=1000,
             d.keep_cycles,
             "cycles shown",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.trajectory_cycles,
             1..=MAX_TRAJECTORY_CYCLES,
             d.trajectory_cycles,
             "trajectory cycles",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.columns,
             20..=2000,
             d.columns,
             "diagram columns",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.sweep_transient,
             0..=MAX_SWEEP_ITERATES,
             d.sweep_transient,
             "diagram transient",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.sweep_keep,
             1..=MAX_SWEEP_ITERATES,
             d.sweep_keep,
             "diagram iterates kept",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.font_scale,
             0.5..=3.0,
             d.font_scale,
             "text size",
-            &mut bad,
+            bad,
         );
         within(
             &mut self.block_speed,
             0.1..=10.0,
             d.block_speed,
             "block speed",
-            &mut bad,
+            bad,
         );
+    }
+
+    /// The tiles, the save folder, the preset's name and the phase grid.
+    fn sanitise_layout(&mut self, d: &Settings, bad: &mut Vec<&'static str>) {
         // Tiles are the views that exist, each once (a file once held
         // 10,000, and laying them out aborted the window).
         let mut tiles = Vec::new();
@@ -370,11 +388,15 @@ impl Settings {
             }
         }
         if tiles.is_empty() || tiles.len() != self.tiled.len() {
-            self.tiled = if tiles.is_empty() { d.tiled } else { tiles };
+            self.tiled = if tiles.is_empty() {
+                d.tiled.clone()
+            } else {
+                tiles
+            };
             bad.push("tiles");
         }
         if self.save_dir.len() > MAX_SAVE_DIR_LEN || self.save_dir.contains('\0') {
-            self.save_dir = d.save_dir;
+            self.save_dir = d.save_dir.clone();
             bad.push("save folder");
         }
         // The preset only names the window's title: a known key or none.
@@ -391,7 +413,6 @@ impl Settings {
             self.phase = phase;
             bad.push("phase grid");
         }
-        (self, bad)
     }
 
     /// The highest power f^k of the map the return map draws (1: f alone).

@@ -9,53 +9,16 @@ use super::style;
 
 /// The status bar of the jobs `j`.
 pub fn status_ui(ui: &mut Ui, j: &Jobs) {
-    let (traj, it, sweep, phase) = (
-        &j.trajectory.data,
-        &j.iterate.data,
-        &j.sweep.data,
-        &j.phase.data,
-    );
     ui.horizontal_wrapped(|ui| {
         if busy(j) {
             ui.spinner();
         }
-        let traj = match &j.trajectory.state {
-            JobState::Running => format!("trajectory: {} cycles…", traj.events.len()),
-            JobState::Done => format!("trajectory: {} cycles", traj.events.len()),
-            s => format!("trajectory: {}", state_word(s)),
-        };
+        let [traj, orbit] = orbit_labels(j);
         ui.label(traj);
         ui.separator();
-        let orbit = match (&j.iterate.state, it.period) {
-            (JobState::Running, _) => format!(
-                "orbit analysis {:.0}%",
-                100.0 * j.orbit_progress().fraction.clamp(0.0, 1.0)
-            ),
-            (_, Some(p)) => format!("period {p}"),
-            (s, None) => format!("orbit: {}", state_word(s)),
-        };
         ui.label(orbit);
         ui.separator();
-        let frac = if sweep.columns.is_empty() {
-            0.0
-        } else {
-            sweep.filled as f32 / sweep.columns.len() as f32
-        };
-        ui.label("diagram");
-        ui.add(
-            egui::ProgressBar::new(frac)
-                .desired_width(120.0)
-                .text(format!("{}/{}", sweep.filled, sweep.columns.len())),
-        );
-        let phase_cells = phase.rows * phase.columns;
-        if phase_cells > 0 {
-            ui.label("phase");
-            ui.add(
-                egui::ProgressBar::new(phase.filled as f32 / phase_cells as f32)
-                    .desired_width(100.0)
-                    .text(format!("{}/{phase_cells}", phase.filled)),
-            );
-        }
+        progress_bars(ui, j);
         ui.label(format!(
             "{:.0} iterates/s",
             j.sweep.progress.iterates_per_second
@@ -117,6 +80,50 @@ pub fn title(j: &Jobs) -> String {
         format!("oneblock · computing: diagram {pct} %")
     } else {
         "oneblock · computing".into()
+    }
+}
+
+/// The trajectory's and the orbit analysis's words.
+fn orbit_labels(j: &Jobs) -> [String; 2] {
+    let (traj, it) = (&j.trajectory.data, &j.iterate.data);
+    let traj = match &j.trajectory.state {
+        JobState::Running => format!("trajectory: {} cycles…", traj.events.len()),
+        JobState::Done => format!("trajectory: {} cycles", traj.events.len()),
+        s => format!("trajectory: {}", state_word(s)),
+    };
+    let orbit = match (&j.iterate.state, it.period) {
+        (JobState::Running, _) => format!(
+            "orbit analysis {:.0}%",
+            100.0 * j.orbit_progress().fraction.clamp(0.0, 1.0)
+        ),
+        (_, Some(p)) => format!("period {p}"),
+        (s, None) => format!("orbit: {}", state_word(s)),
+    };
+    [traj, orbit]
+}
+
+/// The diagram's and the phase grid's progress bars.
+fn progress_bars(ui: &mut Ui, j: &Jobs) {
+    let (sweep, phase) = (&j.sweep.data, &j.phase.data);
+    let frac = if sweep.columns.is_empty() {
+        0.0
+    } else {
+        sweep.filled as f32 / sweep.columns.len() as f32
+    };
+    ui.label("diagram");
+    ui.add(
+        egui::ProgressBar::new(frac)
+            .desired_width(120.0)
+            .text(format!("{}/{}", sweep.filled, sweep.columns.len())),
+    );
+    let phase_cells = phase.rows * phase.columns;
+    if phase_cells > 0 {
+        ui.label("phase");
+        ui.add(
+            egui::ProgressBar::new(phase.filled as f32 / phase_cells as f32)
+                .desired_width(100.0)
+                .text(format!("{}/{phase_cells}", phase.filled)),
+        );
     }
 }
 

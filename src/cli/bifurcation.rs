@@ -210,23 +210,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     };
     let seconds = start.elapsed().as_secs_f64();
 
-    // The columns in grid order: (θν, kept iterates, cost, map used).
-    type Done = (f64, Vec<f64>, u64, MapUsed);
-    let mut cols: Vec<Option<Done>> = vec![None; columns];
-    for u in updates {
-        if let Update::Column {
-            index,
-            theta_nu,
-            thetas,
-            rhs_evals,
-            map,
-            ..
-        } = u
-        {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
-        }
-    }
-    let cols: Vec<Done> = cols.into_iter().flatten().collect();
+    let cols = in_grid_order(updates, columns);
     let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
@@ -251,8 +235,30 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
 /// What a finished run reports on: its columns in grid order (θν, kept
 /// iterates, cost, map used), the cycles the progress bar counted, the
 /// columns that failed, its time and threads.
+/// A computed column: θν, its kept iterates, its cost and the map used.
+type Done = (f64, Vec<f64>, u64, MapUsed);
+
+/// The sweep's columns in grid order.
+fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
+    let mut cols: Vec<Option<Done>> = vec![None; columns];
+    for u in updates {
+        if let Update::Column {
+            index,
+            theta_nu,
+            thetas,
+            rhs_evals,
+            map,
+            ..
+        } = u
+        {
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
+        }
+    }
+    cols.into_iter().flatten().collect()
+}
+
 struct Ran<'a> {
-    columns: &'a [(f64, Vec<f64>, u64, MapUsed)],
+    columns: &'a [Done],
     integrated: u64,
     failed: u64,
     seconds: f64,

@@ -15,6 +15,7 @@ use crate::model::{Params, Preset};
 use crate::model::{Regime, event_anomalies, exit_arc, validity};
 use crate::output::{OutputError, check_writable, write_output};
 use crate::sim::Simulator;
+use crate::sim::continuation::ContParam;
 
 /// The model's parameters (docs/model.md), angles in radians: given one by
 /// one, or `--preset NAME` with any of them overriding the preset's value.
@@ -48,6 +49,54 @@ pub struct ModelArgs {
 impl ModelArgs {
     /// The parameters, checked; each error names its flag.
     pub fn params(&self) -> Result<Params, CliError> {
+        OptionalModelArgs {
+            preset: self.preset,
+            kappa: self.kappa,
+            gamma: self.gamma,
+            nu: self.nu,
+            theta_nu: self.theta_nu,
+            omega: self.omega,
+        }
+        .params()
+    }
+}
+
+/// The model's flags, each optional at the parser, for commands that may
+/// do without them (`work-precision`: its default sample) or set one
+/// themselves (`continue`: the varied parameter's, from --from); the
+/// others are required unless --preset gives them, checked by
+/// [`OptionalModelArgs::params`].
+#[derive(Debug, Clone, Default, Args)]
+pub struct OptionalModelArgs {
+    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
+    /// intermittent (the flags below override its values).
+    #[arg(long)]
+    pub preset: Option<Preset>,
+    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
+    /// into steady sliding, which the map cannot represent).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub kappa: Option<f64>,
+    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
+    /// steady sliding or never stop, which the map cannot represent).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub gamma: Option<f64>,
+    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub nu: Option<f64>,
+    /// θν, the pulling direction in radians.
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
+    pub theta_nu: Option<f64>,
+    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
+    /// assumes [1, 1e4]) [default: 50, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub omega: Option<f64>,
+}
+
+impl OptionalModelArgs {
+    /// The parameters, checked; each error names its flag (one that
+    /// neither its flag nor the preset gives, too).
+    pub fn params(&self) -> Result<Params, CliError> {
         let base = preset_params(self.preset);
         let p = Params {
             kappa: given_or_preset("kappa", self.kappa, base.map(|b| b.kappa))?,
@@ -58,6 +107,31 @@ impl ModelArgs {
         };
         p.validate().map_err(param_error)?;
         Ok(p)
+    }
+
+    /// The flag of `param`.
+    pub fn flag_mut(&mut self, param: ContParam) -> &mut Option<f64> {
+        match param {
+            ContParam::ThetaNu => &mut self.theta_nu,
+            ContParam::Kappa => &mut self.kappa,
+            ContParam::Gamma => &mut self.gamma,
+            ContParam::Nu => &mut self.nu,
+            ContParam::Omega => &mut self.omega,
+        }
+    }
+
+    /// The value `param`'s flag gave, if any.
+    pub fn flag(&self, param: ContParam) -> Option<f64> {
+        *self.clone().flag_mut(param)
+    }
+
+    /// Whether a preset or any parameter but Ω is given.
+    pub fn any(&self) -> bool {
+        self.preset.is_some()
+            || self.kappa.is_some()
+            || self.gamma.is_some()
+            || self.nu.is_some()
+            || self.theta_nu.is_some()
     }
 }
 

@@ -4,104 +4,54 @@
 //! parameters (`--curve`). docs/continuation.md describes the method.
 
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::Instant;
 
 use clap::Args;
 
 use super::CliError;
 use super::common::{
-    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, emit_as,
-    finite, max_seconds, warn_validity,
+    OptionalModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit,
+    emit_as, finite, max_seconds, warn_validity,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
 use super::values::{count_between, echo, parse_count, parse_number, short};
-use crate::model::{Params, Preset};
+use crate::jobs::{
+    CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, JobError, Spec, Update, run_kept,
+};
+use crate::model::Params;
 use crate::sim::continuation::{
-    Attractor, Branch, ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind,
-    SpecialPoint, Stop, attractor_cycle, cascade_reporting, continue_branch_reporting,
-    continue_curves,
+    Attractor, Branch, ContParam, CurveKind, Problem, SpecialKind, Stop, attractor_cycle,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError, Simulator};
 
-/// The model's flags as `continue` takes them: each optional at the
-/// parser, because the varied parameter's flag is not needed (--from and
-/// --to set it); every other one is required unless --preset gives it,
-/// checked with the others in [`check`].
-#[derive(Debug, Clone, Default, Args)]
-pub struct ContinueModelArgs {
-    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent (the flags below override its values).
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
-    /// into steady sliding, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
-    /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub nu: Option<f64>,
-    /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
-    pub theta_nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
-    /// assumes [1, 1e4]) [default: 50, or the preset's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
-}
-
-impl ContinueModelArgs {
-    /// The model's flags with the varied parameter's (if left out) set to
-    /// `from`, where the branch starts.
-    fn with_varied(&self, varied: Option<ContParam>, from: f64) -> ModelArgs {
-        let mut m = ModelArgs {
-            preset: self.preset,
-            kappa: self.kappa,
-            gamma: self.gamma,
-            nu: self.nu,
-            theta_nu: self.theta_nu,
-            omega: self.omega,
-        };
-        let slot = match varied {
-            Some(ContParam::ThetaNu) => &mut m.theta_nu,
-            Some(ContParam::Kappa) => &mut m.kappa,
-            Some(ContParam::Gamma) => &mut m.gamma,
-            Some(ContParam::Nu) => &mut m.nu,
-            Some(ContParam::Omega) => &mut m.omega,
-            None => return m,
-        };
-        slot.get_or_insert(from);
-        m
+/// The model's flags with the varied parameter's (if left out) set to
+/// `from`, where the branch starts.
+fn with_varied(
+    model: &OptionalModelArgs,
+    varied: Option<ContParam>,
+    from: f64,
+) -> OptionalModelArgs {
+    let mut m = model.clone();
+    if let Some(p) = varied {
+        m.flag_mut(p).get_or_insert(from);
     }
-
-    /// The value `param`'s own flag gave, if any.
-    fn own(&self, param: ContParam) -> Option<f64> {
-        match param {
-            ContParam::ThetaNu => self.theta_nu,
-            ContParam::Kappa => self.kappa,
-            ContParam::Gamma => self.gamma,
-            ContParam::Nu => self.nu,
-            ContParam::Omega => self.omega,
-        }
-    }
+    m
 }
 
 /// Follows a cycle, a cascade, or a bifurcation curve.
 #[derive(Debug, Clone, Args)]
 pub struct ContinueArgs {
+    /// The model's flags: the varied parameter's own may be left out.
     #[command(flatten)]
-    pub model: ContinueModelArgs,
+    pub model: OptionalModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// The parameter varied: theta-nu, kappa, gamma, nu or omega. Its own
-    /// flag (such as --theta-nu) may be left out: --from and --to set it.
+    /// The parameter varied. Its own flag (such as --theta-nu) may be left
+    /// out: --from and --to set it.
     #[arg(long, conflicts_with = "params")]
-    pub param: Option<String>,
+    pub param: Option<ContParam>,
     /// With --curve: the two parameters, "P1,P2" (e.g. theta-nu,kappa); the
     /// start is located along P1 over [--from, --to], the curve is followed
     /// within that range and [--from2, --to2].
@@ -137,10 +87,10 @@ pub struct ContinueArgs {
     /// doubled cycle, until the doublings crowd within the location accuracy.
     #[arg(long, conflicts_with = "curve")]
     pub cascade: bool,
-    /// Follow a bifurcation curve in two parameters: pd or fold (needs
-    /// --params, --from2, --to2).
+    /// Follow a bifurcation curve in two parameters: period doublings or
+    /// folds (needs --params, --from2, --to2).
     #[arg(long)]
-    pub curve: Option<String>,
+    pub curve: Option<CurveKind>,
     /// With --curve: one end of the second parameter's range.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "curve")]
     pub from2: Option<f64>,
@@ -154,6 +104,7 @@ pub struct ContinueArgs {
 }
 
 /// What is asked.
+#[derive(Clone, Copy)]
 pub enum Mode {
     /// One branch.
     Branch,
@@ -227,92 +178,18 @@ fn range(
 pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
     let period = count_between("period", args.period, 1, PERIOD_MAX)?;
     let max_seconds = max_seconds(args.max_seconds)?;
-    // The varied parameter, as far as the flags say it (a wrong name is
-    // refused below, with its flag).
-    let varied = match (&args.curve, &args.params, &args.param) {
-        (Some(_), Some(ps), _) => ps
-            .split(',')
-            .next()
-            .and_then(|n| ContParam::parse(n.trim())),
-        (None, _, Some(n)) => ContParam::parse(n.trim()),
-        _ => None,
-    };
-    let base = args
-        .model
-        .with_varied(varied, args.from)
-        .params()
-        .map_err(|e| {
-            // The varied parameter's own flag left out, its value is --from's:
-            // the message names --from, as it does for --to.
-            match (varied, args.model.with_varied(None, args.from).params()) {
-                (Some(p), Ok(b)) if args.model.own(p).is_none() => {
-                    end("from", args.from, p, &b).err().unwrap_or(e)
-                }
-                _ => e,
-            }
-        })?;
+    let base = base_params(args)?;
     let settings = args.solver.settings()?;
-    let (param, mode) = match (&args.curve, &args.params, &args.param) {
-        (Some(kind), params, _) => {
-            let kind = match kind.trim() {
-                "pd" => CurveKind::PeriodDoubling,
-                "fold" => CurveKind::Fold,
-                k => {
-                    return Err(CliError::Usage(format!(
-                        "--curve: unknown curve '{}': expected pd or fold",
-                        echo(k)
-                    )));
-                }
-            };
-            let Some(params) = params else {
-                return Err(CliError::Usage(
-                    "--params: required with --curve (e.g. --params theta-nu,kappa)".into(),
-                ));
-            };
-            let names: Vec<&str> = params.split(',').collect();
-            let [a, b] = names[..] else {
-                return Err(CliError::Usage(format!(
-                    "--params: '{}' is not two names: expected P1,P2, e.g. theta-nu,kappa",
-                    echo(params)
-                )));
-            };
-            let (p1, p2) = (param_name("params", a)?, param_name("params", b)?);
-            if p1 == p2 {
-                return Err(CliError::Usage(format!(
-                    "--params: the two parameters must differ, not {} twice",
-                    p1.name()
-                )));
-            }
-            let (Some(a2), Some(b2)) = (args.from2, args.to2) else {
-                return Err(CliError::Usage(
-                    "--from2 and --to2: required with --curve (the second parameter's range)"
-                        .into(),
-                ));
-            };
-            range(["from2", "to2"], a2, b2, p2, &base)?;
-            let inside = p2.get(&base) >= a2.min(b2) && p2.get(&base) <= a2.max(b2);
-            if !inside {
-                return Err(CliError::Usage(format!(
-                    "--from2, --to2: the model's {} = {} is outside [{}, {}]: the curve starts there",
-                    p2.name(),
-                    short(p2.get(&base)),
-                    short(a2.min(b2)),
-                    short(a2.max(b2))
-                )));
-            }
-            (p1, Mode::Curve(kind, p2, [a2, b2]))
-        }
-        (None, _, Some(name)) => {
-            let p = param_name("param", name)?;
-            (
-                p,
-                if args.cascade {
-                    Mode::Cascade
-                } else {
-                    Mode::Branch
-                },
-            )
-        }
+    let (param, mode) = match (args.curve, &args.params, args.param) {
+        (Some(kind), params, _) => curve_mode(args, kind, params.as_deref(), &base)?,
+        (None, _, Some(p)) => (
+            p,
+            if args.cascade {
+                Mode::Cascade
+            } else {
+                Mode::Branch
+            },
+        ),
         (None, _, None) => {
             return Err(CliError::Usage(
                 "--param: required (theta-nu, kappa, gamma, nu or omega), or --curve with --params"
@@ -331,6 +208,92 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
         Some(th) => Some(check_theta(&prob.sim(args.from)?, "theta", th)?),
         None => None,
     };
+    check_outputs(args)?;
+    Ok(Plan {
+        prob,
+        max_seconds,
+        from: args.from,
+        to: args.to,
+        theta,
+        mode,
+    })
+}
+
+/// The model's parameters at --from, the varied one's flag left out or
+/// not.
+fn base_params(args: &ContinueArgs) -> Result<Params, CliError> {
+    // The varied parameter, as far as the flags say it (a wrong name in
+    // --params is refused later, with its flag).
+    let varied = match (args.curve, &args.params, args.param) {
+        (Some(_), Some(ps), _) => ps
+            .split(',')
+            .next()
+            .and_then(|n| ContParam::parse(n.trim())),
+        (None, _, p) => p,
+        _ => None,
+    };
+    with_varied(&args.model, varied, args.from)
+        .params()
+        .map_err(|e| {
+            // The varied parameter's own flag left out, its value is --from's:
+            // the message names --from, as it does for --to.
+            match (varied, args.model.params()) {
+                (Some(p), Ok(b)) if args.model.flag(p).is_none() => {
+                    end("from", args.from, p, &b).err().unwrap_or(e)
+                }
+                _ => e,
+            }
+        })
+}
+
+/// `--curve`'s mode: the two parameters of --params, and the second's range
+/// (which must hold the model's value: the curve starts there).
+fn curve_mode(
+    args: &ContinueArgs,
+    kind: CurveKind,
+    params: Option<&str>,
+    base: &Params,
+) -> Result<(ContParam, Mode), CliError> {
+    let Some(params) = params else {
+        return Err(CliError::Usage(
+            "--params: required with --curve (e.g. --params theta-nu,kappa)".into(),
+        ));
+    };
+    let names: Vec<&str> = params.split(',').collect();
+    let [a, b] = names[..] else {
+        return Err(CliError::Usage(format!(
+            "--params: '{}' is not two names: expected P1,P2, e.g. theta-nu,kappa",
+            echo(params)
+        )));
+    };
+    let (p1, p2) = (param_name("params", a)?, param_name("params", b)?);
+    if p1 == p2 {
+        return Err(CliError::Usage(format!(
+            "--params: the two parameters must differ, not {} twice",
+            p1.name()
+        )));
+    }
+    let (Some(a2), Some(b2)) = (args.from2, args.to2) else {
+        return Err(CliError::Usage(
+            "--from2 and --to2: required with --curve (the second parameter's range)".into(),
+        ));
+    };
+    range(["from2", "to2"], a2, b2, p2, base)?;
+    let at = p2.get(base);
+    if !(at >= a2.min(b2) && at <= a2.max(b2)) {
+        return Err(CliError::Usage(format!(
+            "--from2, --to2: the model's {} = {} is outside [{}, {}]: the curve starts there",
+            p2.name(),
+            short(at),
+            short(a2.min(b2)),
+            short(a2.max(b2))
+        )));
+    }
+    Ok((p1, Mode::Curve(kind, p2, [a2, b2])))
+}
+
+/// The outputs: free to write (or --force), and the summary's place.
+fn check_outputs(args: &ContinueArgs) -> Result<(), CliError> {
     if args.json && args.out.as_os_str() == "-" {
         return Err(CliError::Usage(
             "--out: with --json the summary is on stdout: give --out a file".into(),
@@ -340,14 +303,7 @@ pub fn check(args: &ContinueArgs) -> Result<Plan, CliError> {
     if let Some(p) = &args.points {
         check_second_out("points", p, &args.out, args.force)?;
     }
-    Ok(Plan {
-        prob,
-        max_seconds,
-        from: args.from,
-        to: args.to,
-        theta,
-        mode,
-    })
+    Ok(())
 }
 
 /// The seed: `--theta`, or a point of the attractor at --from when it has
@@ -392,9 +348,8 @@ fn start_error(plan: &Plan, seed: f64, e: CycleFailure) -> CliError {
     }
 }
 
-// Over clippy.toml's 150 lines until issue 27 splits it (listed in
-// tests/function_lengths.rs).
-#[allow(clippy::too_many_lines)]
+/// Follows what the flags ask (the window's "Find bifurcations" job, with
+/// the cycle checked and seeded here) and writes it.
 pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     let plan = check(&args)?;
     warn_validity(&plan.prob.base);
@@ -403,16 +358,53 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     // Both start before the attractor search, which Ctrl+C also stops.
     let started = Instant::now();
     let limits = Limits::start(plan.max_seconds);
-    let seed = seed(&plan, &limits)?;
-    // A seed on a shorter cycle (a fixed point is also a 3-cycle) would
-    // follow that cycle under another name.
+    let seed = start(&plan, &limits)?;
+    let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
+    let described = describe(sim.params(), sim.settings());
+    let ran = follow(&plan, seed, &limits)?;
+    curve_starts_found(&plan, &ran.branches)?;
+    let timed_out = plan
+        .max_seconds
+        .is_some_and(|m| started.elapsed().as_secs_f64() >= m);
+    if limits.stop() && !timed_out {
+        return Err(limits.stopped("continue"));
+    }
+    let seconds = started.elapsed().as_secs_f64();
+    let data = match &ran.extra {
+        out::Extra::Curves(params, c) => out::curve_csv(*params, c),
+        _ => out::branches_csv(&ran.branches),
+    };
+    emit(&args.out, data.as_bytes(), args.force)?;
+    if let Some(p) = &args.points {
+        let points = out::points_csv(&ran.branches);
+        emit_as("points", p, points.as_bytes(), args.force)?;
+    }
+    let summary = out::Summary {
+        described: &described,
+        branches: &ran.branches,
+        extra: &ran.extra,
+        seconds,
+    };
+    if args.json {
+        emit(Path::new("-"), summary.json().as_bytes(), false)?;
+    } else {
+        eprint!("{}", summary.text());
+    }
+    ended(&plan, &ran, seconds, timed_out)
+}
+
+/// The seed, checked to lie on a cycle of period p exactly: a seed on a
+/// shorter cycle (a fixed point is also a 3-cycle) would follow that cycle
+/// under another name.
+fn start(plan: &Plan, limits: &Limits) -> Result<f64, CliError> {
+    let seed = seed(plan, limits)?;
     let solved = crate::sim::solve_cycle(
         &plan.prob.sim(plan.from)?,
         seed,
         plan.prob.period,
         &crate::sim::CycleOptions::for_settings(&plan.prob.settings),
     )
-    .map_err(|e| start_error(&plan, seed, e))?;
+    .map_err(|e| start_error(plan, seed, e))?;
     if solved.minimal_period < plan.prob.period {
         return Err(CliError::Usage(format!(
             "--theta = {}: the cycle through it at {} = {} has period {}, not {}",
@@ -423,148 +415,135 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             plan.prob.period
         )));
     }
-    let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
-    let described = describe(sim.params(), sim.settings());
-    let opts = ContOptions::for_range(&plan.prob.settings, plan.from, plan.to);
-    let stop = || limits.stop();
-    // A line per located point where no bar or terminal shows progress.
+    Ok(seed)
+}
+
+/// The job the flags ask for: the p-cycle through `seed` followed over the
+/// range, with the cascade (each level to its doubling) or the curves.
+fn spec(plan: &Plan, seed: f64) -> ContinuationSpec {
+    let period = plan.prob.period;
+    let (max_period, cascade, curves) = match plan.mode {
+        Mode::Branch => (period, CascadeFrom::Branch, None),
+        Mode::Cascade => (PERIOD_MAX, CascadeFrom::Levels, None),
+        Mode::Curve(kind, param, range) => {
+            let follow = CurveFollow { kind, param, range };
+            (period, CascadeFrom::Branch, Some(follow))
+        }
+    };
+    ContinuationSpec {
+        params: plan.prob.base,
+        settings: plan.prob.settings,
+        param: plan.prob.param,
+        from: plan.from,
+        to: plan.to,
+        max_period,
+        cycle: Some(GivenCycle {
+            period,
+            theta: seed,
+        }),
+        cascade,
+        curves,
+    }
+}
+
+/// What a run computed.
+struct Ran {
+    branches: Vec<Branch>,
+    extra: out::Extra,
+}
+
+/// Runs the job until it ends or the limits stop it (it then ends with
+/// what it has), with a line per located point, level and curve on
+/// stderr where no bar or terminal shows progress (levels: always).
+fn follow(plan: &Plan, seed: f64, limits: &Limits) -> Result<Ran, CliError> {
     let lines = !stderr_is_terminal();
-    let mut on_special = |p: &SpecialPoint| {
-        if lines {
-            eprintln!(
-                "continue: {} of the P{} branch at {} = {}",
-                p.kind.name(),
-                p.period,
-                plan.prob.param.name(),
-                p.lambda
-            );
+    let curves = AtomicUsize::new(0);
+    let name = plan.prob.param.name();
+    let on_update = |u: &Update| match u {
+        Update::Special { point: p, .. } if lines => eprintln!(
+            "continue: {} of the P{} branch at {name} = {}",
+            p.kind.name(),
+            p.period,
+            p.lambda
+        ),
+        Update::Branch { branch: b, .. } if matches!(plan.mode, Mode::Cascade) => eprintln!(
+            "continue: P{} branch, {} points: it {}",
+            b.period,
+            b.points.len(),
+            b.stop_message()
+        ),
+        Update::Curve { curve, .. } if lines => {
+            let i = curves.fetch_add(1, Ordering::Relaxed);
+            eprintln!("continue: {}", out::curve_line(i, curve));
         }
+        _ => {}
     };
-    let (branches, extra): (Vec<Branch>, out::Extra) = match plan.mode {
-        Mode::Branch => {
-            let b = continue_branch_reporting(
-                &plan.prob,
-                plan.from,
-                plan.to,
-                seed,
-                &opts,
-                &stop,
-                &mut on_special,
-            )
-            .map_err(|e| start_error(&plan, seed, e))?;
-            (vec![b], out::Extra::None)
+    let spec = Spec::Branches(spec(plan, seed));
+    let (updates, ended) = run_kept(spec, 1, on_update, || limits.stop());
+    match ended {
+        Ok(()) | Err(JobError::Stop) => {}
+        Err(JobError::Sim(e)) => return Err(start_error(plan, seed, CycleFailure::Sim(e))),
+        Err(JobError::Failed(m)) => {
+            return Err(CliError::Usage(format!("--theta = {}: {m}", short(seed))));
         }
-        Mode::Cascade => {
-            let mut progress = |b: &Branch| {
-                eprintln!(
-                    "continue: P{} branch, {} points: it {}",
-                    b.period,
-                    b.points.len(),
-                    b.stop_message()
-                );
-            };
-            let c = cascade_reporting(
-                &plan.prob,
-                plan.from,
-                plan.to,
-                seed,
-                PERIOD_MAX,
-                &opts,
-                &stop,
-                &mut progress,
-            )
-            .map_err(|e| start_error(&plan, seed, e))?;
-            let branches = c.branches.clone();
-            (branches, out::Extra::Cascade(c))
-        }
-        Mode::Curve(kind, p2, r2) => {
-            let b = continue_branch_reporting(
-                &plan.prob,
-                plan.from,
-                plan.to,
-                seed,
-                &opts,
-                &stop,
-                &mut on_special,
-            )
-            .map_err(|e| start_error(&plan, seed, e))?;
-            let want = match kind {
-                CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
-                CurveKind::Fold => SpecialKind::Fold,
-            };
-            let starts: Vec<SpecialPoint> = b.of_kind(want).cloned().collect();
-            if starts.is_empty() && b.stop != Stop::Cancelled {
-                return Err(CliError::Failed(format!(
-                    "no {} point on the P{} branch in {} from {} to {} to start the curve from (the branch {})",
-                    want.name(),
-                    plan.prob.period,
-                    plan.prob.param.name(),
-                    short(plan.from),
-                    short(plan.to),
-                    b.stop_message()
-                )));
-            }
-            let copts = CurveOptions::for_box([[plan.from, plan.to], r2]);
-            // The curve through every start not on an earlier one: a
-            // boundary crossed twice along the branch may be two arms.
-            let curves = continue_curves(
-                &plan.prob.base,
-                &plan.prob.settings,
-                [plan.prob.param, p2],
-                plan.prob.period,
-                kind,
-                &starts,
-                &copts,
-                &stop,
-            );
-            if lines {
-                for (i, c) in curves.iter().enumerate() {
-                    eprintln!("continue: {}", out::curve_line(i, c));
-                }
-            }
-            (vec![b], out::Extra::Curves([plan.prob.param, p2], curves))
-        }
-    };
-    let timed_out = plan
-        .max_seconds
-        .is_some_and(|m| started.elapsed().as_secs_f64() >= m);
-    if limits.stop() && !timed_out {
-        return Err(limits.stopped("continue"));
     }
-    let seconds = started.elapsed().as_secs_f64();
-    let data = match &extra {
-        out::Extra::Curves(params, c) => out::curve_csv(*params, c),
-        _ => out::branches_csv(&branches),
-    };
-    emit(&args.out, data.as_bytes(), args.force)?;
-    if let Some(p) = &args.points {
-        emit_as(
-            "points",
-            p,
-            out::points_csv(&branches).as_bytes(),
-            args.force,
-        )?;
+    let (mut branches, mut cascade, mut curves) = (Vec::new(), None, Vec::new());
+    for u in updates {
+        match u {
+            Update::Branch { branch, .. } => branches.push(branch),
+            Update::Cascade { cascade: c, .. } => cascade = Some(c),
+            Update::Curve { curve, .. } => curves.push(curve),
+            _ => {}
+        }
     }
-    let summary = out::Summary {
-        described: &described,
-        branches: &branches,
-        extra: &extra,
-        seconds,
+    let extra = match (plan.mode, cascade) {
+        (Mode::Cascade, Some(c)) => {
+            branches.clone_from(&c.branches);
+            out::Extra::Cascade(c)
+        }
+        (Mode::Curve(_, p2, _), _) => out::Extra::Curves([plan.prob.param, p2], curves),
+        _ => out::Extra::None,
     };
-    if args.json {
-        emit(Path::new("-"), summary.json().as_bytes(), false)?;
-    } else {
-        eprint!("{}", summary.text());
+    Ok(Ran { branches, extra })
+}
+
+/// With --curve, a branch that ended with no point of the curve's kind has
+/// nothing to start from (one stopped early may simply not have reached
+/// one).
+fn curve_starts_found(plan: &Plan, branches: &[Branch]) -> Result<(), CliError> {
+    let (Mode::Curve(kind, ..), Some(b)) = (plan.mode, branches.first()) else {
+        return Ok(());
+    };
+    let want = match kind {
+        CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
+        CurveKind::Fold => SpecialKind::Fold,
+    };
+    if b.of_kind(want).next().is_some() || b.stop == Stop::Cancelled {
+        return Ok(());
     }
+    Err(CliError::Failed(format!(
+        "no {} point on the P{} branch in {} from {} to {} to start the curve from (the branch {})",
+        want.name(),
+        plan.prob.period,
+        plan.prob.param.name(),
+        short(plan.from),
+        short(plan.to),
+        b.stop_message()
+    )))
+}
+
+/// How the run ended once its results are written: stopped by
+/// --max-seconds, a branch that failed mid-way, or well.
+fn ended(plan: &Plan, ran: &Ran, seconds: f64, timed_out: bool) -> Result<(), CliError> {
     if timed_out {
         return Err(CliError::Failed(format!(
             "continue: stopped by --max-seconds = {} after {seconds:.1} s: what was computed is written; {}",
             short(plan.max_seconds.unwrap_or(0.0)),
-            where_stopped(&branches, &extra)
+            out::where_stopped(&ran.branches, &ran.extra)
         )));
     }
     // A branch that failed mid-way has written what it has; the run failed.
-    let failed = branches.first().and_then(|b| match &b.stop {
+    let failed = ran.branches.first().and_then(|b| match &b.stop {
         Stop::Failed(_) => Some(format!("the P{} branch {}", b.period, b.stop_message())),
         _ => None,
     });
@@ -573,33 +552,5 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
             "{m} (the points computed before are written)"
         ))),
         None => Ok(()),
-    }
-}
-
-/// Where a run stopped by --max-seconds was: the last branch's end, and
-/// each curve's last point.
-fn where_stopped(branches: &[Branch], extra: &out::Extra) -> String {
-    let branch = branches
-        .last()
-        .map(|b| format!("the P{} branch {}", b.period, b.stop_message()))
-        .unwrap_or_default();
-    match extra {
-        out::Extra::Curves(_, curves) if !curves.is_empty() => {
-            let ends: Vec<String> = curves
-                .iter()
-                .enumerate()
-                .map(|(i, c)| {
-                    format!(
-                        "curve {i} with {} points from {} to {}",
-                        c.points.len(),
-                        out::curve_end(c, false),
-                        out::curve_end(c, true)
-                    )
-                })
-                .collect();
-            format!("{}; {branch}", ends.join(", "))
-        }
-        out::Extra::Cascade(c) => format!("the cascade {}; {branch}", c.stop),
-        _ => branch,
     }
 }

@@ -124,6 +124,34 @@ pub fn curve_line(i: usize, c: &Curve) -> String {
     )
 }
 
+/// Where a run stopped by --max-seconds was: the last branch's end, and
+/// each curve's last point.
+pub fn where_stopped(branches: &[Branch], extra: &Extra) -> String {
+    let branch = branches
+        .last()
+        .map(|b| format!("the P{} branch {}", b.period, b.stop_message()))
+        .unwrap_or_default();
+    match extra {
+        Extra::Curves(_, curves) if !curves.is_empty() => {
+            let ends: Vec<String> = curves
+                .iter()
+                .enumerate()
+                .map(|(i, c)| {
+                    format!(
+                        "curve {i} with {} points from {} to {}",
+                        c.points.len(),
+                        curve_end(c, false),
+                        curve_end(c, true)
+                    )
+                })
+                .collect();
+            format!("{}; {branch}", ends.join(", "))
+        }
+        Extra::Cascade(c) => format!("the cascade {}; {branch}", c.stop),
+        _ => branch,
+    }
+}
+
 /// The run's summary.
 pub struct Summary<'a> {
     pub described: &'a str,
@@ -178,85 +206,97 @@ fn flip_words(name: &str, period: usize, f: &crate::sim::continuation::Flip) -> 
     )
 }
 
+/// A branch's line (its range, points, bifurcations and end), then a line
+/// per special point.
+fn branch_text(s: &mut String, b: &Branch) {
+    let name = b.param.name();
+    let count = |k| b.of_kind(k).count();
+    use crate::sim::continuation::SpecialKind::*;
+    let (from, to) = (
+        b.points.first().map_or(f64::NAN, |p| p.lambda),
+        b.points.last().map_or(f64::NAN, |p| p.lambda),
+    );
+    writeln!(
+        s,
+        "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border{}; it {}",
+        b.period,
+        b.points.len(),
+        count(PeriodDoubling),
+        count(Fold),
+        count(Border),
+        match count(Jump) {
+            0 => String::new(),
+            n => format!(", {n} jump of m (no bifurcation)"),
+        },
+        b.stop_message()
+    )
+    .ok();
+    for p in &b.special {
+        special_line(s, name, p);
+    }
+}
+
+/// The cascade's table: each doubling, the gap to the one before, and the
+/// ratio δₙ of the gaps, with Feigenbaum's δ to compare.
+fn cascade_text(s: &mut String, name: &str, c: &Cascade) {
+    writeln!(
+        s,
+        "cascade: {} doublings; ended: {}",
+        c.doublings.len(),
+        c.stop
+    )
+    .ok();
+    writeln!(
+        s,
+        "  {:<3} {:<7} {:<22} {:<12} delta_n",
+        "n", "period", name, "gap"
+    )
+    .ok();
+    let ratios = c.ratios();
+    for (i, d) in c.doublings.iter().enumerate() {
+        let gap = if i > 0 {
+            format!("{:.6e}", d.lambda - c.doublings[i - 1].lambda)
+        } else {
+            String::new()
+        };
+        let ratio = if i >= 2 {
+            format!("{:.4}", ratios[i - 2])
+        } else {
+            String::new()
+        };
+        writeln!(
+            s,
+            "  {:<3} {:<7} {:<22} {:<12} {ratio}",
+            i + 1,
+            d.period,
+            format!("{:.15}", d.lambda),
+            gap
+        )
+        .ok();
+    }
+    if let Some(last) = ratios.last() {
+        writeln!(
+            s,
+            "  Feigenbaum's delta is 4.6692...; the last ratio here is {last:.4} ({:+.1} %)",
+            100.0 * (last / 4.669_201_609 - 1.0)
+        )
+        .ok();
+    }
+}
+
 impl Summary<'_> {
     /// The text summary (for stderr).
     pub fn text(&self) -> String {
         let mut s = format!("continue: {}\n", self.described);
         let evals: u64 = self.branches.iter().map(|b| b.map_evals).sum();
         for b in self.branches {
-            let name = b.param.name();
-            let count = |k| b.of_kind(k).count();
-            use crate::sim::continuation::SpecialKind::*;
-            let (from, to) = (
-                b.points.first().map_or(f64::NAN, |p| p.lambda),
-                b.points.last().map_or(f64::NAN, |p| p.lambda),
-            );
-            writeln!(
-                s,
-                "P{} branch in {name} from {from} to {to}: {} points, {} PD, {} fold, {} border{}; it {}",
-                b.period,
-                b.points.len(),
-                count(PeriodDoubling),
-                count(Fold),
-                count(Border),
-                match count(Jump) {
-                    0 => String::new(),
-                    n => format!(", {n} jump of m (no bifurcation)"),
-                },
-                b.stop_message()
-            )
-            .ok();
-            for p in &b.special {
-                special_line(&mut s, name, p);
-            }
+            branch_text(&mut s, b);
         }
         match self.extra {
             Extra::None => {}
             Extra::Cascade(c) => {
                 let name = self.branches.first().map_or("", |b| b.param.name());
-                writeln!(
-                    s,
-                    "cascade: {} doublings; ended: {}",
-                    c.doublings.len(),
-                    c.stop
-                )
-                .ok();
-                writeln!(
-                    s,
-                    "  {:<3} {:<7} {:<22} {:<12} delta_n",
-                    "n", "period", name, "gap"
-                )
-                .ok();
-                let ratios = c.ratios();
-                for (i, d) in c.doublings.iter().enumerate() {
-                    let gap = if i > 0 {
-                        format!("{:.6e}", d.lambda - c.doublings[i - 1].lambda)
-                    } else {
-                        String::new()
-                    };
-                    let ratio = if i >= 2 {
-                        format!("{:.4}", ratios[i - 2])
-                    } else {
-                        String::new()
-                    };
-                    writeln!(
-                        s,
-                        "  {:<3} {:<7} {:<22} {:<12} {ratio}",
-                        i + 1,
-                        d.period,
-                        format!("{:.15}", d.lambda),
-                        gap
-                    )
-                    .ok();
-                }
-                if let Some(last) = ratios.last() {
-                    writeln!(
-                        s,
-                        "  Feigenbaum's delta is 4.6692...; the last ratio here is {last:.4} ({:+.1} %)",
-                        100.0 * (last / 4.669_201_609 - 1.0)
-                    )
-                    .ok();
-                }
+                cascade_text(&mut s, name, c);
             }
             Extra::Curves(_, curves) => {
                 for (i, c) in curves.iter().enumerate() {

@@ -9,11 +9,11 @@ use std::path::{Path, PathBuf};
 use clap::Args;
 
 use super::CliError;
+use super::common::OptionalModelArgs;
 use super::gui::{VIEW_KEYS, parse_size};
 #[cfg(feature = "gui")]
 use super::run_control::{Limits, run_bounded};
 use super::values::{echo, parse_count, parse_number, short};
-use crate::model::Preset;
 
 /// The default figure size in points.
 pub const DEFAULT_SIZE: [f32; 2] = [900.0, 600.0];
@@ -30,29 +30,14 @@ pub struct FigureArgs {
     /// pixels per point). Never overwrites an existing file.
     #[arg(long)]
     pub out: PathBuf,
-    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent [default: fig3b, or the session's].
-    #[arg(long)]
-    pub preset: Option<Preset>,
+    /// The model's parameters [default: the session's, else fig3b's].
+    #[command(flatten)]
+    pub model: OptionalModelArgs,
     /// Start from a session saved by the window's "Save session" (its
     /// parameters, views' settings and diagram zoom); the flags override it.
+    /// Without one, and without --preset, the parameters are fig3b's.
     #[arg(long)]
     pub session: Option<PathBuf>,
-    /// κ = k_x/k_y, in [1e-6, 1e6].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0, 1e6].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 1e3].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub nu: Option<f64>,
-    /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
-    pub theta_nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
     /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
     pub size: Option<[f32; 2]>,
@@ -217,6 +202,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         None => (Settings::default(), Vec::new()),
     };
     let preset = a
+        .model
         .preset
         .map(|p| p.key)
         .or_else(|| a.session.is_none().then_some("fig3b"));
@@ -226,11 +212,11 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         apply_preset(&mut settings, &p.params, p.key);
     }
     let p = &mut settings.params;
-    p.kappa = a.kappa.unwrap_or(p.kappa);
-    p.gamma = a.gamma.unwrap_or(p.gamma);
-    p.nu = a.nu.unwrap_or(p.nu);
-    p.theta_nu = a.theta_nu.unwrap_or(p.theta_nu);
-    p.omega = a.omega.unwrap_or(p.omega);
+    p.kappa = a.model.kappa.unwrap_or(p.kappa);
+    p.gamma = a.model.gamma.unwrap_or(p.gamma);
+    p.nu = a.model.nu.unwrap_or(p.nu);
+    p.theta_nu = a.model.theta_nu.unwrap_or(p.theta_nu);
+    p.omega = a.model.omega.unwrap_or(p.omega);
     p.validate().map_err(super::values::param_error)?;
     if view == ViewKind::Phase {
         let ph = &mut settings.phase;

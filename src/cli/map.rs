@@ -12,9 +12,11 @@ use super::common::{
 };
 use super::run_control::check_stdout;
 use super::values::parse_number;
+use crate::integrate::SolverSettings;
+use crate::model::Params;
 use crate::model::{OnsetCharacter, Regime, onset_character};
-use crate::sim::Simulator;
 use crate::sim::variational::{MapDerivatives, NotDifferentiable};
+use crate::sim::{Simulator, SlipEvent};
 
 /// One map iterate from the onset at `--theta`.
 #[derive(Debug, Clone, Args)]
@@ -60,81 +62,107 @@ pub fn run(args: MapArgs) -> Result<(), CliError> {
         OnsetCharacter::Creep => "creep",
         OnsetCharacter::StickSlip => "stick-slip",
     };
+    let derivs = &derivs;
     let text = if args.json {
-        let mut obj = serde_json::to_value(ev)
-            .map_err(|e| CliError::Failed(format!("cannot encode the event as JSON: {e}")))?;
-        if let Some(m) = obj.as_object_mut() {
-            m.insert("regime".into(), regime.name().into());
-            if let Regime::Mixed { theta_c } = regime {
-                m.insert("theta_c".into(), theta_c.into());
-            }
-            m.insert("onset_character".into(), onset_name.into());
-            m.insert(
-                "params".into(),
-                serde_json::to_value(params).unwrap_or_default(),
-            );
-            m.insert("solver".into(), settings_json(&settings));
-            // Where f has no derivative the keys are null and the reason
-            // is given, rather than a meaningless number.
-            match &derivs {
-                Ok(d) => {
-                    for (name, value) in d.named() {
-                        m.insert(name.into(), value.into());
-                    }
-                }
-                Err(reason) => {
-                    for (name, _) in MapDerivatives::default().named() {
-                        m.insert(name.into(), serde_json::Value::Null);
-                    }
-                    m.insert("not_differentiable".into(), reason.to_string().into());
-                }
-            }
-        }
-        format!("{obj}\n")
+        json_text(&ev, &params, &settings, regime, onset_name, derivs)?
     } else {
-        let regime_line = match regime {
-            Regime::Mixed { theta_c } => format!("{} (theta_c = {theta_c})", regime.name()),
-            _ => regime.name().to_string(),
-        };
-        format!(
-            "map: {describe}\n\
-             regime           {regime_line}\n\
-             theta            {theta}  ({onset_name} onset, to linear order)\n\
-             theta_next       {theta_next}\n\
-             onset (x, y)     ({ox}, {oy})\n\
-             accel duration   {accel}\n\
-             slip duration    {slip}\n\
-             stop (x, y)      ({sx}, {sy})\n\
-             slip distance    {dist}\n\
-             peak v_r         {peak}\n\
-             energy released  {energy}\n\
-             stick duration   {stick}\n\
-             restarted        {restarted}\n\
-             rhs evaluations  {evals} in {steps} steps\n\
-             {derivatives}",
-            describe = describe(&params, &settings),
-            theta_next = ev.theta_next,
-            ox = ev.onset_x,
-            oy = ev.onset_y,
-            accel = ev.accel_duration,
-            slip = ev.slip_duration,
-            sx = ev.stop_x,
-            sy = ev.stop_y,
-            dist = ev.slip_distance,
-            peak = ev.peak_vr,
-            energy = ev.energy_released,
-            stick = ev.stick_duration,
-            restarted = if ev.restarted {
-                "yes (the stop was on or outside C)"
-            } else {
-                "no"
-            },
-            evals = ev.rhs_evals,
-            steps = ev.steps,
-            derivatives = derivative_lines(&derivs),
-        )
+        let what = describe(&params, &settings);
+        plain_text(&ev, &what, regime, theta, onset_name, derivs)
     };
     emit(Path::new("-"), text.as_bytes(), false)
+}
+
+/// The event, the regime and the derivatives as one JSON object.
+fn json_text(
+    ev: &SlipEvent,
+    params: &Params,
+    settings: &SolverSettings,
+    regime: Regime,
+    onset_name: &str,
+    derivs: &Result<MapDerivatives, NotDifferentiable>,
+) -> Result<String, CliError> {
+    let mut obj = serde_json::to_value(*ev)
+        .map_err(|e| CliError::Failed(format!("cannot encode the event as JSON: {e}")))?;
+    if let Some(m) = obj.as_object_mut() {
+        m.insert("regime".into(), regime.name().into());
+        if let Regime::Mixed { theta_c } = regime {
+            m.insert("theta_c".into(), theta_c.into());
+        }
+        m.insert("onset_character".into(), onset_name.into());
+        m.insert(
+            "params".into(),
+            serde_json::to_value(params).unwrap_or_default(),
+        );
+        m.insert("solver".into(), settings_json(settings));
+        // Where f has no derivative the keys are null and the reason
+        // is given, rather than a meaningless number.
+        match derivs {
+            Ok(d) => {
+                for (name, value) in d.named() {
+                    m.insert(name.into(), value.into());
+                }
+            }
+            Err(reason) => {
+                for (name, _) in MapDerivatives::default().named() {
+                    m.insert(name.into(), serde_json::Value::Null);
+                }
+                m.insert("not_differentiable".into(), reason.to_string().into());
+            }
+        }
+    }
+    Ok(format!("{obj}\n"))
+}
+
+/// The event, the regime and the derivatives as aligned lines.
+fn plain_text(
+    ev: &SlipEvent,
+    what: &str,
+    regime: Regime,
+    theta: f64,
+    onset_name: &str,
+    derivs: &Result<MapDerivatives, NotDifferentiable>,
+) -> String {
+    let regime_line = match regime {
+        Regime::Mixed { theta_c } => format!("{} (theta_c = {theta_c})", regime.name()),
+        _ => regime.name().to_string(),
+    };
+    format!(
+        "map: {describe}\n\
+         regime           {regime_line}\n\
+         theta            {theta}  ({onset_name} onset, to linear order)\n\
+         theta_next       {theta_next}\n\
+         onset (x, y)     ({ox}, {oy})\n\
+         accel duration   {accel}\n\
+         slip duration    {slip}\n\
+         stop (x, y)      ({sx}, {sy})\n\
+         slip distance    {dist}\n\
+         peak v_r         {peak}\n\
+         energy released  {energy}\n\
+         stick duration   {stick}\n\
+         restarted        {restarted}\n\
+         rhs evaluations  {evals} in {steps} steps\n\
+         {derivatives}",
+        describe = what,
+        theta_next = ev.theta_next,
+        ox = ev.onset_x,
+        oy = ev.onset_y,
+        accel = ev.accel_duration,
+        slip = ev.slip_duration,
+        sx = ev.stop_x,
+        sy = ev.stop_y,
+        dist = ev.slip_distance,
+        peak = ev.peak_vr,
+        energy = ev.energy_released,
+        stick = ev.stick_duration,
+        restarted = if ev.restarted {
+            "yes (the stop was on or outside C)"
+        } else {
+            "no"
+        },
+        evals = ev.rhs_evals,
+        steps = ev.steps,
+        derivatives = derivative_lines(derivs),
+    )
 }
 
 /// The text output's lines for the derivatives, or for their absence.

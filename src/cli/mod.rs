@@ -52,7 +52,7 @@ pub enum Command {
     Bifurcation(bifurcation::BifurcationArgs),
     /// Times the simulation worker: first coarse diagram, full diagram, trajectory latency.
     BenchWorker(bench_worker::BenchWorkerArgs),
-    /// The work-precision chart: map error against cost per iterate for every method.
+    /// The work-precision chart: map error against cost per iterate for every method (on a four-attractor sample, or on the one attractor the model flags give).
     WorkPrecision(work_precision::WorkPrecisionArgs),
     /// The phase diagram over (θν, κ): period, Lyapunov exponent and class per cell.
     Phase(phase::PhaseArgs),

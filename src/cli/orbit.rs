@@ -205,37 +205,16 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         progress.inc(1);
         limits.stop()
     };
-    let mut used = MapUsed::Direct;
-    let mut result = None;
-    if choice.interpolates(usize::try_from(total).unwrap_or(usize::MAX)) {
+    let (used, result) = if choice.interpolates(usize::try_from(total).unwrap_or(usize::MAX)) {
         // The interpolated run polls once per 4096 iterates.
         let every = || {
             progress.inc(4096);
             limits.stop()
         };
-        let iopts = InterpolantOptions::for_settings(&settings);
-        match orbit_interpolated(&sim, theta0, &opts, iopts, &every) {
-            Ok(r) => {
-                let i = &r.interpolant;
-                let v = i.verification();
-                used = MapUsed::Interpolant {
-                    pieces: i.pieces().0,
-                    degree: i.max_degree(),
-                    interval: i.interval(),
-                    evaluations: i.evaluations(),
-                    points: v.points,
-                    max_error: v.max_map_error,
-                    max_event_error: v.max_event_error,
-                    direct_iterates: r.direct_iterates,
-                    refused_extension: r.refused_extension,
-                };
-                result = Some(Ok(r.orbit));
-            }
-            Err(e) => {
-                used = MapUsed::Refused(e.to_string());
-            }
-        }
-    }
+        interpolated(&sim, theta0, &opts, &every)
+    } else {
+        (MapUsed::Direct, None)
+    };
     let result = result.unwrap_or_else(|| sim.orbit(theta0, &opts, &tick));
     progress.finish();
     let orbit = match result {
@@ -243,22 +222,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         r => r?,
     };
     let seconds = start.elapsed().as_secs_f64();
-    let mut anomalies = 0;
-    for e in &orbit.events {
-        let a = event_anomalies(e.theta, e.theta_next, e.energy_released);
-        if let Some(first) = a.first() {
-            if anomalies == 0 {
-                eprintln!("warning: {first}");
-            }
-            anomalies += 1;
-        }
-    }
-    if anomalies > 0 {
-        eprintln!(
-            "warning: {anomalies} of {} kept events are outside the model (negative energy released, or theta' = theta - pi)",
-            orbit.events.len()
-        );
-    }
+    warn_anomalies(&orbit);
 
     if let Some(p) = &csv_out {
         let mut csv = SLIP_EVENT_COLUMNS.join(",");
@@ -270,34 +234,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         emit(p, csv.as_bytes(), args.force)?;
     }
     if let Some(st) = &args.stats {
-        let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-        let text = match Intermittency::of(&sizes, None) {
-            Some(i) => i.csv("slip_distance"),
-            None => "# no slip of positive size: no statistics\nstatistic,lo,hi,count\n".into(),
-        };
-        // The first line also says where the slip sizes came from.
-        let source = match &used {
-            MapUsed::Interpolant { max_error, .. } => format!(
-                "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
-            ),
-            MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
-            MapUsed::Direct => "; slip sizes integrated".into(),
-        };
-        let text = match text.split_once('\n') {
-            Some((first, rest)) => format!("{first}{source}\n{rest}"),
-            None => text,
-        };
-        // Creep or stick-slip by the model's criterion, where each slip
-        // starts; "large" and "small" above are sizes only.
-        let onsets = OnsetCounts::of(
-            params.kappa,
-            params.gamma,
-            orbit.events.iter().map(|e| e.theta),
-        );
-        let text = format!(
-            "# {}: by where each slip starts (creep where gamma^2 < kappa cos^2 theta + sin^2 theta)\n{text}",
-            onsets.describe()
-        );
+        let text = stats_text(&params, &orbit, &used);
         emit_as("stats", st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {
@@ -326,6 +263,91 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// The orbit by the interpolant, and how it went: `None` for the orbit
+/// when the interpolant was refused (the caller integrates it).
+fn interpolated(
+    sim: &Simulator,
+    theta0: f64,
+    opts: &OrbitOptions,
+    every: &dyn Fn() -> bool,
+) -> (MapUsed, Option<Result<Orbit, SimError>>) {
+    let iopts = InterpolantOptions::for_settings(sim.settings());
+    match orbit_interpolated(sim, theta0, opts, iopts, every) {
+        Ok(r) => {
+            let i = &r.interpolant;
+            let v = i.verification();
+            let used = MapUsed::Interpolant {
+                pieces: i.pieces().0,
+                degree: i.max_degree(),
+                interval: i.interval(),
+                evaluations: i.evaluations(),
+                points: v.points,
+                max_error: v.max_map_error,
+                max_event_error: v.max_event_error,
+                direct_iterates: r.direct_iterates,
+                refused_extension: r.refused_extension,
+            };
+            (used, Some(Ok(r.orbit)))
+        }
+        Err(e) => (MapUsed::Refused(e.to_string()), None),
+    }
+}
+
+/// Warns of the kept events outside the model: the first in full, then
+/// how many there are.
+fn warn_anomalies(orbit: &Orbit) {
+    let mut anomalies = 0;
+    for e in &orbit.events {
+        let a = event_anomalies(e.theta, e.theta_next, e.energy_released);
+        if let Some(first) = a.first() {
+            if anomalies == 0 {
+                eprintln!("warning: {first}");
+            }
+            anomalies += 1;
+        }
+    }
+    if anomalies > 0 {
+        eprintln!(
+            "warning: {anomalies} of {} kept events are outside the model (negative energy released, or theta' = theta - pi)",
+            orbit.events.len()
+        );
+    }
+}
+
+/// `--stats`: the slip sizes' intermittency statistics, headed by where the
+/// sizes came from and by the creep and stick-slip counts.
+fn stats_text(params: &crate::model::Params, orbit: &Orbit, used: &MapUsed) -> String {
+    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
+    let text = match Intermittency::of(&sizes, None) {
+        Some(i) => i.csv("slip_distance"),
+        None => "# no slip of positive size: no statistics\nstatistic,lo,hi,count\n".into(),
+    };
+    // The first line also says where the slip sizes came from.
+    let source = match used {
+        MapUsed::Interpolant { max_error, .. } => {
+            format!("; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)")
+        }
+        MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
+        MapUsed::Direct => "; slip sizes integrated".into(),
+    };
+    let text = match text.split_once('\n') {
+        Some((first, rest)) => format!("{first}{source}\n{rest}"),
+        None => text,
+    };
+    // Creep or stick-slip by the model's criterion, where each slip
+    // starts; "large" and "small" above are sizes only.
+    let onsets = OnsetCounts::of(
+        params.kappa,
+        params.gamma,
+        orbit.events.iter().map(|e| e.theta),
+    );
+    let text = format!(
+        "# {}: by where each slip starts (creep where gamma^2 < kappa cos^2 theta + sin^2 theta)\n{text}",
+        onsets.describe()
+    );
+    text
 }
 
 struct Summary<'a> {

@@ -160,6 +160,40 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
             "--kappa-steps = {rows} with --theta-nu-steps = {cols} is out of range: at most {MAX_CELLS} cells"
         )));
     }
+    let opts = phase_options(args, &settings)?;
+    let threads = match args.threads {
+        Some(n) => count_in("threads", n, 1024)?,
+        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
+    };
+    let out = check_outputs(args)?;
+    let max_seconds = max_seconds(args.max_seconds)?;
+    let boundaries = match &args.boundaries {
+        Some(b) => super::phase_boundaries::read_boundaries(b)
+            .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
+        None => Vec::new(),
+    };
+    Ok(Plan {
+        params: Params {
+            kappa: k_from,
+            ..params
+        },
+        settings,
+        kappas: theta_nu_grid(k_from, k_to, rows),
+        theta_nus: theta_nu_grid(t_from, t_to, cols),
+        opts,
+        threads,
+        out,
+        max_seconds,
+        boundaries,
+    })
+}
+
+/// The options of every cell: the transient, the iterates kept and the
+/// period's tolerance, checked.
+fn phase_options(
+    args: &PhaseArgs,
+    settings: &crate::SolverSettings,
+) -> Result<PhaseOptions, CliError> {
     if args.transient > 1_000_000 {
         return Err(CliError::Usage(format!(
             "--transient = {} is out of range: must lie in [0, 1e6]",
@@ -174,7 +208,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
             args.keep
         )));
     };
-    let mut opts = PhaseOptions::for_settings(&settings);
+    let mut opts = PhaseOptions::for_settings(settings);
     opts.transient = args.transient;
     opts.keep = keep;
     opts.early_exit = !args.brute_force;
@@ -188,10 +222,12 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         }
         opts.period_tol = t;
     }
-    let threads = match args.threads {
-        Some(n) => count_in("threads", n, 1024)?,
-        None => std::thread::available_parallelism().map_or(1, |n| n.get()),
-    };
+    Ok(opts)
+}
+
+/// The CSV's place (none with --png alone) and the picture's, both free
+/// to write (or --force).
+fn check_outputs(args: &PhaseArgs) -> Result<Option<PathBuf>, CliError> {
     // Without --png the CSV goes to stdout unless --out names a file; with
     // --png alone only the picture is written.
     let out = match (&args.out, &args.png) {
@@ -215,26 +251,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
             args.force,
         )?;
     }
-    let max_seconds = max_seconds(args.max_seconds)?;
-    let boundaries = match &args.boundaries {
-        Some(b) => super::phase_boundaries::read_boundaries(b)
-            .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
-        None => Vec::new(),
-    };
-    Ok(Plan {
-        params: Params {
-            kappa: k_from,
-            ..params
-        },
-        settings,
-        kappas: theta_nu_grid(k_from, k_to, rows),
-        theta_nus: theta_nu_grid(t_from, t_to, cols),
-        opts,
-        threads,
-        out,
-        max_seconds,
-        boundaries,
-    })
+    Ok(out)
 }
 
 pub fn run(args: PhaseArgs) -> Result<(), CliError> {

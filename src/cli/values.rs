@@ -7,6 +7,7 @@ use clap::builder::PossibleValue;
 
 use crate::integrate::Method;
 use crate::model::{PRESETS, ParamError, Params, Preset, preset_keys};
+use crate::sim::continuation::{ContParam, CurveKind};
 use crate::sim::interpolant::MapChoice;
 
 /// A number as a message echoes it: as typed when that is short, else in
@@ -146,6 +147,24 @@ impl ValueEnum for MapChoice {
             MapChoice::Interpolant => "interpolant",
             MapChoice::Auto => "auto",
         }))
+    }
+}
+
+impl ValueEnum for ContParam {
+    fn value_variants<'a>() -> &'a [Self] {
+        &ContParam::ALL
+    }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()))
+    }
+}
+
+impl ValueEnum for CurveKind {
+    fn value_variants<'a>() -> &'a [Self] {
+        &[CurveKind::PeriodDoubling, CurveKind::Fold]
+    }
+    fn to_possible_value(&self) -> Option<PossibleValue> {
+        Some(PossibleValue::new(self.name()))
     }
 }
 

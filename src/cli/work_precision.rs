@@ -10,12 +10,11 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    check_out, check_second_out, check_theta, count_in, emit, emit_as, finite, max_seconds,
-    warn_validity,
+    OptionalModelArgs, check_out, check_second_out, check_theta, count_in, emit, emit_as, finite,
+    max_seconds, warn_validity,
 };
 use super::run_control::Limits;
-use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
-use crate::model::{Params, Preset};
+use super::values::{parse_count, parse_number};
 use crate::numerics::sample::{Attractor, build_sample, default_attractors};
 use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects, measure};
 use crate::numerics::{Subject, chart};
@@ -23,28 +22,10 @@ use crate::numerics::{Subject, chart};
 /// The work-precision chart: error against cost for every method.
 #[derive(Debug, Clone, Args)]
 pub struct WorkPrecisionArgs {
-    /// Measure on a single attractor from a named parameter set (fig3a,
-    /// fig3b, fig4, creep, chaos, intermittent); the flags below override it.
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// κ of a single attractor to measure on [default: the four-attractor
-    /// sample], in [1e-6, 1e3] (beyond, slips turn into steady sliding).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa: Option<f64>,
-    /// γ of that attractor, in [0.1, 1e4] (outside, slips never stop).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub gamma: Option<f64>,
-    /// ν of that attractor, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub nu: Option<f64>,
-    /// θν of that attractor, in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
-    pub theta_nu: Option<f64>,
-    /// Ω of that attractor, in (0, 1e8] (the model assumes [1, 1e4])
-    /// [default: 50, or the preset's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
+    /// A single attractor to measure on [default: the four-attractor
+    /// sample]: its parameters, from a preset or given one by one.
+    #[command(flatten)]
+    pub model: OptionalModelArgs,
     /// Where that attractor's orbit starts [default: θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
@@ -97,23 +78,10 @@ pub struct Plan {
 
 /// Checks the flags and the outputs before any work.
 pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
-    let single = args.preset.is_some()
-        || args.kappa.is_some()
-        || args.gamma.is_some()
-        || args.nu.is_some()
-        || args.theta_nu.is_some();
-    let attractors = if !single {
+    let attractors = if !args.model.any() {
         default_attractors()
     } else {
-        let base = preset_params(args.preset);
-        let params = Params {
-            kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
-            gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
-            nu: given_or_preset("nu", args.nu, base.map(|b| b.nu))?,
-            theta_nu: given_or_preset("theta-nu", args.theta_nu, base.map(|b| b.theta_nu))?,
-            omega: args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
-        };
-        params.validate().map_err(param_error)?;
+        let params = args.model.params()?;
         let theta0 = match args.theta0 {
             Some(t) => {
                 // On the exit arc, said with the flag and a short number
@@ -211,32 +179,8 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         rows.push(row);
     }
     let load_after = load_average();
-    let fmt_load = |l: Option<f64>| l.map_or("?".into(), |l| format!("{l:.2}"));
-
-    let mut csv = String::new();
-    writeln!(
-        csv,
-        "# oneblock work-precision: {} points on {} attractor(s) ({}); reference DOP853 tol 1e-14, max |theta'_ref - theta'_dp54(1e-13)| = {spread:.2e}; load average {} before, {} after",
-        sample.len(),
-        attractors.len(),
-        attractors
-            .iter()
-            .map(|a| format!(
-                "{}: kappa {} gamma {} nu {} theta-nu {}",
-                a.name, a.params.kappa, a.params.gamma, a.params.nu, a.params.theta_nu
-            ))
-            .collect::<Vec<_>>()
-            .join("; "),
-        fmt_load(load_before),
-        fmt_load(load_after)
-    )
-    .ok();
-    csv.push_str(CSV_HEADER);
-    csv.push('\n');
-    for r in &rows {
-        csv.push_str(&r.csv());
-        csv.push('\n');
-    }
+    let loads = [load_before, load_after];
+    let csv = csv_text(&attractors, sample.len(), spread, loads, &rows);
     emit(&args.out, csv.as_bytes(), args.force)?;
     if let Some(svg) = &args.svg {
         let text = chart::svg(
@@ -246,6 +190,53 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?;
         emit_as("svg", svg, text.as_bytes(), args.force)?;
     }
+    report(&rows, sample.len(), spread, start, loads);
+    Ok(())
+}
+
+/// A load average as the CSV and the summary show it.
+fn fmt_load(l: Option<f64>) -> String {
+    l.map_or("?".into(), |l| format!("{l:.2}"))
+}
+
+/// The CSV: a comment line saying what was measured on what (and the
+/// load average before and after), the header, a row per setting.
+fn csv_text(
+    attractors: &[Attractor],
+    points: usize,
+    spread: f64,
+    loads: [Option<f64>; 2],
+    rows: &[Row],
+) -> String {
+    let mut csv = String::new();
+    writeln!(
+        csv,
+        "# oneblock work-precision: {} points on {} attractor(s) ({}); reference DOP853 tol 1e-14, max |theta'_ref - theta'_dp54(1e-13)| = {spread:.2e}; load average {} before, {} after",
+        points,
+        attractors.len(),
+        attractors
+            .iter()
+            .map(|a| format!(
+                "{}: kappa {} gamma {} nu {} theta-nu {}",
+                a.name, a.params.kappa, a.params.gamma, a.params.nu, a.params.theta_nu
+            ))
+            .collect::<Vec<_>>()
+            .join("; "),
+        fmt_load(loads[0]),
+        fmt_load(loads[1])
+    )
+    .ok();
+    csv.push_str(CSV_HEADER);
+    csv.push('\n');
+    for r in rows {
+        csv.push_str(&r.csv());
+        csv.push('\n');
+    }
+    csv
+}
+
+/// A note per setting that failed on some points, and the summary line.
+fn report(rows: &[Row], points: usize, spread: f64, start: Instant, loads: [Option<f64>; 2]) {
     for r in rows.iter().filter(|r| r.failed > 0) {
         eprintln!(
             "note: {} {} {:e}: {} of {} points failed, first: {}",
@@ -264,12 +255,10 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         String::new()
     };
     eprintln!(
-        "work-precision: {} settings{failed} on {} points in {:.1} s; reference spread (DOP853 1e-14 vs DP5(4) 1e-13) {spread:.2e}; load average {} → {}",
+        "work-precision: {} settings{failed} on {points} points in {:.1} s; reference spread (DOP853 1e-14 vs DP5(4) 1e-13) {spread:.2e}; load average {} → {}",
         rows.len(),
-        sample.len(),
         start.elapsed().as_secs_f64(),
-        fmt_load(load_before),
-        fmt_load(load_after)
+        fmt_load(loads[0]),
+        fmt_load(loads[1])
     );
-    Ok(())
 }

@@ -43,8 +43,9 @@ pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
 pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
-    Axis, BoundarySpec, ContinuationSpec, Generation, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER,
-    Outcome, PhaseSpec, PhaseTuning, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
+    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
+    GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, SweepSpec,
+    TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use serde::{Deserialize, Serialize};
@@ -408,6 +409,8 @@ where
 pub struct Collect<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> {
     updates: std::sync::Mutex<Vec<Update>>,
     stopped: AtomicBool,
+    /// Whether updates sent after the stop are still taken.
+    keep_after_stop: bool,
     cycles: AtomicU64,
     on_update: F,
     stop_when: S,
@@ -421,9 +424,19 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
         Collect {
             updates: std::sync::Mutex::new(Vec::new()),
             stopped: AtomicBool::new(false),
+            keep_after_stop: false,
             cycles: AtomicU64::new(0),
             on_update,
             stop_when,
+        }
+    }
+
+    /// [`Collect::new`], but a job stopped by `stop_when` may still send
+    /// what it has (a continuation ends its branch where it stopped).
+    pub fn keeping(on_update: F, stop_when: S) -> Self {
+        Collect {
+            keep_after_stop: true,
+            ..Self::new(on_update, stop_when)
         }
     }
 
@@ -449,7 +462,7 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Sink for Collect<F, S> {
     }
 
     fn send(&self, update: Update) -> Result<(), Stop> {
-        if self.stale() {
+        if self.stale() && !self.keep_after_stop {
             return Err(Stop::Stale);
         }
         (self.on_update)(&update);
@@ -483,14 +496,39 @@ pub fn run_collect(
     on_update: impl Fn(&Update) + Sync,
     stop_when: impl Fn() -> bool + Sync,
 ) -> Result<Vec<Update>, JobError> {
+    let sink = Collect::new(on_update, stop_when);
+    run_on(spec, threads, &sink)?;
+    Ok(sink.into_updates())
+}
+
+/// [`run_collect`] for a job that ends with what it has when stopped (a
+/// continuation): every update it sent, the ones after `stop_when` stopped
+/// it included, and how it ended (`JobError::Stop` when it was stopped).
+pub fn run_kept(
+    spec: Spec,
+    threads: usize,
+    on_update: impl Fn(&Update) + Sync,
+    stop_when: impl Fn() -> bool + Sync,
+) -> (Vec<Update>, Result<(), JobError>) {
+    let sink = Collect::keeping(on_update, stop_when);
+    let ended = run_on(spec, threads, &sink);
+    (sink.into_updates(), ended)
+}
+
+/// Runs a job from `spec` to its end into `sink`: `Err(JobError::Stop)`
+/// when the sink's `stop_when` stopped it.
+fn run_on<F, S>(spec: Spec, threads: usize, sink: &Collect<F, S>) -> Result<(), JobError>
+where
+    F: Fn(&Update) + Sync,
+    S: Fn() -> bool + Sync,
+{
     let name = format!("oneblock-{}", spec.lane().name());
     let job = spec.start(Shape::default())?;
-    let sink = Collect::new(on_update, stop_when);
     let result = catch_unwind(AssertUnwindSafe(|| {
-        run_threads(job.as_ref(), threads, &name, &sink)
+        run_threads(job.as_ref(), threads, &name, sink)
     }));
     match result {
-        Ok(Ok(())) if !sink.stopped() => Ok(sink.into_updates()),
+        Ok(Ok(())) if !sink.stopped() => Ok(()),
         Ok(Ok(())) | Ok(Err(JobError::Stop)) => Err(JobError::Stop),
         Ok(Err(JobError::Sim(SimError::Cancelled))) => Err(JobError::Stop),
         Ok(Err(e)) => Err(e),

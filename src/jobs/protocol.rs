@@ -18,7 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
-use crate::sim::continuation::{Branch, ContParam, Curve};
+use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, CurveKind, SpecialPoint};
 use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::{MapChoice, Period, Sample, SlipEvent};
@@ -216,11 +216,13 @@ impl PhaseSpec {
     }
 }
 
-/// Find bifurcations: follow the attractor's cycle at `from` (its period
-/// found by the orbit's period detector) in `param` over [`from`, `to`],
-/// locating its period doublings, folds and borders; if it doubles, follow
-/// the cascade from there up to period `max_period`. Each branch is sent
-/// as it ends.
+/// Find bifurcations: follow a cycle in `param` over [`from`, `to`] (the
+/// attractor's at `from`, its period found by the orbit's period detector,
+/// or the one `cycle` gives), locating its period doublings, folds and
+/// borders; if it doubles, follow the cascade up to period `max_period`
+/// (as `cascade` says); with `curves`, follow the branch's bifurcations of
+/// one kind as curves in two parameters. Each branch, special point and
+/// curve is sent as it is found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContinuationSpec {
     /// The model's parameters (`param`'s value is the range's).
@@ -229,12 +231,57 @@ pub struct ContinuationSpec {
     pub settings: SolverSettings,
     /// The parameter varied.
     pub param: ContParam,
-    /// Where the branch starts (the attractor there is followed).
+    /// Where the branch starts.
     pub from: f64,
     /// Where it ends (may be below `from`).
     pub to: f64,
-    /// The cascade's longest period (at most `sim::PERIOD_MAX`).
+    /// The cascade's longest period (at most `sim::PERIOD_MAX`; the
+    /// cycle's own period: no cascade).
     pub max_period: usize,
+    /// The cycle followed: `None`, the attractor's at `from` (the
+    /// window's); or a given one (`oneblock continue`, which has checked
+    /// it).
+    pub cycle: Option<GivenCycle>,
+    /// How the cascade's levels are followed.
+    pub cascade: CascadeFrom,
+    /// The curves through the branch's bifurcations, if asked
+    /// (`continue --curve`; no cascade then).
+    pub curves: Option<CurveFollow>,
+}
+
+/// A cycle to follow, where the window follows the attractor's.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GivenCycle {
+    /// Its period p.
+    pub period: usize,
+    /// A point θ of it at the branch's start (a Newton seed).
+    pub theta: f64,
+}
+
+/// How a cascade is followed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CascadeFrom {
+    /// The branch over the whole range first (every bifurcation in the
+    /// range is on it), then the levels after its first doubling (the
+    /// window's "Find bifurcations").
+    Branch,
+    /// Each level, the first included, from its birth to its doubling
+    /// (`continue --cascade`).
+    Levels,
+}
+
+/// Curves through the branch's bifurcations of one kind, followed in the
+/// branch's parameter and `param` within the box [from, to] × `range`
+/// (the model's `param` inside `range`). A start on a curve already
+/// followed is skipped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveFollow {
+    /// Period doublings or folds.
+    pub kind: CurveKind,
+    /// The second parameter.
+    pub param: ContParam,
+    /// Its range (either order).
+    pub range: [f64; 2],
 }
 
 /// Boundaries of the phase diagram as curves: the doublings of the
@@ -376,7 +423,21 @@ pub enum Update {
         generation: Generation,
         branch: Branch,
     },
-    /// One bifurcation curve of a `Boundaries` job.
+    /// A period doubling, fold, border or jump of the first branch of a
+    /// `FindBifurcations` job, as it is located (before its branch ends).
+    Special {
+        generation: Generation,
+        point: SpecialPoint,
+    },
+    /// The cascade of a `FindBifurcations` job that followed one, once it
+    /// ends: its levels (also sent one by one as `Branch`), its doublings,
+    /// and why it ended.
+    Cascade {
+        generation: Generation,
+        cascade: Cascade,
+    },
+    /// One bifurcation curve of a `Boundaries` job, or of a
+    /// `FindBifurcations` job with curves.
     Curve {
         generation: Generation,
         curve: Curve,
@@ -430,6 +491,8 @@ impl Update {
             | Update::WorkPrecisionSkipped { generation, .. }
             | Update::PhaseCells { generation, .. }
             | Update::Branch { generation, .. }
+            | Update::Special { generation, .. }
+            | Update::Cascade { generation, .. }
             | Update::Curve { generation, .. }
             | Update::Summary { generation, .. }
             | Update::Progress { generation, .. }

@@ -24,16 +24,7 @@ pub fn svg(rows: &[Row], subtitle: &str) -> Result<String, String> {
     if pts.is_empty() {
         return Err("no setting succeeded on every point".into());
     }
-    let lg = |v: f64| v.log10();
-    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
-    for &(x, y) in &pts {
-        x0 = x0.min(lg(x));
-        x1 = x1.max(lg(x));
-        y0 = y0.min(lg(y));
-        y1 = y1.max(lg(y));
-    }
-    let (x0, x1) = (10f64.powf(x0.floor()), 10f64.powf(x1.ceil()));
-    let (y0, y1) = (10f64.powf(y0.floor()), 10f64.powf(y1.ceil()));
+    let ([x0, x1], [y0, y1]) = decades(&pts);
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (900, 620)).into_drawing_area();
@@ -92,4 +83,21 @@ pub fn svg(rows: &[Row], subtitle: &str) -> Result<String, String> {
         root.present().map_err(|e| e.to_string())?;
     }
     Ok(out)
+}
+
+/// The whole decades around `pts` (error, time), in each axis: the
+/// chart's log ranges.
+fn decades(pts: &[(f64, f64)]) -> ([f64; 2], [f64; 2]) {
+    let lg = |v: f64| v.log10();
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in pts {
+        x0 = x0.min(lg(x));
+        x1 = x1.max(lg(x));
+        y0 = y0.min(lg(y));
+        y1 = y1.max(lg(y));
+    }
+    (
+        [10f64.powf(x0.floor()), 10f64.powf(x1.ceil())],
+        [10f64.powf(y0.floor()), 10f64.powf(y1.ceil())],
+    )
 }

@@ -37,9 +37,10 @@ use std::time::Duration;
 use crossbeam_channel::{Receiver, Sender, TrySendError};
 
 pub use crate::jobs::{
-    Axis, BoundarySpec, COARSE_STRIDE, ContinuationSpec, Generation, GridCell, IterateSpec, Lane,
-    MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, SweepSpec,
-    TIMING_REPEATS, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
+    Axis, BoundarySpec, COARSE_STRIDE, CascadeFrom, ContinuationSpec, CurveFollow, Generation,
+    GivenCycle, GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning,
+    PlannedCell, PlannedColumn, SweepSpec, TIMING_REPEATS, TrajectorySpec, Update,
+    WorkPrecisionSpec, phase_plan, sweep_plan,
 };
 pub use command::Command;
 pub use local::LocalWorker;

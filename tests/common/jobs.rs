@@ -107,7 +107,9 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
             | Update::WorkPrecisionRow { .. }
             | Update::WorkPrecisionSkipped { .. } => Some(Lane::Numerics),
             Update::PhaseCells { .. } => Some(Lane::Phase),
-            Update::Branch { .. } => Some(Lane::Continuation),
+            Update::Branch { .. } | Update::Special { .. } | Update::Cascade { .. } => {
+                Some(Lane::Continuation)
+            }
             Update::Curve { .. } => Some(Lane::Curves),
             Update::Summary { lane, .. }
             | Update::Progress { lane, .. }

@@ -58,41 +58,10 @@ impl Jobs {
 
     /// A partial result of job `job` into its data.
     fn apply_data(&mut self, job: JobKind, u: Update) {
+        let Some(u) = self.apply_orbit(job, u) else {
+            return;
+        };
         match u {
-            Update::TrajectoryChunk { samples, .. } if job == JobKind::Trajectory => {
-                self.trajectory.data.push_samples(samples);
-                self.trajectory_revision += 1;
-            }
-            Update::Slip { event, .. } if job == JobKind::Trajectory => {
-                self.trajectory.data.push_event(event);
-                self.trajectory_revision += 1;
-            }
-            Update::MapIterates {
-                first_index,
-                thetas,
-                period,
-                lyapunov,
-                ..
-            } if job == JobKind::Iterate => {
-                let it = &mut self.iterate.data;
-                it.thetas.truncate(first_index);
-                it.thetas.extend(thetas);
-                it.period = Some(period);
-                it.lyapunov = lyapunov;
-            }
-            Update::MapGraph {
-                thetas,
-                values,
-                powers,
-                ..
-            } if job == JobKind::Iterate => {
-                self.iterate.data.powers = powers;
-                self.iterate.data.graph = thetas
-                    .into_iter()
-                    .zip(values)
-                    .map(|(t, v)| [t, v])
-                    .collect();
-            }
             Update::Column {
                 index,
                 theta_nu,
@@ -144,6 +113,52 @@ impl Jobs {
             }
             // An update of the right generation but the wrong kind.
             _ => {}
+        }
+    }
+
+    /// A partial result of an orbit job (trajectory or iterates) into its
+    /// data; any other update is given back.
+    fn apply_orbit(&mut self, job: JobKind, u: Update) -> Option<Update> {
+        match u {
+            Update::TrajectoryChunk { samples, .. } if job == JobKind::Trajectory => {
+                self.trajectory.data.push_samples(samples);
+                self.trajectory_revision += 1;
+                None
+            }
+            Update::Slip { event, .. } if job == JobKind::Trajectory => {
+                self.trajectory.data.push_event(event);
+                self.trajectory_revision += 1;
+                None
+            }
+            Update::MapIterates {
+                first_index,
+                thetas,
+                period,
+                lyapunov,
+                ..
+            } if job == JobKind::Iterate => {
+                let it = &mut self.iterate.data;
+                it.thetas.truncate(first_index);
+                it.thetas.extend(thetas);
+                it.period = Some(period);
+                it.lyapunov = lyapunov;
+                None
+            }
+            Update::MapGraph {
+                thetas,
+                values,
+                powers,
+                ..
+            } if job == JobKind::Iterate => {
+                self.iterate.data.powers = powers;
+                self.iterate.data.graph = thetas
+                    .into_iter()
+                    .zip(values)
+                    .map(|(t, v)| [t, v])
+                    .collect();
+                None
+            }
+            u => Some(u),
         }
     }
 

@@ -10,7 +10,7 @@ use crate::app::branches::{BranchData, CurveData};
 use crate::app::settings::{PhaseRange, Settings};
 use crate::integrate::SolverSettings;
 use crate::sim::continuation::ContParam;
-use crate::worker::{BoundarySpec, Command, ContinuationSpec};
+use crate::worker::{BoundarySpec, CascadeFrom, Command, ContinuationSpec};
 
 /// The longest period "Find bifurcations" follows a cascade to: the P64
 /// level alone costs seconds, too long to wait for at the window.
@@ -87,6 +87,9 @@ impl Jobs {
                 from: range.0,
                 to: range.1,
                 max_period: MAX_CASCADE_PERIOD,
+                cycle: None,
+                cascade: CascadeFrom::Branch,
+                curves: None,
             },
         });
         self.sent_branches = Some(key);

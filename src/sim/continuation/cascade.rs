@@ -9,7 +9,8 @@
 //! a seed is kept when the solved cycle's minimal period is 2p.
 
 use super::Problem;
-use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop, continue_branch};
+use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop};
+use super::walk::continue_branch;
 use super::{Criticality, Flip};
 use crate::model::wrap_angle;
 use crate::sim::PERIOD_MAX;
@@ -150,11 +151,7 @@ fn cascade_impl(
             Err(e) if branches.is_empty() => return Err(e),
             Err(e) => break format!("the P{period} cycle could not be followed: {e}"),
         };
-        if branch
-            .points
-            .first()
-            .is_some_and(|q| q.minimal_period < period)
-        {
+        if collapsed(&branch, period) {
             branches.push(branch);
             break format!("the P{period} branch collapsed onto a shorter cycle at its start");
         }
@@ -172,56 +169,19 @@ fn cascade_impl(
                 format!("no period doubling of the P{period} cycle: it {message}")
             };
         };
-        let gap = match doublings.last() {
-            Some(prev) => (pd.lambda - prev.lambda).abs(),
-            None => (pd.lambda - from)
-                .abs()
-                .min((to - pd.lambda).abs())
-                .max(1e2 * opts.locate_tol),
-        };
+        let gap = gap_to(&doublings, &pd, from, to, opts);
         doublings.push(pd.clone());
-        if doublings.len() >= 2 && gap < 1e2 * opts.locate_tol {
-            break format!(
-                "the last two doublings are {gap:.1e} apart, within 100x the location accuracy ({:.0e})",
-                opts.locate_tol
-            );
+        if let Some(why) = crowded(doublings.len(), gap, period, max_period, opts) {
+            break why;
         }
-        let max = max_period.min(PERIOD_MAX);
-        if 2 * period > max {
-            break format!("the next period, {}, is above {max}", 2 * period);
-        }
-        // Only a supercritical flip hands the attractor on to the doubled
-        // cycle; at a subcritical one that cycle is unstable and lies
-        // behind.
-        if let Some(f) = pd.flip {
-            if f.criticality() == Criticality::Subcritical {
-                let (why, unstable) = subcritical(&level, &pd, &f, from, to, gap, opts, cancel);
-                if let Some(b) = unstable {
-                    on_level(&b);
-                    branches.push(b);
-                }
-                break why;
-            }
-            if f.criticality() == Criticality::Supercritical && f.side() != dir {
-                break format!(
-                    "the P{period} cycle regains stability at {} = {} (a supercritical flip whose P{} cycle lies behind): no doubling ahead",
-                    prob.param.name(),
-                    pd.lambda,
-                    2 * period
-                );
-            }
+        let ahead = Ahead { from, to, gap, dir };
+        if let Some(why) = flip_end(&level, &pd, &ahead, opts, cancel, on_level, &mut branches) {
+            break why;
         }
         match switch(&level, &pd, dir * SWITCH_SHARE * gap, opts) {
             Ok((l1, th)) => {
                 (start, theta, period) = (l1, th, 2 * period);
-                // The next level is about gap/4.7 long: steps in its units.
-                let scale = gap;
-                level_opts = ContOptions {
-                    scale,
-                    h_min: 0.1 * opts.locate_tol / scale,
-                    newton_tol: opts.newton_tol.min(0.1 * opts.locate_tol / scale),
-                    ..level_opts
-                };
+                level_opts = next_level_options(level_opts, opts, gap);
             }
             Err(why) => break why,
         }
@@ -231,6 +191,111 @@ fn cascade_impl(
         doublings,
         stop,
     })
+}
+
+/// Whether the branch of the `period`-cycle starts on a shorter cycle.
+fn collapsed(branch: &Branch, period: usize) -> bool {
+    branch
+        .points
+        .first()
+        .is_some_and(|q| q.minimal_period < period)
+}
+
+/// How far the cascade's last doubling is from the one before (from the
+/// range's nearer end, at least 100× the location accuracy, for the first).
+fn gap_to(
+    doublings: &[SpecialPoint],
+    pd: &SpecialPoint,
+    from: f64,
+    to: f64,
+    opts: &ContOptions,
+) -> f64 {
+    match doublings.last() {
+        Some(prev) => (pd.lambda - prev.lambda).abs(),
+        None => (pd.lambda - from)
+            .abs()
+            .min((to - pd.lambda).abs())
+            .max(1e2 * opts.locate_tol),
+    }
+}
+
+/// Why the cascade ends after its `n`-th doubling, a `gap` past the one
+/// before, on the `period`-cycle, if it does: the doublings crowd within
+/// 100× the location accuracy (the δₙ would have no digits left), or the
+/// next period is above `max_period` (at most [`PERIOD_MAX`]).
+fn crowded(
+    n: usize,
+    gap: f64,
+    period: usize,
+    max_period: usize,
+    opts: &ContOptions,
+) -> Option<String> {
+    if n >= 2 && gap < 1e2 * opts.locate_tol {
+        return Some(format!(
+            "the last two doublings are {gap:.1e} apart, within 100x the location accuracy ({:.0e})",
+            opts.locate_tol
+        ));
+    }
+    let max = max_period.min(PERIOD_MAX);
+    (2 * period > max).then(|| format!("the next period, {}, is above {max}", 2 * period))
+}
+
+/// Where a cascade goes: its range, the last gap between doublings, and
+/// the direction (+1 when `to` ≥ `from`).
+struct Ahead {
+    from: f64,
+    to: f64,
+    gap: f64,
+    dir: f64,
+}
+
+/// Why the cascade ends at the doubling `pd` of `level` rather than
+/// switching to the doubled cycle, if it does. Only a supercritical flip
+/// hands the attractor on to the doubled cycle; at a subcritical one that
+/// cycle is unstable and lies behind (it is followed to its fold, and
+/// added as a level); a supercritical one whose doubled cycle lies behind
+/// has no doubling ahead.
+fn flip_end(
+    level: &Problem,
+    pd: &SpecialPoint,
+    ahead: &Ahead,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_level: &mut dyn FnMut(&Branch),
+    branches: &mut Vec<Branch>,
+) -> Option<String> {
+    let f = pd.flip?;
+    let Ahead { from, to, gap, dir } = *ahead;
+    if f.criticality() == Criticality::Subcritical {
+        let (why, unstable) = subcritical(level, pd, &f, from, to, gap, opts, cancel);
+        if let Some(b) = unstable {
+            on_level(&b);
+            branches.push(b);
+        }
+        return Some(why);
+    }
+    if f.criticality() == Criticality::Supercritical && f.side() != dir {
+        let period = level.period;
+        return Some(format!(
+            "the P{period} cycle regains stability at {} = {} (a supercritical flip whose P{} cycle lies behind): no doubling ahead",
+            level.param.name(),
+            pd.lambda,
+            2 * period
+        ));
+    }
+    None
+}
+
+/// The options of the level after a doubling: it is about gap/4.7 long,
+/// so its steps are in units of `gap`.
+fn next_level_options(level_opts: ContOptions, opts: &ContOptions, gap: f64) -> ContOptions {
+    let scale = gap;
+    ContOptions {
+        scale,
+        h_min: 0.1 * opts.locate_tol / scale,
+        newton_tol: opts.newton_tol.min(0.1 * opts.locate_tol / scale),
+        ..level_opts
+    }
 }
 
 /// The doubled cycle a step `delta` past the doubling `pd` of `level`: its

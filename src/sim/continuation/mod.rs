@@ -14,6 +14,7 @@ mod cascade;
 mod curve;
 mod curves;
 mod flip;
+mod walk;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
@@ -22,14 +23,12 @@ use crate::sim::variational::{
 };
 use crate::sim::{SimError, Simulator};
 
-pub use branch::{
-    Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop, continue_branch,
-    continue_branch_reporting,
-};
+pub use branch::{Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop};
 pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
 pub use flip::{Criticality, Flip, flip_at};
+pub use walk::{continue_branch, continue_branch_reporting};
 
 /// A parameter a branch can be continued in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]

@@ -85,21 +85,7 @@ impl MapInterpolant {
                 });
             }
             // Every pending piece's next points, in one batch of lanes.
-            let mut us = Vec::new();
-            let mut wanted = Vec::new();
-            for p in &pending {
-                let n = next_sampling(p.samples.len());
-                let x = chebyshev::points(n);
-                let new: Vec<usize> = if p.samples.is_empty() {
-                    (0..n).collect()
-                } else {
-                    (1..n).step_by(2).collect()
-                };
-                for &j in &new {
-                    us.push(0.5 * (p.a + p.b) + 0.5 * (p.b - p.a) * x[j]);
-                }
-                wanted.push(new.len());
-            }
+            let (us, wanted) = next_points(&pending);
             let mut fresh = self.sample(&us)?.into_iter();
             let mut next = Vec::new();
             for (mut p, count) in pending.into_iter().zip(wanted) {
@@ -319,4 +305,25 @@ fn interleave(old: Vec<Sample>, new: Vec<Sample>) -> Vec<Sample> {
         out.push(s);
     }
     out
+}
+
+/// The next points of every pending piece (its first sampling, or the
+/// points that refine it), in order, and how many each piece wants.
+fn next_points(pending: &[Pending]) -> (Vec<f64>, Vec<usize>) {
+    let mut us = Vec::new();
+    let mut wanted = Vec::new();
+    for p in pending {
+        let n = next_sampling(p.samples.len());
+        let x = chebyshev::points(n);
+        let new: Vec<usize> = if p.samples.is_empty() {
+            (0..n).collect()
+        } else {
+            (1..n).step_by(2).collect()
+        };
+        for &j in &new {
+            us.push(0.5 * (p.a + p.b) + 0.5 * (p.b - p.a) * x[j]);
+        }
+        wanted.push(new.len());
+    }
+    (us, wanted)
 }

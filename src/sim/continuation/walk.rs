@@ -1,0 +1,348 @@
+//! The walk along a branch: predict along the tangent, correct, and
+//! locate the special points between the last two points (see
+//! [`super::branch`] for the method).
+
+use super::branch::{
+    Branch, BranchPoint, ContOptions, Ctx, Fail, JUMP, Pt, SpecialKind, SpecialPoint, Stop,
+};
+use super::{EvalError, Problem};
+use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
+
+/// Follows the p-cycle through `seed` at λ = `from` towards λ = `to`
+/// (see the module notes). Fails only when no cycle is found at the start;
+/// a branch that fails later ends with [`Stop::Failed`] and keeps what it
+/// has. `cancel` is polled once per point.
+pub fn continue_branch(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Branch, CycleFailure> {
+    continue_branch_reporting(prob, from, to, seed, opts, cancel, &mut |_| {})
+}
+
+/// A branch being followed: where it is, and what it has found.
+struct Walk<'a, 'b> {
+    ctx: Ctx<'a>,
+    from: f64,
+    to: f64,
+    /// +1 when `to` ≥ `from`.
+    dir: f64,
+    /// The last corrected point and the unit tangent there.
+    cur: Pt,
+    t: [f64; 2],
+    /// Points closer than this are one (for the minimal period).
+    tol: f64,
+    points: Vec<BranchPoint>,
+    special: Vec<SpecialPoint>,
+    on_special: &'b mut dyn FnMut(&SpecialPoint),
+}
+
+/// What one step of the walk came to.
+enum Step {
+    /// A point was added: go on (with a longer step if `grow`).
+    Next,
+    /// The step failed and was halved: try again.
+    Retry,
+    /// The branch ends.
+    Stop(Stop),
+}
+
+/// [`continue_branch`], calling `on_special` with each PD, fold, border
+/// and jump as it is located (for progress lines).
+pub fn continue_branch_reporting(
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    opts: &ContOptions,
+    cancel: &dyn Fn() -> bool,
+    on_special: &mut dyn FnMut(&SpecialPoint),
+) -> Result<Branch, CycleFailure> {
+    let mut walk = Walk::start(prob, from, to, seed, opts, on_special)?;
+    let mut h = opts.h0;
+    let mut grow = true;
+    let stop = loop {
+        if cancel() {
+            break Stop::Cancelled;
+        }
+        if walk.points.len() >= opts.max_points {
+            break Stop::MaxPoints;
+        }
+        match walk.step(h) {
+            Step::Next => {
+                if grow {
+                    h = (1.5 * h).min(opts.h_max);
+                }
+                grow = true;
+            }
+            Step::Retry => {
+                h *= 0.5;
+                grow = false;
+                if h < opts.h_min {
+                    break walk.fail();
+                }
+            }
+            Step::Stop(stop) => break stop,
+        }
+    };
+    Ok(walk.finish(stop))
+}
+
+impl<'a, 'b> Walk<'a, 'b> {
+    /// The cycle through `seed`, solved and corrected at λ = `from`
+    /// exactly.
+    fn start(
+        prob: &'a Problem,
+        from: f64,
+        to: f64,
+        seed: f64,
+        opts: &'a ContOptions,
+        on_special: &'b mut dyn FnMut(&SpecialPoint),
+    ) -> Result<Self, CycleFailure> {
+        let sim = prob.sim(from)?;
+        let mut cyc_opts = CycleOptions::for_settings(&prob.settings);
+        cyc_opts.tol = cyc_opts.tol.min(opts.newton_tol);
+        let cycle = solve_cycle(&sim, seed, prob.period, &cyc_opts)?;
+        let mut ctx = Ctx {
+            prob,
+            opts,
+            evals: cycle.map_evals,
+            last_fail: None,
+        };
+        let scale = opts.scale;
+        let dir = if to >= from { 1.0 } else { -1.0 };
+        let cur = ctx
+            .correct([cycle.points[0], from / scale], [0.0, 1.0])
+            .map_err(|f| start_failure(f, seed, opts))?;
+        let t = cur.tangent(scale, [0.0, dir]);
+        // Points closer than 100× the solver's tolerance are one point (as
+        // `solve_cycle` decides the minimal period).
+        let tol = CycleOptions::for_settings(&prob.settings).tol;
+        let mut first = ctx.point(&cur, tol);
+        // Exactly the λ asked for, not μ·scale rounded.
+        first.lambda = from;
+        Ok(Walk {
+            ctx,
+            from,
+            to,
+            dir,
+            cur,
+            t,
+            tol,
+            points: vec![first],
+            special: Vec::new(),
+            on_special,
+        })
+    }
+
+    fn scale(&self) -> f64 {
+        self.ctx.opts.scale
+    }
+
+    /// Predicts a step h along the tangent, corrects it, clips it to the
+    /// range, detects the special points crossed, and records them.
+    fn step(&mut self, h: f64) -> Step {
+        let Some((n, tn)) = self.predict_correct(h) else {
+            return Step::Retry;
+        };
+        let (n, last) = match self.clip(n) {
+            Ok(v) => v,
+            Err(()) => return Step::Retry,
+        };
+        let found = self.detect(&n);
+        let mut pd = false;
+        for (kind, p, note) in &found {
+            let mut sp = self.ctx.special(*kind, p, note.clone());
+            if *kind == SpecialKind::PeriodDoubling {
+                sp.flip = self.ctx.flip(p);
+            }
+            (self.on_special)(&sp);
+            self.special.push(sp);
+            self.points.push(self.ctx.point(p, self.tol));
+            pd |= *kind == SpecialKind::PeriodDoubling;
+        }
+        let mut np = self.ctx.point(&n, self.tol);
+        if let Some(target) = last {
+            np.lambda = target;
+        }
+        self.points.push(np);
+        // λ turned without a fold: an even-period branch passes the tip of
+        // the pitchfork where it is born from the half-period cycle, and
+        // would come back as the same cycle with its halves swapped.
+        let turned =
+            self.t[1] * tn[1] < 0.0 && found.is_empty() && self.ctx.prob.period.is_multiple_of(2);
+        self.cur = n;
+        self.t = tn;
+        if let Some(target) = last {
+            return Step::Stop(if target == self.to {
+                Stop::Reached
+            } else {
+                Stop::Returned
+            });
+        }
+        if turned {
+            return Step::Stop(Stop::Merged);
+        }
+        if pd && self.ctx.opts.stop_at_pd {
+            return Step::Stop(Stop::PeriodDoubling);
+        }
+        Step::Next
+    }
+
+    /// The corrected point a step h along the tangent, and its tangent;
+    /// `None` when the corrector fails, lands more than half a step from
+    /// the prediction, or the tangent turns by more than ~18°.
+    fn predict_correct(&mut self, h: f64) -> Option<(Pt, [f64; 2])> {
+        let (cur, t, scale) = (&self.cur, self.t, self.scale());
+        let pred = [cur.x[0] + h * t[0], cur.x[1] + h * t[1]];
+        match self.ctx.correct(pred, t) {
+            Ok(n) => {
+                let tn = n.tangent(scale, t);
+                let far = (n.x[0] - pred[0]).hypot(n.x[1] - pred[1]) > 0.5 * h + 1e-12;
+                if far || tn[0] * t[0] + tn[1] * t[1] < 0.95 {
+                    self.ctx.last_fail = Some(Fail::NoConvergence(n.e.g.abs()));
+                    None
+                } else {
+                    Some((n, tn))
+                }
+            }
+            Err(f) => {
+                self.ctx.last_fail = Some(f);
+                None
+            }
+        }
+    }
+
+    /// `n`, or the point at the range's end (or its start, after a fold)
+    /// when `n` is past it, corrected at exactly that λ, with that λ.
+    fn clip(&mut self, n: Pt) -> Result<(Pt, Option<f64>), ()> {
+        let scale = self.scale();
+        let at = n.lambda(scale);
+        let past_end = self.dir * (at - self.to) >= 0.0;
+        let behind = self.dir * (at - self.from) < 0.0;
+        if !(past_end || behind) {
+            return Ok((n, None));
+        }
+        let target = if past_end { self.to } else { self.from };
+        let l0 = self.cur.lambda(scale);
+        let w = (target - l0) / (at - l0);
+        let th = self.cur.x[0] + w * (n.x[0] - self.cur.x[0]);
+        match self.ctx.correct([th, target / scale], [0.0, 1.0]) {
+            Ok(c) => Ok((c, Some(target))),
+            Err(_) => {
+                self.ctx.last_fail = Some(Fail::NoConvergence(f64::NAN));
+                Err(())
+            }
+        }
+    }
+
+    /// The PD and fold crossings between the current point and `n`,
+    /// located and in order along the step; a crossing that is no zero of
+    /// m ± 1 is a [`SpecialKind::Jump`].
+    fn detect(&mut self, n: &Pt) -> Vec<(SpecialKind, Pt, String)> {
+        let (cur, t) = (self.cur.clone(), self.t);
+        let (m0, m1) = (cur.e.multiplier, n.e.multiplier);
+        let along = |p: &Pt| (p.x[0] - cur.x[0]) * t[0] + (p.x[1] - cur.x[1]) * t[1];
+        let dist = along(n);
+        let mut found: Vec<(SpecialKind, Pt, String)> = Vec::new();
+        let tests: [(SpecialKind, f64); 2] = [
+            (SpecialKind::PeriodDoubling, -1.0),
+            (SpecialKind::Fold, 1.0),
+        ];
+        for (kind, at) in tests {
+            if (m0 - at) * (m1 - at) >= 0.0 {
+                continue;
+            }
+            let l = self.ctx.locate(&cur, n, t, dist, |m| m - at);
+            if l.real {
+                found.push((kind, l.pt, String::new()));
+            } else {
+                let note = format!(
+                    "m goes from {m0:.6} to {m1:.6} across the step but stays |m {} 1| >= {:.2e} away to the location accuracy: a jump or pole of m, not a {}",
+                    if at < 0.0 { '+' } else { '-' },
+                    l.off,
+                    kind.name()
+                );
+                found.push((SpecialKind::Jump, l.pt, note));
+            }
+        }
+        found.sort_by(|a, b| along(&a.1).total_cmp(&along(&b.1)));
+        found
+    }
+
+    /// The end when no step down to the shortest works: a border where a
+    /// cycle point meets the map's edge or f^p jumps, else a failure.
+    fn fail(&mut self) -> Stop {
+        let here = self.ctx.special(SpecialKind::End, &self.cur, String::new());
+        let note = match self.ctx.last_fail.take() {
+            Some(Fail::Eval(e)) if e.is_border() => {
+                format!("a cycle point reaches the map's edge {e}")
+            }
+            // G cannot change by this much over a step shorter than the
+            // location accuracy unless f^p jumps there.
+            Some(Fail::NoConvergence(r)) if r > JUMP => format!(
+                "f^p jumps or its slope diverges: |G| = {r:.1e} a step below the location accuracy away"
+            ),
+            Some(Fail::NoConvergence(r)) if r.is_nan() => {
+                return Stop::Failed("the cycle at the range's end did not converge".into());
+            }
+            Some(f) => return Stop::Failed(f.describe()),
+            None => return Stop::Failed("no step succeeded".into()),
+        };
+        let border = SpecialPoint {
+            kind: SpecialKind::Border,
+            note,
+            ..here
+        };
+        (self.on_special)(&border);
+        self.special.push(border);
+        Stop::Border
+    }
+
+    /// The branch, its end point added.
+    fn finish(mut self, stop: Stop) -> Branch {
+        let note = match &stop {
+            Stop::Reached => "the end of the range".to_string(),
+            Stop::Returned => "back at the start of the range".to_string(),
+            Stop::Merged => "merged with the half-period cycle".to_string(),
+            Stop::PeriodDoubling => "its first period doubling".to_string(),
+            Stop::Border => "a border".to_string(),
+            Stop::Failed(why) => why.clone(),
+            Stop::MaxPoints => "the most points".to_string(),
+            Stop::Cancelled => "cancelled".to_string(),
+        };
+        let mut last_point = self.ctx.special(SpecialKind::End, &self.cur, note);
+        if let Some(p) = self.points.last() {
+            last_point.lambda = p.lambda;
+        }
+        self.special.push(last_point);
+        Branch {
+            param: self.ctx.prob.param,
+            period: self.ctx.prob.period,
+            points: self.points,
+            special: self.special,
+            stop,
+            map_evals: self.ctx.evals,
+        }
+    }
+}
+
+/// A start that Newton could not correct, as the cycle solver's failure.
+fn start_failure(f: Fail, seed: f64, opts: &ContOptions) -> CycleFailure {
+    match f {
+        Fail::Eval(EvalError::Sim(e)) => CycleFailure::Sim(e),
+        Fail::Eval(e) => CycleFailure::Discontinuity {
+            theta: match e {
+                EvalError::NotDifferentiable { theta, .. } | EvalError::OffArc { theta } => theta,
+                _ => seed,
+            },
+        },
+        Fail::NoConvergence(r) => CycleFailure::NoConvergence {
+            iterations: opts.max_newton,
+            residual: r,
+        },
+    }
+}
