@@ -224,27 +224,7 @@ impl Explorer {
                 save::export_csv(what, &self.settings, &self.jobs, &mut self.shots, now);
             }
             #[cfg(target_arch = "wasm32")]
-            Action::OpenSession => {
-                let ctx = self.web.ctx.clone();
-                if let Err(e) = super::web::pick_session(&self.web.upload, ctx) {
-                    self.shots
-                        .toast(format!("cannot open a session: {e}"), true, now);
-                }
-            }
-            #[cfg(target_arch = "wasm32")]
-            Action::CopyLink => {
-                let query = super::url_state::query_of(&self.settings);
-                match super::web::link_to(&query) {
-                    Some(url) => {
-                        ctx.copy_text(url);
-                        self.shots
-                            .toast("link copied (and in the address bar)".into(), false, now);
-                    }
-                    None => self
-                        .shots
-                        .toast("cannot make a link here".into(), true, now),
-                }
-            }
+            Action::OpenSession | Action::CopyLink => self.apply_web(a, ctx),
             Action::ResetDefaults => {
                 let dir = std::mem::take(&mut self.settings.save_dir);
                 self.settings = Settings {
@@ -544,6 +524,34 @@ impl Explorer {
 
 #[cfg(target_arch = "wasm32")]
 impl Explorer {
+    /// The browser's own actions: a session uploaded, the state as a link.
+    fn apply_web(&mut self, a: Action, ctx: &Context) {
+        let now = self.now;
+        match a {
+            Action::OpenSession => {
+                let ctx = self.web.ctx.clone();
+                if let Err(e) = super::web::pick_session(&self.web.upload, ctx) {
+                    self.shots
+                        .toast(format!("cannot open a session: {e}"), true, now);
+                }
+            }
+            Action::CopyLink => {
+                let query = super::url_state::query_of(&self.settings);
+                match super::web::link_to(&query) {
+                    Some(url) => {
+                        ctx.copy_text(url);
+                        self.shots
+                            .toast("link copied (and in the address bar)".into(), false, now);
+                    }
+                    None => self
+                        .shots
+                        .toast("cannot make a link here".into(), true, now),
+                }
+            }
+            _ => {}
+        }
+    }
+
     /// Opens a session whose upload has arrived, or says why it could not.
     fn take_upload(&mut self) {
         let arrived = self.web.upload.borrow_mut().take();

@@ -51,29 +51,7 @@ pub fn apply_query(query: &str, settings: &mut Settings) -> Option<String> {
             ));
         }
     }
-    if let Some(key) = get("preset") {
-        match preset(key) {
-            Some(p) => apply_preset(settings, &p.params, p.key),
-            None => bad.push(format!(
-                "preset '{}' is not one of {}",
-                echo(key),
-                preset_keys()
-            )),
-        }
-    }
-    if let Some(v) = get("view") {
-        match ViewKind::from_key(v) {
-            Some(view) => {
-                settings.layout = Layout::Tabs;
-                settings.tab = view;
-            }
-            None => bad.push(format!(
-                "view '{}' is not one of {}",
-                echo(v),
-                ViewKind::ALL.map(ViewKind::key).join(", ")
-            )),
-        }
-    }
+    apply_preset_and_view(get("preset"), get("view"), settings, &mut bad);
     let mut params = settings.params;
     let mut moved = false;
     for (key, field) in PARAM_FIELDS {
@@ -104,6 +82,38 @@ pub fn apply_query(query: &str, settings: &mut Settings) -> Option<String> {
             bad.join("; ")
         )
     })
+}
+
+/// The link's preset (applied first) and view, or why not.
+fn apply_preset_and_view(
+    preset_key: Option<&String>,
+    view_key: Option<&String>,
+    settings: &mut Settings,
+    bad: &mut Vec<String>,
+) {
+    if let Some(key) = preset_key {
+        match preset(key) {
+            Some(p) => apply_preset(settings, &p.params, p.key),
+            None => bad.push(format!(
+                "preset '{}' is not one of {}",
+                echo(key),
+                preset_keys()
+            )),
+        }
+    }
+    if let Some(v) = view_key {
+        match ViewKind::from_key(v) {
+            Some(view) => {
+                settings.layout = Layout::Tabs;
+                settings.tab = view;
+            }
+            None => bad.push(format!(
+                "view '{}' is not one of {}",
+                echo(v),
+                ViewKind::ALL.map(ViewKind::key).join(", ")
+            )),
+        }
+    }
 }
 
 /// Each parameter a link may set, and where it goes.
