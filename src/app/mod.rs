@@ -40,6 +40,7 @@ pub mod export;
 pub mod figure;
 pub mod frame_stats;
 pub mod jobs;
+pub mod lyapunov_strip;
 pub mod numerics_table;
 pub mod numerics_view;
 pub mod overlay;

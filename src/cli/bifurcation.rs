@@ -1,5 +1,5 @@
 //! `oneblock bifurcation`: the data of a bifurcation diagram, CSV
-//! `theta_nu,theta`: the window's sweep job ([`crate::jobs`]) run on every
+//! `theta_nu,theta,lyapunov,lyapunov_stderr`: the window's sweep job ([`crate::jobs`]) run on every
 //! core. Its plan (a coarse pass in chains, then fill-in, each column
 //! continued from a named neighbour; [`crate::jobs::sweep_plan`]) is fixed
 //! by the flags alone, so the file is the same on any machine, and the
@@ -24,6 +24,7 @@ use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
 use crate::model::{Params, Preset};
 use crate::sim::Simulator;
+use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
 
 /// A bifurcation diagram: θ against θν.
@@ -210,8 +211,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     };
     let seconds = start.elapsed().as_secs_f64();
 
-    // The columns in grid order: (θν, kept iterates, cost, map used).
-    type Done = (f64, Vec<f64>, u64, MapUsed);
+    // The columns in grid order: (θν, kept iterates, cost, map used, λ).
+    type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>);
     let mut cols: Vec<Option<Done>> = vec![None; columns];
     for u in updates {
         if let Update::Column {
@@ -220,14 +221,15 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
             thetas,
             rhs_evals,
             map,
+            lyapunov,
             ..
         } = u
         {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map, lyapunov));
         }
     }
     let cols: Vec<Done> = cols.into_iter().flatten().collect();
-    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
+    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice(), c.4)));
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
         params,
@@ -252,7 +254,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
 /// iterates, cost, map used), the cycles the progress bar counted, the
 /// columns that failed, its time and threads.
 struct Ran<'a> {
-    columns: &'a [(f64, Vec<f64>, u64, MapUsed)],
+    columns: &'a [(f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>)],
     integrated: u64,
     failed: u64,
     seconds: f64,
