@@ -364,12 +364,17 @@ impl Lines {
     }
 }
 
-/// The diagram's and the strip's heights, and the y-axis width they share
-/// so that their frames line up, for `available` height.
+/// The diagram's and the λ strip's heights (0: no strip), and the y-axis
+/// width they share so that their frames line up, for `available` height.
+/// The strip needs about 9 rows of text for five legible λ ticks; below 27
+/// rows in all (a small tile) only the diagram is drawn.
 fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
     let row = ui.text_style_height(&egui::TextStyle::Body);
-    let strip = (available * 0.28).clamp(4.0 * row, 16.0 * row);
-    let diagram = (available - strip - 0.5 * row).max(6.0 * row);
+    if available < 27.0 * row {
+        return (available, 0.0, 5.5 * row);
+    }
+    let strip = (available * 0.3).clamp(9.0 * row, 18.0 * row);
+    let diagram = available - strip - 0.5 * row;
     (diagram, strip, 5.5 * row)
 }
 
@@ -386,7 +391,9 @@ impl View for BifurcationView {
         }
         lines_legend_ui(ui, s);
         overlay::branch_legend_ui(ui, &jobs.branches.data);
-        lyapunov_strip::legend_ui(ui, s.dark);
+        if plot_sizes(ui, ui.available_height()).1 > 0.0 {
+            lyapunov_strip::legend_ui(ui, s.dark);
+        }
         if !figure {
             points_table::points_ui(ui, &jobs.branches.data);
         }
@@ -394,7 +401,9 @@ impl View for BifurcationView {
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());
         self.plot_ui(ui, s, sweep, &jobs.branches.data, (diagram, y_width), out);
         let (x0, x1, ..) = self.bounds(sweep);
-        if let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width)) {
+        if strip > 0.0
+            && let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width))
+        {
             out.push(Action::SetThetaNu(tn));
         }
     }

@@ -166,7 +166,7 @@ mod tests {
         let pts = strip_points(&s);
         assert_eq!(pts.len(), 3);
         let (lo, hi) = lambda_range(&pts);
-        assert!(hi >= 0.3 && hi < 0.6, "{hi}");
+        assert!((0.3..0.6).contains(&hi), "{hi}");
         assert!(lo < FLOOR && lo > FLOOR - 0.5, "{lo}");
         let s = sweep(&[(-0.5, None)]);
         let (lo, hi) = lambda_range(&strip_points(&s));

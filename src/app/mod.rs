@@ -39,6 +39,7 @@ pub mod explorer;
 pub mod export;
 pub mod figure;
 pub mod frame_stats;
+pub mod help;
 pub mod jobs;
 pub mod lyapunov_strip;
 pub mod numerics_table;
@@ -59,6 +60,8 @@ pub mod status;
 pub mod style;
 pub mod svg;
 pub mod svg_render;
+pub mod time_series;
+pub mod tour;
 pub mod view;
 pub mod views;
 

@@ -211,8 +211,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     };
     let seconds = start.elapsed().as_secs_f64();
 
-    // The columns in grid order: (θν, kept iterates, cost, map used, λ).
-    type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>);
+    // The columns in grid order.
     let mut cols: Vec<Option<Done>> = vec![None; columns];
     for u in updates {
         if let Update::Column {
@@ -250,11 +249,14 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     summarise(&args, &plan_summary, &run)
 }
 
+/// A finished column: θν, kept iterates, cost, map used, λ.
+type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>);
+
 /// What a finished run reports on: its columns in grid order (θν, kept
 /// iterates, cost, map used), the cycles the progress bar counted, the
 /// columns that failed, its time and threads.
 struct Ran<'a> {
-    columns: &'a [(f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>)],
+    columns: &'a [Done],
     integrated: u64,
     failed: u64,
     seconds: f64,
