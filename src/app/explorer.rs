@@ -174,6 +174,18 @@ impl Explorer {
                 let crop = self.view_rects.get(&v).copied();
                 self.shots.request(ctx, path, crop);
             }
+            Action::Record(v) => {
+                let fig = super::figure::Figure {
+                    view: v,
+                    settings: self.settings.clone(),
+                    zoom: Vec::new(),
+                    theta_nu: None,
+                    theta: None,
+                    size: egui::vec2(640.0, 480.0),
+                };
+                let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
+                self.shots.record(fig, RECORD_FRAMES, path, self.now);
+            }
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
@@ -482,6 +494,17 @@ impl Explorer {
                                 egui::Layout::right_to_left(egui::Align::Center),
                                 |ui| {
                                     help_button_ui(ui, v);
+                                    if matches!(v, ViewKind::Block | ViewKind::Plane)
+                                        && ui
+                                            .small_button("Record")
+                                            .on_hover_text(
+                                                "Save a GIF of this view: 12 s at 10 frames a \
+                                                 second, 640x480, made off the window's thread",
+                                            )
+                                            .clicked()
+                                    {
+                                        out.push(Action::Record(v));
+                                    }
                                     if ui
                                         .small_button("PNG")
                                         .on_hover_text(format!(
@@ -511,6 +534,9 @@ impl Explorer {
         );
     }
 }
+
+/// Frames of a recorded GIF (12 s at 10 a second).
+const RECORD_FRAMES: usize = 120;
 
 /// The "?" of a view: what it shows, in one paragraph, on hover.
 fn help_button_ui(ui: &mut Ui, v: ViewKind) {
