@@ -59,7 +59,7 @@ pub fn view_help(v: ViewKind) -> &'static str {
             "The paper's Fig. 4: over a grid of pull directions θν and stiffness ratios κ, the \
              class of the attractor the map settles on: a fixed point, a period-p cycle, chaos \
              (λ > 0), or undecided. Each cell iterates the map, detects its period and, if none, \
-             computes λ. Boundaries follows the period-doubling curves FP→P2 and P2→P4 by \
+             computes λ. Boundaries follows the period-doubling curves FP to P2 and P2 to P4 by \
              continuation, to the precision of the solver rather than of the grid."
         }
         ViewKind::TimeSeries => {

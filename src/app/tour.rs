@@ -1,6 +1,6 @@
 //! The guided tour for a lecture: the paper's story in six steps, from
 //! creep to intermittency. Each step sets the parameters and the views
-//! (tiles) and says in a few sentences what to look at; Back and Next walk
+//! (tiles) and says in a few sentences what to look at; Previous and Next walk
 //! the steps, and the arrow keys still nudge θν. The tour is plain data and
 //! settings changes: no thread, no file, so it runs as it is in a browser.
 
@@ -59,7 +59,7 @@ pub const STEPS: [TourStep; 6] = [
     },
     TourStep {
         title: "The first period doubling",
-        text: "Past θν ≈ 1.09 the fixed point's multiplier has passed −1: the slips alternate \
+        text: "Past θν = 1.09 or so the fixed point's multiplier has passed −1: the slips alternate \
                between two onsets. The return map's orbit is a square on the cobweb, and f² \
                (purple) crosses the diagonal at both points. In the strip, λ touched 0 at the \
                doubling and is negative again.",
@@ -71,7 +71,7 @@ pub const STEPS: [TourStep; 6] = [
     },
     TourStep {
         title: "The cascade and chaos",
-        text: "Doublings follow faster and faster (P4, P8, …) and accumulate near θν ≈ 1.22, \
+        text: "Doublings follow faster and faster (P4, P8, …) and accumulate near θν = 1.22 or so, \
                where λ stays at 0; beyond, the onsets never repeat and λ > 0: chaos. The return \
                map's iterates fill a stretch of its graph, and the slip sizes spread.",
         preset: "fig3b",
@@ -132,7 +132,8 @@ impl Tour {
         self.step = Some(i);
     }
 
-    /// The step's box, bottom right, with Back, Next and End.
+    /// The step's box, bottom right, with Previous, Next and End tour
+    /// ("Previous", not "Back": the diagram's zoom has a Back button).
     pub fn ui(&mut self, ctx: &Context, s: &mut Settings) {
         let Some(i) = self.step else { return };
         let step = &STEPS[i];
@@ -145,9 +146,12 @@ impl Tour {
             .default_width(380.0)
             .show(ctx, |ui| {
                 ui.label(step.text);
-                ui.label(RichText::new("← → still nudge θν").weak());
+                ui.label(RichText::new("the arrow keys still nudge θν").weak());
                 ui.horizontal(|ui| {
-                    if ui.add_enabled(i > 0, egui::Button::new("Back")).clicked() {
+                    if ui
+                        .add_enabled(i > 0, egui::Button::new("Previous"))
+                        .clicked()
+                    {
                         go = Some(Some(i - 1));
                     }
                     let last = i + 1 == STEPS.len();
