@@ -14,6 +14,7 @@ shots=(
   "chaos block gui-block-chaos.png"
   "fig4 bifurcation gui-bifurcation-fig4.png"
   "chaos return-map gui-return-map-chaos.png"
+  "creep time-series gui-time-series-creep.png"
   "intermittent events gui-events-intermittent.png"
   "chaos numerics gui-numerics-chaos.png"
   "fig4 phase gui-phase-fig4.png"

@@ -6,6 +6,7 @@
 
 use std::fmt::Write as _;
 
+use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::phase::{CellClass, PhaseCell};
 use crate::sim::{Sample, SlipEvent};
 
@@ -90,15 +91,26 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
     s
 }
 
-/// The bifurcation CSV (`theta_nu,theta`): one row per kept iterate,
-/// column by column in the order given.
-pub fn bifurcation_csv<'a>(columns: impl Iterator<Item = (f64, &'a [f64])> + Clone) -> String {
-    let rows: usize = columns.clone().map(|(_, t)| t.len()).sum();
-    let mut s = String::with_capacity(40 * (rows + 1));
-    s.push_str("theta_nu,theta\n");
-    for (theta_nu, thetas) in columns {
+/// The bifurcation CSV's header.
+pub const BIFURCATION_COLUMNS: &str = "theta_nu,theta,lyapunov,lyapunov_stderr";
+
+/// The bifurcation CSV ([`BIFURCATION_COLUMNS`]): one row per kept iterate,
+/// column by column in the order given. Every row of a column repeats its
+/// λ ([`crate::sim::column_lyapunov`]); `lyapunov_stderr` is empty where λ
+/// is exact (a solved cycle), both are empty where λ was not computed.
+pub fn bifurcation_csv<'a>(
+    columns: impl Iterator<Item = (f64, &'a [f64], Option<ColumnLyapunov>)> + Clone,
+) -> String {
+    let rows: usize = columns.clone().map(|(_, t, _)| t.len()).sum();
+    let mut s = String::with_capacity(60 * (rows + 1));
+    s.push_str(BIFURCATION_COLUMNS);
+    s.push('\n');
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+    for (theta_nu, thetas, lyap) in columns {
+        let l = opt(lyap.map(|l| l.lyapunov));
+        let se = opt(lyap.and_then(|l| l.stderr));
         for t in thetas {
-            writeln!(s, "{theta_nu},{t}").ok();
+            writeln!(s, "{theta_nu},{t},{l},{se}").ok();
         }
     }
     s

@@ -217,7 +217,7 @@ fn bifurcation_equals_the_windows_sweep_plan_recomputed_by_the_core() {
     ]);
     assert_ok(&o);
     let (header, rows) = parse_csv(&stdout(&o));
-    assert_eq!(header, ["theta_nu", "theta"]);
+    assert_eq!(header, ["theta_nu", "theta", "lyapunov", "lyapunov_stderr"]);
     assert_eq!(rows.len(), columns * keep);
     let got: Vec<(f64, f64)> = rows.iter().map(|r| (num(&r[0]), num(&r[1]))).collect();
 
@@ -359,4 +359,68 @@ fn orbit_json_with_a_file_splits_data_and_summary() {
     let theta_last = v["theta_last"].as_f64().expect("theta_last");
     assert!((theta_last - num(&rows[3][12])).abs() <= 4.0 * f64::EPSILON);
     assert!(stderr(&o).is_empty(), "{}", stderr(&o));
+}
+
+#[test]
+fn bifurcation_writes_each_columns_lyapunov_exponent() {
+    // Fig. 3b at θν = 0.9 (a stable fixed point) and 1.25 (chaos).
+    let o = oneblock(&[
+        "bifurcation",
+        "--preset",
+        "fig3b",
+        "--theta-nu-from",
+        "0.9",
+        "--theta-nu-to",
+        "1.25",
+        "--columns",
+        "2",
+        "--transient",
+        "200",
+        "--keep",
+        "64",
+    ]);
+    assert_ok(&o);
+    let (header, rows) = parse_csv(&stdout(&o));
+    assert_eq!(header, ["theta_nu", "theta", "lyapunov", "lyapunov_stderr"]);
+    let column = |tn: &str| -> Vec<&Vec<String>> { rows.iter().filter(|r| r[0] == tn).collect() };
+    let (fixed, chaos) = (column("0.9"), column("1.25"));
+    assert_eq!((fixed.len(), chaos.len()), (64, 64));
+    for c in [&fixed, &chaos] {
+        assert!(
+            c.iter().all(|r| r[2] == c[0][2] && r[3] == c[0][3]),
+            "one λ a column"
+        );
+    }
+    // The fixed point: λ = ln|f'(θ*)| exactly, no error bar; f' here from
+    // the central difference of `oneblock map` about the kept onset.
+    assert_eq!(fixed[0][3], "");
+    let lambda = num(&fixed[0][2]);
+    let th = num(&fixed[0][1]);
+    let next = |theta: f64| {
+        let o = run(&[
+            "map",
+            "--preset",
+            "fig3b",
+            "--theta-nu",
+            "0.9",
+            "--tol",
+            "1e-12",
+            "--theta",
+            &theta.to_string(),
+            "--json",
+        ]
+        .map(String::from));
+        assert_ok(&o);
+        let v: serde_json::Value = serde_json::from_str(&stdout(&o)).expect("JSON");
+        v["theta_next"].as_f64().expect("theta_next")
+    };
+    let h = 1e-5;
+    let slope = (next(th + h) - next(th - h)) / (2.0 * h);
+    assert!(
+        lambda < 0.0 && (lambda - slope.abs().ln()).abs() < 1e-4,
+        "{lambda} vs ln|{slope}|"
+    );
+    // Chaos: positive, beyond twice its standard error.
+    let (l, se) = (num(&chaos[0][2]), num(&chaos[0][3]));
+    assert!(l > 2.0 * se && se > 0.0, "{l} ± {se}");
 }

@@ -13,7 +13,7 @@ use oneblock::app::Settings;
 use oneblock::app::session::Session;
 
 /// Words of the views' controls, none of which belongs in a figure.
-const CONTROLS: [&str; 12] = [
+const CONTROLS: [&str; 14] = [
     "Compute",
     "Find bifurcations",
     "Reset zoom",
@@ -26,6 +26,8 @@ const CONTROLS: [&str; 12] = [
     "x axis as κx",
     "Run for current parameters",
     "Laminar length vs",
+    "f(θ) − θ",
+    "drag / scroll",
 ];
 
 /// A session with small jobs, so that every view is quick.
@@ -166,6 +168,7 @@ fn every_view_is_drawn_headless_with_its_axes_and_no_controls() {
         "events",
         "phase",
         "numerics",
+        "time-series",
     ] {
         let out = dir.path().join(format!("{view}.svg"));
         let o = figure(&[
@@ -266,5 +269,71 @@ fn an_extension_the_command_cannot_write_is_refused() {
         assert_eq!(err.trim().lines().count(), 1, "{name}: {err}");
         assert!(err.contains(flag), "{name}: {err}");
         assert!(!out.exists(), "{name} written");
+    }
+}
+
+#[test]
+fn frames_and_a_gif_go_together_for_the_animated_views_only() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for (view, name, frames, flag) in [
+        ("block", "a.png", Some("10"), "--frames"),
+        ("plane", "a.svg", Some("10"), "--frames"),
+        ("bifurcation", "a.gif", Some("10"), "--frames"),
+        ("block", "a.gif", Some("1"), "--frames"),
+        ("block", "a.gif", Some("601"), "--frames"),
+        ("block", "a.gif", None, "--frames N"),
+    ] {
+        let out = dir.path().join(name);
+        let mut args = vec!["--view", view, "--out", out.to_str().expect("utf-8")];
+        if let Some(n) = frames {
+            args.extend(["--frames", n]);
+        }
+        let o = figure(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{view} {name} {frames:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(flag), "{err}");
+        assert!(!out.exists());
+    }
+}
+
+#[test]
+fn an_animated_gif_has_the_frames_asked_for_and_moves() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    for view in ["block", "plane"] {
+        let out = dir.path().join(format!("{view}.gif"));
+        let o = figure(&[
+            "--view",
+            view,
+            "--session",
+            session.to_str().expect("utf-8"),
+            "--frames",
+            "12",
+            "--size",
+            "320x240",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{view}: {err}");
+        let file = std::fs::File::open(&out).expect("gif written");
+        let mut opts = gif::DecodeOptions::new();
+        opts.set_color_output(gif::ColorOutput::RGBA);
+        let mut d = opts.read_info(file).expect("a GIF");
+        assert_eq!((d.width(), d.height()), (320, 240), "{view}");
+        let mut frames: Vec<Vec<u8>> = vec![];
+        while let Some(f) = d.read_next_frame().expect("a frame") {
+            assert_eq!(f.delay, 10, "10 frames a second");
+            frames.push(f.buffer.to_vec());
+        }
+        assert_eq!(frames.len(), 12, "{view}");
+        // An animation: the first and the last frame differ.
+        let differ = frames[0]
+            .chunks(4)
+            .zip(frames[11].chunks(4))
+            .filter(|(a, b)| a != b)
+            .count();
+        assert!(differ > 50, "{view}: {differ} pixels changed");
     }
 }

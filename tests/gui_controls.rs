@@ -180,3 +180,42 @@ fn smooth_lines_follow_the_switch_and_auto_drops_them_on_software_gl() {
     h.run_steps(2);
     assert!(feathering(&h));
 }
+
+/// The Tour button starts the tour on its first step; Next and Previous walk
+/// it, each step setting its parameters and tiles, and the window sends
+/// the new parameters to the worker as for a preset; End tour closes it.
+#[test]
+fn the_tour_walks_the_papers_story_in_the_window() {
+    use oneblock::app::tour::STEPS;
+    let rec = Recorder::new();
+    let mut h = harness(&rec, Settings::default());
+    h.run_steps(2);
+    let check = |h: &Harness<'static, Explorer>, i: usize| {
+        let s = &h.state().settings;
+        let step = &STEPS[i];
+        let p = oneblock::app::preset(step.preset).expect("preset").params;
+        assert_eq!(s.params, p.with_theta_nu(step.theta_nu), "{}", step.title);
+        assert_eq!(s.tiled.as_slice(), step.views, "{}", step.title);
+        assert_eq!(h.state().tour.step, Some(i));
+    };
+    h.get_by_label("Tour").click();
+    h.run_steps(6);
+    check(&h, 0);
+    assert!(h.query_by_label_contains("Tour 1/6: Creep").is_some());
+    h.get_by_label("Next").click();
+    h.run_steps(6);
+    check(&h, 1);
+    h.get_by_label("Next").click();
+    h.run_steps(6);
+    check(&h, 2);
+    h.get_by_label("Previous").click();
+    h.run_steps(6);
+    check(&h, 1);
+    // The second step's parameters reach the worker.
+    h.run_steps(30);
+    let t = last_trajectory(&rec).expect("a trajectory was asked for");
+    assert_eq!(t.theta_nu, STEPS[1].theta_nu);
+    h.get_by_label("End tour").click();
+    h.run_steps(6);
+    assert_eq!(h.state().tour.step, None);
+}

@@ -70,3 +70,37 @@ fn the_auto_table_in_docs_gui_md_is_what_the_code_runs() {
         assert_eq!(&got, w, "the table should read:\n{expected}");
     }
 }
+
+/// The "?" texts as docs/gui.md carries them between its markers: one
+/// paragraph per view, "**Title.** text".
+fn help_section() -> String {
+    use oneblock::app::ViewKind;
+    use oneblock::app::help::view_help;
+    ViewKind::ALL
+        .iter()
+        .map(|v| format!("**{}.** {}\n", v.title(), view_help(*v)))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+#[test]
+fn the_views_help_in_docs_gui_md_is_the_windows() {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/docs/gui.md");
+    let md = std::fs::read_to_string(path).expect("docs/gui.md");
+    let (begin, end) = ("<!-- help:begin -->\n", "<!-- help:end -->");
+    let want = help_section();
+    let (Some(a), Some(b)) = (md.find(begin), md.find(end)) else {
+        panic!("docs/gui.md has no {begin:?} … {end:?} section; it should hold:\n{want}");
+    };
+    let got = &md[a + begin.len()..b];
+    if got.trim() != want.trim() && std::env::var_os("UPDATE_DOCS").is_some() {
+        let new = format!("{}{begin}\n{want}\n{}", &md[..a], &md[b..]);
+        std::fs::write(path, new).expect("write docs/gui.md");
+        return;
+    }
+    assert_eq!(
+        got.trim(),
+        want.trim(),
+        "UPDATE_DOCS=1 rewrites the section"
+    );
+}

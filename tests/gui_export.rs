@@ -386,3 +386,51 @@ fn the_window_saves_an_svg_of_the_tiles_and_a_session() {
     assert_eq!(back.message, None);
     assert_eq!(back.session.settings, h.state().settings);
 }
+
+/// Record on the plane's tile writes an animated GIF of 120 frames into the
+/// save folder, made on a thread of its own while the window goes on.
+#[test]
+fn record_saves_an_animated_gif_of_the_plane() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rec = Recorder::new();
+    let settings = Settings {
+        save_dir: dir.path().display().to_string(),
+        trajectory_cycles: 40,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    h.query_all_by_label("Record")
+        .next()
+        .expect("a Record button on the plane's tile")
+        .click();
+    let mut gif = None;
+    for _ in 0..6000 {
+        h.step();
+        gif = std::fs::read_dir(dir.path())
+            .expect("read dir")
+            .flatten()
+            .map(|e| e.path())
+            .find(|p| p.extension().is_some_and(|e| e == "gif"));
+        if gif.is_some() {
+            break;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let gif = gif.expect("a GIF was written within two minutes");
+    assert!(
+        gif.file_name()
+            .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-plane-"))
+    );
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts
+        .read_info(std::fs::File::open(&gif).expect("open"))
+        .expect("a GIF");
+    assert_eq!((d.width(), d.height()), (640, 480));
+    let mut frames = 0;
+    while d.read_next_frame().expect("a frame").is_some() {
+        frames += 1;
+    }
+    assert_eq!(frames, 120);
+}

@@ -19,7 +19,7 @@ use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
-use super::{overlay, points_table};
+use super::{lyapunov_strip, overlay, points_table};
 use crate::model::Regime;
 
 /// Texel rows of the density image.
@@ -186,29 +186,31 @@ impl BifurcationView {
         });
     }
 
-    /// The diagram, with the branches over it; a box drawn zooms, a click
-    /// sets θν.
+    /// The diagram, `height` points tall with a y axis `y_width` wide, with
+    /// the branches over it; a box drawn zooms, a click sets θν.
     fn plot_ui(
         &mut self,
         ui: &mut Ui,
         s: &Settings,
         sweep: &SweepData,
         found: &BranchData,
+        (height, y_width): (f32, f32),
         out: &mut Vec<Action>,
     ) {
-        let (from, to) = (sweep.from, sweep.to);
-        let n = sweep.columns.len().max(2);
-        let dx = (to - from) / (n - 1) as f64;
-        let (lo, hi) = self.theta_range;
-        let tn = s.params.theta_nu;
-        let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
-            Regime::Mixed { theta_c } => Some(theta_c),
-            _ => None,
+        let bounds = self.bounds(sweep);
+        let lines = Lines {
+            theta_nu: (sweep.from, sweep.to),
+            current: s.params.theta_nu,
+            theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
+                Regime::Mixed { theta_c } => Some(theta_c),
+                _ => None,
+            },
+            width: style::width(ui.ctx(), 1.5),
         };
         let tex = self.texture.as_ref().map(|t| t.id());
         let drag_from = self.drag_from;
-        let line_width = style::width(ui.ctx(), 1.5);
-        let resp = Plot::new("bifurcation")
+        let plot = Plot::new("bifurcation")
+            .height(height)
             .show_background(false)
             .allow_drag(false)
             .allow_zoom(false)
@@ -220,7 +222,8 @@ impl BifurcationView {
             AxisSpec::angle("θ, slip onset", s.angle_unit),
         );
         let (hx, hy) = (ax.clone(), ay.clone());
-        let resp = axes::apply(resp, &ax, &ay)
+        let resp = axes::apply(plot, &ax, &ay)
+            .y_axis_min_width(y_width)
             // The overlay's items have hover labels of their own.
             .label_formatter(move |pos| match pos {
                 egui_plot::HoverPosition::NearDataPoint { plot_name, .. }
@@ -232,38 +235,20 @@ impl BifurcationView {
             })
             .show(ui, |p| {
                 p.set_plot_bounds(PlotBounds::from_min_max(
-                    [from - dx / 2.0, lo],
-                    [to + dx / 2.0, hi],
+                    [bounds.0, bounds.2],
+                    [bounds.1, bounds.3],
                 ));
                 if let Some(id) = tex {
+                    let (x0, x1, y0, y1) = bounds;
                     p.add(PlotImage::new(
                         "diagram",
                         id,
-                        PlotPoint::new((from + to) / 2.0, (lo + hi) / 2.0),
-                        [(to - from + dx) as f32, (hi - lo) as f32],
+                        PlotPoint::new((x0 + x1) / 2.0, (y0 + y1) / 2.0),
+                        [(x1 - x0) as f32, (y1 - y0) as f32],
                     ));
                 }
-                p.line(
-                    style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
-                        .color(style::CRITICAL.gamma_multiply(0.6))
-                        .style(LineStyle::Dotted { spacing: 6.0 }),
-                );
-                if let Some(tc) = theta_c {
-                    for y in [tc, -tc] {
-                        p.add(
-                            HLine::new("θc", y)
-                                .color(style::ACCEL)
-                                .style(LineStyle::Dashed { length: 10.0 })
-                                .width(1.5),
-                        );
-                    }
-                }
-                p.add(
-                    VLine::new("current θν", tn)
-                        .color(style::CURRENT)
-                        .width(2.0),
-                );
-                overlay::branch_items(p, found, line_width);
+                lines.draw(p);
+                overlay::branch_items(p, found, lines.width);
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
                     p.add(style::zoom_box(a, b));
@@ -272,20 +257,49 @@ impl BifurcationView {
             });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         self.transform = Some(resp.transform);
+        self.hover_ui(&resp, found);
+        self.pointer_ui(ui, &resp.response, resp.inner, sweep, out);
+    }
+
+    /// The plot's bounds (θν from, to, θ lo, hi): half a column's width
+    /// beyond the end columns, so that each column's texel is centred on
+    /// its θν.
+    pub fn bounds(&self, sweep: &SweepData) -> (f64, f64, f64, f64) {
+        let (from, to) = (sweep.from, sweep.to);
+        let n = sweep.columns.len().max(2);
+        let dx = (to - from) / (n - 1) as f64;
+        let (lo, hi) = self.theta_range;
+        (from - dx / 2.0, to + dx / 2.0, lo, hi)
+    }
+
+    /// The special point or branch under the pointer, named.
+    fn hover_ui(&self, resp: &egui_plot::PlotResponse<Option<PlotPoint>>, found: &BranchData) {
         let r = &resp.response;
-        let pointer = resp.inner;
-        if self.drag_from.is_none()
-            && let Some(at) = r.hover_pos()
-        {
-            let t = resp.transform;
-            let to_screen = |xy: [f64; 2]| {
-                let q = t.position_from_point(&PlotPoint::new(xy[0], xy[1]));
-                [q.x, q.y]
-            };
-            if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
-                r.clone().on_hover_text_at_pointer(text);
-            }
+        if self.drag_from.is_some() {
+            return;
         }
+        let Some(at) = r.hover_pos() else { return };
+        let t = resp.transform;
+        let to_screen = |xy: [f64; 2]| {
+            let q = t.position_from_point(&PlotPoint::new(xy[0], xy[1]));
+            [q.x, q.y]
+        };
+        if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
+            r.clone().on_hover_text_at_pointer(text);
+        }
+    }
+
+    /// A box drawn zooms (recomputing its θν range), a click sets θν,
+    /// Backspace goes back a zoom level.
+    fn pointer_ui(
+        &mut self,
+        ui: &Ui,
+        r: &egui::Response,
+        pointer: Option<PlotPoint>,
+        sweep: &SweepData,
+        out: &mut Vec<Action>,
+    ) {
+        let (from, to) = (sweep.from, sweep.to);
         if r.drag_started() {
             self.drag_from = pointer;
         }
@@ -316,6 +330,54 @@ impl BifurcationView {
     }
 }
 
+/// The lines drawn over the diagram: θ = θν, ±θc and the current θν.
+struct Lines {
+    theta_nu: (f64, f64),
+    current: f64,
+    theta_c: Option<f64>,
+    width: f32,
+}
+
+impl Lines {
+    fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
+        let (from, to) = self.theta_nu;
+        p.line(
+            style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
+                .color(style::CRITICAL.gamma_multiply(0.6))
+                .style(LineStyle::Dotted { spacing: 6.0 }),
+        );
+        if let Some(tc) = self.theta_c {
+            for y in [tc, -tc] {
+                p.add(
+                    HLine::new("θc", y)
+                        .color(style::ACCEL)
+                        .style(LineStyle::Dashed { length: 10.0 })
+                        .width(1.5),
+                );
+            }
+        }
+        p.add(
+            VLine::new("current θν", self.current)
+                .color(style::CURRENT)
+                .width(2.0),
+        );
+    }
+}
+
+/// The diagram's and the λ strip's heights (0: no strip), and the y-axis
+/// width they share so that their frames line up, for `available` height.
+/// The strip needs about 9 rows of text for five legible λ ticks; below 27
+/// rows in all (a small tile) only the diagram is drawn.
+fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
+    let row = ui.text_style_height(&egui::TextStyle::Body);
+    if available < 27.0 * row {
+        return (available, 0.0, 5.5 * row);
+    }
+    let strip = (available * 0.3).clamp(9.0 * row, 18.0 * row);
+    let diagram = available - strip - 0.5 * row;
+    (diagram, strip, 5.5 * row)
+}
+
 impl View for BifurcationView {
     fn title(&self) -> &'static str {
         ViewKind::Bifurcation.title()
@@ -329,10 +391,21 @@ impl View for BifurcationView {
         }
         lines_legend_ui(ui, s);
         overlay::branch_legend_ui(ui, &jobs.branches.data);
+        if plot_sizes(ui, ui.available_height()).1 > 0.0 {
+            lyapunov_strip::legend_ui(ui, s.dark);
+        }
         if !figure {
             points_table::points_ui(ui, &jobs.branches.data);
         }
-        self.plot_ui(ui, s, &jobs.sweep.data, &jobs.branches.data, out);
+        let sweep = &jobs.sweep.data;
+        let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());
+        self.plot_ui(ui, s, sweep, &jobs.branches.data, (diagram, y_width), out);
+        let (x0, x1, ..) = self.bounds(sweep);
+        if strip > 0.0
+            && let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width))
+        {
+            out.push(Action::SetThetaNu(tn));
+        }
     }
 }
 

@@ -406,7 +406,10 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
             if ui.button("Trajectory CSV (t,x,y,u,w,phase)").clicked() {
                 out.push(Action::Export(Export::Trajectory));
             }
-            if ui.button("Bifurcation CSV (theta_nu,theta)").clicked() {
+            if ui
+                .button("Bifurcation CSV (theta_nu,theta,lyapunov,…)")
+                .clicked()
+            {
                 out.push(Action::Export(Export::Bifurcation));
             }
             if ui.button("Phase diagram CSV (oneblock phase)").clicked() {

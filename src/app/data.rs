@@ -6,6 +6,7 @@
 
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
+use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::{Period, Sample, SlipEvent};
 
 /// The most samples and events kept (a rolling window: an endless
@@ -54,6 +55,8 @@ pub struct Column {
     pub theta_nu: f64,
     pub thetas: Vec<f64>,
     pub coarse: bool,
+    /// λ of the column ([`crate::sim::column_lyapunov`]), when computed.
+    pub lyapunov: Option<ColumnLyapunov>,
 }
 
 impl SweepData {

@@ -235,32 +235,7 @@ impl EventsView {
         let wide = ui.available_width() >= 36.0 * em
             && ui.available_height() >= (stacked * 8.0 + 4.0) * em;
         let figure = style::figure_only(ui.ctx());
-        if figure {
-            // A picture has no menus: the count only.
-            ui.label(format!("{} slip events", evs.len()));
-        } else if wide {
-            measure_ui(ui, s, evs.len());
-        } else {
-            // Too narrow for all plots: one at a time, and the choices in
-            // two menus on one row.
-            ui.horizontal_wrapped(|ui| {
-                ui.label(format!("{} slips", evs.len()));
-                egui::ComboBox::from_id_salt("events_measure")
-                    .selected_text(measure_name(s.slip_measure))
-                    .show_ui(ui, |ui| {
-                        for m in [SlipMeasure::Distance, SlipMeasure::Energy] {
-                            ui.selectable_value(&mut s.slip_measure, m, measure_name(m));
-                        }
-                    });
-                egui::ComboBox::from_id_salt("events_plot")
-                    .selected_text(plot_name(s.events_plot))
-                    .show_ui(ui, |ui| {
-                        for v in EventsPlot::ALL {
-                            ui.selectable_value(&mut s.events_plot, v, plot_name(v));
-                        }
-                    });
-            });
-        }
+        header_ui(ui, s, evs.len(), figure, wide);
         let m = s.slip_measure;
         // The axis title: the quantity in full where there is room.
         let unit = match (m, wide) {
@@ -313,6 +288,35 @@ impl EventsView {
             EventsPlot::Laminar => plots.laminar_ui(ui, h),
             EventsPlot::Scaling => plots.scaling_ui(ui, h),
         }
+    }
+}
+
+/// The count of events and, in the window, the choices: as buttons where
+/// all plots fit, else in two menus on one row (one plot at a time).
+fn header_ui(ui: &mut Ui, s: &mut Settings, events: usize, figure: bool, wide: bool) {
+    if figure {
+        // A picture has no menus: the count only.
+        ui.label(format!("{events} slip events"));
+    } else if wide {
+        measure_ui(ui, s, events);
+    } else {
+        ui.horizontal_wrapped(|ui| {
+            ui.label(format!("{events} slips"));
+            egui::ComboBox::from_id_salt("events_measure")
+                .selected_text(measure_name(s.slip_measure))
+                .show_ui(ui, |ui| {
+                    for m in [SlipMeasure::Distance, SlipMeasure::Energy] {
+                        ui.selectable_value(&mut s.slip_measure, m, measure_name(m));
+                    }
+                });
+            egui::ComboBox::from_id_salt("events_plot")
+                .selected_text(plot_name(s.events_plot))
+                .show_ui(ui, |ui| {
+                    for v in EventsPlot::ALL {
+                        ui.selectable_value(&mut s.events_plot, v, plot_name(v));
+                    }
+                });
+        });
     }
 }
 
@@ -483,10 +487,13 @@ fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: 
                 .collect()
         })
         .unwrap_or_default();
+    // The rotated y title runs past a short plot's frame into the plot
+    // below (projector text, stacked plots): the short form then.
+    let y_title = axes::fitting_title(ui, "count + 1 (log scale)", "count + 1", h);
     let r = axes::apply(
         Plot::new("events_hist").show_background(false).height(h),
         &AxisSpec::log10(format!("{unit} (log scale)")),
-        &AxisSpec::log10("count + 1 (log scale)"),
+        &AxisSpec::log10(y_title),
     )
     .show(ui, |p| {
         p.bar_chart(BarChart::new("slip sizes", bars).color(style::STICK));

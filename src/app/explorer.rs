@@ -25,6 +25,7 @@ use super::settings::{Layout, Settings, ViewKind};
 use super::status;
 use super::style;
 use super::svg_render;
+use super::tour::Tour;
 use super::view::Action;
 use super::views::{Views, tile_rects};
 
@@ -49,6 +50,8 @@ pub struct Explorer {
     /// Where the frame-time report goes when the window closes.
     pub stats_sink: Option<Arc<Mutex<Option<String>>>>,
     view_rects: HashMap<ViewKind, Rect>,
+    /// The guided tour, when it runs.
+    pub tour: Tour,
     applied_style: Option<(f32, bool, bool)>,
     now: f64,
     /// The browser build's uploads and page context.
@@ -84,6 +87,7 @@ impl Explorer {
             persist: true,
             stats_sink: None,
             view_rects: HashMap::new(),
+            tour: Tour::default(),
             applied_style: None,
             now: 0.0,
             #[cfg(target_arch = "wasm32")]
@@ -196,6 +200,23 @@ impl Explorer {
                 let crop = self.view_rects.get(&v).copied();
                 self.shots.request(ctx, path, crop);
             }
+            #[cfg(not(target_arch = "wasm32"))]
+            Action::Record(v) => {
+                let fig = super::figure::Figure {
+                    view: v,
+                    settings: self.settings.clone(),
+                    zoom: Vec::new(),
+                    theta_nu: None,
+                    theta: None,
+                    size: egui::vec2(640.0, 480.0),
+                };
+                let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
+                self.shots.record(fig, RECORD_FRAMES, path, self.now);
+            }
+            // No Record button in the browser: 120 frames drawn on the
+            // page's only thread would freeze it for seconds.
+            #[cfg(target_arch = "wasm32")]
+            Action::Record(_) => {}
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
@@ -320,6 +341,7 @@ impl Explorer {
             Key::Num5,
             Key::Num6,
             Key::Num7,
+            Key::Num8,
         ];
         for (k, v) in tabs.into_iter().zip(ViewKind::ALL) {
             if ctx.input(|i| i.key_pressed(k)) {
@@ -392,6 +414,7 @@ impl Explorer {
         for a in actions {
             self.apply(a, &ctx);
         }
+        self.tour.ui(&ctx, &mut self.settings);
         self.sync_jobs(&ctx);
         self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
@@ -426,10 +449,17 @@ impl Explorer {
                     .on_hover_text(text.join("\n"));
             }
             ui.separator();
+            if ui
+                .button("Tour")
+                .on_hover_text("The paper's story in six steps, from creep to intermittency")
+                .clicked()
+            {
+                self.tour.go(0, s);
+            }
             ui.selectable_value(&mut s.layout, Layout::Tiles, "Tiles")
                 .on_hover_text("Several views at once (T toggles)");
             ui.selectable_value(&mut s.layout, Layout::Tabs, "Tabs")
-                .on_hover_text("One view, full size (keys 1–7)");
+                .on_hover_text("One view, full size (keys 1–8)");
             ui.separator();
             match s.layout {
                 Layout::Tabs => {
@@ -437,20 +467,24 @@ impl Explorer {
                         ui.selectable_value(&mut s.tab, v, v.title());
                     }
                 }
+                // The tiles' choice in a menu: eight checkboxes in a row
+                // wrapped the bar onto a second line at text ×1.5, taking
+                // height from every tile.
                 Layout::Tiles => {
-                    ui.label("tiles:");
-                    for v in ViewKind::ALL {
-                        let mut on = s.tiled.contains(&v);
-                        if ui.checkbox(&mut on, v.title()).changed() {
-                            if on {
-                                s.tiled.push(v);
-                                s.tiled
-                                    .sort_by_key(|x| ViewKind::ALL.iter().position(|y| y == x));
-                            } else if s.tiled.len() > 1 {
-                                s.tiled.retain(|x| *x != v);
+                    ui.menu_button(format!("tiles: {} of 8", s.tiled.len()), |ui| {
+                        for v in ViewKind::ALL {
+                            let mut on = s.tiled.contains(&v);
+                            if ui.checkbox(&mut on, v.title()).changed() {
+                                if on {
+                                    s.tiled.push(v);
+                                    s.tiled
+                                        .sort_by_key(|x| ViewKind::ALL.iter().position(|y| y == x));
+                                } else if s.tiled.len() > 1 {
+                                    s.tiled.retain(|x| *x != v);
+                                }
                             }
                         }
-                    }
+                    });
                 }
             }
         });
@@ -492,6 +526,19 @@ impl Explorer {
                             ui.with_layout(
                                 egui::Layout::right_to_left(egui::Align::Center),
                                 |ui| {
+                                    help_button_ui(ui, v);
+                                    if matches!(v, ViewKind::Block | ViewKind::Plane)
+                                        && !cfg!(target_arch = "wasm32")
+                                        && ui
+                                            .small_button("Record")
+                                            .on_hover_text(
+                                                "Save a GIF of this view: 12 s at 10 frames a \
+                                                 second, 640x480, made off the window's thread",
+                                            )
+                                            .clicked()
+                                    {
+                                        out.push(Action::Record(v));
+                                    }
                                     if ui
                                         .small_button("PNG")
                                         .on_hover_text(format!(
@@ -566,6 +613,18 @@ impl Explorer {
             Some(Err(e)) => self.shots.toast(e, true, self.now),
         }
     }
+}
+
+/// Frames of a recorded GIF (12 s at 10 a second).
+#[cfg(not(target_arch = "wasm32"))]
+const RECORD_FRAMES: usize = 120;
+
+/// The "?" of a view: what it shows, in one paragraph, on hover.
+fn help_button_ui(ui: &mut Ui, v: ViewKind) {
+    ui.small_button("?").on_hover_ui(|ui| {
+        ui.set_max_width(420.0);
+        ui.label(super::help::view_help(v));
+    });
 }
 
 impl eframe::App for Explorer {

@@ -1,6 +1,6 @@
 //! CSV in the command line's formats: events (every `SlipEvent` field, in
 //! order, `restarted` as 0/1, as `formats::slip_event_row` writes them),
-//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta`), phase
+//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta,lyapunov,lyapunov_stderr`), phase
 //! diagram (`oneblock phase --out`'s columns and rows). Floats
 //! in Rust's shortest round-trip form, so parsing gives back the exact f64.
 
@@ -29,7 +29,7 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
 /// The diagram's computed columns, as `oneblock bifurcation` writes them.
 pub fn bifurcation_csv(sweep: &SweepData) -> String {
     let columns = sweep.columns.iter().flatten();
-    formats::bifurcation_csv(columns.map(|c| (c.theta_nu, c.thetas.as_slice())))
+    formats::bifurcation_csv(columns.map(|c| (c.theta_nu, c.thetas.as_slice(), c.lyapunov)))
 }
 
 /// The phase diagram as `oneblock phase --out` writes it (rows of

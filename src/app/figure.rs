@@ -57,9 +57,11 @@ impl Figure {
 /// The lanes a view's data comes from (every other lane's jobs are not run).
 fn lanes(view: ViewKind) -> &'static [Lane] {
     match view {
-        ViewKind::Plane | ViewKind::Block | ViewKind::Events | ViewKind::ReturnMap => {
-            &[Lane::Orbit]
-        }
+        ViewKind::Plane
+        | ViewKind::Block
+        | ViewKind::Events
+        | ViewKind::ReturnMap
+        | ViewKind::TimeSeries => &[Lane::Orbit],
         ViewKind::Bifurcation => &[Lane::Sweep],
         ViewKind::Phase => &[Lane::Phase],
         ViewKind::Numerics => &[Lane::Orbit, Lane::Numerics],
@@ -159,6 +161,17 @@ pub fn svg(fig: &Figure) -> Result<String, String> {
 /// fonts, the only ones in resvg's font database: no system font), so the
 /// PNG's labels take the room the layout gave them on any machine.
 pub fn png_of_svg(svg: &str, size: egui::Vec2, scale: f32) -> Result<Vec<u8>, String> {
+    pixmap_of_svg(svg, size, scale)?
+        .encode_png()
+        .map_err(|e| format!("PNG encoding failed: {e}"))
+}
+
+/// `svg` rasterised as [`png_of_svg`] does, as pixels.
+fn pixmap_of_svg(
+    svg: &str,
+    size: egui::Vec2,
+    scale: f32,
+) -> Result<resvg::tiny_skia::Pixmap, String> {
     use resvg::{tiny_skia, usvg};
     let mut opt = usvg::Options::default();
     {
@@ -181,7 +194,62 @@ pub fn png_of_svg(svg: &str, size: egui::Vec2, scale: f32) -> Result<Vec<u8>, St
         tiny_skia::Transform::from_scale(scale, scale),
         &mut pixmap.as_mut(),
     );
-    pixmap
-        .encode_png()
-        .map_err(|e| format!("PNG encoding failed: {e}"))
+    Ok(pixmap)
+}
+
+/// Seconds of playback between an animation's frames (10 frames a second).
+pub const FRAME_SECONDS: f64 = 0.1;
+
+/// An animated GIF of `fig`'s view (the block or the plane), `frames`
+/// frames at 10 a second, looping, one pixel a point. The block view plays
+/// as in the window: stick phases fast-forwarded, slips at the settings'
+/// slip speed (time units per second). The plane's path grows over its
+/// last cycles sample by sample, so that a slip, densely sampled, is drawn
+/// slowly and a stick phase, two samples, at once.
+pub fn gif(fig: &Figure, frames: usize) -> Result<Vec<u8>, String> {
+    let mut jobs = compute(fig)?;
+    let s = view_settings(fig);
+    let full = jobs.trajectory.data.clone();
+    let start = full.recent_start(s.keep_cycles);
+    let n = full.samples.len();
+    let plane = fig.view == ViewKind::Plane;
+    let grow = |k: usize, jobs: &mut Jobs| {
+        if !plane || n == 0 {
+            return;
+        }
+        let cut = (start + ((n - start) * (k + 1)).div_ceil(frames)).clamp(1, n);
+        let t = full.samples[cut - 1].t;
+        let data = &mut jobs.trajectory.data;
+        data.samples = full.samples[..cut].to_vec();
+        data.events = full
+            .events
+            .iter()
+            .filter(|e| e.onset_time <= t)
+            .cloned()
+            .collect();
+    };
+    let svgs = svg_render::render_svg_frames(
+        fig.view,
+        &s,
+        &mut jobs,
+        fig.size,
+        (frames, FRAME_SECONDS),
+        grow,
+    );
+    let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);
+    let mut out = Vec::new();
+    {
+        let err = |e: gif::EncodingError| format!("GIF encoding failed: {e}");
+        let mut enc = gif::Encoder::new(&mut out, w, h, &[]).map_err(err)?;
+        enc.set_repeat(gif::Repeat::Infinite).map_err(err)?;
+        for svg in svgs {
+            let mut rgba = pixmap_of_svg(&svg, fig.size, 1.0)?.take();
+            // NeuQuant at speed 10: a palette per frame, good for the
+            // smooth colours of anti-aliased lines, and quick.
+            let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
+            frame.delay = (FRAME_SECONDS * 100.0).round() as u16;
+            enc.write_frame(&frame).map_err(err)?;
+        }
+    }
+    Ok(out)
 }

@@ -29,7 +29,14 @@ pub struct FrameStats {
     pub points: usize,
     pub samples_at_start: usize,
     pub samples_at_end: usize,
+    /// The last [`LIVE_FRAMES`] intervals, recorded whenever stats are on:
+    /// what the overlay shows in a live window, where nothing scripts a
+    /// measurement (it used to wait for one and say "measuring…" for ever).
+    live: std::collections::VecDeque<f32>,
 }
+
+/// Frames the overlay's running median is taken over.
+const LIVE_FRAMES: usize = 120;
 
 /// The middle value of `v` (the upper of two).
 fn median(v: &[f32]) -> Option<f32> {
@@ -58,6 +65,13 @@ impl FrameStats {
             return;
         }
         let now = Instant::now();
+        if let Some(l) = self.last {
+            let ms = (now - l).as_secs_f32() * 1e3;
+            if self.live.len() == LIVE_FRAMES {
+                self.live.pop_front();
+            }
+            self.live.push_back(ms);
+        }
         if let Some(l) = self.last
             && self.recording
         {
@@ -112,15 +126,23 @@ impl FrameStats {
         format!("{idle}{streaming}{latency}")
     }
 
-    /// The running median of the last frames, in a corner of the window.
-    pub fn overlay(&self, ctx: &Context) {
-        let last: Vec<f32> = self.intervals.iter().rev().take(120).copied().collect();
-        let text = match median(&last) {
+    /// The text of the overlay: the running median of the last frames.
+    pub fn overlay_text(&self) -> String {
+        let last: Vec<f32> = self.live.iter().copied().collect();
+        match median(&last) {
             Some(m) => format!("frame {m:.1} ms (median of last {})", last.len()),
             None => "frame time: measuring…".into(),
-        };
+        }
+    }
+
+    /// The running median of the last frames, in the bottom-left corner
+    /// above the status bar, where it covers no view's buttons (the views'
+    /// SVG and PNG buttons are at their top right), and lets clicks through.
+    pub fn overlay(&self, ctx: &Context) {
+        let text = self.overlay_text();
         egui::Area::new(egui::Id::unique("frame_stats"))
-            .anchor(egui::Align2::RIGHT_TOP, egui::vec2(-10.0, 40.0))
+            .anchor(egui::Align2::LEFT_BOTTOM, egui::vec2(10.0, -34.0))
+            .interactable(false)
             .order(egui::Order::Foreground)
             .show(ctx, |ui| {
                 egui::Frame::popup(ui.style()).show(ui, |ui| {
@@ -146,5 +168,28 @@ mod tests {
         assert_eq!(percentile(&v, 0.9), Some(4.0));
         assert_eq!(percentile(&v, 1.0), Some(5.0));
         assert_eq!(median(&[]), None);
+    }
+
+    #[test]
+    fn the_overlay_measures_a_live_window_with_nothing_recording() {
+        let mut s = FrameStats {
+            enabled: true,
+            ..FrameStats::default()
+        };
+        assert!(s.overlay_text().contains("measuring"));
+        for _ in 0..3 {
+            s.record(None);
+            std::thread::sleep(std::time::Duration::from_millis(5));
+        }
+        assert!(!s.recording && s.intervals.is_empty());
+        let t = s.overlay_text();
+        assert!(
+            t.starts_with("frame ") && t.contains("median of last 2"),
+            "{t}"
+        );
+        for _ in 0..200 {
+            s.record(None);
+        }
+        assert!(s.overlay_text().contains("median of last 120"));
     }
 }

@@ -39,7 +39,9 @@ pub mod explorer;
 pub mod export;
 pub mod figure;
 pub mod frame_stats;
+pub mod help;
 pub mod jobs;
+pub mod lyapunov_strip;
 #[cfg(not(target_arch = "wasm32"))]
 mod native;
 pub mod numerics_table;
@@ -60,6 +62,8 @@ pub mod status;
 pub mod style;
 pub mod svg;
 pub mod svg_render;
+pub mod time_series;
+pub mod tour;
 pub mod url_state;
 pub mod view;
 pub mod views;

@@ -231,23 +231,7 @@ impl NumericsView {
             AccuracyMode::Custom => "Custom",
         };
         let ink = style::ink(s.dark);
-        // The legend above the plot (as the other views have it): inside,
-        // it would hide some corner of the curves.
-        ui.horizontal_wrapped(|ui| {
-            for (m, _) in curves(rows, y_evals) {
-                legend_method(ui, m);
-            }
-        });
-        // The jobs' markers on a line of their own, so that wrapping never
-        // parts a marker from its label at usual widths.
-        ui.horizontal_wrapped(|ui| {
-            ui.label(format!("settings in use ({mode}):"));
-            for job in JobKind::SOLVED {
-                if marks.iter().any(|(j, _)| *j == job) {
-                    legend_shape(ui, job, ink, job.label());
-                }
-            }
-        });
+        chart_legend_ui(ui, rows, y_evals, &marks, mode, ink);
         // Tall enough for five labelled decades at any text size.
         let line = ui.text_style_height(&egui::TextStyle::Body);
         let plot_h = (ui.available_height() * 0.62).max(14.0 * line);
@@ -288,23 +272,7 @@ impl NumericsView {
                         );
                     }
                 }
-                for (m, pts) in curves(rows, y_evals) {
-                    let c = style::method_color(m);
-                    let mut line = style::line(m, PlotPoints::from(pts.clone()))
-                        .color(c)
-                        .width(1.8 * lw);
-                    if m.starts_with("ode_solvers") {
-                        line = line.style(LineStyle::Dashed { length: 6.0 });
-                    }
-                    p.line(line);
-                    p.add(
-                        Points::new(m, PlotPoints::from(pts))
-                            .color(c)
-                            .shape(style::method_marker(m))
-                            .filled(true)
-                            .radius(4.0 * lw),
-                    );
-                }
+                method_items(p, rows, y_evals, lw);
                 for (job, pt) in marks {
                     p.add(
                         Points::new(format!("{mode}: {}", job.label()), vec![pt])
@@ -316,6 +284,53 @@ impl NumericsView {
                 }
             });
         axes::remember_frame(ui.ctx(), "work_precision", *resp.transform.frame());
+    }
+}
+
+/// The legend above the chart (inside, it would hide some corner of the
+/// curves): the methods, then the jobs' markers on a line of their own, so
+/// that wrapping never parts a marker from its label at usual widths.
+fn chart_legend_ui(
+    ui: &mut Ui,
+    rows: &[Row],
+    y_evals: bool,
+    marks: &[(JobKind, [f64; 2])],
+    mode: &str,
+    ink: egui::Color32,
+) {
+    ui.horizontal_wrapped(|ui| {
+        for (m, _) in curves(rows, y_evals) {
+            legend_method(ui, m);
+        }
+    });
+    ui.horizontal_wrapped(|ui| {
+        ui.label(format!("settings in use ({mode}):"));
+        for job in JobKind::SOLVED {
+            if marks.iter().any(|(j, _)| *j == job) {
+                legend_shape(ui, job, ink, job.label());
+            }
+        }
+    });
+}
+
+/// Each method's measured curve: a line through its markers.
+fn method_items(p: &mut egui_plot::PlotUi<'_>, rows: &[Row], y_evals: bool, lw: f32) {
+    for (m, pts) in curves(rows, y_evals) {
+        let c = style::method_color(m);
+        let mut line = style::line(m, PlotPoints::from(pts.clone()))
+            .color(c)
+            .width(1.8 * lw);
+        if m.starts_with("ode_solvers") {
+            line = line.style(LineStyle::Dashed { length: 6.0 });
+        }
+        p.line(line);
+        p.add(
+            Points::new(m, PlotPoints::from(pts))
+                .color(c)
+                .shape(style::method_marker(m))
+                .filled(true)
+                .radius(4.0 * lw),
+        );
     }
 }
 

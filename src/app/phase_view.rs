@@ -168,88 +168,14 @@ impl PhaseView {
     /// Compute / Stop, the zoom buttons, where the grid stands, its
     /// resolution and budget, and the legend.
     fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
-        let slot = &jobs.phase;
-        let data = &slot.data;
-        let running = slot.state == JobState::Running;
+        let data = &jobs.phase.data;
         ui.horizontal_wrapped(|ui| {
-            if running {
-                if ui
-                    .button("Stop")
-                    .on_hover_text("Stop computing this grid")
-                    .clicked()
-                {
-                    out.push(Action::StopPhase);
-                }
-            } else if ui
-                .button("Compute")
-                .on_hover_text(
-                    "Compute the grid now; it goes on even if the view is then hidden \
-                     (otherwise a grid runs only while its view is shown)",
-                )
-                .clicked()
-            {
-                out.push(Action::ComputePhase);
-            }
+            compute_button_ui(ui, jobs.phase.state == JobState::Running, out);
             boundaries_button_ui(ui, jobs, out);
-            let zoomed = !s.phase.zoom.is_empty();
-            if ui
-                .add_enabled(zoomed, egui::Button::new("Back"))
-                .on_hover_text("Previous zoom level (Backspace)")
-                .clicked()
-            {
-                s.phase.zoom.pop();
-            }
-            if ui
-                .add_enabled(zoomed, egui::Button::new("Reset zoom"))
-                .on_hover_text("The whole range")
-                .clicked()
-            {
-                s.phase.zoom.clear();
-            }
-            let state = match &slot.state {
-                JobState::Running => {
-                    format!(
-                        "computing, {:.0} iterates/s",
-                        slot.progress.iterates_per_second
-                    )
-                }
-                JobState::Done => "done".into(),
-                JobState::Cancelled if jobs.phase_policy.stopped => "stopped".into(),
-                JobState::Cancelled => "paused (view hidden)".into(),
-                JobState::Failed(_) => "failed".into(),
-                JobState::Idle => "computed when shown".into(),
-            };
-            ui.label(format!(
-                "{}/{} cells · {state}",
-                data.filled,
-                data.rows * data.columns
-            ))
-            .on_hover_text(
-                "Drag a box to zoom: that range is recomputed at full resolution. \
-                 A click sets the θν and κ sliders to the cell. Backspace: back.",
-            );
+            zoom_buttons_ui(ui, s);
+            state_label_ui(ui, jobs);
         });
-        ui.horizontal_wrapped(|ui| {
-            let p = &mut s.phase;
-            ui.label("grid");
-            ui.add(egui::DragValue::new(&mut p.theta_nu_steps).range(MIN_STEPS..=MAX_STEPS))
-                .on_hover_text("θν columns (recomputes the grid)");
-            ui.label("×");
-            ui.add(egui::DragValue::new(&mut p.kappa_steps).range(MIN_STEPS..=MAX_STEPS))
-                .on_hover_text("κ rows (recomputes the grid)");
-            ui.label("transient");
-            ui.add(egui::DragValue::new(&mut p.transient).range(0..=MAX_BUDGET))
-                .on_hover_text(
-                    "The most iterates a cell spends looking for a period (oneblock phase --transient)",
-                );
-            ui.label("keep");
-            ui.add(egui::DragValue::new(&mut p.keep).range(16..=MAX_BUDGET))
-                .on_hover_text(
-                    "The most iterates with f'(θ) for the Lyapunov exponent when no period \
-                     was found (oneblock phase --keep)",
-                );
-            ui.menu_button("range", |ui| range_ui(ui, &mut p.range, &mut p.zoom));
-        });
+        grid_row_ui(ui, s);
         legend_row_ui(ui);
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
@@ -262,34 +188,10 @@ impl PhaseView {
     /// The grid of cells; a box drawn zooms, a click sets θν and κ.
     fn plot_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let data = &jobs.phase.data;
-        // The grid drawn is the one computed (or being computed); before any,
-        // the one that will be.
-        let (range, columns, rows) = if data.rows * data.columns > 0 {
-            (
-                PhaseRange {
-                    theta_nu: data.theta_nu,
-                    kappa: data.kappa,
-                },
-                data.columns,
-                data.rows,
-            )
-        } else {
-            (
-                s.phase.current(),
-                s.phase.theta_nu_steps,
-                s.phase.kappa_steps,
-            )
-        };
+        let grid = drawn_grid(s, data);
+        let (range, dt, dk) = grid;
         let (t0, t1) = range.theta_nu;
         let (k0, k1) = range.kappa;
-        let step = |a: f64, b: f64, n: usize| {
-            if n > 1 {
-                (b - a) / (n - 1) as f64
-            } else {
-                (b - a).abs().max(1e-3)
-            }
-        };
-        let (dt, dk) = (step(t0, t1, columns), step(k0, k1, rows));
         let (tn, kappa) = (s.params.theta_nu, s.params.kappa);
         let tex = (data.rows * data.columns > 0)
             .then(|| self.texture.as_ref().map(|t| t.id()))
@@ -355,8 +257,23 @@ impl PhaseView {
         });
         axes::remember_frame(ui.ctx(), "phase", *resp.transform.frame());
         self.transform = Some(resp.transform);
-        let r = &resp.response;
-        let pointer = resp.inner;
+        self.pointer_ui(ui, &resp.response, resp.inner, s, data, grid, out);
+    }
+
+    /// The hovered cell described; a box drawn zooms, a click sets θν and
+    /// κ, Backspace goes back a zoom level.
+    #[allow(clippy::too_many_arguments)]
+    fn pointer_ui(
+        &mut self,
+        ui: &Ui,
+        r: &egui::Response,
+        pointer: Option<PlotPoint>,
+        s: &mut Settings,
+        data: &PhaseData,
+        (range, dt, dk): (PhaseRange, f64, f64),
+        out: &mut Vec<Action>,
+    ) {
+        let ((t0, t1), (k0, k1)) = (range.theta_nu, range.kappa);
         let hovered = pointer.and_then(|p| cell_at(data, p));
         if let Some((row, col)) = hovered
             && self.drag_from.is_none()
@@ -488,6 +405,123 @@ fn range_ui(ui: &mut Ui, range: &mut PhaseRange, zoom: &mut Vec<PhaseRange>) {
         }
         zoom.clear();
     }
+}
+
+/// The grid drawn and its cells' sizes in θν and κ: the one computed (or
+/// being computed); before any, the one that will be.
+fn drawn_grid(s: &Settings, data: &PhaseData) -> (PhaseRange, f64, f64) {
+    let (range, columns, rows) = if data.rows * data.columns > 0 {
+        let range = PhaseRange {
+            theta_nu: data.theta_nu,
+            kappa: data.kappa,
+        };
+        (range, data.columns, data.rows)
+    } else {
+        let p = &s.phase;
+        (p.current(), p.theta_nu_steps, p.kappa_steps)
+    };
+    let step = |(a, b): (f64, f64), n: usize| {
+        if n > 1 {
+            (b - a) / (n - 1) as f64
+        } else {
+            (b - a).abs().max(1e-3)
+        }
+    };
+    let (dt, dk) = (step(range.theta_nu, columns), step(range.kappa, rows));
+    (range, dt, dk)
+}
+
+/// Compute (or Stop while the grid runs).
+fn compute_button_ui(ui: &mut Ui, running: bool, out: &mut Vec<Action>) {
+    if running {
+        if ui
+            .button("Stop")
+            .on_hover_text("Stop computing this grid")
+            .clicked()
+        {
+            out.push(Action::StopPhase);
+        }
+    } else if ui
+        .button("Compute")
+        .on_hover_text(
+            "Compute the grid now; it goes on even if the view is then hidden \
+             (otherwise a grid runs only while its view is shown)",
+        )
+        .clicked()
+    {
+        out.push(Action::ComputePhase);
+    }
+}
+
+/// Back and Reset zoom.
+fn zoom_buttons_ui(ui: &mut Ui, s: &mut Settings) {
+    let zoomed = !s.phase.zoom.is_empty();
+    if ui
+        .add_enabled(zoomed, egui::Button::new("Back"))
+        .on_hover_text("Previous zoom level (Backspace)")
+        .clicked()
+    {
+        s.phase.zoom.pop();
+    }
+    if ui
+        .add_enabled(zoomed, egui::Button::new("Reset zoom"))
+        .on_hover_text("The whole range")
+        .clicked()
+    {
+        s.phase.zoom.clear();
+    }
+}
+
+/// How many cells are computed, and where the grid's job stands.
+fn state_label_ui(ui: &mut Ui, jobs: &Jobs) {
+    let (slot, data) = (&jobs.phase, &jobs.phase.data);
+    let state = match &slot.state {
+        JobState::Running => {
+            format!(
+                "computing, {:.0} iterates/s",
+                slot.progress.iterates_per_second
+            )
+        }
+        JobState::Done => "done".into(),
+        JobState::Cancelled if jobs.phase_policy.stopped => "stopped".into(),
+        JobState::Cancelled => "paused (view hidden)".into(),
+        JobState::Failed(_) => "failed".into(),
+        JobState::Idle => "computed when shown".into(),
+    };
+    ui.label(format!(
+        "{}/{} cells · {state}",
+        data.filled,
+        data.rows * data.columns
+    ))
+    .on_hover_text(
+        "Drag a box to zoom: that range is recomputed at full resolution. \
+         A click sets the θν and κ sliders to the cell. Backspace: back.",
+    );
+}
+
+/// The grid's size, the cells' iterate budgets and its range.
+fn grid_row_ui(ui: &mut Ui, s: &mut Settings) {
+    ui.horizontal_wrapped(|ui| {
+        let p = &mut s.phase;
+        ui.label("grid");
+        ui.add(egui::DragValue::new(&mut p.theta_nu_steps).range(MIN_STEPS..=MAX_STEPS))
+            .on_hover_text("θν columns (recomputes the grid)");
+        ui.label("×");
+        ui.add(egui::DragValue::new(&mut p.kappa_steps).range(MIN_STEPS..=MAX_STEPS))
+            .on_hover_text("κ rows (recomputes the grid)");
+        ui.label("transient");
+        ui.add(egui::DragValue::new(&mut p.transient).range(0..=MAX_BUDGET))
+            .on_hover_text(
+                "The most iterates a cell spends looking for a period (oneblock phase --transient)",
+            );
+        ui.label("keep");
+        ui.add(egui::DragValue::new(&mut p.keep).range(16..=MAX_BUDGET))
+            .on_hover_text(
+                "The most iterates with f'(θ) for the Lyapunov exponent when no period \
+                 was found (oneblock phase --keep)",
+            );
+        ui.menu_button("range", |ui| range_ui(ui, &mut p.range, &mut p.zoom));
+    });
 }
 
 #[cfg(test)]

@@ -78,17 +78,26 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
 #[derive(Default)]
 pub struct ReturnMapView;
 
-impl ReturnMapView {
-    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+/// What the return map draws, in (θ, θ') before any change of axes.
+struct MapData {
+    /// The orbit's kept pairs (θk, θk+1).
+    kept: Vec<[f64; 2]>,
+    /// The trajectory's latest cycles (transient included).
+    traj: Vec<[f64; 2]>,
+    /// The cobweb of the latest iterates.
+    web: Vec<[f64; 2]>,
+    /// f's graph, cut at failures and jumps.
+    pieces: Vec<Vec<[f64; 2]>>,
+    /// f^k's graphs asked for and arrived: (k − 2, pieces).
+    powers: Vec<(usize, Vec<Vec<[f64; 2]>>)>,
+    /// θ's window, out to round values.
+    window: (f64, f64),
+    theta_c: Option<f64>,
+}
+
+impl MapData {
+    fn of(s: &Settings, jobs: &Jobs) -> MapData {
         let it = &jobs.iterate.data;
-        let mixed = matches!(
-            Regime::of(s.params.kappa, s.params.gamma),
-            Regime::Mixed { .. }
-        );
-        legend_ui(ui, it.period, it.lyapunov, s.dark, mixed);
-        if !style::figure_only(ui.ctx()) {
-            powers_ui(ui, s, &it.powers);
-        }
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
         let evs = &jobs.trajectory.data.events;
@@ -99,15 +108,13 @@ impl ReturnMapView {
         let tail = &it.thetas[it.thetas.len().saturating_sub(COBWEB)..];
         // A jump of more than a tenth of the window between neighbours 1/200
         // of it apart is a discontinuity, not a steep stretch of f.
-        let window = it
+        let span = it
             .graph
             .last()
             .zip(it.graph.first())
             .map_or(1.0, |(a, b)| (a[0] - b[0]).abs());
-        let jump = 0.1 * window.max(1e-3);
-        let pieces = graph_pieces(&it.graph, jump);
-        // f^k over the same θ, for each k asked for that has arrived.
-        let power_pieces: Vec<(usize, Vec<Vec<[f64; 2]>>)> = it
+        let jump = 0.1 * span.max(1e-3);
+        let powers = it
             .powers
             .iter()
             .enumerate()
@@ -118,91 +125,161 @@ impl ReturnMapView {
                 (i, graph_pieces(&pts, jump))
             })
             .collect();
-        let web = cobweb(tail);
         // Frame the attractor (the kept iterates; the transient may fall
         // outside) in the window the worker drew f over.
         let framed: &[[f64; 2]] = if kept.is_empty() { &traj } else { &kept };
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
-        // Out to round values, so that even a short side has five ticks.
-        let (lo, hi) = axes::nice_bounds(lo, hi, axes::MIN_TICKS);
-        let theta_c = match Regime::of(s.params.kappa, s.params.gamma) {
-            Regime::Mixed { theta_c } => Some(theta_c),
-            _ => None,
-        };
-        let dark = s.dark;
-        let lw = style::width(ui.ctx(), 1.0);
-        let plot = Plot::new("return_map")
-            .show_background(false)
-            .data_aspect(1.0)
-            .allow_double_click_reset(false);
-        let plot = axes::apply(
-            plot,
-            &AxisSpec::angle("θ, this onset", s.angle_unit),
-            &AxisSpec::angle("θ', next onset", s.angle_unit),
+        MapData {
+            web: cobweb(tail),
+            pieces: graph_pieces(&it.graph, jump),
+            powers,
+            kept,
+            traj,
+            // Out to round values, so that even a short side has five ticks.
+            window: axes::nice_bounds(lo, hi, axes::MIN_TICKS),
+            theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
+                Regime::Mixed { theta_c } => Some(theta_c),
+                _ => None,
+            },
+        }
+    }
+
+    /// Every point as (θ, θ' − θ): the distance of f from the diagonal.
+    fn into_difference(mut self) -> MapData {
+        let d = |v: &mut Vec<[f64; 2]>| v.iter_mut().for_each(|p| p[1] -= p[0]);
+        d(&mut self.kept);
+        d(&mut self.traj);
+        self.pieces.iter_mut().for_each(d);
+        for (_, pieces) in &mut self.powers {
+            pieces.iter_mut().for_each(d);
+        }
+        // A cobweb has no meaning off the diagonal.
+        self.web.clear();
+        self
+    }
+}
+
+impl ReturnMapView {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+        let it = &jobs.iterate.data;
+        legend_ui(ui, it.period, it.lyapunov, s);
+        if !style::figure_only(ui.ctx()) {
+            powers_ui(ui, s, &it.powers);
+        }
+        let data = MapData::of(s, jobs);
+        let (x, y) = (
+            AxisSpec::angle("θ, this onset", s.angle_unit),
+            AxisSpec::angle("θ', next onset", s.angle_unit),
         );
-        // The plot: f, the diagonal, θc, the cycles, the cobweb, the orbit.
-        let resp = plot.show(ui, |p| {
-            frame_square(p, lo, hi);
-            p.line(
-                style::line("θ' = θ", PlotPoints::from(vec![[lo, lo], [hi, hi]]))
-                    .color(style::CRITICAL)
-                    .style(LineStyle::Dashed { length: 8.0 }),
-            );
-            if let Some(tc) = theta_c {
-                critical_angles(p, tc, lo, hi);
-            }
-            for (i, pieces) in power_pieces {
-                let name = ["f²", "f³", "f⁴"][i.min(2)];
-                for piece in pieces {
-                    p.line(
-                        style::line(name, PlotPoints::from(piece))
-                            .color(style::POWERS[i.min(2)])
-                            .width(1.5 * lw),
-                    );
-                }
-            }
-            for piece in pieces {
-                p.line(
-                    style::line("f", PlotPoints::from(piece))
-                        .color(style::ACCEL)
-                        .width(2.0 * lw),
-                );
-            }
-            // Only the transient points inside the frame: one far off would
-            // be drawn past the frame's edge in a picture, which does not clip.
-            let b = p.plot_bounds();
-            let (bmin, bmax) = (b.min(), b.max());
-            let inside: Vec<[f64; 2]> = traj
-                .iter()
-                .copied()
-                .filter(|q| {
-                    (bmin[0]..=bmax[0]).contains(&q[0]) && (bmin[1]..=bmax[1]).contains(&q[1])
-                })
-                .collect();
-            p.add(
-                Points::new(
-                    "trajectory cycles (with transient)",
-                    PlotPoints::from(inside),
-                )
-                .color(style::STICK.gamma_multiply(0.45))
-                .radius(2.5),
-            );
-            p.line(
-                style::line("cobweb", PlotPoints::from(web))
-                    .color(style::DECEL)
-                    .width(1.5 * lw),
-            );
-            p.add(
-                Points::new("orbit iterates", PlotPoints::from(kept))
-                    .color(style::ink(dark))
-                    .radius(3.5)
-                    .filled(true),
-            );
-        });
+        let resp = if s.map_difference {
+            let y = AxisSpec::angle("f(θ) − θ, distance from the diagonal", s.angle_unit);
+            let data = data.into_difference();
+            let plot = axes::apply(Plot::new("return_map").show_background(false), &x, &y);
+            let bounds = difference_bounds(&data);
+            plot.show(ui, |p| {
+                p.set_plot_bounds(bounds);
+                draw_map(p, s, &data, 0.0)
+            })
+        } else {
+            let plot = Plot::new("return_map")
+                .show_background(false)
+                .data_aspect(1.0)
+                .allow_double_click_reset(false);
+            let (lo, hi) = data.window;
+            axes::apply(plot, &x, &y).show(ui, |p| {
+                frame_square(p, lo, hi);
+                draw_map(p, s, &data, 1.0)
+            })
+        };
         axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
     }
+}
+
+/// The difference plot's bounds: θ's window, and every value of f − θ in
+/// it, 0 included.
+fn difference_bounds(d: &MapData) -> egui_plot::PlotBounds {
+    let (lo, hi) = d.window;
+    let (mut ylo, mut yhi) = (0.0f64, 0.0f64);
+    let all = d.pieces.iter().flatten().chain(&d.kept);
+    for p in all.filter(|p| p[0] >= lo && p[0] <= hi && p[1].is_finite()) {
+        ylo = ylo.min(p[1]);
+        yhi = yhi.max(p[1]);
+    }
+    let pad = ((yhi - ylo) * 0.08).max(1e-6);
+    egui_plot::PlotBounds::from_min_max([lo, ylo - pad], [hi, yhi + pad])
+}
+
+/// The plot's items: f (and its powers), the diagonal θ' = slope·θ (slope
+/// 1 for the map, 0 for f − θ), θc, the cycles, the cobweb, the orbit.
+fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64) {
+    let (lo, hi) = d.window;
+    let lw = style::width(p.ctx(), 1.0);
+    let name = if slope == 1.0 {
+        "θ' = θ"
+    } else {
+        "f − θ = 0"
+    };
+    p.line(
+        style::line(
+            name,
+            PlotPoints::from(vec![[lo, slope * lo], [hi, slope * hi]]),
+        )
+        .color(style::CRITICAL)
+        .style(LineStyle::Dashed { length: 8.0 }),
+    );
+    if let Some(tc) = d.theta_c
+        && slope == 1.0
+    {
+        critical_angles(p, tc, lo, hi);
+    }
+    for (i, pieces) in &d.powers {
+        let i = (*i).min(2);
+        for piece in pieces {
+            p.line(
+                style::line(["f²", "f³", "f⁴"][i], PlotPoints::from(piece.clone()))
+                    .color(style::POWERS[i])
+                    .width(1.5 * lw),
+            );
+        }
+    }
+    for piece in &d.pieces {
+        p.line(
+            style::line("f", PlotPoints::from(piece.clone()))
+                .color(style::ACCEL)
+                .width(2.0 * lw),
+        );
+    }
+    // Only the transient points inside the frame: one far off would be
+    // drawn past the frame's edge in a picture, which does not clip.
+    let b = p.plot_bounds();
+    let (bmin, bmax) = (b.min(), b.max());
+    let inside: Vec<[f64; 2]> = d
+        .traj
+        .iter()
+        .copied()
+        .filter(|q| (bmin[0]..=bmax[0]).contains(&q[0]) && (bmin[1]..=bmax[1]).contains(&q[1]))
+        .collect();
+    p.add(
+        Points::new(
+            "trajectory cycles (with transient)",
+            PlotPoints::from(inside),
+        )
+        .color(style::STICK.gamma_multiply(0.45))
+        .radius(2.5),
+    );
+    p.line(
+        style::line("cobweb", PlotPoints::from(d.web.clone()))
+            .color(style::DECEL)
+            .width(1.5 * lw),
+    );
+    p.add(
+        Points::new("orbit iterates", PlotPoints::from(d.kept.clone()))
+            .color(style::ink(s.dark))
+            .radius(3.5)
+            .filled(true),
+    );
 }
 
 /// Follows the attractor as it changes: the plot's bounds a square around
@@ -267,20 +344,47 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
     });
 }
 
-/// The period and λ, and the legend above the plot.
-fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, dark: bool, mixed: bool) {
-    ui.label(RichText::new(summary(period, lyapunov)).strong());
+/// The period and λ, the f(θ) − θ switch, and the legend above the plot.
+fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, s: &mut Settings) {
+    let mixed = matches!(
+        Regime::of(s.params.kappa, s.params.gamma),
+        Regime::Mixed { .. }
+    );
     ui.horizontal_wrapped(|ui| {
-        style::legend_line(ui, style::ACCEL, false, "f");
-        style::legend_marker(ui, style::ink(dark), "orbit iterates");
+        ui.label(RichText::new(summary(period, lyapunov)).strong());
+        if !style::figure_only(ui.ctx()) {
+            ui.checkbox(&mut s.map_difference, "f(θ) − θ")
+                .on_hover_text(
+                    "Draw f(θ) − θ against θ: the map's distance from the diagonal, \
+                 too small to see where f hugs it (creep; the paper's Fig. 3a inset). \
+                 A fixed point is where it crosses 0.",
+                );
+        }
+    });
+    let difference = s.map_difference;
+    ui.horizontal_wrapped(|ui| {
+        style::legend_line(
+            ui,
+            style::ACCEL,
+            false,
+            if difference { "f − θ" } else { "f" },
+        );
+        style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
         style::legend_marker(
             ui,
             style::STICK.gamma_multiply(0.6),
             "cycles incl. transient",
         );
-        style::legend_line(ui, style::DECEL, false, "cobweb");
-        style::legend_line(ui, style::CRITICAL, true, "θ' = θ");
-        if mixed {
+        if !difference {
+            style::legend_line(ui, style::DECEL, false, "cobweb");
+        }
+        style::legend_line(
+            ui,
+            style::CRITICAL,
+            true,
+            if difference { "0" } else { "θ' = θ" },
+        );
+        if mixed && !difference {
             style::legend_line(ui, style::ACCEL, true, "±θc");
         }
     });

@@ -115,6 +115,38 @@ impl Shots {
         ctx.request_repaint();
     }
 
+    /// Records `fig` (the block or plane view) as an animated GIF of
+    /// `frames` frames into `path`, on a thread of its own: it recomputes
+    /// the view's trajectory on the job model's single-threaded host and
+    /// draws each frame as `oneblock figure --frames` does. A toast says it
+    /// started; another says where it was saved, or why not.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn record(&mut self, fig: super::figure::Figure, frames: usize, path: PathBuf, now: f64) {
+        let tx = self.tx.clone();
+        self.in_flight += 1;
+        self.toast(
+            format!("Recording {} frames to {}…", frames, path.display()),
+            false,
+            now,
+        );
+        let (failed_tx, shown) = (tx.clone(), path.display().to_string());
+        let spawned = std::thread::Builder::new()
+            .name("oneblock-gif".into())
+            .spawn(move || {
+                let r = super::figure::gif(&fig, frames).and_then(|bytes| {
+                    write_output(&path, &bytes, false).map_err(|e| e.to_string())
+                });
+                tx.send(match r {
+                    Ok(()) => Saved::Ok(path),
+                    Err(e) => Saved::Failed(e),
+                })
+                .ok();
+            });
+        if let Err(e) = spawned {
+            failed_tx.send(not_started(&shown, &e)).ok();
+        }
+    }
+
     #[cfg(not(target_arch = "wasm32"))]
     /// Writes `bytes` to `path` on a thread (for CSV exports).
     pub fn write(&mut self, path: PathBuf, bytes: Vec<u8>) {

@@ -19,10 +19,11 @@ pub enum ViewKind {
     Events,
     Numerics,
     Phase,
+    TimeSeries,
 }
 
 impl ViewKind {
-    pub const ALL: [ViewKind; 7] = [
+    pub const ALL: [ViewKind; 8] = [
         ViewKind::Plane,
         ViewKind::Block,
         ViewKind::Bifurcation,
@@ -30,6 +31,7 @@ impl ViewKind {
         ViewKind::Events,
         ViewKind::Numerics,
         ViewKind::Phase,
+        ViewKind::TimeSeries,
     ];
 
     pub fn title(self) -> &'static str {
@@ -41,6 +43,7 @@ impl ViewKind {
             ViewKind::Events => "Events",
             ViewKind::Numerics => "Numerics",
             ViewKind::Phase => "Phase diagram",
+            ViewKind::TimeSeries => "Time series",
         }
     }
 
@@ -54,6 +57,7 @@ impl ViewKind {
             ViewKind::Events => "events",
             ViewKind::Numerics => "numerics",
             ViewKind::Phase => "phase",
+            ViewKind::TimeSeries => "time-series",
         }
     }
 
@@ -199,6 +203,10 @@ pub struct Settings {
     pub angle_unit: AngleUnit,
     /// Which of f², f³, f⁴ the return map draws beside f.
     pub map_powers: [bool; 3],
+    /// The return map drawn as f(θ) − θ against θ: where f hugs the
+    /// diagonal (creep, the inset of the paper's Fig. 3a) its distance
+    /// from it is too small to see otherwise.
+    pub map_difference: bool,
     /// The projector preset: thick lines and high contrast (and, when
     /// switched on, large text).
     pub projector: bool,
@@ -247,6 +255,7 @@ impl Default for Settings {
             phase: PhaseSettings::default(),
             angle_unit: AngleUnit::Radians,
             map_powers: [false; 3],
+            map_difference: false,
             projector: false,
             events_plot: EventsPlot::Series,
         }

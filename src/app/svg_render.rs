@@ -29,23 +29,78 @@ pub fn render_svg(
     zoom: &[Zoom],
     size: Vec2,
 ) -> String {
-    let ctx = document_context(settings);
-    // Only the figure: title, axes, legend; no buttons or switches.
-    style::set_figure_only(&ctx, true);
-    let mut state = Views::default();
-    state.bifurcation.zoom = zoom.to_vec();
-    let mut s = settings.clone();
-    let mut textures = Textures::new();
-    let mut shapes = Vec::new();
-    let mut frames = Vec::new();
-    let area = Rect::from_min_size(egui::Pos2::ZERO, size);
+    let mut r = Renderer::new(settings, zoom, size);
     for pass in 0..PASSES {
+        r.pass(views, jobs, pass as f64 * 0.1);
+    }
+    r.svg()
+}
+
+/// The SVGs of an animation of one view: after the passes that settle the
+/// layout, one pass a frame, `dt` seconds of ui time apart (the block
+/// view's clock runs on it), each after `prepare(k, jobs)` has set what
+/// frame `k` shows (the plane's path up to its time).
+pub fn render_svg_frames(
+    view: ViewKind,
+    settings: &Settings,
+    jobs: &mut Jobs,
+    size: Vec2,
+    (frames, dt): (usize, f64),
+    mut prepare: impl FnMut(usize, &mut Jobs),
+) -> Vec<String> {
+    let mut r = Renderer::new(settings, &[], size);
+    prepare(0, jobs);
+    for pass in 0..PASSES {
+        r.pass(&[view], jobs, pass as f64 * dt);
+    }
+    (0..frames)
+        .map(|k| {
+            prepare(k, jobs);
+            r.pass(&[view], jobs, (PASSES + k) as f64 * dt);
+            r.svg()
+        })
+        .collect()
+}
+
+/// One off-screen context with the views' state, run pass after pass.
+struct Renderer {
+    ctx: egui::Context,
+    state: Views,
+    settings: Settings,
+    textures: Textures,
+    shapes: Vec<egui::epaint::ClippedShape>,
+    frames: Vec<(&'static str, Rect)>,
+    area: Rect,
+}
+
+impl Renderer {
+    fn new(settings: &Settings, zoom: &[Zoom], size: Vec2) -> Renderer {
+        let ctx = document_context(settings);
+        // Only the figure: title, axes, legend; no buttons or switches.
+        style::set_figure_only(&ctx, true);
+        let mut state = Views::default();
+        state.bifurcation.zoom = zoom.to_vec();
+        Renderer {
+            ctx,
+            state,
+            settings: settings.clone(),
+            textures: Textures::new(),
+            shapes: Vec::new(),
+            frames: Vec::new(),
+            area: Rect::from_min_size(egui::Pos2::ZERO, size),
+        }
+    }
+
+    /// One frame of the views at ui time `time`.
+    fn pass(&mut self, views: &[ViewKind], jobs: &Jobs, time: f64) {
+        let area = self.area;
         let input = egui::RawInput {
             screen_rect: Some(area),
-            time: Some(pass as f64 * 0.1),
+            time: Some(time),
             ..Default::default()
         };
-        let mut out = ctx.run_ui(input, |ui| {
+        let (state, s) = (&mut self.state, &mut self.settings);
+        let mut out = self.ctx.run_ui(input, |ui| {
             axes::clear_frames(ui.ctx());
             let rects = if views.len() == 1 {
                 vec![area.shrink(4.0)]
@@ -61,25 +116,30 @@ pub fn render_svg(
                         .show(ui, |ui| {
                             ui.set_min_size(ui.available_size());
                             ui.label(RichText::new(view.title()).strong());
-                            view.ui(ui, &mut s, jobs, &mut actions);
+                            view.ui(ui, s, jobs, &mut actions);
                         });
                 });
             }
         });
         for (id, deltas) in std::mem::take(&mut out.textures_delta.set) {
             for d in deltas {
-                apply_delta(&mut textures, id, d);
+                apply_delta(&mut self.textures, id, d);
             }
         }
-        shapes = std::mem::take(&mut out.shapes);
-        frames = axes::plot_frames(&ctx);
+        // The font atlas is not needed: text is written as text.
+        self.textures.remove(&egui::TextureId::default());
+        self.shapes = std::mem::take(&mut out.shapes);
+        self.frames = axes::plot_frames(&self.ctx);
     }
-    // The font atlas is not needed: text is written as text.
-    textures.remove(&egui::TextureId::default());
-    let mut w = SvgWriter::new(area, &frames, &textures);
-    w.add(&shapes);
-    let bg = ctx.global_style().visuals.panel_fill;
-    w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
+
+    /// The last pass as SVG.
+    fn svg(&self) -> String {
+        let mut w = SvgWriter::new(self.area, &self.frames, &self.textures);
+        w.add(&self.shapes);
+        let bg = self.ctx.global_style().visuals.panel_fill;
+        let size = self.area.size();
+        w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
+    }
 }
 
 /// A context styled as the window is (theme, text size), without hover or

@@ -27,6 +27,8 @@ pub enum Action {
     ViewScreenshot(ViewKind),
     /// An SVG of one view, or (`None`) of the views shown.
     SvgScreenshot(Option<ViewKind>),
+    /// An animated GIF of the block or plane view, made off the UI thread.
+    Record(ViewKind),
     /// The session (settings, zoom) as a JSON file.
     SaveSession,
     /// A CSV into the save folder.

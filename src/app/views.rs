@@ -12,6 +12,7 @@ use super::phase_view::PhaseView;
 use super::plane::PlaneView;
 use super::return_map::ReturnMapView;
 use super::settings::ViewKind;
+use super::time_series::TimeSeriesView;
 use super::view::View;
 
 /// The views' own state (textures, zoom stacks, switches).
@@ -24,6 +25,7 @@ pub struct Views {
     pub events: EventsView,
     pub numerics: NumericsView,
     pub phase: PhaseView,
+    pub time_series: TimeSeriesView,
 }
 
 impl Views {
@@ -37,6 +39,7 @@ impl Views {
             ViewKind::Events => &mut self.events,
             ViewKind::Numerics => &mut self.numerics,
             ViewKind::Phase => &mut self.phase,
+            ViewKind::TimeSeries => &mut self.time_series,
         }
     }
 }

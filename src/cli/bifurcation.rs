@@ -1,5 +1,5 @@
 //! `oneblock bifurcation`: the data of a bifurcation diagram, CSV
-//! `theta_nu,theta`: the window's sweep job ([`crate::jobs`]) run on every
+//! `theta_nu,theta,lyapunov,lyapunov_stderr`: the window's sweep job ([`crate::jobs`]) run on every
 //! core. Its plan (a coarse pass in chains, then fill-in, each column
 //! continued from a named neighbour; [`crate::jobs::sweep_plan`]) is fixed
 //! by the flags alone, so the file is the same on any machine, and the
@@ -24,6 +24,7 @@ use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
 use crate::model::{Params, Preset};
 use crate::sim::Simulator;
+use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
 
 /// A bifurcation diagram: θ against θν.
@@ -211,7 +212,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
 
     let cols = in_grid_order(updates, columns);
-    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
+    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice(), c.4)));
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
         params,
@@ -232,11 +233,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     summarise(&args, &plan_summary, &run)
 }
 
-/// What a finished run reports on: its columns in grid order (θν, kept
-/// iterates, cost, map used), the cycles the progress bar counted, the
-/// columns that failed, its time and threads.
-/// A computed column: θν, its kept iterates, its cost and the map used.
-type Done = (f64, Vec<f64>, u64, MapUsed);
+/// A finished column: θν, kept iterates, cost, map used, λ.
+type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>);
 
 /// The sweep's columns in grid order.
 fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
@@ -248,15 +246,18 @@ fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
             thetas,
             rhs_evals,
             map,
+            lyapunov,
             ..
         } = u
         {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map, lyapunov));
         }
     }
     cols.into_iter().flatten().collect()
 }
 
+/// What a finished run reports on: its columns in grid order, the cycles
+/// the progress bar counted, the columns that failed, its time and threads.
 struct Ran<'a> {
     columns: &'a [Done],
     integrated: u64,

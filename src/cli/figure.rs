@@ -22,7 +22,8 @@ pub const PNG_SCALE: f32 = 2.0;
 
 #[derive(Debug, Clone, Args)]
 pub struct FigureArgs {
-    /// The view: plane, block, bifurcation, return-map, events, numerics, phase.
+    /// The view: plane, block, bifurcation, return-map, events, numerics, phase,
+    /// time-series.
     #[arg(long)]
     pub view: String,
     /// Where the figure goes; its extension picks the format: .svg (vector:
@@ -68,13 +69,24 @@ pub struct FigureArgs {
     /// The phase grid's κ rows, in [2, 200].
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub kappa_steps: Option<usize>,
+    /// Frames of an animated GIF (--view block or plane, --out x.gif), in
+    /// [2, 600], 10 a second.
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub frames: Option<usize>,
 }
+
+/// The most frames a GIF may have (a minute at 10 a second).
+pub const MAX_FRAMES: usize = 600;
+
+/// The largest GIF, in points (= pixels) a side.
+pub const MAX_GIF_SIDE: f32 = 1920.0;
 
 /// The file formats `--out` may name.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     Svg,
     Png,
+    Gif,
 }
 
 /// The format `path`'s extension names, or why it names none.
@@ -85,15 +97,52 @@ pub fn format_of(path: &Path) -> Result<Format, CliError> {
     match ext.as_deref() {
         Some("svg") => Ok(Format::Svg),
         Some("png") => Ok(Format::Png),
-        Some("gif") => Err(CliError::Usage(
-            "--out: a .gif (an animation) is not made yet: name a .svg or .png file".into(),
-        )),
+        Some("gif") => Ok(Format::Gif),
         _ => Err(CliError::Usage(format!(
-            "--out: {} has no known extension: name a .svg or .png file",
+            "--out: {} has no known extension: name a .svg, .png or .gif file",
             echo(&path.display().to_string())
         ))),
     }
 }
+
+/// --frames and a .gif go together, for the animated views only, within
+/// the bounds.
+fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
+    let usage = |m: String| Err(CliError::Usage(m));
+    match (format, a.frames) {
+        (Format::Gif, None) => {
+            usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
+        }
+        (Format::Svg | Format::Png, Some(_)) => usage(
+            "--frames makes an animation, which a .svg or .png cannot hold: name a .gif file"
+                .into(),
+        ),
+        (Format::Gif, Some(n)) => {
+            if !matches!(a.view.as_str(), "block" | "plane") {
+                return usage(format!(
+                    "--frames: only the block and plane views are animated, not '{}'",
+                    echo(&a.view)
+                ));
+            }
+            if !(2..=MAX_FRAMES).contains(&n) {
+                return usage(format!(
+                    "--frames = {n} is out of range: must lie in [2, {MAX_FRAMES}]"
+                ));
+            }
+            let [w, h] = a.size.unwrap_or(GIF_SIZE);
+            if w > MAX_GIF_SIDE || h > MAX_GIF_SIDE {
+                return usage(format!(
+                    "--size {w}x{h}: a GIF may be at most {MAX_GIF_SIDE}x{MAX_GIF_SIDE}"
+                ));
+            }
+            Ok(())
+        }
+        _ => Ok(()),
+    }
+}
+
+/// A GIF's size when --size is not given: a slide's.
+pub const GIF_SIZE: [f32; 2] = [640.0, 480.0];
 
 /// A range flag pair: finite, increasing ends.
 fn range(name: &str, from: Option<f64>, to: Option<f64>) -> Result<Option<(f64, f64)>, CliError> {
@@ -133,6 +182,7 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
         )));
     }
     let format = format_of(&a.out)?;
+    check_frames(a, format)?;
     let theta_nu = range("theta-nu", a.theta_nu_from, a.theta_nu_to)?;
     if let Some((lo, hi)) = theta_nu
         && (lo < -std::f64::consts::PI || hi > std::f64::consts::PI)
@@ -185,7 +235,7 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
-    use crate::app::figure::{Figure, png_of_svg, svg};
+    use crate::app::figure::{Figure, gif, png_of_svg, svg};
     use crate::app::{Settings, ViewKind, controls::apply_preset, session::Session};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
@@ -228,7 +278,10 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         ph.theta_nu_steps = a.theta_nu_steps.unwrap_or(ph.theta_nu_steps);
         ph.kappa_steps = a.kappa_steps.unwrap_or(ph.kappa_steps);
     }
-    let size = a.size.unwrap_or(DEFAULT_SIZE);
+    let size = a.size.unwrap_or(match c.format {
+        Format::Gif => GIF_SIZE,
+        _ => DEFAULT_SIZE,
+    });
     let fig = Figure {
         view,
         settings,
@@ -242,11 +295,13 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     // line, writing nothing.
     let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
     let size = fig.size;
-    let text = run_bounded("figure", &limits, move || svg(&fig))?.map_err(CliError::Failed)?;
-    let bytes = match c.format {
-        Format::Svg => text.into_bytes(),
-        Format::Png => png_of_svg(&text, size, PNG_SCALE).map_err(CliError::Failed)?,
-    };
+    let (format, frames) = (c.format, a.frames.unwrap_or(0));
+    let bytes = run_bounded("figure", &limits, move || match format {
+        Format::Svg => svg(&fig).map(String::into_bytes),
+        Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
+        Format::Gif => gif(&fig, frames),
+    })?
+    .map_err(CliError::Failed)?;
     crate::output::write_output(&a.out, &bytes, false)
         .map_err(|e| CliError::Failed(format!("--out: {e}")))?;
     eprintln!("saved {}", a.out.display());

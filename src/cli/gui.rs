@@ -12,7 +12,7 @@ use super::values::{parse_number, seconds, short};
 use crate::model::Preset;
 
 /// The views `--view` names.
-pub const VIEW_KEYS: [&str; 7] = [
+pub const VIEW_KEYS: [&str; 8] = [
     "plane",
     "block",
     "bifurcation",
@@ -20,6 +20,7 @@ pub const VIEW_KEYS: [&str; 7] = [
     "events",
     "numerics",
     "phase",
+    "time-series",
 ];
 
 /// The longest `--timeout`, in seconds (a day).

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
+use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, CurveKind, SpecialPoint};
 use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions};
@@ -382,6 +383,9 @@ pub enum Update {
         rhs_evals: u64,
         /// How its points after the transient were computed.
         map: MapUsed,
+        /// Its Lyapunov exponent ([`crate::sim::column_lyapunov`]), `None`
+        /// for an empty or failed column.
+        lyapunov: Option<ColumnLyapunov>,
     },
     /// The sample of a work-precision job: how many points, and how far
     /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the

@@ -30,6 +30,7 @@ use super::protocol::{Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::ParamError;
+use crate::sim::column_lyapunov::column_lyapunov;
 use crate::sim::interpolant::MapUsed;
 use crate::sim::{
     Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
@@ -162,6 +163,7 @@ impl SweepJob {
                 (empty, Some((msg, None)))
             }
         };
+        let problem_free = problem.is_none();
         let theta_last = if problem.is_none() {
             col.handover()
         } else {
@@ -175,6 +177,12 @@ impl SweepJob {
                 parameter,
             })?;
         }
+        // λ from the column's own onsets, on this thread: bounded work
+        // (one cycle solve, or at most 200 slopes), never the UI's.
+        let lyapunov = match (&problem_free, self.sims[p.index].as_ref()) {
+            (true, Ok(sim)) => column_lyapunov(sim, &col),
+            _ => None,
+        };
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
@@ -186,6 +194,7 @@ impl SweepJob {
             coarse: p.coarse,
             rhs_evals: col.rhs_evals,
             map: col.map,
+            lyapunov,
         })?;
         let done = {
             let mut sch = lock(&self.schedule);

@@ -3,6 +3,7 @@
 
 mod analysis;
 pub mod attractors;
+pub mod column_lyapunov;
 pub mod continuation;
 mod cycle;
 pub mod cycles;

@@ -67,12 +67,14 @@ impl Jobs {
                 theta_nu,
                 thetas,
                 coarse,
+                lyapunov,
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
                     theta_nu,
                     thetas,
                     coarse,
+                    lyapunov,
                 };
                 self.sweep.data.insert(index, column);
             }

@@ -1,0 +1,86 @@
+//! "What am I looking at": one paragraph per view, shown by the "?" in the
+//! view's title bar, and the guided tour's steps. The text lives here only;
+//! docs/gui.md carries the same paragraphs between generated markers, which
+//! a test compares with this file (`tests/docs_help.rs`), so the two cannot
+//! drift.
+
+use super::settings::ViewKind;
+
+/// What view `v` shows and how it is computed, in one paragraph.
+pub fn view_help(v: ViewKind) -> &'static str {
+    match v {
+        ViewKind::Plane => {
+            "The block's path in the plane of its position (x, y), coloured by phase: blue while \
+             it sticks to the moving surface and is carried along the pull direction θν (the \
+             arrow), vermilion and orange while it slips. A slip starts when the spring force \
+             reaches the friction threshold, on the curve C (κ²x² + y² = 1); the angle θ of that \
+             onset point is what the return map iterates. In the mixed regime the critical \
+             ellipse marks where a slip can begin to creep instead."
+        }
+        ViewKind::Block => {
+            "The paper's Fig. 1a animated: the block on the moving surface, held by two springs \
+             of stiffness k_x and k_y (κ = k_x/k_y), with the spring force and the friction \
+             drawn as arrows. The motion is the computed trajectory: the stick phases, which last \
+             hundreds to thousands of time units, are fast-forwarded, and the slips play at the \
+             chosen speed."
+        }
+        ViewKind::Bifurcation => {
+            "A bifurcation diagram: for each pull direction θν (one column), the slip onsets θ \
+             the orbit settles on after a transient. One point per column is a stable fixed \
+             point (one slip repeating), two a period-2 cycle, and so on; a smear is chaos. \
+             Each column starts from its neighbour's last onset, so the diagram follows one \
+             attractor. The strip under it is the Lyapunov exponent λ of each column: below 0 \
+             the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos."
+        }
+        ViewKind::ReturnMap => {
+            "The return map θ' = f(θ): where the next slip starts as a function of where this \
+             one started, computed by integrating one stick-slip cycle per point. The orbit's \
+             iterates sit on its graph; the cobweb (orange) follows them: up to the graph, \
+             across to the diagonal θ' = θ, up again. A fixed point is where f crosses the \
+             diagonal, stable when |f'| < 1. The Lyapunov exponent λ is the average of \
+             ln|f'(θ)| along the orbit (exactly ln|m|/p on a solved p-cycle of multiplier m). \
+             Tick f(θ) − θ where f hugs the diagonal (creep)."
+        }
+        ViewKind::Events => {
+            "Every slip event of the trajectory: its size over time, the distribution of sizes \
+             on log axes, and the laminar phases. In the mixed regime small slips (creep) \
+             alternate with large ones (stick-slip); a laminar phase is a run of small slips \
+             between two large ones. Near the onset of intermittency their mean length grows \
+             like (θν − θν_c)^(−1/2), the signature of type-I intermittency, which the scaling \
+             plot measures on demand."
+        }
+        ViewKind::Numerics => {
+            "The work-precision chart: for each integrator and tolerance, the error of the map \
+             f(θ), one stick-slip cycle, against what it cost, measured on a fixed sample of \
+             orbit points against a reference integration. The setting each view uses is marked: \
+             Auto picks the cheapest one accurate enough for what the view can show."
+        }
+        ViewKind::Phase => {
+            "The paper's Fig. 4: over a grid of pull directions θν and stiffness ratios κ, the \
+             class of the attractor the map settles on: a fixed point, a period-p cycle, chaos \
+             (λ > 0), or undecided. Each cell iterates the map, detects its period and, if none, \
+             computes λ. Boundaries follows the period-doubling curves FP to P2 and P2 to P4 by \
+             continuation, to the precision of the solver rather than of the grid."
+        }
+        ViewKind::TimeSeries => {
+            "The last cycles against time: the position x(t) and y(t), the slip speed |v_r| (the \
+             block's speed relative to the surface, 0 while it sticks) and the elastic energy \
+             (κx² + y²)/2, coloured by phase. Drag or scroll to zoom in time: a slip lasting a \
+             few time units between stick phases of hundreds opens up, and creep's tiny slips \
+             show as spikes of |v_r|."
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_view_has_one_paragraph() {
+        for v in ViewKind::ALL {
+            let t = view_help(v);
+            assert!(t.len() > 200 && !t.contains('\n'), "{v:?}");
+        }
+    }
+}

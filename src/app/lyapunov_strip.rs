@@ -1,0 +1,175 @@
+//! The strip λ(θν) under the bifurcation diagram: the Lyapunov exponent
+//! of every column ([`crate::sim::column_lyapunov`]), computed by the sweep
+//! job with the column, on the diagram's θν axis and zoom.
+//!
+//! A column settled on a solved cycle has λ = ln|m|/p exactly (a filled
+//! dot); an aperiodic one has the mean of ln|f′(θ)| with ±1 standard error
+//! (a ring and a bar). λ = 0 is marked: it is touched at each period
+//! doubling (m = −1) and at the cascade's accumulation, and crossed into
+//! chaos.
+
+use eframe::egui;
+use egui::Ui;
+use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotBounds, PlotPoints, Points, VLine};
+
+use super::axes::{self, AxisSpec};
+use super::data::SweepData;
+use super::settings::Settings;
+use super::style;
+
+/// Names of the strip's items (legend and hover).
+const EXACT: &str = "λ = ln|m|/p (solved cycle)";
+const MEAN: &str = "λ = mean ln|f'| ± 1 s.e.";
+
+/// The lowest λ the strip shows: a superstable cycle (m → 0) sends λ to
+/// −∞, which would flatten everything else.
+const FLOOR: f64 = -3.0;
+
+/// The strip's points: (θν, λ, standard error) of every column with λ.
+pub fn strip_points(sweep: &SweepData) -> Vec<(f64, f64, Option<f64>)> {
+    sweep
+        .columns
+        .iter()
+        .flatten()
+        .filter_map(|c| c.lyapunov.map(|l| (c.theta_nu, l.lyapunov, l.stderr)))
+        .filter(|p| p.1.is_finite())
+        .collect()
+}
+
+/// The strip's λ range: every value (down to [`FLOOR`]) and 0, padded.
+pub fn lambda_range(points: &[(f64, f64, Option<f64>)]) -> (f64, f64) {
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for &(_, l, se) in points {
+        let e = se.unwrap_or(0.0);
+        lo = lo.min(l - e);
+        hi = hi.max(l + e);
+    }
+    let lo = lo.max(FLOOR);
+    let pad = ((hi - lo) * 0.08).max(0.05);
+    (lo - pad, hi + pad)
+}
+
+/// Draws the strip, `height` points tall, over θν ∈ `x` (the diagram's
+/// bounds), with a y axis `y_width` wide so that its frame lines up with
+/// the diagram's. Returns the θν clicked, if any.
+pub fn strip_ui(
+    ui: &mut Ui,
+    s: &Settings,
+    sweep: &SweepData,
+    x: (f64, f64),
+    (height, y_width): (f32, f32),
+) -> Option<f64> {
+    let points = strip_points(sweep);
+    let (lo, hi) = lambda_range(&points);
+    let ink = style::ink(s.dark);
+    let tn = s.params.theta_nu;
+    let plot = Plot::new("lyapunov")
+        .height(height)
+        .show_background(false)
+        .allow_drag(false)
+        .allow_zoom(false)
+        .allow_scroll(false)
+        .allow_boxed_zoom(false)
+        .allow_double_click_reset(false);
+    let ax = AxisSpec::angle("θν, pull direction", s.angle_unit);
+    let ay = AxisSpec::linear("λ, Lyapunov exponent");
+    let resp = axes::apply(plot, &ax, &ay)
+        .y_axis_min_width(y_width)
+        .show(ui, |p| {
+            p.set_plot_bounds(PlotBounds::from_min_max([x.0, lo], [x.1, hi]));
+            p.add(
+                HLine::new("λ = 0", 0.0)
+                    .color(style::CRITICAL)
+                    .style(LineStyle::Dashed { length: 8.0 })
+                    .width(1.0),
+            );
+            p.add(
+                VLine::new("current θν", tn)
+                    .color(style::CURRENT)
+                    .width(2.0),
+            );
+            for &(t, l, se) in &points {
+                if let Some(e) = se {
+                    p.line(
+                        style::line(MEAN, PlotPoints::from(vec![[t, l - e], [t, l + e]]))
+                            .color(style::ACCEL.gamma_multiply(0.7)),
+                    );
+                }
+            }
+            let dots = |exact: bool| -> Vec<[f64; 2]> {
+                points
+                    .iter()
+                    .filter(|p| p.2.is_none() == exact)
+                    .map(|p| [p.0, p.1.max(lo)])
+                    .collect()
+            };
+            let r = style::width(p.ctx(), 2.0);
+            p.points(
+                Points::new(EXACT, dots(true))
+                    .color(ink)
+                    .radius(r)
+                    .shape(MarkerShape::Circle)
+                    .filled(true),
+            );
+            p.points(
+                Points::new(MEAN, dots(false))
+                    .color(style::ACCEL)
+                    .radius(r + 0.5)
+                    .shape(MarkerShape::Circle)
+                    .filled(false),
+            );
+            p.pointer_coordinate()
+        });
+    axes::remember_frame(ui.ctx(), "lyapunov", *resp.transform.frame());
+    let clicked = resp.response.clicked();
+    resp.inner.filter(|_| clicked).map(|p| p.x)
+}
+
+/// The strip's legend: what its marks mean.
+pub fn legend_ui(ui: &mut Ui, dark: bool) {
+    ui.horizontal_wrapped(|ui| {
+        style::legend_marker(ui, style::ink(dark), EXACT);
+        style::legend_marker(ui, style::ACCEL, MEAN);
+        style::legend_line(ui, style::CRITICAL, true, "λ = 0");
+    });
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::app::data::Column;
+    use crate::sim::column_lyapunov::ColumnLyapunov;
+
+    fn sweep(values: &[(f64, Option<f64>)]) -> SweepData {
+        let mut s = SweepData::new(1.0, 1.5, values.len());
+        for (i, &(l, se)) in values.iter().enumerate() {
+            s.insert(
+                i,
+                Column {
+                    theta_nu: 1.0 + 0.1 * i as f64,
+                    thetas: vec![0.1],
+                    coarse: false,
+                    lyapunov: Some(ColumnLyapunov {
+                        lyapunov: l,
+                        stderr: se,
+                        period: se.is_none().then_some(1),
+                    }),
+                },
+            );
+        }
+        s
+    }
+
+    #[test]
+    fn the_range_holds_zero_every_error_bar_and_stops_at_the_floor() {
+        let s = sweep(&[(-0.5, None), (0.2, Some(0.1)), (-40.0, None)]);
+        let pts = strip_points(&s);
+        assert_eq!(pts.len(), 3);
+        let (lo, hi) = lambda_range(&pts);
+        assert!((0.3..0.6).contains(&hi), "{hi}");
+        assert!(lo < FLOOR && lo > FLOOR - 0.5, "{lo}");
+        let s = sweep(&[(-0.5, None)]);
+        let (lo, hi) = lambda_range(&strip_points(&s));
+        assert!(lo < -0.5 && hi > 0.0, "{lo} {hi}");
+    }
+}

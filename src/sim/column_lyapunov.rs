@@ -1,0 +1,149 @@
+//! The Lyapunov exponent of one bifurcation column, from the column's own
+//! kept onsets: the companion strip λ(θν) under the diagram and the
+//! `lyapunov` column of the bifurcation CSV.
+//!
+//! - Where the onsets repeat with a period p, or contract onto a cycle
+//!   ([`Simulator::settle`]), the cycle is solved and λ = ln|m|/p exactly,
+//!   m its multiplier: no average, no error bar. So λ → 0⁻ is seen at each
+//!   period doubling, where m → −1, and at the cascade's accumulation.
+//! - Otherwise λ is the mean of ln|f′(θ)| over the last
+//!   [`MAX_DERIVATIVES`] kept onsets, with its batch-means standard error:
+//!   one variational cycle per onset, so the cost is bounded whatever the
+//!   column keeps.
+
+use super::analysis::map_derivative;
+use super::orbit::OrbitOptions;
+use super::stats::mean_and_stderr;
+use super::{Column, Simulator};
+
+/// The most onsets whose f′ an aperiodic column averages (8 batches of 25
+/// for the standard error).
+pub const MAX_DERIVATIVES: usize = 200;
+
+/// λ of one column and how it was found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ColumnLyapunov {
+    /// ln|m|/p of the solved cycle, or the mean of ln|f′(θ)|.
+    pub lyapunov: f64,
+    /// The mean's standard error; `None` for a solved cycle (exact) or a
+    /// mean over fewer than 16 onsets.
+    pub stderr: Option<f64>,
+    /// The solved cycle's period, when there is one.
+    pub period: Option<usize>,
+}
+
+/// λ of a column computed at `sim`'s parameters (its θν), or `None` for an
+/// empty column or one whose derivatives all failed.
+pub fn column_lyapunov(sim: &Simulator, col: &Column) -> Option<ColumnLyapunov> {
+    let kept = &col.thetas;
+    if kept.is_empty() || col.error.is_some() {
+        return None;
+    }
+    let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
+    let mut spent = (0, 0);
+    let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
+    if let (Some(c), Some(l)) = (&settled.cycle, settled.lyapunov)
+        && l.is_finite()
+    {
+        return Some(ColumnLyapunov {
+            lyapunov: l,
+            stderr: None,
+            period: Some(c.period()),
+        });
+    }
+    let from = kept.len().saturating_sub(MAX_DERIVATIVES);
+    let logs: Vec<f64> = (from..kept.len())
+        .filter_map(|i| {
+            let next = kept.get(i + 1).copied().unwrap_or(col.theta_last);
+            let (d, _) = map_derivative(sim, kept[i], next).ok()?;
+            // f′ = 0 exactly (a superstable point) would give −∞: it is
+            // left out rather than let one point swamp the mean.
+            let l = d.abs().ln();
+            l.is_finite().then_some(l)
+        })
+        .collect();
+    match mean_and_stderr(&logs) {
+        (Some(lyapunov), stderr) => Some(ColumnLyapunov {
+            lyapunov,
+            stderr,
+            period: None,
+        }),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Params;
+    use crate::sim::{SweepOptions, default_settings, fixed_point};
+
+    fn column(theta_nu: f64, transient: usize, keep: usize) -> (Simulator, Column) {
+        let params = Params {
+            kappa: 18.95,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu,
+            omega: 50.0,
+        };
+        let settings = default_settings(1e-10);
+        let opts = SweepOptions {
+            transient,
+            keep,
+            map: crate::sim::MapChoice::Direct,
+        };
+        let sim = Simulator::new(params.with_theta_nu(theta_nu), settings).expect("valid");
+        let col = Column::run(params, settings, theta_nu, theta_nu, &opts, &|| false);
+        (sim, col)
+    }
+
+    #[test]
+    fn a_fixed_point_column_has_the_exact_exponent_of_its_multiplier() {
+        // Fig. 3b's parameters at θν = 0.9: a stable stick-slip fixed point.
+        let (sim, col) = column(0.9, 300, 20);
+        let got = column_lyapunov(&sim, &col).expect("computed");
+        assert_eq!(got.period, Some(1));
+        assert!(got.stderr.is_none());
+        // Independently: the secant fixed point and its multiplier.
+        let (_, m) = fixed_point(&sim, col.thetas[0], 1e-12)
+            .expect("runs")
+            .expect("found");
+        assert!(m.abs() < 1.0);
+        assert!(
+            (got.lyapunov - m.abs().ln()).abs() < 1e-5,
+            "{got:?} vs ln|{m}|"
+        );
+    }
+
+    #[test]
+    fn a_chaotic_column_averages_ln_slope_with_an_error_bar() {
+        // The chaos preset (Fig. 3b at θν = 1.25): no period, λ > 0.
+        let (sim, col) = column(1.25, 200, 64);
+        let got = column_lyapunov(&sim, &col).expect("computed");
+        assert_eq!(got.period, None);
+        let se = got.stderr.expect("64 onsets: 8 batches of 8");
+        assert!(got.lyapunov > 2.0 * se, "{got:?}");
+        // The same mean, recomputed from each onset's own map slope.
+        let logs: Vec<f64> = col
+            .thetas
+            .iter()
+            .map(|&th| {
+                let f = sim.map(th).expect("cycle");
+                map_derivative(&sim, th, f).expect("slope").0.abs().ln()
+            })
+            .collect();
+        let mean = logs.iter().sum::<f64>() / logs.len() as f64;
+        assert!(
+            (got.lyapunov - mean).abs() < 1e-9,
+            "{} vs {mean}",
+            got.lyapunov
+        );
+    }
+
+    #[test]
+    fn an_empty_column_has_none() {
+        let (sim, mut col) = column(0.9, 5, 5);
+        col.thetas.clear();
+        assert_eq!(column_lyapunov(&sim, &col), None);
+    }
+}
