@@ -79,6 +79,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             coarse: i % 8 == 0,
             rhs_evals: 0,
             map: Default::default(),
+            attractor: vec![],
         });
     }
     rec.push(Update::Finished {

@@ -5,6 +5,7 @@
 //! by the flags alone, so the file is the same on any machine, and the
 //! same as the window's diagram of the same parameters and range.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -18,13 +19,14 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress};
 use super::values::{
-    given_or_preset, param_error, parse_count, parse_number, preset_params, short,
+    count_between, given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
 use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
 use crate::model::{Params, Preset};
 use crate::sim::Simulator;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
+use crate::sim::seeded::MAX_SEEDS;
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
@@ -80,6 +82,13 @@ pub struct BifurcationArgs {
     /// column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
+    /// θ₀ spread over each column's exit arc besides the followed orbit
+    /// (0 to 256; 0: none). Each runs to its attractor and every distinct
+    /// attractor's points are written, with an `attractor` column (0: the
+    /// followed one; docs/attractors.md). Costs up to seeds + 1 times the
+    /// plain diagram.
+    #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
+    pub seeds: usize,
     /// CSV file ("-" = stdout).
     #[arg(long, default_value = "-")]
     pub out: PathBuf,
@@ -122,6 +131,7 @@ pub struct Plan {
     total: u64,
     max_seconds: Option<f64>,
     map: crate::sim::MapChoice,
+    seeds: usize,
 }
 
 /// Checks the flags and the output before any work.
@@ -142,6 +152,14 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
     let total = total_iterates(args.transient, ("keep", keep), columns)?;
     let map = args.map;
+    let seeds = count_between("seeds", args.seeds, 0, MAX_SEEDS)?;
+    // The seeds' points are rows too (each at most `keep`).
+    if (columns as u64) * (seeds as u64 + 1) * keep as u64 > MAX_ROWS as u64 {
+        return Err(CliError::Usage(format!(
+            "--seeds = {seeds} is out of range: columns x (seeds + 1) x keep must be at most {}",
+            super::values::short_count(MAX_ROWS)
+        )));
+    }
     if let Some(th) = args.theta0 {
         // On the arc of the first column; later columns project it onto theirs.
         let sim = Simulator::new(params, settings)?;
@@ -156,9 +174,11 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
         to,
         columns,
         keep,
-        total,
+        // Every seed runs a column of its own.
+        total: total.saturating_mul(seeds as u64 + 1),
         max_seconds,
         map,
+        seeds,
     })
 }
 
@@ -173,6 +193,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         total,
         max_seconds,
         map,
+        seeds,
     } = check(&args)?;
     warn_validity(&params);
     let spec = SweepSpec {
@@ -183,6 +204,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         keep,
         map,
         theta0: args.theta0,
+        seeds,
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let progress = Progress::new("bifurcation", "iterates", total);
@@ -210,8 +232,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     };
     let seconds = start.elapsed().as_secs_f64();
 
-    // The columns in grid order: (θν, kept iterates, cost, map used).
-    type Done = (f64, Vec<f64>, u64, MapUsed);
+    // The columns in grid order: (θν, kept iterates, cost, map used,
+    // attractor labels).
     let mut cols: Vec<Option<Done>> = vec![None; columns];
     for u in updates {
         if let Update::Column {
@@ -220,14 +242,19 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
             thetas,
             rhs_evals,
             map,
+            attractor,
             ..
         } = u
         {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map));
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map, attractor));
         }
     }
     let cols: Vec<Done> = cols.into_iter().flatten().collect();
-    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())));
+    let csv = if seeds > 0 {
+        seeded_csv(&cols)
+    } else {
+        bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice())))
+    };
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
         params,
@@ -248,11 +275,26 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     summarise(&args, &plan_summary, &run)
 }
 
+/// A finished column: θν, its points, its cost, the map it used and its
+/// points' attractor labels (empty without seeds).
+type Done = (f64, Vec<f64>, u64, MapUsed, Vec<u8>);
+
+/// The seeded diagram's CSV, `theta_nu,theta,attractor`.
+fn seeded_csv(cols: &[Done]) -> String {
+    let mut s = String::from("theta_nu,theta,attractor\n");
+    for (tn, thetas, _, _, labels) in cols {
+        for (t, a) in thetas.iter().zip(labels) {
+            writeln!(s, "{tn},{t},{a}").ok();
+        }
+    }
+    s
+}
+
 /// What a finished run reports on: its columns in grid order (θν, kept
-/// iterates, cost, map used), the cycles the progress bar counted, the
+/// iterates, cost, map used, labels), the cycles the progress bar counted, the
 /// columns that failed, its time and threads.
 struct Ran<'a> {
-    columns: &'a [(f64, Vec<f64>, u64, MapUsed)],
+    columns: &'a [Done],
     integrated: u64,
     failed: u64,
     seconds: f64,
@@ -287,7 +329,7 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
         args.transient,
-        columns as u64 * (args.transient + keep) as u64,
+        columns as u64 * (args.transient + keep) as u64 * (args.seeds as u64 + 1),
         n as f64 / seconds.max(1e-9),
         evals as f64 / n.max(1) as f64,
         if failed > 0 {
@@ -298,6 +340,9 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
     );
     if let Some(line) = map_line(cols.iter().map(|c| &c.3)) {
         eprintln!("{line}");
+    }
+    if args.seeds > 0 {
+        eprintln!("{}", multistable_line(cols, args.seeds));
     }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
@@ -316,6 +361,24 @@ struct Summary {
     to: f64,
     columns: usize,
     keep: usize,
+}
+
+/// The summary's line on the seeds: how many columns have more than one
+/// attractor, and where the first and last of them are.
+fn multistable_line(cols: &[Done], seeds: usize) -> String {
+    let multi: Vec<f64> = cols
+        .iter()
+        .filter(|c| c.4.iter().any(|&a| a > 0))
+        .map(|c| c.0)
+        .collect();
+    match (multi.first(), multi.last()) {
+        (Some(a), Some(b)) => format!(
+            "  seeds: {seeds} per column; {} of {} column(s) have more than one attractor, at theta-nu {a} to {b}",
+            multi.len(),
+            cols.len()
+        ),
+        _ => format!("  seeds: {seeds} per column; every column has one attractor"),
+    }
 }
 
 /// The summary's line on the interpolant, when any column asked for it.

@@ -154,6 +154,10 @@ pub struct SweepSpec {
     pub map: MapChoice,
     /// Where each chain's first column starts (`None`: at its own θν).
     pub theta0: Option<f64>,
+    /// θ₀ spread over each column's exit arc besides the followed orbit
+    /// (0: none), each run to its attractor; every attractor found is
+    /// drawn, labelled (`sim::seeded`).
+    pub seeds: usize,
 }
 
 /// A phase diagram (the paper's Fig. 4) over θν (columns) and κ (rows) at
@@ -188,6 +192,8 @@ pub struct PhaseTuning {
     pub map: MapChoice,
     /// [`PhaseOptions::period_tol`], if not the solver's own.
     pub period_tol: Option<f64>,
+    /// [`PhaseOptions::seeds`] (0: attractors not counted).
+    pub seeds: usize,
 }
 
 impl Default for PhaseTuning {
@@ -196,6 +202,7 @@ impl Default for PhaseTuning {
             early_exit: true,
             map: MapChoice::Auto,
             period_tol: None,
+            seeds: 0,
         }
     }
 }
@@ -211,6 +218,7 @@ impl PhaseSpec {
             early_exit: self.tuning.early_exit,
             map: self.tuning.map,
             period_tol: self.tuning.period_tol.unwrap_or(base.period_tol),
+            seeds: self.tuning.seeds,
             ..base
         }
     }
@@ -335,6 +343,9 @@ pub enum Update {
         rhs_evals: u64,
         /// How its points after the transient were computed.
         map: MapUsed,
+        /// The attractor of each of `thetas` (0: the followed one; see
+        /// `sim::seeded::SeededColumn`); empty when the sweep has no seeds.
+        attractor: Vec<u8>,
     },
     /// The sample of a work-precision job: how many points, and how far
     /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the

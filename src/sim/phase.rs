@@ -46,6 +46,7 @@ use super::analysis::{cycle_with_derivative, map_derivative};
 use super::cycles::{CycleOptions, confirm_contraction, solve_counting};
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
 use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, settled_period};
+use super::seeded::attractor_count;
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
@@ -77,6 +78,10 @@ pub struct PhaseOptions {
     /// the interpolant when at least [`INTERPOLANT_LEFT`] iterates are left
     /// (the paper's 400 + 128 never are), `Interpolant` whenever any are.
     pub map: MapChoice,
+    /// θ₀ spread over the exit arc whose orbits, with the cell's own
+    /// attractor, are counted into [`PhaseCell::attractors`] (0: not
+    /// counted; `super::seeded::attractor_count`).
+    pub seeds: usize,
 }
 
 impl PhaseOptions {
@@ -95,6 +100,7 @@ impl PhaseOptions {
             early_exit: true,
             transient_after_chaos: 200,
             map: MapChoice::Auto,
+            seeds: 0,
         }
     }
 }
@@ -221,6 +227,9 @@ pub struct PhaseCell {
     pub error: Option<SimError>,
     /// How the cell evaluated the map after its direct part.
     pub map: MapUsed,
+    /// How many distinct attractors the cell's own and the seeds' orbits
+    /// reach ([`PhaseOptions::seeds`]; `None` when not counted).
+    pub attractors: Option<usize>,
 }
 
 impl PhaseCell {
@@ -240,6 +249,7 @@ impl PhaseCell {
             theta_last,
             error: None,
             map: MapUsed::Direct,
+            attractors: None,
         }
     }
 }
@@ -260,8 +270,44 @@ pub fn phase_cell(
         cell.lyapunov_stderr = None;
         cell.regime = None;
         cell.error = Some(e);
+    } else if opts.seeds > 0 {
+        count_attractors(&mut cell, params, settings, opts, cancel);
     }
     cell
+}
+
+/// Counts the attractors of a finished cell: its own (from its last
+/// onset) and the seeds', each orbit run as a sweep column with the
+/// cell's budget, integrated. Their cost is the cell's.
+fn count_attractors(
+    cell: &mut PhaseCell,
+    params: Params,
+    settings: SolverSettings,
+    opts: &PhaseOptions,
+    cancel: &dyn Fn() -> bool,
+) {
+    let sweep = super::SweepOptions {
+        transient: opts.transient,
+        keep: opts.keep,
+        map: MapChoice::Direct,
+    };
+    match attractor_count(
+        params,
+        settings,
+        cell.theta_last,
+        opts.seeds,
+        &sweep,
+        cancel,
+    ) {
+        Ok((n, rhs)) => {
+            cell.attractors = Some(n);
+            cell.rhs_evals += rhs;
+        }
+        Err(e) => {
+            cell.class = CellClass::Failed;
+            cell.error = Some(e);
+        }
+    }
 }
 
 fn run_cell(
