@@ -227,3 +227,29 @@ fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
     assert!(multistable.len() >= 4, "{multistable:?}");
     assert!(stderr(&o).contains("multistable"), "{}", stderr(&o));
 }
+
+/// Just past the first flip (θν = 0.8702) every orbit drifts slowly onto a
+/// P2 of small amplitude (multiplier ≈ 0.997): it was named a chaotic
+/// attractor with a negative exponent. It is the P2 that Newton solves
+/// separately.
+#[test]
+fn just_past_a_flip_the_slow_period_two_cycle_is_found() {
+    let p = params(0.8704);
+    let found = attractors_default(p, 8).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].period, Some(2), "{found:?}");
+    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
+    let c = oneblock::sim::solve_cycle(
+        &sim,
+        found[0].points[0],
+        2,
+        &oneblock::sim::CycleOptions::for_settings(&default_settings(1e-10)),
+    )
+    .unwrap();
+    assert_eq!(c.minimal_period, 2);
+    assert!(
+        (c.multiplier - found[0].multiplier.unwrap()).abs() < 1e-6,
+        "{c:?}"
+    );
+    assert!(c.multiplier > 0.99 && c.multiplier < 1.0, "{c:?}");
+}

@@ -22,10 +22,7 @@ const LONG_NOW: usize = 32;
 /// model and continuation's orchestration): (file, function). Remove an
 /// entry when its function is split; an entry that is no longer needed
 /// fails the test so that the list only shrinks.
-const OVER_MAX_FOR_NOW: [(&str, &str); 2] = [
-    ("src/sim/phase.rs", "classify"),
-    ("src/cli/continue_cmd.rs", "run"),
-];
+const OVER_MAX_FOR_NOW: [(&str, &str); 1] = [("src/cli/continue_cmd.rs", "run")];
 
 /// A function's place and length.
 #[derive(Debug)]
