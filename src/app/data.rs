@@ -54,6 +54,9 @@ pub struct Column {
     pub theta_nu: f64,
     pub thetas: Vec<f64>,
     pub coarse: bool,
+    /// The attractor of each of `thetas` (0: the followed one); empty
+    /// without seeds.
+    pub attractor: Vec<u8>,
 }
 
 impl SweepData {

@@ -98,12 +98,14 @@ impl Jobs {
                 theta_nu,
                 thetas,
                 coarse,
+                attractor,
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
                     theta_nu,
                     thetas,
                     coarse,
+                    attractor,
                 };
                 self.sweep.data.insert(index, column);
             }
