@@ -29,7 +29,7 @@ pub use branch::{
 pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
-pub use flip::{Criticality, Flip, flip_at};
+pub use flip::{Criticality, Flip, GeneralisedFlip, flip_at, generalised_flips};
 
 /// A parameter a branch can be continued in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
