@@ -16,7 +16,7 @@ const LONG_LINES: usize = 80;
 /// ...eventually. Until the job model (issue 27) lands, the count may be up
 /// to [`LONG_NOW`]; lower it as functions are split, never raise it.
 const MAX_LONG: usize = 15;
-const LONG_NOW: usize = 32;
+const LONG_NOW: usize = 31;
 
 /// Functions over [`MAX_LINES`] that are being rewritten (issue 27's job
 /// model and continuation's orchestration): (file, function). Remove an
