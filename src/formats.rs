@@ -121,7 +121,9 @@ pub const PHASE_COLUMNS: &str =
     "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr";
 
 /// One CSV row: numbers in Rust's shortest round-trip form; `lyapunov`,
-/// `lyapunov_stderr` and `regime` are empty when not computed.
+/// `lyapunov_stderr` and `regime` are empty when not computed; a cell whose
+/// attractors were counted has their number as a last field
+/// (`attractors`, after [`PHASE_COLUMNS`]).
 pub fn phase_row(c: &PhaseCell) -> String {
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
     csv_line(&[
@@ -133,7 +135,7 @@ pub fn phase_row(c: &PhaseCell) -> String {
         c.iterates.to_string(),
         c.class.label().to_string(),
         opt(c.lyapunov_stderr),
-    ])
+    ]) + &c.attractors.map_or(String::new(), |n| format!(",{n}"))
 }
 
 /// The picture's classes and colours, in legend order.

@@ -107,3 +107,149 @@ fn the_json_has_the_issues_fields_and_bad_seeds_are_refused() {
     assert_eq!(err.lines().count(), 1, "{err}");
     assert!(err.contains("--seeds"), "{err}");
 }
+
+/// The seeded diagram's CSV rows (θν, θ, attractor).
+fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
+    let o = oneblock(args);
+    assert_ok(&o);
+    let out = stdout(&o);
+    let mut lines = out.lines();
+    assert_eq!(lines.next(), Some("theta_nu,theta,attractor"));
+    lines
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            (
+                f[0].parse().unwrap(),
+                f[1].parse().unwrap(),
+                f[2].parse().unwrap(),
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn the_seeded_diagram_shows_both_branches_where_attractors_finds_two() {
+    let rows = seeded_rows(&[
+        "bifurcation",
+        "--kappa",
+        "10",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "1.33",
+        "--theta-nu-to",
+        "1.45",
+        "--columns",
+        "13",
+        "--keep",
+        "24",
+        "--seeds",
+        "8",
+    ]);
+    let mut columns: Vec<f64> = rows.iter().map(|r| r.0).collect();
+    columns.dedup();
+    assert_eq!(columns.len(), 13);
+    let mut multistable = vec![];
+    for tn in columns {
+        let labels: std::collections::BTreeSet<u8> =
+            rows.iter().filter(|r| r.0 == tn).map(|r| r.2).collect();
+        // Independently: full orbits from 32 other seeds, cycles by Newton.
+        let found = attractors_default(params(tn), 32).unwrap();
+        assert_eq!(labels.len(), found.len(), "theta-nu {tn}: {found:?}");
+        if labels.len() > 1 {
+            multistable.push(tn);
+        }
+        // Every labelled point is a point of one of the attractors found.
+        for r in rows.iter().filter(|r| r.0 == tn) {
+            assert!(
+                found
+                    .iter()
+                    .any(|a| a.points.iter().any(|x| wrap_angle(x - r.1).abs() < 1e-5)),
+                "theta-nu {tn}: {r:?} in none of {found:?}"
+            );
+        }
+    }
+    // The hysteresis range, 1.3708 (or the P2's second fold, 1.3640) to
+    // 1.4202 (docs/attractors.md), and nothing outside it.
+    assert!(
+        multistable.iter().all(|&t| (1.364..1.4202).contains(&t)),
+        "{multistable:?}"
+    );
+    assert!(multistable.len() >= 4, "{multistable:?}");
+}
+
+#[test]
+fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
+    let o = oneblock(&[
+        "phase",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--kappa-from",
+        "10",
+        "--kappa-to",
+        "10",
+        "--kappa-steps",
+        "1",
+        "--theta-nu-from",
+        "1.33",
+        "--theta-nu-to",
+        "1.45",
+        "--theta-nu-steps",
+        "13",
+        "--seeds",
+        "8",
+    ]);
+    assert_ok(&o);
+    let out = stdout(&o);
+    let mut lines = out.lines();
+    let header = lines.next().unwrap();
+    assert!(header.ends_with(",attractors"), "{header}");
+    let mut multistable = vec![];
+    for l in lines {
+        let f: Vec<&str> = l.split(',').collect();
+        let tn: f64 = f[0].parse().unwrap();
+        let n: usize = f.last().unwrap().parse().unwrap();
+        // Independently: full orbits from 32 other seeds, cycles by Newton.
+        let found = attractors_default(params(tn), 32).unwrap();
+        assert_eq!(n, found.len(), "theta-nu {tn}: {found:?}");
+        if n > 1 {
+            multistable.push(tn);
+        }
+    }
+    assert!(
+        multistable.iter().all(|&t| (1.364..1.4202).contains(&t)),
+        "{multistable:?}"
+    );
+    assert!(multistable.len() >= 4, "{multistable:?}");
+    assert!(stderr(&o).contains("multistable"), "{}", stderr(&o));
+}
+
+/// Just past the first flip (θν = 0.8702) every orbit drifts slowly onto a
+/// P2 of small amplitude (multiplier ≈ 0.997): it was named a chaotic
+/// attractor with a negative exponent. It is the P2 that Newton solves
+/// separately.
+#[test]
+fn just_past_a_flip_the_slow_period_two_cycle_is_found() {
+    let p = params(0.8704);
+    let found = attractors_default(p, 8).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].period, Some(2), "{found:?}");
+    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
+    let c = oneblock::sim::solve_cycle(
+        &sim,
+        found[0].points[0],
+        2,
+        &oneblock::sim::CycleOptions::for_settings(&default_settings(1e-10)),
+    )
+    .unwrap();
+    assert_eq!(c.minimal_period, 2);
+    assert!(
+        (c.multiplier - found[0].multiplier.unwrap()).abs() < 1e-6,
+        "{c:?}"
+    );
+    assert!(c.multiplier > 0.99 && c.multiplier < 1.0, "{c:?}");
+}

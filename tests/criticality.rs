@@ -122,3 +122,41 @@ fn a_cascade_at_a_subcritical_flip_follows_the_unstable_cycle_to_its_fold() {
     assert!((fold.multiplier - 1.0).abs() <= oneblock::sim::continuation::M_ACCURACY);
     assert!(c.stop.contains("turns at a fold"), "{}", c.stop);
 }
+
+/// The generalised flip on the fixed point's PD curve near Fig. 3b's κ:
+/// following the flip near θν = 1.538 in (θν, κ), its coefficient changes
+/// sign once between κ = 17 and 21, near κ = 19.0; the flips located on
+/// their own, along θν at κ = 18.8 and 19.2, are supercritical and
+/// subcritical.
+#[test]
+fn a_pd_curve_marks_where_its_criticality_changes() {
+    use oneblock::sim::continuation::{CurveKind, CurveOptions, continue_curve};
+    let below = problem(18.8, 1e-3);
+    let above = problem(19.2, 1e-3);
+    let crit = |prob: &Problem| {
+        let pd = first_pd(prob, 1.56, 1.50, 1.0);
+        (pd.flip.unwrap().criticality(), pd)
+    };
+    let (c_below, pd) = crit(&below);
+    let (c_above, _) = crit(&above);
+    assert_eq!(c_below, Criticality::Supercritical);
+    assert_eq!(c_above, Criticality::Subcritical);
+    let curve = continue_curve(
+        &below.base,
+        &below.settings,
+        [ContParam::ThetaNu, ContParam::Kappa],
+        1,
+        CurveKind::PeriodDoubling,
+        &pd,
+        &CurveOptions::for_box([[1.50, 1.56], [17.0, 21.0]]),
+        &|| false,
+    );
+    assert!(curve.points.len() > 10, "{curve:?}");
+    let gf = &curve.generalised_flips;
+    assert_eq!(gf.len(), 1, "{gf:?}");
+    let [theta_nu, kappa] = gf[0].lambda;
+    assert!(kappa > 18.8 && kappa < 19.2, "{gf:?}");
+    assert!(theta_nu > 1.53 && theta_nu < 1.545, "{gf:?}");
+    let [a, b] = gf[0].coefficients;
+    assert!(a * b < 0.0, "{gf:?}");
+}

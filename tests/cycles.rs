@@ -252,6 +252,7 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
             keep: 200,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         },
     }));
     let (ups, outcome) = until_finished(&w, 1, Lane::Sweep);
@@ -280,6 +281,7 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
         keep: 100,
         map: MapChoice::Direct,
         theta0: None,
+        seeds: 0,
     };
     let ups = oneblock::jobs::run_collect(oneblock::jobs::Spec::Sweep(spec), 2, |_| {}, || false)
         .expect("the reference sweep completes");

@@ -19,12 +19,6 @@ const MAX_LONG: usize = 15;
 const LONG_NOW: usize = 15;
 const _: () = assert!(LONG_NOW <= MAX_LONG);
 
-/// Functions over [`MAX_LINES`] that are being rewritten (issue 27's job
-/// model and continuation's orchestration): (file, function). Remove an
-/// entry when its function is split; an entry that is no longer needed
-/// fails the test so that the list only shrinks.
-const OVER_MAX_FOR_NOW: [(&str, &str); 1] = [("src/sim/phase.rs", "classify")];
-
 /// A function's place and length.
 #[derive(Debug)]
 struct Function {
@@ -240,23 +234,12 @@ fn listing(fs: &[&Function]) -> String {
 fn no_function_is_over_150_lines() {
     let fns = all_functions();
     assert!(fns.len() > 500, "found only {} functions", fns.len());
-    let over: Vec<&Function> = fns
-        .iter()
-        .filter(|f| f.lines > MAX_LINES)
-        .filter(|f| !OVER_MAX_FOR_NOW.contains(&(f.file.as_str(), f.name.as_str())))
-        .collect();
+    let over: Vec<&Function> = fns.iter().filter(|f| f.lines > MAX_LINES).collect();
     assert!(
         over.is_empty(),
         "functions over {MAX_LINES} lines (split them by what they do):\n{}",
         listing(&over)
     );
-    for (file, name) in OVER_MAX_FOR_NOW {
-        assert!(
-            fns.iter()
-                .any(|f| f.file == file && f.name == name && f.lines > MAX_LINES),
-            "{file} {name} is no longer over {MAX_LINES} lines: remove it from OVER_MAX_FOR_NOW"
-        );
-    }
 }
 
 #[test]

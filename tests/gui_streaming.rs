@@ -80,6 +80,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             rhs_evals: 0,
             map: Default::default(),
             lyapunov: None,
+            attractor: vec![],
         });
     }
     rec.push(Update::Finished {

@@ -17,6 +17,7 @@ use oneblock::jobs::{
     Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TrajectorySpec, Update,
     WorkPrecisionSpec, run_collect,
 };
+use oneblock::model::Params;
 use oneblock::numerics::Subject;
 use oneblock::sim::continuation::{Attractor, ContParam, CurveKind, attractor_cycle};
 use oneblock::sim::{MapChoice, default_settings};
@@ -69,13 +70,17 @@ fn results(ups: &[Update]) -> Results {
                 index,
                 theta_nu,
                 thetas,
+                attractor,
                 ..
             } => {
-                assert!(
-                    r.columns
-                        .insert(*index, (*theta_nu, thetas.clone()))
-                        .is_none()
-                );
+                // Each attractor label folded into its value (θ + 100·label),
+                // so that the hosts must agree on both.
+                let labelled = thetas
+                    .iter()
+                    .zip(attractor.iter().chain(std::iter::repeat(&0)))
+                    .map(|(t, &a)| t + 100.0 * a as f64)
+                    .collect();
+                assert!(r.columns.insert(*index, (*theta_nu, labelled)).is_none());
             }
             Update::PhaseCells { cells, .. } => {
                 for c in cells {
@@ -189,6 +194,7 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
         keep: 12,
         map: MapChoice::Auto,
         theta0: None,
+        seeds: 0,
     };
     let r = same_on_both_hosts(Command::Sweep {
         generation: 5,
@@ -201,6 +207,58 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
             .expect("the sweep completes");
         assert_eq!(results(&ups).columns, r.columns, "{threads} thread(s)");
     }
+}
+
+#[test]
+fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
+    let params = Params {
+        kappa: 10.0,
+        gamma: 6.5,
+        nu: 1e-3,
+        theta_nu: 1.4,
+        omega: 50.0,
+    };
+    let spec = SweepSpec {
+        params,
+        settings: default_settings(1e-8),
+        theta_nu: Axis::new(1.36, 1.44, 5),
+        transient: 100,
+        keep: 24,
+        map: MapChoice::Auto,
+        theta0: None,
+        seeds: 4,
+    };
+    let r = same_on_both_hosts(Command::Sweep {
+        generation: 5,
+        spec: spec.clone(),
+    });
+    // Some column shows a second attractor (labels are in the hundreds).
+    assert!(
+        r.columns.values().any(|c| c.1.iter().any(|&t| t > 50.0)),
+        "{r:?}"
+    );
+    let ups = run_collect(Spec::Sweep(spec), 3, |_| {}, || false).expect("completes");
+    assert_eq!(results(&ups).columns, r.columns);
+    let r = same_on_both_hosts(Command::Phase {
+        generation: 6,
+        spec: PhaseSpec {
+            params,
+            settings: default_settings(1e-8),
+            theta_nu: Axis::new(1.36, 1.44, 5),
+            kappa: Axis::new(9.0, 10.0, 2),
+            transient: 100,
+            keep: 32,
+            tuning: PhaseTuning {
+                seeds: 4,
+                ..PhaseTuning::default()
+            },
+        },
+    });
+    assert_eq!(r.cells.len(), 10);
+    assert!(
+        r.cells.values().any(|c| c.contains("attractors: Some(2)")),
+        "{r:?}"
+    );
 }
 
 #[test]
@@ -317,6 +375,7 @@ fn the_single_threaded_host_runs_within_its_budget_and_cancels() {
         keep: 50,
         map: MapChoice::Auto,
         theta0: None,
+        seeds: 0,
     });
     let mut host = Local::start(spec, 11, Shape::default());
     // A tiny budget still moves the job on by one unit, and no more than a

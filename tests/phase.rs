@@ -111,6 +111,54 @@ fn kappa_ten_goes_fixed_point_period_two_fixed_point() {
     );
 }
 
+/// Just past the first flip at κ = 10 (θν = 0.8702) the attractor is a
+/// period-2 cycle of small amplitude with multiplier ≈ 0.997: an orbit
+/// leaves the unstable fixed point too slowly to settle within the budget
+/// (this cell was undecided alone and chaotic, from λ = +3e-4, inside a
+/// row). It is decided as the P2, checked against Newton's cycle solved
+/// separately.
+#[test]
+fn cells_just_past_a_flip_are_the_small_period_two_cycle() {
+    let params = Params {
+        kappa: 10.0,
+        theta_nu: 0.8704,
+        ..preset("fig4")
+    };
+    let settings = default_settings(1e-10);
+    let alone = oneblock::sim::phase::phase_cell(params, settings, 0.8704, &opts(), &|| false);
+    let cells = row(10.0, 0.866, 0.88, 8);
+    let s = labels(&cells);
+    for c in cells.iter().filter(|c| c.theta_nu > 0.8703).chain([&alone]) {
+        assert_eq!(c.class, CellClass::Periodic(2), "{s} / {alone:?}");
+        let sim =
+            oneblock::sim::Simulator::new(params.with_theta_nu(c.theta_nu), settings).unwrap();
+        let cycle = oneblock::sim::solve_cycle(
+            &sim,
+            c.theta_last,
+            2,
+            &oneblock::sim::CycleOptions::for_settings(&settings),
+        )
+        .unwrap();
+        assert_eq!(cycle.minimal_period, 2, "{cycle:?}");
+        assert!(
+            cycle.multiplier > 0.0 && cycle.multiplier < 1.0,
+            "{cycle:?}"
+        );
+        let expected = cycle.multiplier.ln() / 2.0;
+        assert!(
+            (c.lyapunov.unwrap() - expected).abs() < 1e-6,
+            "{c:?} {cycle:?}"
+        );
+        assert!(c.lyapunov_stderr.is_none(), "{c:?}");
+    }
+    assert!(
+        cells
+            .iter()
+            .all(|c| matches!(c.class, CellClass::Periodic(1 | 2))),
+        "{s}"
+    );
+}
+
 #[test]
 fn kappa_sixteen_cascades_to_chaos_and_back() {
     let cells = row(16.0, 1.0, FRAC_PI_2, 25);

@@ -372,6 +372,7 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
             keep: 10,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         },
     }));
     assert!(w.send(Command::Trajectory {

@@ -43,6 +43,7 @@ fn worker_column(generation: u64, kappa: f64, theta_nu: f64) -> Vec<f64> {
             keep: KEEP,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         },
     };
     assert!(w.send(cmd));

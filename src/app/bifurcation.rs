@@ -16,7 +16,7 @@ use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
-use super::settings::{Settings, ViewKind};
+use super::settings::{MAX_SWEEP_SEEDS, Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
@@ -46,12 +46,19 @@ pub struct BifurcationView {
     pub transform: Option<egui_plot::PlotTransform>,
 }
 
+/// The colour of the attractors a seeded sweep finds besides the one it
+/// follows (drawn over it).
+pub const OTHER_ATTRACTOR: Color32 = style::ONSET;
+
 /// Rasterises the columns into an RGBA image `columns × ROWS` over
-/// θ ∈ [lo, hi] (row 0 at the top = hi). Missing columns take the nearest
-/// computed one to their left, so the coarse pass already fills the picture.
+/// θ ∈ [lo, hi] (row 0 at the top = hi), the followed attractor's points
+/// in `ink` and the seeds' other attractors in [`OTHER_ATTRACTOR`]. Missing
+/// columns take the nearest computed one to their left, so the coarse pass
+/// already fills the picture.
 pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32) -> ColorImage {
     let w = sweep.columns.len().max(1);
     let mut counts = vec![0u32; w * ROWS];
+    let mut others = vec![0u32; w * ROWS];
     let scale = (ROWS as f64) / (hi - lo).max(1e-12);
     let mut source: Option<usize> = sweep.columns.iter().position(Option::is_some);
     for j in 0..w {
@@ -62,23 +69,32 @@ pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32) -> ColorImag
         let Some(col) = &sweep.columns[src] else {
             continue;
         };
-        for &t in &col.thetas {
+        let labels = col.attractor.iter().chain(std::iter::repeat(&0));
+        for (&t, &label) in col.thetas.iter().zip(labels) {
             if !(t >= lo && t <= hi) {
                 continue;
             }
             let r = ((hi - t) * scale) as usize;
-            counts[r.min(ROWS - 1) * w + j] += 1;
+            let bin = if label == 0 { &mut counts } else { &mut others };
+            bin[r.min(ROWS - 1) * w + j] += 1;
         }
     }
     let pixels = counts
         .iter()
-        .map(|&c| {
-            if c == 0 {
+        .zip(&others)
+        .map(|(&c, &o)| {
+            let (n, colour) = if o > 0 {
+                (o, OTHER_ATTRACTOR)
+            } else {
+                (c, ink)
+            };
+            if n == 0 {
                 Color32::TRANSPARENT
             } else {
-                let a = 1.0 - (-0.9 * c as f32).exp();
+                let a = 1.0 - (-0.9 * n as f32).exp();
                 let a = (0.25 + 0.75 * a).min(1.0);
-                Color32::from_rgba_unmultiplied(ink.r(), ink.g(), ink.b(), (a * 255.0) as u8)
+                let [r, g, b, _] = colour.to_array();
+                Color32::from_rgba_unmultiplied(r, g, b, (a * 255.0) as u8)
             }
         })
         .collect();
@@ -390,6 +406,9 @@ impl View for BifurcationView {
             self.controls_ui(ui, &jobs.sweep, jobs, out);
         }
         lines_legend_ui(ui, s);
+        if !figure {
+            seeds_ui(ui, s);
+        }
         overlay::branch_legend_ui(ui, &jobs.branches.data);
         if plot_sizes(ui, ui.available_height()).1 > 0.0 {
             lyapunov_strip::legend_ui(ui, s.dark);
@@ -407,6 +426,25 @@ impl View for BifurcationView {
             out.push(Action::SetThetaNu(tn));
         }
     }
+}
+
+/// The seeds of each column (a change recomputes the diagram) and, with
+/// seeds, the legend of the attractors they find.
+fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
+    ui.horizontal_wrapped(|ui| {
+        ui.label("seeds");
+        ui.add(egui::DragValue::new(&mut s.sweep_seeds).range(0..=MAX_SWEEP_SEEDS))
+            .on_hover_text(
+                "Orbits from this many θ₀ spread over each column's exit arc besides the \
+                 followed one, each run to its attractor: every attractor is drawn, so \
+                 coexisting branches (hysteresis) show (oneblock bifurcation --seeds). \
+                 Each seed costs up to a column.",
+            );
+        if s.sweep_seeds > 0 {
+            style::legend_swatch(ui, style::ink(s.dark), "followed attractor");
+            style::legend_swatch(ui, OTHER_ATTRACTOR, "other attractors (seeds)");
+        }
+    });
 }
 
 /// "Find bifurcations" (or "Stop" while it runs), and where it stands.
@@ -443,5 +481,43 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
         .clicked()
     {
         out.push(Action::FindBifurcations);
+    }
+}
+
+#[cfg(test)]
+mod seeded_tests {
+    use super::*;
+    use crate::app::data::Column;
+
+    /// A seeded column's other attractor is drawn in its own colour, the
+    /// followed one in ink.
+    #[test]
+    fn other_attractors_are_drawn_in_their_colour() {
+        let mut sweep = SweepData::new(1.0, 1.1, 1);
+        sweep.insert(
+            0,
+            Column {
+                theta_nu: 1.0,
+                thetas: vec![0.25, 0.75, 0.5],
+                coarse: true,
+                lyapunov: None,
+                attractor: vec![0, 0, 1],
+            },
+        );
+        let ink = style::ink(false);
+        let img = rasterise(&sweep, 0.0, 1.0, ink);
+        let at = |t: f64| img.pixels[((1.0 - t) * ROWS as f64) as usize];
+        let rgb = |c: Color32| [c.r(), c.g(), c.b()];
+        let unmul = |c: Color32| {
+            let [r, g, b, _] = c.to_srgba_unmultiplied();
+            [r, g, b]
+        };
+        // Premultiplied alpha rounds: within 2 of each channel.
+        let near = |a: [u8; 3], b: [u8; 3]| a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 2);
+        assert!(near(unmul(at(0.25)), rgb(ink)), "{:?}", at(0.25));
+        assert!(near(unmul(at(0.75)), rgb(ink)), "{:?}", at(0.75));
+        assert!(near(unmul(at(0.5)), rgb(OTHER_ATTRACTOR)), "{:?}", at(0.5));
+        assert!(!near(rgb(ink), rgb(OTHER_ATTRACTOR)));
+        assert_eq!(at(0.1), Color32::TRANSPARENT);
     }
 }

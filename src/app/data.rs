@@ -57,6 +57,9 @@ pub struct Column {
     pub coarse: bool,
     /// λ of the column ([`crate::sim::column_lyapunov`]), when computed.
     pub lyapunov: Option<ColumnLyapunov>,
+    /// The attractor of each of `thetas` (0: the followed one); empty
+    /// without seeds.
+    pub attractor: Vec<u8>,
 }
 
 impl SweepData {

@@ -154,6 +154,7 @@ mod tests {
                         stderr: se,
                         period: se.is_none().then_some(1),
                     }),
+                    attractor: Vec::new(),
                 },
             );
         }

@@ -542,6 +542,7 @@ mod tests {
             theta_last: 0.0,
             error: None,
             map: Default::default(),
+            attractors: None,
         }
     }
 

@@ -95,6 +95,8 @@ pub fn is_usable_range((a, b): (f64, f64)) -> bool {
 pub const MAX_TRAJECTORY_CYCLES: usize = 100_000;
 /// The most iterates a saved diagram column may drop or keep.
 pub const MAX_SWEEP_ITERATES: usize = 100_000;
+/// The most seeds a diagram column may have in the window.
+pub const MAX_SWEEP_SEEDS: usize = 64;
 
 /// One view at a time, or several side by side.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -180,6 +182,9 @@ pub struct Settings {
     /// Iterates dropped, then kept, per bifurcation column.
     pub sweep_transient: usize,
     pub sweep_keep: usize,
+    /// θ₀ spread over each column's exit arc besides the followed orbit
+    /// (`oneblock bifurcation --seeds`; 0: none): every attractor is drawn.
+    pub sweep_seeds: usize,
     /// Text size multiplier (projectors).
     pub font_scale: f32,
     pub dark: bool,
@@ -244,6 +249,7 @@ impl Default for Settings {
             columns: 400,
             sweep_transient: 300,
             sweep_keep: 200,
+            sweep_seeds: 0,
             font_scale: 1.0,
             dark: false,
             smooth_lines: None,
@@ -368,6 +374,13 @@ impl Settings {
             1..=MAX_SWEEP_ITERATES,
             d.sweep_keep,
             "diagram iterates kept",
+            bad,
+        );
+        within(
+            &mut self.sweep_seeds,
+            0..=MAX_SWEEP_SEEDS,
+            d.sweep_seeds,
+            "diagram seeds",
             bad,
         );
         within(

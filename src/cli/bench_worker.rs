@@ -151,6 +151,7 @@ fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u
             keep: args.keep,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         },
     }
 }

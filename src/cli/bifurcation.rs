@@ -5,6 +5,7 @@
 //! by the flags alone, so the file is the same on any machine, and the
 //! same as the window's diagram of the same parameters and range.
 
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -18,7 +19,7 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress};
 use super::values::{
-    given_or_preset, param_error, parse_count, parse_number, preset_params, short,
+    count_between, given_or_preset, param_error, parse_count, parse_number, preset_params, short,
 };
 use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
@@ -26,6 +27,7 @@ use crate::model::{Params, Preset};
 use crate::sim::Simulator;
 use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
+use crate::sim::seeded::MAX_SEEDS;
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
@@ -81,6 +83,13 @@ pub struct BifurcationArgs {
     /// column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
+    /// θ₀ spread over each column's exit arc besides the followed orbit
+    /// (0 to 256; 0: none). Each runs to its attractor and every distinct
+    /// attractor's points are written, with an `attractor` column (0: the
+    /// followed one; docs/attractors.md). Costs up to seeds + 1 times the
+    /// plain diagram.
+    #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
+    pub seeds: usize,
     /// CSV file ("-" = stdout).
     #[arg(long, default_value = "-")]
     pub out: PathBuf,
@@ -123,6 +132,7 @@ pub struct Plan {
     total: u64,
     max_seconds: Option<f64>,
     map: crate::sim::MapChoice,
+    seeds: usize,
 }
 
 /// Checks the flags and the output before any work.
@@ -143,6 +153,14 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let keep = count_in("keep", args.keep, MAX_ROWS / columns)?;
     let total = total_iterates(args.transient, ("keep", keep), columns)?;
     let map = args.map;
+    let seeds = count_between("seeds", args.seeds, 0, MAX_SEEDS)?;
+    // The seeds' points are rows too (each at most `keep`).
+    if (columns as u64) * (seeds as u64 + 1) * keep as u64 > MAX_ROWS as u64 {
+        return Err(CliError::Usage(format!(
+            "--seeds = {seeds} is out of range: columns x (seeds + 1) x keep must be at most {}",
+            super::values::short_count(MAX_ROWS)
+        )));
+    }
     if let Some(th) = args.theta0 {
         // On the arc of the first column; later columns project it onto theirs.
         let sim = Simulator::new(params, settings)?;
@@ -157,9 +175,11 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
         to,
         columns,
         keep,
-        total,
+        // Every seed runs a column of its own.
+        total: total.saturating_mul(seeds as u64 + 1),
         max_seconds,
         map,
+        seeds,
     })
 }
 
@@ -174,6 +194,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         total,
         max_seconds,
         map,
+        seeds,
     } = check(&args)?;
     warn_validity(&params);
     let spec = SweepSpec {
@@ -184,6 +205,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         keep,
         map,
         theta0: args.theta0,
+        seeds,
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let progress = Progress::new("bifurcation", "iterates", total);
@@ -212,7 +234,11 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
 
     let cols = in_grid_order(updates, columns);
-    let csv = bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice(), c.4)));
+    let csv = if seeds > 0 {
+        seeded_csv(&cols)
+    } else {
+        bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice(), c.4)))
+    };
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
         params,
@@ -233,8 +259,9 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     summarise(&args, &plan_summary, &run)
 }
 
-/// A finished column: θν, kept iterates, cost, map used, λ.
-type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>);
+/// A finished column: θν, its points, its cost, the map it used, its λ
+/// and its points' attractor labels (empty without seeds).
+type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>, Vec<u8>);
 
 /// The sweep's columns in grid order.
 fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
@@ -247,13 +274,36 @@ fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
             rhs_evals,
             map,
             lyapunov,
+            attractor,
             ..
         } = u
         {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map, lyapunov));
+            cols[index] = Some((theta_nu, thetas, rhs_evals, map, lyapunov, attractor));
         }
     }
     cols.into_iter().flatten().collect()
+}
+
+/// The seeded diagram's CSV: each point with its attractor's label (0: the
+/// followed one). λ is the followed attractor's, so it is given on its
+/// rows only (empty on the others').
+fn seeded_csv(cols: &[Done]) -> String {
+    let mut s = String::from("theta_nu,theta,lyapunov,lyapunov_stderr,attractor\n");
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
+    for (tn, thetas, _, _, lyap, labels) in cols {
+        let (l, se) = (
+            opt(lyap.map(|l| l.lyapunov)),
+            opt(lyap.and_then(|l| l.stderr)),
+        );
+        for (t, a) in thetas.iter().zip(labels) {
+            if *a == 0 {
+                writeln!(s, "{tn},{t},{l},{se},{a}").ok();
+            } else {
+                writeln!(s, "{tn},{t},,,{a}").ok();
+            }
+        }
+    }
+    s
 }
 
 /// What a finished run reports on: its columns in grid order, the cycles
@@ -294,7 +344,7 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
         args.transient,
-        columns as u64 * (args.transient + keep) as u64,
+        columns as u64 * (args.transient + keep) as u64 * (args.seeds as u64 + 1),
         n as f64 / seconds.max(1e-9),
         evals as f64 / n.max(1) as f64,
         if failed > 0 {
@@ -305,6 +355,9 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
     );
     if let Some(line) = map_line(cols.iter().map(|c| &c.3)) {
         eprintln!("{line}");
+    }
+    if args.seeds > 0 {
+        eprintln!("{}", multistable_line(cols, args.seeds));
     }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
@@ -323,6 +376,24 @@ struct Summary {
     to: f64,
     columns: usize,
     keep: usize,
+}
+
+/// The summary's line on the seeds: how many columns have more than one
+/// attractor, and where the first and last of them are.
+fn multistable_line(cols: &[Done], seeds: usize) -> String {
+    let multi: Vec<f64> = cols
+        .iter()
+        .filter(|c| c.5.iter().any(|&a| a > 0))
+        .map(|c| c.0)
+        .collect();
+    match (multi.first(), multi.last()) {
+        (Some(a), Some(b)) => format!(
+            "  seeds: {seeds} per column; {} of {} column(s) have more than one attractor, at theta-nu {a} to {b}",
+            multi.len(),
+            cols.len()
+        ),
+        _ => format!("  seeds: {seeds} per column; every column has one attractor"),
+    }
 }
 
 /// The summary's line on the interpolant, when any column asked for it.

@@ -121,6 +121,27 @@ pub fn curve_line(i: usize, c: &Curve) -> String {
         curve_end(c, true),
         c.ends[0],
         c.ends[1]
+    ) + &generalised_flips_text(c)
+}
+
+/// A PD curve's generalised flips, as the end of its line: where the
+/// flip's coefficient changes sign, or that it keeps its sign.
+fn generalised_flips_text(c: &Curve) -> String {
+    if c.kind != crate::sim::continuation::CurveKind::PeriodDoubling {
+        return String::new();
+    }
+    if c.generalised_flips.is_empty() {
+        return "; no generalised flip (the flip's coefficient keeps its sign where decided)"
+            .into();
+    }
+    let at: Vec<String> = c
+        .generalised_flips
+        .iter()
+        .map(|g| format!("({:.6}, {:.6})", g.lambda[0], g.lambda[1]))
+        .collect();
+    format!(
+        "; generalised flip (criticality changes) at {}",
+        at.join(", ")
     )
 }
 

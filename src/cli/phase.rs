@@ -86,6 +86,12 @@ pub struct PhaseArgs {
     /// least 20000 iterates are left). Where refused, the cell integrates.
     #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
     pub map: MapChoice,
+    /// Count each cell's attractors from this many θ₀ spread over its exit
+    /// arc besides its own orbit (0 to 256; 0: not counted), into an
+    /// `attractors` column; cells with more than one are multistable
+    /// (docs/attractors.md). Each seed costs up to a cell's budget.
+    #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
+    pub seeds: usize,
     /// Worker threads, 1 to 1024 [default: the number of cores]. The output
     /// does not depend on it.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
@@ -213,6 +219,8 @@ fn phase_options(
     opts.keep = keep;
     opts.early_exit = !args.brute_force;
     opts.map = args.map;
+    opts.seeds =
+        super::values::count_between("seeds", args.seeds, 0, crate::sim::seeded::MAX_SEEDS)?;
     if let Some(t) = args.period_tol {
         if !(t.is_finite() && t > 0.0 && t <= 1.0) {
             return Err(CliError::Usage(format!(
@@ -263,6 +271,9 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
     let mut csv = String::with_capacity(80 * (cells.len() + 1));
     csv.push_str(PHASE_COLUMNS);
+    if plan.opts.seeds > 0 {
+        csv.push_str(",attractors");
+    }
     csv.push('\n');
     for c in &cells {
         writeln!(csv, "{}", phase_row(c)).ok();
@@ -305,6 +316,7 @@ fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
             early_exit: opts.early_exit,
             map: opts.map,
             period_tol: Some(opts.period_tol),
+            seeds: opts.seeds,
         },
     };
     let on_update = |u: &Update| {
@@ -387,6 +399,14 @@ fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliErro
     );
     if let Some(line) = map_line(cells) {
         eprintln!("{line}");
+    }
+    if opts.seeds > 0 {
+        let multi = cells.iter().filter(|c| c.attractors > Some(1)).count();
+        eprintln!(
+            "  seeds: {} per cell; {multi} of {} cell(s) multistable (more than one attractor)",
+            opts.seeds,
+            cells.len()
+        );
     }
     if !failed.is_empty() && failed.len() == cells.len() {
         return Err(CliError::Failed(format!(

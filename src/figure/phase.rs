@@ -31,6 +31,9 @@ pub fn phase_svg(
             // κ grows upwards: the first row is at the bottom.
             let y = top + (rows - 1 - r) as f64 * ch;
             svg.rect(left + c as f64 * cw, y, cw, ch, class_colour(cell.class));
+            if cell.attractors > Some(1) {
+                multistable_mark(&mut svg, left + c as f64 * cw, y, cw, ch);
+            }
         }
     }
     svg.frame(left, top, pw, ph, 1.0);
@@ -103,7 +106,24 @@ pub fn phase_svg(
         svg.frame(lx, y, 18.0, 18.0, 1.0);
         svg.text(lx + 26.0, y + 14.0, TICK_SIZE, "start", 0.0, name);
     }
+    if grid.iter().flatten().any(|c| c.attractors > Some(1)) {
+        let y = top + 10.0 + 26.0 * PHASE_LEGEND.len() as f64;
+        svg.rect(lx, y, 18.0, 18.0, [175, 175, 175]);
+        multistable_mark(&mut svg, lx, y, 18.0, 18.0);
+        svg.frame(lx, y, 18.0, 18.0, 1.0);
+        svg.text(lx + 26.0, y + 14.0, TICK_SIZE, "start", 0.0, MULTISTABLE);
+    }
     svg.finish()
+}
+
+/// The legend's name for a cell with more than one attractor.
+pub const MULTISTABLE: &str = "MULTISTABLE";
+
+/// The mark of a multistable cell: a white square, a third of the cell,
+/// at its centre.
+fn multistable_mark(svg: &mut Svg, x: f64, y: f64, w: f64, h: f64) {
+    let s = (w.min(h) / 3.0).max(1.0);
+    svg.rect(x + (w - s) / 2.0, y + (h - s) / 2.0, s, s, [255, 255, 255]);
 }
 
 /// Ticks for an axis from `a` to `b`: about five round values.

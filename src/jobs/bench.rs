@@ -26,6 +26,7 @@ pub fn fig3b_diagram(columns: usize, transient: usize, keep: usize, tol: f64) ->
         keep,
         map: MapChoice::Auto,
         theta0: None,
+        seeds: 0,
     }
 }
 

@@ -155,6 +155,10 @@ pub struct SweepSpec {
     pub map: MapChoice,
     /// Where each chain's first column starts (`None`: at its own θν).
     pub theta0: Option<f64>,
+    /// θ₀ spread over each column's exit arc besides the followed orbit
+    /// (0: none), each run to its attractor; every attractor found is
+    /// drawn, labelled (`sim::seeded`).
+    pub seeds: usize,
 }
 
 /// A phase diagram (the paper's Fig. 4) over θν (columns) and κ (rows) at
@@ -189,6 +193,8 @@ pub struct PhaseTuning {
     pub map: MapChoice,
     /// [`PhaseOptions::period_tol`], if not the solver's own.
     pub period_tol: Option<f64>,
+    /// [`PhaseOptions::seeds`] (0: attractors not counted).
+    pub seeds: usize,
 }
 
 impl Default for PhaseTuning {
@@ -197,6 +203,7 @@ impl Default for PhaseTuning {
             early_exit: true,
             map: MapChoice::Auto,
             period_tol: None,
+            seeds: 0,
         }
     }
 }
@@ -212,6 +219,7 @@ impl PhaseSpec {
             early_exit: self.tuning.early_exit,
             map: self.tuning.map,
             period_tol: self.tuning.period_tol.unwrap_or(base.period_tol),
+            seeds: self.tuning.seeds,
             ..base
         }
     }
@@ -386,6 +394,9 @@ pub enum Update {
         /// Its Lyapunov exponent ([`crate::sim::column_lyapunov`]), `None`
         /// for an empty or failed column.
         lyapunov: Option<ColumnLyapunov>,
+        /// The attractor of each of `thetas` (0: the followed one; see
+        /// `sim::seeded::SeededColumn`); empty when the sweep has no seeds.
+        attractor: Vec<u8>,
     },
     /// The sample of a work-precision job: how many points, and how far
     /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the

@@ -32,6 +32,7 @@ use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::ParamError;
 use crate::sim::column_lyapunov::column_lyapunov;
 use crate::sim::interpolant::MapUsed;
+use crate::sim::seeded::seeded_column;
 use crate::sim::{
     Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
     run_columns, theta_nu_grid,
@@ -186,15 +187,17 @@ impl SweepJob {
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
+        let (thetas, attractor, rhs_evals) = self.seeded(tn, col.thetas, theta_last, sink)?;
         sink.send(Update::Column {
             generation,
             index: p.index,
             theta_nu: tn,
-            thetas: col.thetas,
+            thetas,
             coarse: p.coarse,
-            rhs_evals: col.rhs_evals,
+            rhs_evals: col.rhs_evals + rhs_evals,
             map: col.map,
             lyapunov,
+            attractor,
         })?;
         let done = {
             let mut sch = lock(&self.schedule);
@@ -204,6 +207,46 @@ impl SweepJob {
         self.ready.notify_all();
         let columns = self.grid.len();
         paced_progress(&self.pacer, Lane::Sweep, (done, columns, n), sink)
+    }
+
+    /// A finished column's points with the seeds' attractors added and
+    /// labelled, and what the seeds cost; as it was (and no labels) when
+    /// the sweep has no seeds or the column failed (`handover` is `None`).
+    fn seeded(
+        &self,
+        theta_nu: f64,
+        thetas: Vec<f64>,
+        handover: Option<Handover>,
+        sink: &dyn Sink,
+    ) -> Result<(Vec<f64>, Vec<u8>, u64), JobError> {
+        let seeds = self.spec.seeds;
+        let Some(h) = handover.filter(|_| seeds > 0) else {
+            return Ok((thetas, vec![], 0));
+        };
+        let followed = Column {
+            theta_nu,
+            thetas,
+            theta_last: h.theta,
+            error: None,
+            rhs_evals: 0,
+            slow_period: h.slow_period,
+            map: MapUsed::Direct,
+        };
+        let params = self.spec.params.with_theta_nu(theta_nu);
+        let cancel = || sink.cycle();
+        match seeded_column(
+            params,
+            self.spec.settings,
+            &followed,
+            seeds,
+            &self.opts,
+            &cancel,
+        ) {
+            Ok(s) => Ok((s.thetas, s.attractor, s.rhs_evals)),
+            Err(SimError::Cancelled) => Err(JobError::Stop),
+            // Only a cancel ends the seeds early (failed seeds are left out).
+            Err(e) => Err(JobError::Sim(e)),
+        }
     }
 
     /// The column of plan entry `p`, to start at `neighbour`'s handover.
@@ -359,6 +402,7 @@ mod tests {
                 keep: 3,
                 map: MapChoice::Auto,
                 theta0: None,
+                seeds: 0,
             },
         };
         PANIC_AT_COLUMN.store(5, Ordering::SeqCst);

@@ -272,7 +272,7 @@ pub fn solve_counting(
 }
 
 /// The solved cycle at θ₀ = `x` (refused where it passes a restart), its
-/// minimal period decided with a tolerance of 100× the solver's.
+/// minimal period decided with [`distinct_points`].
 #[allow(clippy::too_many_arguments)]
 fn finish(
     e: Pass,
@@ -287,7 +287,7 @@ fn finish(
     if e.restarted {
         return Err(CycleFailure::Discontinuity { theta: x });
     }
-    let distinct = 1e2 * opts.tol;
+    let distinct = distinct_points(opts.tol, e.multiplier);
     let minimal_period = (1..=p)
         .filter(|q| p.is_multiple_of(*q))
         .find(|&q| (0..p - q).all(|i| wrap_angle(e.points[i + q] - e.points[i]).abs() <= distinct))
@@ -303,6 +303,49 @@ fn finish(
         map_evals: spent.0 - before.0,
         rhs_evals: spent.1 - before.1,
     })
+}
+
+/// The cycle an orbit nearly repeats on ([`super::period::near_period`]
+/// of `seq`, whose last value is the next onset), solved from that onset:
+/// `Some` if it is a genuine p-cycle, attracts, and lies within the
+/// recent values' range widened by that range on each side. An orbit
+/// leaving an unstable fixed point just past a flip, or approaching a
+/// cycle whose multiplier is near 1, nearly repeats long before it
+/// settles. The solve's cost is added to `spent`.
+pub fn near_cycle(
+    sim: &Simulator,
+    seq: &[f64],
+    opts: &CycleOptions,
+    spent: &mut (u64, u64),
+) -> Option<Cycle> {
+    let p = super::period::near_period(seq)?;
+    let recent = &seq[seq.len() - 2 * super::period::CONTRACTION_PERIOD_MAX..];
+    let lo = recent.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = recent.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let margin = hi - lo;
+    let next = *seq.last()?;
+    solve_counting(sim, next, p, opts, spent)
+        .ok()
+        .filter(|c| c.minimal_period == p && c.stable)
+        .filter(|c| {
+            c.points
+                .iter()
+                .all(|&x| x >= lo - margin && x <= hi + margin)
+        })
+}
+
+/// How far apart two points of a solved p-cycle with multiplier `m` must
+/// be to count as distinct (deciding its minimal period), for a solve to
+/// tolerance `tol`: 100·tol, or more where the points are less certain. An
+/// error ε of f^p moves the solved points by ε/|1 − m|, so just past a
+/// flip (m near 1, the fixed point traversed twice) they drift apart by
+/// far more than the tolerance (3e-8 at m = 1.003 and 1e-10); they are one
+/// point to 100·tol/|1 − m|, at most 1e-6 (a genuine doubled cycle that
+/// close to its flip cannot be told from the fixed point by any solve;
+/// continuation, which needs to, keeps 100·tol).
+pub fn distinct_points(tol: f64, m: f64) -> f64 {
+    let gap = (1.0 - m).abs();
+    (1e2 * tol / gap.min(1.0)).min(1e-6).max(1e2 * tol)
 }
 
 /// Whether the end of `seq` keeps approaching `cycle`, whose point 0 is in
@@ -339,4 +382,21 @@ pub fn confirm_contraction(
     let cycle = solve_counting(sim, c.limit, c.period, opts, spent).ok()?;
     (cycle.minimal_period == c.period && cycle.stable && approaches(&cycle, seq, noise))
         .then_some(cycle)
+}
+
+#[cfg(test)]
+mod distinct_tests {
+    use super::distinct_points;
+
+    #[test]
+    fn points_of_a_cycle_with_multiplier_near_one_need_a_wider_gap() {
+        // Away from m = 1: 100·tol.
+        assert!((distinct_points(1e-10, -0.5) - 1e-8).abs() < 1e-22);
+        // The fixed point traversed twice just past a flip (m = 1.003 for
+        // f²): its solved points drift 3e-8 apart, and are one point.
+        assert!(distinct_points(1e-10, 1.003) > 3e-8);
+        // Never wider than 1e-6, nor narrower than 100·tol.
+        assert_eq!(distinct_points(1e-10, 1.0), 1e-6);
+        assert!((distinct_points(1e-6, 1.0) - 1e-4).abs() < 1e-18);
+    }
 }

@@ -14,6 +14,7 @@ pub mod interpolant;
 mod orbit;
 pub mod period;
 pub mod phase;
+pub mod seeded;
 pub mod stats;
 mod sweep;
 mod trajectory;

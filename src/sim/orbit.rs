@@ -7,7 +7,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::analysis::cycle_with_derivative;
-use super::cycles::{Cycle, CycleOptions, confirm_contraction, solve_counting};
+use super::cycles::{Cycle, CycleOptions, confirm_contraction, near_cycle, solve_counting};
 use super::period::{contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::{SimError, Simulator, SlipEvent};
@@ -154,6 +154,8 @@ impl Simulator {
     /// - no period, but the iterates contract onto a cycle slowly
     ///   ([`contraction`]): that cycle, if it attracts and the orbit keeps
     ///   approaching it ([`confirm_contraction`]);
+    /// - no period, but the iterates nearly repeat on a cycle that attracts
+    ///   ([`near_cycle`]): that cycle;
     /// - else aperiodic, with the mean of `logs` and its standard error.
     ///
     /// The evaluations spent solving are added to `spent` (map, rhs).
@@ -191,6 +193,14 @@ impl Simulator {
         if let Some(c) = contraction(&seq, noise)
             && let Some(cycle) = confirm_contraction(self, &seq, &c, &opts, noise, spent)
         {
+            return Settled {
+                period: Period::Periodic(cycle.period()),
+                lyapunov: Some(cycle.lyapunov()),
+                lyapunov_stderr: None,
+                cycle: Some(cycle),
+            };
+        }
+        if let Some(cycle) = near_cycle(self, &seq, &opts, spent) {
             return Settled {
                 period: Period::Periodic(cycle.period()),
                 lyapunov: Some(cycle.lyapunov()),

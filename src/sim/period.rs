@@ -211,3 +211,65 @@ mod tests {
         assert_eq!(contraction(&flat, 1e-10), None);
     }
 }
+
+/// The residual of a near repeat, relative to the spread of the window it
+/// is measured on, below which an orbit is worth solving as a p-cycle.
+pub const NEAR_REPEAT: f64 = 0.05;
+
+/// The period p ≤ [`CONTRACTION_PERIOD_MAX`] with which the end of
+/// `thetas` nearly repeats, when it does: the smallest p whose residual
+/// ([`period_residual`] on the last 2·16 values) is within twice the
+/// least of all and below [`NEAR_REPEAT`] times the window's spread. An
+/// orbit drifting slowly along a cycle (leaving an unstable fixed point
+/// just past a flip, or approaching a cycle with multiplier near 1) nearly
+/// repeats long before it settles, and neither [`settled_period`] nor
+/// [`contraction`] accepts it; a chaotic orbit has no such p.
+pub fn near_period(thetas: &[f64]) -> Option<usize> {
+    let w = 2 * CONTRACTION_PERIOD_MAX;
+    let n = thetas.len();
+    if n < w {
+        return None;
+    }
+    let window = &thetas[n - w..];
+    let lo = window.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = window.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let spread = hi - lo;
+    if !(spread > 0.0) {
+        return None;
+    }
+    let residuals: Vec<f64> = (1..=CONTRACTION_PERIOD_MAX)
+        .map(|p| period_residual(thetas, p, w).unwrap_or(f64::INFINITY))
+        .collect();
+    let least = residuals.iter().copied().fold(f64::INFINITY, f64::min);
+    if !(least <= NEAR_REPEAT * spread) {
+        return None;
+    }
+    (1..=CONTRACTION_PERIOD_MAX).find(|&p| residuals[p - 1] <= 2.0 * least)
+}
+
+#[cfg(test)]
+mod near_tests {
+    use super::*;
+
+    #[test]
+    fn a_slowly_growing_two_cycle_nearly_repeats_with_period_two() {
+        // Leaving a fixed point at 0.3 with multiplier −1.003.
+        let thetas: Vec<f64> = (0..200)
+            .map(|i| 0.3 + 1e-4 * 1.003f64.powi(i) * if i % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
+        assert_eq!(near_period(&thetas), Some(2));
+        assert_eq!(settled_period(&thetas, 1e-6), None);
+    }
+
+    #[test]
+    fn the_logistic_maps_chaos_does_not() {
+        let mut x = 0.3;
+        let thetas: Vec<f64> = (0..200)
+            .map(|_| {
+                x = 4.0 * x * (1.0 - x);
+                x
+            })
+            .collect();
+        assert_eq!(near_period(&thetas), None);
+    }
+}

@@ -43,9 +43,10 @@
 use rayon::prelude::*;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
-use super::cycles::{CycleOptions, confirm_contraction, solve_counting};
+use super::cycles::{CycleOptions, confirm_contraction, near_cycle, solve_counting};
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
-use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, settled_period};
+use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, near_period, settled_period};
+use super::seeded::attractor_count;
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
@@ -77,6 +78,10 @@ pub struct PhaseOptions {
     /// the interpolant when at least [`INTERPOLANT_LEFT`] iterates are left
     /// (the paper's 400 + 128 never are), `Interpolant` whenever any are.
     pub map: MapChoice,
+    /// θ₀ spread over the exit arc whose orbits, with the cell's own
+    /// attractor, are counted into [`PhaseCell::attractors`] (0: not
+    /// counted; `super::seeded::attractor_count`).
+    pub seeds: usize,
 }
 
 impl PhaseOptions {
@@ -95,6 +100,7 @@ impl PhaseOptions {
             early_exit: true,
             transient_after_chaos: 200,
             map: MapChoice::Auto,
+            seeds: 0,
         }
     }
 }
@@ -221,6 +227,9 @@ pub struct PhaseCell {
     pub error: Option<SimError>,
     /// How the cell evaluated the map after its direct part.
     pub map: MapUsed,
+    /// How many distinct attractors the cell's own and the seeds' orbits
+    /// reach ([`PhaseOptions::seeds`]; `None` when not counted).
+    pub attractors: Option<usize>,
 }
 
 impl PhaseCell {
@@ -240,6 +249,7 @@ impl PhaseCell {
             theta_last,
             error: None,
             map: MapUsed::Direct,
+            attractors: None,
         }
     }
 }
@@ -260,8 +270,44 @@ pub fn phase_cell(
         cell.lyapunov_stderr = None;
         cell.regime = None;
         cell.error = Some(e);
+    } else if opts.seeds > 0 {
+        count_attractors(&mut cell, params, settings, opts, cancel);
     }
     cell
+}
+
+/// Counts the attractors of a finished cell: its own (from its last
+/// onset) and the seeds', each orbit run as a sweep column with the
+/// cell's budget, integrated. Their cost is the cell's.
+fn count_attractors(
+    cell: &mut PhaseCell,
+    params: Params,
+    settings: SolverSettings,
+    opts: &PhaseOptions,
+    cancel: &dyn Fn() -> bool,
+) {
+    let sweep = super::SweepOptions {
+        transient: opts.transient,
+        keep: opts.keep,
+        map: MapChoice::Direct,
+    };
+    match attractor_count(
+        params,
+        settings,
+        cell.theta_last,
+        opts.seeds,
+        &sweep,
+        cancel,
+    ) {
+        Ok((n, rhs)) => {
+            cell.attractors = Some(n);
+            cell.rhs_evals += rhs;
+        }
+        Err(e) => {
+            cell.class = CellClass::Failed;
+            cell.error = Some(e);
+        }
+    }
 }
 
 fn run_cell(
@@ -292,171 +338,332 @@ fn classify<'s>(
     cancel: &dyn Fn() -> bool,
     stepper: &mut Option<Stepper<'s>>,
 ) -> Result<(), SimError> {
-    let (params, settings) = (*sim.params(), *sim.settings());
-    let (kappa, gamma) = (params.kappa, params.gamma);
-    let total = opts.transient + opts.keep;
-    let mut thetas: Vec<f64> = Vec::with_capacity(total);
-    let mut logs: Vec<f64> = Vec::with_capacity(opts.keep);
-    let mut theta = theta_start;
-    let cycle_opts = CycleOptions::for_classifier(&settings);
-    // Differences below this are the map's own error, not a contraction.
-    let noise = 1e-2 * opts.period_tol;
-    let mut solves = 0;
-    let mut next_solve = MIN_TRANSIENT;
-    let mut unstable_seen = false;
-    let mut spent = (0, 0);
-    let periodic = |cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64| {
-        cell.class = CellClass::Periodic(cycle.len());
-        cell.regime = AttractorRegime::of(kappa, gamma, cycle);
-        cell.lyapunov = Some(lyapunov);
-    };
-    let charge = |cell: &mut PhaseCell, spent: &mut (u64, u64)| {
-        cell.iterates += spent.0;
-        cell.rhs_evals += spent.1;
-        *spent = (0, 0);
-    };
-    let switch = opts.transient.clamp(MIN_DIRECT, DIRECT_PART);
-    for i in 0..total {
+    let mut run = CellRun::new(sim, theta_start, opts);
+    for i in 0..opts.transient + opts.keep {
         if cancel() {
             return Err(SimError::Cancelled);
         }
-        if i == switch && opts.map.interpolates_beyond(total - i, INTERPOLANT_LEFT) {
-            let iopts = InterpolantOptions {
-                max_evaluations: evaluation_budget(total - i),
-                ..InterpolantOptions::for_settings(&settings)
-            };
-            let recent = &thetas[thetas.len().saturating_sub(300)..];
-            match Stepper::over(sim, recent, iopts, &mut spent) {
-                Ok(s) => *stepper = Some(s),
-                Err(e) => cell.map = MapUsed::Refused(e.to_string()),
-            }
-            charge(cell, &mut spent);
+        run.switch_map(cell, i, stepper);
+        run.iterate(cell, i, stepper)?;
+        cell.theta_last = run.theta;
+        if !opts.early_exit || i + 1 < MIN_TRANSIENT {
+            continue;
         }
+        if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
+            return Ok(());
+        }
+    }
+    run.finish(cell)
+}
+
+/// A cell in progress: its iterates (all of them: the tests read the
+/// transient's end), the kept iterates' ln|f'(θ)|, the next onset, and
+/// what the tests have tried so far.
+struct CellRun<'s, 'o> {
+    sim: &'s Simulator,
+    opts: &'o PhaseOptions,
+    cycle_opts: CycleOptions,
+    thetas: Vec<f64>,
+    logs: Vec<f64>,
+    /// The next onset (after the last of `thetas`).
+    theta: f64,
+    /// Differences below this are the map's own error, not a contraction.
+    noise: f64,
+    solves: usize,
+    next_solve: usize,
+    /// A settled period whose cycle did not attract: the period test waits
+    /// for the kept iterates (the Lyapunov exponent decides).
+    unstable_seen: bool,
+    /// The period of the last near repeat solved ([`near_period`]), so that
+    /// a failed one is not solved again.
+    near_tried: Option<usize>,
+    /// Map and right-hand-side evaluations of solves not yet charged.
+    spent: (u64, u64),
+}
+
+impl<'s, 'o> CellRun<'s, 'o> {
+    fn new(sim: &'s Simulator, theta_start: f64, opts: &'o PhaseOptions) -> Self {
+        CellRun {
+            sim,
+            opts,
+            cycle_opts: CycleOptions::for_classifier(sim.settings()),
+            thetas: Vec::with_capacity(opts.transient + opts.keep),
+            logs: Vec::with_capacity(opts.keep),
+            theta: theta_start,
+            noise: 1e-2 * opts.period_tol,
+            solves: 0,
+            next_solve: MIN_TRANSIENT,
+            unstable_seen: false,
+            near_tried: None,
+            spent: (0, 0),
+        }
+    }
+
+    /// Adds the solves' cost to the cell's.
+    fn charge(&mut self, cell: &mut PhaseCell) {
+        cell.iterates += self.spent.0;
+        cell.rhs_evals += self.spent.1;
+        self.spent = (0, 0);
+    }
+
+    /// The cell is periodic: `cycle`'s period, its onsets' character and
+    /// the exponent `lyapunov`.
+    fn periodic(&self, cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64) {
+        let p = self.sim.params();
+        cell.class = CellClass::Periodic(cycle.len());
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, cycle);
+        cell.lyapunov = Some(lyapunov);
+    }
+
+    /// At iterate `i`, builds the interpolant over the recent iterates when
+    /// the cell's direct part ends and enough iterates are left.
+    fn switch_map(&mut self, cell: &mut PhaseCell, i: usize, stepper: &mut Option<Stepper<'s>>) {
+        let total = self.opts.transient + self.opts.keep;
+        let switch = self.opts.transient.clamp(MIN_DIRECT, DIRECT_PART);
+        if i != switch
+            || !self
+                .opts
+                .map
+                .interpolates_beyond(total - i, INTERPOLANT_LEFT)
+        {
+            return;
+        }
+        let iopts = InterpolantOptions {
+            max_evaluations: evaluation_budget(total - i),
+            ..InterpolantOptions::for_settings(self.sim.settings())
+        };
+        let recent = &self.thetas[self.thetas.len().saturating_sub(300)..];
+        match Stepper::over(self.sim, recent, iopts, &mut self.spent) {
+            Ok(s) => *stepper = Some(s),
+            Err(e) => cell.map = MapUsed::Refused(e.to_string()),
+        }
+        self.charge(cell);
+    }
+
+    /// Iterate `i`: from the interpolant if there is one, else integrated;
+    /// past the transient with f'(θ) too.
+    fn iterate(
+        &mut self,
+        cell: &mut PhaseCell,
+        i: usize,
+        stepper: &mut Option<Stepper<'_>>,
+    ) -> Result<(), SimError> {
+        let kept = i >= self.opts.transient;
+        self.thetas.push(self.theta);
         if let Some(st) = stepper.as_mut() {
             // The same iterate from the series: f'(θ) from it too.
-            thetas.push(theta);
-            theta = if i >= opts.transient {
-                let (next, d) = st.next_with_derivative(theta)?;
-                logs.push(d.abs().ln());
+            self.theta = if kept {
+                let (next, d) = st.next_with_derivative(self.theta)?;
+                self.logs.push(d.abs().ln());
                 next
             } else {
-                st.next(theta)?
+                st.next(self.theta)?
             };
             let (n, rhs) = st.take_cost();
             cell.iterates += n;
             cell.rhs_evals += rhs;
-        } else {
-            // Past the transient f'(θ) is needed too: it rides along the
-            // iterate's own integration (the variational equations), so it
-            // adds evaluations, not iterates (two where f has no derivative
-            // and the secant stands in).
-            let ev = if i >= opts.transient {
-                let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
-                cell.rhs_evals += n;
-                logs.push(d.abs().ln());
-                ev
-            } else {
-                sim.cycle(theta, 0.0, None)?
-            };
-            cell.iterates += 1;
-            cell.rhs_evals += ev.rhs_evals;
-            thetas.push(ev.theta);
-            theta = sim.next_onset(&ev);
-        }
-        cell.theta_last = theta;
-        if !opts.early_exit || i + 1 < MIN_TRANSIENT {
-            continue;
-        }
-        let test = !(unstable_seen && logs.is_empty()) && thetas.len() >= MIN_WINDOW;
-        if test && let Some(p) = settled_period(&thetas, opts.period_tol) {
-            // The cycle solved from the next onset gives the exponent
-            // ln|m|/p; if it cannot be solved, the mean of ln|f'| on its
-            // last p iterates does.
-            let solved = solve_counting(sim, theta, p, &cycle_opts, &mut spent)
-                .ok()
-                .filter(|c| c.minimal_period == p);
-            charge(cell, &mut spent);
-            let (lc, points) = match solved {
-                Some(c) => {
-                    // The solve started from the next onset: its point 0
-                    // is where the next cell continues.
-                    cell.theta_last = c.points[0];
-                    (c.lyapunov(), c.points)
-                }
-                None => {
-                    let lc = cycle_exponent(cell, sim, &thetas, theta, &logs, p)?;
-                    (lc, thetas[thetas.len() - p..].to_vec())
-                }
-            };
-            if lc < 0.0 {
-                periodic(cell, &points, lc);
-                return Ok(());
-            }
-            // Repeats within the tolerance but does not attract: not a
-            // periodic attractor (e.g. 2^n tiny chaotic bands under a loose
-            // tolerance). Let the Lyapunov exponent decide.
-            unstable_seen = true;
-        }
-        // Contracting onto a cycle, but slowly: solve it instead of waiting.
-        if solves < MAX_SOLVES && i + 1 >= next_solve && !unstable_seen {
-            // `contraction` and the confirmation read the last 4p + 1
-            // values, p ≤ 16: a copy of those, not of the whole orbit.
-            let from = thetas.len().saturating_sub(4 * CONTRACTION_PERIOD_MAX + 1);
-            let mut seq = thetas[from..].to_vec();
-            seq.push(theta);
-            if let Some(c) = contraction(&seq, noise) {
-                let confirmed = confirm_contraction(sim, &seq, &c, &cycle_opts, noise, &mut spent);
-                charge(cell, &mut spent);
-                if let Some(cycle) = confirmed {
-                    cell.theta_last = cycle.points[0];
-                    periodic(cell, &cycle.points, cycle.lyapunov());
-                    return Ok(());
-                }
-                solves += 1;
-                next_solve = i + 1 + SOLVE_COOLDOWN;
-            }
-        }
-        let k = logs.len();
-        if k >= LYAPUNOV_MIN && k.is_multiple_of(LYAPUNOV_EVERY) {
-            let (l, se) = mean_and_stderr(&logs);
-            if let (Some(l), Some(se)) = (l, se)
-                && l - opts.sigmas * se > 0.0
-            {
-                cell.class = CellClass::Chaos;
-                cell.lyapunov = Some(l);
-                cell.lyapunov_stderr = Some(se);
-                cell.regime = AttractorRegime::of(kappa, gamma, &thetas[opts.transient..]);
-                return Ok(());
-            }
-        }
-    }
-    let kept = &thetas[opts.transient.min(thetas.len())..];
-    if !opts.early_exit {
-        let s = sim.settle(kept, theta, &logs, opts.period_tol, &mut spent);
-        charge(cell, &mut spent);
-        if let Some(c) = s.cycle {
-            periodic(cell, &c.points, c.lyapunov());
             return Ok(());
         }
+        // Past the transient f'(θ) is needed too: it rides along the
+        // iterate's own integration (the variational equations), so it
+        // adds evaluations, not iterates (two where f has no derivative
+        // and the secant stands in).
+        let ev = if kept {
+            let (ev, d, n) = cycle_with_derivative(self.sim, self.theta, 0.0)?;
+            cell.rhs_evals += n;
+            self.logs.push(d.abs().ln());
+            ev
+        } else {
+            self.sim.cycle(self.theta, 0.0, None)?
+        };
+        cell.iterates += 1;
+        cell.rhs_evals += ev.rhs_evals;
+        self.theta = self.sim.next_onset(&ev);
+        Ok(())
+    }
+
+    /// The period test: whether the iterates have settled on a period whose
+    /// cycle attracts (the cell is then periodic).
+    fn settled(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let test = !(self.unstable_seen && self.logs.is_empty()) && self.thetas.len() >= MIN_WINDOW;
+        let Some(p) = test
+            .then(|| settled_period(&self.thetas, self.opts.period_tol))
+            .flatten()
+        else {
+            return Ok(false);
+        };
+        // The cycle solved from the next onset gives the exponent ln|m|/p;
+        // if it cannot be solved, the mean of ln|f'| on its last p
+        // iterates does.
+        let solved = solve_counting(self.sim, self.theta, p, &self.cycle_opts, &mut self.spent)
+            .ok()
+            .filter(|c| c.minimal_period == p);
+        self.charge(cell);
+        let (lc, points) = match solved {
+            Some(c) => {
+                // The solve started from the next onset: its point 0 is
+                // where the next cell continues.
+                cell.theta_last = c.points[0];
+                (c.lyapunov(), c.points)
+            }
+            None => {
+                let (sim, thetas, logs) = (self.sim, &self.thetas, &self.logs);
+                let lc = cycle_exponent(cell, sim, thetas, self.theta, logs, p)?;
+                (lc, thetas[thetas.len() - p..].to_vec())
+            }
+        };
+        if lc < 0.0 {
+            self.periodic(cell, &points, lc);
+            return Ok(true);
+        }
+        // Repeats within the tolerance but does not attract: not a periodic
+        // attractor (e.g. 2^n tiny chaotic bands under a loose tolerance).
+        // Let the Lyapunov exponent decide.
+        self.unstable_seen = true;
+        Ok(false)
+    }
+
+    /// Contracting onto a cycle, but slowly: the cycle is solved instead of
+    /// waited for; whether it was, and confirmed (the cell is then
+    /// periodic).
+    fn contracting(&mut self, cell: &mut PhaseCell, i: usize) -> bool {
+        if self.solves >= MAX_SOLVES || i + 1 < self.next_solve || self.unstable_seen {
+            return false;
+        }
+        // `contraction` and the confirmation read the last 4p + 1 values,
+        // p ≤ 16: a copy of those, not of the whole orbit.
+        let from = self
+            .thetas
+            .len()
+            .saturating_sub(4 * CONTRACTION_PERIOD_MAX + 1);
+        let mut seq = self.thetas[from..].to_vec();
+        seq.push(self.theta);
+        let Some(c) = contraction(&seq, self.noise) else {
+            return false;
+        };
+        let confirmed = confirm_contraction(
+            self.sim,
+            &seq,
+            &c,
+            &self.cycle_opts,
+            self.noise,
+            &mut self.spent,
+        );
+        self.charge(cell);
+        if let Some(cycle) = confirmed {
+            cell.theta_last = cycle.points[0];
+            self.periodic(cell, &cycle.points, cycle.lyapunov());
+            return true;
+        }
+        self.solves += 1;
+        self.next_solve = i + 1 + SOLVE_COOLDOWN;
+        false
+    }
+
+    /// Every [`LYAPUNOV_EVERY`] kept iterates from [`LYAPUNOV_MIN`]: whether
+    /// λ exceeds `sigmas` standard errors (the cell is then chaotic, unless
+    /// its iterates nearly repeat on a cycle that attracts).
+    fn chaotic(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let k = self.logs.len();
+        if k < LYAPUNOV_MIN || !k.is_multiple_of(LYAPUNOV_EVERY) {
+            return Ok(false);
+        }
+        let (l, se) = mean_and_stderr(&self.logs);
+        let (Some(l), Some(se)) = (l, se) else {
+            return Ok(false);
+        };
+        if l - self.opts.sigmas * se <= 0.0 {
+            return Ok(false);
+        }
+        if self.near_cycle(cell)? {
+            return Ok(true);
+        }
+        let p = self.sim.params();
+        cell.class = CellClass::Chaos;
+        cell.lyapunov = Some(l);
+        cell.lyapunov_stderr = Some(se);
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, &self.thetas[self.opts.transient..]);
+        Ok(true)
+    }
+
+    /// The cycle the iterates nearly repeat on, if it attracts
+    /// ([`near_cycle`]): the cell is then periodic. One solve per period.
+    fn near_cycle(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let from = self.thetas.len().saturating_sub(2 * CONTRACTION_PERIOD_MAX);
+        let mut seq = self.thetas[from..].to_vec();
+        seq.push(self.theta);
+        let Some(p) = near_period(&seq) else {
+            return Ok(false);
+        };
+        if self.near_tried == Some(p) {
+            return Ok(false);
+        }
+        self.near_tried = Some(p);
+        let solved = near_cycle(self.sim, &seq, &self.cycle_opts, &mut self.spent);
+        self.charge(cell);
+        let Some(c) = solved else {
+            return Ok(false);
+        };
+        cell.theta_last = c.points[0];
+        self.periodic(cell, &c.points, c.lyapunov());
+        Ok(true)
+    }
+
+    /// The budget is spent without an early answer: the brute force's
+    /// period on the kept iterates, a near repeat's cycle, or λ decides.
+    fn finish(mut self, cell: &mut PhaseCell) -> Result<(), SimError> {
+        let opts = self.opts;
+        let kept_from = opts.transient.min(self.thetas.len());
+        if !opts.early_exit && self.brute_force_period(cell, kept_from) {
+            return Ok(());
+        }
+        let (l, se) = mean_and_stderr(&self.logs);
+        let chaos = matches!((l, se), (Some(l), Some(se)) if l - opts.sigmas * se > 0.0);
+        // Not chaotic (or not yet tested as such): a cycle the orbit nearly
+        // repeats on may be what it is slowly reaching.
+        if opts.early_exit && !chaos && self.near_cycle(cell)? {
+            return Ok(());
+        }
+        let p = self.sim.params();
+        cell.lyapunov = l;
+        cell.lyapunov_stderr = se;
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, &self.thetas[kept_from..]);
+        cell.class = if chaos {
+            CellClass::Chaos
+        } else {
+            CellClass::Undecided
+        };
+        Ok(())
+    }
+
+    /// The brute force's period: found on the kept iterates as `oneblock
+    /// orbit` finds it (the cell is then periodic).
+    fn brute_force_period(&mut self, cell: &mut PhaseCell, kept_from: usize) -> bool {
+        let kept = &self.thetas[kept_from..];
+        let s = self.sim.settle(
+            kept,
+            self.theta,
+            &self.logs,
+            self.opts.period_tol,
+            &mut self.spent,
+        );
+        self.charge(cell);
+        if let Some(c) = s.cycle {
+            self.periodic(cell, &c.points, c.lyapunov());
+            return true;
+        }
         if let super::Period::Periodic(p) = s.period
-            && logs.len() >= p
+            && self.logs.len() >= p
         {
-            let lc = logs[logs.len() - p..].iter().sum::<f64>() / p as f64;
+            let lc = self.logs[self.logs.len() - p..].iter().sum::<f64>() / p as f64;
             if lc < 0.0 {
-                periodic(cell, &kept[kept.len() - p..], lc);
-                return Ok(());
+                let kept = &self.thetas[kept_from..];
+                self.periodic(cell, &kept[kept.len() - p..], lc);
+                return true;
             }
         }
+        false
     }
-    let (l, se) = mean_and_stderr(&logs);
-    cell.lyapunov = l;
-    cell.lyapunov_stderr = se;
-    cell.regime = AttractorRegime::of(kappa, gamma, kept);
-    cell.class = match (l, se) {
-        (Some(l), Some(se)) if l - opts.sigmas * se > 0.0 => CellClass::Chaos,
-        _ => CellClass::Undecided,
-    };
-    Ok(())
 }
 
 /// A period-p cycle's exponent from the orbit alone, when the cycle could

@@ -275,6 +275,7 @@ mod tests {
             keep: 5,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         };
         assert!(w.send(Command::Sweep {
             generation: 1,

@@ -80,6 +80,7 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
             keep,
             map: MapChoice::Auto,
             theta0: None,
+            seeds: 0,
         },
     }
 }

@@ -184,6 +184,7 @@ pub fn feed_phase(rec: &Recorder, job: &PhaseJob) {
                     theta_last: theta_nu,
                     error: None,
                     map: Default::default(),
+                    attractors: None,
                 },
             });
         }

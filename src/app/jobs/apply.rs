@@ -68,6 +68,7 @@ impl Jobs {
                 thetas,
                 coarse,
                 lyapunov,
+                attractor,
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
@@ -75,6 +76,7 @@ impl Jobs {
                     thetas,
                     coarse,
                     lyapunov,
+                    attractor,
                 };
                 self.sweep.data.insert(index, column);
             }

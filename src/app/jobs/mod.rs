@@ -395,6 +395,7 @@ impl Jobs {
                 keep: s.sweep_keep,
                 map: MapChoice::Auto,
                 theta0: None,
+                seeds: s.sweep_seeds,
             },
         });
         self.sent_sweep = Some((key, zoom));

@@ -29,6 +29,7 @@ pub struct SweepKey {
     pub columns: usize,
     pub transient: usize,
     pub keep: usize,
+    pub seeds: usize,
     pub full_circle: bool,
 }
 
@@ -46,6 +47,7 @@ impl SweepKey {
             columns: s.columns,
             transient: s.sweep_transient,
             keep: s.sweep_keep,
+            seeds: s.sweep_seeds,
             full_circle: s.full_circle,
         }
     }

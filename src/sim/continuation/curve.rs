@@ -156,6 +156,9 @@ pub struct Curve {
     pub ends: [String; 2],
     /// Map evaluations spent.
     pub map_evals: u64,
+    /// On a PD curve, where its flip's coefficient changes sign
+    /// ([`super::generalised_flips`]); empty on a fold curve.
+    pub generalised_flips: Vec<super::GeneralisedFlip>,
 }
 
 /// What every evaluation along a curve shares.
@@ -512,6 +515,7 @@ pub fn continue_curve(
             points: Vec::new(),
             ends: ["no tangent at the start".into(), String::new()],
             map_evals: ctx.evals,
+            generalised_flips: Vec::new(),
         };
     };
     // The two directions are independent: one thread each.
@@ -535,12 +539,21 @@ pub fn continue_curve(
         multiplier: start.multiplier,
     });
     points.extend(fwd);
+    let mut evals = ctx.evals;
+    let generalised_flips = if kind == CurveKind::PeriodDoubling {
+        super::generalised_flips(
+            &base, settings, params, period, &points, scale[0], &mut evals,
+        )
+    } else {
+        Vec::new()
+    };
     Curve {
         kind,
         period,
         params,
         points,
         ends: [why_back, why_fwd],
-        map_evals: ctx.evals,
+        map_evals: evals,
+        generalised_flips,
     }
 }

@@ -164,3 +164,58 @@ pub fn flip_at(
         dm_dlambda,
     })
 }
+
+/// A generalised flip on a PD curve: where the flip's coefficient c
+/// changes sign between two neighbouring points of the curve at which the
+/// criticality is decided (|c| beyond its error); (λ₁, λ₂) there by linear
+/// interpolation of c between them.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GeneralisedFlip {
+    /// (λ₁, λ₂) where c is interpolated to 0.
+    pub lambda: [f64; 2],
+    /// c at the neighbouring decided points, in the curve's order.
+    pub coefficients: [f64; 2],
+}
+
+/// The generalised flips along a PD curve of the p-cycle (`points` in
+/// order; λ₁ is the parameter the flips are computed along, with range
+/// scale `scale`): c at every point by [`flip_at`], and each sign change
+/// between consecutive decided points. Counts map evaluations in `evals`.
+pub fn generalised_flips(
+    base: &crate::model::Params,
+    settings: &crate::integrate::SolverSettings,
+    params: [super::ContParam; 2],
+    period: usize,
+    points: &[super::CurvePoint],
+    scale: f64,
+    evals: &mut u64,
+) -> Vec<GeneralisedFlip> {
+    let decided: Vec<([f64; 2], f64)> = points
+        .iter()
+        .filter_map(|pt| {
+            let prob = Problem {
+                base: params[1].set(base, pt.lambda[1]),
+                settings: *settings,
+                param: params[0],
+                period,
+            };
+            let f = flip_at(&prob, pt.lambda[0], pt.theta, 0.0, scale, evals).ok()?;
+            (f.coefficient.abs() > f.error).then_some((pt.lambda, f.coefficient))
+        })
+        .collect();
+    decided
+        .windows(2)
+        .filter(|w| (w[0].1 > 0.0) != (w[1].1 > 0.0))
+        .map(|w| {
+            let (a, b) = (w[0], w[1]);
+            let s = a.1 / (a.1 - b.1);
+            GeneralisedFlip {
+                lambda: [
+                    a.0[0] + s * (b.0[0] - a.0[0]),
+                    a.0[1] + s * (b.0[1] - a.0[1]),
+                ],
+                coefficients: [a.1, b.1],
+            }
+        })
+        .collect()
+}

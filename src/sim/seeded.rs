@@ -1,0 +1,188 @@
+//! Seeded columns and cells (docs/attractors.md): besides the attractor a
+//! sweep follows from its neighbour, the orbits from `seeds` θ₀ spread over
+//! the exit arc, each run as a sweep column runs (stopping once it has
+//! settled onto a cycle), and the attractors they reach told apart. Where
+//! attractors coexist (hysteresis), a seeded diagram shows every branch
+//! and a seeded phase cell counts them.
+//!
+//! Two orbits reach the same attractor when both settle onto cycles of the
+//! same period whose points coincide to [`SAME_CYCLE`], or when neither
+//! settles and the intervals of θ their kept iterates visit overlap. An
+//! orbit that settles and one that does not are different attractors.
+
+use super::attractors::spread_seeds;
+use super::period::PERIOD_MAX;
+use super::{Column, SimError, SweepOptions};
+use crate::integrate::SolverSettings;
+use crate::model::{Params, wrap_angle};
+
+/// How far apart (radians) two settled cycles' points may be and still be
+/// one attractor: settled columns repeat their cycle to the sweep's
+/// repetition tolerance (at most 1e-6), slowly approached ones are solved
+/// to 1e-10, and coexisting cycles of one period lie far further apart.
+pub const SAME_CYCLE: f64 = 1e-5;
+
+/// The most seeds a column or cell may have.
+pub const MAX_SEEDS: usize = 256;
+
+/// What one orbit's kept iterates show.
+#[derive(Clone, Debug, PartialEq)]
+enum Reach {
+    /// Settled onto this cycle (its p points, as kept).
+    Cycle(Vec<f64>),
+    /// Not settled: the interval [lo, hi] its kept iterates visit.
+    Set(f64, f64),
+}
+
+impl Reach {
+    /// What `thetas` (one column's kept iterates) reached, `None` if empty.
+    fn of(thetas: &[f64], settings: &SolverSettings) -> Option<Reach> {
+        if thetas.is_empty() {
+            return None;
+        }
+        // The sweep's repetition tolerance (`ColumnRun::rep_tol`), ten times.
+        let tol = 10.0 * (100.0 * settings.rtol).clamp(1e-12, 1e-6);
+        // Every kept iterate repeats with period p: a settled column's
+        // kept iterates are its cycle's points, copied.
+        let n = thetas.len();
+        let repeats = |p: usize| (p..n).all(|i| wrap_angle(thetas[i] - thetas[i - p]).abs() <= tol);
+        if let Some(p) = (1..=(n / 2).min(PERIOD_MAX)).find(|&p| repeats(p)) {
+            return Some(Reach::Cycle(thetas[n - p..].to_vec()));
+        }
+        let lo = thetas.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = thetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Some(Reach::Set(lo, hi))
+    }
+
+    /// Whether `self` and `other` are one attractor (see the module's doc).
+    fn same(&self, other: &Reach) -> bool {
+        match (self, other) {
+            (Reach::Cycle(a), Reach::Cycle(b)) => {
+                a.len() == b.len()
+                    && a.iter()
+                        .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= SAME_CYCLE))
+            }
+            (Reach::Set(a0, a1), Reach::Set(b0, b1)) => a0 <= b1 && b0 <= a1,
+            _ => false,
+        }
+    }
+}
+
+/// A column of a seeded diagram: the followed column's points and every
+/// other attractor's, each point labelled with its attractor.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SeededColumn {
+    /// The followed column's kept iterates, then each further attractor's
+    /// points (a cycle's p points, or an unsettled orbit's kept iterates).
+    pub thetas: Vec<f64>,
+    /// `attractor[i]` labels `thetas[i]`: 0 is the followed attractor,
+    /// 1, 2, … the others in the order of their first seed along the arc.
+    pub attractor: Vec<u8>,
+    /// How many distinct attractors (0 if the followed column is empty).
+    pub count: usize,
+    /// Right-hand-side evaluations the seeds cost.
+    pub rhs_evals: u64,
+}
+
+/// The seeds' orbits at θν of `params`, each run as a sweep column from its
+/// θ₀ with `opts`; `Cancelled` as soon as one is. Failed seeds reach
+/// nothing that can be named and are left out.
+fn seed_columns(
+    params: Params,
+    settings: SolverSettings,
+    seeds: usize,
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(Vec<Column>, u64), SimError> {
+    let mut out = Vec::with_capacity(seeds);
+    let mut rhs = 0;
+    for theta0 in spread_seeds(&params, seeds) {
+        let col = Column::run(params, settings, params.theta_nu, theta0, opts, cancel);
+        rhs += col.rhs_evals;
+        match col.error {
+            Some(SimError::Cancelled) => return Err(SimError::Cancelled),
+            Some(_) => {}
+            None => out.push(col),
+        }
+    }
+    Ok((out, rhs))
+}
+
+/// The followed column `followed` at θν of `params` seeded from `seeds`
+/// further θ₀ (see the module's doc). With no seeds it is the followed
+/// column alone, labelled 0.
+pub fn seeded_column(
+    params: Params,
+    settings: SolverSettings,
+    followed: &Column,
+    seeds: usize,
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<SeededColumn, SimError> {
+    let mut out = SeededColumn {
+        thetas: followed.thetas.clone(),
+        attractor: vec![0; followed.thetas.len()],
+        count: usize::from(!followed.thetas.is_empty()),
+        rhs_evals: 0,
+    };
+    if seeds == 0 {
+        return Ok(out);
+    }
+    let (cols, rhs) = seed_columns(params, settings, seeds.min(MAX_SEEDS), opts, cancel)?;
+    out.rhs_evals = rhs;
+    let mut known: Vec<Reach> = Reach::of(&followed.thetas, &settings).into_iter().collect();
+    for col in &cols {
+        let Some(r) = Reach::of(&col.thetas, &settings) else {
+            continue;
+        };
+        if known.iter().any(|k| k.same(&r)) || known.len() > u8::MAX as usize {
+            continue;
+        }
+        let label = known.len() as u8;
+        let points = match &r {
+            Reach::Cycle(c) => c.as_slice(),
+            Reach::Set(..) => col.thetas.as_slice(),
+        };
+        out.thetas.extend_from_slice(points);
+        out.attractor
+            .extend(std::iter::repeat_n(label, points.len()));
+        known.push(r);
+    }
+    out.count = known.len();
+    Ok(out)
+}
+
+/// How many distinct attractors the orbits from `from` (a point of an
+/// attractor found before, e.g. a phase cell's last onset) and from
+/// `seeds` θ₀ spread over the arc reach at `params`, each run with `opts`.
+pub fn attractor_count(
+    params: Params,
+    settings: SolverSettings,
+    from: f64,
+    seeds: usize,
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(usize, u64), SimError> {
+    let followed = Column::run(params, settings, params.theta_nu, from, opts, cancel);
+    if let Some(SimError::Cancelled) = followed.error {
+        return Err(SimError::Cancelled);
+    }
+    let s = seeded_column(params, settings, &followed, seeds, opts, cancel)?;
+    Ok((s.count, s.rhs_evals + followed.rhs_evals))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn cycles_match_by_their_points_and_sets_by_overlap() {
+        let a = Reach::Cycle(vec![0.1, 0.5]);
+        assert!(a.same(&Reach::Cycle(vec![0.5 + 1e-6, 0.1])));
+        assert!(!a.same(&Reach::Cycle(vec![0.1])));
+        assert!(!a.same(&Reach::Cycle(vec![0.1, 0.6])));
+        assert!(Reach::Set(0.0, 1.0).same(&Reach::Set(0.9, 2.0)));
+        assert!(!Reach::Set(0.0, 1.0).same(&Reach::Set(1.1, 2.0)));
+        assert!(!a.same(&Reach::Set(0.0, 1.0)));
+    }
+}
