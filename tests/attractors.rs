@@ -108,21 +108,23 @@ fn the_json_has_the_issues_fields_and_bad_seeds_are_refused() {
     assert!(err.contains("--seeds"), "{err}");
 }
 
-/// The seeded diagram's CSV rows (θν, θ, attractor).
+/// The seeded diagram's CSV rows (θν, θ, attractor); the followed
+/// attractor's rows (label 0) carry the column's λ, the others none.
 fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
     let o = oneblock(args);
     assert_ok(&o);
     let out = stdout(&o);
     let mut lines = out.lines();
-    assert_eq!(lines.next(), Some("theta_nu,theta,attractor"));
+    assert_eq!(
+        lines.next(),
+        Some("theta_nu,theta,lyapunov,lyapunov_stderr,attractor")
+    );
     lines
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
-            (
-                f[0].parse().unwrap(),
-                f[1].parse().unwrap(),
-                f[2].parse().unwrap(),
-            )
+            let label: u8 = f[4].parse().unwrap();
+            assert!(label == 0 || f[2].is_empty(), "λ on the followed attractor's rows only: {l}");
+            (f[0].parse().unwrap(), f[1].parse().unwrap(), label)
         })
         .collect()
 }

@@ -210,7 +210,7 @@ if (f.max > 2000) fail(`${q1}: the page froze for ${f.max.toFixed(0)} ms while t
 
 // 3: figures download: the view's SVG and PNG buttons (top right of the
 // tab at 1280×800).
-for (const [what, x, magic] of [["svg", 1197, "<?xml"], ["png", 1246, "\x89PNG"]]) {
+for (const [what, x, magic] of [["svg", 1168, "<?xml"], ["png", 1217, "\x89PNG"]]) {
   const download = page.waitForEvent("download", { timeout: 30_000 });
   await page.mouse.click(x, 52);
   let d;
@@ -237,6 +237,24 @@ await page.mouse.move(150, 500);
 for (let i = 0; i < 10; i++) await page.mouse.wheel(0, 400);
 await page.waitForTimeout(500);
 const button = { save: [234, 717], open: [78, 740], link: [174, 740] };
+/// Clicks Copy link until the address carries a state (a click that lands
+/// while a busy frame is being drawn is tried again, the panel scrolled
+/// to its end again first).
+async function copyLink(p) {
+  for (let attempt = 0; attempt < 4; attempt++) {
+    await p.mouse.move(150, 500);
+    for (let i = 0; i < 10; i++) await p.mouse.wheel(0, 400);
+    await p.waitForTimeout(500);
+    await p.mouse.click(...button.link);
+    try {
+      await p.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 10_000 });
+      return;
+    } catch {
+      // tried again below
+    }
+  }
+  fail(`Copy link never wrote the state into the address (now ${p.url()})`);
+}
 const saved = page.waitForEvent("download", { timeout: 30_000 });
 await page.mouse.click(...button.save);
 const session = JSON.parse(fs.readFileSync(await (await saved).path(), "utf8"));
@@ -249,8 +267,7 @@ await page.mouse.click(...button.open);
 await (await chooser).setFiles(upload);
 fs.rmSync(upload);
 await page.waitForFunction(() => document.title.includes("computing"), null, { timeout: 60_000, polling: "raf" });
-await page.mouse.click(...button.link);
-await page.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 30_000 });
+await copyLink(page);
 const link = new URL(page.url()).searchParams;
 if (link.get("kappa") !== "12.5" || link.get("view") !== "bifurcation") {
   fail(`after opening the edited session, Copy link wrote ?${link}`);
@@ -261,11 +278,7 @@ console.log(`web test: Save session, Open session… (κ edited to 12.5) and Cop
 // comes back on κ = 12.5.
 await page.goto(`${base}/`);
 await filled(page, "/ (reopened)");
-await page.mouse.move(150, 500);
-for (let i = 0; i < 10; i++) await page.mouse.wheel(0, 400);
-await page.waitForTimeout(500);
-await page.mouse.click(...button.link);
-await page.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 30_000 });
+await copyLink(page);
 const again = new URL(page.url()).searchParams;
 if (again.get("kappa") !== "12.5") fail(`the reopened page forgot the settings: ?${again}`);
 console.log(`web test: reopened without a query, the page keeps its settings: ?${again}`);
