@@ -123,7 +123,10 @@ fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
         .map(|l| {
             let f: Vec<&str> = l.split(',').collect();
             let label: u8 = f[4].parse().unwrap();
-            assert!(label == 0 || f[2].is_empty(), "λ on the followed attractor's rows only: {l}");
+            assert!(
+                label == 0 || f[2].is_empty(),
+                "λ on the followed attractor's rows only: {l}"
+            );
             (f[0].parse().unwrap(), f[1].parse().unwrap(), label)
         })
         .collect()
