@@ -398,7 +398,7 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
             out.push(Action::SaveSession);
         }
         #[cfg(target_arch = "wasm32")]
-        web_files_ui(ui, out);
+        super::web::files_ui(ui, out);
         ui.menu_button("Export data", |ui| {
             if ui.button("Events CSV").clicked() {
                 out.push(Action::Export(Export::Events));
@@ -552,29 +552,6 @@ pub fn apply_preset(s: &mut Settings, p: &Params, key: &str) {
         s.full_circle = true;
     }
     s.preset = Some(key.to_string());
-}
-
-/// The browser build's own file controls: a session opened by upload, and
-/// the state as a link.
-#[cfg(target_arch = "wasm32")]
-fn web_files_ui(ui: &mut Ui, out: &mut Vec<Action>) {
-    if ui
-        .button("Open session…")
-        .on_hover_text("A session saved before (a JSON file): its parameters, views and zoom.")
-        .clicked()
-    {
-        out.push(Action::OpenSession);
-    }
-    if ui
-        .button("Copy link")
-        .on_hover_text(
-            "The address of this state (preset, view and parameters): \
-             it opens the explorer here, for students or a slide.",
-        )
-        .clicked()
-    {
-        out.push(Action::CopyLink);
-    }
 }
 
 /// The regime badge, θc, and the plain-words line.

@@ -10,7 +10,7 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
-use egui::{Context, Key, KeyboardShortcut, Modifiers, Rect, RichText, Ui};
+use egui::{Context, Rect, RichText, Ui};
 
 use super::backend::Backend;
 use super::controls::Controls;
@@ -53,7 +53,7 @@ pub struct Explorer {
     /// The guided tour, when it runs.
     pub tour: Tour,
     applied_style: Option<(f32, bool, bool)>,
-    now: f64,
+    pub(super) now: f64,
     /// The browser build's uploads and page context.
     #[cfg(target_arch = "wasm32")]
     pub web: super::web::WebState,
@@ -324,58 +324,6 @@ impl Explorer {
         self.applied_style = Some(want);
     }
 
-    /// Keyboard shortcuts: those that act on the window go to `out`.
-    fn shortcuts(&mut self, ctx: &Context, out: &mut Vec<Action>) {
-        let save = KeyboardShortcut::new(Modifiers::COMMAND, Key::S);
-        if ctx.input_mut(|i| i.consume_shortcut(&save)) {
-            out.push(Action::Screenshot);
-        }
-        if ctx.egui_wants_keyboard_input() {
-            return;
-        }
-        let tabs = [
-            Key::Num1,
-            Key::Num2,
-            Key::Num3,
-            Key::Num4,
-            Key::Num5,
-            Key::Num6,
-            Key::Num7,
-            Key::Num8,
-        ];
-        for (k, v) in tabs.into_iter().zip(ViewKind::ALL) {
-            if ctx.input(|i| i.key_pressed(k)) {
-                self.settings.layout = Layout::Tabs;
-                self.settings.tab = v;
-            }
-        }
-        if ctx.input(|i| i.key_pressed(Key::T)) {
-            self.settings.layout = match self.settings.layout {
-                Layout::Tabs => Layout::Tiles,
-                Layout::Tiles => Layout::Tabs,
-            };
-        }
-        if ctx.input(|i| i.key_pressed(Key::Space)) {
-            self.views.block.playing = !self.views.block.playing;
-        }
-        if ctx.input(|i| i.key_pressed(Key::R)) {
-            out.push(Action::RestartOrbit);
-        }
-        let (left, right, shift) = ctx.input(|i| {
-            (
-                i.key_pressed(Key::ArrowLeft),
-                i.key_pressed(Key::ArrowRight),
-                i.modifiers.shift,
-            )
-        });
-        if left || right {
-            let step = if shift { 0.05 } else { 0.005 };
-            out.push(Action::SetThetaNu(
-                self.settings.params.theta_nu + if right { step } else { -step },
-            ));
-        }
-    }
-
     /// The whole window.
     pub fn show(&mut self, ui: &mut Ui) {
         let ctx = ui.ctx().clone();
@@ -566,52 +514,6 @@ impl Explorer {
                     });
             },
         );
-    }
-}
-
-#[cfg(target_arch = "wasm32")]
-impl Explorer {
-    /// The browser's own actions: a session uploaded, the state as a link.
-    fn apply_web(&mut self, a: Action, ctx: &Context) {
-        let now = self.now;
-        match a {
-            Action::OpenSession => {
-                let ctx = self.web.ctx.clone();
-                if let Err(e) = super::web::pick_session(&self.web.upload, ctx) {
-                    self.shots
-                        .toast(format!("cannot open a session: {e}"), true, now);
-                }
-            }
-            Action::CopyLink => {
-                let query = super::url_state::query_of(&self.settings);
-                match super::web::link_to(&query) {
-                    Some(url) => {
-                        ctx.copy_text(url);
-                        self.shots
-                            .toast("link copied (and in the address bar)".into(), false, now);
-                    }
-                    None => self
-                        .shots
-                        .toast("cannot make a link here".into(), true, now),
-                }
-            }
-            _ => {}
-        }
-    }
-
-    /// Opens a session whose upload has arrived, or says why it could not.
-    fn take_upload(&mut self) {
-        let arrived = self.web.upload.borrow_mut().take();
-        match arrived {
-            None => {}
-            Some(Ok((name, text))) => {
-                match super::session::Session::from_text(&text, &crate::text::echo(&name)) {
-                    Ok(loaded) => self.open_session(loaded),
-                    Err(e) => self.shots.toast(e, true, self.now),
-                }
-            }
-            Some(Err(e)) => self.shots.toast(e, true, self.now),
-        }
     }
 }
 

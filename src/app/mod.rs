@@ -58,6 +58,7 @@ pub mod screenshot;
 pub mod script;
 pub mod session;
 pub mod settings;
+mod shortcuts;
 pub mod status;
 pub mod style;
 pub mod svg;

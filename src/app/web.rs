@@ -19,6 +19,9 @@ use std::rc::Rc;
 use wasm_bindgen::JsCast as _;
 use wasm_bindgen::prelude::*;
 
+use eframe::egui::{Context, Ui};
+
+use super::view::Action;
 use super::{Explorer, Settings, controls, preset, url_state};
 use crate::worker::LocalWorker;
 
@@ -253,7 +256,7 @@ pub fn download(path: &Path, bytes: &[u8]) -> Result<(), String> {
 #[derive(Default)]
 pub struct WebState {
     /// Set when the page starts (none in tests).
-    pub ctx: Option<eframe::egui::Context>,
+    pub ctx: Option<Context>,
     /// A session file being read: (file name, its text) or why not.
     pub upload: Upload,
     /// The page's title as last set.
@@ -277,7 +280,7 @@ pub type Upload = Rc<RefCell<Option<Result<(String, String), String>>>>;
 
 /// Opens the browser's file picker for a session (`.json`); the file's text
 /// arrives in `slot` when read, and the page is woken to take it.
-pub fn pick_session(slot: &Upload, ctx: Option<eframe::egui::Context>) -> Result<(), String> {
+pub fn pick_session(slot: &Upload, ctx: Option<Context>) -> Result<(), String> {
     let doc = web_sys::window()
         .and_then(|w| w.document())
         .ok_or("no document")?;
@@ -330,4 +333,72 @@ pub fn pick_session(slot: &Upload, ctx: Option<eframe::egui::Context>) -> Result
     input.set_onchange(Some(on_change.unchecked_ref()));
     input.click();
     Ok(())
+}
+
+/// The browser's own actions and uploads, applied by the explorer.
+impl Explorer {
+    /// The browser's own actions: a session uploaded, the state as a link.
+    pub(super) fn apply_web(&mut self, a: Action, ctx: &Context) {
+        let now = self.now;
+        match a {
+            Action::OpenSession => {
+                let ctx = self.web.ctx.clone();
+                if let Err(e) = pick_session(&self.web.upload, ctx) {
+                    self.shots
+                        .toast(format!("cannot open a session: {e}"), true, now);
+                }
+            }
+            Action::CopyLink => {
+                let query = url_state::query_of(&self.settings);
+                match link_to(&query) {
+                    Some(url) => {
+                        ctx.copy_text(url);
+                        self.shots
+                            .toast("link copied (and in the address bar)".into(), false, now);
+                    }
+                    None => self
+                        .shots
+                        .toast("cannot make a link here".into(), true, now),
+                }
+            }
+            _ => {}
+        }
+    }
+
+    /// Opens a session whose upload has arrived, or says why it could not.
+    pub(super) fn take_upload(&mut self) {
+        let arrived = self.web.upload.borrow_mut().take();
+        match arrived {
+            None => {}
+            Some(Ok((name, text))) => {
+                match super::session::Session::from_text(&text, &crate::text::echo(&name)) {
+                    Ok(loaded) => self.open_session(loaded),
+                    Err(e) => self.shots.toast(e, true, self.now),
+                }
+            }
+            Some(Err(e)) => self.shots.toast(e, true, self.now),
+        }
+    }
+}
+
+/// The browser build's own file controls: a session opened by upload, and
+/// the state as a link.
+pub(super) fn files_ui(ui: &mut Ui, out: &mut Vec<Action>) {
+    if ui
+        .button("Open session…")
+        .on_hover_text("A session saved before (a JSON file): its parameters, views and zoom.")
+        .clicked()
+    {
+        out.push(Action::OpenSession);
+    }
+    if ui
+        .button("Copy link")
+        .on_hover_text(
+            "The address of this state (preset, view and parameters): \
+             it opens the explorer here, for students or a slide.",
+        )
+        .clicked()
+    {
+        out.push(Action::CopyLink);
+    }
 }

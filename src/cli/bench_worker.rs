@@ -19,12 +19,12 @@ use super::common::max_seconds;
 use super::run_control::{Limits, check_stdout, run_bounded, write_stdout};
 use super::values::{count_between, parse_count, parse_number, settings_error};
 use crate::integrate::{Method, SolverSettings};
-use crate::model::Params;
+use crate::jobs::bench::{fig3b, fig3b_diagram};
 use crate::sim::stats::median;
-use crate::sim::{MapChoice, SweepOptions, sweep_columns, theta_nu_grid};
+use crate::sim::{SweepOptions, sweep_columns, theta_nu_grid};
 use crate::worker::{
-    Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, PhaseTuning, SweepSpec, TrajectorySpec,
-    Update, Worker, WorkerConfig, phase_plan, sweep_plan,
+    Axis, COARSE_STRIDE, Command, Lane, Outcome, PhaseSpec, PhaseTuning, TrajectorySpec, Update,
+    Worker, WorkerConfig, phase_plan, sweep_plan,
 };
 
 #[derive(Debug, Clone, Args)]
@@ -104,17 +104,6 @@ impl Default for BenchWorkerArgs {
     }
 }
 
-/// The paper's Fig. 3b point (θν is swept).
-fn fig3b() -> Params {
-    Params {
-        kappa: 18.95,
-        gamma: 6.5,
-        nu: 1e-3,
-        theta_nu: 0.0,
-        omega: 50.0,
-    }
-}
-
 /// Longer than anything here should take: only a hung worker reaches it.
 const HANG: Duration = Duration::from_secs(600);
 
@@ -141,19 +130,9 @@ fn worker(args: &BenchWorkerArgs) -> Worker {
 }
 
 fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u64) -> Command {
-    Command::Sweep {
-        generation,
-        spec: SweepSpec {
-            params: fig3b(),
-            settings,
-            theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, args.columns),
-            transient: args.transient,
-            keep: args.keep,
-            map: MapChoice::Auto,
-            theta0: None,
-            seeds: 0,
-        },
-    }
+    let mut spec = fig3b_diagram(args.columns, args.transient, args.keep, args.tol);
+    spec.settings = settings;
+    Command::Sweep { generation, spec }
 }
 
 fn recv(w: &Worker) -> Result<Update, CliError> {
@@ -498,31 +477,17 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     write_stdout(text.as_bytes())
 }
 
-/// The diagram timed on the single-threaded host (`--single-thread`): the
-/// median wall time of `repeats` runs, as web/test times the browser's.
+/// The diagram timed on the single-threaded host (`--single-thread`).
 fn run_single_thread(args: &BenchWorkerArgs) -> Result<(), CliError> {
-    let mut times = Vec::with_capacity(args.repeats);
-    let mut points = 0;
-    for _ in 0..args.repeats {
-        let spec =
-            crate::jobs::bench::fig3b_diagram(args.columns, args.transient, args.keep, args.tol);
-        let t = crate::jobs::bench::time_diagram(spec).map_err(CliError::Failed)?;
-        times.push(t.seconds);
-        points = t.points;
-    }
-    times.sort_by(f64::total_cmp);
-    say(&format!(
-        "single-threaded host: Fig. 3b diagram, {} columns x ({} transient + {} kept), dop853, tol = {:e}: \
-         median {:.3} s (min {:.3}, max {:.3}) over {} runs; {points} points",
+    let report = crate::jobs::bench::single_thread_report(
         args.columns,
         args.transient,
         args.keep,
         args.tol,
-        times[times.len() / 2],
-        times[0],
-        times[times.len() - 1],
-        times.len(),
-    ))
+        args.repeats,
+    )
+    .map_err(CliError::Failed)?;
+    say(&report)
 }
 
 /// The sweep benchmark's report.

@@ -12,14 +12,20 @@ use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 use crate::sim::MapChoice;
 
+/// The paper's Fig. 3b point, θν = 0 (it is swept): κ = 18.95, γ = 6.5,
+/// ν = 1e-3, Ω = 50.
+pub fn fig3b() -> Params {
+    Params {
+        theta_nu: 0.0,
+        ..Params::default()
+    }
+}
+
 /// The paper's Fig. 3b diagram as the worker benchmark times it: κ = 18.95,
 /// γ = 6.5, ν = 1e-3 over θν ∈ [0, π/2], dop853 at `tol`.
 pub fn fig3b_diagram(columns: usize, transient: usize, keep: usize, tol: f64) -> SweepSpec {
     SweepSpec {
-        params: Params {
-            theta_nu: 0.0,
-            ..Params::default()
-        },
+        params: fig3b(),
         settings: SolverSettings::adaptive(Method::Dop853, tol),
         theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, columns),
         transient,
@@ -65,4 +71,31 @@ pub fn time_diagram(spec: SweepSpec) -> Result<LocalTiming, String> {
         Some(Outcome::Completed) => Ok(LocalTiming { seconds, points }),
         o => Err(format!("the diagram did not complete ({o:?})")),
     }
+}
+
+/// `repeats` runs of the diagram on the single-threaded host, reported in
+/// one line with their median (`oneblock bench-worker --single-thread`).
+pub fn single_thread_report(
+    columns: usize,
+    transient: usize,
+    keep: usize,
+    tol: f64,
+    repeats: usize,
+) -> Result<String, String> {
+    let mut times = Vec::with_capacity(repeats);
+    let mut points = 0;
+    for _ in 0..repeats.max(1) {
+        let t = time_diagram(fig3b_diagram(columns, transient, keep, tol))?;
+        times.push(t.seconds);
+        points = t.points;
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(format!(
+        "single-threaded host: Fig. 3b diagram, {columns} columns x ({transient} transient + {keep} kept), \
+         dop853, tol = {tol:e}: median {:.3} s (min {:.3}, max {:.3}) over {} runs; {points} points",
+        times[times.len() / 2],
+        times[0],
+        times[times.len() - 1],
+        times.len(),
+    ))
 }
