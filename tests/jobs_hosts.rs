@@ -14,7 +14,7 @@ use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, IterateSpec, Local,
-    Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TrajectorySpec, Update,
+    Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TimeSlice, TrajectorySpec, Update,
     WorkPrecisionSpec, run_collect,
 };
 use oneblock::model::Params;
@@ -35,6 +35,7 @@ struct Results {
     last_analysis: String,
     graphs: Vec<String>,
     columns: BTreeMap<usize, (f64, Vec<f64>)>,
+    lyapunovs: BTreeMap<usize, String>,
     cells: BTreeMap<(usize, usize), String>,
     rows: Vec<String>,
     other: Vec<String>,
@@ -71,8 +72,10 @@ fn results(ups: &[Update]) -> Results {
                 theta_nu,
                 thetas,
                 attractor,
+                lyapunov,
                 ..
             } => {
+                r.lyapunovs.insert(*index, format!("{lyapunov:?}"));
                 // Each attractor label folded into its value (θ + 100·label),
                 // so that the hosts must agree on both.
                 let labelled = thetas
@@ -118,6 +121,22 @@ fn strip_generation(u: &Update) -> String {
 fn local(spec: Spec) -> Results {
     let updates = Local::start(spec, 1, Shape::default()).run_to_end(1);
     results(&updates)
+}
+
+/// The job to its end on the single-threaded host with a deadline that has
+/// always passed: every unit that can pause does so after one cycle or
+/// slope, and is resumed by the next step. Also the number of steps taken.
+fn local_paused(spec: Spec) -> (Results, usize) {
+    let mut host = Local::start(spec, 1, Shape::default());
+    let mut steps = 0;
+    let spent = TimeSlice {
+        start: web_time::Instant::now(),
+        end: web_time::Instant::now(),
+    };
+    while host.step_until(1, Some(spent)) {
+        steps += 1;
+    }
+    (results(&host.drain()), steps)
 }
 
 /// The job to its end on the worker (two threads for a parallel job), sent
@@ -201,6 +220,12 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
         spec: spec.clone(),
     });
     assert_eq!(r.columns.len(), 21);
+    assert!(r.lyapunovs.values().all(|l| l.starts_with("Some")), "{r:?}");
+    // Paused after every cycle and every λ slope, and resumed: the same
+    // diagram and exponents, in many more steps than columns.
+    let (paused, steps) = local_paused(Spec::Sweep(spec.clone()));
+    assert_eq!(paused, r);
+    assert!(steps > 10 * 21, "{steps} steps");
     // The command line's host, on one thread and on three.
     for threads in [1, 3] {
         let ups = run_collect(Spec::Sweep(spec.clone()), threads, |_| {}, || false)
@@ -378,15 +403,25 @@ fn the_single_threaded_host_runs_within_its_budget_and_cancels() {
         seeds: 0,
     });
     let mut host = Local::start(spec, 11, Shape::default());
-    // A tiny budget still moves the job on by one unit, and no more than a
-    // few: each call returns soon after its budget.
+    // A spent budget still moves the job on, by one slip cycle: the column
+    // pauses there, and is resumed by the next call, until it is done.
     assert!(!host.run_for(std::time::Duration::ZERO, 1));
-    let first = host.drain();
+    assert_eq!(host.cycles(), 1);
+    let mut calls = 1;
+    let first = loop {
+        let ups = host.drain();
+        if ups.iter().any(|u| matches!(u, Update::Column { .. })) {
+            break ups;
+        }
+        assert!(!host.run_for(std::time::Duration::ZERO, 1));
+        calls += 1;
+    };
     let columns = first
         .iter()
         .filter(|u| matches!(u, Update::Column { .. }))
         .count();
-    assert_eq!(columns, 1, "one unit per step: {first:?}");
+    assert_eq!(columns, 1, "one column at a time: {first:?}");
+    assert!(calls > 10, "the first column came after {calls} calls");
     host.cancel();
     let last = host.drain();
     assert_eq!(

@@ -31,7 +31,7 @@ use super::views::{Views, tile_rects};
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
-pub const PUMP_BUDGET: Duration = Duration::from_millis(12);
+pub const PUMP_BUDGET: Duration = crate::jobs::bench::PAGE_SLICE;
 
 /// The explorer app.
 pub struct Explorer {

@@ -75,8 +75,24 @@ pub fn bench_diagram(
     tol: f64,
 ) -> Result<f64, JsValue> {
     let spec = crate::jobs::bench::fig3b_diagram(columns, transient, keep, tol);
-    crate::jobs::bench::time_diagram(spec)
+    crate::jobs::bench::time_diagram(spec, None)
         .map(|t| t.seconds)
+        .map_err(|e| JsValue::from_str(&e))
+}
+
+/// The same diagram run in the page's compute slices (12 ms a frame), as
+/// the explorer runs it: `[seconds, p99 step ms, longest step ms]`.
+#[wasm_bindgen]
+pub fn bench_diagram_sliced(
+    columns: usize,
+    transient: usize,
+    keep: usize,
+    tol: f64,
+) -> Result<Vec<f64>, JsValue> {
+    let spec = crate::jobs::bench::fig3b_diagram(columns, transient, keep, tol);
+    let slice = Some(crate::jobs::bench::PAGE_SLICE);
+    crate::jobs::bench::time_diagram(spec, slice)
+        .map(|t| vec![t.seconds, t.step_ms(0.99), t.step_ms(1.0)])
         .map_err(|e| JsValue::from_str(&e))
 }
 

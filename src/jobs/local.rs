@@ -15,6 +15,32 @@ use web_time::Instant;
 use super::{Generation, Job, JobError, Lane, Outcome, Shape, Sink, Spec, Status, Stop, Update};
 use super::{ending, lock};
 
+/// A step's share of a frame: from `start` (when the frame's computing
+/// began) to `end`. Units pause at its end; heavy pieces of them start only
+/// in its first quarter, so that one does not begin just before the end
+/// and hold the frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TimeSlice {
+    pub start: Instant,
+    pub end: Instant,
+}
+
+impl TimeSlice {
+    /// The slice from now for `budget`.
+    pub fn from_now(budget: Duration) -> Self {
+        let start = Instant::now();
+        TimeSlice {
+            start,
+            end: start + budget,
+        }
+    }
+
+    /// Whether a heavy piece starting at `now` would start too late.
+    fn heavy_too_late(&self, now: Instant) -> bool {
+        now >= self.end || (now - self.start) * 4 >= self.end - self.start
+    }
+}
+
 /// One job on the caller's thread.
 pub struct Local {
     lane: Lane,
@@ -28,6 +54,8 @@ struct Queue {
     updates: Mutex<Vec<Update>>,
     cancelled: AtomicBool,
     cycles: AtomicU64,
+    /// The running step's slice of time ([`Sink::pause`]).
+    slice: Mutex<Option<TimeSlice>>,
 }
 
 impl Sink for Queue {
@@ -54,6 +82,14 @@ impl Sink for Queue {
         self.cycles.fetch_add(1, Ordering::Relaxed);
         false
     }
+
+    fn pause(&self) -> bool {
+        lock(&self.slice).is_some_and(|s| Instant::now() >= s.end)
+    }
+
+    fn defer_heavy(&self) -> bool {
+        lock(&self.slice).is_some_and(|s| s.heavy_too_late(Instant::now()))
+    }
 }
 
 impl Local {
@@ -69,6 +105,7 @@ impl Local {
                 updates: Mutex::new(Vec::new()),
                 cancelled: AtomicBool::new(false),
                 cycles: AtomicU64::new(0),
+                slice: Mutex::new(None),
             },
         };
         match catch_unwind(AssertUnwindSafe(|| spec.start(shape))) {
@@ -100,24 +137,35 @@ impl Local {
     }
 
     /// Runs units of `width` until `budget` has passed (at least one step,
-    /// so a job always moves on); true once the job has ended.
+    /// so a job always moves on; a unit that can pause stops at the
+    /// budget's end); true once the job has ended.
     pub fn run_for(&mut self, budget: Duration, width: usize) -> bool {
-        let started = Instant::now();
+        let slice = TimeSlice::from_now(budget);
         while self.job.is_some() {
-            if !self.step(width) || started.elapsed() >= budget {
+            if !self.step_until(width, Some(slice)) || Instant::now() >= slice.end {
                 break;
             }
         }
         self.is_done()
     }
 
-    /// One step of `width` units; false once the job has ended.
+    /// One step of `width` units, each run whole; false once the job has
+    /// ended.
     pub fn step(&mut self, width: usize) -> bool {
+        self.step_until(width, None)
+    }
+
+    /// One step of `width` units, a unit that can pause stopping at the
+    /// end of `slice` (to resume on the next step); false once the job has
+    /// ended.
+    pub fn step_until(&mut self, width: usize, slice: Option<TimeSlice>) -> bool {
         let Some(job) = self.job.as_ref() else {
             return false;
         };
         let sink = &self.sink;
+        *lock(&sink.slice) = slice;
         let stepped = catch_unwind(AssertUnwindSafe(|| job.step(width, sink)));
+        *lock(&sink.slice) = None;
         let result = match stepped {
             Ok(Ok(Status::Working)) => return true,
             Ok(Ok(Status::Done)) => Ok(job.finish(sink)),

@@ -37,7 +37,7 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-pub use local::Local;
+pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
 pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
@@ -97,6 +97,21 @@ pub trait Sink: Sync {
     /// Hosts count these polls (machine-independent work counters).
     fn cycle(&self) -> bool {
         self.stale()
+    }
+    /// Whether the host wants its thread back now: a job whose unit can
+    /// stop part-way (a sweep's column) parks it, returns `Working`, and
+    /// resumes it on the next step, with the same result bit for bit. Only
+    /// the single-threaded host says yes, at its step's deadline, so that a
+    /// page's frame is not held by one long unit.
+    fn pause(&self) -> bool {
+        false
+    }
+    /// Whether a heavy piece of a unit (a cycle solve, an interpolant:
+    /// milliseconds in one go) should wait for the next step, because much
+    /// of this step's time is gone. Like [`Sink::pause`], only the
+    /// single-threaded host says yes.
+    fn defer_heavy(&self) -> bool {
+        false
     }
 }
 

@@ -30,13 +30,25 @@ use super::protocol::{Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::ParamError;
-use crate::sim::column_lyapunov::column_lyapunov;
+use crate::sim::column_lyapunov::LyapunovRun;
 use crate::sim::interpolant::MapUsed;
 use crate::sim::seeded::seeded_column;
 use crate::sim::{
-    Column, ColumnJob, Handover, LANES, SimError, Simulator, SweepOptions, column_start,
-    run_columns, theta_nu_grid,
+    Column, ColumnJob, Handover, LANES, LaneEnd, PausedColumn, SimError, Simulator, SweepOptions,
+    Yield, column_start, run_columns, theta_nu_grid,
 };
+
+/// When a sink's host wants its thread back.
+struct Yielding<'a>(&'a dyn Sink);
+
+impl Yield for Yielding<'_> {
+    fn pause(&self) -> bool {
+        self.0.pause()
+    }
+    fn defer_heavy(&self) -> bool {
+        self.0.defer_heavy()
+    }
+}
 
 impl PlanItem for PlannedColumn {
     fn slot(&self) -> usize {
@@ -60,6 +72,23 @@ type Columns = Schedule<PlannedColumn, Option<Handover>>;
 /// A column running in a lane: its plan entry, its first onset and the
 /// period of its neighbour's slow cycle (`Handover`).
 type InFlight = (PlannedColumn, (f64, Option<usize>));
+
+/// A column the host asked to pause ([`Sink::pause`]), to be resumed by
+/// the next step before anything new starts: part-way through its cycles,
+/// or done and part-way through its λ.
+enum Parked {
+    Running(InFlight, PausedColumn),
+    Lyapunov(Delivery),
+}
+
+/// A finished column on its way out: what its neighbours continue from,
+/// and its λ in progress (`None`: it has none, e.g. after a failure).
+struct Delivery {
+    p: PlannedColumn,
+    col: Column,
+    handover: Option<Handover>,
+    lyapunov: Option<LyapunovRun>,
+}
 
 /// Checks what the columns cannot check for themselves, before any work.
 fn validate(s: &SweepSpec) -> Result<(), SimError> {
@@ -88,6 +117,8 @@ pub(crate) struct SweepJob {
     pacer: Mutex<Pacer>,
     /// The first column that panicked (the sweep goes on, and fails at its end).
     failure: Mutex<Option<String>>,
+    /// Columns paused part-way, resumed first by the next step.
+    parked: Mutex<Vec<Parked>>,
 }
 
 impl SweepJob {
@@ -115,6 +146,7 @@ impl SweepJob {
             iterates: AtomicU64::new(0),
             pacer: Mutex::new(Pacer::new()),
             failure: Mutex::new(None),
+            parked: Mutex::new(Vec::new()),
         })
     }
 
@@ -164,30 +196,52 @@ impl SweepJob {
                 (empty, Some((msg, None)))
             }
         };
-        let problem_free = problem.is_none();
-        let theta_last = if problem.is_none() {
-            col.handover()
-        } else {
-            None
+        let handover = match problem {
+            None => col.handover(),
+            Some((message, parameter)) => {
+                sink.send(Update::Error {
+                    generation,
+                    lane: Lane::Sweep,
+                    message,
+                    parameter,
+                })?;
+                None
+            }
         };
-        if let Some((message, parameter)) = problem {
-            sink.send(Update::Error {
-                generation,
-                lane: Lane::Sweep,
-                message,
-                parameter,
-            })?;
-        }
         // λ from the column's own onsets, on this thread: bounded work
         // (one cycle solve, or at most 200 slopes), never the UI's.
-        let lyapunov = match (&problem_free, self.sims[p.index].as_ref()) {
-            (true, Ok(sim)) => column_lyapunov(sim, &col),
+        let lyapunov = match (handover, self.sims[p.index].as_ref()) {
+            (Some(_), Ok(_)) => Some(LyapunovRun::new(&col)),
             _ => None,
         };
+        let d = Delivery {
+            p,
+            col,
+            handover,
+            lyapunov,
+        };
+        self.send_column(d, sink, false)
+    }
+
+    /// Finishes a delivered column's λ and sends the column, or parks it
+    /// part-way if the host asks for its thread back (not before one piece
+    /// when `fresh`: the first thing in a step).
+    fn send_column(&self, mut d: Delivery, sink: &dyn Sink, fresh: bool) -> Result<(), JobError> {
+        let generation = sink.generation();
+        let p = d.p;
+        let tn = self.grid[p.index];
+        if let (Some(run), Ok(sim)) = (d.lyapunov.as_mut(), self.sims[p.index].as_ref())
+            && !run.advance(sim, &d.col, &Yielding(sink), fresh)
+        {
+            lock(&self.parked).push(Parked::Lyapunov(d));
+            return Ok(());
+        }
+        let lyapunov = d.lyapunov.as_ref().and_then(LyapunovRun::result);
+        let col = d.col;
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
-        let (thetas, attractor, rhs_evals) = self.seeded(tn, col.thetas, theta_last, sink)?;
+        let (thetas, attractor, rhs_evals) = self.seeded(tn, col.thetas, d.handover, sink)?;
         sink.send(Update::Column {
             generation,
             index: p.index,
@@ -201,7 +255,7 @@ impl SweepJob {
         })?;
         let done = {
             let mut sch = lock(&self.schedule);
-            sch.complete(p, theta_last);
+            sch.complete(p, d.handover);
             sch.done()
         };
         self.ready.notify_all();
@@ -268,8 +322,41 @@ impl SweepJob {
             theta_nu: tn,
             start,
             slow_period,
+            resume: None,
         };
         (job, (p, (start, slow_period)))
+    }
+
+    /// What the last step parked: λs in progress are finished (or parked
+    /// again), and the paused columns returned to be resumed.
+    fn resume_parked(&self, sink: &dyn Sink) -> Result<Vec<(InFlight, PausedColumn)>, JobError> {
+        let parked = std::mem::take(&mut *lock(&self.parked));
+        let mut runs = Vec::new();
+        for (i, item) in parked.into_iter().enumerate() {
+            match item {
+                Parked::Lyapunov(d) => self.send_column(d, sink, i == 0)?,
+                Parked::Running(flight, run) => runs.push((flight, run)),
+            }
+        }
+        Ok(runs)
+    }
+
+    /// Parks paused columns that were not resumed.
+    fn park(&self, runs: Vec<(InFlight, PausedColumn)>) {
+        let mut parked = lock(&self.parked);
+        parked.extend(runs.into_iter().map(|(f, r)| Parked::Running(f, r)));
+    }
+
+    /// The lane job that resumes a paused column.
+    fn resumed_job(&self, flight: InFlight, run: PausedColumn) -> ColumnJob<'_> {
+        let (p, (start, slow_period)) = flight;
+        ColumnJob {
+            sim: self.sims[p.index].as_ref().map_err(Clone::clone),
+            theta_nu: self.grid[p.index],
+            start,
+            slow_period,
+            resume: Some(run),
+        }
     }
 
     /// The columns that were in flight when the lanes panicked, run again
@@ -286,7 +373,7 @@ impl SweepJob {
             let tn = self.grid[p.index];
             let col = catch_unwind(AssertUnwindSafe(|| {
                 #[cfg(test)]
-                tests::inject_panic(p.index);
+                tests::inject_panic(p.index, self.grid[p.index]);
                 let (theta, slow) = start;
                 let (params, settings) = (self.spec.params, self.spec.settings);
                 Column::run_from(params, settings, tn, theta, slow, &self.opts, &cancel)
@@ -306,42 +393,70 @@ impl Job for SweepJob {
         true
     }
 
-    /// Waits for a column that may start (or for the end), then runs it
-    /// and, in lanes, whatever else is ready, up to `width` columns; a lane
-    /// that finds nothing ready retires.
+    /// Resumes what the last step paused, else waits for a column that
+    /// may start (or for the end); then runs it and, in lanes, whatever else
+    /// is ready, up to `width` columns. A lane that finds nothing ready
+    /// retires; when the host asks for its thread back ([`Sink::pause`]),
+    /// the columns in flight are parked for the next step.
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
-        let Some((p, seed)) = wait_next(&self.schedule, &self.ready, || sink.stale())? else {
-            return Ok(Status::Done);
-        };
+        let mut resumes = self.resume_parked(sink)?;
+        if !lock(&self.parked).is_empty() {
+            // A column's λ paused again: the thread goes back at once.
+            self.park(resumes);
+            return Ok(Status::Working);
+        }
+        let mut first = None;
+        if resumes.is_empty() {
+            let Some((p, seed)) = wait_next(&self.schedule, &self.ready, || sink.stale())? else {
+                return Ok(Status::Done);
+            };
+            first = Some((p, seed.flatten()));
+        }
         let cancel = || sink.cycle();
-        let mut pending = Some((p, seed.flatten()));
+        let yielding = Yielding(sink);
         let mut left = width.max(1);
+        let mut started = false;
         let mut in_flight: [Option<InFlight>; LANES] = [None; LANES];
         let mut stop: Option<JobError> = None;
         let lanes = catch_unwind(AssertUnwindSafe(|| {
-            run_columns(&self.opts, &cancel, |lane, finished| {
-                if let (Some(col), Some((p, start))) = (finished, in_flight[lane].take())
-                    && stop.is_none()
-                {
-                    stop = self.deliver(p, start, Ok(col), sink).err();
+            run_columns(&self.opts, &cancel, &yielding, |lane, ended| {
+                match (ended, in_flight[lane].take()) {
+                    (Some(LaneEnd::Finished(col)), Some((p, start))) if stop.is_none() => {
+                        stop = self.deliver(p, start, Ok(col), sink).err();
+                    }
+                    (Some(LaneEnd::Paused(run)), Some(flight)) => {
+                        lock(&self.parked).push(Parked::Running(flight, run));
+                    }
+                    _ => {}
                 }
-                if stop.is_some() || left == 0 {
+                if stop.is_some() || left == 0 || (started && sink.pause()) {
                     return None;
                 }
-                let (p, neighbour) = pending.take().or_else(|| {
-                    lock(&self.schedule)
-                        .next()
-                        .ok()
-                        .map(|(p, seed)| (p, seed.flatten()))
-                })?;
+                let job = match resumes.pop() {
+                    Some((flight, run)) => {
+                        in_flight[lane] = Some(flight);
+                        self.resumed_job(flight, run)
+                    }
+                    None => {
+                        let (p, neighbour) = first.take().or_else(|| {
+                            lock(&self.schedule)
+                                .next()
+                                .ok()
+                                .map(|(p, seed)| (p, seed.flatten()))
+                        })?;
+                        let (job, flight) = self.column_job(p, neighbour);
+                        in_flight[lane] = Some(flight);
+                        #[cfg(test)]
+                        tests::inject_panic(p.index, self.grid[p.index]);
+                        job
+                    }
+                };
                 left -= 1;
-                let (job, flight) = self.column_job(p, neighbour);
-                in_flight[lane] = Some(flight);
-                #[cfg(test)]
-                tests::inject_panic(p.index);
+                started = true;
                 Some(job)
             })
         }));
+        self.park(resumes);
         if lanes.is_err() {
             self.rerun_alone(in_flight, sink)?;
         }
@@ -370,15 +485,15 @@ mod tests {
     use crate::worker::{Command, Worker, WorkerConfig};
     use std::collections::HashSet;
     use std::sync::Arc;
-    use std::sync::atomic::AtomicUsize;
     use std::time::Duration;
 
-    /// Fault injection for the sweep threads: the column with this index
-    /// panics (usize::MAX: none). Only this module's tests set it.
-    static PANIC_AT_COLUMN: AtomicUsize = AtomicUsize::new(usize::MAX);
+    /// Fault injection for the sweep threads: the column at this θν (its
+    /// bits; u64::MAX: none) panics. Only this module's tests set it, with
+    /// a θν no other test's sweep has, as tests run side by side.
+    static PANIC_AT_THETA_NU: AtomicU64 = AtomicU64::new(u64::MAX);
 
-    pub(super) fn inject_panic(index: usize) {
-        if index == PANIC_AT_COLUMN.load(Ordering::SeqCst) {
+    pub(super) fn inject_panic(index: usize, theta_nu: f64) {
+        if theta_nu.to_bits() == PANIC_AT_THETA_NU.load(Ordering::SeqCst) {
             panic!("injected panic in column {index}");
         }
     }
@@ -405,7 +520,8 @@ mod tests {
                 seeds: 0,
             },
         };
-        PANIC_AT_COLUMN.store(5, Ordering::SeqCst);
+        let grid = theta_nu_grid(0.2, 1.4, 10);
+        PANIC_AT_THETA_NU.store(grid[5].to_bits(), Ordering::SeqCst);
         assert!(w.send(sweep(1)));
         let mut columns = HashSet::new();
         let mut errors = vec![];
@@ -420,7 +536,7 @@ mod tests {
                 _ => {}
             }
         };
-        PANIC_AT_COLUMN.store(usize::MAX, Ordering::SeqCst);
+        PANIC_AT_THETA_NU.store(u64::MAX, Ordering::SeqCst);
         assert_eq!(columns.len(), 10);
         assert_eq!(errors.len(), 1);
         assert!(errors[0].contains("column 5") && errors[0].contains("injected panic"));

@@ -14,7 +14,7 @@
 use super::analysis::map_derivative;
 use super::orbit::OrbitOptions;
 use super::stats::mean_and_stderr;
-use super::{Column, Simulator};
+use super::{Column, NeverYield, Simulator, Yield};
 
 /// The most onsets whose f′ an aperiodic column averages (8 batches of 25
 /// for the standard error).
@@ -35,40 +35,111 @@ pub struct ColumnLyapunov {
 /// λ of a column computed at `sim`'s parameters (its θν), or `None` for an
 /// empty column or one whose derivatives all failed.
 pub fn column_lyapunov(sim: &Simulator, col: &Column) -> Option<ColumnLyapunov> {
-    let kept = &col.thetas;
-    if kept.is_empty() || col.error.is_some() {
-        return None;
+    let mut run = LyapunovRun::new(col);
+    run.advance(sim, col, &NeverYield, true);
+    run.result()
+}
+
+/// [`column_lyapunov`] in pieces, for a host that wants its thread back
+/// between them (the browser's): first the settled cycle's solve, if the
+/// onsets settle (one heavy piece), then the slopes of an aperiodic column
+/// one by one. The result is the same, bit for bit, wherever it stopped.
+pub struct LyapunovRun {
+    /// Whether the settle test (and its solve) has run.
+    settled_tried: bool,
+    /// The solved cycle's λ.
+    settled: Option<ColumnLyapunov>,
+    /// The next kept onset whose slope is taken.
+    next: usize,
+    logs: Vec<f64>,
+    done: bool,
+}
+
+impl LyapunovRun {
+    /// Ready to start on `col` (nothing computed yet).
+    pub fn new(col: &Column) -> Self {
+        let kept = &col.thetas;
+        LyapunovRun {
+            settled_tried: false,
+            settled: None,
+            next: kept.len().saturating_sub(MAX_DERIVATIVES),
+            logs: Vec::new(),
+            done: kept.is_empty() || col.error.is_some(),
+        }
     }
-    let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
-    let mut spent = (0, 0);
-    let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
-    if let (Some(c), Some(l)) = (&settled.cycle, settled.lyapunov)
-        && l.is_finite()
-    {
-        return Some(ColumnLyapunov {
-            lyapunov: l,
-            stderr: None,
-            period: Some(c.period()),
-        });
-    }
-    let from = kept.len().saturating_sub(MAX_DERIVATIVES);
-    let logs: Vec<f64> = (from..kept.len())
-        .filter_map(|i| {
+
+    /// Computes until done (true) or `yielding` says stop (false). A
+    /// `fresh` call (the first thing in its host's step) does at least one
+    /// piece; another may stop before any.
+    pub fn advance(
+        &mut self,
+        sim: &Simulator,
+        col: &Column,
+        yielding: &dyn Yield,
+        fresh: bool,
+    ) -> bool {
+        let kept = &col.thetas;
+        let mut first = fresh;
+        if !self.done && !self.settled_tried {
+            if !first && yielding.defer_heavy() {
+                return false;
+            }
+            first = false;
+            self.settled_tried = true;
+            let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
+            let mut spent = (0, 0);
+            let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
+            if let (Some(c), Some(l)) = (&settled.cycle, settled.lyapunov)
+                && l.is_finite()
+            {
+                self.settled = Some(ColumnLyapunov {
+                    lyapunov: l,
+                    stderr: None,
+                    period: Some(c.period()),
+                });
+                self.done = true;
+            }
+        }
+        while !self.done {
+            if self.next >= kept.len() {
+                self.done = true;
+                break;
+            }
+            if !first && yielding.pause() {
+                return false;
+            }
+            first = false;
+            let i = self.next;
+            self.next += 1;
             let next = kept.get(i + 1).copied().unwrap_or(col.theta_last);
-            let (d, _) = map_derivative(sim, kept[i], next).ok()?;
-            // f′ = 0 exactly (a superstable point) would give −∞: it is
-            // left out rather than let one point swamp the mean.
-            let l = d.abs().ln();
-            l.is_finite().then_some(l)
-        })
-        .collect();
-    match mean_and_stderr(&logs) {
-        (Some(lyapunov), stderr) => Some(ColumnLyapunov {
-            lyapunov,
-            stderr,
-            period: None,
-        }),
-        _ => None,
+            if let Ok((d, _)) = map_derivative(sim, kept[i], next) {
+                // f′ = 0 exactly (a superstable point) would give −∞: it
+                // is left out rather than let one point swamp the mean.
+                let l = d.abs().ln();
+                if l.is_finite() {
+                    self.logs.push(l);
+                }
+            }
+        }
+        true
+    }
+
+    /// λ once [`LyapunovRun::advance`] has returned true (`None` before).
+    pub fn result(&self) -> Option<ColumnLyapunov> {
+        if !self.done {
+            return None;
+        }
+        if self.settled.is_some() {
+            return self.settled;
+        }
+        match mean_and_stderr(&self.logs) {
+            (Some(lyapunov), stderr) => Some(ColumnLyapunov {
+                lyapunov,
+                stderr,
+                period: None,
+            }),
+            _ => None,
+        }
     }
 }
 

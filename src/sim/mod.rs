@@ -38,7 +38,7 @@ pub use orbit::{Orbit, OrbitOptions, Period, Settled};
 pub use period::{PERIOD_MAX, settled_period};
 pub use stats::mean_and_stderr;
 pub use sweep::{
-    Column, ColumnJob, Handover, SweepOptions, column_start, run_columns, sweep_columns,
-    theta_nu_grid,
+    Column, ColumnJob, Handover, LaneEnd, NeverYield, PausedColumn, SweepOptions, Yield,
+    column_start, run_columns, sweep_columns, theta_nu_grid,
 };
 pub use trajectory::{Phase, Sample, Sampler};

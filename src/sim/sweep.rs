@@ -23,7 +23,7 @@
 
 use super::cycles::{Cycle, CycleOptions, approaches, solve_counting};
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
-use super::period::{PERIOD_MAX, contraction, settled_period};
+use super::period::{Contraction, PERIOD_MAX, contraction, settled_period};
 use super::{LANES, SimError, Simulator, SlipEvent, run_lanes};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc};
@@ -206,6 +206,40 @@ struct ColumnRun {
     switch_at: Option<usize>,
     /// Whether it is time to try.
     switch_due: bool,
+    /// A cycle solve due before the next cycle ([`Heavy`]).
+    heavy: Option<Heavy>,
+}
+
+/// A cycle solve a column has due: milliseconds of work in one piece, which
+/// a host that wants its thread back soon may put off to its next step
+/// ([`Yield::defer_heavy`]).
+#[derive(Clone, Copy, Debug)]
+enum Heavy {
+    /// The neighbour's slow cycle, of this period, from the first onset.
+    Handover(usize),
+    /// The slow contraction just seen, to be solved and confirmed.
+    Contraction(Contraction),
+}
+
+/// When work running on a host's slice of time stops: before any cycle
+/// once the slice is spent ([`Yield::pause`]), before a cycle solve or an
+/// interpolant once much of it is ([`Yield::defer_heavy`]). Paused work
+/// resumes exactly where it stopped, so neither changes any result.
+pub trait Yield {
+    fn pause(&self) -> bool;
+    fn defer_heavy(&self) -> bool;
+}
+
+/// Never stops (a host with threads, or no slices).
+pub struct NeverYield;
+
+impl Yield for NeverYield {
+    fn pause(&self) -> bool {
+        false
+    }
+    fn defer_heavy(&self) -> bool {
+        false
+    }
 }
 
 /// The most solves of a slow contraction a column attempts.
@@ -248,17 +282,49 @@ impl ColumnRun {
                 .interpolates_beyond(opts.keep, MapChoice::AUTO_COLUMN_KEEP)
                 .then_some(opts.transient.max(MIN_DIRECT) + 1),
             switch_due: false,
+            heavy: None,
         };
         // The neighbour's slow cycle, continued: if it still attracts here,
-        // the column is on it from the start.
+        // the column is on it from the start (solved before its first cycle).
         if let Some(p) = slow_period
             && !run.done
-            && let Some(cycle) = run.solve(sim, theta_start, p)
-            && cycle.stable
         {
-            run.follow(&cycle);
+            run.heavy = Some(Heavy::Handover(p));
         }
         run
+    }
+
+    /// Whether a heavy piece of work comes before the next cycle.
+    fn heavy_due(&self) -> bool {
+        self.heavy.is_some() || self.switch_due
+    }
+
+    /// The cycle solve that was due.
+    fn run_heavy(&mut self, sim: &Simulator) {
+        match self.heavy.take() {
+            Some(Heavy::Handover(p)) => {
+                let theta_start = self.onsets[0];
+                if let Some(cycle) = self.solve(sim, theta_start, p)
+                    && cycle.stable
+                {
+                    self.follow(&cycle);
+                }
+            }
+            Some(Heavy::Contraction(c)) => {
+                let confirmed = self
+                    .solve(sim, c.limit, c.period)
+                    .filter(|cy| cy.stable && approaches(cy, &self.onsets, self.rep_tol));
+                match confirmed {
+                    Some(cycle) => self.follow(&cycle),
+                    None => {
+                        self.solves_left -= 1;
+                        self.next_solve = self.len() + SOLVE_COOLDOWN;
+                    }
+                }
+                self.end_cycle();
+            }
+            None => {}
+        }
     }
 
     /// The p-cycle solved from `seed` at the solve settings, if it is a
@@ -308,6 +374,7 @@ impl ColumnRun {
     /// A column due to turn to the interpolant does so here, and is then
     /// complete unless the interpolant was refused.
     fn next_onset(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) -> Option<f64> {
+        self.run_heavy(sim);
         if std::mem::take(&mut self.switch_due) && !self.done {
             self.interpolate(sim, cancel);
         }
@@ -355,21 +422,21 @@ impl ColumnRun {
                 self.onsets.push(cycle[(k - (n - p)) % p]);
             }
         } else if self.solves_left > 0 && self.len() >= self.next_solve {
-            // Contracting onto a cycle, but slowly: the cycle is solved, and
-            // once confirmed the column continues on it.
+            // Contracting onto a cycle, but slowly: the cycle is solved
+            // before the next cycle, and once confirmed the column
+            // continues on it. The cycle ends after the solve.
             if let Some(c) = contraction(&self.onsets, self.rep_tol) {
-                let confirmed = self
-                    .solve(sim, c.limit, c.period)
-                    .filter(|cy| cy.stable && approaches(cy, &self.onsets, self.rep_tol));
-                match confirmed {
-                    Some(cycle) => self.follow(&cycle),
-                    None => {
-                        self.solves_left -= 1;
-                        self.next_solve = self.len() + SOLVE_COOLDOWN;
-                    }
-                }
+                self.heavy = Some(Heavy::Contraction(c));
+                return;
             }
         }
+        self.end_cycle();
+    }
+
+    /// The bookkeeping after each cycle: forget old transient onsets, end
+    /// the column once it has its points, and turn to the interpolant when
+    /// due.
+    fn end_cycle(&mut self) {
         if !self.done {
             self.forget_transient();
         }
@@ -442,47 +509,85 @@ impl ColumnRun {
 }
 
 /// One column for [`run_columns`]: its simulator (θν in its parameters, or
-/// why it could not be made) and where its orbit starts.
+/// why it could not be made) and where its orbit starts, or the paused run
+/// it resumes.
 pub struct ColumnJob<'s> {
     pub sim: Result<&'s Simulator, SimError>,
     pub theta_nu: f64,
     pub start: f64,
     /// The neighbour's slow cycle's period ([`Handover`]).
     pub slow_period: Option<usize>,
+    /// A column paused part-way by an earlier [`run_columns`], continued
+    /// from where it stopped (`start` and `slow_period` are then unused).
+    pub resume: Option<PausedColumn>,
+}
+
+/// A column stopped between two slip cycles because its host wanted the
+/// thread back ([`run_columns`]'s `pause`). Resumed, it goes on exactly as
+/// if it had not stopped: the same cycles, bit for bit.
+pub struct PausedColumn(ColumnRun);
+
+/// How a column left its lane: finished, or paused to be resumed later.
+pub enum LaneEnd {
+    Finished(Column),
+    Paused(PausedColumn),
 }
 
 /// Runs columns on the lanes of [`run_lanes`] (several columns' slips
 /// stepped together on this thread, each column's orbit bitwise what
-/// [`Column::run`] gives). `next(lane, finished)` is called with `None`
+/// [`Column::run`] gives). `next(lane, ended)` is called with `None`
 /// once per lane for its first column, then with each column the lane
-/// finishes, and returns the lane's next column or `None` to retire it.
-/// `cancel` is polled once a cycle in each lane; a cancelled column is
-/// handed to `next` with `SimError::Cancelled`.
+/// finishes or pauses, and returns the lane's next column or `None` to
+/// retire it. `cancel` is polled once a cycle in each lane; a cancelled
+/// column is handed to `next` with `SimError::Cancelled`. `yielding` is
+/// asked before each cycle (or heavy piece) of an unfinished column that
+/// has run at least one cycle in this call (so every call moves on): when
+/// it says stop, the column is handed to `next` as [`LaneEnd::Paused`]
+/// instead of going on.
 pub fn run_columns<'s>(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
-    mut next: impl FnMut(usize, Option<Column>) -> Option<ColumnJob<'s>>,
+    yielding: &dyn Yield,
+    mut next: impl FnMut(usize, Option<LaneEnd>) -> Option<ColumnJob<'s>>,
 ) {
     let mut current: [Option<(&'s Simulator, ColumnRun)>; LANES] = std::array::from_fn(|_| None);
+    let mut moved = [false; LANES];
     run_lanes(|lane, result| {
-        let mut finished = None;
+        let mut ended = None;
         if let (Some((sim, run)), Some(r)) = (&mut current[lane], result) {
             run.take(sim, r);
+            moved[lane] = true;
         }
         loop {
             if let Some((sim, run)) = &mut current[lane] {
-                if let Some(theta) = run.next_onset(sim, cancel) {
+                let stop = || yielding.pause() || (run.heavy_due() && yielding.defer_heavy());
+                if !run.done && moved[lane] && stop() {
+                    ended = current[lane]
+                        .take()
+                        .map(|(_, run)| LaneEnd::Paused(PausedColumn(run)));
+                } else if let Some(theta) = run.next_onset(sim, cancel) {
                     return Some((*sim, theta, 0.0));
+                } else {
+                    ended = current[lane]
+                        .take()
+                        .map(|(_, run)| LaneEnd::Finished(run.finish()));
                 }
-                finished = current[lane].take().map(|(_, run)| run.finish());
             }
-            let job = next(lane, finished.take())?;
-            match job.sim {
-                Ok(sim) => {
+            let job = next(lane, ended.take())?;
+            moved[lane] = false;
+            match (job.sim, job.resume) {
+                (Ok(sim), Some(PausedColumn(run))) => current[lane] = Some((sim, run)),
+                (Ok(sim), None) => {
                     let run = ColumnRun::new(sim, job.start, job.slow_period, opts);
                     current[lane] = Some((sim, run));
                 }
-                Err(e) => finished = Some(Column::failed(job.theta_nu, job.start, e)),
+                (Err(e), _) => {
+                    ended = Some(LaneEnd::Finished(Column::failed(
+                        job.theta_nu,
+                        job.start,
+                        e,
+                    )));
+                }
             }
         }
     });

@@ -16,7 +16,7 @@ use web_time::Instant;
 
 use super::Command;
 use super::orders::{Latest, Order};
-use crate::jobs::{Generation, Lane, Local, Shape, Spec, Update};
+use crate::jobs::{Generation, Lane, Local, Shape, Spec, TimeSlice, Update};
 
 /// The most updates kept waiting for the front end: a front end that stops
 /// draining stops the jobs' progress instead of growing the queue.
@@ -110,7 +110,7 @@ impl LocalWorker {
     /// passed or none is left (at least one step if any runs); true while
     /// jobs remain.
     pub fn pump(&mut self, budget: Duration) -> bool {
-        let started = Instant::now();
+        let slice = TimeSlice::from_now(budget);
         let n = self.lanes.len();
         while self.busy() && self.queue.len() < QUEUE_LIMIT {
             let i = self.next_lane % n;
@@ -118,12 +118,12 @@ impl LocalWorker {
             let Some(job) = self.lanes[i].job.as_mut() else {
                 continue;
             };
-            let more = job.step(self.width);
+            let more = job.step_until(self.width, Some(slice));
             self.queue.extend(job.drain());
             if !more {
                 self.lanes[i].job = None;
             }
-            if started.elapsed() >= budget {
+            if Instant::now() >= slice.end {
                 break;
             }
         }

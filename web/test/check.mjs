@@ -303,12 +303,16 @@ if (native) {
     timeout: 600_000,
   });
   const web = Number(await b.evaluate(() => document.getElementById("result").dataset.median));
+  const sliced = JSON.parse(await b.evaluate(() => document.getElementById("result").dataset.sliced));
   const line = execFileSync(native, ["bench-worker", "--single-thread", "--repeats", "3"], {
     encoding: "utf8",
   });
   const nat = Number(/median ([0-9.]+) s/.exec(line)?.[1]);
   console.log(`web bench: Fig. 3b diagram on one thread, median of 3: browser ${web.toFixed(3)} s, ` +
     `native ${nat.toFixed(3)} s, ratio ${(web / nat).toFixed(2)} (target ≤ 2.5)`);
+  const natSteps = /steps p99 ([0-9.]+) ms, longest ([0-9.]+) ms/.exec(line);
+  console.log(`web bench: in 12 ms slices, steps p99 / longest: browser ${sliced.p99.toFixed(1)} / ` +
+    `${sliced.longest.toFixed(1)} ms, native ${natSteps?.[1]} / ${natSteps?.[2]} ms`);
 }
 
 await browser.close();
