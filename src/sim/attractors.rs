@@ -2,12 +2,24 @@
 //! from seeds spread over the exit arc (and from a previous attractor's
 //! point, where there is one), each run to its attractor, and the
 //! attractors told apart. Two orbits reach the same attractor when their
-//! solved cycles coincide to the solver's accuracy, or when their chaotic
-//! sets overlap; each attractor's basin fraction is the share of the
-//! spread seeds that reach it.
+//! cycles coincide to the solver's accuracy, or when their chaotic sets
+//! overlap; each attractor's basin fraction is the share of the spread
+//! seeds that reach it.
+//!
+//! The first orbit (from the previous point, else the first seed) is
+//! integrated as `orbit` runs it. The others iterate [`SeedMap`]: the
+//! verified interpolant near the attractors already found, direct
+//! integration elsewhere; each stops once its iterates repeat. A cycle
+//! that is not one already found is solved by Newton on the direct map;
+//! a new chaotic set's λ comes from an integrated orbit, as the first's.
 
-use rayon::prelude::*;
+mod seed_map;
 
+use seed_map::SeedMap;
+
+use super::cycles::{CycleOptions, solve_counting};
+use super::period::{PERIOD_MAX, settled_period};
+use super::seeded::SAME_CYCLE;
 use super::{Orbit, OrbitOptions, Period, SimError, Simulator, default_settings};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, exit_arc, wrap_angle};
@@ -61,16 +73,13 @@ enum Reached {
     },
 }
 
-/// The orbit from `theta0`, to its attractor.
-fn reach(
-    sim: &Simulator,
-    theta0: f64,
-    cancel: &(dyn Fn() -> bool + Sync),
-) -> Result<Reached, SimError> {
+/// The orbit from `theta0`, integrated to its attractor (with λ over its
+/// kept iterates, as `orbit` computes it).
+fn reach(sim: &Simulator, theta0: f64, cancel: &dyn Fn() -> bool) -> Result<Reached, SimError> {
     let opts = OrbitOptions {
         transient: TRANSIENT,
         keep: KEEP,
-        lyapunov: false,
+        lyapunov: true,
         period_tol: OrbitOptions::period_tol_for(sim.settings().rtol),
     };
     let orbit = sim.orbit(theta0, &opts, cancel)?;
@@ -81,23 +90,196 @@ fn reach(
             multiplier: c.multiplier,
         });
     }
-    // Aperiodic, or a period whose cycle was not solved: the exponent on
-    // more iterates from where the orbit is.
-    let more = OrbitOptions {
-        transient: 0,
-        lyapunov: true,
-        ..opts
-    };
-    let o: Orbit = sim.orbit(orbit.theta_last, &more, cancel)?;
+    if orbit.period == Period::Aperiodic {
+        return Ok(aperiodic(&orbit));
+    }
+    aperiodic_from(sim, orbit.theta_last, cancel)
+}
+
+/// The chaotic set an orbit's kept iterates visit, with their λ.
+fn aperiodic(o: &Orbit) -> Reached {
     let th = o.thetas();
     let lo = th.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = th.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    Ok(Reached::Aperiodic {
+    Reached::Aperiodic {
         lo,
         hi,
         lyapunov: o.lyapunov,
         stderr: o.lyapunov_stderr,
-    })
+    }
+}
+
+/// An aperiodic (or unsolved periodic) orbit's set and exponent, from
+/// [`KEEP`] more integrated iterates from θ.
+fn aperiodic_from(
+    sim: &Simulator,
+    theta: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Reached, SimError> {
+    let opts = OrbitOptions {
+        transient: 0,
+        keep: KEEP,
+        lyapunov: true,
+        period_tol: OrbitOptions::period_tol_for(sim.settings().rtol),
+    };
+    Ok(aperiodic(&sim.orbit(theta, &opts, cancel)?))
+}
+
+/// What a seed's orbit on [`SeedMap`] came to.
+enum Fell {
+    /// It closes in on this known stable cycle ([`closes_in`]).
+    Known(usize),
+    /// Its iterates repeat with this period: these are its last p.
+    Repeats(Vec<f64>),
+    /// They did not: its kept iterates and the onset after them.
+    Wanders(Vec<f64>, f64),
+}
+
+/// How near a known stable cycle's point an orbit must come, closing in
+/// over four periods, to be counted as falling onto it: far inside the
+/// neighbourhood where the cycle's linearisation governs the approach
+/// (coexisting attractors here lie tenths of a radian apart).
+const CLOSE: f64 = 1e-3;
+
+/// Whether the end of `seq` closes in on the stable p-cycle `a`: its newest
+/// value within [`CLOSE`] of a point of `a`, and its distance from that
+/// point, one period at a time, shrinking over the last four periods (the
+/// approach of a stable cycle in its linear regime).
+fn closes_in(seq: &[f64], a: &Attractor) -> bool {
+    let (Some(p), Some(m)) = (a.period, a.multiplier) else {
+        return false;
+    };
+    let n = seq.len();
+    if m.abs() >= 1.0 || n < 4 * p + 1 {
+        return false;
+    }
+    let last = seq[n - 1];
+    let gap = |x: f64, y: f64| wrap_angle(x - y).abs();
+    let Some(&target) = a
+        .points
+        .iter()
+        .min_by(|x, y| gap(last, **x).total_cmp(&gap(last, **y)))
+    else {
+        return false;
+    };
+    let e: Vec<f64> = (0..4).map(|k| gap(seq[n - 1 - k * p], target)).collect();
+    e[0] < CLOSE && e[0] < e[1] && e[1] < e[2] && e[2] < e[3]
+}
+
+/// The seed's orbit from θ0 on `map`, [`TRANSIENT`] + [`KEEP`] iterates
+/// at most: it stops once it closes in on a `known` stable cycle, or once
+/// its last iterates repeat with a period (to `rep_tol`).
+fn fall(
+    map: &mut SeedMap,
+    theta0: f64,
+    rep_tol: f64,
+    known: &[Attractor],
+    cancel: &dyn Fn() -> bool,
+) -> Result<Fell, SimError> {
+    let window = 3 * PERIOD_MAX;
+    let mut recent = Vec::with_capacity(2 * window);
+    let mut kept = Vec::with_capacity(KEEP);
+    let mut theta = theta0;
+    for i in 0..TRANSIENT + KEEP {
+        if i % 64 == 0 && cancel() {
+            return Err(SimError::Cancelled);
+        }
+        if i >= TRANSIENT {
+            kept.push(theta);
+        }
+        if recent.len() == 2 * window {
+            recent.drain(..window);
+        }
+        recent.push(theta);
+        if i % 8 == 7 {
+            if let Some(k) = known.iter().position(|a| closes_in(&recent, a)) {
+                return Ok(Fell::Known(k));
+            }
+            // The full period test only once the newest value repeats one
+            // of the last PERIOD_MAX (a cheap test that chaos fails).
+            let n = recent.len();
+            let repeats = (1..=PERIOD_MAX.min(n - 1))
+                .any(|p| wrap_angle(recent[n - 1] - recent[n - 1 - p]).abs() <= rep_tol);
+            if repeats && let Some(p) = settled_period(&recent, rep_tol) {
+                return Ok(Fell::Repeats(recent[recent.len() - p..].to_vec()));
+            }
+        }
+        theta = map.next(theta)?;
+    }
+    Ok(Fell::Wanders(kept, theta))
+}
+
+/// What the seed from θ0 reached, from its orbit on `map`: a cycle among
+/// `known` ones is named by its index there, a new one solved by Newton on
+/// the direct map; an orbit that does not repeat is settled as `orbit`
+/// settles one (a slow cycle solved), or is a chaotic set. A new chaotic
+/// set gets its λ from integrated iterates.
+fn reach_seeded(
+    sim: &Simulator,
+    map: &mut SeedMap,
+    theta0: f64,
+    known: &[Attractor],
+    cancel: &dyn Fn() -> bool,
+) -> Result<Reached, SimError> {
+    let settings = sim.settings();
+    let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
+    let (kept, next) = match fall(map, theta0, rep_tol, known, cancel)? {
+        Fell::Known(k) => {
+            let a = &known[k];
+            return Ok(Reached::Cycle {
+                period: a.points.len(),
+                points: a.points.clone(),
+                multiplier: a.multiplier.unwrap_or(f64::NAN),
+            });
+        }
+        Fell::Repeats(points) => {
+            let p = points.len();
+            let same =
+                |a: &&Attractor| a.period == Some(p) && same_cycle(&points, &a.points, SAME_CYCLE);
+            if let Some(a) = known.iter().find(same) {
+                return Ok(Reached::Cycle {
+                    period: p,
+                    points: a.points.clone(),
+                    multiplier: a.multiplier.unwrap_or(f64::NAN),
+                });
+            }
+            let opts = CycleOptions::for_classifier(settings);
+            let solved = solve_counting(sim, points[p - 1], p, &opts, &mut (0, 0))
+                .ok()
+                .filter(|c| c.minimal_period == p && c.stable);
+            if let Some(c) = solved {
+                return Ok(Reached::Cycle {
+                    period: p,
+                    points: c.points[..p].to_vec(),
+                    multiplier: c.multiplier,
+                });
+            }
+            // Repeats on the series but no stable cycle there: integrate.
+            return reach(sim, theta0, cancel);
+        }
+        Fell::Wanders(kept, next) => (kept, next),
+    };
+    let tol = OrbitOptions::period_tol_for(settings.rtol);
+    let settled = sim.settle(&kept, next, &[], tol, &mut (0, 0));
+    if let Some(c) = settled.cycle {
+        return Ok(Reached::Cycle {
+            period: c.minimal_period,
+            points: c.points[..c.minimal_period].to_vec(),
+            multiplier: c.multiplier,
+        });
+    }
+    let lo = kept.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = kept.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let overlaps = |a: &Attractor| a.period.is_none() && lo <= a.points[1] && hi >= a.points[0];
+    if known.iter().any(overlaps) {
+        return Ok(Reached::Aperiodic {
+            lo,
+            hi,
+            lyapunov: None,
+            stderr: None,
+        });
+    }
+    aperiodic_from(sim, next, cancel)
 }
 
 /// Whether two p-cycles are one: every point of `a` within `tol` of a
@@ -111,7 +293,9 @@ fn same_cycle(a: &[f64], b: &[f64], tol: f64) -> bool {
 /// Every attractor at `params` reached from `seeds` seeds spread over the
 /// exit arc and from `previous` (a point of the attractor found before,
 /// not counted in the basin fractions), in order of decreasing basin
-/// fraction. The seeds run in parallel; `cancel` is polled by each orbit.
+/// fraction. The first orbit (from `previous`, else the first seed) is
+/// integrated; the others run on [`SeedMap`] (see the module's doc).
+/// `cancel` is polled by each orbit.
 pub fn attractors(
     params: Params,
     settings: SolverSettings,
@@ -121,15 +305,21 @@ pub fn attractors(
 ) -> Result<Vec<Attractor>, SimError> {
     let sim = Simulator::new(params, settings)?;
     let spread = spread_seeds(&params, seeds.max(1));
-    let all: Vec<f64> = spread.iter().copied().chain(previous).collect();
-    let reached: Vec<Result<Reached, SimError>> =
-        all.par_iter().map(|&th| reach(&sim, th, cancel)).collect();
+    let first_counted = usize::from(previous.is_some());
+    let all: Vec<f64> = previous.into_iter().chain(spread.iter().copied()).collect();
+    let mut map = SeedMap::new(&sim);
     // Cycles coincide to 1e3× the solver's tolerance (their points are
     // solved by Newton to about the tolerance).
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;
-    let mut out: Vec<(Attractor, usize)> = Vec::new();
-    for (i, r) in reached.into_iter().enumerate() {
-        let counted = usize::from(i < spread.len());
+    let mut found: Vec<Attractor> = Vec::new();
+    let mut counts: Vec<usize> = Vec::new();
+    for (i, &theta0) in all.iter().enumerate() {
+        let counted = usize::from(i >= first_counted);
+        let r = if found.is_empty() {
+            reach(&sim, theta0, cancel)
+        } else {
+            reach_seeded(&sim, &mut map, theta0, &found, cancel)
+        };
         let r = match r {
             Ok(r) => r,
             // A seed whose orbit fails (off the arc after a restart, or
@@ -137,13 +327,18 @@ pub fn attractors(
             Err(SimError::Cancelled) => return Err(SimError::Cancelled),
             Err(_) => continue,
         };
-        let known = out.iter_mut().find(|(a, _)| match (&r, a.period) {
-            (Reached::Cycle { period, points, .. }, Some(p)) => {
-                *period == p && same_cycle(points, &a.points, tol)
-            }
-            (Reached::Aperiodic { lo, hi, .. }, None) => *lo <= a.points[1] && *hi >= a.points[0],
-            _ => false,
-        });
+        let known = found
+            .iter_mut()
+            .zip(counts.iter_mut())
+            .find(|(a, _)| match (&r, a.period) {
+                (Reached::Cycle { period, points, .. }, Some(p)) => {
+                    *period == p && same_cycle(points, &a.points, tol)
+                }
+                (Reached::Aperiodic { lo, hi, .. }, None) => {
+                    *lo <= a.points[1] && *hi >= a.points[0]
+                }
+                _ => false,
+            });
         if let Some((a, n)) = known {
             *n += counted;
             // An overlapping chaotic set widens the interval.
@@ -152,49 +347,131 @@ pub fn attractors(
             }
             continue;
         }
-        let a = match r {
-            Reached::Cycle {
-                period,
-                points,
-                multiplier,
-            } => Attractor {
-                period: Some(period),
-                lyapunov: Some(multiplier.abs().ln() / period as f64),
-                multiplier: Some(multiplier),
-                points,
-                lyapunov_stderr: None,
-                basin_fraction: 0.0,
-            },
-            Reached::Aperiodic {
-                lo,
-                hi,
-                lyapunov,
-                stderr,
-            } => Attractor {
-                period: None,
-                points: vec![lo, hi],
-                multiplier: None,
-                lyapunov,
-                lyapunov_stderr: stderr,
-                basin_fraction: 0.0,
-            },
-        };
-        out.push((a, counted));
+        let a = attractor(r);
+        // Seeds falling towards it from now on run on its series: near
+        // each point of a cycle, or over a chaotic set's hull (worth up to
+        // a quarter of what the seeds left would integrate: they cannot
+        // stop early there).
+        if a.period.is_some() {
+            for &x in &a.points {
+                map.cover(&[x], 0);
+            }
+        } else {
+            let left = all.len() - i - 1;
+            map.cover(&a.points, left * (TRANSIENT + KEEP) / 4);
+        }
+
+        found.push(a);
+        counts.push(counted);
     }
     let n = spread.len() as f64;
-    let mut found: Vec<Attractor> = out
-        .into_iter()
-        .map(|(mut a, k)| {
-            a.basin_fraction = k as f64 / n;
-            a
-        })
-        .collect();
+    for (a, k) in found.iter_mut().zip(counts) {
+        a.basin_fraction = k as f64 / n;
+    }
     found.sort_by(|a, b| b.basin_fraction.total_cmp(&a.basin_fraction));
     Ok(found)
+}
+
+/// The attractor a first orbit reached (its basin fraction still 0); a
+/// cycle's points in orbit order from its least θ, whichever seed found it.
+fn attractor(r: Reached) -> Attractor {
+    match r {
+        Reached::Cycle {
+            period,
+            mut points,
+            multiplier,
+        } => Attractor {
+            period: Some(period),
+            lyapunov: Some(multiplier.abs().ln() / period as f64),
+            multiplier: Some(multiplier),
+            points: {
+                let least = (0..points.len()).min_by(|&i, &j| points[i].total_cmp(&points[j]));
+                points.rotate_left(least.unwrap_or(0));
+                points
+            },
+            lyapunov_stderr: None,
+            basin_fraction: 0.0,
+        },
+        Reached::Aperiodic {
+            lo,
+            hi,
+            lyapunov,
+            stderr,
+        } => Attractor {
+            period: None,
+            points: vec![lo, hi],
+            multiplier: None,
+            lyapunov,
+            lyapunov_stderr: stderr,
+            basin_fraction: 0.0,
+        },
+    }
 }
 
 /// [`attractors`] with the default solver (DOP853 at 1e-10) and no
 /// previous attractor: for tests and examples.
 pub fn attractors_default(params: Params, seeds: usize) -> Result<Vec<Attractor>, SimError> {
     attractors(params, default_settings(1e-10), seeds, None, &|| false)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every seed integrated to its attractor (as `attractors` ran before
+    /// [`SeedMap`]): the attractors and basin fractions by an independent
+    /// route.
+    fn integrated(params: Params, seeds: usize) -> Vec<(Option<usize>, Vec<f64>, f64)> {
+        let sim = Simulator::new(params, default_settings(1e-10)).expect("valid");
+        let spread = spread_seeds(&params, seeds);
+        let mut out: Vec<(Option<usize>, Vec<f64>, f64)> = Vec::new();
+        for &th in &spread {
+            let (period, points) = match reach(&sim, th, &|| false).expect("runs") {
+                Reached::Cycle { period, points, .. } => (Some(period), points),
+                Reached::Aperiodic { lo, hi, .. } => (None, vec![lo, hi]),
+            };
+            let share = 1.0 / seeds as f64;
+            let same = |o: &&mut (Option<usize>, Vec<f64>, f64)| {
+                o.0 == period
+                    && match period {
+                        Some(_) => same_cycle(&points, &o.1, 1e-6),
+                        None => points[0] <= o.1[1] && points[1] >= o.1[0],
+                    }
+            };
+            match out.iter_mut().find(same) {
+                Some(o) => o.2 += share,
+                None => out.push((period, points, share)),
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn the_seeds_on_the_interpolant_find_what_integrating_each_finds() {
+        let hysteresis = Params {
+            kappa: 10.0,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: 1.40,
+            omega: 50.0,
+        };
+        let chaos = Params {
+            theta_nu: 1.25,
+            ..Params::default()
+        };
+        for params in [hysteresis, chaos] {
+            let got = attractors_default(params, 16).expect("runs");
+            let want = integrated(params, 16);
+            assert_eq!(got.len(), want.len(), "{got:?} vs {want:?}");
+            for (p, points, share) in &want {
+                let a = got
+                    .iter()
+                    .find(|a| {
+                        a.period == *p && (p.is_none() || same_cycle(&a.points, points, 1e-6))
+                    })
+                    .unwrap_or_else(|| panic!("{p:?} {points:?} not in {got:?}"));
+                assert!((a.basin_fraction - share).abs() < 1e-12, "{a:?} vs {share}");
+            }
+        }
+    }
 }
