@@ -146,6 +146,65 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
     );
 }
 
+/// Steps the window until a label contains `text` (the view's threads
+/// answer within seconds); false after about 60 s.
+fn wait_for_label(
+    h: &mut egui_kittest::Harness<'static, oneblock::app::Explorer>,
+    text: &str,
+) -> bool {
+    use egui_kittest::kittest::Queryable;
+    for _ in 0..1200 {
+        h.step();
+        if h.query_by_label_contains(text).is_some() {
+            return true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    false
+}
+
+/// The window sets the channel passage, computed from f on a thread of its
+/// own, beside the mean laminar length (20.4 slips on the intermittent
+/// preset, as `orbit --stats` gives), and its scan names the tangency it
+/// located by continuation and why the slope is not −1/2; at the creep
+/// preset the scan finds no tangency and says so instead of fitting.
+#[test]
+fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_tangency() {
+    #[path = "common/window.rs"]
+    mod window;
+    use egui_kittest::kittest::Queryable;
+    use oneblock::app::Recorder;
+    use oneblock::app::settings::EventsPlot;
+    use oneblock::worker::Update;
+    for (preset, onsets, passage, verdict) in [
+        ("intermittent", [0.1, 0.6], "channel passage 20.4", "ghost"),
+        ("creep", [0.69, 0.7], "no open channel", "no tangency"),
+    ] {
+        let rec = Recorder::new();
+        let settings = Settings {
+            layout: Layout::Tabs,
+            tab: ViewKind::Events,
+            events_plot: EventsPlot::Scaling,
+            params: oneblock::model::preset(preset).unwrap().params,
+            ..Settings::default()
+        };
+        let mut h = window::harness(&rec, settings);
+        h.run_steps(2);
+        let g = window::trajectory_generation(&rec);
+        for i in 0..40 {
+            let th = onsets[usize::from(i % 5 == 0)];
+            rec.push(Update::Slip {
+                generation: g,
+                event: window::event(th, th, f64::from(i)),
+            });
+        }
+        assert!(wait_for_label(&mut h, passage), "{preset}: no {passage:?}");
+        h.get_by_label("Laminar length vs distance to a tangency")
+            .click();
+        assert!(wait_for_label(&mut h, verdict), "{preset}: no {verdict:?}");
+    }
+}
+
 #[test]
 fn opening_a_session_in_the_window_replaces_settings_and_zoom_but_not_the_folder() {
     // What the browser's "Open session…" does with an uploaded file.
