@@ -53,6 +53,16 @@ impl Plots<'_> {
     pub fn series_ui(&self, ui: &mut Ui, h: f32) {
         let series = decimate(&self.sizes, MAX_MARKERS);
         let markers = self.sizes.len() <= MAX_MARKERS;
+        let h = if markers {
+            // What the markers' colours say, on a row above the plot.
+            let row = ui.horizontal(|ui| {
+                style::legend_swatch(ui, style::PULL, "creep");
+                style::legend_swatch(ui, style::ACCEL, "stick-slip (by where the slip starts)");
+            });
+            h - row.response.rect.height() - ui.spacing().item_spacing.y
+        } else {
+            h
+        };
         let r = axes::apply(
             Plot::new("events_series").show_background(false).height(h),
             &AxisSpec::linear("event number n"),
