@@ -164,7 +164,7 @@ fn wait_for_label(
 }
 
 /// The window sets the channel passage, computed from f on a thread of its
-/// own, beside the mean laminar length (20.4 slips on the intermittent
+/// own, beside the mean laminar length (20.9 slips on the intermittent
 /// preset, as `orbit --stats` gives), and its scan names the tangency it
 /// located by continuation and why the slope is not −1/2; at the creep
 /// preset the scan finds no tangency and says so instead of fitting.
@@ -177,7 +177,7 @@ fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_t
     use oneblock::app::settings::EventsPlot;
     use oneblock::worker::Update;
     for (preset, onsets, passage, verdict) in [
-        ("intermittent", [0.1, 0.6], "channel passage 20.4", "ghost"),
+        ("intermittent", [0.1, 0.6], "channel passage 20.9", "ghost"),
         ("creep", [0.69, 0.7], "no open channel", "no tangency"),
     ] {
         let rec = Recorder::new();

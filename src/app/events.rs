@@ -64,7 +64,9 @@ impl EventsView {
     /// The scan's button and its outcome in words.
     fn scaling_row_ui(&mut self, ui: &mut Ui, params: &Params) {
         ui.horizontal_wrapped(|ui| {
-            if self.scaled.busy() {
+            if cfg!(target_arch = "wasm32") {
+                ui.label("type-I scaling: oneblock orbit --stats FILE --scaling (desktop only)");
+            } else if self.scaled.busy() {
                 ui.spinner();
                 ui.label("locating a tangency and measuring the laminar lengths near it ...");
             } else if ui
@@ -104,7 +106,9 @@ impl EventsView {
         let Some(near) = self.cache.first_creep else {
             return;
         };
-        if figure || !self.passage.missing(params) {
+        // A picture is drawn once; the browser has no thread to spare (its
+        // only one draws the page and runs the jobs).
+        if figure || cfg!(target_arch = "wasm32") || !self.passage.missing(params) {
             return;
         }
         let p = *params;
@@ -290,8 +294,9 @@ fn plot_name(p: EventsPlot) -> &'static str {
 const STATS_HELP: &str = "A slip is creep or stick-slip by where it starts, the model's \
      criterion: creep where γ² < A(θ) = κ cos²θ + sin²θ (κ³x0² + y0² > γ² at the onset). A \
      laminar phase is a run of creep slips between two stick-slip slips. The channel \
-     passage is the time to cross the creep arc, ∫dθ/(f(θ) − θ) from where the stick-slip \
-     slips re-inject the orbit to the arc's end, computed from f itself. The trajectory's \
+     passage is the number of creep slips a crossing of the creep arc holds, ⌈T⌉ with \
+     T = ∫dθ/(f(θ) − θ) from where the stick-slip slips re-inject the orbit to the arc's \
+     end, computed from f itself. The trajectory's \
      first events (its transient) are left out; `oneblock orbit --stats` writes the same \
      statistics as CSV.";
 

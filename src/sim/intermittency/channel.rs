@@ -11,13 +11,15 @@
 //!   T(θ_in) = ∫ dθ / g(θ)   from θ_in to the arc's exit end,
 //!
 //! in iterates of f (type-I intermittency's passage time, which near a
-//! tangency of f with the diagonal grows as ε^(−1/2)). The entries θ_in are
+//! tangency of f with the diagonal grows as ε^(−1/2)). A run entering at
+//! θ_in holds the onsets reached at times 0, 1, 2, … before T, that is
+//! ⌈T⌉ creep slips: the estimate of a laminar length. The entries θ_in are
 //! computed from f too: the last creep onset of a run lies within one step
 //! g of the exit end; [`ENTRIES`] such onsets, spread evenly over that step
 //! (the assumption: the orbit's phase there is uniform), are mapped on by
-//! f until they land back in the channel. The estimate is the mean of T
-//! over those entries. It leaves out the rounding of a discrete run (a run
-//! of n slips spans between n − 1 and n steps), about half an iterate.
+//! f until they land back in the channel. The estimate is the mean of ⌈T⌉
+//! over those entries (the mean of T itself is kept beside it: it falls
+//! about half a slip short, and below 1 where a run is a single slip).
 //!
 //! g is sampled at the midpoints of [`CELLS`] equal cells of the arc and
 //! 1/g taken constant on each (the midpoint rule; the ends of the arc are
@@ -95,9 +97,11 @@ pub struct ChannelPassage {
     /// The narrowest gap |f(θ) − θ| over the arc's cells, and where.
     pub narrowest: f64,
     pub at: f64,
-    /// The mean passage time ∫dθ/(f(θ) − θ) from the entries to the exit
-    /// end, in iterates of f.
+    /// The mean number of creep slips a passage holds, ⌈T⌉ over the
+    /// entries, T = ∫dθ/(f(θ) − θ) from the entry to the exit end.
     pub mean: f64,
+    /// The mean of T itself, in iterates of f.
+    pub mean_time: f64,
     /// How many of the [`ENTRIES`] exits came back (the mean's sample).
     pub entries: usize,
 }
@@ -114,9 +118,10 @@ impl Passage {
                 "no channel passage: no exit comes back to the creep arc within {MAX_RETURN} slips"
             ),
             Passage::Open(c) => format!(
-                "channel passage {:.1} slips (integral of dtheta/(f - theta) over the creep arc \
-                 [{:.4}, {:.4}] from {} re-entries; f - theta >= {:.2e}, at theta = {:.4})",
-                c.mean, c.lo, c.hi, c.entries, c.narrowest, c.at
+                "channel passage {:.1} slips (ceil of T = integral of dtheta/(f - theta) over \
+                 the creep arc [{:.4}, {:.4}] from {} re-entries, mean T {:.2}; f - theta >= \
+                 {:.2e}, at theta = {:.4})",
+                c.mean, c.lo, c.hi, c.entries, c.mean_time, c.narrowest, c.at
             ),
         }
     }
@@ -175,7 +180,8 @@ pub fn passage(sim: &Simulator, near: f64, cancel: &dyn Fn() -> bool) -> Result<
         hi,
         narrowest,
         at: wrap_angle(lo + (k as f64 + 0.5) * w),
-        mean: times.iter().sum::<f64>() / times.len() as f64,
+        mean: times.iter().map(|t| t.ceil()).sum::<f64>() / times.len() as f64,
+        mean_time: times.iter().sum::<f64>() / times.len() as f64,
         entries: times.len(),
     }))
 }

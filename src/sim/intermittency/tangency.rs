@@ -108,7 +108,10 @@ impl Scaling {
             t.period, t.theta_nu, t.multiplier
         );
         let Some((slope, _)) = fit else {
-            return format!("{fold}: under 3 distances with laminar phases, no fit");
+            return format!(
+                "{fold}: at under 3 of the distances does the orbit have 3 or more laminar \
+                 phases (runs of creep slips) to measure, so nothing is fitted"
+            );
         };
         if supports_type_one(*slope) {
             return format!("slope {slope:.2} against {fold}: type-I (-1/2) supported");
@@ -116,9 +119,14 @@ impl Scaling {
         let why = if t.period > 1 {
             format!(
                 ": near it the orbit follows the P{} cycle's ghost, whose creep runs are at most \
-                 {} slips long, so the laminar phases tend to that length instead of growing; \
+                 {} long, so the laminar phases tend to that length instead of growing; \
                  type-I's eps^(-1/2) is the stay near the ghost, which spans many laminar phases",
-                t.period, t.creep_run
+                t.period,
+                if t.creep_run == 1 {
+                    "1 slip".to_string()
+                } else {
+                    format!("{} slips", t.creep_run)
+                }
             )
         } else {
             ": the creep runs do not lengthen towards it (the channel passage beside each \
