@@ -94,11 +94,17 @@ impl Scaling {
     /// The verdict in plain words, with why where −1/2 is not supported.
     pub fn describe(&self) -> String {
         let (t, fit) = match self {
+            Scaling::NoTangency { lo, hi, windows: 0 } => {
+                return format!(
+                    "no tangency: no periodic orbit found for theta-nu in [{lo:.4}, {hi:.4}], \
+                     so no cycle to follow to a fold, and type-I scaling is not fitted"
+                );
+            }
             Scaling::NoTangency { lo, hi, windows } => {
                 return format!(
-                    "no tangency: continuation found no fold of a periodic window's cycle for \
-                     theta-nu in [{lo:.4}, {hi:.4}] ({windows} windows' cycles followed), so \
-                     type-I scaling is not fitted"
+                    "no tangency: continuation found no fold on the cycles of the {windows} \
+                     periodic orbits found for theta-nu in [{lo:.4}, {hi:.4}], so type-I \
+                     scaling is not fitted"
                 );
             }
             Scaling::Fitted { tangency, fit, .. } => (tangency, fit),
