@@ -3,6 +3,9 @@
 //! defaults for that, and keeps everything else as saved.
 #![cfg(feature = "gui")]
 
+#[path = "common/window.rs"]
+mod window;
+
 use oneblock::Params;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::session::Session;
@@ -103,8 +106,6 @@ fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
 /// by where each slip starts (κ = 50, γ = 6.5: creep for |θ| < 0.409).
 #[test]
 fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient() {
-    #[path = "common/window.rs"]
-    mod window;
     use egui_kittest::kittest::Queryable;
     use oneblock::app::Recorder;
     use oneblock::worker::Update;
@@ -170,8 +171,6 @@ fn wait_for_label(
 /// preset the scan finds no tangency and says so instead of fitting.
 #[test]
 fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_tangency() {
-    #[path = "common/window.rs"]
-    mod window;
     use egui_kittest::kittest::Queryable;
     use oneblock::app::Recorder;
     use oneblock::app::settings::EventsPlot;
