@@ -3,6 +3,9 @@
 //! defaults for that, and keeps everything else as saved.
 #![cfg(feature = "gui")]
 
+#[path = "common/window.rs"]
+mod window;
+
 use oneblock::Params;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::session::Session;
@@ -99,11 +102,10 @@ fn bad_and_unknown_fields_are_named_and_the_rest_is_kept() {
 }
 
 /// The Events view states the laminar statistics of the events after the
-/// transient: a synthetic run whose lengths are known.
+/// transient: a synthetic run whose lengths are known, creep and stick-slip
+/// by where each slip starts (κ = 50, γ = 6.5: creep for |θ| < 0.409).
 #[test]
 fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient() {
-    #[path = "common/window.rs"]
-    mod window;
     use egui_kittest::kittest::Queryable;
     use oneblock::app::Recorder;
     use oneblock::worker::Update;
@@ -111,37 +113,95 @@ fn the_events_view_counts_the_laminar_phases_of_the_events_after_the_transient()
     let settings = Settings {
         layout: Layout::Tabs,
         tab: ViewKind::Events,
+        params: oneblock::model::preset("intermittent").unwrap().params,
         ..Settings::default()
     };
     let mut h = window::harness(&rec, settings);
     h.run_steps(2);
     let g = window::trajectory_generation(&rec);
     // 40 events: the first 10 (a quarter, the transient) are left out;
-    // then large slips (0.8) with 4, 6, 6 and 3 creep slips (3e-3) between.
-    let mut sizes = vec![0.5; 10];
-    sizes.push(0.8);
+    // then stick-slip slips (onset 0.6) with runs of 4, 6, 6 and 3 creep
+    // slips (onset 0.1) between them, and a run cut by the window's end.
+    let mut onsets = vec![0.1; 10];
+    onsets.push(0.6);
     for l in [4, 6, 6, 3] {
-        sizes.extend(std::iter::repeat_n(3e-3, l));
-        sizes.push(0.8);
+        onsets.extend(std::iter::repeat_n(0.1, l));
+        onsets.push(0.6);
     }
-    sizes.extend(std::iter::repeat_n(3e-3, 40 - sizes.len()));
-    assert_eq!(sizes.len(), 40);
-    for (i, d) in sizes.iter().enumerate() {
-        let mut e = window::event(0.5, 0.5, i as f64);
-        e.slip_distance = *d;
+    onsets.extend(std::iter::repeat_n(0.1, 40 - onsets.len()));
+    assert_eq!(onsets.len(), 40);
+    for (i, th) in onsets.iter().enumerate() {
+        let mut e = window::event(*th, *th, i as f64);
+        e.onset_x = th.cos() / 50.0;
+        e.slip_distance = if *th > 0.4 { 0.8 } else { 3e-3 };
         rec.push(Update::Slip {
             generation: g,
             event: e,
         });
     }
     h.run_steps(3);
-    // After the creep/stick-slip counts by onset (these synthetic events
-    // all start at one θ), the sizes' counts.
-    let label = "5 large, 25 small · 4 laminar phases, mean laminar length 4.8";
+    let label = "25 creep, 5 stick-slip · 4 laminar phases, mean laminar length 4.8";
     assert!(
         h.query_by_label_contains(label).is_some(),
         "no label containing {label:?}"
     );
+}
+
+/// Steps the window until a label contains `text` (the view's threads
+/// answer within seconds); false after about 60 s.
+fn wait_for_label(
+    h: &mut egui_kittest::Harness<'static, oneblock::app::Explorer>,
+    text: &str,
+) -> bool {
+    use egui_kittest::kittest::Queryable;
+    for _ in 0..1200 {
+        h.step();
+        if h.query_by_label_contains(text).is_some() {
+            return true;
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    false
+}
+
+/// The window sets the channel passage, computed from f on a thread of its
+/// own, beside the mean laminar length (20.9 slips on the intermittent
+/// preset, as `orbit --stats` gives), and its scan names the tangency it
+/// located by continuation and why the slope is not −1/2; at the creep
+/// preset the scan finds no tangency and says so instead of fitting.
+#[test]
+fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_tangency() {
+    use egui_kittest::kittest::Queryable;
+    use oneblock::app::Recorder;
+    use oneblock::app::settings::EventsPlot;
+    use oneblock::worker::Update;
+    for (preset, onsets, passage, verdict) in [
+        ("intermittent", [0.1, 0.6], "channel passage 20.9", "ghost"),
+        ("creep", [0.69, 0.7], "no open channel", "no tangency"),
+    ] {
+        let rec = Recorder::new();
+        let settings = Settings {
+            layout: Layout::Tabs,
+            tab: ViewKind::Events,
+            events_plot: EventsPlot::Scaling,
+            params: oneblock::model::preset(preset).unwrap().params,
+            ..Settings::default()
+        };
+        let mut h = window::harness(&rec, settings);
+        h.run_steps(2);
+        let g = window::trajectory_generation(&rec);
+        for i in 0..40 {
+            let th = onsets[usize::from(i % 5 == 0)];
+            rec.push(Update::Slip {
+                generation: g,
+                event: window::event(th, th, f64::from(i)),
+            });
+        }
+        assert!(wait_for_label(&mut h, passage), "{preset}: no {passage:?}");
+        h.get_by_label("Laminar length vs distance to a tangency")
+            .click();
+        assert!(wait_for_label(&mut h, verdict), "{preset}: no {verdict:?}");
+    }
 }
 
 #[test]

@@ -10,7 +10,7 @@ use common::fixture::preset;
 
 use std::process::Command;
 
-use oneblock::sim::intermittency::Intermittency;
+use oneblock::sim::intermittency::{Intermittency, creep_flags};
 use oneblock::sim::{
     InterpolantOptions, OrbitOptions, Simulator, default_settings, orbit_interpolated,
 };
@@ -86,10 +86,14 @@ fn laminar_lengths_and_slip_sizes_agree_with_direct_integration() {
     let sizes = |o: &oneblock::sim::Orbit| -> Vec<f64> {
         o.events.iter().map(|e| e.slip_distance).collect()
     };
+    let creep = |o: &oneblock::sim::Orbit| -> Vec<bool> {
+        let p = sim.params();
+        creep_flags(p.kappa, p.gamma, o.events.iter().map(|e| e.theta))
+    };
     let (sd, si) = (sizes(&direct), sizes(&interp.orbit));
     let (a, b) = (
-        Intermittency::of(&sd, None).unwrap(),
-        Intermittency::of(&si, None).unwrap(),
+        Intermittency::of(&creep(&direct), &sd),
+        Intermittency::of(&creep(&interp.orbit), &si),
     );
     assert!(a.laminar.len() > 200, "{} laminar phases", a.laminar.len());
     let (ma, ea) = (a.mean_laminar.unwrap(), a.mean_laminar_stderr.unwrap());
@@ -149,9 +153,9 @@ fn orbit_stats_say_where_the_slip_sizes_came_from() {
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let text = std::fs::read_to_string(&st).unwrap();
-        // After the creep/stick-slip counts, the size statistics' line.
+        // After the creep/stick-slip counts, the laminar phases' line.
         let first = text.lines().nth(1).unwrap();
-        assert!(first.starts_with("# large slip"), "{first}");
+        assert!(first.starts_with("# laminar phase"), "{first}");
         assert!(first.contains(says), "{first}");
     }
 }

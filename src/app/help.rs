@@ -43,11 +43,13 @@ pub fn view_help(v: ViewKind) -> &'static str {
         }
         ViewKind::Events => {
             "Every slip event of the trajectory: its size over time, the distribution of sizes \
-             on log axes, and the laminar phases. In the mixed regime small slips (creep) \
-             alternate with large ones (stick-slip); a laminar phase is a run of small slips \
-             between two large ones. Near the onset of intermittency their mean length grows \
-             like (θν − θν_c)^(−1/2), the signature of type-I intermittency, which the scaling \
-             plot measures on demand."
+             on log axes, and the laminar phases. A slip is creep or stick-slip by where it \
+             starts (creep where γ² < κ cos²θ + sin²θ); a laminar phase is a run of creep slips \
+             between two stick-slip slips, and its mean length stands beside the passage time \
+             through the channel between f and the diagonal on the creep arc, computed from f. \
+             Type-I scaling, mean length growing like ε^(−1/2), is fitted on demand only against \
+             a tangency located by continuation (the fold of a periodic window's cycle), ε the \
+             distance to it; where none is found, the view says so."
         }
         ViewKind::Numerics => {
             "The work-precision chart: for each integrator and tolerance, the error of the map \

@@ -125,7 +125,7 @@ pub enum EventsPlot {
     Sizes,
     /// The laminar lengths' distribution.
     Laminar,
-    /// The mean laminar length against θν − θν_c.
+    /// The mean laminar length against the distance to a located tangency.
     Scaling,
 }
 

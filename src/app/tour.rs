@@ -94,9 +94,10 @@ pub const STEPS: [TourStep; 6] = [
     TourStep {
         title: "Intermittency in the mixed regime",
         text: "At κ = 50, γ = 6.5, ν = 1e-4 some slips start inside the critical ellipse and \
-               creep, others stick and slip. Long laminar phases of small slips are broken by \
-               large bursts: type-I intermittency. The events view counts the laminar phases; \
-               their mean length grows like (θν − θν_c)^(−1/2).",
+               creep, others stick and slip. Laminar phases, runs of creep slips drifting \
+               slowly through the channel between f and the diagonal, are broken by \
+               stick-slip bursts that re-inject the orbit. The events view counts the laminar \
+               phases and sets their mean length beside the channel's passage time.",
         preset: "intermittent",
         theta_nu: 1.4,
         views: &[Plane, Events, TimeSeries],

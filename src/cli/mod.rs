@@ -13,6 +13,7 @@ pub mod figure;
 pub mod gui;
 pub mod map;
 pub mod orbit;
+mod orbit_stats;
 pub mod phase;
 pub mod phase_boundaries;
 pub mod run_control;

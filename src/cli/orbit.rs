@@ -23,7 +23,6 @@ use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::model::event_anomalies;
-use crate::sim::intermittency::{Intermittency, OnsetCounts};
 use crate::sim::period::longest_testable;
 use crate::sim::{
     InterpolantOptions, MapChoice, Orbit, OrbitOptions, Period, SimError, Simulator,
@@ -82,11 +81,18 @@ pub struct OrbitArgs {
     #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
     pub map: MapChoice,
     /// CSV file of the kept events' intermittency statistics: the laminar
-    /// lengths (creep slips between two large slips, a large slip being one
-    /// of at least a quarter of the largest slip distance) and the slip-size
-    /// distribution in logarithmic bins (docs/cli.md).
+    /// lengths (runs of creep slips between two stick-slip slips, creep
+    /// being where the slip starts: gamma^2 < kappa cos^2 theta + sin^2
+    /// theta), the creep channel's passage time computed from f, and the
+    /// slip-size distribution in logarithmic bins (docs/cli.md).
     #[arg(long)]
     pub stats: Option<PathBuf>,
+    /// With --stats: locate a tangency by continuation (the fold of a
+    /// periodic window's cycle within 0.05 of theta-nu) and fit the mean
+    /// laminar length against the distance to it; where there is none, the
+    /// file says so (seconds to a minute).
+    #[arg(long)]
+    pub scaling: bool,
 }
 
 /// How the map was evaluated, for the summary.
@@ -152,6 +158,11 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
     };
     if let Some(p) = &csv_out {
         check_out(p, args.force)?;
+    }
+    if args.scaling && args.stats.is_none() {
+        return Err(CliError::Usage(
+            "--scaling: give --stats FILE too (the scan's numbers are written there)".into(),
+        ));
     }
     if let Some(st) = &args.stats {
         if st.as_os_str() == "-" {
@@ -234,7 +245,19 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         emit(p, csv.as_bytes(), args.force)?;
     }
     if let Some(st) = &args.stats {
-        let text = stats_text(&params, &orbit, &used);
+        let source = match &used {
+            MapUsed::Interpolant { max_error, .. } => format!(
+                "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
+            ),
+            MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
+            MapUsed::Direct => "; slip sizes integrated".into(),
+        };
+        let stop = || limits.stop();
+        let scan: Option<&dyn Fn() -> bool> = if args.scaling { Some(&stop) } else { None };
+        let text = match super::orbit_stats::stats_text(&sim, &orbit, &source, scan) {
+            Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
+            r => r?,
+        };
         emit_as("stats", st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {
@@ -314,40 +337,6 @@ fn warn_anomalies(orbit: &Orbit) {
             orbit.events.len()
         );
     }
-}
-
-/// `--stats`: the slip sizes' intermittency statistics, headed by where the
-/// sizes came from and by the creep and stick-slip counts.
-fn stats_text(params: &crate::model::Params, orbit: &Orbit, used: &MapUsed) -> String {
-    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-    let text = match Intermittency::of(&sizes, None) {
-        Some(i) => i.csv("slip_distance"),
-        None => "# no slip of positive size: no statistics\nstatistic,lo,hi,count\n".into(),
-    };
-    // The first line also says where the slip sizes came from.
-    let source = match used {
-        MapUsed::Interpolant { max_error, .. } => {
-            format!("; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)")
-        }
-        MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
-        MapUsed::Direct => "; slip sizes integrated".into(),
-    };
-    let text = match text.split_once('\n') {
-        Some((first, rest)) => format!("{first}{source}\n{rest}"),
-        None => text,
-    };
-    // Creep or stick-slip by the model's criterion, where each slip
-    // starts; "large" and "small" above are sizes only.
-    let onsets = OnsetCounts::of(
-        params.kappa,
-        params.gamma,
-        orbit.events.iter().map(|e| e.theta),
-    );
-    let text = format!(
-        "# {}: by where each slip starts (creep where gamma^2 < kappa cos^2 theta + sin^2 theta)\n{text}",
-        onsets.describe()
-    );
-    text
 }
 
 struct Summary<'a> {

@@ -1,25 +1,33 @@
 //! Intermittency statistics of an orbit (the paper's Fig. 3a family, θν ≈
-//! 1.4 at κ = 50): the orbit creeps for a while, then one large slip
-//! re-injects it. From the slip sizes of the kept events (the transient
-//! already dropped) this module gives
+//! 1.4 at κ = 50): the block creeps for a while, its onsets drifting slowly
+//! through the creep arc, then stick-slip slips re-inject it. A slip is
+//! creep or stick-slip by where it starts, the model's own criterion
+//! (creep on the part of C where γ² < A(θ) = κ cos²θ + sin²θ, i.e.
+//! κ³x0² + y0² > γ²), never by its size. From the kept events (the
+//! transient already dropped) this module gives
 //!
-//! - which slips are *large*: size ≥ [`LARGE_FRACTION`] × the largest size
-//!   of the run. The slip distances are bimodal on the intermittent orbit
-//!   (θν = 1.4): creep slips of ≈ 3e-3 that grow to at most ≈ 0.08 just
-//!   before a re-injection, and large ones of 0.6–0.8; a quarter of the
-//!   largest (≈ 0.2) sits in the gap, a factor ≈ 2.5 from either side;
-//! - the *laminar lengths*: the number of creep slips between two
-//!   consecutive large ones (the run before the first large slip and after
-//!   the last one is cut off by the window and not counted);
-//! - the slip-size distribution in logarithmic bins;
-//! - the mean laminar length against the distance to a critical θν, with a
-//!   least-squares slope on log–log axes to set beside type-I
-//!   intermittency's ⟨ℓ⟩ ∝ |θν − θν_c|^(−1/2).
+//! - the *laminar lengths*: each run of consecutive creep slips between two
+//!   stick-slip slips (the run before the first stick-slip slip and after
+//!   the last one is cut off by the window and not counted; two stick-slip
+//!   slips in a row enclose no laminar phase);
+//! - the slip-size distribution in logarithmic bins (sizes are only
+//!   described, never used to tell creep from stick-slip);
+//! - [`channel`]: the passage time through the channel between f and the
+//!   diagonal on the creep arc, computed from f itself, to set beside the
+//!   mean laminar length;
+//! - [`tangency`]: a tangency located by continuation (the fold of a
+//!   periodic window's cycle), and the mean laminar length against the
+//!   distance ε to it, fitted on log–log axes beside type-I
+//!   intermittency's ⟨ℓ⟩ ∝ ε^(−1/2); where no tangency is found, no fit.
+
+pub mod channel;
+pub mod tangency;
+
+pub use channel::{Passage, creep_interval, passage};
+pub use tangency::{ScalePoint, Scaling, Tangency, find_tangency, scaling};
 
 use super::stats::mean_and_stderr;
-
-/// A slip is large when its size is at least this fraction of the largest.
-pub const LARGE_FRACTION: f64 = 0.25;
+use crate::model::{OnsetCharacter, onset_character};
 
 /// Type-I intermittency's exponent: ⟨ℓ⟩ ∝ ε^(−1/2).
 pub const TYPE_ONE_SLOPE: f64 = -0.5;
@@ -28,30 +36,31 @@ pub const TYPE_ONE_SLOPE: f64 = -0.5;
 /// to support it.
 pub const SLOPE_TOLERANCE: f64 = 0.15;
 
-/// The large-slip threshold of `sizes`: [`LARGE_FRACTION`] of the largest
-/// finite size, or `None` when there is no positive finite size.
-pub fn large_threshold(sizes: &[f64]) -> Option<f64> {
-    let max = sizes
-        .iter()
-        .copied()
-        .filter(|s| s.is_finite())
-        .fold(f64::NEG_INFINITY, f64::max);
-    (max > 0.0).then_some(LARGE_FRACTION * max)
+/// Whether each onset in `onsets` starts a creep slip (for κ and γ).
+pub fn creep_flags(kappa: f64, gamma: f64, onsets: impl IntoIterator<Item = f64>) -> Vec<bool> {
+    onsets
+        .into_iter()
+        .map(|th| onset_character(kappa, gamma, th) == OnsetCharacter::Creep)
+        .collect()
 }
 
-/// The laminar lengths of `sizes` for a large-slip `threshold`: the number
-/// of slips below it between each two consecutive slips at or above it.
-pub fn laminar_lengths(sizes: &[f64], threshold: f64) -> Vec<usize> {
+/// The laminar lengths of a sequence of slips (`true` = creep): the length
+/// of every run of consecutive creep slips that has a stick-slip slip on
+/// both sides, in order.
+pub fn laminar_lengths(creep: &[bool]) -> Vec<usize> {
     let mut out = Vec::new();
+    // The creep run since the last stick-slip slip; `None` before the first.
     let mut run: Option<usize> = None;
-    for &s in sizes {
-        if s >= threshold {
-            if let Some(n) = run {
+    for &c in creep {
+        if c {
+            if let Some(n) = run.as_mut() {
+                *n += 1;
+            }
+        } else {
+            if let Some(n) = run.filter(|&n| n > 0) {
                 out.push(n);
             }
             run = Some(0);
-        } else if let Some(n) = run.as_mut() {
-            *n += 1;
         }
     }
     out
@@ -72,18 +81,16 @@ pub struct OnsetCounts {
 impl OnsetCounts {
     /// The counts of slips starting at `onsets` for κ and γ.
     pub fn of(kappa: f64, gamma: f64, onsets: impl IntoIterator<Item = f64>) -> Self {
-        use crate::model::{OnsetCharacter, onset_character};
-        let mut c = OnsetCounts {
-            creep: 0,
-            stick_slip: 0,
-        };
-        for th in onsets {
-            match onset_character(kappa, gamma, th) {
-                OnsetCharacter::Creep => c.creep += 1,
-                OnsetCharacter::StickSlip => c.stick_slip += 1,
-            }
+        Self::of_flags(&creep_flags(kappa, gamma, onsets))
+    }
+
+    /// The counts of slips flagged creep (`true`) or stick-slip.
+    pub fn of_flags(creep: &[bool]) -> Self {
+        let n = creep.iter().filter(|c| **c).count();
+        OnsetCounts {
+            creep: n,
+            stick_slip: creep.len() - n,
         }
-        c
     }
 
     /// "N creep, M stick-slip".
@@ -91,7 +98,6 @@ impl OnsetCounts {
         format!("{} creep, {} stick-slip", self.creep, self.stick_slip)
     }
 }
-
 /// (length, how many laminar phases had it), by increasing length.
 pub fn length_counts(lengths: &[usize]) -> Vec<(usize, usize)> {
     let mut sorted = lengths.to_vec();
@@ -164,12 +170,9 @@ pub fn log_histogram(xs: &[f64], bins: usize) -> Vec<Bin> {
 /// The statistics of one orbit's kept slips.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Intermittency {
-    /// The large-slip threshold used (same unit as the sizes).
-    pub threshold: f64,
-    /// Slips at or above the threshold, and below it.
-    pub large: usize,
-    pub creep: usize,
-    /// Every complete laminar phase's length, in order.
+    /// Creep and stick-slip slips, by where each starts.
+    pub onsets: OnsetCounts,
+    /// Every complete laminar phase's length (creep slips), in order.
     pub laminar: Vec<usize>,
     /// Their mean and its standard error by batch means (`None` without
     /// any; the error also below 16 phases).
@@ -183,9 +186,8 @@ pub struct Intermittency {
 pub const SIZE_BINS: usize = 30;
 
 /// The fewest complete laminar phases, and their least mean length, for an
-/// orbit to be called intermittent: a creep fixed point has phases of
-/// length 0, a creep/slip alternation of 1, a periodic orbit the same
-/// length over and over.
+/// orbit to be called intermittent: a creep/stick-slip alternation has
+/// phases of length 1, a periodic orbit the same length over and over.
 pub const MIN_PHASES: usize = 3;
 pub const MIN_MEAN_LENGTH: f64 = 2.0;
 
@@ -203,15 +205,15 @@ pub fn repeat_period(ls: &[usize]) -> Option<usize> {
 /// What the kept slips say about intermittency.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Regime {
-    /// Every slip is large: no creep between them (stick-slip, periodic
-    /// or chaotic).
+    /// Every slip is stick-slip: no creep between them (periodic or
+    /// chaotic stick-slip).
     NoCreep,
-    /// Every slip is a creep slip but one or none: no laminar phase ends.
-    NoLargeSlips,
+    /// Every slip is creep but one or none: no laminar phase ends.
+    NoStickSlip,
     /// Fewer than [`MIN_PHASES`] complete laminar phases in the window.
     TooFewPhases,
-    /// Large slips with at most a creep slip or two between them (mean
-    /// laminar length below [`MIN_MEAN_LENGTH`]).
+    /// Stick-slip slips with at most a creep slip or two between them
+    /// (mean laminar length below [`MIN_MEAN_LENGTH`]).
     Alternating,
     /// The laminar lengths repeat with a short period (`every` phases; the
     /// first length `first`): a periodic orbit.
@@ -229,17 +231,16 @@ impl Regime {
     /// A few words for a summary line.
     pub fn describe(self) -> String {
         match self {
-            Regime::NoCreep => {
-                "not intermittent: every slip is large, no small slips between them".into()
-            }
-            Regime::NoLargeSlips => {
-                "not intermittent: no large slips between the small ones".into()
+            Regime::NoCreep => "not intermittent: every slip is stick-slip, no creep".into(),
+            Regime::NoStickSlip => {
+                "not intermittent: every slip is creep, no stick-slip slips end a laminar phase"
+                    .into()
             }
             Regime::TooFewPhases => {
                 format!("too few laminar phases to tell (under {MIN_PHASES}): keep more events")
             }
             Regime::Alternating => format!(
-                "not intermittent: large slips with under {MIN_MEAN_LENGTH} creep slips between them"
+                "not intermittent: stick-slip slips with under {MIN_MEAN_LENGTH} creep slips between them"
             ),
             Regime::Periodic { every: 1, first } => {
                 format!("not intermittent: periodic, every laminar phase {first} creep slips long")
@@ -252,35 +253,44 @@ impl Regime {
             Regime::Intermittent => "intermittent".into(),
         }
     }
+
+    /// Why an orbit is not intermittent, in a few words.
+    pub fn short_reason(self) -> &'static str {
+        match self {
+            Regime::NoCreep => "not intermittent: no creep",
+            Regime::NoStickSlip => "not intermittent: all creep",
+            Regime::TooFewPhases => "too few laminar phases",
+            Regime::Alternating => "not intermittent: alternating",
+            Regime::Periodic { .. } => "not intermittent: periodic",
+            Regime::Intermittent => "intermittent",
+        }
+    }
 }
 
 impl Intermittency {
-    /// The statistics of `sizes` (the transient already dropped), with the
-    /// threshold [`large_threshold`] unless one is given.
-    pub fn of(sizes: &[f64], threshold: Option<f64>) -> Option<Intermittency> {
-        let threshold = threshold.or_else(|| large_threshold(sizes))?;
-        let laminar = laminar_lengths(sizes, threshold);
-        let large = sizes.iter().filter(|s| **s >= threshold).count();
+    /// The statistics of slips flagged creep (`true`) or stick-slip by
+    /// where each starts, with their `sizes` (the transient already
+    /// dropped; the two slices in step).
+    pub fn of(creep: &[bool], sizes: &[f64]) -> Intermittency {
+        let laminar = laminar_lengths(creep);
         let ls: Vec<f64> = laminar.iter().map(|&l| l as f64).collect();
         let (mean, err) = mean_and_stderr(&ls);
-        Some(Intermittency {
-            threshold,
-            large,
-            creep: sizes.len() - large,
+        Intermittency {
+            onsets: OnsetCounts::of_flags(creep),
             laminar,
             mean_laminar: mean,
             mean_laminar_stderr: err,
             sizes: log_histogram(sizes, SIZE_BINS),
-        })
+        }
     }
 
     /// Whether these slips are intermittent, and if not, why.
     pub fn regime(&self) -> Regime {
-        if self.creep == 0 {
+        if self.onsets.creep == 0 {
             return Regime::NoCreep;
         }
-        if self.large < 2 {
-            return Regime::NoLargeSlips;
+        if self.onsets.stick_slip < 2 {
+            return Regime::NoStickSlip;
         }
         if self.laminar.len() < MIN_PHASES {
             return Regime::TooFewPhases;
@@ -297,25 +307,32 @@ impl Intermittency {
         }
     }
 
-    /// The statistics as CSV: `#` lines with the summary, then
-    /// `statistic,lo,hi,count` rows: `laminar_length` (lo = hi = the
-    /// length) and `slip_size` (the bin's ends).
-    pub fn csv(&self, measure: &str) -> String {
+    /// The statistics as CSV: `#` lines with the summary (the laminar line
+    /// ends with `source`, then one line per `notes` entry, then the
+    /// verdict), then `statistic,lo,hi,count` rows: `laminar_length`
+    /// (lo = hi = the length) and `slip_size` (the bin's ends).
+    pub fn csv(&self, measure: &str, source: &str, notes: &[String]) -> String {
         use std::fmt::Write as _;
         let mut s = String::new();
         let opt = |v: Option<f64>| v.map_or(String::new(), |v| v.to_string());
         writeln!(
             s,
-            "# large slip: {measure} >= {} ({LARGE_FRACTION} x the largest); \
-             {} large, {} small; {} complete laminar phases, mean length {} +- {}",
-            self.threshold,
-            self.large,
-            self.creep,
+            "# {}: by where each slip starts (creep where gamma^2 < kappa cos^2 theta + sin^2 theta)",
+            self.onsets.describe()
+        )
+        .ok();
+        writeln!(
+            s,
+            "# laminar phase: a run of creep slips between two stick-slip slips; \
+             {} complete laminar phases, mean length {} +- {}; size: {measure}{source}",
             self.laminar.len(),
             opt(self.mean_laminar),
             opt(self.mean_laminar_stderr),
         )
         .ok();
+        for n in notes {
+            writeln!(s, "# {n}").ok();
+        }
         writeln!(s, "# {}", self.regime().describe()).ok();
         s.push_str("statistic,lo,hi,count\n");
         for (l, c) in length_counts(&self.laminar) {
@@ -357,111 +374,19 @@ pub fn supports_type_one(slope: f64) -> bool {
     (slope - TYPE_ONE_SLOPE).abs() <= SLOPE_TOLERANCE
 }
 
-/// The mean laminar length against the distance to the critical θν.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Scaling {
-    /// The lower end of the intermittent window below the θν scanned from,
-    /// to within [`CRITICAL_RESOLUTION`].
-    pub theta_nu_c: f64,
-    /// (θν − θν_c, mean laminar length), by decreasing distance.
-    pub points: Vec<(f64, f64)>,
-    /// The least-squares slope and intercept on log–log axes.
-    pub fit: Option<(f64, f64)>,
-}
-
-impl Scaling {
-    /// Whether the points support type-I intermittency's slope −1/2.
-    pub fn supports_type_one(&self) -> bool {
-        self.fit.is_some_and(|(s, _)| supports_type_one(s))
-    }
-}
-
-/// How finely [`scaling`] locates θν_c, in radians.
-pub const CRITICAL_RESOLUTION: f64 = 1e-3;
-/// How far below the θν scanned from [`scaling`] looks for θν_c.
-pub const SCAN_SPAN: f64 = 0.4;
-/// Distances from θν_c [`scaling`] measures at: (θν − θν_c)·2^−k.
-pub const SCAN_POINTS: usize = 7;
-
-/// Whether the orbit at `theta_nu` is intermittent ([`Regime`]), with its
-/// mean laminar length.
-fn intermittent_at(
-    params: crate::model::Params,
-    settings: crate::integrate::SolverSettings,
-    theta_nu: f64,
-    cancel: &dyn Fn() -> bool,
-) -> Result<Option<f64>, super::SimError> {
-    let p = crate::model::Params { theta_nu, ..params };
-    let sim = super::Simulator::new(p, settings)?;
-    let opts = super::OrbitOptions {
-        transient: 300,
-        keep: 2000,
-        lyapunov: false,
-        period_tol: 1e-6,
-    };
-    let orbit = sim.orbit(theta_nu, &opts, cancel)?;
-    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-    Ok(Intermittency::of(&sizes, None)
-        .filter(|st| st.regime().is_intermittent())
-        .and_then(|st| st.mean_laminar))
-}
-
-/// The mean laminar length against θν − θν_c below `params.theta_nu`: θν_c
-/// is found by bisection between θν − [`SCAN_SPAN`] (not intermittent)
-/// and θν (intermittent), then [`SCAN_POINTS`] orbits measure the mean
-/// laminar length at θν_c + (θν − θν_c)·2^−k. `None` when θν is not
-/// intermittent or the window has no lower end in the span. Each orbit
-/// keeps 2000 iterates after 300; `cancel` stops the scan.
-pub fn scaling(
-    params: crate::model::Params,
-    settings: crate::integrate::SolverSettings,
-    cancel: &dyn Fn() -> bool,
-) -> Result<Option<Scaling>, super::SimError> {
-    let top = params.theta_nu;
-    if intermittent_at(params, settings, top, cancel)?.is_none() {
-        return Ok(None);
-    }
-    let mut lo = (top - SCAN_SPAN).max(1e-3);
-    if intermittent_at(params, settings, lo, cancel)?.is_some() {
-        return Ok(None);
-    }
-    let mut hi = top;
-    while hi - lo > CRITICAL_RESOLUTION {
-        let mid = 0.5 * (lo + hi);
-        if intermittent_at(params, settings, mid, cancel)?.is_some() {
-            hi = mid;
-        } else {
-            lo = mid;
-        }
-    }
-    let theta_nu_c = 0.5 * (lo + hi);
-    let mut points = Vec::new();
-    for k in 0..SCAN_POINTS {
-        let eps = (top - theta_nu_c) * 0.5f64.powi(k as i32);
-        if eps < 2.0 * CRITICAL_RESOLUTION {
-            break;
-        }
-        if let Some(m) = intermittent_at(params, settings, theta_nu_c + eps, cancel)? {
-            points.push((eps, m));
-        }
-    }
-    let fit = log_log_fit(&points);
-    Ok(Some(Scaling {
-        theta_nu_c,
-        points,
-        fit,
-    }))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
     fn the_ends_of_the_window_are_not_laminar_phases() {
-        let s = [0.1, 1.0, 0.1, 0.1, 1.0, 1.0, 0.1];
-        assert_eq!(laminar_lengths(&s, 0.5), vec![2, 0]);
-        assert!(laminar_lengths(&[0.1, 0.2], 0.5).is_empty());
+        let (c, s) = (true, false);
+        // A creep run cut by the window's start, phases of 2 and 1, two
+        // stick-slip slips in a row (no phase), a run cut by its end.
+        let seq = [c, c, s, c, c, s, c, s, s, c, c];
+        assert_eq!(laminar_lengths(&seq), vec![2, 1]);
+        assert!(laminar_lengths(&[c, c, c]).is_empty());
+        assert!(laminar_lengths(&[s, s, s]).is_empty());
     }
 
     #[test]

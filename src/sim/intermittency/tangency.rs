@@ -1,0 +1,320 @@
+//! Type-I scaling against a tangency located by continuation.
+//!
+//! Type-I intermittency is what an orbit does just past a saddle-node
+//! (fold) of a cycle: f^p no longer meets the diagonal, a narrow channel is
+//! left between them, and the time to cross it grows as ε^(−1/2) with ε
+//! the distance to the fold. So the mean laminar length is fitted against
+//! ε only where such a fold has been located: a periodic window near θν is
+//! looked for (orbits at θν ± k·[`WINDOW_STEP`], nearest first, out to
+//! [`WINDOW_SPAN`]), its cycle is followed in θν towards θν by the
+//! continuation code ([`crate::sim::continuation`]), and the first fold on
+//! that branch is the tangency, with |m − 1| within the location accuracy.
+//! Then orbits at θν_f + ε, ε = |θν − θν_f|·2^−k on θν's side, measure the
+//! mean laminar length (runs of creep slips), and the creep channel's
+//! passage time ([`super::channel`]) is computed beside each. Where no
+//! fold is found, there is nothing to fit against, and that is the answer.
+
+use super::channel::passage;
+use super::{Intermittency, creep_flags, log_log_fit, supports_type_one};
+use crate::integrate::SolverSettings;
+use crate::model::Params;
+use crate::sim::continuation::{ContOptions, ContParam, Problem, SpecialKind, continue_branch};
+use crate::sim::{OrbitOptions, Period, SimError, Simulator};
+
+/// How far from θν a periodic window is looked for, in radians.
+pub const WINDOW_SPAN: f64 = 0.05;
+/// The spacing of the orbits that look for a window.
+pub const WINDOW_STEP: f64 = 5e-4;
+/// The most windows whose branch is followed before giving up.
+pub const MAX_WINDOWS: usize = 4;
+/// Distances from the fold the scaling measures at: |θν − θν_f|·2^−k.
+pub const SCAN_POINTS: usize = 8;
+/// Orbits of the scaling: this many iterates dropped, then kept.
+pub const SCAN_TRANSIENT: usize = 300;
+pub const SCAN_KEEP: usize = 2000;
+
+/// A fold of a periodic window's cycle, located by continuation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Tangency {
+    /// θν at the fold.
+    pub theta_nu: f64,
+    /// The cycle's period.
+    pub period: usize,
+    /// A point of the cycle there.
+    pub theta: f64,
+    /// The multiplier there (1 within the location accuracy).
+    pub multiplier: f64,
+    /// The θν where the window's stable cycle was found.
+    pub window: f64,
+    /// The longest run of creep onsets around the cycle at the fold.
+    pub creep_run: usize,
+}
+
+/// One distance from the fold: the measured mean laminar length and the
+/// channel's passage time there.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ScalePoint {
+    /// ε = |θν − θν_f|.
+    pub eps: f64,
+    /// θν there.
+    pub theta_nu: f64,
+    /// Complete laminar phases, their mean length and its error.
+    pub phases: usize,
+    pub mean: Option<f64>,
+    pub stderr: Option<f64>,
+    /// The creep channel's passage time, when it is open.
+    pub passage: Option<f64>,
+}
+
+/// The outcome of a scaling scan.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Scaling {
+    /// No fold was found by continuation in [lo, hi]: nothing to fit
+    /// against. `windows` periodic windows had their branch followed.
+    NoTangency { lo: f64, hi: f64, windows: usize },
+    /// A fold, the measurements at distances from it, and the
+    /// least-squares (slope, intercept) of log10 mean against log10 ε over
+    /// the points with a mean (`None` under three).
+    Fitted {
+        tangency: Tangency,
+        points: Vec<ScalePoint>,
+        fit: Option<(f64, f64)>,
+    },
+}
+
+impl Scaling {
+    /// Whether the fit supports type-I intermittency's slope −1/2.
+    pub fn supports_type_one(&self) -> bool {
+        match self {
+            Scaling::Fitted { fit, .. } => fit.is_some_and(|(s, _)| supports_type_one(s)),
+            Scaling::NoTangency { .. } => false,
+        }
+    }
+
+    /// The verdict in plain words, with why where −1/2 is not supported.
+    pub fn describe(&self) -> String {
+        let (t, fit) = match self {
+            Scaling::NoTangency { lo, hi, windows: 0 } => {
+                return format!(
+                    "no tangency: no periodic orbit found for theta-nu in [{lo:.4}, {hi:.4}], \
+                     so no cycle to follow to a fold, and type-I scaling is not fitted"
+                );
+            }
+            Scaling::NoTangency { lo, hi, windows } => {
+                return format!(
+                    "no tangency: continuation found no fold on the cycles of the {windows} \
+                     periodic orbits found for theta-nu in [{lo:.4}, {hi:.4}], so type-I \
+                     scaling is not fitted"
+                );
+            }
+            Scaling::Fitted { tangency, fit, .. } => (tangency, fit),
+        };
+        let fold = format!(
+            "the fold of the P{} cycle at theta-nu = {:.6} (multiplier {:.7})",
+            t.period, t.theta_nu, t.multiplier
+        );
+        let Some((slope, _)) = fit else {
+            return format!(
+                "{fold}: at under 3 of the distances does the orbit have 3 or more laminar \
+                 phases (runs of creep slips) to measure, so nothing is fitted"
+            );
+        };
+        if supports_type_one(*slope) {
+            return format!("slope {slope:.2} against {fold}: type-I (-1/2) supported");
+        }
+        let why = if t.period > 1 {
+            format!(
+                ": near it the orbit follows the P{} cycle's ghost, whose creep runs are at most \
+                 {} long, so the laminar phases tend to that length instead of growing; \
+                 type-I's eps^(-1/2) is the stay near the ghost, which spans many laminar phases",
+                t.period,
+                if t.creep_run == 1 {
+                    "1 slip".to_string()
+                } else {
+                    format!("{} slips", t.creep_run)
+                }
+            )
+        } else {
+            ": the creep runs do not lengthen towards it (the channel passage beside each \
+             point says how wide the creep channel is)"
+                .into()
+        };
+        format!("slope {slope:.2} against {fold}, not -1/2 (within 0.15){why}")
+    }
+}
+
+/// The longest cyclic run of creep onsets among `points`.
+fn longest_creep_run(kappa: f64, gamma: f64, points: &[f64]) -> usize {
+    let c = creep_flags(kappa, gamma, points.iter().copied());
+    if c.iter().all(|x| *x) {
+        return c.len();
+    }
+    let (mut best, mut run) = (0, 0);
+    for x in c.iter().chain(c.iter()) {
+        run = if *x { run + 1 } else { 0 };
+        best = best.max(run);
+    }
+    best
+}
+
+/// The stable cycle at `theta_nu`, when the orbit there is periodic.
+fn window_cycle(
+    params: Params,
+    settings: SolverSettings,
+    theta_nu: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Option<(usize, f64)>, SimError> {
+    let sim = Simulator::new(Params { theta_nu, ..params }, settings)?;
+    let opts = OrbitOptions {
+        transient: 1000,
+        keep: 256,
+        lyapunov: false,
+        period_tol: OrbitOptions::period_tol_for(settings.rtol),
+    };
+    let o = sim.orbit(theta_nu, &opts, cancel)?;
+    Ok(match (o.period, o.cycle) {
+        (Period::Periodic(p), Some(c)) if c.stable => Some((p, c.points[0])),
+        _ => None,
+    })
+}
+
+/// The first fold on the branch of a periodic window's cycle nearest
+/// `params.theta_nu` (see the module notes), and how many windows' branches
+/// were followed.
+pub fn find_tangency(
+    params: Params,
+    settings: SolverSettings,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(Option<Tangency>, usize), SimError> {
+    let top = params.theta_nu;
+    let steps = (WINDOW_SPAN / WINDOW_STEP).round() as usize;
+    let mut windows = 0;
+    for k in 1..=steps {
+        for sign in [-1.0, 1.0] {
+            let at = top + sign * k as f64 * WINDOW_STEP;
+            let Some((period, seed)) = window_cycle(params, settings, at, cancel)? else {
+                continue;
+            };
+            windows += 1;
+            let prob = Problem {
+                base: params,
+                settings,
+                param: ContParam::ThetaNu,
+                period,
+            };
+            let opts = ContOptions::for_range(&settings, at, top);
+            match continue_branch(&prob, at, top, seed, &opts, cancel) {
+                Ok(b) => {
+                    if let Some(f) = b.of_kind(SpecialKind::Fold).next() {
+                        let near = b.points.iter().min_by(|a, c| {
+                            (a.lambda - f.lambda)
+                                .abs()
+                                .total_cmp(&(c.lambda - f.lambda).abs())
+                        });
+                        let creep_run = near.map_or(0, |p| {
+                            longest_creep_run(params.kappa, params.gamma, &p.points)
+                        });
+                        let t = Tangency {
+                            theta_nu: f.lambda,
+                            period,
+                            theta: f.theta,
+                            multiplier: f.multiplier,
+                            window: at,
+                            creep_run,
+                        };
+                        return Ok((Some(t), windows));
+                    }
+                }
+                Err(crate::sim::CycleFailure::Sim(SimError::Cancelled)) => {
+                    return Err(SimError::Cancelled);
+                }
+                Err(_) => {}
+            }
+            if cancel() {
+                return Err(SimError::Cancelled);
+            }
+            if windows >= MAX_WINDOWS {
+                return Ok((None, windows));
+            }
+        }
+    }
+    Ok((None, windows))
+}
+
+/// The mean laminar length and the channel passage at `theta_nu`.
+fn measure(
+    params: Params,
+    settings: SolverSettings,
+    theta_nu: f64,
+    eps: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<ScalePoint, SimError> {
+    let p = Params { theta_nu, ..params };
+    let sim = Simulator::new(p, settings)?;
+    let opts = OrbitOptions {
+        transient: SCAN_TRANSIENT,
+        keep: SCAN_KEEP,
+        lyapunov: false,
+        period_tol: 1e-6,
+    };
+    let orbit = sim.orbit(theta_nu, &opts, cancel)?;
+    let creep = creep_flags(p.kappa, p.gamma, orbit.events.iter().map(|e| e.theta));
+    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
+    let st = Intermittency::of(&creep, &sizes);
+    let first_creep = orbit
+        .events
+        .iter()
+        .zip(&creep)
+        .find(|(_, c)| **c)
+        .map(|(e, _)| e.theta);
+    let passage = match first_creep {
+        Some(th) => passage(&sim, th, cancel)?.mean(),
+        None => None,
+    };
+    Ok(ScalePoint {
+        eps,
+        theta_nu,
+        phases: st.laminar.len(),
+        mean: st
+            .mean_laminar
+            .filter(|_| st.laminar.len() >= super::MIN_PHASES),
+        stderr: st.mean_laminar_stderr,
+        passage,
+    })
+}
+
+/// The tangency nearest `params.theta_nu` and, when there is one, the
+/// mean laminar length against the distance to it (module notes). A few
+/// seconds to tens of seconds; `cancel` stops it.
+pub fn scaling(
+    params: Params,
+    settings: SolverSettings,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Scaling, SimError> {
+    let top = params.theta_nu;
+    let (tangency, windows) = find_tangency(params, settings, cancel)?;
+    let Some(tangency) = tangency else {
+        return Ok(Scaling::NoTangency {
+            lo: top - WINDOW_SPAN,
+            hi: top + WINDOW_SPAN,
+            windows,
+        });
+    };
+    let dist = top - tangency.theta_nu;
+    let mut points = Vec::with_capacity(SCAN_POINTS);
+    for k in 0..SCAN_POINTS {
+        let eps = dist.abs() * 0.5f64.powi(k as i32);
+        let at = tangency.theta_nu + eps.copysign(dist);
+        points.push(measure(params, settings, at, eps, cancel)?);
+    }
+    let pts: Vec<(f64, f64)> = points
+        .iter()
+        .filter_map(|p| p.mean.map(|m| (p.eps, m)))
+        .collect();
+    let fit = log_log_fit(&pts);
+    Ok(Scaling::Fitted {
+        tangency,
+        points,
+        fit,
+    })
+}
