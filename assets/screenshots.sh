@@ -22,6 +22,7 @@ shots=(
   "intermittent - gui-tiles-text-1.5.png --font-scale 1.5"
   "fig3a bifurcation gui-subcritical-fig3a.png --session SESSIONS/fig3a-subcritical.json"
   "- phase gui-phase-multistable.png --session SESSIONS/phase-multistable.json"
+  "- phase gui-generalised-flip.png --session SESSIONS/generalised-flip.json"
 )
 # A neutral working directory: the export folder field shows it.
 work=/tmp/oneblock
