@@ -20,6 +20,9 @@ shots=(
   "fig4 phase gui-phase-fig4.png"
   "intermittent events gui-events-intermittent.svg"
   "intermittent - gui-tiles-text-1.5.png --font-scale 1.5"
+  "fig3a bifurcation gui-subcritical-fig3a.png --session SESSIONS/fig3a-subcritical.json"
+  "- phase gui-phase-multistable.png --session SESSIONS/phase-multistable.json"
+  "- phase gui-generalised-flip.png --session SESSIONS/generalised-flip.json"
 )
 # A neutral working directory: the export folder field shows it.
 work=/tmp/oneblock
@@ -27,7 +30,10 @@ mkdir -p "$work"
 cd "$work"
 for s in "${shots[@]}"; do
   read -r preset view file extra <<<"$s"
-  args=(gui --preset "$preset" --size 1280x800 --screenshot "$file")
+  extra=${extra//SESSIONS/$out/sessions}
+  args=(gui --size 1280x800 --screenshot "$file")
+  # "-": no preset (the session gives the parameters).
+  [ "$preset" != "-" ] && args+=(--preset "$preset")
   [ "$view" != "-" ] && args+=(--view "$view")
   # shellcheck disable=SC2206 # extra flags, split on purpose
   [ -n "${extra:-}" ] && args+=($extra)
@@ -35,3 +41,9 @@ for s in "${shots[@]}"; do
   "$bin" "${args[@]}"
   mv -f "$file" "$out/$file"
 done
+# The seeded diagram's hysteresis at kappa = 10 is a figure (headless).
+rm -f figure-seeded-hysteresis.png
+"$bin" figure --view bifurcation --session "$out/sessions/seeds-16.json" \
+  --kappa 10 --gamma 6.5 --nu 1e-3 --theta-nu 1.40 \
+  --theta-nu-from 1.30 --theta-nu-to 1.46 --out figure-seeded-hysteresis.png
+mv -f figure-seeded-hysteresis.png "$out/figure-seeded-hysteresis.png"

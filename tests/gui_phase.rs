@@ -1,7 +1,9 @@
 //! The phase-diagram view: a grid runs only while the view is shown (or
 //! after Compute), γ recomputes it and κ, θν do not, Stop keeps it stopped;
 //! the cells are drawn and described on hover, a click moves θν and κ there,
-//! and a box recomputes that range at full resolution.
+//! and a box recomputes that range at full resolution; with seeds the
+//! multistable cells are marked (a legend entry) and a click lists their
+//! attractors; the doubling curves' generalised flips are marked and listed.
 #![cfg(feature = "gui")]
 
 #[path = "common/window.rs"]
@@ -11,11 +13,15 @@ use eframe::egui::accesskit::Role;
 use egui_kittest::kittest::{NodeT, Queryable};
 
 use oneblock::app::jobs::JobState;
+use oneblock::app::phase_attractors::multistable_centres;
 use oneblock::app::{Recorder, Settings, ViewKind};
+use oneblock::sim::continuation::{ContParam, Curve, CurveKind, CurvePoint, GeneralisedFlip};
 use oneblock::sim::theta_nu_grid;
 use oneblock::worker::Update;
+use oneblock::worker::{Command, Lane, ListedAttractor, Outcome};
 use window::{
-    feed_phase, harness, last_trajectory, phase_cancels, phase_cell_pos, phase_jobs, phase_tab,
+    feed_phase, feed_phase_with, harness, last_trajectory, phase_cancels, phase_cell_pos,
+    phase_jobs, phase_tab,
 };
 
 #[test]
@@ -198,4 +204,157 @@ fn a_box_on_the_phase_diagram_recomputes_that_range_and_back_restores_it() {
         (full.theta_nu, full.kappa)
     );
     assert!(h.state().settings.phase.zoom.is_empty());
+}
+
+/// The seeds and lists the phase commands sent asked for, in order.
+fn seeds_sent(rec: &Recorder) -> Vec<(usize, bool)> {
+    rec.commands()
+        .into_iter()
+        .filter_map(|c| match c {
+            Command::Phase { spec, .. } => Some((spec.tuning.seeds, spec.tuning.list_attractors)),
+            _ => None,
+        })
+        .collect()
+}
+
+#[test]
+fn with_seeds_multistable_cells_are_marked_and_a_click_lists_their_attractors() {
+    let rec = Recorder::new();
+    let mut s = phase_tab();
+    s.phase.seeds = 8;
+    let mut h = harness(&rec, s);
+    h.run_steps(2);
+    // The grid counts each cell's attractors and lists a multistable one's.
+    assert_eq!(seeds_sent(&rec), vec![(8, true)]);
+    let job = phase_jobs(&rec)[0];
+    let (row, column) = (20, 7);
+    let fp = ListedAttractor {
+        period: Some(1),
+        multiplier: Some(-0.6),
+        lyapunov: None,
+        basin_fraction: 0.75,
+    };
+    let chaos = ListedAttractor {
+        period: None,
+        multiplier: None,
+        lyapunov: Some((0.21, Some(0.02))),
+        basin_fraction: 0.25,
+    };
+    feed_phase_with(&rec, &job, |gc| {
+        let two = (gc.row, gc.column) == (row, column);
+        gc.cell.attractors = Some(if two { 2 } else { 1 });
+        if two {
+            gc.listed = vec![fp, chaos];
+        }
+    });
+    h.run_steps(3);
+    let tns = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30);
+    let ks = theta_nu_grid(1.0, 42.0, 30);
+    // One mark, at that cell's centre, and its legend entry.
+    assert_eq!(
+        multistable_centres(&h.state().jobs.phase.data),
+        vec![[tns[column], ks[row]]]
+    );
+    assert!(h.query_by_label("multistable").is_some(), "legend entry");
+    let pos = phase_cell_pos(&h, &job, row, column);
+    h.hover_at(pos);
+    h.run_steps(3);
+    assert!(
+        h.query_by_label_contains("2 attractors (multistable): a click lists them")
+            .is_some()
+    );
+    // A click lists them: kind, multiplier or λ, basin fraction.
+    h.drag_at(pos);
+    h.step();
+    h.drop_at(pos);
+    h.run_steps(3);
+    assert!(
+        h.query_by_label_contains("Attractors at θν = 0.3792, κ = 29.2759: 2 counted")
+            .is_some()
+    );
+    // "FP" twice: the legend's and the list's.
+    assert_eq!(h.query_all_by_label("FP").count(), 2);
+    for text in [
+        "multiplier -0.6000",
+        "basin 75 %",
+        "chaotic",
+        "λ = 0.2100 ± 0.0200",
+        "basin 25 %",
+    ] {
+        assert!(h.query_by_label(text).is_some(), "{text}");
+    }
+    // Close hides it; a click on a cell with one attractor lists nothing.
+    h.get_by_label("Close").click();
+    h.run_steps(2);
+    assert!(h.query_by_label("basin 75 %").is_none());
+    let other = phase_cell_pos(&h, &job, 3, 3);
+    h.drag_at(other);
+    h.step();
+    h.drop_at(other);
+    h.run_steps(3);
+    assert!(h.query_by_label_contains("Attractors at").is_none());
+    // Fewer seeds recompute the grid; none: no counts, no legend entry.
+    h.state_mut().settings.phase.seeds = 4;
+    h.run_steps(2);
+    h.state_mut().settings.phase.seeds = 0;
+    h.run_steps(2);
+    let sent = seeds_sent(&rec);
+    assert_eq!(sent.last(), Some(&(0, false)), "{sent:?}");
+    assert!(sent.contains(&(4, true)), "{sent:?}");
+    assert!(h.query_by_label("multistable").is_none());
+}
+
+#[test]
+fn the_doubling_curves_generalised_flips_are_marked_and_listed() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, phase_tab());
+    h.run_steps(2);
+    h.get_by_label("Boundaries").click();
+    h.run_steps(2);
+    let generation = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Boundaries { generation, .. } => Some(generation),
+            _ => None,
+        })
+        .expect("the curves job was sent");
+    let point = |tn: f64, k: f64| CurvePoint {
+        lambda: [tn, k],
+        theta: tn,
+        multiplier: -1.0,
+    };
+    let curve = Curve {
+        kind: CurveKind::PeriodDoubling,
+        period: 1,
+        params: [ContParam::ThetaNu, ContParam::Kappa],
+        points: vec![point(1.0, 20.0), point(1.2, 30.0), point(1.4, 40.0)],
+        ends: ["left the box".into(), "left the box".into()],
+        map_evals: 100,
+        generalised_flips: vec![GeneralisedFlip {
+            lambda: [1.25, 32.5],
+            coefficients: [0.5, -1.5],
+        }],
+    };
+    for u in [
+        Update::Curve { generation, curve },
+        Update::Finished {
+            generation,
+            lane: Lane::Curves,
+            outcome: Outcome::Completed,
+        },
+    ] {
+        rec.push(u);
+    }
+    h.run_steps(3);
+    assert_eq!(h.state().jobs.curves.data.curves.len(), 1);
+    // The legend: the curve and the marker.
+    assert!(h.query_by_label("doubling curve").is_some());
+    assert!(h.query_by_label("generalised flip").is_some());
+    // The table: (θν, κ) and c either side.
+    h.get_by_label("Generalised flips (1)").click();
+    h.run_steps(2);
+    for text in ["P1 to P2", "1.25", "32.5", "0.5", "-1.5"] {
+        assert!(h.query_by_label(text).is_some(), "{text}");
+    }
 }

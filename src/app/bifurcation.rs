@@ -408,6 +408,9 @@ impl View for BifurcationView {
         lines_legend_ui(ui, s);
         if !figure {
             seeds_ui(ui, s);
+        } else if s.sweep_seeds > 0 {
+            // A figure has no seeds control, but its colours need naming.
+            ui.horizontal_wrapped(|ui| seeds_legend_ui(ui, s));
         }
         overlay::branch_legend_ui(ui, &jobs.branches.data);
         if plot_sizes(ui, ui.available_height()).1 > 0.0 {
@@ -440,11 +443,16 @@ fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
                  coexisting branches (hysteresis) show (oneblock bifurcation --seeds). \
                  Each seed costs up to a column.",
             );
-        if s.sweep_seeds > 0 {
-            style::legend_swatch(ui, style::ink(s.dark), "followed attractor");
-            style::legend_swatch(ui, OTHER_ATTRACTOR, "other attractors (seeds)");
-        }
+        seeds_legend_ui(ui, s);
     });
+}
+
+/// With seeds, the colours of the followed attractor and the others.
+fn seeds_legend_ui(ui: &mut Ui, s: &Settings) {
+    if s.sweep_seeds > 0 {
+        style::legend_swatch(ui, style::ink(s.dark), "followed attractor");
+        style::legend_swatch(ui, OTHER_ATTRACTOR, "other attractors (seeds)");
+    }
 }
 
 /// "Find bifurcations" (or "Stop" while it runs), and where it stands.

@@ -2,7 +2,9 @@
 //! "Find bifurcations" over the bifurcation diagram (stable parts solid,
 //! unstable parts dashed, PD, subcritical PD, fold, border and jump points
 //! each with a marker of its own), and the doubling curves of "Boundaries" over the phase
-//! diagram. Only drawing: the numbers come from [`super::branches`].
+//! diagram with their generalised flips (where the flip's coefficient
+//! changes sign: the doubling turns from supercritical to subcritical).
+//! Only drawing: the numbers come from [`super::branches`].
 
 use eframe::egui;
 use egui::{Color32, Ui};
@@ -59,6 +61,7 @@ pub fn is_overlay_item(name: &str) -> bool {
         || name == UNSTABLE
         || name == CURVE
         || name == SUBCRITICAL.2
+        || name == GENERALISED.2
         || MARKED.iter().any(|&k| marker(k).2 == name)
 }
 
@@ -163,15 +166,23 @@ fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
                 egui::Stroke::NONE,
             ));
         }
-        MarkerShape::Up => {
+        MarkerShape::Up | MarkerShape::Down => {
+            let up = shape == MarkerShape::Up;
+            let s = if up { 1.0 } else { -1.0 };
+            // The generalised flip's (down) is outlined, as on the plot.
+            let outline = if up {
+                egui::Stroke::NONE
+            } else {
+                egui::Stroke::new(1.0, Color32::BLACK)
+            };
             painter.add(egui::Shape::convex_polygon(
                 vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, r),
-                    c + egui::vec2(-r, r),
+                    c + egui::vec2(0.0, -r * s),
+                    c + egui::vec2(r, r * s),
+                    c + egui::vec2(-r, r * s),
                 ],
                 colour,
-                egui::Stroke::NONE,
+                outline,
             ));
         }
         MarkerShape::Asterisk => {
@@ -191,7 +202,38 @@ fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
 /// The name of the boundary curves' item.
 pub const CURVE: &str = "doubling curve";
 
-/// The doubling curves over the phase diagram, each a polyline in (θν, κ).
+/// The marker of a generalised flip on a doubling curve: the PD's colour,
+/// a triangle pointing down (the subcritical PD's points up), on a black
+/// one a little larger so that it shows over every class's colour.
+pub const GENERALISED: (MarkerShape, Color32, &str) = (
+    MarkerShape::Down,
+    Color32::from_rgb(204, 0, 102),
+    "generalised flip",
+);
+
+/// The curves' legend: the line and, when a curve has one, the
+/// generalised flip's marker.
+pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
+    if data.curves.is_empty() {
+        return;
+    }
+    ui.horizontal_wrapped(|ui| {
+        // The white line on its dark halo, as drawn.
+        let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
+        let ends = [rect.left_center(), rect.right_center()];
+        let painter = ui.painter();
+        painter.line_segment(ends, egui::Stroke::new(4.0, Color32::from_black_alpha(200)));
+        painter.line_segment(ends, egui::Stroke::new(2.0, BOUNDARY));
+        ui.label(CURVE);
+        if data.curves.iter().any(|c| !c.generalised_flips.is_empty()) {
+            let (shape, colour, name) = GENERALISED;
+            legend_shape(ui, shape, colour, name);
+        }
+    });
+}
+
+/// The doubling curves over the phase diagram, each a polyline in (θν, κ),
+/// and their generalised flips' markers.
 pub fn curve_items(p: &mut PlotUi<'_>, data: &CurveData, line_width: f32) {
     for c in &data.curves {
         let pts: Vec<[f64; 2]> = c.points.iter().map(|q| q.lambda).collect();
@@ -207,6 +249,24 @@ pub fn curve_items(p: &mut PlotUi<'_>, data: &CurveData, line_width: f32) {
                 .color(BOUNDARY)
                 .width(line_width)
                 .allow_hover(false),
+        );
+    }
+    let flips: Vec<[f64; 2]> = data
+        .curves
+        .iter()
+        .flat_map(|c| c.generalised_flips.iter().map(|g| g.lambda))
+        .collect();
+    if flips.is_empty() {
+        return;
+    }
+    let (shape, colour, name) = GENERALISED;
+    for (c, r) in [(Color32::BLACK, 8.0), (colour, 6.0)] {
+        p.points(
+            Points::new(name, PlotPoints::from(flips.clone()))
+                .shape(shape)
+                .color(c)
+                .filled(true)
+                .radius(r),
         );
     }
 }

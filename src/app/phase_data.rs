@@ -2,9 +2,11 @@
 //! requested grid (row-major, row 0 = the lowest κ), filled as batches of
 //! cells arrive.
 
+use std::collections::HashMap;
+
 use crate::sim::phase::PhaseCell;
 use crate::sim::theta_nu_grid;
-use crate::worker::GridCell;
+use crate::worker::{GridCell, ListedAttractor};
 
 /// The phase job's results.
 #[derive(Clone, Debug, Default)]
@@ -19,6 +21,9 @@ pub struct PhaseData {
     /// Whether each received cell came with the coarse lattice.
     pub coarse: Vec<bool>,
     pub filled: usize,
+    /// The attractors of the multistable cells whose list came (by flat
+    /// index): only those cells, each list at most `MAX_LISTED` long.
+    pub listed: HashMap<usize, Vec<ListedAttractor>>,
     /// The last error the job reported (a failed cell, or bad input).
     pub error: Option<String>,
     /// Bumped on every change, so the view rebuilds only when it moves.
@@ -35,6 +40,7 @@ impl PhaseData {
             cells: vec![None; rows * columns],
             coarse: vec![false; rows * columns],
             filled: 0,
+            listed: HashMap::new(),
             error: None,
             revision: 0,
         }
@@ -58,6 +64,16 @@ impl PhaseData {
         self.cells[row * self.columns + column].as_ref()
     }
 
+    /// The listed attractors of the cell at (row, column), if any came.
+    pub fn listed(&self, row: usize, column: usize) -> Option<&[ListedAttractor]> {
+        if row >= self.rows || column >= self.columns {
+            return None;
+        }
+        self.listed
+            .get(&(row * self.columns + column))
+            .map(Vec::as_slice)
+    }
+
     /// Stores received cells (out-of-grid ones are ignored; a repeat
     /// replaces the cell without counting it twice).
     pub fn insert(&mut self, cells: Vec<GridCell>, coarse: bool) {
@@ -71,6 +87,11 @@ impl PhaseData {
             }
             self.cells[i] = Some(gc.cell);
             self.coarse[i] = coarse;
+            if gc.listed.is_empty() {
+                self.listed.remove(&i);
+            } else {
+                self.listed.insert(i, gc.listed);
+            }
         }
         self.revision += 1;
     }

@@ -9,22 +9,21 @@
 //! job model's phase policy. "Boundaries" follows the doubling curves on
 //! the worker and draws them over the grid ([`super::overlay`]).
 
-use std::collections::VecDeque;
-
 use eframe::egui;
-use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
+use egui::{Color32, RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{
     HLine, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, PlotTransform, Polygon, VLine,
 };
 
 use super::axes::{self, AxisSpec};
 use super::jobs::{JobState, Jobs};
-use super::overlay;
+use super::phase_attractors;
 use super::phase_data::PhaseData;
+pub use super::phase_raster::{PROVISIONAL_ALPHA, cell_at, class_colour, rasterise};
 use super::settings::{MAX_BUDGET, MAX_STEPS, MIN_STEPS, PhaseRange, Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
-use crate::formats::class_colour as png_colour;
+use super::{overlay, points_table};
 use crate::model::KAPPA_RANGE;
 use crate::sim::phase::{CellClass, PhaseCell};
 
@@ -41,9 +40,6 @@ const LEGEND_CLASSES: [(CellClass, &str); 9] = [
     (CellClass::Failed, "failed"),
 ];
 
-/// Opacity of a texel that shows a neighbour's class, not its own yet.
-const PROVISIONAL_ALPHA: u8 = 110;
-
 /// The view's runtime state: texture, drag, last transform.
 #[derive(Default)]
 pub struct PhaseView {
@@ -52,74 +48,9 @@ pub struct PhaseView {
     drag_from: Option<PlotPoint>,
     /// The last frame's plot transform (tests find cells on screen with it).
     pub transform: Option<PlotTransform>,
-}
-
-/// A class's colour in the view: the same as `oneblock phase --png`.
-pub fn class_colour(c: CellClass, alpha: u8) -> Color32 {
-    let [r, g, b] = png_colour(c);
-    Color32::from_rgba_unmultiplied(r, g, b, alpha)
-}
-
-/// Rasterises the grid: `columns × rows` texels, κ upwards (texel row 0 is
-/// the last κ row). A missing cell takes the class of the nearest received
-/// one (breadth-first over the 8 neighbours, so coarse cells become blocks
-/// centred on themselves), paler; with none received, transparent.
-pub fn rasterise(data: &PhaseData) -> ColorImage {
-    let (w, h) = (data.columns, data.rows);
-    if w == 0 || h == 0 {
-        return ColorImage::new([1, 1], vec![Color32::TRANSPARENT]);
-    }
-    let mut source: Vec<Option<usize>> = (0..w * h)
-        .map(|i| data.cells[i].as_ref().map(|_| i))
-        .collect();
-    let mut queue: VecDeque<usize> = (0..w * h).filter(|&i| source[i].is_some()).collect();
-    while let Some(i) = queue.pop_front() {
-        let (r, c) = ((i / w) as isize, (i % w) as isize);
-        for dr in -1..=1 {
-            for dc in -1..=1 {
-                let (rr, cc) = (r + dr, c + dc);
-                if rr < 0 || cc < 0 || rr >= h as isize || cc >= w as isize {
-                    continue;
-                }
-                let j = rr as usize * w + cc as usize;
-                if source[j].is_none() {
-                    source[j] = source[i];
-                    queue.push_back(j);
-                }
-            }
-        }
-    }
-    let mut pixels = Vec::with_capacity(w * h);
-    for y in 0..h {
-        let r = h - 1 - y;
-        for c in 0..w {
-            let i = r * w + c;
-            let px = match source[i].and_then(|k| data.cells[k].as_ref().map(|cell| (k, cell))) {
-                Some((k, cell)) if k == i => class_colour(cell.class, 255),
-                Some((_, cell)) => class_colour(cell.class, PROVISIONAL_ALPHA),
-                None => Color32::TRANSPARENT,
-            };
-            pixels.push(px);
-        }
-    }
-    ColorImage::new([w, h], pixels)
-}
-
-/// The cell (row, column) of `data` under the plot point `p`, if inside.
-pub fn cell_at(data: &PhaseData, p: PlotPoint) -> Option<(usize, usize)> {
-    let index = |v: f64, (a, b): (f64, f64), n: usize| -> Option<usize> {
-        if n == 0 {
-            return None;
-        }
-        let step = if n > 1 { (b - a) / (n - 1) as f64 } else { 1.0 };
-        let k = ((v - a) / step).round();
-        (k >= 0.0 && k <= (n - 1) as f64 && (v - (a + k * step)).abs() <= step.abs() / 2.0 + 1e-12)
-            .then_some(k as usize)
-    };
-    Some((
-        index(p.y, data.kappa, data.rows)?,
-        index(p.x, data.theta_nu, data.columns)?,
-    ))
+    /// The (θν, κ) of the cell last clicked: a multistable one's
+    /// attractors are listed under the controls.
+    pub selected: Option<(f64, f64)>,
 }
 
 /// The hover text of a cell.
@@ -144,8 +75,9 @@ pub fn describe_cell(theta_nu: f64, kappa: f64, cell: Option<&PhaseCell>) -> Str
         _ => String::new(),
     };
     let error = c.error.as_ref().map_or(String::new(), |e| format!("\n{e}"));
+    let count = phase_attractors::count_line(c.attractors);
     format!(
-        "{head}\n{class}{regime}{lyapunov}\n{} iterates{error}",
+        "{head}\n{class}{regime}{lyapunov}{count}\n{} iterates{error}",
         c.iterates
     )
 }
@@ -176,13 +108,20 @@ impl PhaseView {
             state_label_ui(ui, jobs);
         });
         grid_row_ui(ui, s);
-        legend_row_ui(ui);
+        legend_row_ui(ui, s.phase.seeds > 0);
+        if let Some(sel) = self.selected
+            && phase_attractors::list_ui(ui, data, sel, s.phase.seeds)
+        {
+            self.selected = None;
+        }
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
         }
         if let Some(text) = &jobs.curves.data.summary {
             ui.label(RichText::new(format!("boundaries: {text}")).weak());
         }
+        overlay::curve_legend_ui(ui, &jobs.curves.data);
+        points_table::generalised_flips_ui(ui, &jobs.curves.data);
     }
 
     /// The grid of cells; a box drawn zooms, a click sets θν and κ.
@@ -198,6 +137,10 @@ impl PhaseView {
             .flatten();
         let drag_from = self.drag_from;
         let line_width = style::width(ui.ctx(), 2.0);
+        // A cell's width on screen, from the last frame's transform.
+        let cell_px = self.transform.map_or(0.0, |t| {
+            (t.position_from_point_x(t0 + dt) - t.position_from_point_x(t0)).abs()
+        });
         let resp = Plot::new("phase")
             .show_background(false)
             .allow_drag(false)
@@ -227,6 +170,7 @@ impl PhaseView {
                     [(t1 - t0 + dt) as f32, (k1 - k0 + dk) as f32],
                 ));
             }
+            phase_attractors::marks(p, data, cell_px);
             // The grid's outline: chaos is black, and so is a dark panel.
             let (x0, x1) = (t0 - dt / 2.0, t1 + dt / 2.0);
             let (y0, y1) = (k0 - dk / 2.0, k1 + dk / 2.0);
@@ -303,6 +247,7 @@ impl PhaseView {
             && let Some((row, col)) = hovered
         {
             let (tns, ks) = (data.theta_nus(), data.kappas());
+            self.selected = Some((tns[col], ks[row]));
             out.push(Action::SetPoint {
                 theta_nu: tns[col],
                 kappa: ks[row],
@@ -322,7 +267,8 @@ impl View for PhaseView {
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
         if style::figure_only(ui.ctx()) {
-            legend_row_ui(ui);
+            legend_row_ui(ui, s.phase.seeds > 0);
+            overlay::curve_legend_ui(ui, &jobs.curves.data);
         } else {
             self.controls_ui(ui, s, jobs, out);
         }
@@ -330,17 +276,21 @@ impl View for PhaseView {
     }
 }
 
-/// "Boundaries" (or "Stop" while the curves are followed).
-/// The classes' colours, one swatch each.
-fn legend_row_ui(ui: &mut Ui) {
+/// The classes' colours, one swatch each, and with seeds the mark of a
+/// multistable cell.
+fn legend_row_ui(ui: &mut Ui, seeds: bool) {
     ui.horizontal_wrapped(|ui| {
         for (c, name) in LEGEND_CLASSES {
             style::legend_swatch(ui, class_colour(c, 255), name);
+        }
+        if seeds {
+            phase_attractors::multistable_legend_ui(ui);
         }
         ui.label(RichText::new("pale: not refined yet").weak());
     });
 }
 
+/// "Boundaries" (or "Stop" while the curves are followed).
 fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
     if jobs.curves.state == JobState::Running {
         if ui
@@ -521,71 +471,6 @@ fn grid_row_ui(ui: &mut Ui, s: &mut Settings) {
                  was found (oneblock phase --keep)",
             );
         ui.menu_button("range", |ui| range_ui(ui, &mut p.range, &mut p.zoom));
+        phase_attractors::seeds_ui(ui, s);
     });
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::worker::GridCell;
-
-    fn cell(class: CellClass) -> PhaseCell {
-        PhaseCell {
-            theta_nu: 0.0,
-            kappa: 1.0,
-            class,
-            lyapunov: Some(-0.5),
-            lyapunov_stderr: None,
-            regime: None,
-            iterates: 30,
-            rhs_evals: 0,
-            theta_last: 0.0,
-            error: None,
-            map: Default::default(),
-            attractors: None,
-        }
-    }
-
-    #[test]
-    fn missing_cells_take_the_nearest_received_class_paler() {
-        let mut d = PhaseData::new((0.0, 1.0), (1.0, 2.0), 5, 3);
-        let img = rasterise(&d);
-        assert!(img.pixels.iter().all(|p| *p == Color32::TRANSPARENT));
-        // Two received cells: (row 0, col 0) FP and (row 2, col 4) chaos.
-        d.insert(
-            vec![
-                GridCell {
-                    row: 0,
-                    column: 0,
-                    cell: cell(CellClass::Periodic(1)),
-                },
-                GridCell {
-                    row: 2,
-                    column: 4,
-                    cell: cell(CellClass::Chaos),
-                },
-            ],
-            true,
-        );
-        let img = rasterise(&d);
-        assert_eq!(img.size, [5, 3]);
-        let at = |row: usize, col: usize| img.pixels[(2 - row) * 5 + col];
-        assert_eq!(at(0, 0), class_colour(CellClass::Periodic(1), 255));
-        assert_eq!(at(2, 4), class_colour(CellClass::Chaos, 255));
-        assert_eq!(
-            at(0, 1),
-            class_colour(CellClass::Periodic(1), PROVISIONAL_ALPHA)
-        );
-        assert_eq!(at(2, 3), class_colour(CellClass::Chaos, PROVISIONAL_ALPHA));
-        assert!(img.pixels.iter().all(|p| *p != Color32::TRANSPARENT));
-    }
-
-    #[test]
-    fn a_point_maps_to_the_cell_it_falls_in() {
-        let d = PhaseData::new((0.0, 1.0), (1.0, 3.0), 5, 3);
-        assert_eq!(cell_at(&d, PlotPoint::new(0.0, 1.0)), Some((0, 0)));
-        assert_eq!(cell_at(&d, PlotPoint::new(0.26, 2.9)), Some((2, 1)));
-        assert_eq!(cell_at(&d, PlotPoint::new(1.2, 2.0)), None);
-        assert_eq!(cell_at(&d, PlotPoint::new(0.5, 0.4)), None);
-    }
 }

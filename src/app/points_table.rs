@@ -2,13 +2,14 @@
 //! bifurcation view's toolbar: kind, period, parameter value, θ and
 //! multiplier to 9 significant digits, each row with a "Copy" button that
 //! puts the row's `oneblock continue --points` line on the clipboard, and
-//! "Copy all" for the header and every row.
+//! "Copy all" for the header and every row; and the generalised flips of
+//! the phase view's doubling curves.
 
 use eframe::egui;
 use egui::{RichText, Ui};
 
-use super::branches::{BranchData, CSV_HEADER, csv_line, sig9, special_rows};
-use crate::sim::continuation::ContParam;
+use super::branches::{BranchData, CSV_HEADER, CurveData, csv_line, sig9, special_rows};
+use crate::sim::continuation::{ContParam, Curve, GeneralisedFlip};
 
 /// The table's most height, as a share of the view's.
 const HEIGHT_SHARE: f32 = 0.35;
@@ -77,5 +78,48 @@ pub fn points_ui(ui: &mut Ui, data: &BranchData) {
                             }
                         });
                 });
+        });
+}
+
+/// The generalised flips of the "Boundaries" curves, as a table under the
+/// phase view's controls: the curve, (θν, κ) where the flip's coefficient
+/// c crosses 0, and c at the decided points either side (nothing before
+/// any curve has one).
+pub fn generalised_flips_ui(ui: &mut Ui, data: &CurveData) {
+    let rows: Vec<(&Curve, &GeneralisedFlip)> = data
+        .curves
+        .iter()
+        .flat_map(|c| c.generalised_flips.iter().map(move |g| (c, g)))
+        .collect();
+    if rows.is_empty() {
+        return;
+    }
+    egui::CollapsingHeader::new(format!("Generalised flips ({})", rows.len()))
+        .id_salt("generalised flips")
+        .show(ui, |ui| {
+            egui::Grid::new("generalised flips grid")
+                .striped(true)
+                .num_columns(5)
+                .show(ui, |ui| {
+                    for h in ["curve", "theta_nu", "kappa", "c before", "c after"] {
+                        ui.label(RichText::new(h).strong());
+                    }
+                    ui.end_row();
+                    for (c, g) in rows {
+                        ui.label(format!("P{} to P{}", c.period, 2 * c.period));
+                        ui.label(sig9(g.lambda[0]));
+                        ui.label(sig9(g.lambda[1]));
+                        ui.label(sig9(g.coefficients[0]));
+                        ui.label(sig9(g.coefficients[1]));
+                        ui.end_row();
+                    }
+                });
+            ui.label(
+                RichText::new(
+                    "where the doubling turns from supercritical (c > 0) to subcritical \
+                     (c < 0) or back, c interpolated to 0 between decided points",
+                )
+                .weak(),
+            );
         });
 }

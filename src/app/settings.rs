@@ -513,6 +513,9 @@ pub struct PhaseSettings {
     pub range: PhaseRange,
     /// Zoom levels, innermost last; each is recomputed at full resolution.
     pub zoom: Vec<PhaseRange>,
+    /// θ₀ spread over each cell's exit arc whose attractors are counted
+    /// (`oneblock phase --seeds`, at most [`MAX_SWEEP_SEEDS`]; 0: none).
+    pub seeds: usize,
 }
 
 impl Default for PhaseSettings {
@@ -524,6 +527,7 @@ impl Default for PhaseSettings {
             keep: 128,
             range: PhaseRange::PAPER,
             zoom: Vec::new(),
+            seeds: 0,
         }
     }
 }
@@ -542,6 +546,7 @@ impl PhaseSettings {
         self.kappa_steps = self.kappa_steps.clamp(MIN_STEPS, MAX_STEPS);
         self.transient = self.transient.min(MAX_BUDGET);
         self.keep = self.keep.clamp(16, MAX_BUDGET);
+        self.seeds = self.seeds.min(MAX_SWEEP_SEEDS);
         if !self.range.is_valid() {
             self.range = d.range;
             self.zoom.clear();
@@ -582,8 +587,10 @@ mod tests {
                 theta_nu: (1.0, 0.5),
                 kappa: (1.0, 2.0),
             }],
+            seeds: 1000,
         }
         .sanitised();
+        assert_eq!(s.seeds, MAX_SWEEP_SEEDS);
         assert_eq!((s.theta_nu_steps, s.kappa_steps), (MIN_STEPS, MAX_STEPS));
         assert_eq!((s.transient, s.keep), (MAX_BUDGET, 16));
         assert_eq!(s.range, PhaseRange::PAPER);

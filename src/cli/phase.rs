@@ -317,6 +317,7 @@ fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
             map: opts.map,
             period_tol: Some(opts.period_tol),
             seeds: opts.seeds,
+            list_attractors: false,
         },
     };
     let on_update = |u: &Update| {

@@ -432,8 +432,14 @@ impl Out<'_> {
         let names: Vec<String> = curves
             .iter()
             .map(|c| {
+                // Where the doubling turns subcritical along the curve.
+                let flips = match c.generalised_flips.len() {
+                    0 => String::new(),
+                    1 => ", 1 generalised flip".into(),
+                    n => format!(", {n} generalised flips"),
+                };
                 format!(
-                    "P{} to P{} ({} points)",
+                    "P{} to P{} ({} points{flips})",
                     c.period,
                     2 * c.period,
                     c.points.len()

@@ -44,8 +44,8 @@ pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
-    GridCell, IterateSpec, Lane, MAX_GRAPH_POWER, Outcome, PhaseSpec, PhaseTuning, SweepSpec,
-    TrajectorySpec, Update, WorkPrecisionSpec,
+    GridCell, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseSpec,
+    PhaseTuning, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use serde::{Deserialize, Serialize};

@@ -30,10 +30,11 @@ use web_time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, Pacer, paced_progress};
 use super::plan::{PlannedCell, phase_plan};
-use super::protocol::{Axis, GridCell, Lane, PhaseSpec, Update};
+use super::protocol::{Axis, GridCell, Lane, ListedAttractor, MAX_LISTED, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
+use crate::sim::attractors::attractors;
 use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
@@ -213,13 +214,14 @@ impl PhaseJob {
     }
 
     /// Runs the cell of plan entry `p` from its parent's `seed`, under its
-    /// own guard: the cell, and the error to report if any.
+    /// own guard: the cell, its attractors' list (see [`Self::listed`]),
+    /// and the error to report if any.
     fn compute(
         &self,
         p: PlannedCell,
         seed: Option<Seed>,
         sink: &dyn Sink,
-    ) -> Result<(PhaseCell, Option<Report>), JobError> {
+    ) -> Result<(PhaseCell, Vec<ListedAttractor>, Option<Report>), JobError> {
         let (kappa, tn) = (self.kappas[p.row], self.theta_nus[p.column]);
         let cancel = || sink.cycle();
         let (params, settings, opts) = (self.spec.params, self.spec.settings, &self.opts);
@@ -233,35 +235,80 @@ impl PhaseJob {
                     p.row * self.theta_nus.len() + p.column
                 );
             }
-            continue_cell(params, settings, kappa, tn, seed, opts, &cancel)
+            let cell = continue_cell(params, settings, kappa, tn, seed, opts, &cancel);
+            let listed = self.listed(&cell, &cancel);
+            (cell, listed)
         }));
         let where_ = format!(
             "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",
             p.row, p.column
         );
         Ok(match cell {
-            Ok(c) => match &c.error {
-                None => (c, None),
+            Ok((c, listed)) => match &c.error {
+                None => (c, listed?, None),
                 Some(SimError::Cancelled) => return Err(JobError::Stop),
                 Some(e) => {
                     let first = !std::mem::replace(&mut *lock(&self.failed_once), true);
                     let report = first.then(|| (format!("{where_}: {e}"), e.parameter()));
-                    (c, report)
+                    (c, Vec::new(), report)
                 }
             },
             Err(payload) => {
                 let msg = format!("{where_} panicked: {}", panic_message(&*payload));
                 *lock(&self.failure) = Some(msg.clone());
-                (PhaseCell::failed(tn, kappa, tn), Some((msg, None)))
+                (
+                    PhaseCell::failed(tn, kappa, tn),
+                    Vec::new(),
+                    Some((msg, None)),
+                )
             }
         })
+    }
+
+    /// A multistable cell's attractors, when the spec asks for them: found
+    /// as `oneblock attractors` finds them (`sim::attractors`, full orbits
+    /// and cycles by Newton) from the cell's seeds and its own attractor's
+    /// last onset, so that the list a click shows is the command's. Only
+    /// cells counted with more than one attractor pay for it, and only
+    /// [`MAX_LISTED`] entries are kept. A search that fails leaves the list
+    /// empty (the count stands); a cancelled one stops the job.
+    fn listed(
+        &self,
+        cell: &PhaseCell,
+        cancel: &(dyn Fn() -> bool + Sync),
+    ) -> Result<Vec<ListedAttractor>, JobError> {
+        let multistable = cell.attractors.is_some_and(|n| n > 1);
+        if !(self.spec.tuning.list_attractors && multistable && cell.error.is_none()) {
+            return Ok(Vec::new());
+        }
+        let params = Params {
+            kappa: cell.kappa,
+            theta_nu: cell.theta_nu,
+            ..self.spec.params
+        };
+        let found = attractors(
+            params,
+            self.spec.settings,
+            self.opts.seeds,
+            Some(cell.theta_last),
+            cancel,
+        );
+        match found {
+            Ok(list) => Ok(list
+                .iter()
+                .take(MAX_LISTED)
+                .map(ListedAttractor::of)
+                .collect()),
+            Err(SimError::Cancelled) => Err(JobError::Stop),
+            Err(_) => Ok(Vec::new()),
+        }
     }
 
     /// One cell: computed, queued for sending (coarse before fine), marked
     /// done in the schedule, and flushed when a batch is due.
     fn one(&self, p: PlannedCell, seed: Option<Seed>, sink: &dyn Sink) -> Result<(), JobError> {
         let generation = sink.generation();
-        let (cell, problem) = self.compute(p, seed, sink)?;
+        let (cell, listed, problem) = self.compute(p, seed, sink)?;
         let mut seed_out = Seed::of(&cell);
         if cell.class == CellClass::Failed {
             seed_out.theta_last = None;
@@ -284,6 +331,7 @@ impl PhaseJob {
                 row: p.row,
                 column: p.column,
                 cell,
+                listed,
             };
             if p.coarse {
                 ob.coarse.push(gc);

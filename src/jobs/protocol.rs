@@ -195,6 +195,11 @@ pub struct PhaseTuning {
     pub period_tol: Option<f64>,
     /// [`PhaseOptions::seeds`] (0: attractors not counted).
     pub seeds: usize,
+    /// With seeds, list each multistable cell's attractors as
+    /// `oneblock attractors` finds them from the same seeds
+    /// ([`GridCell::listed`]; the window's click list). Off on the command
+    /// line, whose CSV has only the count.
+    pub list_attractors: bool,
 }
 
 impl Default for PhaseTuning {
@@ -204,6 +209,7 @@ impl Default for PhaseTuning {
             map: MapChoice::Auto,
             period_tol: None,
             seeds: 0,
+            list_attractors: false,
         }
     }
 }
@@ -528,4 +534,41 @@ pub struct GridCell {
     /// The core's result, as `phase_cell` returned it (its `theta_nu` and
     /// `kappa` are the cell's).
     pub cell: PhaseCell,
+    /// A multistable cell's attractors (with
+    /// [`PhaseTuning::list_attractors`]; empty otherwise), at most
+    /// [`MAX_LISTED`], with only what the window shows of each.
+    pub listed: Vec<ListedAttractor>,
+}
+
+/// The most attractors a cell's list keeps (the rest are counted in
+/// [`PhaseCell::attractors`] only).
+pub const MAX_LISTED: usize = 8;
+
+/// One attractor of a multistable cell, as the window lists it: what
+/// `sim::attractors::Attractor` says of it without its points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ListedAttractor {
+    /// The period, `None` for an aperiodic (chaotic) attractor.
+    pub period: Option<usize>,
+    /// A cycle's multiplier.
+    pub multiplier: Option<f64>,
+    /// An aperiodic attractor's Lyapunov exponent and its standard error.
+    pub lyapunov: Option<(f64, Option<f64>)>,
+    /// The share of the seeds that reach it.
+    pub basin_fraction: f64,
+}
+
+impl ListedAttractor {
+    /// What the list keeps of `a`.
+    pub fn of(a: &crate::sim::attractors::Attractor) -> Self {
+        ListedAttractor {
+            period: a.period,
+            multiplier: a.multiplier,
+            lyapunov: match a.period {
+                None => a.lyapunov.map(|l| (l, a.lyapunov_stderr)),
+                Some(_) => None,
+            },
+            basin_fraction: a.basin_fraction,
+        }
+    }
 }

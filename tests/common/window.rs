@@ -157,6 +157,11 @@ pub fn phase_tab() -> Settings {
 /// Answers a phase job with every cell, coarse half first: FP below
 /// θν = 0.8, P2 above, chaos in the top right corner.
 pub fn feed_phase(rec: &Recorder, job: &PhaseJob) {
+    feed_phase_with(rec, job, |_| {});
+}
+
+/// [`feed_phase`] with each cell changed by `change` before it is sent.
+pub fn feed_phase_with(rec: &Recorder, job: &PhaseJob, change: impl Fn(&mut GridCell)) {
     let tns = theta_nu_grid(job.theta_nu.0, job.theta_nu.1, job.theta_nu.2);
     let ks = theta_nu_grid(job.kappa.0, job.kappa.1, job.kappa.2);
     let mut cells = Vec::new();
@@ -186,9 +191,11 @@ pub fn feed_phase(rec: &Recorder, job: &PhaseJob) {
                     map: Default::default(),
                     attractors: None,
                 },
+                listed: Vec::new(),
             });
         }
     }
+    cells.iter_mut().for_each(change);
     let half = cells.len() / 2;
     let rest = cells.split_off(half);
     rec.push(Update::PhaseCells {

@@ -469,7 +469,13 @@ impl Jobs {
                 kappa: Axis::new(kappa.0, kappa.1, rows),
                 transient: key.transient,
                 keep: key.keep,
-                tuning: PhaseTuning::default(),
+                // With seeds, each multistable cell's attractors are
+                // listed for the view's click.
+                tuning: PhaseTuning {
+                    seeds: key.seeds,
+                    list_attractors: key.seeds > 0,
+                    ..PhaseTuning::default()
+                },
             },
         });
         self.phase_policy.started(key);

@@ -66,6 +66,8 @@ pub struct PhaseKey {
     pub steps: (usize, usize),
     pub transient: usize,
     pub keep: usize,
+    /// Seeds per cell (0: attractors not counted).
+    pub seeds: usize,
 }
 
 impl PhaseKey {
@@ -82,6 +84,7 @@ impl PhaseKey {
             steps: (p.theta_nu_steps, p.kappa_steps),
             transient: p.transient,
             keep: p.keep,
+            seeds: p.seeds,
         }
     }
 
