@@ -13,12 +13,11 @@
 //! that is not one already found is solved by Newton on the direct map;
 //! a new chaotic set's λ comes from an integrated orbit, as the first's.
 
-mod seed_map;
+pub(crate) mod seed_map;
 
-use seed_map::SeedMap;
+use seed_map::{Fell, SeedMap};
 
 use super::cycles::{CycleOptions, solve_counting};
-use super::period::{PERIOD_MAX, settled_period};
 use super::seeded::SAME_CYCLE;
 use super::{Orbit, OrbitOptions, Period, SimError, Simulator, default_settings};
 use crate::integrate::SolverSettings;
@@ -125,90 +124,6 @@ fn aperiodic_from(
     Ok(aperiodic(&sim.orbit(theta, &opts, cancel)?))
 }
 
-/// What a seed's orbit on [`SeedMap`] came to.
-enum Fell {
-    /// It closes in on this known stable cycle ([`closes_in`]).
-    Known(usize),
-    /// Its iterates repeat with this period: these are its last p.
-    Repeats(Vec<f64>),
-    /// They did not: its kept iterates and the onset after them.
-    Wanders(Vec<f64>, f64),
-}
-
-/// How near a known stable cycle's point an orbit must come, closing in
-/// over four periods, to be counted as falling onto it: far inside the
-/// neighbourhood where the cycle's linearisation governs the approach
-/// (coexisting attractors here lie tenths of a radian apart).
-const CLOSE: f64 = 1e-3;
-
-/// Whether the end of `seq` closes in on the stable p-cycle `a`: its newest
-/// value within [`CLOSE`] of a point of `a`, and its distance from that
-/// point, one period at a time, shrinking over the last four periods (the
-/// approach of a stable cycle in its linear regime).
-fn closes_in(seq: &[f64], a: &Attractor) -> bool {
-    let (Some(p), Some(m)) = (a.period, a.multiplier) else {
-        return false;
-    };
-    let n = seq.len();
-    if m.abs() >= 1.0 || n < 4 * p + 1 {
-        return false;
-    }
-    let last = seq[n - 1];
-    let gap = |x: f64, y: f64| wrap_angle(x - y).abs();
-    let Some(&target) = a
-        .points
-        .iter()
-        .min_by(|x, y| gap(last, **x).total_cmp(&gap(last, **y)))
-    else {
-        return false;
-    };
-    let e: Vec<f64> = (0..4).map(|k| gap(seq[n - 1 - k * p], target)).collect();
-    e[0] < CLOSE && e[0] < e[1] && e[1] < e[2] && e[2] < e[3]
-}
-
-/// The seed's orbit from θ0 on `map`, [`TRANSIENT`] + [`KEEP`] iterates
-/// at most: it stops once it closes in on a `known` stable cycle, or once
-/// its last iterates repeat with a period (to `rep_tol`).
-fn fall(
-    map: &mut SeedMap,
-    theta0: f64,
-    rep_tol: f64,
-    known: &[Attractor],
-    cancel: &dyn Fn() -> bool,
-) -> Result<Fell, SimError> {
-    let window = 3 * PERIOD_MAX;
-    let mut recent = Vec::with_capacity(2 * window);
-    let mut kept = Vec::with_capacity(KEEP);
-    let mut theta = theta0;
-    for i in 0..TRANSIENT + KEEP {
-        if i % 64 == 0 && cancel() {
-            return Err(SimError::Cancelled);
-        }
-        if i >= TRANSIENT {
-            kept.push(theta);
-        }
-        if recent.len() == 2 * window {
-            recent.drain(..window);
-        }
-        recent.push(theta);
-        if i % 8 == 7 {
-            if let Some(k) = known.iter().position(|a| closes_in(&recent, a)) {
-                return Ok(Fell::Known(k));
-            }
-            // The full period test only once the newest value repeats one
-            // of the last PERIOD_MAX (a cheap test that chaos fails).
-            let n = recent.len();
-            let repeats = (1..=PERIOD_MAX.min(n - 1))
-                .any(|p| wrap_angle(recent[n - 1] - recent[n - 1 - p]).abs() <= rep_tol);
-            if repeats && let Some(p) = settled_period(&recent, rep_tol) {
-                return Ok(Fell::Repeats(recent[recent.len() - p..].to_vec()));
-            }
-        }
-        theta = map.next(theta)?;
-    }
-    Ok(Fell::Wanders(kept, theta))
-}
-
 /// What the seed from θ0 reached, from its orbit on `map`: a cycle among
 /// `known` ones is named by its index there, a new one solved by Newton on
 /// the direct map; an orbit that does not repeat is settled as `orbit`
@@ -223,9 +138,15 @@ fn reach_seeded(
 ) -> Result<Reached, SimError> {
     let settings = sim.settings();
     let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
-    let (kept, next) = match fall(map, theta0, rep_tol, known, cancel)? {
+    let stable: Vec<&Attractor> = known
+        .iter()
+        .filter(|a| a.period.is_some() && a.multiplier.is_some_and(|m| m.abs() < 1.0))
+        .collect();
+    let cycles: Vec<&[f64]> = stable.iter().map(|a| a.points.as_slice()).collect();
+    let budget = (TRANSIENT, KEEP);
+    let (kept, next) = match map.fall(theta0, budget, rep_tol, &cycles, cancel)? {
         Fell::Known(k) => {
-            let a = &known[k];
+            let a = stable[k];
             return Ok(Reached::Cycle {
                 period: a.points.len(),
                 points: a.points.clone(),

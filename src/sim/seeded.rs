@@ -9,10 +9,18 @@
 //! same period whose points coincide to [`SAME_CYCLE`], or when neither
 //! settles and the intervals of θ their kept iterates visit overlap. An
 //! orbit that settles and one that does not are different attractors.
+//!
+//! The seeds iterate `SeedMap` (as `oneblock attractors` does): the
+//! verified interpolant near the followed attractor and those found so
+//! far, direct integration elsewhere; a seed stops once it closes in on a
+//! known cycle or repeats. One that contracts too slowly onto a cycle to
+//! settle in its budget, and not onto a known one, is run as a sweep column
+//! (integrated, its slow cycle solved).
 
+use super::attractors::seed_map::{Fell, SeedMap};
 use super::attractors::spread_seeds;
-use super::period::PERIOD_MAX;
-use super::{Column, SimError, SweepOptions};
+use super::period::{PERIOD_MAX, contraction};
+use super::{Column, SimError, Simulator, SweepOptions};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 
@@ -40,8 +48,8 @@ impl Reach {
         if thetas.is_empty() {
             return None;
         }
-        // The sweep's repetition tolerance (`ColumnRun::rep_tol`), ten times.
-        let tol = 10.0 * (100.0 * settings.rtol).clamp(1e-12, 1e-6);
+        // The sweep's repetition tolerance, ten times.
+        let tol = 10.0 * rep_tol(settings);
         // Every kept iterate repeats with period p: a settled column's
         // kept iterates are its cycle's points, copied.
         let n = thetas.len();
@@ -84,28 +92,132 @@ pub struct SeededColumn {
     pub rhs_evals: u64,
 }
 
-/// The seeds' orbits at θν of `params`, each run as a sweep column from its
-/// θ₀ with `opts`; `Cancelled` as soon as one is. Failed seeds reach
-/// nothing that can be named and are left out.
-fn seed_columns(
+/// The sweep's repetition tolerance (`ColumnRun::rep_tol`).
+fn rep_tol(settings: &SolverSettings) -> f64 {
+    (100.0 * settings.rtol).clamp(1e-12, 1e-6)
+}
+
+/// The least and greatest of `thetas`.
+fn hull(thetas: &[f64]) -> (f64, f64) {
+    let lo = thetas.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = thetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (lo, hi)
+}
+
+/// Adds `r`'s neighbourhood to `map`: near each point of a cycle, over a
+/// set's hull (worth `worth` evaluations at most).
+fn cover(map: &mut SeedMap, r: &Reach, worth: usize) {
+    match r {
+        Reach::Cycle(c) => {
+            for &x in c {
+                map.cover(&[x], 0);
+            }
+        }
+        Reach::Set(lo, hi) => map.cover(&[*lo, *hi], worth),
+    }
+}
+
+/// The seed from θ0 run as a sweep column (integrated, a slow cycle
+/// solved): what it reached and the points drawn for it (`None` if it
+/// failed), and its cost; `Cancelled` if it was.
+fn as_column(
     params: Params,
     settings: SolverSettings,
+    theta0: f64,
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(Option<(Reach, Vec<f64>)>, u64), SimError> {
+    let col = Column::run(params, settings, params.theta_nu, theta0, opts, cancel);
+    match col.error {
+        Some(SimError::Cancelled) => return Err(SimError::Cancelled),
+        Some(_) => return Ok((None, col.rhs_evals)),
+        None => {}
+    }
+    let reached = Reach::of(&col.thetas, &settings).map(|r| {
+        let points = match &r {
+            Reach::Cycle(c) => c.clone(),
+            Reach::Set(..) => col.thetas.clone(),
+        };
+        (r, points)
+    });
+    Ok((reached, col.rhs_evals))
+}
+
+/// What each of `seeds` seeds reached at θν of `params`, with the points a
+/// diagram draws for it (a cycle's p points, or an unsettled orbit's kept
+/// iterates), given what the followed column reached; and what they cost
+/// (right-hand-side evaluations). `Cancelled` as soon as one is; failed
+/// seeds reach nothing that can be named and are left out.
+fn seed_reaches(
+    params: Params,
+    settings: SolverSettings,
+    followed: Option<&Reach>,
     seeds: usize,
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
-) -> Result<(Vec<Column>, u64), SimError> {
+) -> Result<(Vec<(Reach, Vec<f64>)>, u64), SimError> {
+    let sim = Simulator::new(params, settings)?;
+    let mut map = SeedMap::new(&sim);
+    let tol = rep_tol(&settings);
+    let run = opts.transient.saturating_add(opts.keep);
+    let worth = |left: usize| left.saturating_mul(run) / 4;
+    let mut known: Vec<Reach> = followed.cloned().into_iter().collect();
+    for r in &known {
+        cover(&mut map, r, worth(seeds));
+    }
     let mut out = Vec::with_capacity(seeds);
     let mut rhs = 0;
-    for theta0 in spread_seeds(&params, seeds) {
-        let col = Column::run(params, settings, params.theta_nu, theta0, opts, cancel);
-        rhs += col.rhs_evals;
-        match col.error {
-            Some(SimError::Cancelled) => return Err(SimError::Cancelled),
-            Some(_) => {}
-            None => out.push(col),
+    for (i, theta0) in spread_seeds(&params, seeds).into_iter().enumerate() {
+        let cycles: Vec<Vec<f64>> = known
+            .iter()
+            .filter_map(|r| match r {
+                Reach::Cycle(c) => Some(c.clone()),
+                Reach::Set(..) => None,
+            })
+            .collect();
+        let views: Vec<&[f64]> = cycles.iter().map(Vec::as_slice).collect();
+        let budget = (opts.transient, opts.keep);
+        let (reach, points) = match map.fall(theta0, budget, tol, &views, cancel) {
+            Err(SimError::Cancelled) => return Err(SimError::Cancelled),
+            Err(_) => continue,
+            Ok(Fell::Known(k)) => (Reach::Cycle(cycles[k].clone()), cycles[k].clone()),
+            Ok(Fell::Repeats(points)) => (Reach::Cycle(points.clone()), points),
+            Ok(Fell::Wanders(kept, _)) => {
+                let slow = contraction(&kept, tol);
+                let onto = slow.and_then(|c| {
+                    let near = |x: &f64| wrap_angle(x - c.limit).abs() <= SAME_CYCLE;
+                    cycles
+                        .iter()
+                        .find(|cy| cy.len() == c.period && cy.iter().any(near))
+                });
+                match (slow, onto) {
+                    // Closing in on a known cycle, slowly.
+                    (_, Some(cy)) => (Reach::Cycle(cy.clone()), cy.clone()),
+                    // Onto another cycle, too slowly to settle here.
+                    (Some(_), None) => match as_column(params, settings, theta0, opts, cancel)? {
+                        (Some(reached), cost) => {
+                            rhs += cost;
+                            reached
+                        }
+                        (None, cost) => {
+                            rhs += cost;
+                            continue;
+                        }
+                    },
+                    (None, None) => {
+                        let (lo, hi) = hull(&kept);
+                        (Reach::Set(lo, hi), kept)
+                    }
+                }
+            }
+        };
+        if !known.iter().any(|k| k.same(&reach)) {
+            cover(&mut map, &reach, worth(seeds - i - 1));
+            known.push(reach.clone());
         }
+        out.push((reach, points));
     }
-    Ok((out, rhs))
+    Ok((out, rhs + map.rhs_evals))
 }
 
 /// The followed column `followed` at θν of `params` seeded from `seeds`
@@ -128,22 +240,17 @@ pub fn seeded_column(
     if seeds == 0 {
         return Ok(out);
     }
-    let (cols, rhs) = seed_columns(params, settings, seeds.min(MAX_SEEDS), opts, cancel)?;
+    let mine = Reach::of(&followed.thetas, &settings);
+    let seeds = seeds.min(MAX_SEEDS);
+    let (reached, rhs) = seed_reaches(params, settings, mine.as_ref(), seeds, opts, cancel)?;
     out.rhs_evals = rhs;
-    let mut known: Vec<Reach> = Reach::of(&followed.thetas, &settings).into_iter().collect();
-    for col in &cols {
-        let Some(r) = Reach::of(&col.thetas, &settings) else {
-            continue;
-        };
+    let mut known: Vec<Reach> = mine.into_iter().collect();
+    for (r, points) in reached {
         if known.iter().any(|k| k.same(&r)) || known.len() > u8::MAX as usize {
             continue;
         }
         let label = known.len() as u8;
-        let points = match &r {
-            Reach::Cycle(c) => c.as_slice(),
-            Reach::Set(..) => col.thetas.as_slice(),
-        };
-        out.thetas.extend_from_slice(points);
+        out.thetas.extend_from_slice(&points);
         out.attractor
             .extend(std::iter::repeat_n(label, points.len()));
         known.push(r);

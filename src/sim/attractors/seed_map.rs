@@ -17,6 +17,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::model::{exit_arc, wrap_angle};
 use crate::sim::interpolant::{InterpolantOptions, MapInterpolant};
+use crate::sim::period::{PERIOD_MAX, settled_period};
 use crate::sim::{SimError, Simulator};
 
 /// The widths (radians each side of an attractor's hull) a neighbourhood's
@@ -27,7 +28,7 @@ const WIDTHS: [f64; 4] = [0.3, 0.1, 0.03, 0.01];
 const BUILD_CAP: usize = 160;
 
 /// The map for the seeds.
-pub(super) struct SeedMap<'s> {
+pub(crate) struct SeedMap<'s> {
     sim: &'s Simulator,
     psi: f64,
     iopts: InterpolantOptions,
@@ -99,5 +100,88 @@ impl<'s> SeedMap<'s> {
                 return;
             }
         }
+    }
+}
+
+/// What a seed's orbit on [`SeedMap`] came to.
+pub(crate) enum Fell {
+    /// It closes in on the known cycle of this index ([`closes_in`]).
+    Known(usize),
+    /// Its iterates repeat with a period: these are its last p.
+    Repeats(Vec<f64>),
+    /// They did not: its kept iterates and the onset after them.
+    Wanders(Vec<f64>, f64),
+}
+
+/// How near a known cycle's point an orbit must come, closing in over
+/// four periods, to be counted as falling onto it: far inside the
+/// neighbourhood where the cycle's linearisation governs the approach
+/// (coexisting attractors here lie tenths of a radian apart).
+const CLOSE: f64 = 1e-3;
+
+/// Whether the end of `seq` closes in on the p-cycle `points`: its newest
+/// value within [`CLOSE`] of a point of it, and its distance from that
+/// point, one period at a time, shrinking over the last four periods (the
+/// approach of a stable cycle in its linear regime).
+fn closes_in(seq: &[f64], points: &[f64]) -> bool {
+    let (n, p) = (seq.len(), points.len());
+    if p == 0 || n < 4 * p + 1 {
+        return false;
+    }
+    let last = seq[n - 1];
+    let gap = |x: f64, y: f64| wrap_angle(x - y).abs();
+    let Some(&target) = points
+        .iter()
+        .min_by(|x, y| gap(last, **x).total_cmp(&gap(last, **y)))
+    else {
+        return false;
+    };
+    let e: Vec<f64> = (0..4).map(|k| gap(seq[n - 1 - k * p], target)).collect();
+    e[0] < CLOSE && e[0] < e[1] && e[1] < e[2] && e[2] < e[3]
+}
+
+impl SeedMap<'_> {
+    /// The seed's orbit from θ0, `transient` + `keep` iterates at most: it
+    /// stops once it closes in on one of the stable cycles `known`, or once
+    /// its last iterates repeat with a period (to `rep_tol`).
+    pub fn fall(
+        &mut self,
+        theta0: f64,
+        (transient, keep): (usize, usize),
+        rep_tol: f64,
+        known: &[&[f64]],
+        cancel: &dyn Fn() -> bool,
+    ) -> Result<Fell, SimError> {
+        let window = 3 * PERIOD_MAX;
+        let mut recent = Vec::with_capacity(2 * window);
+        let mut kept = Vec::with_capacity(keep.min(1 << 16));
+        let mut theta = theta0;
+        for i in 0..transient.saturating_add(keep) {
+            if i % 64 == 0 && cancel() {
+                return Err(SimError::Cancelled);
+            }
+            if i >= transient {
+                kept.push(theta);
+            }
+            if recent.len() == 2 * window {
+                recent.drain(..window);
+            }
+            recent.push(theta);
+            if i % 8 == 7 {
+                if let Some(k) = known.iter().position(|c| closes_in(&recent, c)) {
+                    return Ok(Fell::Known(k));
+                }
+                // The full period test only once the newest value repeats
+                // one of the last PERIOD_MAX (a cheap test chaos fails).
+                let n = recent.len();
+                let repeats = (1..=PERIOD_MAX.min(n - 1))
+                    .any(|p| wrap_angle(recent[n - 1] - recent[n - 1 - p]).abs() <= rep_tol);
+                if repeats && let Some(p) = settled_period(&recent, rep_tol) {
+                    return Ok(Fell::Repeats(recent[n - p..].to_vec()));
+                }
+            }
+            theta = self.next(theta)?;
+        }
+        Ok(Fell::Wanders(kept, theta))
     }
 }
