@@ -388,6 +388,8 @@ fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, s: &mut
             style::legend_line(ui, style::ACCEL, true, "±θc");
         }
     });
+    // Room for the top tick label, centred on the frame's top edge.
+    ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
 }
 
 impl View for ReturnMapView {
