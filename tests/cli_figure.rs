@@ -297,10 +297,14 @@ fn frames_and_a_gif_go_together_for_the_animated_views_only() {
     }
 }
 
+/// One frame as a whole picture: its delay (hundredths of a second) and
+/// its RGBA pixels.
+type Picture = (u16, Vec<u8>);
+
 /// The frames of a GIF as whole pictures (RGBA), each frame's rectangle
 /// drawn over the picture before it (the encoder stores only what
 /// changed), with the picture's size and each frame's delay.
-fn gif_frames(path: &Path) -> ((usize, usize), Vec<(u16, Vec<u8>)>) {
+fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
     let file = std::fs::File::open(path).expect("gif written");
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::RGBA);
