@@ -70,6 +70,15 @@ pub fn ink(dark: bool) -> Color32 {
 /// label do not both fit in what is left of this one, so that a legend
 /// never leaves a key at the end of one row and its label on the next.
 fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui, egui::Rect)) {
+    keep_key_with_label(ui, size.x, label);
+    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+    key(ui, rect);
+    ui.label(label);
+}
+
+/// In a wrapping row, starts a new row unless a legend key `key_width`
+/// wide and its `label` both fit in what is left of this one.
+pub fn keep_key_with_label(ui: &mut Ui, key_width: f32, label: &str) {
     if ui.layout().main_wrap {
         let font = egui::TextStyle::Body.resolve(ui.style());
         let text = ui.fonts_mut(|f| {
@@ -77,16 +86,13 @@ fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui
                 .size()
                 .x
         });
-        let need = size.x + ui.spacing().item_spacing.x + text;
+        let need = key_width + ui.spacing().item_spacing.x + text;
         let left = ui.available_size_before_wrap().x;
         let at_start = left >= ui.max_rect().width() - 0.5;
         if need > left && !at_start {
             ui.end_row();
         }
     }
-    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-    key(ui, rect);
-    ui.label(label);
 }
 
 /// A small coloured square and its label.
