@@ -297,43 +297,174 @@ fn frames_and_a_gif_go_together_for_the_animated_views_only() {
     }
 }
 
+/// One frame as a whole picture: its delay (hundredths of a second) and
+/// its RGBA pixels.
+type Picture = (u16, Vec<u8>);
+
+/// The frames of a GIF as whole pictures (RGBA), each frame's rectangle
+/// drawn over the picture before it (the encoder stores only what
+/// changed), with the picture's size and each frame's delay.
+fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
+    let file = std::fs::File::open(path).expect("gif written");
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts.read_info(file).expect("a GIF");
+    let (w, h) = (usize::from(d.width()), usize::from(d.height()));
+    let mut canvas = vec![0u8; w * h * 4];
+    let mut out = vec![];
+    while let Some(f) = d.read_next_frame().expect("a frame") {
+        let (fw, left, top) = (
+            usize::from(f.width),
+            usize::from(f.left),
+            usize::from(f.top),
+        );
+        for (i, px) in f.buffer.chunks(4).enumerate() {
+            let (x, y) = (left + i % fw, top + i / fw);
+            if px[3] > 0 && x < w && y < h {
+                canvas[(y * w + x) * 4..(y * w + x) * 4 + 4].copy_from_slice(px);
+            }
+        }
+        out.push((f.delay, canvas.clone()));
+    }
+    ((w, h), out)
+}
+
+/// Pixels where two pictures differ by more than a palette's rounding
+/// (each GIF learns its own palette).
+fn pixels_apart(a: &[u8], b: &[u8]) -> usize {
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 40))
+        .count()
+}
+
+/// Runs `figure` for an animation of `view` with `extra` flags into `name`.
+fn animation(dir: &Path, view: &str, name: &str, extra: &[&str]) -> std::path::PathBuf {
+    let session = small_session(dir);
+    let out = dir.join(name);
+    let mut args = vec![
+        "--view",
+        view,
+        "--session",
+        session.to_str().expect("utf-8"),
+        "--size",
+        "320x240",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ];
+    args.extend(extra);
+    let o = figure(&args);
+    assert!(
+        o.status.success(),
+        "{view}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    out
+}
+
 #[test]
 fn an_animated_gif_has_the_frames_asked_for_and_moves() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let session = small_session(dir.path());
     for view in ["block", "plane"] {
-        let out = dir.path().join(format!("{view}.gif"));
-        let o = figure(&[
-            "--view",
+        let out = animation(
+            dir.path(),
             view,
-            "--session",
-            session.to_str().expect("utf-8"),
-            "--frames",
-            "12",
-            "--size",
-            "320x240",
-            "--out",
-            out.to_str().expect("utf-8"),
-        ]);
-        let err = String::from_utf8_lossy(&o.stderr);
-        assert!(o.status.success(), "{view}: {err}");
-        let file = std::fs::File::open(&out).expect("gif written");
-        let mut opts = gif::DecodeOptions::new();
-        opts.set_color_output(gif::ColorOutput::RGBA);
-        let mut d = opts.read_info(file).expect("a GIF");
-        assert_eq!((d.width(), d.height()), (320, 240), "{view}");
-        let mut frames: Vec<Vec<u8>> = vec![];
-        while let Some(f) = d.read_next_frame().expect("a frame") {
-            assert_eq!(f.delay, 10, "10 frames a second");
-            frames.push(f.buffer.to_vec());
-        }
+            &format!("{view}.gif"),
+            &["--frames", "12"],
+        );
+        let (size, frames) = gif_frames(&out);
+        assert_eq!(size, (320, 240), "{view}");
+        assert!(frames.iter().all(|(d, _)| *d == 10), "10 frames a second");
         assert_eq!(frames.len(), 12, "{view}");
         // An animation: the first and the last frame differ.
-        let differ = frames[0]
-            .chunks(4)
-            .zip(frames[11].chunks(4))
-            .filter(|(a, b)| a != b)
-            .count();
+        let differ = pixels_apart(&frames[0].1, &frames[11].1);
         assert!(differ > 50, "{view}: {differ} pixels changed");
+    }
+}
+
+/// At half speed, frame 10 shows what frame 5 shows in real time (both
+/// 0.5 s of playback in), and frame 5 shows less far.
+#[test]
+fn a_slowed_gif_shows_the_same_playback_later() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    for view in ["block", "plane"] {
+        let real = animation(
+            dir.path(),
+            view,
+            &format!("{view}-1.gif"),
+            &["--frames", "11"],
+        );
+        let half = animation(
+            dir.path(),
+            view,
+            &format!("{view}-05.gif"),
+            &["--frames", "11", "--speed", "0.5"],
+        );
+        let (_, real) = gif_frames(&real);
+        let (_, half) = gif_frames(&half);
+        // The same picture but for the two palettes' rounding (under 0.1 %
+        // of the pixels), against a picture that moved.
+        let same = pixels_apart(&real[5].1, &half[10].1);
+        let ahead = pixels_apart(&real[5].1, &half[5].1);
+        assert!(
+            same < 320 * 240 / 1000 && ahead > 4 * same.max(8),
+            "{view}: {same} pixels apart at 0.5 s of playback, {ahead} at 0.5 s and 0.25 s"
+        );
+    }
+}
+
+#[test]
+fn the_return_map_is_drawn_as_its_distance_from_the_diagonal_on_request() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let out = dir.path().join("difference.svg");
+    let o = figure(&[
+        "--view",
+        "return-map",
+        "--map-difference",
+        "--session",
+        session.to_str().expect("utf-8"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = texts(&std::fs::read_to_string(&out).expect("svg"));
+    assert!(
+        t.iter()
+            .any(|x| x.rotated && x.text.contains("f(θ) − θ, distance from the diagonal")),
+        "the y axis is f(θ) − θ"
+    );
+    let (_, y) = axis_ticks(&t);
+    // f − θ straddles 0 at the fixed point: ticks of both signs.
+    assert!(
+        y.len() >= 5 && y.iter().any(|v| *v < 0.0) && y.iter().any(|v| *v > 0.0),
+        "{y:?}"
+    );
+    for (view, flags, flag) in [
+        ("plane", vec!["--map-difference"], "--map-difference"),
+        ("block", vec!["--frames", "10", "--speed", "2"], "--speed"),
+        (
+            "block",
+            vec!["--frames", "10", "--speed", "0.01"],
+            "--speed",
+        ),
+        ("block", vec!["--slip-speed", "20"], "--slip-speed"),
+    ] {
+        let out = dir.path().join(if flags.contains(&"--frames") {
+            "x.gif"
+        } else {
+            "x.svg"
+        });
+        let mut args = vec!["--view", view, "--out", out.to_str().expect("utf-8")];
+        args.extend(&flags);
+        let o = figure(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{flags:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.contains(flag) && err.contains("must lie in") || flag == "--map-difference",
+            "{err}"
+        );
+        assert!(!out.exists());
     }
 }

@@ -219,3 +219,33 @@ fn the_tour_walks_the_papers_story_in_the_window() {
     h.run_steps(6);
     assert_eq!(h.state().tour.step, None);
 }
+
+/// A view's "?" opens its paragraph on a click (a tap, where nothing
+/// hovers) and a click outside closes it.
+#[test]
+fn a_click_on_the_question_mark_pins_the_views_paragraph_until_a_click_outside() {
+    use oneblock::app::help::view_help;
+    use oneblock::app::{Layout, ViewKind};
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::ReturnMap,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let paragraph = view_help(ViewKind::ReturnMap);
+    let shown = |h: &Harness<'static, Explorer>| h.query_all_by_label(paragraph).count();
+    assert_eq!(shown(&h), 0, "closed at first");
+    h.get_by_label("?").click();
+    h.run_steps(3);
+    assert!(shown(&h) >= 1, "a click opens the paragraph");
+    // It stays open over the next frames (a popup, not a tooltip that
+    // needs the pointer to stay).
+    h.run_steps(5);
+    assert!(shown(&h) >= 1, "the paragraph stays open");
+    // A click elsewhere: the return map's f(θ) − θ switch.
+    h.get_by_label("f(θ) − θ").click();
+    h.run_steps(3);
+    assert_eq!(shown(&h), 0, "a click outside closes it");
+}

@@ -387,8 +387,9 @@ fn the_window_saves_an_svg_of_the_tiles_and_a_session() {
     assert_eq!(back.session.settings, h.state().settings);
 }
 
-/// Record on the plane's tile writes an animated GIF of 120 frames into the
-/// save folder, made on a thread of its own while the window goes on.
+/// Record on the plane's tile (at half speed) writes an animated GIF of
+/// 120 frames into the save folder, made on a thread of its own while the
+/// window goes on.
 #[test]
 fn record_saves_an_animated_gif_of_the_plane() {
     let dir = tempfile::tempdir().expect("temp dir");
@@ -402,8 +403,10 @@ fn record_saves_an_animated_gif_of_the_plane() {
     h.run_steps(2);
     h.query_all_by_label("Record")
         .next()
-        .expect("a Record button on the plane's tile")
+        .expect("a Record menu on the plane's tile")
         .click();
+    h.run_steps(2);
+    h.get_by_label("Half speed").click();
     let mut gif = None;
     for _ in 0..6000 {
         h.step();

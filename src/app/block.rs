@@ -19,11 +19,42 @@ use crate::sim::{Phase, Sample};
 /// Real seconds a stick phase takes on screen, whatever its length.
 const STICK_SECONDS: f64 = 0.6;
 
+/// The playback clock the block view (and an animation's frames) runs
+/// on: model time advanced by real seconds, stick phases fast-forwarded
+/// to [`STICK_SECONDS`] each, slips at a speed in time units per second.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Playback {
+    /// The model time on screen.
+    pub clock: f64,
+}
+
+impl Playback {
+    /// Advances the clock by `dt` real seconds of playback at `speed`
+    /// (slip time units per second), looping over the samples from
+    /// `window_start`.
+    pub fn advance(&mut self, samples: &[Sample], window_start: f64, dt: f64, speed: f64) {
+        let Some(last) = samples.last() else { return };
+        if self.clock < window_start || self.clock > last.t {
+            self.clock = window_start;
+        }
+        let i = samples.partition_point(|s| s.t <= self.clock).max(1);
+        let seg = (samples.get(i - 1), samples.get(i));
+        let rate = match seg {
+            (Some(a), Some(b)) if a.phase == Phase::Stick => (b.t - a.t) / STICK_SECONDS,
+            _ => speed,
+        };
+        self.clock += dt * rate.max(1e-6);
+        if self.clock >= last.t {
+            // Loop over the cycles on screen (the trajectory may still grow).
+            self.clock = window_start;
+        }
+    }
+}
+
 /// Playback state.
 pub struct BlockView {
     pub playing: bool,
-    /// The model time on screen.
-    clock: f64,
+    clock: Playback,
     last_frame: Option<f64>,
     /// Draw x displacements ×κ so the stiff spring's motion is visible.
     pub magnify_x: bool,
@@ -34,7 +65,7 @@ impl Default for BlockView {
     fn default() -> Self {
         BlockView {
             playing: true,
-            clock: 0.0,
+            clock: Playback::default(),
             last_frame: None,
             magnify_x: true,
             trajectory_revision_seen: 0,
@@ -104,30 +135,14 @@ impl BlockView {
     fn advance(&mut self, samples: &[Sample], window_start: f64, now: f64, speed: f64) {
         let dt = self.last_frame.map_or(0.0, |l| (now - l).clamp(0.0, 0.1));
         self.last_frame = Some(now);
-        let Some(last) = samples.last() else { return };
-        if self.clock < window_start || self.clock > last.t {
-            self.clock = window_start;
-        }
-        if !self.playing {
-            return;
-        }
-        let i = samples.partition_point(|s| s.t <= self.clock).max(1);
-        let seg = (samples.get(i - 1), samples.get(i));
-        let rate = match seg {
-            (Some(a), Some(b)) if a.phase == Phase::Stick => (b.t - a.t) / STICK_SECONDS,
-            _ => speed,
-        };
-        self.clock += dt * rate.max(1e-6);
-        if self.clock >= last.t {
-            // Loop over the cycles on screen (the trajectory may still grow).
-            self.clock = window_start;
-        }
+        let dt = if self.playing { dt } else { 0.0 };
+        self.clock.advance(samples, window_start, dt, speed);
     }
 
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let samples = &jobs.trajectory.data.samples;
         if jobs.trajectory_revision < self.trajectory_revision_seen {
-            self.clock = 0.0;
+            self.clock = Playback::default();
         }
         self.trajectory_revision_seen = jobs.trajectory_revision;
         if !style::figure_only(ui.ctx()) {
@@ -177,7 +192,7 @@ impl BlockView {
         };
         painter.rect_filled(rect, 4.0, bg);
 
-        let Some((st, stick)) = state_at(samples, self.clock) else {
+        let Some((st, stick)) = state_at(samples, self.clock.clock) else {
             put_text(
                 &painter,
                 rect,

@@ -25,6 +25,9 @@ use super::settings::{Layout, Settings, ViewKind};
 use super::status;
 use super::style;
 use super::svg_render;
+#[cfg(not(target_arch = "wasm32"))]
+use super::title_buttons::RECORD_FRAMES;
+use super::title_buttons::{help_button_ui, record_menu_ui};
 use super::tour::Tour;
 use super::view::Action;
 use super::views::{Views, tile_rects};
@@ -201,7 +204,7 @@ impl Explorer {
                 self.shots.request(ctx, path, crop);
             }
             #[cfg(not(target_arch = "wasm32"))]
-            Action::Record(v) => {
+            Action::Record(v, speed) => {
                 let fig = super::figure::Figure {
                     view: v,
                     settings: self.settings.clone(),
@@ -211,12 +214,13 @@ impl Explorer {
                     size: egui::vec2(640.0, 480.0),
                 };
                 let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
-                self.shots.record(fig, RECORD_FRAMES, path, self.now);
+                self.shots
+                    .record(fig, (RECORD_FRAMES, speed), path, self.now);
             }
             // No Record button in the browser: 120 frames drawn on the
             // page's only thread would freeze it for seconds.
             #[cfg(target_arch = "wasm32")]
-            Action::Record(_) => {}
+            Action::Record(..) => {}
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
@@ -477,15 +481,8 @@ impl Explorer {
                                     help_button_ui(ui, v);
                                     if matches!(v, ViewKind::Block | ViewKind::Plane)
                                         && !cfg!(target_arch = "wasm32")
-                                        && ui
-                                            .small_button("Record")
-                                            .on_hover_text(
-                                                "Save a GIF of this view: 12 s at 10 frames a \
-                                                 second, 640x480, made off the window's thread",
-                                            )
-                                            .clicked()
                                     {
-                                        out.push(Action::Record(v));
+                                        record_menu_ui(ui, v, out);
                                     }
                                     if ui
                                         .small_button("PNG")
@@ -515,18 +512,6 @@ impl Explorer {
             },
         );
     }
-}
-
-/// Frames of a recorded GIF (12 s at 10 a second).
-#[cfg(not(target_arch = "wasm32"))]
-const RECORD_FRAMES: usize = 120;
-
-/// The "?" of a view: what it shows, in one paragraph, on hover.
-fn help_button_ui(ui: &mut Ui, v: ViewKind) {
-    ui.small_button("?").on_hover_ui(|ui| {
-        ui.set_max_width(420.0);
-        ui.label(super::help::view_help(v));
-    });
 }
 
 impl eframe::App for Explorer {

@@ -9,6 +9,7 @@
 //! resvg, with the fonts egui laid the text out with, so both files come
 //! from one drawing path.
 
+use std::sync::Arc;
 use std::time::Duration;
 
 use eframe::egui;
@@ -80,7 +81,7 @@ fn states(jobs: &Jobs, view: ViewKind) -> Vec<&JobState> {
 }
 
 /// The figure's settings: its view alone, as the tab.
-fn view_settings(fig: &Figure) -> Settings {
+pub(super) fn view_settings(fig: &Figure) -> Settings {
     let mut s = fig.settings.clone();
     s.layout = Layout::Tabs;
     s.tab = fig.view;
@@ -172,15 +173,33 @@ fn pixmap_of_svg(
     size: egui::Vec2,
     scale: f32,
 ) -> Result<resvg::tiny_skia::Pixmap, String> {
-    use resvg::{tiny_skia, usvg};
-    let mut opt = usvg::Options::default();
-    {
-        let db = opt.fontdb_mut();
-        for data in egui::FontDefinitions::default().font_data.values() {
-            db.load_font_data(data.font.as_ref().as_ref().to_vec());
-        }
-        db.set_sans_serif_family("Ubuntu");
+    pixmap_with_fonts(svg, size, scale, &font_db())
+}
+
+/// The font database resvg sets a figure's text with: egui's own fonts,
+/// which laid the text out (no system font).
+pub(super) fn font_db() -> Arc<resvg::usvg::fontdb::Database> {
+    let mut db = resvg::usvg::fontdb::Database::new();
+    for data in egui::FontDefinitions::default().font_data.values() {
+        db.load_font_data(data.font.as_ref().as_ref().to_vec());
     }
+    db.set_sans_serif_family("Ubuntu");
+    Arc::new(db)
+}
+
+/// `svg` rasterised at `scale` pixels per point with the fonts of `db`
+/// (loaded once for all of an animation's frames).
+pub(super) fn pixmap_with_fonts(
+    svg: &str,
+    size: egui::Vec2,
+    scale: f32,
+    db: &Arc<resvg::usvg::fontdb::Database>,
+) -> Result<resvg::tiny_skia::Pixmap, String> {
+    use resvg::{tiny_skia, usvg};
+    let opt = usvg::Options {
+        fontdb: db.clone(),
+        ..Default::default()
+    };
     let tree =
         usvg::Tree::from_str(svg, &opt).map_err(|e| format!("the SVG did not parse: {e}"))?;
     let (w, h) = (
@@ -195,61 +214,4 @@ fn pixmap_of_svg(
         &mut pixmap.as_mut(),
     );
     Ok(pixmap)
-}
-
-/// Seconds of playback between an animation's frames (10 frames a second).
-pub const FRAME_SECONDS: f64 = 0.1;
-
-/// An animated GIF of `fig`'s view (the block or the plane), `frames`
-/// frames at 10 a second, looping, one pixel a point. The block view plays
-/// as in the window: stick phases fast-forwarded, slips at the settings'
-/// slip speed (time units per second). The plane's path grows over its
-/// last cycles sample by sample, so that a slip, densely sampled, is drawn
-/// slowly and a stick phase, two samples, at once.
-pub fn gif(fig: &Figure, frames: usize) -> Result<Vec<u8>, String> {
-    let mut jobs = compute(fig)?;
-    let s = view_settings(fig);
-    let full = jobs.trajectory.data.clone();
-    let start = full.recent_start(s.keep_cycles);
-    let n = full.samples.len();
-    let plane = fig.view == ViewKind::Plane;
-    let grow = |k: usize, jobs: &mut Jobs| {
-        if !plane || n == 0 {
-            return;
-        }
-        let cut = (start + ((n - start) * (k + 1)).div_ceil(frames)).clamp(1, n);
-        let t = full.samples[cut - 1].t;
-        let data = &mut jobs.trajectory.data;
-        data.samples = full.samples[..cut].to_vec();
-        data.events = full
-            .events
-            .iter()
-            .filter(|e| e.onset_time <= t)
-            .cloned()
-            .collect();
-    };
-    let svgs = svg_render::render_svg_frames(
-        fig.view,
-        &s,
-        &mut jobs,
-        fig.size,
-        (frames, FRAME_SECONDS),
-        grow,
-    );
-    let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);
-    let mut out = Vec::new();
-    {
-        let err = |e: gif::EncodingError| format!("GIF encoding failed: {e}");
-        let mut enc = gif::Encoder::new(&mut out, w, h, &[]).map_err(err)?;
-        enc.set_repeat(gif::Repeat::Infinite).map_err(err)?;
-        for svg in svgs {
-            let mut rgba = pixmap_of_svg(&svg, fig.size, 1.0)?.take();
-            // NeuQuant at speed 10: a palette per frame, good for the
-            // smooth colours of anti-aliased lines, and quick.
-            let mut frame = gif::Frame::from_rgba_speed(w, h, &mut rgba, 10);
-            frame.delay = (FRAME_SECONDS * 100.0).round() as u16;
-            enc.write_frame(&frame).map_err(err)?;
-        }
-    }
-    Ok(out)
 }

@@ -75,9 +75,10 @@ pub fn view_help(v: ViewKind) -> &'static str {
         ViewKind::TimeSeries => {
             "The last cycles against time: the position x(t) and y(t), the slip speed |v_r| (the \
              block's speed relative to the surface, 0 while it sticks) and the elastic energy \
-             (κx² + y²)/2, coloured by phase. Drag or scroll to zoom in time: a slip lasting a \
-             few time units between stick phases of hundreds opens up, and creep's tiny slips \
-             show as spikes of |v_r|."
+             (κx² + y²)/2, coloured by phase, over bands shading the stick phases (blue) and \
+             the slips (orange). Drag or scroll to zoom in time: a slip lasting a few time units \
+             between stick phases of hundreds opens up, and creep's tiny slips show as spikes \
+             of |v_r|."
         }
     }
 }

@@ -26,6 +26,7 @@
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
+pub mod animation;
 pub mod axes;
 pub mod backend;
 pub mod bifurcation;
@@ -68,6 +69,7 @@ pub mod style;
 pub mod svg;
 pub mod svg_render;
 pub mod time_series;
+pub mod title_buttons;
 pub mod tour;
 pub mod url_state;
 pub mod view;

@@ -337,6 +337,7 @@ fn method_items(p: &mut egui_plot::PlotUi<'_>, rows: &[Row], y_evals: bool, lw: 
 /// A method's line and marker, and its name.
 fn legend_method(ui: &mut Ui, method: &str) {
     let color = style::method_color(method);
+    style::keep_key_with_label(ui, 26.0, method);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(26.0, 14.0), egui::Sense::hover());
     let y = rect.center().y;
     let stroke = egui::Stroke::new(2.0, color);
@@ -407,6 +408,7 @@ fn legend_method(ui: &mut Ui, method: &str) {
 
 /// A job's marker outline and its label.
 fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
+    style::keep_key_with_label(ui, 14.0, label);
     let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
     let (c, r) = (rect.center(), 5.5);
     let stroke = egui::Stroke::new(1.5, color);

@@ -168,13 +168,18 @@ impl ReturnMapView {
         if !style::figure_only(ui.ctx()) {
             powers_ui(ui, s, &it.powers);
         }
+        // Room for the top tick label, centred on the frame's top edge.
+        ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
         let data = MapData::of(s, jobs);
         let (x, y) = (
             AxisSpec::angle("θ, this onset", s.angle_unit),
-            AxisSpec::angle("θ', next onset", s.angle_unit),
+            fitting(ui, AxisSpec::angle("θ', next onset", s.angle_unit)),
         );
         let resp = if s.map_difference {
-            let y = AxisSpec::angle("f(θ) − θ, distance from the diagonal", s.angle_unit);
+            let y = fitting(
+                ui,
+                AxisSpec::angle("f(θ) − θ, distance from the diagonal", s.angle_unit),
+            );
             let data = data.into_difference();
             let plot = axes::apply(Plot::new("return_map").show_background(false), &x, &y);
             let bounds = difference_bounds(&data);
@@ -195,6 +200,15 @@ impl ReturnMapView {
         };
         axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
     }
+}
+
+/// `axis` with its title shortened to its symbol where it would run past
+/// the plot turned on its side (a short tile, text ×1.5, the powers' row).
+fn fitting(ui: &Ui, mut axis: AxisSpec) -> AxisSpec {
+    let long = axis.title.clone();
+    let title = axes::fitting_title(ui, &long, axes::short_name(&long), ui.available_height());
+    axis.title = title.to_owned();
+    axis
 }
 
 /// The difference plot's bounds: θ's window, and every value of f − θ in

@@ -121,7 +121,13 @@ impl Shots {
     /// draws each frame as `oneblock figure --frames` does. A toast says it
     /// started; another says where it was saved, or why not.
     #[cfg(not(target_arch = "wasm32"))]
-    pub fn record(&mut self, fig: super::figure::Figure, frames: usize, path: PathBuf, now: f64) {
+    pub fn record(
+        &mut self,
+        fig: super::figure::Figure,
+        (frames, speed): (usize, f64),
+        path: PathBuf,
+        now: f64,
+    ) {
         let tx = self.tx.clone();
         self.in_flight += 1;
         self.toast(
@@ -133,7 +139,7 @@ impl Shots {
         let spawned = std::thread::Builder::new()
             .name("oneblock-gif".into())
             .spawn(move || {
-                let r = super::figure::gif(&fig, frames).and_then(|bytes| {
+                let r = super::animation::gif(&fig, frames, speed).and_then(|bytes| {
                     write_output(&path, &bytes, false).map_err(|e| e.to_string())
                 });
                 tx.send(match r {

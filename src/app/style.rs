@@ -65,16 +65,52 @@ pub fn ink(dark: bool) -> Color32 {
     }
 }
 
+/// One legend entry: its key drawn by `key` in a `size` rectangle, then
+/// its label. In a wrapping row the entry starts a new row when key and
+/// label do not both fit in what is left of this one, so that a legend
+/// never leaves a key at the end of one row and its label on the next.
+fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui, egui::Rect)) {
+    keep_key_with_label(ui, size.x, label);
+    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
+    key(ui, rect);
+    ui.label(label);
+}
+
+/// In a wrapping row, starts a new row unless a legend key `key_width`
+/// wide and its `label` both fit in what is left of this one.
+pub fn keep_key_with_label(ui: &mut Ui, key_width: f32, label: &str) {
+    if ui.layout().main_wrap {
+        let font = egui::TextStyle::Body.resolve(ui.style());
+        let text = ui.fonts_mut(|f| {
+            f.layout_no_wrap(label.to_owned(), font, Color32::WHITE)
+                .size()
+                .x
+        });
+        let need = key_width + ui.spacing().item_spacing.x + text;
+        let left = ui.available_size_before_wrap().x;
+        let at_start = left >= ui.max_rect().width() - 0.5;
+        if need > left && !at_start {
+            ui.end_row();
+        }
+    }
+}
+
 /// A small coloured square and its label.
 pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-    ui.painter().rect_filled(rect, 2.0, color);
-    ui.label(label);
+    legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
+        ui.painter().rect_filled(rect, 2.0, color);
+    });
 }
 
 /// A small diamond marker and its label.
 pub fn legend_marker(ui: &mut Ui, color: Color32, label: &str) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+    legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
+        diamond(ui, rect, color);
+    });
+}
+
+/// A diamond in `rect`.
+fn diamond(ui: &Ui, rect: egui::Rect, color: Color32) {
     let c = rect.center();
     let r = 5.0;
     ui.painter().add(egui::Shape::convex_polygon(
@@ -87,12 +123,17 @@ pub fn legend_marker(ui: &mut Ui, color: Color32, label: &str) {
         color,
         egui::Stroke::NONE,
     ));
-    ui.label(label);
 }
 
 /// A short line (dashed if asked) and its label.
 pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
+    legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
+        line_key(ui, rect, color, dashed);
+    });
+}
+
+/// A legend's short line across `rect`, dashed if asked.
+fn line_key(ui: &Ui, rect: egui::Rect, color: Color32, dashed: bool) {
     let y = rect.center().y;
     let stroke = egui::Stroke::new(2.0, color);
     if dashed {
@@ -107,7 +148,6 @@ pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
             stroke,
         );
     }
-    ui.label(label);
 }
 
 /// A plot line drawn as a polyline. egui_plot's default "band" shortcut

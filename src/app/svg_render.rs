@@ -36,30 +36,42 @@ pub fn render_svg(
     r.svg()
 }
 
-/// The SVGs of an animation of one view: after the passes that settle the
-/// layout, one pass a frame, `dt` seconds of ui time apart (the block
-/// view's clock runs on it), each after `prepare(k, jobs)` has set what
-/// frame `k` shows (the plane's path up to its time).
-pub fn render_svg_frames(
+/// An animation of one view drawn frame after frame by one off-screen
+/// context, `dt` seconds of ui time apart (the block view's clock runs on
+/// it): the caller sets what each frame shows (the plane's path up to its
+/// time) in the jobs before asking for it.
+pub struct FrameRenderer {
+    r: Renderer,
     view: ViewKind,
-    settings: &Settings,
-    jobs: &mut Jobs,
-    size: Vec2,
-    (frames, dt): (usize, f64),
-    mut prepare: impl FnMut(usize, &mut Jobs),
-) -> Vec<String> {
-    let mut r = Renderer::new(settings, &[], size);
-    prepare(0, jobs);
-    for pass in 0..PASSES {
-        r.pass(&[view], jobs, pass as f64 * dt);
+    dt: f64,
+    frames: usize,
+}
+
+impl FrameRenderer {
+    /// A renderer whose first frame shows `jobs` as they are now, after
+    /// the passes that settle the layout, all at ui time 0 (so the block's
+    /// clock has not moved when the first frame is drawn).
+    pub fn new(view: ViewKind, settings: &Settings, jobs: &Jobs, size: Vec2, dt: f64) -> Self {
+        let mut r = Renderer::new(settings, &[], size);
+        for _ in 0..PASSES - 1 {
+            r.pass(&[view], jobs, 0.0);
+        }
+        FrameRenderer {
+            r,
+            view,
+            dt,
+            frames: 0,
+        }
     }
-    (0..frames)
-        .map(|k| {
-            prepare(k, jobs);
-            r.pass(&[view], jobs, (PASSES + k) as f64 * dt);
-            r.svg()
-        })
-        .collect()
+
+    /// The next frame's SVG, of `jobs` as they are now: frame k at ui
+    /// time k·dt.
+    pub fn next_frame(&mut self, jobs: &Jobs) -> String {
+        self.r
+            .pass(&[self.view], jobs, self.frames as f64 * self.dt);
+        self.frames += 1;
+        self.r.svg()
+    }
 }
 
 /// One off-screen context with the views' state, run pass after pass.

@@ -1,6 +1,7 @@
 //! The time series of the last cycles: x(t), y(t), the slip speed |v_r|(t)
 //! and the elastic energy (κx² + y²)/2, one plot each on one time axis,
-//! coloured by phase (stick, slip accelerating, slip decelerating).
+//! coloured by phase (stick, slip accelerating, slip decelerating), over
+//! bands shading the stick and the slip phases.
 //! Dragging or scrolling zooms and pans time in all four at once, so that a
 //! slip lasting a few time units between stick phases of thousands can be
 //! opened up: at the creep presets, where a slip moves the block by 0.004
@@ -9,7 +10,7 @@
 
 use eframe::egui;
 use egui::Ui;
-use egui_plot::{Plot, PlotPoints};
+use egui_plot::{Plot, PlotPoints, Span};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
@@ -86,6 +87,28 @@ pub fn series(p: &Params, samples: &[Sample], q: Quantity) -> [Vec<Vec<[f64; 2]>
     phase_polylines(&as_xy, 1.0)
 }
 
+/// The stick and slip phases over `samples` as time intervals
+/// `(t0, t1, slip)`, in order. The step from one sample to the next
+/// belongs to a slip unless it starts in stick (as the block view reads
+/// it: a slip's first sample is its onset), and steps of one kind join.
+pub fn phase_spans(samples: &[Sample]) -> Vec<(f64, f64, bool)> {
+    let mut out: Vec<(f64, f64, bool)> = Vec::new();
+    for w in samples.windows(2) {
+        let slip = w[0].phase != Phase::Stick;
+        match out.last_mut() {
+            Some(last) if last.2 == slip => last.1 = w[1].t,
+            _ => out.push((w[0].t, w[1].t, slip)),
+        }
+    }
+    out
+}
+
+/// A band's fill: the phase's colour, faint.
+fn shade(slip: bool) -> egui::Color32 {
+    let c = if slip { style::DECEL } else { style::STICK };
+    egui::Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), if slip { 56 } else { 26 })
+}
+
 /// The time-series view (its zoom is egui_plot's, linked across the four).
 #[derive(Default)]
 pub struct TimeSeriesView;
@@ -94,10 +117,16 @@ impl TimeSeriesView {
     /// One quantity's plot, `height` points tall.
     fn plot_ui(ui: &mut Ui, s: &Settings, samples: &[Sample], q: Quantity, height: f32) {
         let [stick, accel, decel] = series(&s.params, samples, q);
+        let spans = phase_spans(samples);
         let w = style::width(ui.ctx(), 1.5);
         let last = q == Quantity::Energy;
+        let row = ui.text_style_height(&egui::TextStyle::Body);
+        // The time axis's labels and title only under the last plot: the
+        // others' frames are their whole height.
+        let frame = if last { height - 3.0 * row } else { height };
         let plot = Plot::new(q.plot_id())
             .height(height)
+            .show_axes([last, true])
             .link_axis(egui::Id::unique("time-series-time"), [true, false])
             .link_cursor(egui::Id::unique("time-series-time"), [true, false])
             .allow_zoom([true, false])
@@ -110,9 +139,17 @@ impl TimeSeriesView {
         let resp = axes::apply(
             plot,
             &AxisSpec::linear(x_title),
-            &AxisSpec::linear(q.title()),
+            &AxisSpec::linear(fitting(ui, q.title(), frame)),
         )
         .show(ui, |p| {
+            // A slip lasts a few time units between stick phases of
+            // thousands: its band is widened to two points so that it
+            // shows at any zoom.
+            let least = 2.0 * p.transform().dvalue_dpos()[0].abs();
+            for &(t0, t1, slip) in &spans {
+                let pad = ((least - (t1 - t0)) / 2.0).max(0.0);
+                p.span(Span::new("", (t0 - pad)..=(t1 + pad)).fill(shade(slip)));
+            }
             let runs = [
                 (stick, "stick", style::STICK),
                 (accel, "slip, accelerating", style::ACCEL),
@@ -129,6 +166,23 @@ impl TimeSeriesView {
             }
         });
         axes::remember_frame(ui.ctx(), q.plot_id(), *resp.transform.frame());
+    }
+}
+
+/// `title` if it fits turned on its side along a frame `height` points
+/// tall, else its symbol alone ("x" of "x, position"), so that it never
+/// runs past its plot into the one above or below (projector text).
+fn fitting<'t>(ui: &Ui, title: &'t str, height: f32) -> &'t str {
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let width = ui.fonts_mut(|f| {
+        f.layout_no_wrap(title.to_owned(), font, egui::Color32::WHITE)
+            .size()
+            .x
+    });
+    if width <= height - 4.0 {
+        title
+    } else {
+        axes::short_name(title)
     }
 }
 
@@ -149,6 +203,8 @@ impl View for TimeSeriesView {
             style::legend_line(ui, style::STICK, false, "stick");
             style::legend_line(ui, style::ACCEL, false, "slip, accelerating");
             style::legend_line(ui, style::DECEL, false, "slip, decelerating");
+            style::legend_swatch(ui, shade(false), "stick phase");
+            style::legend_swatch(ui, shade(true), "slip phase");
             if !style::figure_only(ui.ctx()) {
                 ui.label(
                     egui::RichText::new("drag / scroll: pan and zoom time · double click: all")
@@ -160,15 +216,24 @@ impl View for TimeSeriesView {
             ui.label("No cycles yet.");
         }
         let row = ui.text_style_height(&egui::TextStyle::Body);
-        let gaps = 3.0 * ui.spacing().item_spacing.y;
-        let each = ((ui.available_height() - gaps) / 4.0).max(4.0 * row);
+        // Room for the top tick label, centred on the first frame's top edge.
+        ui.add_space(0.5 * row);
+        // Between two frames, room for the tick labels at a frame's top
+        // and bottom edges, which stand out by about 0.4 of a row each.
+        let gap = (0.8 * row - ui.spacing().item_spacing.y).max(0.0);
+        let gaps = 3.0 * (gap + ui.spacing().item_spacing.y);
+        // Four frames of one height, and the time axis's labels and title
+        // (3 rows) under the last.
+        let each = ((ui.available_height() - gaps - 3.0 * row) / 4.0).max(row);
         for q in Quantity::ALL {
-            // The time axis's title and ticks only under the last plot.
             let h = if q == Quantity::Energy {
-                each + 1.5 * row
+                each + 3.0 * row
             } else {
-                each - 0.5 * row
+                each
             };
+            if q != Quantity::X {
+                ui.add_space(gap);
+            }
             Self::plot_ui(ui, s, samples, q, h);
         }
     }
@@ -210,5 +275,32 @@ mod tests {
         let [st, ac, de] = series(&p, &[stick, slip], Quantity::X);
         let run = vec![vec![[1.0, 0.1], [2.0, 0.15]]];
         assert_eq!((st, ac, de.len()), (run.clone(), run, 0));
+    }
+
+    #[test]
+    fn phase_spans_join_steps_of_one_kind_and_cover_the_samples() {
+        let at = |t: f64, phase: Phase| Sample {
+            t,
+            x: 0.0,
+            y: 0.0,
+            u: 0.0,
+            w: 0.0,
+            phase,
+        };
+        // Stick from 0 to 10 (onset at 10), accelerating then decelerating
+        // to 13, stuck again at 13 until 20.
+        let s = [
+            at(0.0, Phase::Stick),
+            at(10.0, Phase::Accel),
+            at(11.0, Phase::Accel),
+            at(12.0, Phase::Decel),
+            at(13.0, Phase::Stick),
+            at(20.0, Phase::Accel),
+        ];
+        assert_eq!(
+            phase_spans(&s),
+            vec![(0.0, 10.0, false), (10.0, 13.0, true), (13.0, 20.0, false)]
+        );
+        assert!(phase_spans(&s[..1]).is_empty());
     }
 }

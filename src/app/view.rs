@@ -27,8 +27,9 @@ pub enum Action {
     ViewScreenshot(ViewKind),
     /// An SVG of one view, or (`None`) of the views shown.
     SvgScreenshot(Option<ViewKind>),
-    /// An animated GIF of the block or plane view, made off the UI thread.
-    Record(ViewKind),
+    /// An animated GIF of the block or plane view, made off the UI thread,
+    /// played at this speed (1 real time, below slowed).
+    Record(ViewKind, f64),
     /// The session (settings, zoom) as a JSON file.
     SaveSession,
     /// A CSV into the save folder.

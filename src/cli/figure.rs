@@ -73,7 +73,30 @@ pub struct FigureArgs {
     /// [2, 600], 10 a second.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub frames: Option<usize>,
+    /// The GIF's playback speed, in [0.05, 1]: 1 plays as the window does
+    /// (slips at the slip speed, stick phases 0.6 s each), 0.25 four times
+    /// slower [default: 1].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "frames")]
+    pub speed: Option<f64>,
+    /// The slip speed the block and plane play at, in time units per second
+    /// of playback, in [0.1, 10] (the window's "slip speed") [default: the
+    /// session's, else 1].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub slip_speed: Option<f64>,
+    /// The return map as f(θ) − θ against θ: its distance from the
+    /// diagonal, where f hugs it (creep, Fig. 3a's inset). --view return-map only.
+    #[arg(long)]
+    pub map_difference: bool,
 }
+
+/// The slowest and fastest GIF playback (as `app::animation`'s, which
+/// the build without the window lacks).
+const MIN_SPEED: f64 = 0.05;
+const MAX_SPEED: f64 = 1.0;
+#[cfg(feature = "gui")]
+const _: () = assert!(
+    MIN_SPEED == crate::app::animation::MIN_SPEED && MAX_SPEED == crate::app::animation::MAX_SPEED
+);
 
 /// The most frames a GIF may have (a minute at 10 a second).
 pub const MAX_FRAMES: usize = 600;
@@ -127,6 +150,15 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
             if !(2..=MAX_FRAMES).contains(&n) {
                 return usage(format!(
                     "--frames = {n} is out of range: must lie in [2, {MAX_FRAMES}]"
+                ));
+            }
+            if let Some(v) = a.speed
+                && !(MIN_SPEED..=MAX_SPEED).contains(&v)
+            {
+                return usage(format!(
+                    "--speed = {} is out of range: must lie in [{MIN_SPEED}, {MAX_SPEED}] \
+                     (1 real time, below slowed)",
+                    short(v)
                 ));
             }
             let [w, h] = a.size.unwrap_or(GIF_SIZE);
@@ -193,6 +225,20 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
             short(hi)
         )));
     }
+    if a.map_difference && a.view != "return-map" {
+        return Err(CliError::Usage(format!(
+            "--map-difference: only the return-map view draws f(θ) − θ, not '{}'",
+            echo(&a.view)
+        )));
+    }
+    if let Some(v) = a.slip_speed
+        && !(0.1..=10.0).contains(&v)
+    {
+        return Err(CliError::Usage(format!(
+            "--slip-speed = {} is out of range: must lie in [0.1, 10] (time units per second)",
+            short(v)
+        )));
+    }
     let theta = range("theta", a.theta_from, a.theta_to)?;
     let kappa = range("kappa", a.kappa_from, a.kappa_to)?;
     if let Some((lo, hi)) = kappa
@@ -235,7 +281,8 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
-    use crate::app::figure::{Figure, gif, png_of_svg, svg};
+    use crate::app::animation::gif;
+    use crate::app::figure::{Figure, png_of_svg, svg};
     use crate::app::{Settings, ViewKind, controls::apply_preset, session::Session};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
@@ -268,6 +315,10 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     p.theta_nu = a.model.theta_nu.unwrap_or(p.theta_nu);
     p.omega = a.model.omega.unwrap_or(p.omega);
     p.validate().map_err(super::values::param_error)?;
+    settings.map_difference |= a.map_difference;
+    if let Some(v) = a.slip_speed {
+        settings.block_speed = v as f32;
+    }
     if view == ViewKind::Phase {
         let ph = &mut settings.phase;
         let mut r = ph.current();
@@ -295,11 +346,11 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     // line, writing nothing.
     let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
     let size = fig.size;
-    let (format, frames) = (c.format, a.frames.unwrap_or(0));
+    let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
     let bytes = run_bounded("figure", &limits, move || match format {
         Format::Svg => svg(&fig).map(String::into_bytes),
         Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
-        Format::Gif => gif(&fig, frames),
+        Format::Gif => gif(&fig, frames, speed),
     })?
     .map_err(CliError::Failed)?;
     crate::output::write_output(&a.out, &bytes, false)

@@ -1,0 +1,52 @@
+//! Buttons in a view's title bar that open something: the "?" paragraph
+//! and the Record menu.
+
+use eframe::egui;
+use egui::{Popup, PopupCloseBehavior, Ui};
+
+use super::settings::ViewKind;
+use super::view::Action;
+
+/// Frames of a recorded GIF (12 s of playback at 10 a second).
+pub const RECORD_FRAMES: usize = 120;
+
+/// The Record menu's playback speeds: real time and slowed.
+pub const RECORD_SPEEDS: [(&str, f64); 3] = [
+    ("Real time", 1.0),
+    ("Half speed", 0.5),
+    ("Quarter speed", 0.25),
+];
+
+/// The "?" of a view: what it shows, in one paragraph. Hovering shows it
+/// (a mouse); a click or tap pins it in a popup that a click outside
+/// closes (a touch screen, or a browser without hover).
+pub fn help_button_ui(ui: &mut Ui, v: ViewKind) {
+    let resp = ui.small_button("?");
+    let paragraph = |ui: &mut Ui| {
+        ui.set_max_width(420.0);
+        ui.label(super::help::view_help(v));
+    };
+    let popup = Popup::from_toggle_button_response(&resp)
+        .close_behavior(PopupCloseBehavior::CloseOnClickOutside);
+    let open = Popup::is_id_open(ui.ctx(), Popup::default_response_id(&resp));
+    if popup.show(paragraph).is_none() && !open {
+        resp.on_hover_ui(paragraph);
+    }
+}
+
+/// The Record menu of the block and plane views: a GIF of
+/// [`RECORD_FRAMES`] frames at one of [`RECORD_SPEEDS`].
+pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
+    ui.menu_button("Record", |ui| {
+        for (label, speed) in RECORD_SPEEDS {
+            let hover = format!(
+                "Save a GIF of this view: {RECORD_FRAMES} frames at 10 a second, 640x480, \
+                 playing at {speed}x the window's speed, made off the window's thread"
+            );
+            if ui.button(label).on_hover_text(hover).clicked() {
+                out.push(Action::Record(v, speed));
+                ui.close();
+            }
+        }
+    });
+}
