@@ -92,6 +92,9 @@ pub struct SeededColumn {
     pub rhs_evals: u64,
 }
 
+/// What a seed reached, and the points a diagram draws for it.
+type Reached = (Reach, Vec<f64>);
+
 /// The sweep's repetition tolerance (`ColumnRun::rep_tol`).
 fn rep_tol(settings: &SolverSettings) -> f64 {
     (100.0 * settings.rtol).clamp(1e-12, 1e-6)
@@ -126,7 +129,7 @@ fn as_column(
     theta0: f64,
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
-) -> Result<(Option<(Reach, Vec<f64>)>, u64), SimError> {
+) -> Result<(Option<Reached>, u64), SimError> {
     let col = Column::run(params, settings, params.theta_nu, theta0, opts, cancel);
     match col.error {
         Some(SimError::Cancelled) => return Err(SimError::Cancelled),
@@ -155,7 +158,7 @@ fn seed_reaches(
     seeds: usize,
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
-) -> Result<(Vec<(Reach, Vec<f64>)>, u64), SimError> {
+) -> Result<(Vec<Reached>, u64), SimError> {
     let sim = Simulator::new(params, settings)?;
     let mut map = SeedMap::new(&sim);
     let tol = rep_tol(&settings);
