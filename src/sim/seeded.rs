@@ -107,6 +107,19 @@ fn hull(thetas: &[f64]) -> (f64, f64) {
     (lo, hi)
 }
 
+/// What a seed settled onto `cycle` reached, told as a sweep column keeping
+/// `keep` points tells it (its kept points are the cycle's, copied): so it
+/// compares with the followed column like for like (with fewer kept points
+/// than two periods, a column's points are a set, not a cycle).
+fn on_cycle(cycle: &[f64], keep: usize, settings: &SolverSettings) -> Reached {
+    let kept: Vec<f64> = (0..keep).map(|i| cycle[i % cycle.len()]).collect();
+    match Reach::of(&kept, settings) {
+        Some(r @ Reach::Cycle(_)) => (r, cycle.to_vec()),
+        Some(r) => (r, kept),
+        None => (Reach::Cycle(cycle.to_vec()), cycle.to_vec()),
+    }
+}
+
 /// Adds `r`'s neighbourhood to `map`: near each point of a cycle, over a
 /// set's hull (worth `worth` evaluations at most).
 fn cover(map: &mut SeedMap, r: &Reach, worth: usize) {
@@ -183,8 +196,8 @@ fn seed_reaches(
         let (reach, points) = match map.fall(theta0, budget, tol, &views, cancel) {
             Err(SimError::Cancelled) => return Err(SimError::Cancelled),
             Err(_) => continue,
-            Ok(Fell::Known(k)) => (Reach::Cycle(cycles[k].clone()), cycles[k].clone()),
-            Ok(Fell::Repeats(points)) => (Reach::Cycle(points.clone()), points),
+            Ok(Fell::Known(k)) => on_cycle(&cycles[k], opts.keep, &settings),
+            Ok(Fell::Repeats(points)) => on_cycle(&points, opts.keep, &settings),
             Ok(Fell::Wanders(kept, _)) => {
                 let slow = contraction(&kept, tol);
                 let onto = slow.and_then(|c| {
