@@ -53,11 +53,14 @@ impl Plots<'_> {
     pub fn series_ui(&self, ui: &mut Ui, h: f32) {
         let series = decimate(&self.sizes, MAX_MARKERS);
         let markers = self.sizes.len() <= MAX_MARKERS;
-        let h = if markers {
-            // What the markers' colours say, on a row above the plot.
+        // Room for five labelled ticks on the size axis.
+        let line = ui.text_style_height(&egui::TextStyle::Body);
+        let h = if markers && h > 12.0 * line {
+            // What the markers' colours say, on a row above the plot (left
+            // out in a tile too short for it and the plot's ticks).
             let row = ui.horizontal(|ui| {
                 style::legend_swatch(ui, style::PULL, "creep");
-                style::legend_swatch(ui, style::ACCEL, "stick-slip (by where the slip starts)");
+                style::legend_swatch(ui, style::ACCEL, "stick-slip");
             });
             h - row.response.rect.height() - ui.spacing().item_spacing.y
         } else {
