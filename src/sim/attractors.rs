@@ -15,7 +15,7 @@
 
 pub(crate) mod seed_map;
 
-use seed_map::{Fell, SeedMap};
+use seed_map::{Fell, SeedMap, hull};
 
 use super::cycles::{CycleOptions, solve_counting};
 use super::seeded::SAME_CYCLE;
@@ -98,8 +98,7 @@ fn reach(sim: &Simulator, theta0: f64, cancel: &dyn Fn() -> bool) -> Result<Reac
 /// The chaotic set an orbit's kept iterates visit, with their λ.
 fn aperiodic(o: &Orbit) -> Reached {
     let th = o.thetas();
-    let lo = th.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = th.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = hull(&th);
     Reached::Aperiodic {
         lo,
         hi,
@@ -189,8 +188,7 @@ fn reach_seeded(
             multiplier: c.multiplier,
         });
     }
-    let lo = kept.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = kept.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let (lo, hi) = hull(&kept);
     let overlaps = |a: &Attractor| a.period.is_none() && lo <= a.points[1] && hi >= a.points[0];
     if known.iter().any(overlaps) {
         return Ok(Reached::Aperiodic {

@@ -17,7 +17,7 @@
 //! settle in its budget, and not onto a known one, is run as a sweep column
 //! (integrated, its slow cycle solved).
 
-use super::attractors::seed_map::{Fell, SeedMap};
+use super::attractors::seed_map::{Fell, SeedMap, hull};
 use super::attractors::spread_seeds;
 use super::period::{PERIOD_MAX, contraction};
 use super::{Column, SimError, Simulator, SweepOptions};
@@ -57,8 +57,7 @@ impl Reach {
         if let Some(p) = (1..=(n / 2).min(PERIOD_MAX)).find(|&p| repeats(p)) {
             return Some(Reach::Cycle(thetas[n - p..].to_vec()));
         }
-        let lo = thetas.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = thetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let (lo, hi) = hull(thetas);
         Some(Reach::Set(lo, hi))
     }
 
@@ -98,13 +97,6 @@ type Reached = (Reach, Vec<f64>);
 /// The sweep's repetition tolerance (`ColumnRun::rep_tol`).
 fn rep_tol(settings: &SolverSettings) -> f64 {
     (100.0 * settings.rtol).clamp(1e-12, 1e-6)
-}
-
-/// The least and greatest of `thetas`.
-fn hull(thetas: &[f64]) -> (f64, f64) {
-    let lo = thetas.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = thetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    (lo, hi)
 }
 
 /// What a seed settled onto `cycle` reached, told as a sweep column keeping

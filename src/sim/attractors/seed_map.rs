@@ -185,3 +185,10 @@ impl SeedMap<'_> {
         Ok(Fell::Wanders(kept, theta))
     }
 }
+
+/// The least and greatest of `thetas` (an orbit's hull).
+pub(crate) fn hull(thetas: &[f64]) -> (f64, f64) {
+    let lo = thetas.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = thetas.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    (lo, hi)
+}
