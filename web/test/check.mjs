@@ -260,13 +260,21 @@ await page.mouse.click(...button.save);
 const session = JSON.parse(fs.readFileSync(await (await saved).path(), "utf8"));
 if (session.settings?.params?.kappa !== 18.95) fail(`Save session downloaded ${JSON.stringify(session).slice(0, 80)}`);
 session.settings.params.kappa = 12.5;
-const upload = path.join(path.dirname(dist), ".check-session.json");
-fs.writeFileSync(upload, JSON.stringify(session));
+// The edited session goes in as bytes, not as a path: Chromium reads a
+// picked file lazily, so a temporary file removed after setFiles could be
+// gone by the time the page's FileReader asks for it (a CI run failed so).
 const chooser = page.waitForEvent("filechooser", { timeout: 30_000 });
 await page.mouse.click(...button.open);
-await (await chooser).setFiles(upload);
-fs.rmSync(upload);
-await page.waitForFunction(() => document.title.includes("computing"), null, { timeout: 60_000, polling: "raf" });
+await (await chooser).setFiles({
+  name: "edited-session.json",
+  mimeType: "application/json",
+  buffer: Buffer.from(JSON.stringify(session)),
+});
+try {
+  await page.waitForFunction(() => document.title.includes("computing"), null, { timeout: 60_000, polling: "raf" });
+} catch {
+  fail("Open session… with an edited session: the page never started computing it");
+}
 await copyLink(page);
 const link = new URL(page.url()).searchParams;
 if (link.get("kappa") !== "12.5" || link.get("view") !== "bifurcation") {
