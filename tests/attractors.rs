@@ -151,7 +151,7 @@ fn the_seeded_diagram_shows_both_branches_where_attractors_finds_two() {
         "--keep",
         "24",
         "--seeds",
-        "8",
+        "16",
     ]);
     let mut columns: Vec<f64> = rows.iter().map(|r| r.0).collect();
     columns.dedup();
@@ -206,7 +206,7 @@ fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
         "--theta-nu-steps",
         "13",
         "--seeds",
-        "8",
+        "16",
     ]);
     assert_ok(&o);
     let out = stdout(&o);

@@ -15,7 +15,7 @@
 
 pub(crate) mod seed_map;
 
-use seed_map::{Fell, SeedMap, hull};
+use seed_map::{Fell, Known, SeedMap, hull};
 
 use super::cycles::{CycleOptions, solve_counting};
 use super::seeded::SAME_CYCLE;
@@ -48,12 +48,12 @@ pub struct Attractor {
     pub basin_fraction: f64,
 }
 
-/// The θ₀ of `n` seeds spread over the exit arc at `params`: the midpoints
-/// of n equal parts.
+/// The θ₀ of `n` seeds spread over the exit arc ψ − π/2 < θ < ψ + π/2 at
+/// `params`: the midpoints of n equal parts.
 pub fn spread_seeds(params: &Params, n: usize) -> Vec<f64> {
-    let (lo, hi) = exit_arc(params.kappa, params.theta_nu);
+    let (psi, half) = exit_arc(params.kappa, params.theta_nu);
     (0..n)
-        .map(|i| lo + (hi - lo) * (i as f64 + 0.5) / n as f64)
+        .map(|i| psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64)
         .collect()
 }
 
@@ -142,8 +142,28 @@ fn reach_seeded(
         .filter(|a| a.period.is_some() && a.multiplier.is_some_and(|m| m.abs() < 1.0))
         .collect();
     let cycles: Vec<&[f64]> = stable.iter().map(|a| a.points.as_slice()).collect();
+    let sets: Vec<(f64, f64)> = known
+        .iter()
+        .filter_map(|a| match (a.period, a.points.as_slice()) {
+            (None, &[lo, hi]) => Some((lo, hi)),
+            _ => None,
+        })
+        .collect();
     let budget = (TRANSIENT, KEEP);
-    let (kept, next) = match map.fall(theta0, budget, rep_tol, &cycles, cancel)? {
+    let told = Known {
+        cycles: &cycles,
+        sets: &sets,
+    };
+    let (kept, next) = match map.fall(theta0, budget, rep_tol, told, cancel)? {
+        Fell::InSet(k) => {
+            let (lo, hi) = sets[k];
+            return Ok(Reached::Aperiodic {
+                lo,
+                hi,
+                lyapunov: None,
+                stderr: None,
+            });
+        }
         Fell::Known(k) => {
             let a = stable[k];
             return Ok(Reached::Cycle {

@@ -92,34 +92,48 @@ pub struct Contraction {
 /// p-differences are all above `noise` (below it the map's own error would
 /// decide the ratios), their three ratios agree within 5 % with |ratio| in
 /// [0.5, 1) (slow: a faster approach settles by itself in a few periods; a
-/// chaotic orbit's ratios do not agree; a settled 2p-cycle's p-ratios are
-/// −1 to within its noise, so it is offered and left to the solver to reject),
-/// and the extrapolated limit is within 0.1 rad.
+/// chaotic orbit's ratios do not agree), and the extrapolated limit is
+/// within 0.1 rad.
+///
+/// An orbit slowly closing in on a 2p-cycle has p-ratios near −1 that may
+/// agree as well (the cycle's two halves alternate, the approach is a small
+/// change on top). A true p-contraction of ratio r ≈ −1 has 2p-ratios r²;
+/// where the 2p-differences contract with another ratio, the orbit is
+/// closing in on the 2p-cycle, and p is passed over for it.
 pub fn contraction(seq: &[f64], noise: f64) -> Option<Contraction> {
-    let m = seq.len();
     (1..=CONTRACTION_PERIOD_MAX).find_map(|p| {
-        if m < 4 * p + 1 {
-            return None;
-        }
-        let last = m - 1;
-        // d[0] is the newest difference.
-        let d: [f64; 4] =
-            std::array::from_fn(|k| wrap_angle(seq[last - k * p] - seq[last - (k + 1) * p]));
-        if d.iter().any(|x| x.abs() <= noise) {
-            return None;
-        }
-        let r: [f64; 3] = std::array::from_fn(|k| d[k] / d[k + 1]);
-        let r0 = r[0];
-        let consistent = r.iter().all(|x| (x - r0).abs() <= 0.05 * r0.abs());
-        if !consistent || !(0.5..1.0).contains(&r0.abs()) {
-            return None;
-        }
-        let jump = d[0] * r0 / (1.0 - r0);
-        (jump.abs() < 0.1).then(|| Contraction {
-            period: p,
-            ratio: r0,
-            limit: wrap_angle(seq[last] + jump),
-        })
+        let c = contraction_at(seq, p, noise)?;
+        let r2 = c.ratio * c.ratio;
+        let doubled = c.ratio < -0.8
+            && contraction_at(seq, 2 * p, noise).is_some_and(|d| (d.ratio - r2).abs() > 0.05 * r2);
+        (!doubled).then_some(c)
+    })
+}
+
+/// [`contraction`]'s test at the period p alone.
+fn contraction_at(seq: &[f64], p: usize, noise: f64) -> Option<Contraction> {
+    let m = seq.len();
+    if m < 4 * p + 1 {
+        return None;
+    }
+    let last = m - 1;
+    // d[0] is the newest difference.
+    let d: [f64; 4] =
+        std::array::from_fn(|k| wrap_angle(seq[last - k * p] - seq[last - (k + 1) * p]));
+    if d.iter().any(|x| x.abs() <= noise) {
+        return None;
+    }
+    let r: [f64; 3] = std::array::from_fn(|k| d[k] / d[k + 1]);
+    let r0 = r[0];
+    let consistent = r.iter().all(|x| (x - r0).abs() <= 0.05 * r0.abs());
+    if !consistent || !(0.5..1.0).contains(&r0.abs()) {
+        return None;
+    }
+    let jump = d[0] * r0 / (1.0 - r0);
+    (jump.abs() < 0.1).then(|| Contraction {
+        period: p,
+        ratio: r0,
+        limit: wrap_angle(seq[last] + jump),
     })
 }
 
@@ -201,6 +215,17 @@ mod tests {
             .map(|i| [0.1, 0.5][i % 2] + 1e-3 * 0.9f64.powi(i as i32 / 2))
             .collect();
         assert_eq!(contraction(&p2, 1e-9).map(|c| c.period), Some(2));
+        // Closing in on a 2-cycle near its own flip (multiplier −0.9985,
+        // as at Fig. 3b's θν = 1.1929): the 1-ratios are all near −0.99
+        // and agree, but the 2-ratios are −0.9985, not their square.
+        let p2flip: Vec<f64> = (0..40)
+            .map(|i| [0.3684, 0.4637][i % 2] + 1e-3 * (-0.9985f64).powi(i as i32 / 2))
+            .collect();
+        let c = contraction(&p2flip, 1e-9).expect("a slow approach");
+        assert_eq!(c.period, 2, "{c:?}");
+        assert!((c.ratio + 0.9985).abs() < 1e-9, "{c:?}");
+        let flip: Vec<f64> = (0..40).map(|i| 0.4 + 1e-3 * (-0.98f64).powi(i)).collect();
+        assert_eq!(contraction(&flip, 1e-9).map(|c| c.period), Some(1));
         // A fast approach settles by itself; chaos is not geometric; the
         // map's noise is not a contraction.
         let fast: Vec<f64> = (0..12).map(|i| 0.4 + 1e-2 * 0.1f64.powi(i)).collect();

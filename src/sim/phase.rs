@@ -43,10 +43,11 @@
 use rayon::prelude::*;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
+use super::attractors::seed_map::hull;
 use super::cycles::{CycleOptions, confirm_contraction, near_cycle, solve_counting};
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
 use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, near_period, settled_period};
-use super::seeded::attractor_count;
+use super::seeded::{Reach, attractor_count};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
@@ -264,25 +265,30 @@ pub fn phase_cell(
     cancel: &dyn Fn() -> bool,
 ) -> PhaseCell {
     let mut cell = PhaseCell::failed(params.theta_nu, params.kappa, theta_start);
-    if let Err(e) = run_cell(&mut cell, params, settings, theta_start, opts, cancel) {
-        cell.class = CellClass::Failed;
-        cell.lyapunov = None;
-        cell.lyapunov_stderr = None;
-        cell.regime = None;
-        cell.error = Some(e);
-    } else if opts.seeds > 0 {
-        count_attractors(&mut cell, params, settings, opts, cancel);
+    match run_cell(&mut cell, params, settings, theta_start, opts, cancel) {
+        Err(e) => {
+            cell.class = CellClass::Failed;
+            cell.lyapunov = None;
+            cell.lyapunov_stderr = None;
+            cell.regime = None;
+            cell.error = Some(e);
+        }
+        Ok(reach) if opts.seeds > 0 => {
+            count_attractors(&mut cell, params, settings, reach, opts, cancel);
+        }
+        Ok(_) => {}
     }
     cell
 }
 
-/// Counts the attractors of a finished cell: its own (from its last
-/// onset) and the seeds', each orbit run as a sweep column with the
-/// cell's budget, integrated. Their cost is the cell's.
+/// Counts the attractors of a finished cell: its own (`reach`, what its
+/// orbit reached) and the seeds', each run with the cell's budget
+/// (`super::seeded`). Their cost is the cell's.
 fn count_attractors(
     cell: &mut PhaseCell,
     params: Params,
     settings: SolverSettings,
+    reach: Option<Reach>,
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
 ) {
@@ -291,14 +297,7 @@ fn count_attractors(
         keep: opts.keep,
         map: MapChoice::Direct,
     };
-    match attractor_count(
-        params,
-        settings,
-        cell.theta_last,
-        opts.seeds,
-        &sweep,
-        cancel,
-    ) {
+    match attractor_count(params, settings, reach, opts.seeds, &sweep, cancel) {
         Ok((n, rhs)) => {
             cell.attractors = Some(n);
             cell.rhs_evals += rhs;
@@ -317,7 +316,7 @@ fn run_cell(
     theta_start: f64,
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
-) -> Result<(), SimError> {
+) -> Result<Option<Reach>, SimError> {
     let sim = Simulator::new(params, settings)?;
     sim.check_onset(theta_start)?;
     let mut stepper = None;
@@ -337,7 +336,7 @@ fn classify<'s>(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
     stepper: &mut Option<Stepper<'s>>,
-) -> Result<(), SimError> {
+) -> Result<Option<Reach>, SimError> {
     let mut run = CellRun::new(sim, theta_start, opts);
     for i in 0..opts.transient + opts.keep {
         if cancel() {
@@ -350,10 +349,11 @@ fn classify<'s>(
             continue;
         }
         if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
-            return Ok(());
+            return Ok(run.reach());
         }
     }
-    run.finish(cell)
+    run.finish(cell)?;
+    Ok(run.reach())
 }
 
 /// A cell in progress: its iterates (all of them: the tests read the
@@ -379,6 +379,8 @@ struct CellRun<'s, 'o> {
     near_tried: Option<usize>,
     /// Map and right-hand-side evaluations of solves not yet charged.
     spent: (u64, u64),
+    /// The cycle the cell was found periodic on.
+    cycle: Option<Vec<f64>>,
 }
 
 impl<'s, 'o> CellRun<'s, 'o> {
@@ -396,7 +398,22 @@ impl<'s, 'o> CellRun<'s, 'o> {
             unstable_seen: false,
             near_tried: None,
             spent: (0, 0),
+            cycle: None,
         }
+    }
+
+    /// What the cell's orbit reached: its cycle, or the interval its kept
+    /// iterates (its last ones, before any are kept) visit.
+    fn reach(&self) -> Option<Reach> {
+        if let Some(c) = &self.cycle {
+            return Some(Reach::Cycle(c.clone()));
+        }
+        let n = self.thetas.len();
+        let kept = &self.thetas[self.opts.transient.min(n / 2)..];
+        (!kept.is_empty()).then(|| {
+            let (lo, hi) = hull(kept);
+            Reach::Set(lo, hi)
+        })
     }
 
     /// Adds the solves' cost to the cell's.
@@ -408,7 +425,8 @@ impl<'s, 'o> CellRun<'s, 'o> {
 
     /// The cell is periodic: `cycle`'s period, its onsets' character and
     /// the exponent `lyapunov`.
-    fn periodic(&self, cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64) {
+    fn periodic(&mut self, cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64) {
+        self.cycle = Some(cycle.to_vec());
         let p = self.sim.params();
         cell.class = CellClass::Periodic(cycle.len());
         cell.regime = AttractorRegime::of(p.kappa, p.gamma, cycle);
@@ -611,7 +629,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
 
     /// The budget is spent without an early answer: the brute force's
     /// period on the kept iterates, a near repeat's cycle, or λ decides.
-    fn finish(mut self, cell: &mut PhaseCell) -> Result<(), SimError> {
+    fn finish(&mut self, cell: &mut PhaseCell) -> Result<(), SimError> {
         let opts = self.opts;
         let kept_from = opts.transient.min(self.thetas.len());
         if !opts.early_exit && self.brute_force_period(cell, kept_from) {
@@ -657,8 +675,8 @@ impl<'s, 'o> CellRun<'s, 'o> {
         {
             let lc = self.logs[self.logs.len() - p..].iter().sum::<f64>() / p as f64;
             if lc < 0.0 {
-                let kept = &self.thetas[kept_from..];
-                self.periodic(cell, &kept[kept.len() - p..], lc);
+                let cycle = self.thetas[self.thetas.len() - p..].to_vec();
+                self.periodic(cell, &cycle, lc);
                 return true;
             }
         }

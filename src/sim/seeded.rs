@@ -17,7 +17,7 @@
 //! settle in its budget, and not onto a known one, is run as a sweep column
 //! (integrated, its slow cycle solved).
 
-use super::attractors::seed_map::{Fell, SeedMap, hull};
+use super::attractors::seed_map::{Fell, Known, SET_STAY, SeedMap, hull};
 use super::attractors::spread_seeds;
 use super::period::{PERIOD_MAX, contraction};
 use super::{Column, SimError, Simulator, SweepOptions};
@@ -35,7 +35,7 @@ pub const MAX_SEEDS: usize = 256;
 
 /// What one orbit's kept iterates show.
 #[derive(Clone, Debug, PartialEq)]
-enum Reach {
+pub(crate) enum Reach {
     /// Settled onto this cycle (its p points, as kept).
     Cycle(Vec<f64>),
     /// Not settled: the interval [lo, hi] its kept iterates visit.
@@ -44,7 +44,7 @@ enum Reach {
 
 impl Reach {
     /// What `thetas` (one column's kept iterates) reached, `None` if empty.
-    fn of(thetas: &[f64], settings: &SolverSettings) -> Option<Reach> {
+    pub(crate) fn of(thetas: &[f64], settings: &SolverSettings) -> Option<Reach> {
         if thetas.is_empty() {
             return None;
         }
@@ -151,11 +151,107 @@ fn as_column(
     Ok((reached, col.rhs_evals))
 }
 
+/// The accuracy the seeds' own orbits are run to: an adaptive method's
+/// tolerance no tighter than this (about half the cost of an iterate at
+/// 1e-10), their interpolants to [`SEED_MAP_TOL`]. A seed's orbit only has
+/// to tell which attractor it reaches: one it closes in on or stays in is
+/// known already (found to the sweep's accuracy), and one it finds that
+/// is not is run again as a sweep column runs, to the full accuracy,
+/// before it is counted.
+pub const SEED_RTOL: f64 = 1e-7;
+
+/// The error in θ' allowed for the seeds' interpolants (well above the
+/// loose map's own error, ~1e-5 at its worst next to a jump of f, far
+/// below [`SAME_CYCLE`]'s use: a seed closes in on a cycle to 1e-3).
+pub const SEED_MAP_TOL: f64 = 1e-6;
+
+/// The settings the seeds run with: `settings` loosened to [`SEED_RTOL`]
+/// (an adaptive method), as they are (a fixed-step one).
+fn seed_settings(settings: &SolverSettings) -> SolverSettings {
+    if settings.method.is_adaptive() && settings.rtol < SEED_RTOL {
+        SolverSettings {
+            rtol: SEED_RTOL,
+            atol: settings.atol.max(SEED_RTOL),
+            ..*settings
+        }
+    } else {
+        *settings
+    }
+}
+
+/// Where the seeds run, and what they are told against.
+struct Seeding<'a> {
+    params: Params,
+    /// The sweep's own settings (a new attractor is confirmed with them).
+    settings: SolverSettings,
+    opts: &'a SweepOptions,
+    cancel: &'a dyn Fn() -> bool,
+    /// The attractors known so far: the followed one, then each new one.
+    known: Vec<Reach>,
+    /// Right-hand-side evaluations of the confirming columns.
+    rhs: u64,
+}
+
+impl Seeding<'_> {
+    /// What a seed whose loose orbit fell as `fell` reached, with the
+    /// points a diagram draws for it (`None`: its confirming column
+    /// failed). A cycle or set among the known ones is taken as it is;
+    /// anything else is run again from the seed's last point as a sweep
+    /// column, to the sweep's accuracy.
+    fn told(
+        &mut self,
+        fell: Fell,
+        cycles: &[Vec<f64>],
+        sets: &[(f64, f64)],
+        tol: f64,
+    ) -> Result<Option<Reached>, SimError> {
+        let keep = self.opts.keep;
+        let settings = self.settings;
+        let from = match fell {
+            Fell::Known(k) => return Ok(Some(on_cycle(&cycles[k], keep, &settings))),
+            Fell::InSet(k) => return Ok(Some((Reach::Set(sets[k].0, sets[k].1), vec![]))),
+            Fell::Repeats(points) => {
+                let r = on_cycle(&points, keep, &settings);
+                if self.known.iter().any(|k| k.same(&r.0)) {
+                    return Ok(Some(r));
+                }
+                points[points.len() - 1]
+            }
+            Fell::Wanders(kept, next) => {
+                // Closing in slowly on a known cycle.
+                let onto = contraction(&kept, tol).and_then(|c| {
+                    let near = |x: &f64| wrap_angle(x - c.limit).abs() <= CLOSE_SLOW;
+                    cycles
+                        .iter()
+                        .find(|cy| cy.len() == c.period && cy.iter().any(near))
+                });
+                if let Some(cy) = onto {
+                    return Ok(Some((Reach::Cycle(cy.clone()), cy.clone())));
+                }
+                let (lo, hi) = hull(&kept);
+                if self.known.iter().any(|k| k.same(&Reach::Set(lo, hi))) {
+                    return Ok(Some((Reach::Set(lo, hi), kept)));
+                }
+                next
+            }
+        };
+        let (reached, cost) = as_column(self.params, settings, from, self.opts, self.cancel)?;
+        self.rhs += cost;
+        Ok(reached)
+    }
+}
+
+/// How near a slowly contracting seed's extrapolated limit must come to a
+/// known cycle's point to be counted as reaching it (the loose map's cycle
+/// lies within its error, over 1 − m, of the sweep's).
+const CLOSE_SLOW: f64 = 1e-4;
+
 /// What each of `seeds` seeds reached at θν of `params`, with the points a
 /// diagram draws for it (a cycle's p points, or an unsettled orbit's kept
-/// iterates), given what the followed column reached; and what they cost
-/// (right-hand-side evaluations). `Cancelled` as soon as one is; failed
-/// seeds reach nothing that can be named and are left out.
+/// iterates), given what the followed orbit reached; and what they cost
+/// (right-hand-side evaluations). The seeds run on [`SeedMap`] at
+/// [`SEED_RTOL`] (see [`Seeding::told`]). `Cancelled` as soon as one is;
+/// failed seeds reach nothing that can be named and are left out.
 fn seed_reaches(
     params: Params,
     settings: SolverSettings,
@@ -164,68 +260,79 @@ fn seed_reaches(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<(Vec<Reached>, u64), SimError> {
-    let sim = Simulator::new(params, settings)?;
-    let mut map = SeedMap::new(&sim);
-    let tol = rep_tol(&settings);
+    let loose = seed_settings(&settings);
+    let sim = Simulator::new(params, loose)?;
+    let mut map = SeedMap::loose(&sim, SEED_MAP_TOL.max(10.0 * loose.rtol));
+    let tol = rep_tol(&loose);
     let run = opts.transient.saturating_add(opts.keep);
-    let worth = |left: usize| left.saturating_mul(run) / 4;
-    let mut known: Vec<Reach> = followed.cloned().into_iter().collect();
-    for r in &known {
+    // A seed in a known chaotic set stops after SET_STAY iterates there: an
+    // interpolant over the set's interval is worth what the seeds left
+    // would integrate getting there and staying, a quarter of it at most.
+    let worth = |left: usize| left.saturating_mul(run.min(2 * SET_STAY)) / 4;
+    let mut seeding = Seeding {
+        params,
+        settings,
+        opts,
+        cancel,
+        known: followed.cloned().into_iter().collect(),
+        rhs: 0,
+    };
+    for r in &seeding.known {
         cover(&mut map, r, worth(seeds));
     }
     let mut out = Vec::with_capacity(seeds);
-    let mut rhs = 0;
     for (i, theta0) in spread_seeds(&params, seeds).into_iter().enumerate() {
-        let cycles: Vec<Vec<f64>> = known
-            .iter()
-            .filter_map(|r| match r {
-                Reach::Cycle(c) => Some(c.clone()),
-                Reach::Set(..) => None,
-            })
-            .collect();
+        let (mut cycles, mut sets) = (Vec::new(), Vec::new());
+        for r in &seeding.known {
+            match r {
+                Reach::Cycle(c) => cycles.push(c.clone()),
+                Reach::Set(lo, hi) => sets.push((*lo, *hi)),
+            }
+        }
         let views: Vec<&[f64]> = cycles.iter().map(Vec::as_slice).collect();
+        let known = Known {
+            cycles: &views,
+            sets: &sets,
+        };
         let budget = (opts.transient, opts.keep);
-        let (reach, points) = match map.fall(theta0, budget, tol, &views, cancel) {
+        let fell = match map.fall(theta0, budget, tol, known, cancel) {
             Err(SimError::Cancelled) => return Err(SimError::Cancelled),
             Err(_) => continue,
-            Ok(Fell::Known(k)) => on_cycle(&cycles[k], opts.keep, &settings),
-            Ok(Fell::Repeats(points)) => on_cycle(&points, opts.keep, &settings),
-            Ok(Fell::Wanders(kept, _)) => {
-                let slow = contraction(&kept, tol);
-                let onto = slow.and_then(|c| {
-                    let near = |x: &f64| wrap_angle(x - c.limit).abs() <= SAME_CYCLE;
-                    cycles
-                        .iter()
-                        .find(|cy| cy.len() == c.period && cy.iter().any(near))
-                });
-                match (slow, onto) {
-                    // Closing in on a known cycle, slowly.
-                    (_, Some(cy)) => (Reach::Cycle(cy.clone()), cy.clone()),
-                    // Onto another cycle, too slowly to settle here.
-                    (Some(_), None) => match as_column(params, settings, theta0, opts, cancel)? {
-                        (Some(reached), cost) => {
-                            rhs += cost;
-                            reached
-                        }
-                        (None, cost) => {
-                            rhs += cost;
-                            continue;
-                        }
-                    },
-                    (None, None) => {
-                        let (lo, hi) = hull(&kept);
-                        (Reach::Set(lo, hi), kept)
-                    }
-                }
-            }
+            Ok(fell) => fell,
         };
-        if !known.iter().any(|k| k.same(&reach)) {
+        let Some((reach, points)) = seeding.told(fell, &cycles, &sets, tol)? else {
+            continue;
+        };
+        if !seeding.known.iter().any(|k| k.same(&reach)) {
             cover(&mut map, &reach, worth(seeds - i - 1));
-            known.push(reach.clone());
+            seeding.known.push(reach.clone());
         }
         out.push((reach, points));
     }
-    Ok((out, rhs + map.rhs_evals))
+    Ok((out, seeding.rhs + map.rhs_evals))
+}
+
+/// The followed orbit's points labelled 0 and each further attractor's
+/// (in the order the seeds first reached them) labelled 1, 2, …: the
+/// points, their labels and how many attractors.
+fn label(
+    mine: Option<Reach>,
+    thetas: Vec<f64>,
+    reached: Vec<Reached>,
+) -> (Vec<f64>, Vec<u8>, usize) {
+    let mut attractor = vec![0; thetas.len()];
+    let mut thetas = thetas;
+    let mut known: Vec<Reach> = mine.into_iter().collect();
+    for (r, points) in reached {
+        if known.iter().any(|k| k.same(&r)) || known.len() > u8::MAX as usize {
+            continue;
+        }
+        let label = known.len() as u8;
+        thetas.extend_from_slice(&points);
+        attractor.extend(std::iter::repeat_n(label, points.len()));
+        known.push(r);
+    }
+    (thetas, attractor, known.len())
 }
 
 /// The followed column `followed` at θν of `params` seeded from `seeds`
@@ -239,51 +346,38 @@ pub fn seeded_column(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<SeededColumn, SimError> {
-    let mut out = SeededColumn {
-        thetas: followed.thetas.clone(),
-        attractor: vec![0; followed.thetas.len()],
-        count: usize::from(!followed.thetas.is_empty()),
-        rhs_evals: 0,
-    };
-    if seeds == 0 {
-        return Ok(out);
-    }
     let mine = Reach::of(&followed.thetas, &settings);
-    let seeds = seeds.min(MAX_SEEDS);
-    let (reached, rhs) = seed_reaches(params, settings, mine.as_ref(), seeds, opts, cancel)?;
-    out.rhs_evals = rhs;
-    let mut known: Vec<Reach> = mine.into_iter().collect();
-    for (r, points) in reached {
-        if known.iter().any(|k| k.same(&r)) || known.len() > u8::MAX as usize {
-            continue;
-        }
-        let label = known.len() as u8;
-        out.thetas.extend_from_slice(&points);
-        out.attractor
-            .extend(std::iter::repeat_n(label, points.len()));
-        known.push(r);
-    }
-    out.count = known.len();
-    Ok(out)
+    let (reached, rhs_evals) = if seeds == 0 {
+        (vec![], 0)
+    } else {
+        let seeds = seeds.min(MAX_SEEDS);
+        seed_reaches(params, settings, mine.as_ref(), seeds, opts, cancel)?
+    };
+    let (thetas, attractor, count) = label(mine, followed.thetas.clone(), reached);
+    Ok(SeededColumn {
+        thetas,
+        attractor,
+        count,
+        rhs_evals,
+    })
 }
 
-/// How many distinct attractors the orbits from `from` (a point of an
-/// attractor found before, e.g. a phase cell's last onset) and from
-/// `seeds` θ₀ spread over the arc reach at `params`, each run with `opts`.
-pub fn attractor_count(
+/// How many distinct attractors the orbit that reached `followed` (a phase
+/// cell's own: its cycle, or its kept iterates' interval) and the orbits
+/// from `seeds` θ₀ spread over the arc reach at `params`, each run with
+/// `opts`; and what the seeds cost.
+pub(crate) fn attractor_count(
     params: Params,
     settings: SolverSettings,
-    from: f64,
+    followed: Option<Reach>,
     seeds: usize,
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<(usize, u64), SimError> {
-    let followed = Column::run(params, settings, params.theta_nu, from, opts, cancel);
-    if let Some(SimError::Cancelled) = followed.error {
-        return Err(SimError::Cancelled);
-    }
-    let s = seeded_column(params, settings, &followed, seeds, opts, cancel)?;
-    Ok((s.count, s.rhs_evals + followed.rhs_evals))
+    let seeds = seeds.min(MAX_SEEDS);
+    let (reached, rhs) = seed_reaches(params, settings, followed.as_ref(), seeds, opts, cancel)?;
+    let (_, _, count) = label(followed, vec![], reached);
+    Ok((count, rhs))
 }
 
 #[cfg(test)]

@@ -17,7 +17,7 @@ use std::f64::consts::FRAC_PI_2;
 
 use crate::model::{exit_arc, wrap_angle};
 use crate::sim::interpolant::{InterpolantOptions, MapInterpolant};
-use crate::sim::period::{PERIOD_MAX, settled_period};
+use crate::sim::period::{PERIOD_MAX, contraction, settled_period};
 use crate::sim::{SimError, Simulator};
 
 /// The widths (radians each side of an attractor's hull) a neighbourhood's
@@ -27,11 +27,22 @@ const WIDTHS: [f64; 4] = [0.3, 0.1, 0.03, 0.01];
 /// The most map evaluations one try may take (a refusal costs at most this).
 const BUILD_CAP: usize = 160;
 
+/// A loose map's widths and cap ([`SeedMap::loose`]): its seeds stop as
+/// soon as they close in on a known attractor, so a neighbourhood pays
+/// only where it is cheap (measured on the Fig. 4 grid: the accurate
+/// map's widths and cap cost the seeds a third more there).
+const LOOSE_WIDTHS: [f64; 2] = [0.1, 0.01];
+/// See [`LOOSE_WIDTHS`].
+const LOOSE_CAP: usize = 100;
+
 /// The map for the seeds.
 pub(crate) struct SeedMap<'s> {
     sim: &'s Simulator,
     psi: f64,
     iopts: InterpolantOptions,
+    /// The widths a neighbourhood is tried at, and each try's cap.
+    widths: &'static [f64],
+    cap: usize,
     interps: Vec<MapInterpolant>,
     /// Iterates integrated directly.
     pub direct: usize,
@@ -42,12 +53,30 @@ pub(crate) struct SeedMap<'s> {
 }
 
 impl<'s> SeedMap<'s> {
+    /// The map of `sim`, its interpolants to `sim`'s own accuracy.
     pub fn new(sim: &'s Simulator) -> Self {
+        let tol = InterpolantOptions::for_settings(sim.settings()).tol;
+        Self::with(sim, tol, &WIDTHS, BUILD_CAP)
+    }
+
+    /// The map of `sim` run loosely (`super::super::seeded`), its
+    /// interpolants to `tol` in θ' (no more than the map's own accuracy
+    /// asks), over [`LOOSE_WIDTHS`].
+    pub fn loose(sim: &'s Simulator, tol: f64) -> Self {
+        Self::with(sim, tol, &LOOSE_WIDTHS, LOOSE_CAP)
+    }
+
+    fn with(sim: &'s Simulator, tol: f64, widths: &'static [f64], cap: usize) -> Self {
         let p = sim.params();
         SeedMap {
             sim,
+            widths,
+            cap,
             psi: exit_arc(p.kappa, p.theta_nu).0,
-            iopts: InterpolantOptions::for_settings(sim.settings()),
+            iopts: InterpolantOptions {
+                tol,
+                ..InterpolantOptions::for_settings(sim.settings())
+            },
             interps: Vec::new(),
             direct: 0,
             evaluations: 0,
@@ -68,8 +97,8 @@ impl<'s> SeedMap<'s> {
     }
 
     /// Adds an interpolant over a neighbourhood of `points` (an attractor's
-    /// cycle points, or its hull's ends), as wide as [`WIDTHS`] and
-    /// [`BUILD_CAP`] allow, else over the hull with `worth` evaluations at
+    /// cycle points, or its hull's ends), as wide as its widths and cap
+    /// ([`WIDTHS`] and [`BUILD_CAP`]) allow, else over the hull with `worth` evaluations at
     /// most; nothing when every try is refused (seeds then integrate there).
     pub fn cover(&mut self, points: &[f64], worth: usize) {
         let us = points.iter().map(|&th| wrap_angle(th - self.psi));
@@ -80,7 +109,7 @@ impl<'s> SeedMap<'s> {
             return;
         }
         let edge = FRAC_PI_2 - 1e-6;
-        let tries = WIDTHS.iter().map(|&w| (w, BUILD_CAP));
+        let tries = self.widths.iter().map(|&w| (w, self.cap));
         for (w, cap) in tries.chain([(1e-3, worth)]) {
             let (a, b) = ((lo - w).max(-edge), (hi + w).min(edge));
             if a >= b || cap == 0 {
@@ -107,6 +136,9 @@ impl<'s> SeedMap<'s> {
 pub(crate) enum Fell {
     /// It closes in on the known cycle of this index ([`closes_in`]).
     Known(usize),
+    /// It has wandered inside the known chaotic set of this index (its
+    /// interval) for [`SET_STAY`] iterates without settling.
+    InSet(usize),
     /// Its iterates repeat with a period: these are its last p.
     Repeats(Vec<f64>),
     /// They did not: its kept iterates and the onset after them.
@@ -140,21 +172,37 @@ fn closes_in(seq: &[f64], points: &[f64]) -> bool {
     e[0] < CLOSE && e[0] < e[1] && e[1] < e[2] && e[2] < e[3]
 }
 
+/// How many iterates in a row a seed wanders inside a known chaotic set's
+/// interval, neither closing in on a cycle nor repeating, before it is
+/// counted as reaching that set (as its kept iterates' interval would
+/// overlap the set's): as long as the longest period told apart.
+pub(crate) const SET_STAY: usize = PERIOD_MAX;
+
+/// What a seed's orbit is told against: the stable cycles and chaotic sets
+/// (intervals [lo, hi]) known so far.
+#[derive(Clone, Copy, Default)]
+pub(crate) struct Known<'k> {
+    pub cycles: &'k [&'k [f64]],
+    pub sets: &'k [(f64, f64)],
+}
+
 impl SeedMap<'_> {
     /// The seed's orbit from θ0, `transient` + `keep` iterates at most: it
-    /// stops once it closes in on one of the stable cycles `known`, or once
-    /// its last iterates repeat with a period (to `rep_tol`).
+    /// stops once it closes in on one of the stable cycles `known`, once it
+    /// has stayed in one of its chaotic sets ([`SET_STAY`]), or once its
+    /// last iterates repeat with a period (to `rep_tol`).
     pub fn fall(
         &mut self,
         theta0: f64,
         (transient, keep): (usize, usize),
         rep_tol: f64,
-        known: &[&[f64]],
+        known: Known,
         cancel: &dyn Fn() -> bool,
     ) -> Result<Fell, SimError> {
         let window = 3 * PERIOD_MAX;
         let mut recent = Vec::with_capacity(2 * window);
         let mut kept = Vec::with_capacity(keep.min(1 << 16));
+        let mut stay = vec![0usize; known.sets.len()];
         let mut theta = theta0;
         for i in 0..transient.saturating_add(keep) {
             if i % 64 == 0 && cancel() {
@@ -163,12 +211,26 @@ impl SeedMap<'_> {
             if i >= transient {
                 kept.push(theta);
             }
+            for (n, &(lo, hi)) in stay.iter_mut().zip(known.sets) {
+                *n = if (lo..=hi).contains(&theta) {
+                    *n + 1
+                } else {
+                    0
+                };
+            }
+            if let Some(k) = stay.iter().position(|&n| n >= SET_STAY) {
+                // Not while it contracts slowly onto a cycle inside the set.
+                if contraction(&recent, rep_tol).is_none() {
+                    return Ok(Fell::InSet(k));
+                }
+                stay[k] = 0;
+            }
             if recent.len() == 2 * window {
                 recent.drain(..window);
             }
             recent.push(theta);
             if i % 8 == 7 {
-                if let Some(k) = known.iter().position(|c| closes_in(&recent, c)) {
+                if let Some(k) = known.cycles.iter().position(|c| closes_in(&recent, c)) {
                     return Ok(Fell::Known(k));
                 }
                 // The full period test only once the newest value repeats
