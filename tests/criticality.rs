@@ -36,17 +36,47 @@ fn first_pd(prob: &Problem, from: f64, to: f64, seed: f64) -> SpecialPoint {
         .unwrap()
 }
 
-/// The P2 cycle Newton finds at `lambda` from the predicted point: its
-/// half-width |θ₁ − θ₀|/2 and its multiplier.
+/// The 2p-cycle Newton finds at `lambda` from the predicted point: its
+/// half-width |θ_p − θ₀|/2 (the two points that split from θ*) and its
+/// multiplier.
 fn doubled(prob: &Problem, pd: &SpecialPoint, lambda: f64, eta: f64) -> (f64, f64) {
     let sim = Simulator::new(prob.param.set(&prob.base, lambda), prob.settings).unwrap();
     let opts = CycleOptions::for_settings(sim.settings());
-    let c = solve_cycle(&sim, pd.theta + eta, 2, &opts).unwrap();
-    assert_eq!(c.minimal_period, 2, "{c:?}");
+    let p = prob.period;
+    let c = solve_cycle(&sim, pd.theta + eta, 2 * p, &opts).unwrap();
+    assert_eq!(c.minimal_period, 2 * p, "{c:?}");
     (
-        0.5 * wrap_angle(c.points[1] - c.points[0]).abs(),
+        0.5 * wrap_angle(c.points[p] - c.points[0]).abs(),
         c.multiplier,
     )
+}
+
+#[test]
+fn fig3b_p8_flip_predicts_the_p16_cycle() {
+    // Deep in the cascade g = f^8 bends on a small scale: its differences
+    // take a step of 1/8 the fixed point's. The P8 cycle at θν = 1.2235,
+    // followed up to its flip near 1.22399.
+    let mut prob = problem(18.95, 1e-3);
+    prob.period = 8;
+    let sim = Simulator::new(prob.param.set(&prob.base, 1.2235), prob.settings).unwrap();
+    let opts = CycleOptions::for_settings(sim.settings());
+    let p8 = solve_cycle(&sim, 0.4537, 8, &opts).unwrap();
+    assert_eq!(p8.minimal_period, 8, "{p8:?}");
+    let pd = first_pd(&prob, 1.2235, 1.2245, p8.points[0]);
+    assert!((pd.lambda - 1.223_99).abs() < 1e-4, "{pd:?}");
+    let f = pd.flip.unwrap();
+    assert_eq!(f.criticality(), Criticality::Supercritical, "{f:?}");
+    assert_eq!(f.side(), 1.0, "the P8 loses stability upwards: {f:?}");
+    for delta in [1e-6, 1e-5] {
+        let lambda = pd.lambda + delta;
+        let eta = f.predicted(pd.lambda, lambda).unwrap();
+        let (measured, m) = doubled(&prob, &pd, lambda, eta);
+        assert!(m.abs() < 1.0, "the born P16 is stable: m = {m}");
+        assert!(
+            (measured / eta - 1.0).abs() < 0.05,
+            "delta {delta}: measured half-width {measured} vs predicted {eta}"
+        );
+    }
 }
 
 #[test]

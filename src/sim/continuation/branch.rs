@@ -334,11 +334,31 @@ impl Ctx<'_> {
 
     /// The flip's normal form at the located doubling `p` (see
     /// [`super::flip`]); `None` where f^p has no derivatives around it.
-    pub(super) fn flip(&mut self, p: &Pt) -> Option<super::Flip> {
+    ///
+    /// `secant` is m's slope in λ across the step that crossed −1: where
+    /// the differences' dm/dλ has the other sign (a long cycle, whose m
+    /// changes by orders of magnitude within the λ step of the
+    /// differences), the secant's is taken, so that the side the doubled
+    /// cycle is born on is the side the branch shows unstable.
+    pub(super) fn flip(&mut self, p: &Pt, secant: f64) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
         let scale = self.opts.scale;
         let g_lambda = p.e.g_lambda;
-        super::flip_at(self.prob, lambda, p.x[0], g_lambda, scale, &mut self.evals).ok()
+        let m0 = Some(p.e.multiplier);
+        let mut f = super::flip_at(
+            self.prob,
+            lambda,
+            p.x[0],
+            m0,
+            g_lambda,
+            scale,
+            &mut self.evals,
+        )
+        .ok()?;
+        if secant.is_finite() && secant != 0.0 && (f.dm_dlambda > 0.0) != (secant > 0.0) {
+            f.dm_dlambda = secant;
+        }
+        Some(f)
     }
 
     pub(super) fn special(&self, kind: SpecialKind, p: &Pt, note: String) -> SpecialPoint {

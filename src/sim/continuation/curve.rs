@@ -541,9 +541,7 @@ pub fn continue_curve(
     points.extend(fwd);
     let mut evals = ctx.evals;
     let generalised_flips = if kind == CurveKind::PeriodDoubling {
-        super::generalised_flips(
-            &base, settings, params, period, &points, scale[0], &mut evals,
-        )
+        super::generalised_flips(&base, settings, params, period, &points, &mut evals)
     } else {
         Vec::new()
     };

@@ -25,8 +25,9 @@
 
 use super::{EvalError, Problem};
 
-/// The steps of the differences in θ: h₀ and its halves.
-const STEP0: f64 = 2e-2;
+/// The step h of the differences in θ for a fixed point (M at θ* ± h and
+/// ± 2h); a p-cycle's is h/p.
+const STEP: f64 = 5e-3;
 /// The relative step of the difference in λ (of the range's scale).
 const LAMBDA_STEP: f64 = 1e-5;
 
@@ -101,61 +102,28 @@ impl Flip {
 }
 
 /// The flip's normal form at the p-cycle through `theta` at `lambda`, a
-/// located period doubling of `prob`; `g_lambda` is G_λ there and `scale`
-/// the range's length (for the λ step). Counts map evaluations in `evals`.
+/// located period doubling of `prob` whose multiplier there is `m0`
+/// (computed when `None`); `g_lambda` is G_λ there and `scale` the range's
+/// length (for the λ step). Counts map evaluations in `evals`.
 pub fn flip_at(
     prob: &Problem,
     lambda: f64,
     theta: f64,
+    m0: Option<f64>,
     g_lambda: f64,
     scale: f64,
     evals: &mut u64,
 ) -> Result<Flip, EvalError> {
-    let sim = prob.sim(lambda).map_err(EvalError::Sim)?;
-    let mut m_at = |dx: f64| -> Option<f64> {
-        super::eval_at(&sim, prob.param, prob.period, theta + dx, evals)
-            .ok()
-            .map(|e| e.multiplier)
-    };
-    let m0 = m_at(0.0).ok_or(EvalError::NonFinite)?;
-    // M at ±h₀/2^k for k = 0 … 3 (the stencils at h₀, h₀/2, h₀/4 use
-    // ±h and ±2h).
-    let mut plus = [None; 4];
-    let mut minus = [None; 4];
-    for k in 0..4 {
-        let h = STEP0 / f64::from(1u32 << k);
-        plus[k] = m_at(h);
-        minus[k] = m_at(-h);
-    }
-    // (c, g'') at the step h₀/2^(k+1), k = 0 … 2.
-    let stencil = |k: usize| -> Option<(f64, f64)> {
-        let h = STEP0 / f64::from(2u32 << k);
-        let (p1, p2, n1, n2) = (plus[k + 1]?, plus[k]?, minus[k + 1]?, minus[k]?);
-        let d2 = (n2 - 8.0 * n1 + 8.0 * p1 - p2) / (12.0 * h);
-        let d3 = (-n2 + 16.0 * n1 - 30.0 * m0 + 16.0 * p1 - p2) / (12.0 * h * h);
-        let c = 0.25 * d2 * d2 + d3 / 6.0;
-        c.is_finite().then_some((c, d2))
-    };
-    let est: Vec<(f64, f64)> = (0..3).filter_map(stencil).collect();
-    let (coefficient, error, d2) = match est.len() {
-        0 => return Err(EvalError::NonFinite),
-        1 => (est[0].0, est[0].0.abs(), est[0].1),
-        _ => est
-            .windows(2)
-            .map(|w| (w[1].0, (w[1].0 - w[0].0).abs(), w[1].1))
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .ok_or(EvalError::NonFinite)?,
-    };
-    // ∂M/∂λ by a central difference at θ* held.
+    let (coefficient, error, d2, m0) = coefficient(prob, lambda, theta, m0, evals)?;
+    // ∂M/∂λ by a forward difference at θ* held: its truncation error is
+    // ~1e-5 relative, its noise (M's 1e-9 over the step) ~1e-4 absolute.
     let hl = LAMBDA_STEP * scale;
-    let mut m_lambda = |l: f64| -> Result<f64, EvalError> {
-        let s = prob.sim(l).map_err(EvalError::Sim)?;
-        Ok(super::eval_at(&s, prob.param, prob.period, theta, evals)?.multiplier)
-    };
-    let dm_partial = (m_lambda(lambda + hl)? - m_lambda(lambda - hl)?) / (2.0 * hl);
+    let s = prob.sim(lambda + hl).map_err(EvalError::Sim)?;
+    let m_up = super::eval_at(&s, prob.param, prob.period, theta, evals)?.multiplier;
+    let dm_partial = (m_up - m0) / hl;
     // On the branch, dθ*/dλ = −G_λ/G_θ = G_λ/2 at m = −1.
     let dm_dlambda = d2 * (0.5 * g_lambda) + dm_partial;
-    if !(dm_dlambda.is_finite() && coefficient.is_finite()) {
+    if !dm_dlambda.is_finite() {
         return Err(EvalError::NonFinite);
     }
     Ok(Flip {
@@ -163,6 +131,42 @@ pub fn flip_at(
         error,
         dm_dlambda,
     })
+}
+
+/// The coefficient c at θ*, its error, g'' = M'(θ*) and M(θ*): from M at θ* ± h
+/// and θ* ± 2h, c by the five-point differences, its error as the
+/// difference from c by the three-point ones at ± h (second order against
+/// fourth: a pessimistic bound on the five-point value's error, large
+/// wherever M is not smooth over ± 2h).
+fn coefficient(
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    m0: Option<f64>,
+    evals: &mut u64,
+) -> Result<(f64, f64, f64, f64), EvalError> {
+    let sim = prob.sim(lambda).map_err(EvalError::Sim)?;
+    let mut m_at = |dx: f64| -> Result<f64, EvalError> {
+        Ok(super::eval_at(&sim, prob.param, prob.period, theta + dx, evals)?.multiplier)
+    };
+    let m0 = match m0 {
+        Some(m) => m,
+        None => m_at(0.0)?,
+    };
+    // g = f^p bends on a scale that shrinks with p (its derivatives grow
+    // like products of p slopes): the step shrinks with it.
+    let h = STEP / prob.period as f64;
+    let (p1, n1, p2, n2) = (m_at(h)?, m_at(-h)?, m_at(2.0 * h)?, m_at(-2.0 * h)?);
+    let c_of = |d2: f64, d3: f64| 0.25 * d2 * d2 + d3 / 6.0;
+    let d2 = (n2 - 8.0 * n1 + 8.0 * p1 - p2) / (12.0 * h);
+    let d3 = (-n2 + 16.0 * n1 - 30.0 * m0 + 16.0 * p1 - p2) / (12.0 * h * h);
+    let c = c_of(d2, d3);
+    let c3 = c_of((p1 - n1) / (2.0 * h), (p1 - 2.0 * m0 + n1) / (h * h));
+    let error = (c - c3).abs();
+    if !(c.is_finite() && error.is_finite()) {
+        return Err(EvalError::NonFinite);
+    }
+    Ok((c, error, d2, m0))
 }
 
 /// A generalised flip on a PD curve: where the flip's coefficient c
@@ -178,8 +182,8 @@ pub struct GeneralisedFlip {
 }
 
 /// The generalised flips along a PD curve of the p-cycle (`points` in
-/// order; λ₁ is the parameter the flips are computed along, with range
-/// scale `scale`): c at every point by [`flip_at`], and each sign change
+/// order; λ₁ is the parameter the flips are computed along): c at every
+/// point as [`flip_at`] computes it, and each sign change
 /// between consecutive decided points. Counts map evaluations in `evals`.
 pub fn generalised_flips(
     base: &crate::model::Params,
@@ -187,7 +191,6 @@ pub fn generalised_flips(
     params: [super::ContParam; 2],
     period: usize,
     points: &[super::CurvePoint],
-    scale: f64,
     evals: &mut u64,
 ) -> Vec<GeneralisedFlip> {
     let decided: Vec<([f64; 2], f64)> = points
@@ -199,8 +202,8 @@ pub fn generalised_flips(
                 param: params[0],
                 period,
             };
-            let f = flip_at(&prob, pt.lambda[0], pt.theta, 0.0, scale, evals).ok()?;
-            (f.coefficient.abs() > f.error).then_some((pt.lambda, f.coefficient))
+            let (c, error, ..) = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
+            (c.abs() > error).then_some((pt.lambda, c))
         })
         .collect();
     decided

@@ -157,7 +157,10 @@ impl<'a, 'b> Walk<'a, 'b> {
         for (kind, p, note) in &found {
             let mut sp = self.ctx.special(*kind, p, note.clone());
             if *kind == SpecialKind::PeriodDoubling {
-                sp.flip = self.ctx.flip(p);
+                let scale = self.scale();
+                let dm = n.e.multiplier - self.cur.e.multiplier;
+                let secant = dm / (n.lambda(scale) - self.cur.lambda(scale));
+                sp.flip = self.ctx.flip(p, secant);
             }
             (self.on_special)(&sp);
             self.special.push(sp);
