@@ -7,11 +7,13 @@
 //! seeds that reach it.
 //!
 //! The first orbit (from the previous point, else the first seed) is
-//! integrated as `orbit` runs it. The others iterate [`SeedMap`]: the
-//! verified interpolant near the attractors already found, direct
-//! integration elsewhere; each stops once its iterates repeat. A cycle
-//! that is not one already found is solved by Newton on the direct map;
-//! a new chaotic set's λ comes from an integrated orbit, as the first's.
+//! integrated as `orbit` runs it. The others iterate [`SeedMap`] on the
+//! seeds' loose map (`super::seeded::SEED_RTOL`): its verified interpolant
+//! near the attractors already found, direct integration elsewhere; each
+//! stops once it closes in on a known cycle, stays in a known chaotic set
+//! or repeats. The loose map only routes a seed: a cycle that is not one
+//! already found is solved by Newton on the sweep's own map, and a new
+//! chaotic set's λ comes from an orbit integrated on it, as the first's.
 
 pub(crate) mod seed_map;
 
@@ -246,7 +248,12 @@ pub fn attractors(
     let spread = spread_seeds(&params, seeds.max(1));
     let first_counted = usize::from(previous.is_some());
     let all: Vec<f64> = previous.into_iter().chain(spread.iter().copied()).collect();
-    let mut map = SeedMap::new(&sim);
+    let loose_settings = super::seeded::seed_settings(&settings);
+    let loose = Simulator::new(params, loose_settings)?;
+    let mut map = SeedMap::wide(
+        &loose,
+        super::seeded::SEED_MAP_TOL.max(10.0 * loose_settings.rtol),
+    );
     // Cycles coincide to 1e3× the solver's tolerance (their points are
     // solved by Newton to about the tolerance).
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;

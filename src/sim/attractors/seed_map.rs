@@ -18,7 +18,8 @@
 //! integrated as many iterates as a try may cost, one interpolant at the
 //! first width is tried around the next one's onset. A refused patch costs
 //! at most what was integrated since the last; at the creep preset the
-//! patches took `attractors` from 9.2× one orbit's time to 2.5×.
+//! patches (and the loose map) took `attractors` from 9.2× one orbit's
+//! time to 2.2×.
 
 use std::f64::consts::FRAC_PI_2;
 
@@ -62,15 +63,16 @@ pub(crate) struct SeedMap<'s> {
 }
 
 impl<'s> SeedMap<'s> {
-    /// The map of `sim`, its interpolants to `sim`'s own accuracy.
-    pub fn new(sim: &'s Simulator) -> Self {
-        let tol = InterpolantOptions::for_settings(sim.settings()).tol;
+    /// The map of `sim` (run loosely: `super::super::seeded::SEED_RTOL`),
+    /// its interpolants to `tol` in θ' over [`WIDTHS`]: `attractors`'s,
+    /// whose seeds run their whole budget unless they close in on a known
+    /// attractor, so wide neighbourhoods pay.
+    pub fn wide(sim: &'s Simulator, tol: f64) -> Self {
         Self::with(sim, tol, &WIDTHS, BUILD_CAP)
     }
 
-    /// The map of `sim` run loosely (`super::super::seeded`), its
-    /// interpolants to `tol` in θ' (no more than the map's own accuracy
-    /// asks), over [`LOOSE_WIDTHS`].
+    /// As [`Self::wide`] over [`LOOSE_WIDTHS`]: a seeded column's or
+    /// cell's, at every column of a diagram.
     pub fn loose(sim: &'s Simulator, tol: f64) -> Self {
         Self::with(sim, tol, &LOOSE_WIDTHS, LOOSE_CAP)
     }

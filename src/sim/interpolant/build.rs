@@ -136,7 +136,9 @@ impl MapInterpolant {
             next.push(p);
             return Ok(());
         }
-        if p.b - p.a < MIN_PIECE {
+        // A loose tolerance leaves wider stretches to integration: a seed
+        // lands in one rarely, and resolving it would cost the most.
+        if p.b - p.a < MIN_PIECE.max(100.0 * self.opts.tol) {
             done.push(Piece::Direct { a: p.a, b: p.b });
             return Ok(());
         }
