@@ -51,6 +51,22 @@ fn doubled(prob: &Problem, pd: &SpecialPoint, lambda: f64, eta: f64) -> (f64, f6
     )
 }
 
+/// The stable 2p-cycle Newton solves at each distance `deltas` above the
+/// supercritical flip `pd` has the predicted half-width, within 5 %.
+fn grows_as_predicted(prob: &Problem, pd: &SpecialPoint, deltas: [f64; 2]) {
+    let f = pd.flip.unwrap();
+    for delta in deltas {
+        let lambda = pd.lambda + delta;
+        let eta = f.predicted(pd.lambda, lambda).unwrap();
+        let (measured, m) = doubled(prob, pd, lambda, eta);
+        assert!(m.abs() < 1.0, "the born cycle is stable: m = {m}");
+        assert!(
+            (measured / eta - 1.0).abs() < 0.05,
+            "delta {delta}: measured half-width {measured} vs predicted {eta}"
+        );
+    }
+}
+
 #[test]
 fn fig3b_p8_flip_predicts_the_p16_cycle() {
     // Deep in the cascade g = f^8 bends on a small scale: its differences
@@ -67,16 +83,7 @@ fn fig3b_p8_flip_predicts_the_p16_cycle() {
     let f = pd.flip.unwrap();
     assert_eq!(f.criticality(), Criticality::Supercritical, "{f:?}");
     assert_eq!(f.side(), 1.0, "the P8 loses stability upwards: {f:?}");
-    for delta in [1e-6, 1e-5] {
-        let lambda = pd.lambda + delta;
-        let eta = f.predicted(pd.lambda, lambda).unwrap();
-        let (measured, m) = doubled(&prob, &pd, lambda, eta);
-        assert!(m.abs() < 1.0, "the born P16 is stable: m = {m}");
-        assert!(
-            (measured / eta - 1.0).abs() < 0.05,
-            "delta {delta}: measured half-width {measured} vs predicted {eta}"
-        );
-    }
+    grows_as_predicted(&prob, &pd, [1e-6, 1e-5]);
 }
 
 #[test]
@@ -89,16 +96,7 @@ fn fig3b_first_flip_is_supercritical_and_its_cycle_grows_as_predicted() {
     // The fixed point loses stability upwards (m < −1 above): the stable
     // P2 cycle is born above.
     assert_eq!(f.side(), 1.0);
-    for delta in [1e-5, 1e-4] {
-        let lambda = pd.lambda + delta;
-        let eta = f.predicted(pd.lambda, lambda).unwrap();
-        let (measured, m) = doubled(&prob, &pd, lambda, eta);
-        assert!(m.abs() < 1.0, "the born cycle is stable: m = {m}");
-        assert!(
-            (measured / eta - 1.0).abs() < 0.05,
-            "delta {delta}: measured half-width {measured} vs predicted {eta}"
-        );
-    }
+    grows_as_predicted(&prob, &pd, [1e-5, 1e-4]);
     // Nothing on the other side.
     assert!(f.predicted(pd.lambda, pd.lambda - 1e-4).is_none());
 }
