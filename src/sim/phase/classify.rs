@@ -1,0 +1,394 @@
+//! One phase cell's classification (docs/phase.md): its iterates, from the
+//! interpolant once built, and the tests that end it early (a settled
+//! period, a slow contraction solved, λ beyond its error, a near repeat),
+//! else the brute force's verdict on its whole budget.
+
+use super::*;
+
+/// The cell's iterates and tests (see the module's doc); the interpolant,
+/// once built, is left in `stepper` for the cell's summary.
+pub(super) fn classify<'s>(
+    cell: &mut PhaseCell,
+    sim: &'s Simulator,
+    theta_start: f64,
+    opts: &PhaseOptions,
+    cancel: &dyn Fn() -> bool,
+    stepper: &mut Option<Stepper<'s>>,
+) -> Result<Option<Reach>, SimError> {
+    let mut run = CellRun::new(sim, theta_start, opts);
+    for i in 0..opts.transient + opts.keep {
+        if cancel() {
+            return Err(SimError::Cancelled);
+        }
+        run.switch_map(cell, i, stepper);
+        run.iterate(cell, i, stepper)?;
+        cell.theta_last = run.theta;
+        if !opts.early_exit || i + 1 < MIN_TRANSIENT {
+            continue;
+        }
+        if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
+            return Ok(run.reach());
+        }
+    }
+    run.finish(cell)?;
+    Ok(run.reach())
+}
+
+/// A cell in progress: its iterates (all of them: the tests read the
+/// transient's end), the kept iterates' ln|f'(θ)|, the next onset, and
+/// what the tests have tried so far.
+struct CellRun<'s, 'o> {
+    sim: &'s Simulator,
+    opts: &'o PhaseOptions,
+    cycle_opts: CycleOptions,
+    thetas: Vec<f64>,
+    logs: Vec<f64>,
+    /// The next onset (after the last of `thetas`).
+    theta: f64,
+    /// Differences below this are the map's own error, not a contraction.
+    noise: f64,
+    solves: usize,
+    next_solve: usize,
+    /// A settled period whose cycle did not attract: the period test waits
+    /// for the kept iterates (the Lyapunov exponent decides).
+    unstable_seen: bool,
+    /// The period of the last near repeat solved ([`near_period`]), so that
+    /// a failed one is not solved again.
+    near_tried: Option<usize>,
+    /// Map and right-hand-side evaluations of solves not yet charged.
+    spent: (u64, u64),
+    /// The cycle the cell was found periodic on.
+    cycle: Option<Vec<f64>>,
+}
+
+impl<'s, 'o> CellRun<'s, 'o> {
+    fn new(sim: &'s Simulator, theta_start: f64, opts: &'o PhaseOptions) -> Self {
+        CellRun {
+            sim,
+            opts,
+            cycle_opts: CycleOptions::for_classifier(sim.settings()),
+            thetas: Vec::with_capacity(opts.transient + opts.keep),
+            logs: Vec::with_capacity(opts.keep),
+            theta: theta_start,
+            noise: 1e-2 * opts.period_tol,
+            solves: 0,
+            next_solve: MIN_TRANSIENT,
+            unstable_seen: false,
+            near_tried: None,
+            spent: (0, 0),
+            cycle: None,
+        }
+    }
+
+    /// What the cell's orbit reached: its cycle, or the interval its kept
+    /// iterates (its last ones, before any are kept) visit.
+    fn reach(&self) -> Option<Reach> {
+        if let Some(c) = &self.cycle {
+            return Some(Reach::Cycle(c.clone()));
+        }
+        let n = self.thetas.len();
+        let kept = &self.thetas[self.opts.transient.min(n / 2)..];
+        (!kept.is_empty()).then(|| {
+            let (lo, hi) = hull(kept);
+            Reach::Set(lo, hi)
+        })
+    }
+
+    /// Adds the solves' cost to the cell's.
+    fn charge(&mut self, cell: &mut PhaseCell) {
+        cell.iterates += self.spent.0;
+        cell.rhs_evals += self.spent.1;
+        self.spent = (0, 0);
+    }
+
+    /// The cell is periodic: `cycle`'s period, its onsets' character and
+    /// the exponent `lyapunov`.
+    fn periodic(&mut self, cell: &mut PhaseCell, cycle: &[f64], lyapunov: f64) {
+        self.cycle = Some(cycle.to_vec());
+        let p = self.sim.params();
+        cell.class = CellClass::Periodic(cycle.len());
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, cycle);
+        cell.lyapunov = Some(lyapunov);
+    }
+
+    /// At iterate `i`, builds the interpolant over the recent iterates when
+    /// the cell's direct part ends and enough iterates are left.
+    fn switch_map(&mut self, cell: &mut PhaseCell, i: usize, stepper: &mut Option<Stepper<'s>>) {
+        let total = self.opts.transient + self.opts.keep;
+        let switch = self.opts.transient.clamp(MIN_DIRECT, DIRECT_PART);
+        if i != switch
+            || !self
+                .opts
+                .map
+                .interpolates_beyond(total - i, INTERPOLANT_LEFT)
+        {
+            return;
+        }
+        let iopts = InterpolantOptions {
+            max_evaluations: evaluation_budget(total - i),
+            ..InterpolantOptions::for_settings(self.sim.settings())
+        };
+        let recent = &self.thetas[self.thetas.len().saturating_sub(300)..];
+        match Stepper::over(self.sim, recent, iopts, &mut self.spent) {
+            Ok(s) => *stepper = Some(s),
+            Err(e) => cell.map = MapUsed::Refused(e.to_string()),
+        }
+        self.charge(cell);
+    }
+
+    /// Iterate `i`: from the interpolant if there is one, else integrated;
+    /// past the transient with f'(θ) too.
+    fn iterate(
+        &mut self,
+        cell: &mut PhaseCell,
+        i: usize,
+        stepper: &mut Option<Stepper<'_>>,
+    ) -> Result<(), SimError> {
+        let kept = i >= self.opts.transient;
+        self.thetas.push(self.theta);
+        if let Some(st) = stepper.as_mut() {
+            // The same iterate from the series: f'(θ) from it too.
+            self.theta = if kept {
+                let (next, d) = st.next_with_derivative(self.theta)?;
+                self.logs.push(d.abs().ln());
+                next
+            } else {
+                st.next(self.theta)?
+            };
+            let (n, rhs) = st.take_cost();
+            cell.iterates += n;
+            cell.rhs_evals += rhs;
+            return Ok(());
+        }
+        // Past the transient f'(θ) is needed too: it rides along the
+        // iterate's own integration (the variational equations), so it
+        // adds evaluations, not iterates (two where f has no derivative
+        // and the secant stands in).
+        let ev = if kept {
+            let (ev, d, n) = cycle_with_derivative(self.sim, self.theta, 0.0)?;
+            cell.rhs_evals += n;
+            self.logs.push(d.abs().ln());
+            ev
+        } else {
+            self.sim.cycle(self.theta, 0.0, None)?
+        };
+        cell.iterates += 1;
+        cell.rhs_evals += ev.rhs_evals;
+        self.theta = self.sim.next_onset(&ev);
+        Ok(())
+    }
+
+    /// The period test: whether the iterates have settled on a period whose
+    /// cycle attracts (the cell is then periodic).
+    fn settled(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let test = !(self.unstable_seen && self.logs.is_empty()) && self.thetas.len() >= MIN_WINDOW;
+        let Some(p) = test
+            .then(|| settled_period(&self.thetas, self.opts.period_tol))
+            .flatten()
+        else {
+            return Ok(false);
+        };
+        // The cycle solved from the next onset gives the exponent ln|m|/p;
+        // if it cannot be solved, the mean of ln|f'| on its last p
+        // iterates does.
+        let solved = solve_counting(self.sim, self.theta, p, &self.cycle_opts, &mut self.spent)
+            .ok()
+            .filter(|c| c.minimal_period == p);
+        self.charge(cell);
+        let (lc, points) = match solved {
+            Some(c) => {
+                // The solve started from the next onset: its point 0 is
+                // where the next cell continues.
+                cell.theta_last = c.points[0];
+                (c.lyapunov(), c.points)
+            }
+            None => {
+                let (sim, thetas, logs) = (self.sim, &self.thetas, &self.logs);
+                let lc = cycle_exponent(cell, sim, thetas, self.theta, logs, p)?;
+                (lc, thetas[thetas.len() - p..].to_vec())
+            }
+        };
+        if lc < 0.0 {
+            self.periodic(cell, &points, lc);
+            return Ok(true);
+        }
+        // Repeats within the tolerance but does not attract: not a periodic
+        // attractor (e.g. 2^n tiny chaotic bands under a loose tolerance).
+        // Let the Lyapunov exponent decide.
+        self.unstable_seen = true;
+        Ok(false)
+    }
+
+    /// Contracting onto a cycle, but slowly: the cycle is solved instead of
+    /// waited for; whether it was, and confirmed (the cell is then
+    /// periodic).
+    fn contracting(&mut self, cell: &mut PhaseCell, i: usize) -> bool {
+        if self.solves >= MAX_SOLVES || i + 1 < self.next_solve || self.unstable_seen {
+            return false;
+        }
+        // `contraction` and the confirmation read the last 4p + 1 values,
+        // p ≤ 16: a copy of those, not of the whole orbit.
+        let from = self
+            .thetas
+            .len()
+            .saturating_sub(4 * CONTRACTION_PERIOD_MAX + 1);
+        let mut seq = self.thetas[from..].to_vec();
+        seq.push(self.theta);
+        let Some(c) = contraction(&seq, self.noise) else {
+            return false;
+        };
+        let confirmed = confirm_contraction(
+            self.sim,
+            &seq,
+            &c,
+            &self.cycle_opts,
+            self.noise,
+            &mut self.spent,
+        );
+        self.charge(cell);
+        if let Some(cycle) = confirmed {
+            cell.theta_last = cycle.points[0];
+            self.periodic(cell, &cycle.points, cycle.lyapunov());
+            return true;
+        }
+        self.solves += 1;
+        self.next_solve = i + 1 + SOLVE_COOLDOWN;
+        false
+    }
+
+    /// Every [`LYAPUNOV_EVERY`] kept iterates from [`LYAPUNOV_MIN`]: whether
+    /// λ exceeds `sigmas` standard errors (the cell is then chaotic, unless
+    /// its iterates nearly repeat on a cycle that attracts).
+    fn chaotic(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let k = self.logs.len();
+        if k < LYAPUNOV_MIN || !k.is_multiple_of(LYAPUNOV_EVERY) {
+            return Ok(false);
+        }
+        let (l, se) = mean_and_stderr(&self.logs);
+        let (Some(l), Some(se)) = (l, se) else {
+            return Ok(false);
+        };
+        if l - self.opts.sigmas * se <= 0.0 {
+            return Ok(false);
+        }
+        if self.near_cycle(cell)? {
+            return Ok(true);
+        }
+        let p = self.sim.params();
+        cell.class = CellClass::Chaos;
+        cell.lyapunov = Some(l);
+        cell.lyapunov_stderr = Some(se);
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, &self.thetas[self.opts.transient..]);
+        Ok(true)
+    }
+
+    /// The cycle the iterates nearly repeat on, if it attracts
+    /// ([`near_cycle`]): the cell is then periodic. One solve per period.
+    fn near_cycle(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let from = self.thetas.len().saturating_sub(2 * CONTRACTION_PERIOD_MAX);
+        let mut seq = self.thetas[from..].to_vec();
+        seq.push(self.theta);
+        let Some(p) = near_period(&seq) else {
+            return Ok(false);
+        };
+        if self.near_tried == Some(p) {
+            return Ok(false);
+        }
+        self.near_tried = Some(p);
+        let solved = near_cycle(self.sim, &seq, &self.cycle_opts, &mut self.spent);
+        self.charge(cell);
+        let Some(c) = solved else {
+            return Ok(false);
+        };
+        cell.theta_last = c.points[0];
+        self.periodic(cell, &c.points, c.lyapunov());
+        Ok(true)
+    }
+
+    /// The budget is spent without an early answer: the brute force's
+    /// period on the kept iterates, a near repeat's cycle, or λ decides.
+    fn finish(&mut self, cell: &mut PhaseCell) -> Result<(), SimError> {
+        let opts = self.opts;
+        let kept_from = opts.transient.min(self.thetas.len());
+        if !opts.early_exit && self.brute_force_period(cell, kept_from) {
+            return Ok(());
+        }
+        let (l, se) = mean_and_stderr(&self.logs);
+        let chaos = matches!((l, se), (Some(l), Some(se)) if l - opts.sigmas * se > 0.0);
+        // Not chaotic (or not yet tested as such): a cycle the orbit nearly
+        // repeats on may be what it is slowly reaching.
+        if opts.early_exit && !chaos && self.near_cycle(cell)? {
+            return Ok(());
+        }
+        let p = self.sim.params();
+        cell.lyapunov = l;
+        cell.lyapunov_stderr = se;
+        cell.regime = AttractorRegime::of(p.kappa, p.gamma, &self.thetas[kept_from..]);
+        cell.class = if chaos {
+            CellClass::Chaos
+        } else {
+            CellClass::Undecided
+        };
+        Ok(())
+    }
+
+    /// The brute force's period: found on the kept iterates as `oneblock
+    /// orbit` finds it (the cell is then periodic).
+    fn brute_force_period(&mut self, cell: &mut PhaseCell, kept_from: usize) -> bool {
+        let kept = &self.thetas[kept_from..];
+        let s = self.sim.settle(
+            kept,
+            self.theta,
+            &self.logs,
+            self.opts.period_tol,
+            &mut self.spent,
+        );
+        self.charge(cell);
+        if let Some(c) = s.cycle {
+            self.periodic(cell, &c.points, c.lyapunov());
+            return true;
+        }
+        if let crate::sim::Period::Periodic(p) = s.period
+            && self.logs.len() >= p
+        {
+            let lc = self.logs[self.logs.len() - p..].iter().sum::<f64>() / p as f64;
+            if lc < 0.0 {
+                let cycle = self.thetas[self.thetas.len() - p..].to_vec();
+                self.periodic(cell, &cycle, lc);
+                return true;
+            }
+        }
+        false
+    }
+}
+
+/// A period-p cycle's exponent from the orbit alone, when the cycle could
+/// not be solved: the mean of ln|f'| over the last p iterates (`thetas`,
+/// then the next onset `theta`), from the kept iterates' `logs` when there
+/// are p of them, else by p derivatives charged to the cell.
+fn cycle_exponent(
+    cell: &mut PhaseCell,
+    sim: &Simulator,
+    thetas: &[f64],
+    theta: f64,
+    logs: &[f64],
+    p: usize,
+) -> Result<f64, SimError> {
+    if logs.len() >= p {
+        return Ok(logs[logs.len() - p..].iter().sum::<f64>() / p as f64);
+    }
+    let mut sum = 0.0;
+    for j in 0..p {
+        let th = thetas[thetas.len() - p + j];
+        let next = if j + 1 < p {
+            thetas[thetas.len() - p + j + 1]
+        } else {
+            theta
+        };
+        let (d, n) = map_derivative(sim, th, next)?;
+        cell.iterates += 1;
+        cell.rhs_evals += n;
+        sum += d.abs().ln();
+    }
+    Ok(sum / p as f64)
+}
