@@ -248,12 +248,8 @@ pub fn attractors(
     let spread = spread_seeds(&params, seeds.max(1));
     let first_counted = usize::from(previous.is_some());
     let all: Vec<f64> = previous.into_iter().chain(spread.iter().copied()).collect();
-    let loose_settings = super::seeded::seed_settings(&settings);
-    let loose = Simulator::new(params, loose_settings)?;
-    let mut map = SeedMap::wide(
-        &loose,
-        super::seeded::SEED_MAP_TOL.max(10.0 * loose_settings.rtol),
-    );
+    let loose = super::seeded::seed_simulator(params, &settings)?;
+    let mut map = SeedMap::wide(&loose);
     // Cycles coincide to 1e3× the solver's tolerance (their points are
     // solved by Newton to about the tolerance).
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;

@@ -167,10 +167,13 @@ pub const SEED_RTOL: f64 = 1e-7;
 /// intermittent preset's chaotic set against 2 800 at 1e-5).
 pub const SEED_MAP_TOL: f64 = 1e-5;
 
-/// The settings the seeds run with: `settings` loosened to [`SEED_RTOL`]
-/// (an adaptive method), as they are (a fixed-step one).
-pub(crate) fn seed_settings(settings: &SolverSettings) -> SolverSettings {
-    if settings.method.is_adaptive() && settings.rtol < SEED_RTOL {
+/// The map the seeds run on at `params`: `settings` loosened to
+/// [`SEED_RTOL`] (an adaptive method; a fixed-step one as it is).
+pub(crate) fn seed_simulator(
+    params: Params,
+    settings: &SolverSettings,
+) -> Result<Simulator, SimError> {
+    let loose = if settings.method.is_adaptive() && settings.rtol < SEED_RTOL {
         SolverSettings {
             rtol: SEED_RTOL,
             atol: settings.atol.max(SEED_RTOL),
@@ -178,7 +181,8 @@ pub(crate) fn seed_settings(settings: &SolverSettings) -> SolverSettings {
         }
     } else {
         *settings
-    }
+    };
+    Simulator::new(params, loose)
 }
 
 /// Where the seeds run, and what they are told against.
@@ -262,10 +266,9 @@ fn seed_reaches(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<(Vec<Reached>, u64), SimError> {
-    let loose = seed_settings(&settings);
-    let sim = Simulator::new(params, loose)?;
-    let mut map = SeedMap::loose(&sim, SEED_MAP_TOL.max(10.0 * loose.rtol));
-    let tol = rep_tol(&loose);
+    let sim = seed_simulator(params, &settings)?;
+    let mut map = SeedMap::loose(&sim);
+    let tol = rep_tol(sim.settings());
     let run = opts.transient.saturating_add(opts.keep);
     // A seed in a known chaotic set stops after SET_STAY iterates there: an
     // interpolant over the set's interval is worth what the seeds left

@@ -17,15 +17,15 @@
 //! them in at 1 % an iterate) get a patch where they are: once they have
 //! integrated as many iterates as a try may cost, one interpolant at the
 //! first width is tried around the next one's onset. A refused patch costs
-//! at most what was integrated since the last; at the creep preset the
-//! patches (and the loose map) took `attractors` from 9.2× one orbit's
-//! time to 2.2×.
+//! at most what was integrated since the last (docs/attractors.md gives
+//! what they save at the creep preset).
 
 use std::f64::consts::FRAC_PI_2;
 
 use crate::model::{exit_arc, wrap_angle};
 use crate::sim::interpolant::{InterpolantOptions, MapInterpolant};
 use crate::sim::period::{PERIOD_MAX, contraction, settled_period};
+use crate::sim::seeded::SEED_MAP_TOL;
 use crate::sim::{SimError, Simulator};
 
 /// The widths (radians each side of an attractor's hull) a neighbourhood's
@@ -63,22 +63,25 @@ pub(crate) struct SeedMap<'s> {
 }
 
 impl<'s> SeedMap<'s> {
-    /// The map of `sim` (run loosely: `super::super::seeded::SEED_RTOL`),
-    /// its interpolants to `tol` in θ' over [`WIDTHS`]: `attractors`'s,
-    /// whose seeds run their whole budget unless they close in on a known
-    /// attractor, so wide neighbourhoods pay.
-    pub fn wide(sim: &'s Simulator, tol: f64) -> Self {
-        Self::with(sim, tol, &WIDTHS, BUILD_CAP)
+    /// The map of `sim` (the seeds' loose map,
+    /// `super::super::seeded::seed_simulator`) over [`WIDTHS`]:
+    /// `attractors`'s, whose seeds run their whole budget unless they close
+    /// in on a known attractor, so wide neighbourhoods pay.
+    pub fn wide(sim: &'s Simulator) -> Self {
+        Self::with(sim, &WIDTHS, BUILD_CAP)
     }
 
     /// As [`Self::wide`] over [`LOOSE_WIDTHS`]: a seeded column's or
     /// cell's, at every column of a diagram.
-    pub fn loose(sim: &'s Simulator, tol: f64) -> Self {
-        Self::with(sim, tol, &LOOSE_WIDTHS, LOOSE_CAP)
+    pub fn loose(sim: &'s Simulator) -> Self {
+        Self::with(sim, &LOOSE_WIDTHS, LOOSE_CAP)
     }
 
-    fn with(sim: &'s Simulator, tol: f64, widths: &'static [f64], cap: usize) -> Self {
+    /// Its interpolants to [`SEED_MAP_TOL`], or ten times the map's own
+    /// tolerance where that is looser.
+    fn with(sim: &'s Simulator, widths: &'static [f64], cap: usize) -> Self {
         let p = sim.params();
+        let tol = SEED_MAP_TOL.max(10.0 * sim.settings().rtol);
         SeedMap {
             sim,
             widths,
@@ -120,8 +123,8 @@ impl<'s> SeedMap<'s> {
 
     /// Adds an interpolant over a neighbourhood of `points` (an attractor's
     /// cycle points, or its hull's ends), as wide as its widths and cap
-    /// ([`WIDTHS`] and [`BUILD_CAP`]) allow, else over the hull with `worth` evaluations at
-    /// most; nothing when every try is refused (seeds then integrate there).
+    /// allow, else over the hull with `worth` evaluations at most; nothing
+    /// when every try is refused (seeds then integrate there).
     pub fn cover(&mut self, points: &[f64], worth: usize) {
         let us = points.iter().map(|&th| wrap_angle(th - self.psi));
         let (lo, hi) = us.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), u| {
