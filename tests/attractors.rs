@@ -134,6 +134,21 @@ fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
 
 #[test]
 fn the_seeded_diagram_shows_both_branches_where_attractors_finds_two() {
+    both_branches_with_seeds("16");
+}
+
+/// One seed a column misses the second branch at most columns of the
+/// range; the neighbour pass continues each branch from the columns where
+/// it was found (both ways) until it dies.
+#[test]
+fn one_seed_a_column_and_the_neighbour_pass_show_both_branches() {
+    both_branches_with_seeds("1");
+}
+
+/// The seeded diagram over the hysteresis range, with `seeds` a column:
+/// each column's attractors are those `attractors` finds from 32 other
+/// seeds, and the multistable columns fill the range.
+fn both_branches_with_seeds(seeds: &str) {
     let rows = seeded_rows(&[
         "bifurcation",
         "--kappa",
@@ -151,7 +166,7 @@ fn the_seeded_diagram_shows_both_branches_where_attractors_finds_two() {
         "--keep",
         "24",
         "--seeds",
-        "16",
+        seeds,
     ]);
     let mut columns: Vec<f64> = rows.iter().map(|r| r.0).collect();
     columns.dedup();

@@ -384,7 +384,8 @@ pub enum Update {
         /// times); NaN where a cycle failed. Empty in the first send.
         powers: Vec<Vec<f64>>,
     },
-    /// One finished bifurcation column.
+    /// One finished bifurcation column. A seeded sweep may send a column
+    /// again, amended by its neighbour pass: the later replaces the earlier.
     Column {
         generation: Generation,
         /// Position of the column in the final grid (0 … columns−1).

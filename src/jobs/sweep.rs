@@ -19,6 +19,12 @@
 //! Each step takes columns from the job's [`Schedule`], which hands out a
 //! column once its parent is done, with the parent's last onset, and steps
 //! up to `LANES` ready columns together.
+//!
+//! 3. A seeded sweep then follows every attractor found to the columns
+//!    beside it, both ways ([`neighbours`]), sending a column again when
+//!    it gains one.
+
+mod neighbours;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -32,11 +38,12 @@ use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::ParamError;
 use crate::sim::column_lyapunov::LyapunovRun;
 use crate::sim::interpolant::MapUsed;
-use crate::sim::seeded::seeded_column;
+use crate::sim::seeded::{SeededColumn, seeded_column};
 use crate::sim::{
     Column, ColumnJob, Handover, LANES, LaneEnd, PausedColumn, SimError, Simulator, SweepOptions,
     Yield, column_start, run_columns, theta_nu_grid,
 };
+use neighbours::{NeighbourPass, SentColumn};
 
 /// When a sink's host wants its thread back.
 struct Yielding<'a>(&'a dyn Sink);
@@ -119,6 +126,10 @@ pub(crate) struct SweepJob {
     failure: Mutex<Option<String>>,
     /// Columns paused part-way, resumed first by the next step.
     parked: Mutex<Vec<Parked>>,
+    /// A seeded sweep's columns as sent (`None`: not yet, or failed).
+    sent: Mutex<Vec<Option<SentColumn>>>,
+    /// A seeded sweep's neighbour pass, once every column is done.
+    pass: Mutex<NeighbourPass>,
 }
 
 impl SweepJob {
@@ -147,6 +158,8 @@ impl SweepJob {
             pacer: Mutex::new(Pacer::new()),
             failure: Mutex::new(None),
             parked: Mutex::new(Vec::new()),
+            sent: Mutex::new((0..columns).map(|_| None).collect()),
+            pass: Mutex::new(NeighbourPass::default()),
         })
     }
 
@@ -241,18 +254,30 @@ impl SweepJob {
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
-        let (thetas, attractor, rhs_evals) = self.seeded(tn, col.thetas, d.handover, sink)?;
-        sink.send(Update::Column {
-            generation,
-            index: p.index,
-            theta_nu: tn,
-            thetas,
-            coarse: p.coarse,
-            rhs_evals: col.rhs_evals + rhs_evals,
-            map: col.map,
-            lyapunov,
-            attractor,
-        })?;
+        match self.seeded(tn, &col.thetas, d.handover, sink)? {
+            Some(seeded) => {
+                let sent = SentColumn {
+                    coarse: p.coarse,
+                    map: col.map,
+                    lyapunov,
+                    rhs_evals: col.rhs_evals,
+                    seeded,
+                };
+                sink.send(sent.update(generation, p.index, tn))?;
+                lock(&self.sent)[p.index] = Some(sent);
+            }
+            None => sink.send(Update::Column {
+                generation,
+                index: p.index,
+                theta_nu: tn,
+                thetas: col.thetas,
+                coarse: p.coarse,
+                rhs_evals: col.rhs_evals,
+                map: col.map,
+                lyapunov,
+                attractor: vec![],
+            })?,
+        }
         let done = {
             let mut sch = lock(&self.schedule);
             sch.complete(p, d.handover);
@@ -263,23 +288,23 @@ impl SweepJob {
         paced_progress(&self.pacer, Lane::Sweep, (done, columns, n), sink)
     }
 
-    /// A finished column's points with the seeds' attractors added and
-    /// labelled, and what the seeds cost; as it was (and no labels) when
-    /// the sweep has no seeds or the column failed (`handover` is `None`).
+    /// A finished column with the seeds' attractors added and labelled;
+    /// `None` when the sweep has no seeds or the column failed (`handover`
+    /// is `None`).
     fn seeded(
         &self,
         theta_nu: f64,
-        thetas: Vec<f64>,
+        thetas: &[f64],
         handover: Option<Handover>,
         sink: &dyn Sink,
-    ) -> Result<(Vec<f64>, Vec<u8>, u64), JobError> {
+    ) -> Result<Option<SeededColumn>, JobError> {
         let seeds = self.spec.seeds;
         let Some(h) = handover.filter(|_| seeds > 0) else {
-            return Ok((thetas, vec![], 0));
+            return Ok(None);
         };
         let followed = Column {
             theta_nu,
-            thetas,
+            thetas: thetas.to_vec(),
             theta_last: h.theta,
             error: None,
             rhs_evals: 0,
@@ -296,11 +321,37 @@ impl SweepJob {
             &self.opts,
             &cancel,
         ) {
-            Ok(s) => Ok((s.thetas, s.attractor, s.rhs_evals)),
+            Ok(s) => Ok(Some(s)),
             Err(SimError::Cancelled) => Err(JobError::Stop),
             // Only a cancel ends the seeds early (failed seeds are left out).
             Err(e) => Err(JobError::Sim(e)),
         }
+    }
+
+    /// Once the schedule has handed out every column: a seeded sweep's
+    /// neighbour pass, one column a step, when every column is done (a
+    /// thread that finds columns still running elsewhere retires, and the
+    /// one that finishes the last goes on with the pass).
+    fn after_schedule(&self, sink: &dyn Sink) -> Result<Status, JobError> {
+        if self.spec.seeds == 0 || lock(&self.schedule).done() < self.grid.len() {
+            return Ok(Status::Done);
+        }
+        let sweep = neighbours::Sweep {
+            params: self.spec.params,
+            settings: self.spec.settings,
+            opts: &self.opts,
+            grid: &self.grid,
+        };
+        let cancel = || sink.cycle();
+        let mut pass = lock(&self.pass);
+        let mut sent = lock(&self.sent);
+        let (status, amended) = pass.step(&sweep, &mut sent, &cancel)?;
+        if let Some(i) = amended
+            && let Some(col) = &sent[i]
+        {
+            sink.send(col.update(sink.generation(), i, self.grid[i]))?;
+        }
+        Ok(status)
     }
 
     /// The column of plan entry `p`, to start at `neighbour`'s handover.
@@ -408,7 +459,7 @@ impl Job for SweepJob {
         let mut first = None;
         if resumes.is_empty() {
             let Some((p, seed)) = wait_next(&self.schedule, &self.ready, || sink.stale())? else {
-                return Ok(Status::Done);
+                return self.after_schedule(sink);
             };
             first = Some((p, seed.flatten()));
         }

@@ -20,7 +20,7 @@
 use super::attractors::seed_map::{Fell, Known, SET_STAY, SeedMap, hull};
 use super::attractors::spread_seeds;
 use super::period::{PERIOD_MAX, contraction};
-use super::{Column, SimError, Simulator, SweepOptions};
+use super::{Column, SimError, Simulator, SweepOptions, column_start};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 
@@ -89,6 +89,8 @@ pub struct SeededColumn {
     pub count: usize,
     /// Right-hand-side evaluations the seeds cost.
     pub rhs_evals: u64,
+    /// What each label's attractor is (`reaches[label]`).
+    pub(crate) reaches: Vec<Reach>,
 }
 
 /// What a seed reached, and the points a diagram draws for it.
@@ -255,14 +257,31 @@ const CLOSE_SLOW: f64 = 1e-4;
 /// What each of `seeds` seeds reached at θν of `params`, with the points a
 /// diagram draws for it (a cycle's p points, or an unsettled orbit's kept
 /// iterates), given what the followed orbit reached; and what they cost
-/// (right-hand-side evaluations). The seeds run on [`SeedMap`] at
-/// [`SEED_RTOL`] (see [`Seeding::told`]). `Cancelled` as soon as one is;
-/// failed seeds reach nothing that can be named and are left out.
+/// (right-hand-side evaluations). See [`seeds_from`].
 fn seed_reaches(
     params: Params,
     settings: SolverSettings,
     followed: Option<&Reach>,
     seeds: usize,
+    opts: &SweepOptions,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(Vec<Reached>, u64), SimError> {
+    let known: Vec<Reach> = followed.cloned().into_iter().collect();
+    let starts = spread_seeds(&params, seeds);
+    seeds_from(params, settings, &known, &starts, opts, cancel)
+}
+
+/// What the seeds from `starts` reached at θν of `params`, told against
+/// the attractors `known` there (and those found on the way), with the
+/// points a diagram draws for each, and what they cost (right-hand-side
+/// evaluations). The seeds run on [`SeedMap`] at [`SEED_RTOL`] (see
+/// [`Seeding::told`]). `Cancelled` as soon as one is; failed seeds reach
+/// nothing that can be named and are left out.
+fn seeds_from(
+    params: Params,
+    settings: SolverSettings,
+    known: &[Reach],
+    starts: &[f64],
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<(Vec<Reached>, u64), SimError> {
@@ -279,14 +298,14 @@ fn seed_reaches(
         settings,
         opts,
         cancel,
-        known: followed.cloned().into_iter().collect(),
+        known: known.to_vec(),
         rhs: 0,
     };
     for r in &seeding.known {
-        cover(&mut map, r, worth(seeds));
+        cover(&mut map, r, worth(starts.len()));
     }
-    let mut out = Vec::with_capacity(seeds);
-    for (i, theta0) in spread_seeds(&params, seeds).into_iter().enumerate() {
+    let mut out = Vec::with_capacity(starts.len());
+    for (i, &theta0) in starts.iter().enumerate() {
         let (mut cycles, mut sets) = (Vec::new(), Vec::new());
         for r in &seeding.known {
             match r {
@@ -309,7 +328,7 @@ fn seed_reaches(
             continue;
         };
         if !seeding.known.iter().any(|k| k.same(&reach)) {
-            cover(&mut map, &reach, worth(seeds - i - 1));
+            cover(&mut map, &reach, worth(starts.len() - i - 1));
             seeding.known.push(reach.clone());
         }
         out.push((reach, points));
@@ -318,26 +337,121 @@ fn seed_reaches(
 }
 
 /// The followed orbit's points labelled 0 and each further attractor's
-/// (in the order the seeds first reached them) labelled 1, 2, …: the
-/// points, their labels and how many attractors.
-fn label(
-    mine: Option<Reach>,
-    thetas: Vec<f64>,
-    reached: Vec<Reached>,
-) -> (Vec<f64>, Vec<u8>, usize) {
-    let mut attractor = vec![0; thetas.len()];
-    let mut thetas = thetas;
-    let mut known: Vec<Reach> = mine.into_iter().collect();
-    for (r, points) in reached {
-        if known.iter().any(|k| k.same(&r)) || known.len() > u8::MAX as usize {
-            continue;
+/// (in the order the seeds first reached them) labelled 1, 2, ….
+fn label(mine: Option<Reach>, thetas: Vec<f64>, reached: Vec<Reached>) -> SeededColumn {
+    let mut col = SeededColumn {
+        attractor: vec![0; thetas.len()],
+        thetas,
+        count: 0,
+        rhs_evals: 0,
+        reaches: mine.into_iter().collect(),
+    };
+    col.add(reached);
+    col
+}
+
+impl SeededColumn {
+    /// Adds those of `reached` that are none of its attractors, each with
+    /// the next label; whether any was added.
+    fn add(&mut self, reached: Vec<Reached>) -> bool {
+        let before = self.reaches.len();
+        for (r, points) in reached {
+            if self.reaches.iter().any(|k| k.same(&r)) || self.reaches.len() > u8::MAX as usize {
+                continue;
+            }
+            let label = self.reaches.len() as u8;
+            self.thetas.extend_from_slice(&points);
+            self.attractor
+                .extend(std::iter::repeat_n(label, points.len()));
+            self.reaches.push(r);
         }
-        let label = known.len() as u8;
-        thetas.extend_from_slice(&points);
-        attractor.extend(std::iter::repeat_n(label, points.len()));
-        known.push(r);
+        self.count = self.reaches.len();
+        self.count > before
     }
-    (thetas, attractor, known.len())
+
+    /// Where seeds continuing attractor `label` to a neighbouring column
+    /// start: each point of a cycle (near a fold its basin there is thin,
+    /// and one point may lie outside it), a set's last point drawn.
+    fn points_of(&self, label: usize) -> Vec<f64> {
+        let labelled = self.thetas.iter().zip(&self.attractor);
+        let last = labelled.rev().find(|&(_, &a)| a as usize == label);
+        match self.reaches.get(label) {
+            Some(Reach::Cycle(c)) => c.clone(),
+            Some(Reach::Set(..)) => last.map(|(&t, _)| t).into_iter().collect(),
+            None => vec![],
+        }
+    }
+
+    /// The θ from which seeds at this column (at `params`) continue those
+    /// attractors of `neighbour` (the next column's, left or right) that
+    /// none of its own continues ([`continues`]), except those `tried`
+    /// says were tried already (given their labels).
+    pub(crate) fn starts_from(
+        &self,
+        neighbour: &SeededColumn,
+        params: &Params,
+        mut tried: impl FnMut(usize) -> bool,
+    ) -> Vec<f64> {
+        let mut starts = vec![];
+        for (label, r) in neighbour.reaches.iter().enumerate() {
+            if self.reaches.iter().any(|mine| continues(r, mine)) || tried(label) {
+                continue;
+            }
+            for theta in neighbour.points_of(label) {
+                starts.push(column_start(params.kappa, params.theta_nu, Some(theta)));
+            }
+        }
+        starts
+    }
+
+    /// Runs seeds from `starts` at this column's θν (`params`) against its
+    /// attractors and adds what is new (confirmed at full accuracy, as
+    /// every seed's is); whether anything was.
+    pub(crate) fn extend_from(
+        &mut self,
+        params: Params,
+        settings: SolverSettings,
+        starts: &[f64],
+        opts: &SweepOptions,
+        cancel: &dyn Fn() -> bool,
+    ) -> Result<bool, SimError> {
+        if starts.is_empty() || self.reaches.is_empty() {
+            return Ok(false);
+        }
+        let (reached, rhs) = seeds_from(params, settings, &self.reaches, starts, opts, cancel)?;
+        self.rhs_evals += rhs;
+        Ok(self.add(reached))
+    }
+}
+
+/// How far (radians) an attractor's points may move from one column to the
+/// next and still be taken for the same branch by [`continues`]: the
+/// columns of a diagram are a few thousandths of a radian of θν apart, and
+/// coexisting attractors' points tenths apart.
+const BRANCH_STEP: f64 = 0.05;
+
+/// Whether attractor `b` of a column may be the continuation of `a`, its
+/// neighbour's: every point of `a` (a set's hull's ends) lies within
+/// [`BRANCH_STEP`] of a point of a cycle `b` whose period is a multiple of
+/// a cycle `a`'s (the same, or doubled), or of a set `b`'s hull. Only a
+/// test for whether a seed is worth running from `a`: a seed that turns
+/// out to reach a known attractor adds nothing, so the test leans to
+/// running one (a P2 shrinking onto a fixed point at a flip is tried).
+fn continues(a: &Reach, b: &Reach) -> bool {
+    if let (Reach::Cycle(ca), Reach::Cycle(cb)) = (a, b)
+        && cb.len() % ca.len() != 0
+    {
+        return false;
+    }
+    let ends = |r: &Reach| match r {
+        Reach::Cycle(c) => c.clone(),
+        Reach::Set(lo, hi) => vec![*lo, *hi],
+    };
+    let near = |x: f64| match b {
+        Reach::Cycle(c) => c.iter().any(|y| wrap_angle(x - y).abs() <= BRANCH_STEP),
+        Reach::Set(lo, hi) => (lo - BRANCH_STEP..=hi + BRANCH_STEP).contains(&x),
+    };
+    ends(a).into_iter().all(near)
 }
 
 /// The followed column `followed` at θν of `params` seeded from `seeds`
@@ -358,13 +472,9 @@ pub fn seeded_column(
         let seeds = seeds.min(MAX_SEEDS);
         seed_reaches(params, settings, mine.as_ref(), seeds, opts, cancel)?
     };
-    let (thetas, attractor, count) = label(mine, followed.thetas.clone(), reached);
-    Ok(SeededColumn {
-        thetas,
-        attractor,
-        count,
-        rhs_evals,
-    })
+    let mut col = label(mine, followed.thetas.clone(), reached);
+    col.rhs_evals = rhs_evals;
+    Ok(col)
 }
 
 /// How many distinct attractors the orbit that reached `followed` (a phase
@@ -381,8 +491,7 @@ pub(crate) fn attractor_count(
 ) -> Result<(usize, u64), SimError> {
     let seeds = seeds.min(MAX_SEEDS);
     let (reached, rhs) = seed_reaches(params, settings, followed.as_ref(), seeds, opts, cancel)?;
-    let (_, _, count) = label(followed, vec![], reached);
-    Ok((count, rhs))
+    Ok((label(followed, vec![], reached).count, rhs))
 }
 
 #[cfg(test)]
@@ -398,5 +507,44 @@ mod tests {
         assert!(Reach::Set(0.0, 1.0).same(&Reach::Set(0.9, 2.0)));
         assert!(!Reach::Set(0.0, 1.0).same(&Reach::Set(1.1, 2.0)));
         assert!(!a.same(&Reach::Set(0.0, 1.0)));
+    }
+
+    #[test]
+    fn a_branch_continues_to_nearby_points_only() {
+        let p2 = Reach::Cycle(vec![0.1, 0.5]);
+        // The same P2 a column on, and the P4 it doubled into.
+        assert!(continues(&p2, &Reach::Cycle(vec![0.52, 0.11])));
+        assert!(continues(&p2, &Reach::Cycle(vec![0.09, 0.12, 0.48, 0.53])));
+        // Into a chaotic band about its points.
+        assert!(continues(&p2, &Reach::Set(0.08, 0.6)));
+        // Not a fixed point, even one near both points, nor a set that
+        // misses one point.
+        assert!(!continues(&p2, &Reach::Cycle(vec![0.3])));
+        let close = Reach::Cycle(vec![0.3, 0.32]);
+        assert!(!continues(&close, &Reach::Cycle(vec![0.31])));
+        assert!(!continues(&p2, &Reach::Set(0.2, 0.6)));
+        // A set continues to an overlapping one, not to a window's cycle.
+        assert!(continues(&Reach::Set(0.1, 0.5), &Reach::Set(0.12, 0.53)));
+        assert!(!continues(
+            &Reach::Set(0.1, 0.5),
+            &Reach::Cycle(vec![0.2, 0.3, 0.45])
+        ));
+    }
+
+    #[test]
+    fn labels_grow_with_new_attractors_only() {
+        let fp = Reach::Cycle(vec![0.3]);
+        let mut col = label(Some(fp.clone()), vec![0.3; 4], vec![]);
+        assert_eq!((col.count, col.attractor.clone()), (1, vec![0; 4]));
+        let p2 = Reach::Cycle(vec![0.1, 0.5]);
+        assert!(col.add(vec![(p2.clone(), vec![0.1, 0.5]), (fp.clone(), vec![0.3])]));
+        assert!(!col.add(vec![(p2, vec![0.1, 0.5])]));
+        assert_eq!(col.count, 2);
+        assert_eq!(col.attractor, vec![0, 0, 0, 0, 1, 1]);
+        assert_eq!(col.points_of(1), vec![0.1, 0.5]);
+        assert_eq!(col.points_of(2), Vec::<f64>::new());
+        let mut set = label(Some(Reach::Set(0.1, 0.4)), vec![0.1, 0.4, 0.2], vec![]);
+        set.add(vec![(fp.clone(), vec![0.3])]);
+        assert_eq!(set.points_of(0), vec![0.2]);
     }
 }
