@@ -296,11 +296,11 @@ pub fn attractors(
         // stop early there).
         if a.period.is_some() {
             for &x in &a.points {
-                map.cover(&[x], 0);
+                map.cover_point(x);
             }
         } else {
             let left = all.len() - i - 1;
-            map.cover(&a.points, left * (TRANSIENT + KEEP) / 4);
+            map.cover_set(a.points[0], a.points[1], left * (TRANSIENT + KEEP) / 4);
         }
 
         found.push(a);

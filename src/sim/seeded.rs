@@ -120,10 +120,10 @@ fn cover(map: &mut SeedMap, r: &Reach, worth: usize) {
     match r {
         Reach::Cycle(c) => {
             for &x in c {
-                map.cover(&[x], 0);
+                map.cover_point(x);
             }
         }
-        Reach::Set(lo, hi) => map.cover(&[*lo, *hi], worth),
+        Reach::Set(lo, hi) => map.cover_set(*lo, *hi, worth),
     }
 }
 

@@ -9,9 +9,11 @@
 //! map evaluations allows (wider catches the seeds sooner, but may take in
 //! a jump of f that is expensive to resolve): 0.3 rad each side of the
 //! attractor's hull, then 0.1, 0.03 and 0.01, each try capped at
-//! [`BUILD_CAP`]. Where all are refused (a chaotic set whose hull holds a
-//! jump of f, as the intermittent one's), the hull alone is tried once
-//! more, capped at what the remaining seeds would otherwise integrate.
+//! [`BUILD_CAP`]. A chaotic set's neighbourhoods are tried only where they
+//! at least double its hull, and to a looser tolerance ([`SET_MAP_TOL`]);
+//! where all are refused (a wide set whose hull holds a jump of f, as the
+//! intermittent one's), the hull alone is tried, capped at what the
+//! remaining seeds would otherwise integrate.
 //!
 //! Seeds that linger far from every series (creep, whose fixed point draws
 //! them in at 1 % an iterate) get a patch where they are: once they have
@@ -109,7 +111,8 @@ impl<'s> SeedMap<'s> {
             // The seeds linger away from every series: a patch where they
             // are, paid for by the integrated iterates it may save.
             self.since_try = 0;
-            self.try_width(theta, theta, self.widths[0], self.cap);
+            let tol = self.iopts.tol;
+            self.try_width(theta, theta, self.widths[0], self.cap, tol);
             if let Some(next) = self.interps.last().and_then(|i| i.map(theta)) {
                 return Ok(next);
             }
@@ -121,30 +124,42 @@ impl<'s> SeedMap<'s> {
         Ok(self.sim.next_onset(&ev))
     }
 
-    /// Adds an interpolant over a neighbourhood of `points` (an attractor's
-    /// cycle points, or its hull's ends), as wide as its widths and cap
-    /// allow, else over the hull with `worth` evaluations at most; nothing
-    /// when every try is refused (seeds then integrate there).
-    pub fn cover(&mut self, points: &[f64], worth: usize) {
-        let us = points.iter().map(|&th| wrap_angle(th - self.psi));
-        let (lo, hi) = us.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), u| {
-            (a.min(u), b.max(u))
-        });
-        if !(lo <= hi) {
-            return;
-        }
-        let (widths, cap) = (self.widths, self.cap);
-        let tries = widths.iter().map(|&w| (w, cap));
-        for (w, cap) in tries.chain([(1e-3, worth)]) {
-            if self.try_width(lo + self.psi, hi + self.psi, w, cap) {
+    /// Adds an interpolant over a neighbourhood of a cycle's point `theta`,
+    /// as wide as its widths and cap allow (the widest that is built);
+    /// nothing when every try is refused (seeds then integrate there).
+    pub fn cover_point(&mut self, theta: f64) {
+        let (widths, cap, tol) = (self.widths, self.cap, self.iopts.tol);
+        for &w in widths {
+            if self.try_width(theta, theta, w, cap, tol) {
                 return;
             }
         }
     }
 
-    /// Adds an interpolant over [lo − w, hi + w] (θ, kept inside the arc),
-    /// at most `cap` map evaluations; whether it was built.
-    fn try_width(&mut self, lo: f64, hi: f64, w: f64, cap: usize) -> bool {
+    /// Adds an interpolant over a chaotic set's interval [lo, hi], to
+    /// [`SET_MAP_TOL`]: a neighbourhood as wide as its widths allow where
+    /// one at least doubles the interval (a narrow band), else the interval
+    /// alone, with `worth` evaluations at most (a wide set's interval may
+    /// hold a jump of f and rough stretches); nothing when every try is
+    /// refused.
+    pub fn cover_set(&mut self, lo: f64, hi: f64, worth: usize) {
+        let (a, b) = (wrap_angle(lo - self.psi), wrap_angle(hi - self.psi));
+        if !(a <= b) {
+            return;
+        }
+        let tol = SET_MAP_TOL.max(self.iopts.tol);
+        let (widths, cap) = (self.widths, self.cap);
+        let tries = widths.iter().filter(|&&w| w >= b - a).map(|&w| (w, cap));
+        for (w, cap) in tries.chain([(1e-3, worth)]) {
+            if self.try_width(lo, hi, w, cap, tol) {
+                return;
+            }
+        }
+    }
+
+    /// Adds an interpolant to `tol` over [lo − w, hi + w] (θ, kept inside
+    /// the arc), at most `cap` map evaluations; whether it was built.
+    fn try_width(&mut self, lo: f64, hi: f64, w: f64, cap: usize, tol: f64) -> bool {
         let edge = FRAC_PI_2 - 1e-6;
         let (lo, hi) = (wrap_angle(lo - self.psi), wrap_angle(hi - self.psi));
         let (a, b) = ((lo - w).max(-edge), (hi + w).min(edge));
@@ -153,6 +168,7 @@ impl<'s> SeedMap<'s> {
         }
         let opts = InterpolantOptions {
             max_evaluations: cap,
+            tol,
             ..self.iopts
         };
         let mut spent = (0, 0);
@@ -163,6 +179,14 @@ impl<'s> SeedMap<'s> {
         built.map(|i| self.interps.push(i)).is_ok()
     }
 }
+
+/// The error in θ' allowed for an interpolant over a chaotic set's
+/// interval ([`SeedMap::cover_set`]). A seed there is only told whether
+/// it stays in the interval (or closes in on a cycle to 1e-3), and its
+/// orbit is chaotic: errors of 1e-4 change nothing it is told. At the
+/// seeds' 1e-5 the intermittent preset's interval took 2 755 evaluations
+/// (tries at the loose map's own noise), at 1e-4 545.
+pub(crate) const SET_MAP_TOL: f64 = 1e-4;
 
 /// What a seed's orbit on [`SeedMap`] came to.
 pub(crate) enum Fell {
