@@ -3,11 +3,12 @@
 //!
 //! - `attractors` at one point with the default 64 seeds against one
 //!   `orbit` of 400 + 128 iterates there (target: at most 3×), at the
-//!   chaos preset (κ = 18.95, θν = 1.25) and inside the κ = 10 hysteresis
-//!   range (θν = 1.40);
-//! - the Fig. 3b diagram (400 columns × 200 points) with 16 seeds against
-//!   the single-seed diagram (target: at most 3×), both through the sweep
-//!   job as `oneblock bifurcation` runs it;
+//!   chaos preset (κ = 18.95, θν = 1.25), inside the κ = 10 hysteresis
+//!   range (θν = 1.40), and at the creep and intermittent presets;
+//! - the Fig. 3b diagram (400 columns × 200 points) with 16 seeds and the
+//!   neighbour pass (both sweep directions) against the single-seed
+//!   diagram (target: at most 3×), both through the sweep job as
+//!   `oneblock bifurcation` runs it;
 //! - the Fig. 4 grid with attractor counts from 16 seeds against the plain
 //!   grid (target: at most 4×), both through the phase job.
 //!
@@ -40,6 +41,8 @@ fn point(c: &mut Criterion) {
     for (name, params) in [
         ("chaos", preset("chaos").unwrap().params),
         ("hysteresis", hysteresis),
+        ("creep", preset("creep").unwrap().params),
+        ("intermittent", preset("intermittent").unwrap().params),
     ] {
         let sim = Simulator::new(params, settings).unwrap();
         let opts = OrbitOptions {

@@ -93,19 +93,30 @@ impl View for NumericsView {
         ViewKind::Numerics.title()
     }
 
+    /// In the window: the controls, the notes, the chart and the table,
+    /// scrolled where they run past the tile (text ×1.5 in a small tile).
+    /// As a figure: the chart alone (its legend and plot), filling it.
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let run = &jobs.numerics;
-        if !style::figure_only(ui.ctx()) {
-            self.controls_ui(ui, run, out);
-        }
-        notes_ui(ui, s, run);
         let rows: &[Row] = if run.data.rows.is_empty() {
             default_rows()
         } else {
             &run.data.rows
         };
-        self.chart_ui(ui, s, rows, !run.data.rows.is_empty());
-        table_ui(ui, rows, s);
+        let showing_run = !run.data.rows.is_empty();
+        if style::figure_only(ui.ctx()) {
+            self.chart_ui(ui, s, rows, showing_run, None);
+            return;
+        }
+        let tile = ui.available_height();
+        egui::ScrollArea::vertical()
+            .auto_shrink(false)
+            .show(ui, |ui| {
+                self.controls_ui(ui, run, out);
+                notes_ui(ui, s, run);
+                self.chart_ui(ui, s, rows, showing_run, Some(tile));
+                table_ui(ui, rows, s);
+            });
     }
 }
 
@@ -220,8 +231,16 @@ fn notes_ui(ui: &mut Ui, s: &Settings, run: &Slot<WorkPrecisionData>) {
 
 impl NumericsView {
     /// The legend, the jobs' markers and the log-log plot of `rows`
-    /// (a run's, over the faint committed chart unless hidden).
-    fn chart_ui(&self, ui: &mut Ui, s: &Settings, rows: &[Row], showing_run: bool) {
+    /// (a run's, over the faint committed chart unless hidden); the plot
+    /// 62 % of the `tile`'s height, or all the height left (a figure).
+    fn chart_ui(
+        &self,
+        ui: &mut Ui,
+        s: &Settings,
+        rows: &[Row],
+        showing_run: bool,
+        tile: Option<f32>,
+    ) {
         let y_evals = self.y_evals;
         let committed =
             (showing_run && !self.hide_committed).then(|| curves(default_rows(), y_evals));
@@ -232,21 +251,28 @@ impl NumericsView {
         };
         let ink = style::ink(s.dark);
         chart_legend_ui(ui, rows, y_evals, &marks, mode, ink);
-        // Tall enough for five labelled decades at any text size.
+        // In the window, tall enough for five labelled decades at any text
+        // size (the tile scrolls); a figure takes the height it is given.
         let line = ui.text_style_height(&egui::TextStyle::Body);
-        let plot_h = (ui.available_height() * 0.62).max(14.0 * line);
+        let plot_h = match tile {
+            Some(h) => (h * 0.62).max(14.0 * line),
+            None => ui.available_height(),
+        };
         let lw = style::width(ui.ctx(), 1.0);
         let plot = Plot::new("work_precision")
             .show_background(false)
             .height(plot_h);
+        // The y title in short where it would run past a short plot.
+        let (long, short) = if y_evals {
+            ("RHS evaluations per iterate", "RHS evals / iterate")
+        } else {
+            ("wall time per iterate (µs)", "µs / iterate")
+        };
+        let y_title = axes::fitting_title(ui, long, short, plot_h);
         let plot = axes::apply(
             plot,
             &AxisSpec::log10("max map error |θ' − θ'_ref| (rad)"),
-            &AxisSpec::log10(if y_evals {
-                "RHS evaluations per iterate"
-            } else {
-                "wall time per iterate (µs)"
-            }),
+            &AxisSpec::log10(y_title),
         );
         let resp = plot
             .label_formatter(|pos| {
