@@ -1,8 +1,8 @@
 //! `oneblock figure`: every view drawn headless with no display at all
 //! (DISPLAY and WAYLAND_DISPLAY unset): the SVG parses, each axis has at
 //! least five numeric tick labels, no control of the window is drawn, the
-//! bifurcation diagram spans the θν range asked for; a PNG is a PNG of the
-//! size asked for; an extension the command cannot write is refused.
+//! bifurcation diagram spans the θν range asked for; every view's PNG is a
+//! PNG of the size asked for, not blank; an extension the command cannot write is refused.
 #![cfg(feature = "gui")]
 
 use std::collections::HashMap;
@@ -197,6 +197,46 @@ fn every_view_is_drawn_headless_with_its_axes_and_no_controls() {
         let (x, y) = axis_ticks(&t);
         assert!(x.len() >= 5, "{view}: x ticks {x:?}");
         assert!(y.len() >= 5, "{view}: y ticks {y:?}");
+    }
+}
+
+#[test]
+fn every_view_is_drawn_headless_as_a_png_too() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8 path");
+    for view in [
+        "plane",
+        "block",
+        "bifurcation",
+        "return-map",
+        "events",
+        "phase",
+        "numerics",
+        "time-series",
+    ] {
+        let out = dir.path().join(format!("{view}.png"));
+        let o = figure(&[
+            "--view",
+            view,
+            "--session",
+            session,
+            "--size",
+            "320x240",
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(
+            o.status.success(),
+            "{view}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let img = image::open(&out).expect("a PNG").to_rgb8();
+        // Two pixels per point, and not blank: the view and its labels.
+        assert_eq!(img.dimensions(), (640, 480), "{view}");
+        let first = *img.get_pixel(0, 0);
+        let differ = img.pixels().filter(|p| **p != first).count();
+        assert!(differ > 640 * 480 / 50, "{view}: {differ} pixels drawn");
     }
 }
 
