@@ -273,3 +273,47 @@ fn just_past_a_flip_the_slow_period_two_cycle_is_found() {
     );
     assert!(c.multiplier > 0.99 && c.multiplier < 1.0, "{c:?}");
 }
+
+/// Inside Fig. 3b's P24 window (θν ≈ 1.2286, multiplier 0.66) an orbit
+/// from θ₀ = 0.52 is still 1e-6 off its cycle after 500 + 100 iterates: a
+/// seeded column takes it for the cycle it closes in on (the one its seeds
+/// settle onto), not for a second, chaotic attractor; `attractors` finds
+/// the one P24 too.
+#[test]
+fn a_column_closing_in_slowly_is_its_cycle_not_a_second_attractor() {
+    let tn = "1.2285714285714286";
+    let rows = seeded_rows(&[
+        "bifurcation",
+        "--preset",
+        "fig3b",
+        "--theta-nu-from",
+        tn,
+        "--theta-nu-to",
+        tn,
+        "--columns",
+        "1",
+        "--theta0",
+        "0.52",
+        "--keep",
+        "100",
+        "--seeds",
+        "64",
+    ]);
+    assert_eq!(rows.len(), 100);
+    assert!(rows.iter().all(|r| r.2 == 0), "a second attractor");
+    let p = oneblock::model::Params {
+        theta_nu: tn.parse().unwrap(),
+        ..oneblock::model::presets::preset("fig3b").unwrap().params
+    };
+    let found = attractors_default(p, 64).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].period, Some(24), "{found:?}");
+    // The column's points are the P24's, to its slow approach (1e-4).
+    for r in &rows {
+        let near = found[0]
+            .points
+            .iter()
+            .any(|x| wrap_angle(x - r.1).abs() < 1e-4);
+        assert!(near, "{r:?}");
+    }
+}
