@@ -20,7 +20,7 @@ pub(crate) mod seed_map;
 use seed_map::{Fell, Known, SeedMap, hull};
 
 use super::cycles::{CycleOptions, solve_counting};
-use super::seeded::SAME_CYCLE;
+use super::seeded::same_tol;
 use super::{Orbit, OrbitOptions, Period, SimError, Simulator, default_settings};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, exit_arc, wrap_angle};
@@ -176,8 +176,9 @@ fn reach_seeded(
         }
         Fell::Repeats(points) => {
             let p = points.len();
-            let same =
-                |a: &&Attractor| a.period == Some(p) && same_cycle(&points, &a.points, SAME_CYCLE);
+            let same = |a: &&Attractor| {
+                a.period == Some(p) && same_cycle(&points, &a.points, same_tol(settings))
+            };
             if let Some(a) = known.iter().find(same) {
                 return Ok(Reached::Cycle {
                     period: p,

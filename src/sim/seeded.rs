@@ -30,6 +30,15 @@ use crate::model::{Params, wrap_angle};
 /// to 1e-10, and coexisting cycles of one period lie far further apart.
 pub const SAME_CYCLE: f64 = 1e-5;
 
+/// [`SAME_CYCLE`], or ten times the map's tolerance where that is looser
+/// (at most 1e-2): on a loose map (the window's diagram runs DP5(4) at
+/// 1e-4) the map is not smooth to below its error, and orbits settle onto
+/// points of one cycle a few 1e-5 apart (seen at κ = 10, θν = 1.3229),
+/// while coexisting cycles still lie tenths of a radian apart.
+pub(crate) fn same_tol(settings: &SolverSettings) -> f64 {
+    (10.0 * settings.rtol).clamp(SAME_CYCLE, 1e-2)
+}
+
 /// The most seeds a column or cell may have.
 pub const MAX_SEEDS: usize = 256;
 
@@ -64,13 +73,14 @@ impl Reach {
         Some(Reach::Set(lo, hi))
     }
 
-    /// Whether `self` and `other` are one attractor (see the module's doc).
-    fn same(&self, other: &Reach) -> bool {
+    /// Whether `self` and `other` are one attractor (see the module's
+    /// doc), cycles' points coinciding to `tol` ([`same_tol`]).
+    fn same(&self, other: &Reach, tol: f64) -> bool {
         match (self, other) {
             (Reach::Cycle(a), Reach::Cycle(b)) => {
                 a.len() == b.len()
                     && a.iter()
-                        .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= SAME_CYCLE))
+                        .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= tol))
             }
             (Reach::Set(a0, a1), Reach::Set(b0, b1)) => a0 <= b1 && b0 <= a1,
             _ => false,
@@ -127,6 +137,8 @@ pub struct SeededColumn {
     pub rhs_evals: u64,
     /// What each label's attractor is (`reaches[label]`).
     pub(crate) reaches: Vec<Reach>,
+    /// How near two cycles' points are taken for one ([`same_tol`]).
+    same_tol: f64,
 }
 
 /// What a seed reached, and the points a diagram draws for it.
@@ -256,7 +268,7 @@ impl Seeding<'_> {
             Fell::InSet(k) => return Ok(Some((Reach::Set(sets[k].0, sets[k].1), vec![]))),
             Fell::Repeats(points) => {
                 let r = on_cycle(&points, keep, &settings);
-                if self.known.iter().any(|k| k.same(&r.0)) {
+                if self.known.iter().any(|k| k.same(&r.0, same_tol(&settings))) {
                     return Ok(Some(r));
                 }
                 points[points.len() - 1]
@@ -273,7 +285,7 @@ impl Seeding<'_> {
                     return Ok(Some((Reach::Cycle(cy.clone()), cy.clone())));
                 }
                 let (lo, hi) = hull(&kept);
-                if self.known.iter().any(|k| k.same(&Reach::Set(lo, hi))) {
+                if self.known.iter().any(|k| k.same(&Reach::Set(lo, hi), 0.0)) {
                     return Ok(Some((Reach::Set(lo, hi), kept)));
                 }
                 next
@@ -363,7 +375,11 @@ fn seeds_from(
         let Some((reach, points)) = seeding.told(fell, &cycles, &sets, tol)? else {
             continue;
         };
-        if !seeding.known.iter().any(|k| k.same(&reach)) {
+        if !seeding
+            .known
+            .iter()
+            .any(|k| k.same(&reach, same_tol(&settings)))
+        {
             cover(&mut map, &reach, worth(starts.len() - i - 1));
             seeding.known.push(reach.clone());
         }
@@ -374,13 +390,19 @@ fn seeds_from(
 
 /// The followed orbit's points labelled 0 and each further attractor's
 /// (in the order the seeds first reached them) labelled 1, 2, ….
-fn label(mine: Option<Reach>, thetas: Vec<f64>, reached: Vec<Reached>) -> SeededColumn {
+fn label(
+    mine: Option<Reach>,
+    thetas: Vec<f64>,
+    reached: Vec<Reached>,
+    same_tol: f64,
+) -> SeededColumn {
     let mut col = SeededColumn {
         attractor: vec![0; thetas.len()],
         thetas,
         count: 0,
         rhs_evals: 0,
         reaches: mine.into_iter().collect(),
+        same_tol,
     };
     col.add(reached);
     col
@@ -392,7 +414,8 @@ impl SeededColumn {
     fn add(&mut self, reached: Vec<Reached>) -> bool {
         let before = self.reaches.len();
         for (r, points) in reached {
-            if self.reaches.iter().any(|k| k.same(&r)) || self.reaches.len() > u8::MAX as usize {
+            let known = self.reaches.iter().any(|k| k.same(&r, self.same_tol));
+            if known || self.reaches.len() > u8::MAX as usize {
                 continue;
             }
             let label = self.reaches.len() as u8;
@@ -508,7 +531,7 @@ pub fn seeded_column(
         let seeds = seeds.min(MAX_SEEDS);
         seed_reaches(params, settings, mine.as_ref(), seeds, opts, cancel)?
     };
-    let mut col = label(mine, followed.thetas.clone(), reached);
+    let mut col = label(mine, followed.thetas.clone(), reached, same_tol(&settings));
     col.rhs_evals = rhs_evals;
     Ok(col)
 }
@@ -527,7 +550,8 @@ pub(crate) fn attractor_count(
 ) -> Result<(usize, u64), SimError> {
     let seeds = seeds.min(MAX_SEEDS);
     let (reached, rhs) = seed_reaches(params, settings, followed.as_ref(), seeds, opts, cancel)?;
-    Ok((label(followed, vec![], reached).count, rhs))
+    let tol = same_tol(&settings);
+    Ok((label(followed, vec![], reached, tol).count, rhs))
 }
 
 #[cfg(test)]
@@ -537,12 +561,17 @@ mod tests {
     #[test]
     fn cycles_match_by_their_points_and_sets_by_overlap() {
         let a = Reach::Cycle(vec![0.1, 0.5]);
-        assert!(a.same(&Reach::Cycle(vec![0.5 + 1e-6, 0.1])));
-        assert!(!a.same(&Reach::Cycle(vec![0.1])));
-        assert!(!a.same(&Reach::Cycle(vec![0.1, 0.6])));
-        assert!(Reach::Set(0.0, 1.0).same(&Reach::Set(0.9, 2.0)));
-        assert!(!Reach::Set(0.0, 1.0).same(&Reach::Set(1.1, 2.0)));
-        assert!(!a.same(&Reach::Set(0.0, 1.0)));
+        let tol = SAME_CYCLE;
+        assert!(a.same(&Reach::Cycle(vec![0.5 + 1e-6, 0.1]), tol));
+        assert!(!a.same(&Reach::Cycle(vec![0.1]), tol));
+        assert!(!a.same(&Reach::Cycle(vec![0.1, 0.6]), tol));
+        assert!(Reach::Set(0.0, 1.0).same(&Reach::Set(0.9, 2.0), tol));
+        assert!(!Reach::Set(0.0, 1.0).same(&Reach::Set(1.1, 2.0), tol));
+        assert!(!a.same(&Reach::Set(0.0, 1.0), tol));
+        // On a loose map, cycles a few 1e-5 apart are one.
+        let loose = same_tol(&crate::sim::default_settings(1e-4));
+        assert!(a.same(&Reach::Cycle(vec![0.5 + 3e-5, 0.1]), loose));
+        assert!(!a.same(&Reach::Cycle(vec![0.5 + 3e-5, 0.1]), tol));
     }
 
     #[test]
@@ -558,7 +587,7 @@ mod tests {
         };
         assert_eq!(c.len(), 3);
         assert!(
-            Reach::Cycle(cycle.to_vec()).same(&Reach::Cycle(c.clone())),
+            Reach::Cycle(cycle.to_vec()).same(&Reach::Cycle(c.clone()), SAME_CYCLE),
             "{c:?}"
         );
         for (x, y) in c.iter().zip([cycle[0], cycle[1], cycle[2]]) {
@@ -599,7 +628,7 @@ mod tests {
     #[test]
     fn labels_grow_with_new_attractors_only() {
         let fp = Reach::Cycle(vec![0.3]);
-        let mut col = label(Some(fp.clone()), vec![0.3; 4], vec![]);
+        let mut col = label(Some(fp.clone()), vec![0.3; 4], vec![], SAME_CYCLE);
         assert_eq!((col.count, col.attractor.clone()), (1, vec![0; 4]));
         let p2 = Reach::Cycle(vec![0.1, 0.5]);
         assert!(col.add(vec![(p2.clone(), vec![0.1, 0.5]), (fp.clone(), vec![0.3])]));
@@ -608,7 +637,12 @@ mod tests {
         assert_eq!(col.attractor, vec![0, 0, 0, 0, 1, 1]);
         assert_eq!(col.points_of(1), vec![0.1, 0.5]);
         assert_eq!(col.points_of(2), Vec::<f64>::new());
-        let mut set = label(Some(Reach::Set(0.1, 0.4)), vec![0.1, 0.4, 0.2], vec![]);
+        let mut set = label(
+            Some(Reach::Set(0.1, 0.4)),
+            vec![0.1, 0.4, 0.2],
+            vec![],
+            SAME_CYCLE,
+        );
         set.add(vec![(fp.clone(), vec![0.3])]);
         assert_eq!(set.points_of(0), vec![0.2]);
     }
