@@ -32,6 +32,7 @@ fn figure(view: ViewKind, w: f32, h: f32) -> Figure {
         theta_nu: None,
         theta: None,
         size: egui::vec2(w, h),
+        crosshair: false,
     }
 }
 

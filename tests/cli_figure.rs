@@ -240,6 +240,45 @@ fn every_view_is_drawn_headless_as_a_png_too() {
     }
 }
 
+/// The current parameters' lines (style::CURRENT, #009e73) are drawn in a
+/// figure only when asked for, with the diagram's legend entry.
+#[test]
+fn the_current_parameters_are_marked_only_when_asked_for() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8 path");
+    for view in ["bifurcation", "phase"] {
+        let draw = |name: &str, extra: &[&str]| {
+            let out = dir.path().join(name);
+            let mut args = vec!["--view", view, "--session", session];
+            args.extend_from_slice(extra);
+            args.extend_from_slice(&["--out", out.to_str().expect("utf-8")]);
+            let o = figure(&args);
+            assert!(
+                o.status.success(),
+                "{view}: {}",
+                String::from_utf8_lossy(&o.stderr)
+            );
+            std::fs::read_to_string(&out).expect("svg written")
+        };
+        let plain = draw(&format!("{view}.svg"), &[]);
+        let marked = draw(&format!("{view}-marked.svg"), &["--crosshair"]);
+        let lines = |svg: &str| svg.matches("#009e73").count();
+        assert_eq!(lines(&plain), 0, "{view}: a current line drawn unasked");
+        assert!(
+            lines(&marked) > 0,
+            "{view}: no current line with --crosshair"
+        );
+        if view == "bifurcation" {
+            let legend = |svg: &str| texts(svg).iter().any(|t| t.text == "current θν");
+            assert!(
+                !legend(&plain) && legend(&marked),
+                "{view}: the legend entry"
+            );
+        }
+    }
+}
+
 #[test]
 fn the_diagram_spans_the_theta_nu_range_asked_for_and_a_png_is_made() {
     let dir = tempfile::tempdir().expect("temp dir");

@@ -355,6 +355,7 @@ fn svg_of(h: &Harness<'static, Explorer>, v: ViewKind) -> String {
         &h.state().jobs,
         &h.state().views.bifurcation.zoom,
         egui::vec2(900.0, 650.0),
+        false,
     )
 }
 

@@ -194,6 +194,9 @@ fn overlaps(view: ViewKind, settings: &Settings, (w, h): (f32, f32)) -> Vec<Stri
         theta_nu: None,
         theta: None,
         size: egui::vec2(w, h),
+        // With the current parameters' lines and legend entry: the most
+        // a figure draws.
+        crosshair: true,
     };
     let svg = svg(&fig).expect("the figure is drawn");
     let (texts, frames) = boxes(&svg);

@@ -216,7 +216,7 @@ impl BifurcationView {
         let bounds = self.bounds(sweep);
         let lines = Lines {
             theta_nu: (sweep.from, sweep.to),
-            current: s.params.theta_nu,
+            current: style::draws_current(ui.ctx()).then_some(s.params.theta_nu),
             theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
                 Regime::Mixed { theta_c } => Some(theta_c),
                 _ => None,
@@ -349,7 +349,8 @@ impl BifurcationView {
 /// The lines drawn over the diagram: θ = θν, ±θc and the current θν.
 struct Lines {
     theta_nu: (f64, f64),
-    current: f64,
+    /// The current θν, where it is drawn ([`style::draws_current`]).
+    current: Option<f64>,
     theta_c: Option<f64>,
     width: f32,
 }
@@ -372,11 +373,13 @@ impl Lines {
                 );
             }
         }
-        p.add(
-            VLine::new("current θν", self.current)
-                .color(style::CURRENT)
-                .width(2.0),
-        );
+        if let Some(tn) = self.current {
+            p.add(
+                VLine::new("current θν", tn)
+                    .color(style::CURRENT)
+                    .width(2.0),
+            );
+        }
     }
 }
 
@@ -464,7 +467,9 @@ fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
         if let Regime::Mixed { .. } = Regime::of(s.params.kappa, s.params.gamma) {
             style::legend_line(ui, style::ACCEL, true, "±θc");
         }
-        style::legend_line(ui, style::CURRENT, false, "current θν");
+        if style::draws_current(ui.ctx()) {
+            style::legend_line(ui, style::CURRENT, false, "current θν");
+        }
     });
 }
 

@@ -212,6 +212,7 @@ impl Explorer {
                     theta_nu: None,
                     theta: None,
                     size: egui::vec2(640.0, 480.0),
+                    crosshair: false,
                 };
                 let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
                 self.shots
@@ -233,6 +234,7 @@ impl Explorer {
                     &self.jobs,
                     &self.views.bifurcation.zoom,
                     area,
+                    false,
                 );
                 let path = fresh_path(&self.settings.save_dir, what, "svg");
                 self.shots.write(path, svg.into_bytes());

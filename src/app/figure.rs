@@ -42,6 +42,9 @@ pub struct Figure {
     pub theta_nu: Option<(f64, f64)>,
     pub theta: Option<(f64, f64)>,
     pub size: egui::Vec2,
+    /// Whether the current parameters' lines are drawn (θν; κ on the phase
+    /// diagram): a figure leaves them out unless asked for.
+    pub crosshair: bool,
 }
 
 impl Figure {
@@ -156,6 +159,7 @@ pub fn svg(fig: &Figure) -> Result<String, String> {
         &jobs,
         &zoom,
         fig.size,
+        fig.crosshair,
     ))
 }
 

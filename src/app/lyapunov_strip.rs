@@ -73,6 +73,7 @@ pub fn strip_ui(
         .allow_double_click_reset(false);
     let ax = AxisSpec::angle("θν, pull direction", s.angle_unit);
     let ay = AxisSpec::linear("λ, Lyapunov exponent");
+    let current = style::draws_current(ui.ctx());
     let resp = axes::apply(plot, &ax, &ay)
         .y_axis_min_width(y_width)
         .show(ui, |p| {
@@ -83,11 +84,13 @@ pub fn strip_ui(
                     .style(LineStyle::Dashed { length: 8.0 })
                     .width(1.0),
             );
-            p.add(
-                VLine::new("current θν", tn)
-                    .color(style::CURRENT)
-                    .width(2.0),
-            );
+            if current {
+                p.add(
+                    VLine::new("current θν", tn)
+                        .color(style::CURRENT)
+                        .width(2.0),
+                );
+            }
             for &(t, l, se) in &points {
                 if let Some(e) = se {
                     p.line(

@@ -152,6 +152,7 @@ impl PhaseView {
             .show_y(false)
             // Grid lines over a map of discrete cells read as cell borders.
             .show_grid(false);
+        let current = style::draws_current(ui.ctx());
         let resp = axes::apply(
             resp,
             &AxisSpec::angle("θν, pull direction", s.angle_unit),
@@ -182,16 +183,18 @@ impl PhaseView {
                 .fill_color(Color32::TRANSPARENT)
                 .stroke(egui::Stroke::new(1.0, style::CRITICAL)),
             );
-            p.add(
-                VLine::new("current θν", tn)
-                    .color(style::CURRENT)
-                    .width(1.5),
-            );
-            p.add(
-                HLine::new("current κ", kappa)
-                    .color(style::CURRENT)
-                    .width(1.5),
-            );
+            if current {
+                p.add(
+                    VLine::new("current θν", tn)
+                        .color(style::CURRENT)
+                        .width(1.5),
+                );
+                p.add(
+                    HLine::new("current κ", kappa)
+                        .color(style::CURRENT)
+                        .width(1.5),
+                );
+            }
             overlay::curve_items(p, &jobs.curves.data, line_width);
             let pointer = p.pointer_coordinate();
             if let (Some(a), Some(b)) = (drag_from, pointer) {

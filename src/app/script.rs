@@ -140,8 +140,9 @@ impl Script {
                 if n >= 4 {
                     if is_svg(&self.path) {
                         let views = svg_render::shown_views(w.settings);
-                        let svg =
-                            svg_render::render_svg(&views, w.settings, w.jobs, w.zoom, w.area);
+                        let svg = svg_render::render_svg(
+                            &views, w.settings, w.jobs, w.zoom, w.area, false,
+                        );
                         w.shots.write(self.path.clone(), svg.into_bytes());
                     } else {
                         w.shots.request(ctx, self.path.clone(), None);

@@ -32,6 +32,23 @@ pub fn set_figure_only(ctx: &egui::Context, on: bool) {
     ctx.data_mut(|d| d.insert_temp(figure_only_id(), on));
 }
 
+fn crosshair_id() -> egui::Id {
+    egui::Id::unique("oneblock-figure-crosshair")
+}
+
+/// Whether a figure drawn in `ctx` marks the current parameters (the
+/// current θν line, and κ on the phase diagram): only when asked for
+/// (`oneblock figure --crosshair`); the window always marks them.
+pub fn set_crosshair(ctx: &egui::Context, on: bool) {
+    ctx.data_mut(|d| d.insert_temp(crosshair_id(), on));
+}
+
+/// Whether the views draw the current parameters' lines in `ctx`: always
+/// in the window, in a figure only when asked for ([`set_crosshair`]).
+pub fn draws_current(ctx: &egui::Context) -> bool {
+    !figure_only(ctx) || ctx.data(|d| d.get_temp::<bool>(crosshair_id()).unwrap_or(false))
+}
+
 /// Whether `ctx` draws only the figure (see [`set_figure_only`]): the views
 /// leave out their controls then.
 pub fn figure_only(ctx: &egui::Context) -> bool {

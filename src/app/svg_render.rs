@@ -21,15 +21,18 @@ const PASSES: usize = 4;
 
 /// The SVG of `views` (one view, or the tiles in the window's tile layout)
 /// drawn over `size` points from `settings` and `jobs`, the bifurcation
-/// diagram at `zoom` (its zoom stack).
+/// diagram at `zoom` (its zoom stack); the current parameters' lines only
+/// with `crosshair` ([`style::set_crosshair`]).
 pub fn render_svg(
     views: &[ViewKind],
     settings: &Settings,
     jobs: &Jobs,
     zoom: &[Zoom],
     size: Vec2,
+    crosshair: bool,
 ) -> String {
     let mut r = Renderer::new(settings, zoom, size);
+    style::set_crosshair(&r.ctx, crosshair);
     for pass in 0..PASSES {
         r.pass(views, jobs, pass as f64 * 0.1);
     }

@@ -87,6 +87,11 @@ pub struct FigureArgs {
     /// diagonal, where f hugs it (creep, Fig. 3a's inset). --view return-map only.
     #[arg(long)]
     pub map_difference: bool,
+    /// Mark the current parameters: the θν line on the diagram, its λ
+    /// strip and the phase diagram (with κ's there). A figure leaves them
+    /// out unless asked for.
+    #[arg(long)]
+    pub crosshair: bool,
 }
 
 /// The slowest and fastest GIF playback (as `app::animation`'s, which
@@ -340,6 +345,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         theta_nu: c.theta_nu.filter(|_| view != ViewKind::Phase),
         theta: c.theta,
         size: eframe::egui::vec2(size[0], size[1]),
+        crosshair: a.crosshair,
     };
     // Bounded like every long command (a large phase grid takes a while):
     // a line of life on a terminal; --max-seconds or Ctrl+C end it with one
