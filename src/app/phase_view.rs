@@ -108,7 +108,7 @@ impl PhaseView {
             state_label_ui(ui, jobs);
         });
         grid_row_ui(ui, s);
-        legend_row_ui(ui, s.phase.seeds > 0);
+        legend_row_ui(ui, s.phase.seeds > 0, !data.complete());
         if let Some(sel) = self.selected
             && phase_attractors::list_ui(ui, data, sel, s.phase.seeds)
         {
@@ -270,7 +270,7 @@ impl View for PhaseView {
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
         if style::figure_only(ui.ctx()) {
-            legend_row_ui(ui, s.phase.seeds > 0);
+            legend_row_ui(ui, s.phase.seeds > 0, !jobs.phase.data.complete());
             overlay::curve_legend_ui(ui, &jobs.curves.data);
         } else {
             self.controls_ui(ui, s, jobs, out);
@@ -279,9 +279,10 @@ impl View for PhaseView {
     }
 }
 
-/// The classes' colours, one swatch each, and with seeds the mark of a
-/// multistable cell.
-fn legend_row_ui(ui: &mut Ui, seeds: bool) {
+/// The classes' colours, one swatch each, with seeds the mark of a
+/// multistable cell, and while coarse cells are shown what their pale
+/// colour means.
+fn legend_row_ui(ui: &mut Ui, seeds: bool, pale: bool) {
     ui.horizontal_wrapped(|ui| {
         for (c, name) in LEGEND_CLASSES {
             style::legend_swatch(ui, class_colour(c, 255), name);
@@ -289,7 +290,9 @@ fn legend_row_ui(ui: &mut Ui, seeds: bool) {
         if seeds {
             phase_attractors::multistable_legend_ui(ui);
         }
-        ui.label(RichText::new("pale: not refined yet").weak());
+        if pale {
+            ui.label(RichText::new("pale: not refined yet").weak());
+        }
     });
 }
 
