@@ -3,7 +3,8 @@
 //! `lyapunov` column of the bifurcation CSV.
 //!
 //! - Where the onsets repeat with a period p, or contract onto a cycle
-//!   ([`Simulator::settle`]), the cycle is solved and λ = ln|m|/p exactly,
+//!   ([`Simulator::settle`], or for longer periods
+//!   [`super::period::closing_in`]), the cycle is solved and λ = ln|m|/p exactly,
 //!   m its multiplier: no average, no error bar. So λ → 0⁻ is seen at each
 //!   period doubling, where m → −1, and at the cascade's accumulation.
 //! - Otherwise λ is the mean of ln|f′(θ)| over the last
@@ -12,7 +13,9 @@
 //!   column keeps.
 
 use super::analysis::map_derivative;
+use super::cycles::{CycleOptions, solve_counting};
 use super::orbit::OrbitOptions;
+use super::period::closing_in;
 use super::stats::mean_and_stderr;
 use super::{Column, NeverYield, Simulator, Yield};
 
@@ -38,6 +41,18 @@ pub fn column_lyapunov(sim: &Simulator, col: &Column) -> Option<ColumnLyapunov> 
     let mut run = LyapunovRun::new(col);
     run.advance(sim, col, &NeverYield, true);
     run.result()
+}
+
+/// The period and λ = ln|m|/p of the stable cycle that `kept` closes in
+/// on slowly ([`closing_in`]: periods the settle test's contraction does
+/// not reach, as Fig. 3b's P24 at θν ≈ 1.2286), solved by Newton from its
+/// extrapolated points; `None` if they do not, or it is not found.
+fn closing_in_solved(sim: &Simulator, kept: &[f64]) -> Option<(usize, f64)> {
+    let cycle = closing_in(kept)?;
+    let p = cycle.len();
+    let opts = CycleOptions::for_classifier(sim.settings());
+    let c = solve_counting(sim, cycle[p - 1], p, &opts, &mut (0, 0)).ok()?;
+    (c.minimal_period == p && c.stable).then(|| (p, c.lyapunov()))
 }
 
 /// [`column_lyapunov`] in pieces, for a host that wants its thread back
@@ -89,13 +104,17 @@ impl LyapunovRun {
             let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
             let mut spent = (0, 0);
             let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
-            if let (Some(c), Some(l)) = (&settled.cycle, settled.lyapunov)
+            let solved = match (settled.cycle, settled.lyapunov) {
+                (Some(c), Some(l)) => Some((c.period(), l)),
+                _ => closing_in_solved(sim, kept),
+            };
+            if let Some((period, l)) = solved
                 && l.is_finite()
             {
                 self.settled = Some(ColumnLyapunov {
                     lyapunov: l,
                     stderr: None,
-                    period: Some(c.period()),
+                    period: Some(period),
                 });
                 self.done = true;
             }
@@ -209,6 +228,31 @@ mod tests {
             "{} vs {mean}",
             got.lyapunov
         );
+    }
+
+    #[test]
+    fn a_column_closing_in_slowly_on_a_long_cycle_has_its_exponent() {
+        // Inside Fig. 3b's P24 window from θ₀ = 0.52: 1e-6 off the cycle
+        // after 500 + 100 iterates, a period the contraction test does not
+        // reach; 100 kept onsets are not whole periods, so their mean of
+        // ln|f'| was -0.044 against the cycle's -0.0174.
+        let tn = 1.2285714285714286;
+        let (sim, _) = column(tn, 0, 0);
+        let opts = SweepOptions {
+            transient: 500,
+            keep: 100,
+            map: crate::sim::MapChoice::Direct,
+        };
+        let col = Column::run(*sim.params(), *sim.settings(), tn, 0.52, &opts, &|| false);
+        let got = column_lyapunov(&sim, &col).expect("computed");
+        assert_eq!((got.period, got.stderr), (Some(24), None), "{got:?}");
+        // Independently: the P24 by Newton from the last onset, and
+        // ln|m|/24 from its multiplier.
+        let opts = CycleOptions::for_settings(sim.settings());
+        let c = solve_counting(&sim, col.theta_last, 24, &opts, &mut (0, 0)).expect("P24");
+        assert!(c.stable && c.minimal_period == 24, "{c:?}");
+        let want = c.multiplier.abs().ln() / 24.0;
+        assert!((got.lyapunov - want).abs() < 1e-6, "{got:?} vs {want}");
     }
 
     #[test]

@@ -137,6 +137,42 @@ fn contraction_at(seq: &[f64], p: usize, noise: f64) -> Option<Contraction> {
     })
 }
 
+/// How near (radians) a slowly contracting orbit's p-differences must
+/// have come to 0 to be taken for closing in on a p-cycle ([`closing_in`]).
+pub const CLOSING: f64 = 1e-4;
+
+/// The p-cycle that `thetas` (kept iterates) close in on, if they do: for
+/// the least p ≤ [`PERIOD_MAX`] with three periods' worth of kept
+/// iterates, the largest p-difference over each of the last three periods
+/// shrinks period by period (ratio r < 0.95 both times) and the last is
+/// under [`CLOSING`]. Its
+/// points are the last period's, extrapolated to the limit (each moved by
+/// its last p-difference times r/(1 − r)), in the order of the last p of
+/// `thetas`. A slowly settling column (Fig. 3b's P24 at θν ≈ 1.2286,
+/// multiplier 0.66, still 1e-6 off after 600 iterates) is then that cycle,
+/// not a chaotic set (`sim::seeded`), and its λ the cycle's
+/// (`sim::column_lyapunov`); chaos never shrinks so for three periods
+/// under 1e-4. Unlike [`contraction`] it needs no agreeing ratios, and
+/// reaches periods up to [`PERIOD_MAX`].
+pub fn closing_in(thetas: &[f64]) -> Option<Vec<f64>> {
+    let n = thetas.len();
+    let step = |i: usize, p: usize| wrap_angle(thetas[i] - thetas[i - p]);
+    (1..=PERIOD_MAX.min(n / 4)).find_map(|p| {
+        let widest = |k: usize| {
+            let end = n - k * p;
+            (end - p..end).map(|i| step(i, p).abs()).fold(0.0, f64::max)
+        };
+        let (e0, e1, e2) = (widest(0), widest(1), widest(2));
+        let (r1, r2) = (e0 / e1, e1 / e2);
+        if !(e0 < CLOSING && r1 < 0.95 && r2 < 0.95) {
+            return None;
+        }
+        let r = r1.max(r2);
+        let limit = (n - p..n).map(|i| thetas[i] + step(i, p) * r / (1.0 - r));
+        Some(limit.collect())
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
