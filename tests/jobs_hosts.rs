@@ -14,8 +14,8 @@ use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, IterateSpec, Local,
-    Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TimeSlice, TrajectorySpec, Update,
-    WorkPrecisionSpec, run_collect,
+    Outcome, PassageSpec, PhaseSpec, PhaseTuning, ScanSpec, Shape, Spec, SweepSpec, TimeSlice,
+    TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
 };
 use oneblock::model::Params;
 use oneblock::numerics::Subject;
@@ -458,6 +458,46 @@ fn boundaries_are_the_same_on_every_host() {
         },
     });
     assert!(r.other.iter().any(|s| s.starts_with("Curve")), "{r:?}");
+}
+
+#[test]
+fn the_events_views_passage_and_scan_are_the_same_on_every_host_and_paused() {
+    // The intermittent preset: an open creep channel at θ = 0.1, and a
+    // tangency near θν located by continuation.
+    let params = preset("intermittent");
+    let settings = default_settings(1e-8);
+    let passage = Spec::Passage(PassageSpec {
+        params,
+        settings,
+        near: 0.1,
+    });
+    let r = same_on_both_hosts(Command::Run {
+        generation: 9,
+        spec: passage.clone(),
+    });
+    assert!(
+        matches!(r.other.as_slice(), [p] if p.starts_with("Passage { generation: _, passage: Open(")),
+        "{r:?}"
+    );
+    // Paused after every map evaluation, and resumed: the same passage,
+    // in a step per evaluation (64 cells, then the entries).
+    let (paused, steps) = local_paused(passage);
+    assert_eq!(paused, r);
+    assert!(steps > 64, "{steps} steps");
+    let scan = Spec::Scan(ScanSpec { params, settings });
+    let r = same_on_both_hosts(Command::Run {
+        generation: 10,
+        spec: scan.clone(),
+    });
+    assert!(
+        matches!(r.other.as_slice(), [s] if s.starts_with("Scan { generation: _, scaling: Fitted {")),
+        "{r:?}"
+    );
+    // Paused after every slip cycle and map evaluation (the continuation
+    // is one piece): the same verdict.
+    let (paused, steps) = local_paused(scan);
+    assert_eq!(paused, r);
+    assert!(steps > 8 * 2000, "{steps} steps");
 }
 
 #[test]

@@ -282,6 +282,8 @@ impl Explorer {
                 self.jobs.find_bifurcations(&self.settings, range);
             }
             Action::StopBifurcations => self.jobs.stop_bifurcations(),
+            Action::Passage(near) => self.jobs.start_passage(self.settings.params, near),
+            Action::Scan => self.jobs.start_scan(self.settings.params),
             Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
             Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
