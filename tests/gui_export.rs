@@ -437,3 +437,46 @@ fn record_saves_an_animated_gif_of_the_plane() {
     }
     assert_eq!(frames, 120);
 }
+
+/// The browser's Record: the same GIF made in pieces (the view's data a
+/// budget at a time, then a frame per piece, as the page makes it between
+/// its frames), byte for byte what `figure --frames` and the desktop's
+/// Record make; 40 frames, so some come after the first chunk of 32 whose
+/// pixels the palette is learnt from.
+#[test]
+fn a_gif_made_in_pieces_is_the_gif_made_at_once() {
+    use oneblock::app::ViewKind;
+    use oneblock::app::animation::{GifRun, gif};
+    use oneblock::app::figure::Figure;
+    let fig = Figure {
+        view: ViewKind::Plane,
+        settings: Settings {
+            trajectory_cycles: 30,
+            ..Settings::default()
+        },
+        zoom: Vec::new(),
+        theta_nu: None,
+        theta: None,
+        size: eframe::egui::vec2(200.0, 150.0),
+    };
+    let whole = gif(&fig, 40, 0.5).expect("a GIF");
+    assert!(GifRun::new(fig.clone(), 0, 0.5).is_err(), "no frames");
+    assert!(GifRun::new(fig.clone(), 40, 2.0).is_err(), "too fast");
+    let mut run = GifRun::new(fig, 40, 0.5).expect("valid");
+    let mut pieces = 0;
+    let sliced = loop {
+        pieces += 1;
+        assert!(pieces < 100_000, "the recording never ends");
+        if let Some(r) = run.advance(std::time::Duration::from_micros(200)) {
+            break r.expect("a GIF");
+        }
+    };
+    assert!(pieces > 40 + 32, "{pieces} pieces");
+    assert_eq!(run.progress(), (40, 40));
+    assert!(
+        sliced == whole,
+        "{} bytes against {}",
+        sliced.len(),
+        whole.len()
+    );
+}

@@ -164,11 +164,38 @@ fn wait_for_label(
     false
 }
 
-/// The window sets the channel passage, computed from f on a thread of its
-/// own, beside the mean laminar length (20.9 slips on the intermittent
-/// preset, as `orbit --stats` gives), and its scan names the tangency it
-/// located by continuation and why the slope is not −1/2; at the creep
-/// preset the scan finds no tangency and says so instead of fitting.
+/// The window's latest job of the kind `want` picks, as the recorder saw it
+/// sent, run on the single-threaded host (the browser's) and its updates
+/// handed back to the window as a backend would; false if none was sent.
+fn answer(
+    h: &mut egui_kittest::Harness<'static, oneblock::app::Explorer>,
+    rec: &oneblock::app::Recorder,
+    want: fn(&oneblock::jobs::Spec) -> bool,
+) -> bool {
+    use oneblock::jobs::{Local, Shape};
+    use oneblock::worker::Command;
+    for _ in 0..50 {
+        h.step();
+        let sent = rec.commands().into_iter().rev().find_map(|c| match c {
+            Command::Run { generation, spec } if want(&spec) => Some((generation, spec)),
+            _ => None,
+        });
+        if let Some((generation, spec)) = sent {
+            for u in Local::start(spec, generation, Shape::default()).run_to_end(usize::MAX) {
+                rec.push(u);
+            }
+            return true;
+        }
+    }
+    false
+}
+
+/// The window asks for the channel passage, computed from f by a job of its
+/// own, and shows it beside the mean laminar length (20.9 slips on the
+/// intermittent preset, as `orbit --stats` gives), and its scan (a job too)
+/// names the tangency it located by continuation and why the slope is not
+/// −1/2; at the creep preset the scan finds no tangency and says so
+/// instead of fitting.
 #[test]
 fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_tangency() {
     use egui_kittest::kittest::Queryable;
@@ -197,9 +224,12 @@ fn the_events_view_sets_the_channel_passage_beside_the_mean_and_fits_only_at_a_t
                 event: window::event(th, th, f64::from(i)),
             });
         }
+        use oneblock::jobs::Spec;
+        assert!(answer(&mut h, &rec, |s| matches!(s, Spec::Passage(_))));
         assert!(wait_for_label(&mut h, passage), "{preset}: no {passage:?}");
         h.get_by_label("Laminar length vs distance to a tangency")
             .click();
+        assert!(answer(&mut h, &rec, |s| matches!(s, Spec::Scan(_))));
         assert!(wait_for_label(&mut h, verdict), "{preset}: no {verdict:?}");
     }
 }

@@ -472,3 +472,60 @@ fn pure_regimes_have_no_laminar_phases() {
         assert!(!text.contains("\nlaminar_length,"), "{preset}: {text}");
     }
 }
+
+/// The channel passage in pieces (`PassageRun`, what a host on a slice of
+/// time runs): one map evaluation per call, a cancel between two stops it
+/// at once, and its answer is `passage`'s, the intermittent preset's open
+/// channel of about 21 slips.
+#[test]
+fn the_channel_passage_runs_one_map_evaluation_at_a_time() {
+    use oneblock::sim::intermittency::channel::{
+        CELLS, ENTRIES, MAX_RETURN, Passage, PassageRun, passage,
+    };
+    use oneblock::sim::{Simulator, default_settings};
+    use std::cell::Cell;
+    let params = oneblock::model::preset("intermittent")
+        .expect("a preset")
+        .params;
+    let sim = Simulator::new(params, default_settings(1e-8)).expect("valid");
+    let near = 0.1;
+    let whole = passage(&sim, near, &|| false).expect("computed");
+    assert!(
+        matches!(&whole, Passage::Open(c) if (20.0..22.0).contains(&c.mean)),
+        "{whole:?}"
+    );
+    // Counted: every evaluation polls the cancel once, first.
+    let polls = Cell::new(0);
+    let count = || {
+        polls.set(polls.get() + 1);
+        false
+    };
+    let mut run = PassageRun::new(&sim, near);
+    let mut calls = 0;
+    let stepped = loop {
+        calls += 1;
+        if let Some(r) = run.advance(&sim, &count) {
+            break r.expect("computed");
+        }
+        assert_eq!(polls.get(), calls, "one evaluation per call");
+    };
+    assert_eq!(stepped, whole);
+    assert!(
+        calls > CELLS && calls <= CELLS + ENTRIES * (MAX_RETURN + 1),
+        "{calls}"
+    );
+    // Cancelled after 100 evaluations: the 101st call says so.
+    let mut run = PassageRun::new(&sim, near);
+    let n = Cell::new(0);
+    let stop = || {
+        n.set(n.get() + 1);
+        n.get() > 100
+    };
+    for _ in 0..100 {
+        assert!(run.advance(&sim, &stop).is_none());
+    }
+    assert!(matches!(
+        run.advance(&sim, &stop),
+        Some(Err(oneblock::sim::SimError::Cancelled))
+    ));
+}

@@ -14,13 +14,16 @@ use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, IterateSpec, Local,
-    Outcome, PhaseSpec, PhaseTuning, Shape, Spec, SweepSpec, TimeSlice, TrajectorySpec, Update,
-    WorkPrecisionSpec, run_collect,
+    Outcome, PassageSpec, PhaseSpec, PhaseTuning, ScanSpec, Shape, Spec, SweepSpec, TimeSlice,
+    TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
 };
 use oneblock::model::Params;
 use oneblock::numerics::Subject;
 use oneblock::sim::continuation::{Attractor, ContParam, CurveKind, attractor_cycle};
-use oneblock::sim::{MapChoice, default_settings};
+use oneblock::sim::{
+    ColumnJob, LaneEnd, MapChoice, Simulator, SweepOptions, Yield, column_start, default_settings,
+    run_columns, sweep_columns, theta_nu_grid,
+};
 use oneblock::worker::{Command, Worker, WorkerConfig};
 
 /// What a job computed, in a form that does not depend on how its updates
@@ -38,6 +41,7 @@ struct Results {
     /// Columns sent again (a seeded sweep's neighbour pass amends them).
     resent: usize,
     lyapunovs: BTreeMap<usize, String>,
+    column_costs: BTreeMap<usize, u64>,
     cells: BTreeMap<(usize, usize), String>,
     rows: Vec<String>,
     other: Vec<String>,
@@ -75,9 +79,11 @@ fn results(ups: &[Update]) -> Results {
                 thetas,
                 attractor,
                 lyapunov,
+                rhs_evals,
                 ..
             } => {
                 r.lyapunovs.insert(*index, format!("{lyapunov:?}"));
+                r.column_costs.insert(*index, *rhs_evals);
                 // Each attractor label folded into its value (θ + 100·label),
                 // so that the hosts must agree on both.
                 let labelled = thetas
@@ -236,6 +242,70 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
             .expect("the sweep completes");
         assert_eq!(results(&ups).columns, r.columns, "{threads} thread(s)");
     }
+}
+
+/// Asks for the thread back every time, counting the asks.
+struct AlwaysPause(std::cell::Cell<usize>);
+
+impl Yield for AlwaysPause {
+    fn pause(&self) -> bool {
+        self.0.set(self.0.get() + 1);
+        true
+    }
+    fn defer_heavy(&self) -> bool {
+        false
+    }
+}
+
+#[test]
+fn a_cycle_solve_pauses_between_map_evaluations_and_resumes_bit_for_bit() {
+    // Fig. 3b near θν = 1.38, where the diagram's columns are solved onto
+    // a slow 6-cycle and each hands it to the next, which solves for it
+    // before its first cycle (20 to 30 ms in one piece in wasm before).
+    let params = preset("fig3b");
+    let settings = default_settings(1e-6);
+    let opts = SweepOptions {
+        transient: 60,
+        keep: 12,
+        map: MapChoice::Auto,
+    };
+    let grid = theta_nu_grid(0.9, 1.5, 61);
+    let cols = sweep_columns(params, settings, &grid, &opts, None, &|| false, |_| {});
+    let (i, handed) = (48..cols.len())
+        .find_map(|i| Some((i, cols[i - 1].handover()?)).filter(|(_, h)| h.slow_period.is_some()))
+        .expect("a column continuing its neighbour's slow cycle");
+    let whole = &cols[i];
+    assert_eq!(whole.slow_period, handed.slow_period, "{whole:?}");
+    let theta_nu = grid[i];
+    let start = column_start(params.kappa, theta_nu, Some(handed.theta));
+    let sim = Simulator::new(params.with_theta_nu(theta_nu), settings).expect("valid");
+    // The same column on a lane whose host wants its thread back at every
+    // chance: each call makes one map evaluation of the solve and pauses.
+    let asks = AlwaysPause(std::cell::Cell::new(0));
+    let (mut paused, mut done, mut calls) = (None, None, 0);
+    while done.is_none() {
+        calls += 1;
+        assert!(calls < 10_000, "the column never ends");
+        let mut job = Some(ColumnJob {
+            sim: Ok(&sim),
+            theta_nu,
+            start,
+            slow_period: handed.slow_period,
+            resume: paused.take(),
+        });
+        run_columns(&opts, &|| false, &asks, |_, ended| {
+            match ended {
+                Some(LaneEnd::Paused(p)) => paused = Some(p),
+                Some(LaneEnd::Finished(c)) => done = Some(c),
+                None => {}
+            }
+            job.take()
+        });
+    }
+    let period = handed.slow_period.unwrap_or(0);
+    assert!(calls > period, "{calls} calls for a {period}-cycle's solve");
+    assert_eq!(done.as_ref(), Some(whole), "paused {calls} times");
+    assert_eq!(done.map(|c| c.rhs_evals), Some(whole.rhs_evals));
 }
 
 #[test]
@@ -399,6 +469,46 @@ fn boundaries_are_the_same_on_every_host() {
         },
     });
     assert!(r.other.iter().any(|s| s.starts_with("Curve")), "{r:?}");
+}
+
+#[test]
+fn the_events_views_passage_and_scan_are_the_same_on_every_host_and_paused() {
+    // The intermittent preset: an open creep channel at θ = 0.1, and a
+    // tangency near θν located by continuation.
+    let params = preset("intermittent");
+    let settings = default_settings(1e-8);
+    let passage = Spec::Passage(PassageSpec {
+        params,
+        settings,
+        near: 0.1,
+    });
+    let r = same_on_both_hosts(Command::Run {
+        generation: 9,
+        spec: passage.clone(),
+    });
+    assert!(
+        matches!(r.other.as_slice(), [p] if p.starts_with("Passage { generation: _, passage: Open(")),
+        "{r:?}"
+    );
+    // Paused after every map evaluation, and resumed: the same passage,
+    // in a step per evaluation (64 cells, then the entries).
+    let (paused, steps) = local_paused(passage);
+    assert_eq!(paused, r);
+    assert!(steps > 64, "{steps} steps");
+    let scan = Spec::Scan(ScanSpec { params, settings });
+    let r = same_on_both_hosts(Command::Run {
+        generation: 10,
+        spec: scan.clone(),
+    });
+    assert!(
+        matches!(r.other.as_slice(), [s] if s.starts_with("Scan { generation: _, scaling: Fitted {")),
+        "{r:?}"
+    );
+    // Paused after every slip cycle and map evaluation (the continuation
+    // is one piece): the same verdict.
+    let (paused, steps) = local_paused(scan);
+    assert_eq!(paused, r);
+    assert!(steps > 8 * 2000, "{steps} steps");
 }
 
 #[test]

@@ -21,6 +21,10 @@ use super::jobs::Jobs;
 use super::settings::ViewKind;
 use super::svg_render::FrameRenderer;
 
+mod sliced;
+
+pub use sliced::GifRun;
+
 /// Seconds of playback between an animation's frames (10 frames a second).
 pub const FRAME_SECONDS: f64 = 0.1;
 

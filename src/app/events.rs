@@ -10,15 +10,14 @@
 use eframe::egui;
 use egui::Ui;
 
-use super::events_jobs::{self, Slot};
 use super::events_plots::Plots;
-use super::jobs::Jobs;
+use super::jobs::{JobState, Jobs};
 use super::settings::{EventsPlot, Settings, SlipMeasure, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::model::Params;
-use crate::sim::intermittency::{Intermittency, Passage, Scaling, creep_flags, passage, scaling};
-use crate::sim::{Simulator, SlipEvent};
+use crate::sim::SlipEvent;
+use crate::sim::intermittency::{Intermittency, Passage, Scaling, creep_flags};
 
 /// The size of a slip under `m`.
 pub fn slip_size(e: &SlipEvent, m: SlipMeasure) -> f64 {
@@ -54,19 +53,16 @@ struct StatsCache {
 #[derive(Default)]
 pub struct EventsView {
     cache: StatsCache,
-    /// The creep channel's passage time, computed when the parameters change.
-    passage: Slot<Passage>,
-    /// The tangency scan, on demand.
-    scaled: Slot<Scaling>,
 }
 
 impl EventsView {
-    /// The scan's button and its outcome in words.
-    fn scaling_row_ui(&mut self, ui: &mut Ui, params: &Params) {
+    /// The scan's button and its outcome in words. The scan is a job of
+    /// its own ([`Action::Scan`]): in the browser it runs within the
+    /// frames' slices like every job.
+    fn scaling_row_ui(ui: &mut Ui, params: &Params, jobs: &Jobs, out: &mut Vec<Action>) {
+        let scan = &jobs.scan;
         ui.horizontal_wrapped(|ui| {
-            if cfg!(target_arch = "wasm32") {
-                ui.label("type-I scaling: oneblock orbit --stats FILE --scaling (desktop only)");
-            } else if self.scaled.busy() {
+            if scan.asked(params) && scan.state == JobState::Running {
                 ui.spinner();
                 ui.label("locating a tangency and measuring the laminar lengths near it ...");
             } else if ui
@@ -77,46 +73,34 @@ impl EventsView {
                      measure the mean laminar length and the channel passage at distances \
                      ε = |θν − θν_fold|/2^k, k = 0…7, on log–log axes beside type-I \
                      intermittency's slope −1/2. Where no fold is found, nothing is fitted. \
-                     Seconds to a minute, on a thread of its own.",
+                     Seconds to a minute, beside the other jobs.",
                 )
                 .clicked()
             {
-                let p = *params;
-                self.scaled
-                    .start(ui.ctx(), p, "oneblock-scaling", move |cancel| {
-                        scaling(p, events_jobs::settings(), cancel)
-                    });
+                out.push(Action::Scan);
             }
-            match self.scaled.result(params) {
-                Some(Ok(sc)) => {
+            match (scan.answer(params), &scan.state) {
+                (Some(sc), _) => {
                     ui.label(sc.describe());
                 }
-                Some(Err(e)) => {
+                (None, JobState::Failed(e)) if scan.asked(params) => {
                     ui.colored_label(style::ERROR, format!("scan failed: {e}"));
                 }
-                None => {}
+                _ => {}
             }
         });
     }
 
-    /// Starts the channel passage for the parameters on screen when it is
-    /// not there yet (never in a picture, which is drawn once).
-    fn want_passage(&mut self, ctx: &egui::Context, params: &Params, figure: bool) {
-        self.passage.poll(params);
+    /// Asks for the channel passage for the parameters on screen when it
+    /// was not asked for yet (never in a picture, which is drawn once).
+    fn want_passage(&self, params: &Params, jobs: &Jobs, figure: bool, out: &mut Vec<Action>) {
         let Some(near) = self.cache.first_creep else {
             return;
         };
-        // A picture is drawn once; the browser has no thread to spare (its
-        // only one draws the page and runs the jobs).
-        if figure || cfg!(target_arch = "wasm32") || !self.passage.missing(params) {
+        if figure || jobs.passage.asked(params) {
             return;
         }
-        let p = *params;
-        self.passage
-            .start(ctx, p, "oneblock-passage", move |cancel| {
-                let sim = Simulator::new(p, events_jobs::settings())?;
-                passage(&sim, near, cancel)
-            });
+        out.push(Action::Passage(near));
     }
 
     fn stats(&mut self, jobs: &Jobs, m: SlipMeasure, params: &Params) {
@@ -148,28 +132,31 @@ impl EventsView {
     }
 
     /// The channel passage in a few words, for the summary.
-    fn passage_words(&self, params: &Params) -> String {
-        match self.passage.result(params) {
-            Some(Ok(Passage::Open(c))) => format!("channel passage {:.1}", c.mean),
-            Some(Ok(p)) => p.describe(),
-            Some(Err(e)) => format!("channel passage failed: {e}"),
-            None if self.passage.busy() => "channel passage ...".into(),
-            None => String::new(),
+    fn passage_words(params: &Params, jobs: &Jobs) -> String {
+        let slot = &jobs.passage;
+        match (slot.answer(params), &slot.state) {
+            (Some(Passage::Open(c)), _) => format!("channel passage {:.1}", c.mean),
+            (Some(p), _) => p.describe(),
+            (None, JobState::Failed(e)) if slot.asked(params) => {
+                format!("channel passage failed: {e}")
+            }
+            (None, JobState::Running) if slot.asked(params) => "channel passage ...".into(),
+            _ => String::new(),
         }
     }
 
-    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
+    fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let evs = &jobs.trajectory.data.events;
         let params = s.params;
         let figure = style::figure_only(ui.ctx());
         self.stats(jobs, s.slip_measure, &params);
-        self.want_passage(ui.ctx(), &params, figure);
-        self.scaled.poll(&params);
+        self.want_passage(&params, jobs, figure, out);
         let stats = self.cache.stats.clone();
-        let scaled = match self.scaled.result(&params) {
-            Some(Ok(sc @ Scaling::Fitted { .. })) => Some(sc.clone()),
-            _ => None,
-        };
+        let scaled = jobs
+            .scan
+            .answer(&params)
+            .filter(|sc| matches!(sc, Scaling::Fitted { .. }))
+            .cloned();
         // All plots side by side need room for five ticks on each axis of
         // each: about 36 lines of text across, and 8 down per stacked plot.
         let em = ui.text_style_height(&egui::TextStyle::Body);
@@ -193,7 +180,7 @@ impl EventsView {
             scaled: scaled.as_ref(),
         };
         if let Some(st) = &stats {
-            let pass = self.passage_words(&params);
+            let pass = Self::passage_words(&params, jobs);
             let skipped = self.cache.skipped;
             // The full text is formatted only while the summary is hovered.
             ui.label(summary(st, &pass, skipped, wide))
@@ -203,7 +190,7 @@ impl EventsView {
         }
         if wide {
             if !figure {
-                self.scaling_row_ui(ui, &params);
+                Self::scaling_row_ui(ui, &params, jobs, out);
             }
             let h = ui.available_height();
             let width = ui.available_width();
@@ -222,7 +209,7 @@ impl EventsView {
             return;
         }
         if s.events_plot == EventsPlot::Scaling && !figure {
-            self.scaling_row_ui(ui, &params);
+            Self::scaling_row_ui(ui, &params, jobs, out);
         }
         let h = ui.available_height() - 4.0;
         match s.events_plot {
@@ -335,7 +322,7 @@ impl View for EventsView {
         ViewKind::Events.title()
     }
 
-    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
-        self.show(ui, s, jobs);
+    fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        self.show(ui, s, jobs, out);
     }
 }

@@ -164,6 +164,7 @@ impl Explorer {
         #[cfg(target_arch = "wasm32")]
         {
             self.take_upload();
+            self.record_step(ctx);
             self.web.set_title(super::status::title(&self.jobs));
         }
         self.sync_jobs(ctx);
@@ -218,10 +219,9 @@ impl Explorer {
                 self.shots
                     .record(fig, (RECORD_FRAMES, speed), path, self.now);
             }
-            // No Record button in the browser: 120 frames drawn on the
-            // page's only thread would freeze it for seconds.
+            // In the browser a frame or so of the GIF per frame of the page.
             #[cfg(target_arch = "wasm32")]
-            Action::Record(..) => {}
+            Action::Record(v, speed) => self.record_web(v, speed),
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
@@ -284,6 +284,8 @@ impl Explorer {
                 self.jobs.find_bifurcations(&self.settings, range);
             }
             Action::StopBifurcations => self.jobs.stop_bifurcations(),
+            Action::Passage(near) => self.jobs.start_passage(self.settings.params, near),
+            Action::Scan => self.jobs.start_scan(self.settings.params),
             Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
             Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
@@ -481,9 +483,7 @@ impl Explorer {
                                 egui::Layout::right_to_left(egui::Align::Center),
                                 |ui| {
                                     help_button_ui(ui, v);
-                                    if matches!(v, ViewKind::Block | ViewKind::Plane)
-                                        && !cfg!(target_arch = "wasm32")
-                                    {
+                                    if matches!(v, ViewKind::Block | ViewKind::Plane) {
                                         record_menu_ui(ui, v, out);
                                     }
                                     if ui

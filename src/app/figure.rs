@@ -96,47 +96,93 @@ pub(super) fn view_settings(fig: &Figure) -> Settings {
 /// Computes what `fig`'s view shows, on this thread; the error says which
 /// job failed and why.
 pub fn compute(fig: &Figure) -> Result<Jobs, String> {
-    let needed = lanes(fig.view);
-    let skip = Lane::ALL
-        .into_iter()
-        .filter(|l| !needed.contains(l))
-        .collect();
-    // LANES columns stepped together (the same columns, faster per cycle).
-    let worker = LocalWorker::new(Shape::default(), crate::sim::LANES);
-    let mut jobs = Jobs::new(Box::new(worker.skipping(skip)));
-    let s = view_settings(fig);
-    for round in 0..MAX_ROUNDS {
-        let shown = Shown {
-            now: round as f64 * ROUND_SECONDS,
-            sweep_zoom: fig.sweep_zoom(),
-            phase: fig.view == ViewKind::Phase,
-        };
-        jobs.sync(&s, shown);
-        while jobs.pump(Duration::from_secs(3600)) || jobs.receive() {}
-        if let Some(m) = states(&jobs, fig.view).iter().find_map(|st| match st {
+    let mut run = ComputeRun::new(fig);
+    loop {
+        if let Some(r) = run.advance(fig, Duration::from_secs(3600)) {
+            return r;
+        }
+    }
+}
+
+/// [`compute`] a time budget at a time, for a host that wants its thread
+/// back between them (the browser's Record): rounds of the window's
+/// `sync`, each pumping its jobs to their end, with the same jobs and
+/// results.
+pub(super) struct ComputeRun {
+    jobs: Option<Jobs>,
+    settings: Settings,
+    round: usize,
+    /// Whether this round's `sync` was made (its jobs are then pumped).
+    synced: bool,
+}
+
+impl ComputeRun {
+    pub(super) fn new(fig: &Figure) -> Self {
+        let needed = lanes(fig.view);
+        let skip = Lane::ALL
+            .into_iter()
+            .filter(|l| !needed.contains(l))
+            .collect();
+        // LANES columns stepped together (the same columns, faster per cycle).
+        let worker = LocalWorker::new(Shape::default(), crate::sim::LANES);
+        ComputeRun {
+            jobs: Some(Jobs::new(Box::new(worker.skipping(skip)))),
+            settings: view_settings(fig),
+            round: 0,
+            synced: false,
+        }
+    }
+
+    /// Pumps the jobs for about `budget`; then `None` while work remains,
+    /// else the view's data (or why it failed). `fig` is the one it was
+    /// made for; a run that has answered is not advanced again.
+    pub(super) fn advance(
+        &mut self,
+        fig: &Figure,
+        budget: Duration,
+    ) -> Option<Result<Jobs, String>> {
+        let (s, jobs) = (&self.settings, self.jobs.as_mut()?);
+        if self.round == MAX_ROUNDS {
+            return Some(Err(format!(
+                "the {} view's data did not arrive after {MAX_ROUNDS} rounds",
+                fig.view.key()
+            )));
+        }
+        if !self.synced {
+            let shown = Shown {
+                now: self.round as f64 * ROUND_SECONDS,
+                sweep_zoom: fig.sweep_zoom(),
+                phase: fig.view == ViewKind::Phase,
+            };
+            jobs.sync(s, shown);
+            self.synced = true;
+        }
+        if jobs.pump(budget) || jobs.receive() {
+            return None;
+        }
+        if let Some(m) = states(jobs, fig.view).iter().find_map(|st| match st {
             JobState::Failed(m) => Some(m.clone()),
             _ => None,
         }) {
-            return Err(format!("the simulation failed: {m}"));
+            return Some(Err(format!("the simulation failed: {m}")));
         }
         let orbit_done = jobs.trajectory.state == JobState::Done
             && !matches!(jobs.iterate.state, JobState::Running | JobState::Idle);
         if fig.view == ViewKind::Numerics && orbit_done && !jobs.numerics.issued() {
             // Measured on the attractor, as the window does.
-            jobs.start_work_precision(&s);
-            while jobs.pump(Duration::from_secs(3600)) || jobs.receive() {}
+            jobs.start_work_precision(s);
+            return None;
         }
-        if states(&jobs, fig.view)
+        if states(jobs, fig.view)
             .iter()
             .all(|st| **st == JobState::Done)
         {
-            return Ok(jobs);
+            return self.jobs.take().map(Ok);
         }
+        self.round += 1;
+        self.synced = false;
+        None
     }
-    Err(format!(
-        "the {} view's data did not arrive after {MAX_ROUNDS} rounds",
-        fig.view.key()
-    ))
 }
 
 /// The figure as SVG: its data computed here, then drawn by the window's

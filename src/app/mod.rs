@@ -36,7 +36,6 @@ pub mod controls;
 pub mod data;
 pub mod describe;
 pub mod events;
-mod events_jobs;
 mod events_plots;
 pub mod explorer;
 pub mod export;

@@ -85,6 +85,8 @@ fn job_marker(job: JobKind) -> MarkerShape {
         JobKind::Numerics => MarkerShape::Cross,
         JobKind::Branches => MarkerShape::Down,
         JobKind::Curves => MarkerShape::Left,
+        JobKind::Passage => MarkerShape::Right,
+        JobKind::Scan => MarkerShape::Asterisk,
     }
 }
 

@@ -41,7 +41,8 @@ pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
         for (label, speed) in RECORD_SPEEDS {
             let hover = format!(
                 "Save a GIF of this view: {RECORD_FRAMES} frames at 10 a second, 640x480, \
-                 playing at {speed}x the window's speed, made off the window's thread"
+                 playing at {speed}x the window's speed, made without holding the window \
+                 (off its thread; in a browser, a frame or so per frame of the page)"
             );
             if ui.button(label).on_hover_text(hover).clicked() {
                 out.push(Action::Record(v, speed));

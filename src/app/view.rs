@@ -62,6 +62,11 @@ pub enum Action {
     FindBifurcations,
     /// Stop that.
     StopBifurcations,
+    /// The creep channel's passage time through the channel holding this
+    /// creep onset, for the parameters on screen (the Events view).
+    Passage(f64),
+    /// Locate a tangency near θν and measure the laminar lengths near it.
+    Scan,
     /// Follow the doubling curves (FP→P2, P2→P4) over the phase diagram.
     Boundaries,
     /// Stop that.

@@ -19,8 +19,10 @@ use std::rc::Rc;
 use wasm_bindgen::JsCast as _;
 use wasm_bindgen::prelude::*;
 
-use eframe::egui::{Context, Ui};
+use eframe::egui::{self, Context, Ui};
 
+use super::settings::ViewKind;
+use super::title_buttons::RECORD_FRAMES;
 use super::view::Action;
 use super::{Explorer, Settings, controls, preset, url_state};
 use crate::worker::LocalWorker;
@@ -29,6 +31,9 @@ use crate::worker::LocalWorker;
 const CANVAS_ID: &str = "oneblock_canvas";
 /// The id of the page's status line (loading note, or why it failed).
 const STATUS_ID: &str = "oneblock_status";
+/// The share of a page's frame a recording takes (a frame of the GIF at
+/// least): beside the jobs' 12 ms slice.
+const RECORD_BUDGET: std::time::Duration = std::time::Duration::from_millis(8);
 
 /// Starts the explorer on the page (`main` of the wasm binary).
 pub fn start() {
@@ -268,7 +273,8 @@ pub fn download(path: &Path, bytes: &[u8]) -> Result<(), String> {
 }
 
 /// What the browser build keeps beside the explorer: the egui context (to
-/// wake the page when an upload arrives) and the upload under way.
+/// wake the page when an upload arrives), the upload and the recording
+/// under way.
 #[derive(Default)]
 pub struct WebState {
     /// Set when the page starts (none in tests).
@@ -277,6 +283,9 @@ pub struct WebState {
     pub upload: Upload,
     /// The page's title as last set.
     pub title: String,
+    /// A GIF being recorded, a frame or so per frame of the page, and the
+    /// file it downloads as.
+    pub recording: Option<(super::animation::GifRun, std::path::PathBuf)>,
 }
 
 impl WebState {
@@ -378,6 +387,66 @@ impl Explorer {
                 }
             }
             _ => {}
+        }
+    }
+
+    /// Starts recording `v` as a GIF of [`RECORD_FRAMES`] frames at `speed`,
+    /// made between the page's frames ([`Explorer::record_step`]).
+    pub(super) fn record_web(&mut self, v: ViewKind, speed: f64) {
+        let now = self.now;
+        if self.web.recording.is_some() {
+            self.shots
+                .toast("a recording is under way already".into(), true, now);
+            return;
+        }
+        let fig = super::figure::Figure {
+            view: v,
+            settings: self.settings.clone(),
+            zoom: Vec::new(),
+            theta_nu: None,
+            theta: None,
+            size: egui::vec2(640.0, 480.0),
+        };
+        match super::animation::GifRun::new(fig, RECORD_FRAMES, speed) {
+            Ok(run) => {
+                let path = super::screenshot::fresh_path("", v.key(), "gif");
+                self.shots.toast(
+                    format!("Recording {RECORD_FRAMES} frames to {}…", path.display()),
+                    false,
+                    now,
+                );
+                self.web.recording = Some((run, path));
+            }
+            Err(e) => self.shots.toast(format!("cannot record: {e}"), true, now),
+        }
+    }
+
+    /// Moves the recording on for about [`RECORD_BUDGET`] (a piece at
+    /// least: the data for that long, or a frame); downloads the GIF once
+    /// it is made.
+    pub(super) fn record_step(&mut self, ctx: &Context) {
+        let Some((run, _)) = &mut self.web.recording else {
+            return;
+        };
+        let start = web_time::Instant::now();
+        let done = loop {
+            if let Some(r) = run.advance(RECORD_BUDGET) {
+                break Some(r);
+            }
+            if start.elapsed() >= RECORD_BUDGET {
+                break None;
+            }
+        };
+        ctx.request_repaint();
+        let Some(r) = done else { return };
+        let Some((_, path)) = self.web.recording.take() else {
+            return;
+        };
+        match r {
+            Ok(bytes) => self.shots.write(path, bytes),
+            Err(e) => self
+                .shots
+                .toast(format!("Not recorded: {e}"), true, self.now),
         }
     }
 

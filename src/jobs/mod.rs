@@ -24,6 +24,7 @@
 
 pub mod bench;
 mod continuation;
+mod events;
 mod local;
 mod numerics;
 mod orbit;
@@ -37,6 +38,7 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+pub use events::{PassageSpec, ScanSpec};
 pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
@@ -183,6 +185,10 @@ pub enum Spec {
     Branches(ContinuationSpec),
     /// Boundaries: doubling curves in (θν, κ).
     Curves(BoundarySpec),
+    /// The Events view's creep channel passage.
+    Passage(PassageSpec),
+    /// The Events view's tangency scan.
+    Scan(ScanSpec),
     /// Test-only fault injection: a few cycles, then a panic.
     #[doc(hidden)]
     Panic { after_cycles: usize },
@@ -207,11 +213,15 @@ pub enum Kind {
     Branches,
     /// Boundaries: doubling curves over the phase diagram.
     Curves,
+    /// The creep channel's passage time (the Events view).
+    Passage,
+    /// The tangency scan (the Events view).
+    Scan,
 }
 
 impl Kind {
     /// Every kind, in the order of [`Kind::index`].
-    pub const ALL: [Kind; 7] = [
+    pub const ALL: [Kind; 9] = [
         Kind::Trajectory,
         Kind::Sweep,
         Kind::Iterate,
@@ -219,6 +229,8 @@ impl Kind {
         Kind::Numerics,
         Kind::Branches,
         Kind::Curves,
+        Kind::Passage,
+        Kind::Scan,
     ];
 
     /// Its position in [`Kind::ALL`] (a job table's index).
@@ -236,6 +248,8 @@ impl Kind {
             Kind::Numerics => Lane::Numerics,
             Kind::Branches => Lane::Continuation,
             Kind::Curves => Lane::Curves,
+            Kind::Passage => Lane::Passage,
+            Kind::Scan => Lane::Scan,
         }
     }
 }
@@ -262,6 +276,8 @@ impl Spec {
             Spec::Numerics(_) => Kind::Numerics,
             Spec::Branches(_) => Kind::Branches,
             Spec::Curves(_) => Kind::Curves,
+            Spec::Passage(_) => Kind::Passage,
+            Spec::Scan(_) => Kind::Scan,
         }
     }
 
@@ -281,6 +297,8 @@ impl Spec {
             Spec::Numerics(s) => Box::new(numerics::WorkPrecisionJob::new(s)?),
             Spec::Branches(s) => Box::new(continuation::FindJob::new(s)),
             Spec::Curves(s) => Box::new(continuation::BoundariesJob::new(s)),
+            Spec::Passage(s) => events::passage_job(s)?,
+            Spec::Scan(s) => events::scan_job(s)?,
             Spec::Panic { after_cycles } => Box::new(orbit::PanicJob::new(after_cycles)),
         })
     }
@@ -289,8 +307,8 @@ impl Spec {
     /// when it is its lane's latest: a trajectory, iterates and a sweep run
     /// again (a sweep keeps its θν range); a phase grid keeps both its
     /// ranges and runs again only if γ, ν, Ω or the solver changed; a
-    /// branch or curve of the old parameters is stale and is stopped; a
-    /// work-precision measurement is left alone.
+    /// branch, curve, passage or scan of the old parameters is stale and
+    /// is stopped; a work-precision measurement is left alone.
     pub fn on_params(&self, params: Params, settings: Option<SolverSettings>) -> OnParams {
         let rerun = |mut spec: Spec| {
             if let Some((p, s)) = spec.params_mut() {
@@ -313,7 +331,9 @@ impl Spec {
                     OnParams::Keep
                 }
             }
-            Spec::Branches(_) | Spec::Curves(_) => OnParams::Cancel,
+            Spec::Branches(_) | Spec::Curves(_) | Spec::Passage(_) | Spec::Scan(_) => {
+                OnParams::Cancel
+            }
             Spec::Numerics(_) | Spec::Panic { .. } => OnParams::Keep,
         }
     }

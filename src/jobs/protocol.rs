@@ -20,6 +20,7 @@ use crate::model::Params;
 use crate::numerics::{Row, Subject};
 use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, CurveKind, SpecialPoint};
+use crate::sim::intermittency::{Passage, Scaling};
 use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::{MapChoice, Period, Sample, SlipEvent};
@@ -44,17 +45,22 @@ pub enum Lane {
     Continuation,
     /// Bifurcation curves in (θν, κ) (`Boundaries`).
     Curves,
+    /// The Events view's creep channel passage, and its tangency scan.
+    Passage,
+    Scan,
 }
 
 impl Lane {
     /// Every lane, in the order of [`Lane::index`].
-    pub const ALL: [Lane; 6] = [
+    pub const ALL: [Lane; 8] = [
         Lane::Orbit,
         Lane::Sweep,
         Lane::Numerics,
         Lane::Phase,
         Lane::Continuation,
         Lane::Curves,
+        Lane::Passage,
+        Lane::Scan,
     ];
 
     /// Its position in [`Lane::ALL`] (a lane table's index).
@@ -71,6 +77,8 @@ impl Lane {
             Lane::Phase => "phase",
             Lane::Continuation => "continuation",
             Lane::Curves => "curves",
+            Lane::Passage => "passage",
+            Lane::Scan => "scan",
         }
     }
 }
@@ -464,6 +472,15 @@ pub enum Update {
         generation: Generation,
         curve: Curve,
     },
+    /// The channel passage of a `Passage` job, and the verdict of a `Scan`.
+    Passage {
+        generation: Generation,
+        passage: Passage,
+    },
+    Scan {
+        generation: Generation,
+        scaling: Scaling,
+    },
     /// What a continuation or curves job has found so far and, once it
     /// ends, why it stopped (one line for the status bar).
     Summary {
@@ -516,6 +533,8 @@ impl Update {
             | Update::Special { generation, .. }
             | Update::Cascade { generation, .. }
             | Update::Curve { generation, .. }
+            | Update::Passage { generation, .. }
+            | Update::Scan { generation, .. }
             | Update::Summary { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }

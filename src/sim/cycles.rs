@@ -6,11 +6,14 @@
 //! classifiers solve the cycle the orbit is heading for
 //! ([`confirm_contraction`]) instead of iterating until it gets there.
 
-use super::analysis::central_difference;
 use super::period::{Contraction, PERIOD_MAX};
 use super::{SimError, Simulator};
 use crate::integrate::SolverSettings;
 use crate::model::wrap_angle;
+
+mod solve;
+
+pub use solve::CycleSolve;
 
 /// How hard the solver tries.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -124,49 +127,13 @@ pub enum CycleFailure {
     Sim(#[from] SimError),
 }
 
-/// g, g' + 1 and the points of one pass round a candidate cycle.
+/// g, g' + 1 and the points of one pass round a candidate cycle
+/// ([`solve::Walk`]).
 struct Pass {
     g: f64,
     multiplier: f64,
     points: Vec<f64>,
     restarted: bool,
-}
-
-/// Walks p iterates from θ with the exact f'(θᵢ) at each
-/// ([`Simulator::cycle_slope`]: one map evaluation carrying its tangent
-/// along θ). Where f has no derivative (a restart, an onset at the arc's
-/// edge, a tangential event) the slope of a central difference keeps Newton
-/// going, and the pass is marked: a cycle through such a point is refused.
-fn pass(sim: &Simulator, theta: f64, p: usize, spent: &mut (u64, u64)) -> Result<Pass, SimError> {
-    let mut th = theta;
-    let mut multiplier = 1.0;
-    let mut points = Vec::with_capacity(p);
-    let mut restarted = false;
-    for _ in 0..p {
-        points.push(th);
-        let (ev, d, extra) = sim.cycle_slope(th, 0.0)?;
-        spent.0 += 1;
-        spent.1 += ev.rhs_evals + extra;
-        let slope = match d {
-            Ok(d) => d,
-            Err(_) => {
-                restarted = true;
-                let (d, n) = central_difference(sim, th, ev.theta_next)?;
-                spent.0 += 2;
-                spent.1 += n;
-                d
-            }
-        };
-        multiplier *= slope;
-        restarted |= ev.restarted;
-        th = sim.next_onset(&ev);
-    }
-    Ok(Pass {
-        g: wrap_angle(th - theta),
-        multiplier,
-        points,
-        restarted,
-    })
 }
 
 /// Solves f^p(θ) = θ by Newton's method from `seed` (see the module notes).
@@ -188,87 +155,16 @@ pub fn solve_counting(
     opts: &CycleOptions,
     spent: &mut (u64, u64),
 ) -> Result<Cycle, CycleFailure> {
-    let before = *spent;
-    if !(1..=PERIOD_MAX).contains(&p) {
-        return Err(CycleFailure::BadPeriod(p));
-    }
-    if sim.check_onset(seed).is_err() {
-        return Err(CycleFailure::SeedOffArc { theta: seed });
-    }
-    let mut x = seed;
-    let mut e = pass(sim, x, p, spent)?;
-    let mut iterations = 0;
-    loop {
-        if !(e.g.is_finite() && e.multiplier.is_finite()) {
-            return Err(CycleFailure::NoConvergence {
-                iterations,
-                residual: e.g.abs(),
-            });
+    let mut solve = CycleSolve::start(sim, seed, p, opts)?;
+    let result = loop {
+        if let Some(r) = solve.advance(sim) {
+            break r;
         }
-        let slope = e.multiplier - 1.0;
-        let newton = (e.g / slope).abs();
-        if newton <= opts.tol {
-            return finish(e, x, p, opts, iterations, newton, spent, before);
-        }
-        if iterations == opts.max_iter {
-            if e.g.abs() <= opts.floor {
-                return finish(e, x, p, opts, iterations, newton, spent, before);
-            }
-            return Err(CycleFailure::NoConvergence {
-                iterations,
-                residual: e.g.abs(),
-            });
-        }
-        let full = if slope != 0.0 { -e.g / slope } else { MAX_STEP };
-        let mut step = full.clamp(-MAX_STEP, MAX_STEP);
-        let mut next = None;
-        let mut last_trial: Option<(f64, f64)> = None;
-        for _ in 0..=opts.max_halvings {
-            let y = wrap_angle(x + step);
-            if sim.check_onset(y).is_ok() {
-                // A trial that fails to integrate is treated as a step too
-                // long: halve it.
-                if let Ok(ey) = pass(sim, y, p, spent) {
-                    if ey.g.abs() < e.g.abs() {
-                        next = Some((y, ey));
-                        break;
-                    }
-                    last_trial = Some((step, ey.g));
-                }
-            }
-            step *= 0.5;
-        }
-        match next {
-            Some((y, ey)) => {
-                x = y;
-                e = ey;
-                iterations += 1;
-            }
-            // No step shrinks a residual already at the map's own error:
-            // Newton has gone as far as the map allows.
-            None if e.g.abs() <= opts.floor => {
-                return finish(e, x, p, opts, iterations, newton, spent, before);
-            }
-            None => {
-                // The smallest step still did not shrink |g|. If g moved
-                // far more than its slope allows over that step, f jumps
-                // between x and x + step; otherwise Newton has stalled at
-                // the map's own error.
-                let jumped = last_trial.is_some_and(|(s, gy)| {
-                    (wrap_angle(gy - e.g) - slope * s).abs()
-                        > 1e-6 + 1e2 * ((slope * s).abs() + opts.floor)
-                });
-                return Err(if jumped {
-                    CycleFailure::Discontinuity { theta: x }
-                } else {
-                    CycleFailure::NoConvergence {
-                        iterations,
-                        residual: e.g.abs(),
-                    }
-                });
-            }
-        }
-    }
+    };
+    let (maps, rhs) = solve.spent();
+    spent.0 += maps;
+    spent.1 += rhs;
+    result
 }
 
 /// The solved cycle at θ₀ = `x` (refused where it passes a restart), its

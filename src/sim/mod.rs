@@ -34,7 +34,7 @@ pub use interpolant::{
     InterpolantError, InterpolantOptions, InterpolatedOrbit, MapChoice, MapInterpolant,
     orbit_interpolated,
 };
-pub use orbit::{Orbit, OrbitOptions, Period, Settled};
+pub use orbit::{Orbit, OrbitOptions, OrbitRun, Period, Settled};
 pub use period::{PERIOD_MAX, settled_period};
 pub use stats::mean_and_stderr;
 pub use sweep::{

@@ -102,48 +102,12 @@ impl Simulator {
         opts: &OrbitOptions,
         cancel: &dyn Fn() -> bool,
     ) -> Result<Orbit, SimError> {
-        self.check_onset(theta0)?;
-        let mut theta = theta0;
-        let mut t = 0.0;
-        let mut restarts = 0;
-        let mut evals = 0;
-        let mut events = Vec::with_capacity(opts.keep);
-        let mut logs = Vec::new();
-        for i in 0..opts.transient + opts.keep {
-            if cancel() {
-                return Err(SimError::Cancelled);
+        let mut run = OrbitRun::new(self, theta0, opts)?;
+        loop {
+            if let Some(r) = run.advance(self, cancel) {
+                return r;
             }
-            // Kept iterates of a Lyapunov run take f'(θ) too, its cycles
-            // stepped together with the iterate's own.
-            let ev = if i >= opts.transient && opts.lyapunov {
-                let (ev, d, n) = cycle_with_derivative(self, theta, t)?;
-                evals += n;
-                logs.push(d.abs().ln());
-                ev
-            } else {
-                self.cycle(theta, t, None)?
-            };
-            evals += ev.rhs_evals;
-            restarts += ev.restarted as usize;
-            t += ev.slip_duration + ev.stick_duration;
-            if i >= opts.transient {
-                events.push(ev);
-            }
-            theta = self.next_onset(&ev);
         }
-        let thetas: Vec<f64> = events.iter().map(|e| e.theta).collect();
-        let mut spent = (0, 0);
-        let s = self.settle(&thetas, theta, &logs, opts.period_tol, &mut spent);
-        Ok(Orbit {
-            events,
-            restarts,
-            period: s.period,
-            cycle: s.cycle,
-            lyapunov: s.lyapunov,
-            lyapunov_stderr: s.lyapunov_stderr,
-            rhs_evals: evals + spent.1,
-            theta_last: theta,
-        })
     }
 
     /// What the kept onsets `kept` of an orbit, followed by the next onset
@@ -228,4 +192,104 @@ pub struct Settled {
     pub lyapunov: Option<f64>,
     /// The mean's standard error (`None` for a solved cycle).
     pub lyapunov_stderr: Option<f64>,
+}
+
+/// [`Simulator::orbit`] one slip cycle at a time (its settling last, as a
+/// piece of its own), so that a host on a slice of time (the browser's) can
+/// stop between two and go on later: the same cycles in the same order, so
+/// the same orbit bit for bit.
+pub struct OrbitRun {
+    opts: OrbitOptions,
+    theta: f64,
+    t: f64,
+    restarts: usize,
+    evals: u64,
+    events: Vec<SlipEvent>,
+    logs: Vec<f64>,
+    /// Cycles done.
+    i: usize,
+}
+
+impl OrbitRun {
+    /// The orbit from θ0 (which must be on the exit arc), nothing computed.
+    pub fn new(sim: &Simulator, theta0: f64, opts: &OrbitOptions) -> Result<Self, SimError> {
+        sim.check_onset(theta0)?;
+        Ok(OrbitRun {
+            opts: *opts,
+            theta: theta0,
+            t: 0.0,
+            restarts: 0,
+            evals: 0,
+            events: Vec::with_capacity(opts.keep),
+            logs: Vec::new(),
+            i: 0,
+        })
+    }
+
+    /// One slip cycle (`cancel` polled before it) and `None`, or, once
+    /// every cycle is done, the settling and the orbit. `sim` must be the
+    /// simulator it was made with.
+    pub fn advance(
+        &mut self,
+        sim: &Simulator,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<Orbit, SimError>> {
+        let opts = &self.opts;
+        if self.i == opts.transient + opts.keep {
+            return Some(Ok(self.settle(sim)));
+        }
+        if cancel() {
+            return Some(Err(SimError::Cancelled));
+        }
+        // Kept iterates of a Lyapunov run take f'(θ) too, its cycles
+        // stepped together with the iterate's own.
+        let kept = self.i >= opts.transient;
+        let ev = if kept && opts.lyapunov {
+            match cycle_with_derivative(sim, self.theta, self.t) {
+                Ok((ev, d, n)) => {
+                    self.evals += n;
+                    self.logs.push(d.abs().ln());
+                    ev
+                }
+                Err(e) => return Some(Err(e)),
+            }
+        } else {
+            match sim.cycle(self.theta, self.t, None) {
+                Ok(ev) => ev,
+                Err(e) => return Some(Err(e)),
+            }
+        };
+        self.evals += ev.rhs_evals;
+        self.restarts += ev.restarted as usize;
+        self.t += ev.slip_duration + ev.stick_duration;
+        if kept {
+            self.events.push(ev);
+        }
+        self.theta = sim.next_onset(&ev);
+        self.i += 1;
+        None
+    }
+
+    /// What the kept iterates settle to, and the orbit.
+    fn settle(&mut self, sim: &Simulator) -> Orbit {
+        let thetas: Vec<f64> = self.events.iter().map(|e| e.theta).collect();
+        let mut spent = (0, 0);
+        let s = sim.settle(
+            &thetas,
+            self.theta,
+            &self.logs,
+            self.opts.period_tol,
+            &mut spent,
+        );
+        Orbit {
+            events: std::mem::take(&mut self.events),
+            restarts: self.restarts,
+            period: s.period,
+            cycle: s.cycle,
+            lyapunov: s.lyapunov,
+            lyapunov_stderr: s.lyapunov_stderr,
+            rhs_evals: self.evals + spent.1,
+            theta_last: self.theta,
+        }
+    }
 }

@@ -21,12 +21,13 @@
 //! onsets and takes the rest of its points from it; where the interpolant
 //! is refused, the column goes on integrating.
 
-use super::cycles::{Cycle, CycleOptions, approaches, solve_counting};
+use super::cycles::Cycle;
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
-use super::period::{Contraction, PERIOD_MAX, contraction, settled_period};
+use super::period::{PERIOD_MAX, contraction, settled_period};
 use super::{SimError, Simulator, SlipEvent};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc};
+use heavy::{Heavy, Solving};
 
 /// How long each column runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -83,19 +84,6 @@ impl Column {
 /// The least |multiplier| of a cycle a neighbour solves for first: faster
 /// ones are reached by iterating within a few periods.
 pub const SLOW_MULTIPLIER: f64 = 0.5;
-
-/// The settings slow cycles are solved with (see the module notes).
-fn solve_settings(settings: &SolverSettings) -> SolverSettings {
-    if settings.method.is_adaptive() && settings.rtol > 1e-10 {
-        SolverSettings {
-            rtol: 1e-10,
-            atol: 1e-10,
-            ..*settings
-        }
-    } else {
-        *settings
-    }
-}
 
 /// `n` values of θν evenly spaced from `from` to `to` inclusive. Finite
 /// ends give finite values: a span too wide for f64 (`to − from` beyond
@@ -206,19 +194,10 @@ struct ColumnRun {
     switch_at: Option<usize>,
     /// Whether it is time to try.
     switch_due: bool,
-    /// A cycle solve due before the next cycle ([`Heavy`]).
+    /// A cycle solve due before the next cycle ([`Heavy`]), and the one
+    /// under way (paused between two map evaluations).
     heavy: Option<Heavy>,
-}
-
-/// A cycle solve a column has due: milliseconds of work in one piece, which
-/// a host that wants its thread back soon may put off to its next step
-/// ([`Yield::defer_heavy`]).
-#[derive(Clone, Copy, Debug)]
-enum Heavy {
-    /// The neighbour's slow cycle, of this period, from the first onset.
-    Handover(usize),
-    /// The slow contraction just seen, to be solved and confirmed.
-    Contraction(Contraction),
+    solving: Option<Box<Solving>>,
 }
 
 /// When work running on a host's slice of time stops: before any cycle
@@ -283,6 +262,7 @@ impl ColumnRun {
                 .then_some(opts.transient.max(MIN_DIRECT) + 1),
             switch_due: false,
             heavy: None,
+            solving: None,
         };
         // The neighbour's slow cycle, continued: if it still attracts here,
         // the column is on it from the start (solved before its first cycle).
@@ -294,49 +274,10 @@ impl ColumnRun {
         run
     }
 
-    /// Whether a heavy piece of work comes before the next cycle.
+    /// Whether a heavy piece of work is to start before the next cycle (a
+    /// solve under way is not: it goes on one map evaluation at a time).
     fn heavy_due(&self) -> bool {
         self.heavy.is_some() || self.switch_due
-    }
-
-    /// The cycle solve that was due.
-    fn run_heavy(&mut self, sim: &Simulator) {
-        match self.heavy.take() {
-            Some(Heavy::Handover(p)) => {
-                let theta_start = self.onsets[0];
-                if let Some(cycle) = self.solve(sim, theta_start, p)
-                    && cycle.stable
-                {
-                    self.follow(&cycle);
-                }
-            }
-            Some(Heavy::Contraction(c)) => {
-                let confirmed = self
-                    .solve(sim, c.limit, c.period)
-                    .filter(|cy| cy.stable && approaches(cy, &self.onsets, self.rep_tol));
-                match confirmed {
-                    Some(cycle) => self.follow(&cycle),
-                    None => {
-                        self.solves_left -= 1;
-                        self.next_solve = self.len() + SOLVE_COOLDOWN;
-                    }
-                }
-                self.end_cycle();
-            }
-            None => {}
-        }
-    }
-
-    /// The p-cycle solved from `seed` at the solve settings, if it is a
-    /// genuine p-cycle; its cost is the column's.
-    fn solve(&mut self, sim: &Simulator, seed: f64, p: usize) -> Option<Cycle> {
-        let settings = solve_settings(sim.settings());
-        let accurate = Simulator::new(*sim.params(), settings).ok()?;
-        let opts = CycleOptions::for_classifier(&settings);
-        let mut spent = (0, 0);
-        let cycle = solve_counting(&accurate, seed, p, &opts, &mut spent);
-        self.col.rhs_evals += spent.1;
-        cycle.ok().filter(|c| c.minimal_period == p)
     }
 
     /// The column continues on `cycle` from its newest onset, which is
@@ -374,7 +315,7 @@ impl ColumnRun {
     /// A column due to turn to the interpolant does so here, and is then
     /// complete unless the interpolant was refused.
     fn next_onset(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) -> Option<f64> {
-        self.run_heavy(sim);
+        self.heavy_step(sim, &NeverYield);
         if std::mem::take(&mut self.switch_due) && !self.done {
             self.interpolate(sim, cancel);
         }
@@ -539,6 +480,7 @@ pub fn sweep_columns(
     out
 }
 
+mod heavy;
 mod lanes;
 
 pub use lanes::{ColumnJob, LaneEnd, PausedColumn, run_columns};

@@ -88,7 +88,7 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 pub fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 6];
+    let mut floor = [0u64; 8];
     let lane_ix = |l: Lane| match l {
         Lane::Orbit => 0,
         Lane::Sweep => 1,
@@ -96,6 +96,8 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
         Lane::Phase => 3,
         Lane::Continuation => 4,
         Lane::Curves => 5,
+        Lane::Passage => 6,
+        Lane::Scan => 7,
     };
     for u in ups {
         let lane = match u {
@@ -112,6 +114,8 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
                 Some(Lane::Continuation)
             }
             Update::Curve { .. } => Some(Lane::Curves),
+            Update::Passage { .. } => Some(Lane::Passage),
+            Update::Scan { .. } => Some(Lane::Scan),
             Update::Summary { lane, .. }
             | Update::Progress { lane, .. }
             | Update::Error { lane, .. }
@@ -142,6 +146,8 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
                     Lane::Phase,
                     Lane::Continuation,
                     Lane::Curves,
+                    Lane::Passage,
+                    Lane::Scan,
                 ] {
                     if lane.is_none_or(|x| x == l) {
                         let f = &mut floor[lane_ix(l)];

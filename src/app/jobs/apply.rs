@@ -2,7 +2,7 @@
 //! update lands in the slot whose generation it names (the Numerics view's
 //! job like every other), or is dropped as stale.
 
-use super::{JobKind, JobState, Jobs, LaneProgress, NO_GENERATION};
+use super::{JobKind, JobState, Jobs, LaneProgress, NO_GENERATION, SlotHead};
 use crate::app::data::Column;
 use crate::worker::{Generation, Outcome, Update};
 
@@ -10,6 +10,40 @@ use crate::worker::{Generation, Outcome, Update};
 const MAX_UPDATES_PER_FRAME: usize = 20_000;
 
 impl Jobs {
+    /// The state of the job of `kind`.
+    pub fn state(&self, kind: JobKind) -> &JobState {
+        &self.slot(kind).state
+    }
+
+    /// The bookkeeping of the job of `kind`, whatever its data.
+    pub(super) fn slot(&self, kind: JobKind) -> &SlotHead {
+        match kind {
+            JobKind::Trajectory => &self.trajectory.head,
+            JobKind::Iterate => &self.iterate.head,
+            JobKind::Sweep => &self.sweep.head,
+            JobKind::Phase => &self.phase.head,
+            JobKind::Numerics => &self.numerics.head,
+            JobKind::Branches => &self.branches.head,
+            JobKind::Curves => &self.curves.head,
+            JobKind::Passage => &self.passage.head,
+            JobKind::Scan => &self.scan.head,
+        }
+    }
+
+    pub(super) fn slot_mut(&mut self, kind: JobKind) -> &mut SlotHead {
+        match kind {
+            JobKind::Trajectory => &mut self.trajectory.head,
+            JobKind::Iterate => &mut self.iterate.head,
+            JobKind::Sweep => &mut self.sweep.head,
+            JobKind::Phase => &mut self.phase.head,
+            JobKind::Numerics => &mut self.numerics.head,
+            JobKind::Branches => &mut self.branches.head,
+            JobKind::Curves => &mut self.curves.head,
+            JobKind::Passage => &mut self.passage.head,
+            JobKind::Scan => &mut self.scan.head,
+        }
+    }
+
     /// Which current job `generation` belongs to, if any.
     fn job_of(&self, generation: Generation) -> Option<JobKind> {
         JobKind::ALL
@@ -88,6 +122,12 @@ impl Jobs {
             }
             Update::Curve { curve, .. } if job == JobKind::Curves => {
                 self.curves.data.curves.push(curve);
+            }
+            Update::Passage { passage, .. } if job == JobKind::Passage => {
+                self.passage.data.value = Some(passage);
+            }
+            Update::Scan { scaling, .. } if job == JobKind::Scan => {
+                self.scan.data.value = Some(scaling);
             }
             Update::Summary { text, .. } if job == JobKind::Branches => {
                 self.branches.data.summary = Some(text);
@@ -187,6 +227,10 @@ impl Jobs {
                     None => message.clone(),
                 };
                 match job {
+                    // The Events view shows its own jobs' errors.
+                    JobKind::Passage | JobKind::Scan => {
+                        self.slot_mut(job).state = JobState::Failed(named);
+                    }
                     // The Numerics view shows its own job's error.
                     JobKind::Numerics => {
                         self.numerics.data.error = Some(named);
@@ -209,7 +253,7 @@ impl Jobs {
                     Outcome::Completed => JobState::Done,
                     Outcome::Cancelled => JobState::Cancelled,
                     Outcome::Failed(m) => {
-                        if job != JobKind::Numerics {
+                        if !matches!(job, JobKind::Numerics | JobKind::Passage | JobKind::Scan) {
                             self.last_error = Some(m.clone());
                         }
                         JobState::Failed(m)

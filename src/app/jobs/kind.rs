@@ -27,7 +27,8 @@ impl JobKind {
     /// The accuracy its view can show: a pixel of the (x, y) view; 1e-3 of
     /// the diagram's θ range per pixel; 1e-10 for the map; 1e-8 for the
     /// phase diagram's classes; the command line's 1e-10 for continuation
-    /// (its points are located to 1e-10). `None` for the work-precision job.
+    /// (its points are located to 1e-10). `None` for the work-precision job
+    /// and the Events view's (at dop853 1e-8 always: `events_settings`).
     pub fn accuracy(self) -> Option<Accuracy> {
         match self {
             JobKind::Trajectory => Some(Accuracy::TrajectoryView),
@@ -35,7 +36,7 @@ impl JobKind {
             JobKind::Iterate => Some(Accuracy::ReturnMap),
             JobKind::Phase => Some(Accuracy::PhaseDiagram),
             JobKind::Branches | JobKind::Curves => Some(Accuracy::CommandLine),
-            JobKind::Numerics => None,
+            JobKind::Numerics | JobKind::Passage | JobKind::Scan => None,
         }
     }
 
@@ -60,6 +61,8 @@ impl JobKind {
             JobKind::Numerics => "work-precision",
             JobKind::Branches => "bifurcations",
             JobKind::Curves => "boundaries",
+            JobKind::Passage => "channel passage",
+            JobKind::Scan => "tangency scan",
         }
     }
 
@@ -73,6 +76,8 @@ impl JobKind {
             JobKind::Numerics => "numerics",
             JobKind::Branches => "branches",
             JobKind::Curves => "curves",
+            JobKind::Passage => "passage",
+            JobKind::Scan => "scan",
         }
     }
 
@@ -104,6 +109,10 @@ impl JobKind {
             JobKind::Branches | JobKind::Curves => {
                 "Continuation locates doublings and folds to 1e-10 in the \
                  parameter: the command line's accuracy, 1e-10."
+            }
+            JobKind::Passage | JobKind::Scan => {
+                "The Events view's channel passage and tangency scan evaluate \
+                 the map at dop853, tol 1e-8: slip onsets to about 1e-8."
             }
         }
     }

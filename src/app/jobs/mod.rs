@@ -7,12 +7,14 @@
 
 mod apply;
 mod continuation;
+mod events;
 pub mod kind;
 pub mod policy;
 
 pub use continuation::{
     BranchKey, CurveKey, MAX_CASCADE_PERIOD, diagram_range as continuation_range,
 };
+pub use events::{Answer, events_settings};
 pub use kind::JobKind;
 pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
 
@@ -27,6 +29,7 @@ use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
 use crate::sim::MapChoice;
+use crate::sim::intermittency::{Passage, Scaling};
 use crate::worker::{
     Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, PhaseTuning, SweepSpec,
     TrajectorySpec, WorkPrecisionSpec,
@@ -160,6 +163,9 @@ pub struct Jobs {
     pub branches: Slot<BranchData>,
     /// "Boundaries": the phase view's overlay.
     pub curves: Slot<CurveData>,
+    /// The Events view's channel passage and tangency scan.
+    pub passage: Slot<Answer<Passage>>,
+    pub scan: Slot<Answer<Scaling>>,
     /// The last error the worker reported (not the Numerics view's own),
     /// with the parameter it names.
     pub last_error: Option<String>,
@@ -209,6 +215,8 @@ impl Jobs {
             numerics: Slot::default(),
             branches: Slot::default(),
             curves: Slot::default(),
+            passage: Slot::default(),
+            scan: Slot::default(),
             last_error: None,
             stale_dropped: 0,
             trajectory_revision: 0,
@@ -236,36 +244,6 @@ impl Jobs {
         self.sent_count += 1;
         if !self.backend.send(cmd) {
             self.last_error = Some("the simulation worker is not running".into());
-        }
-    }
-
-    /// The state of the job of `kind`.
-    pub fn state(&self, kind: JobKind) -> &JobState {
-        &self.slot(kind).state
-    }
-
-    /// The bookkeeping of the job of `kind`, whatever its data.
-    fn slot(&self, kind: JobKind) -> &SlotHead {
-        match kind {
-            JobKind::Trajectory => &self.trajectory.head,
-            JobKind::Iterate => &self.iterate.head,
-            JobKind::Sweep => &self.sweep.head,
-            JobKind::Phase => &self.phase.head,
-            JobKind::Numerics => &self.numerics.head,
-            JobKind::Branches => &self.branches.head,
-            JobKind::Curves => &self.curves.head,
-        }
-    }
-
-    fn slot_mut(&mut self, kind: JobKind) -> &mut SlotHead {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.head,
-            JobKind::Iterate => &mut self.iterate.head,
-            JobKind::Sweep => &mut self.sweep.head,
-            JobKind::Phase => &mut self.phase.head,
-            JobKind::Numerics => &mut self.numerics.head,
-            JobKind::Branches => &mut self.branches.head,
-            JobKind::Curves => &mut self.curves.head,
         }
     }
 

@@ -139,94 +139,176 @@ impl Passage {
 /// `near` at `sim`'s parameters (see the module notes). About
 /// [`CELLS`] + 8·[`ENTRIES`] map evaluations; `cancel` is polled at each.
 pub fn passage(sim: &Simulator, near: f64, cancel: &dyn Fn() -> bool) -> Result<Passage, SimError> {
-    let p = *sim.params();
-    let Some((lo, hi)) = creep_interval(p.kappa, p.gamma, p.theta_nu, near) else {
-        return Ok(Passage::NoChannel);
-    };
-    let f = |th: f64| -> Result<f64, SimError> {
-        if cancel() {
-            return Err(SimError::Cancelled);
+    let mut run = PassageRun::new(sim, near);
+    loop {
+        if let Some(r) = run.advance(sim, cancel) {
+            return r;
         }
-        sim.map(wrap_angle(th))
-    };
-    let w = (hi - lo) / CELLS as f64;
-    let mut g = Vec::with_capacity(CELLS);
-    for i in 0..CELLS {
-        let m = lo + (i as f64 + 0.5) * w;
-        g.push(wrap_angle(f(m)? - wrap_angle(m)));
     }
-    if let Some(i) = (1..CELLS).find(|&i| (g[i] > 0.0) != (g[i - 1] > 0.0)) {
-        // The zero of g between the two midpoints, by linear interpolation.
-        let (m0, g0, g1) = (lo + (i as f64 - 0.5) * w, g[i - 1], g[i]);
-        return Ok(Passage::Closed {
-            theta: wrap_angle(m0 + w * g0 / (g0 - g1)),
-        });
-    }
-    let up = g[0] > 0.0;
-    let times = entry_times(&f, &g, (lo, hi), near, up)?;
-    if times.is_empty() {
-        return Ok(Passage::NoReturn);
-    }
-    let (k, narrowest) =
-        g.iter()
-            .map(|v| v.abs())
-            .enumerate()
-            .fold(
-                (0, f64::INFINITY),
-                |a, (i, v)| if v < a.1 { (i, v) } else { a },
-            );
-    Ok(Passage::Open(ChannelPassage {
-        lo,
-        hi,
-        narrowest,
-        at: wrap_angle(lo + (k as f64 + 0.5) * w),
-        mean: times.iter().map(|t| t.ceil()).sum::<f64>() / times.len() as f64,
-        mean_time: times.iter().sum::<f64>() / times.len() as f64,
-        entries: times.len(),
-    }))
 }
 
-/// The passage time from each re-entry: [`ENTRIES`] last creep onsets
-/// spread over the last step before the exit end are mapped on by `f`
-/// until they land back in the channel `(lo, hi)` (unwrapped about
-/// `near`); an onset whose image is still in the channel was no run's
-/// last, and one that does not come back within [`MAX_RETURN`] is dropped.
-fn entry_times(
-    f: &dyn Fn(f64) -> Result<f64, SimError>,
-    g: &[f64],
-    (lo, hi): (f64, f64),
+/// [`passage`] one map evaluation at a time, so that a host on a slice of
+/// time (the browser's) can stop between two and go on later: the same
+/// evaluations in the same order, so the same result bit for bit.
+pub struct PassageRun {
     near: f64,
-    up: bool,
-) -> Result<Vec<f64>, SimError> {
-    let w = (hi - lo) / g.len() as f64;
-    let (exit, step) = if up { (hi, g[g.len() - 1]) } else { (lo, g[0]) };
-    let inside = |x: f64| {
-        let u = near + wrap_angle(x - near);
-        (u > lo && u < hi).then_some(u)
-    };
-    // A failed evaluation drops the entry; a cancel ends the whole.
-    let next = |x: f64| match f(x) {
-        Err(SimError::Cancelled) => Err(SimError::Cancelled),
-        r => Ok(r.ok()),
-    };
-    let mut times = Vec::with_capacity(ENTRIES);
-    let span = step.abs().min(hi - lo);
-    for j in 0..ENTRIES {
-        let last = exit - span.copysign(step) * (j as f64 + 0.5) / ENTRIES as f64;
-        let Some(mut x) = next(last)? else { continue };
-        if inside(x).is_some() {
-            continue;
+    /// The channel (`None`: there is none) and its cells' width.
+    channel: Option<(f64, f64)>,
+    w: f64,
+    /// g at the cells' midpoints computed so far.
+    g: Vec<f64>,
+    /// Once g is complete: the entry being followed, where it is (`None`
+    /// before its first evaluation) and the returns made from it.
+    entry: usize,
+    x: Option<f64>,
+    returns: usize,
+    times: Vec<f64>,
+}
+
+impl PassageRun {
+    /// The passage for the creep onset `near`, nothing evaluated yet.
+    pub fn new(sim: &Simulator, near: f64) -> Self {
+        let p = *sim.params();
+        let channel = creep_interval(p.kappa, p.gamma, p.theta_nu, near);
+        PassageRun {
+            near,
+            channel,
+            w: channel.map_or(0.0, |(lo, hi)| (hi - lo) / CELLS as f64),
+            g: Vec::with_capacity(CELLS),
+            entry: 0,
+            x: None,
+            returns: 0,
+            times: Vec::with_capacity(ENTRIES),
         }
-        for _ in 0..MAX_RETURN {
-            let Some(y) = next(x)? else { break };
-            x = y;
-            if let Some(u) = inside(x) {
-                times.push(time_to_exit(g, lo, w, u, up));
-                break;
+    }
+
+    /// One map evaluation (`cancel` polled before it), then `None` while
+    /// the passage goes on, or its result. `sim` must be the simulator it
+    /// was made with; a run that has answered is not advanced again.
+    pub fn advance(
+        &mut self,
+        sim: &Simulator,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<Passage, SimError>> {
+        let Some((lo, hi)) = self.channel else {
+            return Some(Ok(Passage::NoChannel));
+        };
+        let f = |th: f64| -> Result<f64, SimError> {
+            if cancel() {
+                return Err(SimError::Cancelled);
+            }
+            sim.map(wrap_angle(th))
+        };
+        if self.g.len() < CELLS {
+            let m = lo + (self.g.len() as f64 + 0.5) * self.w;
+            match f(m) {
+                Ok(v) => self.g.push(wrap_angle(v - wrap_angle(m))),
+                Err(e) => return Some(Err(e)),
+            }
+            return (self.g.len() == CELLS).then(|| self.closed()).flatten();
+        }
+        if self.entry < ENTRIES {
+            // A failed evaluation drops the entry; a cancel ends the whole.
+            let at = self.x.unwrap_or_else(|| self.last_onset(lo, hi));
+            match f(at) {
+                Err(SimError::Cancelled) => return Some(Err(SimError::Cancelled)),
+                Err(_) => self.next_entry(),
+                Ok(y) => self.landed(y, lo, hi),
+            }
+        }
+        (self.entry == ENTRIES).then(|| Ok(self.open(lo, hi)))
+    }
+
+    /// Once g is complete: the channel is closed where g changes sign.
+    fn closed(&self) -> Option<Result<Passage, SimError>> {
+        let (lo, g, w) = (self.channel?.0, &self.g, self.w);
+        let i = (1..CELLS).find(|&i| (g[i] > 0.0) != (g[i - 1] > 0.0))?;
+        // The zero of g between the two midpoints, by linear interpolation.
+        let (m0, g0, g1) = (lo + (i as f64 - 0.5) * w, g[i - 1], g[i]);
+        Some(Ok(Passage::Closed {
+            theta: wrap_angle(m0 + w * g0 / (g0 - g1)),
+        }))
+    }
+
+    /// Whether the channel is crossed upwards (g > 0 on it).
+    fn up(&self) -> bool {
+        self.g[0] > 0.0
+    }
+
+    /// The current entry's last creep onset: [`ENTRIES`] of them spread
+    /// over the last step g before the exit end.
+    fn last_onset(&self, lo: f64, hi: f64) -> f64 {
+        let g = &self.g;
+        let (exit, step) = if self.up() {
+            (hi, g[g.len() - 1])
+        } else {
+            (lo, g[0])
+        };
+        let span = step.abs().min(hi - lo);
+        exit - span.copysign(step) * (self.entry as f64 + 0.5) / ENTRIES as f64
+    }
+
+    /// `y` in the channel, unwrapped about the onset asked for.
+    fn inside(&self, y: f64, lo: f64, hi: f64) -> Option<f64> {
+        let u = self.near + wrap_angle(y - self.near);
+        (u > lo && u < hi).then_some(u)
+    }
+
+    /// Where the current entry's orbit landed: an onset still in the
+    /// channel was no run's last; back in it, its passage time is kept;
+    /// outside, it goes on up to [`MAX_RETURN`] iterates.
+    fn landed(&mut self, y: f64, lo: f64, hi: f64) {
+        let first = self.x.is_none();
+        match self.inside(y, lo, hi) {
+            Some(_) if first => self.next_entry(),
+            Some(u) => {
+                self.times
+                    .push(time_to_exit(&self.g, lo, self.w, u, self.up()));
+                self.next_entry();
+            }
+            None if first => self.x = Some(y),
+            None => {
+                self.returns += 1;
+                if self.returns == MAX_RETURN {
+                    self.next_entry();
+                } else {
+                    self.x = Some(y);
+                }
             }
         }
     }
-    Ok(times)
+
+    fn next_entry(&mut self) {
+        self.entry += 1;
+        self.x = None;
+        self.returns = 0;
+    }
+
+    /// The answer once every entry has been followed.
+    fn open(&self, lo: f64, hi: f64) -> Passage {
+        let times = &self.times;
+        if times.is_empty() {
+            return Passage::NoReturn;
+        }
+        let (k, narrowest) =
+            self.g
+                .iter()
+                .map(|v| v.abs())
+                .enumerate()
+                .fold(
+                    (0, f64::INFINITY),
+                    |a, (i, v)| if v < a.1 { (i, v) } else { a },
+                );
+        Passage::Open(ChannelPassage {
+            lo,
+            hi,
+            narrowest,
+            at: wrap_angle(lo + (k as f64 + 0.5) * self.w),
+            mean: times.iter().map(|t| t.ceil()).sum::<f64>() / times.len() as f64,
+            mean_time: times.iter().sum::<f64>() / times.len() as f64,
+            entries: times.len(),
+        })
+    }
 }
 
 /// ∫ dθ/|g| from `u` to the exit end (`hi` when `up`), 1/g constant on each

@@ -23,8 +23,8 @@
 pub mod channel;
 pub mod tangency;
 
-pub use channel::{Passage, creep_interval, passage};
-pub use tangency::{ScalePoint, Scaling, Tangency, find_tangency, scaling};
+pub use channel::{Passage, PassageRun, creep_interval, passage};
+pub use tangency::{ScalePoint, Scaling, ScalingRun, Tangency, find_tangency, scaling};
 
 use super::stats::mean_and_stderr;
 use crate::model::{OnsetCharacter, onset_character};

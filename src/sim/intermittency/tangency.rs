@@ -14,12 +14,12 @@
 //! passage time ([`super::channel`]) is computed beside each. Where no
 //! fold is found, there is nothing to fit against, and that is the answer.
 
-use super::channel::passage;
+use super::channel::PassageRun;
 use super::{Intermittency, creep_flags, log_log_fit, supports_type_one};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{ContOptions, ContParam, Problem, SpecialKind, continue_branch};
-use crate::sim::{OrbitOptions, Period, SimError, Simulator};
+use crate::sim::{OrbitOptions, OrbitRun, Period, SimError, Simulator};
 
 /// How far from θν a periodic window is looked for, in radians.
 pub const WINDOW_SPAN: f64 = 0.05;
@@ -157,25 +157,14 @@ fn longest_creep_run(kappa: f64, gamma: f64, points: &[f64]) -> usize {
     best
 }
 
-/// The stable cycle at `theta_nu`, when the orbit there is periodic.
-fn window_cycle(
-    params: Params,
-    settings: SolverSettings,
-    theta_nu: f64,
-    cancel: &dyn Fn() -> bool,
-) -> Result<Option<(usize, f64)>, SimError> {
-    let sim = Simulator::new(Params { theta_nu, ..params }, settings)?;
-    let opts = OrbitOptions {
+/// The orbits that look for a periodic window.
+fn window_options(settings: &SolverSettings) -> OrbitOptions {
+    OrbitOptions {
         transient: 1000,
         keep: 256,
         lyapunov: false,
         period_tol: OrbitOptions::period_tol_for(settings.rtol),
-    };
-    let o = sim.orbit(theta_nu, &opts, cancel)?;
-    Ok(match (o.period, o.cycle) {
-        (Period::Periodic(p), Some(c)) if c.stable => Some((p, c.points[0])),
-        _ => None,
-    })
+    }
 }
 
 /// The first fold on the branch of a periodic window's cycle nearest
@@ -186,101 +175,223 @@ pub fn find_tangency(
     settings: SolverSettings,
     cancel: &dyn Fn() -> bool,
 ) -> Result<(Option<Tangency>, usize), SimError> {
-    let top = params.theta_nu;
-    let steps = (WINDOW_SPAN / WINDOW_STEP).round() as usize;
-    let mut windows = 0;
-    for k in 1..=steps {
-        for sign in [-1.0, 1.0] {
-            let at = top + sign * k as f64 * WINDOW_STEP;
-            let Some((period, seed)) = window_cycle(params, settings, at, cancel)? else {
-                continue;
-            };
-            windows += 1;
-            let prob = Problem {
-                base: params,
-                settings,
-                param: ContParam::ThetaNu,
-                period,
-            };
-            let opts = ContOptions::for_range(&settings, at, top);
-            match continue_branch(&prob, at, top, seed, &opts, cancel) {
-                Ok(b) => {
-                    if let Some(f) = b.of_kind(SpecialKind::Fold).next() {
-                        let near = b.points.iter().min_by(|a, c| {
-                            (a.lambda - f.lambda)
-                                .abs()
-                                .total_cmp(&(c.lambda - f.lambda).abs())
-                        });
-                        let creep_run = near.map_or(0, |p| {
-                            longest_creep_run(params.kappa, params.gamma, &p.points)
-                        });
-                        let t = Tangency {
-                            theta_nu: f.lambda,
-                            period,
-                            theta: f.theta,
-                            multiplier: f.multiplier,
-                            window: at,
-                            creep_run,
-                        };
-                        return Ok((Some(t), windows));
-                    }
-                }
-                Err(crate::sim::CycleFailure::Sim(SimError::Cancelled)) => {
-                    return Err(SimError::Cancelled);
-                }
-                Err(_) => {}
-            }
-            if cancel() {
-                return Err(SimError::Cancelled);
-            }
-            if windows >= MAX_WINDOWS {
-                return Ok((None, windows));
-            }
+    let mut search = Search::new(params, settings);
+    loop {
+        if let Some(r) = search.advance(cancel) {
+            return r;
         }
     }
-    Ok((None, windows))
 }
 
-/// The mean laminar length and the channel passage at `theta_nu`.
-fn measure(
+/// [`find_tangency`] in pieces: one slip cycle of an orbit looking for a
+/// window, or one continuation of a window's cycle (a piece of its own,
+/// not divided).
+struct Search {
     params: Params,
     settings: SolverSettings,
+    /// The next position looked at: θν ∓ k·[`WINDOW_STEP`], k = pos/2 + 1,
+    /// below θν first.
+    pos: usize,
+    windows: usize,
+    /// The orbit under way at the current position.
+    orbit: Option<(Simulator, OrbitRun)>,
+    /// A window found, whose branch is followed next: (θν, period, point).
+    found: Option<(f64, usize, f64)>,
+}
+
+impl Search {
+    fn new(params: Params, settings: SolverSettings) -> Self {
+        Search {
+            params,
+            settings,
+            pos: 0,
+            windows: 0,
+            orbit: None,
+            found: None,
+        }
+    }
+
+    /// θν at `pos`.
+    fn at(&self, pos: usize) -> f64 {
+        let k = pos / 2 + 1;
+        let sign = if pos.is_multiple_of(2) { -1.0 } else { 1.0 };
+        self.params.theta_nu + sign * k as f64 * WINDOW_STEP
+    }
+
+    /// One piece; the search's answer once it has one.
+    fn advance(
+        &mut self,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<(Option<Tangency>, usize), SimError>> {
+        if let Some((at, period, seed)) = self.found.take() {
+            return self.follow(at, period, seed, cancel);
+        }
+        let steps = (WINDOW_SPAN / WINDOW_STEP).round() as usize;
+        if self.pos >= 2 * steps {
+            return Some(Ok((None, self.windows)));
+        }
+        if self.orbit.is_none() {
+            let at = self.at(self.pos);
+            let started = Simulator::new(
+                Params {
+                    theta_nu: at,
+                    ..self.params
+                },
+                self.settings,
+            )
+            .and_then(|sim| {
+                let run = OrbitRun::new(&sim, at, &window_options(&self.settings))?;
+                Ok((sim, run))
+            });
+            match started {
+                Ok(o) => self.orbit = Some(o),
+                Err(e) => return Some(Err(e)),
+            }
+        }
+        let (sim, run) = self.orbit.as_mut()?;
+        let orbit = match run.advance(sim, cancel)? {
+            Ok(o) => o,
+            Err(e) => return Some(Err(e)),
+        };
+        self.orbit = None;
+        let at = self.at(self.pos);
+        self.pos += 1;
+        // The stable cycle there, when the orbit is periodic.
+        if let (Period::Periodic(p), Some(c)) = (orbit.period, orbit.cycle)
+            && c.stable
+        {
+            self.windows += 1;
+            self.found = Some((at, p, c.points[0]));
+        }
+        None
+    }
+
+    /// Follows the cycle of the window at `at` towards θν: the first fold
+    /// on its branch is the tangency.
+    fn follow(
+        &mut self,
+        at: f64,
+        period: usize,
+        seed: f64,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<(Option<Tangency>, usize), SimError>> {
+        let (params, settings) = (self.params, self.settings);
+        let top = params.theta_nu;
+        let prob = Problem {
+            base: params,
+            settings,
+            param: ContParam::ThetaNu,
+            period,
+        };
+        let opts = ContOptions::for_range(&settings, at, top);
+        match continue_branch(&prob, at, top, seed, &opts, cancel) {
+            Ok(b) => {
+                if let Some(f) = b.of_kind(SpecialKind::Fold).next() {
+                    let near = b.points.iter().min_by(|a, c| {
+                        (a.lambda - f.lambda)
+                            .abs()
+                            .total_cmp(&(c.lambda - f.lambda).abs())
+                    });
+                    let creep_run = near.map_or(0, |p| {
+                        longest_creep_run(params.kappa, params.gamma, &p.points)
+                    });
+                    let t = Tangency {
+                        theta_nu: f.lambda,
+                        period,
+                        theta: f.theta,
+                        multiplier: f.multiplier,
+                        window: at,
+                        creep_run,
+                    };
+                    return Some(Ok((Some(t), self.windows)));
+                }
+            }
+            Err(crate::sim::CycleFailure::Sim(SimError::Cancelled)) => {
+                return Some(Err(SimError::Cancelled));
+            }
+            Err(_) => {}
+        }
+        if cancel() {
+            return Some(Err(SimError::Cancelled));
+        }
+        (self.windows >= MAX_WINDOWS).then_some(Ok((None, self.windows)))
+    }
+}
+
+/// The measurement at one distance from the fold in pieces: the orbit's
+/// slip cycles, then the channel passage's map evaluations.
+struct Measure {
+    sim: Simulator,
     theta_nu: f64,
     eps: f64,
-    cancel: &dyn Fn() -> bool,
-) -> Result<ScalePoint, SimError> {
-    let p = Params { theta_nu, ..params };
-    let sim = Simulator::new(p, settings)?;
-    let opts = OrbitOptions {
-        transient: SCAN_TRANSIENT,
-        keep: SCAN_KEEP,
-        lyapunov: false,
-        period_tol: 1e-6,
-    };
-    let orbit = sim.orbit(theta_nu, &opts, cancel)?;
-    let creep = creep_flags(p.kappa, p.gamma, orbit.events.iter().map(|e| e.theta));
-    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-    let st = Intermittency::of(&creep, &sizes);
-    let first_creep = orbit
-        .events
-        .iter()
-        .zip(&creep)
-        .find(|(_, c)| **c)
-        .map(|(e, _)| e.theta);
-    let passage = match first_creep {
-        Some(th) => passage(&sim, th, cancel)?.mean(),
-        None => None,
-    };
-    Ok(ScalePoint {
-        eps,
-        theta_nu,
-        phases: st.laminar.len(),
-        mean: st
-            .mean_laminar
-            .filter(|_| st.laminar.len() >= super::MIN_PHASES),
-        stderr: st.mean_laminar_stderr,
-        passage,
-    })
+    orbit: OrbitRun,
+    /// Once the orbit is done: its statistics and the passage under way
+    /// (`None`: no creep onset, so none).
+    measured: Option<(Intermittency, Option<PassageRun>)>,
+}
+
+impl Measure {
+    fn new(
+        params: Params,
+        settings: SolverSettings,
+        theta_nu: f64,
+        eps: f64,
+    ) -> Result<Self, SimError> {
+        let sim = Simulator::new(Params { theta_nu, ..params }, settings)?;
+        let opts = OrbitOptions {
+            transient: SCAN_TRANSIENT,
+            keep: SCAN_KEEP,
+            lyapunov: false,
+            period_tol: 1e-6,
+        };
+        let orbit = OrbitRun::new(&sim, theta_nu, &opts)?;
+        Ok(Measure {
+            sim,
+            theta_nu,
+            eps,
+            orbit,
+            measured: None,
+        })
+    }
+
+    /// One piece; the point once it is measured.
+    fn advance(&mut self, cancel: &dyn Fn() -> bool) -> Option<Result<ScalePoint, SimError>> {
+        let Some((st, run)) = &mut self.measured else {
+            let orbit = match self.orbit.advance(&self.sim, cancel)? {
+                Ok(o) => o,
+                Err(e) => return Some(Err(e)),
+            };
+            let p = self.sim.params();
+            let creep = creep_flags(p.kappa, p.gamma, orbit.events.iter().map(|e| e.theta));
+            let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
+            let first_creep = orbit
+                .events
+                .iter()
+                .zip(&creep)
+                .find(|(_, c)| **c)
+                .map(|(e, _)| e.theta);
+            let passage = first_creep.map(|th| PassageRun::new(&self.sim, th));
+            self.measured = Some((Intermittency::of(&creep, &sizes), passage));
+            return None;
+        };
+        let passage = match run {
+            Some(run) => match run.advance(&self.sim, cancel)? {
+                Ok(p) => p.mean(),
+                Err(e) => return Some(Err(e)),
+            },
+            None => None,
+        };
+        Some(Ok(ScalePoint {
+            eps: self.eps,
+            theta_nu: self.theta_nu,
+            phases: st.laminar.len(),
+            mean: st
+                .mean_laminar
+                .filter(|_| st.laminar.len() >= super::MIN_PHASES),
+            stderr: st.mean_laminar_stderr,
+            passage,
+        }))
+    }
 }
 
 /// The tangency nearest `params.theta_nu` and, when there is one, the
@@ -291,30 +402,84 @@ pub fn scaling(
     settings: SolverSettings,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Scaling, SimError> {
-    let top = params.theta_nu;
-    let (tangency, windows) = find_tangency(params, settings, cancel)?;
-    let Some(tangency) = tangency else {
-        return Ok(Scaling::NoTangency {
-            lo: top - WINDOW_SPAN,
-            hi: top + WINDOW_SPAN,
-            windows,
-        });
-    };
-    let dist = top - tangency.theta_nu;
-    let mut points = Vec::with_capacity(SCAN_POINTS);
-    for k in 0..SCAN_POINTS {
-        let eps = dist.abs() * 0.5f64.powi(k as i32);
-        let at = tangency.theta_nu + eps.copysign(dist);
-        points.push(measure(params, settings, at, eps, cancel)?);
+    let mut run = ScalingRun::new(params, settings);
+    loop {
+        if let Some(r) = run.advance(cancel) {
+            return r;
+        }
     }
-    let pts: Vec<(f64, f64)> = points
-        .iter()
-        .filter_map(|p| p.mean.map(|m| (p.eps, m)))
-        .collect();
-    let fit = log_log_fit(&pts);
-    Ok(Scaling::Fitted {
-        tangency,
-        points,
-        fit,
-    })
+}
+
+/// [`scaling`] in pieces, so that a host on a slice of time (the browser's)
+/// can stop between two and go on later with the same result bit for bit:
+/// each piece one slip cycle of an orbit, one map evaluation of a channel
+/// passage, or one continuation of a window's cycle (the only piece not
+/// divided: tens to hundreds of milliseconds).
+pub struct ScalingRun {
+    search: Search,
+    tangency: Option<Tangency>,
+    points: Vec<ScalePoint>,
+    measuring: Option<Measure>,
+}
+
+impl ScalingRun {
+    /// The scan at `params`, nothing computed yet.
+    pub fn new(params: Params, settings: SolverSettings) -> Self {
+        ScalingRun {
+            search: Search::new(params, settings),
+            tangency: None,
+            points: Vec::with_capacity(SCAN_POINTS),
+            measuring: None,
+        }
+    }
+
+    /// One piece (`cancel` polled before each slip cycle or evaluation),
+    /// then `None`, or the scan's result.
+    pub fn advance(&mut self, cancel: &dyn Fn() -> bool) -> Option<Result<Scaling, SimError>> {
+        let (params, settings) = (self.search.params, self.search.settings);
+        let top = params.theta_nu;
+        let Some(tangency) = &self.tangency else {
+            return match self.search.advance(cancel)? {
+                Ok((Some(t), _)) => {
+                    self.tangency = Some(t);
+                    None
+                }
+                Ok((None, windows)) => Some(Ok(Scaling::NoTangency {
+                    lo: top - WINDOW_SPAN,
+                    hi: top + WINDOW_SPAN,
+                    windows,
+                })),
+                Err(e) => Some(Err(e)),
+            };
+        };
+        if self.points.len() == SCAN_POINTS {
+            let pts: Vec<(f64, f64)> = self
+                .points
+                .iter()
+                .filter_map(|p| p.mean.map(|m| (p.eps, m)))
+                .collect();
+            return Some(Ok(Scaling::Fitted {
+                tangency: tangency.clone(),
+                points: std::mem::take(&mut self.points),
+                fit: log_log_fit(&pts),
+            }));
+        }
+        if self.measuring.is_none() {
+            let dist = top - tangency.theta_nu;
+            let eps = dist.abs() * 0.5f64.powi(self.points.len() as i32);
+            let at = tangency.theta_nu + eps.copysign(dist);
+            match Measure::new(params, settings, at, eps) {
+                Ok(m) => self.measuring = Some(m),
+                Err(e) => return Some(Err(e)),
+            }
+        }
+        match self.measuring.as_mut()?.advance(cancel)? {
+            Ok(point) => {
+                self.points.push(point);
+                self.measuring = None;
+                None
+            }
+            Err(e) => Some(Err(e)),
+        }
+    }
 }

@@ -19,9 +19,10 @@ pub struct ColumnJob<'s> {
     pub resume: Option<PausedColumn>,
 }
 
-/// A column stopped between two slip cycles because its host wanted the
-/// thread back ([`run_columns`]'s `pause`). Resumed, it goes on exactly as
-/// if it had not stopped: the same cycles, bit for bit.
+/// A column stopped between two slip cycles (or two map evaluations of a
+/// cycle solve) because its host wanted the thread back ([`run_columns`]'s
+/// `pause`). Resumed, it goes on exactly as if it had not stopped: the same
+/// cycles, bit for bit.
 pub struct PausedColumn(ColumnRun);
 
 /// How a column left its lane: finished, or paused to be resumed later.
@@ -38,9 +39,9 @@ pub enum LaneEnd {
 /// retire it. `cancel` is polled once a cycle in each lane; a cancelled
 /// column is handed to `next` with `SimError::Cancelled`. `yielding` is
 /// asked before each cycle (or heavy piece) of an unfinished column that
-/// has run at least one cycle in this call (so every call moves on): when
-/// it says stop, the column is handed to `next` as [`LaneEnd::Paused`]
-/// instead of going on.
+/// has run at least one cycle in this call (so every call moves on), and
+/// between two map evaluations of a cycle solve: when it says stop, the
+/// column is handed to `next` as [`LaneEnd::Paused`] instead of going on.
 pub fn run_columns<'s>(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
@@ -58,7 +59,9 @@ pub fn run_columns<'s>(
         loop {
             if let Some((sim, run)) = &mut current[lane] {
                 let stop = || yielding.pause() || (run.heavy_due() && yielding.defer_heavy());
-                if !run.done && moved[lane] && stop() {
+                // A cycle solve goes on one map evaluation at a time and
+                // pauses between two like the cycles do.
+                if !run.done && ((moved[lane] && stop()) || !run.heavy_step(sim, yielding)) {
                     ended = current[lane]
                         .take()
                         .map(|(_, run)| LaneEnd::Paused(PausedColumn(run)));
