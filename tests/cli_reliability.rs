@@ -441,14 +441,17 @@ fn an_output_where_no_file_can_be_made_is_refused_before_the_run() {
 /// its search stops it with one line, exit 1, and nothing on stdout.
 #[test]
 fn attractors_stops_at_max_seconds() {
-    // The intermittent preset: its seeds cost the most (at Fig. 3b 512
-    // seeds now finish within the first 50 ms the limit is polled at).
+    // RK4 at a step of 1e-4 takes tens of seconds for Fig. 3b's 64 seeds
+    // (every preset's seeds at the default accuracy now finish within the
+    // first 50 ms the limit is polled at).
     let o = oneblock(&[
         "attractors",
         "--preset",
-        "intermittent",
-        "--seeds",
-        "512",
+        "fig3b",
+        "--method",
+        "rk4",
+        "--step",
+        "1e-4",
         "--max-seconds",
         "0.001",
     ]);

@@ -458,6 +458,7 @@ fn a_gif_made_in_pieces_is_the_gif_made_at_once() {
         theta_nu: None,
         theta: None,
         size: eframe::egui::vec2(200.0, 150.0),
+        crosshair: false,
     };
     let whole = gif(&fig, 40, 0.5).expect("a GIF");
     assert!(GifRun::new(fig.clone(), 0, 0.5).is_err(), "no frames");

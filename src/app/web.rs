@@ -406,6 +406,7 @@ impl Explorer {
             theta_nu: None,
             theta: None,
             size: egui::vec2(640.0, 480.0),
+            crosshair: false,
         };
         match super::animation::GifRun::new(fig, RECORD_FRAMES, speed) {
             Ok(run) => {
