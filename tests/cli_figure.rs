@@ -12,6 +12,18 @@ use std::process::{Command, Output};
 use oneblock::app::Settings;
 use oneblock::app::session::Session;
 
+/// Every view `figure` draws.
+const VIEWS: [&str; 8] = [
+    "plane",
+    "block",
+    "bifurcation",
+    "return-map",
+    "events",
+    "phase",
+    "numerics",
+    "time-series",
+];
+
 /// Words of the views' controls, none of which belongs in a figure.
 const CONTROLS: [&str; 14] = [
     "Compute",
@@ -160,16 +172,7 @@ fn every_view_is_drawn_headless_with_its_axes_and_no_controls() {
     let dir = tempfile::tempdir().expect("temp dir");
     let session = small_session(dir.path());
     let session = session.to_str().expect("utf-8 path");
-    for view in [
-        "plane",
-        "block",
-        "bifurcation",
-        "return-map",
-        "events",
-        "phase",
-        "numerics",
-        "time-series",
-    ] {
+    for view in VIEWS {
         let out = dir.path().join(format!("{view}.svg"));
         let o = figure(&[
             "--view",
@@ -205,16 +208,7 @@ fn every_view_is_drawn_headless_as_a_png_too() {
     let dir = tempfile::tempdir().expect("temp dir");
     let session = small_session(dir.path());
     let session = session.to_str().expect("utf-8 path");
-    for view in [
-        "plane",
-        "block",
-        "bifurcation",
-        "return-map",
-        "events",
-        "phase",
-        "numerics",
-        "time-series",
-    ] {
+    for view in VIEWS {
         let out = dir.path().join(format!("{view}.png"));
         let o = figure(&[
             "--view",

@@ -16,9 +16,10 @@ use std::sync::atomic::{AtomicU16, Ordering};
 use rayon::prelude::*;
 
 use super::block::{Playback, state_at};
+use super::data::TrajectoryData;
 use super::figure::{Figure, compute, font_db, pixmap_with_fonts, view_settings};
 use super::jobs::Jobs;
-use super::settings::ViewKind;
+use super::settings::{Settings, ViewKind};
 use super::svg_render::FrameRenderer;
 
 mod sliced;
@@ -39,34 +40,44 @@ const CHUNK_BYTES: usize = 40 << 20;
 /// Bits kept per colour channel in the colour → palette index table.
 const LUT_BITS: u32 = 6;
 
-/// An animated GIF of `fig`'s view (the block or the plane), `frames`
-/// frames 0.1 s apart, looping, one pixel a point, played at `speed`
-/// (1 real time, as in the window: stick phases fast-forwarded, slips at
-/// the settings' slip speed; 0.25 four times slower). The block moves on
-/// that clock; the plane's path grows up to its time.
-pub fn gif(fig: &Figure, frames: usize, speed: f64) -> Result<Vec<u8>, String> {
-    if !(MIN_SPEED..=MAX_SPEED).contains(&speed) {
-        return Err(format!(
-            "speed {speed} is out of range: must lie in [{MIN_SPEED}, {MAX_SPEED}]"
-        ));
+/// The plane's path grown with the playback clock, frame by frame (the
+/// block's own clock is the renderer's ui time).
+pub(super) struct Growth {
+    full: TrajectoryData,
+    plane: bool,
+    window_start: f64,
+    clock: Playback,
+    dt: f64,
+    block_speed: f64,
+}
+
+impl Growth {
+    /// From `jobs`' whole trajectory, for `view`, frames `dt` of playback
+    /// apart, from the start of the window the settings `s` show.
+    pub(super) fn new(view: ViewKind, s: &Settings, jobs: &Jobs, dt: f64) -> Self {
+        let full = jobs.trajectory.data.clone();
+        let start = full.recent_start(s.keep_cycles);
+        let window_start = full.samples.get(start).map_or(0.0, |p| p.t);
+        Growth {
+            full,
+            plane: view == ViewKind::Plane,
+            window_start,
+            clock: Playback {
+                clock: window_start,
+            },
+            dt,
+            block_speed: s.block_speed as f64,
+        }
     }
-    let mut jobs = compute(fig)?;
-    let s = view_settings(fig);
-    let dt = FRAME_SECONDS * speed;
-    let full = jobs.trajectory.data.clone();
-    let plane = fig.view == ViewKind::Plane;
-    let start = full.recent_start(s.keep_cycles);
-    let window_start = full.samples.get(start).map_or(0.0, |p| p.t);
-    let mut clock = Playback {
-        clock: window_start,
-    };
-    // The plane's path up to the playback clock, ending at the point the
-    // block is at then.
-    let mut grow = |jobs: &mut Jobs| {
-        if !plane || full.samples.is_empty() {
+
+    /// The plane's path up to the playback clock, ending at the point the
+    /// block is at then; the clock moves on a frame.
+    pub(super) fn grow(&mut self, jobs: &mut Jobs) {
+        let full = &self.full;
+        if !self.plane || full.samples.is_empty() {
             return;
         }
-        let t = clock.clock;
+        let t = self.clock.clock;
         let cut = full.samples.partition_point(|p| p.t <= t).max(1);
         let data = &mut jobs.trajectory.data;
         data.samples = full.samples[..cut].to_vec();
@@ -81,9 +92,27 @@ pub fn gif(fig: &Figure, frames: usize, speed: f64) -> Result<Vec<u8>, String> {
             .filter(|e| e.onset_time <= t)
             .cloned()
             .collect();
-        clock.advance(&full.samples, window_start, dt, s.block_speed as f64);
-    };
-    grow(&mut jobs);
+        self.clock
+            .advance(&full.samples, self.window_start, self.dt, self.block_speed);
+    }
+}
+
+/// An animated GIF of `fig`'s view (the block or the plane), `frames`
+/// frames 0.1 s apart, looping, one pixel a point, played at `speed`
+/// (1 real time, as in the window: stick phases fast-forwarded, slips at
+/// the settings' slip speed; 0.25 four times slower). The block moves on
+/// that clock; the plane's path grows up to its time.
+pub fn gif(fig: &Figure, frames: usize, speed: f64) -> Result<Vec<u8>, String> {
+    if !(MIN_SPEED..=MAX_SPEED).contains(&speed) {
+        return Err(format!(
+            "speed {speed} is out of range: must lie in [{MIN_SPEED}, {MAX_SPEED}]"
+        ));
+    }
+    let mut jobs = compute(fig)?;
+    let s = view_settings(fig);
+    let dt = FRAME_SECONDS * speed;
+    let mut growth = Growth::new(fig.view, &s, &jobs, dt);
+    growth.grow(&mut jobs);
     let mut renderer = FrameRenderer::new(fig.view, &s, &jobs, fig.size, dt);
     let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);
     let chunk = (CHUNK_BYTES / (usize::from(w) * usize::from(h) * 4).max(1)).clamp(2, 32);
@@ -96,7 +125,7 @@ pub fn gif(fig: &Figure, frames: usize, speed: f64) -> Result<Vec<u8>, String> {
         let svgs: Vec<String> = (0..n)
             .map(|k| {
                 if done + k > 0 {
-                    grow(&mut jobs);
+                    growth.grow(&mut jobs);
                 }
                 renderer.next_frame(&jobs)
             })

@@ -206,15 +206,7 @@ impl Explorer {
             }
             #[cfg(not(target_arch = "wasm32"))]
             Action::Record(v, speed) => {
-                let fig = super::figure::Figure {
-                    view: v,
-                    settings: self.settings.clone(),
-                    zoom: Vec::new(),
-                    theta_nu: None,
-                    theta: None,
-                    size: egui::vec2(640.0, 480.0),
-                    crosshair: false,
-                };
+                let fig = super::figure::Figure::record(v, self.settings.clone());
                 let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
                 self.shots
                     .record(fig, (RECORD_FRAMES, speed), path, self.now);

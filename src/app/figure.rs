@@ -48,6 +48,20 @@ pub struct Figure {
 }
 
 impl Figure {
+    /// What the window's Record makes of `view`: the window's settings, no
+    /// zoom or range of its own, 640×480 points, figure only.
+    pub fn record(view: ViewKind, settings: Settings) -> Figure {
+        Figure {
+            view,
+            settings,
+            zoom: Vec::new(),
+            theta_nu: None,
+            theta: None,
+            size: egui::vec2(640.0, 480.0),
+            crosshair: false,
+        }
+    }
+
     /// The diagram's θν range the sweep computes, if not the whole one.
     fn sweep_zoom(&self) -> Option<(f64, f64)> {
         match (self.theta_nu, self.theta) {

@@ -19,7 +19,7 @@ use std::rc::Rc;
 use wasm_bindgen::JsCast as _;
 use wasm_bindgen::prelude::*;
 
-use eframe::egui::{self, Context, Ui};
+use eframe::egui::{Context, Ui};
 
 use super::settings::ViewKind;
 use super::title_buttons::RECORD_FRAMES;
@@ -399,15 +399,7 @@ impl Explorer {
                 .toast("a recording is under way already".into(), true, now);
             return;
         }
-        let fig = super::figure::Figure {
-            view: v,
-            settings: self.settings.clone(),
-            zoom: Vec::new(),
-            theta_nu: None,
-            theta: None,
-            size: egui::vec2(640.0, 480.0),
-            crosshair: false,
-        };
+        let fig = super::figure::Figure::record(v, self.settings.clone());
         match super::animation::GifRun::new(fig, RECORD_FRAMES, speed) {
             Ok(run) => {
                 let path = super::screenshot::fresh_path("", v.key(), "gif");

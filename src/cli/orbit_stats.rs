@@ -3,7 +3,7 @@
 //! laminar length against the distance to a tangency located by
 //! continuation (`sim::intermittency`).
 
-use crate::sim::intermittency::{Intermittency, Scaling, creep_flags, passage, scaling};
+use crate::sim::intermittency::{Intermittency, Scaling, passage, scaling};
 use crate::sim::{Orbit, SimError, Simulator};
 
 /// The statistics file: laminar phases as runs of creep slips (by where
@@ -17,15 +17,7 @@ pub(super) fn stats_text(
     scan: Option<&dyn Fn() -> bool>,
 ) -> Result<String, SimError> {
     let p = *sim.params();
-    let creep = creep_flags(p.kappa, p.gamma, orbit.events.iter().map(|e| e.theta));
-    let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-    let st = Intermittency::of(&creep, &sizes);
-    let first_creep = orbit
-        .events
-        .iter()
-        .zip(&creep)
-        .find(|(_, c)| **c)
-        .map(|(e, _)| e.theta);
+    let (st, first_creep) = Intermittency::of_events(p.kappa, p.gamma, &orbit.events);
     let mut notes = Vec::new();
     match first_creep {
         Some(th) => {

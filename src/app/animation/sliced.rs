@@ -9,13 +9,10 @@
 use std::sync::Arc;
 use std::time::Duration;
 
-use super::super::block::{Playback, state_at};
-use super::super::data::TrajectoryData;
 use super::super::figure::{ComputeRun, Figure, font_db, pixmap_with_fonts, view_settings};
 use super::super::jobs::Jobs;
-use super::super::settings::ViewKind;
 use super::super::svg_render::FrameRenderer;
-use super::{CHUNK_BYTES, Encoder, FRAME_SECONDS, MAX_SPEED, MIN_SPEED};
+use super::{CHUNK_BYTES, Encoder, FRAME_SECONDS, Growth, MAX_SPEED, MIN_SPEED};
 
 /// An animated GIF in the making ([`GifRun::advance`]).
 pub struct GifRun {
@@ -24,44 +21,6 @@ pub struct GifRun {
     speed: f64,
     computing: Option<ComputeRun>,
     drawing: Option<Frames>,
-}
-
-/// The plane's path grown with the playback clock, as `gif` grows it.
-struct Growth {
-    full: TrajectoryData,
-    plane: bool,
-    window_start: f64,
-    clock: Playback,
-    dt: f64,
-    block_speed: f64,
-}
-
-impl Growth {
-    /// The plane's path up to the playback clock, ending at the point the
-    /// block is at then; the clock moves on a frame.
-    fn grow(&mut self, jobs: &mut Jobs) {
-        let full = &self.full;
-        if !self.plane || full.samples.is_empty() {
-            return;
-        }
-        let t = self.clock.clock;
-        let cut = full.samples.partition_point(|p| p.t <= t).max(1);
-        let data = &mut jobs.trajectory.data;
-        data.samples = full.samples[..cut].to_vec();
-        if let Some((now, _)) = state_at(&full.samples, t)
-            && now.t > data.samples[cut - 1].t
-        {
-            data.samples.push(now);
-        }
-        data.events = full
-            .events
-            .iter()
-            .filter(|e| e.onset_time <= t)
-            .cloned()
-            .collect();
-        self.clock
-            .advance(&full.samples, self.window_start, self.dt, self.block_speed);
-    }
 }
 
 /// The frames' part: the view's data, the renderer and the encoder.
@@ -127,19 +86,7 @@ impl Frames {
     fn new(fig: &Figure, mut jobs: Jobs, frames: usize, speed: f64) -> Self {
         let s = view_settings(fig);
         let dt = FRAME_SECONDS * speed;
-        let full = jobs.trajectory.data.clone();
-        let start = full.recent_start(s.keep_cycles);
-        let window_start = full.samples.get(start).map_or(0.0, |p| p.t);
-        let mut growth = Growth {
-            full,
-            plane: fig.view == ViewKind::Plane,
-            window_start,
-            clock: Playback {
-                clock: window_start,
-            },
-            dt,
-            block_speed: s.block_speed as f64,
-        };
+        let mut growth = Growth::new(fig.view, &s, &jobs, dt);
         growth.grow(&mut jobs);
         let renderer = FrameRenderer::new(fig.view, &s, &jobs, fig.size, dt);
         let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);

@@ -26,6 +26,7 @@ pub mod tangency;
 pub use channel::{Passage, PassageRun, creep_interval, passage};
 pub use tangency::{ScalePoint, Scaling, ScalingRun, Tangency, find_tangency, scaling};
 
+use super::SlipEvent;
 use super::stats::mean_and_stderr;
 use crate::model::{OnsetCharacter, onset_character};
 
@@ -268,6 +269,21 @@ impl Regime {
 }
 
 impl Intermittency {
+    /// The statistics of an orbit's slips `events` at κ and γ, told by
+    /// where each starts and sized by its slip distance, and where the
+    /// first creep slip starts (the creep channel's entry, for the
+    /// passage), if there is one.
+    pub fn of_events(kappa: f64, gamma: f64, events: &[SlipEvent]) -> (Intermittency, Option<f64>) {
+        let creep = creep_flags(kappa, gamma, events.iter().map(|e| e.theta));
+        let sizes: Vec<f64> = events.iter().map(|e| e.slip_distance).collect();
+        let first_creep = events
+            .iter()
+            .zip(&creep)
+            .find(|(_, c)| **c)
+            .map(|(e, _)| e.theta);
+        (Intermittency::of(&creep, &sizes), first_creep)
+    }
+
     /// The statistics of slips flagged creep (`true`) or stick-slip by
     /// where each starts, with their `sizes` (the transient already
     /// dropped; the two slices in step).

@@ -362,16 +362,9 @@ impl Measure {
                 Err(e) => return Some(Err(e)),
             };
             let p = self.sim.params();
-            let creep = creep_flags(p.kappa, p.gamma, orbit.events.iter().map(|e| e.theta));
-            let sizes: Vec<f64> = orbit.events.iter().map(|e| e.slip_distance).collect();
-            let first_creep = orbit
-                .events
-                .iter()
-                .zip(&creep)
-                .find(|(_, c)| **c)
-                .map(|(e, _)| e.theta);
+            let (stats, first_creep) = Intermittency::of_events(p.kappa, p.gamma, &orbit.events);
             let passage = first_creep.map(|th| PassageRun::new(&self.sim, th));
-            self.measured = Some((Intermittency::of(&creep, &sizes), passage));
+            self.measured = Some((stats, passage));
             return None;
         };
         let passage = match run {
