@@ -1,6 +1,9 @@
 //! Continuation (docs/continuation.md) at γ = 6.5, ν = 1e-3, DOP853 at
 //! 1e-10: locating the fixed point's period doubling at Fig. 3b (κ = 18.95,
-//! the P1 branch over θν ∈ [1.0, 1.2], the doubling located to 1e-10);
+//! the P1 branch over θν ∈ [1.0, 1.2], the doubling located to 1e-10) and
+//! at Fig. 3a (κ = 50, ν = 1e-4, from θν = 1.56 down to 1.50), and the
+//! criticality at each located doubling alone (`flip_at`, as the
+//! location calls it: two evaluations of f^p);
 //! the cascades at κ = 18.95 and κ = 16 from θν = 1.0 (as far as each
 //! goes, printed before timing); and the whole FP→P2 boundary over
 //! θν ∈ [0.1, 1.55] × κ ∈ [1, 42] (both arms, from the two doublings at
@@ -17,7 +20,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use oneblock::model::Params;
 use oneblock::sim::continuation::{
     ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, cascade,
-    continue_branch, continue_curves,
+    continue_branch, continue_curves, flip_at,
 };
 use oneblock::sim::default_settings;
 
@@ -40,11 +43,40 @@ fn bench(c: &mut Criterion) {
     let never = || false;
     let mut g = c.benchmark_group("continuation");
     g.sample_size(10).warm_up_time(Duration::from_secs(1));
-    let p = problem(18.95);
-    let opts = ContOptions::for_range(&p.settings, 1.0, 1.2);
-    g.bench_function("locate_pd_fig3b", |b| {
-        b.iter(|| black_box(continue_branch(&p, 1.0, 1.2, 0.4, &opts, &never).unwrap()))
-    });
+    let fig3a = Problem {
+        base: Params {
+            nu: 1e-4,
+            ..problem(50.0).base
+        },
+        ..problem(50.0)
+    };
+    for (name, p, [from, to], seed) in [
+        ("fig3b", problem(18.95), [1.0, 1.2], 0.4),
+        ("fig3a", fig3a, [1.56, 1.50], 1.0),
+    ] {
+        let opts = ContOptions::for_range(&p.settings, from, to);
+        let run = || continue_branch(&p, from, to, seed, &opts, &never).unwrap();
+        g.bench_function(format!("locate_pd_{name}"), |b| b.iter(|| black_box(run())));
+        let branch = run();
+        let pd = branch
+            .of_kind(SpecialKind::PeriodDoubling)
+            .next()
+            .unwrap()
+            .clone();
+        let mut n = 0;
+        let at = p.eval(pd.theta, pd.lambda, &mut n).unwrap();
+        let dm = pd.flip.unwrap().dm_dlambda;
+        eprintln!(
+            "{name}: the branch took {} map evaluations, the criticality 2",
+            branch.map_evals
+        );
+        g.bench_function(format!("criticality_{name}"), |b| {
+            b.iter(|| {
+                let f = flip_at(&p, pd.lambda, pd.theta, Some(&at), dm, &mut n);
+                black_box(f.unwrap())
+            })
+        });
+    }
     for kappa in [18.95, 16.0] {
         let p = problem(kappa);
         let opts = ContOptions::for_range(&p.settings, 1.0, 1.6);

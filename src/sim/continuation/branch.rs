@@ -335,30 +335,31 @@ impl Ctx<'_> {
     /// The flip's normal form at the located doubling `p` (see
     /// [`super::flip`]); `None` where f^p has no derivatives around it.
     ///
-    /// `secant` is m's slope in λ across the step that crossed −1: where
-    /// the differences' dm/dλ has the other sign (a long cycle, whose m
-    /// changes by orders of magnitude within the λ step of the
-    /// differences), the secant's is taken, so that the side the doubled
-    /// cycle is born on is the side the branch shows unstable.
-    pub(super) fn flip(&mut self, p: &Pt, secant: f64) -> Option<super::Flip> {
+    /// `samples` are (λ, m) at the branch points the location corrected,
+    /// the step's ends first: dm/dλ is their slope at the doubling. Where
+    /// it has the other sign than m's secant across the step (a long
+    /// cycle, whose m changes by orders of magnitude within the samples),
+    /// the secant's is taken, so that the side the doubled cycle is born
+    /// on is the side the branch shows unstable.
+    pub(super) fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
-        let scale = self.opts.scale;
-        let g_lambda = p.e.g_lambda;
-        let m0 = Some(p.e.multiplier);
-        let mut f = super::flip_at(
+        let period = self.prob.period;
+        let mut dm_dlambda = super::branch_slope(samples, lambda, period)?;
+        if let [(l0, m0), (l1, m1), ..] = samples {
+            let secant = (m1 - m0) / (l1 - l0);
+            if secant.is_finite() && secant != 0.0 && (dm_dlambda > 0.0) != (secant > 0.0) {
+                dm_dlambda = secant;
+            }
+        }
+        super::flip_at(
             self.prob,
             lambda,
             p.x[0],
-            m0,
-            g_lambda,
-            scale,
+            Some(&p.e),
+            dm_dlambda,
             &mut self.evals,
         )
-        .ok()?;
-        if secant.is_finite() && secant != 0.0 && (f.dm_dlambda > 0.0) != (secant > 0.0) {
-            f.dm_dlambda = secant;
-        }
-        Some(f)
+        .ok()
     }
 
     pub(super) fn special(&self, kind: SpecialKind, p: &Pt, note: String) -> SpecialPoint {
@@ -399,6 +400,10 @@ impl Ctx<'_> {
         // The bracket is closed in arclength (in λ's units), not in λ: at
         // a fold λ barely moves along the branch while m still does.
         let closed = |sa: f64, sb: f64| (sb - sa).abs() * s_len <= self.opts.locate_tol;
+        let mut samples = vec![
+            (a.lambda(s_len), a.e.multiplier),
+            (b.lambda(s_len), b.e.multiplier),
+        ];
         for _ in 0..80 {
             if closed(sa, sb) {
                 break;
@@ -412,6 +417,7 @@ impl Ctx<'_> {
                 break;
             };
             let fc = test(c.e.multiplier);
+            samples.push((c.lambda(s_len), c.e.multiplier));
             if fc.abs() < test(best.e.multiplier).abs() {
                 best = c;
             }
@@ -442,6 +448,7 @@ impl Ctx<'_> {
             pt: best,
             real,
             off,
+            samples,
         }
     }
 }
@@ -462,4 +469,7 @@ pub(super) struct Located {
     pub(super) real: bool,
     /// |test| there.
     pub(super) off: f64,
+    /// (λ, m) at every branch point the location corrected, the bracket's
+    /// first ends first (for m's slope at the zero).
+    pub(super) samples: Vec<(f64, f64)>,
 }

@@ -11,32 +11,44 @@
 //! stable, and the attractor jumps away when it loses stability.
 //!
 //! g' is the exact multiplier M(θ) = Π f'(θᵢ) of the orbit of length p
-//! from θ (not a cycle off θ*); g'' = M' and g''' = M'' come from the
-//! five-point central differences of M at three steps h = 0.01, h/2, h/4
-//! (eight evaluations of M besides the one at θ*, as ±2·(h/2) = ±h). M carries
-//! the integrator's error (about 1e-9 relative), which the quotients
-//! divide by h²; their truncation error grows like h⁴. The pair of
-//! neighbouring steps whose estimates of c agree best is kept: the
-//! smaller step's value, and the difference as its error. Where the
-//! error exceeds |c|, the criticality is not decided (near a generalised
-//! flip, where c changes sign). The multiplier's rate along the branch,
-//! dm/dλ = M'·dθ*/dλ + ∂M/∂λ (dθ*/dλ = G_λ/2 at m = −1), takes one more
-//! central difference, in λ.
+//! from θ (not a cycle off θ*), and each evaluation gives G = g − θ with
+//! it. So two evaluations, at θ* ± H, add four numbers to G and M at θ*
+//! (the located point's own): the quintic that takes those six values
+//! (Hermite interpolation) gives g'' and g''' with errors of order H⁴.
+//! g''' from M alone (the three-point M'' = g''') is second order; the
+//! two values of c differ by about the second-order one's error, which is
+//! taken as c's (pessimistic, and large wherever g is not smooth over
+//! ± H). G's noise (the integrator's, a few 1e-8 at ν = 1e-4) enters the
+//! quintic's g''' divided by H³, and M's (1e-9 relative) the three-point
+//! values divided by H²; truncation grows like H⁴. H = 0.01/p balances
+//! them: the born cycles of tests/criticality.rs are within 0.2 % of the
+//! predicted half-widths, and the estimated error is 1–10 % of |c|. Where
+//! the error exceeds |c|, the criticality is not decided (near a
+//! generalised flip, where c changes sign).
+//!
+//! dm/dλ along the branch costs nothing more: the location of the PD
+//! corrected the branch at several λ about λ*, and m at those points is
+//! exact. The slope at λ* is the quadratic's through λ* and the two
+//! nearest of them that are far enough apart for m's noise (see
+//! [`branch_slope`]).
 
-use super::{EvalError, Problem};
+use super::{Eval, EvalError, Problem};
 
-/// The step h of the differences in θ for a fixed point (M at θ* ± h and
-/// ± 2h); a p-cycle's is h/p.
-const STEP: f64 = 5e-3;
-/// The relative step of the difference in λ (of the range's scale).
-const LAMBDA_STEP: f64 = 1e-5;
+/// The step H of the differences in θ for a fixed point (G and M at
+/// θ* ± H); a p-cycle's is H/p: g = f^p bends on a scale that shrinks
+/// with p (its derivatives grow like products of p slopes).
+const STEP: f64 = 1e-2;
+/// M's error relative to |M|, per map evaluation in the product.
+const M_NOISE: f64 = 1e-9;
+/// The largest share of |dm/dλ| that m's noise may take in [`branch_slope`].
+const SLOPE_NOISE: f64 = 1e-4;
 
 /// A flip's normal form, at a located period doubling.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Flip {
     /// c = g''²/4 + g'''/6: positive for a supercritical flip.
     pub coefficient: f64,
-    /// The coefficient's error, estimated from two difference steps.
+    /// The coefficient's error: its difference from the second-order value.
     pub error: f64,
     /// dm/dλ along the p-cycle's branch at the flip.
     pub dm_dlambda: f64,
@@ -102,30 +114,21 @@ impl Flip {
 }
 
 /// The flip's normal form at the p-cycle through `theta` at `lambda`, a
-/// located period doubling of `prob` whose multiplier there is `m0`
-/// (computed when `None`); `g_lambda` is G_λ there and `scale` the range's
-/// length (for the λ step). Counts map evaluations in `evals`.
+/// located period doubling of `prob`: `at` is G and M there (evaluated
+/// when `None`), `dm_dlambda` the multiplier's slope along the branch
+/// (see [`branch_slope`]). Counts map evaluations in `evals`.
 pub fn flip_at(
     prob: &Problem,
     lambda: f64,
     theta: f64,
-    m0: Option<f64>,
-    g_lambda: f64,
-    scale: f64,
+    at: Option<&Eval>,
+    dm_dlambda: f64,
     evals: &mut u64,
 ) -> Result<Flip, EvalError> {
-    let (coefficient, error, d2, m0) = coefficient(prob, lambda, theta, m0, evals)?;
-    // ∂M/∂λ by a forward difference at θ* held: its truncation error is
-    // ~1e-5 relative, its noise (M's 1e-9 over the step) ~1e-4 absolute.
-    let hl = LAMBDA_STEP * scale;
-    let s = prob.sim(lambda + hl).map_err(EvalError::Sim)?;
-    let m_up = super::eval_at(&s, prob.param, prob.period, theta, evals)?.multiplier;
-    let dm_partial = (m_up - m0) / hl;
-    // On the branch, dθ*/dλ = −G_λ/G_θ = G_λ/2 at m = −1.
-    let dm_dlambda = d2 * (0.5 * g_lambda) + dm_partial;
     if !dm_dlambda.is_finite() {
         return Err(EvalError::NonFinite);
     }
+    let (coefficient, error) = coefficient(prob, lambda, theta, at, evals)?;
     Ok(Flip {
         coefficient,
         error,
@@ -133,40 +136,97 @@ pub fn flip_at(
     })
 }
 
-/// The coefficient c at θ*, its error, g'' = M'(θ*) and M(θ*): from M at θ* ± h
-/// and θ* ± 2h, c by the five-point differences, its error as the
-/// difference from c by the three-point ones at ± h (second order against
-/// fourth: a pessimistic bound on the five-point value's error, large
-/// wherever M is not smooth over ± 2h).
+/// The coefficient c at θ* and its error: the quintic through G and M at
+/// θ* and θ* ± H gives c, the three-point differences of M give the
+/// second-order c its error is measured against (see the module notes).
 fn coefficient(
     prob: &Problem,
     lambda: f64,
     theta: f64,
-    m0: Option<f64>,
+    at: Option<&Eval>,
     evals: &mut u64,
-) -> Result<(f64, f64, f64, f64), EvalError> {
+) -> Result<(f64, f64), EvalError> {
     let sim = prob.sim(lambda).map_err(EvalError::Sim)?;
-    let mut m_at = |dx: f64| -> Result<f64, EvalError> {
-        Ok(super::eval_at(&sim, prob.param, prob.period, theta + dx, evals)?.multiplier)
+    let mut eval = |dx: f64| -> Result<(f64, f64), EvalError> {
+        let e = super::eval_at(&sim, prob.param, prob.period, theta + dx, evals)?;
+        Ok((e.g, e.multiplier))
     };
-    let m0 = match m0 {
-        Some(m) => m,
-        None => m_at(0.0)?,
+    let (g0, m0) = match at {
+        Some(e) => (e.g, e.multiplier),
+        None => eval(0.0)?,
     };
-    // g = f^p bends on a scale that shrinks with p (its derivatives grow
-    // like products of p slopes): the step shrinks with it.
     let h = STEP / prob.period as f64;
-    let (p1, n1, p2, n2) = (m_at(h)?, m_at(-h)?, m_at(2.0 * h)?, m_at(-2.0 * h)?);
-    let c_of = |d2: f64, d3: f64| 0.25 * d2 * d2 + d3 / 6.0;
-    let d2 = (n2 - 8.0 * n1 + 8.0 * p1 - p2) / (12.0 * h);
-    let d3 = (-n2 + 16.0 * n1 - 30.0 * m0 + 16.0 * p1 - p2) / (12.0 * h * h);
-    let c = c_of(d2, d3);
-    let c3 = c_of((p1 - n1) / (2.0 * h), (p1 - 2.0 * m0 + n1) / (h * h));
-    let error = (c - c3).abs();
+    let (plus, minus) = (eval(h)?, eval(-h)?);
+    let (c, error) = from_hermite(h, (g0, m0), plus, minus);
     if !(c.is_finite() && error.is_finite()) {
         return Err(EvalError::NonFinite);
     }
-    Ok((c, error, d2, m0))
+    Ok((c, error))
+}
+
+/// c and its error from (G, M) at θ*, θ* + h and θ* − h (see
+/// [`coefficient`]).
+fn from_hermite(h: f64, at: (f64, f64), plus: (f64, f64), minus: (f64, f64)) -> (f64, f64) {
+    let ((g0, m0), (gp, mp), (gn, mn)) = (at, plus, minus);
+    // In x = θ − θ*, G = Σ aₖxᵏ (k ≤ 5): its even part from the mean of G
+    // and the difference of M, its odd part from the difference of G and
+    // the mean of M (a₁ = M₀ − 1).
+    let even_g = 0.5 * (gp + gn) - g0; // a₂h² + a₄h⁴
+    let odd_m = 0.5 * (mp - mn); // 2a₂h + 4a₄h³
+    let odd_g = (gp - gn) / (2.0 * h) - (m0 - 1.0); // a₃h² + a₅h⁴
+    let even_m = 0.5 * (mp + mn) - m0; // 3a₃h² + 5a₅h⁴
+    let d2 = (4.0 * even_g - odd_m * h) / (h * h); // 2a₂
+    let d3 = 3.0 * (5.0 * odd_g - even_m) / (h * h); // 6a₃
+    let c_of = |d2: f64, d3: f64| 0.25 * d2 * d2 + d3 / 6.0;
+    let c = c_of(d2, d3);
+    let c3 = c_of(odd_m / h, 2.0 * even_m / (h * h));
+    (c, (c - c3).abs())
+}
+
+/// dm/dλ at `lambda` along a branch of the p-cycle, from `samples`: (λ, m)
+/// at corrected points of the branch, the first two the ends of the step
+/// that crossed the flip. The quadratic through the sample nearest
+/// `lambda` and the next two nearest that lie apart from the chosen ones
+/// by at least δ, where m's noise (1e-9·p) over δ is 1e-4 of the step's
+/// slope: its error is of order m'''·δ₁δ₂ (δ₁, δ₂ their distances). With
+/// fewer such samples, the secant of the two; `None` without two.
+pub fn branch_slope(samples: &[(f64, f64)], lambda: f64, period: usize) -> Option<f64> {
+    let [(l0, m0), (l1, m1), ..] = samples else {
+        return None;
+    };
+    let secant = (m1 - m0) / (l1 - l0);
+    let noise = M_NOISE * period as f64;
+    let apart = if secant.is_finite() && secant != 0.0 {
+        noise / (SLOPE_NOISE * secant.abs())
+    } else {
+        0.0
+    };
+    let mut by_distance: Vec<(f64, f64)> = samples
+        .iter()
+        .copied()
+        .filter(|(l, m)| l.is_finite() && m.is_finite())
+        .collect();
+    by_distance.sort_by(|a, b| (a.0 - lambda).abs().total_cmp(&(b.0 - lambda).abs()));
+    let mut chosen: Vec<(f64, f64)> = Vec::with_capacity(3);
+    for s in by_distance {
+        if chosen.len() == 3 {
+            break;
+        }
+        if chosen.iter().all(|c| (c.0 - s.0).abs() > apart) {
+            chosen.push(s);
+        }
+    }
+    let slope = match chosen[..] {
+        [(x0, y0), (x1, y1), (x2, y2)] => {
+            let f01 = (y1 - y0) / (x1 - x0);
+            let f12 = (y2 - y1) / (x2 - x1);
+            let f012 = (f12 - f01) / (x2 - x0);
+            f01 + f012 * ((lambda - x0) + (lambda - x1))
+        }
+        [(x0, y0), (x1, y1)] => (y1 - y0) / (x1 - x0),
+        _ => secant,
+    };
+    slope.is_finite().then_some(slope)
 }
 
 /// A generalised flip on a PD curve: where the flip's coefficient c
@@ -202,7 +262,7 @@ pub fn generalised_flips(
                 param: params[0],
                 period,
             };
-            let (c, error, ..) = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
+            let (c, error) = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
             (c.abs() > error).then_some((pt.lambda, c))
         })
         .collect();
@@ -221,4 +281,67 @@ pub fn generalised_flips(
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// g(x) = θ* − x + a·x² + b·x³ + Σ higher terms, as G = g − θ and
+    /// M = g' at θ* + x.
+    fn g_and_m(coef: &[f64], x: f64) -> (f64, f64) {
+        let theta_star = 0.4;
+        let (mut g, mut m) = (theta_star - x, -1.0);
+        for (k, a) in coef.iter().enumerate() {
+            let n = (k + 2) as i32;
+            g += a * x.powi(n);
+            m += f64::from(n) * a * x.powi(n - 1);
+        }
+        (g - (theta_star + x), m)
+    }
+
+    #[test]
+    fn the_quintic_is_exact_to_fifth_order_and_its_error_bounds_the_sixth() {
+        // c = a² + b = 0.09 + 0.7.
+        let quintic = [0.3, 0.7, -2.0, 5.0];
+        let h = 0.01;
+        let at = |c: &[f64], x| g_and_m(c, x);
+        let (c, err) = from_hermite(h, at(&quintic, 0.0), at(&quintic, h), at(&quintic, -h));
+        assert!((c - 0.79).abs() < 1e-9, "{c}");
+        // The three-point value is off by O(h²): the error says so.
+        assert!(err > 1e-5 && err < 1e-2, "{err}");
+        // With sixth- and seventh-order terms, the quintic's error is of
+        // order h⁴, well within the estimate.
+        let more = [0.3, 0.7, -2.0, 5.0, 40.0, -90.0];
+        let (c, err) = from_hermite(h, at(&more, 0.0), at(&more, h), at(&more, -h));
+        assert!((c - 0.79).abs() < 1e-5, "{c}");
+        assert!((c - 0.79).abs() < err, "{c} ± {err}");
+    }
+
+    #[test]
+    fn the_branch_slope_is_the_derivative_at_the_zero_despite_noise() {
+        // m(λ) = −1 + 3(λ − λ*) − 40(λ − λ*)² + 500(λ − λ*)³; samples as a
+        // location leaves them: the step's ends, then trials closing in,
+        // the last ones 1e-11 apart with noise of 1e-9 in m.
+        let star = 1.2;
+        let m = |l: f64| {
+            let d = l - star;
+            -1.0 + 3.0 * d - 40.0 * d * d + 500.0 * d * d * d
+        };
+        let mut samples: Vec<(f64, f64)> = [star - 4e-3, star + 6e-3, star + 1e-4, star - 2e-6]
+            .iter()
+            .map(|&l| (l, m(l)))
+            .collect();
+        samples.push((star + 1e-11, m(star + 1e-11) + 1e-9));
+        samples.push((star - 1e-11, m(star - 1e-11) - 1e-9));
+        let slope = branch_slope(&samples, star, 1).unwrap();
+        assert!((slope - 3.0).abs() < 1e-3, "{slope}");
+        // The two closest samples alone would give a slope off by 30 %.
+        let close = (samples[4].1 - samples[5].1) / 2e-11;
+        assert!((close - 3.0).abs() > 0.3 * 3.0, "{close}");
+        // Just the step's ends: their secant.
+        let ends = branch_slope(&samples[..2], star, 1).unwrap();
+        assert!((ends - (m(star + 6e-3) - m(star - 4e-3)) / 1e-2).abs() < 1e-12);
+        assert_eq!(branch_slope(&samples[..1], star, 1), None);
+    }
 }

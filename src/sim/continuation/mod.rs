@@ -27,7 +27,7 @@ pub use branch::{Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, Spec
 pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
-pub use flip::{Criticality, Flip, GeneralisedFlip, flip_at, generalised_flips};
+pub use flip::{Criticality, Flip, GeneralisedFlip, branch_slope, flip_at, generalised_flips};
 pub use walk::{continue_branch, continue_branch_reporting};
 
 /// A parameter a branch can be continued in.

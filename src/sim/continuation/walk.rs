@@ -40,6 +40,10 @@ struct Walk<'a, 'b> {
     on_special: &'b mut dyn FnMut(&SpecialPoint),
 }
 
+/// A special point located on a step: its kind, the point, a note, and
+/// (λ, m) at the branch points its location corrected.
+type Found = (SpecialKind, Pt, String, Vec<(f64, f64)>);
+
 /// What one step of the walk came to.
 enum Step {
     /// A point was added: go on (with a longer step if `grow`).
@@ -154,13 +158,10 @@ impl<'a, 'b> Walk<'a, 'b> {
         };
         let found = self.detect(&n);
         let mut pd = false;
-        for (kind, p, note) in &found {
+        for (kind, p, note, samples) in &found {
             let mut sp = self.ctx.special(*kind, p, note.clone());
             if *kind == SpecialKind::PeriodDoubling {
-                let scale = self.scale();
-                let dm = n.e.multiplier - self.cur.e.multiplier;
-                let secant = dm / (n.lambda(scale) - self.cur.lambda(scale));
-                sp.flip = self.ctx.flip(p, secant);
+                sp.flip = self.ctx.flip(p, samples);
             }
             (self.on_special)(&sp);
             self.special.push(sp);
@@ -245,12 +246,12 @@ impl<'a, 'b> Walk<'a, 'b> {
     /// The PD and fold crossings between the current point and `n`,
     /// located and in order along the step; a crossing that is no zero of
     /// m ± 1 is a [`SpecialKind::Jump`].
-    fn detect(&mut self, n: &Pt) -> Vec<(SpecialKind, Pt, String)> {
+    fn detect(&mut self, n: &Pt) -> Vec<Found> {
         let (cur, t) = (self.cur.clone(), self.t);
         let (m0, m1) = (cur.e.multiplier, n.e.multiplier);
         let along = |p: &Pt| (p.x[0] - cur.x[0]) * t[0] + (p.x[1] - cur.x[1]) * t[1];
         let dist = along(n);
-        let mut found: Vec<(SpecialKind, Pt, String)> = Vec::new();
+        let mut found: Vec<Found> = Vec::new();
         let tests: [(SpecialKind, f64); 2] = [
             (SpecialKind::PeriodDoubling, -1.0),
             (SpecialKind::Fold, 1.0),
@@ -261,7 +262,7 @@ impl<'a, 'b> Walk<'a, 'b> {
             }
             let l = self.ctx.locate(&cur, n, t, dist, |m| m - at);
             if l.real {
-                found.push((kind, l.pt, String::new()));
+                found.push((kind, l.pt, String::new(), l.samples));
             } else {
                 let note = format!(
                     "m goes from {m0:.6} to {m1:.6} across the step but stays |m {} 1| >= {:.2e} away to the location accuracy: a jump or pole of m, not a {}",
@@ -269,7 +270,7 @@ impl<'a, 'b> Walk<'a, 'b> {
                     l.off,
                     kind.name()
                 );
-                found.push((SpecialKind::Jump, l.pt, note));
+                found.push((SpecialKind::Jump, l.pt, note, l.samples));
             }
         }
         found.sort_by(|a, b| along(&a.1).total_cmp(&along(&b.1)));
