@@ -2,7 +2,8 @@
 //! (DISPLAY and WAYLAND_DISPLAY unset): the SVG parses, each axis has at
 //! least five numeric tick labels, no control of the window is drawn, the
 //! bifurcation diagram spans the θν range asked for; every view's PNG is a
-//! PNG of the size asked for, not blank; an extension the command cannot write is refused.
+//! PNG of the size asked for, not blank; an extension the command cannot write is refused;
+//! a λ under the λ strip is marked as off it.
 #![cfg(feature = "gui")]
 
 use std::collections::HashMap;
@@ -540,4 +541,61 @@ fn the_return_map_is_drawn_as_its_distance_from_the_diagonal_on_request() {
         );
         assert!(!out.exists());
     }
+}
+
+/// κ = 10: near θν = 1.405 the fixed point's multiplier comes within 0.033
+/// of 0 (Newton's cycle says so), so its λ = ln|m| dives under the λ
+/// strip's floor (−3, padded): those columns are marked off the strip,
+/// with a legend entry; over θν 1.30–1.36 (P2, λ > −1) nothing is.
+#[test]
+fn a_strongly_contracting_column_is_marked_below_the_lambda_strip() {
+    use oneblock::model::Params;
+    use oneblock::sim::{CycleOptions, Simulator, default_settings, solve_cycle};
+    let at = |theta_nu: f64| {
+        let p = Params {
+            kappa: 10.0,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu,
+            omega: 50.0,
+        };
+        let sim = Simulator::new(p, default_settings(1e-10)).expect("sim");
+        let opts = CycleOptions::for_settings(sim.settings());
+        solve_cycle(&sim, 0.45, 1, &opts)
+            .expect("fixed point")
+            .multiplier
+    };
+    let m = at(1.405);
+    assert!(m.abs().ln() < -3.3, "m = {m}");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let below = |from: &str, to: &str| {
+        let out = dir.path().join(format!("{from}-{to}.svg"));
+        let o = figure(&[
+            "--view",
+            "bifurcation",
+            "--kappa",
+            "10",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-3",
+            "--theta-nu-from",
+            from,
+            "--theta-nu-to",
+            to,
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let svg = std::fs::read_to_string(&out).expect("svg written");
+        svg.contains("λ &lt; -3.") && svg.contains(", below the strip</text>")
+    };
+    assert!(
+        below("1.38", "1.43"),
+        "no off-strip marker where the fixed point's |m| is 0.03"
+    );
+    assert!(
+        !below("1.30", "1.36"),
+        "an off-strip marker where every λ > −1"
+    );
 }

@@ -417,7 +417,8 @@ impl View for BifurcationView {
         }
         overlay::branch_legend_ui(ui, &jobs.branches.data);
         if plot_sizes(ui, ui.available_height()).1 > 0.0 {
-            lyapunov_strip::legend_ui(ui, s.dark);
+            let below = lyapunov_strip::below_strip(&jobs.sweep.data);
+            lyapunov_strip::legend_ui(ui, s.dark, below);
         }
         if !figure {
             points_table::points_ui(ui, &jobs.branches.data);

@@ -6,7 +6,9 @@
 //! dot); an aperiodic one has the mean of ln|f′(θ)| with ±1 standard error
 //! (a ring and a bar). λ = 0 is marked: it is touched at each period
 //! doubling (m = −1) and at the cascade's accumulation, and crossed into
-//! chaos.
+//! chaos. A strongly contracting cycle (m near 0: λ → −∞ at a
+//! superstable one) below the strip's floor is a triangle pointing down at
+//! the frame's foot, not a dot there.
 
 use eframe::egui;
 use egui::Ui;
@@ -24,6 +26,19 @@ const MEAN: &str = "λ = mean ln|f'| ± 1 s.e.";
 /// The lowest λ the strip shows: a superstable cycle (m → 0) sends λ to
 /// −∞, which would flatten everything else.
 const FLOOR: f64 = -3.0;
+
+/// The strip's lower edge when some of its points lie below it (λ under
+/// the padded [`FLOOR`]).
+pub fn below_strip(sweep: &SweepData) -> Option<f64> {
+    let points = strip_points(sweep);
+    let (lo, _) = lambda_range(&points);
+    points.iter().any(|p| p.1 < lo).then_some(lo)
+}
+
+/// The name of the off-strip marker, below `lo`.
+fn below_name(lo: f64) -> String {
+    format!("λ < {lo:.2}, below the strip")
+}
 
 /// The strip's points: (θν, λ, standard error) of every column with λ.
 pub fn strip_points(sweep: &SweepData) -> Vec<(f64, f64, Option<f64>)> {
@@ -102,10 +117,15 @@ pub fn strip_ui(
             let dots = |exact: bool| -> Vec<[f64; 2]> {
                 points
                     .iter()
-                    .filter(|p| p.2.is_none() == exact)
-                    .map(|p| [p.0, p.1.max(lo)])
+                    .filter(|p| p.2.is_none() == exact && p.1 >= lo)
+                    .map(|p| [p.0, p.1])
                     .collect()
             };
+            let below: Vec<[f64; 2]> = points
+                .iter()
+                .filter(|p| p.1 < lo)
+                .map(|p| [p.0, lo + 0.06 * (hi - lo)])
+                .collect();
             let r = style::width(p.ctx(), 2.0);
             p.points(
                 Points::new(EXACT, dots(true))
@@ -121,6 +141,15 @@ pub fn strip_ui(
                     .shape(MarkerShape::Circle)
                     .filled(false),
             );
+            if !below.is_empty() {
+                p.points(
+                    Points::new(below_name(lo), below)
+                        .color(ink)
+                        .radius(r + 1.5)
+                        .shape(MarkerShape::Down)
+                        .filled(true),
+                );
+            }
             p.pointer_coordinate()
         });
     axes::remember_frame(ui.ctx(), "lyapunov", *resp.transform.frame());
@@ -128,12 +157,17 @@ pub fn strip_ui(
     resp.inner.filter(|_| clicked).map(|p| p.x)
 }
 
-/// The strip's legend: what its marks mean.
-pub fn legend_ui(ui: &mut Ui, dark: bool) {
+/// The strip's legend: what its marks mean, with the off-strip marker
+/// when some points lie `below` the strip's lower edge.
+pub fn legend_ui(ui: &mut Ui, dark: bool, below: Option<f64>) {
     ui.horizontal_wrapped(|ui| {
         style::legend_marker(ui, style::ink(dark), EXACT);
         style::legend_marker(ui, style::ACCEL, MEAN);
         style::legend_line(ui, style::CRITICAL, true, "λ = 0");
+        if let Some(lo) = below {
+            let name = below_name(lo);
+            super::overlay::legend_shape(ui, MarkerShape::Down, style::ink(dark), &name);
+        }
     });
 }
 
@@ -175,5 +209,20 @@ mod tests {
         let s = sweep(&[(-0.5, None)]);
         let (lo, hi) = lambda_range(&strip_points(&s));
         assert!(lo < -0.5 && hi > 0.0, "{lo} {hi}");
+    }
+
+    #[test]
+    fn only_a_lambda_under_the_frame_is_off_the_strip() {
+        // −40 (near superstable) is under the frame; −3.02 is under the
+        // floor but inside the padding, so it is drawn where it is.
+        let s = sweep(&[(-0.5, None), (-40.0, None), (-3.02, None)]);
+        let lo = below_strip(&s).unwrap();
+        assert!(lo < -3.02 && lo > -40.0, "{lo}");
+        let pts = strip_points(&s);
+        assert_eq!(pts.iter().filter(|p| p.1 < lo).count(), 1);
+        assert_eq!(
+            below_strip(&sweep(&[(-0.5, None), (0.1, Some(0.05))])),
+            None
+        );
     }
 }

@@ -137,7 +137,7 @@ pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
 }
 
 /// A marker of `shape` and its label.
-fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
+pub fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
     let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
     let (c, r) = (rect.center(), 5.0);
     let painter = ui.painter();
