@@ -360,3 +360,68 @@ fn on_a_loose_map_one_cycle_is_not_counted_twice() {
     );
     assert!(multistable.len() >= 50, "{multistable:?}");
 }
+
+/// Inside Fig. 3b's periodic windows (a P10 at θν = 1.2345, a P8 at
+/// 1.245, a P14 at 1.23617) the chaotic set is a transient: orbits wander
+/// over it for hundreds of iterates, some longer than `attractors`'s
+/// 400 + 128, then end on the window's cycle. `attractors` reported a
+/// second, "chaotic" attractor at the first two and only chaos at the
+/// P14 (its first orbit was still on the transient, and the seeds that
+/// stayed in the set were told they had arrived). Checked against direct
+/// orbits (DOP853 1e-10) from 16 seeds spread over the arc, each run for
+/// 4 000 + 128 iterates: every one ends on the window's cycle.
+#[test]
+fn inside_a_periodic_window_the_transient_chaos_is_not_an_attractor() {
+    use oneblock::sim::attractors::spread_seeds;
+    use oneblock::sim::{OrbitOptions, Period};
+    for (theta_nu, period) in [(1.2345, 10), (1.245, 8), (1.2361655303598935, 14)] {
+        let p = Params {
+            kappa: 18.95,
+            ..params(theta_nu)
+        };
+        let found = attractors_default(p, 64).unwrap();
+        assert_eq!(found.len(), 1, "θν {theta_nu}: {found:?}");
+        assert_eq!(found[0].period, Some(period), "{found:?}");
+        assert_eq!(found[0].basin_fraction, 1.0, "{found:?}");
+        let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
+        let opts = OrbitOptions {
+            transient: 4000,
+            keep: 128,
+            lyapunov: false,
+            period_tol: OrbitOptions::period_tol_for(1e-10),
+        };
+        for theta0 in spread_seeds(&p, 16) {
+            let o = sim.orbit(theta0, &opts, &|| false).unwrap();
+            assert_eq!(o.period, Period::Periodic(period), "θ0 {theta0}");
+        }
+    }
+    // The seeded Fig. 3b diagram (400 columns, 16 seeds) follows the P14
+    // into its column at 1.23617, where a seed's orbit was still on the
+    // transient: one attractor there, and in every column.
+    let rows = seeded_rows(&[
+        "bifurcation",
+        "--preset",
+        "fig3b",
+        "--seeds",
+        "16",
+        "--columns",
+        "400",
+    ]);
+    assert!(
+        rows.iter()
+            .any(|r| (r.0 - 1.2361655303598935).abs() < 1e-12)
+    );
+    assert!(
+        rows.iter().all(|r| r.2 == 0),
+        "a second attractor in a column"
+    );
+    // Where the set is chaos (θν = 1.2315: direct orbits are still
+    // aperiodic after 20 000 iterates), it stays one.
+    let p = Params {
+        kappa: 18.95,
+        ..params(1.2315)
+    };
+    let found = attractors_default(p, 64).unwrap();
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].period, None, "{found:?}");
+}

@@ -13,9 +13,11 @@
 //! stops once it closes in on a known cycle, stays in a known chaotic set
 //! or repeats. The loose map only routes a seed: a cycle that is not one
 //! already found is solved by Newton on the sweep's own map, and a new
-//! chaotic set's λ comes from an orbit integrated on it, as the first's.
+//! chaotic set is confirmed by a whole orbit (transient and kept iterates)
+//! integrated from the seed's last point, as the first orbit is.
 
 pub(crate) mod seed_map;
+pub(crate) mod transient;
 
 use seed_map::{Fell, Known, SeedMap, hull};
 
@@ -71,6 +73,8 @@ enum Reached {
         hi: f64,
         lyapunov: Option<f64>,
         stderr: Option<f64>,
+        /// The orbit's last point (NaN where it was not followed).
+        last: f64,
     },
 }
 
@@ -106,6 +110,7 @@ fn aperiodic(o: &Orbit) -> Reached {
         hi,
         lyapunov: o.lyapunov,
         stderr: o.lyapunov_stderr,
+        last: o.theta_last,
     }
 }
 
@@ -164,6 +169,7 @@ fn reach_seeded(
                 hi,
                 lyapunov: None,
                 stderr: None,
+                last: f64::NAN,
             });
         }
         Fell::Known(k) => {
@@ -186,16 +192,8 @@ fn reach_seeded(
                     multiplier: a.multiplier.unwrap_or(f64::NAN),
                 });
             }
-            let opts = CycleOptions::for_classifier(settings);
-            let solved = solve_counting(sim, points[p - 1], p, &opts, &mut (0, 0))
-                .ok()
-                .filter(|c| c.minimal_period == p && c.stable);
-            if let Some(c) = solved {
-                return Ok(Reached::Cycle {
-                    period: p,
-                    points: c.points[..p].to_vec(),
-                    multiplier: c.multiplier,
-                });
+            if let Some(c) = solve_stable(sim, &points) {
+                return Ok(c);
             }
             // Repeats on the series but no stable cycle there: integrate.
             return reach(sim, theta0, cancel);
@@ -219,9 +217,27 @@ fn reach_seeded(
             hi,
             lyapunov: None,
             stderr: None,
+            last: next,
         });
     }
-    aperiodic_from(sim, next, cancel)
+    // A new set is confirmed as the first orbit is: a whole orbit on the
+    // direct map from the seed's last point, so that chaos that is only a
+    // long transient (the loose map's orbit may linger where the direct
+    // one escapes, as in a periodic window) ends on its cycle.
+    reach(sim, next, cancel)
+}
+
+/// The stable cycle of minimal period p Newton solves on `sim`'s map from
+/// the last of `points`, a p-cycle's points on a looser map.
+fn solve_stable(sim: &Simulator, points: &[f64]) -> Option<Reached> {
+    let p = points.len();
+    let opts = CycleOptions::for_classifier(sim.settings());
+    let c = solve_counting(sim, *points.last()?, p, &opts, &mut (0, 0)).ok()?;
+    (c.minimal_period == p && c.stable).then(|| Reached::Cycle {
+        period: p,
+        points: c.points[..p].to_vec(),
+        multiplier: c.multiplier,
+    })
 }
 
 /// Whether two p-cycles are one: every point of `a` within `tol` of a
@@ -256,6 +272,9 @@ pub fn attractors(
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;
     let mut found: Vec<Attractor> = Vec::new();
     let mut counts: Vec<usize> = Vec::new();
+    // A chaotic set's last point (NaN for a cycle), for the escape test.
+    let mut lasts: Vec<f64> = Vec::new();
+    let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
     for (i, &theta0) in all.iter().enumerate() {
         let counted = usize::from(i >= first_counted);
         let r = if found.is_empty() {
@@ -290,11 +309,16 @@ pub fn attractors(
             }
             continue;
         }
+        let last = match r {
+            Reached::Aperiodic { last, .. } => last,
+            Reached::Cycle { .. } => f64::NAN,
+        };
         let a = attractor(r);
         // Seeds falling towards it from now on run on its series: near
         // each point of a cycle, or over a chaotic set's hull (worth up to
         // a quarter of what the seeds left would integrate: they cannot
         // stop early there).
+        let set = (a.period.is_none()).then(|| (a.points[0], a.points[1]));
         if a.period.is_some() {
             for &x in &a.points {
                 map.cover_point(x);
@@ -303,16 +327,83 @@ pub fn attractors(
             let left = all.len() - i - 1;
             map.cover_set(a.points[0], a.points[1], left * (TRANSIENT + KEEP) / 4);
         }
-
         found.push(a);
         counts.push(counted);
+        lasts.push(last);
+        // A new set may hide a window's stable cycle that the seeds, told
+        // they have arrived once they stay in the set, would never reach.
+        if let Some(set) = set {
+            let cycles = stable_cycles(&found);
+            let views: Vec<&[f64]> = cycles.iter().map(|&k| found[k].points.as_slice()).collect();
+            let hidden = transient::hidden_cycle(&loose, set, &views, rep_tol, cancel)?;
+            if let Some(c) = hidden.and_then(|points| solve_stable(&sim, &points)) {
+                let c = attractor(c);
+                for &x in &c.points {
+                    map.cover_point(x);
+                }
+                found.push(c);
+                counts.push(0);
+                lasts.push(f64::NAN);
+            }
+        }
     }
+    let (mut found, counts) = drop_transients(found, counts, &lasts, &loose, rep_tol, cancel)?;
     let n = spread.len() as f64;
     for (a, k) in found.iter_mut().zip(counts) {
         a.basin_fraction = k as f64 / n;
     }
     found.sort_by(|a, b| b.basin_fraction.total_cmp(&a.basin_fraction));
     Ok(found)
+}
+
+/// The indices of the stable cycles among `found`.
+fn stable_cycles(found: &[Attractor]) -> Vec<usize> {
+    (0..found.len())
+        .filter(|&k| {
+            found[k].period.is_some() && found[k].multiplier.is_some_and(|m| m.abs() < 1.0)
+        })
+        .collect()
+}
+
+/// `found` and their seed counts without the chaotic sets that are
+/// transients: a set with a stable cycle inside its interval whose orbit,
+/// run on from its last point, ends on one of them (see
+/// [`transient::escapes_to`]). Its seeds count for that cycle.
+fn drop_transients(
+    found: Vec<Attractor>,
+    mut counts: Vec<usize>,
+    lasts: &[f64],
+    loose: &Simulator,
+    rep_tol: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<(Vec<Attractor>, Vec<usize>), SimError> {
+    let cycles = stable_cycles(&found);
+    let mut transient = vec![false; found.len()];
+    for (i, a) in found.iter().enumerate() {
+        let (None, &[lo, hi]) = (a.period, a.points.as_slice()) else {
+            continue;
+        };
+        let within: Vec<usize> = cycles
+            .iter()
+            .copied()
+            .filter(|&k| transient::inside(&found[k].points, (lo, hi)))
+            .collect();
+        if within.is_empty() || !lasts[i].is_finite() {
+            continue;
+        }
+        let views: Vec<&[f64]> = within.iter().map(|&k| found[k].points.as_slice()).collect();
+        if let Some(j) = transient::escapes_to(loose, lasts[i], &views, rep_tol, cancel)? {
+            counts[within[j]] += counts[i];
+            transient[i] = true;
+        }
+    }
+    Ok(found
+        .into_iter()
+        .zip(counts)
+        .zip(transient)
+        .filter(|(_, t)| !t)
+        .map(|(ac, _)| ac)
+        .unzip())
 }
 
 /// The attractor a first orbit reached (its basin fraction still 0); a
@@ -340,6 +431,7 @@ fn attractor(r: Reached) -> Attractor {
             hi,
             lyapunov,
             stderr,
+            ..
         } => Attractor {
             period: None,
             points: vec![lo, hi],

@@ -48,10 +48,18 @@ pub fn column_lyapunov(sim: &Simulator, col: &Column) -> Option<ColumnLyapunov> 
 /// not reach, as Fig. 3b's P24 at θν ≈ 1.2286), solved by Newton from its
 /// extrapolated points; `None` if they do not, or it is not found.
 fn closing_in_solved(sim: &Simulator, kept: &[f64]) -> Option<(usize, f64)> {
-    let cycle = closing_in(kept)?;
+    solve_closing(sim, &closing_in(kept)?)
+}
+
+/// The period and λ of the stable cycle Newton finds from the
+/// extrapolated points `cycle` of an orbit closing in on it, if it is one
+/// of that minimal period. A chaotic orbit passing a narrow channel (near
+/// a window's tangency) can shrink its p-differences for three periods
+/// too: there Newton finds no stable p-cycle.
+pub(crate) fn solve_closing(sim: &Simulator, cycle: &[f64]) -> Option<(usize, f64)> {
     let p = cycle.len();
     let opts = CycleOptions::for_classifier(sim.settings());
-    let c = solve_counting(sim, cycle[p - 1], p, &opts, &mut (0, 0)).ok()?;
+    let c = solve_counting(sim, *cycle.last()?, p, &opts, &mut (0, 0)).ok()?;
     (c.minimal_period == p && c.stable).then(|| (p, c.lyapunov()))
 }
 

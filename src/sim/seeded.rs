@@ -18,7 +18,7 @@
 //! (integrated, its slow cycle solved).
 
 use super::attractors::seed_map::{Fell, Known, SET_STAY, SeedMap, hull};
-use super::attractors::spread_seeds;
+use super::attractors::{spread_seeds, transient};
 use super::period::{PERIOD_MAX, closing_in, contraction};
 use super::{Column, SimError, Simulator, SweepOptions, column_start};
 use crate::integrate::SolverSettings;
@@ -53,7 +53,13 @@ pub(crate) enum Reach {
 
 impl Reach {
     /// What `thetas` (one column's kept iterates) reached, `None` if empty.
-    pub(crate) fn of(thetas: &[f64], settings: &SolverSettings) -> Option<Reach> {
+    /// A cycle they close in on slowly ([`closing_in`]) counts only where
+    /// `solves` confirms it from its extrapolated points ([`solves_at`]).
+    pub(crate) fn of(
+        thetas: &[f64],
+        settings: &SolverSettings,
+        solves: impl Fn(&[f64]) -> bool,
+    ) -> Option<Reach> {
         if thetas.is_empty() {
             return None;
         }
@@ -66,7 +72,7 @@ impl Reach {
         if let Some(p) = (1..=(n / 2).min(PERIOD_MAX)).find(|&p| repeats(p)) {
             return Some(Reach::Cycle(thetas[n - p..].to_vec()));
         }
-        if let Some(cycle) = closing_in(thetas) {
+        if let Some(cycle) = closing_in(thetas).filter(|c| solves(c)) {
             return Some(Reach::Cycle(cycle));
         }
         let (lo, hi) = hull(thetas);
@@ -108,6 +114,12 @@ pub struct SeededColumn {
     same_tol: f64,
 }
 
+/// Whether Newton on `sim`'s map finds a stable cycle from the
+/// extrapolated points of an orbit closing in on it (see [`Reach::of`]).
+fn solves_at(sim: &Simulator) -> impl Fn(&[f64]) -> bool + '_ {
+    |cycle| crate::sim::column_lyapunov::solve_closing(sim, cycle).is_some()
+}
+
 /// What a seed reached, and the points a diagram draws for it.
 type Reached = (Reach, Vec<f64>);
 
@@ -122,7 +134,9 @@ fn rep_tol(settings: &SolverSettings) -> f64 {
 /// than two periods, a column's points are a set, not a cycle).
 fn on_cycle(cycle: &[f64], keep: usize, settings: &SolverSettings) -> Reached {
     let kept: Vec<f64> = (0..keep).map(|i| cycle[i % cycle.len()]).collect();
-    match Reach::of(&kept, settings) {
+    // Copies of a cycle repeat or, with fewer than two periods, are a set:
+    // they never close in.
+    match Reach::of(&kept, settings, |_| false) {
         Some(r @ Reach::Cycle(_)) => (r, cycle.to_vec()),
         Some(r) => (r, kept),
         None => (Reach::Cycle(cycle.to_vec()), cycle.to_vec()),
@@ -158,7 +172,8 @@ fn as_column(
         Some(_) => return Ok((None, col.rhs_evals)),
         None => {}
     }
-    let reached = Reach::of(&col.thetas, &settings).map(|r| {
+    let sim = Simulator::new(params, settings)?;
+    let reached = Reach::of(&col.thetas, &settings, solves_at(&sim)).map(|r| {
         let points = match &r {
             Reach::Cycle(c) => c.clone(),
             Reach::Set(..) => col.thetas.clone(),
@@ -342,6 +357,7 @@ fn seeds_from(
         let Some((reach, points)) = seeding.told(fell, &cycles, &sets, tol)? else {
             continue;
         };
+        let (reach, points) = unless_transient(&sim, reach, points, &cycles, tol, cancel)?;
         if !seeding
             .known
             .iter()
@@ -353,6 +369,37 @@ fn seeds_from(
         out.push((reach, points));
     }
     Ok((out, seeding.rhs + map.rhs_evals))
+}
+
+/// A seed's chaotic-looking set, unless it is a transient: where one of
+/// the known `cycles` lies inside it and the seed's orbit, run on from its
+/// last point on the `loose` map, ends on it (see
+/// `sim::attractors::transient`), the seed reached that cycle.
+fn unless_transient(
+    loose: &Simulator,
+    reach: Reach,
+    points: Vec<f64>,
+    cycles: &[Vec<f64>],
+    tol: f64,
+    cancel: &dyn Fn() -> bool,
+) -> Result<Reached, SimError> {
+    let (Reach::Set(lo, hi), Some(&last)) = (&reach, points.last()) else {
+        return Ok((reach, points));
+    };
+    let within: Vec<&[f64]> = cycles
+        .iter()
+        .map(Vec::as_slice)
+        .filter(|c| transient::inside(c, (*lo, *hi)))
+        .collect();
+    if within.is_empty() {
+        return Ok((reach, points));
+    }
+    Ok(
+        match transient::escapes_to(loose, last, &within, tol, cancel)? {
+            Some(k) => (Reach::Cycle(within[k].to_vec()), within[k].to_vec()),
+            None => (reach, points),
+        },
+    )
 }
 
 /// The followed orbit's points labelled 0 and each further attractor's
@@ -491,7 +538,8 @@ pub fn seeded_column(
     opts: &SweepOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<SeededColumn, SimError> {
-    let mine = Reach::of(&followed.thetas, &settings);
+    let sim = Simulator::new(params, settings)?;
+    let mine = Reach::of(&followed.thetas, &settings, solves_at(&sim));
     let (reached, rhs_evals) = if seeds == 0 {
         (vec![], 0)
     } else {
