@@ -106,55 +106,66 @@ pub fn strip_ui(
                         .width(2.0),
                 );
             }
-            for &(t, l, se) in &points {
-                if let Some(e) = se {
-                    p.line(
-                        style::line(MEAN, PlotPoints::from(vec![[t, l - e], [t, l + e]]))
-                            .color(style::ACCEL.gamma_multiply(0.7)),
-                    );
-                }
-            }
-            let dots = |exact: bool| -> Vec<[f64; 2]> {
-                points
-                    .iter()
-                    .filter(|p| p.2.is_none() == exact && p.1 >= lo)
-                    .map(|p| [p.0, p.1])
-                    .collect()
-            };
-            let below: Vec<[f64; 2]> = points
-                .iter()
-                .filter(|p| p.1 < lo)
-                .map(|p| [p.0, lo + 0.06 * (hi - lo)])
-                .collect();
-            let r = style::width(p.ctx(), 2.0);
-            p.points(
-                Points::new(EXACT, dots(true))
-                    .color(ink)
-                    .radius(r)
-                    .shape(MarkerShape::Circle)
-                    .filled(true),
-            );
-            p.points(
-                Points::new(MEAN, dots(false))
-                    .color(style::ACCEL)
-                    .radius(r + 0.5)
-                    .shape(MarkerShape::Circle)
-                    .filled(false),
-            );
-            if !below.is_empty() {
-                p.points(
-                    Points::new(below_name(lo), below)
-                        .color(ink)
-                        .radius(r + 1.5)
-                        .shape(MarkerShape::Down)
-                        .filled(true),
-                );
-            }
+            marks(p, &points, (lo, hi), ink);
             p.pointer_coordinate()
         });
     axes::remember_frame(ui.ctx(), "lyapunov", *resp.transform.frame());
     let clicked = resp.response.clicked();
     resp.inner.filter(|_| clicked).map(|p| p.x)
+}
+
+/// The strip's marks: each column's λ (a dot, or a ring with its error
+/// bar), and a triangle at the foot for a λ below the frame [lo, hi].
+fn marks(
+    p: &mut egui_plot::PlotUi,
+    points: &[(f64, f64, Option<f64>)],
+    (lo, hi): (f64, f64),
+    ink: egui::Color32,
+) {
+    for &(t, l, se) in points {
+        if let Some(e) = se {
+            p.line(
+                style::line(MEAN, PlotPoints::from(vec![[t, l - e], [t, l + e]]))
+                    .color(style::ACCEL.gamma_multiply(0.7)),
+            );
+        }
+    }
+    let dots = |exact: bool| -> Vec<[f64; 2]> {
+        points
+            .iter()
+            .filter(|p| p.2.is_none() == exact && p.1 >= lo)
+            .map(|p| [p.0, p.1])
+            .collect()
+    };
+    let below: Vec<[f64; 2]> = points
+        .iter()
+        .filter(|p| p.1 < lo)
+        .map(|p| [p.0, lo + 0.06 * (hi - lo)])
+        .collect();
+    let r = style::width(p.ctx(), 2.0);
+    p.points(
+        Points::new(EXACT, dots(true))
+            .color(ink)
+            .radius(r)
+            .shape(MarkerShape::Circle)
+            .filled(true),
+    );
+    p.points(
+        Points::new(MEAN, dots(false))
+            .color(style::ACCEL)
+            .radius(r + 0.5)
+            .shape(MarkerShape::Circle)
+            .filled(false),
+    );
+    if !below.is_empty() {
+        p.points(
+            Points::new(below_name(lo), below)
+                .color(ink)
+                .radius(r + 1.5)
+                .shape(MarkerShape::Down)
+                .filled(true),
+        );
+    }
 }
 
 /// The strip's legend: what its marks mean, with the off-strip marker

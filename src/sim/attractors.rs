@@ -270,17 +270,14 @@ pub fn attractors(
     // Cycles coincide to 1e3× the solver's tolerance (their points are
     // solved by Newton to about the tolerance).
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;
-    let mut found: Vec<Attractor> = Vec::new();
-    let mut counts: Vec<usize> = Vec::new();
-    // A chaotic set's last point (NaN for a cycle), for the escape test.
-    let mut lasts: Vec<f64> = Vec::new();
     let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
+    let mut found = Found::default();
     for (i, &theta0) in all.iter().enumerate() {
         let counted = usize::from(i >= first_counted);
-        let r = if found.is_empty() {
+        let r = if found.attractors.is_empty() {
             reach(&sim, theta0, cancel)
         } else {
-            reach_seeded(&sim, &mut map, theta0, &found, cancel)
+            reach_seeded(&sim, &mut map, theta0, &found.attractors, cancel)
         };
         let r = match r {
             Ok(r) => r,
@@ -289,9 +286,53 @@ pub fn attractors(
             Err(SimError::Cancelled) => return Err(SimError::Cancelled),
             Err(_) => continue,
         };
-        let known = found
+        let Some(r) = found.count(r, counted, tol) else {
+            continue;
+        };
+        let set = match r {
+            Reached::Aperiodic { lo, hi, .. } => Some((lo, hi)),
+            Reached::Cycle { .. } => None,
+        };
+        let left = all.len() - i - 1;
+        found.add(r, counted, &mut map, left * (TRANSIENT + KEEP) / 4);
+        // A new set may hide a window's stable cycle that the seeds, told
+        // they have arrived once they stay in the set, would never reach.
+        if let Some(set) = set {
+            let views = found.stable_views();
+            let hidden = transient::hidden_cycle(&loose, set, &views, rep_tol, cancel)?;
+            if let Some(c) = hidden.and_then(|points| solve_stable(&sim, &points)) {
+                found.add(c, 0, &mut map, 0);
+            }
+        }
+    }
+    let (mut found, counts) = found.without_transients(&loose, rep_tol, cancel)?;
+    let n = spread.len() as f64;
+    for (a, k) in found.iter_mut().zip(counts) {
+        a.basin_fraction = k as f64 / n;
+    }
+    found.sort_by(|a, b| b.basin_fraction.total_cmp(&a.basin_fraction));
+    Ok(found)
+}
+
+/// The attractors found so far, the spread seeds that reached each, and
+/// a chaotic set's orbit's last point (NaN for a cycle: for the escape
+/// test).
+#[derive(Default)]
+struct Found {
+    attractors: Vec<Attractor>,
+    counts: Vec<usize>,
+    lasts: Vec<f64>,
+}
+
+impl Found {
+    /// Counts `r` (`counted`: 1 for a spread seed) for the attractor among
+    /// those found that it is (an overlapping set widens its interval), or
+    /// gives it back; cycles are one when their points coincide to `tol`.
+    fn count(&mut self, r: Reached, counted: usize, tol: f64) -> Option<Reached> {
+        let known = self
+            .attractors
             .iter_mut()
-            .zip(counts.iter_mut())
+            .zip(self.counts.iter_mut())
             .find(|(a, _)| match (&r, a.period) {
                 (Reached::Cycle { period, points, .. }, Some(p)) => {
                     *period == p && same_cycle(points, &a.points, tol)
@@ -301,59 +342,89 @@ pub fn attractors(
                 }
                 _ => false,
             });
-        if let Some((a, n)) = known {
-            *n += counted;
-            // An overlapping chaotic set widens the interval.
-            if let Reached::Aperiodic { lo, hi, .. } = r {
-                a.points = vec![a.points[0].min(lo), a.points[1].max(hi)];
-            }
-            continue;
+        let Some((a, n)) = known else {
+            return Some(r);
+        };
+        *n += counted;
+        if let Reached::Aperiodic { lo, hi, .. } = r {
+            a.points = vec![a.points[0].min(lo), a.points[1].max(hi)];
         }
+        None
+    }
+
+    /// Adds `r` as a new attractor. Seeds falling towards it from now on
+    /// run on its series: near each point of a cycle, or over a chaotic
+    /// set's hull (worth `worth` evaluations, a quarter of what the seeds
+    /// left would integrate: they cannot stop early there).
+    fn add(&mut self, r: Reached, counted: usize, map: &mut SeedMap, worth: usize) {
         let last = match r {
             Reached::Aperiodic { last, .. } => last,
             Reached::Cycle { .. } => f64::NAN,
         };
         let a = attractor(r);
-        // Seeds falling towards it from now on run on its series: near
-        // each point of a cycle, or over a chaotic set's hull (worth up to
-        // a quarter of what the seeds left would integrate: they cannot
-        // stop early there).
-        let set = (a.period.is_none()).then(|| (a.points[0], a.points[1]));
         if a.period.is_some() {
             for &x in &a.points {
                 map.cover_point(x);
             }
         } else {
-            let left = all.len() - i - 1;
-            map.cover_set(a.points[0], a.points[1], left * (TRANSIENT + KEEP) / 4);
+            map.cover_set(a.points[0], a.points[1], worth);
         }
-        found.push(a);
-        counts.push(counted);
-        lasts.push(last);
-        // A new set may hide a window's stable cycle that the seeds, told
-        // they have arrived once they stay in the set, would never reach.
-        if let Some(set) = set {
-            let cycles = stable_cycles(&found);
-            let views: Vec<&[f64]> = cycles.iter().map(|&k| found[k].points.as_slice()).collect();
-            let hidden = transient::hidden_cycle(&loose, set, &views, rep_tol, cancel)?;
-            if let Some(c) = hidden.and_then(|points| solve_stable(&sim, &points)) {
-                let c = attractor(c);
-                for &x in &c.points {
-                    map.cover_point(x);
-                }
-                found.push(c);
-                counts.push(0);
-                lasts.push(f64::NAN);
+        self.attractors.push(a);
+        self.counts.push(counted);
+        self.lasts.push(last);
+    }
+
+    /// The stable cycles' points.
+    fn stable_views(&self) -> Vec<&[f64]> {
+        stable_cycles(&self.attractors)
+            .into_iter()
+            .map(|k| self.attractors[k].points.as_slice())
+            .collect()
+    }
+
+    /// The attractors and their seed counts without the chaotic sets that
+    /// are transients: a set with a stable cycle inside its interval whose
+    /// orbit, run on from its last point, ends on one of them (see
+    /// [`transient::escapes_to`]). Its seeds count for that cycle.
+    fn without_transients(
+        self,
+        loose: &Simulator,
+        rep_tol: f64,
+        cancel: &dyn Fn() -> bool,
+    ) -> Result<(Vec<Attractor>, Vec<usize>), SimError> {
+        let Found {
+            attractors: found,
+            mut counts,
+            lasts,
+        } = self;
+        let cycles = stable_cycles(&found);
+        let mut transient = vec![false; found.len()];
+        for (i, a) in found.iter().enumerate() {
+            let (None, &[lo, hi]) = (a.period, a.points.as_slice()) else {
+                continue;
+            };
+            let within: Vec<usize> = cycles
+                .iter()
+                .copied()
+                .filter(|&k| transient::inside(&found[k].points, (lo, hi)))
+                .collect();
+            if within.is_empty() || !lasts[i].is_finite() {
+                continue;
+            }
+            let views: Vec<&[f64]> = within.iter().map(|&k| found[k].points.as_slice()).collect();
+            if let Some(j) = transient::escapes_to(loose, lasts[i], &views, rep_tol, cancel)? {
+                counts[within[j]] += counts[i];
+                transient[i] = true;
             }
         }
+        Ok(found
+            .into_iter()
+            .zip(counts)
+            .zip(transient)
+            .filter(|(_, t)| !t)
+            .map(|(ac, _)| ac)
+            .unzip())
     }
-    let (mut found, counts) = drop_transients(found, counts, &lasts, &loose, rep_tol, cancel)?;
-    let n = spread.len() as f64;
-    for (a, k) in found.iter_mut().zip(counts) {
-        a.basin_fraction = k as f64 / n;
-    }
-    found.sort_by(|a, b| b.basin_fraction.total_cmp(&a.basin_fraction));
-    Ok(found)
 }
 
 /// The indices of the stable cycles among `found`.
@@ -363,47 +434,6 @@ fn stable_cycles(found: &[Attractor]) -> Vec<usize> {
             found[k].period.is_some() && found[k].multiplier.is_some_and(|m| m.abs() < 1.0)
         })
         .collect()
-}
-
-/// `found` and their seed counts without the chaotic sets that are
-/// transients: a set with a stable cycle inside its interval whose orbit,
-/// run on from its last point, ends on one of them (see
-/// [`transient::escapes_to`]). Its seeds count for that cycle.
-fn drop_transients(
-    found: Vec<Attractor>,
-    mut counts: Vec<usize>,
-    lasts: &[f64],
-    loose: &Simulator,
-    rep_tol: f64,
-    cancel: &dyn Fn() -> bool,
-) -> Result<(Vec<Attractor>, Vec<usize>), SimError> {
-    let cycles = stable_cycles(&found);
-    let mut transient = vec![false; found.len()];
-    for (i, a) in found.iter().enumerate() {
-        let (None, &[lo, hi]) = (a.period, a.points.as_slice()) else {
-            continue;
-        };
-        let within: Vec<usize> = cycles
-            .iter()
-            .copied()
-            .filter(|&k| transient::inside(&found[k].points, (lo, hi)))
-            .collect();
-        if within.is_empty() || !lasts[i].is_finite() {
-            continue;
-        }
-        let views: Vec<&[f64]> = within.iter().map(|&k| found[k].points.as_slice()).collect();
-        if let Some(j) = transient::escapes_to(loose, lasts[i], &views, rep_tol, cancel)? {
-            counts[within[j]] += counts[i];
-            transient[i] = true;
-        }
-    }
-    Ok(found
-        .into_iter()
-        .zip(counts)
-        .zip(transient)
-        .filter(|(_, t)| !t)
-        .map(|(ac, _)| ac)
-        .unzip())
 }
 
 /// The attractor a first orbit reached (its basin fraction still 0); a
