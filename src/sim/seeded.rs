@@ -357,12 +357,14 @@ fn seeds_from(
         let Some((reach, points)) = seeding.told(fell, &cycles, &sets, tol)? else {
             continue;
         };
-        let (reach, points) = unless_transient(&sim, reach, points, &cycles, tol, cancel)?;
-        if !seeding
-            .known
-            .iter()
-            .any(|k| k.same(&reach, same_tol(&settings)))
-        {
+        let is_new =
+            |r: &Reach, known: &[Reach]| !known.iter().any(|k| k.same(r, same_tol(&settings)));
+        let (reach, points) = if is_new(&reach, &seeding.known) {
+            unless_transient(&sim, reach, points, &cycles, tol, cancel)?
+        } else {
+            (reach, points)
+        };
+        if is_new(&reach, &seeding.known) {
             cover(&mut map, &reach, worth(starts.len() - i - 1));
             seeding.known.push(reach.clone());
         }
