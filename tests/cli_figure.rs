@@ -570,22 +570,13 @@ fn a_strongly_contracting_column_is_marked_below_the_lambda_strip() {
     let dir = tempfile::tempdir().expect("temp dir");
     let below = |from: &str, to: &str| {
         let out = dir.path().join(format!("{from}-{to}.svg"));
-        let o = figure(&[
-            "--view",
-            "bifurcation",
-            "--kappa",
-            "10",
-            "--gamma",
-            "6.5",
-            "--nu",
-            "1e-3",
-            "--theta-nu-from",
-            from,
-            "--theta-nu-to",
-            to,
-            "--out",
-            out.to_str().expect("utf-8"),
-        ]);
+        let range = format!("--theta-nu-from {from} --theta-nu-to {to}");
+        let mut args: Vec<&str> = "--view bifurcation --kappa 10 --gamma 6.5 --nu 1e-3"
+            .split(' ')
+            .chain(range.split(' '))
+            .collect();
+        args.extend(["--out", out.to_str().expect("utf-8")]);
+        let o = figure(&args);
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let svg = std::fs::read_to_string(&out).expect("svg written");
         svg.contains("λ &lt; -3.") && svg.contains(", below the strip</text>")
