@@ -22,7 +22,7 @@ pub(crate) mod transient;
 use seed_map::{Fell, Known, SeedMap, hull};
 
 use super::cycles::{CycleOptions, solve_counting};
-use super::seeded::same_tol;
+use super::seeded::{rep_tol, same_tol};
 use super::{Orbit, OrbitOptions, Period, SimError, Simulator, default_settings};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, exit_arc, wrap_angle};
@@ -143,10 +143,10 @@ fn reach_seeded(
     cancel: &dyn Fn() -> bool,
 ) -> Result<Reached, SimError> {
     let settings = sim.settings();
-    let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
-    let stable: Vec<&Attractor> = known
-        .iter()
-        .filter(|a| a.period.is_some() && a.multiplier.is_some_and(|m| m.abs() < 1.0))
+    let rep_tol = rep_tol(settings);
+    let stable: Vec<&Attractor> = stable_cycles(known)
+        .into_iter()
+        .map(|k| &known[k])
         .collect();
     let cycles: Vec<&[f64]> = stable.iter().map(|a| a.points.as_slice()).collect();
     let sets: Vec<(f64, f64)> = known
@@ -242,7 +242,7 @@ fn solve_stable(sim: &Simulator, points: &[f64]) -> Option<Reached> {
 
 /// Whether two p-cycles are one: every point of `a` within `tol` of a
 /// point of `b`.
-fn same_cycle(a: &[f64], b: &[f64], tol: f64) -> bool {
+pub(crate) fn same_cycle(a: &[f64], b: &[f64], tol: f64) -> bool {
     a.len() == b.len()
         && a.iter()
             .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= tol))
@@ -270,7 +270,7 @@ pub fn attractors(
     // Cycles coincide to 1e3× the solver's tolerance (their points are
     // solved by Newton to about the tolerance).
     let tol = 1e3 * super::CycleOptions::for_settings(&settings).tol;
-    let rep_tol = (100.0 * settings.rtol).clamp(1e-12, 1e-6);
+    let rep_tol = rep_tol(&settings);
     let mut found = Found::default();
     for (i, &theta0) in all.iter().enumerate() {
         let counted = usize::from(i >= first_counted);

@@ -123,8 +123,9 @@ fn solves_at(sim: &Simulator) -> impl Fn(&[f64]) -> bool + '_ {
 /// What a seed reached, and the points a diagram draws for it.
 type Reached = (Reach, Vec<f64>);
 
-/// The sweep's repetition tolerance (`ColumnRun::rep_tol`).
-fn rep_tol(settings: &SolverSettings) -> f64 {
+/// The sweep's repetition tolerance (`ColumnRun::rep_tol`), which the
+/// seeds' orbits repeat to.
+pub(crate) fn rep_tol(settings: &SolverSettings) -> f64 {
     (100.0 * settings.rtol).clamp(1e-12, 1e-6)
 }
 

@@ -8,8 +8,7 @@
 //! lets it go to a stable cycle inside it.
 
 use super::seed_map::{Fell, Known, SeedMap};
-use super::{KEEP, TRANSIENT};
-use crate::model::wrap_angle;
+use super::{KEEP, TRANSIENT, same_cycle};
 use crate::sim::{SimError, Simulator};
 
 /// How long an orbit in a set is run on to see whether the set lets it
@@ -63,7 +62,9 @@ pub(crate) fn escapes_to(
     match direct(loose).fall(last, (ESCAPE, 0), rep_tol, told, cancel) {
         Ok(Fell::Known(k)) => Ok(Some(k)),
         // It settled before it could be seen closing in: on which?
-        Ok(Fell::Repeats(points)) => Ok(cycles.iter().position(|c| same_points(&points, c))),
+        Ok(Fell::Repeats(points)) => Ok(cycles
+            .iter()
+            .position(|c| same_cycle(&points, c, SAME_LOOSE))),
         Err(SimError::Cancelled) => Err(SimError::Cancelled),
         Ok(_) | Err(_) => Ok(None),
     }
@@ -72,13 +73,6 @@ pub(crate) fn escapes_to(
 /// How far the loose map's cycle may lie from the solved one: its error
 /// over 1 − m (as `sim::seeded`'s slow closing in).
 const SAME_LOOSE: f64 = 1e-4;
-
-/// Whether `a` (a cycle of the loose map) is the cycle `b`.
-fn same_points(a: &[f64], b: &[f64]) -> bool {
-    a.len() == b.len()
-        && a.iter()
-            .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= SAME_LOOSE))
-}
 
 /// Whether every point of `cycle` lies in [lo, hi], give or take 5 % of
 /// its width: a kept orbit's hull reaches the set's edges only nearly,

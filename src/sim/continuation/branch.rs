@@ -336,21 +336,11 @@ impl Ctx<'_> {
     /// [`super::flip`]); `None` where f^p has no derivatives around it.
     ///
     /// `samples` are (λ, m) at the branch points the location corrected,
-    /// the step's ends first: dm/dλ is their slope at the doubling. Where
-    /// it has the other sign than m's secant across the step (a long
-    /// cycle, whose m changes by orders of magnitude within the samples),
-    /// the secant's is taken, so that the side the doubled cycle is born
-    /// on is the side the branch shows unstable.
+    /// the step's ends first: dm/dλ is their slope at the doubling
+    /// ([`super::branch_slope`]).
     pub(super) fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
-        let period = self.prob.period;
-        let mut dm_dlambda = super::branch_slope(samples, lambda, period)?;
-        if let [(l0, m0), (l1, m1), ..] = samples {
-            let secant = (m1 - m0) / (l1 - l0);
-            if secant.is_finite() && secant != 0.0 && (dm_dlambda > 0.0) != (secant > 0.0) {
-                dm_dlambda = secant;
-            }
-        }
+        let dm_dlambda = super::branch_slope(samples, lambda, self.prob.period)?;
         super::flip_at(
             self.prob,
             lambda,

@@ -189,7 +189,11 @@ fn from_hermite(h: f64, at: (f64, f64), plus: (f64, f64), minus: (f64, f64)) -> 
 /// `lambda` and the next two nearest that lie apart from the chosen ones
 /// by at least δ, where m's noise (1e-9·p) over δ is 1e-4 of the step's
 /// slope: its error is of order m'''·δ₁δ₂ (δ₁, δ₂ their distances). With
-/// fewer such samples, the secant of the two; `None` without two.
+/// fewer such samples, the secant of the two; `None` without two. Where
+/// the slope has the other sign than the step's secant (a long cycle,
+/// whose m changes by orders of magnitude within the samples), the
+/// secant's is taken, so that the side the doubled cycle is born on is the
+/// side the branch shows unstable.
 pub fn branch_slope(samples: &[(f64, f64)], lambda: f64, period: usize) -> Option<f64> {
     let [(l0, m0), (l1, m1), ..] = samples else {
         return None;
@@ -226,6 +230,10 @@ pub fn branch_slope(samples: &[(f64, f64)], lambda: f64, period: usize) -> Optio
         [(x0, y0), (x1, y1)] => (y1 - y0) / (x1 - x0),
         _ => secant,
     };
+    let usable = |s: f64| s.is_finite() && s != 0.0;
+    if usable(secant) && usable(slope) && (slope > 0.0) != (secant > 0.0) {
+        return Some(secant);
+    }
     slope.is_finite().then_some(slope)
 }
 
@@ -343,5 +351,14 @@ mod tests {
         let ends = branch_slope(&samples[..2], star, 1).unwrap();
         assert!((ends - (m(star + 6e-3) - m(star - 4e-3)) / 1e-2).abs() < 1e-12);
         assert_eq!(branch_slope(&samples[..1], star, 1), None);
+        // A local slope against the step's secant gives way to the secant.
+        let against = [
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (0.5, 10.0),
+            (0.501, 9.9),
+            (0.499, 10.1),
+        ];
+        assert_eq!(branch_slope(&against, 0.5, 1), Some(1.0));
     }
 }
