@@ -23,7 +23,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use oneblock::jobs::{Axis, PhaseSpec, PhaseTuning, Spec, SweepSpec, run_collect};
 use oneblock::model::{Params, preset};
-use oneblock::sim::attractors::{KEEP, TRANSIENT, attractors};
+use oneblock::sim::attractors::{CellOptions, KEEP, TRANSIENT, attractors};
 use oneblock::sim::{MapChoice, OrbitOptions, Simulator, default_settings};
 
 fn point(c: &mut Criterion) {
@@ -43,6 +43,16 @@ fn point(c: &mut Criterion) {
         ("hysteresis", hysteresis),
         ("creep", preset("creep").unwrap().params),
         ("intermittent", preset("intermittent").unwrap().params),
+        (
+            "pure_creep",
+            Params {
+                kappa: 22.2,
+                gamma: 0.5,
+                nu: 1e-3,
+                theta_nu: 0.6,
+                omega: 50.0,
+            },
+        ),
     ] {
         let sim = Simulator::new(params, settings).unwrap();
         let opts = OrbitOptions {
@@ -54,8 +64,9 @@ fn point(c: &mut Criterion) {
         g.bench_function(format!("{name}/one_orbit"), |b| {
             b.iter(|| black_box(sim.orbit(params.theta_nu, &opts, &never).unwrap()))
         });
-        g.bench_function(format!("{name}/attractors_64_seeds"), |b| {
-            b.iter(|| black_box(attractors(params, settings, 64, None, &never).unwrap()))
+        let cells = CellOptions::default();
+        g.bench_function(format!("{name}/attractors_cells"), |b| {
+            b.iter(|| black_box(attractors(&sim, &cells, &never).unwrap()))
         });
     }
 }

@@ -65,49 +65,6 @@ fn outside_the_range_one_attractor_takes_every_seed() {
     assert_eq!(found[0].basin_fraction, 1.0);
 }
 
-#[test]
-fn the_json_has_the_issues_fields_and_bad_seeds_are_refused() {
-    let o = oneblock(&[
-        "attractors",
-        "--kappa",
-        "10",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
-        "--theta-nu",
-        "1.40",
-        "--seeds",
-        "16",
-        "--json",
-    ]);
-    assert_ok(&o);
-    let v: serde_json::Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let list = v["attractors"].as_array().unwrap();
-    assert_eq!(list.len(), 2);
-    for a in list {
-        for key in [
-            "period",
-            "points",
-            "multiplier",
-            "lyapunov",
-            "basin_fraction",
-        ] {
-            assert!(a.get(key).is_some(), "{a}");
-        }
-    }
-    let sum: f64 = list
-        .iter()
-        .map(|a| a["basin_fraction"].as_f64().unwrap())
-        .sum();
-    assert!((sum - 1.0).abs() < 1e-12);
-    let bad = oneblock(&["attractors", "--preset", "fig3b", "--seeds", "0"]);
-    assert_eq!(bad.status.code(), Some(2));
-    let err = stderr(&bad);
-    assert_eq!(err.lines().count(), 1, "{err}");
-    assert!(err.contains("--seeds"), "{err}");
-}
-
 /// The seeded diagram's CSV rows (θν, θ, attractor); the followed
 /// attractor's rows (label 0) carry the column's λ, the others none.
 fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {

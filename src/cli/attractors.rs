@@ -1,6 +1,7 @@
-//! `oneblock attractors`: every attractor at one parameter point, from
-//! seeds spread over the exit arc, with its period (or chaotic), points,
-//! multiplier or Lyapunov exponent, and basin fraction (docs/attractors.md).
+//! `oneblock attractors`: every attractor and basin at one parameter
+//! point, from the exit arc as a cell graph (docs/attractors.md): its
+//! period (or chaotic), points, multiplier or Lyapunov exponent (and the
+//! invariant density), basin fraction and the basins along the arc.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -10,23 +11,31 @@ use clap::Args;
 use super::CliError;
 use super::common::{ModelArgs, SolverArgs, describe, emit, max_seconds, warn_validity};
 use super::run_control::{Limits, check_stdout, run_bounded};
-use super::values::{count_between, parse_count, parse_number};
-use crate::sim::attractors::{Attractor, KEEP, TRANSIENT, attractors};
+use super::values::{count_between, parse_count, parse_number, short};
+use crate::sim::attractors::{AttractorError, CellOptions, Found, Verdict, attractors};
 use crate::sim::{SimError, Simulator};
 
-/// The most seeds.
-pub const MAX_SEEDS: usize = 4096;
+/// The most cells.
+pub const MAX_CELLS: usize = 1 << 22;
+/// The finest and coarsest resolution a user may ask for (radians).
+pub const RESOLUTION_RANGE: (f64, f64) = (1e-9, 1e-2);
 
-/// Every attractor at the parameters, from `--seeds` seeds.
+/// Every attractor and basin at the parameters, from the exit arc's cell
+/// graph (docs/attractors.md).
 #[derive(Debug, Clone, Args)]
 pub struct AttractorsArgs {
     #[command(flatten)]
     pub model: ModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// Seeds spread over the exit arc (1 to 4096).
-    #[arg(long, default_value = "64", allow_hyphen_values = true, value_parser = parse_count)]
-    pub seeds: usize,
+    /// The finest cell width subdivision goes to, in radians (1e-9 to
+    /// 1e-2): tighten it where the output says the resolution could not
+    /// decide.
+    #[arg(long, default_value = "1e-6", allow_hyphen_values = true, value_parser = parse_number)]
+    pub resolution: f64,
+    /// The most cells in all (1024 to 4194304).
+    #[arg(long, default_value = "65536", allow_hyphen_values = true, value_parser = parse_count)]
+    pub max_cells: usize,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -38,13 +47,20 @@ pub struct AttractorsArgs {
 /// What `run` needs, checked before any work.
 pub struct Plan {
     pub sim: Simulator,
-    pub seeds: usize,
+    pub cells: CellOptions,
     pub max_seconds: Option<f64>,
 }
 
 /// Checks the flags (values, bounds, stdout).
 pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
-    let seeds = count_between("seeds", args.seeds, 1, MAX_SEEDS)?;
+    let (lo, hi) = RESOLUTION_RANGE;
+    if !(args.resolution >= lo && args.resolution <= hi) {
+        return Err(CliError::Usage(format!(
+            "--resolution = {} is out of range: must lie in [{lo:e}, {hi:e}] radians",
+            short(args.resolution)
+        )));
+    }
+    let max_cells = count_between("max-cells", args.max_cells, 1024, MAX_CELLS)?;
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let sim = Simulator::new(params, settings)?;
@@ -52,7 +68,11 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
     check_stdout()?;
     Ok(Plan {
         sim,
-        seeds,
+        cells: CellOptions {
+            resolution: args.resolution,
+            max_cells,
+            ..CellOptions::default()
+        },
         max_seconds,
     })
 }
@@ -60,7 +80,7 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
 pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     let Plan {
         sim,
-        seeds,
+        cells,
         max_seconds,
     } = check(&args)?;
     let (params, settings) = (*sim.params(), *sim.settings());
@@ -69,51 +89,104 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     // --max-seconds or Ctrl+C end it with one line, printing nothing.
     let limits = Limits::start(max_seconds);
     let found = run_bounded("attractors", &limits, move || {
-        attractors(params, settings, seeds, None, &|| false)
+        attractors(&sim, &cells, &|| false)
     })?
     .map_err(|e| match e {
-        SimError::Cancelled => CliError::Failed("cancelled".into()),
-        e => CliError::from(e),
+        AttractorError::Sim(SimError::Cancelled) => CliError::Failed("cancelled".into()),
+        AttractorError::Sim(e) => CliError::from(e),
+        e => CliError::Failed(e.to_string()),
     })?;
+    if found.attractors.is_empty() {
+        return Err(CliError::Failed(
+            "attractors: no closed set of cells was found: the map could not be enclosed over the exit arc".into(),
+        ));
+    }
     let text = if args.json {
         json(&found)
     } else {
-        text(&found, &describe(&params, &settings), seeds)
+        text(&found, &describe(&params, &settings))
     };
     emit(Path::new("-"), text.as_bytes(), false)
 }
 
+/// The verdict as one word, and its reason where undecided.
+fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
+    match v {
+        Verdict::Proved => ("proved", None),
+        Verdict::CycleInSet => ("cycle-in-set", None),
+        Verdict::Chaotic => ("chaotic", None),
+        Verdict::Undecided(why) => ("undecided", Some(why.as_str())),
+    }
+}
+
 /// `{"attractors": [{"period", "points", "multiplier", "lyapunov",
-/// "lyapunov_stderr", "basin_fraction"}, …]}`.
-fn json(found: &[Attractor]) -> String {
+/// "lyapunov_stderr", "lyapunov_from_density", "density", "basin_fraction",
+/// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
+/// "boundary_fraction", "resolution": {"cell_width", "widest_cell",
+/// "epsilon", "cells", "budget_hit"}}`.
+fn json(found: &Found) -> String {
     let list: Vec<_> = found
+        .attractors
         .iter()
         .map(|a| {
+            let (word, why) = verdict(&a.verdict);
             serde_json::json!({
                 "period": a.period,
                 "points": a.points,
                 "multiplier": a.multiplier,
                 "lyapunov": a.lyapunov,
                 "lyapunov_stderr": a.lyapunov_stderr,
+                "lyapunov_from_density": a.lyapunov_from_density,
+                "density": a.density.as_ref().map(|d| serde_json::json!({
+                    "from": d.from, "to": d.to, "values": d.values,
+                })),
                 "basin_fraction": a.basin_fraction,
+                "verdict": word,
+                "reason": why,
             })
         })
         .collect();
-    format!("{}\n", serde_json::json!({ "attractors": list }))
+    let basins: Vec<_> = found
+        .basins
+        .iter()
+        .map(|b| serde_json::json!({"from": b.from, "to": b.to, "attractor": b.attractor}))
+        .collect();
+    let r = &found.resolution;
+    format!(
+        "{}\n",
+        serde_json::json!({
+            "attractors": list,
+            "basins": basins,
+            "boundary_fraction": found.boundary_fraction,
+            "resolution": {
+                "cell_width": r.finest,
+                "widest_cell": r.widest,
+                "epsilon": r.eps,
+                "cells": r.cells,
+                "budget_hit": r.budget_hit,
+            },
+        })
+    )
 }
 
-fn text(found: &[Attractor], described: &str, seeds: usize) -> String {
+fn text(found: &Found, described: &str) -> String {
+    let r = &found.resolution;
     let mut s = format!("attractors: {described}\n");
     writeln!(
         s,
-        "{seeds} seeds spread over the exit arc, {TRANSIENT} transient + {KEEP} kept iterates each: {} attractor(s)",
-        found.len()
+        "the exit arc as a cell graph: {} cells, {:.1e} to {:.1e} rad wide, images widened by eps = {:.1e}: {} attractor(s)",
+        r.cells,
+        r.finest,
+        r.widest,
+        r.eps,
+        found.attractors.len()
     )
     .ok();
-    for a in found {
+    for a in &found.attractors {
         let what = match a.period {
             Some(p) => format!("P{p}"),
-            None => "chaotic".into(),
+            None if a.verdict == Verdict::Chaotic => "chaotic".into(),
+            None => "set".into(),
         };
         let pts = a
             .points
@@ -121,10 +194,12 @@ fn text(found: &[Attractor], described: &str, seeds: usize) -> String {
             .map(|p| format!("{p:.9}"))
             .collect::<Vec<_>>()
             .join(", ");
-        let how = match (a.period, a.multiplier, a.lyapunov, a.lyapunov_stderr) {
+        let how = match (a.period, a.multiplier, a.lyapunov, a.lyapunov_from_density) {
             (Some(_), Some(m), _, _) => format!("multiplier {m:.6}"),
-            (_, _, Some(l), Some(e)) => format!("lyapunov {l:.4} +- {e:.4}"),
-            (_, _, Some(l), None) => format!("lyapunov {l:.4}"),
+            (_, _, Some(l), Some(d)) => format!(
+                "lyapunov {d:.4} from the density, {l:.4} +- {:.4} from an orbit",
+                a.lyapunov_stderr.unwrap_or(0.0)
+            ),
             _ => "no exponent".into(),
         };
         let points = if a.period.is_some() {
@@ -132,12 +207,45 @@ fn text(found: &[Attractor], described: &str, seeds: usize) -> String {
         } else {
             format!("theta in [{pts}]")
         };
+        let (word, why) = verdict(&a.verdict);
         writeln!(
             s,
-            "  {what:<8} basin {:.3}  {how}  {points}",
+            "  {what:<8} basin {:.4}  {how}  {points}  ({word})",
             a.basin_fraction
         )
         .ok();
+        if let Some(why) = why {
+            writeln!(s, "    undecided: {why}").ok();
+        }
+        if a.verdict == Verdict::CycleInSet {
+            writeln!(
+                s,
+                "    a stable cycle in a closed set the cells did not shrink onto it: another attractor may hide in the set; tighten with --resolution or --max-cells"
+            )
+            .ok();
+        }
+    }
+    if found.boundary_fraction > 0.0 {
+        writeln!(
+            s,
+            "basin boundary at this resolution: {:.4} of the arc reaches more than one attractor",
+            found.boundary_fraction
+        )
+        .ok();
+    }
+    if r.budget_hit {
+        writeln!(
+            s,
+            "the cell budget stopped subdivision before the resolution asked for: raise --max-cells"
+        )
+        .ok();
+    }
+    writeln!(s, "basins along the arc (theta from, to: attractor):").ok();
+    for b in &found.basins {
+        let who = b
+            .attractor
+            .map_or("boundary".to_string(), |k| format!("#{}", k + 1));
+        writeln!(s, "  {:.6} {:.6}: {who}", b.from, b.to).ok();
     }
     s
 }

@@ -34,7 +34,7 @@ use super::protocol::{Axis, GridCell, Lane, ListedAttractor, MAX_LISTED, PhaseSp
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::attractors;
+use crate::sim::attractors::seeded_attractors as attractors;
 use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 

@@ -580,7 +580,7 @@ pub struct ListedAttractor {
 
 impl ListedAttractor {
     /// What the list keeps of `a`.
-    pub fn of(a: &crate::sim::attractors::Attractor) -> Self {
+    pub fn of(a: &crate::sim::attractors::SeedAttractor) -> Self {
         ListedAttractor {
             period: a.period,
             multiplier: a.multiplier,

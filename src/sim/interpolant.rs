@@ -50,7 +50,7 @@ const CHECKS: [f64; 4] = [0.061_803, 0.381_966, 0.618_034 + 0.05, 0.927_7];
 /// θ' (as its offset from the arc's centre), f'(θ) (from the series), the
 /// stop's x and y, the acceleration's and the slip's durations, the peak
 /// speed, the stick's duration.
-const FIELDS: usize = 8;
+pub(crate) const FIELDS: usize = 8;
 
 /// What the interpolant is asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,6 +187,10 @@ pub struct MapInterpolant {
     verification: Verification,
     evaluations: usize,
     rhs_evals: u64,
+    /// Whether pieces left unresolved by the budgets become stretches of
+    /// direct integration instead of refusing the build
+    /// ([`Self::build_lenient`]).
+    lenient: bool,
 }
 
 /// A sample: the event's quantities in [`FIELDS`] order (slot 1 unused),
@@ -223,6 +227,21 @@ impl MapInterpolant {
         Self::build_counting(sim, lo, hi, opts, &mut (0, 0))
     }
 
+    /// [`Self::build`], but where the budgets run out (or no series
+    /// converges, next to a point where f' is unbounded) the pieces still
+    /// unresolved are left to direct integration instead of refusing the
+    /// build: for a caller that encloses f there by sampling
+    /// (`sim::attractors::arc`).
+    pub fn build_lenient(
+        sim: &Simulator,
+        lo: f64,
+        hi: f64,
+        opts: InterpolantOptions,
+    ) -> Result<Self, InterpolantError> {
+        let mut spent = (0, 0);
+        Self::build_with(sim, lo, hi, opts, &mut spent, true)
+    }
+
     /// [`Self::build`], adding the map evaluations and the right-hand-side
     /// evaluations spent to `spent`, also when the build is refused (a
     /// refusal may have cost many).
@@ -232,6 +251,17 @@ impl MapInterpolant {
         hi: f64,
         opts: InterpolantOptions,
         spent: &mut (u64, u64),
+    ) -> Result<Self, InterpolantError> {
+        Self::build_with(sim, lo, hi, opts, spent, false)
+    }
+
+    fn build_with(
+        sim: &Simulator,
+        lo: f64,
+        hi: f64,
+        opts: InterpolantOptions,
+        spent: &mut (u64, u64),
+        lenient: bool,
     ) -> Result<Self, InterpolantError> {
         if !(opts.tol > 0.0 && opts.max_pieces >= 1) {
             return Err(InterpolantError::Options(
@@ -249,6 +279,7 @@ impl MapInterpolant {
             verification: Verification::default(),
             evaluations: 0,
             rhs_evals: 0,
+            lenient,
         };
         let (a, b) = me.check_interval(lo, hi)?;
         let new = me.resolve(a, b, opts.max_pieces);
@@ -510,4 +541,42 @@ fn clenshaw_fields(c: &[[f64; FIELDS]], x: f64) -> [f64; FIELDS] {
         out[f] = c0[f] + x * b1[f] - b2[f];
     }
     out
+}
+
+/// One piece of a [`MapInterpolant`] as the cell graph reads it
+/// (`sim::attractors::arc`), in u = θ − ψ.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum PieceView<'a> {
+    /// f(u) − ψ = Σ `map[k]` T_k(x) on [a, b], x = (2u − a − b)/(b − a);
+    /// f'(u) = Σ `table[k][1]` T_k(x).
+    Series {
+        a: f64,
+        b: f64,
+        map: &'a [f64],
+        derivative: &'a [[f64; FIELDS]],
+    },
+    /// A jump's bracket or a rough stretch, left to direct integration.
+    Direct { a: f64, b: f64 },
+}
+
+impl MapInterpolant {
+    /// The centre ψ of the exit arc the pieces are built around.
+    pub fn psi(&self) -> f64 {
+        self.psi
+    }
+
+    /// The pieces in order along the arc, in u = θ − ψ.
+    pub(crate) fn piece_views(&self) -> impl Iterator<Item = PieceView<'_>> {
+        self.pieces.iter().map(|p| match p {
+            Piece::Series {
+                a, b, map, table, ..
+            } => PieceView::Series {
+                a: *a,
+                b: *b,
+                map,
+                derivative: table,
+            },
+            Piece::Direct { a, b } => PieceView::Direct { a: *a, b: *b },
+        })
+    }
 }

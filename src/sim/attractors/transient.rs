@@ -1,4 +1,4 @@
-//! Transient chaos (docs/attractors.md#transient-chaos): inside a periodic
+//! Transient chaos (docs/attractors.md, the seeds' search): inside a periodic
 //! window, orbits wander over a chaotic saddle for hundreds of iterates
 //! before they reach the window's stable cycle, some for longer than an
 //! orbit's budget. Such a set looks like a chaotic attractor, and once it

@@ -66,6 +66,13 @@ impl MapInterpolant {
                 .iter()
                 .map(|p| next_sampling(p.samples.len()) - p.samples.len())
                 .sum();
+            let over = self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations
+                || pending.len() + done.len() > budget;
+            if over && self.lenient {
+                // Whatever is left is left to direct integration.
+                done.extend(pending.drain(..).map(|p| Piece::Direct { a: p.a, b: p.b }));
+                break;
+            }
             if self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations {
                 return Err(InterpolantError::OverBudget {
                     tol: self.opts.tol,

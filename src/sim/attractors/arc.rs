@@ -1,0 +1,487 @@
+//! f over the whole exit arc, as the cell graph reads it: verified
+//! interpolants (`sim::interpolant`) and the enclosure of f over any
+//! interval, widened by the map's error ε there.
+//!
+//! Two tiers. The whole arc is built once to [`COARSE_TOL`] (f is smooth
+//! at that scale almost everywhere: Fig. 3b's arc takes 5 pieces, where
+//! 1e-9 takes 66 and 18 000 evaluations). Where the cell graph needs
+//! cells narrower than about 100 ε, the stretch is built again to
+//! [`FINE_TOL`] ([`ArcMap::sharpen`]) and its series replace the coarse
+//! ones there.
+//!
+//! Everything here works in u = θ − ψ ∈ (−π/2, π/2), ψ the arc's centre,
+//! where f is continuous between its jumps (θ' − ψ never wraps: every
+//! iterate lies on the arc).
+//!
+//! The enclosure of a series piece over [s, t] is rigorous for the series:
+//! with M₂ ≥ |f''| on the piece (from the coefficients, |T_k''| ≤
+//! k²(k² − 1)/3), f is monotone on [s, t] when |f'(m)| > M₂ h/2 at the
+//! midpoint m (h = t − s), and its range is then [f(s), f(t)]; otherwise
+//! f(x) ∈ f(m) + f'(m)(x − m) ± M₂ h²/8. A stretch no series resolves (a
+//! jump's bracket, a rough stretch, or the neighbourhood of a point where
+//! f' is unbounded, which the builder leaves to integration) is sampled:
+//! the one-sided values of its neighbours and integrated samples across
+//! it, their hull widened by the largest difference between neighbouring
+//! samples (a jump's bracket, 2e-10 wide: its two sides and its midpoint,
+//! each on its own). Those are sampled, not bounded: docs/attractors.md
+//! says so.
+
+use std::f64::consts::FRAC_PI_2;
+
+use crate::sim::interpolant::{
+    InterpolantError, InterpolantOptions, MapInterpolant, PieceView, chebyshev,
+};
+use crate::sim::{SimError, Simulator, cycles_in_lanes};
+
+/// How far inside the arc's ends the cells start: at the ends the surface
+/// moves along C. An image that falls into these strips is counted in
+/// the nearest cell.
+pub const EDGE: f64 = 1e-6;
+
+/// The whole arc's interpolant tolerance (radians).
+pub const COARSE_TOL: f64 = 1e-6;
+
+/// A sharpened stretch's tolerance.
+pub const FINE_TOL: f64 = 1e-9;
+
+/// An interval [lo, hi] of u.
+pub type Span = [f64; 2];
+
+/// A piece as the enclosures use it.
+#[derive(Clone, Debug)]
+enum Part {
+    Series {
+        /// The series' interval (x = ±1 at its ends).
+        a: f64,
+        b: f64,
+        /// The stretch of it this part covers.
+        from: f64,
+        to: f64,
+        map: std::sync::Arc<[f64]>,
+        derivative: std::sync::Arc<[f64]>,
+        /// M₂ ≥ |f''(u)| on [a, b].
+        curvature: f64,
+        /// The error bound its images are widened by.
+        eps: f64,
+    },
+    /// A stretch left to integration: its samples (u, f(u)), increasing
+    /// in u, and the ε they are widened by.
+    Sampled {
+        from: f64,
+        to: f64,
+        samples: std::sync::Arc<[[f64; 2]]>,
+        eps: f64,
+    },
+}
+
+impl Part {
+    fn from(&self) -> f64 {
+        match self {
+            Part::Series { from, .. } | Part::Sampled { from, .. } => *from,
+        }
+    }
+    fn to(&self) -> f64 {
+        match self {
+            Part::Series { to, .. } | Part::Sampled { to, .. } => *to,
+        }
+    }
+    /// The part restricted to [lo, hi] (which must meet it).
+    fn clip(&self, lo: f64, hi: f64) -> Part {
+        let mut p = self.clone();
+        match &mut p {
+            Part::Series { from, to, .. } | Part::Sampled { from, to, .. } => {
+                *from = from.max(lo);
+                *to = to.min(hi);
+            }
+        }
+        p
+    }
+}
+
+/// f over the arc, with enclosures (see the module's doc).
+#[derive(Clone, Debug)]
+pub struct ArcMap {
+    sim: Simulator,
+    psi: f64,
+    parts: Vec<Part>,
+    starts: Vec<f64>,
+    /// The covered interval of u.
+    pub lo: f64,
+    pub hi: f64,
+    /// The integrated map's own error (10× an adaptive method's
+    /// tolerance, 1e-9 for the fixed-step methods), part of every ε.
+    own: f64,
+    /// Stretches built to [`FINE_TOL`].
+    sharp: Vec<Span>,
+    /// Map evaluations and right-hand sides spent.
+    pub spent: (u64, u64),
+    /// The largest error the interpolants' checks measured.
+    pub max_error: f64,
+}
+
+/// A cell's image and the bound on |f'| over it.
+#[derive(Clone, Debug, Default)]
+pub struct Image {
+    /// Disjoint spans of u, increasing.
+    pub spans: Vec<Span>,
+    /// max |f'| over the cell (infinite where it holds a sampled stretch).
+    pub slope: f64,
+    /// The largest ε its spans were widened by.
+    pub eps: f64,
+}
+
+/// The most map evaluations the whole arc's build may take; past it, what
+/// is unresolved is sampled.
+const COARSE_EVALUATIONS: usize = 6_000;
+
+impl ArcMap {
+    /// Builds f over the arc less [`EDGE`] at each end to [`COARSE_TOL`].
+    pub fn build(sim: &Simulator) -> Result<Self, ArcError> {
+        let psi = crate::model::exit_arc(sim.params().kappa, sim.params().theta_nu).0;
+        let settings = sim.settings();
+        let own = if settings.method.is_adaptive() {
+            10.0 * settings.rtol
+        } else {
+            1e-9
+        };
+        let mut me = ArcMap {
+            sim: *sim,
+            psi,
+            parts: Vec::new(),
+            starts: Vec::new(),
+            lo: -FRAC_PI_2 + EDGE,
+            hi: FRAC_PI_2 - EDGE,
+            own,
+            sharp: Vec::new(),
+            spent: (0, 0),
+            max_error: 0.0,
+        };
+        let parts = me.parts_over(me.lo, me.hi, COARSE_TOL, COARSE_EVALUATIONS)?;
+        me.parts = parts;
+        me.starts = me.parts.iter().map(Part::from).collect();
+        Ok(me)
+    }
+
+    /// Verified (and sampled) parts over [lo, hi] at `tol`.
+    fn parts_over(
+        &mut self,
+        lo: f64,
+        hi: f64,
+        tol: f64,
+        max_evaluations: usize,
+    ) -> Result<Vec<Part>, ArcError> {
+        let opts = InterpolantOptions {
+            tol,
+            max_pieces: 400,
+            max_evaluations,
+        };
+        let interp = MapInterpolant::build_lenient(&self.sim, self.psi + lo, self.psi + hi, opts)?;
+        self.spent.0 += interp.evaluations() as u64;
+        self.spent.1 += interp.rhs_evals();
+        self.max_error = self.max_error.max(interp.verification().max_map_error);
+        let eps = tol + self.own;
+        let views: Vec<PieceView> = interp.piece_views().collect();
+        // The samples of the stretches left to integration share half the
+        // build's budget (each 1 to 33).
+        let direct = views
+            .iter()
+            .filter(|v| matches!(v, PieceView::Direct { .. }))
+            .count();
+        let per = (max_evaluations / 2 / direct.max(1)).clamp(3, 33);
+        let mut parts = Vec::with_capacity(views.len());
+        for (i, v) in views.iter().enumerate() {
+            match *v {
+                PieceView::Series {
+                    a,
+                    b,
+                    map,
+                    derivative,
+                } => {
+                    let d: Vec<f64> = derivative.iter().map(|c| c[1]).collect();
+                    parts.push(Part::Series {
+                        a,
+                        b,
+                        from: a,
+                        to: b,
+                        map: map.into(),
+                        derivative: d.into(),
+                        curvature: curvature_bound(map, a, b),
+                        eps,
+                    });
+                }
+                PieceView::Direct { a, b } => {
+                    let side = |j: Option<&PieceView>, at: f64| match j {
+                        Some(PieceView::Series { a, b, map, .. }) => {
+                            Some(series_at(map, *a, *b, at))
+                        }
+                        _ => None,
+                    };
+                    let left = side(i.checked_sub(1).and_then(|j| views.get(j)), a);
+                    let right = side(views.get(i + 1), b);
+                    let samples = self.sampled(a, b, left, right, per)?;
+                    parts.push(Part::Sampled {
+                        from: a,
+                        to: b,
+                        samples: samples.into(),
+                        eps,
+                    });
+                }
+            }
+        }
+        Ok(parts)
+    }
+
+    /// Builds [lo, hi] again to [`FINE_TOL`] (within `max_evaluations`),
+    /// its parts replacing the coarse ones there. Whether anything was
+    /// sharpened (a stretch already sharp is left alone).
+    pub fn sharpen(&mut self, lo: f64, hi: f64, max_evaluations: usize) -> Result<bool, ArcError> {
+        let (lo, hi) = (lo.max(self.lo), hi.min(self.hi));
+        if !(hi > lo) || self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1]) {
+            return Ok(false);
+        }
+        let fine = self.parts_over(lo, hi, FINE_TOL, max_evaluations)?;
+        let mut parts = Vec::with_capacity(self.parts.len() + fine.len() + 2);
+        for p in &self.parts {
+            if p.to() <= lo || p.from() >= hi {
+                parts.push(p.clone());
+                continue;
+            }
+            if p.from() < lo {
+                parts.push(p.clip(p.from(), lo));
+            }
+            if p.to() > hi {
+                parts.push(p.clip(hi, p.to()));
+            }
+        }
+        parts.extend(fine);
+        parts.sort_by(|x, y| x.from().total_cmp(&y.from()));
+        self.parts = parts;
+        self.starts = self.parts.iter().map(Part::from).collect();
+        self.sharp.push([lo, hi]);
+        Ok(true)
+    }
+
+    /// Whether [lo, hi] was sharpened already.
+    pub fn is_sharp(&self, lo: f64, hi: f64) -> bool {
+        let (lo, hi) = (lo.max(self.lo), hi.min(self.hi));
+        self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1])
+    }
+
+    /// The arc's centre ψ.
+    pub fn psi(&self) -> f64 {
+        self.psi
+    }
+
+    /// The coarse ε (the whole arc's).
+    pub fn eps(&self) -> f64 {
+        COARSE_TOL + self.own
+    }
+
+    /// ε at u.
+    pub fn eps_at(&self, u: f64) -> f64 {
+        match &self.parts[self.index(u)] {
+            Part::Series { eps, .. } => *eps,
+            Part::Sampled { eps, .. } => *eps,
+        }
+    }
+
+    /// f(u) and f'(u) from the series; `None` in a sampled stretch.
+    pub fn eval(&self, u: f64) -> Option<(f64, f64)> {
+        match &self.parts[self.index(u)] {
+            Part::Series {
+                a,
+                b,
+                map,
+                derivative,
+                ..
+            } => {
+                let x = ((2.0 * u - a - b) / (b - a)).clamp(-1.0, 1.0);
+                Some((
+                    chebyshev::clenshaw(map, x),
+                    chebyshev::clenshaw(derivative, x),
+                ))
+            }
+            Part::Sampled { .. } => None,
+        }
+    }
+
+    /// f(u) and f'(u) anywhere: from the series, or in a sampled stretch
+    /// from the line between its neighbouring samples (for orbits that
+    /// only classify; cycles are solved on the integrated map).
+    pub fn eval_any(&self, u: f64) -> (f64, f64) {
+        if let Some(v) = self.eval(u) {
+            return v;
+        }
+        let Part::Sampled { samples, .. } = &self.parts[self.index(u)] else {
+            return (u, 1.0);
+        };
+        let k = samples
+            .partition_point(|x| x[0] <= u)
+            .clamp(1, samples.len().max(2) - 1);
+        match (samples.get(k - 1), samples.get(k)) {
+            (Some(p), Some(q)) if q[0] > p[0] => {
+                let slope = (q[1] - p[1]) / (q[0] - p[0]);
+                (p[1] + slope * (u - p[0]), slope)
+            }
+            (Some(p), _) => (p[1], 0.0),
+            _ => (u, 1.0),
+        }
+    }
+
+    /// The part holding u (the nearest at the ends).
+    fn index(&self, u: f64) -> usize {
+        self.starts
+            .partition_point(|&s| s <= u)
+            .saturating_sub(1)
+            .min(self.parts.len() - 1)
+    }
+
+    /// The image of [s, t] (s < t, inside the covered interval): the
+    /// enclosure of f, widened by ε, and max |f'| there.
+    pub fn image(&self, s: f64, t: f64) -> Image {
+        let mut out = Image::default();
+        let mut i = self.index(s);
+        while i < self.parts.len() {
+            let part = &self.parts[i];
+            let (a, b) = (part.from(), part.to());
+            if a >= t {
+                break;
+            }
+            let (ps, pt) = (s.max(a), t.min(b));
+            if pt > ps {
+                enclose(part, ps, pt, &mut out);
+            }
+            i += 1;
+        }
+        out.spans.sort_by(|x, y| x[0].total_cmp(&y[0]));
+        let mut merged: Vec<Span> = Vec::with_capacity(out.spans.len());
+        for sp in out.spans {
+            match merged.last_mut() {
+                Some(m) if sp[0] <= m[1] => m[1] = m[1].max(sp[1]),
+                _ => merged.push(sp),
+            }
+        }
+        out.spans = merged;
+        out
+    }
+
+    /// The samples of a stretch left to integration: its ends' one-sided
+    /// values from the neighbouring series (where there is one) and
+    /// integrated samples across it, one per 1e-4 of its width (3 to
+    /// `most`; a jump's bracket, 2e-10 wide, only its midpoint).
+    fn sampled(
+        &mut self,
+        a: f64,
+        b: f64,
+        left: Option<f64>,
+        right: Option<f64>,
+        most: usize,
+    ) -> Result<Vec<[f64; 2]>, ArcError> {
+        let n = if b - a < 1e-8 {
+            1
+        } else {
+            (((b - a) / 1e-4).ceil() as usize).clamp(3, most.max(3))
+        };
+        let us: Vec<f64> = (0..n)
+            .map(|k| a + (b - a) * (k as f64 + 0.5) / n as f64)
+            .collect();
+        let tasks: Vec<_> = us.iter().map(|u| (&self.sim, self.psi + u, 0.0)).collect();
+        let mut out = Vec::with_capacity(n + 2);
+        out.extend(left.map(|v| [a, v]));
+        for (r, &u) in cycles_in_lanes(&tasks).into_iter().zip(&us) {
+            let e = r?;
+            self.spent.0 += 1;
+            self.spent.1 += e.rhs_evals;
+            out.push([u, crate::model::wrap_angle(e.theta_next - self.psi)]);
+        }
+        out.extend(right.map(|v| [b, v]));
+        Ok(out)
+    }
+}
+
+/// Adds the enclosure of `part` over [s, t] to `out`.
+fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) {
+    match part {
+        Part::Series {
+            a,
+            b,
+            map,
+            derivative,
+            curvature,
+            eps,
+            ..
+        } => {
+            let x = |u: f64| ((2.0 * u - a - b) / (b - a)).clamp(-1.0, 1.0);
+            let h = t - s;
+            let m = 0.5 * (s + t);
+            let (fs, ft) = (
+                chebyshev::clenshaw(map, x(s)),
+                chebyshev::clenshaw(map, x(t)),
+            );
+            let dm = chebyshev::clenshaw(derivative, x(m));
+            let (lo, hi) = if dm.abs() > 0.5 * curvature * h {
+                (fs.min(ft), fs.max(ft))
+            } else {
+                let fm = chebyshev::clenshaw(map, x(m));
+                let r = 0.5 * dm.abs() * h + 0.125 * curvature * h * h;
+                (fm - r, fm + r)
+            };
+            out.spans.push([lo - eps, hi + eps]);
+            out.slope = out.slope.max(dm.abs() + 0.5 * curvature * h);
+            out.eps = out.eps.max(*eps);
+        }
+        Part::Sampled { samples, eps, .. } => {
+            // Between neighbouring samples, their hull widened by their
+            // difference: sampled, not bounded (see the module's doc).
+            let k = samples.partition_point(|x| x[0] <= s).saturating_sub(1);
+            let mut lo = f64::INFINITY;
+            let mut hi = f64::NEG_INFINITY;
+            for w in samples[k..].windows(2) {
+                if w[0][0] >= t {
+                    break;
+                }
+                let d = (w[1][1] - w[0][1]).abs();
+                lo = lo.min(w[0][1].min(w[1][1]) - d);
+                hi = hi.max(w[0][1].max(w[1][1]) + d);
+            }
+            if samples.len() == 1 || !(lo <= hi) {
+                for x in samples.iter() {
+                    lo = lo.min(x[1]);
+                    hi = hi.max(x[1]);
+                }
+            }
+            out.spans.push([lo - eps, hi + eps]);
+            out.slope = f64::INFINITY;
+            out.eps = out.eps.max(*eps);
+        }
+    }
+}
+
+/// A series' value at u on [a, b].
+fn series_at(map: &[f64], a: f64, b: f64, u: f64) -> f64 {
+    chebyshev::clenshaw(map, ((2.0 * u - a - b) / (b - a)).clamp(-1.0, 1.0))
+}
+
+/// M₂ ≥ max |f''| on [a, b] for f = Σ c_k T_k(x(u)): |T_k''| ≤
+/// k²(k² − 1)/3 on [−1, 1], and dx/du = 2/(b − a).
+fn curvature_bound(c: &[f64], a: f64, b: f64) -> f64 {
+    let s = 2.0 / (b - a);
+    let sum: f64 = c
+        .iter()
+        .enumerate()
+        .map(|(k, ck)| {
+            let k = k as f64;
+            ck.abs() * k * k * (k * k - 1.0) / 3.0
+        })
+        .sum();
+    sum * s * s
+}
+
+/// Why f could not be built over the arc.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum ArcError {
+    #[error("{0}")]
+    Interpolant(#[from] InterpolantError),
+    #[error("{0}")]
+    Sim(#[from] SimError),
+}

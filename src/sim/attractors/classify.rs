@@ -1,0 +1,277 @@
+//! What a closed set of cells holds: a cycle proved to attract the whole
+//! set (a contraction of f^p), a stable cycle found in it, or a chaotic
+//! attractor with its invariant density (Ulam's method on the set's cells)
+//! and λ = ∫ ln|f'| dμ beside the time average of a long orbit.
+
+use super::arc::{ArcMap, Span};
+use super::graph::CellGraph;
+use crate::sim::cycles::{CycleOptions, solve_counting};
+use crate::sim::period::{PERIOD_MAX, settled_period};
+use crate::sim::{Cycle, SimError, Simulator};
+
+/// A closed set's cells as runs of neighbouring cells: (first, last).
+pub fn clusters(cells: &[usize]) -> Vec<(usize, usize)> {
+    let mut out: Vec<(usize, usize)> = Vec::new();
+    for &c in cells {
+        match out.last_mut() {
+            Some(r) if r.1 + 1 == c => r.1 = c,
+            _ => out.push((c, c)),
+        }
+    }
+    out
+}
+
+/// A proof that a closed set is the trapping region of one cycle: its p
+/// clusters are permuted cyclically by f (each cluster's image meets one
+/// cluster only), and Π sup|f'| over them is below 1, so f^p contracts the
+/// first cluster into itself and has exactly one fixed point there, which
+/// attracts the whole set. Returns p, the contraction bound, and the
+/// cycle solved on the series from the first cluster (u).
+pub fn contraction(g: &CellGraph, map: &ArcMap, cells: &[usize]) -> Option<(usize, f64, f64)> {
+    let runs = clusters(cells);
+    let p = runs.len();
+    if p > PERIOD_MAX {
+        return None;
+    }
+    let which = |c: usize| runs.iter().position(|r| r.0 <= c && c <= r.1);
+    let mut next = vec![usize::MAX; p];
+    let mut bound = 1.0;
+    for (k, &(a, b)) in runs.iter().enumerate() {
+        let mut slope: f64 = 0.0;
+        for i in a..=b {
+            slope = slope.max(g.images[i].slope);
+            for &(x, y) in g.succ(i) {
+                for j in [x as usize, y as usize] {
+                    let t = which(j)?;
+                    if next[k] != usize::MAX && next[k] != t {
+                        return None;
+                    }
+                    next[k] = t;
+                }
+            }
+        }
+        bound *= slope;
+    }
+    if !(bound < 1.0) {
+        return None;
+    }
+    // One cycle through all clusters.
+    let (mut k, mut steps) = (0, 0);
+    loop {
+        k = next[k];
+        steps += 1;
+        if k == 0 || steps > p {
+            break;
+        }
+    }
+    if k != 0 || steps != p {
+        return None;
+    }
+    // Newton on the series for f^p(u) = u in the first cluster.
+    let (lo, hi) = (g.bounds[runs[0].0], g.bounds[runs[0].1 + 1]);
+    let mut u = 0.5 * (lo + hi);
+    for _ in 0..60 {
+        let (mut x, mut d) = (u, 1.0);
+        for _ in 0..p {
+            let (fx, dx) = map.eval(x)?;
+            x = fx;
+            d *= dx;
+        }
+        let step = (x - u) / (1.0 - d);
+        u = (u + step).clamp(lo, hi);
+        if step.abs() < 1e-15 {
+            break;
+        }
+    }
+    Some((p, bound, u))
+}
+
+/// The p-cycle through u (in θ − ψ) solved by Newton on the integrated map.
+pub fn solve(sim: &Simulator, psi: f64, u: f64, p: usize, spent: &mut (u64, u64)) -> Option<Cycle> {
+    let opts = CycleOptions::for_settings(sim.settings());
+    solve_counting(sim, psi + u, p, &opts, spent).ok()
+}
+
+/// What a long orbit on the series shows.
+pub struct Orbit {
+    /// The time average of ln|f'| and its batch-means standard error.
+    pub lyapunov: f64,
+    pub stderr: f64,
+    /// The period it settled on, if it did (with its last point, u).
+    pub settled: Option<(usize, f64)>,
+}
+
+/// Iterates dropped and kept by [`long_orbit`].
+pub const ORBIT_TRANSIENT: usize = 2_000;
+pub const ORBIT_KEEP: usize = 20_000;
+
+/// An orbit of the series from u: [`ORBIT_TRANSIENT`] dropped, then
+/// [`ORBIT_KEEP`] with ln|f'| (in a sampled stretch, from the line
+/// between its samples).
+pub fn long_orbit(
+    sim: &Simulator,
+    map: &ArcMap,
+    mut u: f64,
+    spent: &mut (u64, u64),
+) -> Result<Orbit, SimError> {
+    let _ = (sim, &spent);
+    let step = |u: f64| -> Result<(f64, f64), SimError> { Ok(map.eval_any(u)) };
+    for _ in 0..ORBIT_TRANSIENT {
+        u = step(u)?.0;
+    }
+    const BATCHES: usize = 20;
+    let per = ORBIT_KEEP / BATCHES;
+    let mut means = Vec::with_capacity(BATCHES);
+    let mut tail = Vec::with_capacity(256);
+    for b in 0..BATCHES {
+        let mut s = 0.0;
+        for i in 0..per {
+            let (fu, d) = step(u)?;
+            s += d.abs().max(1e-300).ln();
+            u = fu;
+            if b == BATCHES - 1 && i >= per - 256 {
+                tail.push(u);
+            }
+        }
+        means.push(s / per as f64);
+    }
+    let mean = means.iter().sum::<f64>() / BATCHES as f64;
+    let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (BATCHES - 1) as f64;
+    let settled = settled_period(&tail, 1e-9).map(|p| (p, u));
+    Ok(Orbit {
+        lyapunov: mean,
+        stderr: (var / BATCHES as f64).sqrt(),
+        settled,
+    })
+}
+
+/// The invariant density on a closed set's cells by Ulam's method: cell i
+/// sends to cell j the share of it that f (linear between the cell's ends;
+/// its midpoint's image where the cell holds a sampled stretch) maps into
+/// j; the stationary vector of that chain (a lazy chain, so that a
+/// density cycling over bands converges), and λ = Σ μᵢ ⟨ln|f'|⟩ᵢ with
+/// the cell's midpoint value. Returns (μ per cell of
+/// `cells`, λ).
+pub fn ulam(g: &CellGraph, map: &ArcMap, cells: &[usize]) -> (Vec<f64>, f64) {
+    let n = cells.len();
+    let local = |c: usize| cells.binary_search(&c).ok();
+    // The chain as rows (start, then (j, weight) entries).
+    let mut starts = Vec::with_capacity(n + 1);
+    let mut entries: Vec<(u32, f64)> = Vec::with_capacity(4 * n);
+    let mut logs = Vec::with_capacity(n);
+    // f at the right end of the previous cell, shared with this one's left.
+    let mut prev: Option<(usize, Option<(f64, f64)>)> = None;
+    for &c in cells {
+        starts.push(entries.len());
+        let (s, t) = (g.bounds[c], g.bounds[c + 1]);
+        let left = match prev {
+            Some((pc, v)) if pc + 1 == c => v,
+            _ => map.eval(s),
+        };
+        let right = map.eval(t);
+        prev = Some((c, right));
+        let mid = map.eval(g.mid(c));
+        logs.push(mid.map_or(0.0, |(_, d)| d.abs().max(1e-300).ln()));
+        let row_start = entries.len();
+        match left.zip(right) {
+            Some(((fs, _), (ft, _))) if (ft - fs).abs() > 1e-14 => {
+                let (lo, hi) = (fs.min(ft), fs.max(ft));
+                let (a, b) = g.cells_of(lo, hi);
+                for j in a..=b {
+                    let ov = (g.bounds[j + 1].min(hi) - g.bounds[j].max(lo)).max(0.0);
+                    if let Some(lj) = local(j).filter(|_| ov > 0.0) {
+                        entries.push((lj as u32, ov / (hi - lo)));
+                    }
+                }
+            }
+            _ => {
+                let fm = mid
+                    .map(|v| v.0)
+                    .or_else(|| g.images[c].spans.first().map(|s| 0.5 * (s[0] + s[1])));
+                if let Some(lj) = fm.and_then(|v| local(g.cell_of(v))) {
+                    entries.push((lj as u32, 1.0));
+                }
+            }
+        }
+        // Mass the linear model sends outside the set (it should not):
+        // renormalise what stays.
+        let row = &mut entries[row_start..];
+        let total: f64 = row.iter().map(|x| x.1).sum();
+        if total > 0.0 {
+            row.iter_mut().for_each(|x| x.1 /= total);
+        }
+    }
+    starts.push(entries.len());
+    let widths: f64 = cells.iter().map(|&c| g.width(c)).sum();
+    let mut mu: Vec<f64> = cells.iter().map(|&c| g.width(c) / widths).collect();
+    let mut next = vec![0.0; n];
+    for k in 0..5_000 {
+        next.iter_mut().zip(&mu).for_each(|(x, m)| *x = 0.5 * m);
+        for i in 0..n {
+            let m = 0.5 * mu[i];
+            for &(j, w) in &entries[starts[i]..starts[i + 1]] {
+                next[j as usize] += m * w;
+            }
+        }
+        let s: f64 = next.iter().sum();
+        let check = k % 8 == 7;
+        let diff: f64 = if check {
+            next.iter().zip(&mu).map(|(a, b)| (a / s - b).abs()).sum()
+        } else {
+            1.0
+        };
+        mu.iter_mut().zip(&next).for_each(|(m, x)| *m = x / s);
+        if diff < 1e-10 {
+            break;
+        }
+    }
+    let lambda = mu.iter().zip(&logs).map(|(m, l)| m * l).sum();
+    (mu, lambda)
+}
+
+/// A trap round a stable cycle (its points in u): intervals I_j = x_j ±
+/// r_j with f(I_j) ⊂ I_{j+1} (I_p = I_0) and Π sup_{I_j}|f'| < 1, so that
+/// f^p contracts I_0 into itself: the cycle is the one attractor in the
+/// I_j. Found by growing r_0 from what ε alone demands. Returns the pairs
+/// (I_j, I_{j+1}).
+pub fn trap(map: &ArcMap, xs: &[f64]) -> Option<Vec<(Span, Span)>> {
+    let p = xs.len();
+    let run = |r0: f64| -> Option<(Vec<f64>, f64)> {
+        let mut r = Vec::with_capacity(p + 1);
+        r.push(r0);
+        let mut product = 1.0;
+        for j in 0..p {
+            let (x, rj) = (xs[j], r[j]);
+            let im = map.image(x - rj, x + rj);
+            if im.spans.len() != 1 || !im.slope.is_finite() {
+                return None;
+            }
+            product *= im.slope;
+            let next = xs[(j + 1) % p];
+            let s = im.spans[0];
+            if !(s[0] <= next && next <= s[1]) {
+                return None;
+            }
+            r.push((next - s[0]).max(s[1] - next));
+        }
+        Some((r, product))
+    };
+    let (r, _) = run(1e-13)?;
+    let mut r0 = (4.0 * r[p]).max(1e-10);
+    while r0 < 0.05 {
+        let (r, product) = run(r0)?;
+        if r[p] <= r0 && product < 1.0 {
+            return Some(
+                (0..p)
+                    .map(|j| {
+                        let k = (j + 1) % p;
+                        let to = if k == 0 { r0 } else { r[k] };
+                        ([xs[j] - r[j], xs[j] + r[j]], [xs[k] - to, xs[k] + to])
+                    })
+                    .collect(),
+            );
+        }
+        r0 *= 2.0;
+    }
+    None
+}
