@@ -213,14 +213,39 @@ fn flip_words(name: &str, period: usize, f: &crate::sim::continuation::Flip) -> 
         Supercritical => "a stable",
         Subcritical => "an unstable",
         Undecided => {
+            let why = if f.born.is_none() {
+                format!(
+                    ": no P{} cycle found next to it on either side with the stability either sign of c gives",
+                    2 * period
+                )
+            } else {
+                String::new()
+            };
             return format!(
-                "  undecided criticality (c = {:.3e} ± {:.1e})",
+                "  undecided criticality (c = {:.3e} ± {:.1e}{why})",
                 f.coefficient, f.error
             );
         }
     };
+    let confirmed = match f.born {
+        Some(b) if b.predicted_side => format!(
+            "; confirmed: the P{} cycle at {name} = {:.10} has half-width {:.3e}, m = {:.6}",
+            2 * period,
+            b.lambda,
+            b.half_width,
+            b.multiplier
+        ),
+        Some(b) => format!(
+            "; set by the P{} cycle at {name} = {:.10} (half-width {:.3e}, m = {:.6}): the coefficient's stencil gave the other sign",
+            2 * period,
+            b.lambda,
+            b.half_width,
+            b.multiplier
+        ),
+        None => String::new(),
+    };
     format!(
-        "  {}: {cycle} P{} cycle {side}, half-width {:.4e}*sqrt({delta})",
+        "  {}: {cycle} P{} cycle {side}, half-width {:.4e}*sqrt({delta}){confirmed}",
         f.criticality().name(),
         2 * period,
         f.amplitude()

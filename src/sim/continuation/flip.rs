@@ -52,6 +52,26 @@ pub struct Flip {
     pub error: f64,
     /// dm/dλ along the p-cycle's branch at the flip.
     pub dm_dlambda: f64,
+    /// The doubled cycle Newton found next to the flip, which confirms
+    /// (or, where the coefficient's stencil crossed a jump of f, sets) the
+    /// criticality; `None` where none was found on either side.
+    pub born: Option<Born>,
+}
+
+/// The 2p-cycle found next to a flip.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Born {
+    /// The parameter it was solved at.
+    pub lambda: f64,
+    /// Its half-separation |θ_p − θ₀|/2.
+    pub half_width: f64,
+    /// Its multiplier: stable for a supercritical flip, unstable for a
+    /// subcritical one.
+    pub multiplier: f64,
+    /// Whether it lay on the side the coefficient predicted (else the
+    /// coefficient was wrong, and was replaced by the one the cycle's
+    /// half-width gives).
+    pub predicted_side: bool,
 }
 
 /// A flip's criticality.
@@ -129,11 +149,131 @@ pub fn flip_at(
         return Err(EvalError::NonFinite);
     }
     let (coefficient, error) = coefficient(prob, lambda, theta, at, evals)?;
-    Ok(Flip {
+    let flip = Flip {
         coefficient,
         error,
         dm_dlambda,
-    })
+        born: None,
+    };
+    Ok(confirm(prob, lambda, theta, flip, evals))
+}
+
+/// The doubled cycle's predicted half-width at the λ it is looked for at
+/// (per unit period): small enough for the normal form, large enough
+/// that Newton on f^{2p} (whose slope there is about 4β) resolves it.
+const BORN_WIDTH: f64 = 1e-4;
+
+/// Confirms a flip's criticality on its doubled cycle: Newton solves the
+/// 2p-cycle a small distance to the side the coefficient predicts, and it
+/// must exist there with about the predicted half-width and the predicted
+/// stability (stable for supercritical). Where it does not (a stencil
+/// across a jump of f gets c's sign wrong: κ = 1.5's first flip), the
+/// other side is tried with the other stability, and c is taken from the
+/// cycle found there (η² = β/c). Where neither shows one, the flip is
+/// left undecided (the error is set to |c|).
+fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64) -> Flip {
+    let p = prob.period;
+    let a = flip.amplitude();
+    if !(a.is_finite() && a > 0.0) {
+        return flip;
+    }
+    let width = BORN_WIDTH / p as f64;
+    let delta = (width / a).powi(2).clamp(1e-8, 1e-4) * lambda.abs().max(1.0);
+    for predicted in [true, false] {
+        let side = if predicted { flip.side() } else { -flip.side() };
+        let at = lambda + side * delta;
+        let want_stable = if predicted {
+            flip.coefficient > 0.0
+        } else {
+            flip.coefficient < 0.0
+        };
+        let expected = a * delta.sqrt();
+        let Some(born) = born_cycle(prob, at, theta, expected, evals) else {
+            continue;
+        };
+        let near = if predicted {
+            born.half_width > expected / 3.0 && born.half_width < 3.0 * expected
+        } else {
+            born.half_width < 30.0 * expected
+        };
+        if !near || (born.multiplier.abs() < 1.0) != want_stable {
+            continue;
+        }
+        let born = Born {
+            predicted_side: predicted,
+            ..born
+        };
+        if predicted {
+            // The cycle shows the sign: c's error no longer decides it.
+            return Flip {
+                error: flip.error.min(0.5 * flip.coefficient.abs()),
+                born: Some(born),
+                ..flip
+            };
+        }
+        // β = −dm/dλ·(λ − λ*) and η² = β/c.
+        let c = -flip.dm_dlambda * (at - lambda) / (born.half_width * born.half_width);
+        return Flip {
+            coefficient: c,
+            error: (c - flip.coefficient).abs().min(0.5 * c.abs()),
+            born: Some(born),
+            ..flip
+        };
+    }
+    Flip {
+        error: flip.error.max(flip.coefficient.abs()),
+        ..flip
+    }
+}
+
+/// The 2p-cycle next to the p-cycle through θ at λ, by Newton from θ
+/// shifted by about the expected half-width either way (one that
+/// converges onto the p-cycle itself, or far from θ, does not count).
+fn born_cycle(
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    expected: f64,
+    evals: &mut u64,
+) -> Option<Born> {
+    let sim = prob.sim(lambda).ok()?;
+    let p = prob.period;
+    let opts = crate::sim::CycleOptions::for_settings(sim.settings());
+    for k in [
+        1.0, -1.0, 2.0, -2.0, 0.5, -0.5, 4.0, -4.0, 8.0, -8.0, 16.0, -16.0,
+    ] {
+        let mut spent = (0, 0);
+        let c = crate::sim::cycles::solve_counting(
+            &sim,
+            theta + k * expected,
+            2 * p,
+            &opts,
+            &mut spent,
+        );
+        *evals += spent.0;
+        let Ok(c) = c else { continue };
+        if c.minimal_period != 2 * p {
+            continue;
+        }
+        // The point of the cycle nearest θ and its partner p later.
+        let i = (0..2 * p)
+            .min_by(|&x, &y| {
+                crate::model::wrap_angle(c.points[x] - theta)
+                    .abs()
+                    .total_cmp(&crate::model::wrap_angle(c.points[y] - theta).abs())
+            })
+            .unwrap_or(0);
+        let half = 0.5 * crate::model::wrap_angle(c.points[(i + p) % (2 * p)] - c.points[i]).abs();
+        if half > 0.0 && crate::model::wrap_angle(c.points[i] - theta).abs() < 50.0 * expected {
+            return Some(Born {
+                lambda,
+                half_width: half,
+                multiplier: c.multiplier,
+                predicted_side: true,
+            });
+        }
+    }
+    None
 }
 
 /// The coefficient c at θ* and its error: the quintic through G and M at
