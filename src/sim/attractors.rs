@@ -31,7 +31,6 @@ pub(crate) mod transient;
 
 pub use arc::{ArcError, ArcMap};
 pub use seeds::attractors as seeded_attractors;
-pub(crate) use seeds::same_cycle;
 pub use seeds::{Attractor as SeedAttractor, KEEP, TRANSIENT, attractors_default, spread_seeds};
 
 use classify::{clusters, contraction, long_orbit, solve, trap, ulam};
@@ -160,7 +159,7 @@ struct Closed {
 /// closed set reaching it is sharpened, or settled); a chaotic set's
 /// cells go on to [`CHAOS_FLOOR`] ε, for its density.
 const FLOOR: f64 = 100.0;
-const CHAOS_FLOOR: f64 = 10.0;
+const CHAOS_FLOOR: f64 = 20.0;
 
 /// The most map evaluations one sharpened stretch may take.
 const SHARPEN_EVALUATIONS: usize = 4_000;
@@ -353,7 +352,7 @@ impl Search<'_> {
                     Floor::Changed => return Ok(None),
                 }
             }
-            // A chaotic set goes on to 10 ε, for its density.
+            // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
             let times = if chaotic { CHAOS_FLOOR } else { FLOOR };
             for &i in &k.cells {
                 if self.g.width(i) > self.floor(i, times) {

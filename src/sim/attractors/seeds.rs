@@ -20,15 +20,12 @@ use super::seed_map::{Fell, Known, SeedMap, hull};
 use super::transient;
 
 use crate::integrate::SolverSettings;
-use crate::model::{Params, exit_arc, wrap_angle};
+use crate::model::{Params, exit_arc};
 use crate::sim::cycles::{CycleOptions, solve_counting};
 use crate::sim::seeded::{rep_tol, same_tol};
 use crate::sim::{Orbit, OrbitOptions, Period, SimError, Simulator, default_settings};
 
-/// Iterates dropped, and kept, per seed (the `orbit` command's defaults).
-pub const TRANSIENT: usize = 400;
-/// See [`TRANSIENT`].
-pub const KEEP: usize = 128;
+pub use super::transient::{KEEP, TRANSIENT, same_cycle};
 
 /// One attractor.
 #[derive(Clone, Debug, PartialEq)]
@@ -236,14 +233,6 @@ fn solve_stable(sim: &Simulator, points: &[f64]) -> Option<Reached> {
         points: c.points[..p].to_vec(),
         multiplier: c.multiplier,
     })
-}
-
-/// Whether two p-cycles are one: every point of `a` within `tol` of a
-/// point of `b`.
-pub(crate) fn same_cycle(a: &[f64], b: &[f64], tol: f64) -> bool {
-    a.len() == b.len()
-        && a.iter()
-            .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= tol))
 }
 
 /// Every attractor at `params` reached from `seeds` seeds spread over the

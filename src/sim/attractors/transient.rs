@@ -8,7 +8,7 @@
 //! lets it go to a stable cycle inside it.
 
 use super::seed_map::{Fell, Known, SeedMap};
-use super::{KEEP, TRANSIENT, same_cycle};
+use crate::model::wrap_angle;
 use crate::sim::{SimError, Simulator};
 
 /// How long an orbit in a set is run on to see whether the set lets it
@@ -81,4 +81,17 @@ const SAME_LOOSE: f64 = 1e-4;
 pub(crate) fn inside(cycle: &[f64], (lo, hi): (f64, f64)) -> bool {
     let slack = 0.05 * (hi - lo);
     cycle.iter().all(|x| (lo - slack..=hi + slack).contains(x))
+}
+
+/// Iterates dropped, and kept, per seed (the `orbit` command's defaults).
+pub const TRANSIENT: usize = 400;
+/// See [`TRANSIENT`].
+pub const KEEP: usize = 128;
+
+/// Whether two p-cycles are one: every point of `a` within `tol` of a
+/// point of `b`.
+pub fn same_cycle(a: &[f64], b: &[f64], tol: f64) -> bool {
+    a.len() == b.len()
+        && a.iter()
+            .all(|x| b.iter().any(|y| wrap_angle(x - y).abs() <= tol))
 }
