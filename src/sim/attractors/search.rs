@@ -1,0 +1,303 @@
+//! Subdivision: the cell graph analysed level by level, its undecided
+//! closed sets (and its basin boundary) halved, a set at its map's floor
+//! sharpened, trapped or left as chaotic, until each closed set is decided
+//! or the resolution or the cell budget is reached.
+
+use super::classify::{clusters, contraction, long_orbit, solve, trap};
+use super::graph::{self, CellGraph};
+use super::{ArcMap, AttractorError, CellOptions};
+use crate::model::wrap_angle;
+use crate::sim::Simulator;
+
+/// A closed component during subdivision.
+pub(super) struct Closed {
+    pub(super) cells: Vec<usize>,
+    /// (p, u) when its contraction is proved.
+    pub(super) proved: Option<(usize, f64)>,
+}
+
+/// A cell is made no narrower than this many ε of the map under it (a
+/// closed set reaching it is sharpened, or settled); a chaotic set's
+/// cells go on to [`CHAOS_FLOOR`] ε, for its density.
+const FLOOR: f64 = 100.0;
+const CHAOS_FLOOR: f64 = 20.0;
+
+/// The most map evaluations one sharpened stretch may take.
+const SHARPEN_EVALUATIONS: usize = 4_000;
+
+/// The search's state between levels of subdivision.
+pub(super) struct Search<'a> {
+    sim: &'a Simulator,
+    opts: &'a CellOptions,
+    pub(super) map: ArcMap,
+    pub(super) g: CellGraph,
+    /// Closed sets a long orbit showed chaotic at the map's floor (their
+    /// hulls): subdivided only to [`CHAOS_FLOOR`].
+    settled: Vec<[f64; 2]>,
+    pub(super) spent: (u64, u64),
+    pub(super) budget_hit: bool,
+    /// The spans of the closed sets still being subdivided, between
+    /// global analyses.
+    pending: Option<Vec<[f64; 2]>>,
+}
+
+/// The closed sets, the components and their labels, when done.
+pub(super) type Done = (Vec<Closed>, graph::Components, Vec<Option<usize>>);
+
+impl<'a> Search<'a> {
+    pub(super) fn new(
+        sim: &'a Simulator,
+        opts: &'a CellOptions,
+        map: ArcMap,
+        g: CellGraph,
+    ) -> Self {
+        Search {
+            sim,
+            opts,
+            map,
+            g,
+            settled: Vec::new(),
+            spent: (0, 0),
+            budget_hit: false,
+            pending: None,
+        }
+    }
+
+    /// One level: the graph analysed, its undecided closed sets and its
+    /// boundary marked and subdivided (or the map sharpened, or a trap
+    /// added). `Some` when nothing is left to do.
+    pub(super) fn level(&mut self) -> Result<Option<Done>, AttractorError> {
+        // While closed sets are undecided, only their cells are analysed:
+        // no edge leaves them, and what they hold is all there is.
+        if let Some(spans) = self.pending.take() {
+            let cells: Vec<usize> = spans
+                .iter()
+                .flat_map(|s| {
+                    let (a, b) = self.g.cells_of(s[0], s[1]);
+                    a..=b
+                })
+                .collect();
+            let closed: Vec<Closed> = self
+                .g
+                .closed_within(&cells)
+                .into_iter()
+                .map(|cells| closed(&self.g, &self.map, cells))
+                .collect();
+            let mut marked = vec![false; self.g.len()];
+            let Some(extra) = self.mark_closed(&closed, &mut marked)? else {
+                return Ok(None);
+            };
+            if extra > 0 && self.g.len() + extra <= self.opts.max_cells {
+                self.pending = Some(self.undecided_spans(&closed, &marked));
+                self.g.subdivide(&self.map, &marked);
+                return Ok(None);
+            }
+            self.budget_hit |= extra > 0;
+        }
+        let (comps, closed, labels) = closed_sets(&self.g, &self.map);
+        let mut marked = vec![false; self.g.len()];
+        let Some(mut extra) = self.mark_closed(&closed, &mut marked)? else {
+            return Ok(None);
+        };
+        if extra > 0 && !self.budget_hit {
+            self.pending = Some(self.undecided_spans(&closed, &marked));
+        }
+        let reach = self.g.reach(&comps, &labels);
+        for v in 0..self.g.len() {
+            let ambiguous = reach[comps.comp[v] as usize].count_ones() > 1;
+            if ambiguous && !marked[v] && self.g.width(v) > self.floor(v, FLOOR) {
+                marked[v] = true;
+                extra += 1;
+            }
+        }
+        if extra == 0 {
+            return Ok(Some((closed, comps, labels)));
+        }
+        if self.g.len() + extra > self.opts.max_cells {
+            self.budget_hit = true;
+            return Ok(Some((closed, comps, labels)));
+        }
+        self.g.subdivide(&self.map, &marked);
+        Ok(None)
+    }
+
+    /// The spans (runs of cells) of the closed sets with marked cells.
+    fn undecided_spans(&self, closed: &[Closed], marked: &[bool]) -> Vec<[f64; 2]> {
+        closed
+            .iter()
+            .filter(|k| k.cells.iter().any(|&i| marked[i]))
+            .flat_map(|k| clusters(&k.cells))
+            .map(|(a, b)| [self.g.bounds[a], self.g.bounds[b + 1]])
+            .collect()
+    }
+
+    /// The narrowest cell i may be made: the resolution asked for, and
+    /// `times` ε of the map under it.
+    fn floor(&self, i: usize, times: f64) -> f64 {
+        self.opts
+            .resolution
+            .max(times * self.map.eps_at(self.g.mid(i)))
+    }
+
+    /// Marks the cells of the closed sets not decided yet; the number
+    /// marked, or `None` when the map or the graph changed (a closed set
+    /// at its floor was sharpened or trapped) and the level starts again.
+    fn mark_closed(
+        &mut self,
+        closed: &[Closed],
+        marked: &mut [bool],
+    ) -> Result<Option<usize>, AttractorError> {
+        let mut extra = 0;
+        for k in closed.iter().filter(|k| k.proved.is_none()) {
+            let g = &self.g;
+            let hull = [
+                g.bounds[k.cells[0]],
+                g.bounds[k.cells[k.cells.len() - 1] + 1],
+            ];
+            let mut chaotic = self
+                .settled
+                .iter()
+                .any(|s| s[0] <= hull[0] && hull[1] <= s[1]);
+            let at_its_floor = k.cells.iter().all(|&i| g.width(i) <= self.floor(i, FLOOR));
+            if !chaotic && at_its_floor {
+                let middle = g.mid(k.cells[k.cells.len() / 2]);
+                match at_floor(
+                    self.sim,
+                    &mut self.map,
+                    &mut self.g,
+                    hull,
+                    middle,
+                    &mut self.spent,
+                )? {
+                    Floor::Settled => {
+                        self.settled.push(hull);
+                        chaotic = true;
+                    }
+                    Floor::Changed => return Ok(None),
+                }
+            }
+            // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
+            let times = if chaotic { CHAOS_FLOOR } else { FLOOR };
+            for &i in &k.cells {
+                if self.g.width(i) > self.floor(i, times) {
+                    marked[i] = true;
+                    extra += 1;
+                }
+            }
+        }
+        Ok(Some(extra))
+    }
+}
+
+/// What became of a closed set at its floor.
+enum Floor {
+    /// Left as it is: chaotic, or nothing more to try.
+    Settled,
+    /// The map was sharpened over it or a trap was added: look again.
+    Changed,
+}
+
+/// A closed set whose cells cannot be made narrower on the map as it is
+/// (hull: its extent, in u). A long orbit from `start` decides: chaotic,
+/// it stays; a stable cycle in it is trapped ([`trap`]; on the sharpened
+/// map if it is not sharp there yet), so that the rest of the set (a
+/// saddle leaking onto the cycle) is no longer closed; anything else is
+/// sharpened once and subdivided on.
+fn at_floor(
+    sim: &Simulator,
+    map: &mut ArcMap,
+    g: &mut CellGraph,
+    hull: [f64; 2],
+    start: f64,
+    spent: &mut (u64, u64),
+) -> Result<Floor, AttractorError> {
+    let o = long_orbit(sim, map, start, spent)?;
+    if o.settled.is_none() && o.lyapunov > 0.0 {
+        return Ok(Floor::Settled);
+    }
+    let pad = 1e-3 * (hull[1] - hull[0]) + 1e-6;
+    let (lo, hi) = (hull[0] - pad, hull[1] + pad);
+    let mut sharpened = false;
+    if !map.is_sharp(lo, hi) {
+        map.sharpen(lo, hi, SHARPEN_EVALUATIONS)?;
+        g.refresh(map, lo, hi);
+        sharpened = true;
+    }
+    if let Some((p, u)) = o.settled {
+        let c = solve(sim, map.psi(), u, p, spent).filter(|c| c.stable);
+        let xs: Option<Vec<f64>> = c.map(|c| {
+            c.points[..c.minimal_period]
+                .iter()
+                .map(|t| wrap_angle(t - map.psi()))
+                .collect()
+        });
+        let known = |xs: &[f64]| {
+            g.cycles
+                .iter()
+                .any(|c| c.0 == xs.len() && xs.iter().any(|x| (c.1 - x).abs() < 1e-9))
+        };
+        if let Some(xs) = xs.filter(|xs| !known(xs))
+            && let Some(pairs) = trap(map, &xs)
+        {
+            for (from, to) in pairs {
+                g.add_trap(map, from, to);
+            }
+            g.cycles.push((xs.len(), xs[0]));
+            return Ok(Floor::Changed);
+        }
+    }
+    Ok(if sharpened {
+        Floor::Changed
+    } else {
+        Floor::Settled
+    })
+}
+
+/// The cycle whose trap holds every one of `cells`, if one does.
+fn in_trap(g: &CellGraph, cells: &[usize]) -> Option<(usize, f64)> {
+    if !cells.iter().all(|&i| g.trapped(i)) {
+        return None;
+    }
+    let (lo, hi) = (g.bounds[cells[0]], g.bounds[cells[cells.len() - 1] + 1]);
+    g.cycles
+        .iter()
+        .copied()
+        .find(|&(_, u)| {
+            // A point of the cycle among the cells.
+            lo <= u && u <= hi
+        })
+        .or_else(|| g.cycles.first().copied())
+}
+
+/// The graph's components, its closed ones (each tried for a
+/// contraction), and each component's label among the closed ones.
+fn closed_sets(
+    g: &CellGraph,
+    map: &ArcMap,
+) -> (graph::Components, Vec<Closed>, Vec<Option<usize>>) {
+    let comps = g.components();
+    let mut out: Vec<Closed> = Vec::new();
+    let mut labels = vec![None; comps.count];
+    let mut members: Vec<Vec<usize>> = vec![Vec::new(); comps.count];
+    for (v, &c) in comps.comp.iter().enumerate() {
+        if comps.terminal[c as usize] {
+            members[c as usize].push(v);
+        }
+    }
+    for (c, cells) in members.into_iter().enumerate() {
+        if cells.is_empty() {
+            continue;
+        }
+        labels[c] = Some(out.len());
+        out.push(closed(g, map, cells));
+    }
+    (comps, out, labels)
+}
+
+/// A closed set's cells, tried for a contraction (or a trap).
+fn closed(g: &CellGraph, map: &ArcMap, cells: Vec<usize>) -> Closed {
+    let proved = contraction(g, map, &cells)
+        .map(|(p, _, u)| (p, u))
+        .or_else(|| in_trap(g, &cells));
+    Closed { cells, proved }
+}

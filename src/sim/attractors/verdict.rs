@@ -1,0 +1,164 @@
+//! What each closed set is: a cycle solved on the integrated map (proved,
+//! or found in a set the cells did not shrink onto), or a chaotic
+//! attractor with its density and λ both ways, or undecided with why.
+
+use super::classify::{self, clusters, long_orbit, solve, ulam};
+use super::graph::CellGraph;
+use super::search::Closed;
+use super::{ArcMap, Attractor, AttractorError, Density, Verdict};
+use crate::model::wrap_angle;
+use crate::sim::Simulator;
+
+/// Bins of a chaotic attractor's density.
+const DENSITY_BINS: usize = 100;
+
+/// A closed set's attractor (see [`classify`]).
+pub(super) fn classify_closed(
+    sim: &Simulator,
+    map: &ArcMap,
+    g: &CellGraph,
+    k: &Closed,
+    spent: &mut (u64, u64),
+) -> Result<Attractor, AttractorError> {
+    let psi = map.psi();
+    let cover: Vec<(f64, f64)> = clusters(&k.cells)
+        .iter()
+        .map(|&(a, b)| (psi + g.bounds[a], psi + g.bounds[b + 1]))
+        .collect();
+    let inside = |u: f64| {
+        let c = g.cell_of(u);
+        k.cells.binary_search(&c).is_ok()
+    };
+    let blank = Attractor {
+        period: None,
+        points: Vec::new(),
+        multiplier: None,
+        lyapunov: None,
+        lyapunov_stderr: None,
+        lyapunov_from_density: None,
+        density: None,
+        basin_fraction: 0.0,
+        cover,
+        verdict: Verdict::Undecided(String::new()),
+    };
+    let cycle = |p: usize, u: f64, verdict: Verdict, spent: &mut (u64, u64)| {
+        solved(sim, psi, u, p, spent, &inside).map(|(period, points, multiplier, lyapunov)| {
+            Attractor {
+                period: Some(period),
+                points,
+                multiplier: Some(multiplier),
+                lyapunov: Some(lyapunov),
+                verdict,
+                ..blank.clone()
+            }
+        })
+    };
+    if let Some((p, u)) = k.proved
+        && let Some(a) = cycle(p, u, Verdict::Proved, spent)
+    {
+        return Ok(a);
+    }
+    // The set's middle cell by length, as a start.
+    let start = g.mid(k.cells[k.cells.len() / 2]);
+    let orbit = long_orbit(sim, map, start, spent)?;
+    if let Some((p, u)) = orbit.settled
+        && let Some(a) = cycle(p, u, Verdict::CycleInSet, spent)
+    {
+        return Ok(a);
+    }
+    Ok(chaotic(map, g, &k.cells, &orbit, blank))
+}
+
+/// A closed set that holds no stable cycle found: its density (Ulam),
+/// λ from it beside the orbit's, and the verdict they allow.
+fn chaotic(
+    map: &ArcMap,
+    g: &CellGraph,
+    cells: &[usize],
+    orbit: &classify::Orbit,
+    blank: Attractor,
+) -> Attractor {
+    let psi = map.psi();
+    let (mu, lambda_d) = ulam(g, map, cells);
+    let lo = g.bounds[cells[0]];
+    let hi = g.bounds[cells[cells.len() - 1] + 1];
+    let values = binned(g, cells, &mu, lo, hi);
+    let agree = (lambda_d - orbit.lyapunov).abs() <= 0.02 + 4.0 * orbit.stderr;
+    let verdict = if lambda_d > 0.0 && orbit.lyapunov > 0.0 && agree {
+        Verdict::Chaotic
+    } else if !agree {
+        Verdict::Undecided(format!(
+            "lambda from the density ({lambda_d:.4}) and from a {}-iterate orbit ({:.4} +- {:.4}) disagree; subdivide further with --resolution or --max-cells",
+            classify::ORBIT_KEEP,
+            orbit.lyapunov,
+            orbit.stderr
+        ))
+    } else {
+        Verdict::Undecided(format!(
+            "a closed set with no stable cycle found and lambda = {lambda_d:.4} <= 0 (a drift or gap below the resolution); subdivide further with --resolution or --max-cells"
+        ))
+    };
+    Attractor {
+        period: None,
+        points: vec![psi + lo, psi + hi],
+        lyapunov: Some(orbit.lyapunov),
+        lyapunov_stderr: Some(orbit.stderr),
+        lyapunov_from_density: Some(lambda_d),
+        density: Some(Density {
+            from: psi + lo,
+            to: psi + hi,
+            values,
+        }),
+        verdict,
+        ..blank
+    }
+}
+
+/// The stable p-cycle through u solved by Newton on the integrated map,
+/// if every point lies `inside` the closed set: its minimal period, points,
+/// multiplier (of the minimal cycle) and exponent.
+fn solved(
+    sim: &Simulator,
+    psi: f64,
+    u: f64,
+    p: usize,
+    spent: &mut (u64, u64),
+    inside: &dyn Fn(f64) -> bool,
+) -> Option<(usize, Vec<f64>, f64, f64)> {
+    let mut c = solve(sim, psi, u, p, spent)?;
+    if c.minimal_period < p {
+        // The minimal cycle's own multiplier (a p-cycle's loses its sign).
+        c = solve(
+            sim,
+            psi,
+            wrap_angle(c.points[0] - psi),
+            c.minimal_period,
+            spent,
+        )?;
+    }
+    let q = c.points.len();
+    let ok = c.stable && c.points.iter().all(|&t| inside(wrap_angle(t - psi)));
+    ok.then(|| (q, c.points.clone(), c.multiplier, c.lyapunov()))
+}
+
+/// A density on cells as [`DENSITY_BINS`] equal bins over [lo, hi],
+/// summing to 1.
+fn binned(g: &CellGraph, cells: &[usize], mu: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+    let mut values = vec![0.0; DENSITY_BINS];
+    let bin = (hi - lo) / DENSITY_BINS as f64;
+    for (&c, &m) in cells.iter().zip(mu) {
+        let (a, b) = (g.bounds[c], g.bounds[c + 1]);
+        let (i0, i1) = (
+            (((a - lo) / bin) as usize).min(DENSITY_BINS - 1),
+            (((b - lo) / bin) as usize).min(DENSITY_BINS - 1),
+        );
+        for i in i0..=i1 {
+            let (x0, x1) = (lo + i as f64 * bin, lo + (i + 1) as f64 * bin);
+            let ov = (b.min(x1) - a.max(x0)).max(0.0);
+            values[i] += m * ov / (b - a);
+        }
+    }
+    let s: f64 = values.iter().sum();
+    values.iter_mut().for_each(|v| *v /= s);
+    values
+}
