@@ -172,11 +172,13 @@ pub fn attractors(
         g,
         mut spent,
         budget_hit,
+        settled,
         ..
     } = search;
+    let known: Vec<_> = settled.into_iter().map(|(_, o)| o).collect();
     let mut found = Vec::with_capacity(closed.len());
     for k in &closed {
-        found.push(classify_closed(sim, &map, &g, k, &mut spent)?);
+        found.push(classify_closed(sim, &map, &g, k, &known, &mut spent)?);
     }
     let (basins, boundary_fraction) = basins(&g, &map, &comps, &labels, &mut found);
     let widths = (0..g.len()).map(|i| g.width(i));

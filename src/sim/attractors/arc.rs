@@ -108,9 +108,15 @@ pub struct ArcMap {
     /// The covered interval of u.
     pub lo: f64,
     pub hi: f64,
+    /// The whole arc's build runs on this one: an adaptive method's
+    /// tolerance loosened to [`COARSE_RTOL`] (its own error 1e-7 is a
+    /// tenth of [`COARSE_TOL`]; 1.8× fewer steps than 1e-10).
+    coarse: Simulator,
     /// The integrated map's own error (10× an adaptive method's
-    /// tolerance, 1e-9 for the fixed-step methods), part of every ε.
+    /// tolerance, 1e-9 for the fixed-step methods), part of every ε:
+    /// the coarse tier's and the sharpened one's.
     own: f64,
+    own_coarse: f64,
     /// Stretches built to [`FINE_TOL`].
     sharp: Vec<Span>,
     /// Map evaluations and right-hand sides spent.
@@ -128,7 +134,21 @@ pub struct Image {
     pub slope: f64,
     /// The largest ε its spans were widened by.
     pub eps: f64,
+    /// Where one series covers the cell: f at its ends and f' at its
+    /// midpoint (Ulam's chain reads them instead of evaluating again).
+    pub series: Option<SeriesValues>,
 }
+
+/// f at a cell's ends and f' at its midpoint, from one series.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeriesValues {
+    pub ends: [f64; 2],
+    pub mid_slope: f64,
+}
+
+/// The adaptive methods' tolerance for the whole arc's build (the
+/// user's, where tighter, is kept for sharpened stretches and Newton).
+pub const COARSE_RTOL: f64 = 1e-8;
 
 /// The most map evaluations the whole arc's build may take; past it, what
 /// is unresolved is sampled.
@@ -139,24 +159,34 @@ impl ArcMap {
     pub fn build(sim: &Simulator) -> Result<Self, ArcError> {
         let psi = crate::model::exit_arc(sim.params().kappa, sim.params().theta_nu).0;
         let settings = sim.settings();
-        let own = if settings.method.is_adaptive() {
-            10.0 * settings.rtol
-        } else {
-            1e-9
+        let own_of = |s: &crate::integrate::SolverSettings| {
+            if s.method.is_adaptive() {
+                10.0 * s.rtol
+            } else {
+                1e-9
+            }
         };
+        let mut loose = *settings;
+        if loose.method.is_adaptive() && loose.rtol < COARSE_RTOL {
+            loose.atol *= COARSE_RTOL / loose.rtol;
+            loose.rtol = COARSE_RTOL;
+        }
+        let coarse = Simulator::new(*sim.params(), loose)?;
         let mut me = ArcMap {
             sim: *sim,
+            coarse,
+            own: own_of(settings),
+            own_coarse: own_of(&loose),
             psi,
             parts: Vec::new(),
             starts: Vec::new(),
             lo: -FRAC_PI_2 + EDGE,
             hi: FRAC_PI_2 - EDGE,
-            own,
             sharp: Vec::new(),
             spent: (0, 0),
             max_error: 0.0,
         };
-        let parts = me.parts_over(me.lo, me.hi, COARSE_TOL, COARSE_EVALUATIONS)?;
+        let parts = me.parts_over(false, me.lo, me.hi, COARSE_TOL, COARSE_EVALUATIONS)?;
         me.parts = parts;
         me.starts = me.parts.iter().map(Part::from).collect();
         Ok(me)
@@ -165,6 +195,7 @@ impl ArcMap {
     /// Verified (and sampled) parts over [lo, hi] at `tol`.
     fn parts_over(
         &mut self,
+        fine: bool,
         lo: f64,
         hi: f64,
         tol: f64,
@@ -175,11 +206,16 @@ impl ArcMap {
             max_pieces: 400,
             max_evaluations,
         };
-        let interp = MapInterpolant::build_lenient(&self.sim, self.psi + lo, self.psi + hi, opts)?;
+        let (sim, own) = if fine {
+            (self.sim, self.own)
+        } else {
+            (self.coarse, self.own_coarse)
+        };
+        let interp = MapInterpolant::build_lenient(&sim, self.psi + lo, self.psi + hi, opts)?;
         self.spent.0 += interp.evaluations() as u64;
         self.spent.1 += interp.rhs_evals();
         self.max_error = self.max_error.max(interp.verification().max_map_error);
-        let eps = tol + self.own;
+        let eps = tol + own;
         let views: Vec<PieceView> = interp.piece_views().collect();
         // The samples of the stretches left to integration share half the
         // build's budget (each 1 to 33).
@@ -218,7 +254,7 @@ impl ArcMap {
                     };
                     let left = side(i.checked_sub(1).and_then(|j| views.get(j)), a);
                     let right = side(views.get(i + 1), b);
-                    let samples = self.sampled(a, b, left, right, per)?;
+                    let samples = self.sampled(&sim, a, b, left, right, per)?;
                     parts.push(Part::Sampled {
                         from: a,
                         to: b,
@@ -239,7 +275,7 @@ impl ArcMap {
         if !(hi > lo) || self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1]) {
             return Ok(false);
         }
-        let fine = self.parts_over(lo, hi, FINE_TOL, max_evaluations)?;
+        let fine = self.parts_over(true, lo, hi, FINE_TOL, max_evaluations)?;
         let mut parts = Vec::with_capacity(self.parts.len() + fine.len() + 2);
         for p in &self.parts {
             if p.to() <= lo || p.from() >= hi {
@@ -274,7 +310,7 @@ impl ArcMap {
 
     /// The coarse ε (the whole arc's).
     pub fn eps(&self) -> f64 {
-        COARSE_TOL + self.own
+        COARSE_TOL + self.own_coarse
     }
 
     /// ε at u.
@@ -341,6 +377,7 @@ impl ArcMap {
     pub fn image(&self, s: f64, t: f64) -> Image {
         let mut out = Image::default();
         let mut i = self.index(s);
+        let mut parts = 0;
         while i < self.parts.len() {
             let part = &self.parts[i];
             let (a, b) = (part.from(), part.to());
@@ -349,9 +386,13 @@ impl ArcMap {
             }
             let (ps, pt) = (s.max(a), t.min(b));
             if pt > ps {
-                enclose(part, ps, pt, &mut out);
+                out.series = enclose(part, ps, pt, &mut out);
+                parts += 1;
             }
             i += 1;
+        }
+        if parts != 1 {
+            out.series = None;
         }
         out.spans.sort_by(|x, y| x[0].total_cmp(&y[0]));
         let mut merged: Vec<Span> = Vec::with_capacity(out.spans.len());
@@ -371,6 +412,7 @@ impl ArcMap {
     /// `most`; a jump's bracket, 2e-10 wide, only its midpoint).
     fn sampled(
         &mut self,
+        sim: &Simulator,
         a: f64,
         b: f64,
         left: Option<f64>,
@@ -385,7 +427,7 @@ impl ArcMap {
         let us: Vec<f64> = (0..n)
             .map(|k| a + (b - a) * (k as f64 + 0.5) / n as f64)
             .collect();
-        let tasks: Vec<_> = us.iter().map(|u| (&self.sim, self.psi + u, 0.0)).collect();
+        let tasks: Vec<_> = us.iter().map(|u| (sim, self.psi + u, 0.0)).collect();
         let mut out = Vec::with_capacity(n + 2);
         out.extend(left.map(|v| [a, v]));
         for (r, &u) in cycles_in_lanes(&tasks).into_iter().zip(&us) {
@@ -399,8 +441,9 @@ impl ArcMap {
     }
 }
 
-/// Adds the enclosure of `part` over [s, t] to `out`.
-fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) {
+/// Adds the enclosure of `part` over [s, t] to `out`; a series' values
+/// at s and t and its slope at the midpoint.
+fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) -> Option<SeriesValues> {
     match part {
         Part::Series {
             a,
@@ -429,6 +472,10 @@ fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) {
             out.spans.push([lo - eps, hi + eps]);
             out.slope = out.slope.max(dm.abs() + 0.5 * curvature * h);
             out.eps = out.eps.max(*eps);
+            Some(SeriesValues {
+                ends: [fs, ft],
+                mid_slope: dm,
+            })
         }
         Part::Sampled { samples, eps, .. } => {
             // Between neighbouring samples, their hull widened by their
@@ -453,6 +500,7 @@ fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) {
             out.spans.push([lo - eps, hi + eps]);
             out.slope = f64::INFINITY;
             out.eps = out.eps.max(*eps);
+            None
         }
     }
 }

@@ -93,17 +93,20 @@ pub fn solve(sim: &Simulator, psi: f64, u: f64, p: usize, spent: &mut (u64, u64)
 }
 
 /// What a long orbit on the series shows.
+#[derive(Clone, Debug)]
 pub struct Orbit {
     /// The time average of ln|f'| and its batch-means standard error.
     pub lyapunov: f64,
     pub stderr: f64,
     /// The period it settled on, if it did (with its last point, u).
     pub settled: Option<(usize, f64)>,
+    /// Its last point (u).
+    pub last: f64,
 }
 
 /// Iterates dropped and kept by [`long_orbit`].
-pub const ORBIT_TRANSIENT: usize = 2_000;
-pub const ORBIT_KEEP: usize = 20_000;
+pub const ORBIT_TRANSIENT: usize = 1_000;
+pub const ORBIT_KEEP: usize = 10_000;
 
 /// An orbit of the series from u: [`ORBIT_TRANSIENT`] dropped, then
 /// [`ORBIT_KEEP`] with ln|f'| (in a sampled stretch, from the line
@@ -142,6 +145,7 @@ pub fn long_orbit(
         lyapunov: mean,
         stderr: (var / BATCHES as f64).sqrt(),
         settled,
+        last: u,
     })
 }
 
@@ -159,22 +163,21 @@ pub fn ulam(g: &CellGraph, map: &ArcMap, cells: &[usize]) -> (Vec<f64>, f64) {
     let mut starts = Vec::with_capacity(n + 1);
     let mut entries: Vec<(u32, f64)> = Vec::with_capacity(4 * n);
     let mut logs = Vec::with_capacity(n);
-    // f at the right end of the previous cell, shared with this one's left.
-    let mut prev: Option<(usize, Option<(f64, f64)>)> = None;
     for &c in cells {
         starts.push(entries.len());
-        let (s, t) = (g.bounds[c], g.bounds[c + 1]);
-        let left = match prev {
-            Some((pc, v)) if pc + 1 == c => v,
-            _ => map.eval(s),
+        // The image's own series values where one series covers the cell.
+        let (ends, mid) = match g.images[c].series {
+            Some(v) => (Some((v.ends[0], v.ends[1])), Some((f64::NAN, v.mid_slope))),
+            None => {
+                let (s, t) = (g.bounds[c], g.bounds[c + 1]);
+                let e = map.eval(s).zip(map.eval(t)).map(|(a, b)| (a.0, b.0));
+                (e, map.eval(g.mid(c)))
+            }
         };
-        let right = map.eval(t);
-        prev = Some((c, right));
-        let mid = map.eval(g.mid(c));
         logs.push(mid.map_or(0.0, |(_, d)| d.abs().max(1e-300).ln()));
         let row_start = entries.len();
-        match left.zip(right) {
-            Some(((fs, _), (ft, _))) if (ft - fs).abs() > 1e-14 => {
+        match ends {
+            Some((fs, ft)) if (ft - fs).abs() > 1e-14 => {
                 let (lo, hi) = (fs.min(ft), fs.max(ft));
                 let (a, b) = g.cells_of(lo, hi);
                 for j in a..=b {
@@ -185,8 +188,8 @@ pub fn ulam(g: &CellGraph, map: &ArcMap, cells: &[usize]) -> (Vec<f64>, f64) {
                 }
             }
             _ => {
-                let fm = mid
-                    .map(|v| v.0)
+                let fm = ends
+                    .map(|(fs, ft)| 0.5 * (fs + ft))
                     .or_else(|| g.images[c].spans.first().map(|s| 0.5 * (s[0] + s[1])));
                 if let Some(lj) = fm.and_then(|v| local(g.cell_of(v))) {
                     entries.push((lj as u32, 1.0));

@@ -3,7 +3,7 @@
 //! sharpened, trapped or left as chaotic, until each closed set is decided
 //! or the resolution or the cell budget is reached.
 
-use super::classify::{clusters, contraction, long_orbit, solve, trap};
+use super::classify::{Orbit, clusters, contraction, long_orbit, solve, trap};
 use super::graph::{self, CellGraph};
 use super::{ArcMap, AttractorError, CellOptions};
 use crate::model::wrap_angle;
@@ -20,7 +20,7 @@ pub(super) struct Closed {
 /// closed set reaching it is sharpened, or settled); a chaotic set's
 /// cells go on to [`CHAOS_FLOOR`] ε, for its density.
 const FLOOR: f64 = 100.0;
-const CHAOS_FLOOR: f64 = 20.0;
+const CHAOS_FLOOR: f64 = 50.0;
 
 /// The most map evaluations one sharpened stretch may take.
 const SHARPEN_EVALUATIONS: usize = 4_000;
@@ -31,9 +31,10 @@ pub(super) struct Search<'a> {
     opts: &'a CellOptions,
     pub(super) map: ArcMap,
     pub(super) g: CellGraph,
-    /// Closed sets a long orbit showed chaotic at the map's floor (their
-    /// hulls): subdivided only to [`CHAOS_FLOOR`].
-    settled: Vec<[f64; 2]>,
+    /// Closed sets left as they are at the map's floor (their hulls, and
+    /// the long orbit that showed it): subdivided only to
+    /// [`CHAOS_FLOOR`], and the orbit kept for their verdict.
+    pub(super) settled: Vec<([f64; 2], Orbit)>,
     pub(super) spent: (u64, u64),
     pub(super) budget_hit: bool,
     /// The spans of the closed sets still being subdivided, between
@@ -157,7 +158,7 @@ impl<'a> Search<'a> {
             let mut chaotic = self
                 .settled
                 .iter()
-                .any(|s| s[0] <= hull[0] && hull[1] <= s[1]);
+                .any(|(s, _)| s[0] <= hull[0] && hull[1] <= s[1]);
             let at_its_floor = k.cells.iter().all(|&i| g.width(i) <= self.floor(i, FLOOR));
             if !chaotic && at_its_floor {
                 let middle = g.mid(k.cells[k.cells.len() / 2]);
@@ -169,8 +170,8 @@ impl<'a> Search<'a> {
                     middle,
                     &mut self.spent,
                 )? {
-                    Floor::Settled => {
-                        self.settled.push(hull);
+                    Floor::Settled(orbit) => {
+                        self.settled.push((hull, orbit));
                         chaotic = true;
                     }
                     Floor::Changed => return Ok(None),
@@ -191,8 +192,9 @@ impl<'a> Search<'a> {
 
 /// What became of a closed set at its floor.
 enum Floor {
-    /// Left as it is: chaotic, or nothing more to try.
-    Settled,
+    /// Left as it is: chaotic, or nothing more to try (the orbit that
+    /// showed it).
+    Settled(Orbit),
     /// The map was sharpened over it or a trap was added: look again.
     Changed,
 }
@@ -213,7 +215,7 @@ fn at_floor(
 ) -> Result<Floor, AttractorError> {
     let o = long_orbit(sim, map, start, spent)?;
     if o.settled.is_none() && o.lyapunov > 0.0 {
-        return Ok(Floor::Settled);
+        return Ok(Floor::Settled(o));
     }
     let pad = 1e-3 * (hull[1] - hull[0]) + 1e-6;
     let (lo, hi) = (hull[0] - pad, hull[1] + pad);
@@ -249,7 +251,7 @@ fn at_floor(
     Ok(if sharpened {
         Floor::Changed
     } else {
-        Floor::Settled
+        Floor::Settled(o)
     })
 }
 

@@ -2,7 +2,7 @@
 //! or found in a set the cells did not shrink onto), or a chaotic
 //! attractor with its density and λ both ways, or undecided with why.
 
-use super::classify::{self, clusters, long_orbit, solve, ulam};
+use super::classify::{self, Orbit, clusters, long_orbit, solve, ulam};
 use super::graph::CellGraph;
 use super::search::Closed;
 use super::{ArcMap, Attractor, AttractorError, Density, Verdict};
@@ -18,6 +18,7 @@ pub(super) fn classify_closed(
     map: &ArcMap,
     g: &CellGraph,
     k: &Closed,
+    known: &[Orbit],
     spent: &mut (u64, u64),
 ) -> Result<Attractor, AttractorError> {
     let psi = map.psi();
@@ -58,9 +59,12 @@ pub(super) fn classify_closed(
     {
         return Ok(a);
     }
-    // The set's middle cell by length, as a start.
-    let start = g.mid(k.cells[k.cells.len() / 2]);
-    let orbit = long_orbit(sim, map, start, spent)?;
+    // An orbit that ended in the set at its floor, or one from its middle
+    // cell.
+    let orbit = match known.iter().find(|o| inside(o.last)) {
+        Some(o) => o.clone(),
+        None => long_orbit(sim, map, g.mid(k.cells[k.cells.len() / 2]), spent)?,
+    };
     if let Some((p, u)) = orbit.settled
         && let Some(a) = cycle(p, u, Verdict::CycleInSet, spent)
     {
