@@ -65,6 +65,8 @@ pub struct Flip {
 pub struct Born {
     /// The parameter it was solved at.
     pub lambda: f64,
+    /// Its point nearest the p-cycle's θ*.
+    pub theta: f64,
     /// Its half-separation |θ_p − θ₀|/2.
     pub half_width: f64,
     /// Its multiplier: stable for a supercritical flip, unstable for a
@@ -172,16 +174,41 @@ const BORN_WIDTH: f64 = 1e-4;
 /// stability (stable for supercritical). Where it does not (a stencil
 /// across a jump of f gets c's sign wrong: κ = 1.5's first flip), the
 /// other side is tried with the other stability, and c is taken from the
-/// cycle found there (η² = β/c). Where neither shows one, the flip is
-/// left undecided (the error is set to |c|).
+/// cycle found there (η² = β/c). Each at δ, then δ/16 and δ/256 (a
+/// cascade compressed into a narrow range of λ). Where none shows one,
+/// the flip is left undecided (the error is set to |c|).
 fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64) -> Flip {
-    let p = prob.period;
     let a = flip.amplitude();
     if !(a.is_finite() && a > 0.0) {
         return flip;
     }
-    let width = BORN_WIDTH / p as f64;
-    let delta = (width / a).powi(2).clamp(1e-8, 1e-4) * lambda.abs().max(1.0);
+    let width = BORN_WIDTH / prob.period as f64;
+    let first = (width / a).powi(2).clamp(1e-8, 1e-4) * lambda.abs().max(1.0);
+    // Nearer the flip where the doubled cycle has doubled again by then
+    // (a cascade compressed into 1e-5 of λ).
+    for delta in [first, first / 16.0, first / 256.0] {
+        if let Some(confirmed) = confirm_at(prob, lambda, theta, &flip, delta, evals) {
+            return confirmed;
+        }
+    }
+    Flip {
+        error: flip.error.max(flip.coefficient.abs()),
+        ..flip
+    }
+}
+
+/// [`confirm`] with the doubled cycle solved a `delta` either side of
+/// the flip: the flip it confirms or sets, or `None`.
+fn confirm_at(
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    flip: &Flip,
+    delta: f64,
+    evals: &mut u64,
+) -> Option<Flip> {
+    let a = flip.amplitude();
+    let flip = *flip;
     for predicted in [true, false] {
         let side = if predicted { flip.side() } else { -flip.side() };
         let at = lambda + side * delta;
@@ -211,25 +238,22 @@ fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64)
         };
         if predicted {
             // The cycle shows the sign: c's error no longer decides it.
-            return Flip {
+            return Some(Flip {
                 error: flip.error.min(0.5 * flip.coefficient.abs()),
                 born: Some(born),
                 ..flip
-            };
+            });
         }
         // β = −dm/dλ·(λ − λ*) and η² = β/c.
         let c = -flip.dm_dlambda * (at - lambda) / (born.half_width * born.half_width);
-        return Flip {
+        return Some(Flip {
             coefficient: c,
             error: (c - flip.coefficient).abs().min(0.5 * c.abs()),
             born: Some(born),
             ..flip
-        };
+        });
     }
-    Flip {
-        error: flip.error.max(flip.coefficient.abs()),
-        ..flip
-    }
+    None
 }
 
 /// The 2p-cycle next to the p-cycle through θ at λ, by Newton from θ
@@ -261,18 +285,11 @@ fn born_cycle(
         if c.minimal_period != 2 * p {
             continue;
         }
-        // The point of the cycle nearest θ and its partner p later.
-        let i = (0..2 * p)
-            .min_by(|&x, &y| {
-                crate::model::wrap_angle(c.points[x] - theta)
-                    .abs()
-                    .total_cmp(&crate::model::wrap_angle(c.points[y] - theta).abs())
-            })
-            .unwrap_or(0);
-        let half = 0.5 * crate::model::wrap_angle(c.points[(i + p) % (2 * p)] - c.points[i]).abs();
+        let (i, half) = nearest_half(&c.points, theta, p);
         if half > 0.0 && crate::model::wrap_angle(c.points[i] - theta).abs() < 50.0 * expected {
             return Some(Born {
                 lambda,
+                theta: c.points[i],
                 half_width: half,
                 multiplier: c.multiplier,
                 predicted_side: true,
@@ -280,6 +297,17 @@ fn born_cycle(
         }
     }
     None
+}
+
+/// A 2p-cycle's point nearest θ and its half-separation from its partner
+/// p later: (index, |θ_{i+p} − θᵢ|/2).
+pub(super) fn nearest_half(points: &[f64], theta: f64, p: usize) -> (usize, f64) {
+    let off = |x: f64| crate::model::wrap_angle(x - theta).abs();
+    let i = (0..points.len())
+        .min_by(|&x, &y| off(points[x]).total_cmp(&off(points[y])))
+        .unwrap_or(0);
+    let partner = points[(i + p) % points.len()];
+    (i, 0.5 * crate::model::wrap_angle(partner - points[i]).abs())
 }
 
 /// dm/dλ at `lambda` along a branch of the p-cycle, from `samples`: (λ, m)
