@@ -14,6 +14,12 @@ use cli_support::*;
 
 /// The PD lines of `continue` on the P1 branch at κ over θν ∈ [from, to].
 fn pd_lines(kappa: &str, from: &str, to: &str) -> Vec<String> {
+    pd_lines_of(kappa, from, to, "1")
+}
+
+/// The PD lines of `continue` on the branch of the attractor's `period`
+/// cycle at κ over θν ∈ [from, to].
+fn pd_lines_of(kappa: &str, from: &str, to: &str, period: &str) -> Vec<String> {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("b.csv");
     let o = oneblock(&[
@@ -33,7 +39,7 @@ fn pd_lines(kappa: &str, from: &str, to: &str) -> Vec<String> {
         "--to",
         to,
         "--period",
-        "1",
+        period,
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -138,4 +144,32 @@ fn every_labelled_flip_is_confirmed_by_its_born_cycle() {
         }
     }
     assert!(labelled >= 12, "{labelled}");
+}
+
+/// At κ = 3 the coefficient's ±0.01/p stencil reached across the steep
+/// part of f (f' from 5 to 170 within 0.003 at the P2's θ = 0.97885):
+/// three of the fixed point's flips and the P2's flip at θν = 1.12484 came
+/// out undecided (c = 8.6e8 ± 8.6e8 there). With the stencil inside f^p's
+/// smooth piece, each is labelled and confirmed by its born cycle.
+#[test]
+fn kappa_3s_flips_are_labelled_and_confirmed() {
+    let labelled = |pd: &str| {
+        !pd.contains("undecided")
+            && (pd.contains("; confirmed: the P") || pd.contains("; set by the P"))
+    };
+    let p1 = pd_lines("3", "0.1", "1.55");
+    assert_eq!(p1.len(), 4, "{p1:?}");
+    for pd in &p1 {
+        assert!(labelled(pd), "{pd}");
+    }
+    let p2 = pd_lines_of("3", "1.0", "1.13", "2");
+    let flip = p2
+        .iter()
+        .find(|l| (number(l, "theta-nu") - 1.12484).abs() < 1e-4)
+        .unwrap_or_else(|| panic!("{p2:?}"));
+    assert!(labelled(flip), "{flip}");
+    assert!(
+        flip.contains("supercritical: a stable P4 cycle above"),
+        "{flip}"
+    );
 }

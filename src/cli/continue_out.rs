@@ -213,13 +213,21 @@ fn flip_words(name: &str, period: usize, f: &crate::sim::continuation::Flip) -> 
         Supercritical => "a stable",
         Subcritical => "an unstable",
         Undecided => {
-            let why = if f.born.is_none() {
+            let narrow = if f.stencil.rounding >= f.coefficient.abs() {
                 format!(
-                    ": no P{} cycle found next to it on either side with the stability either sign of c gives",
-                    2 * period
+                    "; f^p is smooth only within {:.1e} of the cycle point, too narrow for the stencil ({:.1e})",
+                    f.stencil.piece, f.stencil.h
                 )
             } else {
                 String::new()
+            };
+            let why = if f.born.is_none() {
+                format!(
+                    "{narrow}: no P{} cycle found next to it on either side with the stability either sign of c gives",
+                    2 * period
+                )
+            } else {
+                narrow
             };
             return format!(
                 "  undecided criticality (c = {:.3e} ± {:.1e}{why})",
@@ -381,6 +389,9 @@ impl Summary<'_> {
                     "dm_dlambda": f.dm_dlambda,
                     "amplitude": f.amplitude(),
                     "side": f.side(),
+                    "stencil": f.stencil.h,
+                    "smooth_piece": f.stencil.piece,
+                    "rounding": f.stencil.rounding,
                 })),
             })
         };

@@ -178,7 +178,7 @@ fn cascade_impl(
         if let Some(why) = flip_end(&level, &pd, &ahead, opts, cancel, on_level, &mut branches) {
             break why;
         }
-        match switch(&level, &pd, dir * SWITCH_SHARE * gap, opts) {
+        match switch(&level, &pd, dir * SWITCH_SHARE * gap) {
             Ok((l1, th)) => {
                 (start, theta, period) = (l1, th, 2 * period);
                 level_opts = next_level_options(level_opts, opts, gap);
@@ -298,14 +298,81 @@ fn next_level_options(level_opts: ContOptions, opts: &ContOptions, gap: f64) -> 
     }
 }
 
-/// The doubled cycle a step `delta` past the doubling `pd` of `level`: its
-/// λ and a point θ of it.
-fn switch(
-    level: &Problem,
-    pd: &SpecialPoint,
-    delta: f64,
-    _opts: &ContOptions,
-) -> Result<(f64, f64), String> {
+/// The doubled cycle to follow past the doubling `pd` of `level`: its λ
+/// and a point θ of it. The cycle born at the flip where its confirmation
+/// solved one ([`super::flip::Born`]); otherwise the 2p-cycle nearest the
+/// old one a step `delta` past the doubling ([`nearest_doubled`]). Either
+/// must lead back to the doubling ([`leads_back`]): a cycle of the same
+/// period born elsewhere is refused, and the cascade ends there.
+fn switch(level: &Problem, pd: &SpecialPoint, delta: f64) -> Result<(f64, f64), String> {
+    let (name, q) = (level.param.name(), 2 * level.period);
+    let born = pd
+        .flip
+        .and_then(|f| f.born)
+        .filter(|b| (b.lambda - pd.lambda) * delta > 0.0);
+    let found = match born {
+        Some(b) => Some((b.lambda, b.theta)),
+        None => nearest_doubled(level, pd, delta),
+    };
+    let Some((l1, theta)) = found else {
+        return Err(format!(
+            "no P{q} cycle found next to the doubling at {name} = {}",
+            pd.lambda
+        ));
+    };
+    match leads_back(level, pd, l1, theta) {
+        Ok(()) => Ok((l1, theta)),
+        Err(why) => Err(format!(
+            "the P{q} cycle found at {name} = {l1} is not the one born at the doubling at {name} = {}: {why}",
+            pd.lambda
+        )),
+    }
+}
+
+/// Whether the 2p-cycle through `theta` at `l1` continues back to the
+/// doubling `pd` of `level`: solved by Newton at λ* + (l1 − λ*)/4 and
+/// /16, each from the last (its point moved halfway towards θ*), its
+/// half-width must halve each time (η ∝ √|λ − λ*|, within 30 %) and its
+/// multiplier close in on +1. `Err` says where it does not.
+fn leads_back(level: &Problem, pd: &SpecialPoint, l1: f64, theta: f64) -> Result<(), String> {
+    let cyc = CycleOptions::for_settings(&level.settings);
+    let (p, q) = (level.period, 2 * level.period);
+    let solve = |lambda: f64, seed: f64| -> Result<(f64, f64, f64), String> {
+        let sim = level.sim(lambda).map_err(|e| e.to_string())?;
+        let c = solve_cycle(&sim, seed, q, &cyc)
+            .map_err(|e| format!("Newton found no P{q} cycle at {lambda}: {e}"))?;
+        if c.minimal_period != q {
+            return Err(format!(
+                "at {lambda} Newton fell onto a P{} cycle",
+                c.minimal_period
+            ));
+        }
+        let (i, half) = super::flip::nearest_half(&c.points, pd.theta, p);
+        Ok((c.points[i], half, c.multiplier))
+    };
+    let (mut point, mut half, mut m) = solve(l1, theta)?;
+    for k in 1..=2 {
+        let lambda = pd.lambda + (l1 - pd.lambda) / 4f64.powi(k);
+        let seed = pd.theta + 0.5 * wrap_angle(point - pd.theta);
+        let (next, h, mk) = solve(lambda, seed)?;
+        if !(1.4..=2.6).contains(&(half / h)) {
+            return Err(format!(
+                "its half-width goes from {half:.3e} to {h:.3e} at {lambda}, where a cycle born at the doubling halves it"
+            ));
+        }
+        if (mk - 1.0).abs() > (m - 1.0).abs().max(1e-3) {
+            return Err(format!(
+                "its multiplier goes from {m:.6} to {mk:.6} at {lambda}, away from the +1 it is born with"
+            ));
+        }
+        (point, half, m) = (next, h, mk);
+    }
+    Ok(())
+}
+
+/// The 2p-cycle nearest the old one a step `delta` past the doubling `pd`
+/// of `level` (×3, ×10 if none): its λ and a point θ of it.
+fn nearest_doubled(level: &Problem, pd: &SpecialPoint, delta: f64) -> Option<(f64, f64)> {
     // The solver's own tolerance: its points are no more accurate, so a
     // tighter one would tell the old cycle traversed twice from a new one
     // by noise.
@@ -353,14 +420,10 @@ fn switch(
             }
         }
         if let Some((_, th)) = best {
-            return Ok((l1, th));
+            return Some((l1, th));
         }
     }
-    Err(format!(
-        "no P{doubled} cycle found next to the doubling at {} = {}",
-        level.param.name(),
-        pd.lambda
-    ))
+    None
 }
 
 /// At the subcritical flip `pd` of `level`: the unstable doubled cycle

@@ -20,11 +20,14 @@
 //! taken as c's (pessimistic, and large wherever g is not smooth over
 //! ± H). G's noise (the integrator's, a few 1e-8 at ν = 1e-4) enters the
 //! quintic's g''' divided by H³, and M's (1e-9 relative) the three-point
-//! values divided by H²; truncation grows like H⁴. H = 0.01/p balances
-//! them: the born cycles of tests/criticality.rs are within 0.2 % of the
-//! predicted half-widths, and the estimated error is 1–10 % of |c|. Where
-//! the error exceeds |c|, the criticality is not decided (near a
-//! generalised flip, where c changes sign).
+//! values divided by H²; truncation grows like H⁴. H is at most 0.01/p,
+//! less where a jump or border of f^p lies nearer θ* or truncation still
+//! dominates ([`super::stencil`]): the born cycles of
+//! tests/criticality.rs are within 0.2 % of the predicted half-widths,
+//! and the estimated error is 1–10 % of |c|. Where the error (truncation
+//! and rounding) exceeds |c|, the coefficient does not decide (near a
+//! generalised flip, where c changes sign, or where the smooth piece about
+//! θ* is too narrow for the differences), and the born cycle does.
 //!
 //! dm/dλ along the branch costs nothing more: the location of the PD
 //! corrected the branch at several λ about λ*, and m at those points is
@@ -32,14 +35,10 @@
 //! nearest of them that are far enough apart for m's noise (see
 //! [`branch_slope`]).
 
+use super::stencil::Stencil;
+use super::stencil::{M_NOISE, coefficient};
 use super::{Eval, EvalError, Problem};
 
-/// The step H of the differences in θ for a fixed point (G and M at
-/// θ* ± H); a p-cycle's is H/p: g = f^p bends on a scale that shrinks
-/// with p (its derivatives grow like products of p slopes).
-const STEP: f64 = 1e-2;
-/// M's error relative to |M|, per map evaluation in the product.
-const M_NOISE: f64 = 1e-9;
 /// The largest share of |dm/dλ| that m's noise may take in [`branch_slope`].
 const SLOPE_NOISE: f64 = 1e-4;
 
@@ -48,8 +47,11 @@ const SLOPE_NOISE: f64 = 1e-4;
 pub struct Flip {
     /// c = g''²/4 + g'''/6: positive for a supercritical flip.
     pub coefficient: f64,
-    /// The coefficient's error: its difference from the second-order value.
+    /// The coefficient's error: its difference from the second-order
+    /// value, and its rounding error.
     pub error: f64,
+    /// The stencil it was taken on.
+    pub stencil: Stencil,
     /// dm/dλ along the p-cycle's branch at the flip.
     pub dm_dlambda: f64,
     /// The doubled cycle Newton found next to the flip, which confirms
@@ -63,6 +65,8 @@ pub struct Flip {
 pub struct Born {
     /// The parameter it was solved at.
     pub lambda: f64,
+    /// Its point nearest the p-cycle's θ*.
+    pub theta: f64,
     /// Its half-separation |θ_p − θ₀|/2.
     pub half_width: f64,
     /// Its multiplier: stable for a supercritical flip, unstable for a
@@ -148,10 +152,11 @@ pub fn flip_at(
     if !dm_dlambda.is_finite() {
         return Err(EvalError::NonFinite);
     }
-    let (coefficient, error) = coefficient(prob, lambda, theta, at, evals)?;
+    let est = coefficient(prob, lambda, theta, at, evals)?;
     let flip = Flip {
-        coefficient,
-        error,
+        coefficient: est.c,
+        error: est.error,
+        stencil: est.stencil,
         dm_dlambda,
         born: None,
     };
@@ -169,16 +174,41 @@ const BORN_WIDTH: f64 = 1e-4;
 /// stability (stable for supercritical). Where it does not (a stencil
 /// across a jump of f gets c's sign wrong: κ = 1.5's first flip), the
 /// other side is tried with the other stability, and c is taken from the
-/// cycle found there (η² = β/c). Where neither shows one, the flip is
-/// left undecided (the error is set to |c|).
+/// cycle found there (η² = β/c). Each at δ, then δ/16 and δ/256 (a
+/// cascade compressed into a narrow range of λ). Where none shows one,
+/// the flip is left undecided (the error is set to |c|).
 fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64) -> Flip {
-    let p = prob.period;
     let a = flip.amplitude();
     if !(a.is_finite() && a > 0.0) {
         return flip;
     }
-    let width = BORN_WIDTH / p as f64;
-    let delta = (width / a).powi(2).clamp(1e-8, 1e-4) * lambda.abs().max(1.0);
+    let width = BORN_WIDTH / prob.period as f64;
+    let first = (width / a).powi(2).clamp(1e-8, 1e-4) * lambda.abs().max(1.0);
+    // Nearer the flip where the doubled cycle has doubled again by then
+    // (a cascade compressed into 1e-5 of λ).
+    for delta in [first, first / 16.0, first / 256.0] {
+        if let Some(confirmed) = confirm_at(prob, lambda, theta, &flip, delta, evals) {
+            return confirmed;
+        }
+    }
+    Flip {
+        error: flip.error.max(flip.coefficient.abs()),
+        ..flip
+    }
+}
+
+/// [`confirm`] with the doubled cycle solved a `delta` either side of
+/// the flip: the flip it confirms or sets, or `None`.
+fn confirm_at(
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    flip: &Flip,
+    delta: f64,
+    evals: &mut u64,
+) -> Option<Flip> {
+    let a = flip.amplitude();
+    let flip = *flip;
     for predicted in [true, false] {
         let side = if predicted { flip.side() } else { -flip.side() };
         let at = lambda + side * delta;
@@ -196,7 +226,10 @@ fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64)
         } else {
             born.half_width < 30.0 * expected
         };
-        if !near || (born.multiplier.abs() < 1.0) != want_stable {
+        // A born cycle leaves the flip with m = +1: a cycle with m far
+        // from it (beyond 0 or 2) is another one.
+        let born_like = (born.multiplier - 1.0).abs() < 1.0;
+        if !near || !born_like || (born.multiplier.abs() < 1.0) != want_stable {
             continue;
         }
         let born = Born {
@@ -205,25 +238,22 @@ fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64)
         };
         if predicted {
             // The cycle shows the sign: c's error no longer decides it.
-            return Flip {
+            return Some(Flip {
                 error: flip.error.min(0.5 * flip.coefficient.abs()),
                 born: Some(born),
                 ..flip
-            };
+            });
         }
         // β = −dm/dλ·(λ − λ*) and η² = β/c.
         let c = -flip.dm_dlambda * (at - lambda) / (born.half_width * born.half_width);
-        return Flip {
+        return Some(Flip {
             coefficient: c,
             error: (c - flip.coefficient).abs().min(0.5 * c.abs()),
             born: Some(born),
             ..flip
-        };
+        });
     }
-    Flip {
-        error: flip.error.max(flip.coefficient.abs()),
-        ..flip
-    }
+    None
 }
 
 /// The 2p-cycle next to the p-cycle through θ at λ, by Newton from θ
@@ -255,18 +285,11 @@ fn born_cycle(
         if c.minimal_period != 2 * p {
             continue;
         }
-        // The point of the cycle nearest θ and its partner p later.
-        let i = (0..2 * p)
-            .min_by(|&x, &y| {
-                crate::model::wrap_angle(c.points[x] - theta)
-                    .abs()
-                    .total_cmp(&crate::model::wrap_angle(c.points[y] - theta).abs())
-            })
-            .unwrap_or(0);
-        let half = 0.5 * crate::model::wrap_angle(c.points[(i + p) % (2 * p)] - c.points[i]).abs();
+        let (i, half) = nearest_half(&c.points, theta, p);
         if half > 0.0 && crate::model::wrap_angle(c.points[i] - theta).abs() < 50.0 * expected {
             return Some(Born {
                 lambda,
+                theta: c.points[i],
                 half_width: half,
                 multiplier: c.multiplier,
                 predicted_side: true,
@@ -276,51 +299,15 @@ fn born_cycle(
     None
 }
 
-/// The coefficient c at θ* and its error: the quintic through G and M at
-/// θ* and θ* ± H gives c, the three-point differences of M give the
-/// second-order c its error is measured against (see the module notes).
-fn coefficient(
-    prob: &Problem,
-    lambda: f64,
-    theta: f64,
-    at: Option<&Eval>,
-    evals: &mut u64,
-) -> Result<(f64, f64), EvalError> {
-    let sim = prob.sim(lambda).map_err(EvalError::Sim)?;
-    let mut eval = |dx: f64| -> Result<(f64, f64), EvalError> {
-        let e = super::eval_at(&sim, prob.param, prob.period, theta + dx, evals)?;
-        Ok((e.g, e.multiplier))
-    };
-    let (g0, m0) = match at {
-        Some(e) => (e.g, e.multiplier),
-        None => eval(0.0)?,
-    };
-    let h = STEP / prob.period as f64;
-    let (plus, minus) = (eval(h)?, eval(-h)?);
-    let (c, error) = from_hermite(h, (g0, m0), plus, minus);
-    if !(c.is_finite() && error.is_finite()) {
-        return Err(EvalError::NonFinite);
-    }
-    Ok((c, error))
-}
-
-/// c and its error from (G, M) at θ*, θ* + h and θ* − h (see
-/// [`coefficient`]).
-fn from_hermite(h: f64, at: (f64, f64), plus: (f64, f64), minus: (f64, f64)) -> (f64, f64) {
-    let ((g0, m0), (gp, mp), (gn, mn)) = (at, plus, minus);
-    // In x = θ − θ*, G = Σ aₖxᵏ (k ≤ 5): its even part from the mean of G
-    // and the difference of M, its odd part from the difference of G and
-    // the mean of M (a₁ = M₀ − 1).
-    let even_g = 0.5 * (gp + gn) - g0; // a₂h² + a₄h⁴
-    let odd_m = 0.5 * (mp - mn); // 2a₂h + 4a₄h³
-    let odd_g = (gp - gn) / (2.0 * h) - (m0 - 1.0); // a₃h² + a₅h⁴
-    let even_m = 0.5 * (mp + mn) - m0; // 3a₃h² + 5a₅h⁴
-    let d2 = (4.0 * even_g - odd_m * h) / (h * h); // 2a₂
-    let d3 = 3.0 * (5.0 * odd_g - even_m) / (h * h); // 6a₃
-    let c_of = |d2: f64, d3: f64| 0.25 * d2 * d2 + d3 / 6.0;
-    let c = c_of(d2, d3);
-    let c3 = c_of(odd_m / h, 2.0 * even_m / (h * h));
-    (c, (c - c3).abs())
+/// A 2p-cycle's point nearest θ and its half-separation from its partner
+/// p later: (index, |θ_{i+p} − θᵢ|/2).
+pub(super) fn nearest_half(points: &[f64], theta: f64, p: usize) -> (usize, f64) {
+    let off = |x: f64| crate::model::wrap_angle(x - theta).abs();
+    let i = (0..points.len())
+        .min_by(|&x, &y| off(points[x]).total_cmp(&off(points[y])))
+        .unwrap_or(0);
+    let partner = points[(i + p) % points.len()];
+    (i, 0.5 * crate::model::wrap_angle(partner - points[i]).abs())
 }
 
 /// dm/dλ at `lambda` along a branch of the p-cycle, from `samples`: (λ, m)
@@ -410,8 +397,8 @@ pub fn generalised_flips(
                 param: params[0],
                 period,
             };
-            let (c, error) = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
-            (c.abs() > error).then_some((pt.lambda, c))
+            let est = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
+            (est.c.abs() > est.error).then_some((pt.lambda, est.c))
         })
         .collect();
     decided
@@ -434,37 +421,6 @@ pub fn generalised_flips(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// g(x) = θ* − x + a·x² + b·x³ + Σ higher terms, as G = g − θ and
-    /// M = g' at θ* + x.
-    fn g_and_m(coef: &[f64], x: f64) -> (f64, f64) {
-        let theta_star = 0.4;
-        let (mut g, mut m) = (theta_star - x, -1.0);
-        for (k, a) in coef.iter().enumerate() {
-            let n = (k + 2) as i32;
-            g += a * x.powi(n);
-            m += f64::from(n) * a * x.powi(n - 1);
-        }
-        (g - (theta_star + x), m)
-    }
-
-    #[test]
-    fn the_quintic_is_exact_to_fifth_order_and_its_error_bounds_the_sixth() {
-        // c = a² + b = 0.09 + 0.7.
-        let quintic = [0.3, 0.7, -2.0, 5.0];
-        let h = 0.01;
-        let at = |c: &[f64], x| g_and_m(c, x);
-        let (c, err) = from_hermite(h, at(&quintic, 0.0), at(&quintic, h), at(&quintic, -h));
-        assert!((c - 0.79).abs() < 1e-9, "{c}");
-        // The three-point value is off by O(h²): the error says so.
-        assert!(err > 1e-5 && err < 1e-2, "{err}");
-        // With sixth- and seventh-order terms, the quintic's error is of
-        // order h⁴, well within the estimate.
-        let more = [0.3, 0.7, -2.0, 5.0, 40.0, -90.0];
-        let (c, err) = from_hermite(h, at(&more, 0.0), at(&more, h), at(&more, -h));
-        assert!((c - 0.79).abs() < 1e-5, "{c}");
-        assert!((c - 0.79).abs() < err, "{c} ± {err}");
-    }
 
     #[test]
     fn the_branch_slope_is_the_derivative_at_the_zero_despite_noise() {

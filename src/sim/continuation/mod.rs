@@ -14,6 +14,7 @@ mod cascade;
 mod curve;
 mod curves;
 mod flip;
+mod stencil;
 mod walk;
 
 use crate::integrate::SolverSettings;
@@ -28,6 +29,7 @@ pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_
 pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
 pub use curves::{continue_curves, curve_crossings};
 pub use flip::{Criticality, Flip, GeneralisedFlip, branch_slope, flip_at, generalised_flips};
+pub use stencil::Stencil;
 pub use walk::{continue_branch, continue_branch_reporting};
 
 /// A parameter a branch can be continued in.
@@ -196,6 +198,8 @@ pub struct Eval {
     pub g_lambda: f64,
     /// θ₀ … θ_{p−1}.
     pub points: Vec<f64>,
+    /// f'(θ₀) … f'(θ_{p−1}), whose product is the multiplier.
+    pub slopes: Vec<f64>,
 }
 
 /// What every evaluation of G shares: the fixed parameters, the solver,
@@ -245,6 +249,7 @@ pub fn eval_at(
     let mut multiplier = 1.0;
     let mut d_lambda = 0.0;
     let mut points = Vec::with_capacity(period);
+    let mut slopes = Vec::with_capacity(period);
     for _ in 0..period {
         if sim.check_onset(th).is_err() {
             return Err(EvalError::OffArc { theta: th });
@@ -263,6 +268,7 @@ pub fn eval_at(
         }
         d_lambda = d_theta * d_lambda + d_param;
         multiplier *= d_theta;
+        slopes.push(d_theta);
         th = ev.theta_next;
     }
     let g = wrap_angle(th - theta);
@@ -274,6 +280,7 @@ pub fn eval_at(
         multiplier,
         g_lambda: d_lambda,
         points,
+        slopes,
     })
 }
 
