@@ -52,6 +52,23 @@ pub struct CellOptions {
     pub max_cells: usize,
     /// The most map evaluations the interpolant may take.
     pub max_evaluations: usize,
+    /// A chaotic set's invariant density (Ulam) and λ from it, on cells
+    /// of 50 ε; without it (a diagram's column), λ from a shorter orbit.
+    pub density: bool,
+}
+
+impl CellOptions {
+    /// For one column of a diagram or one cell of a grid: cells to 1e-5
+    /// rad at most, no density.
+    pub fn column() -> Self {
+        CellOptions {
+            initial_cells: 256,
+            resolution: 1e-5,
+            max_cells: 8_192,
+            density: false,
+            ..CellOptions::default()
+        }
+    }
 }
 
 impl Default for CellOptions {
@@ -61,6 +78,7 @@ impl Default for CellOptions {
             resolution: 1e-6,
             max_cells: 1 << 16,
             max_evaluations: 40_000,
+            density: true,
         }
     }
 }
@@ -110,6 +128,9 @@ pub struct Attractor {
     pub basin_fraction: f64,
     /// The closed set of cells, as intervals of θ.
     pub cover: Vec<(f64, f64)>,
+    /// Points on it to draw: a cycle's points, or the last iterates of the
+    /// orbit that told it.
+    pub iterates: Vec<f64>,
     pub verdict: Verdict,
 }
 
@@ -178,7 +199,7 @@ pub fn attractors(
     let known: Vec<_> = settled.into_iter().map(|(_, o)| o).collect();
     let mut found = Vec::with_capacity(closed.len());
     for k in &closed {
-        found.push(classify_closed(sim, &map, &g, k, &known, &mut spent)?);
+        found.push(classify_closed(sim, &map, &g, k, &known, opts, &mut spent)?);
     }
     let (basins, boundary_fraction) = basins(&g, &map, &comps, &labels, &mut found);
     let widths = (0..g.len()).map(|i| g.width(i));

@@ -102,37 +102,37 @@ pub struct Orbit {
     pub settled: Option<(usize, f64)>,
     /// Its last point (u).
     pub last: f64,
+    /// Its last [`TAIL`] points (u).
+    pub tail: Vec<f64>,
 }
 
-/// Iterates dropped and kept by [`long_orbit`].
-pub const ORBIT_TRANSIENT: usize = 1_000;
-pub const ORBIT_KEEP: usize = 10_000;
+/// Iterates dropped and kept by [`long_orbit`]: for `attractors`, and
+/// for a diagram's column (no density; λ from the orbit alone).
+pub const ORBIT: (usize, usize) = (1_000, 10_000);
+pub const COLUMN_ORBIT: (usize, usize) = (300, 2_000);
 
-/// An orbit of the series from u: [`ORBIT_TRANSIENT`] dropped, then
-/// [`ORBIT_KEEP`] with ln|f'| (in a sampled stretch, from the line
-/// between its samples).
-pub fn long_orbit(
-    sim: &Simulator,
-    map: &ArcMap,
-    mut u: f64,
-    spent: &mut (u64, u64),
-) -> Result<Orbit, SimError> {
-    let _ = (sim, &spent);
+/// The points an orbit keeps for drawing.
+pub const TAIL: usize = 256;
+
+/// An orbit of the series from u: `lengths.0` iterates dropped, then
+/// `lengths.1` with ln|f'| (in a sampled stretch, from the line between
+/// its samples).
+pub fn long_orbit(map: &ArcMap, mut u: f64, lengths: (usize, usize)) -> Result<Orbit, SimError> {
     let step = |u: f64| -> Result<(f64, f64), SimError> { Ok(map.eval_any(u)) };
-    for _ in 0..ORBIT_TRANSIENT {
+    for _ in 0..lengths.0 {
         u = step(u)?.0;
     }
     const BATCHES: usize = 20;
-    let per = ORBIT_KEEP / BATCHES;
+    let per = (lengths.1 / BATCHES).max(TAIL);
     let mut means = Vec::with_capacity(BATCHES);
-    let mut tail = Vec::with_capacity(256);
+    let mut tail = Vec::with_capacity(TAIL);
     for b in 0..BATCHES {
         let mut s = 0.0;
         for i in 0..per {
             let (fu, d) = step(u)?;
             s += d.abs().max(1e-300).ln();
             u = fu;
-            if b == BATCHES - 1 && i >= per - 256 {
+            if b == BATCHES - 1 && i >= per - TAIL {
                 tail.push(u);
             }
         }
@@ -146,6 +146,7 @@ pub fn long_orbit(
         stderr: (var / BATCHES as f64).sqrt(),
         settled,
         last: u,
+        tail,
     })
 }
 

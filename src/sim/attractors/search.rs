@@ -3,7 +3,7 @@
 //! sharpened, trapped or left as chaotic, until each closed set is decided
 //! or the resolution or the cell budget is reached.
 
-use super::classify::{Orbit, clusters, contraction, long_orbit, solve, trap};
+use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, contraction, long_orbit, solve, trap};
 use super::graph::{self, CellGraph};
 use super::{ArcMap, AttractorError, CellOptions};
 use crate::model::wrap_angle;
@@ -162,8 +162,14 @@ impl<'a> Search<'a> {
             let at_its_floor = k.cells.iter().all(|&i| g.width(i) <= self.floor(i, FLOOR));
             if !chaotic && at_its_floor {
                 let middle = g.mid(k.cells[k.cells.len() / 2]);
+                let lengths = if self.opts.density {
+                    ORBIT
+                } else {
+                    COLUMN_ORBIT
+                };
                 match at_floor(
                     self.sim,
+                    lengths,
                     &mut self.map,
                     &mut self.g,
                     hull,
@@ -178,7 +184,11 @@ impl<'a> Search<'a> {
                 }
             }
             // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
-            let times = if chaotic { CHAOS_FLOOR } else { FLOOR };
+            let times = if chaotic && self.opts.density {
+                CHAOS_FLOOR
+            } else {
+                FLOOR
+            };
             for &i in &k.cells {
                 if self.g.width(i) > self.floor(i, times) {
                     marked[i] = true;
@@ -207,13 +217,14 @@ enum Floor {
 /// sharpened once and subdivided on.
 fn at_floor(
     sim: &Simulator,
+    lengths: (usize, usize),
     map: &mut ArcMap,
     g: &mut CellGraph,
     hull: [f64; 2],
     start: f64,
     spent: &mut (u64, u64),
 ) -> Result<Floor, AttractorError> {
-    let o = long_orbit(sim, map, start, spent)?;
+    let o = long_orbit(map, start, lengths)?;
     if o.settled.is_none() && o.lyapunov > 0.0 {
         return Ok(Floor::Settled(o));
     }

@@ -2,10 +2,10 @@
 //! or found in a set the cells did not shrink onto), or a chaotic
 //! attractor with its density and λ both ways, or undecided with why.
 
-use super::classify::{self, Orbit, clusters, long_orbit, solve, ulam};
+use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, long_orbit, solve, ulam};
 use super::graph::CellGraph;
 use super::search::Closed;
-use super::{ArcMap, Attractor, AttractorError, Density, Verdict};
+use super::{ArcMap, Attractor, AttractorError, CellOptions, Density, Verdict};
 use crate::model::wrap_angle;
 use crate::sim::Simulator;
 
@@ -19,6 +19,7 @@ pub(super) fn classify_closed(
     g: &CellGraph,
     k: &Closed,
     known: &[Orbit],
+    opts: &CellOptions,
     spent: &mut (u64, u64),
 ) -> Result<Attractor, AttractorError> {
     let psi = map.psi();
@@ -39,6 +40,7 @@ pub(super) fn classify_closed(
         lyapunov_from_density: None,
         density: None,
         basin_fraction: 0.0,
+        iterates: Vec::new(),
         cover,
         verdict: Verdict::Undecided(String::new()),
     };
@@ -46,6 +48,7 @@ pub(super) fn classify_closed(
         solved(sim, psi, u, p, spent, &inside).map(|(period, points, multiplier, lyapunov)| {
             Attractor {
                 period: Some(period),
+                iterates: points.clone(),
                 points,
                 multiplier: Some(multiplier),
                 lyapunov: Some(lyapunov),
@@ -63,14 +66,54 @@ pub(super) fn classify_closed(
     // cell.
     let orbit = match known.iter().find(|o| inside(o.last)) {
         Some(o) => o.clone(),
-        None => long_orbit(sim, map, g.mid(k.cells[k.cells.len() / 2]), spent)?,
+        None => {
+            let lengths = if opts.density { ORBIT } else { COLUMN_ORBIT };
+            long_orbit(map, g.mid(k.cells[k.cells.len() / 2]), lengths)?
+        }
     };
     if let Some((p, u)) = orbit.settled
         && let Some(a) = cycle(p, u, Verdict::CycleInSet, spent)
     {
         return Ok(a);
     }
-    Ok(chaotic(map, g, &k.cells, &orbit, blank))
+    let blank = Attractor {
+        iterates: orbit.tail.iter().map(|u| psi + u).collect(),
+        ..blank
+    };
+    Ok(if opts.density {
+        chaotic(map, g, &k.cells, &orbit, blank)
+    } else {
+        by_orbit(map, g, &k.cells, &orbit, blank)
+    })
+}
+
+/// A closed set with no stable cycle found, told by its orbit alone (a
+/// diagram's column): chaotic where λ > 0 by more than four standard
+/// errors.
+fn by_orbit(
+    map: &ArcMap,
+    g: &CellGraph,
+    cells: &[usize],
+    orbit: &Orbit,
+    blank: Attractor,
+) -> Attractor {
+    let psi = map.psi();
+    let (lo, hi) = (g.bounds[cells[0]], g.bounds[cells[cells.len() - 1] + 1]);
+    let verdict = if orbit.lyapunov > 4.0 * orbit.stderr && orbit.lyapunov > 0.0 {
+        Verdict::Chaotic
+    } else {
+        Verdict::Undecided(format!(
+            "a closed set with no stable cycle found and lambda = {:.4} +- {:.4} from a {}-iterate orbit",
+            orbit.lyapunov, orbit.stderr, COLUMN_ORBIT.1
+        ))
+    };
+    Attractor {
+        points: vec![psi + lo, psi + hi],
+        lyapunov: Some(orbit.lyapunov),
+        lyapunov_stderr: Some(orbit.stderr),
+        verdict,
+        ..blank
+    }
 }
 
 /// A closed set that holds no stable cycle found: its density (Ulam),
@@ -79,7 +122,7 @@ fn chaotic(
     map: &ArcMap,
     g: &CellGraph,
     cells: &[usize],
-    orbit: &classify::Orbit,
+    orbit: &Orbit,
     blank: Attractor,
 ) -> Attractor {
     let psi = map.psi();
@@ -93,9 +136,7 @@ fn chaotic(
     } else if !agree {
         Verdict::Undecided(format!(
             "lambda from the density ({lambda_d:.4}) and from a {}-iterate orbit ({:.4} +- {:.4}) disagree; subdivide further with --resolution or --max-cells",
-            classify::ORBIT_KEEP,
-            orbit.lyapunov,
-            orbit.stderr
+            ORBIT.1, orbit.lyapunov, orbit.stderr
         ))
     } else {
         Verdict::Undecided(format!(
