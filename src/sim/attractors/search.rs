@@ -22,6 +22,9 @@ pub(super) struct Closed {
 const FLOOR: f64 = 100.0;
 const CHAOS_FLOOR: f64 = 50.0;
 
+/// How far round a stable cycle's points the map is sharpened first.
+const NEAR_CYCLE: f64 = 1e-3;
+
 /// The most map evaluations one sharpened stretch may take.
 const SHARPEN_EVALUATIONS: usize = 4_000;
 
@@ -211,10 +214,10 @@ enum Floor {
 
 /// A closed set whose cells cannot be made narrower on the map as it is
 /// (hull: its extent, in u). A long orbit from `start` decides: chaotic,
-/// it stays; a stable cycle in it is trapped ([`trap`]; on the sharpened
-/// map if it is not sharp there yet), so that the rest of the set (a
-/// saddle leaking onto the cycle) is no longer closed; anything else is
-/// sharpened once and subdivided on.
+/// it stays; a stable cycle in it is trapped ([`trap`]: on the map as it
+/// is, or else on the map sharpened over the set), so that the rest of the
+/// set (a saddle leaking onto the cycle) is no longer closed; anything
+/// else is sharpened once and subdivided on.
 fn at_floor(
     sim: &Simulator,
     lengths: (usize, usize),
@@ -228,42 +231,61 @@ fn at_floor(
     if o.settled.is_none() && o.lyapunov > 0.0 {
         return Ok(Floor::Settled(o));
     }
-    let pad = 1e-3 * (hull[1] - hull[0]) + 1e-6;
-    let (lo, hi) = (hull[0] - pad, hull[1] + pad);
-    let mut sharpened = false;
-    if !map.is_sharp(lo, hi) {
-        map.sharpen(lo, hi, SHARPEN_EVALUATIONS)?;
-        g.refresh(map, lo, hi);
-        sharpened = true;
-    }
-    if let Some((p, u)) = o.settled {
-        let c = solve(sim, map.psi(), u, p, spent).filter(|c| c.stable);
-        let xs: Option<Vec<f64>> = c.map(|c| {
-            c.points[..c.minimal_period]
-                .iter()
-                .map(|t| wrap_angle(t - map.psi()))
-                .collect()
-        });
-        let known = |xs: &[f64]| {
-            g.cycles
-                .iter()
-                .any(|c| c.0 == xs.len() && xs.iter().any(|x| (c.1 - x).abs() < 1e-9))
-        };
-        if let Some(xs) = xs.filter(|xs| !known(xs))
-            && let Some(pairs) = trap(map, &xs)
-        {
-            for (from, to) in pairs {
-                g.add_trap(map, from, to);
+    // The stable cycle it settled on, in u, unless one trapped already.
+    let cycle: Option<Vec<f64>> = o.settled.and_then(|(p, u)| {
+        let c = solve(sim, map.psi(), u, p, spent).filter(|c| c.stable)?;
+        let xs: Vec<f64> = c.points[..c.minimal_period]
+            .iter()
+            .map(|t| wrap_angle(t - map.psi()))
+            .collect();
+        let known = g
+            .cycles
+            .iter()
+            .any(|c| c.0 == xs.len() && xs.iter().any(|x| (c.1 - x).abs() < 1e-9));
+        (!known).then_some(xs)
+    });
+    if let Some(xs) = &cycle {
+        if trapped(map, g, xs) {
+            return Ok(Floor::Changed);
+        }
+        // The coarse series' curvature bound is too loose for a trap: the
+        // map sharpened round the cycle's points only, before its hull.
+        let mut sharpened = false;
+        for &x in xs {
+            let (lo, hi) = (x - NEAR_CYCLE, x + NEAR_CYCLE);
+            if map.sharpen(lo, hi, SHARPEN_EVALUATIONS / xs.len())? {
+                g.refresh(map, lo, hi);
+                sharpened = true;
             }
-            g.cycles.push((xs.len(), xs[0]));
+        }
+        if sharpened && trapped(map, g, xs) {
             return Ok(Floor::Changed);
         }
     }
-    Ok(if sharpened {
-        Floor::Changed
-    } else {
-        Floor::Settled(o)
-    })
+    let pad = 1e-3 * (hull[1] - hull[0]) + 1e-6;
+    let (lo, hi) = (hull[0] - pad, hull[1] + pad);
+    if map.is_sharp(lo, hi) {
+        return Ok(Floor::Settled(o));
+    }
+    map.sharpen(lo, hi, SHARPEN_EVALUATIONS)?;
+    g.refresh(map, lo, hi);
+    if let Some(xs) = &cycle {
+        trapped(map, g, xs);
+    }
+    Ok(Floor::Changed)
+}
+
+/// Adds a trap round the cycle `xs` (in u) to the graph, if one is found
+/// on the map as it is.
+fn trapped(map: &ArcMap, g: &mut CellGraph, xs: &[f64]) -> bool {
+    let Some(pairs) = trap(map, xs) else {
+        return false;
+    };
+    for (from, to) in pairs {
+        g.add_trap(map, from, to);
+    }
+    g.cycles.push((xs.len(), xs[0]));
+    true
 }
 
 /// The cycle whose trap holds every one of `cells`, if one does.
