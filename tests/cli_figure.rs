@@ -14,7 +14,7 @@ use oneblock::app::Settings;
 use oneblock::app::session::Session;
 
 /// Every view `figure` draws.
-const VIEWS: [&str; 8] = [
+const VIEWS: [&str; 9] = [
     "plane",
     "block",
     "bifurcation",
@@ -23,6 +23,7 @@ const VIEWS: [&str; 8] = [
     "phase",
     "numerics",
     "time-series",
+    "basins",
 ];
 
 /// Words of the views' controls, none of which belongs in a figure.

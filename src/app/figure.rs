@@ -75,11 +75,11 @@ impl Figure {
 /// The lanes a view's data comes from (every other lane's jobs are not run).
 fn lanes(view: ViewKind) -> &'static [Lane] {
     match view {
-        ViewKind::Plane
-        | ViewKind::Block
-        | ViewKind::Events
-        | ViewKind::ReturnMap
-        | ViewKind::TimeSeries => &[Lane::Orbit],
+        ViewKind::Plane | ViewKind::Block | ViewKind::Events | ViewKind::TimeSeries => {
+            &[Lane::Orbit]
+        }
+        ViewKind::ReturnMap => &[Lane::Orbit, Lane::MapBasins],
+        ViewKind::Basins => &[Lane::Basins],
         ViewKind::Bifurcation => &[Lane::Sweep],
         ViewKind::Phase => &[Lane::Phase],
         ViewKind::Numerics => &[Lane::Orbit, Lane::Numerics],
@@ -92,6 +92,8 @@ fn states(jobs: &Jobs, view: ViewKind) -> Vec<&JobState> {
     match view {
         ViewKind::Bifurcation => vec![&jobs.sweep.state],
         ViewKind::Phase => vec![&jobs.phase.state],
+        ViewKind::Basins => vec![&jobs.basins.state],
+        ViewKind::ReturnMap => orbit.into_iter().chain([&jobs.map_basins.state]).collect(),
         ViewKind::Numerics => orbit.into_iter().chain([&jobs.numerics.state]).collect(),
         _ => orbit.to_vec(),
     }

@@ -6,6 +6,18 @@
 
 use super::settings::ViewKind;
 
+/// The Basins view's paragraph.
+const BASINS_HELP: &str = "Every attractor of the map and its basin, at each pull direction θν (one column): \
+     the whole exit arc of slip onsets θ₀ (up) is coloured by the attractor an orbit \
+     from there ends on, the same colour for the same attractor from column to column \
+     (P1, P2, …, chaotic); grey is the basin boundary, where the cells cannot tell at \
+     their resolution. Nothing is iterated for a budget: f is built over the arc as a \
+     verified interpolant, the arc is covered by cells, and the attractors are the \
+     closed sets of the graph of where each cell maps (oneblock attractors). Below, the \
+     basin fractions stacked against θν: where two colours share a column, two \
+     attractors coexist (hysteresis). Drag a box to zoom; click a column to list its \
+     attractors.";
+
 /// What view `v` shows and how it is computed, in one paragraph.
 pub fn view_help(v: ViewKind) -> &'static str {
     match v {
@@ -72,6 +84,7 @@ pub fn view_help(v: ViewKind) -> &'static str {
              continuation, to the precision of the solver rather than of the grid, and marks \
              their generalised flips, where a doubling turns from supercritical to subcritical."
         }
+        ViewKind::Basins => BASINS_HELP,
         ViewKind::TimeSeries => {
             "The last cycles against time: the position x(t) and y(t), the slip speed |v_r| (the \
              block's speed relative to the surface, 0 while it sticks) and the elastic energy \

@@ -29,6 +29,7 @@ pub mod accuracy;
 pub mod animation;
 pub mod axes;
 pub mod backend;
+pub mod basins;
 pub mod bifurcation;
 pub mod block;
 pub mod branches;

@@ -86,7 +86,7 @@ fn job_marker(job: JobKind) -> MarkerShape {
         JobKind::Branches => MarkerShape::Down,
         JobKind::Curves => MarkerShape::Left,
         JobKind::Passage => MarkerShape::Right,
-        JobKind::Scan => MarkerShape::Asterisk,
+        JobKind::Scan | JobKind::Basins | JobKind::MapBasins => MarkerShape::Asterisk,
     }
 }
 

@@ -20,10 +20,11 @@ pub enum ViewKind {
     Numerics,
     Phase,
     TimeSeries,
+    Basins,
 }
 
 impl ViewKind {
-    pub const ALL: [ViewKind; 8] = [
+    pub const ALL: [ViewKind; 9] = [
         ViewKind::Plane,
         ViewKind::Block,
         ViewKind::Bifurcation,
@@ -32,6 +33,7 @@ impl ViewKind {
         ViewKind::Numerics,
         ViewKind::Phase,
         ViewKind::TimeSeries,
+        ViewKind::Basins,
     ];
 
     pub fn title(self) -> &'static str {
@@ -44,6 +46,7 @@ impl ViewKind {
             ViewKind::Numerics => "Numerics",
             ViewKind::Phase => "Phase diagram",
             ViewKind::TimeSeries => "Time series",
+            ViewKind::Basins => "Basins",
         }
     }
 
@@ -58,6 +61,7 @@ impl ViewKind {
             ViewKind::Numerics => "numerics",
             ViewKind::Phase => "phase",
             ViewKind::TimeSeries => "time-series",
+            ViewKind::Basins => "basins",
         }
     }
 
@@ -217,6 +221,8 @@ pub struct Settings {
     pub projector: bool,
     /// The Events view's plot when it shows one at a time.
     pub events_plot: EventsPlot,
+    /// The Basins view's columns and θν zoom.
+    pub basins: super::basins::BasinsSettings,
 }
 
 impl Settings {
@@ -264,6 +270,7 @@ impl Default for Settings {
             map_difference: false,
             projector: false,
             events_plot: EventsPlot::Series,
+            basins: Default::default(),
         }
     }
 }

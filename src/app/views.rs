@@ -4,6 +4,7 @@
 use eframe::egui;
 use egui::Rect;
 
+use super::basins::BasinsView;
 use super::bifurcation::BifurcationView;
 use super::block::BlockView;
 use super::events::EventsView;
@@ -26,6 +27,7 @@ pub struct Views {
     pub numerics: NumericsView,
     pub phase: PhaseView,
     pub time_series: TimeSeriesView,
+    pub basins: BasinsView,
 }
 
 impl Views {
@@ -40,6 +42,7 @@ impl Views {
             ViewKind::Numerics => &mut self.numerics,
             ViewKind::Phase => &mut self.phase,
             ViewKind::TimeSeries => &mut self.time_series,
+            ViewKind::Basins => &mut self.basins,
         }
     }
 }

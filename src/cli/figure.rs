@@ -23,12 +23,14 @@ pub const PNG_SCALE: f32 = 2.0;
 #[derive(Debug, Clone, Args)]
 pub struct FigureArgs {
     /// The view: plane, block, bifurcation, return-map, events, numerics, phase,
-    /// time-series.
+    /// time-series, basins.
     #[arg(long)]
     pub view: String,
     /// Where the figure goes; its extension picks the format: .svg (vector:
     /// lines as paths, text as text) or .png (that SVG rasterised at 2
-    /// pixels per point). Never overwrites an existing file.
+    /// pixels per point); for --view basins also .csv (its columns: each
+    /// attractor's period and basin fraction). Never overwrites an
+    /// existing file.
     #[arg(long)]
     pub out: PathBuf,
     /// The model's parameters [default: the session's, else fig3b's].
@@ -45,7 +47,7 @@ pub struct FigureArgs {
     /// Stop after this many seconds (0 < S ≤ 1e7), writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
-    /// Lower end of θν: the bifurcation diagram's or the phase grid's range (radians).
+    /// Lower end of θν: the bifurcation diagram's, the basins' or the phase grid's range (radians).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
     pub theta_nu_from: Option<f64>,
     /// Upper end of θν (with --theta-nu-from).
@@ -63,6 +65,9 @@ pub struct FigureArgs {
     /// Upper end of the phase grid's κ range (with --kappa-from).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_from")]
     pub kappa_to: Option<f64>,
+    /// The Basins view's θν columns, in [2, 400] [default: the session's, else 48].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub columns: Option<usize>,
     /// The phase grid's θν columns, in [2, 200].
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub theta_nu_steps: Option<usize>,
@@ -115,6 +120,8 @@ pub enum Format {
     Svg,
     Png,
     Gif,
+    /// The Basins view's columns as a table.
+    Csv,
 }
 
 /// The format `path`'s extension names, or why it names none.
@@ -126,8 +133,9 @@ pub fn format_of(path: &Path) -> Result<Format, CliError> {
         Some("svg") => Ok(Format::Svg),
         Some("png") => Ok(Format::Png),
         Some("gif") => Ok(Format::Gif),
+        Some("csv") => Ok(Format::Csv),
         _ => Err(CliError::Usage(format!(
-            "--out: {} has no known extension: name a .svg, .png or .gif file",
+            "--out: {} has no known extension: name a .svg, .png, .gif or .csv file",
             echo(&path.display().to_string())
         ))),
     }
@@ -141,7 +149,11 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
         (Format::Gif, None) => {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
         }
-        (Format::Svg | Format::Png, Some(_)) => usage(
+        (Format::Csv, _) if a.view != "basins" => usage(format!(
+            "--out: only the basins view writes a .csv (its columns), not '{}'",
+            echo(&a.view)
+        )),
+        (Format::Svg | Format::Png | Format::Csv, Some(_)) => usage(
             "--frames makes an animation, which a .svg or .png cannot hold: name a .gif file"
                 .into(),
         ),
@@ -255,6 +267,13 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
             short(hi)
         )));
     }
+    if let Some(n) = a.columns
+        && (a.view != "basins" || !(2..=400).contains(&n))
+    {
+        return Err(CliError::Usage(format!(
+            "--columns = {n}: the basins view's columns, in [2, 400]"
+        )));
+    }
     for (name, v) in [
         ("theta-nu-steps", a.theta_nu_steps),
         ("kappa-steps", a.kappa_steps),
@@ -281,6 +300,35 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
         theta,
         kappa,
     })
+}
+
+/// The view's own flags into `settings`: the phase grid's ranges and
+/// steps, the Basins view's columns and θν range.
+#[cfg(feature = "gui")]
+fn view_flags(
+    view: crate::app::ViewKind,
+    a: &FigureArgs,
+    c: &Checked,
+    settings: &mut crate::app::Settings,
+) {
+    use crate::app::ViewKind;
+    if view == ViewKind::Phase {
+        let ph = &mut settings.phase;
+        let mut r = ph.current();
+        r.theta_nu = c.theta_nu.unwrap_or(r.theta_nu);
+        r.kappa = c.kappa.unwrap_or(r.kappa);
+        ph.range = r;
+        ph.zoom.clear();
+        ph.theta_nu_steps = a.theta_nu_steps.unwrap_or(ph.theta_nu_steps);
+        ph.kappa_steps = a.kappa_steps.unwrap_or(ph.kappa_steps);
+    }
+    if view == ViewKind::Basins {
+        let b = &mut settings.basins;
+        b.columns = a.columns.unwrap_or(b.columns);
+        if let Some(tn) = c.theta_nu {
+            b.zoom = vec![tn];
+        }
+    }
 }
 
 /// Draws the figure and writes it.
@@ -324,16 +372,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     if let Some(v) = a.slip_speed {
         settings.block_speed = v as f32;
     }
-    if view == ViewKind::Phase {
-        let ph = &mut settings.phase;
-        let mut r = ph.current();
-        r.theta_nu = c.theta_nu.unwrap_or(r.theta_nu);
-        r.kappa = c.kappa.unwrap_or(r.kappa);
-        ph.range = r;
-        ph.zoom.clear();
-        ph.theta_nu_steps = a.theta_nu_steps.unwrap_or(ph.theta_nu_steps);
-        ph.kappa_steps = a.kappa_steps.unwrap_or(ph.kappa_steps);
-    }
+    view_flags(view, &a, &c, &mut settings);
     let size = a.size.unwrap_or(match c.format {
         Format::Gif => GIF_SIZE,
         _ => DEFAULT_SIZE,
@@ -342,7 +381,9 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         view,
         settings,
         zoom,
-        theta_nu: c.theta_nu.filter(|_| view != ViewKind::Phase),
+        theta_nu: c
+            .theta_nu
+            .filter(|_| !matches!(view, ViewKind::Phase | ViewKind::Basins)),
         theta: c.theta,
         size: eframe::egui::vec2(size[0], size[1]),
         crosshair: a.crosshair,
@@ -357,6 +398,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         Format::Svg => svg(&fig).map(String::into_bytes),
         Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
         Format::Gif => gif(&fig, frames, speed),
+        Format::Csv => super::figure_basins::csv(&fig).map(String::into_bytes),
     })?
     .map_err(CliError::Failed)?;
     crate::output::write_output(&a.out, &bytes, false)

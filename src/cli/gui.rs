@@ -12,7 +12,7 @@ use super::values::{parse_number, seconds, short};
 use crate::model::Preset;
 
 /// The views `--view` names.
-pub const VIEW_KEYS: [&str; 8] = [
+pub const VIEW_KEYS: [&str; 9] = [
     "plane",
     "block",
     "bifurcation",
@@ -21,6 +21,7 @@ pub const VIEW_KEYS: [&str; 8] = [
     "numerics",
     "phase",
     "time-series",
+    "basins",
 ];
 
 /// The longest `--timeout`, in seconds (a day).

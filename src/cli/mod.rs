@@ -10,6 +10,8 @@ pub mod continue_out;
 pub mod cycle;
 mod error;
 pub mod figure;
+#[cfg(feature = "gui")]
+mod figure_basins;
 pub mod gui;
 pub mod map;
 pub mod orbit;

@@ -22,6 +22,7 @@
 //! are fixed by the spec and [`Shape`] before any work starts, so every
 //! host computes the same numbers, bit for bit, whatever its threads.
 
+pub mod basins;
 pub mod bench;
 mod continuation;
 mod events;
@@ -38,6 +39,7 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
+pub use basins::{BasinColumn, BasinsSpec};
 pub use events::{PassageSpec, ScanSpec};
 pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
@@ -189,6 +191,10 @@ pub enum Spec {
     Passage(PassageSpec),
     /// The Events view's tangency scan.
     Scan(ScanSpec),
+    /// Attractors and basins over θν (the Basins view).
+    Basins(BasinsSpec),
+    /// Attractors and basins at one point (the return map's band).
+    MapBasins(BasinsSpec),
     /// Test-only fault injection: a few cycles, then a panic.
     #[doc(hidden)]
     Panic { after_cycles: usize },
@@ -217,11 +223,15 @@ pub enum Kind {
     Passage,
     /// The tangency scan (the Events view).
     Scan,
+    /// Attractors and basins over θν (the Basins view).
+    Basins,
+    /// Attractors and basins at the current parameters (the return map).
+    MapBasins,
 }
 
 impl Kind {
     /// Every kind, in the order of [`Kind::index`].
-    pub const ALL: [Kind; 9] = [
+    pub const ALL: [Kind; 11] = [
         Kind::Trajectory,
         Kind::Sweep,
         Kind::Iterate,
@@ -231,6 +241,8 @@ impl Kind {
         Kind::Curves,
         Kind::Passage,
         Kind::Scan,
+        Kind::Basins,
+        Kind::MapBasins,
     ];
 
     /// Its position in [`Kind::ALL`] (a job table's index).
@@ -250,6 +262,8 @@ impl Kind {
             Kind::Curves => Lane::Curves,
             Kind::Passage => Lane::Passage,
             Kind::Scan => Lane::Scan,
+            Kind::Basins => Lane::Basins,
+            Kind::MapBasins => Lane::MapBasins,
         }
     }
 }
@@ -278,6 +292,8 @@ impl Spec {
             Spec::Curves(_) => Kind::Curves,
             Spec::Passage(_) => Kind::Passage,
             Spec::Scan(_) => Kind::Scan,
+            Spec::Basins(_) => Kind::Basins,
+            Spec::MapBasins(_) => Kind::MapBasins,
         }
     }
 
@@ -299,6 +315,8 @@ impl Spec {
             Spec::Curves(s) => Box::new(continuation::BoundariesJob::new(s)),
             Spec::Passage(s) => events::passage_job(s)?,
             Spec::Scan(s) => events::scan_job(s)?,
+            Spec::Basins(s) => Box::new(basins::BasinsJob::new(s, Lane::Basins)?),
+            Spec::MapBasins(s) => Box::new(basins::BasinsJob::new(s, Lane::MapBasins)?),
             Spec::Panic { after_cycles } => Box::new(orbit::PanicJob::new(after_cycles)),
         })
     }
@@ -320,7 +338,9 @@ impl Spec {
             OnParams::Rerun(spec)
         };
         match self {
-            Spec::Trajectory(_) | Spec::Iterate(_) | Spec::Sweep(_) => rerun(self.clone()),
+            Spec::Trajectory(_) | Spec::Iterate(_) | Spec::Sweep(_) | Spec::Basins(_) => {
+                rerun(self.clone())
+            }
             Spec::Phase(s) => {
                 let p = &s.params;
                 let changed = (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
@@ -331,9 +351,11 @@ impl Spec {
                     OnParams::Keep
                 }
             }
-            Spec::Branches(_) | Spec::Curves(_) | Spec::Passage(_) | Spec::Scan(_) => {
-                OnParams::Cancel
-            }
+            Spec::Branches(_)
+            | Spec::Curves(_)
+            | Spec::Passage(_)
+            | Spec::Scan(_)
+            | Spec::MapBasins(_) => OnParams::Cancel,
             Spec::Numerics(_) | Spec::Panic { .. } => OnParams::Keep,
         }
     }
@@ -357,6 +379,7 @@ impl Spec {
             Spec::Iterate(s) => Some((&mut s.params, &mut s.settings)),
             Spec::Sweep(s) => Some((&mut s.params, &mut s.settings)),
             Spec::Phase(s) => Some((&mut s.params, &mut s.settings)),
+            Spec::Basins(s) => Some((&mut s.params, &mut s.settings)),
             _ => None,
         }
     }

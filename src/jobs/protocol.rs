@@ -48,11 +48,15 @@ pub enum Lane {
     /// The Events view's creep channel passage, and its tangency scan.
     Passage,
     Scan,
+    /// Attractors and basins over θν (the Basins view), and at the current
+    /// parameters (the return map's basin band).
+    Basins,
+    MapBasins,
 }
 
 impl Lane {
     /// Every lane, in the order of [`Lane::index`].
-    pub const ALL: [Lane; 8] = [
+    pub const ALL: [Lane; 10] = [
         Lane::Orbit,
         Lane::Sweep,
         Lane::Numerics,
@@ -61,6 +65,8 @@ impl Lane {
         Lane::Curves,
         Lane::Passage,
         Lane::Scan,
+        Lane::Basins,
+        Lane::MapBasins,
     ];
 
     /// Its position in [`Lane::ALL`] (a lane table's index).
@@ -79,6 +85,8 @@ impl Lane {
             Lane::Curves => "curves",
             Lane::Passage => "passage",
             Lane::Scan => "scan",
+            Lane::Basins => "basins",
+            Lane::MapBasins => "map-basins",
         }
     }
 }
@@ -481,6 +489,13 @@ pub enum Update {
         generation: Generation,
         scaling: Scaling,
     },
+    /// One column of a Basins job (`lane`: the diagram's or the return
+    /// map's), in the job's order (coarse first).
+    Basins {
+        generation: Generation,
+        lane: Lane,
+        column: Box<super::basins::BasinColumn>,
+    },
     /// What a continuation or curves job has found so far and, once it
     /// ends, why it stopped (one line for the status bar).
     Summary {
@@ -535,6 +550,7 @@ impl Update {
             | Update::Curve { generation, .. }
             | Update::Passage { generation, .. }
             | Update::Scan { generation, .. }
+            | Update::Basins { generation, .. }
             | Update::Summary { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }

@@ -88,17 +88,8 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no
 /// update of an older generation on that lane arrives.
 pub fn assert_nothing_older_after_acks(ups: &[Update]) {
-    let mut floor = [0u64; 8];
-    let lane_ix = |l: Lane| match l {
-        Lane::Orbit => 0,
-        Lane::Sweep => 1,
-        Lane::Numerics => 2,
-        Lane::Phase => 3,
-        Lane::Continuation => 4,
-        Lane::Curves => 5,
-        Lane::Passage => 6,
-        Lane::Scan => 7,
-    };
+    let mut floor = [0u64; Lane::ALL.len()];
+    let lane_ix = |l: Lane| l.index();
     for u in ups {
         let lane = match u {
             Update::TrajectoryChunk { .. }
@@ -116,6 +107,7 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
             Update::Curve { .. } => Some(Lane::Curves),
             Update::Passage { .. } => Some(Lane::Passage),
             Update::Scan { .. } => Some(Lane::Scan),
+            Update::Basins { lane, .. } => Some(*lane),
             Update::Summary { lane, .. }
             | Update::Progress { lane, .. }
             | Update::Error { lane, .. }

@@ -27,6 +27,8 @@ impl Jobs {
             JobKind::Curves => &self.curves.head,
             JobKind::Passage => &self.passage.head,
             JobKind::Scan => &self.scan.head,
+            JobKind::Basins => &self.basins.head,
+            JobKind::MapBasins => &self.map_basins.head,
         }
     }
 
@@ -41,6 +43,8 @@ impl Jobs {
             JobKind::Curves => &mut self.curves.head,
             JobKind::Passage => &mut self.passage.head,
             JobKind::Scan => &mut self.scan.head,
+            JobKind::Basins => &mut self.basins.head,
+            JobKind::MapBasins => &mut self.map_basins.head,
         }
     }
 
@@ -128,6 +132,12 @@ impl Jobs {
             }
             Update::Scan { scaling, .. } if job == JobKind::Scan => {
                 self.scan.data.value = Some(scaling);
+            }
+            Update::Basins { column, .. } if job == JobKind::Basins => {
+                self.basins.data.insert(*column);
+            }
+            Update::Basins { column, .. } if job == JobKind::MapBasins => {
+                self.map_basins.data.found = Some(column.found);
             }
             Update::Summary { text, .. } if job == JobKind::Branches => {
                 self.branches.data.summary = Some(text);

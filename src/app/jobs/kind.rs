@@ -33,7 +33,7 @@ impl JobKind {
         match self {
             JobKind::Trajectory => Some(Accuracy::TrajectoryView),
             JobKind::Sweep => Some(Accuracy::BifurcationDiagram),
-            JobKind::Iterate => Some(Accuracy::ReturnMap),
+            JobKind::Iterate | JobKind::Basins | JobKind::MapBasins => Some(Accuracy::ReturnMap),
             JobKind::Phase => Some(Accuracy::PhaseDiagram),
             JobKind::Branches | JobKind::Curves => Some(Accuracy::CommandLine),
             JobKind::Numerics | JobKind::Passage | JobKind::Scan => None,
@@ -63,6 +63,8 @@ impl JobKind {
             JobKind::Curves => "boundaries",
             JobKind::Passage => "channel passage",
             JobKind::Scan => "tangency scan",
+            JobKind::Basins => "basins",
+            JobKind::MapBasins => "map basins",
         }
     }
 
@@ -78,6 +80,8 @@ impl JobKind {
             JobKind::Curves => "curves",
             JobKind::Passage => "passage",
             JobKind::Scan => "scan",
+            JobKind::Basins => "basins",
+            JobKind::MapBasins => "map basins",
         }
     }
 
@@ -109,6 +113,10 @@ impl JobKind {
             JobKind::Branches | JobKind::Curves => {
                 "Continuation locates doublings and folds to 1e-10 in the \
                  parameter: the command line's accuracy, 1e-10."
+            }
+            JobKind::Basins | JobKind::MapBasins => {
+                "Attractors and basins from f's verified interpolant over the exit \
+                 arc (a cell graph): the map at 1e-10, as `oneblock attractors`."
             }
             JobKind::Passage | JobKind::Scan => {
                 "The Events view's channel passage and tangency scan evaluate \

@@ -6,6 +6,7 @@
 //! their job are dropped here. Nothing here draws.
 
 mod apply;
+pub mod basins;
 mod continuation;
 mod events;
 pub mod kind;
@@ -166,6 +167,10 @@ pub struct Jobs {
     /// The Events view's channel passage and tangency scan.
     pub passage: Slot<Answer<Passage>>,
     pub scan: Slot<Answer<Scaling>>,
+    /// The Basins view's diagram and the return map's basins.
+    pub basins: Slot<basins::BasinsData>,
+    pub map_basins: Slot<basins::MapBasinsData>,
+    basins_sent: basins::BasinsSent,
     /// The last error the worker reported (not the Numerics view's own),
     /// with the parameter it names.
     pub last_error: Option<String>,
@@ -217,6 +222,9 @@ impl Jobs {
             curves: Slot::default(),
             passage: Slot::default(),
             scan: Slot::default(),
+            basins: Slot::default(),
+            map_basins: Slot::default(),
+            basins_sent: basins::BasinsSent::default(),
             last_error: None,
             stale_dropped: 0,
             trajectory_revision: 0,
@@ -529,6 +537,7 @@ impl Jobs {
             _ => {}
         }
         self.cancel_stale_continuation(s, shown);
+        self.sync_basins(s, now, &mut out);
         let running = self.phase.state == JobState::Running;
         match self
             .phase_policy

@@ -1,0 +1,192 @@
+//! The Basins view's job (attractors and basins over θν, started while
+//! the view is shown and whenever κ, γ, ν, Ω, the solver, its range or
+//! its columns change, after the sweep's debounce) and the return map's
+//! (the same at the current parameters, with a chaotic set's density,
+//! while the return map is shown). Both run through the same backend as
+//! every job; a newer one on a lane supersedes the older.
+
+use super::policy::SWEEP_DEBOUNCE;
+use super::{JobKind, Jobs, Slot, SyncOutcome, solver};
+use crate::app::basins::{MAX_COLUMNS, MIN_COLUMNS};
+use crate::app::settings::{Settings, ViewKind};
+use crate::integrate::SolverSettings;
+use crate::jobs::basins::identity::{Identities, identify};
+use crate::jobs::{Axis, BasinColumn, BasinsSpec, Spec};
+use crate::model::Params;
+use crate::sim::attractors::{CellOptions, Found};
+use crate::worker::Command;
+
+/// The columns of a Basins diagram as they arrive, and the attractors'
+/// identities along θν.
+#[derive(Clone, Debug, Default)]
+pub struct BasinsData {
+    /// The θν range.
+    pub from: f64,
+    pub to: f64,
+    /// Each grid column, once it arrived.
+    pub columns: Vec<Option<BasinColumn>>,
+    /// The attractors' tracks over the columns so far.
+    pub ids: Identities,
+    /// Bumped whenever a column arrives (the view redraws from it).
+    pub revision: u64,
+}
+
+impl BasinsData {
+    /// An empty diagram of `columns` over [`from`, `to`].
+    pub fn new(from: f64, to: f64, columns: usize) -> Self {
+        BasinsData {
+            from,
+            to,
+            columns: vec![None; columns],
+            ..Self::default()
+        }
+    }
+
+    /// Takes a column and follows the attractors again.
+    pub fn insert(&mut self, c: BasinColumn) {
+        if let Some(slot) = self.columns.get_mut(c.index) {
+            *slot = Some(c);
+        }
+        let found: Vec<Option<&Found>> = self
+            .columns
+            .iter()
+            .map(|c| c.as_ref().and_then(|c| c.found.as_ref().ok()))
+            .collect();
+        self.ids = identify(&found);
+        self.revision += 1;
+    }
+
+    /// How many columns have arrived.
+    pub fn arrived(&self) -> usize {
+        self.columns.iter().flatten().count()
+    }
+}
+
+/// The return map's attractors and basins, for the parameters asked.
+#[derive(Clone, Debug, Default)]
+pub struct MapBasinsData {
+    pub params: Option<Params>,
+    pub found: Option<Result<Found, String>>,
+}
+
+/// What a Basins diagram is computed for: its parameters but θν, solver,
+/// range and columns.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BasinsKey {
+    pub params: Params,
+    pub solver: SolverSettings,
+    pub range: (f64, f64),
+    pub columns: usize,
+}
+
+impl BasinsKey {
+    pub fn of(s: &Settings) -> Self {
+        BasinsKey {
+            params: s.params.with_theta_nu(0.0),
+            solver: solver(JobKind::Basins, s),
+            range: s.basins.range(s),
+            columns: s.basins.columns.clamp(MIN_COLUMNS, MAX_COLUMNS),
+        }
+    }
+}
+
+/// What the Basins jobs were last started with, and when a change was
+/// first seen (the debounce).
+#[derive(Clone, Debug, Default)]
+pub struct BasinsSent {
+    diagram: Option<BasinsKey>,
+    changed_at: Option<f64>,
+    map: Option<(Params, SolverSettings)>,
+    map_changed_at: Option<f64>,
+}
+
+/// Whether a change first seen at `*at` has waited its debounce by `now`
+/// (then it is forgotten); if not, `out` is told when to look again.
+fn settled(at: &mut Option<f64>, now: f64, out: &mut SyncOutcome) -> bool {
+    let since = now - *at.get_or_insert(now);
+    if since >= SWEEP_DEBOUNCE {
+        *at = None;
+        true
+    } else {
+        out.wait(SWEEP_DEBOUNCE - since);
+        false
+    }
+}
+
+impl Jobs {
+    /// Starts the Basins diagram for `key`.
+    pub fn restart_basins(&mut self, key: BasinsKey) {
+        let g = self.generation();
+        let revision = self.basins.data.revision + 1;
+        let mut data = BasinsData::new(key.range.0, key.range.1, key.columns);
+        data.revision = revision;
+        self.basins.start(g, data);
+        let spec = BasinsSpec {
+            params: key.params,
+            settings: key.solver,
+            theta_nu: Axis::new(key.range.0, key.range.1, key.columns),
+            cells: CellOptions::column(),
+        };
+        self.send(Command::Run {
+            generation: g,
+            spec: Spec::Basins(spec),
+        });
+        self.basins_sent.diagram = Some(key);
+    }
+
+    /// Starts the return map's basins at `params`.
+    fn restart_map_basins(&mut self, params: Params, settings: SolverSettings) {
+        let g = self.generation();
+        let data = MapBasinsData {
+            params: Some(params),
+            found: None,
+        };
+        self.map_basins.start(g, data);
+        self.send(Command::Run {
+            generation: g,
+            spec: Spec::MapBasins(BasinsSpec::here(params, settings)),
+        });
+        self.basins_sent.map = Some((params, settings));
+    }
+
+    /// Starts what the shown Basins view and return map now call for,
+    /// once a change has been still for the sweep's debounce (at once the
+    /// first time, or for a zoom or a new column count).
+    pub(super) fn sync_basins(&mut self, s: &Settings, now: f64, out: &mut SyncOutcome) {
+        if s.shows(ViewKind::Basins) {
+            let key = BasinsKey::of(s);
+            match self.basins_sent.diagram {
+                None => self.restart_basins(key),
+                Some(sent) if sent != key => {
+                    let view_only = sent.params == key.params && sent.solver == key.solver;
+                    if view_only || settled(&mut self.basins_sent.changed_at, now, out) {
+                        self.restart_basins(key);
+                    }
+                }
+                _ => {}
+            }
+        }
+        if s.shows(ViewKind::ReturnMap) {
+            let want = (s.params, solver(JobKind::MapBasins, s));
+            match self.basins_sent.map {
+                None => self.restart_map_basins(want.0, want.1),
+                Some(sent)
+                    if sent != want && settled(&mut self.basins_sent.map_changed_at, now, out) =>
+                {
+                    self.restart_map_basins(want.0, want.1);
+                }
+                _ => {}
+            }
+        }
+    }
+}
+
+impl Slot<MapBasinsData> {
+    /// The attractors at `params`, once found.
+    pub fn at(&self, params: &Params) -> Option<&Found> {
+        if self.data.params.as_ref() != Some(params) {
+            return None;
+        }
+        self.data.found.as_ref()?.as_ref().ok()
+    }
+}

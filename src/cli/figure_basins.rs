@@ -1,0 +1,87 @@
+//! `oneblock figure --view basins --out x.csv`: the Basins view's columns
+//! as a table instead of a picture, computed by the same job as the
+//! window's view (and the same attractor identities its colours follow):
+//! one row per attractor of each column, then the column's basin
+//! boundary.
+
+use std::fmt::Write as _;
+
+use super::common::describe_sweep;
+use crate::app::figure::{Figure, compute};
+use crate::app::jobs::basins::BasinsData;
+use crate::app::jobs::basins::BasinsKey;
+use crate::sim::attractors::Verdict;
+
+/// The CSV's column names.
+pub const HEADER: &str =
+    "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict";
+
+/// Computes `fig`'s Basins columns and writes them as CSV: a `# ` line
+/// naming the program, its version and the parameters first.
+pub fn csv(fig: &Figure) -> Result<String, String> {
+    let jobs = compute(fig)?;
+    let key = BasinsKey::of(&fig.settings);
+    let mut out = format!(
+        "# oneblock {} figure --view basins: {}; theta-nu {} to {}, {} columns\n{HEADER}\n",
+        env!("CARGO_PKG_VERSION"),
+        describe_sweep(&key.params, &key.solver),
+        key.range.0,
+        key.range.1,
+        key.columns,
+    );
+    rows(&jobs.basins.data, &mut out);
+    Ok(out)
+}
+
+/// A field without commas or quotes (a verdict's words may hold them).
+fn field(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_string()
+    }
+}
+
+/// One row per attractor (its track's number and label), then the
+/// boundary's (`attractor` empty, label `boundary`); a failed column is
+/// one row saying why.
+fn rows(d: &BasinsData, out: &mut String) {
+    let num = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
+    for (i, col) in d.columns.iter().enumerate() {
+        let Some(col) = col else { continue };
+        let tn = col.theta_nu;
+        let found = match &col.found {
+            Ok(f) => f,
+            Err(e) => {
+                writeln!(out, "{tn},,failed,,,,,{}", field(e)).ok();
+                continue;
+            }
+        };
+        for (a, at) in found.attractors.iter().enumerate() {
+            let (id, label) = d
+                .ids
+                .track(i, a)
+                .map_or((String::new(), String::new()), |t| {
+                    (t.id.to_string(), t.label.clone())
+                });
+            let verdict = match &at.verdict {
+                Verdict::Proved => "proved".to_string(),
+                Verdict::CycleInSet => "cycle in set".to_string(),
+                Verdict::Chaotic => "chaotic".to_string(),
+                Verdict::Undecided(w) => format!("undecided: {w}"),
+            };
+            let period = at.period.map_or(String::new(), |p| p.to_string());
+            writeln!(
+                out,
+                "{tn},{id},{},{period},{},{},{},{}",
+                field(&label),
+                at.basin_fraction,
+                num(at.multiplier),
+                num(at.lyapunov),
+                field(&verdict)
+            )
+            .ok();
+        }
+        writeln!(out, "{tn},,boundary,,{},,,", found.boundary_fraction).ok();
+    }
+}

@@ -1,0 +1,202 @@
+//! The Basins job: every attractor and basin of f over the exit arc
+//! (`sim::attractors`, a cell graph, no orbit budget) at each of a range
+//! of θν columns, for the Basins view and `oneblock figure --view basins`;
+//! and the same at the current parameters alone, with a chaotic
+//! attractor's density, for the return map's basin band.
+//!
+//! A unit is one column, any thread takes the next: the columns are
+//! independent (nothing is continued from a neighbour), so the job is
+//! [`Job::parallel`] and every host computes the same numbers. They are
+//! handed out coarse first (both ends, the middle, then the quarters, …:
+//! [`coarse_first`]), so a diagram sharpens evenly while it fills in. A
+//! column that fails is sent with its error; the others go on.
+
+pub mod identity;
+
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use super::orbit::{Pacer, paced_progress};
+use super::protocol::{Axis, Lane, Update};
+use super::{Job, JobError, Sink, Status};
+use crate::integrate::SolverSettings;
+use crate::model::{ParamError, Params};
+use crate::sim::attractors::{AttractorError, CellOptions, Found, attractors};
+use crate::sim::{SimError, Simulator, theta_nu_grid};
+
+/// Attractors and basins over `theta_nu` at the κ, γ, ν and Ω of `params`
+/// (its θν is ignored: it is the axis).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasinsSpec {
+    /// The model's parameters (κ, γ, ν, Ω).
+    pub params: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// The θν columns.
+    pub theta_nu: Axis,
+    /// The cell graph asked for: `CellOptions::column()` for a diagram,
+    /// `CellOptions::default()` (with a chaotic set's density) for one
+    /// point.
+    pub cells: CellOptions,
+}
+
+impl BasinsSpec {
+    /// One point, at `params`' own θν, with densities: the return map's.
+    pub fn here(params: Params, settings: SolverSettings) -> Self {
+        BasinsSpec {
+            params,
+            settings,
+            theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
+            cells: CellOptions::default(),
+        }
+    }
+}
+
+/// One column's answer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasinColumn {
+    /// Its place in the θν grid (0 … steps − 1).
+    pub index: usize,
+    pub theta_nu: f64,
+    /// Every attractor and basin there, or why they could not be found.
+    pub found: Result<Found, String>,
+}
+
+/// The grid's indices, coarse first: 0 and n − 1, then the midpoints of
+/// ever finer halvings, each index once.
+pub fn coarse_first(n: usize) -> Vec<usize> {
+    let mut order = Vec::with_capacity(n);
+    let mut seen = vec![false; n];
+    let mut push = |i: usize, order: &mut Vec<usize>| {
+        if i < n && !seen[i] {
+            seen[i] = true;
+            order.push(i);
+        }
+    };
+    if n == 0 {
+        return order;
+    }
+    push(0, &mut order);
+    push(n - 1, &mut order);
+    let mut stride = (n - 1).next_power_of_two().max(1);
+    while stride >= 1 {
+        (0..n).step_by(stride).for_each(|i| push(i, &mut order));
+        if stride == 1 {
+            break;
+        }
+        stride /= 2;
+    }
+    order
+}
+
+/// The Basins job in progress.
+pub(crate) struct BasinsJob {
+    lane: Lane,
+    spec: BasinsSpec,
+    grid: Vec<f64>,
+    order: Vec<usize>,
+    next: AtomicUsize,
+    done: AtomicUsize,
+    pacer: Mutex<Pacer>,
+}
+
+impl BasinsJob {
+    /// Checks the spec (finite ends, a column at least, parameters a
+    /// simulator takes) and plans its columns.
+    pub fn new(spec: BasinsSpec, lane: Lane) -> Result<Self, JobError> {
+        for v in [spec.theta_nu.from, spec.theta_nu.to] {
+            if !v.is_finite() {
+                let range = "the basins' θν range must be finite angles";
+                return Err(SimError::from(ParamError::new("theta-nu", v, range)).into());
+            }
+        }
+        if spec.theta_nu.steps == 0 {
+            let e = ParamError::new("columns", 0.0, "must be at least 1");
+            return Err(SimError::from(e).into());
+        }
+        Simulator::new(spec.params.with_theta_nu(spec.theta_nu.from), spec.settings)?;
+        let a = spec.theta_nu;
+        let grid = theta_nu_grid(a.from, a.to, a.steps);
+        Ok(BasinsJob {
+            lane,
+            order: coarse_first(grid.len()),
+            grid,
+            spec,
+            next: AtomicUsize::new(0),
+            done: AtomicUsize::new(0),
+            pacer: Mutex::new(Pacer::new()),
+        })
+    }
+
+    /// One column, start to end; `Err` only when the job must stop.
+    fn column(&self, index: usize, sink: &dyn Sink) -> Result<BasinColumn, JobError> {
+        let theta_nu = self.grid[index];
+        let params = self.spec.params.with_theta_nu(theta_nu);
+        let cancel = || sink.cycle();
+        let found = match Simulator::new(params, self.spec.settings) {
+            Err(e) => Err(e.to_string()),
+            Ok(sim) => match attractors(&sim, &self.spec.cells, &cancel) {
+                Ok(f) => Ok(f),
+                Err(AttractorError::Sim(SimError::Cancelled)) => return Err(JobError::Stop),
+                Err(e) => Err(e.to_string()),
+            },
+        };
+        Ok(BasinColumn {
+            index,
+            theta_nu,
+            found,
+        })
+    }
+}
+
+impl Job for BasinsJob {
+    fn lane(&self) -> Lane {
+        self.lane
+    }
+
+    fn parallel(&self) -> bool {
+        true
+    }
+
+    /// Columns, one after another, until none is left for this caller (or,
+    /// on the single-threaded host, until it wants its thread back: a
+    /// column is one piece, ~10–100 ms).
+    fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
+        loop {
+            let k = self.next.fetch_add(1, Ordering::Relaxed);
+            let Some(&index) = self.order.get(k) else {
+                return Ok(Status::Done);
+            };
+            let column = self.column(index, sink)?;
+            sink.send(Update::Basins {
+                generation: sink.generation(),
+                lane: self.lane,
+                column: Box::new(column),
+            })?;
+            let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
+            paced_progress(&self.pacer, self.lane, (done, self.grid.len(), 0), sink)?;
+            if sink.pause() {
+                return Ok(Status::Working);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::coarse_first;
+
+    #[test]
+    fn coarse_first_takes_every_index_once_ends_first() {
+        for n in [0, 1, 2, 3, 7, 8, 9, 60, 65] {
+            let o = coarse_first(n);
+            let mut s = o.clone();
+            s.sort_unstable();
+            assert_eq!(s, (0..n).collect::<Vec<_>>(), "n = {n}");
+            if n >= 3 {
+                assert_eq!(&o[..2], &[0, n - 1]);
+            }
+        }
+        assert_eq!(coarse_first(9), [0, 8, 4, 2, 6, 1, 3, 5, 7]);
+    }
+}

@@ -1,0 +1,167 @@
+//! The Basins job and `oneblock figure --view basins`: at κ = 10, γ = 6.5,
+//! ν = 1e-3 the fixed point and the P2 coexist near θν 1.38–1.41
+//! (hysteresis). The job finds both, with basin fractions that sum with
+//! the boundary's to 1, on one thread as on two; the figure's CSV names
+//! them per column with one identity each along θν, and its SVG fills the
+//! arc with both attractors' colours.
+#![allow(clippy::unwrap_used)]
+
+use std::process::Command;
+
+use oneblock::integrate::{Method, SolverSettings};
+use oneblock::jobs::{Axis, BasinColumn, BasinsSpec, Spec, Update, run_collect};
+use oneblock::model::Params;
+use oneblock::sim::attractors::CellOptions;
+
+/// A column as the CSV gives it: θν, each attractor's (track, label,
+/// basin fraction), the boundary's fraction.
+type CsvColumn = (f64, Vec<(String, String, f64)>, f64);
+
+fn spec(from: f64, to: f64, steps: usize) -> BasinsSpec {
+    BasinsSpec {
+        params: Params {
+            kappa: 10.0,
+            gamma: 6.5,
+            nu: 1e-3,
+            theta_nu: from,
+            omega: 50.0,
+        },
+        settings: SolverSettings::adaptive(Method::Dop853, 1e-10),
+        theta_nu: Axis::new(from, to, steps),
+        cells: CellOptions::column(),
+    }
+}
+
+/// The job's columns, in grid order.
+fn columns(spec: BasinsSpec, threads: usize) -> Vec<BasinColumn> {
+    let ups = run_collect(Spec::Basins(spec), threads, |_| {}, || false).expect("completes");
+    let mut cols: Vec<BasinColumn> = ups
+        .into_iter()
+        .filter_map(|u| match u {
+            Update::Basins { column, .. } => Some(*column),
+            _ => None,
+        })
+        .collect();
+    cols.sort_by_key(|c| c.index);
+    cols
+}
+
+#[test]
+fn the_job_finds_the_fixed_point_and_the_p2_at_theta_nu_1_40() {
+    let cols = columns(spec(1.40, 1.40, 1), 1);
+    assert_eq!(cols.len(), 1);
+    let f = cols[0].found.as_ref().expect("found");
+    let mut periods: Vec<_> = f.attractors.iter().map(|a| a.period).collect();
+    periods.sort();
+    assert_eq!(periods, [Some(1), Some(2)]);
+    let sum: f64 = f.attractors.iter().map(|a| a.basin_fraction).sum();
+    assert!(
+        (sum + f.boundary_fraction - 1.0).abs() < 1e-9,
+        "{sum} + {}",
+        f.boundary_fraction
+    );
+    assert!(f.attractors.iter().all(|a| a.basin_fraction > 0.2));
+    // Every column, on two threads as on one, the same to the bit.
+    let one = columns(spec(1.37, 1.42, 4), 1);
+    let two = columns(spec(1.37, 1.42, 4), 2);
+    assert_eq!(one, two);
+    assert_eq!(
+        one.iter().map(|c| c.index).collect::<Vec<_>>(),
+        [0, 1, 2, 3]
+    );
+}
+
+/// Runs `oneblock figure --view basins` at the hysteresis, 25 columns over
+/// θν 1.33 … 1.45, into `name` (a fresh temporary directory's).
+fn figure(name: &str) -> String {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join(name);
+    let o = Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "figure", "--view", "basins", "--kappa", "10", "--gamma", "6.5",
+        ])
+        .args([
+            "--nu",
+            "1e-3",
+            "--theta-nu-from",
+            "1.33",
+            "--theta-nu-to",
+            "1.45",
+        ])
+        .args(["--columns", "25", "--out"])
+        .arg(&out)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    std::fs::read_to_string(&out).unwrap()
+}
+
+#[test]
+fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
+    let csv = figure("basins.csv");
+    let mut lines = csv.lines();
+    let head = lines.next().unwrap();
+    assert!(head.starts_with("# oneblock "), "{head}");
+    assert!(
+        head.contains("kappa = 10") && head.contains("25 columns"),
+        "{head}"
+    );
+    assert_eq!(
+        lines.next().unwrap(),
+        "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict"
+    );
+    // Per θν: (track, label, fraction) of each attractor, and the boundary.
+    let mut cols: Vec<CsvColumn> = Vec::new();
+    for l in lines {
+        let f: Vec<&str> = l.split(',').collect();
+        let tn: f64 = f[0].parse().unwrap();
+        if cols.last().is_none_or(|c| c.0 != tn) {
+            cols.push((tn, Vec::new(), 0.0));
+        }
+        let c = cols.last_mut().unwrap();
+        match f[2] {
+            "boundary" => c.2 = f[4].parse().unwrap(),
+            "failed" => panic!("a column failed: {l}"),
+            label => c.1.push((f[1].into(), label.into(), f[4].parse().unwrap())),
+        }
+    }
+    assert_eq!(cols.len(), 25);
+    for (tn, atts, boundary) in &cols {
+        let sum: f64 = atts.iter().map(|a| a.2).sum::<f64>() + boundary;
+        assert!((sum - 1.0).abs() < 1e-9, "θν {tn}: fractions sum to {sum}");
+    }
+    let both: Vec<_> = cols.iter().filter(|c| c.1.len() == 2).collect();
+    assert!(
+        both.len() >= 3,
+        "{} columns with two attractors",
+        both.len()
+    );
+    for (tn, atts, _) in &both {
+        assert!((1.37..=1.42).contains(tn), "two attractors at θν {tn}");
+        let mut labels: Vec<_> = atts.iter().map(|a| a.1.as_str()).collect();
+        labels.sort();
+        assert_eq!(labels, ["P1", "P2"], "θν {tn}");
+    }
+    // One identity per attractor along θν: P2's track at the left end is
+    // P2's where it coexists with P1, and P1's there is P1's at the right.
+    let track = |c: &CsvColumn, label: &str| c.1.iter().find(|a| a.1 == label).map(|a| a.0.clone());
+    let (first, last, mid) = (&cols[0], &cols[24], both[0]);
+    assert_eq!(track(first, "P2"), track(mid, "P2"));
+    assert_eq!(track(last, "P1"), track(mid, "P1"));
+    assert_ne!(track(mid, "P1"), track(mid, "P2"));
+}
+
+#[test]
+fn the_svg_fills_the_arc_with_both_attractors_colours() {
+    let svg = figure("basins.svg");
+    // The palette's first two colours: the P2 found first, then the P1.
+    for c in ["#1f77b4", "#ff7f0e"] {
+        let n = svg.matches(&format!("fill=\"{c}\"")).count();
+        assert!(n >= 10, "{c}: {n} fills");
+    }
+    for word in ["P1", "P2", "basin boundary", "basin fraction"] {
+        assert!(svg.contains(word), "{word}");
+    }
+}
