@@ -243,32 +243,55 @@ fn the_chaos_preset_lambda_from_the_density_matches_a_long_orbit() {
 
 #[test]
 fn fig3a_near_pi_over_2_agrees_with_direct_orbits() {
-    // Chaos at 1.550; the fixed point alone at 1.556, where direct orbits
-    // of 20 000 iterates from six seeds all end.
+    // Chaos at 1.550. At 1.556 the fixed point and a chaotic attractor
+    // coexist (six seeds spread over the arc all reached the fixed point,
+    // and the seed search called it alone): direct orbits of 20 000
+    // iterates from the middle of each basin stretch end where their
+    // basin says.
     let v = found(&["--preset", "fig3a", "--theta-nu", "1.550"]);
     honest(&v);
     assert_eq!(list(&v)[0]["verdict"], "chaotic", "{v}");
     let v = found(&["--preset", "fig3a", "--theta-nu", "1.556"]);
     honest(&v);
     let l = list(&v);
-    assert_eq!(l.len(), 1, "{v}");
-    assert_eq!(l[0]["period"], 1);
+    let fixed = l.iter().position(|a| a["period"] == 1).expect("the P1");
+    assert_eq!(l[fixed]["verdict"], "proved", "{v}");
+    assert_eq!(l.len(), 2, "{v}");
+    let chaos = &l[1 - fixed];
+    assert_eq!(chaos["verdict"], "chaotic", "{v}");
+    let hull = |k: usize| chaos["points"][k].as_f64().unwrap();
     let p = Params {
         theta_nu: 1.556,
         ..oneblock::model::preset("fig3a").unwrap().params
     };
     let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
-    let fp = l[0]["points"][0].as_f64().unwrap();
+    let fp = l[fixed]["points"][0].as_f64().unwrap();
     let opts = OrbitOptions {
         transient: 20_000,
         keep: 8,
         lyapunov: false,
         period_tol: 1e-8,
     };
-    for t0 in [0.0, 0.5, 1.0, 1.5, 2.0, 2.4] {
+    let mut told = [0, 0];
+    for b in v["basins"].as_array().unwrap() {
+        let (from, to) = (b["from"].as_f64().unwrap(), b["to"].as_f64().unwrap());
+        let Some(a) = b["attractor"].as_u64().map(|a| a as usize) else {
+            continue;
+        };
+        if to - from < 0.02 || told[usize::from(a != fixed)] >= 4 {
+            continue;
+        }
+        told[usize::from(a != fixed)] += 1;
+        let t0 = 0.5 * (from + to);
         let o = sim.orbit(t0, &opts, &|| false).unwrap();
-        assert!(wrap_angle(o.theta_last - fp).abs() < 1e-6, "{t0}");
+        let on_fixed = wrap_angle(o.theta_last - fp).abs() < 1e-6;
+        assert_eq!(on_fixed, a == fixed, "theta0 = {t0}: {}", o.theta_last);
+        if a != fixed {
+            let t = o.theta_last;
+            assert!(hull(0) - 1e-3 <= t && t <= hull(1) + 1e-3, "{t0}: {t}");
+        }
     }
+    assert_eq!(told, [4, 4], "basin stretches told");
 }
 
 #[test]

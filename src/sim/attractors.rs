@@ -62,7 +62,7 @@ impl CellOptions {
     /// rad at most, no density.
     pub fn column() -> Self {
         CellOptions {
-            initial_cells: 256,
+            initial_cells: 1024,
             resolution: 1e-5,
             max_cells: 8_192,
             density: false,

@@ -29,6 +29,9 @@ pub struct Components {
     pub count: usize,
     /// No edge leaves it.
     pub terminal: Vec<bool>,
+    /// A path leads from it back to itself (more than one cell, or a cell
+    /// whose image meets it): it may hold an invariant set.
+    pub recurrent: Vec<bool>,
 }
 
 const UNSET: u32 = u32::MAX;
@@ -195,20 +198,30 @@ impl CellGraph {
         }
         let (comp, count) = (t.comp, t.count as usize);
         let mut terminal = vec![true; count];
+        let mut recurrent = vec![false; count];
+        let mut size = vec![0u32; count];
         for v in 0..self.len() {
             let c = comp[v];
-            if self
-                .succ(v)
+            size[c as usize] += 1;
+            let succ = self.succ(v);
+            if succ
                 .iter()
                 .any(|&(a, b)| (a..=b).any(|w| comp[w as usize] != c))
             {
                 terminal[c as usize] = false;
             }
+            if succ.iter().any(|&(a, b)| a as usize <= v && v <= b as usize) {
+                recurrent[c as usize] = true;
+            }
+        }
+        for (r, &n) in recurrent.iter_mut().zip(&size) {
+            *r |= n > 1;
         }
         Components {
             comp,
             count,
             terminal,
+            recurrent,
         }
     }
 

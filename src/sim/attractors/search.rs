@@ -22,6 +22,10 @@ pub(super) struct Closed {
 const FLOOR: f64 = 100.0;
 const CHAOS_FLOOR: f64 = 50.0;
 
+/// Recurrent cells outside every closed set are subdivided to this
+/// many ε: an attractor whose basin is wider than a few of them shows.
+const RECURRENT_FLOOR: f64 = 100.0;
+
 /// How far round a stable cycle's points the map is sharpened first.
 const NEAR_CYCLE: f64 = 1e-3;
 
@@ -108,8 +112,18 @@ impl<'a> Search<'a> {
         }
         let reach = self.g.reach(&comps, &labels);
         for v in 0..self.g.len() {
-            let ambiguous = reach[comps.comp[v] as usize].count_ones() > 1;
-            if ambiguous && !marked[v] && self.g.width(v) > self.floor(v, FLOOR) {
+            let c = comps.comp[v] as usize;
+            // The basin boundary, and recurrent cells that leak (an
+            // attractor whose neighbourhood is not closed yet may hide
+            // there: a weakly stable cycle with a narrow basin).
+            let wanted = if reach[c].count_ones() > 1 {
+                FLOOR
+            } else if comps.recurrent[c] && !comps.terminal[c] {
+                RECURRENT_FLOOR
+            } else {
+                continue;
+            };
+            if !marked[v] && self.g.width(v) > self.floor(v, wanted) {
                 marked[v] = true;
                 extra += 1;
             }
