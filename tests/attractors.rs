@@ -1,21 +1,22 @@
-//! Every attractor at one parameter point (docs/attractors.md): at κ = 10
-//! inside the hysteresis range (θν from the fixed point's second flip,
-//! 1.3708, to the P2 branch's fold, 1.4202) the fixed point and a P2 cycle
-//! coexist,
-//! each a cycle of the plain map with a positive basin fraction.
+//! Seeded diagrams and grids (docs/attractors.md), through the commands:
+//! every attractor at each column or cell from the exit arc's cell graph,
+//! checked against direct orbits from seeds spread over the arc (an
+//! independent count: full integrated orbits, periods from their
+//! iterates).
 
 #![allow(clippy::unwrap_used)]
 
 mod cli_support;
 
-use cli_support::*;
-use oneblock::model::{Params, wrap_angle};
-use oneblock::sim::attractors::attractors_default;
-use oneblock::sim::{Simulator, default_settings};
+use std::collections::BTreeSet;
 
-fn params(theta_nu: f64) -> Params {
+use cli_support::*;
+use oneblock::model::{Params, exit_arc, wrap_angle};
+use oneblock::sim::{OrbitOptions, Period, Simulator, default_settings};
+
+fn params(kappa: f64, theta_nu: f64) -> Params {
     Params {
-        kappa: 10.0,
+        kappa,
         gamma: 6.5,
         nu: 1e-3,
         theta_nu,
@@ -23,46 +24,43 @@ fn params(theta_nu: f64) -> Params {
     }
 }
 
-#[test]
-fn a_fixed_point_and_a_p2_coexist_inside_the_hysteresis_range() {
-    let p = params(1.40);
-    let found = attractors_default(p, 64).unwrap();
-    let periods: Vec<Option<usize>> = found.iter().map(|a| a.period).collect();
-    assert_eq!(found.len(), 2, "{found:?}");
-    assert!(
-        periods.contains(&Some(1)) && periods.contains(&Some(2)),
-        "{found:?}"
-    );
-    let total: f64 = found.iter().map(|a| a.basin_fraction).sum();
-    assert!((total - 1.0).abs() < 1e-12, "{total}");
-    // Independently: each is a cycle of the plain map, and the stable one
-    // Newton reports (|m| < 1).
+/// The distinct attractors direct orbits from `n` θ₀ spread over the exit
+/// arc end on: each a cycle's points (sorted), or `None` for an orbit
+/// that settles on no period.
+fn direct(p: Params, n: usize) -> Vec<Option<Vec<f64>>> {
     let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
-    for a in &found {
-        assert!(a.basin_fraction > 0.0, "{a:?}");
-        assert!(a.multiplier.unwrap().abs() < 1.0, "{a:?}");
-        let n = a.points.len();
-        for i in 0..n {
-            let next = sim.map(a.points[i]).unwrap();
-            assert!(
-                wrap_angle(next - a.points[(i + 1) % n]).abs() < 1e-8,
-                "{a:?}"
-            );
+    let opts = OrbitOptions {
+        transient: 3000,
+        keep: 64,
+        lyapunov: false,
+        period_tol: OrbitOptions::period_tol_for(1e-10),
+    };
+    let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+    let mut found: Vec<Option<Vec<f64>>> = Vec::new();
+    for i in 0..n {
+        let t0 = psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64;
+        let o = sim.orbit(t0, &opts, &|| false).unwrap();
+        let reached = match o.period {
+            Period::Periodic(q) => {
+                let k = o.events.len();
+                let mut pts: Vec<f64> = o.events[k - q..].iter().map(|e| e.theta).collect();
+                pts.sort_by(f64::total_cmp);
+                Some(pts)
+            }
+            Period::Aperiodic => None,
+        };
+        let same = |a: &Option<Vec<f64>>| match (a, &reached) {
+            (Some(a), Some(b)) => {
+                a.len() == b.len() && a.iter().zip(b).all(|(x, y)| wrap_angle(x - y).abs() < 1e-4)
+            }
+            (None, None) => true,
+            _ => false,
+        };
+        if !found.iter().any(same) {
+            found.push(reached);
         }
     }
-    let p2 = found.iter().find(|a| a.period == Some(2)).unwrap();
-    assert!(
-        wrap_angle(p2.points[0] - p2.points[1]).abs() > 0.1,
-        "{p2:?}"
-    );
-}
-
-#[test]
-fn outside_the_range_one_attractor_takes_every_seed() {
-    let found = attractors_default(params(1.0), 16).unwrap();
-    assert_eq!(found.len(), 1, "{found:?}");
-    assert_eq!(found[0].period, Some(2));
-    assert_eq!(found[0].basin_fraction, 1.0);
+    found
 }
 
 /// The seeded diagram's CSV rows (θν, θ, attractor); the followed
@@ -89,23 +87,12 @@ fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
         .collect()
 }
 
+/// κ = 10 over the hysteresis range: each column's attractors are those
+/// direct orbits from 32 seeds end on, and the multistable columns fill
+/// the range (1.364, where the small P2 is born, to the P2's fold at
+/// 1.4202) and nothing outside it.
 #[test]
-fn the_seeded_diagram_shows_both_branches_where_attractors_finds_two() {
-    both_branches_with_seeds("16");
-}
-
-/// One seed a column misses the second branch at most columns of the
-/// range; the neighbour pass continues each branch from the columns where
-/// it was found (both ways) until it dies.
-#[test]
-fn one_seed_a_column_and_the_neighbour_pass_show_both_branches() {
-    both_branches_with_seeds("1");
-}
-
-/// The seeded diagram over the hysteresis range, with `seeds` a column:
-/// each column's attractors are those `attractors` finds from 32 other
-/// seeds, and the multistable columns fill the range.
-fn both_branches_with_seeds(seeds: &str) {
+fn the_seeded_diagram_shows_every_branch_direct_orbits_reach() {
     let rows = seeded_rows(&[
         "bifurcation",
         "--kappa",
@@ -123,33 +110,31 @@ fn both_branches_with_seeds(seeds: &str) {
         "--keep",
         "24",
         "--seeds",
-        seeds,
+        "1",
     ]);
     let mut columns: Vec<f64> = rows.iter().map(|r| r.0).collect();
     columns.dedup();
     assert_eq!(columns.len(), 13);
     let mut multistable = vec![];
     for tn in columns {
-        let labels: std::collections::BTreeSet<u8> =
-            rows.iter().filter(|r| r.0 == tn).map(|r| r.2).collect();
-        // Independently: full orbits from 32 other seeds, cycles by Newton.
-        let found = attractors_default(params(tn), 32).unwrap();
+        let labels: BTreeSet<u8> = rows.iter().filter(|r| r.0 == tn).map(|r| r.2).collect();
+        let found = direct(params(10.0, tn), 32);
         assert_eq!(labels.len(), found.len(), "theta-nu {tn}: {found:?}");
         if labels.len() > 1 {
             multistable.push(tn);
         }
-        // Every labelled point is a point of one of the attractors found.
+        // Every labelled point is a point of a cycle the orbits reached.
         for r in rows.iter().filter(|r| r.0 == tn) {
+            let on = |c: &Option<Vec<f64>>| {
+                c.as_ref()
+                    .is_some_and(|c| c.iter().any(|x| wrap_angle(x - r.1).abs() < 1e-5))
+            };
             assert!(
-                found
-                    .iter()
-                    .any(|a| a.points.iter().any(|x| wrap_angle(x - r.1).abs() < 1e-5)),
+                found.iter().any(on),
                 "theta-nu {tn}: {r:?} in none of {found:?}"
             );
         }
     }
-    // The hysteresis range, 1.3708 (or the P2's second fold, 1.3640) to
-    // 1.4202 (docs/attractors.md), and nothing outside it.
     assert!(
         multistable.iter().all(|&t| (1.364..1.4202).contains(&t)),
         "{multistable:?}"
@@ -157,8 +142,78 @@ fn both_branches_with_seeds(seeds: &str) {
     assert!(multistable.len() >= 4, "{multistable:?}");
 }
 
+/// Pure creep (issue 38): where f hugs the diagonal the seeds' orbits did
+/// not arrive in their budget and every column was called multistable.
 #[test]
-fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
+fn a_seeded_pure_creep_diagram_has_no_multistable_column() {
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "22.2",
+        "--gamma",
+        "0.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "0.1",
+        "--theta-nu-to",
+        "1.2",
+        "--columns",
+        "23",
+        "--seeds",
+        "16",
+    ]);
+    assert_ok(&o);
+    let out = stdout(&o);
+    let labels: BTreeSet<&str> = out
+        .lines()
+        .skip(1)
+        .map(|l| l.rsplit(',').next().unwrap())
+        .collect();
+    assert_eq!(labels, BTreeSet::from(["0"]));
+    assert!(
+        stderr(&o).contains("every column has one attractor"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+/// Fig. 3b's windows in seeded columns: the P10 at 1.2345, the P8 at 1.245
+/// and the P14 at 1.23617 alone (the saddle beside each holds orbits for
+/// thousands of iterates: a seed still on it was a second attractor), as
+/// direct orbits from 16 seeds all end on the one cycle.
+#[test]
+fn inside_fig3b_windows_a_seeded_column_has_its_cycle_alone() {
+    for (tn, period) in [(1.2345, 10), (1.245, 8), (1.2361655303598935, 14)] {
+        let t = tn.to_string();
+        let rows = seeded_rows(&[
+            "bifurcation",
+            "--preset",
+            "fig3b",
+            "--theta-nu-from",
+            &t,
+            "--theta-nu-to",
+            &t,
+            "--columns",
+            "1",
+            "--transient",
+            "2000",
+            "--keep",
+            "64",
+            "--seeds",
+            "1",
+        ]);
+        assert!(rows.iter().all(|r| r.2 == 0), "θν {tn}: a second attractor");
+        let found = direct(params(18.95, tn), 16);
+        assert_eq!(found.len(), 1, "θν {tn}: {found:?}");
+        assert_eq!(found[0].as_ref().map(Vec::len), Some(period), "θν {tn}");
+    }
+}
+
+/// The seeded phase grid counts, cell by cell, the attractors direct
+/// orbits from 32 seeds reach.
+#[test]
+fn the_seeded_phase_grid_counts_what_direct_orbits_reach() {
     let o = oneblock(&[
         "phase",
         "--gamma",
@@ -178,7 +233,7 @@ fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
         "--theta-nu-steps",
         "13",
         "--seeds",
-        "16",
+        "1",
     ]);
     assert_ok(&o);
     let out = stdout(&o);
@@ -190,8 +245,7 @@ fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
         let f: Vec<&str> = l.split(',').collect();
         let tn: f64 = f[0].parse().unwrap();
         let n: usize = f.last().unwrap().parse().unwrap();
-        // Independently: full orbits from 32 other seeds, cycles by Newton.
-        let found = attractors_default(params(tn), 32).unwrap();
+        let found = direct(params(10.0, tn), 32);
         assert_eq!(n, found.len(), "theta-nu {tn}: {found:?}");
         if n > 1 {
             multistable.push(tn);
@@ -203,182 +257,4 @@ fn the_seeded_phase_grid_counts_the_attractors_that_attractors_finds() {
     );
     assert!(multistable.len() >= 4, "{multistable:?}");
     assert!(stderr(&o).contains("multistable"), "{}", stderr(&o));
-}
-
-/// Just past the first flip (θν = 0.8702) every orbit drifts slowly onto a
-/// P2 of small amplitude (multiplier ≈ 0.997): it was named a chaotic
-/// attractor with a negative exponent. It is the P2 that Newton solves
-/// separately.
-#[test]
-fn just_past_a_flip_the_slow_period_two_cycle_is_found() {
-    let p = params(0.8704);
-    let found = attractors_default(p, 8).unwrap();
-    assert_eq!(found.len(), 1, "{found:?}");
-    assert_eq!(found[0].period, Some(2), "{found:?}");
-    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
-    let c = oneblock::sim::solve_cycle(
-        &sim,
-        found[0].points[0],
-        2,
-        &oneblock::sim::CycleOptions::for_settings(&default_settings(1e-10)),
-    )
-    .unwrap();
-    assert_eq!(c.minimal_period, 2);
-    assert!(
-        (c.multiplier - found[0].multiplier.unwrap()).abs() < 1e-6,
-        "{c:?}"
-    );
-    assert!(c.multiplier > 0.99 && c.multiplier < 1.0, "{c:?}");
-}
-
-/// Inside Fig. 3b's P24 window (θν ≈ 1.2286, multiplier 0.66) an orbit
-/// from θ₀ = 0.52 is still 1e-6 off its cycle after 500 + 100 iterates: a
-/// seeded column takes it for the cycle it closes in on (the one its seeds
-/// settle onto), not for a second, chaotic attractor; `attractors` finds
-/// the one P24 too.
-#[test]
-fn a_column_closing_in_slowly_is_its_cycle_not_a_second_attractor() {
-    let tn = "1.2285714285714286";
-    let rows = seeded_rows(&[
-        "bifurcation",
-        "--preset",
-        "fig3b",
-        "--theta-nu-from",
-        tn,
-        "--theta-nu-to",
-        tn,
-        "--columns",
-        "1",
-        "--theta0",
-        "0.52",
-        "--keep",
-        "100",
-        "--seeds",
-        "64",
-    ]);
-    assert_eq!(rows.len(), 100);
-    assert!(rows.iter().all(|r| r.2 == 0), "a second attractor");
-    let p = oneblock::model::Params {
-        theta_nu: tn.parse().unwrap(),
-        ..oneblock::model::presets::preset("fig3b").unwrap().params
-    };
-    let found = attractors_default(p, 64).unwrap();
-    assert_eq!(found.len(), 1, "{found:?}");
-    assert_eq!(found[0].period, Some(24), "{found:?}");
-    // The column's points are the P24's, to its slow approach (1e-4).
-    for r in &rows {
-        let near = found[0]
-            .points
-            .iter()
-            .any(|x| wrap_angle(x - r.1).abs() < 1e-4);
-        assert!(near, "{r:?}");
-    }
-}
-
-/// At the window's diagram accuracy (DP5(4) at 1e-4) the map is not
-/// smooth below its error, and orbits settle onto points of one cycle a
-/// few 1e-5 apart: they are one attractor there, so the multistable
-/// columns are the hysteresis range's and no others (θν = 1.317 and 1.323,
-/// on the P2 branch alone, were counted twice).
-#[test]
-fn on_a_loose_map_one_cycle_is_not_counted_twice() {
-    let rows = seeded_rows(&[
-        "bifurcation",
-        "--kappa",
-        "10",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
-        "--theta-nu-from",
-        "1.30",
-        "--theta-nu-to",
-        "1.46",
-        "--columns",
-        "161",
-        "--keep",
-        "100",
-        "--seeds",
-        "16",
-        "--method",
-        "dp54",
-        "--tol",
-        "1e-4",
-    ]);
-    let multistable: std::collections::BTreeSet<u64> = rows
-        .iter()
-        .filter(|r| r.2 > 0)
-        .map(|r| (r.0 * 1e6).round() as u64)
-        .collect();
-    let range = 1_363_000..1_421_000;
-    assert!(
-        multistable.iter().all(|t| range.contains(t)),
-        "{multistable:?}"
-    );
-    assert!(multistable.len() >= 50, "{multistable:?}");
-}
-
-/// Inside Fig. 3b's periodic windows (a P10 at θν = 1.2345, a P8 at
-/// 1.245, a P14 at 1.23617) the chaotic set is a transient: orbits wander
-/// over it for hundreds of iterates, some longer than `attractors`'s
-/// 400 + 128, then end on the window's cycle. `attractors` reported a
-/// second, "chaotic" attractor at the first two and only chaos at the
-/// P14 (its first orbit was still on the transient, and the seeds that
-/// stayed in the set were told they had arrived). Checked against direct
-/// orbits (DOP853 1e-10) from 16 seeds spread over the arc, each run for
-/// 4 000 + 128 iterates: every one ends on the window's cycle.
-#[test]
-fn inside_a_periodic_window_the_transient_chaos_is_not_an_attractor() {
-    use oneblock::sim::attractors::spread_seeds;
-    use oneblock::sim::{OrbitOptions, Period};
-    for (theta_nu, period) in [(1.2345, 10), (1.245, 8), (1.2361655303598935, 14)] {
-        let p = Params {
-            kappa: 18.95,
-            ..params(theta_nu)
-        };
-        let found = attractors_default(p, 64).unwrap();
-        assert_eq!(found.len(), 1, "θν {theta_nu}: {found:?}");
-        assert_eq!(found[0].period, Some(period), "{found:?}");
-        assert_eq!(found[0].basin_fraction, 1.0, "{found:?}");
-        let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
-        let opts = OrbitOptions {
-            transient: 4000,
-            keep: 128,
-            lyapunov: false,
-            period_tol: OrbitOptions::period_tol_for(1e-10),
-        };
-        for theta0 in spread_seeds(&p, 16) {
-            let o = sim.orbit(theta0, &opts, &|| false).unwrap();
-            assert_eq!(o.period, Period::Periodic(period), "θ0 {theta0}");
-        }
-    }
-    // The seeded Fig. 3b diagram (400 columns, 16 seeds) follows the P14
-    // into its column at 1.23617, where a seed's orbit was still on the
-    // transient: one attractor there, and in every column.
-    let rows = seeded_rows(&[
-        "bifurcation",
-        "--preset",
-        "fig3b",
-        "--seeds",
-        "16",
-        "--columns",
-        "400",
-    ]);
-    assert!(
-        rows.iter()
-            .any(|r| (r.0 - 1.2361655303598935).abs() < 1e-12)
-    );
-    assert!(
-        rows.iter().all(|r| r.2 == 0),
-        "a second attractor in a column"
-    );
-    // Where the set is chaos (θν = 1.2315: direct orbits are still
-    // aperiodic after 20 000 iterates), it stays one.
-    let p = Params {
-        kappa: 18.95,
-        ..params(1.2315)
-    };
-    let found = attractors_default(p, 64).unwrap();
-    assert_eq!(found.len(), 1, "{found:?}");
-    assert_eq!(found[0].period, None, "{found:?}");
 }

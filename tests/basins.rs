@@ -154,7 +154,11 @@ fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
             assert!(*tn < 1.371, "θν {tn}");
         }
     }
-    assert!(with_p1.len() >= 3, "{} columns with P1 and P2", with_p1.len());
+    assert!(
+        with_p1.len() >= 3,
+        "{} columns with P1 and P2",
+        with_p1.len()
+    );
     // One identity per attractor along θν: P2's track at the left end is
     // P2's where it coexists with P1, and P1's there is P1's at the right.
     let track = |c: &CsvColumn, label: &str| c.1.iter().find(|a| a.1 == label).map(|a| a.0.clone());

@@ -11,10 +11,9 @@ use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::numerics::{Accuracy, budget_for};
 use oneblock::sim::MapChoice;
-use oneblock::sim::phase::{CellClass, PhaseOptions, phase_grid};
 use oneblock::sim::{
     CycleFailure, CycleOptions, OrbitOptions, Period, Simulator, default_settings, fixed_point,
-    solve_cycle, theta_nu_grid,
+    solve_cycle,
 };
 use oneblock::worker::{Axis, Command, Lane, Outcome, SweepSpec, Update, Worker, WorkerConfig};
 use std::sync::Arc;
@@ -156,60 +155,66 @@ fn the_fig_3a_point_is_a_fixed_point_within_the_default_budget() {
     assert!(c.multiplier > 0.98 && c.multiplier < 1.0);
 }
 
+/// Issue 38: the creep grid run as the user runs it, through `oneblock
+/// phase` (the grid's job), not the core's `phase_grid` beside it.
 #[test]
 fn the_creep_grid_has_no_undecided_cell() {
-    let settings = default_settings(1e-10);
-    let kappas = theta_nu_grid(1.0, 42.0, 30);
-    let theta_nus = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, 30);
-    let opts = PhaseOptions::for_settings(&settings);
-    let base = Params {
-        kappa: 1.0,
-        ..preset("creep").with_theta_nu(0.0)
-    };
-    let rows = phase_grid(
-        base,
-        settings,
-        &kappas,
-        &theta_nus,
-        &opts,
-        &|| false,
-        &|_| {},
-    )
-    .expect("not cancelled");
-    let cells: Vec<_> = rows.iter().flatten().collect();
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "phase",
+            "--gamma",
+            "0.5",
+            "--nu",
+            "1e-3",
+            "--kappa-from",
+            "1",
+            "--kappa-to",
+            "42",
+            "--kappa-steps",
+            "30",
+            "--theta-nu-from",
+            "0",
+            "--theta-nu-to",
+            "1.5707963267948966",
+            "--theta-nu-steps",
+            "30",
+        ])
+        .output()
+        .expect("runs");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let csv = String::from_utf8(out.stdout).expect("utf-8");
+    let mut lines = csv.lines();
+    let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
+    let (tn, kappa, class, lambda) = (col("theta_nu"), col("kappa"), col("class"), col("lyapunov"));
+    let cells: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
     assert_eq!(cells.len(), 900);
-    let undecided = cells
-        .iter()
-        .filter(|c| c.class == CellClass::Undecided)
-        .count();
-    assert_eq!(undecided, 0);
-    // Pure creep: every cell is a fixed point that attracts.
+    // Pure creep: every cell is a fixed point that attracts (none left
+    // undecided).
     for c in &cells {
-        assert_eq!(
-            c.class,
-            CellClass::Periodic(1),
-            "κ {} θν {}",
-            c.kappa,
-            c.theta_nu
-        );
-        assert!(c.lyapunov.is_some_and(|l| l < 0.0));
+        assert_eq!(c[class], "FP", "κ {} θν {}", c[kappa], c[tn]);
+        assert!(c[lambda].parse::<f64>().is_ok_and(|l| l < 0.0), "{c:?}");
     }
-    // Where a cell ends is its fixed point, as the secant solver finds it
+    // Its exponent is ln|f'| at the fixed point the secant solver finds
     // from θν (a few cells across the grid).
     for c in cells.iter().step_by(97) {
+        let (k, t): (f64, f64) = (c[kappa].parse().unwrap(), c[tn].parse().unwrap());
         let s = sim(Params {
-            kappa: c.kappa,
-            ..preset("creep").with_theta_nu(c.theta_nu)
+            kappa: k,
+            ..preset("creep").with_theta_nu(t)
         });
-        let (star, _) = fixed_point(&s, c.theta_nu, 1e-12)
+        let (star, _) = fixed_point(&s, t, 1e-12)
             .expect("no error")
             .expect("a fixed point");
+        let expected = slope(&s, star).abs().ln();
+        let got: f64 = c[lambda].parse().unwrap();
         assert!(
-            (c.theta_last - star).abs() < 1e-6,
-            "κ {} θν {}: {} vs {star}",
-            c.kappa,
-            c.theta_nu,
-            c.theta_last
+            (got - expected).abs() < 1e-5 + 1e-3 * expected.abs(),
+            "κ {k} θν {t}: λ {got} vs {expected}"
         );
     }
 }

@@ -331,12 +331,10 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
         generation: 5,
         spec: spec.clone(),
     });
-    // Columns show a second attractor (labels are in the hundreds), which
-    // one seed a column did not find everywhere: the neighbour pass sent
-    // columns again, in the same order on every host.
+    // Columns show a second attractor (labels are in the hundreds) from
+    // the cell graph, the same on every host.
     let multistable = r.columns.values().filter(|c| c.1.iter().any(|&t| t > 50.0));
     assert!(multistable.count() >= 3, "{r:?}");
-    assert!(r.resent > 0, "{r:?}");
     let (paused, _) = local_paused(Spec::Sweep(spec.clone()));
     assert_eq!(paused, r);
     for threads in [1, 3] {

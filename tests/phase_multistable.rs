@@ -2,16 +2,71 @@
 //! γ = 6.5, ν = 1e-3 the grid's multistable cells lie in the hysteresis
 //! range (θν from the fixed point's second flip, 1.364, to the P2 branch's
 //! fold, 1.4202), and the attractors it lists for each (the window's click
-//! list) are those `sim::attractors` finds there from 32 other seeds, an
-//! independent run.
+//! list) are those direct orbits from 32 seeds spread over the arc end on,
+//! each cycle then solved by Newton: an independent run.
 
 #![allow(clippy::unwrap_used)]
 
 use oneblock::jobs::{Axis, PhaseSpec, PhaseTuning, Spec, Update, run_collect};
-use oneblock::model::Params;
-use oneblock::sim::attractors::attractors_default;
-use oneblock::sim::default_settings;
+use oneblock::model::{Params, exit_arc};
+use oneblock::sim::{CycleOptions, OrbitOptions, Period, Simulator, default_settings, solve_cycle};
 use oneblock::worker::{GridCell, MAX_LISTED};
+
+/// A cycle direct orbits reached: its period and multiplier (Newton).
+#[derive(Debug)]
+struct Reached {
+    period: Option<usize>,
+    multiplier: Option<f64>,
+}
+
+/// The distinct attractors direct orbits from `n` θ₀ spread over the arc
+/// end on (an aperiodic end has no period).
+fn attractors_default(p: Params, n: usize) -> Option<Vec<Reached>> {
+    let settings = default_settings(1e-10);
+    let sim = Simulator::new(p, settings).ok()?;
+    let opts = OrbitOptions {
+        transient: 3000,
+        keep: 64,
+        lyapunov: false,
+        period_tol: OrbitOptions::period_tol_for(1e-10),
+    };
+    let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+    let mut found: Vec<Reached> = Vec::new();
+    for i in 0..n {
+        let t0 = psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64;
+        let o = sim.orbit(t0, &opts, &|| false).ok()?;
+        let r = match o.period {
+            Period::Periodic(q) => {
+                let c = solve_cycle(
+                    &sim,
+                    o.theta_last,
+                    q,
+                    &CycleOptions::for_settings(&settings),
+                )
+                .ok()?;
+                Reached {
+                    period: Some(c.minimal_period),
+                    multiplier: Some(c.multiplier),
+                }
+            }
+            Period::Aperiodic => Reached {
+                period: None,
+                multiplier: None,
+            },
+        };
+        let same = |a: &Reached| {
+            a.period == r.period
+                && match (a.multiplier, r.multiplier) {
+                    (Some(x), Some(y)) => (x - y).abs() < 1e-6,
+                    _ => true,
+                }
+        };
+        if !found.iter().any(same) {
+            found.push(r);
+        }
+    }
+    Some(found)
+}
 
 fn params(theta_nu: f64) -> Params {
     Params {

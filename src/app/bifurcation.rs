@@ -16,7 +16,7 @@ use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
-use super::settings::{MAX_SWEEP_SEEDS, Settings, ViewKind};
+use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
@@ -439,14 +439,15 @@ impl View for BifurcationView {
 /// seeds, the legend of the attractors they find.
 fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
     ui.horizontal_wrapped(|ui| {
-        ui.label("seeds");
-        ui.add(egui::DragValue::new(&mut s.sweep_seeds).range(0..=MAX_SWEEP_SEEDS))
-            .on_hover_text(
-                "Orbits from this many θ₀ spread over each column's exit arc besides the \
-                 followed one, each run to its attractor: every attractor is drawn, so \
-                 coexisting branches (hysteresis) show (oneblock bifurcation --seeds). \
-                 Each seed costs up to a column.",
-            );
+        let mut on = s.sweep_seeds > 0;
+        let r = ui.checkbox(&mut on, "every attractor").on_hover_text(
+            "Every attractor at each column, from the exit arc's cell graph with no orbit \
+             budget, beside the followed one: coexisting branches (hysteresis) show \
+             (oneblock bifurcation --seeds 1).",
+        );
+        if r.changed() {
+            s.sweep_seeds = usize::from(on);
+        }
         seeds_legend_ui(ui, s);
     });
 }
@@ -455,7 +456,7 @@ fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
 fn seeds_legend_ui(ui: &mut Ui, s: &Settings) {
     if s.sweep_seeds > 0 {
         style::legend_swatch(ui, style::ink(s.dark), "followed attractor");
-        style::legend_swatch(ui, OTHER_ATTRACTOR, "other attractors (seeds)");
+        style::legend_swatch(ui, OTHER_ATTRACTOR, "other attractors");
     }
 }
 

@@ -11,7 +11,7 @@ use egui::{Color32, RichText, Ui};
 use egui_plot::{MarkerShape, PlotPoints, PlotUi, Points};
 
 use super::phase_data::PhaseData;
-use super::settings::{MAX_SWEEP_SEEDS, Settings};
+use super::settings::Settings;
 use crate::worker::ListedAttractor;
 
 /// The legend's name for a cell with more than one attractor.
@@ -19,15 +19,18 @@ pub const MULTISTABLE: &str = "multistable";
 /// The plot item's name of the marks (its hover is the cell's own text).
 pub const MARKS: &str = "multistable cells";
 
-/// The seeds control.
+/// The seeds control: every cell's attractors from the exit arc's cell
+/// graph, or not (`--seeds`, any N > 0).
 pub fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
-    ui.label("seeds");
-    ui.add(egui::DragValue::new(&mut s.phase.seeds).range(0..=MAX_SWEEP_SEEDS))
-        .on_hover_text(
-            "Count each cell's attractors from this many θ₀ spread over its exit arc besides \
-             its own orbit (oneblock phase --seeds; recomputes the grid). Cells with more \
-             than one are marked; a click on one lists them. Each seed costs up to a cell.",
-        );
+    let mut on = s.phase.seeds > 0;
+    let r = ui.checkbox(&mut on, "every attractor").on_hover_text(
+        "Count each cell's attractors from the exit arc's cell graph, with no orbit budget \
+         (oneblock phase --seeds 1; recomputes the grid). Cells with more than one are \
+         marked; a click on one lists them.",
+    );
+    if r.changed() {
+        s.phase.seeds = usize::from(on);
+    }
 }
 
 /// The mark's swatch: a white square on a grey cell, outlined.
@@ -117,7 +120,7 @@ pub fn row(a: &ListedAttractor) -> [String; 3] {
 /// The clicked cell's attractors, under the controls: nothing unless the
 /// cell at `selected` (θν, κ) is multistable. Returns whether the list
 /// was closed.
-pub fn list_ui(ui: &mut Ui, data: &PhaseData, selected: (f64, f64), seeds: usize) -> bool {
+pub fn list_ui(ui: &mut Ui, data: &PhaseData, selected: (f64, f64)) -> bool {
     let point = egui_plot::PlotPoint::new(selected.0, selected.1);
     let Some((row_i, col)) = super::phase_view::cell_at(data, point) else {
         return false;
@@ -153,10 +156,10 @@ pub fn list_ui(ui: &mut Ui, data: &PhaseData, selected: (f64, f64), seeds: usize
                         }
                     });
                 ui.label(
-                    RichText::new(format!(
-                        "as oneblock attractors --seeds {seeds} finds them (full orbits, \
-                         cycles by Newton; basin: share of the seeds)"
-                    ))
+                    RichText::new(
+                        "as oneblock attractors finds them, from the exit arc's cell graph \
+                         (cycles by Newton; basin: share of the arc)",
+                    )
                     .weak(),
                 );
             }

@@ -110,7 +110,7 @@ impl PhaseView {
         grid_row_ui(ui, s);
         legend_row_ui(ui, s.phase.seeds > 0, !data.complete());
         if let Some(sel) = self.selected
-            && phase_attractors::list_ui(ui, data, sel, s.phase.seeds)
+            && phase_attractors::list_ui(ui, data, sel)
         {
             self.selected = None;
         }

@@ -34,7 +34,7 @@ use super::protocol::{Axis, GridCell, Lane, ListedAttractor, MAX_LISTED, PhaseSp
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::seeded_attractors as attractors;
+use crate::sim::attractors::{AttractorError, CellOptions, Verdict, attractors};
 use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
@@ -266,10 +266,9 @@ impl PhaseJob {
     }
 
     /// A multistable cell's attractors, when the spec asks for them: found
-    /// as `oneblock attractors` finds them (`sim::attractors`, full orbits
-    /// and cycles by Newton) from the cell's seeds and its own attractor's
-    /// last onset, so that the list a click shows is the command's. Only
-    /// cells counted with more than one attractor pay for it, and only
+    /// as the cell counted them (`sim::attractors` on the exit arc's cell
+    /// graph, `CellOptions::column()`), the undecided left out. Only cells
+    /// counted with more than one attractor pay for it, and only
     /// [`MAX_LISTED`] entries are kept. A search that fails leaves the list
     /// empty (the count stands); a cancelled one stops the job.
     fn listed(
@@ -286,20 +285,18 @@ impl PhaseJob {
             theta_nu: cell.theta_nu,
             ..self.spec.params
         };
-        let found = attractors(
-            params,
-            self.spec.settings,
-            self.opts.seeds,
-            Some(cell.theta_last),
-            cancel,
-        );
+        let found = Simulator::new(params, self.spec.settings)
+            .map_err(AttractorError::Sim)
+            .and_then(|sim| attractors(&sim, &CellOptions::column(), cancel));
         match found {
-            Ok(list) => Ok(list
+            Ok(f) => Ok(f
+                .attractors
                 .iter()
+                .filter(|a| !matches!(a.verdict, Verdict::Undecided(_)))
                 .take(MAX_LISTED)
                 .map(ListedAttractor::of)
                 .collect()),
-            Err(SimError::Cancelled) => Err(JobError::Stop),
+            Err(AttractorError::Sim(SimError::Cancelled)) => Err(JobError::Stop),
             Err(_) => Ok(Vec::new()),
         }
     }

@@ -590,13 +590,13 @@ pub struct ListedAttractor {
     pub multiplier: Option<f64>,
     /// An aperiodic attractor's Lyapunov exponent and its standard error.
     pub lyapunov: Option<(f64, Option<f64>)>,
-    /// The share of the seeds that reach it.
+    /// Its basin's share of the exit arc.
     pub basin_fraction: f64,
 }
 
 impl ListedAttractor {
     /// What the list keeps of `a`.
-    pub fn of(a: &crate::sim::attractors::SeedAttractor) -> Self {
+    pub fn of(a: &crate::sim::attractors::Attractor) -> Self {
         ListedAttractor {
             period: a.period,
             multiplier: a.multiplier,

@@ -20,11 +20,8 @@
 //! column once its parent is done, with the parent's last onset, and steps
 //! up to `LANES` ready columns together.
 //!
-//! 3. A seeded sweep then follows every attractor found to the columns
-//!    beside it, both ways ([`neighbours`]), sending a column again when
-//!    it gains one.
-
-mod neighbours;
+//! A seeded sweep adds to each column every other attractor at its θν,
+//! from the exit arc's cell graph (`sim::seeded`).
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -43,7 +40,6 @@ use crate::sim::{
     Column, ColumnJob, Handover, LANES, LaneEnd, PausedColumn, SimError, Simulator, SweepOptions,
     Yield, column_start, run_columns, theta_nu_grid,
 };
-use neighbours::{NeighbourPass, SentColumn};
 
 /// When a sink's host wants its thread back.
 struct Yielding<'a>(&'a dyn Sink);
@@ -126,10 +122,6 @@ pub(crate) struct SweepJob {
     failure: Mutex<Option<String>>,
     /// Columns paused part-way, resumed first by the next step.
     parked: Mutex<Vec<Parked>>,
-    /// A seeded sweep's columns as sent (`None`: not yet, or failed).
-    sent: Mutex<Vec<Option<SentColumn>>>,
-    /// A seeded sweep's neighbour pass, once every column is done.
-    pass: Mutex<NeighbourPass>,
 }
 
 impl SweepJob {
@@ -158,8 +150,6 @@ impl SweepJob {
             pacer: Mutex::new(Pacer::new()),
             failure: Mutex::new(None),
             parked: Mutex::new(Vec::new()),
-            sent: Mutex::new((0..columns).map(|_| None).collect()),
-            pass: Mutex::new(NeighbourPass::default()),
         })
     }
 
@@ -255,17 +245,17 @@ impl SweepJob {
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
         match self.seeded(tn, &col.thetas, d.handover, sink)? {
-            Some(seeded) => {
-                let sent = SentColumn {
-                    coarse: p.coarse,
-                    map: col.map,
-                    lyapunov,
-                    rhs_evals: col.rhs_evals,
-                    seeded,
-                };
-                sink.send(sent.update(generation, p.index, tn))?;
-                lock(&self.sent)[p.index] = Some(sent);
-            }
+            Some(seeded) => sink.send(Update::Column {
+                generation,
+                index: p.index,
+                theta_nu: tn,
+                thetas: seeded.thetas,
+                coarse: p.coarse,
+                rhs_evals: col.rhs_evals + seeded.rhs_evals,
+                map: col.map,
+                lyapunov,
+                attractor: seeded.attractor,
+            })?,
             None => sink.send(Update::Column {
                 generation,
                 index: p.index,
@@ -318,7 +308,7 @@ impl SweepJob {
             self.spec.settings,
             &followed,
             seeds,
-            &self.opts,
+            self.opts.keep,
             &cancel,
         ) {
             Ok(s) => Ok(Some(s)),
@@ -326,32 +316,6 @@ impl SweepJob {
             // Only a cancel ends the seeds early (failed seeds are left out).
             Err(e) => Err(JobError::Sim(e)),
         }
-    }
-
-    /// Once the schedule has handed out every column: a seeded sweep's
-    /// neighbour pass, one column a step, when every column is done (a
-    /// thread that finds columns still running elsewhere retires, and the
-    /// one that finishes the last goes on with the pass).
-    fn after_schedule(&self, sink: &dyn Sink) -> Result<Status, JobError> {
-        if self.spec.seeds == 0 || lock(&self.schedule).done() < self.grid.len() {
-            return Ok(Status::Done);
-        }
-        let sweep = neighbours::Sweep {
-            params: self.spec.params,
-            settings: self.spec.settings,
-            opts: &self.opts,
-            grid: &self.grid,
-        };
-        let cancel = || sink.cycle();
-        let mut pass = lock(&self.pass);
-        let mut sent = lock(&self.sent);
-        let (status, amended) = pass.step(&sweep, &mut sent, &cancel)?;
-        if let Some(i) = amended
-            && let Some(col) = &sent[i]
-        {
-            sink.send(col.update(sink.generation(), i, self.grid[i]))?;
-        }
-        Ok(status)
     }
 
     /// The column of plan entry `p`, to start at `neighbour`'s handover.
@@ -459,7 +423,7 @@ impl Job for SweepJob {
         let mut first = None;
         if resumes.is_empty() {
             let Some((p, seed)) = wait_next(&self.schedule, &self.ready, || sink.stale())? else {
-                return self.after_schedule(sink);
+                return Ok(Status::Done);
             };
             first = Some((p, seed.flatten()));
         }

@@ -40,6 +40,7 @@
 //! the series too. The tests and solves above are unchanged (the solves
 //! still integrate). Where the interpolant is refused the cell integrates.
 
+mod cells;
 mod classify;
 
 use rayon::prelude::*;
@@ -47,11 +48,9 @@ use rayon::prelude::*;
 use classify::classify;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
-use super::attractors::seed_map::hull;
 use super::cycles::{CycleOptions, confirm_contraction, near_cycle, solve_counting};
 use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
 use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, near_period, settled_period};
-use super::seeded::{Reach, attractor_count};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};
@@ -277,40 +276,13 @@ pub fn phase_cell(
             cell.regime = None;
             cell.error = Some(e);
         }
-        Ok(reach) if opts.seeds > 0 => {
-            count_attractors(&mut cell, params, settings, reach, opts, cancel);
+        Ok(()) => {
+            if opts.seeds > 0 || cell.class == CellClass::Undecided {
+                cells::tell(&mut cell, params, settings, opts.seeds > 0, cancel);
+            }
         }
-        Ok(_) => {}
     }
     cell
-}
-
-/// Counts the attractors of a finished cell: its own (`reach`, what its
-/// orbit reached) and the seeds', each run with the cell's budget
-/// (`super::seeded`). Their cost is the cell's.
-fn count_attractors(
-    cell: &mut PhaseCell,
-    params: Params,
-    settings: SolverSettings,
-    reach: Option<Reach>,
-    opts: &PhaseOptions,
-    cancel: &dyn Fn() -> bool,
-) {
-    let sweep = super::SweepOptions {
-        transient: opts.transient,
-        keep: opts.keep,
-        map: MapChoice::Direct,
-    };
-    match attractor_count(params, settings, reach, opts.seeds, &sweep, cancel) {
-        Ok((n, rhs)) => {
-            cell.attractors = Some(n);
-            cell.rhs_evals += rhs;
-        }
-        Err(e) => {
-            cell.class = CellClass::Failed;
-            cell.error = Some(e);
-        }
-    }
 }
 
 fn run_cell(
@@ -320,7 +292,7 @@ fn run_cell(
     theta_start: f64,
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
-) -> Result<Option<Reach>, SimError> {
+) -> Result<(), SimError> {
     let sim = Simulator::new(params, settings)?;
     sim.check_onset(theta_start)?;
     let mut stepper = None;

@@ -210,7 +210,10 @@ impl CellGraph {
             {
                 terminal[c as usize] = false;
             }
-            if succ.iter().any(|&(a, b)| a as usize <= v && v <= b as usize) {
+            if succ
+                .iter()
+                .any(|&(a, b)| a as usize <= v && v <= b as usize)
+            {
                 recurrent[c as usize] = true;
             }
         }

@@ -14,7 +14,7 @@ pub(super) fn classify<'s>(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
     stepper: &mut Option<Stepper<'s>>,
-) -> Result<Option<Reach>, SimError> {
+) -> Result<(), SimError> {
     let mut run = CellRun::new(sim, theta_start, opts);
     for i in 0..opts.transient + opts.keep {
         if cancel() {
@@ -27,11 +27,11 @@ pub(super) fn classify<'s>(
             continue;
         }
         if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
-            return Ok(run.reach());
+            return Ok(());
         }
     }
     run.finish(cell)?;
-    Ok(run.reach())
+    Ok(())
 }
 
 /// A cell in progress: its iterates (all of them: the tests read the
@@ -78,20 +78,6 @@ impl<'s, 'o> CellRun<'s, 'o> {
             spent: (0, 0),
             cycle: None,
         }
-    }
-
-    /// What the cell's orbit reached: its cycle, or the interval its kept
-    /// iterates (its last ones, before any are kept) visit.
-    fn reach(&self) -> Option<Reach> {
-        if let Some(c) = &self.cycle {
-            return Some(Reach::Cycle(c.clone()));
-        }
-        let n = self.thetas.len();
-        let kept = &self.thetas[self.opts.transient.min(n / 2)..];
-        (!kept.is_empty()).then(|| {
-            let (lo, hi) = hull(kept);
-            Reach::Set(lo, hi)
-        })
     }
 
     /// Adds the solves' cost to the cell's.

@@ -1,0 +1,68 @@
+//! A finished cell told again from the exit arc's cell graph
+//! (`sim::attractors`, docs/attractors.md), with no orbit budget: an
+//! undecided cell (a drift too slow, or a transient too long, for its
+//! iterates) takes the class of the attractor whose basin holds its last
+//! onset; with seeds, the cell counts the attractors the graph decides.
+
+use super::{CellClass, PhaseCell};
+use crate::integrate::SolverSettings;
+use crate::model::{Params, exit_arc, wrap_angle};
+use crate::sim::attractors::{AttractorError, CellOptions, Found, Verdict, attractors};
+use crate::sim::{SimError, Simulator};
+
+/// Tells `cell` again from the cell graph at `params` (see the module's
+/// doc); `count` also sets [`PhaseCell::attractors`]. A graph that cannot
+/// be built leaves the cell as it was (and uncounted); a cancel fails it.
+pub(super) fn tell(
+    cell: &mut PhaseCell,
+    params: Params,
+    settings: SolverSettings,
+    count: bool,
+    cancel: &dyn Fn() -> bool,
+) {
+    let found = Simulator::new(params, settings)
+        .map_err(AttractorError::Sim)
+        .and_then(|sim| attractors(&sim, &CellOptions::column(), cancel));
+    let found = match found {
+        Ok(f) => f,
+        Err(AttractorError::Sim(SimError::Cancelled)) => {
+            cell.class = CellClass::Failed;
+            cell.error = Some(SimError::Cancelled);
+            return;
+        }
+        Err(_) => return,
+    };
+    cell.iterates += found.map_evaluations;
+    let decided = |v: &Verdict| !matches!(v, Verdict::Undecided(_));
+    if count {
+        let n = found
+            .attractors
+            .iter()
+            .filter(|a| decided(&a.verdict))
+            .count();
+        cell.attractors = Some(n.max(1));
+    }
+    if cell.class == CellClass::Undecided
+        && let Some(a) = basin_of(&found, params, cell.theta_last)
+        && decided(&a.verdict)
+    {
+        cell.class = match a.period {
+            Some(p) => CellClass::Periodic(p),
+            None => CellClass::Chaos,
+        };
+        cell.lyapunov = a.lyapunov;
+        cell.lyapunov_stderr = a.lyapunov_stderr.filter(|_| a.period.is_none());
+    }
+}
+
+/// The attractor whose basin holds the onset θ, if one basin does.
+fn basin_of(
+    found: &Found,
+    params: Params,
+    theta: f64,
+) -> Option<&crate::sim::attractors::Attractor> {
+    let psi = exit_arc(params.kappa, params.theta_nu).0;
+    let t = psi + wrap_angle(theta - psi);
+    let b = found.basins.iter().find(|b| b.from <= t && t <= b.to)?;
+    found.attractors.get(b.attractor?)
+}
