@@ -42,8 +42,8 @@ pub fn view_help(v: ViewKind) -> &'static str {
              point (one slip repeating), two a period-2 cycle, and so on; a smear is chaos. \
              Each column starts from its neighbour's last onset, so the diagram follows one \
              attractor. The strip under it is the Lyapunov exponent λ of each column: below 0 \
-             the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos. With seeds, \
-             orbits from θ₀ spread over each column's exit arc show the other attractors too \
+             the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos. With every \
+             attractor on, the exit arc's cell graph shows the other attractors too \
              (magenta), where two coexist (hysteresis). Find bifurcations marks each doubling \
              supercritical (a stable cycle of twice the period is born) or subcritical (an \
              unstable one: the attractor jumps)."
@@ -77,8 +77,8 @@ pub fn view_help(v: ViewKind) -> &'static str {
             "The paper's Fig. 4: over a grid of pull directions θν and stiffness ratios κ, the \
              class of the attractor the map settles on: a fixed point, a period-p cycle, chaos \
              (λ > 0), or undecided. Each cell iterates the map, detects its period and, if none, \
-             computes λ. With seeds, each cell also counts the attractors reached from θ₀ spread \
-             over its exit arc; a white square marks a cell with more than one (multistable), \
+             computes λ. With every attractor on, each cell also counts its attractors from the \
+             exit arc's cell graph; a white square marks a cell with more than one (multistable), \
              and a click on it lists them: period or chaotic, multiplier or λ, basin fraction. \
              Boundaries follows the period-doubling curves FP to P2 and P2 to P4 by \
              continuation, to the precision of the solver rather than of the grid, and marks \

@@ -27,7 +27,7 @@ use crate::model::{Params, Preset};
 use crate::sim::Simulator;
 use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
-use crate::sim::seeded::MAX_SEEDS;
+use crate::sim::seeded::{MAX_OTHERS, MAX_SEEDS};
 
 /// A bifurcation diagram: θ against θν.
 #[derive(Debug, Clone, Args)]
@@ -83,11 +83,10 @@ pub struct BifurcationArgs {
     /// column's θν].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
-    /// θ₀ spread over each column's exit arc besides the followed orbit
-    /// (0 to 256; 0: none). Each runs to its attractor and every distinct
-    /// attractor's points are written, with an `attractor` column (0: the
-    /// followed one; docs/attractors.md). Costs up to seeds + 1 times the
-    /// plain diagram.
+    /// Every attractor at each column besides the followed one, from the
+    /// exit arc's cell graph with no orbit budget (0 to 256; 0: off, any
+    /// other value: on). Each one's points are written, with an
+    /// `attractor` column (0: the followed one; docs/attractors.md).
     #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: usize,
     /// CSV file ("-" = stdout).
@@ -154,10 +153,12 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let total = total_iterates(args.transient, ("keep", keep), columns)?;
     let map = args.map;
     let seeds = count_between("seeds", args.seeds, 0, MAX_SEEDS)?;
-    // The seeds' points are rows too (each at most `keep`).
-    if (columns as u64) * (seeds as u64 + 1) * keep as u64 > MAX_ROWS as u64 {
+    // Further attractors' points are rows too (each at most `keep`).
+    let drawn = if seeds > 0 { MAX_OTHERS as u64 + 1 } else { 1 };
+    if (columns as u64) * drawn * keep as u64 > MAX_ROWS as u64 {
         return Err(CliError::Usage(format!(
-            "--seeds = {seeds} is out of range: columns x (seeds + 1) x keep must be at most {}",
+            "--seeds = {seeds} is out of range: with seeds, columns x {} x keep must be at most {}",
+            MAX_OTHERS + 1,
             super::values::short_count(MAX_ROWS)
         )));
     }
@@ -175,8 +176,8 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
         to,
         columns,
         keep,
-        // Every seed runs a column of its own.
-        total: total.saturating_mul(seeds as u64 + 1),
+        // The cell graph's evaluations are not iterates of the sweep.
+        total,
         max_seconds,
         map,
         seeds,
@@ -344,7 +345,7 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         describe_sweep(&params, &settings),
         args.transient,
-        columns as u64 * (args.transient + keep) as u64 * (args.seeds as u64 + 1),
+        columns as u64 * (args.transient + keep) as u64,
         n as f64 / seconds.max(1e-9),
         evals as f64 / n.max(1) as f64,
         if failed > 0 {
@@ -357,7 +358,7 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         eprintln!("{line}");
     }
     if args.seeds > 0 {
-        eprintln!("{}", multistable_line(cols, args.seeds));
+        eprintln!("{}", multistable_line(cols));
     }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
@@ -378,9 +379,9 @@ struct Summary {
     keep: usize,
 }
 
-/// The summary's line on the seeds: how many columns have more than one
-/// attractor, and where the first and last of them are.
-fn multistable_line(cols: &[Done], seeds: usize) -> String {
+/// The summary's line on every attractor (the cell graph): how many
+/// columns have more than one, and where the first and last of them are.
+fn multistable_line(cols: &[Done]) -> String {
     let multi: Vec<f64> = cols
         .iter()
         .filter(|c| c.5.iter().any(|&a| a > 0))
@@ -388,11 +389,11 @@ fn multistable_line(cols: &[Done], seeds: usize) -> String {
         .collect();
     match (multi.first(), multi.last()) {
         (Some(a), Some(b)) => format!(
-            "  seeds: {seeds} per column; {} of {} column(s) have more than one attractor, at theta-nu {a} to {b}",
+            "  every attractor (the cell graph): {} of {} column(s) have more than one, at theta-nu {a} to {b}",
             multi.len(),
             cols.len()
         ),
-        _ => format!("  seeds: {seeds} per column; every column has one attractor"),
+        _ => "  every attractor (the cell graph): every column has one attractor".into(),
     }
 }
 

@@ -86,10 +86,10 @@ pub struct PhaseArgs {
     /// least 20000 iterates are left). Where refused, the cell integrates.
     #[arg(long, value_enum, default_value_t = MapChoice::Auto)]
     pub map: MapChoice,
-    /// Count each cell's attractors from this many θ₀ spread over its exit
-    /// arc besides its own orbit (0 to 256; 0: not counted), into an
+    /// Count each cell's attractors from the exit arc's cell graph (0 to
+    /// 256; 0: not counted, any other value: counted), into an
     /// `attractors` column; cells with more than one are multistable
-    /// (docs/attractors.md). Each seed costs up to a cell's budget.
+    /// (docs/attractors.md).
     #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: usize,
     /// Worker threads, 1 to 1024 [default: the number of cores]. The output

@@ -18,6 +18,9 @@ use crate::model::{Params, exit_arc, wrap_angle};
 /// number is kept so that old command lines and sessions still run).
 pub const MAX_SEEDS: usize = 256;
 
+/// The most further attractors a column draws (all are counted).
+pub const MAX_OTHERS: usize = 8;
+
 /// A column of a seeded diagram: the followed column's points and every
 /// other attractor's, each point labelled with its attractor.
 #[derive(Clone, Debug, PartialEq)]
