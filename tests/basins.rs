@@ -74,21 +74,33 @@ fn the_job_finds_the_fixed_point_and_the_p2_at_theta_nu_1_40() {
 /// Runs `oneblock figure --view basins` at the hysteresis, 25 columns over
 /// θν 1.33 … 1.45, into `name` (a fresh temporary directory's).
 fn figure(name: &str) -> String {
+    let model = [
+        "--view",
+        "basins",
+        "--kappa",
+        "10",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu-from",
+        "1.33",
+        "--theta-nu-to",
+        "1.45",
+        "--columns",
+        "25",
+    ];
+    written(&model, name)
+}
+
+/// What `oneblock figure ARGS --out NAME` writes (no display).
+fn written(args: &[&str], name: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join(name);
     let o = Command::new(env!("CARGO_BIN_EXE_oneblock"))
-        .args([
-            "figure", "--view", "basins", "--kappa", "10", "--gamma", "6.5",
-        ])
-        .args([
-            "--nu",
-            "1e-3",
-            "--theta-nu-from",
-            "1.33",
-            "--theta-nu-to",
-            "1.45",
-        ])
-        .args(["--columns", "25", "--out"])
+        .arg("figure")
+        .args(args)
+        .arg("--out")
         .arg(&out)
         .env_remove("DISPLAY")
         .env_remove("WAYLAND_DISPLAY")
@@ -178,5 +190,41 @@ fn the_svg_fills_the_arc_with_both_attractors_colours() {
     }
     for word in ["P1", "P2", "basin boundary", "basin fraction"] {
         assert!(svg.contains(word), "{word}");
+    }
+}
+
+/// The return map's figure with its basins band and a chaotic attractor's
+/// density, from the cell graph at the figure's parameters.
+fn return_map_svg(model: &[&str]) -> String {
+    let args: Vec<&str> = ["--view", "return-map"]
+        .iter()
+        .chain(model)
+        .copied()
+        .collect();
+    written(&args, "map.svg")
+}
+
+#[test]
+fn the_return_map_shades_the_basins_and_draws_the_density() {
+    let svg = return_map_svg(&["--preset", "chaos"]);
+    assert!(svg.contains("basin: chaotic"), "no basin legend");
+    assert!(svg.contains("invariant density"), "no density legend");
+    let svg = return_map_svg(&[
+        "--kappa",
+        "10",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu",
+        "1.40",
+    ]);
+    for name in ["basin: FP", "basin: P2"] {
+        assert!(svg.contains(name), "{name}");
+    }
+    assert!(!svg.contains("invariant density"));
+    // Both attractors' colours (the band's stretches).
+    for c in ["#1f77b4", "#ff7f0e"] {
+        assert!(svg.contains(c), "{c}");
     }
 }

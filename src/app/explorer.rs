@@ -412,14 +412,16 @@ impl Explorer {
             match s.layout {
                 Layout::Tabs => {
                     for v in ViewKind::ALL {
-                        ui.selectable_value(&mut s.tab, v, v.title());
+                        ui.selectable_value(&mut s.tab, v, v.tab_title())
+                            .on_hover_text(v.title());
                     }
                 }
                 // The tiles' choice in a menu: eight checkboxes in a row
                 // wrapped the bar onto a second line at text ×1.5, taking
                 // height from every tile.
                 Layout::Tiles => {
-                    ui.menu_button(format!("tiles: {} of 8", s.tiled.len()), |ui| {
+                    let all = ViewKind::ALL.len();
+                    ui.menu_button(format!("tiles: {} of {all}", s.tiled.len()), |ui| {
                         for v in ViewKind::ALL {
                             let mut on = s.tiled.contains(&v);
                             if ui.checkbox(&mut on, v.title()).changed() {

@@ -93,6 +93,12 @@ struct MapData {
     /// θ's window, out to round values.
     window: (f64, f64),
     theta_c: Option<f64>,
+    /// The cell graph's basins along θ (from, to, attractor; `None`: the
+    /// boundary), once found at these parameters.
+    basins: Vec<(f64, f64, Option<usize>)>,
+    /// A chaotic attractor's invariant density: (θ, value) at its bins'
+    /// centres, values scaled to at most 1.
+    density: Vec<Vec<[f64; 2]>>,
 }
 
 impl MapData {
@@ -131,7 +137,10 @@ impl MapData {
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
+        let (basins, density) = basins_of(jobs.map_basins.at(&s.params));
         MapData {
+            basins,
+            density,
             web: cobweb(tail),
             pieces: graph_pieces(&it.graph, jump),
             powers,
@@ -148,6 +157,9 @@ impl MapData {
 
     /// Every point as (θ, θ' − θ): the distance of f from the diagonal.
     fn into_difference(mut self) -> MapData {
+        // The basins' band and the density are drawn on the map only.
+        self.basins.clear();
+        self.density.clear();
         let d = |v: &mut Vec<[f64; 2]>| v.iter_mut().for_each(|p| p[1] -= p[0]);
         d(&mut self.kept);
         d(&mut self.traj);
@@ -164,7 +176,7 @@ impl MapData {
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(ui, it.period, it.lyapunov, s);
+        legend_ui(ui, it.period, it.lyapunov, s, jobs.map_basins.at(&s.params));
         if !style::figure_only(ui.ctx()) {
             powers_ui(ui, s, &it.powers);
         }
@@ -248,6 +260,7 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
     {
         critical_angles(p, tc, lo, hi);
     }
+    draw_basins(p, d);
     for (i, pieces) in &d.powers {
         let i = (*i).min(2);
         for piece in pieces {
@@ -294,6 +307,75 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
             .radius(3.5)
             .filled(true),
     );
+}
+
+/// The basins along θ and each chaotic attractor's density (bins' centres,
+/// scaled to at most 1), from the cell graph's answer.
+type BasinBand = (Vec<(f64, f64, Option<usize>)>, Vec<Vec<[f64; 2]>>);
+fn basins_of(found: Option<&crate::sim::attractors::Found>) -> BasinBand {
+    let Some(f) = found else {
+        return (Vec::new(), Vec::new());
+    };
+    let basins = f
+        .basins
+        .iter()
+        .map(|b| (b.from, b.to, b.attractor))
+        .collect();
+    let density = f
+        .attractors
+        .iter()
+        .filter_map(|a| a.density.as_ref())
+        .map(|d| {
+            let n = d.values.len().max(1);
+            let top = d.values.iter().copied().fold(0.0, f64::max).max(1e-300);
+            let w = (d.to - d.from) / n as f64;
+            let at = |i: usize| d.from + w * (i as f64 + 0.5);
+            d.values
+                .iter()
+                .enumerate()
+                .map(|(i, v)| [at(i), v / top])
+                .collect()
+        })
+        .collect();
+    (basins, density)
+}
+
+/// The basins as a band along the frame's foot (each stretch in its
+/// attractor's colour, the boundary grey) and a chaotic attractor's
+/// density as a curve over the band, a quarter of the frame high.
+fn draw_basins(p: &mut egui_plot::PlotUi<'_>, d: &MapData) {
+    let b = p.plot_bounds();
+    let (lo, hi) = (b.min()[0], b.max()[0]);
+    let h = b.max()[1] - b.min()[1];
+    let lw = style::width(p.ctx(), 1.0);
+    let foot = b.min()[1] + 0.015 * h;
+    for &(a, b, att) in &d.basins {
+        let (a, b) = (a.max(lo), b.min(hi));
+        if b <= a {
+            continue;
+        }
+        let (name, colour) = match att {
+            Some(i) => ("basins (cell graph)", super::basins::track_color(i)),
+            None => ("basin boundary", super::basins::BOUNDARY),
+        };
+        p.line(
+            style::line(name, PlotPoints::from(vec![[a, foot], [b, foot]]))
+                .color(colour)
+                .width(6.0 * lw),
+        );
+    }
+    for curve in &d.density {
+        let pts: Vec<[f64; 2]> = curve
+            .iter()
+            .filter(|q| (lo..=hi).contains(&q[0]))
+            .map(|q| [q[0], foot + 0.25 * h * q[1]])
+            .collect();
+        p.line(
+            style::line("invariant density (scaled)", PlotPoints::from(pts))
+                .color(style::POWERS[0].gamma_multiply(0.8))
+                .width(1.5 * lw),
+        );
+    }
 }
 
 /// Follows the attractor as it changes: the plot's bounds a square around
@@ -359,7 +441,13 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
 }
 
 /// The period and λ, the f(θ) − θ switch, and the legend above the plot.
-fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, s: &mut Settings) {
+fn legend_ui(
+    ui: &mut Ui,
+    period: Option<Period>,
+    lyapunov: Option<f64>,
+    s: &mut Settings,
+    found: Option<&crate::sim::attractors::Found>,
+) {
     let mixed = matches!(
         Regime::of(s.params.kappa, s.params.gamma),
         Regime::Mixed { .. }
@@ -400,6 +488,19 @@ fn legend_ui(ui: &mut Ui, period: Option<Period>, lyapunov: Option<f64>, s: &mut
         );
         if mixed && !difference {
             style::legend_line(ui, style::ACCEL, true, "±θc");
+        }
+        if let Some(f) = found.filter(|_| !difference) {
+            for (i, a) in f.attractors.iter().enumerate() {
+                let name = match a.period {
+                    Some(1) => "basin: FP".to_owned(),
+                    Some(p) => format!("basin: P{p}"),
+                    None => "basin: chaotic".to_owned(),
+                };
+                style::legend_line(ui, super::basins::track_color(i), false, &name);
+            }
+            if f.attractors.iter().any(|a| a.density.is_some()) {
+                style::legend_line(ui, style::POWERS[0], false, "invariant density");
+            }
         }
     });
 }

@@ -50,6 +50,16 @@ impl ViewKind {
         }
     }
 
+    /// The tab bar's shorter name: nine full titles wrapped the bar onto a
+    /// second line at text ×1.5, taking height from the view.
+    pub fn tab_title(self) -> &'static str {
+        match self {
+            ViewKind::Plane => "Plane",
+            ViewKind::Phase => "Phase",
+            v => v.title(),
+        }
+    }
+
     /// The name the command line uses (`--view`).
     pub fn key(self) -> &'static str {
         match self {
