@@ -6,6 +6,7 @@
 //! arc with both attractors' colours.
 #![allow(clippy::unwrap_used)]
 
+#[cfg(feature = "gui")]
 use std::process::Command;
 
 use oneblock::integrate::{Method, SolverSettings};
@@ -15,6 +16,7 @@ use oneblock::sim::attractors::CellOptions;
 
 /// A column as the CSV gives it: θν, each attractor's (track, label,
 /// basin fraction), the boundary's fraction.
+#[cfg(feature = "gui")]
 type CsvColumn = (f64, Vec<(String, String, f64)>, f64);
 
 fn spec(from: f64, to: f64, steps: usize) -> BasinsSpec {
@@ -71,6 +73,7 @@ fn the_job_finds_the_fixed_point_and_the_p2_at_theta_nu_1_40() {
     );
 }
 
+#[cfg(feature = "gui")]
 /// Runs `oneblock figure --view basins` at the hysteresis, 25 columns over
 /// θν 1.33 … 1.45, into `name` (a fresh temporary directory's).
 fn figure(name: &str) -> String {
@@ -93,6 +96,7 @@ fn figure(name: &str) -> String {
     written(&model, name)
 }
 
+#[cfg(feature = "gui")]
 /// What `oneblock figure ARGS --out NAME` writes (no display).
 fn written(args: &[&str], name: &str) -> String {
     let dir = tempfile::tempdir().unwrap();
@@ -110,6 +114,7 @@ fn written(args: &[&str], name: &str) -> String {
     std::fs::read_to_string(&out).unwrap()
 }
 
+#[cfg(feature = "gui")]
 #[test]
 fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
     let csv = figure("basins.csv");
@@ -180,6 +185,7 @@ fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
     assert_ne!(track(mid, "P1"), track(mid, "P2"));
 }
 
+#[cfg(feature = "gui")]
 #[test]
 fn the_svg_fills_the_arc_with_both_attractors_colours() {
     let svg = figure("basins.svg");
@@ -193,6 +199,7 @@ fn the_svg_fills_the_arc_with_both_attractors_colours() {
     }
 }
 
+#[cfg(feature = "gui")]
 /// The return map's figure with its basins band and a chaotic attractor's
 /// density, from the cell graph at the figure's parameters.
 fn return_map_svg(model: &[&str]) -> String {
@@ -204,6 +211,7 @@ fn return_map_svg(model: &[&str]) -> String {
     written(&args, "map.svg")
 }
 
+#[cfg(feature = "gui")]
 #[test]
 fn the_return_map_shades_the_basins_and_draws_the_density() {
     let svg = return_map_svg(&["--preset", "chaos"]);

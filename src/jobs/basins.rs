@@ -17,11 +17,11 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::orbit::{Pacer, paced_progress};
-use super::protocol::{Axis, Lane, Update};
+use super::protocol::{Axis, BasinColumn, Lane, Update};
 use super::{Job, JobError, Sink, Status};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::{AttractorError, CellOptions, Found, attractors};
+use crate::sim::attractors::{AttractorError, CellOptions, attractors};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
 /// Attractors and basins over `theta_nu` at the κ, γ, ν and Ω of `params`
@@ -50,16 +50,6 @@ impl BasinsSpec {
             cells: CellOptions::default(),
         }
     }
-}
-
-/// One column's answer.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BasinColumn {
-    /// Its place in the θν grid (0 … steps − 1).
-    pub index: usize,
-    pub theta_nu: f64,
-    /// Every attractor and basin there, or why they could not be found.
-    pub found: Result<Found, String>,
 }
 
 /// The grid's indices, coarse first: 0 and n − 1, then the midpoints of

@@ -39,13 +39,14 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-pub use basins::{BasinColumn, BasinsSpec};
+pub use basins::BasinsSpec;
 pub use events::{PassageSpec, ScanSpec};
 pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
 pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
+pub use protocol::BasinColumn;
 pub use protocol::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
     GridCell, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseSpec,

@@ -18,6 +18,7 @@ use serde::{Deserialize, Serialize};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
+use crate::sim::attractors::Found;
 use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, CurveKind, SpecialPoint};
 use crate::sim::intermittency::{Passage, Scaling};
@@ -494,7 +495,7 @@ pub enum Update {
     Basins {
         generation: Generation,
         lane: Lane,
-        column: Box<super::basins::BasinColumn>,
+        column: Box<BasinColumn>,
     },
     /// What a continuation or curves job has found so far and, once it
     /// ends, why it stopped (one line for the status bar).
@@ -607,4 +608,14 @@ impl ListedAttractor {
             basin_fraction: a.basin_fraction,
         }
     }
+}
+
+/// One column of a Basins job: its attractors and basins.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BasinColumn {
+    /// Its place in the θν grid (0 … steps − 1).
+    pub index: usize,
+    pub theta_nu: f64,
+    /// Every attractor and basin there, or why they could not be found.
+    pub found: Result<Found, String>,
 }
