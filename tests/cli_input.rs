@@ -67,6 +67,16 @@ fn bad_input_names_the_flag_and_exits_with_2() {
         "--out",
     );
 
+    // work-precision's θ₀ is checked as orbit's: on the exit arc of the
+    // attractor given, and refused without one.
+    let wp = |extra: &[&str]| {
+        let mut a = vec!["work-precision", "--out", "-", "--theta0", "1e308"];
+        a.extend_from_slice(extra);
+        a.into_iter().map(String::from).collect::<Vec<_>>()
+    };
+    assert_bad_input(&wp(&[]), "--theta0");
+    assert_bad_input(&wp(&["--preset", "fig3b"]), "--theta0");
+
     let traj = cmd_args("trajectory", &["--theta0", "0.5", "--events", "1"]);
     assert_bad_input(&set(traj.clone(), "--events", "0"), "--events");
     assert_bad_input(&set(traj.clone(), "--theta0", "3"), "--theta0");

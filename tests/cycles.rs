@@ -247,9 +247,9 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     // The window: its sweep at Auto accuracy, 300 + 200 iterates a column.
     let auto = budget_for(Accuracy::BifurcationDiagram.target()).settings;
     let w = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
-    assert!(w.send(Command::Sweep {
-        generation: 1,
-        spec: SweepSpec {
+    assert!(w.send(Command::run(
+        1,
+        SweepSpec {
             params: p,
             settings: auto,
             theta_nu: Axis::new(from, to, columns),
@@ -258,8 +258,8 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
             map: MapChoice::Auto,
             theta0: None,
             seeds: 0,
-        },
-    }));
+        }
+    )));
     let (ups, outcome) = until_finished(&w, 1, Lane::Sweep);
     assert_eq!(outcome, Outcome::Completed);
     w.shutdown();

@@ -9,6 +9,7 @@ mod window;
 use eframe::egui;
 use eframe::egui::accesskit::Role;
 use egui_kittest::kittest::Queryable;
+use oneblock::worker::Spec;
 
 use oneblock::app::accuracy::job_estimates;
 use oneblock::app::jobs::JobKind;
@@ -57,7 +58,10 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
         .commands()
         .iter()
         .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(*generation),
+            Command::Run {
+                generation,
+                spec: Spec::Trajectory(..),
+            } => Some(*generation),
             _ => None,
         })
         .expect("trajectory");
@@ -68,7 +72,10 @@ fn the_accuracy_selector_switches_between_auto_and_custom() {
     });
     h.run_steps(2);
     let iterate = rec.commands().iter().rev().find_map(|c| match c {
-        Command::Iterate { spec, .. } => Some(spec.settings),
+        Command::Run {
+            spec: Spec::Iterate(spec),
+            ..
+        } => Some(spec.settings),
         _ => None,
     });
     assert_eq!(

@@ -13,6 +13,7 @@ mod window;
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
+use oneblock::worker::Spec;
 
 use oneblock::app::axes::{AngleUnit, plot_frames};
 use oneblock::app::settings::EventsPlot;
@@ -102,7 +103,10 @@ fn window_at(settings: Settings, rec: &Recorder) -> Harness<'static, Explorer> {
     h.set_size(egui::vec2(1280.0, 800.0));
     h.run_steps(2);
     if let Some(generation) = rec.commands().into_iter().find_map(|c| match c {
-        Command::Trajectory { generation, .. } => Some(generation),
+        Command::Run {
+            generation,
+            spec: Spec::Trajectory(..),
+        } => Some(generation),
         _ => None,
     }) {
         for i in 0..300 {

@@ -7,6 +7,7 @@ mod window;
 
 use eframe::egui;
 use egui_kittest::kittest::Queryable;
+use oneblock::worker::Spec;
 
 use oneblock::app::{Recorder, Settings, ViewKind};
 use oneblock::worker::Command;
@@ -26,7 +27,10 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+            Command::Run {
+                spec: Spec::Sweep(spec),
+                ..
+            } => Some((spec.theta_nu.from, spec.theta_nu.to)),
             _ => None,
         })
         .expect("first sweep");
@@ -48,9 +52,10 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Sweep { spec, .. } => {
-                Some((spec.theta_nu.from, spec.theta_nu.to, spec.params))
-            }
+            Command::Run {
+                spec: Spec::Sweep(spec),
+                ..
+            } => Some((spec.theta_nu.from, spec.theta_nu.to, spec.params)),
             _ => None,
         })
         .expect("a zoom recomputes the diagram");
@@ -65,7 +70,10 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
     h.get_by_label("Back").click();
     h.run_steps(3);
     let back = rec.commands().into_iter().find_map(|c| match c {
-        Command::Sweep { spec, .. } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+        Command::Run {
+            spec: Spec::Sweep(spec),
+            ..
+        } => Some((spec.theta_nu.from, spec.theta_nu.to)),
         _ => None,
     });
     assert_eq!(back, Some(full));

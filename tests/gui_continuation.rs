@@ -11,6 +11,7 @@
 #[path = "common/window.rs"]
 mod window;
 
+use oneblock::worker::Spec;
 use std::sync::Arc;
 
 use eframe::egui;
@@ -43,8 +44,14 @@ impl Backend for ContinuationOnly {
             .unwrap_or_else(|e| e.into_inner())
             .push(cmd.clone());
         match cmd {
-            Command::FindBifurcations { .. }
-            | Command::Boundaries { .. }
+            Command::Run {
+                spec: Spec::Branches(..),
+                ..
+            }
+            | Command::Run {
+                spec: Spec::Curves(..),
+                ..
+            }
             | Command::Cancel {
                 lane: Some(Lane::Continuation | Lane::Curves),
                 ..
@@ -126,7 +133,10 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::FindBifurcations { spec, .. } => Some(spec),
+            Command::Run {
+                spec: Spec::Branches(spec),
+                ..
+            } => Some(spec),
             _ => None,
         })
         .expect("the job was sent");
@@ -230,6 +240,55 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
     }
 }
 
+/// Drags a box across the diagram (the plot right of the side panel).
+fn drag_zoom_box(h: &mut Harness<'static, Explorer>) {
+    let (a, b) = (egui::pos2(700.0, 400.0), egui::pos2(950.0, 600.0));
+    h.hover_at(a);
+    h.step();
+    h.drag_at(a);
+    h.step();
+    for i in 1..=5 {
+        h.hover_at(a + (b - a) * (i as f32 / 5.0));
+        h.step();
+    }
+    h.drop_at(b);
+    h.run_steps(3);
+}
+
+/// What the window shows of a Find bifurcations result: its branches, its
+/// special points' table and its status line.
+fn branches_shown(h: &Harness<'static, Explorer>) -> [bool; 3] {
+    [
+        !h.state().jobs.branches.data.branches.is_empty(),
+        h.query_by_label_contains("Special points (").is_some(),
+        h.query_by_label_contains("bifurcations: ").is_some(),
+    ]
+}
+
+/// As a user would: Find bifurcations on Fig. 3b, drag a zoom box, change
+/// κ. The κ = 18.95 branches, their special points and their status line
+/// are gone from the new diagram, and stay gone after a preset change.
+#[test]
+fn find_bifurcations_then_a_zoom_then_kappa_leaves_nothing_of_the_old_branches() {
+    let rec = Recorder::new();
+    let mut h = harness_on_worker(&rec, fig3b_tab());
+    h.run_steps(2);
+    h.get_by_label("Find bifurcations").click();
+    h.step();
+    until_settled(&mut h);
+    assert_eq!(branches_shown(&h), [true; 3], "the result is shown");
+    drag_zoom_box(&mut h);
+    assert_eq!(h.state().views.bifurcation.zoom.len(), 1, "zoomed");
+    assert_eq!(branches_shown(&h), [true; 3], "a zoom keeps the result");
+    h.state_mut().settings.params.kappa = 16.0;
+    h.run_steps(3);
+    assert_eq!(branches_shown(&h), [false; 3], "κ changed");
+    assert!(h.state().views.bifurcation.zoom.is_empty(), "the zoom too");
+    h.state_mut().settings.params = preset("fig3a").expect("preset").params;
+    h.run_steps(3);
+    assert_eq!(branches_shown(&h), [false; 3], "a preset later");
+}
+
 #[test]
 fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
     let rec = Recorder::new();
@@ -261,7 +320,7 @@ fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
     jobs.sync(&s, zoomed);
     assert_eq!(jobs.branches.state, JobState::Cancelled);
     assert_eq!(
-        jobs.branches.data.summary.as_deref(),
+        jobs.branches.summary.as_deref(),
         Some("stopped: the θν range changed")
     );
     assert_eq!(jobs.branches.data.range, (1.0, 1.2));
@@ -287,7 +346,7 @@ fn a_parameter_change_stops_the_job_and_drops_what_it_sends_later() {
     assert!(!jobs.apply(late), "a stale update is dropped");
     assert!(jobs.branches.data.branches.is_empty());
     assert_eq!(
-        jobs.branches.data.summary.as_deref(),
+        jobs.branches.summary.as_deref(),
         Some("stopped: the parameters changed")
     );
 }
@@ -316,7 +375,10 @@ fn boundaries_draw_the_doubling_curves_over_the_phase_diagram() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Boundaries { spec, .. } => Some(spec),
+            Command::Run {
+                spec: Spec::Curves(spec),
+                ..
+            } => Some(spec),
             _ => None,
         })
         .expect("the job was sent");

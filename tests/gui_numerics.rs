@@ -15,6 +15,7 @@ use oneblock::app::{Explorer, Recorder, Settings, ViewKind};
 use oneblock::model::Params;
 use oneblock::numerics::Row;
 use oneblock::numerics::quick::{QUICK_POINTS, quick_subjects};
+use oneblock::worker::Spec;
 use oneblock::worker::{Command, Lane, Update, Worker, WorkerConfig};
 use window::harness;
 
@@ -43,9 +44,10 @@ fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::WorkPrecision { generation, spec } => {
-                Some((generation, spec.params, spec.points, spec.subjects))
-            }
+            Command::Run {
+                generation,
+                spec: Spec::Numerics(spec),
+            } => Some((generation, spec.params, spec.points, spec.subjects)),
             _ => None,
         })
         .expect("the job was sent");

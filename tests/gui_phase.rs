@@ -11,6 +11,7 @@ mod window;
 
 use eframe::egui::accesskit::Role;
 use egui_kittest::kittest::{NodeT, Queryable};
+use oneblock::worker::Spec;
 
 use oneblock::app::jobs::JobState;
 use oneblock::app::phase_attractors::multistable_centres;
@@ -211,7 +212,10 @@ fn seeds_sent(rec: &Recorder) -> Vec<(usize, bool)> {
     rec.commands()
         .into_iter()
         .filter_map(|c| match c {
-            Command::Phase { spec, .. } => Some((spec.tuning.seeds, spec.tuning.list_attractors)),
+            Command::Run {
+                spec: Spec::Phase(spec),
+                ..
+            } => Some((spec.tuning.seeds, spec.tuning.list_attractors)),
             _ => None,
         })
         .collect()
@@ -315,7 +319,10 @@ fn the_doubling_curves_generalised_flips_are_marked_and_listed() {
         .commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Boundaries { generation, .. } => Some(generation),
+            Command::Run {
+                generation,
+                spec: Spec::Curves(..),
+            } => Some(generation),
             _ => None,
         })
         .expect("the curves job was sent");

@@ -9,6 +9,7 @@ mod window;
 use oneblock::app::jobs::JobState;
 use oneblock::app::{Layout, Recorder, Settings, ViewKind};
 use oneblock::sim::{Phase, Sample};
+use oneblock::worker::Spec;
 use oneblock::worker::{Command, Update};
 use window::{event, harness};
 
@@ -20,11 +21,17 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
     let (traj_gen, sweep_gen) = {
         let cmds = rec.commands();
         let t = cmds.iter().find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(*generation),
+            Command::Run {
+                generation,
+                spec: Spec::Trajectory(..),
+            } => Some(*generation),
             _ => None,
         });
         let s = cmds.iter().find_map(|c| match c {
-            Command::Sweep { generation, spec } => Some((*generation, spec.theta_nu.steps)),
+            Command::Run {
+                generation,
+                spec: Spec::Sweep(spec),
+            } => Some((*generation, spec.theta_nu.steps)),
             _ => None,
         });
         (t.expect("trajectory"), s.expect("sweep"))

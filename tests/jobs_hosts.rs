@@ -182,25 +182,25 @@ fn settings() -> SolverSettings {
 
 #[test]
 fn a_trajectory_is_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::Trajectory {
-        generation: 3,
-        spec: TrajectorySpec {
+    let r = same_on_both_hosts(Command::run(
+        3,
+        TrajectorySpec {
             params: preset("fig3b"),
             settings: settings(),
             theta0: Some(0.5),
             spacing: 0.05,
             cycles: Some(12),
         },
-    });
+    ));
     assert_eq!(r.slips.len(), 12);
     assert!(r.samples.len() > 12);
 }
 
 #[test]
 fn map_iterates_are_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::Iterate {
-        generation: 4,
-        spec: IterateSpec {
+    let r = same_on_both_hosts(Command::run(
+        4,
+        IterateSpec {
             params: preset("fig3b"),
             settings: settings(),
             theta0: None,
@@ -208,7 +208,7 @@ fn map_iterates_are_the_same_on_every_host() {
             keep: 40,
             graph_powers: 2,
         },
-    });
+    ));
     assert_eq!(r.iterates.len(), 40);
     assert_eq!(r.graphs.len(), 2, "f, then f with f²");
 }
@@ -225,10 +225,7 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
         theta0: None,
         seeds: 0,
     };
-    let r = same_on_both_hosts(Command::Sweep {
-        generation: 5,
-        spec: spec.clone(),
-    });
+    let r = same_on_both_hosts(Command::run(5, spec.clone()));
     assert_eq!(r.columns.len(), 21);
     assert!(r.lyapunovs.values().all(|l| l.starts_with("Some")), "{r:?}");
     // Paused after every cycle and every λ slope, and resumed: the same
@@ -327,10 +324,7 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
         theta0: None,
         seeds: 1,
     };
-    let r = same_on_both_hosts(Command::Sweep {
-        generation: 5,
-        spec: spec.clone(),
-    });
+    let r = same_on_both_hosts(Command::run(5, spec.clone()));
     // Columns show a second attractor (labels are in the hundreds) from
     // the cell graph, the same on every host.
     let multistable = r.columns.values().filter(|c| c.1.iter().any(|&t| t > 50.0));
@@ -343,9 +337,9 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
         let cli = results(&ups);
         assert_eq!((cli.columns, cli.resent), (r.columns.clone(), r.resent));
     }
-    let r = same_on_both_hosts(Command::Phase {
-        generation: 6,
-        spec: PhaseSpec {
+    let r = same_on_both_hosts(Command::run(
+        6,
+        PhaseSpec {
             params,
             settings: default_settings(1e-8),
             theta_nu: Axis::new(1.36, 1.44, 5),
@@ -357,7 +351,7 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
                 ..PhaseTuning::default()
             },
         },
-    });
+    ));
     assert_eq!(r.cells.len(), 10);
     assert!(
         r.cells.values().any(|c| c.contains("attractors: Some(2)")),
@@ -367,9 +361,9 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
 
 #[test]
 fn a_phase_grid_is_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::Phase {
-        generation: 6,
-        spec: PhaseSpec {
+    let r = same_on_both_hosts(Command::run(
+        6,
+        PhaseSpec {
             params: preset("fig3b"),
             settings: default_settings(1e-8),
             theta_nu: Axis::new(0.6, 1.5, 6),
@@ -378,7 +372,7 @@ fn a_phase_grid_is_the_same_on_every_host() {
             keep: 32,
             tuning: PhaseTuning::default(),
         },
-    });
+    ));
     assert_eq!(r.cells.len(), 30);
 }
 
@@ -388,9 +382,9 @@ fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
         .into_iter()
         .flat_map(|m| [1e-6, 1e-8].map(|tol| Subject::Own(SolverSettings::adaptive(m, tol))))
         .collect();
-    let r = same_on_both_hosts(Command::WorkPrecision {
-        generation: 7,
-        spec: WorkPrecisionSpec {
+    let r = same_on_both_hosts(Command::run(
+        7,
+        WorkPrecisionSpec {
             params: preset("fig3b"),
             theta0: None,
             transient: 100,
@@ -398,15 +392,15 @@ fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
             time_per_setting: std::time::Duration::from_millis(3),
             subjects,
         },
-    });
+    ));
     assert_eq!(r.rows.len(), 4);
 }
 
 #[test]
 fn find_bifurcations_is_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::FindBifurcations {
-        generation: 8,
-        spec: ContinuationSpec {
+    let r = same_on_both_hosts(Command::run(
+        8,
+        ContinuationSpec {
             params: preset("fig3b"),
             settings: settings(),
             param: ContParam::ThetaNu,
@@ -417,7 +411,7 @@ fn find_bifurcations_is_the_same_on_every_host() {
             cascade: CascadeFrom::Branch,
             curves: None,
         },
-    });
+    ));
     assert!(r.other.iter().any(|s| s.starts_with("Branch")), "{r:?}");
 }
 
@@ -432,9 +426,9 @@ fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
     else {
         panic!("fig3b at θν = 0.9 has a cycle for an attractor");
     };
-    let r = same_on_both_hosts(Command::FindBifurcations {
-        generation: 10,
-        spec: ContinuationSpec {
+    let r = same_on_both_hosts(Command::run(
+        10,
+        ContinuationSpec {
             params,
             settings: settings(),
             param: ContParam::ThetaNu,
@@ -449,7 +443,7 @@ fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
                 range: [17.0, 21.0],
             }),
         },
-    });
+    ));
     for kind in ["Special", "Branch", "Curve"] {
         assert!(r.other.iter().any(|s| s.starts_with(kind)), "{kind}: {r:?}");
     }
@@ -457,15 +451,15 @@ fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
 
 #[test]
 fn boundaries_are_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::Boundaries {
-        generation: 9,
-        spec: BoundarySpec {
+    let r = same_on_both_hosts(Command::run(
+        9,
+        BoundarySpec {
             params: preset("fig3b"),
             settings: settings(),
             theta_nu: (0.9, 1.3),
             kappa: (17.0, 21.0),
         },
-    });
+    ));
     assert!(r.other.iter().any(|s| s.starts_with("Curve")), "{r:?}");
 }
 
@@ -566,10 +560,7 @@ fn a_spec_that_does_not_validate_fails_on_every_host_naming_its_parameter() {
         cycles: Some(3),
     };
     let single = local(Spec::Trajectory(spec.clone()));
-    let many = threaded(Command::Trajectory {
-        generation: 2,
-        spec: spec.clone(),
-    });
+    let many = threaded(Command::run(2, spec.clone()));
     assert_eq!(single, many);
     assert!(matches!(single.outcome, Some(Outcome::Failed(_))));
     assert!(

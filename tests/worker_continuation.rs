@@ -24,9 +24,9 @@ fn settings() -> SolverSettings {
 }
 
 fn find(generation: Generation, params: Params, from: f64, to: f64) -> Command {
-    Command::FindBifurcations {
+    Command::run(
         generation,
-        spec: ContinuationSpec {
+        ContinuationSpec {
             params,
             settings: settings(),
             param: ContParam::ThetaNu,
@@ -37,7 +37,7 @@ fn find(generation: Generation, params: Params, from: f64, to: f64) -> Command {
             cascade: CascadeFrom::Branch,
             curves: None,
         },
-    }
+    )
 }
 
 fn branches(ups: &[Update], generation: Generation) -> Vec<Branch> {
@@ -212,15 +212,15 @@ fn a_newer_job_or_a_parameter_change_cancels_and_nothing_stale_follows() {
 fn boundaries_are_doubling_curves_through_the_box() {
     let (w, _) = spawn(64, 1, 8);
     let params = oneblock::model::preset("fig4").unwrap().params;
-    assert!(w.send(Command::Boundaries {
-        generation: 7,
-        spec: BoundarySpec {
+    assert!(w.send(Command::run(
+        7,
+        BoundarySpec {
             params,
             settings: settings(),
             theta_nu: (0.1, 1.55),
             kappa: (10.0, 22.0),
-        },
-    }));
+        }
+    )));
     let (ups, outcome) = until_finished(&w, 7, Lane::Curves);
     assert_eq!(outcome, Outcome::Completed, "{ups:?}");
     let curves: Vec<_> = ups

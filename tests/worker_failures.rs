@@ -6,6 +6,7 @@
 mod common;
 use common::jobs::*;
 use common::{recv, until_finished};
+use oneblock::worker::Spec;
 use std::time::Duration;
 
 use oneblock::integrate::SolverSettings;
@@ -45,37 +46,37 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
     let cases: Vec<(Command, Lane, &str)> = vec![
         (iterate(1, bad_kappa, 0, 5), Lane::Orbit, "kappa"),
         (
-            Command::Trajectory {
-                generation: 2,
-                spec: TrajectorySpec {
+            Command::run(
+                2,
+                TrajectorySpec {
                     params: fig3b(1.0),
                     settings: settings(),
                     theta0: Some(-2.0),
                     spacing: 0.05,
                     cycles: Some(3),
                 },
-            },
+            ),
             Lane::Orbit,
             "theta",
         ),
         (
-            Command::Trajectory {
-                generation: 3,
-                spec: TrajectorySpec {
+            Command::run(
+                3,
+                TrajectorySpec {
                     params: fig3b(1.0),
                     settings: settings(),
                     theta0: None,
                     spacing: 0.0,
                     cycles: Some(3),
                 },
-            },
+            ),
             Lane::Orbit,
             "spacing",
         ),
         (
-            Command::Sweep {
-                generation: 4,
-                spec: SweepSpec {
+            Command::run(
+                4,
+                SweepSpec {
                     params: Params {
                         gamma: f64::NAN,
                         ..fig3b(0.0)
@@ -88,14 +89,14 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                     theta0: None,
                     seeds: 0,
                 },
-            },
+            ),
             Lane::Sweep,
             "gamma",
         ),
         (
-            Command::Sweep {
-                generation: 5,
-                spec: SweepSpec {
+            Command::run(
+                5,
+                SweepSpec {
                     params: fig3b(0.0),
                     settings: SolverSettings {
                         rtol: 1.0,
@@ -108,16 +109,25 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                     theta0: None,
                     seeds: 0,
                 },
-            },
+            ),
             Lane::Sweep,
             "tol",
         ),
     ];
     for (cmd, lane, name) in cases {
         let generation = match &cmd {
-            Command::Iterate { generation, .. }
-            | Command::Trajectory { generation, .. }
-            | Command::Sweep { generation, .. } => *generation,
+            Command::Run {
+                generation,
+                spec: Spec::Iterate(..),
+            }
+            | Command::Run {
+                generation,
+                spec: Spec::Trajectory(..),
+            }
+            | Command::Run {
+                generation,
+                spec: Spec::Sweep(..),
+            } => *generation,
             _ => unreachable!(),
         };
         assert!(w.send(cmd));
@@ -143,10 +153,7 @@ fn a_panicking_job_is_reported_and_the_worker_keeps_serving() {
     let (w, _) = spawn(64, 2, 64);
     for round in 0..2 {
         let g = 10 * round + 1;
-        assert!(w.send(Command::InjectPanic {
-            generation: g,
-            after_cycles: 3
-        }));
+        assert!(w.send(Command::inject_panic(g, 3)));
         let (ups, outcome) = until_finished(&w, g, Lane::Orbit);
         assert!(matches!(outcome, Outcome::Failed(ref m) if m.contains("panicked")));
         assert!(ups.iter().any(|u| matches!(

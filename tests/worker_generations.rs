@@ -349,17 +349,17 @@ fn set_params_without_settings_keeps_each_jobs_own() {
     let (w, _) = spawn(256, 2, 4);
     // A job with its own setting (the app's Auto gives each kind its own).
     let own = SolverSettings::adaptive(Method::Dp54, 1e-6);
-    assert!(w.send(Command::Iterate {
-        generation: 1,
-        spec: IterateSpec {
+    assert!(w.send(Command::run(
+        1,
+        IterateSpec {
             params: fig3b(1.0),
             settings: own,
             theta0: None,
             transient: 5,
             keep: 10,
             graph_powers: 1,
-        },
-    }));
+        }
+    )));
     let (_, outcome) = until_finished(&w, 1, Lane::Orbit);
     assert_eq!(outcome, Outcome::Completed);
     let new = fig3b(1.2);

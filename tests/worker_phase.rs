@@ -9,6 +9,7 @@
 mod common;
 use common::fixture::preset;
 use common::{recv, until_ack, until_finished};
+use oneblock::worker::Spec;
 use std::collections::{HashMap, HashSet};
 use std::f64::consts::FRAC_PI_2;
 use std::sync::Arc;
@@ -68,9 +69,9 @@ impl Grid {
     }
 
     fn command(&self, generation: Generation) -> Command {
-        Command::Phase {
+        Command::run(
             generation,
-            spec: PhaseSpec {
+            PhaseSpec {
                 params: self.params,
                 settings: self.settings,
                 theta_nu: Axis::new(self.t.0, self.t.1, self.t.2),
@@ -79,7 +80,7 @@ impl Grid {
                 keep: self.keep,
                 tuning: PhaseTuning::default(),
             },
-        }
+        )
     }
 
     fn opts(&self) -> PhaseOptions {
@@ -362,9 +363,9 @@ fn cancelling_stops_a_grid_at_once_and_nothing_stale_follows() {
 #[test]
 fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
     let w = spawn(256);
-    assert!(w.send(Command::Sweep {
-        generation: 1,
-        spec: SweepSpec {
+    assert!(w.send(Command::run(
+        1,
+        SweepSpec {
             params: params(6.5),
             settings: default_settings(1e-8),
             theta_nu: Axis::new(0.5, 1.4, 12),
@@ -373,18 +374,18 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
             map: MapChoice::Auto,
             theta0: None,
             seeds: 0,
-        },
-    }));
-    assert!(w.send(Command::Trajectory {
-        generation: 2,
-        spec: TrajectorySpec {
+        }
+    )));
+    assert!(w.send(Command::run(
+        2,
+        TrajectorySpec {
             params: params(6.5),
             settings: default_settings(1e-8),
             theta0: None,
             spacing: 0.05,
             cycles: Some(5),
-        },
-    }));
+        }
+    )));
     assert!(w.send(Grid::small().command(3)));
     let mut outcomes = HashMap::new();
     while outcomes.len() < 3 {
@@ -429,7 +430,11 @@ fn bad_phase_input_is_named_and_the_next_grid_runs() {
     for (name, f) in &cases {
         generation += 1;
         let mut cmd = g.command(generation);
-        if let Command::Phase { spec, .. } = &mut cmd {
+        if let Command::Run {
+            spec: Spec::Phase(spec),
+            ..
+        } = &mut cmd
+        {
             f(spec);
         }
         assert!(w.send(cmd));

@@ -33,9 +33,9 @@ fn params(kappa: f64, theta_nu: f64) -> Params {
 /// The worker's one-column sweep at (κ, θν), from θ = θν.
 fn worker_column(generation: u64, kappa: f64, theta_nu: f64) -> Vec<f64> {
     let (w, _) = spawn(256, 1, 1);
-    let cmd = Command::Sweep {
+    let cmd = Command::run(
         generation,
-        spec: SweepSpec {
+        SweepSpec {
             params: params(kappa, theta_nu),
             settings: default_settings(1e-10),
             theta_nu: Axis::new(theta_nu, theta_nu, 1),
@@ -45,7 +45,7 @@ fn worker_column(generation: u64, kappa: f64, theta_nu: f64) -> Vec<f64> {
             theta0: None,
             seeds: 0,
         },
-    };
+    );
     assert!(w.send(cmd));
     let (ups, outcome) = until_finished(&w, generation, Lane::Sweep);
     assert_eq!(outcome, Outcome::Completed);

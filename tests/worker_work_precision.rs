@@ -13,9 +13,9 @@ use oneblock::numerics::{Row, Subject, build_sample, measure};
 use oneblock::worker::{Command, Generation, Lane, Outcome, Update, WorkPrecisionSpec, Worker};
 
 fn work_precision(generation: Generation, params: Params, subjects: Vec<Subject>) -> Command {
-    Command::WorkPrecision {
+    Command::run(
         generation,
-        spec: WorkPrecisionSpec {
+        WorkPrecisionSpec {
             params,
             theta0: None,
             transient: 100,
@@ -23,7 +23,7 @@ fn work_precision(generation: Generation, params: Params, subjects: Vec<Subject>
             time_per_setting: Duration::ZERO,
             subjects,
         },
-    }
+    )
 }
 
 fn dop853(tol: f64) -> Subject {
@@ -99,16 +99,18 @@ fn work_precision_is_cancelled_by_a_stop_and_by_a_newer_job() {
     let (w, _) = spawn(256, 2, 64);
     let mut all = Vec::new();
     // The whole panel's list, timed: seconds of work, stopped after a row.
-    let long = |g| Command::WorkPrecision {
-        generation: g,
-        spec: WorkPrecisionSpec {
-            params: fig3b(1.25),
-            theta0: None,
-            transient: 100,
-            points: 8,
-            time_per_setting: Duration::from_millis(40),
-            subjects: quick_subjects(),
-        },
+    let long = |g| {
+        Command::run(
+            g,
+            WorkPrecisionSpec {
+                params: fig3b(1.25),
+                theta0: None,
+                transient: 100,
+                points: 8,
+                time_per_setting: Duration::from_millis(40),
+                subjects: quick_subjects(),
+            },
+        )
     };
     let first_row_of = |w: &Worker, g: Generation, all: &mut Vec<Update>| loop {
         let u = recv(w);
@@ -185,9 +187,9 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
     let cases = [
         (work_precision(1, bad_kappa, vec![dop853(1e-6)]), "kappa"),
         (
-            Command::WorkPrecision {
-                generation: 2,
-                spec: WorkPrecisionSpec {
+            Command::run(
+                2,
+                WorkPrecisionSpec {
                     params: fig3b(1.0),
                     theta0: None,
                     transient: 100,
@@ -195,13 +197,13 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
                     time_per_setting: Duration::ZERO,
                     subjects: vec![dop853(1e-6)],
                 },
-            },
+            ),
             "points",
         ),
         (
-            Command::WorkPrecision {
-                generation: 3,
-                spec: WorkPrecisionSpec {
+            Command::run(
+                3,
+                WorkPrecisionSpec {
                     params: fig3b(1.0),
                     theta0: None,
                     transient: 100,
@@ -209,7 +211,7 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
                     time_per_setting: Duration::from_secs(60),
                     subjects: vec![dop853(1e-6)],
                 },
-            },
+            ),
             "time_per_setting",
         ),
     ];

@@ -16,8 +16,6 @@ pub struct BranchData {
     /// The branches: the attractor's over the whole range, then each
     /// doubled level of the cascade.
     pub branches: Vec<Branch>,
-    /// What the job found and why it stopped, as it last said.
-    pub summary: Option<String>,
 }
 
 /// The curves of a "Boundaries" job.
@@ -25,8 +23,6 @@ pub struct BranchData {
 pub struct CurveData {
     /// The curves in (θν, κ), in the order they ended.
     pub curves: Vec<Curve>,
-    /// What the job found and why it stopped, as it last said.
-    pub summary: Option<String>,
 }
 
 /// A stretch of one cycle point's path along a branch, all stable or all

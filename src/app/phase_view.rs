@@ -117,7 +117,7 @@ impl PhaseView {
         if let Some(e) = &data.error {
             ui.label(RichText::new(e).color(style::ERROR));
         }
-        if let Some(text) = &jobs.curves.data.summary {
+        if let Some(text) = &jobs.curves.summary {
             ui.label(RichText::new(format!("boundaries: {text}")).weak());
         }
         overlay::curve_legend_ui(ui, &jobs.curves.data);

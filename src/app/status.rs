@@ -30,13 +30,13 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
                 "bifurcations",
                 &j.branches.state,
                 j.branches.progress.fraction,
-                &j.branches.data.summary,
+                &j.branches.summary,
             ),
             (
                 "boundaries",
                 &j.curves.state,
                 j.curves.progress.fraction,
-                &j.curves.data.summary,
+                &j.curves.summary,
             ),
         ] {
             if let Some(text) = continuation_status(name, slot_state, progress, summary.as_deref())

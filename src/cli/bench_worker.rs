@@ -132,7 +132,7 @@ fn worker(args: &BenchWorkerArgs) -> Worker {
 fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u64) -> Command {
     let mut spec = fig3b_diagram(args.columns, args.transient, args.keep, args.tol);
     spec.settings = settings;
-    Command::Sweep { generation, spec }
+    Command::run(generation, spec)
 }
 
 fn recv(w: &Worker) -> Result<Update, CliError> {
@@ -217,16 +217,16 @@ fn trajectory_latencies(
         }
         let generation = 2 + k as u64;
         let sent = Instant::now();
-        w.send(Command::Trajectory {
+        w.send(Command::run(
             generation,
-            spec: TrajectorySpec {
+            TrajectorySpec {
                 params: fig3b().with_theta_nu(1.0),
                 settings,
                 theta0: None,
                 spacing: 0.05,
                 cycles: Some(5),
             },
-        });
+        ));
         loop {
             match recv(&w)? {
                 Update::TrajectoryChunk { generation: g, .. } if g == generation => {
@@ -279,9 +279,9 @@ fn time_phase(
         .count();
     let t0 = Instant::now();
     let cpu0 = cpu_seconds();
-    let sent = w.send(Command::Phase {
-        generation: 1,
-        spec: PhaseSpec {
+    let sent = w.send(Command::run(
+        1,
+        PhaseSpec {
             params: fig3b(),
             settings,
             theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, n),
@@ -290,7 +290,7 @@ fn time_phase(
             keep: 128,
             tuning: PhaseTuning::default(),
         },
-    });
+    ));
     if !sent {
         return Err(CliError::Failed("the worker refused the phase grid".into()));
     }

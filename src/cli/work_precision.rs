@@ -26,7 +26,8 @@ pub struct WorkPrecisionArgs {
     /// sample]: its parameters, from a preset or given one by one.
     #[command(flatten)]
     pub model: OptionalModelArgs,
-    /// Where that attractor's orbit starts [default: θν].
+    /// Where that attractor's orbit starts, on its exit arc [default: θν];
+    /// only with --preset or the model's flags.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta0: Option<f64>,
     /// Orbit points per attractor (1 to 10000). The default attractors'
@@ -79,6 +80,14 @@ pub struct Plan {
 /// Checks the flags and the outputs before any work.
 pub fn check(args: &WorkPrecisionArgs) -> Result<Plan, CliError> {
     let attractors = if !args.model.any() {
+        if let Some(t) = args.theta0 {
+            // The default sample's attractors each start where their
+            // committed points do: a θ₀ would be ignored, so it is refused.
+            return Err(CliError::Usage(format!(
+                "--theta0 = {} needs an attractor to start on: give --preset or the model's flags (the default sample's four attractors start at their own onsets)",
+                super::values::short(t)
+            )));
+        }
         default_attractors()
     } else {
         let params = args.model.params()?;

@@ -40,15 +40,21 @@ pub struct BasinsSpec {
     pub cells: CellOptions,
 }
 
-impl BasinsSpec {
-    /// One point, at `params`' own θν, with densities: the return map's.
+/// Attractors and basins at one point, at `params`' own θν, with a
+/// chaotic set's density: the return map's band (its own kind of job, as
+/// new parameters stop it rather than run it again).
+#[derive(Clone, Debug, PartialEq)]
+pub struct MapBasinsSpec(pub BasinsSpec);
+
+impl MapBasinsSpec {
+    /// One point, at `params`' own θν, with densities.
     pub fn here(params: Params, settings: SolverSettings) -> Self {
-        BasinsSpec {
+        MapBasinsSpec(BasinsSpec {
             params,
             settings,
             theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
             cells: CellOptions::default(),
-        }
+        })
     }
 }
 
@@ -140,10 +146,6 @@ impl BasinsJob {
 }
 
 impl Job for BasinsJob {
-    fn lane(&self) -> Lane {
-        self.lane
-    }
-
     fn parallel(&self) -> bool {
         true
     }

@@ -531,10 +531,6 @@ impl FindJob {
 }
 
 impl Job for FindJob {
-    fn lane(&self) -> Lane {
-        Lane::Continuation
-    }
-
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut done = lock(&self.done);
         if !*done {
@@ -565,10 +561,6 @@ impl BoundariesJob {
 }
 
 impl Job for BoundariesJob {
-    fn lane(&self) -> Lane {
-        Lane::Curves
-    }
-
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut done = lock(&self.done);
         if !*done {

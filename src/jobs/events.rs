@@ -8,7 +8,7 @@
 
 use std::sync::Mutex;
 
-use super::protocol::{Lane, Update};
+use super::protocol::Update;
 use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
@@ -78,36 +78,29 @@ impl Pieces for ScalingRun {
 
 /// A job of one pausable unit: `P`'s pieces until its answer.
 pub(crate) struct PiecesJob<P> {
-    lane: Lane,
     /// `None` once answered.
     run: Mutex<Option<P>>,
 }
 
-/// The channel passage's job (on [`Lane::Passage`]); a simulator that
+/// The channel passage's job; a simulator that
 /// cannot be made is the job's error.
 pub(crate) fn passage_job(spec: PassageSpec) -> Result<Box<dyn Job>, JobError> {
     let sim = Simulator::new(spec.params, spec.settings)?;
     let run = PassageRun::new(&sim, spec.near);
     Ok(Box::new(PiecesJob {
-        lane: Lane::Passage,
         run: Mutex::new(Some(PassagePieces { sim, run })),
     }))
 }
 
-/// The tangency scan's job (on [`Lane::Scan`]).
+/// The tangency scan's job.
 pub(crate) fn scan_job(spec: ScanSpec) -> Result<Box<dyn Job>, JobError> {
     Simulator::new(spec.params, spec.settings)?;
     Ok(Box::new(PiecesJob {
-        lane: Lane::Scan,
         run: Mutex::new(Some(ScalingRun::new(spec.params, spec.settings))),
     }))
 }
 
 impl<P: Pieces + Sync> Job for PiecesJob<P> {
-    fn lane(&self) -> Lane {
-        self.lane
-    }
-
     /// Pieces until the answer (sent) or until the host wants its thread
     /// back, after one piece at least.
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {

@@ -26,6 +26,7 @@ pub mod basins;
 pub mod bench;
 mod continuation;
 mod events;
+mod kinds;
 mod local;
 mod numerics;
 mod orbit;
@@ -39,8 +40,9 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-pub use basins::BasinsSpec;
+pub use basins::{BasinsSpec, MapBasinsSpec};
 pub use events::{PassageSpec, ScanSpec};
+pub use kinds::{Kind, Lane, NewParams, OnParams, Rerun, Spec};
 pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
@@ -49,14 +51,10 @@ pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::BasinColumn;
 pub use protocol::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
-    GridCell, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseSpec,
+    GridCell, IterateSpec, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseSpec,
     PhaseTuning, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
-use serde::{Deserialize, Serialize};
-
-use crate::integrate::SolverSettings;
-use crate::model::Params;
 use crate::sim::{LANES, SimError};
 
 /// Why a job's update was not taken: its generation is no longer current,
@@ -131,8 +129,6 @@ pub enum Status {
 
 /// One computation, run unit by unit by whichever host holds it.
 pub trait Job: Send + Sync {
-    /// The lane it runs on (which job it supersedes in the worker).
-    fn lane(&self) -> Lane;
     /// Whether several threads may step it at once: its units are
     /// independent once their parents are done.
     fn parallel(&self) -> bool {
@@ -162,226 +158,12 @@ pub struct Shape {
 }
 
 impl Default for Shape {
-    /// 64 coarse columns in 8 chains: two threads of [`LANES`] lanes.
+    /// 64 coarse columns in 2 × [`LANES`] chains: two threads of that
+    /// many slip lanes each.
     fn default() -> Self {
         Shape {
             coarse_columns: 64,
             chains: 2 * LANES,
-        }
-    }
-}
-
-/// Every kind of job, with its typed spec.
-#[derive(Clone, Debug, PartialEq)]
-pub enum Spec {
-    /// The block's path and slip events.
-    Trajectory(TrajectorySpec),
-    /// Map iterates, their period and Lyapunov exponent, the map's graph.
-    Iterate(IterateSpec),
-    /// A bifurcation diagram over θν.
-    Sweep(SweepSpec),
-    /// A phase diagram over (θν, κ).
-    Phase(PhaseSpec),
-    /// A work-precision measurement.
-    Numerics(WorkPrecisionSpec),
-    /// Find bifurcations: a branch and its cascade.
-    Branches(ContinuationSpec),
-    /// Boundaries: doubling curves in (θν, κ).
-    Curves(BoundarySpec),
-    /// The Events view's creep channel passage.
-    Passage(PassageSpec),
-    /// The Events view's tangency scan.
-    Scan(ScanSpec),
-    /// Attractors and basins over θν (the Basins view).
-    Basins(BasinsSpec),
-    /// Attractors and basins at one point (the return map's band).
-    MapBasins(BasinsSpec),
-    /// Test-only fault injection: a few cycles, then a panic.
-    #[doc(hidden)]
-    Panic { after_cycles: usize },
-}
-
-/// Every kind of job, by what its results are: the key of a front end's
-/// job table (the window's `Jobs`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum Kind {
-    /// The trajectory: the plane, the block and the event catalogue.
-    Trajectory,
-    /// The bifurcation sweep.
-    Sweep,
-    /// Map iterates: the return map, the period and the Lyapunov exponent.
-    Iterate,
-    /// The phase diagram's cells.
-    Phase,
-    /// A work-precision measurement (it runs every method, so it has no
-    /// solver setting of its own).
-    Numerics,
-    /// Find bifurcations: branches over a parameter range.
-    Branches,
-    /// Boundaries: doubling curves over the phase diagram.
-    Curves,
-    /// The creep channel's passage time (the Events view).
-    Passage,
-    /// The tangency scan (the Events view).
-    Scan,
-    /// Attractors and basins over θν (the Basins view).
-    Basins,
-    /// Attractors and basins at the current parameters (the return map).
-    MapBasins,
-}
-
-impl Kind {
-    /// Every kind, in the order of [`Kind::index`].
-    pub const ALL: [Kind; 11] = [
-        Kind::Trajectory,
-        Kind::Sweep,
-        Kind::Iterate,
-        Kind::Phase,
-        Kind::Numerics,
-        Kind::Branches,
-        Kind::Curves,
-        Kind::Passage,
-        Kind::Scan,
-        Kind::Basins,
-        Kind::MapBasins,
-    ];
-
-    /// Its position in [`Kind::ALL`] (a job table's index).
-    pub fn index(self) -> usize {
-        self as usize
-    }
-
-    /// The worker lane it runs on (a trajectory and map iterates share
-    /// one: the orbit's).
-    pub fn lane(self) -> Lane {
-        match self {
-            Kind::Trajectory | Kind::Iterate => Lane::Orbit,
-            Kind::Sweep => Lane::Sweep,
-            Kind::Phase => Lane::Phase,
-            Kind::Numerics => Lane::Numerics,
-            Kind::Branches => Lane::Continuation,
-            Kind::Curves => Lane::Curves,
-            Kind::Passage => Lane::Passage,
-            Kind::Scan => Lane::Scan,
-            Kind::Basins => Lane::Basins,
-            Kind::MapBasins => Lane::MapBasins,
-        }
-    }
-}
-
-/// What a new parameter set does to a lane's latest job.
-#[derive(Clone, Debug, PartialEq)]
-pub enum OnParams {
-    /// Run it again with the new parameters.
-    Rerun(Spec),
-    /// Stop it if it runs (it was asked for; it is not run again).
-    Cancel,
-    /// Leave it be.
-    Keep,
-}
-
-impl Spec {
-    /// Its kind (the fault injection counts as a trajectory).
-    pub fn kind(&self) -> Kind {
-        match self {
-            Spec::Trajectory(_) | Spec::Panic { .. } => Kind::Trajectory,
-            Spec::Iterate(_) => Kind::Iterate,
-            Spec::Sweep(_) => Kind::Sweep,
-            Spec::Phase(_) => Kind::Phase,
-            Spec::Numerics(_) => Kind::Numerics,
-            Spec::Branches(_) => Kind::Branches,
-            Spec::Curves(_) => Kind::Curves,
-            Spec::Passage(_) => Kind::Passage,
-            Spec::Scan(_) => Kind::Scan,
-            Spec::Basins(_) => Kind::Basins,
-            Spec::MapBasins(_) => Kind::MapBasins,
-        }
-    }
-
-    /// The lane it runs on.
-    pub fn lane(&self) -> Lane {
-        self.kind().lane()
-    }
-
-    /// Checks the spec and builds its job (nothing is computed yet but
-    /// what validation needs).
-    pub fn start(self, shape: Shape) -> Result<Box<dyn Job>, JobError> {
-        Ok(match self {
-            Spec::Trajectory(s) => Box::new(orbit::TrajectoryJob::new(s)?),
-            Spec::Iterate(s) => Box::new(orbit::IterateJob::new(s)?),
-            Spec::Sweep(s) => Box::new(sweep::SweepJob::new(s, shape)?),
-            Spec::Phase(s) => Box::new(phase::PhaseJob::new(s)?),
-            Spec::Numerics(s) => Box::new(numerics::WorkPrecisionJob::new(s)?),
-            Spec::Branches(s) => Box::new(continuation::FindJob::new(s)),
-            Spec::Curves(s) => Box::new(continuation::BoundariesJob::new(s)),
-            Spec::Passage(s) => events::passage_job(s)?,
-            Spec::Scan(s) => events::scan_job(s)?,
-            Spec::Basins(s) => Box::new(basins::BasinsJob::new(s, Lane::Basins)?),
-            Spec::MapBasins(s) => Box::new(basins::BasinsJob::new(s, Lane::MapBasins)?),
-            Spec::Panic { after_cycles } => Box::new(orbit::PanicJob::new(after_cycles)),
-        })
-    }
-
-    /// What new parameters (and solver settings, if given) do to this job
-    /// when it is its lane's latest: a trajectory, iterates and a sweep run
-    /// again (a sweep keeps its θν range); a phase grid keeps both its
-    /// ranges and runs again only if γ, ν, Ω or the solver changed; a
-    /// branch, curve, passage or scan of the old parameters is stale and
-    /// is stopped; a work-precision measurement is left alone.
-    pub fn on_params(&self, params: Params, settings: Option<SolverSettings>) -> OnParams {
-        let rerun = |mut spec: Spec| {
-            if let Some((p, s)) = spec.params_mut() {
-                *p = params;
-                if let Some(settings) = settings {
-                    *s = settings;
-                }
-            }
-            OnParams::Rerun(spec)
-        };
-        match self {
-            Spec::Trajectory(_) | Spec::Iterate(_) | Spec::Sweep(_) | Spec::Basins(_) => {
-                rerun(self.clone())
-            }
-            Spec::Phase(s) => {
-                let p = &s.params;
-                let changed = (p.gamma, p.nu, p.omega) != (params.gamma, params.nu, params.omega)
-                    || settings.is_some_and(|n| n != s.settings);
-                if changed {
-                    rerun(self.clone())
-                } else {
-                    OnParams::Keep
-                }
-            }
-            Spec::Branches(_)
-            | Spec::Curves(_)
-            | Spec::Passage(_)
-            | Spec::Scan(_)
-            | Spec::MapBasins(_) => OnParams::Cancel,
-            Spec::Numerics(_) | Spec::Panic { .. } => OnParams::Keep,
-        }
-    }
-
-    /// Whether a cancelled job of this kind is forgotten, so that new
-    /// parameters do not start it again (a grid the user stopped stays
-    /// stopped).
-    pub fn forgotten_when_cancelled(&self) -> bool {
-        matches!(self, Spec::Phase(_))
-    }
-
-    /// Whether new parameters may run it again at all (the fault injection
-    /// is never remembered).
-    pub fn remembered(&self) -> bool {
-        !matches!(self, Spec::Panic { .. })
-    }
-
-    fn params_mut(&mut self) -> Option<(&mut Params, &mut SolverSettings)> {
-        match self {
-            Spec::Trajectory(s) => Some((&mut s.params, &mut s.settings)),
-            Spec::Iterate(s) => Some((&mut s.params, &mut s.settings)),
-            Spec::Sweep(s) => Some((&mut s.params, &mut s.settings)),
-            Spec::Phase(s) => Some((&mut s.params, &mut s.settings)),
-            Spec::Basins(s) => Some((&mut s.params, &mut s.settings)),
-            _ => None,
         }
     }
 }

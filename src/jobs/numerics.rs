@@ -171,10 +171,6 @@ impl WorkPrecisionJob {
 }
 
 impl Job for WorkPrecisionJob {
-    fn lane(&self) -> Lane {
-        Lane::Numerics
-    }
-
     /// The sample first, then up to `width` settings.
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut st = lock(&self.state);

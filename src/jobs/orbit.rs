@@ -194,10 +194,6 @@ impl TrajectoryJob {
 }
 
 impl Job for TrajectoryJob {
-    fn lane(&self) -> Lane {
-        Lane::Orbit
-    }
-
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut st = lock(&self.state);
         let total = self.cycles.unwrap_or(usize::MAX);
@@ -340,10 +336,6 @@ impl IterateJob {
 }
 
 impl Job for IterateJob {
-    fn lane(&self) -> Lane {
-        Lane::Orbit
-    }
-
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut st = lock(&self.state);
         if st.graphed {
@@ -431,10 +423,6 @@ impl PanicJob {
 }
 
 impl Job for PanicJob {
-    fn lane(&self) -> Lane {
-        Lane::Orbit
-    }
-
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let params = Params::default();
         let sim = Simulator::new(params, default_settings(1e-8))?;

@@ -356,10 +356,6 @@ impl PhaseJob {
 }
 
 impl Job for PhaseJob {
-    fn lane(&self) -> Lane {
-        Lane::Phase
-    }
-
     fn parallel(&self) -> bool {
         true
     }
@@ -408,17 +404,19 @@ mod tests {
     #[test]
     fn a_panicking_cell_is_reported_and_the_grid_goes_on() {
         let w = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
-        let job = |generation| Command::Phase {
-            generation,
-            spec: PhaseSpec {
-                params: Params::default(),
-                settings: default_settings(1e-8),
-                theta_nu: Axis::new(0.2, 0.6, 5),
-                kappa: Axis::new(2.0, 3.0, 2),
-                transient: 40,
-                keep: 16,
-                tuning: PhaseTuning::default(),
-            },
+        let job = |generation| {
+            Command::run(
+                generation,
+                PhaseSpec {
+                    params: Params::default(),
+                    settings: default_settings(1e-8),
+                    theta_nu: Axis::new(0.2, 0.6, 5),
+                    kappa: Axis::new(2.0, 3.0, 2),
+                    transient: 40,
+                    keep: 16,
+                    tuning: PhaseTuning::default(),
+                },
+            )
         };
         PANIC_AT_CELL.store(7, Ordering::SeqCst);
         assert!(w.send(job(1)));

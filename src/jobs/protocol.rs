@@ -1,19 +1,16 @@
 //! The typed messages between the front end and the simulation worker.
 //!
-//! The worker runs six lanes: the *orbit lane* (trajectory or map iterates,
-//! one job at a time), the *sweep lane* (bifurcation columns, on its own
-//! threads), the *numerics lane* (a work-precision measurement on the
-//! current parameters), the *phase lane* (phase-diagram cells, on its own
-//! threads), the *continuation lane* (branches and their bifurcations) and
-//! the *curves lane* (bifurcation curves in (θν, κ)), so that a trajectory
-//! stays responsive while a diagram fills in and measuring never pauses
-//! the views.
+//! Which lane each kind of job runs on is the job table's
+//! ([`super::kinds`]): a trajectory stays responsive while a diagram fills
+//! in, and measuring never pauses the views.
 //! Every job carries the generation it was started under; a receiver drops
 //! any update whose generation is older than the latest it asked for.
 
 use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
+
+pub use super::kinds::Lane;
 
 use crate::integrate::SolverSettings;
 use crate::model::Params;
@@ -30,67 +27,6 @@ use crate::sim::{MapChoice, Period, Sample, SlipEvent};
 /// command that starts or cancels work), so it knows which updates are stale
 /// without a round trip.
 pub type Generation = u64;
-
-/// Which lane a job runs on.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
-pub enum Lane {
-    /// Trajectories and map iterates.
-    Orbit,
-    /// Bifurcation sweeps.
-    Sweep,
-    /// Work-precision measurements.
-    Numerics,
-    /// Phase diagrams in (θν, κ).
-    Phase,
-    /// Branches of cycles continued in one parameter (`FindBifurcations`).
-    Continuation,
-    /// Bifurcation curves in (θν, κ) (`Boundaries`).
-    Curves,
-    /// The Events view's creep channel passage, and its tangency scan.
-    Passage,
-    Scan,
-    /// Attractors and basins over θν (the Basins view), and at the current
-    /// parameters (the return map's basin band).
-    Basins,
-    MapBasins,
-}
-
-impl Lane {
-    /// Every lane, in the order of [`Lane::index`].
-    pub const ALL: [Lane; 10] = [
-        Lane::Orbit,
-        Lane::Sweep,
-        Lane::Numerics,
-        Lane::Phase,
-        Lane::Continuation,
-        Lane::Curves,
-        Lane::Passage,
-        Lane::Scan,
-        Lane::Basins,
-        Lane::MapBasins,
-    ];
-
-    /// Its position in [`Lane::ALL`] (a lane table's index).
-    pub fn index(self) -> usize {
-        self as usize
-    }
-
-    /// Its name in thread names.
-    pub fn name(self) -> &'static str {
-        match self {
-            Lane::Orbit => "orbit",
-            Lane::Sweep => "sweep",
-            Lane::Numerics => "numerics",
-            Lane::Phase => "phase",
-            Lane::Continuation => "continuation",
-            Lane::Curves => "curves",
-            Lane::Passage => "passage",
-            Lane::Scan => "scan",
-            Lane::Basins => "basins",
-            Lane::MapBasins => "map-basins",
-        }
-    }
-}
 
 /// One axis of a job's grid: `steps` values from `from` to `to`, both ends
 /// included (a single step is `from`).

@@ -400,10 +400,6 @@ impl SweepJob {
 }
 
 impl Job for SweepJob {
-    fn lane(&self) -> Lane {
-        Lane::Sweep
-    }
-
     fn parallel(&self) -> bool {
         true
     }

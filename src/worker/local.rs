@@ -198,16 +198,16 @@ mod tests {
     use crate::sim::{MapChoice, default_settings};
 
     fn trajectory(generation: Generation, cycles: usize) -> Command {
-        Command::Trajectory {
+        Command::run(
             generation,
-            spec: TrajectorySpec {
+            TrajectorySpec {
                 params: Params::default(),
                 settings: default_settings(1e-8),
                 theta0: None,
                 spacing: 0.05,
                 cycles: Some(cycles),
             },
-        }
+        )
     }
 
     fn drain(w: &mut LocalWorker) -> Vec<Update> {
@@ -277,10 +277,7 @@ mod tests {
             theta0: None,
             seeds: 0,
         };
-        assert!(w.send(Command::Sweep {
-            generation: 1,
-            spec
-        }));
+        assert!(w.send(Command::run(1, spec)));
         let params = Params {
             kappa: 12.0,
             ..Params::default()

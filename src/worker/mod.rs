@@ -39,15 +39,15 @@ use crossbeam_channel::{Receiver, Sender, TrySendError};
 pub use crate::jobs::{
     Axis, BoundarySpec, COARSE_STRIDE, CascadeFrom, ContinuationSpec, CurveFollow, Generation,
     GivenCycle, GridCell, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome,
-    PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, SweepSpec, TIMING_REPEATS, TrajectorySpec,
-    Update, WorkPrecisionSpec, phase_plan, sweep_plan,
+    PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, Spec, SweepSpec, TIMING_REPEATS,
+    TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
 };
 pub use command::Command;
 pub use local::LocalWorker;
 
 use gate::Gate;
 
-use crate::jobs::{Job, Shape, Sink, Spec, Stop, ending, run_threads};
+use crate::jobs::{Job, Shape, Sink, Stop, ending, run_threads};
 use orders::{Latest, Order};
 
 /// How the worker is set up.

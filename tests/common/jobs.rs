@@ -43,9 +43,9 @@ pub fn spawn(
 }
 
 pub fn iterate(generation: Generation, params: Params, transient: usize, keep: usize) -> Command {
-    Command::Iterate {
+    Command::run(
         generation,
-        spec: IterateSpec {
+        IterateSpec {
             params,
             settings: settings(),
             theta0: None,
@@ -53,26 +53,26 @@ pub fn iterate(generation: Generation, params: Params, transient: usize, keep: u
             keep,
             graph_powers: 1,
         },
-    }
+    )
 }
 
 pub fn trajectory(generation: Generation, cycles: Option<usize>) -> Command {
-    Command::Trajectory {
+    Command::run(
         generation,
-        spec: TrajectorySpec {
+        TrajectorySpec {
             params: fig3b(1.0),
             settings: settings(),
             theta0: Some(0.5),
             spacing: 0.05,
             cycles,
         },
-    }
+    )
 }
 
 pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usize) -> Command {
-    Command::Sweep {
+    Command::run(
         generation,
-        spec: SweepSpec {
+        SweepSpec {
             params: fig3b(0.0),
             settings: settings(),
             theta_nu: Axis::new(0.05, 1.5, columns),
@@ -82,7 +82,7 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
             theta0: None,
             seeds: 0,
         },
-    }
+    )
 }
 
 /// After a job's `Finished{Cancelled}` or a `Cancelled` acknowledgement, no

@@ -9,6 +9,7 @@
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_plot::PlotPoint;
+use oneblock::worker::Spec;
 
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
 use oneblock::integrate::SolverSettings;
@@ -55,7 +56,10 @@ pub fn wait_for_csv(
 /// The parameters of the latest trajectory command, if any.
 pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Trajectory { spec, .. } => Some(spec.params),
+        Command::Run {
+            spec: Spec::Trajectory(spec),
+            ..
+        } => Some(spec.params),
         _ => None,
     })
 }
@@ -63,7 +67,10 @@ pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
 /// The parameters of the latest sweep command, if any.
 pub fn last_sweep(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
-        Command::Sweep { spec, .. } => Some(spec.params),
+        Command::Run {
+            spec: Spec::Sweep(spec),
+            ..
+        } => Some(spec.params),
         _ => None,
     })
 }
@@ -72,11 +79,17 @@ pub fn last_sweep(rec: &Recorder) -> Option<Params> {
 pub fn last_settings(rec: &Recorder) -> (Option<SolverSettings>, Option<SolverSettings>) {
     let cmds = rec.commands();
     let traj = cmds.iter().rev().find_map(|c| match c {
-        Command::Trajectory { spec, .. } => Some(spec.settings),
+        Command::Run {
+            spec: Spec::Trajectory(spec),
+            ..
+        } => Some(spec.settings),
         _ => None,
     });
     let sweep = cmds.iter().rev().find_map(|c| match c {
-        Command::Sweep { spec, .. } => Some(spec.settings),
+        Command::Run {
+            spec: Spec::Sweep(spec),
+            ..
+        } => Some(spec.settings),
         _ => None,
     });
     (traj, sweep)
@@ -118,7 +131,10 @@ pub fn phase_jobs(rec: &Recorder) -> Vec<PhaseJob> {
     rec.commands()
         .into_iter()
         .filter_map(|c| match c {
-            Command::Phase { generation, spec } => Some(PhaseJob {
+            Command::Run {
+                generation,
+                spec: Spec::Phase(spec),
+            } => Some(PhaseJob {
                 generation,
                 theta_nu: (spec.theta_nu.from, spec.theta_nu.to, spec.theta_nu.steps),
                 kappa: (spec.kappa.from, spec.kappa.to, spec.kappa.steps),
@@ -238,7 +254,10 @@ pub fn trajectory_generation(rec: &Recorder) -> Generation {
     rec.commands()
         .into_iter()
         .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(generation),
+            Command::Run {
+                generation,
+                spec: Spec::Trajectory(..),
+            } => Some(generation),
             _ => None,
         })
         .expect("the window starts a trajectory")

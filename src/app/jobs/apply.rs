@@ -17,35 +17,11 @@ impl Jobs {
 
     /// The bookkeeping of the job of `kind`, whatever its data.
     pub(super) fn slot(&self, kind: JobKind) -> &SlotHead {
-        match kind {
-            JobKind::Trajectory => &self.trajectory.head,
-            JobKind::Iterate => &self.iterate.head,
-            JobKind::Sweep => &self.sweep.head,
-            JobKind::Phase => &self.phase.head,
-            JobKind::Numerics => &self.numerics.head,
-            JobKind::Branches => &self.branches.head,
-            JobKind::Curves => &self.curves.head,
-            JobKind::Passage => &self.passage.head,
-            JobKind::Scan => &self.scan.head,
-            JobKind::Basins => &self.basins.head,
-            JobKind::MapBasins => &self.map_basins.head,
-        }
+        self.slots.head(kind)
     }
 
     pub(super) fn slot_mut(&mut self, kind: JobKind) -> &mut SlotHead {
-        match kind {
-            JobKind::Trajectory => &mut self.trajectory.head,
-            JobKind::Iterate => &mut self.iterate.head,
-            JobKind::Sweep => &mut self.sweep.head,
-            JobKind::Phase => &mut self.phase.head,
-            JobKind::Numerics => &mut self.numerics.head,
-            JobKind::Branches => &mut self.branches.head,
-            JobKind::Curves => &mut self.curves.head,
-            JobKind::Passage => &mut self.passage.head,
-            JobKind::Scan => &mut self.scan.head,
-            JobKind::Basins => &mut self.basins.head,
-            JobKind::MapBasins => &mut self.map_basins.head,
-        }
+        self.slots.head_mut(kind)
     }
 
     /// Which current job `generation` belongs to, if any.
@@ -139,11 +115,8 @@ impl Jobs {
             Update::Basins { column, .. } if job == JobKind::MapBasins => {
                 self.map_basins.data.found = Some(column.found);
             }
-            Update::Summary { text, .. } if job == JobKind::Branches => {
-                self.branches.data.summary = Some(text);
-            }
-            Update::Summary { text, .. } if job == JobKind::Curves => {
-                self.curves.data.summary = Some(text);
+            Update::Summary { text, .. } => {
+                self.slot_mut(job).summary = Some(text);
             }
             Update::WorkPrecisionSample {
                 points,
@@ -294,7 +267,7 @@ mod tests {
     use crate::app::settings::Settings;
     use crate::integrate::{Method, SolverSettings};
     use crate::numerics::Subject;
-    use crate::worker::{Command, Lane};
+    use crate::worker::{Command, Lane, Spec};
 
     fn row() -> crate::numerics::Row {
         crate::numerics::measure(
@@ -314,7 +287,10 @@ mod tests {
             .commands()
             .iter()
             .find_map(|c| match c {
-                Command::WorkPrecision { generation, .. } => Some(*generation),
+                Command::Run {
+                    generation,
+                    spec: Spec::Numerics(..),
+                } => Some(*generation),
                 _ => None,
             })
             .expect("the measurement was sent");

@@ -11,7 +11,7 @@ use crate::app::basins::{MAX_COLUMNS, MIN_COLUMNS};
 use crate::app::settings::{Settings, ViewKind};
 use crate::integrate::SolverSettings;
 use crate::jobs::basins::identity::{Identities, identify};
-use crate::jobs::{Axis, BasinColumn, BasinsSpec, Spec};
+use crate::jobs::{Axis, BasinColumn, BasinsSpec, MapBasinsSpec, Spec};
 use crate::model::Params;
 use crate::sim::attractors::{CellOptions, Found};
 use crate::worker::Command;
@@ -115,12 +115,13 @@ fn settled(at: &mut Option<f64>, now: f64, out: &mut SyncOutcome) -> bool {
 
 impl Jobs {
     /// Starts the Basins diagram for `key`.
-    pub fn restart_basins(&mut self, key: BasinsKey) {
+    pub fn restart_basins(&mut self, s: &Settings, key: BasinsKey) {
         let g = self.generation();
         let revision = self.basins.data.revision + 1;
         let mut data = BasinsData::new(key.range.0, key.range.1, key.columns);
         data.revision = revision;
         self.basins.start(g, data);
+        self.bind(JobKind::Basins, s, (0.0, 0.0));
         let spec = BasinsSpec {
             params: key.params,
             settings: key.solver,
@@ -135,16 +136,18 @@ impl Jobs {
     }
 
     /// Starts the return map's basins at `params`.
-    fn restart_map_basins(&mut self, params: Params, settings: SolverSettings) {
+    pub(super) fn restart_map_basins(&mut self, s: &Settings, settings: SolverSettings) {
+        let params = s.params;
         let g = self.generation();
         let data = MapBasinsData {
             params: Some(params),
             found: None,
         };
         self.map_basins.start(g, data);
+        self.bind(JobKind::MapBasins, s, (0.0, 0.0));
         self.send(Command::Run {
             generation: g,
-            spec: Spec::MapBasins(BasinsSpec::here(params, settings)),
+            spec: Spec::MapBasins(MapBasinsSpec::here(params, settings)),
         });
         self.basins_sent.map = Some((params, settings));
     }
@@ -156,11 +159,11 @@ impl Jobs {
         if s.shows(ViewKind::Basins) {
             let key = BasinsKey::of(s);
             match self.basins_sent.diagram {
-                None => self.restart_basins(key),
+                None => self.restart_basins(s, key),
                 Some(sent) if sent != key => {
                     let view_only = sent.params == key.params && sent.solver == key.solver;
                     if view_only || settled(&mut self.basins_sent.changed_at, now, out) {
-                        self.restart_basins(key);
+                        self.restart_basins(s, key);
                     }
                 }
                 _ => {}
@@ -169,11 +172,11 @@ impl Jobs {
         if s.shows(ViewKind::ReturnMap) {
             let want = (s.params, solver(JobKind::MapBasins, s));
             match self.basins_sent.map {
-                None => self.restart_map_basins(want.0, want.1),
+                None => self.restart_map_basins(s, want.1),
                 Some(sent)
                     if sent != want && settled(&mut self.basins_sent.map_changed_at, now, out) =>
                 {
-                    self.restart_map_basins(want.0, want.1);
+                    self.restart_map_basins(s, want.1);
                 }
                 _ => {}
             }

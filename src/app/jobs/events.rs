@@ -5,6 +5,7 @@
 //! within its frame slice); new parameters stop them (`Spec::on_params`),
 //! and an answer is kept with the parameters it is for.
 
+use super::stale::Bound;
 use super::{Jobs, Slot};
 use crate::integrate::{Method, SolverSettings};
 use crate::jobs::{PassageSpec, ScanSpec, Spec};
@@ -58,6 +59,7 @@ impl Jobs {
                 value: None,
             },
         );
+        self.passage.bound = Some(Bound::of_params(&params));
         let spec = PassageSpec {
             params,
             settings: events_settings(),
@@ -79,6 +81,7 @@ impl Jobs {
                 value: None,
             },
         );
+        self.scan.bound = Some(Bound::of_params(&params));
         let spec = ScanSpec {
             params,
             settings: events_settings(),

@@ -51,40 +51,6 @@ impl JobKind {
         })
     }
 
-    /// A short name for the panel.
-    pub fn label(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => "trajectory",
-            JobKind::Sweep => "diagram",
-            JobKind::Iterate => "map iterates",
-            JobKind::Phase => "phase diagram",
-            JobKind::Numerics => "work-precision",
-            JobKind::Branches => "bifurcations",
-            JobKind::Curves => "boundaries",
-            JobKind::Passage => "channel passage",
-            JobKind::Scan => "tangency scan",
-            JobKind::Basins => "basins",
-            JobKind::MapBasins => "map basins",
-        }
-    }
-
-    /// A one-word name for the side panel's table.
-    pub fn short_label(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => "path",
-            JobKind::Sweep => "diagram",
-            JobKind::Iterate => "map",
-            JobKind::Phase => "phase",
-            JobKind::Numerics => "numerics",
-            JobKind::Branches => "branches",
-            JobKind::Curves => "curves",
-            JobKind::Passage => "passage",
-            JobKind::Scan => "scan",
-            JobKind::Basins => "basins",
-            JobKind::MapBasins => "map basins",
-        }
-    }
-
     /// What it feeds and why it needs that accuracy.
     pub fn hover(self) -> &'static str {
         match self {

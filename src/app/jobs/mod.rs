@@ -11,10 +11,10 @@ mod continuation;
 mod events;
 pub mod kind;
 pub mod policy;
+pub mod stale;
 
-pub use continuation::{
-    BranchKey, CurveKey, MAX_CASCADE_PERIOD, diagram_range as continuation_range,
-};
+use continuation::diagram_range;
+pub use continuation::{MAX_CASCADE_PERIOD, diagram_range as continuation_range};
 pub use events::{Answer, events_settings};
 pub use kind::JobKind;
 pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
@@ -71,6 +71,13 @@ pub struct SlotHead {
     pub generation: Generation,
     pub state: JobState,
     pub progress: LaneProgress,
+    /// What it found and why it stopped, as it (or the window) last said:
+    /// its status line.
+    pub summary: Option<String>,
+    /// What its result was computed for ([`stale`]).
+    pub bound: Option<stale::Bound>,
+    /// Its result is of other parameters; a new run is on its way.
+    pub stale: bool,
 }
 
 impl Default for SlotHead {
@@ -79,6 +86,9 @@ impl Default for SlotHead {
             generation: NO_GENERATION,
             state: JobState::Idle,
             progress: LaneProgress::default(),
+            summary: None,
+            bound: None,
+            stale: false,
         }
     }
 }
@@ -110,7 +120,7 @@ impl<T> Slot<T> {
         self.head = SlotHead {
             generation,
             state: JobState::Running,
-            progress: LaneProgress::default(),
+            ..SlotHead::default()
         };
         self.data = data;
     }
@@ -149,27 +159,74 @@ impl SyncOutcome {
     }
 }
 
+/// The window's slots, one per kind of job: its field, and the data its
+/// updates build. `head(kind)` is the slot of a kind, whatever its data.
+macro_rules! slots {
+    ($( $(#[$doc:meta])* $kind:ident => $field:ident: $data:ty, )*) => {
+        /// One slot per kind of job.
+        #[derive(Default)]
+        pub struct Slots {
+            $( $(#[$doc])* pub $field: Slot<$data>, )*
+        }
+
+        impl Slots {
+            /// The bookkeeping of the job of `kind`, whatever its data.
+            pub fn head(&self, kind: JobKind) -> &SlotHead {
+                match kind { $( JobKind::$kind => &self.$field.head, )* }
+            }
+
+            /// [`Slots::head`], to change.
+            pub fn head_mut(&mut self, kind: JobKind) -> &mut SlotHead {
+                match kind { $( JobKind::$kind => &mut self.$field.head, )* }
+            }
+
+            /// Clears the result of the job of `kind`.
+            pub fn clear(&mut self, kind: JobKind) {
+                match kind { $( JobKind::$kind => self.$field.data = Default::default(), )* }
+            }
+        }
+    };
+}
+
+slots! {
+    Trajectory => trajectory: TrajectoryData,
+    Sweep => sweep: SweepData,
+    Iterate => iterate: IterateData,
+    Phase => phase: PhaseData,
+    Numerics => numerics: WorkPrecisionData,
+    /// "Find bifurcations": the bifurcation view's overlay.
+    Branches => branches: BranchData,
+    /// "Boundaries": the phase view's overlay.
+    Curves => curves: CurveData,
+    /// The Events view's channel passage and tangency scan.
+    Passage => passage: Answer<Passage>,
+    Scan => scan: Answer<Scaling>,
+    /// The Basins view's diagram and the return map's basins.
+    Basins => basins: basins::BasinsData,
+    MapBasins => map_basins: basins::MapBasinsData,
+}
+
+impl std::ops::Deref for Jobs {
+    type Target = Slots;
+    fn deref(&self) -> &Slots {
+        &self.slots
+    }
+}
+
+impl std::ops::DerefMut for Jobs {
+    fn deref_mut(&mut self) -> &mut Slots {
+        &mut self.slots
+    }
+}
+
 /// Every job of the window.
 pub struct Jobs {
     backend: Box<dyn Backend>,
     next_generation: Generation,
     /// Count of commands sent (tests, status).
     pub sent_count: usize,
-    pub trajectory: Slot<TrajectoryData>,
-    pub iterate: Slot<IterateData>,
-    pub sweep: Slot<SweepData>,
-    pub phase: Slot<PhaseData>,
-    pub numerics: Slot<WorkPrecisionData>,
-    /// "Find bifurcations": the bifurcation view's overlay.
-    pub branches: Slot<BranchData>,
-    /// "Boundaries": the phase view's overlay.
-    pub curves: Slot<CurveData>,
-    /// The Events view's channel passage and tangency scan.
-    pub passage: Slot<Answer<Passage>>,
-    pub scan: Slot<Answer<Scaling>>,
-    /// The Basins view's diagram and the return map's basins.
-    pub basins: Slot<basins::BasinsData>,
-    pub map_basins: Slot<basins::MapBasinsData>,
+    /// One slot per kind of job (`jobs.sweep`, …, through `Deref`).
+    slots: Slots,
     basins_sent: basins::BasinsSent,
     /// The last error the worker reported (not the Numerics view's own),
     /// with the parameter it names.
@@ -186,9 +243,6 @@ pub struct Jobs {
     /// the trajectory's and the map iterates' solver settings.
     sent_orbit: Option<(Params, SolverSettings, SolverSettings)>,
     sent_sweep: Option<(SweepKey, Option<(f64, f64)>)>,
-    /// What the latest continuation and curves jobs were started with.
-    sent_branches: Option<BranchKey>,
-    sent_curves: Option<CurveKey>,
     last_orbit_send: f64,
     sweep_changed_at: Option<f64>,
     /// The orbit analysis waits for the trajectory (the worker's orbit lane
@@ -213,17 +267,7 @@ impl Jobs {
             backend,
             next_generation: 1,
             sent_count: 0,
-            trajectory: Slot::default(),
-            iterate: Slot::default(),
-            sweep: Slot::default(),
-            phase: Slot::default(),
-            numerics: Slot::default(),
-            branches: Slot::default(),
-            curves: Slot::default(),
-            passage: Slot::default(),
-            scan: Slot::default(),
-            basins: Slot::default(),
-            map_basins: Slot::default(),
+            slots: Slots::default(),
             basins_sent: basins::BasinsSent::default(),
             last_error: None,
             stale_dropped: 0,
@@ -232,8 +276,6 @@ impl Jobs {
             stream_forever: false,
             sent_orbit: None,
             sent_sweep: None,
-            sent_branches: None,
-            sent_curves: None,
             last_orbit_send: f64::NEG_INFINITY,
             sweep_changed_at: None,
             pending_iterate: None,
@@ -272,21 +314,23 @@ impl Jobs {
         let iterate_solver = solver(JobKind::Iterate, s);
         let g = self.generation();
         self.trajectory.start(g, TrajectoryData::default());
+        self.bind(JobKind::Trajectory, s, diagram_range(s, None));
         self.trajectory_revision += 1;
         let cycles = (!self.stream_forever).then_some(s.trajectory_cycles);
-        self.send(Command::Trajectory {
-            generation: g,
-            spec: TrajectorySpec {
+        self.send(Command::run(
+            g,
+            TrajectorySpec {
                 params,
                 settings: traj_solver,
                 theta0: None,
                 spacing: SAMPLE_SPACING,
                 cycles,
             },
-        });
+        ));
         self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
         // The analysis shows "computing" until its job starts.
         self.iterate.start(NO_GENERATION, IterateData::default());
+        self.bind(JobKind::Iterate, s, diagram_range(s, None));
         self.sent_orbit = Some((params, traj_solver, iterate_solver));
         self.last_orbit_send = now;
     }
@@ -301,8 +345,9 @@ impl Jobs {
             self.pending_iterate = None;
             return;
         }
-        let events = &self.trajectory.data.events;
-        let (theta0, transient) = match &self.trajectory.state {
+        let slots = &mut self.slots;
+        let events = &slots.trajectory.data.events;
+        let (theta0, transient) = match &slots.trajectory.state {
             JobState::Done => (
                 events.last().map(|e| e.theta_next),
                 if events.is_empty() {
@@ -312,8 +357,8 @@ impl Jobs {
                 },
             ),
             JobState::Failed(m) => {
+                slots.iterate.state = JobState::Failed(m.clone());
                 self.pending_iterate = None;
-                self.iterate.state = JobState::Failed(m.clone());
                 return;
             }
             JobState::Cancelled => {
@@ -324,10 +369,12 @@ impl Jobs {
         };
         self.pending_iterate = None;
         let g = self.generation();
+        let bound = self.iterate.bound.take();
         self.iterate.start(g, IterateData::default());
-        self.send(Command::Iterate {
-            generation: g,
-            spec: IterateSpec {
+        self.iterate.bound = bound;
+        self.send(Command::run(
+            g,
+            IterateSpec {
                 params,
                 settings: solver,
                 theta0,
@@ -335,7 +382,7 @@ impl Jobs {
                 keep: ITERATE_KEEP,
                 graph_powers: self.want_powers,
             },
-        });
+        ));
         self.sent_powers = self.want_powers;
     }
 
@@ -348,9 +395,10 @@ impl Jobs {
         };
         let g = self.generation();
         self.iterate.start(g, IterateData::default());
-        self.send(Command::Iterate {
-            generation: g,
-            spec: IterateSpec {
+        self.bind(JobKind::Iterate, s, diagram_range(s, None));
+        self.send(Command::run(
+            g,
+            IterateSpec {
                 params: s.params,
                 settings: solver(JobKind::Iterate, s),
                 theta0: Some(theta0),
@@ -358,7 +406,7 @@ impl Jobs {
                 keep: ITERATE_KEEP,
                 graph_powers: self.want_powers,
             },
-        });
+        ));
         self.sent_powers = self.want_powers;
     }
 
@@ -371,9 +419,10 @@ impl Jobs {
         let mut data = SweepData::new(from, to, s.columns);
         data.revision = revision;
         self.sweep.start(g, data);
-        self.send(Command::Sweep {
-            generation: g,
-            spec: SweepSpec {
+        self.bind(JobKind::Sweep, s, (from, to));
+        self.send(Command::run(
+            g,
+            SweepSpec {
                 params: s.params,
                 settings: key.solver,
                 theta_nu: Axis::new(from, to, s.columns),
@@ -383,7 +432,7 @@ impl Jobs {
                 theta0: None,
                 seeds: s.sweep_seeds,
             },
-        });
+        ));
         self.sent_sweep = Some((key, zoom));
         self.sweep_changed_at = None;
     }
@@ -408,9 +457,10 @@ impl Jobs {
         let mut data = WorkPrecisionData::new(params, subjects.len());
         data.load = super::data::load_average();
         self.numerics.start(g, data);
-        self.send(Command::WorkPrecision {
-            generation: g,
-            spec: WorkPrecisionSpec {
+        self.bind(JobKind::Numerics, s, diagram_range(s, None));
+        self.send(Command::run(
+            g,
+            WorkPrecisionSpec {
                 params,
                 theta0,
                 transient,
@@ -418,7 +468,7 @@ impl Jobs {
                 time_per_setting: QUICK_TIME_PER_SETTING,
                 subjects,
             },
-        });
+        ));
     }
 
     /// Stops the Numerics view's measurement: the rows so far stay,
@@ -445,10 +495,11 @@ impl Jobs {
         let mut data = PhaseData::new(key.range.theta_nu, key.range.kappa, columns, rows);
         data.revision = revision;
         self.phase.start(g, data);
+        self.bind(JobKind::Phase, s, diagram_range(s, None));
         let (theta_nu, kappa) = (key.range.theta_nu, key.range.kappa);
-        self.send(Command::Phase {
-            generation: g,
-            spec: PhaseSpec {
+        self.send(Command::run(
+            g,
+            PhaseSpec {
                 params: s.params,
                 settings: key.solver,
                 theta_nu: Axis::new(theta_nu.0, theta_nu.1, columns),
@@ -463,7 +514,7 @@ impl Jobs {
                     ..PhaseTuning::default()
                 },
             },
-        });
+        ));
         self.phase_policy.started(key);
     }
 
@@ -496,6 +547,7 @@ impl Jobs {
     pub fn sync(&mut self, s: &Settings, shown: Shown) -> SyncOutcome {
         let now = shown.now;
         let mut out = SyncOutcome::default();
+        let diagram_stale = self.apply_bounds(s, &shown);
         let orbit_now = Some((
             s.params,
             solver(JobKind::Trajectory, s),
@@ -536,8 +588,8 @@ impl Jobs {
             }
             _ => {}
         }
-        self.cancel_stale_continuation(s, shown);
         self.sync_basins(s, now, &mut out);
+        out.zoom_stale |= diagram_stale && shown.sweep_zoom.is_some();
         let running = self.phase.state == JobState::Running;
         match self
             .phase_policy

@@ -28,18 +28,20 @@ fn a_panicking_column_is_reported_and_the_sweep_goes_on() {
         },
         Arc::new(|| {}),
     );
-    let sweep = |generation| Command::Sweep {
-        generation,
-        spec: SweepSpec {
-            params: Params::default(),
-            settings: default_settings(1e-8),
-            theta_nu: Axis::new(0.2, 1.4, 10),
-            transient: 3,
-            keep: 3,
-            map: MapChoice::Auto,
-            theta0: None,
-            seeds: 0,
-        },
+    let sweep = |generation| {
+        Command::run(
+            generation,
+            SweepSpec {
+                params: Params::default(),
+                settings: default_settings(1e-8),
+                theta_nu: Axis::new(0.2, 1.4, 10),
+                transient: 3,
+                keep: 3,
+                map: MapChoice::Auto,
+                theta0: None,
+                seeds: 0,
+            },
+        )
     };
     let grid = theta_nu_grid(0.2, 1.4, 10);
     PANIC_AT_THETA_NU.store(grid[5].to_bits(), Ordering::SeqCst);

@@ -1,0 +1,317 @@
+//! The one rule for results bound to parameters. Each job's slot keeps
+//! what its result was computed for (its [`Bound`]: the parameters it
+//! depends on, and the range it covers), set when it starts. On every
+//! [`Jobs::sync`], before anything is restarted, each slot's bound is
+//! compared with the settings':
+//!
+//! - **its parameters changed**: a job the window runs again by itself
+//!   (the kinds whose table entry says `new_params: rerun`: trajectory,
+//!   iterates, diagram, phase grid, basins) is marked stale until its new
+//!   run starts (its data are replaced then), and so is the work-precision
+//!   table (`keep`: a measurement of the parameters it names); a job that
+//!   new parameters stop (`cancel`: branches, boundaries, the Events
+//!   view's answers, the return map's basins) is stopped if it runs, and
+//!   its result, its special points, its table and its status line are
+//!   cleared; a zoom of
+//!   the diagram no longer applies ([`super::SyncOutcome::zoom_stale`]);
+//!   the status bar's last error is cleared;
+//! - **only its range changed** (a zoom, a phase box): a running job is
+//!   stopped, what it found stays, and the bound takes the new range, so
+//!   a later parameter change still clears it.
+//!
+//! Nothing else in the window clears a result for new parameters.
+
+use super::{JobKind, JobState, Jobs, Shown};
+use crate::app::settings::Settings;
+use crate::integrate::SolverSettings;
+use crate::jobs::NewParams;
+
+/// What a result was computed for: bit patterns of the parameters (and
+/// solver) it depends on, and of the range it covers.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Bound {
+    params: Vec<u64>,
+    solver: Option<SolverSettings>,
+    range: Vec<u64>,
+}
+
+fn bits(xs: &[f64]) -> Vec<u64> {
+    xs.iter().map(|x| x.to_bits()).collect()
+}
+
+impl Bound {
+    /// What a job of `kind` started now would be computed for, with the
+    /// diagram's θν range `diagram` (its zoom's, or the whole range).
+    pub fn of(kind: JobKind, s: &Settings, diagram: (f64, f64)) -> Bound {
+        let p = &s.params;
+        let all = [p.kappa, p.gamma, p.nu, p.theta_nu, p.omega];
+        // θν is the diagram's axis; κ and θν are the phase grid's.
+        let but_theta_nu = [p.kappa, p.gamma, p.nu, p.omega];
+        let but_axes = [p.gamma, p.nu, p.omega];
+        let (params, range): (&[f64], Vec<f64>) = match kind {
+            JobKind::Trajectory
+            | JobKind::Iterate
+            | JobKind::MapBasins
+            | JobKind::Passage
+            | JobKind::Scan
+            | JobKind::Numerics => (&all, Vec::new()),
+            JobKind::Sweep | JobKind::Branches => {
+                let (a, b) = diagram;
+                (
+                    &but_theta_nu,
+                    vec![a, b, f64::from(u8::from(s.full_circle))],
+                )
+            }
+            JobKind::Basins => {
+                let (a, b) = s.basins.range(s);
+                (&but_theta_nu, vec![a, b, s.basins.columns as f64])
+            }
+            JobKind::Phase | JobKind::Curves => {
+                let r = s.phase.current();
+                let (t, k) = (r.theta_nu, r.kappa);
+                (&but_axes, vec![t.0, t.1, k.0, k.1])
+            }
+        };
+        Bound {
+            params: bits(params),
+            solver: kind.solver(s),
+            range: bits(&range),
+        }
+    }
+
+    /// What a job that depends on every parameter and on no solver of the
+    /// window's (the Events view's) is computed for.
+    pub fn of_params(p: &crate::model::Params) -> Bound {
+        Bound {
+            params: bits(&[p.kappa, p.gamma, p.nu, p.theta_nu, p.omega]),
+            solver: None,
+            range: Vec::new(),
+        }
+    }
+}
+
+impl Jobs {
+    /// The rule: every slot whose bound the settings no longer match is
+    /// made stale, stopped or cleared (module docs). Returns whether the
+    /// diagram's result was bound to other parameters (its zoom no longer
+    /// applies).
+    pub(super) fn apply_bounds(&mut self, s: &Settings, shown: &Shown) -> bool {
+        let diagram_range = super::diagram_range(s, shown.sweep_zoom);
+        let mut diagram = false;
+        for kind in JobKind::ALL {
+            let Some(was) = self.slot(kind).bound.clone() else {
+                continue;
+            };
+            let now = Bound::of(kind, s, diagram_range);
+            if (&was.params, was.solver) != (&now.params, now.solver) {
+                diagram |= kind == JobKind::Sweep;
+                self.last_error = None;
+                self.params_changed(kind);
+            } else if was.range != now.range {
+                if kind.new_params() == NewParams::Cancel {
+                    self.range_changed(kind);
+                }
+                self.slot_mut(kind).bound = Some(now);
+            }
+        }
+        diagram
+    }
+
+    /// Records what the job of `kind`, started now, is computed for.
+    pub(super) fn bind(&mut self, kind: JobKind, s: &Settings, diagram: (f64, f64)) {
+        let head = self.slot_mut(kind);
+        head.bound = Some(Bound::of(kind, s, diagram));
+        head.stale = false;
+    }
+
+    /// The parameters of `kind`'s result changed.
+    fn params_changed(&mut self, kind: JobKind) {
+        if kind.new_params() != NewParams::Cancel {
+            self.slot_mut(kind).stale = true;
+            return;
+        }
+        let was_running = self.cancel_on(kind, "stopped: the parameters changed");
+        self.slots.clear(kind);
+        let head = self.slot_mut(kind);
+        head.bound = None;
+        if !was_running {
+            head.state = JobState::Idle;
+            head.summary = None;
+        }
+    }
+
+    /// Only the range of `kind`'s result changed: a running job stops.
+    fn range_changed(&mut self, kind: JobKind) {
+        let what = match kind {
+            JobKind::Phase | JobKind::Curves => "the box",
+            _ => "the θν range",
+        };
+        self.cancel_on(kind, &format!("stopped: {what} changed"));
+    }
+
+    /// Cancels the job of `kind` if it runs (what it sends later is then
+    /// stale), saying `why` in its status line; true if it ran.
+    pub(super) fn cancel_on(&mut self, kind: JobKind, why: &str) -> bool {
+        if self.state(kind) != &JobState::Running {
+            return false;
+        }
+        let g = self.generation();
+        let head = self.slot_mut(kind);
+        head.generation = g;
+        head.state = JobState::Cancelled;
+        head.summary = Some(why.to_string());
+        self.send(crate::worker::Command::Cancel {
+            generation: g,
+            lane: Some(kind.lane()),
+        });
+        true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::basins::BasinsKey;
+    use super::*;
+    use crate::app::backend::Recorder;
+    use crate::worker::{Command, Lane, Outcome, Update};
+
+    /// Starts the job of `kind` as the window does.
+    fn start(jobs: &mut Jobs, kind: JobKind, s: &Settings) {
+        match kind {
+            JobKind::Trajectory | JobKind::Iterate => jobs.restart_orbit(s, 0.0),
+            JobKind::Sweep => jobs.restart_sweep(s, None),
+            JobKind::Phase => jobs.restart_phase(s),
+            JobKind::Numerics => jobs.start_work_precision(s),
+            JobKind::Branches => jobs.find_bifurcations(s, s.sweep_range()),
+            JobKind::Curves => jobs.compute_boundaries(s),
+            JobKind::Passage => jobs.start_passage(s.params, 0.1),
+            JobKind::Scan => jobs.start_scan(s.params),
+            JobKind::Basins => jobs.restart_basins(s, BasinsKey::of(s)),
+            JobKind::MapBasins => jobs.restart_map_basins(s, s.custom_solver()),
+        }
+    }
+
+    fn shown() -> Shown {
+        Shown {
+            now: 0.0,
+            sweep_zoom: None,
+            phase: false,
+        }
+    }
+
+    fn cancels(rec: &Recorder, lane: Lane) -> usize {
+        let is = |c: &Command| matches!(c, Command::Cancel { lane: Some(l), .. } if *l == lane);
+        rec.commands().iter().filter(|c| is(c)).count()
+    }
+
+    /// Every kind: a change of a parameter it does not depend on leaves it
+    /// be; a change of one it depends on stops and clears it (`cancel`
+    /// kinds) or marks it stale until it runs again (the others), whether
+    /// it was running or had ended.
+    #[test]
+    fn new_parameters_clear_or_mark_every_kind_of_result_in_one_place() {
+        for kind in JobKind::ALL {
+            for ended in [false, true] {
+                let rec = Recorder::new();
+                let mut jobs = Jobs::new(Box::new(rec.clone()));
+                let mut s = Settings::default();
+                start(&mut jobs, kind, &s);
+                let g = jobs.slot(kind).generation;
+                let text = "1 PD, 0 fold".to_string();
+                let lane = kind.lane();
+                jobs.apply(Update::Summary {
+                    generation: g,
+                    lane,
+                    text: text.clone(),
+                });
+                if ended {
+                    let outcome = Outcome::Completed;
+                    jobs.apply(Update::Finished {
+                        generation: g,
+                        lane,
+                        outcome,
+                    });
+                }
+                // Ω: no kind's axis; θν is the diagram's, the phase grid's,
+                // and the Basins view's axis.
+                let untouched = matches!(
+                    kind,
+                    JobKind::Sweep
+                        | JobKind::Branches
+                        | JobKind::Phase
+                        | JobKind::Curves
+                        | JobKind::Basins
+                );
+                if untouched {
+                    s.params.theta_nu += 0.01;
+                    jobs.apply_bounds(&s, &shown());
+                    let head = jobs.slot(kind);
+                    assert!(!head.stale && head.bound.is_some(), "{kind:?}");
+                }
+                s.params.omega *= 1.5;
+                rec.clear();
+                jobs.apply_bounds(&s, &shown());
+                let head = jobs.slot(kind).clone();
+                let what = format!("{kind:?}, ended: {ended}");
+                if kind.new_params() == NewParams::Cancel {
+                    assert!(head.bound.is_none() && !head.stale, "{what}");
+                    assert_eq!(cancels(&rec, lane), usize::from(!ended), "{what}");
+                    let (state, summary) = if ended {
+                        (JobState::Idle, None)
+                    } else {
+                        let why = "stopped: the parameters changed";
+                        (JobState::Cancelled, Some(why.to_string()))
+                    };
+                    assert_eq!((head.state, head.summary), (state, summary), "{what}");
+                    // Cleared: a second look changes nothing more.
+                    rec.clear();
+                    jobs.apply_bounds(&s, &shown());
+                    assert!(rec.commands().is_empty(), "{what}");
+                } else {
+                    // (The map iterates wait for the trajectory: no
+                    // generation yet, so nothing of theirs was taken.)
+                    let waits = g == super::super::NO_GENERATION;
+                    assert!(
+                        head.stale && (waits || head.summary == Some(text)),
+                        "{what}"
+                    );
+                    assert_eq!(cancels(&rec, lane), 0, "{what}");
+                    // Running again under the new parameters: fresh.
+                    start(&mut jobs, kind, &s);
+                    assert!(!jobs.slot(kind).stale, "{what}");
+                    jobs.apply_bounds(&s, &shown());
+                    assert!(!jobs.slot(kind).stale, "{what}");
+                }
+            }
+        }
+    }
+
+    /// A zoom (the range only) stops a running Find bifurcations and keeps
+    /// its branches; a later κ change still clears them (the bound kept
+    /// the parameters across the zoom).
+    #[test]
+    fn a_zoom_keeps_the_branches_and_a_later_kappa_change_clears_them() {
+        let rec = Recorder::new();
+        let mut jobs = Jobs::new(Box::new(rec.clone()));
+        let mut s = Settings::default();
+        jobs.find_bifurcations(&s, s.sweep_range());
+        let g = jobs.branches.generation;
+        jobs.apply(Update::Finished {
+            generation: g,
+            lane: Lane::Continuation,
+            outcome: Outcome::Completed,
+        });
+        jobs.branches.data.range = (0.0, 1.5);
+        let zoomed = Shown {
+            sweep_zoom: Some((1.0, 1.2)),
+            ..shown()
+        };
+        jobs.apply_bounds(&s, &zoomed);
+        assert_eq!(jobs.branches.state, JobState::Done);
+        assert_eq!(jobs.branches.data.range, (0.0, 1.5));
+        s.params.kappa = 16.0;
+        assert!(!jobs.apply_bounds(&s, &zoomed), "no diagram was bound");
+        assert_eq!(jobs.branches.state, JobState::Idle);
+        assert_eq!(jobs.branches.data.range, (0.0, 0.0));
+    }
+}
