@@ -103,7 +103,7 @@ pub(crate) fn scan_job(spec: ScanSpec) -> Result<Box<dyn Job>, JobError> {
     }))
 }
 
-impl<P: Pieces + Sync> Job for PiecesJob<P> {
+impl<P: Pieces> Job for PiecesJob<P> {
     fn lane(&self) -> Lane {
         self.lane
     }

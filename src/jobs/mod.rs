@@ -29,6 +29,7 @@ mod events;
 mod local;
 mod numerics;
 mod orbit;
+mod paced;
 mod phase;
 pub mod plan;
 pub mod priority;
@@ -312,8 +313,8 @@ impl Spec {
             Spec::Sweep(s) => Box::new(sweep::SweepJob::new(s, shape)?),
             Spec::Phase(s) => Box::new(phase::PhaseJob::new(s)?),
             Spec::Numerics(s) => Box::new(numerics::WorkPrecisionJob::new(s)?),
-            Spec::Branches(s) => Box::new(continuation::FindJob::new(s)),
-            Spec::Curves(s) => Box::new(continuation::BoundariesJob::new(s)),
+            Spec::Branches(s) => Box::new(continuation::find_job(s)),
+            Spec::Curves(s) => Box::new(continuation::boundaries_job(s)),
             Spec::Passage(s) => events::passage_job(s)?,
             Spec::Scan(s) => events::scan_job(s)?,
             Spec::Basins(s) => Box::new(basins::BasinsJob::new(s, Lane::Basins)?),
