@@ -31,6 +31,7 @@ mod numerics;
 mod orbit;
 mod paced;
 mod phase;
+pub mod pieces;
 pub mod plan;
 pub mod priority;
 mod protocol;
