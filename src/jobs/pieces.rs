@@ -110,31 +110,8 @@ pub fn representative(kind: Kind, quick: bool) -> Spec {
             keep: q(32, 128),
             tuning: PhaseTuning::default(),
         }),
-        Kind::Numerics => Spec::Numerics(WorkPrecisionSpec {
-            params: here,
-            theta0: None,
-            transient: q(50, QUICK_TRANSIENT),
-            points: q(2, QUICK_POINTS),
-            time_per_setting: if quick {
-                Duration::from_millis(5)
-            } else {
-                QUICK_TIME_PER_SETTING
-            },
-            subjects: quick_subjects(),
-        }),
-        // The Fig. 3b cascade (docs/continuation.md), a zoom of the window's
-        // diagram.
-        Kind::Branches => Spec::Branches(ContinuationSpec {
-            params: fig3b(),
-            settings,
-            param: ContParam::ThetaNu,
-            from: 1.0,
-            to: if quick { 1.2 } else { 1.6 },
-            max_period: q(4, 32),
-            cycle: None,
-            cascade: CascadeFrom::Branch,
-            curves: None,
-        }),
+        Kind::Numerics => work_precision(here, quick),
+        Kind::Branches => find_bifurcations(settings, quick),
         Kind::Curves => Spec::Curves(BoundarySpec {
             params: fig3b(),
             settings,
@@ -221,4 +198,36 @@ pub fn every_kind(quick: bool) -> Result<Vec<Pieces>, String> {
         .iter()
         .map(|&k| count_pieces(representative(k, quick), PAGE_SLICE))
         .collect()
+}
+
+/// The Numerics view's quick measurement at `here`.
+fn work_precision(here: Params, quick: bool) -> Spec {
+    Spec::Numerics(WorkPrecisionSpec {
+        params: here,
+        theta0: None,
+        transient: if quick { 50 } else { QUICK_TRANSIENT },
+        points: if quick { 2 } else { QUICK_POINTS },
+        time_per_setting: if quick {
+            Duration::from_millis(5)
+        } else {
+            QUICK_TIME_PER_SETTING
+        },
+        subjects: quick_subjects(),
+    })
+}
+
+/// Find bifurcations over the Fig. 3b cascade (docs/continuation.md), a
+/// zoom of the window's diagram, up to P32 (P4 over [1, 1.2], `quick`).
+fn find_bifurcations(settings: SolverSettings, quick: bool) -> Spec {
+    Spec::Branches(ContinuationSpec {
+        params: fig3b(),
+        settings,
+        param: ContParam::ThetaNu,
+        from: 1.0,
+        to: if quick { 1.2 } else { 1.6 },
+        max_period: if quick { 4 } else { 32 },
+        cycle: None,
+        cascade: CascadeFrom::Branch,
+        curves: None,
+    })
 }

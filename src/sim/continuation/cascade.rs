@@ -182,10 +182,7 @@ async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
         let level = prob.with_period(period);
         let followed = match given.take() {
             Some(b) => Ok(b),
-            None => {
-                let quiet = &mut |_: &SpecialPoint| {};
-                continue_branch_paced(pace, &level, start, to, theta, &level_opts, quiet).await
-            }
+            None => follow(pace, &level, [start, to], theta, &level_opts).await,
         };
         let branch = match followed {
             Ok(b) => b,
@@ -233,6 +230,19 @@ async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
         doublings,
         stop,
     })
+}
+
+/// The branch of `level`'s cycle through `theta` over `[from, to]`, its
+/// special points not reported.
+async fn follow(
+    pace: &Pace,
+    level: &Problem,
+    [from, to]: [f64; 2],
+    theta: f64,
+    opts: &ContOptions,
+) -> Result<Branch, CycleFailure> {
+    let quiet = &mut |_: &SpecialPoint| {};
+    continue_branch_paced(pace, level, from, to, theta, opts, quiet).await
 }
 
 /// Whether the branch of the `period`-cycle starts on a shorter cycle.
@@ -518,21 +528,8 @@ async fn subcritical(
     let side = f.side();
     let delta = SWITCH_SHARE * gap;
     let l1 = pd.lambda + side * delta;
-    let cyc = CycleOptions::for_settings(&level.settings);
     let doubled = level.with_period(q);
-    let mut seed = None;
-    if let (Ok(sim), Some(eta)) = (level.sim(l1), f.predicted(pd.lambda, l1)) {
-        for sign in [1.0, -1.0] {
-            let c = solve_cycle(pace, &sim, pd.theta + sign * eta, q, &cyc, &mut (0, 0)).await;
-            if let Ok(c) = c
-                && c.minimal_period == q
-            {
-                seed = Some(c.points[0]);
-                break;
-            }
-        }
-    }
-    let Some(seed) = seed else {
+    let Some(seed) = unstable_seed(pace, level, pd, f, l1).await else {
         return (
             format!("{head}; the unstable P{q} cycle next to it was not solved"),
             None,
@@ -545,9 +542,7 @@ async fn subcritical(
         locate_tol: opts.locate_tol,
         ..o
     };
-    let quiet = &mut |_: &SpecialPoint| {};
-    let followed = continue_branch_paced(pace, &doubled, l1, end, seed, &o, quiet).await;
-    let Ok(b) = followed else {
+    let Ok(b) = follow(pace, &doubled, [l1, end], seed, &o).await else {
         return (
             format!("{head}; the unstable P{q} cycle could not be followed"),
             None,
@@ -593,4 +588,28 @@ async fn subcritical(
         ),
     };
     (why, Some(b))
+}
+
+/// A point of the 2p-cycle born at the subcritical flip `pd` of `level`
+/// (`f`), solved by Newton at `l1` from the normal form's half-width either
+/// side of the flip's point.
+async fn unstable_seed(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    f: &Flip,
+    l1: f64,
+) -> Option<f64> {
+    let cyc = CycleOptions::for_settings(&level.settings);
+    let q = 2 * level.period;
+    let (sim, eta) = (level.sim(l1).ok()?, f.predicted(pd.lambda, l1)?);
+    for sign in [1.0, -1.0] {
+        let c = solve_cycle(pace, &sim, pd.theta + sign * eta, q, &cyc, &mut (0, 0)).await;
+        if let Ok(c) = c
+            && c.minimal_period == q
+        {
+            return Some(c.points[0]);
+        }
+    }
+    None
 }
