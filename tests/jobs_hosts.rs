@@ -396,9 +396,41 @@ fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
     assert_eq!(r.rows.len(), 4);
 }
 
+/// Map evaluations that a continuation's branches and curves report.
+fn map_evals(ups: &[Update]) -> u64 {
+    ups.iter()
+        .map(|u| match u {
+            Update::Branch { branch, .. } => branch.map_evals,
+            Update::Curve { curve, .. } => curve.map_evals,
+            _ => 0,
+        })
+        .sum()
+}
+
+/// A continuation's `cmd` paused after every piece on the single-threaded
+/// host, and run by the command line's host: the same results as `r` (the
+/// worker's and the unpaused single thread's), the paused one in a step
+/// per map evaluation at least (it pauses between any two).
+fn same_paused_and_on_the_command_line(cmd: Command, r: &Results) {
+    let spec = cmd.into_job().expect("a job").1;
+    let (paused, steps) = local_paused(spec.clone());
+    assert_eq!(&paused, r);
+    let evals = map_evals(&Local::start(spec.clone(), 1, Shape::default()).run_to_end(1));
+    assert!(
+        evals > 100 && steps as u64 >= evals,
+        "{steps} steps for {evals} map evaluations"
+    );
+    let ups = run_collect(spec, 1, |_| {}, || false).expect("it completes");
+    let cli = Results {
+        outcome: r.outcome.clone(),
+        ..results(&ups)
+    };
+    assert_eq!(&cli, r);
+}
+
 #[test]
-fn find_bifurcations_is_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::run(
+fn find_bifurcations_is_the_same_on_every_host_and_paused() {
+    let cmd = Command::run(
         8,
         ContinuationSpec {
             params: preset("fig3b"),
@@ -411,22 +443,27 @@ fn find_bifurcations_is_the_same_on_every_host() {
             cascade: CascadeFrom::Branch,
             curves: None,
         },
-    ));
-    assert!(r.other.iter().any(|s| s.starts_with("Branch")), "{r:?}");
+    );
+    let r = same_on_both_hosts(cmd.clone());
+    // The P1 branch and the cascade's levels after it.
+    let branches = r.other.iter().filter(|s| s.starts_with("Branch")).count();
+    assert!(branches >= 2, "{r:?}");
+    assert!(r.other.iter().any(|s| s.starts_with("Cascade")), "{r:?}");
+    same_paused_and_on_the_command_line(cmd, &r);
 }
 
 /// `oneblock continue --curve pd`'s job: a given cycle (the attractor's
 /// fixed point at θν = 0.9, as the command finds it), its branch with each
 /// special point as it is located, and the doubling curves through it.
 #[test]
-fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
+fn a_given_cycle_and_its_curves_are_the_same_on_every_host_and_paused() {
     let params = ContParam::ThetaNu.set(&preset("fig3b"), 0.9);
     let Attractor::Cycle { period, theta } =
         attractor_cycle(params, settings(), &|| false).unwrap()
     else {
         panic!("fig3b at θν = 0.9 has a cycle for an attractor");
     };
-    let r = same_on_both_hosts(Command::run(
+    let cmd = Command::run(
         10,
         ContinuationSpec {
             params,
@@ -443,15 +480,17 @@ fn a_given_cycle_and_its_curves_are_the_same_on_every_host() {
                 range: [17.0, 21.0],
             }),
         },
-    ));
+    );
+    let r = same_on_both_hosts(cmd.clone());
     for kind in ["Special", "Branch", "Curve"] {
         assert!(r.other.iter().any(|s| s.starts_with(kind)), "{kind}: {r:?}");
     }
+    same_paused_and_on_the_command_line(cmd, &r);
 }
 
 #[test]
-fn boundaries_are_the_same_on_every_host() {
-    let r = same_on_both_hosts(Command::run(
+fn boundaries_are_the_same_on_every_host_and_paused() {
+    let cmd = Command::run(
         9,
         BoundarySpec {
             params: preset("fig3b"),
@@ -459,8 +498,10 @@ fn boundaries_are_the_same_on_every_host() {
             theta_nu: (0.9, 1.3),
             kappa: (17.0, 21.0),
         },
-    ));
+    );
+    let r = same_on_both_hosts(cmd.clone());
     assert!(r.other.iter().any(|s| s.starts_with("Curve")), "{r:?}");
+    same_paused_and_on_the_command_line(cmd, &r);
 }
 
 #[test]
@@ -497,7 +538,7 @@ fn the_events_views_passage_and_scan_are_the_same_on_every_host_and_paused() {
         "{r:?}"
     );
     // Paused after every slip cycle and map evaluation (the continuation
-    // is one piece): the same verdict.
+    // of a window's cycle included): the same verdict.
     let (paused, steps) = local_paused(scan);
     assert_eq!(paused, r);
     assert!(steps > 8 * 2000, "{steps} steps");

@@ -63,6 +63,17 @@ pub struct BenchWorkerArgs {
     /// browser-against-native ratio).
     #[arg(long, conflicts_with = "phase")]
     pub single_thread: bool,
+    /// Run every kind of job once on the single-threaded host instead, in
+    /// the page's 12 ms compute slices, at the window's defaults (Fig. 3b),
+    /// and print per kind its pieces (steps) and the longest piece in ms.
+    #[arg(long, conflicts_with_all = ["phase", "single_thread"])]
+    pub pieces: bool,
+    /// With --pieces: print {"kinds": [{"kind", "pieces", "longest_ms"}]}.
+    #[arg(long, requires = "pieces")]
+    pub json: bool,
+    /// With --pieces: small jobs of every kind (a check in seconds).
+    #[arg(long, requires = "pieces")]
+    pub quick: bool,
     /// Give up after this many seconds, in (0, 1e7], printing nothing;
     /// Ctrl+C also stops it.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -99,6 +110,9 @@ impl Default for BenchWorkerArgs {
             latency_samples: 9,
             phase: None,
             single_thread: false,
+            pieces: false,
+            json: false,
+            quick: false,
             max_seconds: None,
         }
     }
@@ -468,6 +482,9 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
     let (done, text) = run_bounded("bench-worker", &limits, move || {
         let done = match args.phase {
             Some(n) => run_phase(&args, settings, n),
+            None if args.pieces => {
+                super::bench_pieces::report(&args).and_then(|r| say(r.trim_end()))
+            }
             None if args.single_thread => run_single_thread(&args),
             None => run_sweeps(&args, settings),
         };

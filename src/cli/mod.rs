@@ -2,6 +2,7 @@
 //! `common`. `main.rs` only parses and dispatches.
 
 pub mod attractors;
+mod bench_pieces;
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;

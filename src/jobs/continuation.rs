@@ -6,33 +6,35 @@
 //! and curve is sent as it is found. The library polls the sink once per
 //! computed point ([`Sink::cycle`]), so a newer job, a cancel or the
 //! command line's limits stop it within one point; a stopped job still
-//! sends what it has, which a host may keep ([`super::run_kept`]). Each
-//! job is one unit: the library's continuation is not yet steppable point
-//! by point.
+//! sends what it has, which a host may keep ([`super::run_kept`]). The
+//! jobs are the library's paced walks ([`PacedJob`]): they pause between
+//! two map evaluations when the host wants its thread back (the browser's
+//! frame), and resume with the same numbers, bit for bit.
 
-use std::cell::{Cell, RefCell};
-use std::sync::Mutex;
+use std::sync::Arc;
 use web_time::Instant;
 
+use super::JobError;
+use super::paced::{PacedJob, Shared};
 use super::protocol::{BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Lane, Update};
-use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{
-    Attractor, Branch, Cascade, ContOptions, ContParam, Curve, CurveKind, CurveOptions, Problem,
-    SpecialKind, SpecialPoint, attractor_cycle, cascade_from, cascade_reporting, continue_branch,
-    continue_branch_reporting, continue_curves,
+    Attractor, Branch, Cascade, ContOptions, ContParam, Curve, CurveKind, CurveOptions, Pace,
+    Problem, SpecialKind, SpecialPoint, attractor_cycle_paced, cascade_from_paced, cascade_paced,
+    continue_branch_paced, continue_curves_paced,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError};
 
-/// The attractor's cycle at `params` ([`attractor_cycle`]); `Err` says
-/// what the attractor is instead.
-fn attractor_seed(
+/// The attractor's cycle at `params`
+/// ([`crate::sim::continuation::attractor_cycle`]); `Err` says what the
+/// attractor is instead.
+async fn attractor_seed(
+    pace: &Pace,
     params: Params,
     settings: SolverSettings,
-    cancel: &dyn Fn() -> bool,
 ) -> Result<Result<(usize, f64), String>, SimError> {
-    Ok(match attractor_cycle(params, settings, cancel)? {
+    Ok(match attractor_cycle_paced(pace, params, settings).await? {
         Attractor::Cycle { period, theta } => Ok((period, theta)),
         a => Err(a.describe()),
     })
@@ -74,67 +76,83 @@ fn counts(branches: &[Branch]) -> String {
     )
 }
 
-/// One continuation job's way to its sink.
-struct Out<'a> {
-    sink: &'a dyn Sink,
+/// One continuation job's way to its sink (through the step that polls
+/// it: [`Shared`]).
+struct Out {
+    shared: Arc<Shared>,
     lane: Lane,
 }
 
-impl Out<'_> {
+impl Out {
+    fn pace(&self) -> &Pace {
+        &self.shared.pace
+    }
+
     fn stale(&self) -> bool {
-        self.sink.stale()
+        self.shared.stale()
     }
 
-    fn send(&self, u: Update) -> Result<(), JobError> {
-        Ok(self.sink.send(u)?)
+    fn send(&self, u: Update) {
+        self.shared.send(u);
     }
 
-    fn summary(&self, text: String) -> Result<(), JobError> {
+    fn generation(&self) -> u64 {
+        self.shared.generation()
+    }
+
+    fn summary(&self, text: String) {
         self.send(Update::Summary {
-            generation: self.sink.generation(),
+            generation: self.generation(),
             lane: self.lane,
             text,
-        })
+        });
     }
 
-    fn progress(&self, fraction: f64, evals: u64, since: Instant) -> Result<(), JobError> {
+    fn progress(&self, fraction: f64, evals: u64, since: Instant) {
         let secs = since.elapsed().as_secs_f64().max(1e-9);
         self.send(Update::Progress {
-            generation: self.sink.generation(),
+            generation: self.generation(),
             lane: self.lane,
             fraction,
             iterates_per_second: evals as f64 / secs,
-        })
+        });
     }
 
-    /// Polled once per computed point: true when the job must stop (a
-    /// stale generation, or the command line's limits).
-    fn cancelled(&self) -> bool {
-        self.sink.cycle()
+    /// A branch, sent.
+    fn send_branch(&self, branch: &Branch) {
+        self.send(Update::Branch {
+            generation: self.generation(),
+            branch: branch.clone(),
+        });
     }
 
     /// The spec's branch, then its cascade or its curves.
-    fn find(&self, spec: &ContinuationSpec) -> Result<(), JobError> {
+    async fn find(&self, spec: &ContinuationSpec) -> Result<(), JobError> {
         let started = Instant::now();
-        let Some((prob, seed)) = self.start(spec)? else {
+        let Some((prob, seed)) = self.start(spec).await? else {
             return Ok(());
         };
         let opts = ContOptions::for_range(&spec.settings, spec.from, spec.to);
         let max_period = spec.max_period.clamp(prob.period, PERIOD_MAX);
         if spec.cascade == CascadeFrom::Levels && spec.curves.is_none() {
-            return self.levels(&prob, spec, seed, &opts, max_period, started);
+            return self
+                .levels(&prob, spec, seed, &opts, max_period, started)
+                .await;
         }
-        let branch = self.branch(&prob, spec, seed, &opts)?;
+        let branch = self.branch(&prob, spec, seed, &opts).await?;
         match spec.curves {
-            Some(follow) => self.curves(&prob, spec, &branch, follow),
-            None => self.cascade_after(&prob, spec, branch, &opts, max_period, started),
+            Some(follow) => self.curves(&prob, spec, &branch, follow).await,
+            None => {
+                self.cascade_after(&prob, spec, branch, &opts, max_period, started)
+                    .await
+            }
         }
     }
 
     /// The cycle to follow and a point of it at `from`: the given one, or
     /// the attractor's (`None` when the attractor is no cycle, after a
     /// summary saying what it is).
-    fn start(&self, spec: &ContinuationSpec) -> Result<Option<(Problem, f64)>, JobError> {
+    async fn start(&self, spec: &ContinuationSpec) -> Result<Option<(Problem, f64)>, JobError> {
         let (from, to) = (spec.from, spec.to);
         let name = symbol(spec.param);
         if !(from.is_finite() && to.is_finite()) || from == to {
@@ -145,13 +163,12 @@ impl Out<'_> {
         let base = spec.param.set(&spec.params, from);
         let (period, seed) = match spec.cycle {
             Some(c) => (c.period, c.theta),
-            None => match attractor_seed(base, spec.settings, &|| self.cancelled())? {
+            None => match attractor_seed(self.pace(), base, spec.settings).await? {
                 Ok(found) => found,
                 Err(what) => {
-                    let text = format!(
+                    self.summary(format!(
                         "stopped: the attractor at {name} = {from:.6} {what}: no cycle to follow"
-                    );
-                    self.summary(text)?;
+                    ));
                     return Ok(None);
                 }
             },
@@ -167,45 +184,29 @@ impl Out<'_> {
 
     /// The branch over the whole range, each special point sent as it is
     /// located and the branch once it ends.
-    fn branch(
+    async fn branch(
         &self,
         prob: &Problem,
         spec: &ContinuationSpec,
         seed: f64,
         opts: &ContOptions,
     ) -> Result<Branch, JobError> {
-        let refused = Cell::new(false);
         let mut on_special = |p: &SpecialPoint| {
-            let point = p.clone();
-            let generation = self.sink.generation();
-            if !refused.get() && self.send(Update::Special { generation, point }).is_err() {
-                refused.set(true);
-            }
+            self.send(Update::Special {
+                generation: self.generation(),
+                point: p.clone(),
+            });
         };
-        let cancel = || refused.get() || self.cancelled();
-        let branch = continue_branch_reporting(
-            prob,
-            spec.from,
-            spec.to,
-            seed,
-            opts,
-            &cancel,
-            &mut on_special,
-        )
-        .map_err(start_failure)?;
-        if refused.get() {
-            return Err(JobError::Stop);
-        }
-        self.send(Update::Branch {
-            generation: self.sink.generation(),
-            branch: branch.clone(),
-        })?;
+        let (from, to) = (spec.from, spec.to);
+        let walk = continue_branch_paced(self.pace(), prob, from, to, seed, opts, &mut on_special);
+        let branch = walk.await.map_err(start_failure)?;
+        self.send_branch(&branch);
         Ok(branch)
     }
 
     /// The cascade from `first`, the branch over the whole range, up to
     /// `max_period`: only the levels after it are new.
-    fn cascade_after(
+    async fn cascade_after(
         &self,
         prob: &Problem,
         spec: &ContinuationSpec,
@@ -216,53 +217,42 @@ impl Out<'_> {
     ) -> Result<(), JobError> {
         let period = prob.period;
         let levels = (max_period / period).max(1).ilog2() as f64 + 1.0;
-        let evals = Cell::new(first.map_evals);
+        let mut tally = Tally::new(&first, levels, started);
         let doubles = first.of_kind(SpecialKind::PeriodDoubling).next().is_some();
         let said = format!("P{period} branch: it {}", first.stop_message());
-        let all = RefCell::new(vec![first.clone()]);
         if !doubles || 2 * period > max_period {
-            self.progress(1.0, evals.get(), started)?;
+            self.progress(1.0, tally.evals, started);
             let why = if doubles {
                 format!("the cascade's period is capped at {max_period}")
             } else {
                 "no period doubling".to_string()
             };
-            let counted = counts(&all.borrow());
-            return self.summary(format!("{counted} · stopped: {said}; {why}"));
+            let counted = counts(&tally.all);
+            self.summary(format!("{counted} · stopped: {said}; {why}"));
+            return Ok(());
         }
-        self.progress(1.0 / levels, evals.get(), started)?;
-        self.summary(format!(
-            "{} · following the cascade…",
-            counts(&all.borrow())
-        ))?;
-        let on_level = |b: &Branch| {
-            evals.set(evals.get() + b.map_evals);
-            all.borrow_mut().push(b.clone());
-            let done = all.borrow().len() as f64;
-            self.progress((done / levels).min(1.0), evals.get(), started)
-        };
-        let cascade = self.follow_levels(on_level, |cancel, on_level| {
-            cascade_from(
-                prob, spec.from, spec.to, first, max_period, opts, cancel, on_level,
-            )
-        })?;
-        self.progress(1.0, evals.get(), started)?;
-        let top = cascade.branches.last().map_or(period, |b| b.period);
-        let text = format!(
-            "{} · cascade P{period}…P{top} · stopped: {}",
-            counts(&all.borrow()),
-            cascade.stop
+        self.progress(1.0 / levels, tally.evals, started);
+        self.summary(format!("{} · following the cascade…", counts(&tally.all)));
+        let (from, to) = (spec.from, spec.to);
+        let mut on_level = |b: &Branch| tally.level(self, b);
+        let walk = cascade_from_paced(
+            self.pace(),
+            prob,
+            from,
+            to,
+            first,
+            max_period,
+            opts,
+            &mut on_level,
         );
-        self.send(Update::Cascade {
-            generation: self.sink.generation(),
-            cascade,
-        })?;
-        self.summary(text)
+        let cascade = walk.await.map_err(start_failure)?;
+        self.cascade_done(period, cascade, &tally);
+        Ok(())
     }
 
     /// The cascade from the cycle through `seed`, each level from its
     /// birth to its doubling, up to `max_period`.
-    fn levels(
+    async fn levels(
         &self,
         prob: &Problem,
         spec: &ContinuationSpec,
@@ -273,66 +263,48 @@ impl Out<'_> {
     ) -> Result<(), JobError> {
         let period = prob.period;
         let levels = (max_period / period).max(1).ilog2() as f64 + 1.0;
-        let evals = Cell::new(0);
-        let all = RefCell::new(Vec::new());
-        let on_level = |b: &Branch| {
-            evals.set(evals.get() + b.map_evals);
-            all.borrow_mut().push(b.clone());
-            let done = all.borrow().len() as f64;
-            self.progress((done / levels).min(1.0), evals.get(), started)
+        let mut tally = Tally {
+            evals: 0,
+            all: Vec::new(),
+            levels,
+            started,
         };
-        let cascade = self.follow_levels(on_level, |cancel, on_level| {
-            cascade_reporting(
-                prob, spec.from, spec.to, seed, max_period, opts, cancel, on_level,
-            )
-        })?;
-        self.progress(1.0, evals.get(), started)?;
+        let (from, to) = (spec.from, spec.to);
+        let mut on_level = |b: &Branch| tally.level(self, b);
+        let walk = cascade_paced(
+            self.pace(),
+            prob,
+            from,
+            to,
+            seed,
+            max_period,
+            opts,
+            &mut on_level,
+        );
+        let cascade = walk.await.map_err(start_failure)?;
+        self.cascade_done(period, cascade, &tally);
+        Ok(())
+    }
+
+    /// The end of a cascade from the `period`-cycle: full progress, the
+    /// cascade, and its summary.
+    fn cascade_done(&self, period: usize, cascade: Cascade, tally: &Tally) {
+        self.progress(1.0, tally.evals, tally.started);
         let top = cascade.branches.last().map_or(period, |b| b.period);
         let text = format!(
             "{} · cascade P{period}…P{top} · stopped: {}",
-            counts(&all.borrow()),
+            counts(&tally.all),
             cascade.stop
         );
         self.send(Update::Cascade {
-            generation: self.sink.generation(),
+            generation: self.generation(),
             cascade,
-        })?;
-        self.summary(text)
-    }
-
-    /// Runs `follow` (a cascade) with a cancel and a level hook that sends
-    /// each level as it ends, then `on_level` (progress); a refused send
-    /// stops the cascade and the job.
-    fn follow_levels(
-        &self,
-        on_level: impl Fn(&Branch) -> Result<(), JobError>,
-        follow: impl FnOnce(&dyn Fn() -> bool, &mut dyn FnMut(&Branch)) -> Result<Cascade, CycleFailure>,
-    ) -> Result<Cascade, JobError> {
-        let refused = Cell::new(false);
-        let cancel = || refused.get() || self.cancelled();
-        let mut hook = |b: &Branch| {
-            if refused.get() {
-                return;
-            }
-            let sent = self
-                .send(Update::Branch {
-                    generation: self.sink.generation(),
-                    branch: b.clone(),
-                })
-                .and_then(|()| on_level(b));
-            if sent.is_err() {
-                refused.set(true);
-            }
-        };
-        let cascade = follow(&cancel, &mut hook).map_err(start_failure)?;
-        if refused.get() {
-            return Err(JobError::Stop);
-        }
-        Ok(cascade)
+        });
+        self.summary(text);
     }
 
     /// The `follow.kind` curves through the branch's points of that kind.
-    fn curves(
+    async fn curves(
         &self,
         prob: &Problem,
         spec: &ContinuationSpec,
@@ -345,29 +317,35 @@ impl Out<'_> {
         };
         let starts: Vec<SpecialPoint> = branch.of_kind(want).cloned().collect();
         if starts.is_empty() {
-            return self.summary(format!(
+            self.summary(format!(
                 "stopped: no {} point on the P{} branch: no curve to follow",
                 want.name(),
                 prob.period
             ));
+            return Ok(());
         }
         let copts = CurveOptions::for_box([[spec.from, spec.to], follow.range]);
-        let curves = self.curves_through(
-            &prob.base,
-            &spec.settings,
-            [spec.param, follow.param],
-            prob.period,
-            follow.kind,
-            &starts,
-            &copts,
-        )?;
-        self.summary(format!("{} curves · done", curves.len()))
+        let params = [spec.param, follow.param];
+        let curves = self
+            .curves_through(
+                &prob.base,
+                &spec.settings,
+                params,
+                prob.period,
+                follow.kind,
+                &starts,
+                &copts,
+            )
+            .await;
+        self.summary(format!("{} curves · done", curves.len()));
+        Ok(())
     }
 
     /// The `kind` curves of the `period`-cycle through `starts` (a start on
-    /// an earlier curve is skipped), each sent; see [`continue_curves`].
+    /// an earlier curve is skipped), each sent; see
+    /// [`crate::sim::continuation::continue_curves`].
     #[allow(clippy::too_many_arguments)]
-    fn curves_through(
+    async fn curves_through(
         &self,
         base: &Params,
         settings: &SolverSettings,
@@ -376,21 +354,22 @@ impl Out<'_> {
         kind: CurveKind,
         starts: &[SpecialPoint],
         copts: &CurveOptions,
-    ) -> Result<Vec<Curve>, JobError> {
-        let cancel = || self.cancelled();
-        let found = continue_curves(base, settings, params, period, kind, starts, copts, &cancel);
+    ) -> Vec<Curve> {
+        let pace = self.pace();
+        let found =
+            continue_curves_paced(pace, base, settings, params, period, kind, starts, copts).await;
         for curve in &found {
             self.send(Update::Curve {
-                generation: self.sink.generation(),
+                generation: self.generation(),
                 curve: curve.clone(),
-            })?;
+            });
         }
-        Ok(found)
+        found
     }
 
     /// The doublings of the attractor's cycle at the box's left edge, and
     /// of the cycle it doubles into, each followed as a curve in (θν, κ).
-    fn boundaries(&self, spec: &BoundarySpec) -> Result<(), JobError> {
+    async fn boundaries(&self, spec: &BoundarySpec) -> Result<(), JobError> {
         let started = Instant::now();
         let (t0, t1) = spec.theta_nu;
         let (k0, k1) = spec.kappa;
@@ -400,7 +379,7 @@ impl Out<'_> {
                 "the box θν in [{t0}, {t1}], κ in [{k0}, {k1}] is empty or does not hold κ = {kappa}"
             )));
         }
-        let Some((prob, branch, starts)) = self.doublings(spec)? else {
+        let Some((prob, branch, starts)) = self.doublings(spec).await? else {
             return Ok(());
         };
         let copts = CurveOptions::for_box([[t0, t1], [k0, k1]]);
@@ -416,41 +395,28 @@ impl Out<'_> {
             // followed is not followed again.
             let of_p: Vec<SpecialPoint> =
                 starts.iter().filter(|s| s.period == p).cloned().collect();
-            let found = self.curves_through(
-                &prob.base,
-                &spec.settings,
-                [ContParam::ThetaNu, ContParam::Kappa],
-                p,
-                CurveKind::PeriodDoubling,
-                &of_p,
-                &copts,
-            )?;
+            let found = self
+                .curves_through(
+                    &prob.base,
+                    &spec.settings,
+                    [ContParam::ThetaNu, ContParam::Kappa],
+                    p,
+                    CurveKind::PeriodDoubling,
+                    &of_p,
+                    &copts,
+                )
+                .await;
             evals += found.iter().map(|c| c.map_evals).sum::<u64>();
             curves.extend(found);
-            self.progress((i + 1) as f64 / periods.len() as f64, evals, started)?;
+            self.progress((i + 1) as f64 / periods.len() as f64, evals, started);
         }
-        let names: Vec<String> = curves
-            .iter()
-            .map(|c| {
-                // Where the doubling turns subcritical along the curve.
-                let flips = match c.generalised_flips.len() {
-                    0 => String::new(),
-                    1 => ", 1 generalised flip".into(),
-                    n => format!(", {n} generalised flips"),
-                };
-                format!(
-                    "P{} to P{} ({} points{flips})",
-                    c.period,
-                    2 * c.period,
-                    c.points.len()
-                )
-            })
-            .collect();
+        let names: Vec<String> = curves.iter().map(curve_name).collect();
         self.summary(format!(
             "{} curves: {} · done",
             curves.len(),
             names.join(", ")
-        ))
+        ));
+        Ok(())
     }
 
     /// The attractor's cycle at the box's left edge, its branch along θν,
@@ -459,20 +425,19 @@ impl Out<'_> {
     /// the first of the cycle it doubles into. `None` (after a summary)
     /// when there is none.
     #[allow(clippy::type_complexity)]
-    fn doublings(
+    async fn doublings(
         &self,
         spec: &BoundarySpec,
     ) -> Result<Option<(Problem, Branch, Vec<SpecialPoint>)>, JobError> {
-        let cancel = || self.cancelled();
         let (t0, t1) = spec.theta_nu;
         let kappa = spec.params.kappa;
         let base = ContParam::ThetaNu.set(&spec.params, t0);
-        let (period, seed) = match attractor_seed(base, spec.settings, &cancel)? {
+        let (period, seed) = match attractor_seed(self.pace(), base, spec.settings).await? {
             Ok(found) => found,
             Err(what) => {
                 self.summary(format!(
                     "stopped: the attractor at θν = {t0:.6}, κ = {kappa:.6} {what}: no cycle to follow"
-                ))?;
+                ));
                 return Ok(None);
             }
         };
@@ -483,23 +448,19 @@ impl Out<'_> {
             period,
         };
         let opts = ContOptions::for_range(&spec.settings, t0, t1);
-        let branch = continue_branch(&prob, t0, t1, seed, &opts, &cancel).map_err(start_failure)?;
+        let quiet = &mut |_: &SpecialPoint| {};
+        let walk = continue_branch_paced(self.pace(), &prob, t0, t1, seed, &opts, quiet);
+        let branch = walk.await.map_err(start_failure)?;
         let mut starts: Vec<SpecialPoint> = branch
             .of_kind(SpecialKind::PeriodDoubling)
             .cloned()
             .collect();
         if !starts.is_empty() && 2 * period <= PERIOD_MAX {
-            let c = cascade_from(
-                &prob,
-                t0,
-                t1,
-                branch.clone(),
-                2 * period,
-                &opts,
-                &cancel,
-                &mut |_| {},
-            )
-            .map_err(start_failure)?;
+            let first = branch.clone();
+            let quiet = &mut |_: &Branch| {};
+            let walk =
+                cascade_from_paced(self.pace(), &prob, t0, t1, first, 2 * period, &opts, quiet);
+            let c = walk.await.map_err(start_failure)?;
             starts.extend(c.doublings.into_iter().filter(|d| d.period == 2 * period));
         }
         if self.stale() {
@@ -508,69 +469,73 @@ impl Out<'_> {
         if starts.is_empty() {
             self.summary(format!(
                 "stopped: the P{period} cycle does not double along θν in [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
-            ))?;
+            ));
             return Ok(None);
         }
         Ok(Some((prob, branch, starts)))
     }
 }
 
-/// Find bifurcations, as a job of one unit.
-pub(crate) struct FindJob {
-    spec: ContinuationSpec,
-    done: Mutex<bool>,
+/// A cascade's levels so far, for its progress and summary.
+struct Tally {
+    evals: u64,
+    all: Vec<Branch>,
+    /// The levels expected.
+    levels: f64,
+    started: Instant,
 }
 
-impl FindJob {
-    pub fn new(spec: ContinuationSpec) -> Self {
-        FindJob {
-            spec,
-            done: Mutex::new(false),
+impl Tally {
+    /// The tally after the first level, `first`.
+    fn new(first: &Branch, levels: f64, started: Instant) -> Self {
+        Tally {
+            evals: first.map_evals,
+            all: vec![first.clone()],
+            levels,
+            started,
         }
+    }
+
+    /// A level has ended: it is sent, and counted in the progress.
+    fn level(&mut self, out: &Out, b: &Branch) {
+        out.send_branch(b);
+        self.evals += b.map_evals;
+        self.all.push(b.clone());
+        let done = self.all.len() as f64;
+        out.progress((done / self.levels).min(1.0), self.evals, self.started);
     }
 }
 
-impl Job for FindJob {
-    fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
-        let mut done = lock(&self.done);
-        if !*done {
-            *done = true;
-            let out = Out {
-                sink,
-                lane: Lane::Continuation,
-            };
-            out.find(&self.spec)?;
-        }
-        Ok(Status::Done)
-    }
+/// "P1 to P2 (40 points, 1 generalised flip)".
+fn curve_name(c: &Curve) -> String {
+    // Where the doubling turns subcritical along the curve.
+    let flips = match c.generalised_flips.len() {
+        0 => String::new(),
+        1 => ", 1 generalised flip".into(),
+        n => format!(", {n} generalised flips"),
+    };
+    format!(
+        "P{} to P{} ({} points{flips})",
+        c.period,
+        2 * c.period,
+        c.points.len()
+    )
 }
 
-/// Boundaries, as a job of one unit.
-pub(crate) struct BoundariesJob {
-    spec: BoundarySpec,
-    done: Mutex<bool>,
+/// Find bifurcations: the spec's branch and its cascade or curves.
+pub(crate) fn find_job(spec: ContinuationSpec) -> PacedJob {
+    let lane = Lane::Continuation;
+    PacedJob::new(move |shared| async move {
+        let out = Out { shared, lane };
+        out.find(&spec).await
+    })
 }
 
-impl BoundariesJob {
-    pub fn new(spec: BoundarySpec) -> Self {
-        BoundariesJob {
-            spec,
-            done: Mutex::new(false),
-        }
-    }
-}
-
-impl Job for BoundariesJob {
-    fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
-        let mut done = lock(&self.done);
-        if !*done {
-            *done = true;
-            let out = Out {
-                sink,
-                lane: Lane::Curves,
-            };
-            out.boundaries(&self.spec)?;
-        }
-        Ok(Status::Done)
-    }
+/// Boundaries: the doubling curves in (θν, κ).
+pub(crate) fn boundaries_job(spec: BoundarySpec) -> PacedJob {
+    let lane = Lane::Curves;
+    PacedJob::new(move |shared| async move {
+        let out = Out { shared, lane };
+        out.boundaries(&spec).await
+    })
 }

@@ -100,7 +100,7 @@ pub(crate) fn scan_job(spec: ScanSpec) -> Result<Box<dyn Job>, JobError> {
     }))
 }
 
-impl<P: Pieces + Sync> Job for PiecesJob<P> {
+impl<P: Pieces> Job for PiecesJob<P> {
     /// Pieces until the answer (sent) or until the host wants its thread
     /// back, after one piece at least.
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {

@@ -7,7 +7,7 @@
 //! view.
 
 use super::basins::{BasinsJob, BasinsSpec, MapBasinsSpec};
-use super::continuation::{BoundariesJob, FindJob};
+use super::continuation::{boundaries_job, find_job};
 use super::events::{PassageSpec, ScanSpec, passage_job, scan_job};
 use super::numerics::WorkPrecisionJob;
 use super::orbit::{IterateJob, PanicJob, TrajectoryJob};
@@ -281,12 +281,12 @@ declare_jobs! {
         /// Find bifurcations: a branch and its cascade.
         Branches(ContinuationSpec) {
             lane: Continuation, label: "bifurcations", short: "branches", new_params: cancel,
-            start: |s, _| Ok(Box::new(FindJob::new(s))),
+            start: |s, _| Ok(Box::new(find_job(s))),
         }
         /// Boundaries: doubling curves in (θν, κ).
         Curves(BoundarySpec) {
             lane: Curves, label: "boundaries", short: "curves", new_params: cancel,
-            start: |s, _| Ok(Box::new(BoundariesJob::new(s))),
+            start: |s, _| Ok(Box::new(boundaries_job(s))),
         }
         /// The Events view's creep channel passage.
         Passage(PassageSpec) {

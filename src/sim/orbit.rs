@@ -226,6 +226,12 @@ impl OrbitRun {
         })
     }
 
+    /// Whether every cycle is done: the next [`OrbitRun::advance`] is the
+    /// settling (it polls no cancel).
+    pub fn settling(&self) -> bool {
+        self.i == self.opts.transient + self.opts.keep
+    }
+
     /// One slip cycle (`cancel` polled before it) and `None`, or, once
     /// every cycle is done, the settling and the orbit. `sim` must be the
     /// simulator it was made with.

@@ -269,6 +269,8 @@ impl Fail {
 }
 
 pub(super) struct Ctx<'a> {
+    /// Where the walk may pause (after each map evaluation).
+    pub(super) pace: &'a super::Pace,
     pub(super) prob: &'a Problem,
     pub(super) opts: &'a ContOptions,
     pub(super) evals: u64,
@@ -280,7 +282,7 @@ impl Ctx<'_> {
     /// Newton on (G = 0, t·(x − pred) = 0) from `pred`. Returns the last
     /// evaluated point once the step from it is below the tolerance (so the
     /// point's cycle and multiplier are its own).
-    pub(super) fn correct(&mut self, pred: [f64; 2], t: [f64; 2]) -> Result<Pt, Fail> {
+    pub(super) async fn correct(&mut self, pred: [f64; 2], t: [f64; 2]) -> Result<Pt, Fail> {
         let s = self.opts.scale;
         let mut x = pred;
         let mut last_g = f64::INFINITY;
@@ -288,7 +290,8 @@ impl Ctx<'_> {
         for _ in 0..self.opts.max_newton {
             let e = self
                 .prob
-                .eval(x[0], x[1] * s, &mut self.evals)
+                .eval_paced(self.pace, x[0], x[1] * s, &mut self.evals)
+                .await
                 .map_err(Fail::Eval)?;
             let r = Vector2::new(e.g, t[0] * (x[0] - pred[0]) + t[1] * (x[1] - pred[1]));
             // LU with partial pivoting: G's row (m − 1, scale·G_λ) can be
@@ -338,10 +341,11 @@ impl Ctx<'_> {
     /// `samples` are (λ, m) at the branch points the location corrected,
     /// the step's ends first: dm/dλ is their slope at the doubling
     /// ([`super::branch_slope`]).
-    pub(super) fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
+    pub(super) async fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
         let dm_dlambda = super::branch_slope(samples, lambda, self.prob.period)?;
-        super::flip_at(
+        super::flip::flip_paced(
+            self.pace,
             self.prob,
             lambda,
             p.x[0],
@@ -349,6 +353,7 @@ impl Ctx<'_> {
             dm_dlambda,
             &mut self.evals,
         )
+        .await
         .ok()
     }
 
@@ -367,7 +372,7 @@ impl Ctx<'_> {
     /// The zero of `test` between `a` (s = 0) and `b` (s = h) along the
     /// tangent `t` at `a`, by Illinois on s (see the module notes), and
     /// whether it is a zero at all: see [`Located`].
-    pub(super) fn locate(
+    pub(super) async fn locate(
         &mut self,
         a: &Pt,
         b: &Pt,
@@ -403,7 +408,7 @@ impl Ctx<'_> {
                 s = 0.5 * (sa + sb);
             }
             let pred = [a.x[0] + s * t[0], a.x[1] + s * t[1]];
-            let Ok(c) = self.correct(pred, t) else {
+            let Ok(c) = self.correct(pred, t).await else {
                 break;
             };
             let fc = test(c.e.multiplier);

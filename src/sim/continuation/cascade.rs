@@ -8,13 +8,13 @@
 //! and the new one is born with +1), and solved by Newton at period 2p;
 //! a seed is kept when the solved cycle's minimal period is 2p.
 
-use super::Problem;
 use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop};
-use super::walk::continue_branch;
-use super::{Criticality, Flip};
+use super::pace::solve_cycle;
+use super::walk::continue_branch_paced;
+use super::{Criticality, Flip, Pace, Problem, drive};
 use crate::model::wrap_angle;
 use crate::sim::PERIOD_MAX;
-use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
+use crate::sim::cycles::{CycleFailure, CycleOptions};
 
 /// A followed cascade.
 #[derive(Clone, Debug, PartialEq)]
@@ -81,8 +81,27 @@ pub fn cascade_reporting(
     cancel: &dyn Fn() -> bool,
     on_level: &mut dyn FnMut(&Branch),
 ) -> Result<Cascade, CycleFailure> {
+    let pace = Pace::new();
     let first = Level::Seed(seed);
-    cascade_impl(prob, from, to, first, max_period, opts, cancel, on_level)
+    let walk = cascade_impl(&pace, prob, from, to, first, max_period, opts, on_level);
+    drive(&pace, walk, cancel)
+}
+
+/// [`cascade_reporting`], a piece after each map evaluation and a cancel
+/// asked once per point.
+#[allow(clippy::too_many_arguments)]
+pub async fn cascade_paced<R: FnMut(&Branch) + ?Sized>(
+    pace: &Pace,
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    max_period: usize,
+    opts: &ContOptions,
+    on_level: &mut R,
+) -> Result<Cascade, CycleFailure> {
+    let first = Level::Seed(seed);
+    cascade_impl(pace, prob, from, to, first, max_period, opts, on_level).await
 }
 
 /// [`cascade_reporting`] whose first level is `first`, a branch of
@@ -102,8 +121,27 @@ pub fn cascade_from(
     cancel: &dyn Fn() -> bool,
     on_level: &mut dyn FnMut(&Branch),
 ) -> Result<Cascade, CycleFailure> {
+    let pace = Pace::new();
     let first = Level::Given(first);
-    cascade_impl(prob, from, to, first, max_period, opts, cancel, on_level)
+    let walk = cascade_impl(&pace, prob, from, to, first, max_period, opts, on_level);
+    drive(&pace, walk, cancel)
+}
+
+/// [`cascade_from`], a piece after each map evaluation and a cancel asked
+/// once per point.
+#[allow(clippy::too_many_arguments)]
+pub async fn cascade_from_paced<R: FnMut(&Branch) + ?Sized>(
+    pace: &Pace,
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    first: Branch,
+    max_period: usize,
+    opts: &ContOptions,
+    on_level: &mut R,
+) -> Result<Cascade, CycleFailure> {
+    let first = Level::Given(first);
+    cascade_impl(pace, prob, from, to, first, max_period, opts, on_level).await
 }
 
 /// Where a cascade's first level comes from.
@@ -115,15 +153,15 @@ enum Level {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn cascade_impl(
+async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
+    pace: &Pace,
     prob: &Problem,
     from: f64,
     to: f64,
     first: Level,
     max_period: usize,
     opts: &ContOptions,
-    cancel: &dyn Fn() -> bool,
-    on_level: &mut dyn FnMut(&Branch),
+    on_level: &mut R,
 ) -> Result<Cascade, CycleFailure> {
     // (With a given first level the seed is never used.)
     let (seed, mut given) = match first {
@@ -144,7 +182,7 @@ fn cascade_impl(
         let level = prob.with_period(period);
         let followed = match given.take() {
             Some(b) => Ok(b),
-            None => continue_branch(&level, start, to, theta, &level_opts, cancel),
+            None => follow(pace, &level, [start, to], theta, &level_opts).await,
         };
         let branch = match followed {
             Ok(b) => b,
@@ -175,10 +213,11 @@ fn cascade_impl(
             break why;
         }
         let ahead = Ahead { from, to, gap, dir };
-        if let Some(why) = flip_end(&level, &pd, &ahead, opts, cancel, on_level, &mut branches) {
+        let end = flip_end(pace, &level, &pd, &ahead, opts, on_level, &mut branches).await;
+        if let Some(why) = end {
             break why;
         }
-        match switch(&level, &pd, dir * SWITCH_SHARE * gap) {
+        match switch(pace, &level, &pd, dir * SWITCH_SHARE * gap).await {
             Ok((l1, th)) => {
                 (start, theta, period) = (l1, th, 2 * period);
                 level_opts = next_level_options(level_opts, opts, gap);
@@ -191,6 +230,19 @@ fn cascade_impl(
         doublings,
         stop,
     })
+}
+
+/// The branch of `level`'s cycle through `theta` over `[from, to]`, its
+/// special points not reported.
+async fn follow(
+    pace: &Pace,
+    level: &Problem,
+    [from, to]: [f64; 2],
+    theta: f64,
+    opts: &ContOptions,
+) -> Result<Branch, CycleFailure> {
+    let quiet = &mut |_: &SpecialPoint| {};
+    continue_branch_paced(pace, level, from, to, theta, opts, quiet).await
 }
 
 /// Whether the branch of the `period`-cycle starts on a shorter cycle.
@@ -255,19 +307,19 @@ struct Ahead {
 /// cycle is unstable and lies behind (it is followed to its fold, and
 /// added as a level); a supercritical one whose doubled cycle lies behind
 /// has no doubling ahead.
-fn flip_end(
+async fn flip_end<R: FnMut(&Branch) + ?Sized>(
+    pace: &Pace,
     level: &Problem,
     pd: &SpecialPoint,
     ahead: &Ahead,
     opts: &ContOptions,
-    cancel: &dyn Fn() -> bool,
-    on_level: &mut dyn FnMut(&Branch),
+    on_level: &mut R,
     branches: &mut Vec<Branch>,
 ) -> Option<String> {
     let f = pd.flip?;
     let Ahead { from, to, gap, dir } = *ahead;
     if f.criticality() == Criticality::Subcritical {
-        let (why, unstable) = subcritical(level, pd, &f, from, to, gap, opts, cancel);
+        let (why, unstable) = subcritical(pace, level, pd, &f, [from, to], gap, opts).await;
         if let Some(b) = unstable {
             on_level(&b);
             branches.push(b);
@@ -304,7 +356,12 @@ fn next_level_options(level_opts: ContOptions, opts: &ContOptions, gap: f64) -> 
 /// old one a step `delta` past the doubling ([`nearest_doubled`]). Either
 /// must lead back to the doubling ([`leads_back`]): a cycle of the same
 /// period born elsewhere is refused, and the cascade ends there.
-fn switch(level: &Problem, pd: &SpecialPoint, delta: f64) -> Result<(f64, f64), String> {
+async fn switch(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    delta: f64,
+) -> Result<(f64, f64), String> {
     let (name, q) = (level.param.name(), 2 * level.period);
     let born = pd
         .flip
@@ -312,7 +369,7 @@ fn switch(level: &Problem, pd: &SpecialPoint, delta: f64) -> Result<(f64, f64), 
         .filter(|b| (b.lambda - pd.lambda) * delta > 0.0);
     let found = match born {
         Some(b) => Some((b.lambda, b.theta)),
-        None => nearest_doubled(level, pd, delta),
+        None => nearest_doubled(pace, level, pd, delta).await,
     };
     let Some((l1, theta)) = found else {
         return Err(format!(
@@ -320,7 +377,7 @@ fn switch(level: &Problem, pd: &SpecialPoint, delta: f64) -> Result<(f64, f64), 
             pd.lambda
         ));
     };
-    match leads_back(level, pd, l1, theta) {
+    match leads_back(pace, level, pd, l1, theta).await {
         Ok(()) => Ok((l1, theta)),
         Err(why) => Err(format!(
             "the P{q} cycle found at {name} = {l1} is not the one born at the doubling at {name} = {}: {why}",
@@ -334,27 +391,18 @@ fn switch(level: &Problem, pd: &SpecialPoint, delta: f64) -> Result<(f64, f64), 
 /// /16, each from the last (its point moved halfway towards θ*), its
 /// half-width must halve each time (η ∝ √|λ − λ*|, within 30 %) and its
 /// multiplier close in on +1. `Err` says where it does not.
-fn leads_back(level: &Problem, pd: &SpecialPoint, l1: f64, theta: f64) -> Result<(), String> {
-    let cyc = CycleOptions::for_settings(&level.settings);
-    let (p, q) = (level.period, 2 * level.period);
-    let solve = |lambda: f64, seed: f64| -> Result<(f64, f64, f64), String> {
-        let sim = level.sim(lambda).map_err(|e| e.to_string())?;
-        let c = solve_cycle(&sim, seed, q, &cyc)
-            .map_err(|e| format!("Newton found no P{q} cycle at {lambda}: {e}"))?;
-        if c.minimal_period != q {
-            return Err(format!(
-                "at {lambda} Newton fell onto a P{} cycle",
-                c.minimal_period
-            ));
-        }
-        let (i, half) = super::flip::nearest_half(&c.points, pd.theta, p);
-        Ok((c.points[i], half, c.multiplier))
-    };
-    let (mut point, mut half, mut m) = solve(l1, theta)?;
+async fn leads_back(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    l1: f64,
+    theta: f64,
+) -> Result<(), String> {
+    let (mut point, mut half, mut m) = doubled_at(pace, level, pd, l1, theta).await?;
     for k in 1..=2 {
         let lambda = pd.lambda + (l1 - pd.lambda) / 4f64.powi(k);
         let seed = pd.theta + 0.5 * wrap_angle(point - pd.theta);
-        let (next, h, mk) = solve(lambda, seed)?;
+        let (next, h, mk) = doubled_at(pace, level, pd, lambda, seed).await?;
         if !(1.4..=2.6).contains(&(half / h)) {
             return Err(format!(
                 "its half-width goes from {half:.3e} to {h:.3e} at {lambda}, where a cycle born at the doubling halves it"
@@ -370,9 +418,40 @@ fn leads_back(level: &Problem, pd: &SpecialPoint, l1: f64, theta: f64) -> Result
     Ok(())
 }
 
+/// The 2p-cycle of `level` through `seed` at `lambda`, solved by Newton
+/// ([`leads_back`]): its point nearest the doubling `pd`, its half-width
+/// and its multiplier; `Err` where there is none of minimal period 2p.
+async fn doubled_at(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    lambda: f64,
+    seed: f64,
+) -> Result<(f64, f64, f64), String> {
+    let cyc = CycleOptions::for_settings(&level.settings);
+    let (p, q) = (level.period, 2 * level.period);
+    let sim = level.sim(lambda).map_err(|e| e.to_string())?;
+    let c = solve_cycle(pace, &sim, seed, q, &cyc, &mut (0, 0))
+        .await
+        .map_err(|e| format!("Newton found no P{q} cycle at {lambda}: {e}"))?;
+    if c.minimal_period != q {
+        return Err(format!(
+            "at {lambda} Newton fell onto a P{} cycle",
+            c.minimal_period
+        ));
+    }
+    let (i, half) = super::flip::nearest_half(&c.points, pd.theta, p);
+    Ok((c.points[i], half, c.multiplier))
+}
+
 /// The 2p-cycle nearest the old one a step `delta` past the doubling `pd`
 /// of `level` (×3, ×10 if none): its λ and a point θ of it.
-fn nearest_doubled(level: &Problem, pd: &SpecialPoint, delta: f64) -> Option<(f64, f64)> {
+async fn nearest_doubled(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    delta: f64,
+) -> Option<(f64, f64)> {
     // The solver's own tolerance: its points are no more accurate, so a
     // tighter one would tell the old cycle traversed twice from a new one
     // by noise.
@@ -388,7 +467,8 @@ fn nearest_doubled(level: &Problem, pd: &SpecialPoint, delta: f64) -> Option<(f6
     for k in [1.0, 3.0, 10.0] {
         let l1 = pd.lambda + delta * k;
         let Ok(sim) = level.sim(l1) else { continue };
-        let Ok(old) = solve_cycle(&sim, pd.theta, level.period, &cyc) else {
+        let old = solve_cycle(pace, &sim, pd.theta, level.period, &cyc, &mut (0, 0)).await;
+        let Ok(old) = old else {
             continue;
         };
         // The doubled cycle nearest the old one: Newton from a seed may
@@ -404,7 +484,8 @@ fn nearest_doubled(level: &Problem, pd: &SpecialPoint, delta: f64) -> Option<(f6
         {
             for sign in [1.0, -1.0] {
                 let seed = base + sign * eps;
-                if let Ok(c) = solve_cycle(&sim, seed, doubled, &cyc)
+                let solved = solve_cycle(pace, &sim, seed, doubled, &cyc, &mut (0, 0)).await;
+                if let Ok(c) = solved
                     && c.minimal_period == doubled
                     && (0..p).all(|i| wrap_angle(c.points[i + p] - c.points[i]).abs() > apart)
                 {
@@ -429,16 +510,14 @@ fn nearest_doubled(level: &Problem, pd: &SpecialPoint, delta: f64) -> Option<(f6
 /// At the subcritical flip `pd` of `level`: the unstable doubled cycle
 /// followed from next to the flip (on the side the normal form puts it)
 /// to where it turns, and the words for where the attractor goes.
-#[allow(clippy::too_many_arguments)]
-fn subcritical(
+async fn subcritical(
+    pace: &Pace,
     level: &Problem,
     pd: &SpecialPoint,
     f: &Flip,
-    from: f64,
-    to: f64,
+    [from, to]: [f64; 2],
     gap: f64,
     opts: &ContOptions,
-    cancel: &dyn Fn() -> bool,
 ) -> (String, Option<Branch>) {
     let name = level.param.name();
     let (p, q) = (level.period, 2 * level.period);
@@ -449,16 +528,8 @@ fn subcritical(
     let side = f.side();
     let delta = SWITCH_SHARE * gap;
     let l1 = pd.lambda + side * delta;
-    let cyc = CycleOptions::for_settings(&level.settings);
     let doubled = level.with_period(q);
-    let seed = level.sim(l1).ok().and_then(|sim| {
-        let eta = f.predicted(pd.lambda, l1)?;
-        [1.0, -1.0].into_iter().find_map(|sign| {
-            let c = solve_cycle(&sim, pd.theta + sign * eta, q, &cyc).ok()?;
-            (c.minimal_period == q).then_some(c.points[0])
-        })
-    });
-    let Some(seed) = seed else {
+    let Some(seed) = unstable_seed(pace, level, pd, f, l1).await else {
         return (
             format!("{head}; the unstable P{q} cycle next to it was not solved"),
             None,
@@ -471,7 +542,7 @@ fn subcritical(
         locate_tol: opts.locate_tol,
         ..o
     };
-    let Ok(b) = continue_branch(&doubled, l1, end, seed, &o, cancel) else {
+    let Ok(b) = follow(pace, &doubled, [l1, end], seed, &o).await else {
         return (
             format!("{head}; the unstable P{q} cycle could not be followed"),
             None,
@@ -517,4 +588,28 @@ fn subcritical(
         ),
     };
     (why, Some(b))
+}
+
+/// A point of the 2p-cycle born at the subcritical flip `pd` of `level`
+/// (`f`), solved by Newton at `l1` from the normal form's half-width either
+/// side of the flip's point.
+async fn unstable_seed(
+    pace: &Pace,
+    level: &Problem,
+    pd: &SpecialPoint,
+    f: &Flip,
+    l1: f64,
+) -> Option<f64> {
+    let cyc = CycleOptions::for_settings(&level.settings);
+    let q = 2 * level.period;
+    let (sim, eta) = (level.sim(l1).ok()?, f.predicted(pd.lambda, l1)?);
+    for sign in [1.0, -1.0] {
+        let c = solve_cycle(pace, &sim, pd.theta + sign * eta, q, &cyc, &mut (0, 0)).await;
+        if let Ok(c) = c
+            && c.minimal_period == q
+        {
+            return Some(c.points[0]);
+        }
+    }
+    None
 }

@@ -13,8 +13,7 @@
 //! cross product of its rows), both ways from a located start, until it
 //! leaves the box of the two ranges.
 
-use super::branch::SpecialPoint;
-use super::{ContParam, EvalError};
+use super::{ContParam, EvalError, Pace};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use crate::sim::Simulator;
@@ -48,7 +47,7 @@ const MAX_TURN: f64 = 0.3;
 pub(super) type V3 = Vector3<f64>;
 
 /// a/|a|, or `None` for a zero or non-finite a.
-fn normalize(a: V3) -> Option<V3> {
+pub(super) fn normalize(a: V3) -> Option<V3> {
     let n = a.norm();
     (n > 0.0 && n.is_finite()).then(|| a / n)
 }
@@ -163,6 +162,8 @@ pub struct Curve {
 
 /// What every evaluation along a curve shares.
 pub(super) struct Ctx<'a> {
+    /// Where the walk may pause (after each map evaluation).
+    pub(super) pace: &'a Pace,
     base: Params,
     settings: SolverSettings,
     params: [ContParam; 2],
@@ -193,6 +194,7 @@ pub(super) struct Ev {
 impl<'a> Ctx<'a> {
     /// The context of a curve of `kind` in `params` over `opts`'s box.
     pub(super) fn new(
+        pace: &'a Pace,
         base: Params,
         settings: SolverSettings,
         params: [ContParam; 2],
@@ -201,6 +203,7 @@ impl<'a> Ctx<'a> {
         opts: &'a CurveOptions,
     ) -> Self {
         Ctx {
+            pace,
             base,
             settings,
             params,
@@ -224,7 +227,7 @@ impl<'a> Ctx<'a> {
         self.params[1].set(&p, y[2] * self.scale[1])
     }
 
-    fn eval(&mut self, y: &V3) -> Result<Ev, EvalError> {
+    async fn eval(&mut self, y: &V3) -> Result<Ev, EvalError> {
         let sim = Simulator::new(self.params_at(y), self.settings).map_err(EvalError::Sim)?;
         let mut th = y[0];
         let (mut m, mut d1, mut d2) = (1.0, 0.0, 0.0);
@@ -239,6 +242,7 @@ impl<'a> Ctx<'a> {
             ];
             let (ev, d, _) = sim.cycle_partials(th, 0.0, dirs).map_err(EvalError::Sim)?;
             self.evals += 1;
+            self.pace.piece().await;
             let [d_theta, p1, p2] =
                 d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
             d1 = d_theta * d1 + p1;
@@ -256,11 +260,11 @@ impl<'a> Ctx<'a> {
     }
 
     /// The Jacobian's two rows and the residual at y.
-    pub(super) fn system(&mut self, y: &V3) -> Result<System, EvalError> {
-        let e = self.eval(y)?;
+    pub(super) async fn system(&mut self, y: &V3) -> Result<System, EvalError> {
+        let e = self.eval(y).await?;
         let mut dm = V3::zeros();
         for i in 0..3 {
-            dm[i] = self.dm(y, i, e.m)?;
+            dm[i] = self.dm(y, i, e.m).await?;
         }
         self.steepness = dm.norm();
         Ok(([e.grad, dm], [e.g, e.m - self.kind.target()], e))
@@ -273,11 +277,11 @@ impl<'a> Ctx<'a> {
     /// magnitude over a fixed step). The step is kept per component from
     /// point to point and re-chosen at most twice here. Where one side
     /// leaves the map's smooth part, the other side's one-sided quotient.
-    fn dm(&mut self, y: &V3, i: usize, m0: f64) -> Result<f64, EvalError> {
+    async fn dm(&mut self, y: &V3, i: usize, m0: f64) -> Result<f64, EvalError> {
         let mut h = self.fd[i];
         let mut d = 0.0;
         for _ in 0..3 {
-            d = self.quotient(y, i, h, m0)?;
+            d = self.quotient(y, i, h, m0).await?;
             let want = if d != 0.0 {
                 (FD_CHANGE / d.abs()).clamp(FD_MIN, FD_MAX)
             } else {
@@ -293,11 +297,12 @@ impl<'a> Ctx<'a> {
         Ok(d)
     }
 
-    fn quotient(&mut self, y: &V3, i: usize, h: f64, m0: f64) -> Result<f64, EvalError> {
+    async fn quotient(&mut self, y: &V3, i: usize, h: f64, m0: f64) -> Result<f64, EvalError> {
         let (mut zp, mut zm) = (*y, *y);
         zp[i] += h;
         zm[i] -= h;
-        match (self.eval(&zp), self.eval(&zm)) {
+        let plus = self.eval(&zp).await;
+        match (plus, self.eval(&zm).await) {
             (Ok(a), Ok(b)) => Ok((a.m - b.m) / (2.0 * h)),
             (Ok(a), Err(_)) => Ok((a.m - m0) / h),
             (Err(_), Ok(b)) => Ok((m0 - b.m) / h),
@@ -311,11 +316,11 @@ impl<'a> Ctx<'a> {
     /// pivoting: G's row and m's row can differ by orders of magnitude
     /// (a multiplier's gradient near a grazing), which Cramer's rule's
     /// cofactors do not survive as well.
-    fn correct(&mut self, pred: V3, t: V3) -> Result<Corrected, Failure> {
+    async fn correct(&mut self, pred: V3, t: V3) -> Result<Corrected, Failure> {
         let mut y = pred;
         let mut best: Option<(f64, Corrected)> = None;
         for k in 0..NEWTON_STEPS {
-            let (rows, r, e) = self.system(&y).map_err(Failure::Eval)?;
+            let (rows, r, e) = self.system(&y).await.map_err(Failure::Eval)?;
             let residual = r[0].abs().max(r[1].abs());
             let point = CurvePoint {
                 lambda: [y[1] * self.scale[0], y[2] * self.scale[1]],
@@ -354,20 +359,16 @@ impl<'a> Ctx<'a> {
         })
     }
 
-    /// Follows the curve from y along `t` until it leaves the box or fails.
-    fn follow(
-        &mut self,
-        mut y: V3,
-        mut t: V3,
-        cancel: &(dyn Fn() -> bool + Sync),
-    ) -> (Vec<CurvePoint>, String) {
+    /// Follows the curve from y along `t` until it leaves the box or fails
+    /// (a cancel asked once per point).
+    pub(super) async fn follow(&mut self, mut y: V3, mut t: V3) -> (Vec<CurvePoint>, String) {
         let mut out: Vec<CurvePoint> = Vec::new();
         // The last creeping points in (θ, μ₁, μ₂), for the noise test.
         let mut creep: Vec<V3> = Vec::new();
         let mut h = self.opts.h0;
         let mut grow = true;
         loop {
-            if cancel() {
+            if self.pace.cancelled().await {
                 return (out, "cancelled".into());
             }
             if out.len() >= self.opts.max_points {
@@ -375,7 +376,7 @@ impl<'a> Ctx<'a> {
                 return (out, format!("after {n} points"));
             }
             let pred = y + h * t;
-            let step = self.correct(pred, t).and_then(|(p, yn, tn, k)| {
+            let step = self.correct(pred, t).await.and_then(|(p, yn, tn, k)| {
                 let tn = orient(normalize(tn).ok_or(Failure::Singular)?, &t);
                 let far = (yn - pred).norm() > 0.5 * h + 1e-12;
                 if far || tn.dot(&t) < MAX_TURN.cos() {
@@ -480,78 +481,98 @@ fn noise(creep: &[V3]) -> Option<String> {
     }
 }
 
-/// Follows the `kind` curve of the p-cycle in (λ₁, λ₂) = `params` through
-/// `start`, a special point of that kind located on a branch in λ₁ with
-/// λ₂ at `base`'s value (see the module notes), the two directions on
-/// two threads. `cancel` is polled once per point.
-#[allow(clippy::too_many_arguments)]
-pub fn continue_curve(
+/// The curve's start: `base` with λ₁ at `start`'s, and y there.
+pub(super) fn origin(
     base: &Params,
-    settings: &SolverSettings,
     params: [ContParam; 2],
-    period: usize,
-    kind: CurveKind,
-    start: &SpecialPoint,
+    start: &super::SpecialPoint,
     opts: &CurveOptions,
-    cancel: &(dyn Fn() -> bool + Sync),
-) -> Curve {
+) -> (Params, V3) {
     let base = params[0].set(base, start.lambda);
     let scale = opts.scale();
-    let mut ctx = Ctx::new(base, *settings, params, period, kind, opts);
     let y0 = V3::new(
         start.theta,
         start.lambda / scale[0],
         params[1].get(&base) / scale[1],
     );
-    let first = ctx
-        .system(&y0)
-        .ok()
-        .and_then(|(rows, _, _)| normalize(rows[0].cross(&rows[1])));
-    let Some(t0) = first else {
-        return Curve {
-            kind,
-            period,
-            params,
+    (base, y0)
+}
+
+impl<'a> Ctx<'a> {
+    /// A copy to follow the other direction with, its evaluations counted
+    /// apart, pausing at `pace`.
+    pub(super) fn fork<'b>(&self, pace: &'b Pace) -> Ctx<'b>
+    where
+        'a: 'b,
+    {
+        Ctx {
+            pace,
+            evals: 0,
+            ..*self
+        }
+    }
+
+    /// The unit tangent at y0 (the cross product of the Jacobian's rows),
+    /// or `None` where it has none.
+    pub(super) async fn tangent(&mut self, y0: &V3) -> Option<V3> {
+        let (rows, _, _) = self.system(y0).await.ok()?;
+        normalize(rows[0].cross(&rows[1]))
+    }
+
+    /// The curve when there is no tangent at its start.
+    pub(super) fn no_tangent(&self) -> Curve {
+        Curve {
+            kind: self.kind,
+            period: self.period,
+            params: self.params,
             points: Vec::new(),
             ends: ["no tangent at the start".into(), String::new()],
-            map_evals: ctx.evals,
+            map_evals: self.evals,
             generalised_flips: Vec::new(),
-        };
-    };
-    // The two directions are independent: one thread each.
-    let mut other = Ctx { evals: 0, ..ctx };
-    let ((back, why_back), (fwd, why_fwd)) = std::thread::scope(|s| {
-        let job = s.spawn(|| {
-            let r = other.follow(y0, -t0, cancel);
-            (r, other.evals)
+        }
+    }
+
+    /// The curve from its two halves, `back` (followed along −t0) and
+    /// `fwd`, each with why it ended, through `start`; on a PD curve, its
+    /// generalised flips.
+    pub(super) async fn finish(
+        &mut self,
+        start: &super::SpecialPoint,
+        back: (Vec<CurvePoint>, String),
+        fwd: (Vec<CurvePoint>, String),
+    ) -> Curve {
+        let ((back, why_back), (fwd, why_fwd)) = (back, fwd);
+        let mut points: Vec<CurvePoint> = back.into_iter().rev().collect();
+        points.push(CurvePoint {
+            lambda: [start.lambda, self.params[1].get(&self.base)],
+            theta: wrap_angle(start.theta),
+            multiplier: start.multiplier,
         });
-        let fwd = ctx.follow(y0, t0, cancel);
-        let (back, evals) = job
-            .join()
-            .unwrap_or_else(|_| ((Vec::new(), "its thread failed".into()), 0));
-        ctx.evals += evals;
-        (back, fwd)
-    });
-    let mut points: Vec<CurvePoint> = back.into_iter().rev().collect();
-    points.push(CurvePoint {
-        lambda: [start.lambda, params[1].get(&base)],
-        theta: wrap_angle(start.theta),
-        multiplier: start.multiplier,
-    });
-    points.extend(fwd);
-    let mut evals = ctx.evals;
-    let generalised_flips = if kind == CurveKind::PeriodDoubling {
-        super::generalised_flips(&base, settings, params, period, &points, &mut evals)
-    } else {
-        Vec::new()
-    };
-    Curve {
-        kind,
-        period,
-        params,
-        points,
-        ends: [why_back, why_fwd],
-        map_evals: evals,
-        generalised_flips,
+        points.extend(fwd);
+        let mut evals = self.evals;
+        let generalised_flips = if self.kind == CurveKind::PeriodDoubling {
+            let (base, settings) = (self.base, self.settings);
+            super::flip::generalised_flips_paced(
+                self.pace,
+                &base,
+                &settings,
+                self.params,
+                self.period,
+                &points,
+                &mut evals,
+            )
+            .await
+        } else {
+            Vec::new()
+        };
+        Curve {
+            kind: self.kind,
+            period: self.period,
+            params: self.params,
+            points,
+            ends: [why_back, why_fwd],
+            map_evals: evals,
+            generalised_flips,
+        }
     }
 }

@@ -5,9 +5,9 @@
 //! corrected there to the multiplier's accuracy (to compare a curve with
 //! one-parameter branches).
 
-use super::ContParam;
 use super::branch::SpecialPoint;
-use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, V3, continue_curve};
+use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, V3, origin};
+use super::{ContParam, Pace, drive};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use nalgebra::{Matrix2, Vector2};
@@ -15,6 +15,70 @@ use nalgebra::{Matrix2, Vector2};
 /// A start closer than this (in λ, relative to the box) to a crossing of
 /// a curve already followed is on that curve.
 const SAME_CURVE: f64 = 1e-6;
+
+/// Follows the `kind` curve of the p-cycle in (λ₁, λ₂) = `params` through
+/// `start`, a special point of that kind located on a branch in λ₁ with
+/// λ₂ at `base`'s value (see the module notes of [`super::curve`]), the
+/// two directions on two threads. `cancel` is polled once per point.
+#[allow(clippy::too_many_arguments)]
+pub fn continue_curve(
+    base: &Params,
+    settings: &SolverSettings,
+    params: [ContParam; 2],
+    period: usize,
+    kind: CurveKind,
+    start: &SpecialPoint,
+    opts: &CurveOptions,
+    cancel: &(dyn Fn() -> bool + Sync),
+) -> Curve {
+    let (pace, other_pace) = (Pace::new(), Pace::new());
+    let (base, y0) = origin(base, params, start, opts);
+    let mut ctx = Ctx::new(&pace, base, *settings, params, period, kind, opts);
+    let Some(t0) = drive(&pace, ctx.tangent(&y0), &|| false) else {
+        return ctx.no_tangent();
+    };
+    // The two directions are independent: one thread each.
+    let mut other = ctx.fork(&other_pace);
+    let (back, fwd) = std::thread::scope(|s| {
+        let job = s.spawn(|| {
+            let r = drive(&other_pace, other.follow(y0, -t0), cancel);
+            (r, other.evals)
+        });
+        let fwd = drive(&pace, ctx.follow(y0, t0), cancel);
+        let (back, evals) = job
+            .join()
+            .unwrap_or_else(|_| ((Vec::new(), "its thread failed".into()), 0));
+        ctx.evals += evals;
+        (back, fwd)
+    });
+    drive(&pace, ctx.finish(start, back, fwd), &|| false)
+}
+
+/// [`continue_curve`] on one thread, a piece after each map evaluation
+/// and a cancel asked once per point: the direction along −t first, then
+/// along t (each the same walk as on its own thread).
+#[allow(clippy::too_many_arguments)]
+pub async fn continue_curve_paced(
+    pace: &Pace,
+    base: &Params,
+    settings: &SolverSettings,
+    params: [ContParam; 2],
+    period: usize,
+    kind: CurveKind,
+    start: &SpecialPoint,
+    opts: &CurveOptions,
+) -> Curve {
+    let (base, y0) = origin(base, params, start, opts);
+    let mut ctx = Ctx::new(pace, base, *settings, params, period, kind, opts);
+    let Some(t0) = ctx.tangent(&y0).await else {
+        return ctx.no_tangent();
+    };
+    let mut other = ctx.fork(pace);
+    let back = other.follow(y0, -t0).await;
+    let fwd = ctx.follow(y0, t0).await;
+    ctx.evals += other.evals;
+    ctx.finish(start, back, fwd).await
+}
 
 /// Follows the `kind` curve through each of `starts` (special points of
 /// that kind on one branch in λ₁, at `base`'s λ₂), skipping a start that
@@ -33,17 +97,14 @@ pub fn continue_curves(
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Vec<Curve> {
     let mut curves: Vec<Curve> = Vec::new();
-    let scale = opts.scale();
-    let level = params[1].get(base);
     for start in starts {
         if cancel() {
             break;
         }
-        let known = curves.iter().any(|c| {
-            curve_crossings(base, settings, c, opts, 1, level)
-                .iter()
-                .any(|p| (p.lambda[0] - start.lambda).abs() <= SAME_CURVE * scale[0])
-        });
+        let pace = Pace::new();
+        let level = params[1].get(base);
+        let on_one = known(&pace, base, settings, &curves, start, opts, level);
+        let known = drive(&pace, on_one, &|| false);
         if !known {
             curves.push(continue_curve(
                 base, settings, params, period, kind, start, opts, cancel,
@@ -51,6 +112,58 @@ pub fn continue_curves(
         }
     }
     curves
+}
+
+/// [`continue_curves`] on one thread, a piece after each map evaluation
+/// and a cancel asked once per point ([`continue_curve_paced`]).
+#[allow(clippy::too_many_arguments)]
+pub async fn continue_curves_paced(
+    pace: &Pace,
+    base: &Params,
+    settings: &SolverSettings,
+    params: [ContParam; 2],
+    period: usize,
+    kind: CurveKind,
+    starts: &[SpecialPoint],
+    opts: &CurveOptions,
+) -> Vec<Curve> {
+    let mut curves: Vec<Curve> = Vec::new();
+    for start in starts {
+        if pace.cancelled().await {
+            break;
+        }
+        let level = params[1].get(base);
+        if !known(pace, base, settings, &curves, start, opts, level).await {
+            let curve =
+                continue_curve_paced(pace, base, settings, params, period, kind, start, opts);
+            curves.push(curve.await);
+        }
+    }
+    curves
+}
+
+/// Whether `start` lies on one of `curves` (where it crosses the line
+/// λ₂ = `level`, within [`SAME_CURVE`] of the box).
+async fn known(
+    pace: &Pace,
+    base: &Params,
+    settings: &SolverSettings,
+    curves: &[Curve],
+    start: &SpecialPoint,
+    opts: &CurveOptions,
+    level: f64,
+) -> bool {
+    let scale = opts.scale();
+    for c in curves {
+        let crossings = crossings_paced(pace, base, settings, c, opts, 1, level).await;
+        if crossings
+            .iter()
+            .any(|p| (p.lambda[0] - start.lambda).abs() <= SAME_CURVE * scale[0])
+        {
+            return true;
+        }
+    }
+    false
 }
 
 /// Where `curve` crosses λ_axis = `value` (axis 0 or 1), each crossing
@@ -66,9 +179,25 @@ pub fn curve_crossings(
     axis: usize,
     value: f64,
 ) -> Vec<CurvePoint> {
+    let pace = Pace::new();
+    let walk = crossings_paced(&pace, base, settings, curve, opts, axis, value);
+    drive(&pace, walk, &|| false)
+}
+
+/// [`curve_crossings`], a piece after each map evaluation.
+async fn crossings_paced(
+    pace: &Pace,
+    base: &Params,
+    settings: &SolverSettings,
+    curve: &Curve,
+    opts: &CurveOptions,
+    axis: usize,
+    value: f64,
+) -> Vec<CurvePoint> {
     let axis = axis.min(1);
     let other = 1 - axis;
     let mut ctx = Ctx::new(
+        pace,
         *base,
         *settings,
         curve.params,
@@ -89,7 +218,7 @@ pub fn curve_crossings(
         y[1 + axis] = value / scale[axis];
         y[1 + other] =
             (w[0].lambda[other] + f * (w[1].lambda[other] - w[0].lambda[other])) / scale[other];
-        if let Some(p) = refine(&mut ctx, y, other, scale) {
+        if let Some(p) = refine(&mut ctx, y, other, scale).await {
             out.push(p);
         }
     }
@@ -99,11 +228,11 @@ pub fn curve_crossings(
 /// Newton on (G, m − m*) in (θ, μ_other), the other μ held. The
 /// multiplier's own error (1e-11 to 1e-9) is the floor Newton stalls at:
 /// the best iterate within [`CROSSING_RESIDUAL`] is kept.
-fn refine(ctx: &mut Ctx, mut y: V3, other: usize, scale: [f64; 2]) -> Option<CurvePoint> {
+async fn refine(ctx: &mut Ctx<'_>, mut y: V3, other: usize, scale: [f64; 2]) -> Option<CurvePoint> {
     let j = 1 + other;
     let mut best: Option<(f64, CurvePoint)> = None;
     for _ in 0..12 {
-        let Ok((rows, r, e)) = ctx.system(&y) else {
+        let Ok((rows, r, e)) = ctx.system(&y).await else {
             break;
         };
         let residual = r[0].abs().max(r[1].abs());

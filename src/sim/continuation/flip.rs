@@ -37,7 +37,7 @@
 
 use super::stencil::Stencil;
 use super::stencil::{M_NOISE, coefficient};
-use super::{Eval, EvalError, Problem};
+use super::{Eval, EvalError, Pace, Problem, drive};
 
 /// The largest share of |dm/dλ| that m's noise may take in [`branch_slope`].
 const SLOPE_NOISE: f64 = 1e-4;
@@ -149,10 +149,25 @@ pub fn flip_at(
     dm_dlambda: f64,
     evals: &mut u64,
 ) -> Result<Flip, EvalError> {
+    let pace = Pace::new();
+    let walk = flip_paced(&pace, prob, lambda, theta, at, dm_dlambda, evals);
+    drive(&pace, walk, &|| false)
+}
+
+/// [`flip_at`], a piece after each map evaluation.
+pub(super) async fn flip_paced(
+    pace: &Pace,
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    at: Option<&Eval>,
+    dm_dlambda: f64,
+    evals: &mut u64,
+) -> Result<Flip, EvalError> {
     if !dm_dlambda.is_finite() {
         return Err(EvalError::NonFinite);
     }
-    let est = coefficient(prob, lambda, theta, at, evals)?;
+    let est = coefficient(pace, prob, lambda, theta, at, evals).await?;
     let flip = Flip {
         coefficient: est.c,
         error: est.error,
@@ -160,7 +175,7 @@ pub fn flip_at(
         dm_dlambda,
         born: None,
     };
-    Ok(confirm(prob, lambda, theta, flip, evals))
+    Ok(confirm(pace, prob, lambda, theta, flip, evals).await)
 }
 
 /// The doubled cycle's predicted half-width at the λ it is looked for at
@@ -177,7 +192,14 @@ const BORN_WIDTH: f64 = 1e-4;
 /// cycle found there (η² = β/c). Each at δ, then δ/16 and δ/256 (a
 /// cascade compressed into a narrow range of λ). Where none shows one,
 /// the flip is left undecided (the error is set to |c|).
-fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64) -> Flip {
+async fn confirm(
+    pace: &Pace,
+    prob: &Problem,
+    lambda: f64,
+    theta: f64,
+    flip: Flip,
+    evals: &mut u64,
+) -> Flip {
     let a = flip.amplitude();
     if !(a.is_finite() && a > 0.0) {
         return flip;
@@ -187,7 +209,7 @@ fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64)
     // Nearer the flip where the doubled cycle has doubled again by then
     // (a cascade compressed into 1e-5 of λ).
     for delta in [first, first / 16.0, first / 256.0] {
-        if let Some(confirmed) = confirm_at(prob, lambda, theta, &flip, delta, evals) {
+        if let Some(confirmed) = confirm_at(pace, prob, lambda, theta, &flip, delta, evals).await {
             return confirmed;
         }
     }
@@ -199,7 +221,8 @@ fn confirm(prob: &Problem, lambda: f64, theta: f64, flip: Flip, evals: &mut u64)
 
 /// [`confirm`] with the doubled cycle solved a `delta` either side of
 /// the flip: the flip it confirms or sets, or `None`.
-fn confirm_at(
+async fn confirm_at(
+    pace: &Pace,
     prob: &Problem,
     lambda: f64,
     theta: f64,
@@ -218,7 +241,7 @@ fn confirm_at(
             flip.coefficient < 0.0
         };
         let expected = a * delta.sqrt();
-        let Some(born) = born_cycle(prob, at, theta, expected, evals) else {
+        let Some(born) = born_cycle(pace, prob, at, theta, expected, evals).await else {
             continue;
         };
         let near = if predicted {
@@ -259,7 +282,8 @@ fn confirm_at(
 /// The 2p-cycle next to the p-cycle through θ at λ, by Newton from θ
 /// shifted by about the expected half-width either way (one that
 /// converges onto the p-cycle itself, or far from θ, does not count).
-fn born_cycle(
+async fn born_cycle(
+    pace: &Pace,
     prob: &Problem,
     lambda: f64,
     theta: f64,
@@ -273,13 +297,9 @@ fn born_cycle(
         1.0, -1.0, 2.0, -2.0, 0.5, -0.5, 4.0, -4.0, 8.0, -8.0, 16.0, -16.0,
     ] {
         let mut spent = (0, 0);
-        let c = crate::sim::cycles::solve_counting(
-            &sim,
-            theta + k * expected,
-            2 * p,
-            &opts,
-            &mut spent,
-        );
+        let c =
+            super::pace::solve_cycle(pace, &sim, theta + k * expected, 2 * p, &opts, &mut spent)
+                .await;
         *evals += spent.0;
         let Ok(c) = c else { continue };
         if c.minimal_period != 2 * p {
@@ -388,19 +408,36 @@ pub fn generalised_flips(
     points: &[super::CurvePoint],
     evals: &mut u64,
 ) -> Vec<GeneralisedFlip> {
-    let decided: Vec<([f64; 2], f64)> = points
-        .iter()
-        .filter_map(|pt| {
-            let prob = Problem {
-                base: params[1].set(base, pt.lambda[1]),
-                settings: *settings,
-                param: params[0],
-                period,
-            };
-            let est = coefficient(&prob, pt.lambda[0], pt.theta, None, evals).ok()?;
-            (est.c.abs() > est.error).then_some((pt.lambda, est.c))
-        })
-        .collect();
+    let pace = Pace::new();
+    let walk = generalised_flips_paced(&pace, base, settings, params, period, points, evals);
+    drive(&pace, walk, &|| false)
+}
+
+/// [`generalised_flips`], a piece after each map evaluation.
+pub(super) async fn generalised_flips_paced(
+    pace: &Pace,
+    base: &crate::model::Params,
+    settings: &crate::integrate::SolverSettings,
+    params: [super::ContParam; 2],
+    period: usize,
+    points: &[super::CurvePoint],
+    evals: &mut u64,
+) -> Vec<GeneralisedFlip> {
+    let mut decided: Vec<([f64; 2], f64)> = Vec::new();
+    for pt in points {
+        let prob = Problem {
+            base: params[1].set(base, pt.lambda[1]),
+            settings: *settings,
+            param: params[0],
+            period,
+        };
+        let Ok(est) = coefficient(pace, &prob, pt.lambda[0], pt.theta, None, evals).await else {
+            continue;
+        };
+        if est.c.abs() > est.error {
+            decided.push((pt.lambda, est.c));
+        }
+    }
     decided
         .windows(2)
         .filter(|w| (w[0].1 > 0.0) != (w[1].1 > 0.0))

@@ -14,6 +14,7 @@ mod cascade;
 mod curve;
 mod curves;
 mod flip;
+mod pace;
 mod stencil;
 mod walk;
 
@@ -25,12 +26,18 @@ use crate::sim::variational::{
 use crate::sim::{SimError, Simulator};
 
 pub use branch::{Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop};
-pub use cascade::{Cascade, cascade, cascade_from, cascade_reporting, feigenbaum_ratios};
-pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint, continue_curve};
-pub use curves::{continue_curves, curve_crossings};
+pub use cascade::{
+    Cascade, cascade, cascade_from, cascade_from_paced, cascade_paced, cascade_reporting,
+    feigenbaum_ratios,
+};
+pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint};
+pub use curves::{
+    continue_curve, continue_curve_paced, continue_curves, continue_curves_paced, curve_crossings,
+};
 pub use flip::{Criticality, Flip, GeneralisedFlip, branch_slope, flip_at, generalised_flips};
+pub use pace::{Ask, Pace, drive, one_piece};
 pub use stencil::Stencil;
-pub use walk::{continue_branch, continue_branch_reporting};
+pub use walk::{continue_branch, continue_branch_paced, continue_branch_reporting};
 
 /// A parameter a branch can be continued in.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -232,13 +239,44 @@ impl Problem {
 
     /// G, G_θ + 1 and G_λ at (θ, λ), counting map evaluations in `evals`.
     pub fn eval(&self, theta: f64, lambda: f64, evals: &mut u64) -> Result<Eval, EvalError> {
+        let pace = Pace::new();
+        drive(&pace, self.eval_paced(&pace, theta, lambda, evals), &|| {
+            false
+        })
+    }
+
+    /// [`Problem::eval`], a piece after each map evaluation.
+    pub(super) async fn eval_paced(
+        &self,
+        pace: &Pace,
+        theta: f64,
+        lambda: f64,
+        evals: &mut u64,
+    ) -> Result<Eval, EvalError> {
         let sim = self.sim(lambda).map_err(EvalError::Sim)?;
-        eval_at(&sim, self.param, self.period, theta, evals)
+        eval_paced(pace, &sim, self.param, self.period, theta, evals).await
     }
 }
 
 /// G and its derivatives for `sim` (see the module notes).
 pub fn eval_at(
+    sim: &Simulator,
+    param: ContParam,
+    period: usize,
+    theta: f64,
+    evals: &mut u64,
+) -> Result<Eval, EvalError> {
+    let pace = Pace::new();
+    drive(
+        &pace,
+        eval_paced(&pace, sim, param, period, theta, evals),
+        &|| false,
+    )
+}
+
+/// [`eval_at`], a piece after each map evaluation.
+pub(super) async fn eval_paced(
+    pace: &Pace,
     sim: &Simulator,
     param: ContParam,
     period: usize,
@@ -258,6 +296,7 @@ pub fn eval_at(
         let dirs = [D_THETA, param.direction()];
         let (ev, d, _) = sim.cycle_partials(th, 0.0, dirs).map_err(EvalError::Sim)?;
         *evals += 1;
+        pace.piece().await;
         let [d_theta, d_param] =
             d.map_err(|reason| EvalError::NotDifferentiable { theta: th, reason })?;
         if ev.restarted {
@@ -315,6 +354,21 @@ pub fn attractor_cycle(
     settings: SolverSettings,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Attractor, SimError> {
+    let pace = Pace::new();
+    drive(
+        &pace,
+        attractor_cycle_paced(&pace, params, settings),
+        cancel,
+    )
+}
+
+/// [`attractor_cycle`], a piece after each slip cycle (the settling one
+/// piece), a cancel before each.
+pub async fn attractor_cycle_paced(
+    pace: &Pace,
+    params: Params,
+    settings: SolverSettings,
+) -> Result<Attractor, SimError> {
     let sim = Simulator::new(params, settings)?;
     let (psi, _) = crate::model::exit_arc(params.kappa, params.theta_nu);
     let opts = crate::sim::OrbitOptions {
@@ -323,7 +377,17 @@ pub fn attractor_cycle(
         lyapunov: false,
         period_tol: crate::sim::OrbitOptions::period_tol_for(settings.rtol),
     };
-    let orbit = sim.orbit(psi, &opts, cancel)?;
+    let mut run = crate::sim::OrbitRun::new(&sim, psi, &opts)?;
+    let orbit = loop {
+        // The cancel `Simulator::orbit` polls before each cycle, not before
+        // the settling.
+        let stop = !run.settling() && pace.cancelled().await;
+        let step = run.advance(&sim, &|| stop);
+        pace.piece().await;
+        if let Some(orbit) = step {
+            break orbit?;
+        }
+    };
     Ok(match (orbit.period, &orbit.cycle) {
         (crate::sim::Period::Periodic(period), Some(c)) => Attractor::Cycle {
             period,

@@ -19,7 +19,7 @@
 //! narrow that c's rounding error exceeds |c|, c is undecided, and the
 //! born cycle decides ([`super::flip`]).
 
-use super::{Eval, EvalError, Problem, eval_at};
+use super::{Eval, EvalError, Pace, Problem, eval_paced};
 use crate::model::{exit_arc, wrap_angle};
 use crate::sim::Simulator;
 
@@ -121,7 +121,8 @@ impl Reach {
 /// The coefficient c at θ*, its error and its stencil: G and M at θ* (`at`,
 /// evaluated when `None`) and at θ* ± H, H chosen as the module notes
 /// say. Counts map evaluations in `evals`.
-pub(super) fn coefficient(
+pub(super) async fn coefficient(
+    pace: &Pace,
     prob: &Problem,
     lambda: f64,
     theta: f64,
@@ -132,7 +133,7 @@ pub(super) fn coefficient(
     let (param, p) = (prob.param, prob.period);
     let e0 = match at {
         Some(e) if e.slopes.len() == p => e.clone(),
-        _ => eval_at(&sim, param, p, theta, evals)?,
+        _ => eval_paced(pace, &sim, param, p, theta, evals).await?,
     };
     let reach = Reach::of(&sim, &e0);
     let mut piece = reach.arc_edge;
@@ -140,8 +141,12 @@ pub(super) fn coefficient(
     let mut best: Option<Estimate> = None;
     let mut border = None;
     for _ in 0..TRIALS {
-        let sides = eval_at(&sim, param, p, theta + h, evals)
-            .and_then(|plus| Ok((plus, eval_at(&sim, param, p, theta - h, evals)?)));
+        let sides = match eval_paced(pace, &sim, param, p, theta + h, evals).await {
+            Ok(plus) => eval_paced(pace, &sim, param, p, theta - h, evals)
+                .await
+                .map(|minus| (plus, minus)),
+            Err(e) => Err(e),
+        };
         let (plus, minus) = match sides {
             Ok(s) => s,
             Err(e) if e.is_border() => {
@@ -150,7 +155,7 @@ pub(super) fn coefficient(
             }
             Err(e) => return Err(e),
         };
-        if let Some(d) = rough(&sim, &reach, &e0, [&plus, &minus], evals) {
+        if let Some(d) = rough(pace, &sim, &reach, &e0, [&plus, &minus], evals).await {
             piece = piece.min(d);
             h = (SAFETY * d).min(h / 2.0);
             continue;
@@ -192,7 +197,8 @@ fn pair(e: &Eval) -> (f64, f64) {
 /// the stencil's orbits `sides` (from θ* ± H) cross, if they cross one:
 /// at the first iterate of each where f is not smooth between the cycle's
 /// point and the orbit's (see the module notes), bisected on f.
-fn rough(
+async fn rough(
+    pace: &Pace,
     sim: &Simulator,
     reach: &Reach,
     e0: &Eval,
@@ -216,7 +222,8 @@ fn rough(
         });
         if let Some(i) = trouble {
             let a = (e0.points[i], next(e0, i), e0.slopes[i]);
-            let d = nearest_jump(sim, a, side.points[i], reach.g_noise, evals) / reach.gains[i];
+            let d = nearest_jump(pace, sim, a, side.points[i], reach.g_noise, evals).await
+                / reach.gains[i];
             nearest = Some(nearest.map_or(d, |n: f64| n.min(d)));
         }
     }
@@ -239,12 +246,20 @@ fn smooth(a: (f64, f64, f64), b: (f64, f64, f64), noise: f64) -> bool {
 /// How far from a = (θ, f(θ), f'(θ)) towards `b` f stays smooth: the
 /// stretch is bisected [`BISECTIONS`] times, keeping the half nearer a
 /// that is not smooth from a (or where f is not evaluated).
-fn nearest_jump(sim: &Simulator, a: (f64, f64, f64), b: f64, noise: f64, evals: &mut u64) -> f64 {
+async fn nearest_jump(
+    pace: &Pace,
+    sim: &Simulator,
+    a: (f64, f64, f64),
+    b: f64,
+    noise: f64,
+    evals: &mut u64,
+) -> f64 {
     let (mut good, mut bad) = (a.0, b);
     let param = super::ContParam::ThetaNu;
     for _ in 0..BISECTIONS {
         let m = 0.5 * (good + bad);
-        let ok = eval_at(sim, param, 1, m, evals)
+        let ok = eval_paced(pace, sim, param, 1, m, evals)
+            .await
             .is_ok_and(|e| smooth(a, (m, wrap_angle(m + e.g), e.multiplier), noise));
         if ok {
             good = m;

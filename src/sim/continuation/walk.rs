@@ -5,8 +5,8 @@
 use super::branch::{
     Branch, BranchPoint, ContOptions, Ctx, Fail, JUMP, Pt, SpecialKind, SpecialPoint, Stop,
 };
-use super::{EvalError, Problem};
-use crate::sim::cycles::{CycleFailure, CycleOptions, solve_cycle};
+use super::{EvalError, Pace, Problem, drive};
+use crate::sim::cycles::{CycleFailure, CycleOptions};
 
 /// Follows the p-cycle through `seed` at λ = `from` towards λ = `to`
 /// (see the module notes). Fails only when no cycle is found at the start;
@@ -24,7 +24,7 @@ pub fn continue_branch(
 }
 
 /// A branch being followed: where it is, and what it has found.
-struct Walk<'a, 'b> {
+struct Walk<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> {
     ctx: Ctx<'a>,
     from: f64,
     to: f64,
@@ -37,7 +37,7 @@ struct Walk<'a, 'b> {
     tol: f64,
     points: Vec<BranchPoint>,
     special: Vec<SpecialPoint>,
-    on_special: &'b mut dyn FnMut(&SpecialPoint),
+    on_special: &'b mut R,
 }
 
 /// A special point located on a step: its kind, the point, a note, and
@@ -65,17 +65,33 @@ pub fn continue_branch_reporting(
     cancel: &dyn Fn() -> bool,
     on_special: &mut dyn FnMut(&SpecialPoint),
 ) -> Result<Branch, CycleFailure> {
-    let mut walk = Walk::start(prob, from, to, seed, opts, on_special)?;
+    let pace = Pace::new();
+    let walk = continue_branch_paced(&pace, prob, from, to, seed, opts, on_special);
+    drive(&pace, walk, cancel)
+}
+
+/// [`continue_branch_reporting`], a piece after each map evaluation and
+/// a cancel asked once per point.
+pub async fn continue_branch_paced<R: FnMut(&SpecialPoint) + ?Sized>(
+    pace: &Pace,
+    prob: &Problem,
+    from: f64,
+    to: f64,
+    seed: f64,
+    opts: &ContOptions,
+    on_special: &mut R,
+) -> Result<Branch, CycleFailure> {
+    let mut walk = Walk::start(pace, prob, from, to, seed, opts, on_special).await?;
     let mut h = opts.h0;
     let mut grow = true;
     let stop = loop {
-        if cancel() {
+        if pace.cancelled().await {
             break Stop::Cancelled;
         }
         if walk.points.len() >= opts.max_points {
             break Stop::MaxPoints;
         }
-        match walk.step(h) {
+        match walk.step(h).await {
             Step::Next => {
                 if grow {
                     h = (1.5 * h).min(opts.h_max);
@@ -95,22 +111,26 @@ pub fn continue_branch_reporting(
     Ok(walk.finish(stop))
 }
 
-impl<'a, 'b> Walk<'a, 'b> {
+impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     /// The cycle through `seed`, solved and corrected at λ = `from`
     /// exactly.
-    fn start(
+    async fn start(
+        pace: &'a Pace,
         prob: &'a Problem,
         from: f64,
         to: f64,
         seed: f64,
         opts: &'a ContOptions,
-        on_special: &'b mut dyn FnMut(&SpecialPoint),
+        on_special: &'b mut R,
     ) -> Result<Self, CycleFailure> {
         let sim = prob.sim(from)?;
         let mut cyc_opts = CycleOptions::for_settings(&prob.settings);
         cyc_opts.tol = cyc_opts.tol.min(opts.newton_tol);
-        let cycle = solve_cycle(&sim, seed, prob.period, &cyc_opts)?;
+        let mut spent = (0, 0);
+        let cycle =
+            super::pace::solve_cycle(pace, &sim, seed, prob.period, &cyc_opts, &mut spent).await?;
         let mut ctx = Ctx {
+            pace,
             prob,
             opts,
             evals: cycle.map_evals,
@@ -120,6 +140,7 @@ impl<'a, 'b> Walk<'a, 'b> {
         let dir = if to >= from { 1.0 } else { -1.0 };
         let cur = ctx
             .correct([cycle.points[0], from / scale], [0.0, 1.0])
+            .await
             .map_err(|f| start_failure(f, seed, opts))?;
         let t = cur.tangent(scale, [0.0, dir]);
         // Points closer than 100× the solver's tolerance are one point (as
@@ -148,20 +169,20 @@ impl<'a, 'b> Walk<'a, 'b> {
 
     /// Predicts a step h along the tangent, corrects it, clips it to the
     /// range, detects the special points crossed, and records them.
-    fn step(&mut self, h: f64) -> Step {
-        let Some((n, tn)) = self.predict_correct(h) else {
+    async fn step(&mut self, h: f64) -> Step {
+        let Some((n, tn)) = self.predict_correct(h).await else {
             return Step::Retry;
         };
-        let (n, last) = match self.clip(n) {
+        let (n, last) = match self.clip(n).await {
             Ok(v) => v,
             Err(()) => return Step::Retry,
         };
-        let found = self.detect(&n);
+        let found = self.detect(&n).await;
         let mut pd = false;
         for (kind, p, note, samples) in &found {
             let mut sp = self.ctx.special(*kind, p, note.clone());
             if *kind == SpecialKind::PeriodDoubling {
-                sp.flip = self.ctx.flip(p, samples);
+                sp.flip = self.ctx.flip(p, samples).await;
             }
             (self.on_special)(&sp);
             self.special.push(sp);
@@ -199,10 +220,10 @@ impl<'a, 'b> Walk<'a, 'b> {
     /// The corrected point a step h along the tangent, and its tangent;
     /// `None` when the corrector fails, lands more than half a step from
     /// the prediction, or the tangent turns by more than ~18°.
-    fn predict_correct(&mut self, h: f64) -> Option<(Pt, [f64; 2])> {
+    async fn predict_correct(&mut self, h: f64) -> Option<(Pt, [f64; 2])> {
         let (cur, t, scale) = (&self.cur, self.t, self.scale());
         let pred = [cur.x[0] + h * t[0], cur.x[1] + h * t[1]];
-        match self.ctx.correct(pred, t) {
+        match self.ctx.correct(pred, t).await {
             Ok(n) => {
                 let tn = n.tangent(scale, t);
                 let far = (n.x[0] - pred[0]).hypot(n.x[1] - pred[1]) > 0.5 * h + 1e-12;
@@ -222,7 +243,7 @@ impl<'a, 'b> Walk<'a, 'b> {
 
     /// `n`, or the point at the range's end (or its start, after a fold)
     /// when `n` is past it, corrected at exactly that λ, with that λ.
-    fn clip(&mut self, n: Pt) -> Result<(Pt, Option<f64>), ()> {
+    async fn clip(&mut self, n: Pt) -> Result<(Pt, Option<f64>), ()> {
         let scale = self.scale();
         let at = n.lambda(scale);
         let past_end = self.dir * (at - self.to) >= 0.0;
@@ -234,7 +255,7 @@ impl<'a, 'b> Walk<'a, 'b> {
         let l0 = self.cur.lambda(scale);
         let w = (target - l0) / (at - l0);
         let th = self.cur.x[0] + w * (n.x[0] - self.cur.x[0]);
-        match self.ctx.correct([th, target / scale], [0.0, 1.0]) {
+        match self.ctx.correct([th, target / scale], [0.0, 1.0]).await {
             Ok(c) => Ok((c, Some(target))),
             Err(_) => {
                 self.ctx.last_fail = Some(Fail::NoConvergence(f64::NAN));
@@ -246,7 +267,7 @@ impl<'a, 'b> Walk<'a, 'b> {
     /// The PD and fold crossings between the current point and `n`,
     /// located and in order along the step; a crossing that is no zero of
     /// m ± 1 is a [`SpecialKind::Jump`].
-    fn detect(&mut self, n: &Pt) -> Vec<Found> {
+    async fn detect(&mut self, n: &Pt) -> Vec<Found> {
         let (cur, t) = (self.cur.clone(), self.t);
         let (m0, m1) = (cur.e.multiplier, n.e.multiplier);
         let along = |p: &Pt| (p.x[0] - cur.x[0]) * t[0] + (p.x[1] - cur.x[1]) * t[1];
@@ -260,7 +281,7 @@ impl<'a, 'b> Walk<'a, 'b> {
             if (m0 - at) * (m1 - at) >= 0.0 {
                 continue;
             }
-            let l = self.ctx.locate(&cur, n, t, dist, |m| m - at);
+            let l = self.ctx.locate(&cur, n, t, dist, |m| m - at).await;
             if l.real {
                 found.push((kind, l.pt, String::new(), l.samples));
             } else {

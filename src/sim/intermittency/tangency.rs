@@ -18,8 +18,15 @@ use super::channel::PassageRun;
 use super::{Intermittency, creep_flags, log_log_fit, supports_type_one};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
-use crate::sim::continuation::{ContOptions, ContParam, Problem, SpecialKind, continue_branch};
-use crate::sim::{OrbitOptions, OrbitRun, Period, SimError, Simulator};
+use std::future::Future;
+use std::pin::Pin;
+use std::sync::Arc;
+
+use crate::sim::continuation::{
+    Branch, ContOptions, ContParam, Pace, Problem, SpecialKind, SpecialPoint,
+    continue_branch_paced, one_piece,
+};
+use crate::sim::{CycleFailure, OrbitOptions, OrbitRun, Period, SimError, Simulator};
 
 /// How far from θν a periodic window is looked for, in radians.
 pub const WINDOW_SPAN: f64 = 0.05;
@@ -184,8 +191,7 @@ pub fn find_tangency(
 }
 
 /// [`find_tangency`] in pieces: one slip cycle of an orbit looking for a
-/// window, or one continuation of a window's cycle (a piece of its own,
-/// not divided).
+/// window, or one map evaluation of the continuation of a window's cycle.
 struct Search {
     params: Params,
     settings: SolverSettings,
@@ -197,6 +203,17 @@ struct Search {
     orbit: Option<(Simulator, OrbitRun)>,
     /// A window found, whose branch is followed next: (θν, period, point).
     found: Option<(f64, usize, f64)>,
+    /// The window's branch under way.
+    following: Option<Following>,
+}
+
+/// The continuation of a window's cycle at `at`, paused between its map
+/// evaluations.
+struct Following {
+    at: f64,
+    period: usize,
+    pace: Arc<Pace>,
+    walk: Pin<Box<dyn Future<Output = Result<Branch, CycleFailure>> + Send>>,
 }
 
 impl Search {
@@ -208,6 +225,7 @@ impl Search {
             windows: 0,
             orbit: None,
             found: None,
+            following: None,
         }
     }
 
@@ -224,7 +242,13 @@ impl Search {
         cancel: &dyn Fn() -> bool,
     ) -> Option<Result<(Option<Tangency>, usize), SimError>> {
         if let Some((at, period, seed)) = self.found.take() {
-            return self.follow(at, period, seed, cancel);
+            self.following = Some(self.follow(at, period, seed));
+        }
+        if let Some(f) = self.following.as_mut() {
+            let followed = one_piece(&f.pace, f.walk.as_mut(), cancel)?;
+            let (at, period) = (f.at, f.period);
+            self.following = None;
+            return self.followed(at, period, followed, cancel);
         }
         let steps = (WINDOW_SPAN / WINDOW_STEP).round() as usize;
         if self.pos >= 2 * steps {
@@ -266,15 +290,9 @@ impl Search {
         None
     }
 
-    /// Follows the cycle of the window at `at` towards θν: the first fold
-    /// on its branch is the tangency.
-    fn follow(
-        &mut self,
-        at: f64,
-        period: usize,
-        seed: f64,
-        cancel: &dyn Fn() -> bool,
-    ) -> Option<Result<(Option<Tangency>, usize), SimError>> {
+    /// The continuation of the cycle of the window at `at` towards θν,
+    /// nothing evaluated yet.
+    fn follow(&self, at: f64, period: usize, seed: f64) -> Following {
         let (params, settings) = (self.params, self.settings);
         let top = params.theta_nu;
         let prob = Problem {
@@ -284,7 +302,31 @@ impl Search {
             period,
         };
         let opts = ContOptions::for_range(&settings, at, top);
-        match continue_branch(&prob, at, top, seed, &opts, cancel) {
+        let pace = Arc::new(Pace::new());
+        let walk_pace = pace.clone();
+        let walk = Box::pin(async move {
+            let quiet = &mut |_: &SpecialPoint| {};
+            continue_branch_paced(&walk_pace, &prob, at, top, seed, &opts, quiet).await
+        });
+        Following {
+            at,
+            period,
+            pace,
+            walk,
+        }
+    }
+
+    /// The window's branch, `followed` from `at`: its first fold is the
+    /// tangency.
+    fn followed(
+        &mut self,
+        at: f64,
+        period: usize,
+        followed: Result<Branch, CycleFailure>,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<(Option<Tangency>, usize), SimError>> {
+        let params = self.params;
+        match followed {
             Ok(b) => {
                 if let Some(f) = b.of_kind(SpecialKind::Fold).next() {
                     let near = b.points.iter().min_by(|a, c| {
@@ -306,7 +348,7 @@ impl Search {
                     return Some(Ok((Some(t), self.windows)));
                 }
             }
-            Err(crate::sim::CycleFailure::Sim(SimError::Cancelled)) => {
+            Err(CycleFailure::Sim(SimError::Cancelled)) => {
                 return Some(Err(SimError::Cancelled));
             }
             Err(_) => {}

@@ -1,0 +1,58 @@
+//! `oneblock bench-worker --pieces`: every kind of job once on the
+//! single-threaded host, in the page's compute slices (12 ms per frame),
+//! and per kind the pieces (steps) it took and the longest of them: how
+//! long the browser's page can be held by one piece of work. Wall-clock
+//! figures of this machine, so they live in docs, never in tests.
+
+use super::CliError;
+use super::bench_worker::BenchWorkerArgs;
+use crate::jobs::bench::PAGE_SLICE;
+use crate::jobs::pieces::{Pieces, every_kind};
+
+/// The report: a table, or with `--json` one object
+/// `{"kinds": [{"kind", "pieces", "longest_ms"}]}`.
+pub fn report(args: &BenchWorkerArgs) -> Result<String, CliError> {
+    let rows = every_kind(args.quick).map_err(CliError::Failed)?;
+    if args.json {
+        let kinds: Vec<serde_json::Value> = rows
+            .iter()
+            .map(|r| {
+                serde_json::json!({
+                    "kind": format!("{:?}", r.kind),
+                    "pieces": r.pieces,
+                    "longest_ms": r.longest_ms,
+                })
+            })
+            .collect();
+        return Ok(serde_json::json!({ "kinds": kinds }).to_string() + "\n");
+    }
+    Ok(table(&rows, args.quick))
+}
+
+fn table(rows: &[Pieces], quick: bool) -> String {
+    let mut out = format!(
+        "every job kind on the single-threaded host in {} ms slices (the page's){}:\n",
+        PAGE_SLICE.as_millis(),
+        if quick { ", quick specs" } else { "" }
+    );
+    out += &format!(
+        "{:<11} {:>8} {:>11} {:>18} {:>16}\n",
+        "kind", "pieces", "longest ms", "cycles in longest", "longest unit ms"
+    );
+    for r in rows {
+        out += &format!(
+            "{:<11} {:>8} {:>11.1} {:>18} {:>16.1}\n",
+            format!("{:?}", r.kind),
+            r.pieces,
+            r.longest_ms,
+            r.longest_cycles,
+            r.longest_unit_ms
+        );
+    }
+    for r in rows {
+        if let Some(text) = &r.summary {
+            out += &format!("{:?}: {text}\n", r.kind);
+        }
+    }
+    out
+}
