@@ -71,7 +71,9 @@ pub struct BenchWorkerArgs {
     /// With --pieces: print {"kinds": [{"kind", "pieces", "longest_ms"}]}.
     #[arg(long, requires = "pieces")]
     pub json: bool,
-    /// With --pieces: small jobs of every kind (a check in seconds).
+    /// With --pieces: small jobs of every kind (a check in seconds; the
+    /// continuation over θν ∈ [1, 1.2] to P4, the boundaries in
+    /// [0.9, 1.3] × [17, 21]).
     #[arg(long, requires = "pieces")]
     pub quick: bool,
     /// Give up after this many seconds, in (0, 1e7], printing nothing;
