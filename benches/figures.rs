@@ -33,6 +33,8 @@ fn figure(view: ViewKind, w: f32, h: f32) -> Figure {
         theta: None,
         size: egui::vec2(w, h),
         crosshair: false,
+        look: Default::default(),
+        overlays: Default::default(),
     }
 }
 

@@ -94,23 +94,38 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
 /// The bifurcation CSV's header.
 pub const BIFURCATION_COLUMNS: &str = "theta_nu,theta,lyapunov,lyapunov_stderr";
 
+/// One column of a bifurcation diagram: θν, the kept θ, λ, and (seeded)
+/// the attractor of each θ (0: the followed one).
+pub type DiagramColumn<'a> = (f64, &'a [f64], Option<ColumnLyapunov>, &'a [u8]);
+
 /// The bifurcation CSV ([`BIFURCATION_COLUMNS`]): one row per kept iterate,
 /// column by column in the order given. Every row of a column repeats its
 /// λ ([`crate::sim::column_lyapunov`]); `lyapunov_stderr` is empty where λ
 /// is exact (a solved cycle), both are empty where λ was not computed.
+/// A `seeded` diagram's rows end with their attractor's label (an
+/// `attractor` column); λ is the followed attractor's, so it is given on
+/// its rows only (empty on the others').
 pub fn bifurcation_csv<'a>(
-    columns: impl Iterator<Item = (f64, &'a [f64], Option<ColumnLyapunov>)> + Clone,
+    columns: impl Iterator<Item = DiagramColumn<'a>> + Clone,
+    seeded: bool,
 ) -> String {
-    let rows: usize = columns.clone().map(|(_, t, _)| t.len()).sum();
+    let rows: usize = columns.clone().map(|c| c.1.len()).sum();
     let mut s = String::with_capacity(60 * (rows + 1));
     s.push_str(BIFURCATION_COLUMNS);
-    s.push('\n');
+    s.push_str(if seeded { ",attractor\n" } else { "\n" });
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-    for (theta_nu, thetas, lyap) in columns {
+    for (theta_nu, thetas, lyap, labels) in columns {
         let l = opt(lyap.map(|l| l.lyapunov));
         let se = opt(lyap.and_then(|l| l.stderr));
-        for t in thetas {
-            writeln!(s, "{theta_nu},{t},{l},{se}").ok();
+        for (i, t) in thetas.iter().enumerate() {
+            if !seeded {
+                writeln!(s, "{theta_nu},{t},{l},{se}").ok();
+                continue;
+            }
+            match labels.get(i).copied().unwrap_or(0) {
+                0 => writeln!(s, "{theta_nu},{t},{l},{se},0").ok(),
+                a => writeln!(s, "{theta_nu},{t},,,{a}").ok(),
+            };
         }
     }
     s

@@ -7,7 +7,8 @@
 //! - [`jobs`]: every long computation, defined once, run by any host.
 //! - [`worker`]: the background threads the GUI talks to (the jobs' threaded host).
 //! - [`cli`]: the headless subcommands (not in the browser build).
-//! - [`formats`]: the CSV formats and class colours every front end writes.
+//! - [`formats`]: the CSV formats and class colours every front end writes;
+//!   [`provenance`]: the `#` lines every CSV begins with.
 //! - `app` (feature `gui`): the eframe/egui explorer.
 
 #[cfg(feature = "gui")]
@@ -24,6 +25,7 @@ pub mod model;
 pub mod numerics;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod output;
+pub mod provenance;
 pub mod sim;
 pub mod text;
 pub mod worker;

@@ -1,8 +1,6 @@
 //! `oneblock`: with no arguments opens the window; subcommands run headless.
 
 #[cfg(not(target_arch = "wasm32"))]
-use clap::Parser;
-#[cfg(not(target_arch = "wasm32"))]
 use clap::error::ErrorKind;
 
 /// The browser build (web/build.sh): the explorer on the page's canvas.
@@ -17,7 +15,7 @@ fn main() {}
 
 #[cfg(not(target_arch = "wasm32"))]
 fn main() {
-    let cli = match oneblock::cli::Cli::try_parse() {
+    let cli = match oneblock::cli::parse() {
         Ok(cli) => cli,
         Err(e) if matches!(e.kind(), ErrorKind::DisplayHelp | ErrorKind::DisplayVersion) => {
             e.exit();

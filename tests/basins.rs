@@ -121,10 +121,14 @@ fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
     let mut lines = csv.lines();
     let head = lines.next().unwrap();
     assert!(head.starts_with("# oneblock "), "{head}");
+    // Then where it came from: the command line, the model, the flags.
+    let mut lines = lines.skip_while(|l| !l.starts_with("# model: "));
+    let model = lines.next().unwrap();
     assert!(
-        head.contains("kappa = 10") && head.contains("25 columns"),
-        "{head}"
+        model.contains("kappa = 10") && model.contains("25 columns"),
+        "{model}"
     );
+    let mut lines = lines.skip_while(|l| l.starts_with('#'));
     assert_eq!(
         lines.next().unwrap(),
         "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict"

@@ -195,8 +195,13 @@ fn every_view_is_drawn_headless_with_its_axes_and_no_controls() {
             );
         }
         if view == "block" {
-            // A picture of the block, not a plot: its title is there.
-            assert!(t.iter().any(|x| x.text.contains("Block")), "{view}");
+            // A picture of the block, not a plot: its springs and forces
+            // are labelled.
+            assert!(t.iter().any(|x| x.text.contains("kx = κ")), "{view}");
+            assert!(
+                t.iter().any(|x| x.text.contains("friction force")),
+                "{view}"
+            );
             continue;
         }
         let (x, y) = axis_ticks(&t);

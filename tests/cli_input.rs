@@ -230,5 +230,46 @@ fn dash_writes_to_stdout() {
         "-",
     ]);
     assert_ok(&o);
-    assert_eq!(stdout(&o).lines().count(), 1 + 2 * 2);
+    let rows = stdout(&o).lines().filter(|l| !l.starts_with('#')).count();
+    assert_eq!(rows, 1 + 2 * 2);
+}
+
+/// A flag given without its value (at the end of the line, or followed by
+/// another flag) is named with what it expects, on one line: its values,
+/// else the first sentence of its help (it was `--out: unknown value '':
+/// expected one of`, with nothing after).
+#[test]
+fn a_flag_without_its_value_says_what_it_expects() {
+    for (args, want) in [
+        (
+            &["orbit", "--preset", "fig3b", "--out"][..],
+            "error: --out needs a value: CSV file of the kept events",
+        ),
+        (
+            &["orbit", "--preset", "fig3b", "--method"],
+            "error: --method needs a value: one of dp54, dop853, rk4, euler",
+        ),
+        (
+            &["figure", "--view", "phase", "--out"],
+            "error: --out needs a value: Where the figure goes (see",
+        ),
+        (
+            &[
+                "bifurcation",
+                "--preset",
+                "fig3b",
+                "--out",
+                "x.csv",
+                "--columns",
+            ],
+            "error: --columns needs a value: Number of θν values, evenly spaced, ends included (1 to 1e6) (see",
+        ),
+    ] {
+        let o = oneblock(args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with(want), "{args:?}: {err}");
+        assert!(!err.contains("unknown value ''"), "{err}");
+    }
 }

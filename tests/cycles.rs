@@ -187,7 +187,7 @@ fn the_creep_grid_has_no_undecided_cell() {
         String::from_utf8_lossy(&out.stderr)
     );
     let csv = String::from_utf8(out.stdout).expect("utf-8");
-    let mut lines = csv.lines();
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
     let header: Vec<&str> = lines.next().expect("a header").split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).expect(name);
     let (tn, kappa, class, lambda) = (col("theta_nu"), col("kappa"), col("class"), col("lyapunov"));

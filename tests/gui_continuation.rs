@@ -230,7 +230,7 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
             c.b() >> 5
         )
     };
-    let pd_colour = overlay::marker(SpecialKind::PeriodDoubling).1;
+    let pd_colour = overlay::marker(SpecialKind::PeriodDoubling).0.color;
     for c in [overlay::BRANCH, pd_colour] {
         assert!(
             svg.contains(&format!("data-series=\"{}\"", key(c))),

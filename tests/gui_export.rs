@@ -43,7 +43,36 @@ fn export_writes_the_events_csv_into_the_chosen_folder() {
             .is_some()
     );
     let text = std::fs::read_to_string(&path).expect("read csv");
-    let mut lines = text.lines();
+    // Where it came from: the program, the view, the model at the
+    // trajectory's accuracy, and every setting as a session's JSON.
+    let comments: Vec<&str> = text.lines().take_while(|l| l.starts_with('#')).collect();
+    assert_eq!(comments.len(), 4, "{comments:?}");
+    assert_eq!(comments[0], format!("# {}", oneblock::provenance::PROGRAM));
+    assert_eq!(comments[1], "# view: events (the window)");
+    assert!(
+        comments[2].starts_with("# model: kappa = 18.95, gamma = 6.5, nu = 0.001, theta-nu = 1, ")
+            && comments[2].ends_with("dp54 tol 1e-5"),
+        "{}",
+        comments[2]
+    );
+    let json = comments[3]
+        .strip_prefix("# settings: window settings: ")
+        .expect("the settings line");
+    let back: Settings = serde_json::from_str(json).expect("the settings read back");
+    assert_eq!(back.save_dir, dir.path().display().to_string());
+    assert_eq!(back.params, Settings::default().params);
+    // The csv crate reads past them to the header and the 3 rows.
+    let mut r = csv::ReaderBuilder::new()
+        .comment(Some(b'#'))
+        .from_reader(text.as_bytes());
+    assert_eq!(r.headers().expect("a header").len(), 16);
+    assert_eq!(
+        r.records()
+            .filter(|x| x.as_ref().is_ok_and(|x| x.len() == 16))
+            .count(),
+        3
+    );
+    let mut lines = text.lines().skip(comments.len());
     // The command line's header, spelled out as `oneblock orbit` writes it.
     assert_eq!(
         lines.next(),
@@ -81,7 +110,14 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
             .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-phase-"))
     );
     let text = std::fs::read_to_string(&path).expect("read csv");
-    let lines: Vec<&str> = text.lines().collect();
+    let (comments, lines): (Vec<&str>, Vec<&str>) = text.lines().partition(|l| l.starts_with('#'));
+    assert_eq!(comments[1], "# view: phase (the window)");
+    // θν and κ are the grid's axes: the model line leaves θν out.
+    assert!(
+        comments[2].starts_with("# model: kappa = ") && !comments[2].contains("theta-nu"),
+        "{}",
+        comments[2]
+    );
     assert_eq!(
         lines[0],
         "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr"
@@ -459,6 +495,8 @@ fn a_gif_made_in_pieces_is_the_gif_made_at_once() {
         theta: None,
         size: eframe::egui::vec2(200.0, 150.0),
         crosshair: false,
+        look: Default::default(),
+        overlays: Default::default(),
     };
     let whole = gif(&fig, 40, 0.5).expect("a GIF");
     assert!(GifRun::new(fig.clone(), 0, 0.5).is_err(), "no frames");

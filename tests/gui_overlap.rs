@@ -197,6 +197,8 @@ fn overlaps(view: ViewKind, settings: &Settings, (w, h): (f32, f32)) -> Vec<Stri
         // With the current parameters' lines and legend entry: the most
         // a figure draws.
         crosshair: true,
+        look: Default::default(),
+        overlays: Default::default(),
     };
     let svg = svg(&fig).expect("the figure is drawn");
     let (texts, frames) = boxes(&svg);

@@ -1,11 +1,15 @@
 //! CSV in the command line's formats: events (every `SlipEvent` field, in
 //! order, `restarted` as 0/1, as `formats::slip_event_row` writes them),
-//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta,lyapunov,lyapunov_stderr`), phase
+//! trajectory (`t,x,y,u,w,phase`), bifurcation (`theta_nu,theta,lyapunov,lyapunov_stderr`,
+//! then `attractor` when seeded), phase
 //! diagram (`oneblock phase --out`'s columns and rows). Floats
 //! in Rust's shortest round-trip form, so parsing gives back the exact f64.
+//! Each begins with the `#` lines of [`crate::provenance`] ([`header`]).
 
 use super::data::SweepData;
+use super::jobs::JobKind;
 use super::phase_data::PhaseData;
+use super::settings::Settings;
 use crate::formats::{self, PHASE_COLUMNS, SLIP_EVENT_COLUMNS, phase_row, slip_event_row};
 use crate::sim::{Sample, SlipEvent};
 
@@ -26,10 +30,22 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
     formats::trajectory_csv(samples)
 }
 
-/// The diagram's computed columns, as `oneblock bifurcation` writes them.
+/// The diagram's computed columns, as `oneblock bifurcation` writes them:
+/// with its `attractor` column when the columns were seeded.
 pub fn bifurcation_csv(sweep: &SweepData) -> String {
     let columns = sweep.columns.iter().flatten();
-    formats::bifurcation_csv(columns.map(|c| (c.theta_nu, c.thetas.as_slice(), c.lyapunov)))
+    let seeded = columns.clone().any(|c| !c.attractor.is_empty());
+    formats::bifurcation_csv(
+        columns.map(|c| {
+            (
+                c.theta_nu,
+                c.thetas.as_slice(),
+                c.lyapunov,
+                c.attractor.as_slice(),
+            )
+        }),
+        seeded,
+    )
 }
 
 /// The phase diagram as `oneblock phase --out` writes it (rows of
@@ -44,6 +60,22 @@ pub fn phase_csv(phase: &PhaseData) -> String {
         s.push('\n');
     }
     s
+}
+
+/// The `#` lines a CSV of the window's `view` begins with: the program,
+/// the view, the model's parameters with the accuracy `kind`'s job ran
+/// at (θν left out where it varies), and every setting of the window as
+/// one line of a session's JSON (what "Open session" reads).
+pub fn header(view: &str, s: &Settings, kind: JobKind) -> String {
+    let solver = kind.solver(s).unwrap_or_else(|| s.custom_solver());
+    let varies = matches!(kind, JobKind::Sweep | JobKind::Phase);
+    let model = crate::provenance::model_line(&s.params, &solver, !varies);
+    let session = serde_json::to_string(s).unwrap_or_default();
+    crate::provenance::header(
+        Some(&format!("view: {view} (the window)")),
+        &model,
+        Some(&[format!("window settings: {session}")]),
+    )
 }
 
 /// "YYYYMMDD-HHMMSS" in UTC, for file names.
@@ -74,6 +106,64 @@ pub fn timestamp() -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A seeded diagram's CSV has the command line's `attractor` column:
+    /// λ on the followed attractor's rows only.
+    #[test]
+    fn a_seeded_diagram_keeps_its_attractor_column() {
+        use crate::app::data::Column;
+        use crate::sim::column_lyapunov::ColumnLyapunov;
+        let mut sweep = SweepData::new(1.0, 1.1, 2);
+        let lyapunov = Some(ColumnLyapunov {
+            lyapunov: -0.5,
+            stderr: None,
+            period: Some(1),
+        });
+        for (i, attractor) in [vec![0, 1], vec![]].into_iter().enumerate() {
+            let thetas = if attractor.is_empty() {
+                vec![0.3]
+            } else {
+                vec![0.2, 0.4]
+            };
+            sweep.insert(
+                i,
+                Column {
+                    theta_nu: 1.0 + 0.1 * i as f64,
+                    thetas,
+                    coarse: false,
+                    lyapunov,
+                    attractor,
+                },
+            );
+        }
+        let csv = bifurcation_csv(&sweep);
+        let lines: Vec<&str> = csv.lines().collect();
+        assert_eq!(
+            lines,
+            [
+                "theta_nu,theta,lyapunov,lyapunov_stderr,attractor",
+                "1,0.2,-0.5,,0",
+                "1,0.4,,,1",
+                "1.1,0.3,-0.5,,0",
+            ]
+        );
+        // Unseeded: the four columns only.
+        let mut plain = SweepData::new(1.0, 1.1, 1);
+        plain.insert(
+            0,
+            Column {
+                theta_nu: 1.0,
+                thetas: vec![0.2],
+                coarse: false,
+                lyapunov,
+                attractor: vec![],
+            },
+        );
+        assert_eq!(
+            bifurcation_csv(&plain),
+            "theta_nu,theta,lyapunov,lyapunov_stderr\n1,0.2,-0.5,\n"
+        );
+    }
 
     #[test]
     fn timestamp_has_the_shape() {

@@ -17,7 +17,7 @@ use eframe::egui;
 use super::bifurcation::{Zoom, auto_theta_range};
 use super::jobs::{JobState, Jobs, Shown};
 use super::settings::{Layout, Settings, ViewKind};
-use super::svg_render;
+use super::svg_render::{self, Look};
 use crate::jobs::{Lane, Shape};
 use crate::worker::LocalWorker;
 
@@ -45,6 +45,19 @@ pub struct Figure {
     /// Whether the current parameters' lines are drawn (θν; κ on the phase
     /// diagram): a figure leaves them out unless asked for.
     pub crosshair: bool,
+    /// How it looks: a page's by default (white, no frame, no view name).
+    pub look: Look,
+    /// What is drawn over the view, computed as the window's buttons do.
+    pub overlays: Overlays,
+}
+
+/// What a figure draws over its view that the window computes only on
+/// request: "Find bifurcations"' branches and special points over the
+/// bifurcation diagram, "Boundaries"' curves over the phase diagram.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Overlays {
+    pub branches: bool,
+    pub boundaries: bool,
 }
 
 impl Figure {
@@ -59,6 +72,8 @@ impl Figure {
             theta: None,
             size: egui::vec2(640.0, 480.0),
             crosshair: false,
+            look: Look::window(),
+            overlays: Overlays::default(),
         }
     }
 
@@ -72,8 +87,21 @@ impl Figure {
     }
 }
 
-/// The lanes a view's data comes from (every other lane's jobs are not run).
-fn lanes(view: ViewKind) -> &'static [Lane] {
+/// The lanes a figure's data comes from (every other lane's jobs are not
+/// run): its view's, and its overlays'.
+fn lanes(fig: &Figure) -> Vec<Lane> {
+    let mut l = view_lanes(fig.view).to_vec();
+    if fig.overlays.branches {
+        l.push(Lane::Continuation);
+    }
+    if fig.overlays.boundaries {
+        l.push(Lane::Curves);
+    }
+    l
+}
+
+/// The lanes a view's data comes from.
+fn view_lanes(view: ViewKind) -> &'static [Lane] {
     match view {
         ViewKind::Plane | ViewKind::Block | ViewKind::Events | ViewKind::TimeSeries => {
             &[Lane::Orbit]
@@ -86,8 +114,20 @@ fn lanes(view: ViewKind) -> &'static [Lane] {
     }
 }
 
+/// The states of the jobs `fig` draws from: its view's and its overlays'.
+fn states<'a>(jobs: &'a Jobs, fig: &Figure) -> Vec<&'a JobState> {
+    let mut st = view_states(jobs, fig.view);
+    if fig.overlays.branches {
+        st.push(&jobs.branches.state);
+    }
+    if fig.overlays.boundaries {
+        st.push(&jobs.curves.state);
+    }
+    st
+}
+
 /// The states of the jobs `view` draws from.
-fn states(jobs: &Jobs, view: ViewKind) -> Vec<&JobState> {
+fn view_states(jobs: &Jobs, view: ViewKind) -> Vec<&JobState> {
     let orbit = [&jobs.trajectory.state, &jobs.iterate.state];
     match view {
         ViewKind::Bifurcation => vec![&jobs.sweep.state],
@@ -134,7 +174,7 @@ pub(super) struct ComputeRun {
 
 impl ComputeRun {
     pub(super) fn new(fig: &Figure) -> Self {
-        let needed = lanes(fig.view);
+        let needed = lanes(fig);
         let skip = Lane::ALL
             .into_iter()
             .filter(|l| !needed.contains(l))
@@ -176,7 +216,7 @@ impl ComputeRun {
         if jobs.pump(budget) || jobs.receive() {
             return None;
         }
-        if let Some(m) = states(jobs, fig.view).iter().find_map(|st| match st {
+        if let Some(m) = states(jobs, fig).iter().find_map(|st| match st {
             JobState::Failed(m) => Some(m.clone()),
             _ => None,
         }) {
@@ -189,16 +229,32 @@ impl ComputeRun {
             jobs.start_work_precision(s);
             return None;
         }
-        if states(jobs, fig.view)
-            .iter()
-            .all(|st| **st == JobState::Done)
-        {
+        if start_overlays(jobs, s, fig) {
+            return None;
+        }
+        if states(jobs, fig).iter().all(|st| **st == JobState::Done) {
             return self.jobs.take().map(Ok);
         }
         self.round += 1;
         self.synced = false;
         None
     }
+}
+
+/// Starts the overlays `fig` asks for that have not been started, as the
+/// window's buttons do: "Find bifurcations" over the diagram's θν range,
+/// "Boundaries" over the phase diagram's box. Whether one was started.
+fn start_overlays(jobs: &mut Jobs, s: &Settings, fig: &Figure) -> bool {
+    if fig.overlays.branches && !jobs.branches.issued() {
+        let range = super::jobs::continuation_range(s, fig.sweep_zoom());
+        jobs.find_bifurcations(s, range);
+        return true;
+    }
+    if fig.overlays.boundaries && !jobs.curves.issued() {
+        jobs.compute_boundaries(s);
+        return true;
+    }
+    false
 }
 
 /// The figure as SVG: its data computed here, then drawn by the window's
@@ -215,13 +271,13 @@ pub fn svg(fig: &Figure) -> Result<String, String> {
                 .unwrap_or_else(|| auto_theta_range(&jobs.sweep.data)),
         });
     }
-    Ok(svg_render::render_svg(
+    Ok(svg_render::render_svg_as(
         &[fig.view],
         &s,
         &jobs,
-        &zoom,
-        fig.size,
+        (&zoom, fig.size),
         fig.crosshair,
+        &fig.look,
     ))
 }
 
@@ -282,4 +338,25 @@ pub(super) fn pixmap_with_fonts(
         &mut pixmap.as_mut(),
     );
     Ok(pixmap)
+}
+
+/// `svg` (drawn over its own size in points) as a one-page vector PDF of
+/// that size: paths stay paths, text stays text (searchable, copyable),
+/// set in the fonts the PNG is rasterised with ([`font_db`]), subset and
+/// embedded; the diagrams' density images stay images.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn pdf_of_svg(svg: &str) -> Result<Vec<u8>, String> {
+    let opt = svg2pdf::usvg::Options {
+        fontdb: font_db(),
+        ..Default::default()
+    };
+    let tree = svg2pdf::usvg::Tree::from_str(svg, &opt)
+        .map_err(|e| format!("the SVG did not parse: {e}"))?;
+    // 72 dpi: one SVG unit (a point of the figure) is one PDF point.
+    svg2pdf::to_pdf(
+        &tree,
+        svg2pdf::ConversionOptions::default(),
+        svg2pdf::PageOptions { dpi: 72.0 },
+    )
+    .map_err(|e| format!("the PDF could not be made: {e}"))
 }

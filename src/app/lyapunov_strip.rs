@@ -12,16 +12,27 @@
 
 use eframe::egui;
 use egui::Ui;
-use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotBounds, PlotPoints, Points, VLine};
+use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotBounds, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
 use super::data::SweepData;
+use super::markers::{self, Marker};
 use super::settings::Settings;
 use super::style;
 
 /// Names of the strip's items (legend and hover).
 const EXACT: &str = "λ = ln|m|/p (solved cycle)";
 const MEAN: &str = "λ = mean ln|f'| ± 1 s.e.";
+
+/// The strip's markers, `r` the dot's radius: a solved cycle's filled
+/// dot, a mean's ring, a λ below the strip's triangle pointing down.
+fn strip_markers(ink: egui::Color32, r: f32) -> [Marker; 3] {
+    [
+        Marker::new(MarkerShape::Circle, ink, r, true),
+        Marker::new(MarkerShape::Circle, style::ACCEL, r + 0.5, false),
+        Marker::new(MarkerShape::Down, ink, r + 1.5, true),
+    ]
+}
 
 /// The lowest λ the strip shows: a superstable cycle (m → 0) sends λ to
 /// −∞, which would flatten everything else.
@@ -142,29 +153,11 @@ fn marks(
         .filter(|p| p.1 < lo)
         .map(|p| [p.0, lo + 0.06 * (hi - lo)])
         .collect();
-    let r = style::width(p.ctx(), 2.0);
-    p.points(
-        Points::new(EXACT, dots(true))
-            .color(ink)
-            .radius(r)
-            .shape(MarkerShape::Circle)
-            .filled(true),
-    );
-    p.points(
-        Points::new(MEAN, dots(false))
-            .color(style::ACCEL)
-            .radius(r + 0.5)
-            .shape(MarkerShape::Circle)
-            .filled(false),
-    );
+    let [exact, mean, under] = strip_markers(ink, style::width(p.ctx(), 2.0));
+    p.points(exact.points(EXACT, dots(true)));
+    p.points(mean.points(MEAN, dots(false)));
     if !below.is_empty() {
-        p.points(
-            Points::new(below_name(lo), below)
-                .color(ink)
-                .radius(r + 1.5)
-                .shape(MarkerShape::Down)
-                .filled(true),
-        );
+        p.points(under.points(below_name(lo), below));
     }
 }
 
@@ -172,12 +165,13 @@ fn marks(
 /// when some points lie `below` the strip's lower edge.
 pub fn legend_ui(ui: &mut Ui, dark: bool, below: Option<f64>) {
     ui.horizontal_wrapped(|ui| {
-        style::legend_marker(ui, style::ink(dark), EXACT);
-        style::legend_marker(ui, style::ACCEL, MEAN);
+        let [exact, mean, under] = strip_markers(style::ink(dark), style::width(ui.ctx(), 2.0));
+        markers::legend(ui, &[exact], EXACT);
+        markers::legend(ui, &[mean], MEAN);
         style::legend_line(ui, style::CRITICAL, true, "λ = 0");
         if let Some(lo) = below {
             let name = below_name(lo);
-            super::overlay::legend_shape(ui, MarkerShape::Down, style::ink(dark), &name);
+            markers::legend(ui, &[under], &name);
         }
     });
 }

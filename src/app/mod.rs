@@ -4,8 +4,10 @@
 //!
 //! Modules, each importing only those listed before it:
 //!
-//! - [`style`], [`describe`], [`backend`]: colours and legends, the words
-//!   for a regime or an attractor, the worker behind a trait.
+//! - [`style`], [`markers`], [`describe`], [`backend`]: colours and
+//!   legends, point markers (a plot's and its legend's from one
+//!   description), the words for a regime or an attractor, the worker
+//!   behind a trait.
 //! - [`settings`]: everything that persists, and its sanitising on load;
 //!   [`saved_state`]: the saved file checked, and set aside if unusable.
 //! - [`axes`]: ticks and axis titles for every plot (and for exports).
@@ -45,6 +47,7 @@ pub mod frame_stats;
 pub mod help;
 pub mod jobs;
 pub mod lyapunov_strip;
+pub mod markers;
 #[cfg(not(target_arch = "wasm32"))]
 mod native;
 pub mod numerics_table;

@@ -7,11 +7,12 @@
 
 use eframe::egui;
 use egui::{Color32, RichText, Ui};
-use egui_plot::{LineStyle, MarkerShape, Plot, PlotPoints, Points};
+use egui_plot::{LineStyle, MarkerShape, Plot, PlotPoints};
 
 use super::axes::{self, AxisSpec};
 use super::data::WorkPrecisionData;
 use super::jobs::{JobKind, JobState, Jobs, Slot};
+use super::markers::{self, Marker};
 use super::numerics_table::table_ui;
 use super::settings::{AccuracyMode, Settings, ViewKind};
 use super::style;
@@ -302,13 +303,7 @@ impl NumericsView {
                 }
                 method_items(p, rows, y_evals, lw);
                 for (job, pt) in marks {
-                    p.add(
-                        Points::new(format!("{mode}: {}", job.label()), vec![pt])
-                            .shape(job_marker(job))
-                            .filled(false)
-                            .radius(9.0)
-                            .color(ink),
-                    );
+                    p.add(job_mark(job, ink).points(format!("{mode}: {}", job.label()), vec![pt]));
                 }
             });
         axes::remember_frame(ui.ctx(), "work_precision", *resp.transform.frame());
@@ -335,7 +330,7 @@ fn chart_legend_ui(
         ui.label(format!("settings in use ({mode}):"));
         for job in JobKind::SOLVED {
             if marks.iter().any(|(j, _)| *j == job) {
-                legend_shape(ui, job, ink, job.label());
+                markers::legend(ui, &[job_mark(job, ink)], job.label());
             }
         }
     });
@@ -352,13 +347,7 @@ fn method_items(p: &mut egui_plot::PlotUi<'_>, rows: &[Row], y_evals: bool, lw: 
             line = line.style(LineStyle::Dashed { length: 6.0 });
         }
         p.line(line);
-        p.add(
-            Points::new(m, PlotPoints::from(pts))
-                .color(c)
-                .shape(style::method_marker(m))
-                .filled(true)
-                .radius(4.0 * lw),
-        );
+        p.add(method_mark(m, lw).points(m, PlotPoints::from(pts)));
     }
 }
 
@@ -378,104 +367,23 @@ fn legend_method(ui: &mut Ui, method: &str) {
     } else {
         p.line_segment([rect.left_center(), rect.right_center()], stroke);
     }
-    let c = rect.center();
-    let r = 4.5;
-    match style::method_marker(method) {
-        MarkerShape::Cross => {
-            for d in [egui::vec2(r, r), egui::vec2(r, -r)] {
-                p.line_segment([c - d, c + d], stroke);
-            }
-        }
-        MarkerShape::Square => {
-            p.rect_filled(
-                egui::Rect::from_center_size(c, egui::vec2(2.0 * r, 2.0 * r)),
-                0.0,
-                color,
-            );
-        }
-        MarkerShape::Diamond => {
-            p.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.0),
-                    c + egui::vec2(0.0, r),
-                    c + egui::vec2(-r, 0.0),
-                ],
-                color,
-                egui::Stroke::NONE,
-            ));
-        }
-        MarkerShape::Down => {
-            p.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(-r, -0.8 * r),
-                    c + egui::vec2(r, -0.8 * r),
-                    c + egui::vec2(0.0, r),
-                ],
-                color,
-                egui::Stroke::NONE,
-            ));
-        }
-        MarkerShape::Up => {
-            p.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.8 * r),
-                    c + egui::vec2(-r, 0.8 * r),
-                ],
-                color,
-                egui::Stroke::NONE,
-            ));
-        }
-        _ => {
-            p.circle_filled(c, r, color);
-        }
-    }
+    markers::paint_key(ui, rect, &[method_mark(method, 1.0)]);
     ui.label(method);
 }
 
-/// A job's marker outline and its label.
-fn legend_shape(ui: &mut Ui, job: JobKind, color: Color32, label: &str) {
-    style::keep_key_with_label(ui, 14.0, label);
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-    let (c, r) = (rect.center(), 5.5);
-    let stroke = egui::Stroke::new(1.5, color);
-    let p = ui.painter();
-    match job_marker(job) {
-        MarkerShape::Square => {
-            p.rect_stroke(
-                egui::Rect::from_center_size(c, egui::vec2(2.0 * r, 2.0 * r)),
-                0.0,
-                stroke,
-                egui::StrokeKind::Middle,
-            );
-        }
-        MarkerShape::Diamond => {
-            p.add(egui::Shape::closed_line(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.0),
-                    c + egui::vec2(0.0, r),
-                    c + egui::vec2(-r, 0.0),
-                ],
-                stroke,
-            ));
-        }
-        MarkerShape::Up => {
-            p.add(egui::Shape::closed_line(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.8 * r),
-                    c + egui::vec2(-r, 0.8 * r),
-                ],
-                stroke,
-            ));
-        }
-        _ => {
-            p.circle_stroke(c, r, stroke);
-        }
-    }
-    ui.label(label);
+/// A method's marker on its curve, at line scale `lw`.
+fn method_mark(method: &str, lw: f32) -> Marker {
+    Marker::new(
+        style::method_marker(method),
+        style::method_color(method),
+        4.0 * lw,
+        true,
+    )
+}
+
+/// The ring marking a job's settings on the chart.
+fn job_mark(job: JobKind, ink: Color32) -> Marker {
+    Marker::new(job_marker(job), ink, 9.0, false)
 }
 
 #[cfg(test)]

@@ -8,9 +8,10 @@
 
 use eframe::egui;
 use egui::{Color32, Ui};
-use egui_plot::{HoverPosition, Line, LineStyle, MarkerShape, PlotPoints, PlotUi, Points};
+use egui_plot::{HoverPosition, Line, LineStyle, MarkerShape, PlotPoints, PlotUi};
 
 use super::branches::{BranchData, CurveData, runs, special_rows};
+use super::markers::{self, Marker};
 use super::style;
 use crate::sim::continuation::{Criticality, SpecialKind, SpecialPoint};
 
@@ -23,18 +24,34 @@ pub const BOUNDARY: Color32 = Color32::from_rgb(255, 255, 255);
 pub const STABLE: &str = "stable branch";
 pub const UNSTABLE: &str = "unstable branch";
 
-/// The marker of a special point: shape, colour, name.
-pub fn marker(kind: SpecialKind) -> (MarkerShape, Color32, &'static str) {
+/// The radius of a special point's marker.
+const SPECIAL_RADIUS: f32 = 5.0;
+
+/// A special point's filled marker of `shape` and `colour`.
+const fn special(shape: MarkerShape, colour: Color32) -> Marker {
+    Marker::new(shape, colour, SPECIAL_RADIUS, true)
+}
+
+/// The marker of a special point, and its name.
+pub fn marker(kind: SpecialKind) -> (Marker, &'static str) {
     match kind {
-        SpecialKind::PeriodDoubling => (MarkerShape::Diamond, Color32::from_rgb(204, 0, 102), "PD"),
-        SpecialKind::Fold => (MarkerShape::Square, Color32::from_rgb(230, 159, 0), "fold"),
-        SpecialKind::Border => (MarkerShape::Cross, Color32::from_rgb(213, 94, 0), "border"),
+        SpecialKind::PeriodDoubling => (
+            special(MarkerShape::Diamond, Color32::from_rgb(204, 0, 102)),
+            "PD",
+        ),
+        SpecialKind::Fold => (
+            special(MarkerShape::Square, Color32::from_rgb(230, 159, 0)),
+            "fold",
+        ),
+        SpecialKind::Border => (
+            special(MarkerShape::Cross, Color32::from_rgb(213, 94, 0)),
+            "border",
+        ),
         SpecialKind::Jump => (
-            MarkerShape::Asterisk,
-            Color32::from_rgb(120, 120, 120),
+            special(MarkerShape::Asterisk, Color32::from_rgb(120, 120, 120)),
             "jump of m",
         ),
-        SpecialKind::End => (MarkerShape::Circle, style::CRITICAL, "end"),
+        SpecialKind::End => (special(MarkerShape::Circle, style::CRITICAL), "end"),
     }
 }
 
@@ -48,9 +65,8 @@ pub const MARKED: [SpecialKind; 4] = [
 
 /// The marker of a subcritical period doubling (where the attractor jumps
 /// away, rather than doubling): the PD's colour, another shape.
-pub const SUBCRITICAL: (MarkerShape, Color32, &str) = (
-    MarkerShape::Up,
-    Color32::from_rgb(204, 0, 102),
+pub const SUBCRITICAL: (Marker, &str) = (
+    special(MarkerShape::Up, Color32::from_rgb(204, 0, 102)),
     "subcritical PD",
 );
 
@@ -60,9 +76,9 @@ pub fn is_overlay_item(name: &str) -> bool {
     name == STABLE
         || name == UNSTABLE
         || name == CURVE
-        || name == SUBCRITICAL.2
-        || name == GENERALISED.2
-        || MARKED.iter().any(|&k| marker(k).2 == name)
+        || name == SUBCRITICAL.1
+        || name == GENERALISED_NAME
+        || MARKED.iter().any(|&k| marker(k).1 == name)
 }
 
 /// The plot's hover label: egui_plot's own, except over the overlay.
@@ -100,7 +116,7 @@ pub fn branch_items(p: &mut PlotUi<'_>, data: &BranchData, line_width: f32) {
         .map(|kind| (marker(kind), kind, false))
         .into_iter()
         .chain([(SUBCRITICAL, SpecialKind::PeriodDoubling, true)]);
-    for ((shape, colour, name), kind, sub) in groups {
+    for ((m, name), kind, sub) in groups {
         let pts: Vec<[f64; 2]> = rows
             .iter()
             .filter(|s| s.kind == kind && subcritical(s) == sub)
@@ -109,13 +125,7 @@ pub fn branch_items(p: &mut PlotUi<'_>, data: &BranchData, line_width: f32) {
         if pts.is_empty() {
             continue;
         }
-        p.points(
-            Points::new(name, PlotPoints::from(pts))
-                .shape(shape)
-                .color(colour)
-                .filled(true)
-                .radius(5.0),
-        );
+        p.points(m.points(name, PlotPoints::from(pts)));
     }
 }
 
@@ -128,75 +138,12 @@ pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
         style::legend_line(ui, BRANCH, false, STABLE);
         style::legend_line(ui, BRANCH, true, UNSTABLE);
         for kind in MARKED {
-            let (shape, colour, name) = marker(kind);
-            legend_shape(ui, shape, colour, name);
+            let (m, name) = marker(kind);
+            markers::legend(ui, &[m], name);
         }
-        let (shape, colour, name) = SUBCRITICAL;
-        legend_shape(ui, shape, colour, name);
+        let (m, name) = SUBCRITICAL;
+        markers::legend(ui, &[m], name);
     });
-}
-
-/// A marker of `shape` and its label.
-pub fn legend_shape(ui: &mut Ui, shape: MarkerShape, colour: Color32, label: &str) {
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
-    let (c, r) = (rect.center(), 5.0);
-    let painter = ui.painter();
-    match shape {
-        MarkerShape::Square => {
-            painter.rect_filled(
-                egui::Rect::from_center_size(c, egui::vec2(2.0 * r, 2.0 * r)),
-                0.0,
-                colour,
-            );
-        }
-        MarkerShape::Cross => {
-            let s = egui::Stroke::new(2.0, colour);
-            painter.line_segment([c + egui::vec2(-r, -r), c + egui::vec2(r, r)], s);
-            painter.line_segment([c + egui::vec2(-r, r), c + egui::vec2(r, -r)], s);
-        }
-        MarkerShape::Diamond => {
-            painter.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(0.0, -r),
-                    c + egui::vec2(r, 0.0),
-                    c + egui::vec2(0.0, r),
-                    c + egui::vec2(-r, 0.0),
-                ],
-                colour,
-                egui::Stroke::NONE,
-            ));
-        }
-        MarkerShape::Up | MarkerShape::Down => {
-            let up = shape == MarkerShape::Up;
-            let s = if up { 1.0 } else { -1.0 };
-            // The generalised flip's (down) is outlined, as on the plot.
-            let outline = if up {
-                egui::Stroke::NONE
-            } else {
-                egui::Stroke::new(1.0, Color32::BLACK)
-            };
-            painter.add(egui::Shape::convex_polygon(
-                vec![
-                    c + egui::vec2(0.0, -r * s),
-                    c + egui::vec2(r, r * s),
-                    c + egui::vec2(-r, r * s),
-                ],
-                colour,
-                outline,
-            ));
-        }
-        MarkerShape::Asterisk => {
-            let s = egui::Stroke::new(1.5, colour);
-            for (dx, dy) in [(0.0, r), (0.87 * r, 0.5 * r), (0.87 * r, -0.5 * r)] {
-                let d = egui::vec2(dx, dy);
-                painter.line_segment([c - d, c + d], s);
-            }
-        }
-        _ => {
-            painter.circle_filled(c, r, colour);
-        }
-    }
-    ui.label(label);
 }
 
 /// The name of the boundary curves' item.
@@ -205,11 +152,13 @@ pub const CURVE: &str = "doubling curve";
 /// The marker of a generalised flip on a doubling curve: the PD's colour,
 /// a triangle pointing down (the subcritical PD's points up), on a black
 /// one a little larger so that it shows over every class's colour.
-pub const GENERALISED: (MarkerShape, Color32, &str) = (
-    MarkerShape::Down,
-    Color32::from_rgb(204, 0, 102),
-    "generalised flip",
-);
+pub const GENERALISED: [Marker; 2] = [
+    Marker::new(MarkerShape::Down, Color32::BLACK, 8.0, true),
+    Marker::new(MarkerShape::Down, Color32::from_rgb(204, 0, 102), 6.0, true),
+];
+
+/// The generalised flip's name (legend and hover).
+pub const GENERALISED_NAME: &str = "generalised flip";
 
 /// The curves' legend: the line and, when a curve has one, the
 /// generalised flip's marker.
@@ -226,8 +175,7 @@ pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
         painter.line_segment(ends, egui::Stroke::new(2.0, BOUNDARY));
         ui.label(CURVE);
         if data.curves.iter().any(|c| !c.generalised_flips.is_empty()) {
-            let (shape, colour, name) = GENERALISED;
-            legend_shape(ui, shape, colour, name);
+            markers::legend(ui, &GENERALISED, GENERALISED_NAME);
         }
     });
 }
@@ -259,14 +207,7 @@ pub fn curve_items(p: &mut PlotUi<'_>, data: &CurveData, line_width: f32) {
     if flips.is_empty() {
         return;
     }
-    let (shape, colour, name) = GENERALISED;
-    for (c, r) in [(Color32::BLACK, 8.0), (colour, 6.0)] {
-        p.points(
-            Points::new(name, PlotPoints::from(flips.clone()))
-                .shape(shape)
-                .color(c)
-                .filled(true)
-                .radius(r),
-        );
+    for m in GENERALISED {
+        p.points(m.points(GENERALISED_NAME, PlotPoints::from(flips.clone())));
     }
 }

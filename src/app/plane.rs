@@ -7,10 +7,11 @@
 
 use eframe::egui;
 use egui::{RichText, Ui};
-use egui_plot::{LineStyle, Plot, PlotPoints};
+use egui_plot::{LineStyle, MarkerShape, Plot, PlotPoints};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
+use super::markers::{self, Marker};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -232,13 +233,16 @@ fn controls_ui(ui: &mut Ui, s: &mut Settings, shown: usize, total: usize) {
     });
 }
 
+/// The marker of a slip onset.
+const ONSET_MARKER: Marker = Marker::new(MarkerShape::Diamond, style::ONSET, 4.5, true);
+
 /// The legend above the plot.
 fn legend_ui(ui: &mut Ui, dark: bool) {
     ui.horizontal_wrapped(|ui| {
         style::legend_swatch(ui, style::STICK, "stick");
         style::legend_swatch(ui, style::ACCEL, "slip, accelerating");
         style::legend_swatch(ui, style::DECEL, "slip, decelerating");
-        style::legend_marker(ui, style::ONSET, "slip onset");
+        markers::legend(ui, &[ONSET_MARKER], "slip onset");
         style::legend_line(ui, style::ink(dark), false, "C");
         style::legend_line(ui, style::CRITICAL, true, "critical ellipse");
         style::legend_line(ui, style::PULL, false, "pull θν");
@@ -274,18 +278,7 @@ fn paint_path(
         }
     }
     for o in onsets {
-        let c = to_screen(o);
-        let r = 4.5;
-        painter.add(egui::Shape::convex_polygon(
-            vec![
-                c + egui::vec2(0.0, -r),
-                c + egui::vec2(r, 0.0),
-                c + egui::vec2(0.0, r),
-                c + egui::vec2(-r, 0.0),
-            ],
-            style::ONSET,
-            egui::Stroke::NONE,
-        ));
+        ONSET_MARKER.paint(&painter, to_screen(o));
     }
     if let Some(b) = now {
         let c = to_screen(&b);

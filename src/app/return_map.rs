@@ -6,10 +6,11 @@
 
 use eframe::egui;
 use egui::{RichText, Ui};
-use egui_plot::{HLine, LineStyle, Plot, PlotPoints, Points, VLine};
+use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
+use super::markers::{self, Marker};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -288,25 +289,32 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
         .copied()
         .filter(|q| (bmin[0]..=bmax[0]).contains(&q[0]) && (bmin[1]..=bmax[1]).contains(&q[1]))
         .collect();
-    p.add(
-        Points::new(
-            "trajectory cycles (with transient)",
-            PlotPoints::from(inside),
-        )
-        .color(style::STICK.gamma_multiply(0.45))
-        .radius(2.5),
-    );
+    let [iterates, cycles] = map_markers(s.dark);
+    p.add(cycles.points(TRANSIENT, PlotPoints::from(inside)));
     p.line(
         style::line("cobweb", PlotPoints::from(d.web.clone()))
             .color(style::DECEL)
             .width(1.5 * lw),
     );
-    p.add(
-        Points::new("orbit iterates", PlotPoints::from(d.kept.clone()))
-            .color(style::ink(s.dark))
-            .radius(3.5)
-            .filled(true),
-    );
+    p.add(iterates.points(ITERATES, PlotPoints::from(d.kept.clone())));
+}
+
+/// The names of the map's points (legend and hover).
+const ITERATES: &str = "orbit iterates";
+const TRANSIENT: &str = "cycles incl. transient";
+
+/// The map's markers: the orbit's iterates, and every cycle of the
+/// trajectory with its transient (paler, smaller).
+fn map_markers(dark: bool) -> [Marker; 2] {
+    [
+        Marker::new(MarkerShape::Circle, style::ink(dark), 3.5, true),
+        Marker::new(
+            MarkerShape::Circle,
+            style::STICK.gamma_multiply(0.45),
+            2.5,
+            true,
+        ),
+    ]
 }
 
 /// The basins along θ and each chaotic attractor's density (bins' centres,
@@ -471,12 +479,9 @@ fn legend_ui(
             false,
             if difference { "f − θ" } else { "f" },
         );
-        style::legend_marker(ui, style::ink(s.dark), "orbit iterates");
-        style::legend_marker(
-            ui,
-            style::STICK.gamma_multiply(0.6),
-            "cycles incl. transient",
-        );
+        let [iterates, cycles] = map_markers(s.dark);
+        markers::legend(ui, &[iterates], ITERATES);
+        markers::legend(ui, &[cycles], TRANSIENT);
         if !difference {
             style::legend_line(ui, style::DECEL, false, "cobweb");
         }

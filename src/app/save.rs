@@ -42,6 +42,12 @@ pub fn export_csv(what: Export, s: &Settings, jobs: &Jobs, shots: &mut Shots, no
         shots.toast(empty.into(), true, now);
         return;
     };
+    let kind = match what {
+        Export::Events | Export::Trajectory => JobKind::Trajectory,
+        Export::Bifurcation => JobKind::Sweep,
+        Export::Phase => JobKind::Phase,
+    };
+    let csv = crate::provenance::with_header(&export::header(name, s, kind), &csv);
     shots.write(fresh_path(dir, name, "csv"), csv.into_bytes());
     if matches!(what, Export::Events | Export::Trajectory) {
         accuracy_note(name, s, shots, now);

@@ -119,29 +119,6 @@ pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
     });
 }
 
-/// A small diamond marker and its label.
-pub fn legend_marker(ui: &mut Ui, color: Color32, label: &str) {
-    legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
-        diamond(ui, rect, color);
-    });
-}
-
-/// A diamond in `rect`.
-fn diamond(ui: &Ui, rect: egui::Rect, color: Color32) {
-    let c = rect.center();
-    let r = 5.0;
-    ui.painter().add(egui::Shape::convex_polygon(
-        vec![
-            c + egui::vec2(0.0, -r),
-            c + egui::vec2(r, 0.0),
-            c + egui::vec2(0.0, r),
-            c + egui::vec2(-r, 0.0),
-        ],
-        color,
-        egui::Stroke::NONE,
-    ));
-}
-
 /// A short line (dashed if asked) and its label.
 pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
     legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {

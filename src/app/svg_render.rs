@@ -19,10 +19,33 @@ use super::views::{Views, tile_rects};
 /// labels over the first ones.
 const PASSES: usize = 4;
 
+/// How a picture looks: the window's, or a page's (`oneblock figure`).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Look {
+    /// The window's look: its theme's background, each view in a rounded
+    /// frame under its name. Otherwise a journal's: the light theme on
+    /// white, no frame, and no title but [`Look::title`].
+    pub window: bool,
+    /// A title over the figure (a page's look; the window's names its view).
+    pub title: Option<String>,
+    /// Every text's size in points, else the window's sizes.
+    pub font_size: Option<f32>,
+}
+
+impl Look {
+    /// The window's own look.
+    pub fn window() -> Look {
+        Look {
+            window: true,
+            ..Look::default()
+        }
+    }
+}
+
 /// The SVG of `views` (one view, or the tiles in the window's tile layout)
 /// drawn over `size` points from `settings` and `jobs`, the bifurcation
-/// diagram at `zoom` (its zoom stack); the current parameters' lines only
-/// with `crosshair` ([`style::set_crosshair`]).
+/// diagram at `zoom` (its zoom stack), with the window's look; the current
+/// parameters' lines only with `crosshair` ([`style::set_crosshair`]).
 pub fn render_svg(
     views: &[ViewKind],
     settings: &Settings,
@@ -31,7 +54,20 @@ pub fn render_svg(
     size: Vec2,
     crosshair: bool,
 ) -> String {
-    let mut r = Renderer::new(settings, zoom, size);
+    let look = Look::window();
+    render_svg_as(views, settings, jobs, (zoom, size), crosshair, &look)
+}
+
+/// [`render_svg`] with the look `look`, over `size` points at `zoom`.
+pub fn render_svg_as(
+    views: &[ViewKind],
+    settings: &Settings,
+    jobs: &Jobs,
+    (zoom, size): (&[Zoom], Vec2),
+    crosshair: bool,
+    look: &Look,
+) -> String {
+    let mut r = Renderer::new(settings, zoom, size, look);
     style::set_crosshair(&r.ctx, crosshair);
     for pass in 0..PASSES {
         r.pass(views, jobs, pass as f64 * 0.1);
@@ -54,8 +90,14 @@ impl FrameRenderer {
     /// A renderer whose first frame shows `jobs` as they are now, after
     /// the passes that settle the layout, all at ui time 0 (so the block's
     /// clock has not moved when the first frame is drawn).
-    pub fn new(view: ViewKind, settings: &Settings, jobs: &Jobs, size: Vec2, dt: f64) -> Self {
-        let mut r = Renderer::new(settings, &[], size);
+    pub fn new(
+        view: ViewKind,
+        settings: &Settings,
+        jobs: &Jobs,
+        (size, look): (Vec2, &Look),
+        dt: f64,
+    ) -> Self {
+        let mut r = Renderer::new(settings, &[], size, look);
         for _ in 0..PASSES - 1 {
             r.pass(&[view], jobs, 0.0);
         }
@@ -86,11 +128,12 @@ struct Renderer {
     shapes: Vec<egui::epaint::ClippedShape>,
     frames: Vec<(&'static str, Rect)>,
     area: Rect,
+    look: Look,
 }
 
 impl Renderer {
-    fn new(settings: &Settings, zoom: &[Zoom], size: Vec2) -> Renderer {
-        let ctx = document_context(settings);
+    fn new(settings: &Settings, zoom: &[Zoom], size: Vec2, look: &Look) -> Renderer {
+        let ctx = document_context(settings, look);
         // Only the figure: title, axes, legend; no buttons or switches.
         style::set_figure_only(&ctx, true);
         let mut state = Views::default();
@@ -103,6 +146,7 @@ impl Renderer {
             shapes: Vec::new(),
             frames: Vec::new(),
             area: Rect::from_min_size(egui::Pos2::ZERO, size),
+            look: look.clone(),
         }
     }
 
@@ -114,7 +158,7 @@ impl Renderer {
             time: Some(time),
             ..Default::default()
         };
-        let (state, s) = (&mut self.state, &mut self.settings);
+        let (state, s, look) = (&mut self.state, &mut self.settings, &self.look);
         let mut out = self.ctx.run_ui(input, |ui| {
             axes::clear_frames(ui.ctx());
             let rects = if views.len() == 1 {
@@ -125,14 +169,24 @@ impl Renderer {
             let mut actions = Vec::new();
             for (v, r) in views.iter().zip(rects) {
                 let view = state.get_mut(*v);
+                let title = if look.window {
+                    Some(view.title().to_string())
+                } else {
+                    look.title.clone()
+                };
                 ui.scope_builder(egui::UiBuilder::new().max_rect(r).id_salt(v.key()), |ui| {
-                    egui::Frame::group(ui.style())
-                        .inner_margin(4.0)
-                        .show(ui, |ui| {
-                            ui.set_min_size(ui.available_size());
-                            ui.label(RichText::new(view.title()).strong());
-                            view.ui(ui, s, jobs, &mut actions);
-                        });
+                    let frame = if look.window {
+                        egui::Frame::group(ui.style())
+                    } else {
+                        egui::Frame::new()
+                    };
+                    frame.inner_margin(4.0).show(ui, |ui| {
+                        ui.set_min_size(ui.available_size());
+                        if let Some(t) = title {
+                            ui.label(RichText::new(t).strong());
+                        }
+                        view.ui(ui, s, jobs, &mut actions);
+                    });
                 });
             }
         });
@@ -158,10 +212,12 @@ impl Renderer {
 }
 
 /// A context styled as the window is (theme, text size), without hover or
-/// animation: a picture for a document.
-fn document_context(settings: &Settings) -> egui::Context {
+/// animation: a picture for a document. A page's look ([`Look`]) is the
+/// light theme on white, every text `look.font_size` if
+/// given.
+fn document_context(settings: &Settings, look: &Look) -> egui::Context {
     let ctx = egui::Context::default();
-    ctx.set_theme(if settings.dark {
+    ctx.set_theme(if settings.dark && look.window {
         egui::Theme::Dark
     } else {
         egui::Theme::Light
@@ -171,10 +227,16 @@ fn document_context(settings: &Settings) -> egui::Context {
     ctx.all_styles_mut(|s| {
         for (ts, font) in s.text_styles.iter_mut() {
             if let Some(b) = base.get(ts) {
-                font.size = b.size * scale;
+                font.size = look.font_size.unwrap_or(b.size * scale);
             }
         }
         s.animation_time = 0.0;
+        if !look.window {
+            let v = &mut s.visuals;
+            v.panel_fill = Color32::WHITE;
+            v.extreme_bg_color = Color32::WHITE;
+            v.window_fill = Color32::WHITE;
+        }
     });
     ctx
 }

@@ -5,7 +5,6 @@
 //! by the flags alone, so the file is the same on any machine, and the
 //! same as the window's diagram of the same parameters and range.
 
-use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::atomic::{AtomicU64, Ordering};
 use std::time::Instant;
@@ -15,7 +14,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     MAX_ROWS, SolverArgs, check_out, check_theta, count_in, describe_sweep, emit, finite,
-    max_seconds, total_iterates, warn_validity,
+    max_seconds, total_iterates, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{
@@ -235,11 +234,12 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
 
     let cols = in_grid_order(updates, columns);
-    let csv = if seeds > 0 {
-        seeded_csv(&cols)
-    } else {
-        bifurcation_csv(cols.iter().map(|c| (c.0, c.1.as_slice(), c.4)))
-    };
+    let csv = bifurcation_csv(
+        cols.iter()
+            .map(|c| (c.0, c.1.as_slice(), c.4, c.5.as_slice())),
+        seeds > 0,
+    );
+    let csv = with_provenance(&describe_sweep(&params, &settings), &csv);
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
         params,
@@ -283,28 +283,6 @@ fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
         }
     }
     cols.into_iter().flatten().collect()
-}
-
-/// The seeded diagram's CSV: each point with its attractor's label (0: the
-/// followed one). λ is the followed attractor's, so it is given on its
-/// rows only (empty on the others').
-fn seeded_csv(cols: &[Done]) -> String {
-    let mut s = String::from("theta_nu,theta,lyapunov,lyapunov_stderr,attractor\n");
-    let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-    for (tn, thetas, _, _, lyap, labels) in cols {
-        let (l, se) = (
-            opt(lyap.map(|l| l.lyapunov)),
-            opt(lyap.and_then(|l| l.stderr)),
-        );
-        for (t, a) in thetas.iter().zip(labels) {
-            if *a == 0 {
-                writeln!(s, "{tn},{t},{l},{se},{a}").ok();
-            } else {
-                writeln!(s, "{tn},{t},,,{a}").ok();
-            }
-        }
-    }
-    s
 }
 
 /// What a finished run reports on: its columns in grid order, the cycles

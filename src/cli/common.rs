@@ -12,7 +12,7 @@ use super::values::{
 };
 use crate::integrate::{Method, SolverSettings};
 use crate::model::{Params, Preset};
-use crate::model::{Regime, event_anomalies, exit_arc, validity};
+use crate::model::{event_anomalies, exit_arc, validity};
 use crate::output::{OutputError, check_writable, write_output};
 use crate::sim::Simulator;
 use crate::sim::continuation::ContParam;
@@ -334,26 +334,16 @@ pub fn describe_sweep(params: &Params, settings: &SolverSettings) -> String {
 }
 
 fn describe_with(params: &Params, settings: &SolverSettings, theta_nu: bool) -> String {
-    let accuracy = if settings.method.is_adaptive() {
-        format!("tol {:e}", settings.rtol)
-    } else {
-        format!("step {}", settings.step)
-    };
-    let theta_nu = if theta_nu {
-        format!("theta-nu = {}, ", short(params.theta_nu))
-    } else {
-        String::new()
-    };
-    format!(
-        "kappa = {}, gamma = {}, nu = {}, {theta_nu}omega = {} ({}); {} {}",
-        short(params.kappa),
-        short(params.gamma),
-        short(params.nu),
-        short(params.omega),
-        Regime::of(params.kappa, params.gamma).name(),
-        settings.method,
-        accuracy
-    )
+    crate::provenance::model_line(params, settings, theta_nu)
+}
+
+/// `csv` after the `#` lines saying where it came from
+/// ([`crate::provenance`]): the program, this command line, `model` (the
+/// parameters and accuracy, as [`describe`] says them) and every flag's
+/// value.
+pub fn with_provenance(model: &str, csv: &str) -> String {
+    use crate::provenance::{header, with_header};
+    with_header(&header(None, model, None), csv)
 }
 
 /// The solver settings as JSON, for summaries.

@@ -12,7 +12,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     OptionalModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit,
-    emit_as, finite, max_seconds, warn_validity,
+    emit_as, finite, max_seconds, warn_validity, with_provenance,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
@@ -374,9 +374,10 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
         out::Extra::Curves(params, c) => out::curve_csv(*params, c),
         _ => out::branches_csv(&ran.branches),
     };
+    let data = with_provenance(&described, &data);
     emit(&args.out, data.as_bytes(), args.force)?;
     if let Some(p) = &args.points {
-        let points = out::points_csv(&ran.branches);
+        let points = with_provenance(&described, &out::points_csv(&ran.branches));
         emit_as("points", p, points.as_bytes(), args.force)?;
     }
     let summary = out::Summary {

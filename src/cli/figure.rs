@@ -27,7 +27,8 @@ pub struct FigureArgs {
     #[arg(long)]
     pub view: String,
     /// Where the figure goes; its extension picks the format: .svg (vector:
-    /// lines as paths, text as text) or .png (that SVG rasterised at 2
+    /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
+    /// text text in an embedded font) or .png (that SVG rasterised at 2
     /// pixels per point); for --view basins also .csv (its columns: each
     /// attractor's period and basin fraction). Never overwrites an
     /// existing file.
@@ -97,7 +98,37 @@ pub struct FigureArgs {
     /// out unless asked for.
     #[arg(long)]
     pub crosshair: bool,
+    /// A title over the figure (by default a figure has none: a journal
+    /// sets its caption itself).
+    #[arg(long)]
+    pub title: Option<String>,
+    /// Every text's size in points (tick labels, axis titles, legend,
+    /// title), in [4, 72] [default: the window's, 13 for the tick labels].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub font_size: Option<f64>,
+    /// Draw the figure with the window's look instead of a page's: its
+    /// background, a frame and the view's name.
+    #[arg(long)]
+    pub window_look: bool,
+    /// Draw the continued branches with their special points (PD, fold,
+    /// border, ...) over the diagram, as the window's "Find bifurcations"
+    /// does. --view bifurcation only.
+    #[arg(long)]
+    pub branches: bool,
+    /// Draw the doubling curves with their generalised flips over the
+    /// phase diagram, as the window's "Boundaries" does. --view phase only.
+    #[arg(long)]
+    pub boundaries: bool,
+    /// Seeds per column of the diagram, or per cell of the phase diagram,
+    /// in [0, 64]: any seed draws every attractor found there (the
+    /// window's "every attractor"); 0 only the followed one [default: the
+    /// session's, else 0].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub seeds: Option<usize>,
 }
+
+/// The smallest and largest --font-size, in points.
+pub const FONT_SIZES: (f64, f64) = (4.0, 72.0);
 
 /// The slowest and fastest GIF playback (as `app::animation`'s, which
 /// the build without the window lacks).
@@ -118,6 +149,8 @@ pub const MAX_GIF_SIDE: f32 = 1920.0;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Format {
     Svg,
+    /// The SVG as a vector PDF.
+    Pdf,
     Png,
     Gif,
     /// The Basins view's columns as a table.
@@ -131,11 +164,12 @@ pub fn format_of(path: &Path) -> Result<Format, CliError> {
         .map(|e| e.to_string_lossy().to_ascii_lowercase());
     match ext.as_deref() {
         Some("svg") => Ok(Format::Svg),
+        Some("pdf") => Ok(Format::Pdf),
         Some("png") => Ok(Format::Png),
         Some("gif") => Ok(Format::Gif),
         Some("csv") => Ok(Format::Csv),
         _ => Err(CliError::Usage(format!(
-            "--out: {} has no known extension: name a .svg, .png, .gif or .csv file",
+            "--out: {} has no known extension: name a .svg, .pdf, .png, .gif or .csv file",
             echo(&path.display().to_string())
         ))),
     }
@@ -153,8 +187,8 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
             "--out: only the basins view writes a .csv (its columns), not '{}'",
             echo(&a.view)
         )),
-        (Format::Svg | Format::Png | Format::Csv, Some(_)) => usage(
-            "--frames makes an animation, which a .svg or .png cannot hold: name a .gif file"
+        (Format::Svg | Format::Pdf | Format::Png | Format::Csv, Some(_)) => usage(
+            "--frames makes an animation, which a .svg, .pdf or .png cannot hold: name a .gif file"
                 .into(),
         ),
         (Format::Gif, Some(n)) => {
@@ -188,6 +222,100 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
         }
         _ => Ok(()),
     }
+}
+
+/// --branches, --boundaries and --seeds: each for the views that draw it.
+fn check_overlays(a: &FigureArgs) -> Result<(), CliError> {
+    let only = |flag: &str, views: &[&str], what: &str| {
+        if views.contains(&a.view.as_str()) {
+            Ok(())
+        } else {
+            Err(CliError::Usage(format!(
+                "--{flag}: only {what}, not '{}'",
+                echo(&a.view)
+            )))
+        }
+    };
+    if a.branches {
+        only(
+            "branches",
+            &["bifurcation"],
+            "the bifurcation view draws branches",
+        )?;
+    }
+    if a.boundaries {
+        only("boundaries", &["phase"], "the phase view draws boundaries")?;
+    }
+    if let Some(n) = a.seeds {
+        only(
+            "seeds",
+            &["bifurcation", "phase"],
+            "the bifurcation and phase views seed",
+        )?;
+        if n > MAX_SEEDS {
+            return Err(CliError::Usage(format!(
+                "--seeds = {n} is out of range: must lie in [0, {MAX_SEEDS}]"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// --columns (the basins view's) and the phase grid's steps, in bounds.
+fn check_counts(a: &FigureArgs) -> Result<(), CliError> {
+    if let Some(n) = a.columns
+        && (a.view != "basins" || !(2..=400).contains(&n))
+    {
+        return Err(CliError::Usage(format!(
+            "--columns = {n}: the basins view's columns, in [2, 400]"
+        )));
+    }
+    for (name, v) in [
+        ("theta-nu-steps", a.theta_nu_steps),
+        ("kappa-steps", a.kappa_steps),
+    ] {
+        if let Some(n) = v
+            && !(2..=200).contains(&n)
+        {
+            return Err(CliError::Usage(format!(
+                "--{name} = {n} is out of range: must lie in [2, 200]"
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The most seeds `--seeds` takes (the window's bound).
+pub const MAX_SEEDS: usize = 64;
+#[cfg(feature = "gui")]
+const _: () = assert!(MAX_SEEDS == crate::app::settings::MAX_SWEEP_SEEDS);
+
+/// --title and --font-size: a title with some text, a size in
+/// [`FONT_SIZES`]; neither with the window's look, which has its own.
+fn check_look(a: &FigureArgs) -> Result<(), CliError> {
+    let usage = |m: String| Err(CliError::Usage(m));
+    if let Some(t) = &a.title
+        && t.trim().is_empty()
+    {
+        return usage("--title: give the title's text (or leave --title out)".into());
+    }
+    if let Some(v) = a.font_size
+        && !(FONT_SIZES.0..=FONT_SIZES.1).contains(&v)
+    {
+        return usage(format!(
+            "--font-size = {} is out of range: must lie in [{}, {}] (points)",
+            short(v),
+            FONT_SIZES.0,
+            FONT_SIZES.1
+        ));
+    }
+    if a.window_look && (a.title.is_some() || a.font_size.is_some()) {
+        return usage(
+            "--window-look draws the window's title and text sizes: leave out --title and --font-size"
+                .into(),
+        );
+    }
+    Ok(())
 }
 
 /// A GIF's size when --size is not given: a slide's.
@@ -256,6 +384,8 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
             short(v)
         )));
     }
+    check_look(a)?;
+    check_overlays(a)?;
     let theta = range("theta", a.theta_from, a.theta_to)?;
     let kappa = range("kappa", a.kappa_from, a.kappa_to)?;
     if let Some((lo, hi)) = kappa
@@ -267,25 +397,7 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
             short(hi)
         )));
     }
-    if let Some(n) = a.columns
-        && (a.view != "basins" || !(2..=400).contains(&n))
-    {
-        return Err(CliError::Usage(format!(
-            "--columns = {n}: the basins view's columns, in [2, 400]"
-        )));
-    }
-    for (name, v) in [
-        ("theta-nu-steps", a.theta_nu_steps),
-        ("kappa-steps", a.kappa_steps),
-    ] {
-        if let Some(n) = v
-            && !(2..=200).contains(&n)
-        {
-            return Err(CliError::Usage(format!(
-                "--{name} = {n} is out of range: must lie in [2, 200]"
-            )));
-        }
-    }
+    check_counts(a)?;
     crate::output::check_writable(&a.out, false).map_err(|e| match e {
         crate::output::OutputError::Exists { path } => CliError::Usage(format!(
             "--out: {} already exists: a figure never overwrites a file, choose another name",
@@ -322,6 +434,10 @@ fn view_flags(
         ph.theta_nu_steps = a.theta_nu_steps.unwrap_or(ph.theta_nu_steps);
         ph.kappa_steps = a.kappa_steps.unwrap_or(ph.kappa_steps);
     }
+    if let Some(n) = a.seeds {
+        settings.sweep_seeds = n;
+        settings.phase.seeds = n;
+    }
     if view == ViewKind::Basins {
         let b = &mut settings.basins;
         b.columns = a.columns.unwrap_or(b.columns);
@@ -331,11 +447,33 @@ fn view_flags(
     }
 }
 
+/// The look the flags ask for: a page's, or with --window-look the
+/// window's.
+#[cfg(feature = "gui")]
+fn look(a: &FigureArgs) -> crate::app::svg_render::Look {
+    crate::app::svg_render::Look {
+        window: a.window_look,
+        title: a.title.clone(),
+        font_size: a.font_size.map(|v| v as f32),
+    }
+}
+
+/// The model's flags over `p` (the preset's or the session's), checked.
+#[cfg(feature = "gui")]
+fn model_flags(a: &FigureArgs, p: &mut crate::Params) -> Result<(), CliError> {
+    p.kappa = a.model.kappa.unwrap_or(p.kappa);
+    p.gamma = a.model.gamma.unwrap_or(p.gamma);
+    p.nu = a.model.nu.unwrap_or(p.nu);
+    p.theta_nu = a.model.theta_nu.unwrap_or(p.theta_nu);
+    p.omega = a.model.omega.unwrap_or(p.omega);
+    p.validate().map_err(super::values::param_error)
+}
+
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
     use crate::app::animation::gif;
-    use crate::app::figure::{Figure, png_of_svg, svg};
+    use crate::app::figure::{Figure, pdf_of_svg, png_of_svg, svg};
     use crate::app::{Settings, ViewKind, controls::apply_preset, session::Session};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
@@ -361,13 +499,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     {
         apply_preset(&mut settings, &p.params, p.key);
     }
-    let p = &mut settings.params;
-    p.kappa = a.model.kappa.unwrap_or(p.kappa);
-    p.gamma = a.model.gamma.unwrap_or(p.gamma);
-    p.nu = a.model.nu.unwrap_or(p.nu);
-    p.theta_nu = a.model.theta_nu.unwrap_or(p.theta_nu);
-    p.omega = a.model.omega.unwrap_or(p.omega);
-    p.validate().map_err(super::values::param_error)?;
+    model_flags(&a, &mut settings.params)?;
     settings.map_difference |= a.map_difference;
     if let Some(v) = a.slip_speed {
         settings.block_speed = v as f32;
@@ -387,6 +519,11 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         theta: c.theta,
         size: eframe::egui::vec2(size[0], size[1]),
         crosshair: a.crosshair,
+        look: look(&a),
+        overlays: crate::app::figure::Overlays {
+            branches: a.branches,
+            boundaries: a.boundaries,
+        },
     };
     // Bounded like every long command (a large phase grid takes a while):
     // a line of life on a terminal; --max-seconds or Ctrl+C end it with one
@@ -396,6 +533,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
     let bytes = run_bounded("figure", &limits, move || match format {
         Format::Svg => svg(&fig).map(String::into_bytes),
+        Format::Pdf => svg(&fig).and_then(|t| pdf_of_svg(&t)),
         Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
         Format::Gif => gif(&fig, frames, speed),
         Format::Csv => super::figure_basins::csv(&fig).map(String::into_bytes),

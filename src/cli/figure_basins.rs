@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use super::common::describe_sweep;
+use super::common::{describe_sweep, with_provenance};
 use crate::app::figure::{Figure, compute};
 use crate::app::jobs::basins::BasinsData;
 use crate::app::jobs::basins::BasinsKey;
@@ -16,19 +16,20 @@ use crate::sim::attractors::Verdict;
 pub const HEADER: &str =
     "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict";
 
-/// Computes `fig`'s Basins columns and writes them as CSV: a `# ` line
-/// naming the program, its version and the parameters first.
+/// Computes `fig`'s Basins columns and writes them as CSV: `#` lines
+/// naming the program, its version, the command line and the parameters
+/// first ([`crate::provenance`]).
 pub fn csv(fig: &Figure) -> Result<String, String> {
     let jobs = compute(fig)?;
     let key = BasinsKey::of(&fig.settings);
-    let mut out = format!(
-        "# oneblock {} figure --view basins: {}; theta-nu {} to {}, {} columns\n{HEADER}\n",
-        env!("CARGO_PKG_VERSION"),
+    let model = format!(
+        "{}; theta-nu {} to {}, {} columns",
         describe_sweep(&key.params, &key.solver),
         key.range.0,
         key.range.1,
         key.columns,
     );
+    let mut out = with_provenance(&model, &format!("{HEADER}\n"));
     rows(&jobs.basins.data, &mut out);
     Ok(out)
 }

@@ -67,6 +67,58 @@ pub enum Command {
     Figure(figure::FigureArgs),
 }
 
+/// Parses this process's command line (clap's errors as they are) and
+/// records it, with every flag's value, for the `#` lines each CSV begins
+/// with ([`crate::provenance`]).
+pub fn parse() -> Result<Cli, clap::Error> {
+    use clap::{CommandFactory, FromArgMatches};
+    let args: Vec<std::ffi::OsString> = std::env::args_os().collect();
+    let cmd = Cli::command();
+    let matches = cmd.clone().try_get_matches_from(&args)?;
+    let cli = Cli::from_arg_matches(&matches)?;
+    crate::provenance::record(invocation(&cmd, &args, &matches));
+    Ok(cli)
+}
+
+/// The command line as a shell would read it back, and every flag of its
+/// subcommand with the value it was read as (given, or the default).
+fn invocation(
+    cmd: &clap::Command,
+    args: &[std::ffi::OsString],
+    matches: &clap::ArgMatches,
+) -> crate::provenance::Invocation {
+    use crate::provenance::shell_quote;
+    let words: Vec<String> = std::iter::once("oneblock".to_string())
+        .chain(
+            args.iter()
+                .skip(1)
+                .map(|a| shell_quote(&a.to_string_lossy())),
+        )
+        .collect();
+    let mut flags = Vec::new();
+    if let Some((name, sub)) = matches.subcommand()
+        && let Some(sc) = cmd.find_subcommand(name)
+    {
+        for arg in sc.get_arguments() {
+            let (id, Some(long)) = (arg.get_id().as_str(), arg.get_long()) else {
+                continue;
+            };
+            if sub.value_source(id).is_none() {
+                continue;
+            }
+            let values: Vec<String> = sub
+                .get_raw(id)
+                .map(|v| v.map(|x| shell_quote(&x.to_string_lossy())).collect())
+                .unwrap_or_default();
+            flags.push(format!("--{long}={}", values.join(",")));
+        }
+    }
+    crate::provenance::Invocation {
+        line: words.join(" "),
+        flags,
+    }
+}
+
 /// Checks a parsed command line as `run` does before any work (values,
 /// bounds, presets, output paths) without running it: what the property
 /// tests drive with arbitrary strings.
@@ -107,6 +159,10 @@ pub fn usage_line(e: &clap::Error) -> String {
         let shown = values::echo(value);
         return format!("{flag} = '{shown}': {reason}");
     }
+    if let (ErrorKind::InvalidValue, Some(flag), Some("")) = (e.kind(), &flag, value.as_deref()) {
+        // A flag at the end of the line, or followed by another flag.
+        return missing_value(flag, e.get(ContextKind::ValidValue));
+    }
     if let (ErrorKind::InvalidValue, Some(flag), Some(value), Some(ContextValue::Strings(valid))) =
         (e.kind(), &flag, &value, e.get(ContextKind::ValidValue))
     {
@@ -136,6 +192,39 @@ pub fn usage_line(e: &clap::Error) -> String {
         Some(f) if !msg.contains(&f) => format!("{f}: {msg}"),
         _ => msg,
     }
+}
+
+/// The line for `flag` given without its value: the flag, then what it
+/// expects (its list of values, else the first sentence of its help).
+fn missing_value(flag: &str, valid: Option<&ContextValue>) -> String {
+    let expects = match valid {
+        Some(ContextValue::Strings(v)) if !v.is_empty() => Some(format!("one of {}", v.join(", "))),
+        _ => flag_help(flag),
+    };
+    match expects {
+        Some(x) => format!("{flag} needs a value: {x}"),
+        None => format!("{flag} needs a value"),
+    }
+}
+
+/// The first sentence of the help of `flag` (`--out`) of the subcommand
+/// this process was started with.
+fn flag_help(flag: &str) -> Option<String> {
+    use clap::CommandFactory;
+    let long = flag.trim_start_matches('-');
+    let cmd = Cli::command();
+    let name = std::env::args().skip(1).find(|a| !a.starts_with('-'))?;
+    let sub = cmd.find_subcommand(&name)?;
+    let arg = sub.get_arguments().find(|a| a.get_long() == Some(long))?;
+    let help = arg.get_help()?.to_string();
+    let words = help.split_whitespace().collect::<Vec<_>>().join(" ");
+    let end = [words.find(". "), words.find("; "), words.find(" [default")]
+        .into_iter()
+        .flatten()
+        .min()
+        .unwrap_or(words.len());
+    let sentence = words[..end].trim_end_matches('.');
+    (!sentence.is_empty()).then(|| sentence.to_string())
 }
 
 /// Runs the parsed command line.

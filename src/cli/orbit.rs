@@ -17,7 +17,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
-    emit_as, finite, max_seconds, settings_json, total_iterates, warn_validity,
+    emit_as, finite, max_seconds, settings_json, total_iterates, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
@@ -236,7 +236,8 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     warn_anomalies(&orbit);
 
     if let Some(p) = &csv_out {
-        let mut csv = SLIP_EVENT_COLUMNS.join(",");
+        let model = describe(sim.params(), sim.settings());
+        let mut csv = with_provenance(&model, &SLIP_EVENT_COLUMNS.join(","));
         csv.push('\n');
         for e in &orbit.events {
             csv.push_str(&slip_event_row(e));
@@ -258,6 +259,7 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
             r => r?,
         };
+        let text = with_provenance(&describe(sim.params(), sim.settings()), &text);
         emit_as("stats", st, text.as_bytes(), args.force)?;
     }
     let summary = Summary {

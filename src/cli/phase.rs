@@ -14,7 +14,7 @@ use super::CliError;
 use super::bifurcation::theta_nu_end;
 use super::common::{
     SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, emit_as, finite,
-    max_seconds, warn_validity,
+    max_seconds, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
@@ -107,6 +107,11 @@ pub struct PhaseArgs {
     /// columns, as `oneblock continue --curve` writes (needs --png).
     #[arg(long, requires = "png")]
     pub boundaries: Option<PathBuf>,
+    /// The picture's size in pixels, WIDTHxHEIGHT, each in [200, 10000]
+    /// (needs --png) [default: about 600x480 pixels of cells, with the axes
+    /// and legend around them].
+    #[arg(long, requires = "png", allow_hyphen_values = true, value_parser = super::gui::parse_size)]
+    pub size: Option<[f32; 2]>,
     /// Overwrite existing --out / --png files.
     #[arg(long)]
     pub force: bool,
@@ -131,6 +136,8 @@ pub struct Plan {
     out: Option<PathBuf>,
     max_seconds: Option<f64>,
     boundaries: Vec<super::phase_boundaries::Polyline>,
+    /// The picture's size in pixels (--size).
+    size: Option<[f64; 2]>,
 }
 
 /// Checks the flags and the outputs before any work.
@@ -178,6 +185,14 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
             .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
         None => Vec::new(),
     };
+    let size = args.size.map(|[w, h]| [f64::from(w), f64::from(h)]);
+    if let Some([w, h]) = size
+        && crate::figure::phase::picture_size(cols, rows, size).is_none()
+    {
+        return Err(CliError::Usage(format!(
+            "--size {w}x{h} is too small for {cols} x {rows} cells: the picture needs              250 + {cols} pixels across and 90 + {rows} down"
+        )));
+    }
     Ok(Plan {
         params: Params {
             kappa: k_from,
@@ -191,6 +206,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         out,
         max_seconds,
         boundaries,
+        size,
     })
 }
 
@@ -282,8 +298,12 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     if let Some(png) = &args.png {
         // Written as SVG when the name says so, else rasterised; a picture
         // that cannot be encoded is an error, never an empty file.
-        let svg =
-            crate::figure::phase::phase_svg(&grid, &plan.kappas, &plan.theta_nus, &plan.boundaries);
+        let svg = crate::figure::phase::phase_svg(
+            &grid,
+            (&plan.kappas, &plan.theta_nus),
+            &plan.boundaries,
+            plan.size,
+        );
         let bytes = if crate::figure::is_svg(png) {
             svg.into_bytes()
         } else {
@@ -292,6 +312,11 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         emit_as("png", png, &bytes, args.force)?;
     }
     if let Some(o) = &plan.out {
+        let model = format!(
+            "{}; kappa and theta-nu vary over the grid",
+            describe_sweep(&plan.params, &plan.settings)
+        );
+        let csv = with_provenance(&model, &csv);
         emit(o, csv.as_bytes(), args.force)?;
     }
     report(&plan, &cells, seconds)

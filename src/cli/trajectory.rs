@@ -9,7 +9,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, max_seconds,
-    total_iterates, warn_event, warn_validity,
+    total_iterates, warn_event, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{parse_count, parse_number, short};
@@ -150,7 +150,10 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
     }
     progress.finish();
     let samples = sampler.take();
-    let csv = trajectory_csv(&samples);
+    let csv = with_provenance(
+        &describe(sim.params(), sim.settings()),
+        &trajectory_csv(&samples),
+    );
     emit(&args.out, csv.as_bytes(), args.force)?;
     eprintln!(
         "trajectory: {}\n  {} cycle(s) after {} transient, {} samples over t in [0, {t}], {} restart(s)",

@@ -13,12 +13,7 @@ use crate::sim::interpolant::MapChoice;
 /// A number as a message echoes it: as typed when that is short, else in
 /// exponent form (`1e308`, not 309 digits).
 pub fn short(v: f64) -> String {
-    let plain = format!("{v}");
-    if plain.len() <= 12 {
-        plain
-    } else {
-        format!("{v:e}")
-    }
+    crate::provenance::short(v)
 }
 
 pub use crate::text::{echo, escape_controls};

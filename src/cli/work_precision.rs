@@ -11,7 +11,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     OptionalModelArgs, check_out, check_second_out, check_theta, count_in, emit, emit_as, finite,
-    max_seconds, warn_validity,
+    max_seconds, warn_validity, with_provenance,
 };
 use super::run_control::Limits;
 use super::values::{parse_count, parse_number};
@@ -189,7 +189,10 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
     }
     let load_after = load_average();
     let loads = [load_before, load_after];
-    let csv = csv_text(&attractors, sample.len(), spread, loads, &rows);
+    let csv = with_provenance(
+        "each attractor's own, on the line below",
+        &csv_text(&attractors, sample.len(), spread, loads, &rows),
+    );
     emit(&args.out, csv.as_bytes(), args.force)?;
     if let Some(svg) = &args.svg {
         let text = chart::svg(

@@ -122,8 +122,10 @@ impl Svg {
         .ok();
     }
 
-    /// A black polyline clipped to the rectangle `clip` (x, y, w, h), not
-    /// anti-aliased: drawn over the cells it adds black pixels only.
+    /// A black polyline on a white halo 3 units wider, clipped to the
+    /// rectangle `clip` (x, y, w, h), not anti-aliased: drawn over the
+    /// cells it adds black and white pixels only, so it shows over every
+    /// class's colour (black chaos cells as much as pale ones).
     pub fn polyline(&mut self, points: &[[f64; 2]], width: f64, clip: [f64; 4]) {
         if points.len() < 2 {
             return;
@@ -134,7 +136,7 @@ impl Svg {
             .collect();
         writeln!(
             self.body,
-            r#"<svg x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" viewBox="{:.2} {:.2} {:.2} {:.2}" overflow="hidden"><polyline points="{}" fill="none" stroke="black" stroke-width="{width}" stroke-linejoin="round" shape-rendering="crispEdges"/></svg>"#,
+            r#"<svg x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" viewBox="{:.2} {:.2} {:.2} {:.2}" overflow="hidden"><polyline points="{d}" fill="none" stroke="white" stroke-width="{halo}" stroke-linejoin="round" shape-rendering="crispEdges"/><polyline points="{d}" fill="none" stroke="black" stroke-width="{width}" stroke-linejoin="round" shape-rendering="crispEdges"/></svg>"#,
             clip[0],
             clip[1],
             clip[2],
@@ -143,7 +145,8 @@ impl Svg {
             clip[1],
             clip[2],
             clip[3],
-            d.join(" ")
+            d = d.join(" "),
+            halo = width + 3.0,
         )
         .ok();
     }

@@ -11,21 +11,54 @@ use crate::sim::phase::PhaseCell;
 const TICK_SIZE: f64 = 14.0;
 const TITLE_SIZE: f64 = 16.0;
 
+/// The margins around the grid: left, top, bottom, right (pixels).
+pub const MARGINS: (f64, f64, f64, f64) = (100.0, 20.0, 70.0, 150.0);
+
+/// The picture's size in pixels for a grid of `cols` × `rows` cells: by
+/// default about 600 × 480 pixels of cells; at `size` exactly that size
+/// (whole pixels per cell, as many as fit; what is left goes to the right
+/// margin and the top). None if `size` leaves less than a pixel a cell.
+pub fn picture_size(cols: usize, rows: usize, size: Option<[f64; 2]>) -> Option<[f64; 4]> {
+    let (left, top, bottom, right) = MARGINS;
+    let (cols, rows) = (cols.max(1), rows.max(1));
+    let [cw, ch, w, h] = match size {
+        None => {
+            let cw = 600usize.div_ceil(cols).max(1) as f64;
+            let ch = 480usize.div_ceil(rows).max(1) as f64;
+            let (pw, ph) = (cw * cols as f64, ch * rows as f64);
+            [cw, ch, left + pw + right, top + ph + bottom]
+        }
+        Some([w, h]) => {
+            let cw = ((w - left - right) / cols as f64).floor();
+            let ch = ((h - top - bottom) / rows as f64).floor();
+            if cw < 1.0 || ch < 1.0 {
+                return None;
+            }
+            [cw, ch, w.round(), h.round()]
+        }
+    };
+    Some([cw, ch, w, h])
+}
+
 /// The picture of `grid` (rows of κ, `kappas[r]`; columns of θν,
-/// `theta_nus[c]`) with `curves` in (θν, κ) over it, as an SVG document.
+/// `theta_nus[c]`) with `curves` in (θν, κ) over it, as an SVG document,
+/// at `size` pixels ([`picture_size`]; a size too small for the grid is
+/// taken as the default).
 pub fn phase_svg(
     grid: &[Vec<PhaseCell>],
-    kappas: &[f64],
-    theta_nus: &[f64],
+    (kappas, theta_nus): (&[f64], &[f64]),
     curves: &[Vec<[f64; 2]>],
+    size: Option<[f64; 2]>,
 ) -> String {
     let (rows, cols) = (kappas.len().max(1), theta_nus.len().max(1));
     // Whole pixels per cell, so that cells meet on pixel edges.
-    let cw = 600usize.div_ceil(cols).max(1) as f64;
-    let ch = 480usize.div_ceil(rows).max(1) as f64;
+    let [cw, ch, width, height] = picture_size(cols, rows, size)
+        .or_else(|| picture_size(cols, rows, None))
+        .unwrap_or([1.0, 1.0, 1.0, 1.0]);
     let (pw, ph) = (cw * cols as f64, ch * rows as f64);
-    let (left, top, bottom, right) = (100.0, 20.0, 70.0, 150.0);
-    let mut svg = Svg::new(left + pw + right, top + ph + bottom);
+    let (left, _, bottom, _) = MARGINS;
+    let top = height - bottom - ph;
+    let mut svg = Svg::new(width, height);
     for (r, row) in grid.iter().enumerate() {
         for (c, cell) in row.iter().enumerate() {
             // κ grows upwards: the first row is at the bottom.
@@ -174,5 +207,63 @@ mod tests {
         );
         assert_eq!(tick_label(-0.0), "0");
         assert_eq!(tick_label(1.25), "1.25");
+    }
+
+    /// A 4 × 3 grid of one class at (θν, κ) over [0, 1] × [1, 3].
+    fn grid_of(class: crate::sim::phase::CellClass) -> (Vec<Vec<PhaseCell>>, Vec<f64>, Vec<f64>) {
+        let (tns, ks) = (vec![0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0], vec![1.0, 2.0, 3.0]);
+        let grid = ks
+            .iter()
+            .map(|&k| {
+                tns.iter()
+                    .map(|&t| PhaseCell {
+                        class,
+                        ..PhaseCell::failed(t, k, 0.0)
+                    })
+                    .collect()
+            })
+            .collect();
+        (grid, ks, tns)
+    }
+
+    /// A boundary shows over every class: over black chaos cells its white
+    /// halo, over pale ones its black line; and a picture asked for at a
+    /// size has that size, with whole-pixel cells.
+    #[test]
+    fn a_boundary_shows_over_every_class_at_the_size_asked_for() {
+        use crate::sim::phase::CellClass;
+        let curve = vec![vec![[0.0, 1.0], [1.0, 3.0]]];
+        for class in [CellClass::Chaos, CellClass::Periodic(1)] {
+            let (grid, ks, tns) = grid_of(class);
+            let svg = phase_svg(&grid, (&ks, &tns), &curve, Some([700.0, 400.0]));
+            let png = crate::figure::svg_to_png(&svg).expect("a PNG");
+            let img = image::load_from_memory(&png).expect("decodes").to_rgb8();
+            assert_eq!(img.dimensions(), (700, 400));
+            let cell = class_colour(class);
+            // The plot's middle lies on the curve (it joins the corners).
+            let [cw, ch, _, h] = picture_size(4, 3, Some([700.0, 400.0])).expect("fits");
+            let (left, _, bottom, _) = MARGINS;
+            let (x, y) = (left + 2.0 * cw, h - bottom - 1.5 * ch);
+            let near: Vec<[u8; 3]> = (-6..=6)
+                .flat_map(|dx| (-6..=6).map(move |dy| (dx, dy)))
+                .map(|(dx, dy)| {
+                    img.get_pixel((x + dx as f64) as u32, (y + dy as f64) as u32)
+                        .0
+                })
+                .collect();
+            let contrast = |p: &[u8; 3]| {
+                p.iter()
+                    .zip(cell)
+                    .map(|(a, b)| (i32::from(*a) - i32::from(b)).abs())
+                    .sum::<i32>()
+            };
+            let most = near.iter().map(contrast).max().unwrap_or(0);
+            assert!(
+                most > 400,
+                "{class:?}: the curve does not stand out ({most})"
+            );
+        }
+        // Too small for the cells: refused.
+        assert!(picture_size(400, 3, Some([500.0, 400.0])).is_none());
     }
 }

@@ -49,9 +49,10 @@ pub fn assert_ok(o: &Output) {
     );
 }
 
-/// Parses a CSV with a header into (header, rows of cells).
+/// Parses a CSV with a header into (header, rows of cells), past the `#`
+/// lines saying where it came from.
 pub fn parse_csv(text: &str) -> (Vec<String>, Vec<Vec<String>>) {
-    let mut lines = text.lines();
+    let mut lines = text.lines().filter(|l| !l.starts_with('#'));
     let header = lines
         .next()
         .expect("a header line")

@@ -88,7 +88,7 @@ impl Frames {
         let dt = FRAME_SECONDS * speed;
         let mut growth = Growth::new(fig.view, &s, &jobs, dt);
         growth.grow(&mut jobs);
-        let renderer = FrameRenderer::new(fig.view, &s, &jobs, fig.size, dt);
+        let renderer = FrameRenderer::new(fig.view, &s, &jobs, (fig.size, &fig.look), dt);
         let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);
         let chunk = (CHUNK_BYTES / (usize::from(w) * usize::from(h) * 4).max(1)).clamp(2, 32);
         Frames {
