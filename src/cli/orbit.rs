@@ -17,7 +17,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
-    emit_as, finite, max_seconds, settings_json, total_iterates, warn_validity,
+    emit_all, finite, max_seconds, settings_json, total_iterates, warn_validity,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
@@ -235,16 +235,18 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
     warn_anomalies(&orbit);
 
-    if let Some(p) = &csv_out {
+    // Both files made before either is written: all or nothing.
+    let csv = csv_out.as_ref().map(|_| {
         let mut csv = SLIP_EVENT_COLUMNS.join(",");
         csv.push('\n');
         for e in &orbit.events {
             csv.push_str(&slip_event_row(e));
             csv.push('\n');
         }
-        emit(p, csv.as_bytes(), args.force)?;
-    }
-    if let Some(st) = &args.stats {
+        csv
+    });
+    let mut stats = None;
+    if args.stats.is_some() {
         let source = match &used {
             MapUsed::Interpolant { max_error, .. } => format!(
                 "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
@@ -258,8 +260,16 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
             r => r?,
         };
-        emit_as("stats", st, text.as_bytes(), args.force)?;
+        stats = Some(text);
     }
+    let mut outputs = Vec::new();
+    if let (Some(p), Some(text)) = (&csv_out, &csv) {
+        outputs.push(("out", p.as_path(), text.as_bytes()));
+    }
+    if let (Some(p), Some(text)) = (&args.stats, &stats) {
+        outputs.push(("stats", p.as_path(), text.as_bytes()));
+    }
+    emit_all(&outputs, args.force)?;
     let summary = Summary {
         args: &args,
         theta0,
