@@ -78,14 +78,15 @@ fn clip_segment(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::FRAC_PI_2;
 
     #[test]
     fn a_long_diagonal_is_cut_to_a_thin_box() {
         // θ = θν over [0, π/2] seen through θ ∈ [0.4, 0.4 + 1e-5].
         let parts = clip_polyline(
-            &[[0.0, 0.0], [1.5707963, 1.5707963]],
+            &[[0.0, 0.0], [FRAC_PI_2, FRAC_PI_2]],
             [0.0, 0.4],
-            [1.5707963, 0.40001],
+            [FRAC_PI_2, 0.40001],
         );
         assert_eq!(parts.len(), 1);
         let [a, b] = [parts[0][0], parts[0][1]];
