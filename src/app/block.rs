@@ -193,13 +193,11 @@ impl BlockView {
         painter.rect_filled(rect, 4.0, bg);
 
         let Some((st, stick)) = state_at(samples, self.clock.clock) else {
-            put_text(
+            centred_note(
                 &painter,
                 rect,
-                rect.center(),
-                Align2::CENTER_CENTER,
                 "waiting for the trajectory…",
-                FontId::proportional(18.0 * s.font_scale),
+                18.0 * s.font_scale,
                 ink,
             );
             return;
@@ -210,13 +208,11 @@ impl BlockView {
         if unit < MIN_UNIT {
             // A tile with no room left under its controls (large text, many
             // tiles): a word instead of a scene drawn at no size.
-            put_text(
+            centred_note(
                 &painter,
                 rect,
-                rect.center(),
-                Align2::CENTER_CENTER,
                 "no room: enlarge the tile",
-                FontId::proportional(12.0 * s.font_scale),
+                12.0 * s.font_scale,
                 ink,
             );
             return;
@@ -261,6 +257,19 @@ impl BlockView {
             );
         }
     }
+}
+
+/// A word in the middle of `rect`, in place of the scene.
+fn centred_note(painter: &egui::Painter, rect: Rect, text: &str, size: f32, ink: Color32) {
+    put_text(
+        painter,
+        rect,
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(size),
+        ink,
+    );
 }
 
 /// The least length unit (screen points per unit of displacement) the
