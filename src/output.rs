@@ -5,6 +5,7 @@
 use std::fs;
 use std::io::{self, Write};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard, PoisonError};
 
 /// Why an output could not be written; the message names the path.
 #[derive(Debug, thiserror::Error)]
@@ -91,6 +92,7 @@ pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
         path: path.to_path_buf(),
         source,
     };
+    check_length(&target).map_err(io_err)?;
     match fs::metadata(&target) {
         // The file behind an open descriptor (`/dev/stdout > file`): the
         // shell has already opened it for us.
@@ -129,11 +131,48 @@ pub fn check_writable(path: &Path, force: bool) -> Result<(), OutputError> {
     }
 }
 
+/// The longest file name a folder holds (ext4, XFS, Btrfs, tmpfs), in bytes.
+const NAME_MAX: usize = 255;
+/// The longest path the system opens, in bytes.
+const PATH_MAX: usize = 4095;
+
+/// A name or path too long to create, found before any work: creating a
+/// temporary file beside it cannot tell (its own name is short), and the
+/// write then failed only after the computation.
+fn check_length(target: &Path) -> Result<(), io::Error> {
+    let name = target.file_name().map_or(0, |n| n.len());
+    if name > NAME_MAX {
+        return Err(io::Error::other(format!(
+            "its file name is {name} bytes long, more than the {NAME_MAX} a folder allows"
+        )));
+    }
+    let whole = target.as_os_str().len();
+    if whole > PATH_MAX {
+        return Err(io::Error::other(format!(
+            "the path is {whole} bytes long, more than the {PATH_MAX} the system allows"
+        )));
+    }
+    Ok(())
+}
+
 fn parent_dir(path: &Path) -> PathBuf {
     match path.parent() {
         Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
         _ => PathBuf::from("."),
     }
+}
+
+/// The files written so far by this process, behind a lock held through
+/// each write: whoever ends the process early (the command line's
+/// watchdog, Ctrl+C in the window) takes it first, so that no write is cut
+/// half way (a temporary file left behind), and says that nothing was
+/// written only when that is so.
+static WRITTEN: Mutex<usize> = Mutex::new(0);
+
+/// The count of files written, locked: no write starts or ends while it is
+/// held.
+pub fn writes_lock() -> MutexGuard<'static, usize> {
+    WRITTEN.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
 /// Writes `bytes` to `path`: "-" is stdout; a regular (or new) file is written
@@ -142,6 +181,14 @@ fn parent_dir(path: &Path) -> PathBuf {
 /// /dev/stdout) is written directly. A symbolic link is followed: the file
 /// at its target is replaced, the link is kept.
 pub fn write_output(path: &Path, bytes: &[u8], force: bool) -> Result<(), OutputError> {
+    let mut written = writes_lock();
+    write_unlocked(path, bytes, force)?;
+    *written += 1;
+    Ok(())
+}
+
+/// [`write_output`] without the lock.
+fn write_unlocked(path: &Path, bytes: &[u8], force: bool) -> Result<(), OutputError> {
     let io_err = |source| OutputError::Io {
         path: path.to_path_buf(),
         source,

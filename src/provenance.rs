@@ -52,17 +52,7 @@ pub fn shell_quote(s: &str) -> String {
     }
 }
 
-/// A number as the header writes it: Rust's shortest round trip, in
-/// exponent form past 12 characters.
-pub fn short(v: f64) -> String {
-    let plain = format!("{v}");
-    if plain.len() <= 12 {
-        plain
-    } else {
-        format!("{v:e}")
-    }
-}
-
+pub use crate::text::short;
 /// The model's parameters and the solver's accuracy on one line, θν
 /// left out when it is what varies: `kappa = 10, gamma = 0.8, nu = 0.3,
 /// theta-nu = 1.25, omega = 1 (stick-slip); dp54 tol 1e-8`.

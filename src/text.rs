@@ -3,6 +3,17 @@
 //! escape sequence. Used by the command line and the window alike (the
 //! browser build has no command line).
 
+/// A number as a message shows it: as written when short, else in
+/// exponent form (5e-324, not its 330 digits).
+pub fn short(v: f64) -> String {
+    let plain = format!("{v}");
+    if plain.len() <= 12 {
+        plain
+    } else {
+        format!("{v:e}")
+    }
+}
+
 /// A user's string as a message echoes it: at most 40 characters, and
 /// control characters escaped (`\n`, `\u{1b}`), so that a message stays
 /// one line and never sends a terminal an escape sequence.

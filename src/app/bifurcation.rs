@@ -14,6 +14,7 @@ use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPo
 
 use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
+use super::clip::clip_polyline;
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
@@ -216,6 +217,7 @@ impl BifurcationView {
         let bounds = self.bounds(sweep);
         let lines = Lines {
             theta_nu: (sweep.from, sweep.to),
+            bounds,
             current: style::draws_current(ui.ctx()).then_some(s.params.theta_nu),
             theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
                 Regime::Mixed { theta_c } => Some(theta_c),
@@ -264,7 +266,8 @@ impl BifurcationView {
                     ));
                 }
                 lines.draw(p);
-                overlay::branch_items(p, found, lines.width);
+                let (x0, x1, y0, y1) = bounds;
+                overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]));
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
                     p.add(style::zoom_box(a, b));
@@ -349,6 +352,8 @@ impl BifurcationView {
 /// The lines drawn over the diagram: θ = θν, ±θc and the current θν.
 struct Lines {
     theta_nu: (f64, f64),
+    /// The plot's bounds (θν from, to, θ lo, hi): the diagonal is cut to them.
+    bounds: (f64, f64, f64, f64),
     /// The current θν, where it is drawn ([`style::draws_current`]).
     current: Option<f64>,
     theta_c: Option<f64>,
@@ -358,11 +363,16 @@ struct Lines {
 impl Lines {
     fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
         let (from, to) = self.theta_nu;
-        p.line(
-            style::line("θ = θν", PlotPoints::from(vec![[from, from], [to, to]]))
-                .color(style::CRITICAL.gamma_multiply(0.6))
-                .style(LineStyle::Dotted { spacing: 6.0 }),
-        );
+        // Dotted along its length on screen: cut to the frame first
+        // (super::clip), or a thin θ zoom makes millions of dots.
+        let (x0, x1, y0, y1) = self.bounds;
+        for part in clip_polyline(&[[from, from], [to, to]], [x0, y0], [x1, y1]) {
+            p.line(
+                style::line("θ = θν", PlotPoints::from(part))
+                    .color(style::CRITICAL.gamma_multiply(0.6))
+                    .style(LineStyle::Dotted { spacing: 6.0 }),
+            );
+        }
         if let Some(tc) = self.theta_c {
             for y in [tc, -tc] {
                 p.add(

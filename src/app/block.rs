@@ -193,13 +193,11 @@ impl BlockView {
         painter.rect_filled(rect, 4.0, bg);
 
         let Some((st, stick)) = state_at(samples, self.clock.clock) else {
-            put_text(
+            centred_note(
                 &painter,
                 rect,
-                rect.center(),
-                Align2::CENTER_CENTER,
                 "waiting for the trajectory…",
-                FontId::proportional(18.0 * s.font_scale),
+                18.0 * s.font_scale,
                 ink,
             );
             return;
@@ -207,6 +205,18 @@ impl BlockView {
         let p = s.params;
         // Geometry: rest position at the centre; y up on screen.
         let unit = rect.height().min(rect.width()) * 0.28;
+        if unit < MIN_UNIT {
+            // A tile with no room left under its controls (large text, many
+            // tiles): a word instead of a scene drawn at no size.
+            centred_note(
+                &painter,
+                rect,
+                "no room: enlarge the tile",
+                12.0 * s.font_scale,
+                ink,
+            );
+            return;
+        }
         let sx = if self.magnify_x {
             unit * p.kappa as f32
         } else {
@@ -249,6 +259,26 @@ impl BlockView {
     }
 }
 
+/// A word in the middle of `rect`, in place of the scene.
+fn centred_note(painter: &egui::Painter, rect: Rect, text: &str, size: f32, ink: Color32) {
+    put_text(
+        painter,
+        rect,
+        rect.center(),
+        Align2::CENTER_CENTER,
+        text,
+        FontId::proportional(size),
+        ink,
+    );
+}
+
+/// The least length unit (screen points per unit of displacement) the
+/// scene is drawn at; below it the tile says it has no room.
+const MIN_UNIT: f32 = 8.0;
+
+/// The least distance between the surface's stripes, in points.
+const MIN_STRIPE_SPACING: f32 = 2.0;
+
 /// Where the block view draws: its rect, its length unit (screen points per
 /// unit of displacement), the block's centre and half size.
 struct Scene {
@@ -290,9 +320,13 @@ impl Scene {
         let (sn, cs) = (p.theta_nu.sin() as f32, p.theta_nu.cos() as f32);
         let dir = vec2(cs, -sn);
         let normal = vec2(sn, cs);
-        let spacing = unit * 0.25;
+        // At least MIN_STRIPE_SPACING apart, so the stripes are at most the
+        // surface's diagonal over that: at a spacing of 0 (a tile with no
+        // room) this loop once never ended, filling memory.
+        let spacing = (unit * 0.25).max(MIN_STRIPE_SPACING);
         let travel = (p.nu * t) as f32 * unit;
         let offset = travel.rem_euclid(spacing);
+        let offset = if offset.is_finite() { offset } else { 0.0 };
         let diag = surf.size().length();
         let stripe = if dark {
             Color32::from_gray(75)

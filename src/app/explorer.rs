@@ -30,7 +30,7 @@ use super::title_buttons::RECORD_FRAMES;
 use super::title_buttons::{help_button_ui, record_menu_ui};
 use super::tour::Tour;
 use super::view::Action;
-use super::views::{Views, tile_rects};
+use super::views::{Views, min_tile, tile_rects, tiles_that_fit};
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
@@ -217,7 +217,14 @@ impl Explorer {
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
-                    None => (svg_render::shown_views(&self.settings), "window"),
+                    None => {
+                        // The tiles that had room on screen (tiles_shown_ui).
+                        let mut shown = svg_render::shown_views(&self.settings);
+                        if !self.view_rects.is_empty() {
+                            shown.retain(|k| self.view_rects.contains_key(k));
+                        }
+                        (shown, "window")
+                    }
                 };
                 let area = self.views_area(&views);
                 let svg = svg_render::render_svg(
@@ -281,6 +288,11 @@ impl Explorer {
             Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
             Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
+    }
+
+    /// Where view `v` was drawn in the last frame, if it was shown.
+    pub fn view_rect(&self, v: ViewKind) -> Option<Rect> {
+        self.view_rects.get(&v).copied()
     }
 
     /// The size of the area `views` take on screen now (the window's
@@ -449,14 +461,40 @@ impl Explorer {
                 self.view_ui(ui, v, r, out);
             }
             Layout::Tiles => {
-                let views = self.settings.tiled.clone();
-                let area = ui.available_rect_before_wrap();
+                let (views, area) = self.tiles_shown_ui(ui);
                 for (v, rect) in views.iter().zip(tile_rects(area, views.len())) {
                     self.view_ui(ui, *v, rect, out);
                 }
                 ui.allocate_rect(area, egui::Sense::hover());
             }
         }
+    }
+
+    /// The tiles that have room at this text size (the first of those
+    /// ticked, each at least [`min_tile`]) and the area they share; when
+    /// some are left out, a line above them says so. The settings keep
+    /// every tile: a larger window shows them again.
+    fn tiles_shown_ui(&self, ui: &mut Ui) -> (Vec<ViewKind>, Rect) {
+        let mut views = self.settings.tiled.clone();
+        let mut area = ui.available_rect_before_wrap();
+        let row = ui.text_style_height(&egui::TextStyle::Body);
+        let min = min_tile(row);
+        if tiles_that_fit(area, views.len(), min) < views.len() {
+            let line = Rect::from_min_max(area.min, egui::pos2(area.max.x, area.min.y + row));
+            area.min.y = (line.max.y + 4.0).min(area.max.y);
+            let fit = tiles_that_fit(area, views.len(), min);
+            let text = format!(
+                "{fit} of {} tiles shown: no room for more at this text size \
+                 (enlarge the window, lower the text size or use Tabs)",
+                views.len()
+            );
+            ui.put(
+                line,
+                egui::Label::new(RichText::new(text).strong()).truncate(),
+            );
+            views.truncate(fit);
+        }
+        (views, area)
     }
 
     /// One view in `rect`, with its title and a screenshot button.

@@ -35,6 +35,7 @@ pub mod basins;
 pub mod bifurcation;
 pub mod block;
 pub mod branches;
+pub mod clip;
 pub mod controls;
 pub mod data;
 pub mod describe;

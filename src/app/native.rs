@@ -228,6 +228,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     if launch.scripted {
         spawn_watchdog(timeout)?;
     }
+    on_interrupt(launch.scripted);
     let (out2, stats2) = (outcome.clone(), stats_report.clone());
     let shot = opts.screenshot.clone();
     let warnings = launch.warnings.clone();
@@ -280,6 +281,25 @@ fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
         })
         .map(drop)
         .map_err(|e| e.to_string())
+}
+
+/// Ctrl+C (SIGINT) ends the window at once, with one line and exit code 1,
+/// between file writes (a screenshot being saved is finished first). The
+/// handler is installed whatever the signal's inherited disposition: a
+/// `--screenshot` run started in the background of a script ignored SIGINT
+/// and ran on to its end.
+fn on_interrupt(scripted: bool) {
+    ctrlc::set_handler(move || {
+        let written = crate::output::writes_lock();
+        let what = if scripted && *written == 0 {
+            ": no screenshot was written"
+        } else {
+            ""
+        };
+        eprintln!("error: gui: interrupted (Ctrl+C){what}");
+        std::process::exit(1);
+    })
+    .ok();
 }
 
 /// The end of a run: a scripted run's outcome (`shot`), the warnings on

@@ -89,22 +89,30 @@ pub fn label(pos: &HoverPosition<'_>) -> Option<String> {
     }
 }
 
-/// The branches' lines and the special points' markers.
-pub fn branch_items(p: &mut PlotUi<'_>, data: &BranchData, line_width: f32) {
-    for b in &data.branches {
-        for r in runs(b) {
-            let line = Line::new(
-                if r.stable { STABLE } else { UNSTABLE },
-                PlotPoints::from(r.points),
-            )
+/// The branches' lines and the special points' markers, over a plot of
+/// bounds `(min, max)`: the unstable (dashed) runs are cut to them, as a
+/// dash is laid along the line's whole length on screen ([`super::clip`]).
+pub fn branch_items(
+    p: &mut PlotUi<'_>,
+    data: &BranchData,
+    line_width: f32,
+    (min, max): ([f64; 2], [f64; 2]),
+) {
+    let line = |name, pts: Vec<[f64; 2]>| {
+        Line::new(name, PlotPoints::from(pts))
             .color(BRANCH)
             .width(line_width)
-            .allow_hover(false);
-            p.line(if r.stable {
-                line
-            } else {
-                line.style(LineStyle::Dashed { length: 8.0 })
-            });
+            .allow_hover(false)
+    };
+    for b in &data.branches {
+        for r in runs(b) {
+            if r.stable {
+                p.line(line(STABLE, r.points));
+                continue;
+            }
+            for part in super::clip::clip_polyline(&r.points, min, max) {
+                p.line(line(UNSTABLE, part).style(LineStyle::Dashed { length: 8.0 }));
+            }
         }
     }
     let rows = special_rows(data);

@@ -62,6 +62,13 @@ fn unusable(path: &Path) -> Result<(), String> {
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
         Err(e) => return Err(e.to_string()),
     };
+    // A link (a state kept with one's dotfiles) is read through: its
+    // target is what must be a regular file. A dangling one is set aside.
+    let meta = if meta.file_type().is_symlink() {
+        std::fs::metadata(path).map_err(|e| format!("a link to nothing readable: {e}"))?
+    } else {
+        meta
+    };
     if !meta.is_file() {
         return Err("not a regular file".into());
     }
@@ -140,5 +147,25 @@ mod tests {
         }
         std::fs::create_dir(&p).expect("dir");
         assert!(check(&p).expect("a message").contains("not a regular file"));
+    }
+
+    #[cfg(unix)]
+    #[test]
+    fn a_linked_state_is_read_through_its_link() {
+        let dir = tempfile::tempdir().expect("dir");
+        let (p, real) = (dir.path().join("app.ron"), dir.path().join("real.ron"));
+        let good = ron::to_string(&Settings::default()).expect("ron");
+        std::fs::write(&real, state(&good)).expect("write");
+        std::os::unix::fs::symlink(&real, &p).expect("link");
+        assert_eq!(check(&p), None);
+        assert!(p.exists() && real.exists());
+        // A link to a state that cannot be used is set aside (the link).
+        std::fs::write(&real, "(\"app\": ").expect("write");
+        assert!(check(&p).expect("a message").contains("set aside"));
+        assert!(real.exists());
+        // A dangling link too.
+        std::fs::remove_file(&real).expect("rm");
+        std::os::unix::fs::symlink(dir.path().join("gone"), &p).expect("link");
+        assert!(check(&p).expect("a message").contains("link"));
     }
 }

@@ -44,8 +44,14 @@ struct ZoomFile {
 }
 
 impl ZoomFile {
+    /// Both ranges drawable, θν within the diagram's [-π, π] (a zoom
+    /// beyond it was an empty diagram, accepted without a word).
     fn is_valid(&self) -> bool {
-        is_usable_range(self.theta_nu) && is_usable_range(self.theta)
+        let pi = std::f64::consts::PI;
+        is_usable_range(self.theta_nu)
+            && is_usable_range(self.theta)
+            && self.theta_nu.0 >= -pi
+            && self.theta_nu.1 <= pi
     }
 }
 

@@ -102,7 +102,13 @@ pub const MAX_ZOOM_LEVELS: usize = 64;
 /// narrower range has no distinct round values to label, and a saved
 /// zoom of width 5e-324 once froze the window.
 pub fn is_usable_range((a, b): (f64, f64)) -> bool {
-    a.is_finite() && b.is_finite() && b - a > 1e-12 * a.abs().max(b.abs()).max(1.0)
+    // The width and the centre finite too: -1e308 to 1e308 is not a range
+    // a plot can draw (inf and NaN coordinates).
+    a.is_finite()
+        && b.is_finite()
+        && (b - a).is_finite()
+        && (a + b).is_finite()
+        && b - a > 1e-12 * a.abs().max(b.abs()).max(1.0)
 }
 
 /// The most cycles a saved trajectory length may ask for.

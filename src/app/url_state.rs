@@ -42,14 +42,27 @@ pub fn apply_query(query: &str, settings: &mut Settings) -> Option<String> {
         })
         .collect();
     let get = |key: &str| pairs.iter().rev().find(|(k, _)| k == key).map(|(_, v)| v);
-    for (k, _) in &pairs {
-        if !KEYS.contains(&k.as_str()) {
-            bad.push(format!(
-                "unknown key '{}' (known: {})",
-                echo(k),
-                KEYS.join(", ")
-            ));
-        }
+    // Named once, at most SHOWN of them: a link of 600 unknown keys once
+    // filled a third of the window with this message.
+    const SHOWN: usize = 5;
+    let unknown: Vec<String> = pairs
+        .iter()
+        .filter(|(k, _)| !KEYS.contains(&k.as_str()))
+        .map(|(k, _)| format!("'{}'", echo(k)))
+        .collect();
+    if !unknown.is_empty() {
+        let more = unknown.len().saturating_sub(SHOWN);
+        bad.push(format!(
+            "unknown key{} {}{} (known: {})",
+            if unknown.len() == 1 { "" } else { "s" },
+            unknown[..unknown.len().min(SHOWN)].join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            },
+            KEYS.join(", ")
+        ));
     }
     apply_preset_and_view(get("preset"), get("view"), settings, &mut bad);
     let mut params = settings.params;
@@ -242,6 +255,20 @@ mod tests {
             }
         );
         assert_eq!(s.preset, None, "hand-set parameters are no preset's");
+    }
+
+    #[test]
+    fn many_unknown_keys_make_one_short_message() {
+        let mut s = Settings::default();
+        // 500 keys, as many as the longest query read (2048 characters)
+        // holds.
+        let query: Vec<String> = (0..500).map(|i| format!("{i:x}")).collect();
+        let msg = apply_query(&query.join("&"), &mut s).expect("a message");
+        assert!(msg.contains("'0'") && msg.contains("and 495 more"), "{msg}");
+        assert!(!msg.contains("'5'"), "{msg}");
+        assert!(msg.len() < 300, "{} characters: {msg}", msg.len());
+        let one = apply_query("wobble=1", &mut s).expect("a message");
+        assert!(one.contains("unknown key 'wobble'"), "{one}");
     }
 
     #[test]

@@ -47,6 +47,28 @@ impl Views {
     }
 }
 
+/// The least room a tile is laid out in, for text rows `row` points high:
+/// a title, a row or two of controls and a plot. Past it fewer tiles are
+/// shown ([`tiles_that_fit`]): eight tiles at text ×3 in a small window
+/// once left the Block view no room at all, and its stripes then looped
+/// until memory ran out.
+pub fn min_tile(row: f32) -> egui::Vec2 {
+    egui::vec2(12.0 * row, 6.0 * row)
+}
+
+/// How many of `n` tiles [`tile_rects`] lays out in `area` each at least
+/// `min` in size: `n` when they all fit, else fewer, at least one.
+pub fn tiles_that_fit(area: Rect, n: usize, min: egui::Vec2) -> usize {
+    (2..=n)
+        .rev()
+        .find(|&k| {
+            tile_rects(area, k)
+                .iter()
+                .all(|r| r.width() >= min.x && r.height() >= min.y)
+        })
+        .unwrap_or(1)
+}
+
 /// The tiles' rectangles in `area`: two columns (one for a single view),
 /// the last row's single tile spanning the width.
 pub(crate) fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
@@ -68,4 +90,35 @@ pub(crate) fn tile_rects(area: Rect, n: usize) -> Vec<Rect> {
             Rect::from_min_size(min, egui::vec2(w * span + gap * (span - 1.0), h))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn tiles_past_the_room_are_left_out_and_one_always_stays() {
+        let area = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(940.0, 700.0));
+        // Text ×1 (rows about 17 points): nine tiles fit, each at least the
+        // minimum.
+        let small = min_tile(17.0);
+        assert_eq!(tiles_that_fit(area, 9, small), 9);
+        // Text ×3 (rows about 50 points): a tile is at least 600 × 300
+        // points, and two side by side do not fit in 940.
+        let large = min_tile(50.0);
+        let n = tiles_that_fit(area, 9, large);
+        assert_eq!(n, 1, "{n}");
+        for r in tile_rects(area, n) {
+            assert!(r.width() >= large.x && r.height() >= large.y, "{r:?}");
+        }
+        // A wide, tall area holds more, each still at least the minimum.
+        let wide = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 1000.0));
+        let n = tiles_that_fit(wide, 9, large);
+        assert!((2..9).contains(&n), "{n}");
+        assert!(tile_rects(wide, n).iter().all(|r| r.height() >= large.y));
+        assert!(tile_rects(wide, n + 1).iter().any(|r| r.height() < large.y));
+        // No room at all: still the first tile.
+        let none = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(0.0, 0.0));
+        assert_eq!(tiles_that_fit(none, 9, large), 1);
+    }
 }

@@ -323,6 +323,32 @@ pub fn emit_as(flag: &str, path: &Path, bytes: &[u8], force: bool) -> Result<(),
     }
 }
 
+/// Writes a command's outputs, each given by its flag, all or none: when
+/// one fails, the files this call created before it are removed again, so
+/// a failed run never leaves its first output behind. (A file replaced
+/// with `--force` is not brought back.)
+pub fn emit_all(outputs: &[(&str, &Path, &[u8])], force: bool) -> Result<(), CliError> {
+    let mut created: Vec<&Path> = Vec::new();
+    for &(flag, path, bytes) in outputs {
+        let is_new = path.as_os_str() != "-"
+            && crate::output::resolve_links(path)
+                .map(|t| std::fs::symlink_metadata(t).is_err())
+                .unwrap_or(false);
+        if let Err(e) = emit_as(flag, path, bytes, force) {
+            for p in created {
+                if let Ok(t) = crate::output::resolve_links(p) {
+                    std::fs::remove_file(t).ok();
+                }
+            }
+            return Err(e);
+        }
+        if is_new {
+            created.push(path);
+        }
+    }
+    Ok(())
+}
+
 /// A one-line description of the parameters and the solver, for summaries.
 pub fn describe(params: &Params, settings: &SolverSettings) -> String {
     describe_with(params, settings, true)

@@ -12,7 +12,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     OptionalModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit,
-    emit_as, finite, max_seconds, warn_validity, with_provenance,
+    emit_all, finite, max_seconds, warn_validity, with_provenance,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
@@ -357,7 +357,7 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
     // a run the limit stopped has always passed it here (Ctrl+C has not).
     // Both start before the attractor search, which Ctrl+C also stops.
     let started = Instant::now();
-    let limits = Limits::start(plan.max_seconds);
+    let limits = Limits::start_polled(plan.max_seconds);
     let seed = start(&plan, &limits)?;
     let sim = Simulator::new(plan.prob.base, plan.prob.settings)?;
     let described = describe(sim.params(), sim.settings());
@@ -375,11 +375,15 @@ pub fn run(args: ContinueArgs) -> Result<(), CliError> {
         _ => out::branches_csv(&ran.branches),
     };
     let data = with_provenance(&described, &data);
-    emit(&args.out, data.as_bytes(), args.force)?;
-    if let Some(p) = &args.points {
-        let points = with_provenance(&described, &out::points_csv(&ran.branches));
-        emit_as("points", p, points.as_bytes(), args.force)?;
+    let points = args
+        .points
+        .as_ref()
+        .map(|_| with_provenance(&described, &out::points_csv(&ran.branches)));
+    let mut outputs = vec![("out", args.out.as_path(), data.as_bytes())];
+    if let (Some(p), Some(text)) = (&args.points, &points) {
+        outputs.push(("points", p.as_path(), text.as_bytes()));
     }
+    emit_all(&outputs, args.force)?;
     let summary = out::Summary {
         described: &described,
         branches: &ran.branches,

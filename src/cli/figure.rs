@@ -60,7 +60,7 @@ pub struct FigureArgs {
     /// Upper end of the diagram's θ axis (with --theta-from).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_from")]
     pub theta_to: Option<f64>,
-    /// Lower end of the phase grid's κ range, in [1e-6, 1e6].
+    /// Lower end of the phase grid's κ range, in [1e-6, 1e3] (κ's range).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_to")]
     pub kappa_from: Option<f64>,
     /// Upper end of the phase grid's κ range (with --kappa-from).
@@ -321,13 +321,22 @@ fn check_look(a: &FigureArgs) -> Result<(), CliError> {
 /// A GIF's size when --size is not given: a slide's.
 pub const GIF_SIZE: [f32; 2] = [640.0, 480.0];
 
-/// A range flag pair: finite, increasing ends.
+/// A range flag pair: finite, increasing ends whose span and centre are
+/// finite too (from -1e308 to 1e308 once wrote x="inf" into an SVG).
 fn range(name: &str, from: Option<f64>, to: Option<f64>) -> Result<Option<(f64, f64)>, CliError> {
     match (from, to) {
         (Some(a), Some(b)) => {
             if !(a.is_finite() && b.is_finite() && a < b) {
                 return Err(CliError::Usage(format!(
                     "--{name}-from = {}, --{name}-to = {}: must be finite with from < to",
+                    short(a),
+                    short(b)
+                )));
+            }
+            if !((b - a).is_finite() && (a + b).is_finite()) {
+                return Err(CliError::Usage(format!(
+                    "--{name}-from = {}, --{name}-to = {}: its width or centre overflows: \
+                     keep both ends within ±1e307",
                     short(a),
                     short(b)
                 )));
@@ -388,13 +397,18 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
     check_overlays(a)?;
     let theta = range("theta", a.theta_from, a.theta_to)?;
     let kappa = range("kappa", a.kappa_from, a.kappa_to)?;
+    // κ's own range: a grid past it failed only after starting.
+    let (k_lo, k_hi) = (
+        *crate::model::KAPPA_RANGE.start(),
+        *crate::model::KAPPA_RANGE.end(),
+    );
     if let Some((lo, hi)) = kappa
-        && (lo < 1e-6 || hi > 1e6)
+        && (lo < k_lo || hi > k_hi)
     {
         return Err(CliError::Usage(format!(
-            "--kappa-from = {}, --kappa-to = {}: must lie in [1e-6, 1e6]",
+            "--kappa-from = {}, --kappa-to = {}: must lie in [{k_lo:e}, {k_hi:e}], κ's range",
             short(lo),
-            short(hi)
+            short(hi),
         )));
     }
     check_counts(a)?;

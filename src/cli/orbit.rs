@@ -17,7 +17,7 @@ use clap::Args;
 use super::CliError;
 use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
-    emit_as, finite, max_seconds, settings_json, total_iterates, warn_validity, with_provenance,
+    emit_all, finite, max_seconds, settings_json, total_iterates, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress, check_stdout};
 use super::values::{parse_count, parse_number, short};
@@ -235,17 +235,19 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
     warn_anomalies(&orbit);
 
-    if let Some(p) = &csv_out {
-        let model = describe(sim.params(), sim.settings());
+    // Both files made before either is written: all or nothing.
+    let model = describe(sim.params(), sim.settings());
+    let csv = csv_out.as_ref().map(|_| {
         let mut csv = with_provenance(&model, &SLIP_EVENT_COLUMNS.join(","));
         csv.push('\n');
         for e in &orbit.events {
             csv.push_str(&slip_event_row(e));
             csv.push('\n');
         }
-        emit(p, csv.as_bytes(), args.force)?;
-    }
-    if let Some(st) = &args.stats {
+        csv
+    });
+    let mut stats = None;
+    if args.stats.is_some() {
         let source = match &used {
             MapUsed::Interpolant { max_error, .. } => format!(
                 "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
@@ -259,9 +261,16 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
             r => r?,
         };
-        let text = with_provenance(&describe(sim.params(), sim.settings()), &text);
-        emit_as("stats", st, text.as_bytes(), args.force)?;
+        stats = Some(with_provenance(&model, &text));
     }
+    let mut outputs = Vec::new();
+    if let (Some(p), Some(text)) = (&csv_out, &csv) {
+        outputs.push(("out", p.as_path(), text.as_bytes()));
+    }
+    if let (Some(p), Some(text)) = (&args.stats, &stats) {
+        outputs.push(("stats", p.as_path(), text.as_bytes()));
+    }
+    emit_all(&outputs, args.force)?;
     let summary = Summary {
         args: &args,
         theta0,

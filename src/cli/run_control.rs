@@ -24,8 +24,18 @@ pub struct Limits {
 }
 
 impl Limits {
-    /// Starts the clock and installs the Ctrl+C handler (once per process).
+    /// Starts the clock and installs the Ctrl+C handler (once per process),
+    /// with the watchdog that ends a run which does not stop by itself.
     pub fn start(max_seconds: Option<f64>) -> Self {
+        let limits = Self::start_polled(max_seconds);
+        limits.spawn_watchdog();
+        limits
+    }
+
+    /// [`Limits::start`] without the watchdog, for a run that writes what it
+    /// computed when stopped (`continue`): it polls between points, and
+    /// ending it from outside would lose them.
+    pub fn start_polled(max_seconds: Option<f64>) -> Self {
         static HANDLER: std::sync::Once = std::sync::Once::new();
         HANDLER.call_once(|| {
             // Without a handler Ctrl+C still stops the run, writing nothing.
@@ -35,6 +45,32 @@ impl Limits {
             start: Instant::now(),
             max_seconds,
         }
+    }
+
+    /// Every long loop polls [`Limits::stop`]; a computation with no poll
+    /// of its own (an interpolant being built once ran 79.5 s past
+    /// `--max-seconds 2`) is ended by this thread [`STOP_GRACE`] after the
+    /// bound or Ctrl+C: with the same one line and exit code 1, between
+    /// file writes, and only while nothing has been written (once a command
+    /// writes, it is finishing).
+    fn spawn_watchdog(&self) {
+        let (start, max_seconds) = (self.start, self.max_seconds);
+        std::thread::Builder::new()
+            .name("oneblock-limits".into())
+            .spawn(move || {
+                let limits = Limits { start, max_seconds };
+                while !limits.stop() {
+                    std::thread::sleep(Duration::from_millis(50));
+                }
+                std::thread::sleep(STOP_GRACE);
+                let written = crate::output::writes_lock();
+                if *written == 0 {
+                    let e = limits.stopped(&run_name());
+                    eprintln!("error: {e}");
+                    std::process::exit(e.exit_code());
+                }
+            })
+            .ok();
     }
 
     /// Whether the run should stop now.
@@ -59,6 +95,21 @@ impl Limits {
                 short(self.max_seconds.unwrap_or(0.0))
             ))
         }
+    }
+}
+
+/// How long a run past its bound may take to notice by itself before the
+/// watchdog ends it.
+pub const STOP_GRACE: Duration = Duration::from_secs(1);
+
+/// The subcommand this process runs, for the watchdog's message.
+fn run_name() -> String {
+    use clap::CommandFactory as _;
+    let arg = std::env::args().nth(1).unwrap_or_default();
+    if super::Cli::command().find_subcommand(&arg).is_some() {
+        arg
+    } else {
+        "oneblock".into()
     }
 }
 

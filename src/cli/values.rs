@@ -10,13 +10,7 @@ use crate::model::{PRESETS, ParamError, Params, Preset, preset_keys};
 use crate::sim::continuation::{ContParam, CurveKind};
 use crate::sim::interpolant::MapChoice;
 
-/// A number as a message echoes it: as typed when that is short, else in
-/// exponent form (`1e308`, not 309 digits).
-pub fn short(v: f64) -> String {
-    crate::provenance::short(v)
-}
-
-pub use crate::text::{echo, escape_controls};
+pub use crate::text::{echo, escape_controls, short};
 
 /// The largest count any flag accepts before its own bound is checked;
 /// above it a count is refused by the parser (a typo of a dozen digits).

@@ -10,7 +10,7 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    OptionalModelArgs, check_out, check_second_out, check_theta, count_in, emit, emit_as, finite,
+    OptionalModelArgs, check_out, check_second_out, check_theta, count_in, emit_all, finite,
     max_seconds, warn_validity, with_provenance,
 };
 use super::run_control::Limits;
@@ -193,15 +193,21 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         "each attractor's own, on the line below",
         &csv_text(&attractors, sample.len(), spread, loads, &rows),
     );
-    emit(&args.out, csv.as_bytes(), args.force)?;
-    if let Some(svg) = &args.svg {
-        let text = chart::svg(
-            &rows,
-            &format!("{} points, reference spread {spread:.1e}", sample.len()),
-        )
-        .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?;
-        emit_as("svg", svg, text.as_bytes(), args.force)?;
+    let chart = match &args.svg {
+        Some(_) => Some(
+            chart::svg(
+                &rows,
+                &format!("{} points, reference spread {spread:.1e}", sample.len()),
+            )
+            .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?,
+        ),
+        None => None,
+    };
+    let mut outputs = vec![("out", args.out.as_path(), csv.as_bytes())];
+    if let (Some(p), Some(text)) = (&args.svg, &chart) {
+        outputs.push(("svg", p.as_path(), text.as_bytes()));
     }
+    emit_all(&outputs, args.force)?;
     report(&rows, sample.len(), spread, start, loads);
     Ok(())
 }

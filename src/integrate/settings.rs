@@ -125,7 +125,7 @@ impl Default for SolverSettings {
 
 /// A solver setting out of range, named as on the command line.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{name} = {value} is out of range: {range}")]
+#[error("{name} = {} is out of range: {range}", crate::text::short(*value))]
 pub struct SettingsError {
     pub name: &'static str,
     pub value: f64,

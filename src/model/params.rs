@@ -50,7 +50,7 @@ impl Default for Params {
 
 /// An invalid parameter: which one, the value given, and the valid range.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{name} = {value} is out of range: {range}")]
+#[error("{name} = {} is out of range: {range}", crate::text::short(*value))]
 pub struct ParamError {
     /// The parameter's name as the command line spells it (e.g. `kappa`).
     pub name: &'static str,
@@ -146,6 +146,18 @@ impl Params {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_error_shows_a_tiny_value_short() {
+        let p = Params {
+            nu: 5e-324,
+            ..Params::default()
+        };
+        let m = p.validate().expect_err("out of range").to_string();
+        assert!(m.starts_with("nu = 5e-324 is out of range"), "{m}");
+        // Its 330 digits written out: over 450 characters.
+        assert!(m.len() < 200, "{} characters: {m}", m.len());
+    }
 
     #[test]
     fn rejects_each_bad_value_by_name() {
