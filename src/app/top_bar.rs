@@ -165,7 +165,7 @@ fn validity_badge_ui(ui: &mut Ui, s: &super::Settings, narrow: bool) {
 
 /// Share: the state as a link (in the browser; the native window has no
 /// address to share).
-#[cfg_attr(not(target_arch = "wasm32"), allow(unused_variables))]
+#[cfg_attr(not(target_arch = "wasm32"), allow(unused_variables, clippy::ptr_arg))]
 fn share_button_ui(ui: &mut Ui, out: &mut Vec<Action>) {
     #[cfg(target_arch = "wasm32")]
     if ui
