@@ -53,6 +53,7 @@ pub fn shell_quote(s: &str) -> String {
 }
 
 pub use crate::text::short;
+
 /// The model's parameters and the solver's accuracy on one line, θν
 /// left out when it is what varies: `kappa = 10, gamma = 0.8, nu = 0.3,
 /// theta-nu = 1.25, omega = 1 (stick-slip); dp54 tol 1e-8`.

@@ -108,6 +108,14 @@ pub fn mode_ui(ui: &mut Ui, s: &mut Settings) {
 /// line, with the µs, is the row's hover text). Red when Custom is coarser
 /// than the job's view can show.
 pub fn estimates_ui(ui: &mut Ui, s: &Settings) {
+    // Scrolled sideways where the panel is narrower than the table (text
+    // ×1.5 on a projector's 1024 points), rather than widening the panel.
+    egui::ScrollArea::horizontal()
+        .id_salt("accuracy_estimates")
+        .show(ui, |ui| estimates_grid_ui(ui, s));
+}
+
+fn estimates_grid_ui(ui: &mut Ui, s: &Settings) {
     egui::Grid::new("accuracy_estimates")
         .num_columns(4)
         .spacing([8.0, 2.0])

@@ -19,6 +19,7 @@ use view_options::view_options_ui;
 use super::accuracy;
 use super::describe;
 use super::jobs::Jobs;
+use super::play::{Play, play_ui};
 use super::settings::{AccuracyMode, Settings};
 use super::style;
 use super::view::{Action, Export};
@@ -110,6 +111,20 @@ impl Field {
         }
     }
 
+    /// The value a fine move of `fraction` of the rail makes from `v`: a
+    /// tenth of what the slider would (shift-drag, shift+arrow), along
+    /// its scale (a log rail multiplies).
+    pub fn fine_value(self, v: f64, fraction: f64, full_circle: bool) -> f64 {
+        let r = self.slider_range(full_circle);
+        let (lo, hi) = (*r.start(), *r.end());
+        let f = fraction / FINE;
+        if self.logarithmic() && v > 0.0 {
+            v * (hi / lo).powf(f)
+        } else {
+            v + (hi - lo) * f
+        }
+    }
+
     fn logarithmic(self) -> bool {
         matches!(
             self,
@@ -176,6 +191,13 @@ impl Field {
     }
 }
 
+/// How much finer a shift-drag or shift+arrow moves a slider.
+pub const FINE: f64 = 10.0;
+
+/// What every slider's hover says about moving it finely.
+pub const FINE_HELP: &str = "Shift-drag, or Shift+←/→ once clicked, moves the slider ten times finer; \
+     ←/→ alone move it one step. κ, ν, Ω and the tolerance slide on a log scale: they span decades.";
+
 /// A typed value field: its text, and the error when it does not validate.
 #[derive(Clone, Debug, Default)]
 pub struct FieldInput {
@@ -217,13 +239,20 @@ impl Controls {
 
     /// The whole panel: sections that collapse (egui remembers which, by
     /// their titles), inside the window's scroll area.
-    pub fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+    pub fn ui(
+        &mut self,
+        ui: &mut Ui,
+        s: &mut Settings,
+        jobs: &Jobs,
+        play: &mut Play,
+        out: &mut Vec<Action>,
+    ) {
         // The slider shrinks with the panel, leaving room for the typed
         // field (about 7 characters) and the symbol.
         let field_w = 7.5 * ui.text_style_height(&egui::TextStyle::Body);
         ui.spacing_mut().slider_width = (ui.available_width() - field_w - 40.0).clamp(60.0, 150.0);
         validity_ui(ui, s);
-        section(ui, "Parameters", |ui| self.parameters_ui(ui, s));
+        section(ui, "Parameters", |ui| self.parameters_ui(ui, s, play));
         section(ui, "Accuracy", |ui| {
             accuracy::mode_ui(ui, s);
             if s.accuracy == AccuracyMode::Custom {
@@ -238,7 +267,7 @@ impl Controls {
     }
 
     /// The model's parameters, each a slider with a typed field.
-    fn parameters_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
+    fn parameters_ui(&mut self, ui: &mut Ui, s: &mut Settings, play: &mut Play) {
         for field in Field::PARAMS {
             self.field_row(ui, s, field);
             if field == Field::ThetaNu {
@@ -251,6 +280,7 @@ impl Controls {
                 if was != s.full_circle && !s.full_circle {
                     s.params.theta_nu = s.params.theta_nu.clamp(0.0, FRAC_PI_2);
                 }
+                play_ui(ui, play, s);
             }
         }
     }
@@ -440,8 +470,13 @@ impl Controls {
                 .clamping(SliderClamping::Never)
                 .show_value(false)
                 .text(field.symbol());
-            let r = ui.add(slider).on_hover_text(field.hover());
-            if r.changed() && v != current && field.validate(s, v).is_ok() {
+            let r = ui
+                .add(slider)
+                .on_hover_text(format!("{}\n\n{FINE_HELP}", field.hover()));
+            if let Some(fine) = fine_move(ui, &r) {
+                v = field.fine_value(current, fine, s.full_circle);
+            }
+            if v != current && field.validate(s, v).is_ok() {
                 field.set(s, v);
                 let input = &mut self.inputs[idx].1;
                 input.error = None;
@@ -487,6 +522,28 @@ impl Controls {
         if let Some(e) = &self.inputs[idx].1.error {
             ui.label(RichText::new(e).color(Color32::from_rgb(220, 30, 30)));
         }
+    }
+}
+
+/// With Shift held, the part of the rail the pointer's drag (or an arrow
+/// key, one point) moved this frame; `None` without Shift or a move.
+fn fine_move(ui: &Ui, r: &egui::Response) -> Option<f64> {
+    let (shift, left, right) = ui.input(|i| {
+        (
+            i.modifiers.shift,
+            i.num_presses(egui::Key::ArrowLeft),
+            i.num_presses(egui::Key::ArrowRight),
+        )
+    });
+    let width = f64::from(ui.spacing().slider_width.max(1.0));
+    if !shift {
+        None
+    } else if r.is_pointer_button_down_on() {
+        Some(f64::from(r.drag_delta().x) / width)
+    } else if r.has_focus() && left + right > 0 {
+        Some((right as f64 - left as f64) / width)
+    } else {
+        None
     }
 }
 

@@ -10,13 +10,14 @@ use std::collections::HashMap;
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::Duration;
 
-use egui::{Context, Rect, RichText, Ui};
+use egui::{Context, Rect, Ui};
 
 use super::backend::Backend;
 use super::controls::Controls;
 use super::frame_stats::FrameStats;
 use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
+use super::play::{Play, Tick};
 use super::save;
 use super::screenshot::{Shots, fresh_path};
 use super::script::{Script, Window};
@@ -27,14 +28,18 @@ use super::style;
 use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
-use super::title_buttons::{help_button_ui, record_menu_ui};
+use super::title_buttons::title_row_ui;
+use super::top_bar::is_narrow;
 use super::tour::Tour;
 use super::view::Action;
-use super::views::{Views, min_tile, tile_rects, tiles_that_fit};
+use super::views::{Views, min_tile, tiles_that_fit};
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
 pub const PUMP_BUDGET: Duration = crate::jobs::bench::PAGE_SLICE;
+
+/// The side panel's normal width, points.
+const PANEL_WIDTH: f32 = 330.0;
 
 /// The explorer app.
 pub struct Explorer {
@@ -55,6 +60,20 @@ pub struct Explorer {
     view_rects: HashMap<ViewKind, Rect>,
     /// The guided tour, when it runs.
     pub tour: Tour,
+    /// The play clock of θν (and of the stepped cobweb).
+    pub play: Play,
+    /// On a phone: the panel's drawer is open over the view.
+    pub drawer_open: bool,
+    /// While a view fills the window: the layout and panel it replaced.
+    pub(super) fill_restore: Option<(Layout, bool)>,
+    /// The status bar's and the side panel's rectangles in the last frame
+    /// (the panel's zero when hidden), for the tests.
+    pub status_rect: Rect,
+    pub panel_rect: Rect,
+    /// The band under the views kept for the tour's box.
+    tour_band: Rect,
+    /// Frames left in which the side panel is held at its normal width.
+    panel_reset: u8,
     applied_style: Option<(f32, bool, bool)>,
     pub(super) now: f64,
     /// The browser build's uploads and page context.
@@ -91,6 +110,13 @@ impl Explorer {
             stats_sink: None,
             view_rects: HashMap::new(),
             tour: Tour::default(),
+            play: Play::default(),
+            drawer_open: false,
+            fill_restore: None,
+            status_rect: Rect::NOTHING,
+            panel_rect: Rect::NOTHING,
+            tour_band: Rect::NOTHING,
+            panel_reset: 0,
             applied_style: None,
             now: 0.0,
             #[cfg(target_arch = "wasm32")]
@@ -167,6 +193,7 @@ impl Explorer {
             self.record_step(ctx);
             self.web.set_title(super::status::title(&self.jobs));
         }
+        self.play_step(ctx);
         self.sync_jobs(ctx);
         self.shots.poll(self.now);
         if self.shots.in_flight > 0 || !self.shots.toasts.is_empty() {
@@ -295,6 +322,15 @@ impl Explorer {
         self.view_rects.get(&v).copied()
     }
 
+    /// The view under the pointer, if any.
+    pub(super) fn view_under_pointer(&self, ctx: &Context) -> Option<ViewKind> {
+        let at = ctx.pointer_hover_pos()?;
+        self.view_rects
+            .iter()
+            .find(|(_, r)| r.contains(at))
+            .map(|(v, _)| *v)
+    }
+
     /// The size of the area `views` take on screen now (the window's
     /// default view area before the first frame).
     pub fn views_area(&self, views: &[ViewKind]) -> egui::Vec2 {
@@ -312,6 +348,9 @@ impl Explorer {
         let want = (self.settings.font_scale, self.settings.dark, projector);
         if self.applied_style == Some(want) {
             return;
+        }
+        if self.applied_style.is_some_and(|a| a.2) && !projector {
+            self.panel_reset = 3;
         }
         ctx.set_theme(if want.1 {
             egui::Theme::Dark
@@ -336,6 +375,102 @@ impl Explorer {
         self.applied_style = Some(want);
     }
 
+    /// One tick of the play clock: θν moves (or the stepped cobweb grows),
+    /// and the next frame is asked for.
+    fn play_step(&mut self, ctx: &Context) {
+        if !self.play.on {
+            return;
+        }
+        let range = self
+            .views
+            .bifurcation
+            .theta_nu_range()
+            .unwrap_or_else(|| self.settings.sweep_range());
+        let steps = &mut self.views.return_map.steps;
+        match self.play.tick(&self.settings, range, steps.on, self.now) {
+            Tick::ThetaNu(x) => self.settings.params.theta_nu = x,
+            Tick::Iterates(n) => {
+                let available = self.jobs.trajectory.data.events.len();
+                steps.step(n as isize, available);
+            }
+            Tick::Nothing => {}
+        }
+        ctx.request_repaint();
+    }
+
+    /// The bars, the side panel (or a phone's drawer) and the views.
+    fn panels_ui(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        let narrow = is_narrow(ui.ctx());
+        if narrow {
+            self.settings.layout = Layout::Tabs;
+        }
+        // No fills on the panels either (see the central panel below).
+        let bare = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        egui::Panel::top("top")
+            .frame(bare)
+            .show(ui, |ui| self.top_bar_ui(ui, actions));
+        self.status_rect = egui::Panel::bottom("status")
+            .frame(bare)
+            .show(ui, |ui| status::status_ui(ui, &self.jobs))
+            .response
+            .rect;
+        self.panel_rect = Rect::NOTHING;
+        if !narrow && !self.settings.hide_panel {
+            let width = ui.ctx().content_rect().width();
+            // Never more than a third of the window (a projector's 1024);
+            // back to the normal width for a few frames once projector
+            // mode is switched off (its large text had widened it, and a
+            // panel remembers its width).
+            let mut panel = egui::Panel::left("controls")
+                .frame(bare)
+                .resizable(true)
+                .default_size(PANEL_WIDTH)
+                .min_size(260.0)
+                .max_size((width / 3.0).max(260.0));
+            if self.panel_reset > 0 {
+                self.panel_reset -= 1;
+                panel = panel.exact_size(PANEL_WIDTH);
+            }
+            self.panel_rect = panel
+                .show(ui, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        self.controls.ui(
+                            ui,
+                            &mut self.settings,
+                            &self.jobs,
+                            &mut self.play,
+                            actions,
+                        );
+                    });
+                })
+                .response
+                .rect;
+        }
+        // No fill: the clear colour is the panel colour, which saves
+        // painting the largest area twice (software rendering is fill-bound).
+        let frame = egui::Frame::central_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
+        egui::CentralPanel::default_margins()
+            .frame(frame)
+            .show(ui, |ui| {
+                if narrow && self.drawer_open {
+                    self.drawer_ui(ui, actions);
+                } else {
+                    self.views_ui(ui, actions);
+                }
+            });
+    }
+
+    /// A phone's drawer: the side panel's controls over the whole view.
+    fn drawer_ui(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
+        if ui.button("Close").clicked() {
+            self.drawer_open = false;
+        }
+        egui::ScrollArea::vertical().show(ui, |ui| {
+            self.controls
+                .ui(ui, &mut self.settings, &self.jobs, &mut self.play, actions);
+        });
+    }
+
     /// The whole window.
     pub fn show(&mut self, ui: &mut Ui) {
         let ctx = ui.ctx().clone();
@@ -345,36 +480,11 @@ impl Explorer {
         let mut actions = Vec::new();
         self.shortcuts(&ctx, &mut actions);
 
-        // No fills on the panels either (see the central panel below).
-        let bare = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
-        egui::Panel::top("top")
-            .frame(bare)
-            .show(ui, |ui| self.top_bar_ui(ui));
-        egui::Panel::bottom("status")
-            .frame(bare)
-            .show(ui, |ui| status::status_ui(ui, &self.jobs));
-        egui::Panel::left("controls")
-            .frame(bare)
-            .resizable(true)
-            .default_size(330.0)
-            .min_size(260.0)
-            .show(ui, |ui| {
-                egui::ScrollArea::vertical().show(ui, |ui| {
-                    self.controls
-                        .ui(ui, &mut self.settings, &self.jobs, &mut actions);
-                });
-            });
-        // No fill: the clear colour is the panel colour, which saves
-        // painting the largest area twice (software rendering is fill-bound).
-        let frame = egui::Frame::central_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
-        egui::CentralPanel::default_margins()
-            .frame(frame)
-            .show(ui, |ui| self.views_ui(ui, &mut actions));
-
+        self.panels_ui(ui, &mut actions);
         for a in actions {
             self.apply(a, &ctx);
         }
-        self.tour.ui(&ctx, &mut self.settings);
+        self.tour.ui(&ctx, &mut self.settings, self.tour_band);
         self.sync_jobs(&ctx);
         self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
@@ -382,92 +492,20 @@ impl Explorer {
         }
     }
 
-    /// The name, the layout switch, and the tabs or the tiles' checkboxes.
-    fn top_bar_ui(&mut self, ui: &mut Ui) {
-        let s = &mut self.settings;
-        ui.horizontal_wrapped(|ui| {
-            ui.label(
-                RichText::new("oneblock")
-                    .strong()
-                    .size(ui.text_style_height(&egui::TextStyle::Heading)),
-            );
-            let warnings = crate::model::validity(&s.params);
-            if !warnings.is_empty() {
-                let text: Vec<String> = warnings.iter().map(|w| w.to_string()).collect();
-                egui::Frame::new()
-                    .fill(egui::Color32::from_rgb(190, 40, 40))
-                    .corner_radius(6.0)
-                    .inner_margin(egui::Margin::symmetric(6, 2))
-                    .show(ui, |ui| {
-                        ui.label(
-                            RichText::new("Outside the model's validity")
-                                .color(egui::Color32::WHITE)
-                                .strong(),
-                        )
-                    })
-                    .response
-                    .on_hover_text(text.join("\n"));
-            }
-            ui.separator();
-            if ui
-                .button("Tour")
-                .on_hover_text("The paper's story in six steps, from creep to intermittency")
-                .clicked()
-            {
-                self.tour.go(0, s);
-            }
-            ui.selectable_value(&mut s.layout, Layout::Tiles, "Tiles")
-                .on_hover_text("Several views at once (T toggles)");
-            ui.selectable_value(&mut s.layout, Layout::Tabs, "Tabs")
-                .on_hover_text("One view, full size (keys 1–8)");
-            ui.separator();
-            match s.layout {
-                Layout::Tabs => {
-                    for v in ViewKind::ALL {
-                        ui.selectable_value(&mut s.tab, v, v.tab_title())
-                            .on_hover_text(v.title());
-                    }
-                }
-                // The tiles' choice in a menu: eight checkboxes in a row
-                // wrapped the bar onto a second line at text ×1.5, taking
-                // height from every tile.
-                Layout::Tiles => {
-                    let all = ViewKind::ALL.len();
-                    ui.menu_button(format!("tiles: {} of {all}", s.tiled.len()), |ui| {
-                        for v in ViewKind::ALL {
-                            let mut on = s.tiled.contains(&v);
-                            if ui.checkbox(&mut on, v.title()).changed() {
-                                if on {
-                                    s.tiled.push(v);
-                                    s.tiled
-                                        .sort_by_key(|x| ViewKind::ALL.iter().position(|y| y == x));
-                                } else if s.tiled.len() > 1 {
-                                    s.tiled.retain(|x| *x != v);
-                                }
-                            }
-                        }
-                    });
-                }
-            }
-        });
-    }
-
+    /// The views as a tab or tiles, beside the tour's band while it runs.
     fn views_ui(&mut self, ui: &mut Ui, out: &mut Vec<Action>) {
         self.view_rects.clear();
-        match self.settings.layout {
-            Layout::Tabs => {
-                let v = self.settings.tab;
-                let r = ui.available_rect_before_wrap();
-                self.view_ui(ui, v, r, out);
-            }
-            Layout::Tiles => {
-                let (views, area) = self.tiles_shown_ui(ui);
-                for (v, rect) in views.iter().zip(tile_rects(area, views.len())) {
-                    self.view_ui(ui, *v, rect, out);
-                }
-                ui.allocate_rect(area, egui::Sense::hover());
-            }
+        let whole = ui.available_rect_before_wrap();
+        let (views, area) = match self.settings.layout {
+            Layout::Tabs => (vec![self.settings.tab], whole),
+            Layout::Tiles => self.tiles_shown_ui(ui),
+        };
+        let (rects, band) = self.tour.arrange(area, &views);
+        self.tour_band = band;
+        for (v, rect) in views.iter().zip(rects) {
+            self.view_ui(ui, *v, rect, out);
         }
+        ui.allocate_rect(whole, egui::Sense::hover());
     }
 
     /// The tiles that have room at this text size (the first of those
@@ -500,51 +538,30 @@ impl Explorer {
     /// One view in `rect`, with its title and a screenshot button.
     fn view_ui(&mut self, ui: &mut Ui, v: ViewKind, rect: Rect, out: &mut Vec<Action>) {
         self.view_rects.insert(v, rect);
+        let fills = self.fills(v);
+        let mut fill = false;
         let view = self.views.get_mut(v);
         let (settings, jobs) = (&mut self.settings, &self.jobs);
         ui.scope_builder(
             egui::UiBuilder::new().max_rect(rect).id_salt(v.key()),
             |ui| {
+                // A view too short for its plots is cut at its tile's
+                // edge, not drawn over the next tile (or the tour's box).
+                ui.set_clip_rect(ui.clip_rect().intersect(rect));
                 egui::Frame::group(ui.style())
                     .inner_margin(4.0)
                     .show(ui, |ui| {
                         ui.set_min_size(ui.available_size());
-                        ui.horizontal(|ui| {
-                            ui.label(RichText::new(view.title()).strong());
-                            ui.with_layout(
-                                egui::Layout::right_to_left(egui::Align::Center),
-                                |ui| {
-                                    help_button_ui(ui, v);
-                                    if matches!(v, ViewKind::Block | ViewKind::Plane) {
-                                        record_menu_ui(ui, v, out);
-                                    }
-                                    if ui
-                                        .small_button("PNG")
-                                        .on_hover_text(format!(
-                                            "Save a PNG of the {} view only",
-                                            view.title()
-                                        ))
-                                        .clicked()
-                                    {
-                                        out.push(Action::ViewScreenshot(v));
-                                    }
-                                    if ui
-                                        .small_button("SVG")
-                                        .on_hover_text(format!(
-                                            "Save an SVG (vector) picture of the {} view only",
-                                            view.title()
-                                        ))
-                                        .clicked()
-                                    {
-                                        out.push(Action::SvgScreenshot(Some(v)));
-                                    }
-                                },
-                            );
-                        });
+                        if title_row_ui(ui, v, fills, out) {
+                            fill = true;
+                        }
                         view.ui(ui, settings, jobs, out);
                     });
             },
         );
+        if fill {
+            self.toggle_fill(v);
+        }
     }
 }
 

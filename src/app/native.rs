@@ -27,6 +27,8 @@ pub struct RunOptions {
     pub view: Option<ViewKind>,
     /// Text size multiplier.
     pub font_scale: Option<f32>,
+    /// Start with the side panel hidden.
+    pub hide_panel: bool,
     /// Give up a scripted run after this long.
     pub timeout: Option<Duration>,
     /// Open on this session file (`oneblock gui --session`).
@@ -175,6 +177,9 @@ impl Launch {
         }
         if let Some(f) = opts.font_scale {
             settings.font_scale = f;
+        }
+        if opts.hide_panel {
+            settings.hide_panel = true;
         }
         if self.scripted && !opts.frame_stats {
             // A screenshot is a picture for a document: anti-aliased even

@@ -11,6 +11,7 @@ use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotPoints, VLine};
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
 use super::markers::{self, Marker};
+use super::play::{CobwebSteps, cobweb_steps_ui};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -76,8 +77,11 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
     }
 }
 
+/// The view's state: the cobweb's steps.
 #[derive(Default)]
-pub struct ReturnMapView;
+pub struct ReturnMapView {
+    pub steps: CobwebSteps,
+}
 
 /// What the return map draws, in (θ, θ') before any change of axes.
 struct MapData {
@@ -103,7 +107,7 @@ struct MapData {
 }
 
 impl MapData {
-    fn of(s: &Settings, jobs: &Jobs) -> MapData {
+    fn of(s: &Settings, jobs: &Jobs, steps: &CobwebSteps) -> MapData {
         let it = &jobs.iterate.data;
         let kept: Vec<[f64; 2]> = it.thetas.windows(2).map(|w| [w[0], w[1]]).collect();
         // The latest cycles only: thousands of markers would cost frames.
@@ -142,7 +146,11 @@ impl MapData {
         MapData {
             basins,
             density,
-            web: cobweb(tail),
+            web: if steps.on {
+                cobweb(&steps.onsets(evs))
+            } else {
+                cobweb(tail)
+            },
             pieces: graph_pieces(&it.graph, jump),
             powers,
             kept,
@@ -179,11 +187,18 @@ impl ReturnMapView {
         let it = &jobs.iterate.data;
         legend_ui(ui, it.period, it.lyapunov, s, jobs.map_basins.at(&s.params));
         if !style::figure_only(ui.ctx()) {
-            powers_ui(ui, s, &it.powers);
+            // One row for both switches: a row less taken from the plot.
+            ui.horizontal_wrapped(|ui| {
+                powers_ui(ui, s, &it.powers);
+                if !s.map_difference {
+                    let available = jobs.trajectory.data.events.len();
+                    cobweb_steps_ui(ui, &mut self.steps, available);
+                }
+            });
         }
         // Room for the top tick label, centred on the frame's top edge.
         ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
-        let data = MapData::of(s, jobs);
+        let data = MapData::of(s, jobs, &self.steps);
         let (x, y) = (
             AxisSpec::angle("θ, this onset", s.angle_unit),
             fitting(ui, AxisSpec::angle("θ', next onset", s.angle_unit)),
@@ -427,7 +442,7 @@ fn critical_angles(p: &mut egui_plot::PlotUi<'_>, theta_c: f64, lo: f64, hi: f64
 /// The f², f³, f⁴ switches, each with its colour, and whether it is still
 /// being computed.
 fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
-    ui.horizontal_wrapped(|ui| {
+    {
         ui.label("also draw:");
         for (i, name) in ["f²", "f³", "f⁴"].into_iter().enumerate() {
             let (rect, _) = ui.allocate_exact_size(egui::vec2(18.0, 14.0), egui::Sense::hover());
@@ -445,7 +460,7 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
         if want >= 2 && arrived.len() + 1 < want {
             ui.weak("computing…");
         }
-    });
+    }
 }
 
 /// The period and λ, the f(θ) − θ switch, and the legend above the plot.

@@ -239,6 +239,11 @@ pub struct Settings {
     pub events_plot: EventsPlot,
     /// The Basins view's columns and θν zoom.
     pub basins: super::basins::BasinsSettings,
+    /// Presentation: the side panel hidden (H, the top bar's Panel,
+    /// `gui --hide-panel`), the views taking its width.
+    pub hide_panel: bool,
+    /// How fast Play moves θν, in radians per second of the window.
+    pub play_speed: f64,
 }
 
 impl Settings {
@@ -287,9 +292,15 @@ impl Default for Settings {
             projector: false,
             events_plot: EventsPlot::Series,
             basins: Default::default(),
+            hide_panel: false,
+            play_speed: PLAY_SPEEDS[1],
         }
     }
 }
+
+/// Play's speeds of θν (radians per second): the cascade of Fig. 3b
+/// (θν 1.05 … 1.57) in about 50, 20 and 8 seconds.
+pub const PLAY_SPEEDS: [f64; 3] = [0.01, 0.025, 0.06];
 
 fn default_save_dir() -> String {
     std::env::current_dir()
@@ -411,6 +422,13 @@ impl Settings {
             0.5..=3.0,
             d.font_scale,
             "text size",
+            bad,
+        );
+        within(
+            &mut self.play_speed,
+            PLAY_SPEEDS[0]..=PLAY_SPEEDS[2],
+            d.play_speed,
+            "play speed",
             bad,
         );
         within(

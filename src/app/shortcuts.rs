@@ -1,5 +1,6 @@
 //! The keyboard: Ctrl+S, 1–8 for a view, T for tabs or tiles, Space for
-//! the block's animation, R to restart the orbit, ← and → to step θν.
+//! the block's animation, R to restart the orbit, ← and → to step θν (or,
+//! in the tour, to walk its steps), and presentation's H, F, Esc, P, N.
 
 use eframe::egui;
 use egui::{Context, Key, KeyboardShortcut, Modifiers};
@@ -46,6 +47,7 @@ impl Explorer {
         if ctx.input(|i| i.key_pressed(Key::R)) {
             out.push(Action::RestartOrbit);
         }
+        self.presentation_keys(ctx);
         let (left, right, shift) = ctx.input(|i| {
             (
                 i.key_pressed(Key::ArrowLeft),
@@ -53,11 +55,69 @@ impl Explorer {
                 i.modifiers.shift,
             )
         });
-        if left || right {
+        if let Some(i) = self.tour.step {
+            // In the tour the arrows (and a clicker's Page keys) walk the
+            // steps; ↑ and ↓ nudge θν.
+            let (back, next) = ctx.input(|i| {
+                (
+                    left || i.key_pressed(Key::PageUp),
+                    right || i.key_pressed(Key::PageDown),
+                )
+            });
+            if back && i > 0 {
+                self.tour.go(i - 1, &mut self.settings);
+            } else if next {
+                self.tour.go(i + 1, &mut self.settings);
+            }
+            let (down, up) =
+                ctx.input(|i| (i.key_pressed(Key::ArrowDown), i.key_pressed(Key::ArrowUp)));
+            if down || up {
+                out.push(Action::SetThetaNu(
+                    self.settings.params.theta_nu + if up { 0.005 } else { -0.005 },
+                ));
+            }
+        } else if left || right {
             let step = if shift { 0.05 } else { 0.005 };
             out.push(Action::SetThetaNu(
                 self.settings.params.theta_nu + if right { step } else { -step },
             ));
+        }
+    }
+
+    /// H: the side panel (a phone's drawer); F: the view under the pointer
+    /// (or the tab) fills the window, Esc brings the layout back; P: play
+    /// θν; N / Shift+N: the cobweb's next / previous iterate.
+    fn presentation_keys(&mut self, ctx: &Context) {
+        let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
+        if pressed(Key::H) {
+            if super::top_bar::is_narrow(ctx) {
+                self.drawer_open = !self.drawer_open;
+            } else {
+                self.settings.hide_panel = !self.settings.hide_panel;
+            }
+        }
+        if pressed(Key::F) {
+            let v = self
+                .view_under_pointer(ctx)
+                .unwrap_or(match self.settings.layout {
+                    Layout::Tabs => self.settings.tab,
+                    Layout::Tiles => self.settings.tiled[0],
+                });
+            self.toggle_fill(v);
+        }
+        if pressed(Key::Escape) && self.fill_restore.is_some() {
+            self.toggle_fill(self.settings.tab);
+        }
+        if pressed(Key::P) {
+            self.play.toggle();
+        }
+        if pressed(Key::N) {
+            let back = ctx.input(|i| i.modifiers.shift);
+            let available = self.jobs.trajectory.data.events.len();
+            self.views
+                .return_map
+                .steps
+                .step(if back { -1 } else { 1 }, available);
         }
     }
 }

@@ -1,5 +1,6 @@
-//! Buttons in a view's title bar that open something: the "?" paragraph
-//! and the Record menu.
+//! A view's title bar: its title (cut short with "…" where the buttons
+//! need the room) and its buttons: Fill, SVG, PNG, Record, the "?"
+//! paragraph.
 
 use eframe::egui;
 use egui::{Popup, PopupCloseBehavior, Ui};
@@ -50,4 +51,51 @@ pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
             }
         }
     });
+}
+
+/// The title bar of view `v` (`fills`: it fills the window now); whether
+/// its Fill button was clicked. The buttons are laid out first, from the
+/// right, and the title takes what is left, shortened rather than drawn
+/// under them (a tile at 1024×768, text ×1.5).
+pub fn title_row_ui(ui: &mut Ui, v: ViewKind, fills: bool, out: &mut Vec<Action>) -> bool {
+    let title = v.title();
+    let mut fill = false;
+    ui.horizontal(|ui| {
+        ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
+            help_button_ui(ui, v);
+            if matches!(v, ViewKind::Block | ViewKind::Plane) {
+                record_menu_ui(ui, v, out);
+            }
+            if ui
+                .small_button("PNG")
+                .on_hover_text(format!("Save a PNG of the {title} view only"))
+                .clicked()
+            {
+                out.push(Action::ViewScreenshot(v));
+            }
+            if ui
+                .small_button("SVG")
+                .on_hover_text(format!(
+                    "Save an SVG (vector) picture of the {title} view only"
+                ))
+                .clicked()
+            {
+                out.push(Action::SvgScreenshot(Some(v)));
+            }
+            let hover = if fills {
+                "Back to the layout and panel before (F, Esc)"
+            } else {
+                "This view fills the window: one tab, the panel hidden (F)"
+            };
+            fill = ui
+                .add(egui::Button::selectable(fills, "Fill").small())
+                .on_hover_text(hover)
+                .clicked();
+            ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                ui.add(egui::Label::new(egui::RichText::new(title).strong()).truncate())
+                    .on_hover_text(title);
+            });
+        });
+    });
+    fill
 }

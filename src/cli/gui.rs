@@ -52,6 +52,10 @@ pub struct GuiArgs {
     /// Text size multiplier in [0.5, 3] (e.g. 1.5 on a projector).
     #[arg(long, allow_hyphen_values = true)]
     pub font_scale: Option<f32>,
+    /// Start with the side panel hidden, the views taking its width (H or
+    /// the top bar's Panel shows it again).
+    #[arg(long)]
+    pub hide_panel: bool,
     /// Give up a --screenshot run after this many seconds, in (0, 86400]
     /// (default 180).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -174,6 +178,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         frame_stats: args.frame_stats,
         view,
         font_scale: args.font_scale,
+        hide_panel: args.hide_panel,
         timeout: args.timeout.map(std::time::Duration::from_secs_f64),
     })
     .map_err(CliError::Failed)

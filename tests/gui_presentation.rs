@@ -1,0 +1,211 @@
+//! The lecture hall (issue 41), driven headless (egui_kittest): the side
+//! panel hides and comes back (H, the top bar's Panel) and the choice is a
+//! setting; its width comes back when projector mode is switched off; a
+//! view's Fill makes it fill the window and Esc brings the layout back; and
+//! the tour, walked with the arrow keys through every step at a
+//! projector's 1024 × 768 and at 1280 × 800, text ×1 and ×1.5, keeps its
+//! box off every plot the step draws and draws the λ strip where the step
+//! speaks of it.
+#![cfg(feature = "gui")]
+
+#[path = "common/window.rs"]
+mod window;
+
+use eframe::egui;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+
+use oneblock::app::axes::plot_frames;
+use oneblock::app::tour::STEPS;
+use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
+use window::harness;
+
+fn at(size: (f32, f32), settings: Settings, rec: &Recorder) -> Harness<'static, Explorer> {
+    let mut h = harness(rec, settings);
+    h.set_size(egui::vec2(size.0, size.1));
+    h.run_steps(3);
+    h
+}
+
+#[test]
+fn the_panel_hides_and_the_views_take_its_width() {
+    let rec = Recorder::new();
+    let mut h = at(
+        (1280.0, 800.0),
+        Settings {
+            layout: Layout::Tabs,
+            tab: ViewKind::Bifurcation,
+            ..Settings::default()
+        },
+        &rec,
+    );
+    let shown = h.state().view_rect(ViewKind::Bifurcation).expect("drawn");
+    let panel = h.state().panel_rect;
+    assert!(panel.width() >= 250.0, "{panel:?}");
+    h.key_press(egui::Key::H);
+    h.run_steps(3);
+    assert!(h.state().settings.hide_panel);
+    let hidden = h.state().view_rect(ViewKind::Bifurcation).expect("drawn");
+    // The diagram has the panel's former width (its frame and margins
+    // aside).
+    assert!(
+        hidden.width() >= shown.width() + panel.width() - 12.0,
+        "{shown:?} then {hidden:?} (panel {panel:?})"
+    );
+    let plot = plot_frames(&h.ctx)
+        .into_iter()
+        .find(|(n, _)| *n == "bifurcation")
+        .expect("the diagram");
+    assert!(plot.1.left() < 150.0, "{plot:?}");
+    // Remembered: the setting is saved with the others.
+    let json = serde_json::to_string(&h.state().settings).expect("serialises");
+    let back: Settings = serde_json::from_str(&json).expect("reads back");
+    assert!(back.hide_panel);
+    // The top bar's Panel shows it again.
+    h.get_by_label("Panel").click();
+    h.run_steps(3);
+    assert!(!h.state().settings.hide_panel);
+    assert!(h.state().panel_rect.width() >= 250.0);
+}
+
+#[test]
+fn the_panel_width_comes_back_when_projector_mode_is_switched_off() {
+    let rec = Recorder::new();
+    let mut h = at((1024.0, 768.0), Settings::default(), &rec);
+    let normal = h.state().panel_rect.width();
+    let projector = "projector: large text, thick lines, high contrast";
+    h.get_by_label(projector).scroll_to_me();
+    h.run_steps(2);
+    h.get_by_label(projector).click_accesskit();
+    h.run_steps(4);
+    assert!(h.state().settings.projector);
+    let wide = h.state().panel_rect.width();
+    // Never more than a third of a projector's 1024 points.
+    assert!(wide <= 1024.0 / 3.0 + 1.0, "projector panel {wide}");
+    h.get_by_label(projector).scroll_to_me();
+    h.run_steps(2);
+    h.get_by_label(projector).click_accesskit();
+    h.run_steps(10);
+    assert!(!h.state().settings.projector);
+    let back = h.state().panel_rect.width();
+    assert!((back - normal).abs() < 1.0, "normal {normal}, after {back}");
+}
+
+#[test]
+fn fill_makes_one_view_fill_the_window_and_escape_brings_the_layout_back() {
+    let rec = Recorder::new();
+    let mut h = at((1280.0, 800.0), Settings::default(), &rec);
+    let tile = h.state().view_rect(ViewKind::ReturnMap).expect("a tile");
+    // The third Fill is the return map's (plane, bifurcation, return map).
+    let fills = h.query_all_by_label("Fill").collect::<Vec<_>>();
+    assert_eq!(fills.len(), 4);
+    let pos = fills
+        .iter()
+        .position(|n| tile.contains(n.rect().center()))
+        .expect("the return map's Fill");
+    fills[pos].click();
+    h.run_steps(3);
+    let s = &h.state().settings;
+    assert_eq!(
+        (s.layout, s.tab, s.hide_panel),
+        (Layout::Tabs, ViewKind::ReturnMap, true)
+    );
+    let full = h.state().view_rect(ViewKind::ReturnMap).expect("drawn");
+    assert!(full.width() > 1240.0 && full.height() > 650.0, "{full:?}");
+    h.key_press(egui::Key::Escape);
+    h.run_steps(3);
+    let s = &h.state().settings;
+    assert_eq!((s.layout, s.hide_panel), (Layout::Tiles, false));
+}
+
+/// Walks the tour with → at `size` and text `scale`, checking each step.
+fn walk_tour(size: (f32, f32), scale: f32) {
+    let rec = Recorder::new();
+    let mut h = at(
+        size,
+        Settings {
+            font_scale: scale,
+            ..Settings::default()
+        },
+        &rec,
+    );
+    h.get_by_label("Tour").click();
+    for (i, step) in STEPS.iter().enumerate() {
+        h.run_steps(5);
+        let what = format!("{size:?} text ×{scale}, step {} ({})", i + 1, step.title);
+        assert_eq!(h.state().tour.step, Some(i), "{what}");
+        let boxed = h.state().tour.box_rect.expect("the tour's box is drawn");
+        let plots = plot_frames(&h.ctx);
+        assert!(
+            plots.len() >= step.views.len() - 1,
+            "{what}: plots {plots:?}"
+        );
+        // What shows of each plot: a view is cut at its tile's edge.
+        let tiles: Vec<egui::Rect> = step
+            .views
+            .iter()
+            .filter_map(|v| h.state().view_rect(*v))
+            .collect();
+        for (name, r) in &plots {
+            let shown = tiles
+                .iter()
+                .map(|t| t.intersect(*r))
+                .filter(|x| x.is_positive())
+                .reduce(|a, b| a.union(b));
+            let Some(r) = shown else { continue };
+            assert!(
+                !boxed.intersects(r),
+                "{what}: the box {boxed:?} covers the plot {name} {r:?}"
+            );
+        }
+        assert!(
+            boxed.bottom() <= size.1 + 0.5 && boxed.right() <= size.0 + 0.5,
+            "{what}: the box {boxed:?} leaves the window"
+        );
+        // The strip needs 27 rows of text under the diagram's controls: at
+        // text ×1.5 a 768- or 800-point window's full height is short of
+        // that, and only the diagram is drawn.
+        let strip = plots.iter().any(|(n, _)| *n == "lyapunov");
+        if scale == 1.0 {
+            assert_eq!(strip, step.strip, "{what}: the λ strip drawn: {strip}");
+        }
+        h.key_press(egui::Key::ArrowRight);
+    }
+    // Back one step with ←; past the end it stays on the last.
+    h.run_steps(3);
+    assert_eq!(h.state().tour.step, Some(STEPS.len() - 1));
+    h.key_press(egui::Key::ArrowLeft);
+    h.run_steps(3);
+    assert_eq!(h.state().tour.step, Some(STEPS.len() - 2));
+}
+
+#[test]
+fn the_tour_box_covers_no_plot_of_its_step_and_the_strip_shows_where_spoken_of() {
+    for size in [(1280.0, 800.0), (1024.0, 768.0)] {
+        for scale in [1.0, 1.5] {
+            walk_tour(size, scale);
+        }
+    }
+}
+
+#[test]
+fn the_tour_box_can_be_moved() {
+    let rec = Recorder::new();
+    let mut h = at((1280.0, 800.0), Settings::default(), &rec);
+    h.get_by_label("Tour").click();
+    h.run_steps(5);
+    let before = h.state().tour.box_rect.expect("drawn");
+    // Drag it by its title up by 200 points.
+    let grip = before.center_top() + egui::vec2(0.0, 10.0);
+    h.drag_at(grip);
+    h.run_steps(1);
+    h.hover_at(grip - egui::vec2(0.0, 200.0));
+    h.run_steps(1);
+    h.drop_at(grip - egui::vec2(0.0, 200.0));
+    h.run_steps(3);
+    let after = h.state().tour.box_rect.expect("drawn");
+    assert!(
+        (before.top() - after.top() - 200.0).abs() < 2.0,
+        "{before:?} then {after:?}"
+    );
+}
