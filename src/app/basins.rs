@@ -13,15 +13,11 @@ use serde::{Deserialize, Serialize};
 use super::axes::{self, AxisSpec};
 use super::jobs::basins::BasinsData;
 use super::jobs::{JobState, Jobs, Slot};
-use super::settings::{Settings, ViewKind, is_usable_range};
+use super::settings::{MAX_COLUMNS, MIN_COLUMNS, Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use crate::jobs::basins::identity::Identities;
 use crate::sim::attractors::{Attractor, Basin, Verdict};
-
-/// The fewest and most columns the view offers.
-pub const MIN_COLUMNS: usize = 2;
-pub const MAX_COLUMNS: usize = 400;
 
 /// The basin boundary's grey.
 pub const BOUNDARY: Color32 = Color32::from_gray(170);
@@ -41,36 +37,6 @@ const PALETTE: [Color32; 8] = [
 /// The colour of track `id`.
 pub fn track_color(id: usize) -> Color32 {
     PALETTE[id % PALETTE.len()]
-}
-
-/// What the Basins view remembers between runs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct BasinsSettings {
-    /// θν columns ([`MIN_COLUMNS`] … [`MAX_COLUMNS`]).
-    pub columns: usize,
-    /// The zoomed θν ranges, innermost last (empty: the diagram's range).
-    pub zoom: Vec<(f64, f64)>,
-}
-
-impl Default for BasinsSettings {
-    fn default() -> Self {
-        BasinsSettings {
-            columns: 48,
-            zoom: Vec::new(),
-        }
-    }
-}
-
-impl BasinsSettings {
-    /// The θν range computed: the innermost usable zoom, else the
-    /// bifurcation diagram's whole range.
-    pub fn range(&self, s: &Settings) -> (f64, f64) {
-        match self.zoom.last() {
-            Some(&r) if is_usable_range(r) => r,
-            _ => s.sweep_range(),
-        }
-    }
 }
 
 /// The view's own state: the column clicked and a box being drawn.

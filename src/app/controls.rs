@@ -300,7 +300,7 @@ impl Controls {
                     p.key
                 ));
             if r.clicked() {
-                apply_preset(s, &p.params, p.key);
+                s.apply_preset(&p.params, p.key);
                 self.clear_errors();
             }
         }
@@ -545,15 +545,6 @@ fn fine_move(ui: &Ui, r: &egui::Response) -> Option<f64> {
     } else {
         None
     }
-}
-
-/// Sets every parameter from a preset (and its name, for the title).
-pub fn apply_preset(s: &mut Settings, p: &Params, key: &str) {
-    s.params = *p;
-    if !(0.0..=FRAC_PI_2).contains(&p.theta_nu) {
-        s.full_circle = true;
-    }
-    s.preset = Some(key.to_string());
 }
 
 /// The regime badge, θc, and the plain-words line.

@@ -19,7 +19,8 @@ use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
 use super::play::{Play, Tick};
 use super::save;
-use super::screenshot::{Shots, fresh_path};
+use super::files::fresh_path;
+use super::screenshot::Shots;
 use super::script::{Script, Window};
 use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
@@ -29,7 +30,7 @@ use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
 use super::title_buttons::title_row_ui;
-use super::top_bar::is_narrow;
+use super::style::is_narrow;
 use super::tour::Tour;
 use super::view::Action;
 use super::views::{Views, min_tile, tiles_that_fit};

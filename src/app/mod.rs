@@ -44,6 +44,7 @@ mod events_plots;
 pub mod explorer;
 pub mod export;
 pub mod figure;
+pub mod files;
 pub mod frame_stats;
 pub mod help;
 pub mod jobs;

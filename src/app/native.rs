@@ -6,7 +6,7 @@ use std::sync::{Arc, PoisonError};
 use std::time::Duration;
 
 use super::{
-    Backend, Explorer, Layout, SCREENSHOT_GRACE, Script, Settings, ViewKind, controls,
+    Backend, Explorer, Layout, SCREENSHOT_GRACE, Script, Settings, ViewKind,
     is_software_gl, preset, preset_keys, saved_state, session,
 };
 use crate::worker::{LocalWorker, Worker, WorkerConfig};
@@ -167,7 +167,7 @@ impl Launch {
                 .unwrap_or_default()
         };
         if let Some(p) = &self.preset {
-            controls::apply_preset(&mut settings, &p.params, p.key);
+            settings.apply_preset(&p.params, p.key);
         }
         if let Some(v) = opts.view {
             settings.layout = Layout::Tabs;

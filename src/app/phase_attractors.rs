@@ -122,7 +122,7 @@ pub fn row(a: &ListedAttractor) -> [String; 3] {
 /// was closed.
 pub fn list_ui(ui: &mut Ui, data: &PhaseData, selected: (f64, f64)) -> bool {
     let point = egui_plot::PlotPoint::new(selected.0, selected.1);
-    let Some((row_i, col)) = super::phase_view::cell_at(data, point) else {
+    let Some((row_i, col)) = super::phase_raster::cell_at(data, point) else {
         return false;
     };
     let Some(cell) = data.cell(row_i, col) else {

@@ -169,12 +169,17 @@ impl PlaneView {
                     .color(style::ink(dark))
                     .width(2.0 * lw),
             );
-            p.line(
-                style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(crit))
-                    .color(style::CRITICAL)
-                    .style(LineStyle::Dashed { length: 8.0 })
-                    .width(1.5 * lw),
-            );
+            // Dashed: cut to the plot's bounds first, so that a deep zoom
+            // does not dash the whole ellipse at the zoom's scale.
+            let b = p.plot_bounds();
+            for part in super::clip::clip_polyline(&crit, b.min(), b.max()) {
+                p.line(
+                    style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(part))
+                        .color(style::CRITICAL)
+                        .style(LineStyle::Dashed { length: 8.0 })
+                        .width(1.5 * lw),
+                );
+            }
             key
         });
         self.fitted_for = Some(resp.inner);

@@ -263,14 +263,17 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
     } else {
         "f − θ = 0"
     };
-    p.line(
-        style::line(
-            name,
-            PlotPoints::from(vec![[lo, slope * lo], [hi, slope * hi]]),
-        )
-        .color(style::CRITICAL)
-        .style(LineStyle::Dashed { length: 8.0 }),
-    );
+    // Dashed: cut to the plot's bounds first (a deep zoom would dash the
+    // whole window at the zoom's scale).
+    let b = p.plot_bounds();
+    let diagonal = [[lo, slope * lo], [hi, slope * hi]];
+    for part in super::clip::clip_polyline(&diagonal, b.min(), b.max()) {
+        p.line(
+            style::line(name, PlotPoints::from(part))
+                .color(style::CRITICAL)
+                .style(LineStyle::Dashed { length: 8.0 }),
+        );
+    }
     if let Some(tc) = d.theta_c
         && slope == 1.0
     {

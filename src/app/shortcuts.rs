@@ -90,7 +90,7 @@ impl Explorer {
     fn presentation_keys(&mut self, ctx: &Context) {
         let pressed = |k: Key| ctx.input(|i| i.key_pressed(k));
         if pressed(Key::H) {
-            if super::top_bar::is_narrow(ctx) {
+            if super::style::is_narrow(ctx) {
                 self.drawer_open = !self.drawer_open;
             } else {
                 self.settings.hide_panel = !self.settings.hide_panel;

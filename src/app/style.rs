@@ -203,3 +203,12 @@ pub fn method_marker(method: &str) -> MarkerShape {
         _ => MarkerShape::Plus,
     }
 }
+
+/// Below this width (points) the window is a phone's: one view, the panel
+/// a drawer, a view chooser instead of tabs.
+pub const NARROW: f32 = 640.0;
+
+/// Whether the window is a phone's (narrower than [`NARROW`]).
+pub fn is_narrow(ctx: &egui::Context) -> bool {
+    ctx.content_rect().width() < NARROW
+}

@@ -368,7 +368,7 @@ impl<'a> SvgWriter<'a> {
         let bounds = m.calc_bounds();
         if let Some(img) = self.textures.get(&m.texture_id) {
             let img = blocky(img, bounds);
-            let Ok(png) = super::screenshot::encode_png(&img, None, 1.0) else {
+            let Ok(png) = super::files::encode_png(&img, None, 1.0) else {
                 return;
             };
             let tag = plot.map_or(String::new(), |p| {

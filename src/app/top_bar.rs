@@ -9,16 +9,8 @@ use egui::{Context, RichText, Ui};
 use super::explorer::Explorer;
 use super::play::play_button_ui;
 use super::settings::{Layout, ViewKind};
+use super::style::is_narrow;
 use super::view::Action;
-
-/// Below this width (points) the window is a phone's: one view, the panel
-/// a drawer, a view chooser instead of tabs.
-pub const NARROW: f32 = 640.0;
-
-/// Whether the window is a phone's (narrower than [`NARROW`]).
-pub fn is_narrow(ctx: &Context) -> bool {
-    ctx.content_rect().width() < NARROW
-}
 
 impl Explorer {
     /// The top bar: everything a lecture needs on one line at 1280 points.

@@ -11,7 +11,6 @@
 use eframe::egui;
 use egui::{Context, RichText};
 
-use super::controls::apply_preset;
 use super::settings::{Layout, Settings, ViewKind};
 use super::views::tile_rects;
 use crate::model::presets::preset;
@@ -124,7 +123,7 @@ impl TourStep {
     /// Sets the step's parameters and views.
     pub fn apply(&self, s: &mut Settings) {
         if let Some(p) = preset(self.preset) {
-            apply_preset(s, &p.params.with_theta_nu(self.theta_nu), self.preset);
+            s.apply_preset(&p.params.with_theta_nu(self.theta_nu), self.preset);
         }
         s.layout = Layout::Tiles;
         s.tiled = self.views.to_vec();

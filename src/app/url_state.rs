@@ -8,7 +8,6 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write as _;
 
-use super::controls::apply_preset;
 use super::settings::{Layout, Settings, ViewKind};
 use crate::model::{Params, preset, preset_keys};
 use crate::text::echo;
@@ -106,7 +105,7 @@ fn apply_preset_and_view(
 ) {
     if let Some(key) = preset_key {
         match preset(key) {
-            Some(p) => apply_preset(settings, &p.params, p.key),
+            Some(p) => settings.apply_preset(&p.params, p.key),
             None => bad.push(format!(
                 "preset '{}' is not one of {}",
                 echo(key),

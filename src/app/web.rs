@@ -24,7 +24,7 @@ use eframe::egui::{Context, Ui};
 use super::settings::ViewKind;
 use super::title_buttons::RECORD_FRAMES;
 use super::view::Action;
-use super::{Explorer, Settings, controls, preset, url_state};
+use super::{Explorer, Settings, preset, url_state};
 use crate::worker::LocalWorker;
 
 /// The id of the page's canvas (`web/index.html`).
@@ -113,7 +113,7 @@ fn explorer(cc: &eframe::CreationContext<'_>) -> Explorer {
     if let Some(p) = settings.preset.as_deref().and_then(preset)
         && p.params == settings.params
     {
-        controls::apply_preset(&mut settings, &p.params, p.key);
+        settings.apply_preset(&p.params, p.key);
     }
     let mut app = Explorer::new(Box::new(LocalWorker::default()), settings);
     if let Some(m) = message {
@@ -402,7 +402,7 @@ impl Explorer {
         let fig = super::figure::Figure::record(v, self.settings.clone());
         match super::animation::GifRun::new(fig, RECORD_FRAMES, speed) {
             Ok(run) => {
-                let path = super::screenshot::fresh_path("", v.key(), "gif");
+                let path = super::files::fresh_path("", v.key(), "gif");
                 self.shots.toast(
                     format!("Recording {RECORD_FRAMES} frames to {}…", path.display()),
                     false,

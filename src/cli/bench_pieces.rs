@@ -5,15 +5,15 @@
 //! figures of this machine, so they live in docs, never in tests.
 
 use super::CliError;
-use super::bench_worker::BenchWorkerArgs;
 use crate::jobs::bench::PAGE_SLICE;
 use crate::jobs::pieces::{Pieces, every_kind};
 
 /// The report: a table, or with `--json` one object
-/// `{"kinds": [{"kind", "pieces", "longest_ms"}]}`.
-pub fn report(args: &BenchWorkerArgs) -> Result<String, CliError> {
-    let rows = every_kind(args.quick).map_err(CliError::Failed)?;
-    if args.json {
+/// `{"kinds": [{"kind", "pieces", "longest_ms"}]}`; `quick`: the small
+/// specs.
+pub fn report(quick: bool, json: bool) -> Result<String, CliError> {
+    let rows = every_kind(quick).map_err(CliError::Failed)?;
+    if json {
         let kinds: Vec<serde_json::Value> = rows
             .iter()
             .map(|r| {
@@ -26,7 +26,7 @@ pub fn report(args: &BenchWorkerArgs) -> Result<String, CliError> {
             .collect();
         return Ok(serde_json::json!({ "kinds": kinds }).to_string() + "\n");
     }
-    Ok(table(&rows, args.quick))
+    Ok(table(&rows, quick))
 }
 
 fn table(rows: &[Pieces], quick: bool) -> String {

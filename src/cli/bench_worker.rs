@@ -485,7 +485,7 @@ pub fn run(args: BenchWorkerArgs) -> Result<(), CliError> {
         let done = match args.phase {
             Some(n) => run_phase(&args, settings, n),
             None if args.pieces => {
-                super::bench_pieces::report(&args).and_then(|r| say(r.trim_end()))
+                super::bench_pieces::report(args.quick, args.json).and_then(|r| say(r.trim_end()))
             }
             None if args.single_thread => run_single_thread(&args),
             None => run_sweeps(&args, settings),

@@ -488,7 +488,7 @@ fn model_flags(a: &FigureArgs, p: &mut crate::Params) -> Result<(), CliError> {
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
     use crate::app::animation::gif;
     use crate::app::figure::{Figure, pdf_of_svg, png_of_svg, svg};
-    use crate::app::{Settings, ViewKind, controls::apply_preset, session::Session};
+    use crate::app::{Settings, ViewKind, session::Session};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
         .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
@@ -511,7 +511,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     if let Some(k) = preset
         && let Some(p) = crate::model::preset(k)
     {
-        apply_preset(&mut settings, &p.params, p.key);
+        settings.apply_preset(&p.params, p.key);
     }
     model_flags(&a, &mut settings.params)?;
     settings.map_difference |= a.map_difference;

@@ -12,6 +12,8 @@
 //      Save session downloads the session; Open session… uploads an edited
 //      one, which the explorer opens; Copy link puts its state in the URL;
 //      reopened without a query, the page keeps those settings (local storage);
+//      and those settings edited to text size 3 with every tile, Block
+//      included, open and draw (they once aborted every load);
 //   4. a link with bad values still opens, on valid values, and fills in;
 //   5. Record on the plane downloads a GIF of 120 frames, made between the
 //      page's frames without a stall;
@@ -320,7 +322,27 @@ await copyLink(page);
 const again = new URL(page.url()).searchParams;
 if (again.get("kappa") !== "12.5") fail(`the reopened page forgot the settings: ?${again}`);
 console.log(`web test: reopened without a query, the page keeps its settings: ?${again}`);
+// The saved state as the page keeps it (eframe's RON under "app"), edited
+// below into the settings that once aborted every load.
+const savedState = await page.evaluate(() => localStorage.getItem("app"));
 await page.close();
+if (!savedState?.includes("font_scale")) fail(`local storage holds no saved settings: ${savedState?.slice(0, 80)}`);
+
+// The Block tile at text size 3 among every tile, from local storage (the
+// browser once stopped with "capacity overflow" on every load): the page
+// opens, draws frames and says how many tiles it shows, without an error.
+const heavy = savedState
+  .replace(/font_scale:\s*[-0-9.e]+/, "font_scale:3.0")
+  .replace(/layout:\s*\w+/, "layout:Tiles")
+  .replace(/tiled:\s*\[[^\]]*\]/, "tiled:[Plane,Block,Bifurcation,ReturnMap,Events,Numerics,Phase,TimeSeries,Basins]");
+if (heavy === savedState) fail("could not edit the saved settings to text size 3 with every tile");
+const big = await open("", (p) => p.addInitScript((ron) => localStorage.setItem("app", ron), heavy));
+await big.waitForTimeout(8000);
+const bigFrames = await big.evaluate(() => window.__frames.length);
+const bigDark = darkInPlot(await big.screenshot());
+if (bigFrames < 10) fail(`text size 3 with every tile: the page drew ${bigFrames} frames in 8 s`);
+console.log(`web test: text size 3 with every tile (Block included) from local storage: ${bigFrames} frames in 8 s, ${bigDark} dark pixels, no error`);
+await big.close();
 
 // 4: a link with bad values opens on valid ones (the message is a toast).
 const q2 = "?kappa=-3&gamma=abc&view=nope&theta_nu=1.2";

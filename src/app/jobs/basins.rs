@@ -7,7 +7,7 @@
 
 use super::policy::SWEEP_DEBOUNCE;
 use super::{JobKind, Jobs, Slot, SyncOutcome, solver};
-use crate::app::basins::{MAX_COLUMNS, MIN_COLUMNS};
+use crate::app::settings::{MAX_COLUMNS, MIN_COLUMNS};
 use crate::app::settings::{Settings, ViewKind};
 use crate::integrate::SolverSettings;
 use crate::jobs::basins::identity::{Identities, identify};

@@ -9,6 +9,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::{KAPPA_RANGE, Params};
 
+mod grids;
+pub use grids::*;
+
 /// The views the window can show.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize, Deserialize)]
 pub enum ViewKind {
@@ -238,12 +241,24 @@ pub struct Settings {
     /// The Events view's plot when it shows one at a time.
     pub events_plot: EventsPlot,
     /// The Basins view's columns and θν zoom.
-    pub basins: super::basins::BasinsSettings,
+    pub basins: BasinsSettings,
     /// Presentation: the side panel hidden (H, the top bar's Panel,
     /// `gui --hide-panel`), the views taking its width.
     pub hide_panel: bool,
     /// How fast Play moves θν, in radians per second of the window.
     pub play_speed: f64,
+}
+
+impl Settings {
+    /// Sets every parameter from a preset (and its name, for the title);
+    /// a preset's θν outside [0, π/2] turns the full circle on.
+    pub fn apply_preset(&mut self, p: &Params, key: &str) {
+        self.params = *p;
+        if !(0.0..=FRAC_PI_2).contains(&p.theta_nu) {
+            self.full_circle = true;
+        }
+        self.preset = Some(key.to_string());
+    }
 }
 
 impl Settings {
@@ -501,100 +516,6 @@ impl Settings {
         } else {
             (0.0, std::f64::consts::FRAC_PI_2)
         }
-    }
-}
-
-/// The grid resolution the view offers, per axis.
-pub const MIN_STEPS: usize = 2;
-pub const MAX_STEPS: usize = 200;
-/// The most iterates per cell the view offers (transient, keep).
-pub const MAX_BUDGET: usize = 5000;
-
-/// A (θν, κ) rectangle: the grid's ends, included.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct PhaseRange {
-    pub theta_nu: (f64, f64),
-    pub kappa: (f64, f64),
-}
-
-impl PhaseRange {
-    /// The paper's Fig. 4: θν ∈ [0, π/2], κ ∈ [1, 42].
-    pub const PAPER: PhaseRange = PhaseRange {
-        theta_nu: (0.0, FRAC_PI_2),
-        kappa: (1.0, 42.0),
-    };
-
-    /// Finite, increasing ends ([`is_usable_range`]: not narrower than
-    /// 1e-12 of their size), θν within [−π, π] and κ within the model's
-    /// [`KAPPA_RANGE`].
-    pub fn is_valid(&self) -> bool {
-        let (t0, t1) = self.theta_nu;
-        let (k0, k1) = self.kappa;
-        is_usable_range(self.theta_nu)
-            && -PI <= t0
-            && t1 <= PI
-            && is_usable_range(self.kappa)
-            && KAPPA_RANGE.contains(&k0)
-            && KAPPA_RANGE.contains(&k1)
-    }
-}
-
-/// What the phase view remembers between runs.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(default)]
-pub struct PhaseSettings {
-    /// θν columns and κ rows of the grid (each 2 … 200).
-    pub theta_nu_steps: usize,
-    pub kappa_steps: usize,
-    /// The cell's budget: the most iterates looking for a period, then the
-    /// most with f'(θ) for λ (`oneblock phase --transient/--keep`).
-    pub transient: usize,
-    pub keep: usize,
-    /// The whole (unzoomed) range.
-    pub range: PhaseRange,
-    /// Zoom levels, innermost last; each is recomputed at full resolution.
-    pub zoom: Vec<PhaseRange>,
-    /// θ₀ spread over each cell's exit arc whose attractors are counted
-    /// (`oneblock phase --seeds`, at most [`MAX_SWEEP_SEEDS`]; 0: none).
-    pub seeds: usize,
-}
-
-impl Default for PhaseSettings {
-    fn default() -> Self {
-        PhaseSettings {
-            theta_nu_steps: 30,
-            kappa_steps: 30,
-            transient: 400,
-            keep: 128,
-            range: PhaseRange::PAPER,
-            zoom: Vec::new(),
-            seeds: 0,
-        }
-    }
-}
-
-impl PhaseSettings {
-    /// The range the grid covers now: the innermost zoom, or the whole.
-    pub fn current(&self) -> PhaseRange {
-        self.zoom.last().copied().unwrap_or(self.range)
-    }
-
-    /// The same settings brought into the ranges the view offers (a saved
-    /// file may hold anything).
-    pub fn sanitised(mut self) -> Self {
-        let d = PhaseSettings::default();
-        self.theta_nu_steps = self.theta_nu_steps.clamp(MIN_STEPS, MAX_STEPS);
-        self.kappa_steps = self.kappa_steps.clamp(MIN_STEPS, MAX_STEPS);
-        self.transient = self.transient.min(MAX_BUDGET);
-        self.keep = self.keep.clamp(16, MAX_BUDGET);
-        self.seeds = self.seeds.min(MAX_SWEEP_SEEDS);
-        if !self.range.is_valid() {
-            self.range = d.range;
-            self.zoom.clear();
-        }
-        self.zoom.retain(PhaseRange::is_valid);
-        self.zoom.truncate(MAX_ZOOM_LEVELS);
-        self
     }
 }
 
