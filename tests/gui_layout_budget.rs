@@ -15,7 +15,7 @@ use egui_kittest::kittest::Queryable;
 use oneblock::app::views::{min_tile, tiles_that_fit};
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
 use oneblock::sim::{Phase, Sample};
-use oneblock::worker::{Command, Update};
+use oneblock::worker::{Command, Spec, Update};
 
 /// A `size` window showing `settings`, with a trajectory for the Block
 /// scene to draw (without one it only says it is waiting).
@@ -34,7 +34,10 @@ fn window(rec: &Recorder, settings: Settings, size: [f32; 2]) -> Harness<'static
         .iter()
         .rev()
         .find_map(|c| match c {
-            Command::Trajectory { generation, .. } => Some(*generation),
+            Command::Run {
+                generation,
+                spec: Spec::Trajectory(..),
+            } => Some(*generation),
             _ => None,
         })
         .expect("a trajectory command");

@@ -8,12 +8,11 @@
 
 use eframe::egui::{self, Color32, RichText, Ui};
 use egui_plot::{Plot, PlotBounds, PlotPoint, PlotPoints, Polygon, VLine};
-use serde::{Deserialize, Serialize};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::basins::BasinsData;
 use super::jobs::{JobState, Jobs, Slot};
-use super::settings::{MAX_COLUMNS, MIN_COLUMNS, Settings, ViewKind};
+use super::settings::{MAX_COLUMNS, MIN_COLUMNS, Settings, ViewKind, is_usable_range};
 use super::style;
 use super::view::{Action, View};
 use crate::jobs::basins::identity::Identities;

@@ -25,7 +25,7 @@ use super::style;
 use super::view::{Action, Export};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::PRESETS;
-use crate::model::{Params, Regime, validity};
+use crate::model::{Regime, validity};
 
 /// The numeric fields of the panel.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -14,23 +14,23 @@ use egui::{Context, Rect, Ui};
 
 use super::backend::Backend;
 use super::controls::Controls;
+use super::files::fresh_path;
 use super::frame_stats::FrameStats;
 use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
 use super::play::{Play, Tick};
 use super::save;
-use super::files::fresh_path;
 use super::screenshot::Shots;
 use super::script::{Script, Window};
 use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
 use super::status;
 use super::style;
+use super::style::is_narrow;
 use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
 use super::title_buttons::title_row_ui;
-use super::style::is_narrow;
 use super::tour::Tour;
 use super::view::Action;
 use super::views::{Views, min_tile, tiles_that_fit};
@@ -529,7 +529,7 @@ impl Explorer {
             );
             ui.put(
                 line,
-                egui::Label::new(RichText::new(text).strong()).truncate(),
+                egui::Label::new(egui::RichText::new(text).strong()).truncate(),
             );
             views.truncate(fit);
         }

@@ -6,8 +6,8 @@ use std::sync::{Arc, PoisonError};
 use std::time::Duration;
 
 use super::{
-    Backend, Explorer, Layout, SCREENSHOT_GRACE, Script, Settings, ViewKind,
-    is_software_gl, preset, preset_keys, saved_state, session,
+    Backend, Explorer, Layout, SCREENSHOT_GRACE, Script, Settings, ViewKind, is_software_gl,
+    preset, preset_keys, saved_state, session,
 };
 use crate::worker::{LocalWorker, Worker, WorkerConfig};
 use eframe::egui;

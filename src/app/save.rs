@@ -5,8 +5,8 @@
 
 use super::accuracy::job_estimates;
 use super::export;
-use super::jobs::{JobKind, Jobs};
 use super::files::fresh_path;
+use super::jobs::{JobKind, Jobs};
 use super::screenshot::Shots;
 use super::settings::{AccuracyMode, Settings};
 use super::view::Export;

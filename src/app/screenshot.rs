@@ -4,7 +4,7 @@
 //! The outcome comes back through a channel and shows as a toast.
 
 use eframe::egui;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
 
@@ -54,7 +54,6 @@ impl Default for Shots {
         }
     }
 }
-
 
 /// A save whose thread could not start: a failure the user sees as a
 /// toast (and a scripted run as its error), not a file silently missing.

@@ -4,7 +4,7 @@
 //! time with the panel as a drawer over it.
 
 use eframe::egui;
-use egui::{Context, RichText, Ui};
+use egui::{RichText, Ui};
 
 use super::explorer::Explorer;
 use super::play::play_button_ui;

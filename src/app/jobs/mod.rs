@@ -6,12 +6,12 @@
 //! their job are dropped here. Nothing here draws.
 
 mod apply;
-mod slots;
 pub mod basins;
 mod continuation;
 mod events;
 pub mod kind;
 pub mod policy;
+mod slots;
 pub mod stale;
 
 use continuation::diagram_range;
@@ -22,7 +22,6 @@ pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
 pub use slots::{JobState, LaneProgress, Slot, SlotHead, Slots};
 
 use super::backend::Backend;
-use super::branches::{BranchData, CurveData};
 use super::data::{IterateData, SweepData, TrajectoryData, WorkPrecisionData};
 use super::phase_data::PhaseData;
 use super::settings::Settings;
@@ -32,7 +31,6 @@ use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
 use crate::sim::MapChoice;
-use crate::sim::intermittency::{Passage, Scaling};
 use crate::worker::{
     Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, PhaseTuning, SweepSpec,
     TrajectorySpec, WorkPrecisionSpec,

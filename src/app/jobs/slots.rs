@@ -141,4 +141,3 @@ slots! {
     Basins => basins: BasinsData,
     MapBasins => map_basins: MapBasinsData,
 }
-

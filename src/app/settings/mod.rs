@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use std::f64::consts::{FRAC_PI_2, PI};
 
 use crate::integrate::{Method, SolverSettings};
-use crate::model::{KAPPA_RANGE, Params};
+use crate::model::Params;
 
 mod grids;
 pub use grids::*;
