@@ -69,7 +69,8 @@ fn seeded_rows(args: &[&str]) -> Vec<(f64, f64, u8)> {
     let o = oneblock(args);
     assert_ok(&o);
     let out = stdout(&o);
-    let mut lines = out.lines();
+    // The provenance lines (`#`) first, then the header.
+    let mut lines = out.lines().skip_while(|l| l.starts_with('#'));
     assert_eq!(
         lines.next(),
         Some("theta_nu,theta,lyapunov,lyapunov_stderr,attractor")
@@ -167,6 +168,7 @@ fn a_seeded_pure_creep_diagram_has_no_multistable_column() {
     let out = stdout(&o);
     let labels: BTreeSet<&str> = out
         .lines()
+        .filter(|l| !l.starts_with('#'))
         .skip(1)
         .map(|l| l.rsplit(',').next().unwrap())
         .collect();
@@ -237,7 +239,7 @@ fn the_seeded_phase_grid_counts_what_direct_orbits_reach() {
     ]);
     assert_ok(&o);
     let out = stdout(&o);
-    let mut lines = out.lines();
+    let mut lines = out.lines().skip_while(|l| l.starts_with('#'));
     let header = lines.next().unwrap();
     assert!(header.ends_with(",attractors"), "{header}");
     let mut multistable = vec![];

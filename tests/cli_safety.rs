@@ -59,7 +59,9 @@ fn force_through_a_symlink_writes_the_target_and_keeps_the_link() {
             .is_symlink()
     );
     let text = std::fs::read_to_string(&target).unwrap();
-    assert!(text.starts_with("t,x,y,u,w,phase\n"), "{text}");
+    // The new CSV: its provenance lines, then the header.
+    assert!(text.starts_with("# oneblock "), "{text}");
+    assert!(text.contains("\nt,x,y,u,w,phase\n"), "{text}");
 }
 
 #[test]

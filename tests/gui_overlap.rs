@@ -6,13 +6,22 @@
 //! other, against the picture's edge, and, for an axis title turned on its side (the events view's
 //! count label), against the plot it names: it stays beside that plot's
 //! frame instead of running past it into the line or plot above or below.
+//! And the whole window on a projector, 1024 × 768 at text 1.5 in tabs and
+//! in tiles (egui_kittest, the text the frame painted): no text on top of
+//! another (a view's title under its buttons, the status bar's words),
+//! at least four labelled ticks on each axis of every plot, and a status
+//! bar of one line.
 #![cfg(feature = "gui")]
+
+#[path = "common/window.rs"]
+mod window;
 
 use std::collections::HashMap;
 
 use eframe::egui;
 use oneblock::app::figure::{Figure, svg};
-use oneblock::app::{Settings, ViewKind};
+use oneblock::app::{Layout, Recorder, Settings, ViewKind};
+use window::{painted_texts, tick_labels, window_with_slips};
 
 /// A text's box on the picture, in points, and its string.
 #[derive(Clone, Debug)]
@@ -289,3 +298,67 @@ fn the_box_reader_sees_an_overlap_when_there_is_one() {
         "{turned:?}"
     );
 }
+
+/// Every pair of painted texts that overlap (by more than a point each
+/// way), each text cut to the clip rectangle it was painted in.
+fn painted_overlaps(h: &egui_kittest::Harness<'static, oneblock::app::Explorer>) -> Vec<String> {
+    let texts: Vec<(String, egui::Rect)> = painted_texts(h)
+        .into_iter()
+        .filter(|(t, r)| !t.trim().is_empty() && r.width() > 0.5 && r.height() > 0.5)
+        .collect();
+    let mut bad = Vec::new();
+    for (i, (a, ra)) in texts.iter().enumerate() {
+        for (b, rb) in &texts[i + 1..] {
+            let o = ra.intersect(*rb);
+            if o.width() > 1.0 && o.height() > 1.0 {
+                bad.push(format!("'{a}' {ra:?} overlaps '{b}' {rb:?}"));
+            }
+        }
+    }
+    bad
+}
+
+/// A projector's window: 1024 × 768, text 1.5, the side panel shown.
+fn projector_window(layout: Layout, tab: ViewKind, rec: &Recorder) -> egui_kittest::Harness<'static, oneblock::app::Explorer> {
+    let s = Settings {
+        layout,
+        tab,
+        ..projector_settings()
+    };
+    window_with_slips(s, rec, (1024.0, 768.0))
+}
+
+#[test]
+fn at_1024x768_and_text_1_5_no_text_overprints_every_axis_has_four_ticks_and_the_status_bar_is_one_line() {
+    let mut bad = Vec::new();
+    let cases = ViewKind::ALL
+        .iter()
+        .map(|v| (Layout::Tabs, *v))
+        .chain([(Layout::Tiles, ViewKind::Plane)]);
+    for (layout, tab) in cases {
+        let rec = Recorder::new();
+        let h = projector_window(layout, tab, &rec);
+        let what = match layout {
+            Layout::Tabs => format!("{} tab", tab.key()),
+            Layout::Tiles => "tiles".into(),
+        };
+        bad.extend(painted_overlaps(&h).into_iter().map(|m| format!("{what}: {m}")));
+        for (plot, xs, ys) in tick_labels(&h) {
+            // The time series' upper plots share the energy plot's t axis.
+            let shared_x = matches!(plot, "time-series-x" | "time-series-y" | "time-series-vr");
+            if xs.len() < 4 && !(shared_x && xs.is_empty()) {
+                bad.push(format!("{what}, {plot}: x tick labels {xs:?}"));
+            }
+            if ys.len() < 4 {
+                bad.push(format!("{what}, {plot}: y tick labels {ys:?}"));
+            }
+        }
+        let row = h.ctx.global_style().text_styles[&egui::TextStyle::Body].size;
+        let status = h.state().status_rect;
+        if status.height() > 2.2 * row {
+            bad.push(format!("{what}: the status bar is {:.0} points tall (a line is {row:.0})", status.height()));
+        }
+    }
+    assert!(bad.is_empty(), "{}", bad.join("\n"));
+}
+

@@ -402,9 +402,6 @@ impl Explorer {
     /// The bars, the side panel (or a phone's drawer) and the views.
     fn panels_ui(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
         let narrow = is_narrow(ui.ctx());
-        if narrow {
-            self.settings.layout = Layout::Tabs;
-        }
         // No fills on the panels either (see the central panel below).
         let bare = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
         egui::Panel::top("top")
@@ -497,7 +494,13 @@ impl Explorer {
     fn views_ui(&mut self, ui: &mut Ui, out: &mut Vec<Action>) {
         self.view_rects.clear();
         let whole = ui.available_rect_before_wrap();
-        let (views, area) = match self.settings.layout {
+        // A phone shows one view (its chooser is the top bar's); the saved
+        // layout is kept for a wider window.
+        let layout = match is_narrow(ui.ctx()) {
+            true => Layout::Tabs,
+            false => self.settings.layout,
+        };
+        let (views, area) = match layout {
             Layout::Tabs => (vec![self.settings.tab], whole),
             Layout::Tiles => self.tiles_shown_ui(ui),
         };

@@ -66,7 +66,9 @@ impl Play {
         self.last = Some(now);
         if cobweb {
             self.owed += dt * s.play_speed * 100.0;
-            let n = self.owed.floor();
+            // A whole iterate owed is taken even when the clock's sums
+            // fall a rounding error short of it (ten ticks of 0.1 s).
+            let n = (self.owed + 1e-9).floor();
             self.owed -= n;
             return if n >= 1.0 {
                 Tick::Iterates(n as usize)

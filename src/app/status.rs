@@ -7,9 +7,11 @@ use egui::{RichText, Ui};
 use super::jobs::{JobState, Jobs};
 use super::style;
 
-/// The status bar of the jobs `j`.
+/// The status bar of the jobs `j`, on one line at any width: the job
+/// words and bars first, then the continuation's and the last error's
+/// lines, cut to the room left with "…" (the whole line on hover).
 pub fn status_ui(ui: &mut Ui, j: &Jobs) {
-    ui.horizontal_wrapped(|ui| {
+    ui.horizontal(|ui| {
         if busy(j) {
             ui.spinner();
         }
@@ -25,29 +27,25 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
                 + j.orbit_progress().iterates_per_second
                 + j.phase.progress.iterates_per_second
         ));
-        for (name, slot_state, progress, summary) in [
-            (
-                "bifurcations",
-                &j.branches.state,
-                j.branches.progress.fraction,
-                &j.branches.summary,
-            ),
-            (
-                "boundaries",
-                &j.curves.state,
-                j.curves.progress.fraction,
-                &j.curves.summary,
-            ),
-        ] {
-            if let Some(text) = continuation_status(name, slot_state, progress, summary.as_deref())
-            {
-                ui.separator();
-                ui.label(text);
-            }
-        }
+        let mut tail: Vec<RichText> = Vec::new();
         if let Some(e) = &j.last_error {
+            tail.push(RichText::new(format!("error: {e}")).color(style::ERROR));
+        }
+        for (name, slot) in [("bifurcations", &j.branches.head), ("boundaries", &j.curves.head)] {
+            let line = continuation_status(
+                name,
+                &slot.state,
+                slot.progress.fraction,
+                slot.summary.as_deref(),
+            );
+            tail.extend(line.map(RichText::new));
+        }
+        for text in tail {
+            if ui.available_width() < 24.0 {
+                break;
+            }
             ui.separator();
-            ui.label(RichText::new(format!("error: {e}")).color(style::ERROR));
+            ui.add(egui::Label::new(text).truncate());
         }
     });
 }

@@ -262,3 +262,107 @@ pub fn trajectory_generation(rec: &Recorder) -> Generation {
         })
         .expect("the window starts a trajectory")
 }
+
+/// Every text the last frame painted, with where.
+pub fn painted_texts(h: &Harness<'static, Explorer>) -> Vec<(String, egui::Rect)> {
+    fn walk(s: &egui::Shape, out: &mut Vec<(String, egui::Rect)>) {
+        match s {
+            egui::Shape::Text(t) => {
+                out.push((t.galley.text().to_string(), t.visual_bounding_rect()))
+            }
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            _ => {}
+        }
+    }
+    let mut out = Vec::new();
+    for cs in &h.output().shapes {
+        walk(&cs.shape, &mut out);
+    }
+    out
+}
+
+/// Whether `t` reads as a tick label: a number, possibly in degrees or a
+/// multiple or fraction of π.
+pub fn is_tick(t: &str) -> bool {
+    let t = t.trim_end_matches('°');
+    if t.parse::<f64>().is_ok() {
+        return true;
+    }
+    // "π", "-π/2", "3π/8", "0.38π"
+    let t = t.trim_start_matches('-');
+    match t.split_once('π') {
+        Some((num, rest)) => {
+            (num.is_empty() || num.parse::<f64>().is_ok())
+                && (rest.is_empty()
+                    || rest
+                        .strip_prefix('/')
+                        .is_some_and(|d| d.parse::<u32>().is_ok()))
+        }
+        None => false,
+    }
+}
+
+/// The tick labels under the x axis and left of the y axis of each plot
+/// drawn in the last frame: (plot, x labels, y labels).
+pub fn tick_labels(h: &Harness<'static, Explorer>) -> Vec<(&'static str, Vec<String>, Vec<String>)> {
+    let texts = painted_texts(h);
+    let line = h.ctx.global_style().text_styles[&egui::TextStyle::Body].size;
+    oneblock::app::axes::plot_frames(&h.ctx)
+        .into_iter()
+        .map(|(name, f)| {
+            let xs = texts
+                .iter()
+                .filter(|(t, r)| {
+                    is_tick(t)
+                        && r.center().x >= f.left() - 1.0
+                        && r.center().x <= f.right() + 1.0
+                        && r.top() >= f.bottom() - 1.0
+                        && r.top() <= f.bottom() + 2.0 * line
+                })
+                .map(|(t, _)| t.clone())
+                .collect();
+            let ys = texts
+                .iter()
+                .filter(|(t, r)| {
+                    is_tick(t)
+                        && r.center().y >= f.top() - 1.0
+                        && r.center().y <= f.bottom() + 1.0
+                        && r.right() <= f.left() + 1.0
+                        && r.right() >= f.left() - 12.0 * line
+                })
+                .map(|(t, _)| t.clone())
+                .collect();
+            (name, xs, ys)
+        })
+        .collect()
+}
+
+/// The window at `size` with `settings`, after a catalogue of 300 slips of
+/// varied sizes has arrived (as a running window has one).
+pub fn window_with_slips(
+    settings: Settings,
+    rec: &Recorder,
+    size: (f32, f32),
+) -> Harness<'static, Explorer> {
+    let mut h = harness(rec, settings);
+    h.set_size(egui::vec2(size.0, size.1));
+    h.run_steps(2);
+    if let Some(generation) = rec.commands().into_iter().find_map(|c| match c {
+        Command::Run {
+            generation,
+            spec: Spec::Trajectory(..),
+        } => Some(generation),
+        _ => None,
+    }) {
+        for i in 0..300 {
+            let mut e = event(0.5, 0.2, 103.0 * i as f64);
+            e.slip_distance = 0.2 + 0.7 * ((i * 37) % 100) as f64 / 100.0;
+            rec.push(Update::Slip {
+                generation,
+                event: e,
+            });
+        }
+    }
+    h.run_steps(4);
+    h
+}
