@@ -319,7 +319,11 @@ fn painted_overlaps(h: &egui_kittest::Harness<'static, oneblock::app::Explorer>)
 }
 
 /// A projector's window: 1024 × 768, text 1.5, the side panel shown.
-fn projector_window(layout: Layout, tab: ViewKind, rec: &Recorder) -> egui_kittest::Harness<'static, oneblock::app::Explorer> {
+fn projector_window(
+    layout: Layout,
+    tab: ViewKind,
+    rec: &Recorder,
+) -> egui_kittest::Harness<'static, oneblock::app::Explorer> {
     let s = Settings {
         layout,
         tab,
@@ -329,7 +333,8 @@ fn projector_window(layout: Layout, tab: ViewKind, rec: &Recorder) -> egui_kitte
 }
 
 #[test]
-fn at_1024x768_and_text_1_5_no_text_overprints_every_axis_has_four_ticks_and_the_status_bar_is_one_line() {
+fn at_1024x768_and_text_1_5_no_text_overprints_every_axis_has_four_ticks_and_the_status_bar_is_one_line()
+ {
     let mut bad = Vec::new();
     let cases = ViewKind::ALL
         .iter()
@@ -342,7 +347,11 @@ fn at_1024x768_and_text_1_5_no_text_overprints_every_axis_has_four_ticks_and_the
             Layout::Tabs => format!("{} tab", tab.key()),
             Layout::Tiles => "tiles".into(),
         };
-        bad.extend(painted_overlaps(&h).into_iter().map(|m| format!("{what}: {m}")));
+        bad.extend(
+            painted_overlaps(&h)
+                .into_iter()
+                .map(|m| format!("{what}: {m}")),
+        );
         for (plot, xs, ys) in tick_labels(&h) {
             // The time series' upper plots share the energy plot's t axis.
             let shared_x = matches!(plot, "time-series-x" | "time-series-y" | "time-series-vr");
@@ -356,9 +365,11 @@ fn at_1024x768_and_text_1_5_no_text_overprints_every_axis_has_four_ticks_and_the
         let row = h.ctx.global_style().text_styles[&egui::TextStyle::Body].size;
         let status = h.state().status_rect;
         if status.height() > 2.2 * row {
-            bad.push(format!("{what}: the status bar is {:.0} points tall (a line is {row:.0})", status.height()));
+            bad.push(format!(
+                "{what}: the status bar is {:.0} points tall (a line is {row:.0})",
+                status.height()
+            ));
         }
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));
 }
-

@@ -153,8 +153,9 @@ pub fn gif(fig: &Figure, frames: usize, speed: f64) -> Result<Vec<u8>, String> {
 /// The animation's one palette and a table from colour to its index.
 struct Palette {
     quant: color_quant::NeuQuant,
-    /// Palette index by colour at [`LUT_BITS`] a channel, filled on first
-    /// use (`u16::MAX`: not yet); racing fills write the same value.
+    /// Palette index by colour at [`LUT_BITS`] a channel (the entry of
+    /// the bucket's centre), filled on first use (`u16::MAX`: not yet);
+    /// racing fills write the same value.
     lut: Vec<AtomicU16>,
 }
 
@@ -190,7 +191,12 @@ impl Palette {
                 let slot = &self.lut[key];
                 match slot.load(Ordering::Relaxed) {
                     u16::MAX => {
-                        let i = self.quant.index_of(&[p[0], p[1], p[2], 255]) as u16;
+                        // The bucket's centre, not this pixel: the entry is
+                        // then the same whichever pixel of the bucket comes
+                        // first (frames are indexed in parallel).
+                        let centre = |c: u8| (c >> shift << shift) | (1 << (shift - 1));
+                        let rgb = [centre(p[0]), centre(p[1]), centre(p[2]), 255];
+                        let i = self.quant.index_of(&rgb) as u16;
                         slot.store(i, Ordering::Relaxed);
                         i as u8
                     }

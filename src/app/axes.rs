@@ -188,7 +188,17 @@ fn grid_marks(
 ) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     let points_per_value = GRID_MIN_POINTS / input.base_step_size;
-    let t = legible_ticks(scale, axis, (lo, hi), points_per_value);
+    let mut t = legible_ticks(scale, axis, (lo, hi), points_per_value);
+    // A label on the frame's bottom-left corner would stand where the
+    // other axis's first label stands: where there are labels to spare,
+    // its grid line stays, unlabelled.
+    let many = t.len() > 5;
+    if many
+        && let Some(first) = t.first_mut()
+        && (first.value - lo) * points_per_value < 0.5 * label_room(axis, first)
+    {
+        first.label.clear();
+    }
     // The spacing egui fits each label into: the gap to its nearer
     // neighbour (on a log axis the gaps differ), so that a crowded label
     // is dropped alone rather than all of them.
@@ -321,6 +331,14 @@ pub struct PlotFrames(pub Vec<(&'static str, egui::Rect)>);
 
 fn frames_id() -> egui::Id {
     egui::Id::unique("oneblock-plot-frames")
+}
+
+/// Records plot `name`'s `frame` when it is wholly on screen (`ui`'s clip
+/// rectangle): a plot scrolled partly away is not one the window shows.
+pub fn remember_shown(ui: &egui::Ui, name: &'static str, frame: egui::Rect) {
+    if ui.clip_rect().contains_rect(frame.expand(-1.0)) {
+        remember_frame(ui.ctx(), name, frame);
+    }
 }
 
 /// Records that plot `name` was drawn in `frame` this frame.

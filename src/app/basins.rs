@@ -359,6 +359,8 @@ impl View for BasinsView {
         }
         legend_ui(ui, &d.ids);
         let row = ui.text_style_height(&egui::TextStyle::Body);
+        // Room for the top tick label, centred on the plot's top edge.
+        ui.add_space(0.5 * row);
         let listed = !figure && self.selected.is_some();
         let list = if listed { 7.0 * row } else { 0.0 };
         let avail = (ui.available_height() - list).max(0.0);

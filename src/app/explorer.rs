@@ -502,6 +502,9 @@ impl Explorer {
         };
         let (views, area) = match layout {
             Layout::Tabs => (vec![self.settings.tab], whole),
+            // The tour lays out its step's few views itself, every one
+            // shown: a step never hides its subject.
+            Layout::Tiles if self.tour.step.is_some() => (self.settings.tiled.clone(), whole),
             Layout::Tiles => self.tiles_shown_ui(ui),
         };
         let (rects, band) = self.tour.arrange(area, &views);

@@ -306,7 +306,7 @@ impl NumericsView {
                     p.add(job_mark(job, ink).points(format!("{mode}: {}", job.label()), vec![pt]));
                 }
             });
-        axes::remember_frame(ui.ctx(), "work_precision", *resp.transform.frame());
+        axes::remember_shown(ui, "work_precision", *resp.transform.frame());
     }
 }
 

@@ -31,7 +31,10 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
         if let Some(e) = &j.last_error {
             tail.push(RichText::new(format!("error: {e}")).color(style::ERROR));
         }
-        for (name, slot) in [("bifurcations", &j.branches.head), ("boundaries", &j.curves.head)] {
+        for (name, slot) in [
+            ("bifurcations", &j.branches.head),
+            ("boundaries", &j.curves.head),
+        ] {
             let line = continuation_status(
                 name,
                 &slot.state,

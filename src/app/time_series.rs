@@ -194,7 +194,7 @@ impl TimeSeriesView {
                 }
             }
         });
-        axes::remember_frame(ui.ctx(), q.plot_id(), *resp.transform.frame());
+        axes::remember_shown(ui, q.plot_id(), *resp.transform.frame());
     }
 }
 
@@ -252,8 +252,24 @@ impl View for TimeSeriesView {
         let gap = (0.8 * row - ui.spacing().item_spacing.y).max(0.0);
         let gaps = 3.0 * (gap + ui.spacing().item_spacing.y);
         // Four frames of one height, and the time axis's labels and title
-        // (3 rows) under the last.
-        let each = ((ui.available_height() - gaps - 3.0 * row) / 4.0).max(row);
+        // (3 rows) under the last; in the window, frames too short for
+        // legible ticks (under seven rows) keep seven and scroll instead.
+        let fit = ((ui.available_height() - gaps - 3.0 * row) / 4.0).max(row);
+        let least = 7.0 * row;
+        if fit >= least || style::figure_only(ui.ctx()) {
+            Self::plots_ui(ui, s, samples, fit, gap);
+        } else {
+            egui::ScrollArea::vertical()
+                .id_salt("time-series-plots")
+                .show(ui, |ui| Self::plots_ui(ui, s, samples, least, gap));
+        }
+    }
+}
+
+impl TimeSeriesView {
+    /// The four plots, each frame `each` points tall, `gap` apart.
+    fn plots_ui(ui: &mut Ui, s: &Settings, samples: &[Sample], each: f32, gap: f32) {
+        let row = ui.text_style_height(&egui::TextStyle::Body);
         for q in Quantity::ALL {
             let h = if q == Quantity::Energy {
                 each + 3.0 * row

@@ -48,12 +48,13 @@ impl Views {
 }
 
 /// The least room a tile is laid out in, for text rows `row` points high:
-/// a title, a row or two of controls and a plot. Past it fewer tiles are
+/// a title, a row or two of controls and a plot whose axes keep four
+/// labelled ticks or more (15 rows wide, 14 high). Past it fewer tiles are
 /// shown ([`tiles_that_fit`]): eight tiles at text ×3 in a small window
 /// once left the Block view no room at all, and its stripes then looped
 /// until memory ran out.
 pub fn min_tile(row: f32) -> egui::Vec2 {
-    egui::vec2(12.0 * row, 6.0 * row)
+    egui::vec2(15.0 * row, 14.0 * row)
 }
 
 /// How many of `n` tiles [`tile_rects`] lays out in `area` each at least

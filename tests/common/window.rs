@@ -263,21 +263,35 @@ pub fn trajectory_generation(rec: &Recorder) -> Generation {
         .expect("the window starts a trajectory")
 }
 
-/// Every text the last frame painted, with where.
+/// Every text the last frame painted, with where: a row at a time (a
+/// wrapped label is its rows, not their bounding box; a turned text is
+/// its turned box), each cut to the clip rectangle it was painted in, and
+/// left out where nothing of it shows.
 pub fn painted_texts(h: &Harness<'static, Explorer>) -> Vec<(String, egui::Rect)> {
-    fn walk(s: &egui::Shape, out: &mut Vec<(String, egui::Rect)>) {
+    fn walk(s: &egui::Shape, clip: egui::Rect, out: &mut Vec<(String, egui::Rect)>) {
         match s {
+            egui::Shape::Text(t) if t.angle != 0.0 => out.push((
+                t.galley.text().to_string(),
+                t.visual_bounding_rect().intersect(clip),
+            )),
             egui::Shape::Text(t) => {
-                out.push((t.galley.text().to_string(), t.visual_bounding_rect()))
+                for row in &t.galley.rows {
+                    let r = row
+                        .rect_without_leading_space()
+                        .translate(t.pos.to_vec2())
+                        .intersect(clip);
+                    out.push((row.text(), r));
+                }
             }
-            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, out)),
+            egui::Shape::Vec(v) => v.iter().for_each(|s| walk(s, clip, out)),
             _ => {}
         }
     }
     let mut out = Vec::new();
     for cs in &h.output().shapes {
-        walk(&cs.shape, &mut out);
+        walk(&cs.shape, cs.clip_rect, &mut out);
     }
+    out.retain(|(_, r)| r.is_positive());
     out
 }
 
@@ -304,7 +318,9 @@ pub fn is_tick(t: &str) -> bool {
 
 /// The tick labels under the x axis and left of the y axis of each plot
 /// drawn in the last frame: (plot, x labels, y labels).
-pub fn tick_labels(h: &Harness<'static, Explorer>) -> Vec<(&'static str, Vec<String>, Vec<String>)> {
+pub fn tick_labels(
+    h: &Harness<'static, Explorer>,
+) -> Vec<(&'static str, Vec<String>, Vec<String>)> {
     let texts = painted_texts(h);
     let line = h.ctx.global_style().text_styles[&egui::TextStyle::Body].size;
     oneblock::app::axes::plot_frames(&h.ctx)
