@@ -207,7 +207,7 @@ impl Session {
             parts.push(format!("invalid {} (defaults used)", listed(&bad)));
         }
         if !dropped.is_empty() {
-            parts.push(format!("dropped {} (compute them again)", listed(&dropped)));
+            parts.push(format!("dropped {}: compute them again", listed(&dropped)));
         }
         if !unknown.is_empty() {
             parts.push(format!("unknown {} (ignored)", listed(&unknown)));
