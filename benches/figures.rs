@@ -16,7 +16,6 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use eframe::egui;
 use oneblock::app::animation::gif;
-use oneblock::app::controls::apply_preset;
 use oneblock::app::figure::{Figure, svg};
 use oneblock::app::{Settings, ViewKind};
 
@@ -24,7 +23,7 @@ use oneblock::app::{Settings, ViewKind};
 fn figure(view: ViewKind, w: f32, h: f32) -> Figure {
     let mut settings = Settings::default();
     let p = oneblock::model::preset("fig3b").unwrap();
-    apply_preset(&mut settings, &p.params, p.key);
+    settings.apply_preset(&p.params, p.key);
     Figure {
         view,
         settings,
@@ -35,6 +34,7 @@ fn figure(view: ViewKind, w: f32, h: f32) -> Figure {
         crosshair: false,
         look: Default::default(),
         overlays: Default::default(),
+        session: None,
     }
 }
 

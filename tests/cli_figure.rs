@@ -61,6 +61,7 @@ fn small_session(dir: &Path) -> std::path::PathBuf {
         Session {
             settings: s,
             bifurcation_zoom: vec![],
+            ..Session::default()
         }
         .to_json(),
     )

@@ -28,6 +28,7 @@ fn small_session(dir: &Path) -> PathBuf {
         Session {
             settings: s,
             bifurcation_zoom: vec![],
+            ..Session::default()
         }
         .to_json(),
     )

@@ -189,6 +189,7 @@ fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
             Session {
                 settings: s,
                 bifurcation_zoom: vec![],
+                ..Session::default()
             }
             .to_json(),
         )
@@ -497,6 +498,7 @@ fn a_gif_made_in_pieces_is_the_gif_made_at_once() {
         crosshair: false,
         look: Default::default(),
         overlays: Default::default(),
+        session: None,
     };
     let whole = gif(&fig, 40, 0.5).expect("a GIF");
     assert!(GifRun::new(fig.clone(), 0, 0.5).is_err(), "no frames");

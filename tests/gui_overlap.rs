@@ -208,6 +208,7 @@ fn overlaps(view: ViewKind, settings: &Settings, (w, h): (f32, f32)) -> Vec<Stri
         crosshair: true,
         look: Default::default(),
         overlays: Default::default(),
+        session: None,
     };
     let svg = svg(&fig).expect("the figure is drawn");
     let (texts, frames) = boxes(&svg);

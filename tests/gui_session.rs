@@ -41,6 +41,7 @@ fn changed() -> Session {
             theta_nu: (1.15, 1.35),
             theta: (0.2, 0.9),
         }],
+        ..Session::default()
     }
 }
 

@@ -7,7 +7,7 @@
 use crate::sim::continuation::{Branch, ContParam, Curve, SpecialKind, SpecialPoint};
 
 /// The branches of a "Find bifurcations" job, in the order they ended.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct BranchData {
     /// The parameter varied (θν from the bifurcation view).
     pub param: Option<ContParam>,
@@ -19,7 +19,7 @@ pub struct BranchData {
 }
 
 /// The curves of a "Boundaries" job.
-#[derive(Clone, Debug, Default)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct CurveData {
     /// The curves in (θν, κ), in the order they ended.
     pub curves: Vec<Curve>,

@@ -365,12 +365,24 @@ fn files_ui(ui: &mut Ui, s: &mut Settings, out: &mut Vec<Action>) {
         if ui
             .button("Save session")
             .on_hover_text(
-                "Parameters, accuracy, views and zoom as a JSON file: reopen it with \
-                 `oneblock gui --session FILE`.",
+                "Parameters, accuracy, views and zoom as a JSON file, with the branches of \
+                 Find bifurcations and the curves of Boundaries when they are shown: reopen \
+                 it with Open session… or `oneblock gui --session FILE`.",
             )
             .clicked()
         {
             out.push(Action::SaveSession);
+        }
+        #[cfg(not(target_arch = "wasm32"))]
+        if ui
+            .button("Open session…")
+            .on_hover_text(
+                "A session saved before: its parameters, views, zoom and kept results \
+                 replace the window's (the save folder stays).",
+            )
+            .clicked()
+        {
+            out.push(Action::OpenSession);
         }
         #[cfg(target_arch = "wasm32")]
         super::web::files_ui(ui, out);

@@ -77,6 +77,9 @@ pub struct Explorer {
     panel_reset: u8,
     applied_style: Option<(f32, bool, bool)>,
     pub(super) now: f64,
+    /// The desktop's "Open session…" modal, while it is open.
+    #[cfg(not(target_arch = "wasm32"))]
+    pub open_dialog: Option<super::open_session::OpenDialog>,
     /// The browser build's uploads and page context.
     #[cfg(target_arch = "wasm32")]
     pub web: super::web::WebState,
@@ -120,6 +123,8 @@ impl Explorer {
             panel_reset: 0,
             applied_style: None,
             now: 0.0,
+            #[cfg(not(target_arch = "wasm32"))]
+            open_dialog: None,
             #[cfg(target_arch = "wasm32")]
             web: Default::default(),
         }
@@ -149,10 +154,13 @@ impl Explorer {
         }
     }
 
-    /// Opens a session (an uploaded file in the browser): its settings and
-    /// zoom replace the current ones, and what had to be set to a default
-    /// is said in a toast. The save folder stays the window's own.
+    /// Opens a session (a file of Open session…, or an upload in the
+    /// browser): its settings and zoom replace the current ones, its kept
+    /// results are shown ([`Explorer::restore_results`]), and what had to
+    /// be set to a default or dropped is said in a toast. The save folder
+    /// stays the window's own.
     pub fn open_session(&mut self, loaded: super::session::Loaded) {
+        self.restore_results(&loaded.session);
         let dir = std::mem::take(&mut self.settings.save_dir);
         self.settings = loaded.session.settings;
         self.settings.save_dir = dir;
@@ -163,6 +171,17 @@ impl Explorer {
             Some(m) => self.shots.toast(m, true, self.now),
             None => self.shots.toast("session opened".into(), false, self.now),
         }
+    }
+
+    /// Shows the results `session` kept, without a job, bound to the
+    /// session's own settings: options that changed the window's since
+    /// (a preset at launch) make the first sync clear them, as any later
+    /// change does.
+    pub fn restore_results(&mut self, session: &Session) {
+        let zoom = session.bifurcation_zoom.last().map(|z| z.theta_nu);
+        let diagram = super::jobs::continuation_range(&session.settings, zoom);
+        self.jobs
+            .restore(&session.settings, diagram, session.results.clone());
     }
 
     /// Sends everything pending now (tests; the end of a scripted wait).
@@ -266,16 +285,15 @@ impl Explorer {
                 let path = fresh_path(&self.settings.save_dir, what, "svg");
                 self.shots.write(path, svg.into_bytes());
             }
-            Action::SaveSession => {
-                let s = Session {
-                    settings: self.settings.clone(),
-                    bifurcation_zoom: self.views.bifurcation.zoom.clone(),
-                };
-                let path = fresh_path(&self.settings.save_dir, "session", "json");
-                self.shots.write(path, s.to_json().into_bytes());
-            }
+            Action::SaveSession => self.save_session(),
             Action::Export(what) => {
                 save::export_csv(what, &self.settings, &self.jobs, &mut self.shots, now);
+            }
+            #[cfg(not(target_arch = "wasm32"))]
+            Action::OpenSession => {
+                self.open_dialog = Some(super::open_session::OpenDialog::new(
+                    &self.settings.save_dir,
+                ));
             }
             #[cfg(target_arch = "wasm32")]
             Action::OpenSession | Action::CopyLink => self.apply_web(a, ctx),
@@ -316,6 +334,22 @@ impl Explorer {
             Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
             Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
+    }
+
+    /// Save session: the settings, the diagram's zoom and the results a
+    /// session keeps, written into the save folder under a fresh name.
+    fn save_session(&mut self) {
+        let s = Session {
+            settings: self.settings.clone(),
+            bifurcation_zoom: self.views.bifurcation.zoom.clone(),
+            results: self.jobs.results_to_keep(&self.settings),
+        };
+        let path = fresh_path(&self.settings.save_dir, "session", "json");
+        let (text, left_out) = s.to_file_text();
+        if let Some(m) = left_out {
+            self.shots.toast(m, true, self.now);
+        }
+        self.shots.write(path, text.into_bytes());
     }
 
     /// Where view `v` was drawn in the last frame, if it was shown.
@@ -483,6 +517,8 @@ impl Explorer {
             self.apply(a, &ctx);
         }
         self.tour.ui(&ctx, &mut self.settings, self.tour_band);
+        #[cfg(not(target_arch = "wasm32"))]
+        self.open_dialog_ui(&ctx);
         self.sync_jobs(&ctx);
         self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
@@ -568,6 +604,24 @@ impl Explorer {
         );
         if fill {
             self.toggle_fill(v);
+        }
+    }
+
+    /// The "Open session…" modal while it is open: a session read opens
+    /// (the modal closes); a file refused keeps it open with the reason.
+    #[cfg(not(target_arch = "wasm32"))]
+    fn open_dialog_ui(&mut self, ctx: &Context) {
+        use super::open_session::Outcome;
+        let Some(dialog) = &mut self.open_dialog else {
+            return;
+        };
+        match dialog.ui(ctx) {
+            None => {}
+            Some(Outcome::Close) => self.open_dialog = None,
+            Some(Outcome::Open(loaded)) => {
+                self.open_dialog = None;
+                self.open_session(*loaded);
+            }
         }
     }
 }

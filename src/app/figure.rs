@@ -16,6 +16,7 @@ use eframe::egui;
 
 use super::bifurcation::{Zoom, auto_theta_range};
 use super::jobs::{JobState, Jobs, Shown};
+use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
 use super::svg_render::{self, Look};
 use crate::jobs::{Lane, Shape};
@@ -49,6 +50,10 @@ pub struct Figure {
     pub look: Look,
     /// What is drawn over the view, computed as the window's buttons do.
     pub overlays: Overlays,
+    /// The session the figure starts from: the results it kept are drawn
+    /// as they are (an overlay asked for is then not computed), unless
+    /// the figure's parameters differ from the session's.
+    pub session: Option<Session>,
 }
 
 /// What a figure draws over its view that the window computes only on
@@ -74,6 +79,7 @@ impl Figure {
             crosshair: false,
             look: Look::window(),
             overlays: Overlays::default(),
+            session: None,
         }
     }
 
@@ -181,8 +187,16 @@ impl ComputeRun {
             .collect();
         // LANES columns stepped together (the same columns, faster per cycle).
         let worker = LocalWorker::new(Shape::default(), crate::sim::LANES);
+        let mut jobs = Jobs::new(Box::new(worker.skipping(skip)));
+        if let Some(session) = &fig.session {
+            // Bound to the session's settings: the first sync clears them
+            // if the figure's flags changed what they depend on.
+            let zoom = session.bifurcation_zoom.last().map(|z| z.theta_nu);
+            let diagram = super::jobs::continuation_range(&session.settings, zoom);
+            jobs.restore(&session.settings, diagram, session.results.clone());
+        }
         ComputeRun {
-            jobs: Some(Jobs::new(Box::new(worker.skipping(skip)))),
+            jobs: Some(jobs),
             settings: view_settings(fig),
             round: 0,
             synced: false,
@@ -241,16 +255,18 @@ impl ComputeRun {
     }
 }
 
-/// Starts the overlays `fig` asks for that have not been started, as the
-/// window's buttons do: "Find bifurcations" over the diagram's θν range,
-/// "Boundaries" over the phase diagram's box. Whether one was started.
+/// Starts the overlays `fig` asks for that are neither started nor kept
+/// by its session (a kept result of other parameters was cleared, its
+/// slot idle again), as the window's buttons do: "Find bifurcations" over
+/// the diagram's θν range, "Boundaries" over the phase diagram's box.
+/// Whether one was started.
 fn start_overlays(jobs: &mut Jobs, s: &Settings, fig: &Figure) -> bool {
-    if fig.overlays.branches && !jobs.branches.issued() {
+    if fig.overlays.branches && jobs.branches.state == JobState::Idle {
         let range = super::jobs::continuation_range(s, fig.sweep_zoom());
         jobs.find_bifurcations(s, range);
         return true;
     }
-    if fig.overlays.boundaries && !jobs.curves.issued() {
+    if fig.overlays.boundaries && jobs.curves.state == JobState::Idle {
         jobs.compute_boundaries(s);
         return true;
     }

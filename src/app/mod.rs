@@ -54,6 +54,8 @@ pub mod markers;
 mod native;
 pub mod numerics_table;
 pub mod numerics_view;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod open_session;
 pub mod overlay;
 pub mod phase_attractors;
 pub mod phase_data;
@@ -68,6 +70,7 @@ pub mod saved_state;
 pub mod screenshot;
 pub mod script;
 pub mod session;
+pub mod session_results;
 pub mod settings;
 mod shortcuts;
 pub mod status;

@@ -205,6 +205,7 @@ impl Launch {
         app.stall_first_frame = self.opts.stall_first_frame;
         if let Some(l) = &self.session {
             app.views.bifurcation.zoom = l.session.bifurcation_zoom.clone();
+            app.restore_results(&l.session);
             if let Some(m) = &l.message {
                 app.shots.toast(m.clone(), true, 0.0);
             }

@@ -196,13 +196,19 @@ impl Script {
         }
         let alone = |v: ViewKind| w.settings.layout == Layout::Tabs && w.settings.tab == v;
         let (branches, curves) = (alone(ViewKind::Bifurcation), alone(ViewKind::Phase));
-        if orbit_views && branches && !jobs.branches.issued() {
+        // Not started, or a session's kept result cleared (its slot idle):
+        // computed, as the window's button does.
+        if orbit_views && branches && jobs.branches.state == JobState::Idle {
             let zoom = w.zoom.last().map(|z| z.theta_nu);
             let range = continuation_range(w.settings, zoom);
             w.jobs.find_bifurcations(w.settings, range);
             return;
         }
-        if orbit_views && curves && jobs.phase.state == JobState::Done && !jobs.curves.issued() {
+        if orbit_views
+            && curves
+            && jobs.phase.state == JobState::Done
+            && jobs.curves.state == JobState::Idle
+        {
             w.jobs.compute_boundaries(w.settings);
             return;
         }

@@ -2,7 +2,9 @@
 //! back (`oneblock gui --session FILE`). A session is the persisted
 //! [`Settings`] (parameters, accuracy, layout and view, phase grid and its
 //! zoom, the preset chosen, text size) plus the bifurcation diagram's zoom
-//! stack, which lives in its view.
+//! stack, which lives in its view, and the results the window computes
+//! only when asked ([`Results`]: Find bifurcations' branches, Boundaries'
+//! curves), which reopen without a job.
 //!
 //! Reading is forgiving field by field: a field the file gets wrong (a
 //! wrong type, a value out of range, a zoom too narrow to draw, a list or
@@ -19,6 +21,8 @@ use serde::{Deserialize, Serialize};
 use serde_json::{Map, Value};
 
 use super::bifurcation::Zoom;
+use super::session_results::KEYS as RESULT_KEYS;
+pub use super::session_results::Results;
 use super::settings::{MAX_ZOOM_LEVELS, Settings, is_usable_range};
 use crate::text::echo;
 
@@ -26,14 +30,19 @@ use crate::text::echo;
 pub const VERSION: u32 = 1;
 
 /// The largest session file read, in bytes. A session the window writes
-/// is about 2 KB; the bound keeps a hostile file's parse small.
-pub const MAX_FILE_BYTES: u64 = 1 << 20;
+/// is about 2 KB, and about 40 KB with the branches of Fig. 3b's cascade
+/// to P32 (src/app/session_results.rs); the bound keeps a hostile file's
+/// parse small, and a session that would exceed it is saved without its
+/// results ([`Session::to_file_text`]).
+pub const MAX_FILE_BYTES: u64 = 4 << 20;
 
-/// A session: the settings and the bifurcation zoom stack (innermost last).
-#[derive(Clone, Debug, PartialEq)]
+/// A session: the settings, the bifurcation zoom stack (innermost last)
+/// and the results kept.
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct Session {
     pub settings: Settings,
     pub bifurcation_zoom: Vec<Zoom>,
+    pub results: Results,
 }
 
 /// One zoom level as the file holds it.
@@ -65,7 +74,8 @@ pub struct Loaded {
 }
 
 impl Session {
-    /// The session as pretty JSON.
+    /// The session as pretty JSON, its results each on one line of
+    /// compact JSON (a branch holds thousands of numbers).
     pub fn to_json(&self) -> String {
         let zoom: Vec<ZoomFile> = self
             .bifurcation_zoom
@@ -81,8 +91,35 @@ impl Session {
             "bifurcation_zoom": zoom,
         });
         let mut s = serde_json::to_string_pretty(&v).unwrap_or_else(|_| "{}".into());
+        // The pretty object ends in "\n}": the results go before it.
+        if s.ends_with("\n}") {
+            s.truncate(s.len() - 2);
+            for (key, text) in self.results.to_fields() {
+                s.push_str(&format!(",\n  \"{key}\": {text}"));
+            }
+            s.push_str("\n}");
+        }
         s.push('\n');
         s
+    }
+
+    /// The text Save session writes: [`Session::to_json`], or, should its
+    /// results make it larger than [`MAX_FILE_BYTES`] (which it would then
+    /// refuse to read), the session without them and a sentence saying so.
+    pub fn to_file_text(&self) -> (String, Option<String>) {
+        let text = self.to_json();
+        if text.len() as u64 <= MAX_FILE_BYTES {
+            return (text, None);
+        }
+        let bare = Session {
+            results: Results::default(),
+            ..self.clone()
+        };
+        let why = format!(
+            "the branches and boundaries would make the session over {MAX_FILE_BYTES} bytes: \
+             saved without them"
+        );
+        (bare.to_json(), Some(why))
     }
 
     /// Reads the session file at `path`: refused (one line, naming the
@@ -118,7 +155,7 @@ impl Session {
     pub fn from_json(text: &str, what: &str) -> Loaded {
         let mut bad: Vec<String> = Vec::new();
         let mut unknown: Vec<String> = Vec::new();
-        let root = match serde_json::from_str::<Value>(text) {
+        let mut root = match serde_json::from_str::<Value>(text) {
             Ok(Value::Object(m)) => m,
             Ok(_) => {
                 return Loaded::defaults(format!(
@@ -132,7 +169,8 @@ impl Session {
             }
         };
         for k in root.keys() {
-            if !["oneblock_session", "settings", "bifurcation_zoom"].contains(&k.as_str()) {
+            let known = ["oneblock_session", "settings", "bifurcation_zoom"];
+            if !known.contains(&k.as_str()) && !RESULT_KEYS.contains(&k.as_str()) {
                 unknown.push(echo(k));
             }
         }
@@ -162,9 +200,14 @@ impl Session {
                 }
             },
         };
+        let mut dropped = Vec::new();
+        let results = Results::take_from(&mut root, &mut dropped);
         let mut parts = Vec::new();
         if !bad.is_empty() {
             parts.push(format!("invalid {} (defaults used)", listed(&bad)));
+        }
+        if !dropped.is_empty() {
+            parts.push(format!("dropped {}: compute them again", listed(&dropped)));
         }
         if !unknown.is_empty() {
             parts.push(format!("unknown {} (ignored)", listed(&unknown)));
@@ -173,6 +216,7 @@ impl Session {
             session: Session {
                 settings,
                 bifurcation_zoom,
+                results,
             },
             message: (!parts.is_empty())
                 .then(|| format!("session {what}: {}; the rest is as saved", parts.join("; "))),
@@ -183,10 +227,7 @@ impl Session {
 impl Loaded {
     fn defaults(message: String) -> Loaded {
         Loaded {
-            session: Session {
-                settings: Settings::default(),
-                bifurcation_zoom: Vec::new(),
-            },
+            session: Session::default(),
             message: Some(message),
         }
     }

@@ -34,8 +34,8 @@ pub enum Action {
     SaveSession,
     /// A CSV into the save folder.
     Export(Export),
-    /// Open a session file (the browser build: an upload).
-    #[cfg(target_arch = "wasm32")]
+    /// Open a session file (the desktop: a path in a modal; the browser:
+    /// an upload).
     OpenSession,
     /// Write the current state into the page's URL and copy it (the
     /// browser build).

@@ -38,8 +38,10 @@ pub struct FigureArgs {
     #[command(flatten)]
     pub model: OptionalModelArgs,
     /// Start from a session saved by the window's "Save session" (its
-    /// parameters, views' settings and diagram zoom); the flags override it.
-    /// Without one, and without --preset, the parameters are fig3b's.
+    /// parameters, views' settings and diagram zoom, and the branches and
+    /// boundaries it kept, drawn as they are unless a flag changes what they
+    /// depend on); the flags override it. Without one, and without
+    /// --preset, the parameters are fig3b's.
     #[arg(long)]
     pub session: Option<PathBuf>,
     /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
@@ -112,11 +114,13 @@ pub struct FigureArgs {
     pub window_look: bool,
     /// Draw the continued branches with their special points (PD, fold,
     /// border, ...) over the diagram, as the window's "Find bifurcations"
-    /// does. --view bifurcation only.
+    /// does (a session's kept branches are used, not computed again).
+    /// --view bifurcation only.
     #[arg(long)]
     pub branches: bool,
     /// Draw the doubling curves with their generalised flips over the
-    /// phase diagram, as the window's "Boundaries" does. --view phase only.
+    /// phase diagram, as the window's "Boundaries" does (a session's kept
+    /// curves are used). --view phase only.
     #[arg(long)]
     pub boundaries: bool,
     /// Seeds per column of the diagram, or per cell of the phase diagram,
@@ -492,17 +496,21 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
         .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
-    let (mut settings, zoom) = match &a.session {
+    let session = match &a.session {
         Some(p) => {
             let loaded =
                 Session::read(p).map_err(|e| CliError::Usage(format!("--session: {e}")))?;
             if let Some(m) = &loaded.message {
                 eprintln!("warning: {m}");
             }
-            (loaded.session.settings, loaded.session.bifurcation_zoom)
+            Some(loaded.session)
         }
-        None => (Settings::default(), Vec::new()),
+        None => None,
     };
+    let (mut settings, zoom) = session.as_ref().map_or_else(
+        || (Settings::default(), Vec::new()),
+        |s| (s.settings.clone(), s.bifurcation_zoom.clone()),
+    );
     let preset = a
         .model
         .preset
@@ -538,6 +546,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
             branches: a.branches,
             boundaries: a.boundaries,
         },
+        session,
     };
     // Bounded like every long command (a large phase grid takes a while):
     // a line of life on a terminal; --max-seconds or Ctrl+C end it with one

@@ -5,8 +5,9 @@
 //! later updates are then stale and dropped) and clears a result of other
 //! parameters, by the window's one rule ([`super::stale`]).
 
-use super::{JobKind, JobState, Jobs, solver};
+use super::{JobKind, JobState, Jobs, SlotHead, solver};
 use crate::app::branches::{BranchData, CurveData};
+use crate::app::session_results::{Kept, Results};
 use crate::app::settings::Settings;
 use crate::sim::continuation::ContParam;
 use crate::worker::{BoundarySpec, CascadeFrom, Command, ContinuationSpec};
@@ -80,6 +81,64 @@ impl Jobs {
     /// Stops "Boundaries": the curves so far stay.
     pub fn stop_boundaries(&mut self) {
         self.cancel_on(JobKind::Curves, "stopped");
+    }
+
+    /// Shows the results a session kept as computed for `s` (the
+    /// session's own settings) over the diagram's θν range `diagram`, with
+    /// their status lines: no job is sent. Each is bound to `s`, so the
+    /// window's one rule ([`super::stale`]) clears it on the first change
+    /// of what it depends on, as it would a computed one; a job of its
+    /// kind that runs is stopped (its later updates are dropped).
+    pub fn restore(&mut self, s: &Settings, diagram: (f64, f64), results: Results) {
+        if let Some(k) = results.branches {
+            self.restore_head(JobKind::Branches, s, diagram, k.summary);
+            self.branches.data = k.data;
+        }
+        if let Some(k) = results.curves {
+            self.restore_head(JobKind::Curves, s, diagram, k.summary);
+            self.curves.data = k.data;
+        }
+    }
+
+    /// The slot of `kind` as a job's that has ended, bound to `s`.
+    fn restore_head(
+        &mut self,
+        kind: JobKind,
+        s: &Settings,
+        diagram: (f64, f64),
+        summary: Option<String>,
+    ) {
+        self.cancel_on(kind, "stopped: a session was opened");
+        // A generation of its own (never sent), so that it counts as
+        // issued and nothing of an older job is taken for it.
+        let generation = self.generation();
+        *self.slot_mut(kind) = SlotHead {
+            generation,
+            state: JobState::Done,
+            summary,
+            ..SlotHead::default()
+        };
+        self.bind(kind, s, diagram);
+    }
+
+    /// The results a session keeps: Find bifurcations' and Boundaries'
+    /// when they have ended (stopped counts) and are of the parameters of
+    /// `s` (what runs, or belongs to other parameters, is left out).
+    pub fn results_to_keep(&self, s: &Settings) -> Results {
+        let keep = |kind: JobKind| {
+            let head = self.slot(kind);
+            head.state != JobState::Running && !head.stale && self.is_current(kind, s)
+        };
+        let branches =
+            (keep(JobKind::Branches) && !self.branches.data.branches.is_empty()).then(|| Kept {
+                data: self.branches.data.clone(),
+                summary: self.branches.summary.clone(),
+            });
+        let curves = (keep(JobKind::Curves) && !self.curves.data.curves.is_empty()).then(|| Kept {
+            data: self.curves.data.clone(),
+            summary: self.curves.summary.clone(),
+        });
+        Results { branches, curves }
     }
 
     /// Whether "Find bifurcations" has ended (a failed or stopped one

@@ -117,6 +117,15 @@ impl Jobs {
         diagram
     }
 
+    /// Whether the result of `kind` was computed for the parameters and
+    /// solver of `s` (its range aside).
+    pub fn is_current(&self, kind: JobKind, s: &Settings) -> bool {
+        self.slot(kind).bound.as_ref().is_some_and(|b| {
+            let now = Bound::of(kind, s, s.sweep_range());
+            (&b.params, b.solver) == (&now.params, now.solver)
+        })
+    }
+
     /// Records what the job of `kind`, started now, is computed for.
     pub(super) fn bind(&mut self, kind: JobKind, s: &Settings, diagram: (f64, f64)) {
         let head = self.slot_mut(kind);

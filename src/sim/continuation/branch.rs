@@ -76,7 +76,7 @@ impl ContOptions {
 }
 
 /// One computed point of a branch.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct BranchPoint {
     /// The parameter's value.
     pub lambda: f64,
@@ -122,7 +122,7 @@ impl SpecialKind {
 }
 
 /// A located special point.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct SpecialPoint {
     /// Which.
     pub kind: SpecialKind,
@@ -150,7 +150,7 @@ impl SpecialPoint {
 }
 
 /// Why a branch ended.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub enum Stop {
     /// It reached the end of its range.
     Reached,
@@ -172,7 +172,7 @@ pub enum Stop {
 }
 
 /// A continued branch.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Branch {
     /// The parameter varied.
     pub param: ContParam,

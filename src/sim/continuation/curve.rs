@@ -130,7 +130,7 @@ impl CurveOptions {
 }
 
 /// One point of a curve.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct CurvePoint {
     /// (λ₁, λ₂).
     pub lambda: [f64; 2],
@@ -141,7 +141,7 @@ pub struct CurvePoint {
 }
 
 /// A continued curve: one polyline.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Curve {
     /// PD or fold.
     pub kind: CurveKind,

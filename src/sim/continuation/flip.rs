@@ -43,7 +43,7 @@ use super::{Eval, EvalError, Pace, Problem, drive};
 const SLOPE_NOISE: f64 = 1e-4;
 
 /// A flip's normal form, at a located period doubling.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Flip {
     /// c = g''²/4 + g'''/6: positive for a supercritical flip.
     pub coefficient: f64,
@@ -61,7 +61,7 @@ pub struct Flip {
 }
 
 /// The 2p-cycle found next to a flip.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Born {
     /// The parameter it was solved at.
     pub lambda: f64,
@@ -388,7 +388,7 @@ pub fn branch_slope(samples: &[(f64, f64)], lambda: f64, period: usize) -> Optio
 /// changes sign between two neighbouring points of the curve at which the
 /// criticality is decided (|c| beyond its error); (λ₁, λ₂) there by linear
 /// interpolation of c between them.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct GeneralisedFlip {
     /// (λ₁, λ₂) where c is interpolated to 0.
     pub lambda: [f64; 2],

@@ -48,13 +48,14 @@ const TRIALS: usize = 6;
 const SHRINK: f64 = 4.0;
 
 /// The stencil a flip's coefficient was taken on.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Stencil {
     /// H: c is from G and M at θ* and θ* ± H.
     pub h: f64,
     /// How far from θ* f^p is smooth, as far as the search saw: the
     /// distance to its nearest jump or border (∞ where none lies within
-    /// the widest stencil's reach).
+    /// the widest stencil's reach; a session writes ∞ as null).
+    #[serde(with = "infinite_as_null")]
     pub piece: f64,
     /// c's rounding error at H (part of its error).
     pub rounding: f64,
@@ -298,6 +299,23 @@ pub(super) fn from_hermite(
     let c = c_of(d2, d3);
     let c3 = c_of(odd_m / h, 2.0 * even_m / (h * h));
     (c, (c - c3).abs(), d2)
+}
+
+/// [`Stencil::piece`] in JSON, which has no ∞: +∞ as `null`, and back.
+mod infinite_as_null {
+    use serde::{Deserialize, Deserializer, Serializer};
+
+    pub fn serialize<S: Serializer>(x: &f64, s: S) -> Result<S::Ok, S::Error> {
+        if *x == f64::INFINITY {
+            s.serialize_none()
+        } else {
+            s.serialize_f64(*x)
+        }
+    }
+
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+        Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::INFINITY))
+    }
 }
 
 #[cfg(test)]
