@@ -375,9 +375,13 @@ fn the_window_at_text_3_draws_and_ctrl_c_ends_it() {
         assert!(dir.path().join(&shot).exists());
     }
     // Ctrl+C while the window runs: it ends within a second, one line.
+    // (The phase view: its screenshot waits for the grid and Boundaries,
+    // many seconds, so the signal comes while it computes.)
     let mut child = gui(
         dir.path(),
         &[
+            "--view",
+            "phase",
             "--size",
             "800x560",
             "--timeout",

@@ -100,11 +100,11 @@ mod tests {
     #[test]
     fn tiles_past_the_room_are_left_out_and_one_always_stays() {
         let area = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(940.0, 700.0));
-        // Text ×1 (rows about 17 points): nine tiles fit, each at least the
-        // minimum.
+        // Text ×1 (rows about 17 points): a tile is at least 255 × 238
+        // points; two rows of two fit in 940 × 700, three rows do not.
         let small = min_tile(17.0);
-        assert_eq!(tiles_that_fit(area, 9, small), 9);
-        // Text ×3 (rows about 50 points): a tile is at least 600 × 300
+        assert_eq!(tiles_that_fit(area, 9, small), 4);
+        // Text ×3 (rows about 50 points): a tile is at least 750 × 700
         // points, and two side by side do not fit in 940.
         let large = min_tile(50.0);
         let n = tiles_that_fit(area, 9, large);
@@ -113,7 +113,7 @@ mod tests {
             assert!(r.width() >= large.x && r.height() >= large.y, "{r:?}");
         }
         // A wide, tall area holds more, each still at least the minimum.
-        let wide = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1400.0, 1000.0));
+        let wide = Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(1600.0, 1600.0));
         let n = tiles_that_fit(wide, 9, large);
         assert!((2..9).contains(&n), "{n}");
         assert!(tile_rects(wide, n).iter().all(|r| r.height() >= large.y));
