@@ -17,7 +17,9 @@
 //   4. a link with bad values still opens, on valid values, and fills in;
 //   5. Record on the plane downloads a GIF of 120 frames, made between the
 //      page's frames without a stall;
-//   6. the console logs no error and no page error occurs.
+//   6. at a phone's 390×844 the diagram fills the screen and Share, in
+//      the top bar, writes the state into the address;
+//   7. the console logs no error and no page error occurs.
 // Reported, not asserted (timings belong to benchmarks): frame times while
 // the diagram fills in. With --bench, the Fig. 3b diagram is timed on the
 // single-threaded host in the page (bench.html) and natively by
@@ -77,11 +79,8 @@ const browser = await chromium.launch({
 });
 
 const errors = [];
-async function open(query, beforeLoad = async () => {}) {
-  const page = await browser.newPage({
-    viewport: { width: 1280, height: 800 },
-    acceptDownloads: true,
-  });
+async function open(query, beforeLoad = async () => {}, device = { viewport: { width: 1280, height: 800 } }) {
+  const page = await browser.newPage({ ...device, acceptDownloads: true });
   page.on("console", (m) => {
     if (m.type() === "error") errors.push(`${query}: console error: ${m.text()}`);
   });
@@ -206,16 +205,24 @@ function gifFrameCount(b) {
 /// panel): the density image's points; grid lines and the light theme's
 /// background are not dark.
 function darkInPlot(png) {
+  return darkIn(png, { x0: 0.31, x1: 1 - 10 / decodePng(png).w, y0: 0.14, y1: 0.87 });
+}
+
+/// Dark pixels inside a box given as fractions of the picture.
+function darkIn(png, { x0, x1, y0, y1 }) {
   const { w, h, bpp, px } = decodePng(png);
   let n = 0;
-  for (let y = Math.round(h * 0.14); y < Math.round(h * 0.87); y++) {
-    for (let x = Math.round(w * 0.31); x < w - 10; x++) {
+  for (let y = Math.round(h * y0); y < Math.round(h * y1); y++) {
+    for (let x = Math.round(w * x0); x < Math.round(w * x1); x++) {
       const o = (y * w + x) * bpp;
       if (px[o] < 60 && px[o + 1] < 60 && px[o + 2] < 60) n++;
     }
   }
   return n;
 }
+
+/// Where the phone layout's Share button is (390×844, the top bar's right).
+const PHONE_SHARE = [350, 16];
 
 // 1, 2: the paper's Fig. 3b diagram from a link, traced: the page's own
 // work per frame (its animation-frame callbacks: the 12 ms compute slice,
@@ -387,7 +394,35 @@ console.log(
 if (recFrames.max > 2000) fail(`${q3}: the page froze for ${recFrames.max.toFixed(0)} ms while recording`);
 await rec.close();
 
-// 6: a clean console.
+// 6: a phone in portrait (390×844, touch): one view fills the screen (the
+// diagram's density image under the top bar) and Share, in the top bar,
+// puts the state in the address.
+const q4 = "?preset=fig3b&view=bifurcation";
+const phone = await open(q4, async () => {}, {
+  viewport: { width: 390, height: 844 },
+  isMobile: true,
+  hasTouch: true,
+});
+await filled(phone, `${q4} at 390×844`);
+const phonePng = await phone.screenshot();
+if (process.env.PHONE_SHOT) fs.writeFileSync(process.env.PHONE_SHOT, phonePng);
+const phoneDark = darkIn(phonePng, { x0: 0.15, x1: 0.97, y0: 0.12, y1: 0.85 });
+if (phoneDark < 1500) fail(`${q4} at 390×844: no diagram on screen (${phoneDark} dark pixels, want ≥ 1500)`);
+let shared = false;
+for (let attempt = 0; attempt < 4 && !shared; attempt++) {
+  await phone.touchscreen.tap(...PHONE_SHARE);
+  try {
+    await phone.waitForFunction(() => location.search.includes("kappa="), null, { timeout: 5_000 });
+    shared = true;
+  } catch {
+    // a tap during a busy frame: tried again
+  }
+}
+if (!shared) fail(`${q4} at 390×844: Share (top bar, at ${PHONE_SHARE}) wrote no state into the address`);
+console.log(`web test: 390×844 phone: the diagram fills the screen (${phoneDark} dark pixels); Share in the top bar writes ?${new URL(phone.url()).searchParams}`);
+await phone.close();
+
+// 7: a clean console.
 if (errors.length) fail(errors.join(" | "));
 
 if (native) {
