@@ -10,7 +10,6 @@
 #[path = "common/window.rs"]
 mod window;
 
-use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
