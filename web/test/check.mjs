@@ -221,8 +221,9 @@ function darkIn(png, { x0, x1, y0, y1 }) {
   return n;
 }
 
-/// Where the phone layout's Share button is (390×844, the top bar's right).
-const PHONE_SHARE = [350, 16];
+/// Where the phone layout's Share button is (390×844: the top bar, after
+/// Controls and Play θν).
+const PHONE_SHARE = [183, 13];
 
 // 1, 2: the paper's Fig. 3b diagram from a link, traced: the page's own
 // work per frame (its animation-frame callbacks: the 12 ms compute slice,
