@@ -10,10 +10,23 @@ use std::sync::{Mutex, MutexGuard, PoisonError};
 /// Why an output could not be written; the message names the path.
 #[derive(Debug, thiserror::Error)]
 pub enum OutputError {
-    #[error("{path} already exists (use --force to overwrite)")]
+    #[error("{} already exists (use --force to overwrite)", shown(path))]
     Exists { path: PathBuf },
-    #[error("cannot write {path}: {source}")]
+    #[error("cannot write {}: {source}", shown(path))]
     Io { path: PathBuf, source: io::Error },
+}
+
+/// A path as a message shows it: control characters escaped, and one
+/// longer than 120 characters cut to its first 80 and "…" (a 325-byte
+/// name made a message of several hundred).
+fn shown(path: &Path) -> String {
+    let s = path.display().to_string();
+    if s.chars().nth(120).is_some() {
+        let head: String = s.chars().take(80).collect();
+        format!("{}…", crate::text::escape_controls(&head))
+    } else {
+        crate::text::escape_controls(&s)
+    }
 }
 
 /// The most symbolic links followed from an output path.
