@@ -1,9 +1,9 @@
-//! The window: its layout (top bar, side panel, the views as a tab or
-//! tiles, status bar), `eframe::App`, and the one place where what the user
-//! asked for ([`Action`]) is applied. The jobs are the job model's
-//! ([`Jobs`]); a scripted run is [`Script`]'s. It can be built with any
-//! [`Backend`] and stepped without a window (`logic_step` then `show`),
-//! which is how the kittest tests drive it.
+//! The window: `eframe::App`, its state, and the one place where what the
+//! user asked for ([`Action`]) is applied; its layout is `layout.rs`'s.
+//! The jobs are the job model's ([`Jobs`]); a scripted run is
+//! [`Script`]'s. It can be built with any [`Backend`] and stepped without
+//! a window (`logic_step` then `show`), which is how the kittest tests
+//! drive it.
 
 use eframe::egui;
 use std::collections::HashMap;
@@ -24,23 +24,20 @@ use super::screenshot::Shots;
 use super::script::{Script, Window};
 use super::session::Session;
 use super::settings::{Layout, Settings, ViewKind};
-use super::status;
 use super::style;
-use super::style::is_narrow;
 use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
-use super::title_buttons::title_row_ui;
 use super::tour::Tour;
 use super::view::Action;
-use super::views::{Views, min_tile, tiles_that_fit};
+use super::views::Views;
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
 pub const PUMP_BUDGET: Duration = crate::jobs::bench::PAGE_SLICE;
 
 /// The side panel's normal width, points.
-const PANEL_WIDTH: f32 = 330.0;
+pub(super) const PANEL_WIDTH: f32 = 330.0;
 
 /// The explorer app.
 pub struct Explorer {
@@ -58,7 +55,7 @@ pub struct Explorer {
     pub persist: bool,
     /// Where the frame-time report goes when the window closes.
     pub stats_sink: Option<Arc<Mutex<Option<String>>>>,
-    view_rects: HashMap<ViewKind, Rect>,
+    pub(super) view_rects: HashMap<ViewKind, Rect>,
     /// The guided tour, when it runs.
     pub tour: Tour,
     /// The play clock of θν (and of the stepped cobweb).
@@ -72,9 +69,9 @@ pub struct Explorer {
     pub status_rect: Rect,
     pub panel_rect: Rect,
     /// The band under the views kept for the tour's box.
-    tour_band: Rect,
+    pub(super) tour_band: Rect,
     /// Frames left in which the side panel is held at its normal width.
-    panel_reset: u8,
+    pub(super) panel_reset: u8,
     applied_style: Option<(f32, bool, bool)>,
     pub(super) now: f64,
     /// The desktop's "Open session…" modal, while it is open.
@@ -433,76 +430,6 @@ impl Explorer {
         ctx.request_repaint();
     }
 
-    /// The bars, the side panel (or a phone's drawer) and the views.
-    fn panels_ui(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        let narrow = is_narrow(ui.ctx());
-        // No fills on the panels either (see the central panel below).
-        let bare = egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
-        egui::Panel::top("top")
-            .frame(bare)
-            .show(ui, |ui| self.top_bar_ui(ui, actions));
-        self.status_rect = egui::Panel::bottom("status")
-            .frame(bare)
-            .show(ui, |ui| status::status_ui(ui, &self.jobs))
-            .response
-            .rect;
-        self.panel_rect = Rect::NOTHING;
-        if !narrow && !self.settings.hide_panel {
-            let width = ui.ctx().content_rect().width();
-            // Never more than a third of the window (a projector's 1024);
-            // back to the normal width for a few frames once projector
-            // mode is switched off (its large text had widened it, and a
-            // panel remembers its width).
-            let mut panel = egui::Panel::left("controls")
-                .frame(bare)
-                .resizable(true)
-                .default_size(PANEL_WIDTH)
-                .min_size(260.0)
-                .max_size((width / 3.0).max(260.0));
-            if self.panel_reset > 0 {
-                self.panel_reset -= 1;
-                panel = panel.exact_size(PANEL_WIDTH);
-            }
-            self.panel_rect = panel
-                .show(ui, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        self.controls.ui(
-                            ui,
-                            &mut self.settings,
-                            &self.jobs,
-                            &mut self.play,
-                            actions,
-                        );
-                    });
-                })
-                .response
-                .rect;
-        }
-        // No fill: the clear colour is the panel colour, which saves
-        // painting the largest area twice (software rendering is fill-bound).
-        let frame = egui::Frame::central_panel(ui.style()).fill(egui::Color32::TRANSPARENT);
-        egui::CentralPanel::default_margins()
-            .frame(frame)
-            .show(ui, |ui| {
-                if narrow && self.drawer_open {
-                    self.drawer_ui(ui, actions);
-                } else {
-                    self.views_ui(ui, actions);
-                }
-            });
-    }
-
-    /// A phone's drawer: the side panel's controls over the whole view.
-    fn drawer_ui(&mut self, ui: &mut Ui, actions: &mut Vec<Action>) {
-        if ui.button("Close").clicked() {
-            self.drawer_open = false;
-        }
-        egui::ScrollArea::vertical().show(ui, |ui| {
-            self.controls
-                .ui(ui, &mut self.settings, &self.jobs, &mut self.play, actions);
-        });
-    }
-
     /// The whole window.
     pub fn show(&mut self, ui: &mut Ui) {
         let ctx = ui.ctx().clone();
@@ -523,87 +450,6 @@ impl Explorer {
         self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
             self.stats.overlay(&ctx);
-        }
-    }
-
-    /// The views as a tab or tiles, beside the tour's band while it runs.
-    fn views_ui(&mut self, ui: &mut Ui, out: &mut Vec<Action>) {
-        self.view_rects.clear();
-        let whole = ui.available_rect_before_wrap();
-        // A phone shows one view (its chooser is the top bar's); the saved
-        // layout is kept for a wider window.
-        let layout = match is_narrow(ui.ctx()) {
-            true => Layout::Tabs,
-            false => self.settings.layout,
-        };
-        let (views, area) = match layout {
-            Layout::Tabs => (vec![self.settings.tab], whole),
-            // The tour lays out its step's few views itself, every one
-            // shown: a step never hides its subject.
-            Layout::Tiles if self.tour.step.is_some() => (self.settings.tiled.clone(), whole),
-            Layout::Tiles => self.tiles_shown_ui(ui),
-        };
-        let (rects, band) = self.tour.arrange(area, &views);
-        self.tour_band = band;
-        for (v, rect) in views.iter().zip(rects) {
-            self.view_ui(ui, *v, rect, out);
-        }
-        ui.allocate_rect(whole, egui::Sense::hover());
-    }
-
-    /// The tiles that have room at this text size (the first of those
-    /// ticked, each at least [`min_tile`]) and the area they share; when
-    /// some are left out, a line above them says so. The settings keep
-    /// every tile: a larger window shows them again.
-    fn tiles_shown_ui(&self, ui: &mut Ui) -> (Vec<ViewKind>, Rect) {
-        let mut views = self.settings.tiled.clone();
-        let mut area = ui.available_rect_before_wrap();
-        let row = ui.text_style_height(&egui::TextStyle::Body);
-        let min = min_tile(row);
-        if tiles_that_fit(area, views.len(), min) < views.len() {
-            let line = Rect::from_min_max(area.min, egui::pos2(area.max.x, area.min.y + row));
-            area.min.y = (line.max.y + 4.0).min(area.max.y);
-            let fit = tiles_that_fit(area, views.len(), min);
-            let text = format!(
-                "{fit} of {} tiles shown: no room for more at this text size \
-                 (enlarge the window, lower the text size or use Tabs)",
-                views.len()
-            );
-            ui.put(
-                line,
-                egui::Label::new(egui::RichText::new(text).strong()).truncate(),
-            );
-            views.truncate(fit);
-        }
-        (views, area)
-    }
-
-    /// One view in `rect`, with its title and a screenshot button.
-    fn view_ui(&mut self, ui: &mut Ui, v: ViewKind, rect: Rect, out: &mut Vec<Action>) {
-        self.view_rects.insert(v, rect);
-        let fills = self.fills(v);
-        let mut fill = false;
-        let view = self.views.get_mut(v);
-        let (settings, jobs) = (&mut self.settings, &self.jobs);
-        ui.scope_builder(
-            egui::UiBuilder::new().max_rect(rect).id_salt(v.key()),
-            |ui| {
-                // A view too short for its plots is cut at its tile's
-                // edge, not drawn over the next tile (or the tour's box).
-                ui.set_clip_rect(ui.clip_rect().intersect(rect));
-                egui::Frame::group(ui.style())
-                    .inner_margin(4.0)
-                    .show(ui, |ui| {
-                        ui.set_min_size(ui.available_size());
-                        if title_row_ui(ui, v, fills, out) {
-                            fill = true;
-                        }
-                        view.ui(ui, settings, jobs, out);
-                    });
-            },
-        );
-        if fill {
-            self.toggle_fill(v);
         }
     }
 

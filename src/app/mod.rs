@@ -48,6 +48,7 @@ pub mod files;
 pub mod frame_stats;
 pub mod help;
 pub mod jobs;
+mod layout;
 pub mod lyapunov_strip;
 pub mod markers;
 #[cfg(not(target_arch = "wasm32"))]
