@@ -255,6 +255,7 @@ impl SweepJob {
                 map: col.map,
                 lyapunov,
                 attractor: seeded.attractor,
+                uncounted: seeded.uncounted,
             })?,
             None => sink.send(Update::Column {
                 generation,
@@ -266,6 +267,7 @@ impl SweepJob {
                 map: col.map,
                 lyapunov,
                 attractor: vec![],
+                uncounted: None,
             })?,
         }
         let done = {
