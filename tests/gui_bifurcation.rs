@@ -78,3 +78,109 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
     });
     assert_eq!(back, Some(full));
 }
+
+/// Touches `ids` at `pos` in `phase` (a finger each).
+fn touch(
+    h: &mut egui_kittest::Harness<'_, oneblock::app::Explorer>,
+    fingers: &[(u64, egui::Pos2)],
+    phase: egui::TouchPhase,
+) {
+    for &(id, pos) in fingers {
+        h.input_mut().events.push(egui::Event::Touch {
+            device_id: egui::TouchDeviceId(1),
+            id: egui::TouchId(id),
+            phase,
+            pos,
+            force: None,
+        });
+    }
+}
+
+/// Two fingers spread apart on the diagram (a phone's pinch) zoom into a
+/// box about their centre, recomputed as a drawn box is; pinched together,
+/// they go back a level.
+#[test]
+fn a_pinch_on_the_diagram_zooms_about_its_centre_and_a_pinch_out_goes_back() {
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: ViewKind::Bifurcation,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let t = h
+        .state()
+        .views
+        .bifurcation
+        .transform
+        .expect("the diagram is drawn");
+    let centre = egui::pos2(800.0, 450.0);
+    let at_centre = t.value_from_position(centre);
+    rec.clear();
+    // Fingers 40 px either side of the centre, spread to 160 px: scale 4.
+    let fingers = |d: f32| {
+        [
+            (1, centre - egui::vec2(d, 0.0)),
+            (2, centre + egui::vec2(d, 0.0)),
+        ]
+    };
+    // A backend moves the pointer with the first touch (egui starts a
+    // gesture where the pointer is).
+    h.hover_at(centre);
+    h.step();
+    touch(&mut h, &fingers(40.0), egui::TouchPhase::Start);
+    h.step();
+    for d in [60.0, 90.0, 120.0, 160.0] {
+        touch(&mut h, &fingers(d), egui::TouchPhase::Move);
+        h.step();
+    }
+    assert!(
+        rec.commands().iter().all(|c| !matches!(
+            c,
+            Command::Run {
+                spec: Spec::Sweep(_),
+                ..
+            }
+        )),
+        "nothing is recomputed while the fingers move"
+    );
+    touch(&mut h, &fingers(160.0), egui::TouchPhase::End);
+    h.run_steps(3);
+    let zoomed = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Run {
+                spec: Spec::Sweep(spec),
+                ..
+            } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+            _ => None,
+        })
+        .expect("a pinch recomputes the diagram");
+    let [x0, _] = t.bounds().min();
+    let [x1, _] = t.bounds().max();
+    let width = zoomed.1 - zoomed.0;
+    assert!(
+        (width - (x1 - x0) / 4.0).abs() < 0.02 * width,
+        "{zoomed:?} of {x0}..{x1}"
+    );
+    let mid = (zoomed.0 + zoomed.1) / 2.0;
+    assert!(
+        (mid - at_centre.x).abs() < 0.02 * width,
+        "{mid} against {}",
+        at_centre.x
+    );
+    assert_eq!(h.state().views.bifurcation.zoom.len(), 1);
+    // Pinched together: back to the whole range.
+    rec.clear();
+    touch(&mut h, &fingers(160.0), egui::TouchPhase::Start);
+    h.step();
+    for d in [120.0, 80.0, 40.0] {
+        touch(&mut h, &fingers(d), egui::TouchPhase::Move);
+        h.step();
+    }
+    touch(&mut h, &fingers(40.0), egui::TouchPhase::End);
+    h.run_steps(3);
+    assert!(h.state().views.bifurcation.zoom.is_empty());
+}

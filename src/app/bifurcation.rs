@@ -17,6 +17,7 @@ use super::branches::{self, BranchData};
 use super::clip::clip_polyline;
 use super::data::SweepData;
 use super::jobs::{JobState, Jobs, Slot};
+use super::pinch::{Pinch, PinchEnd};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -43,6 +44,8 @@ pub struct BifurcationView {
     /// Zoom levels, innermost last; empty = the whole range.
     pub zoom: Vec<Zoom>,
     drag_from: Option<PlotPoint>,
+    /// Two fingers on the diagram: a zoom box drawn until they lift.
+    pinch: Pinch,
     /// The last frame's plot transform (tests find points on screen with it).
     pub transform: Option<egui_plot::PlotTransform>,
 }
@@ -199,7 +202,7 @@ impl BifurcationView {
                 "Drag a box to zoom: that θν range is recomputed with all its columns, \
                  not just magnified. A click sets θν. Backspace: back.",
             );
-            ui.label(RichText::new("drag: zoom · click: set θν").weak());
+            ui.label(RichText::new("drag or pinch: zoom · click: set θν").weak());
         });
     }
 
@@ -226,7 +229,7 @@ impl BifurcationView {
             width: style::width(ui.ctx(), 1.5),
         };
         let tex = self.texture.as_ref().map(|t| t.id());
-        let drag_from = self.drag_from;
+        let (drag_from, pinch) = (self.drag_from, self.pinch);
         let plot = Plot::new("bifurcation")
             .height(height)
             .show_background(false)
@@ -270,6 +273,9 @@ impl BifurcationView {
                 overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]));
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
+                    p.add(style::zoom_box(a, b));
+                }
+                if let Some((a, b)) = pinch.preview(p.transform()) {
                     p.add(style::zoom_box(a, b));
                 }
                 pointer
@@ -319,6 +325,27 @@ impl BifurcationView {
         out: &mut Vec<Action>,
     ) {
         let (from, to) = (sweep.from, sweep.to);
+        if let Some(t) = self.transform {
+            match self.pinch.follow(ui, r.rect, &t) {
+                Some(PinchEnd::In(tn, th)) => {
+                    self.zoom.push(Zoom {
+                        theta_nu: (tn.0.max(from), tn.1.min(to)),
+                        theta: th,
+                    });
+                    self.invalidate();
+                }
+                Some(PinchEnd::Out) if !self.zoom.is_empty() => {
+                    self.zoom.pop();
+                    self.invalidate();
+                }
+                _ => {}
+            }
+        }
+        if self.pinch.active() {
+            // Two fingers zoom: no box, no click.
+            self.drag_from = None;
+            return;
+        }
         if r.drag_started() {
             self.drag_from = pointer;
         }

@@ -62,6 +62,7 @@ pub mod phase_attractors;
 pub mod phase_data;
 pub mod phase_raster;
 pub mod phase_view;
+mod pinch;
 pub mod plane;
 pub mod play;
 pub mod points_table;
