@@ -19,7 +19,7 @@ shots=(
   "chaos numerics gui-numerics-chaos.png"
   "fig4 phase gui-phase-fig4.png"
   "intermittent events gui-events-intermittent.svg"
-  "intermittent - gui-tiles-text-1.5.png --font-scale 1.5"
+  "intermittent - gui-projector.png --font-scale 1.5 --hide-panel --size 1024x768"
   "fig3a bifurcation gui-subcritical-fig3a.png --session SESSIONS/fig3a-subcritical.json"
   "- phase gui-phase-multistable.png --session SESSIONS/phase-multistable.json"
   "- phase gui-generalised-flip.png --session SESSIONS/generalised-flip.json"
@@ -31,7 +31,9 @@ cd "$work"
 for s in "${shots[@]}"; do
   read -r preset view file extra <<<"$s"
   extra=${extra//SESSIONS/$out/sessions}
-  args=(gui --size 1280x800 --screenshot "$file")
+  args=(gui --screenshot "$file")
+  # 1280x800 unless the shot names its own size.
+  [[ "${extra:-}" == *--size* ]] || args+=(--size 1280x800)
   # "-": no preset (the session gives the parameters).
   [ "$preset" != "-" ] && args+=(--preset "$preset")
   [ "$view" != "-" ] && args+=(--view "$view")
