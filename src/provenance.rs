@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, Regime};
+use crate::sim::continuation::ContParam;
 
 /// The program and its version, as the first `#` line says them.
 pub const PROGRAM: &str = concat!("oneblock ", env!("CARGO_PKG_VERSION"));
@@ -77,6 +78,34 @@ pub fn model_line(params: &Params, settings: &SolverSettings, theta_nu: bool) ->
         Regime::of(params.kappa, params.gamma).name(),
         settings.method,
         accuracy
+    )
+}
+
+/// [`model_line`] of a diagram over `varied`: that parameter left out and
+/// named as varied (`kappa = 18.95, gamma = 6.5, nu = 0.001, omega = 50
+/// (stick-slip); …` over θν, `gamma = 6.5, nu = 0.001, theta-nu = 1.25,
+/// omega = 50 (kappa varied); …` over κ; the regime, which κ and γ
+/// decide, is named when neither varies).
+pub fn model_line_varying(params: &Params, settings: &SolverSettings, varied: ContParam) -> String {
+    if varied == ContParam::ThetaNu {
+        return model_line(params, settings, false);
+    }
+    let line = model_line(params, settings, true);
+    // The line's own words for each value, the varied one's left out.
+    let (values, solver) = line.split_once(" (").unwrap_or((&line, ""));
+    let kept: Vec<&str> = values
+        .split(", ")
+        .filter(|part| !part.starts_with(&format!("{} = ", varied.name())))
+        .collect();
+    let solver = solver.split_once("); ").map_or("", |(_, s)| s);
+    let regime = match varied {
+        ContParam::Kappa | ContParam::Gamma => String::new(),
+        _ => format!("{}; ", Regime::of(params.kappa, params.gamma).name()),
+    };
+    format!(
+        "{} ({regime}{} varied); {solver}",
+        kept.join(", "),
+        varied.name()
     )
 }
 

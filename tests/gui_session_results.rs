@@ -185,7 +185,7 @@ fn a_branch() -> Branch {
         minimal_period: 1,
     };
     Branch {
-        param: ContParam::ThetaNu,
+        param: oneblock::sim::continuation::ContParam::ThetaNu,
         period: 1,
         points: vec![
             point(1.0, 0.3, -0.5),

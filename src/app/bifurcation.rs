@@ -522,7 +522,7 @@ mod seeded_tests {
         sweep.insert(
             0,
             Column {
-                theta_nu: 1.0,
+                value: 1.0,
                 thetas: vec![0.25, 0.75, 0.5],
                 coarse: true,
                 lyapunov: None,

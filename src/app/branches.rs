@@ -151,13 +151,7 @@ pub fn hover_text(
     theta: f64,
     multiplier: f64,
 ) -> String {
-    let name = match param {
-        ContParam::ThetaNu => "θν",
-        ContParam::Kappa => "κ",
-        ContParam::Gamma => "γ",
-        ContParam::Nu => "ν",
-        ContParam::Omega => "Ω",
-    };
+    let name = param.symbol();
     format!(
         "{what}\n{name} = {}\nθ = {}\nmultiplier = {}",
         sig9(lambda),

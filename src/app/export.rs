@@ -36,9 +36,10 @@ pub fn bifurcation_csv(sweep: &SweepData) -> String {
     let columns = sweep.columns.iter().flatten();
     let seeded = columns.clone().any(|c| !c.attractor.is_empty());
     formats::bifurcation_csv(
+        sweep.param,
         columns.map(|c| {
             (
-                c.theta_nu,
+                c.value,
                 c.thetas.as_slice(),
                 c.lyapunov,
                 c.attractor.as_slice(),
@@ -128,7 +129,7 @@ mod tests {
             sweep.insert(
                 i,
                 Column {
-                    theta_nu: 1.0 + 0.1 * i as f64,
+                    value: 1.0 + 0.1 * i as f64,
                     thetas,
                     coarse: false,
                     lyapunov,
@@ -152,7 +153,7 @@ mod tests {
         plain.insert(
             0,
             Column {
-                theta_nu: 1.0,
+                value: 1.0,
                 thetas: vec![0.2],
                 coarse: false,
                 lyapunov,

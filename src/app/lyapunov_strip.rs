@@ -57,7 +57,7 @@ pub fn strip_points(sweep: &SweepData) -> Vec<(f64, f64, Option<f64>)> {
         .columns
         .iter()
         .flatten()
-        .filter_map(|c| c.lyapunov.map(|l| (c.theta_nu, l.lyapunov, l.stderr)))
+        .filter_map(|c| c.lyapunov.map(|l| (c.value, l.lyapunov, l.stderr)))
         .filter(|p| p.1.is_finite())
         .collect()
 }
@@ -188,7 +188,7 @@ mod tests {
             s.insert(
                 i,
                 Column {
-                    theta_nu: 1.0 + 0.1 * i as f64,
+                    value: 1.0 + 0.1 * i as f64,
                     thetas: vec![0.1],
                     coarse: false,
                     lyapunov: Some(ColumnLyapunov {

@@ -42,13 +42,7 @@ async fn attractor_seed(
 
 /// The parameter's letter, as the window writes it.
 fn symbol(p: ContParam) -> &'static str {
-    match p {
-        ContParam::ThetaNu => "θν",
-        ContParam::Kappa => "κ",
-        ContParam::Gamma => "γ",
-        ContParam::Nu => "ν",
-        ContParam::Omega => "Ω",
-    }
+    p.symbol()
 }
 
 /// A start that is not on a cycle: the job ends, saying why.

@@ -78,7 +78,7 @@ impl Jobs {
         match u {
             Update::Column {
                 index,
-                theta_nu,
+                value,
                 thetas,
                 coarse,
                 lyapunov,
@@ -86,7 +86,7 @@ impl Jobs {
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
-                    theta_nu,
+                    value,
                     thetas,
                     coarse,
                     lyapunov,

@@ -293,7 +293,8 @@ impl Jobs {
             SweepSpec {
                 params: s.params,
                 settings: key.solver,
-                theta_nu: Axis::new(from, to, s.columns),
+                param: crate::sim::continuation::ContParam::ThetaNu,
+                axis: Axis::new(from, to, s.columns),
                 transient: s.sweep_transient,
                 keep: s.sweep_keep,
                 map: MapChoice::Auto,
