@@ -146,6 +146,23 @@ fn one_line(s: &str) -> String {
 mod tests {
     use super::*;
 
+    /// A diagram's model line leaves the varied parameter's value out and
+    /// names it; the regime only where κ and γ are both fixed.
+    #[test]
+    fn the_varied_parameter_is_named_not_valued() {
+        let p = crate::model::preset("fig3b").expect("fig3b").params;
+        let s = SolverSettings::default();
+        assert_eq!(
+            model_line_varying(&p, &s, ContParam::ThetaNu),
+            model_line(&p, &s, false)
+        );
+        let k = model_line_varying(&p, &s, ContParam::Kappa);
+        assert!(k.starts_with("gamma = 6.5, nu = 0.001, theta-nu = 1, omega = 50 (kappa varied); "), "{k}");
+        let o = model_line_varying(&p, &s, ContParam::Omega);
+        assert!(o.contains("theta-nu = 1 (stick-slip; omega varied); "), "{o}");
+        assert!(!o.contains("omega ="), "{o}");
+    }
+
     #[test]
     fn a_header_is_comment_lines_and_the_csv_reads_past_them() {
         let p = crate::model::preset("fig3b").expect("fig3b").params;

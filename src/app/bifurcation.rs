@@ -1,10 +1,12 @@
-//! The live bifurcation diagram θ against θν, drawn as a density texture
-//! (one texel column per θν column) rebuilt only when columns arrive: a plot
-//! marker per point would cost ~80 ms a frame at 100k points (GUI-NOTES).
-//! Dragging a box zooms: the window asks the worker for that θν range at
-//! full resolution and rasterises the box's θ range. Back / reset walk the
-//! zoom stack; a click sets θν. "Find bifurcations" asks the worker for the
-//! branches over the shown θν range, drawn over the diagram
+//! The live bifurcation diagram θ against θν (or κ, γ, ν, Ω: the
+//! selector of [`super::diagram_axis`], on a log axis for those that span
+//! decades), drawn as a density texture (one texel column per column)
+//! rebuilt only when columns arrive: a plot marker per point would cost
+//! ~80 ms a frame at 100k points (GUI-NOTES). Dragging a box zooms: the
+//! window asks the worker for that range at full resolution and
+//! rasterises the box's θ range. Back / reset walk the zoom stack; a click
+//! sets the parameter. "Find bifurcations" asks the worker for the
+//! branches over the shown range, drawn over the diagram
 //! ([`super::overlay`]) with their special points in a table
 //! ([`super::points_table`]).
 
@@ -16,12 +18,25 @@ use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
 use super::clip::clip_polyline;
 use super::data::SweepData;
+use super::diagram_axis::{self, XAxis};
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
 use crate::model::Regime;
+use crate::sim::continuation::ContParam;
+
+/// The name of the line at the current value of the varied parameter.
+fn current_name(p: ContParam) -> &'static str {
+    match p {
+        ContParam::ThetaNu => "current θν",
+        ContParam::Kappa => "current κ",
+        ContParam::Gamma => "current γ",
+        ContParam::Nu => "current ν",
+        ContParam::Omega => "current Ω",
+    }
+}
 
 /// Texel rows of the density image.
 const ROWS: usize = 420;
@@ -29,6 +44,8 @@ const ROWS: usize = 420;
 /// A zoomed part of the diagram.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Zoom {
+    /// The range of the varied parameter (θν, the paper's, by default),
+    /// in its values.
     pub theta_nu: (f64, f64),
     pub theta: (f64, f64),
 }
@@ -121,7 +138,8 @@ pub fn auto_theta_range(sweep: &SweepData) -> (f64, f64) {
 }
 
 impl BifurcationView {
-    /// The θν range the current zoom level asks for, if zoomed.
+    /// The range (of the varied parameter) the current zoom level asks
+    /// for, if zoomed.
     pub fn theta_nu_range(&self) -> Option<(f64, f64)> {
         self.zoom.last().map(|z| z.theta_nu)
     }
@@ -156,16 +174,13 @@ impl BifurcationView {
     }
 
     /// Back, reset zoom, and where the sweep stands.
-    fn controls_ui(
-        &mut self,
-        ui: &mut Ui,
-        slot: &Slot<SweepData>,
-        jobs: &Jobs,
-        out: &mut Vec<Action>,
-    ) {
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        let slot: &Slot<SweepData> = &jobs.sweep;
         let sweep = &slot.data;
+        let symbol = s.diagram.param.symbol();
+        ui.horizontal_wrapped(|ui| diagram_axis::selector_ui(ui, s));
         ui.horizontal_wrapped(|ui| {
-            find_button_ui(ui, jobs, out);
+            find_button_ui(ui, jobs, symbol, out);
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
                 .on_hover_text("Previous zoom level (Backspace)")
@@ -176,7 +191,7 @@ impl BifurcationView {
             }
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Reset zoom"))
-                .on_hover_text("The whole θν range")
+                .on_hover_text("The whole range")
                 .clicked()
             {
                 self.zoom.clear();
@@ -195,11 +210,11 @@ impl BifurcationView {
                 sweep.columns.len(),
                 sweep.points()
             ))
-            .on_hover_text(
-                "Drag a box to zoom: that θν range is recomputed with all its columns, \
-                 not just magnified. A click sets θν. Backspace: back.",
-            );
-            ui.label(RichText::new("drag: zoom · click: set θν").weak());
+            .on_hover_text(format!(
+                "Drag a box to zoom: that {symbol} range is recomputed with all its columns, \
+                 not just magnified. A click sets {symbol}. Backspace: back."
+            ));
+            ui.label(RichText::new(format!("drag: zoom · click: set {symbol}")).weak());
         });
     }
 
@@ -215,14 +230,13 @@ impl BifurcationView {
         out: &mut Vec<Action>,
     ) {
         let bounds = self.bounds(sweep);
+        let axis = XAxis::of(sweep.param);
         let lines = Lines {
-            theta_nu: (sweep.from, sweep.to),
+            axis,
+            theta_nu: s.params.theta_nu,
             bounds,
-            current: style::draws_current(ui.ctx()).then_some(s.params.theta_nu),
-            theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
-                Regime::Mixed { theta_c } => Some(theta_c),
-                _ => None,
-            },
+            current: style::draws_current(ui.ctx()).then_some(axis.x(axis.param.get(&s.params))),
+            theta_c: theta_c(s, axis.param),
             width: style::width(ui.ctx(), 1.5),
         };
         let tex = self.texture.as_ref().map(|t| t.id());
@@ -236,7 +250,7 @@ impl BifurcationView {
             .allow_boxed_zoom(false)
             .allow_double_click_reset(false);
         let (ax, ay) = (
-            AxisSpec::angle("θν, pull direction", s.angle_unit),
+            axis.spec(s.angle_unit),
             AxisSpec::angle("θ, slip onset", s.angle_unit),
         );
         let (hx, hy) = (ax.clone(), ay.clone());
@@ -267,7 +281,8 @@ impl BifurcationView {
                 }
                 lines.draw(p);
                 let (x0, x1, y0, y1) = bounds;
-                overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]));
+                let x = |v| axis.x(v);
+                overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]), &x);
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
                     p.add(style::zoom_box(a, b));
@@ -276,15 +291,17 @@ impl BifurcationView {
             });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         self.transform = Some(resp.transform);
-        self.hover_ui(&resp, found);
+        self.hover_ui(&resp, found, axis);
         self.pointer_ui(ui, &resp.response, resp.inner, sweep, out);
     }
 
-    /// The plot's bounds (θν from, to, θ lo, hi): half a column's width
-    /// beyond the end columns, so that each column's texel is centred on
-    /// its θν.
+    /// The plot's bounds (x from, to, θ lo, hi; x the axis' coordinate
+    /// of the varied parameter, [`XAxis`]): half a column's width beyond
+    /// the end columns, so that each column's texel is centred on its
+    /// value.
     pub fn bounds(&self, sweep: &SweepData) -> (f64, f64, f64, f64) {
-        let (from, to) = (sweep.from, sweep.to);
+        let axis = XAxis::of(sweep.param);
+        let (from, to) = (axis.x(sweep.from), axis.x(sweep.to));
         let n = sweep.columns.len().max(2);
         let dx = (to - from) / (n - 1) as f64;
         let (lo, hi) = self.theta_range;
@@ -292,7 +309,12 @@ impl BifurcationView {
     }
 
     /// The special point or branch under the pointer, named.
-    fn hover_ui(&self, resp: &egui_plot::PlotResponse<Option<PlotPoint>>, found: &BranchData) {
+    fn hover_ui(
+        &self,
+        resp: &egui_plot::PlotResponse<Option<PlotPoint>>,
+        found: &BranchData,
+        axis: XAxis,
+    ) {
         let r = &resp.response;
         if self.drag_from.is_some() {
             return;
@@ -300,7 +322,7 @@ impl BifurcationView {
         let Some(at) = r.hover_pos() else { return };
         let t = resp.transform;
         let to_screen = |xy: [f64; 2]| {
-            let q = t.position_from_point(&PlotPoint::new(xy[0], xy[1]));
+            let q = t.position_from_point(&PlotPoint::new(axis.x(xy[0]), xy[1]));
             [q.x, q.y]
         };
         if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
@@ -308,8 +330,8 @@ impl BifurcationView {
         }
     }
 
-    /// A box drawn zooms (recomputing its θν range), a click sets θν,
-    /// Backspace goes back a zoom level.
+    /// A box drawn zooms (recomputing its range of the varied parameter),
+    /// a click sets that parameter, Backspace goes back a zoom level.
     fn pointer_ui(
         &mut self,
         ui: &Ui,
@@ -318,7 +340,8 @@ impl BifurcationView {
         sweep: &SweepData,
         out: &mut Vec<Action>,
     ) {
-        let (from, to) = (sweep.from, sweep.to);
+        let axis = XAxis::of(sweep.param);
+        let (from, to) = (axis.x(sweep.from), axis.x(sweep.to));
         if r.drag_started() {
             self.drag_from = pointer;
         }
@@ -329,8 +352,15 @@ impl BifurcationView {
                 if tn_range.1 - tn_range.0 > 1e-6 * (to - from).abs().max(1e-9)
                     && th_range.1 - th_range.0 > 1e-9
                 {
+                    // In values: an end at the range's end is that end
+                    // exactly (no round trip through log10).
+                    let value = |x: f64| match x {
+                        _ if x == from => sweep.from,
+                        _ if x == to => sweep.to,
+                        _ => axis.value(x),
+                    };
                     self.zoom.push(Zoom {
-                        theta_nu: tn_range,
+                        theta_nu: (value(tn_range.0), value(tn_range.1)),
                         theta: th_range,
                     });
                     self.invalidate();
@@ -339,7 +369,7 @@ impl BifurcationView {
         } else if r.clicked()
             && let Some(p) = pointer
         {
-            out.push(Action::SetThetaNu(p.x));
+            out.push(Action::SetParam(axis.param, axis.value(p.x)));
         }
         if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) && !self.zoom.is_empty()
         {
@@ -349,12 +379,26 @@ impl BifurcationView {
     }
 }
 
-/// The lines drawn over the diagram: θ = θν, ±θc and the current θν.
+/// ±θc when the regime is mixed over the whole diagram: θc depends on κ
+/// and γ, so a diagram in either has none drawn.
+fn theta_c(s: &Settings, param: ContParam) -> Option<f64> {
+    match (param, Regime::of(s.params.kappa, s.params.gamma)) {
+        (ContParam::Kappa | ContParam::Gamma, _) => None,
+        (_, Regime::Mixed { theta_c }) => Some(theta_c),
+        _ => None,
+    }
+}
+
+/// The lines drawn over the diagram: θ = θν (the diagonal of a diagram in
+/// θν, a level line in the others), ±θc and the current value.
 struct Lines {
-    theta_nu: (f64, f64),
-    /// The plot's bounds (θν from, to, θ lo, hi): the diagonal is cut to them.
+    axis: XAxis,
+    /// θν, where it is held fixed.
+    theta_nu: f64,
+    /// The plot's bounds (x from, to, θ lo, hi): the diagonal is cut to them.
     bounds: (f64, f64, f64, f64),
-    /// The current θν, where it is drawn ([`style::draws_current`]).
+    /// The current value's coordinate, where it is drawn
+    /// ([`style::draws_current`]).
     current: Option<f64>,
     theta_c: Option<f64>,
     width: f32,
@@ -362,11 +406,14 @@ struct Lines {
 
 impl Lines {
     fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
-        let (from, to) = self.theta_nu;
         // Dotted along its length on screen: cut to the frame first
         // (super::clip), or a thin θ zoom makes millions of dots.
         let (x0, x1, y0, y1) = self.bounds;
-        for part in clip_polyline(&[[from, from], [to, to]], [x0, y0], [x1, y1]) {
+        let line = match self.axis.param {
+            ContParam::ThetaNu => [[x0, x0], [x1, x1]],
+            _ => [[x0, self.theta_nu], [x1, self.theta_nu]],
+        };
+        for part in clip_polyline(&line, [x0, y0], [x1, y1]) {
             p.line(
                 style::line("θ = θν", PlotPoints::from(part))
                     .color(style::CRITICAL.gamma_multiply(0.6))
@@ -383,9 +430,9 @@ impl Lines {
                 );
             }
         }
-        if let Some(tn) = self.current {
+        if let Some(x) = self.current {
             p.add(
-                VLine::new("current θν", tn)
+                VLine::new(current_name(self.axis.param), x)
                     .color(style::CURRENT)
                     .width(2.0),
             );
@@ -416,7 +463,7 @@ impl View for BifurcationView {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
         let figure = style::figure_only(ui.ctx());
         if !figure {
-            self.controls_ui(ui, &jobs.sweep, jobs, out);
+            self.controls_ui(ui, s, jobs, out);
         }
         lines_legend_ui(ui, s);
         if !figure {
@@ -440,7 +487,7 @@ impl View for BifurcationView {
         if strip > 0.0
             && let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width))
         {
-            out.push(Action::SetThetaNu(tn));
+            out.push(Action::SetParam(sweep.param, tn));
         }
     }
 }
@@ -476,16 +523,16 @@ fn seeds_legend_ui(ui: &mut Ui, s: &Settings) {
 fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
     ui.horizontal_wrapped(|ui| {
         style::legend_line(ui, style::CRITICAL, true, "θ = θν");
-        if let Regime::Mixed { .. } = Regime::of(s.params.kappa, s.params.gamma) {
+        if theta_c(s, s.diagram.param).is_some() {
             style::legend_line(ui, style::ACCEL, true, "±θc");
         }
         if style::draws_current(ui.ctx()) {
-            style::legend_line(ui, style::CURRENT, false, "current θν");
+            style::legend_line(ui, style::CURRENT, false, current_name(s.diagram.param));
         }
     });
 }
 
-fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
+fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>) {
     let slot = &jobs.branches;
     if slot.state == JobState::Running {
         if ui
@@ -497,12 +544,12 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
         }
     } else if ui
         .button("Find bifurcations")
-        .on_hover_text(
-            "Follow the attractor's cycle at the left end of the shown θν range to the \
+        .on_hover_text(format!(
+            "Follow the attractor's cycle at the left end of the shown {symbol} range to the \
              right end, locating its period doublings (PD), folds and borders to 1e-10, \
              then the doubled cycles in turn up to period 32. Runs on the worker; a \
-             parameter or range change stops it.",
-        )
+             parameter or range change stops it."
+        ))
         .clicked()
     {
         out.push(Action::FindBifurcations);

@@ -39,6 +39,7 @@ pub mod clip;
 pub mod controls;
 pub mod data;
 pub mod describe;
+pub mod diagram_axis;
 pub mod events;
 mod events_plots;
 pub mod explorer;

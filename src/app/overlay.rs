@@ -92,12 +92,17 @@ pub fn label(pos: &HoverPosition<'_>) -> Option<String> {
 /// The branches' lines and the special points' markers, over a plot of
 /// bounds `(min, max)`: the unstable (dashed) runs are cut to them, as a
 /// dash is laid along the line's whole length on screen ([`super::clip`]).
+/// `x` maps a parameter value to the plot's coordinate (log10 on a log
+/// axis).
 pub fn branch_items(
     p: &mut PlotUi<'_>,
     data: &BranchData,
     line_width: f32,
     (min, max): ([f64; 2], [f64; 2]),
+    x: &dyn Fn(f64) -> f64,
 ) {
+    let on_axis =
+        |pts: Vec<[f64; 2]>| -> Vec<[f64; 2]> { pts.into_iter().map(|[l, t]| [x(l), t]).collect() };
     let line = |name, pts: Vec<[f64; 2]>| {
         Line::new(name, PlotPoints::from(pts))
             .color(BRANCH)
@@ -106,11 +111,12 @@ pub fn branch_items(
     };
     for b in &data.branches {
         for r in runs(b) {
+            let points = on_axis(r.points);
             if r.stable {
-                p.line(line(STABLE, r.points));
+                p.line(line(STABLE, points));
                 continue;
             }
-            for part in super::clip::clip_polyline(&r.points, min, max) {
+            for part in super::clip::clip_polyline(&points, min, max) {
                 p.line(line(UNSTABLE, part).style(LineStyle::Dashed { length: 8.0 }));
             }
         }
@@ -128,7 +134,7 @@ pub fn branch_items(
         let pts: Vec<[f64; 2]> = rows
             .iter()
             .filter(|s| s.kind == kind && subcritical(s) == sub)
-            .map(|s| [s.lambda, s.theta])
+            .map(|s| [x(s.lambda), s.theta])
             .collect();
         if pts.is_empty() {
             continue;

@@ -111,12 +111,22 @@ impl Results {
 
     /// The results a session's `root` holds, taken out of it; each one
     /// that cannot be read or fails its check is left out and named in
-    /// `dropped` with why.
-    pub fn take_from(root: &mut Map<String, Value>, dropped: &mut Vec<String>) -> Results {
+    /// `dropped` with why. Branches must be in `varied`, the parameter
+    /// the session's diagram varies (they are drawn over it).
+    pub fn take_from(
+        root: &mut Map<String, Value>,
+        varied: ContParam,
+        dropped: &mut Vec<String>,
+    ) -> Results {
         let mut r = Results::default();
         if let Some(v) = root.remove("branches") {
             match serde_json::from_value::<BranchesFile>(v) {
                 Err(_) => dropped.push("branches (unreadable)".into()),
+                Ok(f) if f.param != varied => dropped.push(format!(
+                    "branches (in {}, the diagram in {})",
+                    f.param.name(),
+                    varied.name()
+                )),
                 Ok(f) => match check_branches(&f) {
                     Err(why) => dropped.push(format!("branches ({why})")),
                     Ok(()) => {

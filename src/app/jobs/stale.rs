@@ -41,13 +41,22 @@ fn bits(xs: &[f64]) -> Vec<u64> {
 
 impl Bound {
     /// What a job of `kind` started now would be computed for, with the
-    /// diagram's θν range `diagram` (its zoom's, or the whole range).
+    /// diagram's range `diagram` (its zoom's, or the whole range, in the
+    /// parameter it varies).
     pub fn of(kind: JobKind, s: &Settings, diagram: (f64, f64)) -> Bound {
         let p = &s.params;
         let all = [p.kappa, p.gamma, p.nu, p.theta_nu, p.omega];
         // θν is the diagram's axis; κ and θν are the phase grid's.
         let but_theta_nu = [p.kappa, p.gamma, p.nu, p.omega];
         let but_axes = [p.gamma, p.nu, p.omega];
+        // The diagram's: every parameter but the one it varies, and which
+        // one that is (a new axis is new parameters: its result goes).
+        let varied = s.diagram.param;
+        let but_varied: Vec<f64> = crate::sim::continuation::ContParam::ALL
+            .iter()
+            .map(|&q| if q == varied { 0.0 } else { q.get(p) })
+            .chain([varied as u8 as f64])
+            .collect();
         let (params, range): (&[f64], Vec<f64>) = match kind {
             JobKind::Trajectory
             | JobKind::Iterate
@@ -57,10 +66,8 @@ impl Bound {
             | JobKind::Numerics => (&all, Vec::new()),
             JobKind::Sweep | JobKind::Branches => {
                 let (a, b) = diagram;
-                (
-                    &but_theta_nu,
-                    vec![a, b, f64::from(u8::from(s.full_circle))],
-                )
+                let (c, d) = s.sweep_range();
+                (&but_varied, vec![a, b, c, d])
             }
             JobKind::Basins => {
                 let (a, b) = s.basins.range(s);
