@@ -157,9 +157,15 @@ mod tests {
             model_line(&p, &s, false)
         );
         let k = model_line_varying(&p, &s, ContParam::Kappa);
-        assert!(k.starts_with("gamma = 6.5, nu = 0.001, theta-nu = 1, omega = 50 (kappa varied); "), "{k}");
+        assert!(
+            k.starts_with("gamma = 6.5, nu = 0.001, theta-nu = 1, omega = 50 (kappa varied); "),
+            "{k}"
+        );
         let o = model_line_varying(&p, &s, ContParam::Omega);
-        assert!(o.contains("theta-nu = 1 (stick-slip; omega varied); "), "{o}");
+        assert!(
+            o.contains("theta-nu = 1 (stick-slip; omega varied); "),
+            "{o}"
+        );
         assert!(!o.contains("omega ="), "{o}");
     }
 

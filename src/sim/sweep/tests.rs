@@ -95,7 +95,10 @@ fn grids_in_parameters_that_span_decades_are_logarithmic() {
     assert!((g[1] - 10.0).abs() < 1e-12, "{g:?}");
     let g = param_grid(ContParam::Nu, 1e-5, 1e-2, 7);
     let ratios: Vec<f64> = g.windows(2).map(|w| w[1] / w[0]).collect();
-    assert!(ratios.iter().all(|r| (r - 10f64.sqrt()).abs() < 1e-12), "{ratios:?}");
+    assert!(
+        ratios.iter().all(|r| (r - 10f64.sqrt()).abs() < 1e-12),
+        "{ratios:?}"
+    );
     assert_eq!((g[0], g[6]), (1e-5, 1e-2));
     assert_eq!(param_grid(ContParam::Gamma, 1.0, 2.0, 3), [1.0, 1.5, 2.0]);
     assert_eq!(param_grid(ContParam::Omega, 50.0, 50.0, 1), [50.0]);
