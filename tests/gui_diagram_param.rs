@@ -11,6 +11,9 @@
 //!   `bifurcation --param kappa` over the same range, bit for bit.
 //! - Find bifurcations over it locates the folds and the doubling that
 //!   `oneblock continue --param kappa` does, to 1e-7.
+//! - Find bifurcations over Fig. 3b's cascade (θν ∈ [1.0, 1.3]) shows the
+//!   table of its doublings and the ratios δₙ of their gaps that
+//!   `oneblock continue --cascade` prints.
 #![cfg(feature = "gui")]
 
 #[path = "cli_support/mod.rs"]
@@ -22,13 +25,17 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
 use oneblock::app::backend::Backend;
+use oneblock::app::bifurcation::Zoom;
 use oneblock::app::diagram_axis::{SELECTOR, title};
 use oneblock::app::jobs::JobState;
+use oneblock::app::points_table::{FEIGENBAUM_DELTA, cascade_rows};
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
 use oneblock::integrate::SolverSettings;
 use oneblock::sim::continuation::{ContParam, SpecialKind};
 use oneblock::sim::param_grid;
-use oneblock::worker::{Command, Lane, Spec, SweepSpec, Update, Worker, WorkerConfig};
+use oneblock::worker::{
+    Command, ContinuationSpec, Lane, Spec, SweepSpec, Update, Worker, WorkerConfig,
+};
 
 use cli_support::{assert_ok, num, oneblock, parse_csv, stdout};
 
@@ -141,6 +148,20 @@ fn last_sweep(rec: &Recorder) -> SweepSpec {
             _ => None,
         })
         .expect("a sweep was sent")
+}
+
+/// The "Find bifurcations" job the window sent.
+fn branches_spec(rec: &Recorder) -> ContinuationSpec {
+    rec.commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Run {
+                spec: Spec::Branches(spec),
+                ..
+            } => Some(spec),
+            _ => None,
+        })
+        .expect("the job was sent")
 }
 
 /// The solver flags of `s` (the window's Auto setting for its job).
@@ -302,17 +323,7 @@ fn find_bifurcations_in_kappa_locates_what_continue_does() {
     h.run_steps(2);
     h.get_by_label("Find bifurcations").click();
     h.step();
-    let spec = rec
-        .commands()
-        .into_iter()
-        .find_map(|c| match c {
-            Command::Run {
-                spec: Spec::Branches(spec),
-                ..
-            } => Some(spec),
-            _ => None,
-        })
-        .expect("the job was sent");
+    let spec = branches_spec(&rec);
     assert_eq!(spec.param, ContParam::Kappa);
     assert_eq!((spec.from, spec.to), KAPPA);
     until(&mut h, "Find bifurcations", |app| {
@@ -378,4 +389,76 @@ fn find_bifurcations_in_kappa_locates_what_continue_does() {
     for name in ["PD", "fold"] {
         assert!(h.query_by_label(name).is_some(), "legend {name}");
     }
+}
+
+#[test]
+fn the_cascade_table_shows_the_ratios_of_continue_cascade() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec);
+    h.state_mut().views.bifurcation.zoom.push(Zoom {
+        theta_nu: (1.0, 1.3),
+        theta: (0.0, 1.6),
+    });
+    h.run_steps(2);
+    h.get_by_label("Find bifurcations").click();
+    h.step();
+    until(&mut h, "Find bifurcations", |app| {
+        app.jobs.branches_settled()
+    });
+    let data = h.state().jobs.branches.data.clone();
+    let rows = cascade_rows(&data);
+    assert!(rows.len() >= 5, "{rows:?}");
+    h.get_by_label_contains("Cascade δ").click();
+    h.run_steps(2);
+
+    let solver = solver_flags(&branches_spec(&rec).settings);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut args: Vec<String> = [
+        "continue",
+        "--preset",
+        "fig3b",
+        "--param",
+        "theta-nu",
+        "--from",
+        "1.0",
+        "--to",
+        "1.3",
+        "--period",
+        "1",
+        "--cascade",
+    ]
+    .map(String::from)
+    .to_vec();
+    args.extend(solver);
+    args.extend([
+        "--out".into(),
+        dir.path().join("c.csv").display().to_string(),
+    ]);
+    let o = cli_support::run(&args);
+    assert_ok(&o);
+    // The CLI's table: "  n   period  theta-nu   gap   delta_n".
+    let err = cli_support::stderr(&o);
+    let table: Vec<Vec<&str>> = err
+        .lines()
+        .skip_while(|l| !l.starts_with("cascade:"))
+        .skip(2)
+        .take_while(|l| l.starts_with("  ") && !l.contains("Feigenbaum"))
+        .map(|l| l.split_whitespace().collect())
+        .collect();
+    assert!(table.len() >= rows.len(), "{err}");
+    for (mine, theirs) in rows.iter().zip(&table) {
+        let (a, b) = (num(&mine[2]), num(theirs[2]));
+        assert!((a - b).abs() < 1e-7, "b_{} = {a} against {b}", mine[0]);
+        assert_eq!(mine[1], format!("P{}", theirs[1]));
+        if !mine[4].is_empty() {
+            assert_eq!(mine[4], theirs[4], "δ of row {}", mine[0]);
+            assert!(
+                h.query_by_label(&mine[4]).is_some(),
+                "the table shows {}",
+                mine[4]
+            );
+        }
+    }
+    let last = num(&rows[rows.len() - 1][4]);
+    assert!((last - FEIGENBAUM_DELTA).abs() < 0.05, "{last}");
 }

@@ -216,6 +216,7 @@ fn a_session_with(branches: Vec<Branch>) -> Session {
                     param: Some(ContParam::ThetaNu),
                     range: (1.0, 1.2),
                     branches,
+                    doublings: Vec::new(),
                 },
                 summary: Some("1 PD, 0 fold".into()),
             }),

@@ -479,6 +479,7 @@ impl View for BifurcationView {
         }
         if !figure {
             points_table::points_ui(ui, &jobs.branches.data);
+            points_table::cascade_ui(ui, &jobs.branches.data);
         }
         let sweep = &jobs.sweep.data;
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());

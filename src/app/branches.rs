@@ -16,6 +16,9 @@ pub struct BranchData {
     /// The branches: the attractor's over the whole range, then each
     /// doubled level of the cascade.
     pub branches: Vec<Branch>,
+    /// The cascade's doublings b₁, b₂, … in order (periods p, 2p, 4p, …),
+    /// once the cascade has ended (`oneblock continue --cascade`'s table).
+    pub doublings: Vec<SpecialPoint>,
 }
 
 /// The curves of a "Boundaries" job.

@@ -100,6 +100,9 @@ impl Jobs {
             Update::Branch { branch, .. } if job == JobKind::Branches => {
                 self.branches.data.branches.push(branch);
             }
+            Update::Cascade { cascade, .. } if job == JobKind::Branches => {
+                self.branches.data.doublings = cascade.doublings;
+            }
             Update::Curve { curve, .. } if job == JobKind::Curves => {
                 self.curves.data.curves.push(curve);
             }
