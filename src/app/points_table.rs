@@ -63,7 +63,7 @@ pub fn cascade_ui(ui: &mut Ui, data: &BranchData) {
                 .striped(true)
                 .num_columns(5)
                 .show(ui, |ui| {
-                    for h in ["n", "period", param.column(), "gap", "δₙ"] {
+                    for h in ["n", "period", param.column(), "gap", "δ_n"] {
                         ui.label(RichText::new(h).strong());
                     }
                     ui.end_row();

@@ -331,3 +331,27 @@ fn settings_from(
     }
     serde_json::from_value(Value::Object(current)).unwrap_or_default()
 }
+
+#[cfg(test)]
+mod diagram_tests {
+    use super::*;
+
+    /// The diagram's varied parameter, its range and a zoom in it come
+    /// back from the file; a zoom the model has no κ for is dropped.
+    #[test]
+    fn a_session_keeps_the_varied_parameter_its_range_and_zoom() {
+        let mut s = Session::default();
+        s.settings.diagram.param = ContParam::Kappa;
+        s.settings.diagram.kappa = (2.0, 5.0);
+        s.bifurcation_zoom = vec![Zoom {
+            theta_nu: (2.5, 4.0),
+            theta: (0.0, 1.0),
+        }];
+        let l = Session::from_json(&s.to_json(), "test");
+        assert_eq!(l.session.settings.diagram, s.settings.diagram);
+        assert_eq!(l.session.bifurcation_zoom, s.bifurcation_zoom);
+        s.bifurcation_zoom[0].theta_nu = (2.0, 5000.0);
+        let l = Session::from_json(&s.to_json(), "test");
+        assert!(l.session.bifurcation_zoom.is_empty());
+    }
+}

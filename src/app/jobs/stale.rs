@@ -302,6 +302,56 @@ mod tests {
         }
     }
 
+    /// Branches found in κ belong to the diagram's axis: κ itself may
+    /// move (it is the axis), θν may not; another range of κ only stops a
+    /// running job; another varied parameter clears them, as new
+    /// parameters do.
+    #[test]
+    fn branches_in_kappa_follow_the_rule_with_kappa_as_the_axis() {
+        use crate::sim::continuation::ContParam;
+        let found = |s: &Settings| {
+            let rec = Recorder::new();
+            let mut jobs = Jobs::new(Box::new(rec));
+            jobs.find_bifurcations(s, s.sweep_range());
+            let g = jobs.branches.generation;
+            jobs.apply(Update::Finished {
+                generation: g,
+                lane: Lane::Continuation,
+                outcome: Outcome::Completed,
+            });
+            jobs.branches.data.range = s.sweep_range();
+            jobs
+        };
+        let mut s = Settings::default();
+        s.diagram.param = ContParam::Kappa;
+        s.diagram.kappa = (2.0, 5.0);
+        let kept = |jobs: &Jobs| jobs.branches.state == JobState::Done;
+
+        let mut t = s.clone();
+        t.params.kappa = 3.0;
+        let mut jobs = found(&s);
+        jobs.apply_bounds(&t, &shown());
+        assert!(kept(&jobs), "κ is the axis");
+
+        t.diagram.kappa = (2.0, 4.0);
+        jobs.apply_bounds(&t, &shown());
+        assert!(kept(&jobs), "a new range keeps what was found");
+        assert_eq!(jobs.branches.data.range, (2.0, 5.0));
+
+        let mut jobs = found(&s);
+        let mut t = s.clone();
+        t.params.theta_nu += 0.01;
+        jobs.apply_bounds(&t, &shown());
+        assert_eq!(jobs.branches.state, JobState::Idle, "θν is held fixed");
+
+        let mut jobs = found(&s);
+        let mut t = s.clone();
+        t.diagram.param = ContParam::Gamma;
+        jobs.apply_bounds(&t, &shown());
+        assert_eq!(jobs.branches.state, JobState::Idle, "another axis");
+        assert!(jobs.branches.data.branches.is_empty());
+    }
+
     /// A zoom (the range only) stops a running Find bifurcations and keeps
     /// its branches; a later κ change still clears them (the bound kept
     /// the parameters across the zoom).
