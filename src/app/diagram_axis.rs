@@ -96,7 +96,7 @@ pub fn selector_ui(ui: &mut Ui, s: &mut Settings) {
         ui.add(
             egui::DragValue::new(v)
                 .speed(speed)
-                .custom_formatter(|x, _| format!("{}", crate::text::short(x))),
+                .custom_formatter(|x, _| crate::text::short(x)),
         )
         .on_hover_text(format!("The diagram's {name} {}", param.symbol()))
     };

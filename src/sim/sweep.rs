@@ -111,7 +111,9 @@ pub fn theta_nu_grid(from: f64, to: f64, n: usize) -> Vec<f64> {
 /// ([`ContParam::spans_decades`]; both ends must then be positive), else
 /// as [`theta_nu_grid`]. The ends are `from` and `to` exactly.
 pub fn param_grid(param: ContParam, from: f64, to: f64, n: usize) -> Vec<f64> {
-    if !param.spans_decades() || !(from > 0.0 && to > 0.0) {
+    // NaN ends are not positive either: the linear grid carries them.
+    let positive = from > 0.0 && to > 0.0;
+    if !param.spans_decades() || !positive {
         return theta_nu_grid(from, to, n);
     }
     let mut g: Vec<f64> = theta_nu_grid(from.ln(), to.ln(), n)
