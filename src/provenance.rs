@@ -163,7 +163,7 @@ mod tests {
         );
         let o = model_line_varying(&p, &s, ContParam::Omega);
         assert!(
-            o.contains("theta-nu = 1 (stick-slip; omega varied); "),
+            o.contains("theta-nu = 1 (pure stick-slip; omega varied); "),
             "{o}"
         );
         assert!(!o.contains("omega ="), "{o}");
