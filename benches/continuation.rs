@@ -34,7 +34,7 @@ fn problem(kappa: f64) -> Problem {
             omega: 50.0,
         },
         settings: default_settings(1e-10),
-        param: oneblock::sim::continuation::ContParam::ThetaNu,
+        param: ContParam::ThetaNu,
         period: 1,
     }
 }

@@ -30,7 +30,7 @@ fn problem(kappa: f64, period: usize) -> Problem {
     Problem {
         base: params(kappa, 1.0),
         settings: default_settings(1e-10),
-        param: oneblock::sim::continuation::ContParam::ThetaNu,
+        param: ContParam::ThetaNu,
         period,
     }
 }
