@@ -12,31 +12,18 @@
 
 use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
-use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
+use egui_plot::{Plot, PlotBounds, PlotImage, PlotPoint};
 
 use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
-use super::clip::clip_polyline;
 use super::data::SweepData;
 use super::diagram_axis::{self, XAxis};
+use super::diagram_lines::{Lines, lines_legend_ui, theta_c};
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
-use crate::model::Regime;
-use crate::sim::continuation::ContParam;
-
-/// The name of the line at the current value of the varied parameter.
-fn current_name(p: ContParam) -> &'static str {
-    match p {
-        ContParam::ThetaNu => "current θν",
-        ContParam::Kappa => "current κ",
-        ContParam::Gamma => "current γ",
-        ContParam::Nu => "current ν",
-        ContParam::Omega => "current Ω",
-    }
-}
 
 /// Texel rows of the density image.
 const ROWS: usize = 420;
@@ -379,67 +366,6 @@ impl BifurcationView {
     }
 }
 
-/// ±θc when the regime is mixed over the whole diagram: θc depends on κ
-/// and γ, so a diagram in either has none drawn.
-fn theta_c(s: &Settings, param: ContParam) -> Option<f64> {
-    match (param, Regime::of(s.params.kappa, s.params.gamma)) {
-        (ContParam::Kappa | ContParam::Gamma, _) => None,
-        (_, Regime::Mixed { theta_c }) => Some(theta_c),
-        _ => None,
-    }
-}
-
-/// The lines drawn over the diagram: θ = θν (the diagonal of a diagram in
-/// θν, a level line in the others), ±θc and the current value.
-struct Lines {
-    axis: XAxis,
-    /// θν, where it is held fixed.
-    theta_nu: f64,
-    /// The plot's bounds (x from, to, θ lo, hi): the diagonal is cut to them.
-    bounds: (f64, f64, f64, f64),
-    /// The current value's coordinate, where it is drawn
-    /// ([`style::draws_current`]).
-    current: Option<f64>,
-    theta_c: Option<f64>,
-    width: f32,
-}
-
-impl Lines {
-    fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
-        // Dotted along its length on screen: cut to the frame first
-        // (super::clip), or a thin θ zoom makes millions of dots.
-        let (x0, x1, y0, y1) = self.bounds;
-        let line = match self.axis.param {
-            ContParam::ThetaNu => [[x0, x0], [x1, x1]],
-            _ => [[x0, self.theta_nu], [x1, self.theta_nu]],
-        };
-        for part in clip_polyline(&line, [x0, y0], [x1, y1]) {
-            p.line(
-                style::line("θ = θν", PlotPoints::from(part))
-                    .color(style::CRITICAL.gamma_multiply(0.6))
-                    .style(LineStyle::Dotted { spacing: 6.0 }),
-            );
-        }
-        if let Some(tc) = self.theta_c {
-            for y in [tc, -tc] {
-                p.add(
-                    HLine::new("θc", y)
-                        .color(style::ACCEL)
-                        .style(LineStyle::Dashed { length: 10.0 })
-                        .width(1.5),
-                );
-            }
-        }
-        if let Some(x) = self.current {
-            p.add(
-                VLine::new(current_name(self.axis.param), x)
-                    .color(style::CURRENT)
-                    .width(2.0),
-            );
-        }
-    }
-}
-
 /// The diagram's and the λ strip's heights (0: no strip), and the y-axis
 /// width they share so that their frames line up, for `available` height.
 /// The strip needs about 9 rows of text for five legible λ ticks; below 27
@@ -519,20 +445,6 @@ fn seeds_legend_ui(ui: &mut Ui, s: &Settings) {
 }
 
 /// "Find bifurcations" (or "Stop" while it runs), and where it stands.
-/// The lines drawn over the diagram: the diagonal θ = θν, the critical
-/// angles ±θc (mixed regime only) and the current θν.
-fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
-    ui.horizontal_wrapped(|ui| {
-        style::legend_line(ui, style::CRITICAL, true, "θ = θν");
-        if theta_c(s, s.diagram.param).is_some() {
-            style::legend_line(ui, style::ACCEL, true, "±θc");
-        }
-        if style::draws_current(ui.ctx()) {
-            style::legend_line(ui, style::CURRENT, false, current_name(s.diagram.param));
-        }
-    });
-}
-
 fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>) {
     let slot = &jobs.branches;
     if slot.state == JobState::Running {

@@ -40,6 +40,7 @@ pub mod controls;
 pub mod data;
 pub mod describe;
 pub mod diagram_axis;
+mod diagram_lines;
 pub mod events;
 mod events_plots;
 pub mod explorer;
