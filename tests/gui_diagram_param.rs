@@ -11,6 +11,8 @@
 //!   `bifurcation --param kappa` over the same range, bit for bit.
 //! - Find bifurcations over it locates the folds and the doubling that
 //!   `oneblock continue --param kappa` does, to 1e-7.
+//! - Boundaries draws the fixed point's fold curve (κ = 2.5, where it
+//!   folds twice along θν) beside its doubling curve, with its legend.
 //! - Find bifurcations over Fig. 3b's cascade (θν ∈ [1.0, 1.3]) shows the
 //!   table of its doublings and the ratios δₙ of their gaps that
 //!   `oneblock continue --cascade` prints.
@@ -28,10 +30,12 @@ use oneblock::app::backend::Backend;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::diagram_axis::{SELECTOR, title};
 use oneblock::app::jobs::JobState;
+use oneblock::app::overlay::{CURVE, FOLD_CURVE};
 use oneblock::app::points_table::{FEIGENBAUM_DELTA, cascade_rows};
+use oneblock::app::settings::PhaseRange;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
 use oneblock::integrate::SolverSettings;
-use oneblock::sim::continuation::{ContParam, SpecialKind};
+use oneblock::sim::continuation::{ContParam, CurveKind, SpecialKind};
 use oneblock::sim::param_grid;
 use oneblock::worker::{
     Command, ContinuationSpec, Lane, Spec, SweepSpec, Update, Worker, WorkerConfig,
@@ -56,11 +60,11 @@ impl Backend for DiagramOnly {
             .push(cmd.clone());
         match cmd {
             Command::Run {
-                spec: Spec::Sweep(..) | Spec::Branches(..),
+                spec: Spec::Sweep(..) | Spec::Branches(..) | Spec::Curves(..),
                 ..
             }
             | Command::Cancel {
-                lane: Some(Lane::Sweep | Lane::Continuation),
+                lane: Some(Lane::Sweep | Lane::Continuation | Lane::Curves),
                 ..
             } => self.worker.send(cmd),
             _ => true,
@@ -274,6 +278,7 @@ fn a_diagram_in_kappa_picked_in_the_selector_is_the_command_lines() {
             worst = worst.max((x - y).abs());
         }
     }
+    eprintln!("diagram in κ against single-column runs: largest difference {worst:e}");
     assert!(worst < 1e-9, "largest difference {worst:e}");
     let periods: Vec<usize> = window
         .iter()
@@ -380,6 +385,7 @@ fn find_bifurcations_in_kappa_locates_what_continue_does() {
             .of_kind(kind)
             .map(|s| (s.lambda - value).abs())
             .fold(f64::INFINITY, f64::min);
+        eprintln!("{kind:?} at κ = {value}: the window's is {near:e} away");
         assert!(
             near < 1e-7,
             "{kind:?} at κ = {value}: the window's is {near:e} away"
@@ -461,4 +467,40 @@ fn the_cascade_table_shows_the_ratios_of_continue_cascade() {
     }
     let last = num(&rows[rows.len() - 1][4]);
     assert!((last - FEIGENBAUM_DELTA).abs() < 0.05, "{last}");
+}
+
+#[test]
+fn boundaries_draw_the_fold_curve_with_its_legend() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec);
+    {
+        let s = &mut h.state_mut().settings;
+        s.tab = ViewKind::Phase;
+        s.params.kappa = 2.5;
+        s.params.theta_nu = 1.1;
+        s.phase.range = PhaseRange {
+            theta_nu: (1.1, 1.5),
+            kappa: (2.0, 4.0),
+        };
+    }
+    h.run_steps(2);
+    assert!(h.query_by_label(FOLD_CURVE).is_none());
+    h.get_by_label("Boundaries").click();
+    h.step();
+    until(&mut h, "Boundaries", |app| {
+        let c = &app.jobs.curves;
+        c.issued() && c.state != JobState::Running
+    });
+    let curves = &h.state().jobs.curves.data.curves;
+    let kinds: Vec<CurveKind> = curves.iter().map(|c| c.kind).collect();
+    assert!(kinds.contains(&CurveKind::Fold), "{kinds:?}");
+    assert!(kinds.contains(&CurveKind::PeriodDoubling), "{kinds:?}");
+    for c in curves.iter().filter(|c| c.kind == CurveKind::Fold) {
+        assert!(c.points.iter().all(|q| (q.multiplier - 1.0).abs() < 1e-4));
+    }
+    assert!(
+        h.query_by_label(FOLD_CURVE).is_some(),
+        "the legend names it"
+    );
+    assert!(h.query_by_label(CURVE).is_some());
 }
