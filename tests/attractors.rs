@@ -9,6 +9,7 @@
 mod cli_support;
 
 use std::collections::BTreeSet;
+use std::sync::OnceLock;
 
 use cli_support::*;
 use oneblock::model::{Params, exit_arc, wrap_angle};
@@ -60,6 +61,56 @@ fn direct(p: Params, n: usize) -> Vec<Option<Vec<f64>>> {
             found.push(reached);
         }
     }
+    found
+}
+
+/// What direct orbits reach: each distinct cycle's points, `None` for an
+/// orbit on no period.
+type Reached = Vec<Option<Vec<f64>>>;
+
+/// The thirteen θν of the κ = 10 hysteresis range both seeded tests run
+/// (1.33 to 1.45 in steps of 0.01) with what direct orbits from 32 seeds
+/// reach at each: computed once, by every core, for both tests.
+fn kappa10_reference() -> &'static [(f64, Reached)] {
+    static TABLE: OnceLock<Vec<(f64, Reached)>> = OnceLock::new();
+    TABLE.get_or_init(|| {
+        let thetas: Vec<f64> = (0..13).map(|i| 1.33 + 0.12 * i as f64 / 12.0).collect();
+        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
+        let next = std::sync::atomic::AtomicUsize::new(0);
+        let mut table: Vec<(f64, Reached)> = std::thread::scope(|s| {
+            let workers: Vec<_> = (0..cores)
+                .map(|_| {
+                    s.spawn(|| {
+                        let mut mine = vec![];
+                        loop {
+                            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                            let Some(&tn) = thetas.get(i) else { break mine };
+                            mine.push((tn, direct(params(10.0, tn), 32)));
+                        }
+                    })
+                })
+                .collect();
+            workers
+                .into_iter()
+                .flat_map(|w| w.join().unwrap())
+                .collect()
+        });
+        table.sort_by(|a, b| a.0.total_cmp(&b.0));
+        table
+    })
+}
+
+/// What direct orbits reach at a column of the κ = 10 range (the command's
+/// θν, printed to the precision it writes).
+fn kappa10_direct(tn: f64) -> &'static [Option<Vec<f64>>] {
+    let (t, found) = kappa10_reference()
+        .iter()
+        .min_by(|a, b| (a.0 - tn).abs().total_cmp(&(b.0 - tn).abs()))
+        .unwrap();
+    assert!(
+        (t - tn).abs() < 1e-9,
+        "θν {tn} is no column of the reference"
+    );
     found
 }
 
@@ -119,7 +170,7 @@ fn the_seeded_diagram_shows_every_branch_direct_orbits_reach() {
     let mut multistable = vec![];
     for tn in columns {
         let labels: BTreeSet<u8> = rows.iter().filter(|r| r.0 == tn).map(|r| r.2).collect();
-        let found = direct(params(10.0, tn), 32);
+        let found = kappa10_direct(tn);
         assert_eq!(labels.len(), found.len(), "theta-nu {tn}: {found:?}");
         if labels.len() > 1 {
             multistable.push(tn);
@@ -247,7 +298,7 @@ fn the_seeded_phase_grid_counts_what_direct_orbits_reach() {
         let f: Vec<&str> = l.split(',').collect();
         let tn: f64 = f[0].parse().unwrap();
         let n: usize = f.last().unwrap().parse().unwrap();
-        let found = direct(params(10.0, tn), 32);
+        let found = kappa10_direct(tn);
         assert_eq!(n, found.len(), "theta-nu {tn}: {found:?}");
         if n > 1 {
             multistable.push(tn);
@@ -259,4 +310,96 @@ fn the_seeded_phase_grid_counts_what_direct_orbits_reach() {
     );
     assert!(multistable.len() >= 4, "{multistable:?}");
     assert!(stderr(&o).contains("multistable"), "{}", stderr(&o));
+}
+
+/// A seeded run whose cell graph cannot be built (RK4 at step 0.18 cannot
+/// resolve the slips of the whole exit arc, though it runs the followed
+/// orbits) says so column by column and cell by cell, and its summary
+/// counts only what the graph counted (issue 40: failed seeds were
+/// dropped and the rest called one attractor).
+#[test]
+fn an_uncounted_seeded_column_or_cell_is_named_not_called_single() {
+    let o = oneblock(&[
+        "bifurcation",
+        "--kappa",
+        "20",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--method",
+        "rk4",
+        "--step",
+        "0.18",
+        "--theta-nu-from",
+        "1",
+        "--theta-nu-to",
+        "1.5",
+        "--columns",
+        "6",
+        "--seeds",
+        "1",
+    ]);
+    assert_ok(&o);
+    let err = stderr(&o);
+    let uncounted = err.matches("its other attractors not counted").count();
+    let failed = err.matches("failed after").count();
+    assert!(uncounted >= 1 && failed >= 1, "{err}");
+    assert!(!err.contains("every column has one attractor"), "{err}");
+    assert!(
+        err.contains(&format!("{failed} failed, {uncounted} not counted")),
+        "{err}"
+    );
+
+    let o = oneblock(&[
+        "phase",
+        "--method",
+        "rk4",
+        "--step",
+        "0.18",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--kappa-from",
+        "10",
+        "--kappa-to",
+        "40",
+        "--kappa-steps",
+        "4",
+        "--theta-nu-from",
+        "0.5",
+        "--theta-nu-to",
+        "1.4",
+        "--theta-nu-steps",
+        "3",
+        "--seeds",
+        "1",
+    ]);
+    assert_ok(&o);
+    let err = stderr(&o);
+    let out = stdout(&o);
+    // A cell that ran (a class, not "failed") without a count.
+    let ran_uncounted = out
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .filter(|l| !l.contains(",failed,") && l.ends_with(','))
+        .count();
+    assert!(ran_uncounted >= 1, "{out}");
+    assert!(err.contains("its attractors not counted"), "{err}");
+    let counted = out
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .filter(|l| !l.ends_with(','))
+        .count();
+    assert!(
+        err.contains(&format!(" of {counted} cell(s) multistable")),
+        "{err}"
+    );
+    assert!(
+        err.contains(&format!("{ran_uncounted} not counted")),
+        "{err}"
+    );
 }

@@ -88,6 +88,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             map: Default::default(),
             lyapunov: None,
             attractor: vec![],
+            uncounted: None,
         });
     }
     rec.push(Update::Finished {

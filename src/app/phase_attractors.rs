@@ -86,14 +86,15 @@ pub fn marks(p: &mut PlotUi<'_>, data: &PhaseData, cell_px: f32) {
     }
 }
 
-/// The hover text's line on a counted cell's attractors ("" when not
-/// counted).
-pub fn count_line(count: Option<usize>) -> String {
-    match count {
-        Some(n) if n > 1 => format!("\n{n} attractors (multistable): a click lists them"),
-        Some(1) => "\none attractor from every seed".into(),
-        Some(_) => "\nno attractor reached".into(),
-        None => String::new(),
+/// The hover text's line on a counted cell's attractors, or on why they
+/// were not counted ("" when not asked for).
+pub fn count_line(count: Option<usize>, uncounted: Option<&str>) -> String {
+    match (count, uncounted) {
+        (Some(n), _) if n > 1 => format!("\n{n} attractors (multistable): a click lists them"),
+        (Some(1), _) => "\none attractor from every seed".into(),
+        (Some(_), _) => "\nno attractor reached".into(),
+        (None, Some(why)) => format!("\nattractors not counted: {why}"),
+        (None, None) => String::new(),
     }
 }
 
@@ -194,7 +195,8 @@ mod tests {
             row(&chaos),
             ["chaotic", "λ = 0.1200 ± 0.0100", "basin 75 %"]
         );
-        assert!(count_line(Some(3)).contains("3 attractors (multistable)"));
-        assert_eq!(count_line(None), "");
+        assert!(count_line(Some(3), None).contains("3 attractors (multistable)"));
+        assert_eq!(count_line(None, None), "");
+        assert!(count_line(None, Some("the interpolant failed")).contains("not counted"));
     }
 }

@@ -103,6 +103,7 @@ mod tests {
             error: None,
             map: Default::default(),
             attractors: None,
+            uncounted: None,
         }
     }
 

@@ -75,7 +75,7 @@ pub fn describe_cell(theta_nu: f64, kappa: f64, cell: Option<&PhaseCell>) -> Str
         _ => String::new(),
     };
     let error = c.error.as_ref().map_or(String::new(), |e| format!("\n{e}"));
-    let count = phase_attractors::count_line(c.attractors);
+    let count = phase_attractors::count_line(c.attractors, c.uncounted.as_deref());
     format!(
         "{head}\n{class}{regime}{lyapunov}{count}\n{} iterates{error}",
         c.iterates

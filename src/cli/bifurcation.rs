@@ -288,12 +288,25 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
     let progress = Progress::new("bifurcation", "iterates", total);
     let limits = Limits::start(max_seconds);
-    let failed = AtomicU64::new(0);
-    let report = |u: &Update| {
-        if let Update::Error { message, .. } = u {
+    let (failed, uncounted) = (AtomicU64::new(0), AtomicU64::new(0));
+    let report = |u: &Update| match u {
+        Update::Error { message, .. } => {
             failed.fetch_add(1, Ordering::Relaxed);
             progress.println(&format!("warning: {message}"));
         }
+        Update::Column {
+            index,
+            value,
+            uncounted: Some(why),
+            ..
+        } => {
+            uncounted.fetch_add(1, Ordering::Relaxed);
+            progress.println(&format!(
+                "warning: column {index} at {} = {value}: its other attractors not counted: {why}",
+                param.name()
+            ));
+        }
+        _ => {}
     };
     // Polled before every slip cycle: the progress bar counts them.
     let stop = || {
@@ -334,6 +347,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         columns: &cols,
         integrated: progress.done(),
         failed: failed.load(Ordering::Relaxed),
+        uncounted: uncounted.load(Ordering::Relaxed),
         seconds,
         threads,
     };
@@ -371,6 +385,8 @@ struct Ran<'a> {
     columns: &'a [Done],
     integrated: u64,
     failed: u64,
+    /// Seeded columns whose other attractors the cell graph could not count.
+    uncounted: u64,
     seconds: f64,
     threads: usize,
 }
@@ -416,7 +432,10 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         eprintln!("{line}");
     }
     if args.seeds > 0 {
-        eprintln!("{}", multistable_line(param, cols));
+        eprintln!(
+            "{}",
+            multistable_line(param, cols, run.failed, run.uncounted)
+        );
     }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
@@ -439,20 +458,36 @@ struct Summary {
 
 /// The summary's line on every attractor (the cell graph): how many
 /// columns have more than one, and where the first and last of them are.
-fn multistable_line(param: ContParam, cols: &[Done]) -> String {
+/// Failed columns and those the graph could not count (`uncounted`) are
+/// neither: the line counts them apart.
+fn multistable_line(param: ContParam, cols: &[Done], failed: u64, uncounted: u64) -> String {
     let multi: Vec<f64> = cols
         .iter()
         .filter(|c| c.5.iter().any(|&a| a > 0))
         .map(|c| c.0)
         .collect();
+    let counted = (cols.len() as u64).saturating_sub(failed + uncounted);
+    let apart = match (failed, uncounted) {
+        (0, 0) => String::new(),
+        (f, 0) => format!("; {f} failed"),
+        (0, u) => format!("; {u} not counted (see the warnings)"),
+        (f, u) => format!("; {f} failed, {u} not counted (see the warnings)"),
+    };
     match (multi.first(), multi.last()) {
         (Some(a), Some(b)) => format!(
-            "  every attractor (the cell graph): {} of {} column(s) have more than one, at {} {a} to {b}",
+            "  every attractor (the cell graph): {} of {counted} counted column(s) have more than one, at {} {a} to {b}{apart}",
             multi.len(),
-            cols.len(),
             param.name()
         ),
-        _ => "  every attractor (the cell graph): every column has one attractor".into(),
+        _ if counted == 0 => {
+            format!("  every attractor (the cell graph): no column counted{apart}")
+        }
+        _ if apart.is_empty() => {
+            "  every attractor (the cell graph): every column has one attractor".into()
+        }
+        _ => format!(
+            "  every attractor (the cell graph): each of the {counted} counted column(s) has one attractor{apart}"
+        ),
     }
 }
 

@@ -404,6 +404,15 @@ fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliErro
             );
         }
     }
+    let uncounted: Vec<&&PhaseCell> = cells.iter().filter(|c| c.uncounted.is_some()).collect();
+    for c in uncounted.iter().take(5) {
+        if let Some(why) = &c.uncounted {
+            eprintln!(
+                "warning: cell kappa = {}, theta-nu = {}: its attractors not counted: {why}",
+                c.kappa, c.theta_nu
+            );
+        }
+    }
     eprintln!(
         "phase: {}\n  {rows} x {cols} cells (kappa [{k_from}, {k_to}], theta-nu [{t_from}, {t_to}]), at most {} transient + {} kept iterates{}, period tol {:e}\n  {}\n  {iterates} iterates ({:.1} per cell), {:.0} rhs evaluations per iterate; {seconds:.2} s on {threads} thread(s)",
         describe_sweep(&plan.params, &plan.settings),
@@ -427,11 +436,19 @@ fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliErro
         eprintln!("{line}");
     }
     if opts.seeds > 0 {
+        // A failed or uncounted cell is neither multistable nor not: the
+        // line says how many were counted, and why the others were not.
         let multi = cells.iter().filter(|c| c.attractors > Some(1)).count();
+        let counted = cells.iter().filter(|c| c.attractors.is_some()).count();
+        let uncounted = match (failed.len(), uncounted.len()) {
+            (0, 0) => String::new(),
+            (f, 0) => format!("; {f} failed"),
+            (0, u) => format!("; {u} not counted (see the warnings)"),
+            (f, u) => format!("; {f} failed, {u} not counted (see the warnings)"),
+        };
         eprintln!(
-            "  seeds: {} per cell; {multi} of {} cell(s) multistable (more than one attractor)",
+            "  seeds: {} per cell; {multi} of {counted} cell(s) multistable (more than one attractor){uncounted}",
             opts.seeds,
-            cells.len()
         );
     }
     if !failed.is_empty() && failed.len() == cells.len() {

@@ -362,6 +362,9 @@ pub enum Update {
         /// The attractor of each of `thetas` (0: the followed one; see
         /// `sim::seeded::SeededColumn`); empty when the sweep has no seeds.
         attractor: Vec<u8>,
+        /// Why a seeded column's other attractors were not counted (its
+        /// exit arc's cell graph could not be built); `None` otherwise.
+        uncounted: Option<String>,
     },
     /// The sample of a work-precision job: how many points, and how far
     /// its reference (DOP853 at 1e-14) is from DP5(4) at 1e-13 (the

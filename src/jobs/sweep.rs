@@ -269,6 +269,7 @@ impl SweepJob {
                 map: col.map,
                 lyapunov,
                 attractor: seeded.attractor,
+                uncounted: seeded.uncounted,
             })?,
             None => sink.send(Update::Column {
                 generation,
@@ -280,6 +281,7 @@ impl SweepJob {
                 map: col.map,
                 lyapunov,
                 attractor: vec![],
+                uncounted: None,
             })?,
         }
         let done = {

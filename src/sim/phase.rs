@@ -234,6 +234,9 @@ pub struct PhaseCell {
     /// How many distinct attractors the cell's own and the seeds' orbits
     /// reach ([`PhaseOptions::seeds`]; `None` when not counted).
     pub attractors: Option<usize>,
+    /// Why the attractors were asked for and not counted: the exit arc's
+    /// cell graph could not be built (`None` when counted or not asked).
+    pub uncounted: Option<String>,
 }
 
 impl PhaseCell {
@@ -254,6 +257,7 @@ impl PhaseCell {
             error: None,
             map: MapUsed::Direct,
             attractors: None,
+            uncounted: None,
         }
     }
 }

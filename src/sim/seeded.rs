@@ -35,6 +35,9 @@ pub struct SeededColumn {
     pub count: usize,
     /// Map evaluations the cell graph cost.
     pub rhs_evals: u64,
+    /// Why the other attractors were not counted: the exit arc's cell
+    /// graph could not be built (the column is then the followed one alone).
+    pub uncounted: Option<String>,
 }
 
 /// The followed column `followed` at θν of `params` with every other
@@ -54,6 +57,7 @@ pub fn seeded_column(
         attractor: vec![0; followed.thetas.len()],
         count: usize::from(!followed.thetas.is_empty()),
         rhs_evals: 0,
+        uncounted: None,
     };
     if seeds == 0 || followed.thetas.is_empty() {
         return Ok(col);
@@ -62,8 +66,12 @@ pub fn seeded_column(
     let found = match attractors(&sim, &CellOptions::column(), cancel) {
         Ok(f) => f,
         Err(AttractorError::Sim(e)) => return Err(e),
-        // No graph (the arc's map could not be built): the column alone.
-        Err(AttractorError::Arc(_)) => return Ok(col),
+        // No graph (the arc's map could not be built): the column alone,
+        // and why, so that no count claims what was not looked at.
+        Err(AttractorError::Arc(e)) => {
+            col.uncounted = Some(e.to_string());
+            return Ok(col);
+        }
     };
     col.rhs_evals = found.map_evaluations;
     let mine = basin_of(&found, params, followed.theta_last);

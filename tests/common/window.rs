@@ -206,6 +206,7 @@ pub fn feed_phase_with(rec: &Recorder, job: &PhaseJob, change: impl Fn(&mut Grid
                     error: None,
                     map: Default::default(),
                     attractors: None,
+                    uncounted: None,
                 },
                 listed: Vec::new(),
             });

@@ -12,7 +12,8 @@ use crate::sim::{SimError, Simulator};
 
 /// Tells `cell` again from the cell graph at `params` (see the module's
 /// doc); `count` also sets [`PhaseCell::attractors`]. A graph that cannot
-/// be built leaves the cell as it was (and uncounted); a cancel fails it.
+/// be built leaves the cell as it was, uncounted with the reason in
+/// [`PhaseCell::uncounted`] when `count`; a cancel fails it.
 pub(super) fn tell(
     cell: &mut PhaseCell,
     params: Params,
@@ -30,7 +31,12 @@ pub(super) fn tell(
             cell.error = Some(SimError::Cancelled);
             return;
         }
-        Err(_) => return,
+        Err(e) => {
+            if count {
+                cell.uncounted = Some(e.to_string());
+            }
+            return;
+        }
     };
     cell.iterates += found.map_evaluations;
     let decided = |v: &Verdict| !matches!(v, Verdict::Undecided(_));
