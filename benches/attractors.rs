@@ -83,7 +83,8 @@ fn diagram(c: &mut Criterion) {
         Spec::Sweep(SweepSpec {
             params: preset("fig3b").unwrap().params,
             settings: default_settings(1e-10),
-            theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, 400),
+            param: oneblock::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(0.0, std::f64::consts::FRAC_PI_2, 400),
             transient: 500,
             keep: 200,
             map: MapChoice::Auto,

@@ -7,6 +7,7 @@
 use std::fmt::Write as _;
 
 use crate::sim::column_lyapunov::ColumnLyapunov;
+use crate::sim::continuation::ContParam;
 use crate::sim::phase::{CellClass, PhaseCell};
 use crate::sim::{Sample, SlipEvent};
 
@@ -94,11 +95,13 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
 /// The bifurcation CSV's header.
 pub const BIFURCATION_COLUMNS: &str = "theta_nu,theta,lyapunov,lyapunov_stderr";
 
-/// One column of a bifurcation diagram: θν, the kept θ, λ, and (seeded)
-/// the attractor of each θ (0: the followed one).
+/// One column of a bifurcation diagram: the varied parameter's value, the
+/// kept θ, λ, and (seeded) the attractor of each θ (0: the followed one).
 pub type DiagramColumn<'a> = (f64, &'a [f64], Option<ColumnLyapunov>, &'a [u8]);
 
-/// The bifurcation CSV ([`BIFURCATION_COLUMNS`]): one row per kept iterate,
+/// The bifurcation CSV ([`BIFURCATION_COLUMNS`], its first column named
+/// for the varied `param`: `kappa,theta,…` for a diagram in κ): one row
+/// per kept iterate,
 /// column by column in the order given. Every row of a column repeats its
 /// λ ([`crate::sim::column_lyapunov`]); `lyapunov_stderr` is empty where λ
 /// is exact (a solved cycle), both are empty where λ was not computed.
@@ -106,12 +109,15 @@ pub type DiagramColumn<'a> = (f64, &'a [f64], Option<ColumnLyapunov>, &'a [u8]);
 /// `attractor` column); λ is the followed attractor's, so it is given on
 /// its rows only (empty on the others').
 pub fn bifurcation_csv<'a>(
+    param: ContParam,
     columns: impl Iterator<Item = DiagramColumn<'a>> + Clone,
     seeded: bool,
 ) -> String {
     let rows: usize = columns.clone().map(|c| c.1.len()).sum();
     let mut s = String::with_capacity(60 * (rows + 1));
-    s.push_str(BIFURCATION_COLUMNS);
+    let rest = BIFURCATION_COLUMNS.trim_start_matches("theta_nu");
+    s.push_str(param.column());
+    s.push_str(rest);
     s.push_str(if seeded { ",attractor\n" } else { "\n" });
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
     for (theta_nu, thetas, lyap, labels) in columns {

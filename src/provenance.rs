@@ -11,6 +11,7 @@ use std::sync::OnceLock;
 
 use crate::integrate::SolverSettings;
 use crate::model::{Params, Regime};
+use crate::sim::continuation::ContParam;
 
 /// The program and its version, as the first `#` line says them.
 pub const PROGRAM: &str = concat!("oneblock ", env!("CARGO_PKG_VERSION"));
@@ -80,6 +81,34 @@ pub fn model_line(params: &Params, settings: &SolverSettings, theta_nu: bool) ->
     )
 }
 
+/// [`model_line`] of a diagram over `varied`: that parameter left out and
+/// named as varied (`kappa = 18.95, gamma = 6.5, nu = 0.001, omega = 50
+/// (stick-slip); …` over θν, `gamma = 6.5, nu = 0.001, theta-nu = 1.25,
+/// omega = 50 (kappa varied); …` over κ; the regime, which κ and γ
+/// decide, is named when neither varies).
+pub fn model_line_varying(params: &Params, settings: &SolverSettings, varied: ContParam) -> String {
+    if varied == ContParam::ThetaNu {
+        return model_line(params, settings, false);
+    }
+    let line = model_line(params, settings, true);
+    // The line's own words for each value, the varied one's left out.
+    let (values, solver) = line.split_once(" (").unwrap_or((&line, ""));
+    let kept: Vec<&str> = values
+        .split(", ")
+        .filter(|part| !part.starts_with(&format!("{} = ", varied.name())))
+        .collect();
+    let solver = solver.split_once("); ").map_or("", |(_, s)| s);
+    let regime = match varied {
+        ContParam::Kappa | ContParam::Gamma => String::new(),
+        _ => format!("{}; ", Regime::of(params.kappa, params.gamma).name()),
+    };
+    format!(
+        "{} ({regime}{} varied); {solver}",
+        kept.join(", "),
+        varied.name()
+    )
+}
+
 /// The `#` lines a CSV begins with: the program, then `source` (the
 /// command line recorded by [`record`] if `source` is `None`, else the
 /// window's view), the model (`model`, see [`model_line`]), and
@@ -116,6 +145,29 @@ fn one_line(s: &str) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A diagram's model line leaves the varied parameter's value out and
+    /// names it; the regime only where κ and γ are both fixed.
+    #[test]
+    fn the_varied_parameter_is_named_not_valued() {
+        let p = crate::model::preset("fig3b").expect("fig3b").params;
+        let s = SolverSettings::default();
+        assert_eq!(
+            model_line_varying(&p, &s, ContParam::ThetaNu),
+            model_line(&p, &s, false)
+        );
+        let k = model_line_varying(&p, &s, ContParam::Kappa);
+        assert!(
+            k.starts_with("gamma = 6.5, nu = 0.001, theta-nu = 1, omega = 50 (kappa varied); "),
+            "{k}"
+        );
+        let o = model_line_varying(&p, &s, ContParam::Omega);
+        assert!(
+            o.contains("theta-nu = 1 (pure stick-slip; omega varied); "),
+            "{o}"
+        );
+        assert!(!o.contains("omega ="), "{o}");
+    }
 
     #[test]
     fn a_header_is_comment_lines_and_the_csv_reads_past_them() {

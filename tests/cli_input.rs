@@ -262,7 +262,7 @@ fn a_flag_without_its_value_says_what_it_expects() {
                 "x.csv",
                 "--columns",
             ],
-            "error: --columns needs a value: Number of θν values, evenly spaced, ends included (1 to 1e6) (see",
+            "error: --columns needs a value: Number of values, evenly spaced (in log10 of the value for kappa, nu and omega, which span decades), ends included (1 to 1e6) (see",
         ),
     ] {
         let o = oneblock(args);
@@ -271,5 +271,41 @@ fn a_flag_without_its_value_says_what_it_expects() {
         assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
         assert!(err.starts_with(want), "{args:?}: {err}");
         assert!(!err.contains("unknown value ''"), "{err}");
+    }
+}
+
+/// `bifurcation --param`'s range: each bad end is one line naming its flag
+/// and what it must be (exit 2), before any work.
+#[test]
+fn a_bad_range_of_the_varied_parameter_names_its_flag() {
+    let base = ["bifurcation", "--preset", "fig3b", "--out", "-"];
+    for (more, want) in [
+        (
+            &["--param", "kappa", "--from", "0", "--to", "5"][..],
+            "error: --from = 0 is out of range: kappa must be positive (its axis is logarithmic)",
+        ),
+        (
+            &["--param", "gamma", "--from", "1", "--to", "2e5"],
+            "error: --to = 200000: gamma is out of range: must lie in [0.1, 1e4]",
+        ),
+        (
+            &["--param", "theta-nu", "--from", "0", "--to", "2000"],
+            "error: --to = 2000 is out of range: theta-nu must lie in [-1000, 1000] radians",
+        ),
+        (
+            &["--param", "omega", "--to", "5"],
+            "error: the following required arguments were not provided: --from",
+        ),
+        (
+            &["--param", "nu"],
+            "error: --from and --to: required with --param nu",
+        ),
+    ] {
+        let args: Vec<&str> = base.iter().chain(more).copied().collect();
+        let o = oneblock(&args);
+        let err = stderr(&o);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.lines().count(), 1, "{args:?}: {err}");
+        assert!(err.starts_with(want), "{args:?}: {err}");
     }
 }

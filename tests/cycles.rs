@@ -252,7 +252,8 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
         SweepSpec {
             params: p,
             settings: auto,
-            theta_nu: Axis::new(from, to, columns),
+            param: oneblock::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(from, to, columns),
             transient: 300,
             keep: 200,
             map: MapChoice::Auto,
@@ -267,7 +268,7 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     for u in ups {
         if let Update::Column {
             index,
-            theta_nu,
+            value: theta_nu,
             thetas,
             ..
         } = u
@@ -281,7 +282,8 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     let spec = SweepSpec {
         params: p,
         settings: reference_settings,
-        theta_nu: Axis::new(from, to, columns),
+        param: oneblock::sim::continuation::ContParam::ThetaNu,
+        axis: Axis::new(from, to, columns),
         transient: 500,
         keep: 100,
         map: MapChoice::Direct,
@@ -294,7 +296,7 @@ fn the_creep_diagram_at_auto_accuracy_is_the_reference_to_a_pixel() {
     for u in ups {
         if let Update::Column {
             index,
-            theta_nu,
+            value: theta_nu,
             thetas,
             ..
         } = u

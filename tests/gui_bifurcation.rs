@@ -30,7 +30,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
             Command::Run {
                 spec: Spec::Sweep(spec),
                 ..
-            } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+            } => Some((spec.axis.from, spec.axis.to)),
             _ => None,
         })
         .expect("first sweep");
@@ -55,7 +55,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
             Command::Run {
                 spec: Spec::Sweep(spec),
                 ..
-            } => Some((spec.theta_nu.from, spec.theta_nu.to, spec.params)),
+            } => Some((spec.axis.from, spec.axis.to, spec.params)),
             _ => None,
         })
         .expect("a zoom recomputes the diagram");
@@ -73,7 +73,7 @@ fn a_box_drawn_on_the_diagram_recomputes_that_range() {
         Command::Run {
             spec: Spec::Sweep(spec),
             ..
-        } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+        } => Some((spec.axis.from, spec.axis.to)),
         _ => None,
     });
     assert_eq!(back, Some(full));

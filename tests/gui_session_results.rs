@@ -185,7 +185,7 @@ fn a_branch() -> Branch {
         minimal_period: 1,
     };
     Branch {
-        param: ContParam::ThetaNu,
+        param: oneblock::sim::continuation::ContParam::ThetaNu,
         period: 1,
         points: vec![
             point(1.0, 0.3, -0.5),
@@ -216,6 +216,7 @@ fn a_session_with(branches: Vec<Branch>) -> Session {
                     param: Some(ContParam::ThetaNu),
                     range: (1.0, 1.2),
                     branches,
+                    doublings: Vec::new(),
                 },
                 summary: Some("1 PD, 0 fold".into()),
             }),

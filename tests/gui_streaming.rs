@@ -31,7 +31,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
             Command::Run {
                 generation,
                 spec: Spec::Sweep(spec),
-            } => Some((*generation, spec.theta_nu.steps)),
+            } => Some((*generation, spec.axis.steps)),
             _ => None,
         });
         (t.expect("trajectory"), s.expect("sweep"))
@@ -79,7 +79,7 @@ fn streamed_results_reach_every_view_and_stale_ones_are_dropped() {
         rec.push(Update::Column {
             generation: g,
             index: i,
-            theta_nu: i as f64 / (n - 1) as f64 * std::f64::consts::FRAC_PI_2,
+            value: i as f64 / (n - 1) as f64 * std::f64::consts::FRAC_PI_2,
             thetas: (0..200)
                 .map(|k| 0.1 + 0.001 * (k % 7) as f64 + i as f64 * 1e-3)
                 .collect(),

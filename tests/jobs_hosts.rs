@@ -75,7 +75,7 @@ fn results(ups: &[Update]) -> Results {
             }
             Update::Column {
                 index,
-                theta_nu,
+                value: theta_nu,
                 thetas,
                 attractor,
                 lyapunov,
@@ -218,7 +218,8 @@ fn a_sweep_is_the_same_on_every_host_and_on_the_command_lines() {
     let spec = SweepSpec {
         params: preset("fig3b"),
         settings: default_settings(1e-6),
-        theta_nu: Axis::new(0.9, 1.5, 21),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(0.9, 1.5, 21),
         transient: 60,
         keep: 12,
         map: MapChoice::Auto,
@@ -317,7 +318,8 @@ fn a_seeded_sweep_and_grid_are_the_same_on_every_host() {
     let spec = SweepSpec {
         params,
         settings: default_settings(1e-8),
-        theta_nu: Axis::new(1.36, 1.44, 9),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(1.36, 1.44, 9),
         transient: 100,
         keep: 24,
         map: MapChoice::Auto,
@@ -549,7 +551,8 @@ fn the_single_threaded_host_runs_within_its_budget_and_cancels() {
     let spec = Spec::Sweep(SweepSpec {
         params: preset("fig3b"),
         settings: default_settings(1e-6),
-        theta_nu: Axis::new(0.9, 1.5, 40),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(0.9, 1.5, 40),
         transient: 200,
         keep: 50,
         map: MapChoice::Auto,

@@ -12,7 +12,7 @@ use common::{until_ack, until_finished};
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::sim::continuation::{
-    Branch, ContOptions, ContParam, Problem, SpecialKind, cascade, continue_branch,
+    Branch, ContOptions, ContParam, CurveKind, Problem, SpecialKind, cascade, continue_branch,
 };
 use oneblock::sim::{CycleOptions, Simulator, default_settings, solve_cycle};
 use oneblock::worker::{
@@ -249,5 +249,95 @@ fn boundaries_are_doubling_curves_through_the_box() {
             (a.min(q.lambda[1]), b.max(q.lambda[1]))
         });
         assert!(hi - lo > 3.0, "κ spans only [{lo}, {hi}]");
+    }
+}
+
+/// Boundaries draws fold curves too: at κ = 2.5 the fixed point's branch
+/// along θν ∈ [1.1, 1.5] folds twice (1.157, 1.294: one curve through
+/// both), and the fold curve the job sends is the one `oneblock continue
+/// --curve fold` follows from the same branch, point for point.
+#[test]
+fn boundaries_add_the_fold_curve_of_continue_curve_fold() {
+    let (w, _) = spawn(64, 1, 8);
+    let mut params = fig3b(1.1);
+    params.kappa = 2.5;
+    assert!(w.send(Command::run(
+        8,
+        BoundarySpec {
+            params,
+            settings: settings(),
+            theta_nu: (1.1, 1.5),
+            kappa: (2.0, 4.0),
+        }
+    )));
+    let (ups, outcome) = until_finished(&w, 8, Lane::Curves);
+    assert_eq!(outcome, Outcome::Completed, "{ups:?}");
+    let folds: Vec<_> = ups
+        .iter()
+        .filter_map(|u| match u {
+            Update::Curve { curve, .. } if curve.kind == CurveKind::Fold => Some(curve.clone()),
+            _ => None,
+        })
+        .collect();
+    assert_eq!(folds.len(), 1, "{folds:?}");
+    let fold = &folds[0];
+    assert!(
+        fold.points
+            .iter()
+            .all(|q| (q.multiplier - 1.0).abs() < 1e-4)
+    );
+
+    let dir = tempfile::tempdir().expect("tempdir");
+    let out = dir.path().join("fold.csv");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "continue",
+            "--preset",
+            "fig3b",
+            "--kappa",
+            "2.5",
+            "--curve",
+            "fold",
+            "--params",
+            "theta-nu,kappa",
+            "--from",
+            "1.1",
+            "--to",
+            "1.5",
+            "--from2",
+            "2",
+            "--to2",
+            "4",
+            "--period",
+            "1",
+            "--tol",
+            "1e-10",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .expect("oneblock runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&out).expect("the curve");
+    let rows: Vec<[f64; 2]> = text
+        .lines()
+        .filter(|l| !l.starts_with('#'))
+        .skip(1)
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            [f[3].parse().expect("θν"), f[4].parse().expect("κ")]
+        })
+        .collect();
+    assert_eq!(rows.len(), fold.points.len());
+    let mut mine: Vec<[f64; 2]> = fold.points.iter().map(|q| q.lambda).collect();
+    let mut theirs = rows;
+    for v in [&mut mine, &mut theirs] {
+        v.sort_by(|a, b| a[0].total_cmp(&b[0]));
+    }
+    for (a, b) in mine.iter().zip(&theirs) {
+        assert!(
+            (a[0] - b[0]).abs() < 1e-9 && (a[1] - b[1]).abs() < 1e-9,
+            "{a:?} {b:?}"
+        );
     }
 }

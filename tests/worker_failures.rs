@@ -82,7 +82,8 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                         ..fig3b(0.0)
                     },
                     settings: settings(),
-                    theta_nu: Axis::new(0.0, 1.0, 10),
+                    param: oneblock::sim::continuation::ContParam::ThetaNu,
+                    axis: Axis::new(0.0, 1.0, 10),
                     transient: 2,
                     keep: 2,
                     map: MapChoice::Auto,
@@ -102,7 +103,8 @@ fn an_invalid_parameter_is_named_and_the_next_job_still_runs() {
                         rtol: 1.0,
                         ..settings()
                     },
-                    theta_nu: Axis::new(0.0, 1.0, 10),
+                    param: oneblock::sim::continuation::ContParam::ThetaNu,
+                    axis: Axis::new(0.0, 1.0, 10),
                     transient: 2,
                     keep: 2,
                     map: MapChoice::Auto,

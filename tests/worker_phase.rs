@@ -368,7 +368,8 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
         SweepSpec {
             params: params(6.5),
             settings: default_settings(1e-8),
-            theta_nu: Axis::new(0.5, 1.4, 12),
+            param: oneblock::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(0.5, 1.4, 12),
             transient: 20,
             keep: 10,
             map: MapChoice::Auto,

@@ -156,7 +156,7 @@ fn progressive_sweep_equals_the_core_and_delivers_each_column_once_coarse_first(
         .filter_map(|u| match u {
             Update::Column {
                 index,
-                theta_nu,
+                value: theta_nu,
                 thetas,
                 coarse,
                 ..

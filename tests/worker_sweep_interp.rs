@@ -38,7 +38,8 @@ fn worker_column(generation: u64, kappa: f64, theta_nu: f64) -> Vec<f64> {
         SweepSpec {
             params: params(kappa, theta_nu),
             settings: default_settings(1e-10),
-            theta_nu: Axis::new(theta_nu, theta_nu, 1),
+            param: oneblock::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(theta_nu, theta_nu, 1),
             transient: TRANSIENT,
             keep: KEEP,
             map: MapChoice::Auto,

@@ -1,28 +1,30 @@
-//! The live bifurcation diagram θ against θν, drawn as a density texture
-//! (one texel column per θν column) rebuilt only when columns arrive: a plot
-//! marker per point would cost ~80 ms a frame at 100k points (GUI-NOTES).
-//! Dragging a box zooms: the window asks the worker for that θν range at
-//! full resolution and rasterises the box's θ range. Back / reset walk the
-//! zoom stack; a click sets θν. "Find bifurcations" asks the worker for the
-//! branches over the shown θν range, drawn over the diagram
+//! The live bifurcation diagram θ against θν (or κ, γ, ν, Ω: the
+//! selector of [`super::diagram_axis`], on a log axis for those that span
+//! decades), drawn as a density texture (one texel column per column)
+//! rebuilt only when columns arrive: a plot marker per point would cost
+//! ~80 ms a frame at 100k points (GUI-NOTES). Dragging a box zooms: the
+//! window asks the worker for that range at full resolution and
+//! rasterises the box's θ range. Back / reset walk the zoom stack; a click
+//! sets the parameter. "Find bifurcations" asks the worker for the
+//! branches over the shown range, drawn over the diagram
 //! ([`super::overlay`]) with their special points in a table
 //! ([`super::points_table`]).
 
 use eframe::egui;
 use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
-use egui_plot::{HLine, LineStyle, Plot, PlotBounds, PlotImage, PlotPoint, PlotPoints, VLine};
+use egui_plot::{Plot, PlotBounds, PlotImage, PlotPoint};
 
 use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
-use super::clip::clip_polyline;
 use super::data::SweepData;
+use super::diagram_axis::{self, XAxis};
+use super::diagram_lines::{Lines, lines_legend_ui, theta_c};
 use super::jobs::{JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
-use crate::model::Regime;
 
 /// Texel rows of the density image.
 const ROWS: usize = 420;
@@ -30,6 +32,8 @@ const ROWS: usize = 420;
 /// A zoomed part of the diagram.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Zoom {
+    /// The range of the varied parameter (θν, the paper's, by default),
+    /// in its values.
     pub theta_nu: (f64, f64),
     pub theta: (f64, f64),
 }
@@ -124,7 +128,8 @@ pub fn auto_theta_range(sweep: &SweepData) -> (f64, f64) {
 }
 
 impl BifurcationView {
-    /// The θν range the current zoom level asks for, if zoomed.
+    /// The range (of the varied parameter) the current zoom level asks
+    /// for, if zoomed.
     pub fn theta_nu_range(&self) -> Option<(f64, f64)> {
         self.zoom.last().map(|z| z.theta_nu)
     }
@@ -159,16 +164,13 @@ impl BifurcationView {
     }
 
     /// Back, reset zoom, and where the sweep stands.
-    fn controls_ui(
-        &mut self,
-        ui: &mut Ui,
-        slot: &Slot<SweepData>,
-        jobs: &Jobs,
-        out: &mut Vec<Action>,
-    ) {
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        let slot: &Slot<SweepData> = &jobs.sweep;
         let sweep = &slot.data;
+        let symbol = s.diagram.param.symbol();
+        ui.horizontal_wrapped(|ui| diagram_axis::selector_ui(ui, s));
         ui.horizontal_wrapped(|ui| {
-            find_button_ui(ui, jobs, out);
+            find_button_ui(ui, jobs, symbol, out);
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Back"))
                 .on_hover_text("Previous zoom level (Backspace)")
@@ -179,7 +181,7 @@ impl BifurcationView {
             }
             if ui
                 .add_enabled(!self.zoom.is_empty(), egui::Button::new("Reset zoom"))
-                .on_hover_text("The whole θν range")
+                .on_hover_text("The whole range")
                 .clicked()
             {
                 self.zoom.clear();
@@ -198,11 +200,12 @@ impl BifurcationView {
                 sweep.columns.len(),
                 sweep.points()
             ))
-            .on_hover_text(
-                "Drag a box to zoom: that θν range is recomputed with all its columns, \
-                 not just magnified. A click sets θν. Backspace: back.",
-            );
-            ui.label(RichText::new("drag or pinch: zoom · click: set θν").weak());
+            .on_hover_text(format!(
+                "Drag a box, or pinch two fingers apart, to zoom: that {symbol} range is \
+                 recomputed with all its columns, not just magnified. A click sets {symbol}. \
+                 Backspace or a pinch together: back."
+            ));
+            ui.label(RichText::new(format!("drag or pinch: zoom · click: set {symbol}")).weak());
         });
     }
 
@@ -218,14 +221,13 @@ impl BifurcationView {
         out: &mut Vec<Action>,
     ) {
         let bounds = self.bounds(sweep);
+        let axis = XAxis::of(sweep.param);
         let lines = Lines {
-            theta_nu: (sweep.from, sweep.to),
+            axis,
+            theta_nu: s.params.theta_nu,
             bounds,
-            current: style::draws_current(ui.ctx()).then_some(s.params.theta_nu),
-            theta_c: match Regime::of(s.params.kappa, s.params.gamma) {
-                Regime::Mixed { theta_c } => Some(theta_c),
-                _ => None,
-            },
+            current: style::draws_current(ui.ctx()).then_some(axis.x(axis.param.get(&s.params))),
+            theta_c: theta_c(s, axis.param),
             width: style::width(ui.ctx(), 1.5),
         };
         let tex = self.texture.as_ref().map(|t| t.id());
@@ -239,7 +241,7 @@ impl BifurcationView {
             .allow_boxed_zoom(false)
             .allow_double_click_reset(false);
         let (ax, ay) = (
-            AxisSpec::angle("θν, pull direction", s.angle_unit),
+            axis.spec(s.angle_unit),
             AxisSpec::angle("θ, slip onset", s.angle_unit),
         );
         let (hx, hy) = (ax.clone(), ay.clone());
@@ -270,7 +272,8 @@ impl BifurcationView {
                 }
                 lines.draw(p);
                 let (x0, x1, y0, y1) = bounds;
-                overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]));
+                let x = |v| axis.x(v);
+                overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]), &x);
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
                     p.add(style::zoom_box(a, b));
@@ -282,15 +285,17 @@ impl BifurcationView {
             });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         self.transform = Some(resp.transform);
-        self.hover_ui(&resp, found);
+        self.hover_ui(&resp, found, axis);
         self.pointer_ui(ui, &resp.response, resp.inner, sweep, out);
     }
 
-    /// The plot's bounds (θν from, to, θ lo, hi): half a column's width
-    /// beyond the end columns, so that each column's texel is centred on
-    /// its θν.
+    /// The plot's bounds (x from, to, θ lo, hi; x the axis' coordinate
+    /// of the varied parameter, [`XAxis`]): half a column's width beyond
+    /// the end columns, so that each column's texel is centred on its
+    /// value.
     pub fn bounds(&self, sweep: &SweepData) -> (f64, f64, f64, f64) {
-        let (from, to) = (sweep.from, sweep.to);
+        let axis = XAxis::of(sweep.param);
+        let (from, to) = (axis.x(sweep.from), axis.x(sweep.to));
         let n = sweep.columns.len().max(2);
         let dx = (to - from) / (n - 1) as f64;
         let (lo, hi) = self.theta_range;
@@ -298,7 +303,12 @@ impl BifurcationView {
     }
 
     /// The special point or branch under the pointer, named.
-    fn hover_ui(&self, resp: &egui_plot::PlotResponse<Option<PlotPoint>>, found: &BranchData) {
+    fn hover_ui(
+        &self,
+        resp: &egui_plot::PlotResponse<Option<PlotPoint>>,
+        found: &BranchData,
+        axis: XAxis,
+    ) {
         let r = &resp.response;
         if self.drag_from.is_some() {
             return;
@@ -306,7 +316,7 @@ impl BifurcationView {
         let Some(at) = r.hover_pos() else { return };
         let t = resp.transform;
         let to_screen = |xy: [f64; 2]| {
-            let q = t.position_from_point(&PlotPoint::new(xy[0], xy[1]));
+            let q = t.position_from_point(&PlotPoint::new(axis.x(xy[0]), xy[1]));
             [q.x, q.y]
         };
         if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
@@ -314,8 +324,8 @@ impl BifurcationView {
         }
     }
 
-    /// A box drawn zooms (recomputing its θν range), a click sets θν,
-    /// Backspace goes back a zoom level.
+    /// A box drawn zooms (recomputing its range of the varied parameter),
+    /// a click sets that parameter, Backspace goes back a zoom level.
     fn pointer_ui(
         &mut self,
         ui: &Ui,
@@ -324,12 +334,20 @@ impl BifurcationView {
         sweep: &SweepData,
         out: &mut Vec<Action>,
     ) {
-        let (from, to) = (sweep.from, sweep.to);
+        let axis = XAxis::of(sweep.param);
+        let (from, to) = (axis.x(sweep.from), axis.x(sweep.to));
+        // In values: an end at the range's end is that end exactly (no
+        // round trip through log10).
+        let value = |x: f64| match x {
+            _ if x == from => sweep.from,
+            _ if x == to => sweep.to,
+            _ => axis.value(x),
+        };
         if let Some(t) = self.transform {
             match self.pinch.follow(ui, r.rect, &t) {
-                Some(PinchEnd::In(tn, th)) => {
+                Some(PinchEnd::In(x, th)) => {
                     self.zoom.push(Zoom {
-                        theta_nu: (tn.0.max(from), tn.1.min(to)),
+                        theta_nu: (value(x.0.max(from)), value(x.1.min(to))),
                         theta: th,
                     });
                     self.invalidate();
@@ -357,7 +375,7 @@ impl BifurcationView {
                     && th_range.1 - th_range.0 > 1e-9
                 {
                     self.zoom.push(Zoom {
-                        theta_nu: tn_range,
+                        theta_nu: (value(tn_range.0), value(tn_range.1)),
                         theta: th_range,
                     });
                     self.invalidate();
@@ -366,56 +384,12 @@ impl BifurcationView {
         } else if r.clicked()
             && let Some(p) = pointer
         {
-            out.push(Action::SetThetaNu(p.x));
+            out.push(Action::SetParam(axis.param, axis.value(p.x)));
         }
         if r.hovered() && ui.input(|i| i.key_pressed(egui::Key::Backspace)) && !self.zoom.is_empty()
         {
             self.zoom.pop();
             self.invalidate();
-        }
-    }
-}
-
-/// The lines drawn over the diagram: θ = θν, ±θc and the current θν.
-struct Lines {
-    theta_nu: (f64, f64),
-    /// The plot's bounds (θν from, to, θ lo, hi): the diagonal is cut to them.
-    bounds: (f64, f64, f64, f64),
-    /// The current θν, where it is drawn ([`style::draws_current`]).
-    current: Option<f64>,
-    theta_c: Option<f64>,
-    width: f32,
-}
-
-impl Lines {
-    fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
-        let (from, to) = self.theta_nu;
-        // Dotted along its length on screen: cut to the frame first
-        // (super::clip), or a thin θ zoom makes millions of dots.
-        let (x0, x1, y0, y1) = self.bounds;
-        for part in clip_polyline(&[[from, from], [to, to]], [x0, y0], [x1, y1]) {
-            p.line(
-                style::line("θ = θν", PlotPoints::from(part))
-                    .color(style::CRITICAL.gamma_multiply(0.6))
-                    .style(LineStyle::Dotted { spacing: 6.0 }),
-            );
-        }
-        if let Some(tc) = self.theta_c {
-            for y in [tc, -tc] {
-                p.add(
-                    HLine::new("θc", y)
-                        .color(style::ACCEL)
-                        .style(LineStyle::Dashed { length: 10.0 })
-                        .width(1.5),
-                );
-            }
-        }
-        if let Some(tn) = self.current {
-            p.add(
-                VLine::new("current θν", tn)
-                    .color(style::CURRENT)
-                    .width(2.0),
-            );
         }
     }
 }
@@ -443,7 +417,7 @@ impl View for BifurcationView {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
         let figure = style::figure_only(ui.ctx());
         if !figure {
-            self.controls_ui(ui, &jobs.sweep, jobs, out);
+            self.controls_ui(ui, s, jobs, out);
         }
         lines_legend_ui(ui, s);
         if !figure {
@@ -459,6 +433,7 @@ impl View for BifurcationView {
         }
         if !figure {
             points_table::points_ui(ui, &jobs.branches.data);
+            points_table::cascade_ui(ui, &jobs.branches.data);
         }
         let sweep = &jobs.sweep.data;
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());
@@ -467,7 +442,7 @@ impl View for BifurcationView {
         if strip > 0.0
             && let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width))
         {
-            out.push(Action::SetThetaNu(tn));
+            out.push(Action::SetParam(sweep.param, tn));
         }
     }
 }
@@ -498,21 +473,7 @@ fn seeds_legend_ui(ui: &mut Ui, s: &Settings) {
 }
 
 /// "Find bifurcations" (or "Stop" while it runs), and where it stands.
-/// The lines drawn over the diagram: the diagonal θ = θν, the critical
-/// angles ±θc (mixed regime only) and the current θν.
-fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
-    ui.horizontal_wrapped(|ui| {
-        style::legend_line(ui, style::CRITICAL, true, "θ = θν");
-        if let Regime::Mixed { .. } = Regime::of(s.params.kappa, s.params.gamma) {
-            style::legend_line(ui, style::ACCEL, true, "±θc");
-        }
-        if style::draws_current(ui.ctx()) {
-            style::legend_line(ui, style::CURRENT, false, "current θν");
-        }
-    });
-}
-
-fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
+fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>) {
     let slot = &jobs.branches;
     if slot.state == JobState::Running {
         if ui
@@ -524,12 +485,12 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
         }
     } else if ui
         .button("Find bifurcations")
-        .on_hover_text(
-            "Follow the attractor's cycle at the left end of the shown θν range to the \
+        .on_hover_text(format!(
+            "Follow the attractor's cycle at the left end of the shown {symbol} range to the \
              right end, locating its period doublings (PD), folds and borders to 1e-10, \
              then the doubled cycles in turn up to period 32. Runs on the worker; a \
-             parameter or range change stops it.",
-        )
+             parameter or range change stops it."
+        ))
         .clicked()
     {
         out.push(Action::FindBifurcations);
@@ -549,7 +510,7 @@ mod seeded_tests {
         sweep.insert(
             0,
             Column {
-                theta_nu: 1.0,
+                value: 1.0,
                 thetas: vec![0.25, 0.75, 0.5],
                 coarse: true,
                 lyapunov: None,

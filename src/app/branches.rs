@@ -16,6 +16,9 @@ pub struct BranchData {
     /// The branches: the attractor's over the whole range, then each
     /// doubled level of the cascade.
     pub branches: Vec<Branch>,
+    /// The cascade's doublings b₁, b₂, … in order (periods p, 2p, 4p, …),
+    /// once the cascade has ended (`oneblock continue --cascade`'s table).
+    pub doublings: Vec<SpecialPoint>,
 }
 
 /// The curves of a "Boundaries" job.
@@ -151,13 +154,7 @@ pub fn hover_text(
     theta: f64,
     multiplier: f64,
 ) -> String {
-    let name = match param {
-        ContParam::ThetaNu => "θν",
-        ContParam::Kappa => "κ",
-        ContParam::Gamma => "γ",
-        ContParam::Nu => "ν",
-        ContParam::Omega => "Ω",
-    };
+    let name = param.symbol();
     format!(
         "{what}\n{name} = {}\nθ = {}\nmultiplier = {}",
         sig9(lambda),

@@ -7,6 +7,7 @@
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
 use crate::sim::column_lyapunov::ColumnLyapunov;
+use crate::sim::continuation::ContParam;
 use crate::sim::{Period, Sample, SlipEvent};
 
 /// The most samples and events kept (a rolling window: an endless
@@ -40,7 +41,9 @@ pub struct IterateData {
 /// The sweep job's results: one slot per column of the final grid.
 #[derive(Clone, Debug, Default)]
 pub struct SweepData {
-    /// θν range of the sweep.
+    /// The parameter varied along the diagram's axis.
+    pub param: ContParam,
+    /// Its range (values, both ends computed).
     pub from: f64,
     pub to: f64,
     pub columns: Vec<Option<Column>>,
@@ -52,7 +55,8 @@ pub struct SweepData {
 /// One received column.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Column {
-    pub theta_nu: f64,
+    /// The varied parameter's value (θν unless the diagram varies another).
+    pub value: f64,
     pub thetas: Vec<f64>,
     pub coarse: bool,
     /// λ of the column ([`crate::sim::column_lyapunov`]), when computed.
@@ -65,6 +69,7 @@ pub struct Column {
 impl SweepData {
     pub fn new(from: f64, to: f64, columns: usize) -> Self {
         SweepData {
+            param: ContParam::ThetaNu,
             from,
             to,
             columns: vec![None; columns],

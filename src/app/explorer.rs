@@ -31,6 +31,7 @@ use super::title_buttons::RECORD_FRAMES;
 use super::tour::Tour;
 use super::view::Action;
 use super::views::Views;
+use crate::sim::continuation::ContParam;
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
@@ -306,8 +307,19 @@ impl Explorer {
             }
             Action::RestartOrbit => self.jobs.restart_orbit(&self.settings, now),
             Action::SetThetaNu(x) => {
-                let (lo, hi) = self.settings.sweep_range();
+                let (lo, hi) = self.settings.theta_nu_range();
                 self.settings.params.theta_nu = x.clamp(lo, hi);
+            }
+            Action::SetParam(ContParam::ThetaNu, x) => {
+                self.apply(Action::SetThetaNu(x), ctx);
+            }
+            Action::SetParam(p, x) => {
+                // Within the diagram's range, and only where the model is.
+                let (lo, hi) = self.settings.sweep_range();
+                let params = p.set(&self.settings.params, x.clamp(lo, hi));
+                if params.validate().is_ok() {
+                    self.settings.params = params;
+                }
             }
             Action::SetPoint { theta_nu, kappa } => {
                 let p = &mut self.settings.params;
@@ -413,11 +425,15 @@ impl Explorer {
         if !self.play.on {
             return;
         }
-        let range = self
-            .views
-            .bifurcation
-            .theta_nu_range()
-            .unwrap_or_else(|| self.settings.sweep_range());
+        // The diagram's zoom, when it is one in θν.
+        let range = match self.settings.diagram.param {
+            ContParam::ThetaNu => self
+                .views
+                .bifurcation
+                .theta_nu_range()
+                .unwrap_or_else(|| self.settings.sweep_range()),
+            _ => self.settings.theta_nu_range(),
+        };
         let steps = &mut self.views.return_map.steps;
         match self.play.tick(&self.settings, range, steps.on, self.now) {
             Tick::ThetaNu(x) => self.settings.params.theta_nu = x,

@@ -36,9 +36,10 @@ pub fn bifurcation_csv(sweep: &SweepData) -> String {
     let columns = sweep.columns.iter().flatten();
     let seeded = columns.clone().any(|c| !c.attractor.is_empty());
     formats::bifurcation_csv(
+        sweep.param,
         columns.map(|c| {
             (
-                c.theta_nu,
+                c.value,
                 c.thetas.as_slice(),
                 c.lyapunov,
                 c.attractor.as_slice(),
@@ -64,12 +65,18 @@ pub fn phase_csv(phase: &PhaseData) -> String {
 
 /// The `#` lines a CSV of the window's `view` begins with: the program,
 /// the view, the model's parameters with the accuracy `kind`'s job ran
-/// at (θν left out where it varies), and every setting of the window as
+/// at (the varied parameter left out: the diagram's, or θν for the phase grid), and every setting of the window as
 /// one line of a session's JSON (what "Open session" reads).
 pub fn header(view: &str, s: &Settings, kind: JobKind) -> String {
     let solver = kind.solver(s).unwrap_or_else(|| s.custom_solver());
-    let varies = matches!(kind, JobKind::Sweep | JobKind::Phase);
-    let model = crate::provenance::model_line(&s.params, &solver, !varies);
+    let model = match kind {
+        // The diagram's axis is left out and named as varied.
+        JobKind::Sweep => {
+            crate::provenance::model_line_varying(&s.params, &solver, s.diagram.param)
+        }
+        JobKind::Phase => crate::provenance::model_line(&s.params, &solver, false),
+        _ => crate::provenance::model_line(&s.params, &solver, true),
+    };
     let session = serde_json::to_string(s).unwrap_or_default();
     crate::provenance::header(
         Some(&format!("view: {view} (the window)")),
@@ -128,7 +135,7 @@ mod tests {
             sweep.insert(
                 i,
                 Column {
-                    theta_nu: 1.0 + 0.1 * i as f64,
+                    value: 1.0 + 0.1 * i as f64,
                     thetas,
                     coarse: false,
                     lyapunov,
@@ -152,7 +159,7 @@ mod tests {
         plain.insert(
             0,
             Column {
-                theta_nu: 1.0,
+                value: 1.0,
                 thetas: vec![0.2],
                 coarse: false,
                 lyapunov,

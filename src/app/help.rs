@@ -46,7 +46,9 @@ pub fn view_help(v: ViewKind) -> &'static str {
              attractor on, the exit arc's cell graph shows the other attractors too \
              (magenta), where two coexist (hysteresis). Find bifurcations marks each doubling \
              supercritical (a stable cycle of twice the period is born) or subcritical (an \
-             unstable one: the attractor jumps)."
+             unstable one: the attractor jumps), and lists a cascade's ratios δ_n, which tend \
+             to Feigenbaum's 4.669. \"Diagram in\" varies κ, γ, ν or Ω instead of θν, the \
+             others held at the sliders' values (κ, ν and Ω on a log axis)."
         }
         ViewKind::ReturnMap => {
             "The return map θ' = f(θ): where the next slip starts as a function of where this \
@@ -80,9 +82,10 @@ pub fn view_help(v: ViewKind) -> &'static str {
              computes λ. With every attractor on, each cell also counts its attractors from the \
              exit arc's cell graph; a white square marks a cell with more than one (multistable), \
              and a click on it lists them: period or chaotic, multiplier or λ, basin fraction. \
-             Boundaries follows the period-doubling curves FP to P2 and P2 to P4 by \
-             continuation, to the precision of the solver rather than of the grid, and marks \
-             their generalised flips, where a doubling turns from supercritical to subcritical."
+             Boundaries follows the period-doubling curves FP to P2 and P2 to P4, and the fixed \
+             point's fold curves (dashed), by continuation, to the precision of the solver \
+             rather than of the grid, and marks the generalised flips, where a doubling turns \
+             from supercritical to subcritical."
         }
         ViewKind::Basins => BASINS_HELP,
         ViewKind::TimeSeries => {

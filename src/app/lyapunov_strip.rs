@@ -16,6 +16,7 @@ use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotBounds, PlotPoints, VLi
 
 use super::axes::{self, AxisSpec};
 use super::data::SweepData;
+use super::diagram_axis::XAxis;
 use super::markers::{self, Marker};
 use super::settings::Settings;
 use super::style;
@@ -51,13 +52,15 @@ fn below_name(lo: f64) -> String {
     format!("λ < {lo:.2}, below the strip")
 }
 
-/// The strip's points: (θν, λ, standard error) of every column with λ.
+/// The strip's points: (x, λ, standard error) of every column with λ, x
+/// the diagram's coordinate of its value ([`XAxis`]: θν, or log10 κ, …).
 pub fn strip_points(sweep: &SweepData) -> Vec<(f64, f64, Option<f64>)> {
+    let axis = XAxis::of(sweep.param);
     sweep
         .columns
         .iter()
         .flatten()
-        .filter_map(|c| c.lyapunov.map(|l| (c.theta_nu, l.lyapunov, l.stderr)))
+        .filter_map(|c| c.lyapunov.map(|l| (axis.x(c.value), l.lyapunov, l.stderr)))
         .filter(|p| p.1.is_finite())
         .collect()
 }
@@ -75,9 +78,10 @@ pub fn lambda_range(points: &[(f64, f64, Option<f64>)]) -> (f64, f64) {
     (lo - pad, hi + pad)
 }
 
-/// Draws the strip, `height` points tall, over θν ∈ `x` (the diagram's
-/// bounds), with a y axis `y_width` wide so that its frame lines up with
-/// the diagram's. Returns the θν clicked, if any.
+/// Draws the strip, `height` points tall, over `x` (the diagram's bounds,
+/// in its axis' coordinate), with a y axis `y_width` wide so that its
+/// frame lines up with the diagram's. Returns the value of the varied
+/// parameter clicked, if any.
 pub fn strip_ui(
     ui: &mut Ui,
     s: &Settings,
@@ -88,7 +92,8 @@ pub fn strip_ui(
     let points = strip_points(sweep);
     let (lo, hi) = lambda_range(&points);
     let ink = style::ink(s.dark);
-    let tn = s.params.theta_nu;
+    let axis = XAxis::of(sweep.param);
+    let current_x = axis.x(axis.param.get(&s.params));
     let plot = Plot::new("lyapunov")
         .height(height)
         .show_background(false)
@@ -97,7 +102,7 @@ pub fn strip_ui(
         .allow_scroll(false)
         .allow_boxed_zoom(false)
         .allow_double_click_reset(false);
-    let ax = AxisSpec::angle("θν, pull direction", s.angle_unit);
+    let ax = axis.spec(s.angle_unit);
     let ay = AxisSpec::linear("λ, Lyapunov exponent");
     let current = style::draws_current(ui.ctx());
     let resp = axes::apply(plot, &ax, &ay)
@@ -112,7 +117,7 @@ pub fn strip_ui(
             );
             if current {
                 p.add(
-                    VLine::new("current θν", tn)
+                    VLine::new("current", current_x)
                         .color(style::CURRENT)
                         .width(2.0),
                 );
@@ -122,7 +127,7 @@ pub fn strip_ui(
         });
     axes::remember_frame(ui.ctx(), "lyapunov", *resp.transform.frame());
     let clicked = resp.response.clicked();
-    resp.inner.filter(|_| clicked).map(|p| p.x)
+    resp.inner.filter(|_| clicked).map(|p| axis.value(p.x))
 }
 
 /// The strip's marks: each column's λ (a dot, or a ring with its error
@@ -188,7 +193,7 @@ mod tests {
             s.insert(
                 i,
                 Column {
-                    theta_nu: 1.0 + 0.1 * i as f64,
+                    value: 1.0 + 0.1 * i as f64,
                     thetas: vec![0.1],
                     coarse: false,
                     lyapunov: Some(ColumnLyapunov {

@@ -39,6 +39,8 @@ pub mod clip;
 pub mod controls;
 pub mod data;
 pub mod describe;
+pub mod diagram_axis;
+mod diagram_lines;
 pub mod events;
 mod events_plots;
 pub mod explorer;

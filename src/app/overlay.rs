@@ -13,7 +13,7 @@ use egui_plot::{HoverPosition, Line, LineStyle, MarkerShape, PlotPoints, PlotUi}
 use super::branches::{BranchData, CurveData, runs, special_rows};
 use super::markers::{self, Marker};
 use super::style;
-use crate::sim::continuation::{Criticality, SpecialKind, SpecialPoint};
+use crate::sim::continuation::{Criticality, CurveKind, SpecialKind, SpecialPoint};
 
 /// The branches' colour.
 pub const BRANCH: Color32 = Color32::from_rgb(0, 114, 178);
@@ -76,6 +76,7 @@ pub fn is_overlay_item(name: &str) -> bool {
     name == STABLE
         || name == UNSTABLE
         || name == CURVE
+        || name == FOLD_CURVE
         || name == SUBCRITICAL.1
         || name == GENERALISED_NAME
         || MARKED.iter().any(|&k| marker(k).1 == name)
@@ -92,12 +93,17 @@ pub fn label(pos: &HoverPosition<'_>) -> Option<String> {
 /// The branches' lines and the special points' markers, over a plot of
 /// bounds `(min, max)`: the unstable (dashed) runs are cut to them, as a
 /// dash is laid along the line's whole length on screen ([`super::clip`]).
+/// `x` maps a parameter value to the plot's coordinate (log10 on a log
+/// axis).
 pub fn branch_items(
     p: &mut PlotUi<'_>,
     data: &BranchData,
     line_width: f32,
     (min, max): ([f64; 2], [f64; 2]),
+    x: &dyn Fn(f64) -> f64,
 ) {
+    let on_axis =
+        |pts: Vec<[f64; 2]>| -> Vec<[f64; 2]> { pts.into_iter().map(|[l, t]| [x(l), t]).collect() };
     let line = |name, pts: Vec<[f64; 2]>| {
         Line::new(name, PlotPoints::from(pts))
             .color(BRANCH)
@@ -106,11 +112,12 @@ pub fn branch_items(
     };
     for b in &data.branches {
         for r in runs(b) {
+            let points = on_axis(r.points);
             if r.stable {
-                p.line(line(STABLE, r.points));
+                p.line(line(STABLE, points));
                 continue;
             }
-            for part in super::clip::clip_polyline(&r.points, min, max) {
+            for part in super::clip::clip_polyline(&points, min, max) {
                 p.line(line(UNSTABLE, part).style(LineStyle::Dashed { length: 8.0 }));
             }
         }
@@ -128,7 +135,7 @@ pub fn branch_items(
         let pts: Vec<[f64; 2]> = rows
             .iter()
             .filter(|s| s.kind == kind && subcritical(s) == sub)
-            .map(|s| [s.lambda, s.theta])
+            .map(|s| [x(s.lambda), s.theta])
             .collect();
         if pts.is_empty() {
             continue;
@@ -156,6 +163,9 @@ pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
 
 /// The name of the boundary curves' item.
 pub const CURVE: &str = "doubling curve";
+/// The name of the fold curves' item (dashed: where a cycle is born or
+/// dies in pairs, the attractor jumps; `continue --curve fold`).
+pub const FOLD_CURVE: &str = "fold curve";
 
 /// The marker of a generalised flip on a doubling curve: the PD's colour,
 /// a triangle pointing down (the subcritical PD's points up), on a black
@@ -168,42 +178,67 @@ pub const GENERALISED: [Marker; 2] = [
 /// The generalised flip's name (legend and hover).
 pub const GENERALISED_NAME: &str = "generalised flip";
 
-/// The curves' legend: the line and, when a curve has one, the
-/// generalised flip's marker.
+/// The curves' legend: each kind of line drawn and, when a curve has
+/// one, the generalised flip's marker.
 pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
     if data.curves.is_empty() {
         return;
     }
     ui.horizontal_wrapped(|ui| {
-        // The white line on its dark halo, as drawn.
-        let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
-        let ends = [rect.left_center(), rect.right_center()];
-        let painter = ui.painter();
-        painter.line_segment(ends, egui::Stroke::new(4.0, Color32::from_black_alpha(200)));
-        painter.line_segment(ends, egui::Stroke::new(2.0, BOUNDARY));
-        ui.label(CURVE);
+        for (kind, name, dashed) in [
+            (CurveKind::PeriodDoubling, CURVE, false),
+            (CurveKind::Fold, FOLD_CURVE, true),
+        ] {
+            if !data.curves.iter().any(|c| c.kind == kind) {
+                continue;
+            }
+            // The white line on its dark halo, as drawn.
+            let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
+            let painter = ui.painter();
+            let (y, x0, x1) = (rect.center().y, rect.left(), rect.right());
+            let pieces: Vec<[egui::Pos2; 2]> = if dashed {
+                vec![
+                    [egui::pos2(x0, y), egui::pos2(x0 + 8.0, y)],
+                    [egui::pos2(x1 - 8.0, y), egui::pos2(x1, y)],
+                ]
+            } else {
+                vec![[egui::pos2(x0, y), egui::pos2(x1, y)]]
+            };
+            for ends in pieces {
+                painter.line_segment(ends, egui::Stroke::new(4.0, Color32::from_black_alpha(200)));
+                painter.line_segment(ends, egui::Stroke::new(2.0, BOUNDARY));
+            }
+            ui.label(name);
+        }
         if data.curves.iter().any(|c| !c.generalised_flips.is_empty()) {
             markers::legend(ui, &GENERALISED, GENERALISED_NAME);
         }
     });
 }
 
-/// The doubling curves over the phase diagram, each a polyline in (θν, κ),
-/// and their generalised flips' markers.
+/// The doubling curves (solid) and fold curves (dashed) over the phase
+/// diagram, each a polyline in (θν, κ), and the doublings' generalised
+/// flips' markers.
 pub fn curve_items(p: &mut PlotUi<'_>, data: &CurveData, line_width: f32) {
     for c in &data.curves {
         let pts: Vec<[f64; 2]> = c.points.iter().map(|q| q.lambda).collect();
+        let (name, style) = match c.kind {
+            CurveKind::PeriodDoubling => (CURVE, LineStyle::Solid),
+            CurveKind::Fold => (FOLD_CURVE, LineStyle::Dashed { length: 10.0 }),
+        };
         // A dark halo keeps the white line visible over pale classes.
         p.line(
-            Line::new(CURVE, PlotPoints::from(pts.clone()))
+            Line::new(name, PlotPoints::from(pts.clone()))
                 .color(Color32::from_black_alpha(200))
                 .width(line_width + 2.0)
+                .style(style)
                 .allow_hover(false),
         );
         p.line(
-            Line::new(CURVE, PlotPoints::from(pts))
+            Line::new(name, PlotPoints::from(pts))
                 .color(BOUNDARY)
                 .width(line_width)
+                .style(style)
                 .allow_hover(false),
         );
     }

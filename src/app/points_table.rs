@@ -2,14 +2,90 @@
 //! bifurcation view's toolbar: kind, period, parameter value, θ and
 //! multiplier to 9 significant digits, each row with a "Copy" button that
 //! puts the row's `oneblock continue --points` line on the clipboard, and
-//! "Copy all" for the header and every row; and the generalised flips of
-//! the phase view's doubling curves.
+//! "Copy all" for the header and every row; the cascade's doublings with
+//! the ratios δₙ of their gaps (Feigenbaum's δ to compare, as `oneblock
+//! continue --cascade` prints them); and the generalised flips of the
+//! phase view's doubling curves.
 
 use eframe::egui;
 use egui::{RichText, Ui};
 
 use super::branches::{BranchData, CSV_HEADER, CurveData, csv_line, sig9, special_rows};
-use crate::sim::continuation::{ContParam, Curve, GeneralisedFlip};
+use crate::sim::continuation::{ContParam, Curve, GeneralisedFlip, feigenbaum_ratios};
+
+/// Feigenbaum's δ, the limit of the ratios of a cascade's gaps.
+pub const FEIGENBAUM_DELTA: f64 = 4.669_201_609_102_99;
+
+/// The cascade's table rows: n, period, bₙ, the gap bₙ − bₙ₋₁ and
+/// δₙ₋₁ = (bₙ₋₁ − bₙ₋₂)/(bₙ − bₙ₋₁) (empty where there is none yet),
+/// 9 significant digits (the CLI's [`feigenbaum_ratios`]).
+pub fn cascade_rows(data: &BranchData) -> Vec<[String; 5]> {
+    let b: Vec<f64> = data.doublings.iter().map(|d| d.lambda).collect();
+    let ratios = feigenbaum_ratios(&b);
+    data.doublings
+        .iter()
+        .enumerate()
+        .map(|(i, d)| {
+            let gap = if i > 0 {
+                sig9(b[i] - b[i - 1])
+            } else {
+                String::new()
+            };
+            let ratio = if i >= 2 {
+                format!("{:.4}", ratios[i - 2])
+            } else {
+                String::new()
+            };
+            [
+                format!("{}", i + 1),
+                format!("P{}", d.period),
+                sig9(b[i]),
+                gap,
+                ratio,
+            ]
+        })
+        .collect()
+}
+
+/// The collapsing "Cascade" section: the doublings of the cascade Find
+/// bifurcations followed and the ratios of their gaps, against
+/// Feigenbaum's δ (nothing before three doublings: no ratio yet).
+pub fn cascade_ui(ui: &mut Ui, data: &BranchData) {
+    let rows = cascade_rows(data);
+    if rows.len() < 3 {
+        return;
+    }
+    let param = data.param.unwrap_or(ContParam::ThetaNu);
+    egui::CollapsingHeader::new(format!("Cascade δ ({} doublings)", rows.len()))
+        .id_salt("cascade ratios")
+        .show(ui, |ui| {
+            egui::Grid::new("cascade grid")
+                .striped(true)
+                .num_columns(5)
+                .show(ui, |ui| {
+                    for h in ["n", "period", param.column(), "gap", "δ_n"] {
+                        ui.label(RichText::new(h).strong());
+                    }
+                    ui.end_row();
+                    for r in &rows {
+                        for cell in r {
+                            ui.label(cell);
+                        }
+                        ui.end_row();
+                    }
+                });
+            let b: Vec<f64> = data.doublings.iter().map(|d| d.lambda).collect();
+            if let Some(last) = feigenbaum_ratios(&b).last() {
+                ui.label(
+                    RichText::new(format!(
+                        "Feigenbaum's δ is 4.6692…; the last ratio here is {last:.4} ({:+.1} %)",
+                        100.0 * (last / FEIGENBAUM_DELTA - 1.0)
+                    ))
+                    .weak(),
+                );
+            }
+        });
+}
 
 /// The table's most height, as a share of the view's.
 const HEIGHT_SHARE: f32 = 0.35;

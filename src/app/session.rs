@@ -23,7 +23,8 @@ use serde_json::{Map, Value};
 use super::bifurcation::Zoom;
 use super::session_results::KEYS as RESULT_KEYS;
 pub use super::session_results::Results;
-use super::settings::{MAX_ZOOM_LEVELS, Settings, is_usable_range};
+use super::settings::{DiagramAxis, MAX_ZOOM_LEVELS, Settings, is_usable_range};
+use crate::sim::continuation::ContParam;
 use crate::text::echo;
 
 /// The format's version, written as `oneblock_session`.
@@ -53,14 +54,12 @@ struct ZoomFile {
 }
 
 impl ZoomFile {
-    /// Both ranges drawable, θν within the diagram's [-π, π] (a zoom
-    /// beyond it was an empty diagram, accepted without a word).
-    fn is_valid(&self) -> bool {
-        let pi = std::f64::consts::PI;
-        is_usable_range(self.theta_nu)
-            && is_usable_range(self.theta)
-            && self.theta_nu.0 >= -pi
-            && self.theta_nu.1 <= pi
+    /// Both ranges drawable, the first (of the parameter the diagram
+    /// varies: its name `theta_nu` is the paper's default) within the
+    /// model's range of that parameter ([-π, π] for θν: a zoom beyond it
+    /// was an empty diagram, accepted without a word).
+    fn is_valid(&self, varied: ContParam) -> bool {
+        DiagramAxis::is_valid_range(varied, self.theta_nu) && is_usable_range(self.theta)
     }
 }
 
@@ -187,13 +186,17 @@ impl Session {
         let bifurcation_zoom = match root.get("bifurcation_zoom") {
             None => Vec::new(),
             Some(v) => match serde_json::from_value::<Vec<ZoomFile>>(v.clone()) {
-                Ok(z) if z.len() <= MAX_ZOOM_LEVELS && z.iter().all(ZoomFile::is_valid) => z
-                    .into_iter()
-                    .map(|z| Zoom {
-                        theta_nu: z.theta_nu,
-                        theta: z.theta,
-                    })
-                    .collect(),
+                Ok(z)
+                    if z.len() <= MAX_ZOOM_LEVELS
+                        && z.iter().all(|z| z.is_valid(settings.diagram.param)) =>
+                {
+                    z.into_iter()
+                        .map(|z| Zoom {
+                            theta_nu: z.theta_nu,
+                            theta: z.theta,
+                        })
+                        .collect()
+                }
                 _ => {
                     bad.push("bifurcation_zoom".into());
                     Vec::new()
@@ -201,7 +204,7 @@ impl Session {
             },
         };
         let mut dropped = Vec::new();
-        let results = Results::take_from(&mut root, &mut dropped);
+        let results = Results::take_from(&mut root, settings.diagram.param, &mut dropped);
         let mut parts = Vec::new();
         if !bad.is_empty() {
             parts.push(format!("invalid {} (defaults used)", listed(&bad)));
@@ -327,4 +330,28 @@ fn settings_from(
         }
     }
     serde_json::from_value(Value::Object(current)).unwrap_or_default()
+}
+
+#[cfg(test)]
+mod diagram_tests {
+    use super::*;
+
+    /// The diagram's varied parameter, its range and a zoom in it come
+    /// back from the file; a zoom the model has no κ for is dropped.
+    #[test]
+    fn a_session_keeps_the_varied_parameter_its_range_and_zoom() {
+        let mut s = Session::default();
+        s.settings.diagram.param = ContParam::Kappa;
+        s.settings.diagram.kappa = (2.0, 5.0);
+        s.bifurcation_zoom = vec![Zoom {
+            theta_nu: (2.5, 4.0),
+            theta: (0.0, 1.0),
+        }];
+        let l = Session::from_json(&s.to_json(), "test");
+        assert_eq!(l.session.settings.diagram, s.settings.diagram);
+        assert_eq!(l.session.bifurcation_zoom, s.bifurcation_zoom);
+        s.bifurcation_zoom[0].theta_nu = (2.0, 5000.0);
+        let l = Session::from_json(&s.to_json(), "test");
+        assert!(l.session.bifurcation_zoom.is_empty());
+    }
 }

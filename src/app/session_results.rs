@@ -64,6 +64,9 @@ struct BranchesFile {
     #[serde(default)]
     summary: Option<String>,
     branches: Vec<Branch>,
+    /// The cascade's doublings (δₙ's table); none in older sessions.
+    #[serde(default)]
+    doublings: Vec<SpecialPoint>,
 }
 
 /// The curves as the file holds them.
@@ -96,6 +99,7 @@ impl Results {
                 range: k.data.range,
                 summary: k.summary.clone(),
                 branches: k.data.branches.clone(),
+                doublings: k.data.doublings.clone(),
             };
             out.extend(serde_json::to_string(&f).ok().map(|t| ("branches", t)));
         }
@@ -111,12 +115,22 @@ impl Results {
 
     /// The results a session's `root` holds, taken out of it; each one
     /// that cannot be read or fails its check is left out and named in
-    /// `dropped` with why.
-    pub fn take_from(root: &mut Map<String, Value>, dropped: &mut Vec<String>) -> Results {
+    /// `dropped` with why. Branches must be in `varied`, the parameter
+    /// the session's diagram varies (they are drawn over it).
+    pub fn take_from(
+        root: &mut Map<String, Value>,
+        varied: ContParam,
+        dropped: &mut Vec<String>,
+    ) -> Results {
         let mut r = Results::default();
         if let Some(v) = root.remove("branches") {
             match serde_json::from_value::<BranchesFile>(v) {
                 Err(_) => dropped.push("branches (unreadable)".into()),
+                Ok(f) if f.param != varied => dropped.push(format!(
+                    "branches (in {}, the diagram in {})",
+                    f.param.name(),
+                    varied.name()
+                )),
                 Ok(f) => match check_branches(&f) {
                     Err(why) => dropped.push(format!("branches ({why})")),
                     Ok(()) => {
@@ -124,6 +138,7 @@ impl Results {
                             param: Some(f.param),
                             range: f.range,
                             branches: f.branches,
+                            doublings: f.doublings,
                         };
                         r.branches = Some(Kept {
                             data,
@@ -223,6 +238,10 @@ fn check_branches(f: &BranchesFile) -> Result<(), String> {
     }
     if !f.summary.as_deref().is_none_or(text_ok) {
         return Err(TOO_LONG.into());
+    }
+    // A cascade has a doubling per level, at most one per branch.
+    if f.doublings.len() > MAX_BRANCHES || !f.doublings.iter().all(special_ok) {
+        return Err("a cascade's doubling not finite, or too many".into());
     }
     f.branches.iter().try_for_each(|b| check_branch(b, f.param))
 }

@@ -1,4 +1,6 @@
-//! The state a link carries: `?preset=fig3b&view=bifurcation&kappa=10`.
+//! The state a link carries: `?preset=fig3b&view=bifurcation&kappa=10`,
+//! and the parameter the bifurcation diagram varies with its range
+//! (`vary=kappa&vary_from=2&vary_to=5`; θν, the default, is not written).
 //! The browser build opens on the page's query and its "Copy link" writes
 //! the current state into one. Values are checked as a session's are
 //! (each parameter by `Params::validate`, θν within [-π, π]); a bad one is
@@ -8,13 +10,23 @@
 use std::f64::consts::{FRAC_PI_2, PI};
 use std::fmt::Write as _;
 
-use super::settings::{Layout, Settings, ViewKind};
+use super::settings::{DiagramAxis, Layout, Settings, ViewKind};
 use crate::model::{Params, preset, preset_keys};
+use crate::sim::continuation::ContParam;
 use crate::text::echo;
 
 /// The keys a link may carry, in the order a link writes them.
-pub const KEYS: [&str; 7] = [
-    "preset", "view", "kappa", "gamma", "nu", "theta_nu", "omega",
+pub const KEYS: [&str; 10] = [
+    "preset",
+    "view",
+    "kappa",
+    "gamma",
+    "nu",
+    "theta_nu",
+    "omega",
+    "vary",
+    "vary_from",
+    "vary_to",
 ];
 
 /// The most characters of a query read (a link is a few dozen).
@@ -76,6 +88,11 @@ pub fn apply_query(query: &str, settings: &mut Settings) -> Option<String> {
             Err(e) => bad.push(e),
         }
     }
+    apply_vary(
+        [get("vary"), get("vary_from"), get("vary_to")],
+        settings,
+        &mut bad,
+    );
     if moved && params != settings.params {
         settings.params = params;
         // A parameter set by hand is no longer the preset's.
@@ -125,6 +142,59 @@ fn apply_preset_and_view(
                 ViewKind::ALL.map(ViewKind::key).join(", ")
             )),
         }
+    }
+}
+
+/// The diagram's varied parameter (`vary`, a name of `oneblock
+/// bifurcation --param`) and its range (`vary_from`, `vary_to`: both or
+/// neither, a range the model has for it; θν's is the slider's, so it
+/// takes none), or why not.
+fn apply_vary(
+    [vary, from, to]: [Option<&String>; 3],
+    settings: &mut Settings,
+    bad: &mut Vec<String>,
+) {
+    let param = match vary {
+        None => settings.diagram.param,
+        Some(name) => match ContParam::parse(name.trim()) {
+            Some(p) => p,
+            None => {
+                bad.push(format!(
+                    "vary '{}' is not one of {}",
+                    echo(name),
+                    ContParam::ALL.map(ContParam::name).join(", ")
+                ));
+                return;
+            }
+        },
+    };
+    let range = match (from, to) {
+        (None, None) => None,
+        (Some(a), Some(b)) => {
+            let (a, b) = (a.trim().parse::<f64>(), b.trim().parse::<f64>());
+            match (a, b) {
+                (Ok(a), Ok(b)) if DiagramAxis::is_valid_range(param, (a, b)) => Some((a, b)),
+                _ => {
+                    bad.push(format!(
+                        "vary_from, vary_to are not an increasing range of {} the model has",
+                        param.name()
+                    ));
+                    return;
+                }
+            }
+        }
+        _ => {
+            bad.push("vary_from and vary_to go together".into());
+            return;
+        }
+    };
+    if param == ContParam::ThetaNu && range.is_some() {
+        bad.push("vary_from, vary_to: theta-nu's range is the slider's (give none)".into());
+        return;
+    }
+    settings.diagram.param = param;
+    if let Some(r) = range {
+        settings.diagram.set_range(param, r);
     }
 }
 
@@ -186,6 +256,12 @@ pub fn query_of(settings: &Settings) -> String {
         ("omega", p.omega),
     ] {
         add(k, &format!("{v}"));
+    }
+    let d = settings.diagram;
+    if let Some((a, b)) = d.range(d.param) {
+        add("vary", d.param.name());
+        add("vary_from", &format!("{a}"));
+        add("vary_to", &format!("{b}"));
     }
     q
 }
@@ -306,6 +382,40 @@ mod tests {
         assert_eq!(t.params, s.params, "bit for bit through the text");
         assert_eq!((t.layout, t.tab), (Layout::Tabs, ViewKind::Phase));
         assert!(!q.contains("preset="), "θν moved off the preset: {q}");
+    }
+
+    /// The diagram's varied parameter and its range go into a link and
+    /// come back bit for bit; θν, the default, writes no key; bad values
+    /// are named and change nothing.
+    #[test]
+    fn the_varied_parameter_and_its_range_round_trip() {
+        let mut s = Settings::default();
+        assert!(!query_of(&s).contains("vary"), "{}", query_of(&s));
+        s.diagram.param = ContParam::Kappa;
+        s.diagram.kappa = (2.0, 5.000_000_000_000_001);
+        let q = query_of(&s);
+        assert!(
+            q.contains("vary=kappa&vary_from=2&vary_to=5.000000000000001"),
+            "{q}"
+        );
+        let mut t = Settings::default();
+        assert_eq!(apply_query(&q, &mut t), None, "{q}");
+        assert_eq!(t.diagram, s.diagram);
+        assert_eq!(apply_query("vary=omega", &mut t), None);
+        assert_eq!(t.diagram.param, ContParam::Omega);
+        assert_eq!(t.diagram.kappa, s.diagram.kappa);
+        let before = t.diagram;
+        for (query, needle) in [
+            ("vary=mass", "vary 'mass'"),
+            ("vary=kappa&vary_from=0&vary_to=5", "vary_from, vary_to"),
+            ("vary=kappa&vary_from=5&vary_to=2", "vary_from, vary_to"),
+            ("vary=gamma&vary_from=1", "go together"),
+            ("vary=theta-nu&vary_from=0&vary_to=1", "slider's"),
+        ] {
+            let msg = apply_query(query, &mut t).expect("a message");
+            assert!(msg.contains(needle), "{query}: {msg}");
+            assert_eq!(t.diagram, before, "{query}");
+        }
     }
 
     #[test]

@@ -47,6 +47,9 @@ pub enum Action {
     RestartOrbit,
     /// Move θν (a click on the bifurcation diagram), within the slider's range.
     SetThetaNu(f64),
+    /// Move one parameter (a click on a diagram in it), within the
+    /// diagram's range and the model's.
+    SetParam(crate::sim::continuation::ContParam, f64),
     /// Move θν and κ (a click on the phase diagram).
     SetPoint { theta_nu: f64, kappa: f64 },
     /// Measure work against precision on the current parameters.

@@ -1,5 +1,6 @@
 //! `oneblock bifurcation`: the data of a bifurcation diagram, CSV
-//! `theta_nu,theta,lyapunov,lyapunov_stderr`: the window's sweep job ([`crate::jobs`]) run on every
+//! `theta_nu,theta,lyapunov,lyapunov_stderr` (`kappa,theta,…` with
+//! `--param kappa`): the window's sweep job ([`crate::jobs`]) run on every
 //! core. Its plan (a coarse pass in chains, then fill-in, each column
 //! continued from a named neighbour; [`crate::jobs::sweep_plan`]) is fixed
 //! by the flags alone, so the file is the same on any machine, and the
@@ -13,8 +14,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    MAX_ROWS, SolverArgs, check_out, check_theta, count_in, describe_sweep, emit, finite,
-    max_seconds, total_iterates, warn_validity, with_provenance,
+    MAX_ROWS, SolverArgs, check_out, check_theta, count_in, emit, finite, max_seconds,
+    total_iterates, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{
@@ -23,30 +24,38 @@ use super::values::{
 use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
 use crate::model::{Params, Preset};
+use crate::provenance::model_line_varying;
 use crate::sim::Simulator;
 use crate::sim::column_lyapunov::ColumnLyapunov;
+use crate::sim::continuation::ContParam;
 use crate::sim::interpolant::{MapChoice, MapTally, MapUsed};
 use crate::sim::seeded::{MAX_OTHERS, MAX_SEEDS};
 
-/// A bifurcation diagram: θ against θν.
+/// A bifurcation diagram: θ against θν (or against another parameter,
+/// `--param`).
 #[derive(Debug, Clone, Args)]
 pub struct BifurcationArgs {
     /// Start from a named parameter set (fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent; its θν is not used): the flags below override it.
+    /// intermittent; its value of the varied parameter is not used): the
+    /// flags below override it.
     #[arg(long)]
     pub preset: Option<Preset>,
     /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
     /// into steady sliding, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
     pub kappa: Option<f64>,
     /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
     /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
     pub gamma: Option<f64>,
     /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
     /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
     pub nu: Option<f64>,
+    /// θν, the pulling direction in radians, held fixed when --param varies
+    /// another parameter [default: the preset's].
+    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
+    pub theta_nu: Option<f64>,
     /// Ω, the memory of the friction direction, in (0, 1e8] (the model
     /// assumes [1, 1e4]) [default: 50,
     /// or the preset's].
@@ -54,14 +63,29 @@ pub struct BifurcationArgs {
     pub omega: Option<f64>,
     #[command(flatten)]
     pub solver: SolverArgs,
-    /// First θν of the grid, in radians, in [-1000, 1000].
+    /// The parameter varied along the diagram (theta-nu, kappa, gamma, nu
+    /// or omega), the others held fixed; its own flag is not used: --from
+    /// and --to give its range [default: theta-nu].
+    #[arg(long)]
+    pub param: Option<ContParam>,
+    /// First value of --param's grid: with theta-nu in [-1000, 1000]
+    /// radians, else within that parameter's flag's range.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, conflicts_with_all = ["theta_nu_from", "theta_nu_to"], requires = "to")]
+    pub from: Option<f64>,
+    /// Last value of --param's grid (may be below --from: the sweep then
+    /// runs downwards).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "from")]
+    pub to: Option<f64>,
+    /// First θν of the grid, in radians, in [-1000, 1000] (the same as
+    /// --from when θν is varied).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_from: f64,
     /// Last θν of the grid, in radians, in [-1000, 1000] (may be below
     /// --theta-nu-from: the sweep then runs downwards).
     #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_to: f64,
-    /// Number of θν values, evenly spaced, ends included (1 to 1e6).
+    /// Number of values, evenly spaced (in log10 of the value for kappa,
+    /// nu and omega, which span decades), ends included (1 to 1e6).
     #[arg(long, default_value_t = 200, value_parser = parse_count, allow_hyphen_values = true)]
     pub columns: usize,
     /// Iterates dropped at each θν before any is kept (columns times
@@ -123,6 +147,7 @@ pub fn theta_nu_end(flag: &str, v: f64) -> Result<f64, CliError> {
 pub struct Plan {
     params: Params,
     settings: crate::SolverSettings,
+    param: ContParam,
     from: f64,
     to: f64,
     columns: usize,
@@ -133,18 +158,68 @@ pub struct Plan {
     seeds: usize,
 }
 
+/// The model's parameters with the varied one at `from`: each of the
+/// others from its flag, else the preset's (θν's too when it is fixed).
+fn model_params(args: &BifurcationArgs, param: ContParam, from: f64) -> Result<Params, CliError> {
+    let base = preset_params(args.preset);
+    let pick = |p: ContParam, given: Option<f64>| {
+        if p == param {
+            Ok(from)
+        } else {
+            given_or_preset(p.name(), given, base.map(|b| p.get(&b)))
+        }
+    };
+    let params = Params {
+        kappa: pick(ContParam::Kappa, args.kappa)?,
+        gamma: pick(ContParam::Gamma, args.gamma)?,
+        nu: pick(ContParam::Nu, args.nu)?,
+        theta_nu: pick(ContParam::ThetaNu, args.theta_nu)?,
+        omega: if param == ContParam::Omega {
+            from
+        } else {
+            args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0)
+        },
+    };
+    Ok(params)
+}
+
+/// The varied parameter and its range: --from and --to, checked against
+/// the model's range of --param (the other parameters `params`), or
+/// --theta-nu-from and --theta-nu-to for θν.
+fn varied_range(args: &BifurcationArgs) -> Result<(ContParam, f64, f64), CliError> {
+    let param = args.param.unwrap_or(ContParam::ThetaNu);
+    let (Some(from), Some(to)) = (args.from, args.to) else {
+        if param != ContParam::ThetaNu {
+            return Err(CliError::Usage(format!(
+                "--from and --to: required with --param {} (the range of {} the diagram spans)",
+                param.name(),
+                param.name()
+            )));
+        }
+        let from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
+        let to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
+        return Ok((param, from, to));
+    };
+    // The other parameters checked first, so that a range end is judged
+    // with valid neighbours (its message then names --from or --to).
+    let params = model_params(args, param, from.max(to))?;
+    for (flag, v) in [("from", from), ("to", to)] {
+        if param.spans_decades() && v.is_finite() && v <= 0.0 {
+            return Err(CliError::Usage(format!(
+                "--{flag} = {} is out of range: {} must be positive (its axis is logarithmic)",
+                short(v),
+                param.name()
+            )));
+        }
+        super::continue_cmd::range_end(flag, v, param, &params)?;
+    }
+    Ok((param, from, to))
+}
+
 /// Checks the flags and the output before any work.
 pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
-    let from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
-    let to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
-    let base = preset_params(args.preset);
-    let params = Params {
-        kappa: given_or_preset("kappa", args.kappa, base.map(|b| b.kappa))?,
-        gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
-        nu: given_or_preset("nu", args.nu, base.map(|b| b.nu))?,
-        theta_nu: from,
-        omega: args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
-    };
+    let (param, from, to) = varied_range(args)?;
+    let params = model_params(args, param, from)?;
     params.validate().map_err(param_error)?;
     let settings = args.solver.settings()?;
     let columns = count_in("columns", args.columns, MAX_COLUMNS)?;
@@ -171,6 +246,7 @@ pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     Ok(Plan {
         params,
         settings,
+        param,
         from,
         to,
         columns,
@@ -187,6 +263,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let Plan {
         params,
         settings,
+        param,
         from,
         to,
         columns,
@@ -200,7 +277,8 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     let spec = SweepSpec {
         params,
         settings,
-        theta_nu: Axis::new(from, to, columns),
+        param,
+        axis: Axis::new(from, to, columns),
         transient: args.transient,
         keep,
         map,
@@ -218,13 +296,14 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
         }
         Update::Column {
             index,
-            theta_nu,
+            value,
             uncounted: Some(why),
             ..
         } => {
             uncounted.fetch_add(1, Ordering::Relaxed);
             progress.println(&format!(
-                "warning: column {index} at theta-nu = {theta_nu}: its other attractors not counted: {why}"
+                "warning: column {index} at {} = {value}: its other attractors not counted: {why}",
+                param.name()
             ));
         }
         _ => {}
@@ -247,15 +326,17 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
 
     let cols = in_grid_order(updates, columns);
     let csv = bifurcation_csv(
+        param,
         cols.iter()
             .map(|c| (c.0, c.1.as_slice(), c.4, c.5.as_slice())),
         seeds > 0,
     );
-    let csv = with_provenance(&describe_sweep(&params, &settings), &csv);
+    let described = model_line_varying(&params, &settings, param);
+    let csv = with_provenance(&described, &csv);
     emit(&args.out, csv.as_bytes(), args.force)?;
     let plan_summary = Summary {
-        params,
-        settings,
+        described,
+        param,
         from,
         to,
         columns,
@@ -273,7 +354,7 @@ pub fn run(args: BifurcationArgs) -> Result<(), CliError> {
     summarise(&args, &plan_summary, &run)
 }
 
-/// A finished column: θν, its points, its cost, the map it used, its λ
+/// A finished column: the varied parameter's value, its points, its cost, the map it used, its λ
 /// and its points' attractor labels (empty without seeds).
 type Done = (f64, Vec<f64>, u64, MapUsed, Option<ColumnLyapunov>, Vec<u8>);
 
@@ -283,7 +364,7 @@ fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
     for u in updates {
         if let Update::Column {
             index,
-            theta_nu,
+            value,
             thetas,
             rhs_evals,
             map,
@@ -292,7 +373,7 @@ fn in_grid_order(updates: Vec<Update>, columns: usize) -> Vec<Done> {
             ..
         } = u
         {
-            cols[index] = Some((theta_nu, thetas, rhs_evals, map, lyapunov, attractor));
+            cols[index] = Some((value, thetas, rhs_evals, map, lyapunov, attractor));
         }
     }
     cols.into_iter().flatten().collect()
@@ -313,8 +394,8 @@ struct Ran<'a> {
 /// The summary on stderr; an error if every column failed.
 fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), CliError> {
     let Summary {
-        params,
-        settings,
+        ref described,
+        param,
         from,
         to,
         columns,
@@ -335,8 +416,8 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
     let evals: u64 = cols.iter().map(|c| c.2).sum();
     let (failed, seconds, threads) = (run.failed, run.seconds, run.threads);
     eprintln!(
-        "bifurcation: {}\n  {columns} columns in theta-nu [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
-        describe_sweep(&params, &settings),
+        "bifurcation: {described}\n  {columns} columns in {} [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
+        param.name(),
         args.transient,
         columns as u64 * (args.transient + keep) as u64,
         n as f64 / seconds.max(1e-9),
@@ -351,7 +432,10 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
         eprintln!("{line}");
     }
     if args.seeds > 0 {
-        eprintln!("{}", multistable_line(cols, run.failed, run.uncounted));
+        eprintln!(
+            "{}",
+            multistable_line(param, cols, run.failed, run.uncounted)
+        );
     }
     if failed == columns as u64 {
         return Err(CliError::Failed(format!(
@@ -362,10 +446,10 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
 }
 
 /// What the summary names of the checked flags.
-#[derive(Clone, Copy)]
 struct Summary {
-    params: Params,
-    settings: crate::SolverSettings,
+    /// The model's line ([`model_line_varying`]).
+    described: String,
+    param: ContParam,
     from: f64,
     to: f64,
     columns: usize,
@@ -376,7 +460,7 @@ struct Summary {
 /// columns have more than one, and where the first and last of them are.
 /// Failed columns and those the graph could not count (`uncounted`) are
 /// neither: the line counts them apart.
-fn multistable_line(cols: &[Done], failed: u64, uncounted: u64) -> String {
+fn multistable_line(param: ContParam, cols: &[Done], failed: u64, uncounted: u64) -> String {
     let multi: Vec<f64> = cols
         .iter()
         .filter(|c| c.5.iter().any(|&a| a > 0))
@@ -391,8 +475,9 @@ fn multistable_line(cols: &[Done], failed: u64, uncounted: u64) -> String {
     };
     match (multi.first(), multi.last()) {
         (Some(a), Some(b)) => format!(
-            "  every attractor (the cell graph): {} of {counted} counted column(s) have more than one, at theta-nu {a} to {b}{apart}",
+            "  every attractor (the cell graph): {} of {counted} counted column(s) have more than one, at {} {a} to {b}{apart}",
             multi.len(),
+            param.name()
         ),
         _ if counted == 0 => {
             format!("  every attractor (the cell graph): no column counted{apart}")

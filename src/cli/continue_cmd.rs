@@ -134,8 +134,13 @@ fn param_name(flag: &str, name: &str) -> Result<ContParam, CliError> {
 }
 
 /// A range end: finite, and the parameters valid there (the message names
-/// the flag).
-fn end(flag: &str, v: f64, param: ContParam, base: &Params) -> Result<f64, CliError> {
+/// the flag). `bifurcation --param` checks its range with it too.
+pub(super) fn range_end(
+    flag: &str,
+    v: f64,
+    param: ContParam,
+    base: &Params,
+) -> Result<f64, CliError> {
     let v = finite(flag, v)?;
     if param == ContParam::ThetaNu && v.abs() > 1000.0 {
         return Err(CliError::Usage(format!(
@@ -161,8 +166,8 @@ fn range(
     param: ContParam,
     base: &Params,
 ) -> Result<(), CliError> {
-    let a = end(flags[0], a, param, base)?;
-    let b = end(flags[1], b, param, base)?;
+    let a = range_end(flags[0], a, param, base)?;
+    let b = range_end(flags[1], b, param, base)?;
     if a == b {
         return Err(CliError::Usage(format!(
             "--{} = {} equals --{}: the range is empty",
@@ -239,7 +244,7 @@ fn base_params(args: &ContinueArgs) -> Result<Params, CliError> {
             // the message names --from, as it does for --to.
             match (varied, args.model.params()) {
                 (Some(p), Ok(b)) if args.model.flag(p).is_none() => {
-                    end("from", args.from, p, &b).err().unwrap_or(e)
+                    range_end("from", args.from, p, &b).err().unwrap_or(e)
                 }
                 _ => e,
             }

@@ -118,9 +118,9 @@ pub struct FigureArgs {
     /// --view bifurcation only.
     #[arg(long)]
     pub branches: bool,
-    /// Draw the doubling curves with their generalised flips over the
-    /// phase diagram, as the window's "Boundaries" does (a session's kept
-    /// curves are used). --view phase only.
+    /// Draw the doubling curves with their generalised flips, and the fold
+    /// curves, over the phase diagram, as the window's "Boundaries" does
+    /// (a session's kept curves are used). --view phase only.
     #[arg(long)]
     pub boundaries: bool,
     /// Seeds per column of the diagram, or per cell of the phase diagram,

@@ -52,7 +52,7 @@ pub enum Command {
     Continue(continue_cmd::ContinueArgs),
     /// The block's path (t, x, y, u, w, phase) sampled for display.
     Trajectory(trajectory::TrajectoryArgs),
-    /// Bifurcation diagram data: θ against θν, on both cores.
+    /// Bifurcation diagram data: θ against θν (or κ, γ, ν, Ω: --param), on both cores.
     Bifurcation(bifurcation::BifurcationArgs),
     /// Times the simulation worker: first coarse diagram, full diagram, trajectory latency.
     BenchWorker(bench_worker::BenchWorkerArgs),

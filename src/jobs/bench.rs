@@ -28,7 +28,8 @@ pub fn fig3b_diagram(columns: usize, transient: usize, keep: usize, tol: f64) ->
     SweepSpec {
         params: fig3b(),
         settings: SolverSettings::adaptive(Method::Dop853, tol),
-        theta_nu: Axis::new(0.0, std::f64::consts::FRAC_PI_2, columns),
+        param: crate::sim::continuation::ContParam::ThetaNu,
+        axis: Axis::new(0.0, std::f64::consts::FRAC_PI_2, columns),
         transient,
         keep,
         map: MapChoice::Auto,

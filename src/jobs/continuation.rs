@@ -42,13 +42,7 @@ async fn attractor_seed(
 
 /// The parameter's letter, as the window writes it.
 fn symbol(p: ContParam) -> &'static str {
-    match p {
-        ContParam::ThetaNu => "θν",
-        ContParam::Kappa => "κ",
-        ContParam::Gamma => "γ",
-        ContParam::Nu => "ν",
-        ContParam::Omega => "Ω",
-    }
+    p.symbol()
 }
 
 /// A start that is not on a cycle: the job ends, saying why.
@@ -390,6 +384,10 @@ impl Out {
             .into_iter()
             .filter(|p| starts.iter().any(|s| s.period == *p))
             .collect();
+        // The folds of the followed cycle's branch: the fold curves
+        // (`continue --curve fold`), where the cycle is born or dies.
+        let folds: Vec<SpecialPoint> = branch.of_kind(SpecialKind::Fold).cloned().collect();
+        let steps = periods.len() + usize::from(!folds.is_empty());
         for (i, &p) in periods.iter().enumerate() {
             // One curve per boundary: a doubling on a curve already
             // followed is not followed again.
@@ -408,7 +406,23 @@ impl Out {
                 .await;
             evals += found.iter().map(|c| c.map_evals).sum::<u64>();
             curves.extend(found);
-            self.progress((i + 1) as f64 / periods.len() as f64, evals, started);
+            self.progress((i + 1) as f64 / steps as f64, evals, started);
+        }
+        if !folds.is_empty() {
+            let found = self
+                .curves_through(
+                    &prob.base,
+                    &spec.settings,
+                    [ContParam::ThetaNu, ContParam::Kappa],
+                    period,
+                    CurveKind::Fold,
+                    &folds,
+                    &copts,
+                )
+                .await;
+            evals += found.iter().map(|c| c.map_evals).sum::<u64>();
+            curves.extend(found);
+            self.progress(1.0, evals, started);
         }
         let names: Vec<String> = curves.iter().map(curve_name).collect();
         self.summary(format!(
@@ -423,7 +437,7 @@ impl Out {
     /// and the doublings the curves start from: every doubling of that
     /// branch (the fixed point's boundary is crossed twice at some κ) and
     /// the first of the cycle it doubles into. `None` (after a summary)
-    /// when there is none.
+    /// when there is none, and no fold either.
     #[allow(clippy::type_complexity)]
     async fn doublings(
         &self,
@@ -466,9 +480,9 @@ impl Out {
         if self.stale() {
             return Err(JobError::Stop);
         }
-        if starts.is_empty() {
+        if starts.is_empty() && branch.of_kind(SpecialKind::Fold).next().is_none() {
             self.summary(format!(
-                "stopped: the P{period} cycle does not double along θν in [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
+                "stopped: the P{period} cycle does not double or fold along θν in [{t0:.4}, {t1:.4}] at κ = {kappa:.4}: pick a κ where it does"
             ));
             return Ok(None);
         }
@@ -514,12 +528,15 @@ fn curve_name(c: &Curve) -> String {
         1 => ", 1 generalised flip".into(),
         n => format!(", {n} generalised flips"),
     };
-    format!(
-        "P{} to P{} ({} points{flips})",
-        c.period,
-        2 * c.period,
-        c.points.len()
-    )
+    match c.kind {
+        CurveKind::PeriodDoubling => format!(
+            "P{} to P{} ({} points{flips})",
+            c.period,
+            2 * c.period,
+            c.points.len()
+        ),
+        CurveKind::Fold => format!("P{} fold ({} points)", c.period, c.points.len()),
+    }
 }
 
 /// Find bifurcations: the spec's branch and its cascade or curves.

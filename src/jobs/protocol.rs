@@ -87,18 +87,22 @@ pub struct IterateSpec {
 /// The highest power of the map an iterate job draws the graph of.
 pub const MAX_GRAPH_POWER: usize = 4;
 
-/// A bifurcation diagram over θν (`theta_nu`, one column per step): a
-/// coarse pass over the whole range first, then refinement, each column
-/// continued from its nearest computed neighbour (`sweep_plan`). The θν of
-/// `params` is ignored (it is the axis).
+/// A bifurcation diagram over one parameter (`param`, θν in the paper's
+/// Fig. 3; one column per step of `axis`): a coarse pass over the whole
+/// range first, then refinement, each column continued from its nearest
+/// computed neighbour (`sweep_plan`). `param`'s value in `params` is
+/// ignored (it is the axis); the others are held fixed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SweepSpec {
-    /// The model's parameters (κ, γ, ν, Ω).
+    /// The model's parameters (all but `param`'s).
     pub params: Params,
     /// The solver and its accuracy.
     pub settings: SolverSettings,
-    /// The θν columns.
-    pub theta_nu: Axis,
+    /// The parameter varied along the axis.
+    pub param: ContParam,
+    /// Its columns: evenly spaced, in log10 of the value for a parameter
+    /// that spans decades ([`crate::sim::param_grid`]).
+    pub axis: Axis,
     /// Iterates each column drops before it keeps any.
     pub transient: usize,
     /// Iterates each column keeps.
@@ -343,7 +347,8 @@ pub enum Update {
         generation: Generation,
         /// Position of the column in the final grid (0 … columns−1).
         index: usize,
-        theta_nu: f64,
+        /// The varied parameter's value there (the spec's `param`).
+        value: f64,
         thetas: Vec<f64>,
         /// Whether this column belongs to the first, coarse pass.
         coarse: bool,

@@ -32,13 +32,13 @@ use super::plan::{PlannedColumn, sweep_plan};
 use super::protocol::{Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
-use crate::model::ParamError;
+use crate::model::{ParamError, Params};
 use crate::sim::column_lyapunov::LyapunovRun;
 use crate::sim::interpolant::MapUsed;
 use crate::sim::seeded::{SeededColumn, seeded_column};
 use crate::sim::{
     Column, ColumnJob, Handover, LANES, LaneEnd, PausedColumn, SimError, Simulator, SweepOptions,
-    Yield, column_start, run_columns, theta_nu_grid,
+    Yield, column_start, param_grid, run_columns,
 };
 
 /// When a sink's host wants its thread back.
@@ -93,18 +93,26 @@ struct Delivery {
     lyapunov: Option<LyapunovRun>,
 }
 
-/// Checks what the columns cannot check for themselves, before any work.
+/// Checks what the columns cannot check for themselves, before any work:
+/// finite ends (positive on a log axis) at which the model is valid.
 fn validate(s: &SweepSpec) -> Result<(), SimError> {
-    for v in [s.theta_nu.from, s.theta_nu.to] {
+    let name = s.param.name();
+    for v in [s.axis.from, s.axis.to] {
         if !v.is_finite() {
-            let range = "the sweep's ends must be finite angles";
-            return Err(ParamError::new("theta-nu", v, range).into());
+            let range = "the sweep's ends must be finite";
+            return Err(ParamError::new(name, v, range).into());
+        }
+        if s.param.spans_decades() && v <= 0.0 {
+            let range = "the sweep's ends must be positive (a log axis)";
+            return Err(ParamError::new(name, v, range).into());
         }
     }
-    if s.theta_nu.steps == 0 {
+    if s.axis.steps == 0 {
         return Err(ParamError::new("columns", 0.0, "must be at least 1").into());
     }
-    Simulator::new(s.params.with_theta_nu(s.theta_nu.from), s.settings)?;
+    for v in [s.axis.from, s.axis.to] {
+        Simulator::new(s.param.set(&s.params, v), s.settings)?;
+    }
     Ok(())
 }
 
@@ -127,17 +135,17 @@ pub(crate) struct SweepJob {
 impl SweepJob {
     pub fn new(spec: SweepSpec, shape: Shape) -> Result<Self, JobError> {
         validate(&spec)?;
-        let columns = spec.theta_nu.steps;
+        let columns = spec.axis.steps;
         let opts = SweepOptions {
             transient: spec.transient,
             keep: spec.keep,
             map: spec.map,
         };
-        let grid = theta_nu_grid(spec.theta_nu.from, spec.theta_nu.to, columns);
+        let grid = param_grid(spec.param, spec.axis.from, spec.axis.to, columns);
         let plan = sweep_plan(columns, shape.coarse_columns, shape.chains);
         let sims = grid
             .iter()
-            .map(|&tn| Simulator::new(spec.params.with_theta_nu(tn), spec.settings))
+            .map(|&v| Simulator::new(spec.param.set(&spec.params, v), spec.settings))
             .collect();
         Ok(SweepJob {
             spec,
@@ -153,6 +161,11 @@ impl SweepJob {
         })
     }
 
+    /// The model's parameters at column `index`.
+    fn params_at(&self, index: usize) -> Params {
+        self.spec.param.set(&self.spec.params, self.grid[index])
+    }
+
     /// Sends a finished column (or the panic that ended it) and marks it
     /// done in the schedule.
     fn deliver(
@@ -163,7 +176,8 @@ impl SweepJob {
         sink: &dyn Sink,
     ) -> Result<(), JobError> {
         let generation = sink.generation();
-        let tn = self.grid[p.index];
+        let (name, v) = (self.spec.param.name(), self.grid[p.index]);
+        let tn = self.params_at(p.index).theta_nu;
         // A failed column is still delivered (with what it kept) after an
         // Error naming it; its neighbours then start afresh from θν.
         let (col, problem) = match col {
@@ -172,7 +186,7 @@ impl SweepJob {
                 Some(SimError::Cancelled) => return Err(JobError::Stop),
                 Some(e) => {
                     let msg = format!(
-                        "column {} at theta-nu = {tn} failed after {} kept iterates: {e}",
+                        "column {} at {name} = {v} failed after {} kept iterates: {e}",
                         p.index,
                         c.thetas.len()
                     );
@@ -182,7 +196,7 @@ impl SweepJob {
             },
             Err(payload) => {
                 let msg = format!(
-                    "column {} at theta-nu = {tn} panicked: {}",
+                    "column {} at {name} = {v} panicked: {}",
                     p.index,
                     panic_message(&*payload)
                 );
@@ -232,7 +246,7 @@ impl SweepJob {
     fn send_column(&self, mut d: Delivery, sink: &dyn Sink, fresh: bool) -> Result<(), JobError> {
         let generation = sink.generation();
         let p = d.p;
-        let tn = self.grid[p.index];
+        let v = self.grid[p.index];
         if let (Some(run), Ok(sim)) = (d.lyapunov.as_mut(), self.sims[p.index].as_ref())
             && !run.advance(sim, &d.col, &Yielding(sink), fresh)
         {
@@ -244,11 +258,11 @@ impl SweepJob {
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;
         let n = self.iterates.fetch_add(k, Ordering::Relaxed) + k;
-        match self.seeded(tn, &col.thetas, d.handover, sink)? {
+        match self.seeded(p.index, &col.thetas, d.handover, sink)? {
             Some(seeded) => sink.send(Update::Column {
                 generation,
                 index: p.index,
-                theta_nu: tn,
+                value: v,
                 thetas: seeded.thetas,
                 coarse: p.coarse,
                 rhs_evals: col.rhs_evals + seeded.rhs_evals,
@@ -260,7 +274,7 @@ impl SweepJob {
             None => sink.send(Update::Column {
                 generation,
                 index: p.index,
-                theta_nu: tn,
+                value: v,
                 thetas: col.thetas,
                 coarse: p.coarse,
                 rhs_evals: col.rhs_evals,
@@ -285,7 +299,7 @@ impl SweepJob {
     /// is `None`).
     fn seeded(
         &self,
-        theta_nu: f64,
+        index: usize,
         thetas: &[f64],
         handover: Option<Handover>,
         sink: &dyn Sink,
@@ -294,8 +308,9 @@ impl SweepJob {
         let Some(h) = handover.filter(|_| seeds > 0) else {
             return Ok(None);
         };
+        let params = self.params_at(index);
         let followed = Column {
-            theta_nu,
+            theta_nu: params.theta_nu,
             thetas: thetas.to_vec(),
             theta_last: h.theta,
             error: None,
@@ -303,7 +318,6 @@ impl SweepJob {
             slow_period: h.slow_period,
             map: MapUsed::Direct,
         };
-        let params = self.spec.params.with_theta_nu(theta_nu);
         let cancel = || sink.cycle();
         match seeded_column(
             params,
@@ -326,13 +340,15 @@ impl SweepJob {
         p: PlannedColumn,
         neighbour: Option<Handover>,
     ) -> (ColumnJob<'_>, InFlight) {
-        let tn = self.grid[p.index];
+        let params = self.params_at(p.index);
+        let tn = params.theta_nu;
         // A chain's head starts at θ0 if given, as if continued from it.
         let from = match (p.parent, self.spec.theta0) {
             (None, Some(theta0)) => Some(theta0),
             _ => neighbour.map(|h| h.theta),
         };
-        let start = column_start(self.spec.params.kappa, tn, from);
+        // Projected onto this column's exit arc (κ's and θν's).
+        let start = column_start(params.kappa, tn, from);
         let slow_period = neighbour.and_then(|h| h.slow_period);
         let job = ColumnJob {
             sim: self.sims[p.index].as_ref().map_err(Clone::clone),
@@ -369,7 +385,7 @@ impl SweepJob {
         let (p, (start, slow_period)) = flight;
         ColumnJob {
             sim: self.sims[p.index].as_ref().map_err(Clone::clone),
-            theta_nu: self.grid[p.index],
+            theta_nu: self.params_at(p.index).theta_nu,
             start,
             slow_period,
             resume: Some(run),
@@ -387,12 +403,13 @@ impl SweepJob {
     ) -> Result<(), JobError> {
         let cancel = || sink.cycle();
         for (p, start) in in_flight.into_iter().flatten() {
-            let tn = self.grid[p.index];
+            let params = self.params_at(p.index);
+            let tn = params.theta_nu;
             let col = catch_unwind(AssertUnwindSafe(|| {
                 #[cfg(test)]
                 tests::inject_panic(p.index, self.grid[p.index]);
                 let (theta, slow) = start;
-                let (params, settings) = (self.spec.params, self.spec.settings);
+                let settings = self.spec.settings;
                 Column::run_from(params, settings, tn, theta, slow, &self.opts, &cancel)
             }));
             self.deliver(p, start, col, sink)?;

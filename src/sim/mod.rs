@@ -39,6 +39,6 @@ pub use period::{PERIOD_MAX, settled_period};
 pub use stats::mean_and_stderr;
 pub use sweep::{
     Column, ColumnJob, Handover, LaneEnd, NeverYield, PausedColumn, SweepOptions, Yield,
-    column_start, run_columns, sweep_columns, theta_nu_grid,
+    column_start, param_grid, run_columns, sweep_columns, theta_nu_grid,
 };
 pub use trajectory::{Phase, Sample, Sampler};

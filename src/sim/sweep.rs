@@ -27,6 +27,7 @@ use super::period::{PERIOD_MAX, contraction, settled_period};
 use super::{SimError, Simulator, SlipEvent};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc};
+use crate::sim::continuation::ContParam;
 use heavy::{Heavy, Solving};
 
 /// How long each column runs.
@@ -103,6 +104,29 @@ pub fn theta_nu_grid(from: f64, to: f64, n: usize) -> Vec<f64> {
             })
             .collect(),
     }
+}
+
+/// `n` values of `param` from `from` to `to`, both ends included: evenly
+/// spaced in log10 of the value for a parameter that spans decades
+/// ([`ContParam::spans_decades`]; both ends must then be positive), else
+/// as [`theta_nu_grid`]. The ends are `from` and `to` exactly.
+pub fn param_grid(param: ContParam, from: f64, to: f64, n: usize) -> Vec<f64> {
+    // NaN ends are not positive either: the linear grid carries them.
+    let positive = from > 0.0 && to > 0.0;
+    if !param.spans_decades() || !positive {
+        return theta_nu_grid(from, to, n);
+    }
+    let mut g: Vec<f64> = theta_nu_grid(from.ln(), to.ln(), n)
+        .into_iter()
+        .map(f64::exp)
+        .collect();
+    if let (Some(first), true) = (g.first_mut(), n > 0) {
+        *first = from;
+    }
+    if let (Some(last), true) = (g.last_mut(), n > 1) {
+        *last = to;
+    }
+    g
 }
 
 /// Where a column at θν starts: the neighbour's last onset moved onto the new

@@ -270,7 +270,8 @@ mod tests {
         let spec = SweepSpec {
             params: Params::default(),
             settings: default_settings(1e-6),
-            theta_nu: Axis::new(0.5, 1.0, 6),
+            param: crate::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(0.5, 1.0, 6),
             transient: 20,
             keep: 5,
             map: MapChoice::Auto,

@@ -75,7 +75,8 @@ pub fn sweep(generation: Generation, columns: usize, transient: usize, keep: usi
         SweepSpec {
             params: fig3b(0.0),
             settings: settings(),
-            theta_nu: Axis::new(0.05, 1.5, columns),
+            param: oneblock::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(0.05, 1.5, columns),
             transient,
             keep,
             map: MapChoice::Auto,

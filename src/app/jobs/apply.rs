@@ -78,7 +78,7 @@ impl Jobs {
         match u {
             Update::Column {
                 index,
-                theta_nu,
+                value,
                 thetas,
                 coarse,
                 lyapunov,
@@ -86,7 +86,7 @@ impl Jobs {
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
-                    theta_nu,
+                    value,
                     thetas,
                     coarse,
                     lyapunov,
@@ -99,6 +99,9 @@ impl Jobs {
             }
             Update::Branch { branch, .. } if job == JobKind::Branches => {
                 self.branches.data.branches.push(branch);
+            }
+            Update::Cascade { cascade, .. } if job == JobKind::Branches => {
+                self.branches.data.doublings = cascade.doublings;
             }
             Update::Curve { curve, .. } if job == JobKind::Curves => {
                 self.curves.data.curves.push(curve);

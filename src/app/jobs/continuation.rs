@@ -9,26 +9,28 @@ use super::{JobKind, JobState, Jobs, SlotHead, solver};
 use crate::app::branches::{BranchData, CurveData};
 use crate::app::session_results::{Kept, Results};
 use crate::app::settings::Settings;
-use crate::sim::continuation::ContParam;
 use crate::worker::{BoundarySpec, CascadeFrom, Command, ContinuationSpec};
 
 /// The longest period "Find bifurcations" follows a cascade to: the P64
 /// level alone costs seconds, too long to wait for at the window.
 pub const MAX_CASCADE_PERIOD: usize = 32;
 
-/// The θν range the bifurcation diagram shows: its zoom, or the whole range.
+/// The range the bifurcation diagram shows, in the parameter it varies:
+/// its zoom, or the whole range.
 pub fn diagram_range(s: &Settings, zoom: Option<(f64, f64)>) -> (f64, f64) {
     zoom.unwrap_or_else(|| s.sweep_range())
 }
 
 impl Jobs {
-    /// Finds the bifurcations over the θν range `range` (the diagram's).
+    /// Finds the bifurcations over `range` (the diagram's) of the
+    /// parameter the diagram varies, the others held at the sliders'.
     pub fn find_bifurcations(&mut self, s: &Settings, range: (f64, f64)) {
         let g = self.generation();
+        let param = s.diagram.param;
         self.branches.start(
             g,
             BranchData {
-                param: Some(ContParam::ThetaNu),
+                param: Some(param),
                 range,
                 ..BranchData::default()
             },
@@ -38,7 +40,7 @@ impl Jobs {
             ContinuationSpec {
                 params: s.params,
                 settings: solver(JobKind::Branches, s),
-                param: ContParam::ThetaNu,
+                param,
                 from: range.0,
                 to: range.1,
                 max_period: MAX_CASCADE_PERIOD,

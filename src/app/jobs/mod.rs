@@ -285,6 +285,7 @@ impl Jobs {
         let g = self.generation();
         let revision = self.sweep.data.revision + 1;
         let mut data = SweepData::new(from, to, s.columns);
+        data.param = key.param;
         data.revision = revision;
         self.sweep.start(g, data);
         self.bind(JobKind::Sweep, s, (from, to));
@@ -293,7 +294,8 @@ impl Jobs {
             SweepSpec {
                 params: s.params,
                 settings: key.solver,
-                theta_nu: Axis::new(from, to, s.columns),
+                param: key.param,
+                axis: Axis::new(from, to, s.columns),
                 transient: s.sweep_transient,
                 keep: s.sweep_keep,
                 map: MapChoice::Auto,
@@ -443,8 +445,10 @@ impl Jobs {
             None => self.restart_sweep(s, shown.sweep_zoom),
             Some(sent) if sent != (key, shown.sweep_zoom) => {
                 let zoom_only = sent.0 == key;
-                // A new parameter set or range: the zoom's θ box no longer applies.
-                let stale = !zoom_only && (s.full_circle != sent.0.full_circle || sent.1.is_some());
+                // A new parameter set, axis or range: the zoom's θ box
+                // no longer applies.
+                let axis_moved = (key.param, key.range) != (sent.0.param, sent.0.range);
+                let stale = !zoom_only && (axis_moved || sent.1.is_some());
                 out.zoom_stale = stale;
                 let zoom = if stale { None } else { shown.sweep_zoom };
                 let changed_at = *self.sweep_changed_at.get_or_insert(now);

@@ -8,6 +8,8 @@
 use super::super::settings::{PhaseRange, Settings};
 use super::kind::JobKind;
 use crate::integrate::SolverSettings;
+use crate::model::Params;
+use crate::sim::continuation::ContParam;
 
 /// Time between two orbit restarts while a slider is dragged (seconds).
 pub const ORBIT_DEBOUNCE: f64 = 0.04;
@@ -17,30 +19,31 @@ pub const SWEEP_DEBOUNCE: f64 = 0.25;
 /// the budget before the grid restarts (seconds), as for the sweep.
 pub const PHASE_DEBOUNCE: f64 = 0.25;
 
-/// What a bifurcation sweep depends on (θν is its x-axis, so it is left
-/// out).
+/// What a bifurcation sweep depends on: the parameters but the one it
+/// varies (its x-axis), which one that is, and its whole range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweepKey {
-    pub kappa: f64,
-    pub gamma: f64,
-    pub nu: f64,
-    pub omega: f64,
+    /// The model's parameters, the varied one's value zeroed.
+    pub params: Params,
+    /// The parameter varied.
+    pub param: ContParam,
+    /// Its whole (unzoomed) range.
+    pub range: (f64, f64),
     pub solver: SolverSettings,
     pub columns: usize,
     pub transient: usize,
     pub keep: usize,
     pub seeds: usize,
-    pub full_circle: bool,
 }
 
 impl SweepKey {
     /// The key of the settings `s`.
     pub fn of(s: &Settings) -> Self {
+        let param = s.diagram.param;
         SweepKey {
-            kappa: s.params.kappa,
-            gamma: s.params.gamma,
-            nu: s.params.nu,
-            omega: s.params.omega,
+            params: param.set(&s.params, 0.0),
+            param,
+            range: s.sweep_range(),
             solver: JobKind::Sweep
                 .solver(s)
                 .unwrap_or_else(|| s.custom_solver()),
@@ -48,7 +51,6 @@ impl SweepKey {
             transient: s.sweep_transient,
             keep: s.sweep_keep,
             seeds: s.sweep_seeds,
-            full_circle: s.full_circle,
         }
     }
 }

@@ -41,13 +41,22 @@ fn bits(xs: &[f64]) -> Vec<u64> {
 
 impl Bound {
     /// What a job of `kind` started now would be computed for, with the
-    /// diagram's θν range `diagram` (its zoom's, or the whole range).
+    /// diagram's range `diagram` (its zoom's, or the whole range, in the
+    /// parameter it varies).
     pub fn of(kind: JobKind, s: &Settings, diagram: (f64, f64)) -> Bound {
         let p = &s.params;
         let all = [p.kappa, p.gamma, p.nu, p.theta_nu, p.omega];
         // θν is the diagram's axis; κ and θν are the phase grid's.
         let but_theta_nu = [p.kappa, p.gamma, p.nu, p.omega];
         let but_axes = [p.gamma, p.nu, p.omega];
+        // The diagram's: every parameter but the one it varies, and which
+        // one that is (a new axis is new parameters: its result goes).
+        let varied = s.diagram.param;
+        let but_varied: Vec<f64> = crate::sim::continuation::ContParam::ALL
+            .iter()
+            .map(|&q| if q == varied { 0.0 } else { q.get(p) })
+            .chain([varied as u8 as f64])
+            .collect();
         let (params, range): (&[f64], Vec<f64>) = match kind {
             JobKind::Trajectory
             | JobKind::Iterate
@@ -57,10 +66,8 @@ impl Bound {
             | JobKind::Numerics => (&all, Vec::new()),
             JobKind::Sweep | JobKind::Branches => {
                 let (a, b) = diagram;
-                (
-                    &but_theta_nu,
-                    vec![a, b, f64::from(u8::from(s.full_circle))],
-                )
+                let (c, d) = s.sweep_range();
+                (&but_varied, vec![a, b, c, d])
             }
             JobKind::Basins => {
                 let (a, b) = s.basins.range(s);
@@ -293,6 +300,56 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// Branches found in κ belong to the diagram's axis: κ itself may
+    /// move (it is the axis), θν may not; another range of κ only stops a
+    /// running job; another varied parameter clears them, as new
+    /// parameters do.
+    #[test]
+    fn branches_in_kappa_follow_the_rule_with_kappa_as_the_axis() {
+        use crate::sim::continuation::ContParam;
+        let found = |s: &Settings| {
+            let rec = Recorder::new();
+            let mut jobs = Jobs::new(Box::new(rec));
+            jobs.find_bifurcations(s, s.sweep_range());
+            let g = jobs.branches.generation;
+            jobs.apply(Update::Finished {
+                generation: g,
+                lane: Lane::Continuation,
+                outcome: Outcome::Completed,
+            });
+            jobs.branches.data.range = s.sweep_range();
+            jobs
+        };
+        let mut s = Settings::default();
+        s.diagram.param = ContParam::Kappa;
+        s.diagram.kappa = (2.0, 5.0);
+        let kept = |jobs: &Jobs| jobs.branches.state == JobState::Done;
+
+        let mut t = s.clone();
+        t.params.kappa = 3.0;
+        let mut jobs = found(&s);
+        jobs.apply_bounds(&t, &shown());
+        assert!(kept(&jobs), "κ is the axis");
+
+        t.diagram.kappa = (2.0, 4.0);
+        jobs.apply_bounds(&t, &shown());
+        assert!(kept(&jobs), "a new range keeps what was found");
+        assert_eq!(jobs.branches.data.range, (2.0, 5.0));
+
+        let mut jobs = found(&s);
+        let mut t = s.clone();
+        t.params.theta_nu += 0.01;
+        jobs.apply_bounds(&t, &shown());
+        assert_eq!(jobs.branches.state, JobState::Idle, "θν is held fixed");
+
+        let mut jobs = found(&s);
+        let mut t = s.clone();
+        t.diagram.param = ContParam::Gamma;
+        jobs.apply_bounds(&t, &shown());
+        assert_eq!(jobs.branches.state, JobState::Idle, "another axis");
+        assert!(jobs.branches.data.branches.is_empty());
     }
 
     /// A zoom (the range only) stops a running Find bifurcations and keeps

@@ -131,7 +131,7 @@ impl BasinsSettings {
     pub fn range(&self, s: &Settings) -> (f64, f64) {
         match self.zoom.last() {
             Some(&r) if is_usable_range(r) => r,
-            _ => s.sweep_range(),
+            _ => s.theta_nu_range(),
         }
     }
 }

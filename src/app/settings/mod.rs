@@ -9,7 +9,9 @@ use std::f64::consts::{FRAC_PI_2, PI};
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
 
+mod diagram;
 mod grids;
+pub use diagram::*;
 pub use grids::*;
 
 /// The views the window can show.
@@ -247,6 +249,9 @@ pub struct Settings {
     pub hide_panel: bool,
     /// How fast Play moves θν, in radians per second of the window.
     pub play_speed: f64,
+    /// The bifurcation diagram's axis: the parameter it varies (θν, or
+    /// κ, γ, ν, Ω) and their ranges.
+    pub diagram: DiagramAxis,
 }
 
 impl Settings {
@@ -309,6 +314,7 @@ impl Default for Settings {
             basins: Default::default(),
             hide_panel: false,
             play_speed: PLAY_SPEEDS[1],
+            diagram: DiagramAxis::default(),
         }
     }
 }
@@ -491,6 +497,11 @@ impl Settings {
             self.phase = phase;
             bad.push("phase grid");
         }
+        let (diagram, spoiled) = self.diagram.sanitised();
+        if spoiled {
+            self.diagram = diagram;
+            bad.push("diagram range");
+        }
     }
 
     /// The highest power f^k of the map the return map draws (1: f alone).
@@ -509,8 +520,16 @@ impl Settings {
         }
     }
 
-    /// The θν range of the full (unzoomed) bifurcation diagram.
+    /// The range of the full (unzoomed) bifurcation diagram, in the
+    /// parameter it varies ([`DiagramAxis`]).
     pub fn sweep_range(&self) -> (f64, f64) {
+        self.diagram
+            .range(self.diagram.param)
+            .unwrap_or_else(|| self.theta_nu_range())
+    }
+
+    /// The θν slider's range: [0, π/2], or the full circle.
+    pub fn theta_nu_range(&self) -> (f64, f64) {
         if self.full_circle {
             (-std::f64::consts::PI, std::f64::consts::PI)
         } else {

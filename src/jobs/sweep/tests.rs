@@ -34,7 +34,8 @@ fn a_panicking_column_is_reported_and_the_sweep_goes_on() {
             SweepSpec {
                 params: Params::default(),
                 settings: default_settings(1e-8),
-                theta_nu: Axis::new(0.2, 1.4, 10),
+                param: crate::sim::continuation::ContParam::ThetaNu,
+                axis: Axis::new(0.2, 1.4, 10),
                 transient: 3,
                 keep: 3,
                 map: MapChoice::Auto,
@@ -43,7 +44,7 @@ fn a_panicking_column_is_reported_and_the_sweep_goes_on() {
             },
         )
     };
-    let grid = theta_nu_grid(0.2, 1.4, 10);
+    let grid = crate::sim::theta_nu_grid(0.2, 1.4, 10);
     PANIC_AT_THETA_NU.store(grid[5].to_bits(), Ordering::SeqCst);
     assert!(w.send(sweep(1)));
     let mut columns = HashSet::new();

@@ -39,10 +39,12 @@ pub use pace::{Ask, Pace, drive, one_piece};
 pub use stencil::Stencil;
 pub use walk::{continue_branch, continue_branch_paced, continue_branch_reporting};
 
-/// A parameter a branch can be continued in.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+/// A parameter a branch can be continued in (and a bifurcation diagram
+/// drawn over; θν, the paper's, by default).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum ContParam {
     /// θν, the pulling direction.
+    #[default]
     ThetaNu,
     /// κ, the spring anisotropy.
     Kappa,
@@ -99,6 +101,24 @@ impl ContParam {
             ContParam::Gamma => "gamma",
             ContParam::Nu => "nu",
             ContParam::Omega => "omega",
+        }
+    }
+
+    /// Whether its values span decades (κ, ν, Ω): a diagram in it is laid
+    /// out on a log axis, its columns evenly spaced in log10 of the value
+    /// ([`crate::sim::param_grid`]), as the window's sliders move it.
+    pub fn spans_decades(self) -> bool {
+        matches!(self, ContParam::Kappa | ContParam::Nu | ContParam::Omega)
+    }
+
+    /// The paper's symbol (θν, κ, γ, ν, Ω).
+    pub fn symbol(self) -> &'static str {
+        match self {
+            ContParam::ThetaNu => "θν",
+            ContParam::Kappa => "κ",
+            ContParam::Gamma => "γ",
+            ContParam::Nu => "ν",
+            ContParam::Omega => "Ω",
         }
     }
 

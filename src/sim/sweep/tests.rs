@@ -85,6 +85,25 @@ fn grids_over_the_widest_ranges_stay_finite() {
     assert_eq!(theta_nu_grid(0.0, 1.0, 3), [0.0, 0.5, 1.0]);
 }
 
+/// κ, ν, Ω columns are evenly spaced in log10 of the value, their ends
+/// exact; γ's and θν's evenly in the value.
+#[test]
+fn grids_in_parameters_that_span_decades_are_logarithmic() {
+    use crate::sim::continuation::ContParam;
+    let g = param_grid(ContParam::Kappa, 1.0, 100.0, 3);
+    assert_eq!((g[0], g[2]), (1.0, 100.0));
+    assert!((g[1] - 10.0).abs() < 1e-12, "{g:?}");
+    let g = param_grid(ContParam::Nu, 1e-5, 1e-2, 7);
+    let ratios: Vec<f64> = g.windows(2).map(|w| w[1] / w[0]).collect();
+    assert!(
+        ratios.iter().all(|r| (r - 10f64.sqrt()).abs() < 1e-12),
+        "{ratios:?}"
+    );
+    assert_eq!((g[0], g[6]), (1e-5, 1e-2));
+    assert_eq!(param_grid(ContParam::Gamma, 1.0, 2.0, 3), [1.0, 1.5, 2.0]);
+    assert_eq!(param_grid(ContParam::Omega, 50.0, 50.0, 1), [50.0]);
+}
+
 /// A long transient is streamed: a column holds the settle window and
 /// its kept iterates, not the transient, and keeps the same iterates
 /// as a short transient from the same settled state would.
