@@ -70,9 +70,9 @@ pub const SELECTOR: &str = "Diagram in";
 /// range: two fields, each taking a value only where the model has one
 /// and the range stays increasing.
 pub fn selector_ui(ui: &mut Ui, s: &mut Settings) {
-    let label = ui.label(SELECTOR);
     let before = s.diagram.param;
-    egui::ComboBox::from_id_salt("diagram-param")
+    // The label is the combo box's own: its accessible name.
+    egui::ComboBox::new("diagram-param", SELECTOR)
         .selected_text(before.symbol())
         .show_ui(ui, |ui| {
             for p in ContParam::ALL {
@@ -80,7 +80,6 @@ pub fn selector_ui(ui: &mut Ui, s: &mut Settings) {
             }
         })
         .response
-        .labelled_by(label.id)
         .on_hover_text(
             "The parameter the diagram varies, the others held at the sliders' values \
              (oneblock bifurcation --param). κ, ν and Ω are drawn on a log axis. \
