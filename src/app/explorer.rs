@@ -227,6 +227,7 @@ impl Explorer {
                 jobs: &mut self.jobs,
                 shots: &mut self.shots,
                 stats: &mut self.stats,
+                play: &mut self.play,
                 now: self.now,
             };
             script.step(ctx, w);
