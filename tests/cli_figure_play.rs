@@ -43,9 +43,13 @@ fn small_session(dir: &Path) -> PathBuf {
     p
 }
 
+/// One frame as a whole picture: its delay (hundredths of a second) and
+/// its RGBA pixels.
+type Picture = (u16, Vec<u8>);
+
 /// The frames of a GIF as whole RGBA pictures (each frame's rectangle
 /// drawn over the one before), with the size and each frame's delay.
-fn gif_frames(path: &Path) -> ((usize, usize), Vec<(u16, Vec<u8>)>) {
+fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
     let file = std::fs::File::open(path).expect("gif written");
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::RGBA);

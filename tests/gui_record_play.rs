@@ -56,7 +56,11 @@ fn record_saves_a_gif_of_theta_nu_played() {
         std::thread::sleep(Duration::from_millis(20));
     }
     let gif = gif.expect("a GIF was written within two minutes");
-    let name = gif.file_name().expect("a name").to_string_lossy().to_string();
+    let name = gif
+        .file_name()
+        .expect("a name")
+        .to_string_lossy()
+        .to_string();
     assert!(name.starts_with("oneblock-return-map-played-"), "{name}");
     let mut opts = gif::DecodeOptions::new();
     opts.set_color_output(gif::ColorOutput::RGBA);

@@ -32,8 +32,8 @@ pub use sliced::GifRun;
 /// between pieces (the browser's Record): the block or plane's playback,
 /// or θν played.
 pub enum Recording {
-    Playback(GifRun),
-    Played(PlayRun),
+    Playback(Box<GifRun>),
+    Played(Box<PlayRun>),
 }
 
 impl Recording {

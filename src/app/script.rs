@@ -119,18 +119,7 @@ impl Script {
             }
             Stage::Playing(until, from, generation) => {
                 if Instant::now() >= until {
-                    w.play.toggle();
-                    let st = &mut *w.stats;
-                    st.playing = false;
-                    st.recording = false;
-                    st.played = Some((from, w.settings.params.theta_nu));
-                    st.play_restarts =
-                        w.jobs.trajectory.generation.saturating_sub(generation) as usize;
-                    // The picture once the views are complete at the θν
-                    // the play stopped at (nothing measured again).
-                    self.play = false;
-                    self.measure = None;
-                    self.stage = Stage::Waiting;
+                    self.stop_playing(w, from, generation);
                 }
             }
             Stage::MeasuringIdle(until) => {
@@ -199,6 +188,21 @@ impl Script {
             }
             Stage::Closing => {}
         }
+    }
+
+    /// Stops θν playing (started at θν `from`, trajectory `generation`)
+    /// and says what was played; the picture is taken once the views are
+    /// complete at the θν it stopped at (nothing measured again).
+    fn stop_playing(&mut self, w: Window<'_>, from: f64, generation: Generation) {
+        w.play.toggle();
+        let st = &mut *w.stats;
+        st.playing = false;
+        st.recording = false;
+        st.played = Some((from, w.settings.params.theta_nu));
+        st.play_restarts = w.jobs.trajectory.generation.saturating_sub(generation) as usize;
+        self.play = false;
+        self.measure = None;
+        self.stage = Stage::Waiting;
     }
 
     /// Starts θν playing for [`PLAY_SECONDS`], its frames recorded.

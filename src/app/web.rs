@@ -405,12 +405,13 @@ impl Explorer {
         let (run, frames, name) = match speed {
             Some(speed) => {
                 let fig = super::figure::Figure::record(v, self.settings.clone());
-                let run = GifRun::new(fig, RECORD_FRAMES, speed).map(Recording::Playback);
+                let run = GifRun::new(fig, RECORD_FRAMES, speed)
+                    .map(|r| Recording::Playback(Box::new(r)));
                 (run, RECORD_FRAMES, v.key().to_string())
             }
             None => {
                 let (fig, span) = self.played(v);
-                let run = PlayRun::new(fig, span).map(Recording::Played);
+                let run = PlayRun::new(fig, span).map(|r| Recording::Played(Box::new(r)));
                 (run, span.frames, format!("{}-played", v.key()))
             }
         };

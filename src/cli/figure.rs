@@ -527,26 +527,31 @@ fn model_flags(a: &FigureArgs, p: &mut crate::Params) -> Result<(), CliError> {
     p.validate().map_err(super::values::param_error)
 }
 
+/// The session --session names, read (a warning said for what it set
+/// aside).
+#[cfg(feature = "gui")]
+fn read_session(a: &FigureArgs) -> Result<Option<crate::app::session::Session>, CliError> {
+    let Some(p) = &a.session else {
+        return Ok(None);
+    };
+    let loaded = crate::app::session::Session::read(p)
+        .map_err(|e| CliError::Usage(format!("--session: {e}")))?;
+    if let Some(m) = &loaded.message {
+        eprintln!("warning: {m}");
+    }
+    Ok(Some(loaded.session))
+}
+
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
     use crate::app::animation::{PlaySpan, gif, play_gif};
     use crate::app::figure::{Figure, pdf_of_svg, png_of_svg, svg};
-    use crate::app::{Settings, ViewKind, session::Session};
+    use crate::app::{Settings, ViewKind};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
         .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
-    let session = match &a.session {
-        Some(p) => {
-            let loaded =
-                Session::read(p).map_err(|e| CliError::Usage(format!("--session: {e}")))?;
-            if let Some(m) = &loaded.message {
-                eprintln!("warning: {m}");
-            }
-            Some(loaded.session)
-        }
-        None => None,
-    };
+    let session = read_session(&a)?;
     let (mut settings, zoom) = session.as_ref().map_or_else(
         || (Settings::default(), Vec::new()),
         |s| (s.settings.clone(), s.bifurcation_zoom.clone()),
