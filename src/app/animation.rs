@@ -22,9 +22,29 @@ use super::jobs::Jobs;
 use super::settings::{Settings, ViewKind};
 use super::svg_render::FrameRenderer;
 
+mod play;
 mod sliced;
 
+pub use play::{PLAY_VIEWS, PlayRun, PlaySpan, play_gif, play_views};
 pub use sliced::GifRun;
+
+/// A GIF made a piece at a time, for a host that wants its thread back
+/// between pieces (the browser's Record): the block or plane's playback,
+/// or θν played.
+pub enum Recording {
+    Playback(Box<GifRun>),
+    Played(Box<PlayRun>),
+}
+
+impl Recording {
+    /// One piece, then `None`, or the GIF's bytes (or why there are none).
+    pub fn advance(&mut self, budget: std::time::Duration) -> Option<Result<Vec<u8>, String>> {
+        match self {
+            Recording::Playback(r) => r.advance(budget),
+            Recording::Played(r) => r.advance(budget),
+        }
+    }
+}
 
 /// Seconds of playback between an animation's frames (10 frames a second).
 pub const FRAME_SECONDS: f64 = 0.1;

@@ -28,6 +28,7 @@ use super::style;
 use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
+use super::title_buttons::RECORD_PLAY_FRAMES;
 use super::tour::Tour;
 use super::view::Action;
 use super::views::Views;
@@ -227,6 +228,7 @@ impl Explorer {
                 jobs: &mut self.jobs,
                 shots: &mut self.shots,
                 stats: &mut self.stats,
+                play: &mut self.play,
                 now: self.now,
             };
             script.step(ctx, w);
@@ -253,12 +255,22 @@ impl Explorer {
             Action::Record(v, speed) => {
                 let fig = super::figure::Figure::record(v, self.settings.clone());
                 let path = fresh_path(&self.settings.save_dir, v.key(), "gif");
-                self.shots
-                    .record(fig, (RECORD_FRAMES, speed), path, self.now);
+                let make = move || super::animation::gif(&fig, RECORD_FRAMES, speed);
+                self.shots.record(make, RECORD_FRAMES, path, self.now);
+            }
+            #[cfg(not(target_arch = "wasm32"))]
+            Action::RecordPlay(v) => {
+                let (fig, span) = self.played(v);
+                let name = format!("{}-played", v.key());
+                let path = fresh_path(&self.settings.save_dir, &name, "gif");
+                let make = move || super::animation::play_gif(fig, span);
+                self.shots.record(make, span.frames, path, self.now);
             }
             // In the browser a frame or so of the GIF per frame of the page.
             #[cfg(target_arch = "wasm32")]
-            Action::Record(v, speed) => self.record_web(v, speed),
+            Action::Record(v, speed) => self.record_web(v, Some(speed)),
+            #[cfg(target_arch = "wasm32")]
+            Action::RecordPlay(v) => self.record_web(v, None),
             Action::SvgScreenshot(v) => {
                 let (views, what) = match v {
                     Some(v) => (vec![v], v.key()),
@@ -417,6 +429,19 @@ impl Explorer {
             });
         });
         self.applied_style = Some(want);
+    }
+
+    /// What the Record menu's "θν played" records of view `v`: the
+    /// window's settings and diagram zoom, θν across the diagram's range
+    /// (the range Play turns at) in [`RECORD_PLAY_FRAMES`] frames.
+    pub(super) fn played(
+        &self,
+        v: ViewKind,
+    ) -> (super::figure::Figure, super::animation::PlaySpan) {
+        let mut fig = super::figure::Figure::record(v, self.settings.clone());
+        fig.zoom = self.views.bifurcation.zoom.clone();
+        let span = super::animation::PlaySpan::of_diagram(&fig, RECORD_PLAY_FRAMES);
+        (fig, span)
     }
 
     /// One tick of the play clock: θν moves (or the stepped cobweb grows),

@@ -25,6 +25,15 @@ pub struct FrameStats {
     pub streaming: bool,
     /// CPU time eframe reports per frame, in milliseconds.
     pub cpu: Vec<f32>,
+    /// Whether θν plays now (`gui --play`): intervals go to `play_frames`.
+    pub playing: bool,
+    /// Intervals between frames while θν plays, ms, and eframe's CPU time.
+    pub play_frames: Vec<f32>,
+    pub play_cpu: Vec<f32>,
+    /// θν where the play started and stopped, and how many times the
+    /// trajectory restarted meanwhile.
+    pub played: Option<(f64, f64)>,
+    pub play_restarts: usize,
     /// Points in the diagram and samples received while recording.
     pub points: usize,
     pub samples_at_start: usize,
@@ -76,7 +85,9 @@ impl FrameStats {
             && self.recording
         {
             let ms = (now - l).as_secs_f32() * 1e3;
-            if self.streaming {
+            if self.playing {
+                self.play_frames.push(ms);
+            } else if self.streaming {
                 self.intervals.push(ms);
             } else {
                 self.idle.push(ms);
@@ -86,7 +97,11 @@ impl FrameStats {
         if let Some(c) = cpu_seconds
             && self.recording
         {
-            self.cpu.push(c * 1e3);
+            if self.playing {
+                self.play_cpu.push(c * 1e3);
+            } else {
+                self.cpu.push(c * 1e3);
+            }
         }
     }
 
@@ -101,6 +116,9 @@ impl FrameStats {
             ),
             None => String::new(),
         };
+        if let Some(m) = median(&self.play_frames) {
+            return format!("{idle}{}", self.play_report(m));
+        }
         let streaming = match median(&self.intervals) {
             None => "frame-stats: no frames recorded".into(),
             Some(m) => format!(
@@ -124,6 +142,19 @@ impl FrameStats {
             None => String::new(),
         };
         format!("{idle}{streaming}{latency}")
+    }
+
+    /// The line of a run that played θν, whose frames' median is `m`.
+    fn play_report(&self, m: f32) -> String {
+        let (from, to) = self.played.unwrap_or((f64::NAN, f64::NAN));
+        format!(
+            "frame-stats: playing θν: median frame time {m:.1} ms (p90 {:.1} ms) over {} frames; \
+             median CPU per frame {}; θν {from:.4} → {to:.4}, the trajectory restarted {} times",
+            percentile(&self.play_frames, 0.9).unwrap_or(m),
+            self.play_frames.len(),
+            median(&self.play_cpu).map_or("n/a".into(), |c| format!("{c:.1} ms")),
+            self.play_restarts,
+        )
     }
 
     /// The text of the overlay: the running median of the last frames.

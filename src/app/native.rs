@@ -29,6 +29,10 @@ pub struct RunOptions {
     pub font_scale: Option<f32>,
     /// Start with the side panel hidden.
     pub hide_panel: bool,
+    /// Start with θν playing; a scripted run plays it for a few seconds
+    /// once the views are complete (its frames measured with
+    /// `frame_stats`).
+    pub play: bool,
     /// Give up a scripted run after this long.
     pub timeout: Option<Duration>,
     /// Open on this session file (`oneblock gui --session`).
@@ -216,6 +220,9 @@ impl Launch {
         app.set_software_gl(cc.gl.as_deref().is_some_and(is_software_gl));
         app.persist = !self.scripted;
         app.stats.enabled = self.opts.frame_stats;
+        if self.opts.play && !self.scripted {
+            app.play.toggle();
+        }
         app
     }
 }
@@ -239,6 +246,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let shot = opts.screenshot.clone();
     let warnings = launch.warnings.clone();
     let scripted = launch.scripted;
+    let play = opts.play;
     let r = eframe::run_native(
         "oneblock",
         native,
@@ -247,6 +255,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             if let Some(path) = shot {
                 let mut sc = Script::new(path, timeout, measure);
                 sc.outcome = out2;
+                sc.play = play;
                 app.script = Some(sc);
             }
             app.stats_sink = Some(stats2);

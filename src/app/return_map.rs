@@ -77,10 +77,14 @@ pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
     }
 }
 
-/// The view's state: the cobweb's steps.
+/// The view's state: the cobweb's steps, and the axes when held.
 #[derive(Default)]
 pub struct ReturnMapView {
     pub steps: CobwebSteps,
+    /// θ's window held whatever the attractor (a GIF of θν played holds
+    /// it over the whole play, so that the fixed point is seen to move
+    /// along the diagonal); `None`: the window follows the attractor.
+    pub held: Option<(f64, f64)>,
 }
 
 /// What the return map draws, in (θ, θ') before any change of axes.
@@ -198,7 +202,10 @@ impl ReturnMapView {
         }
         // Room for the top tick label, centred on the frame's top edge.
         ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
-        let data = MapData::of(s, jobs, &self.steps);
+        let mut data = MapData::of(s, jobs, &self.steps);
+        if let Some(w) = self.held {
+            data.window = w;
+        }
         let (x, y) = (
             AxisSpec::angle("θ, this onset", s.angle_unit),
             fitting(ui, AxisSpec::angle("θ', next onset", s.angle_unit)),

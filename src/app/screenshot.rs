@@ -90,16 +90,16 @@ impl Shots {
         ctx.request_repaint();
     }
 
-    /// Records `fig` (the block or plane view) as an animated GIF of
-    /// `frames` frames into `path`, on a thread of its own: it recomputes
-    /// the view's trajectory on the job model's single-threaded host and
-    /// draws each frame as `oneblock figure --frames` does. A toast says it
-    /// started; another says where it was saved, or why not.
+    /// Records an animated GIF into `path` on a thread of its own:
+    /// `make` computes it (the view's data recomputed on the job model's
+    /// single-threaded host, each frame drawn as `oneblock figure --frames`
+    /// does), `frames` of them. A toast says it started; another says
+    /// where it was saved, or why not.
     #[cfg(not(target_arch = "wasm32"))]
     pub fn record(
         &mut self,
-        fig: super::figure::Figure,
-        (frames, speed): (usize, f64),
+        make: impl FnOnce() -> Result<Vec<u8>, String> + Send + 'static,
+        frames: usize,
         path: PathBuf,
         now: f64,
     ) {
@@ -114,7 +114,7 @@ impl Shots {
         let spawned = std::thread::Builder::new()
             .name("oneblock-gif".into())
             .spawn(move || {
-                let r = super::animation::gif(&fig, frames, speed).and_then(|bytes| {
+                let r = make().and_then(|bytes| {
                     write_output(&path, &bytes, false).map_err(|e| e.to_string())
                 });
                 tx.send(match r {

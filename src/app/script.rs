@@ -1,6 +1,7 @@
 //! A scripted run (`oneblock gui --screenshot`): wait for the views to be
 //! complete, optionally measure frame times and the slider-to-picture
-//! latency (`--frame-stats`), take one screenshot (a PNG, or an SVG when
+//! latency (`--frame-stats`), or with `--play` let θν play for a while
+//! (measuring its frames with `--frame-stats`), take one screenshot (a PNG, or an SVG when
 //! the file name ends in `.svg`), close the window. A picture of the
 //! bifurcation view alone shows its branches ("Find bifurcations"), one of
 //! the phase view alone its boundary curves: both are run once the other
@@ -17,10 +18,14 @@ use egui::Context;
 use super::bifurcation::Zoom;
 use super::frame_stats::FrameStats;
 use super::jobs::{JobState, Jobs, continuation_range};
+use super::play::Play;
 use super::screenshot::{Saved, Shots};
 use super::settings::{Layout, Settings, ViewKind};
 use super::svg_render;
 use crate::worker::Generation;
+
+/// How long a scripted run plays θν (`gui --play --screenshot`).
+pub const PLAY_SECONDS: f64 = 5.0;
 
 /// Whether a scripted run saves an SVG (by the file's extension) rather
 /// than a PNG.
@@ -37,6 +42,9 @@ pub struct Script {
     pub min_cycles: usize,
     /// Measure frame times for this long with a trajectory streaming.
     pub measure: Option<Duration>,
+    /// Once the views are complete, play θν for [`PLAY_SECONDS`] (the
+    /// frames measured instead of the streaming ones).
+    pub play: bool,
     /// Where the result goes: the saved path, or why it failed.
     pub outcome: Arc<Mutex<Option<Result<String, String>>>>,
     started: Option<Instant>,
@@ -50,6 +58,8 @@ enum Stage {
     MeasuringIdle(Instant),
     /// Then with a trajectory streaming without end.
     Measuring(Instant),
+    /// Or θν playing until then, from this θν and trajectory generation.
+    Playing(Instant, f64, Generation),
     /// Then slider-to-picture: θν moved (the n-th time) at this instant;
     /// waiting for the first slip of the new trajectory on screen.
     Latency(u32, Instant, Generation),
@@ -68,6 +78,8 @@ pub struct Window<'a> {
     pub jobs: &'a mut Jobs,
     pub shots: &'a mut Shots,
     pub stats: &'a mut FrameStats,
+    /// The play clock of θν.
+    pub play: &'a mut Play,
     /// The ui time, seconds.
     pub now: f64,
 }
@@ -82,6 +94,7 @@ impl Script {
             min_cycles: 12,
             measure,
             outcome: Arc::new(Mutex::new(None)),
+            play: false,
             started: None,
             stage: Stage::Waiting,
         }
@@ -99,6 +112,16 @@ impl Script {
         ctx.request_repaint();
         match self.stage {
             Stage::Waiting => self.wait_for_views(ctx, w, start),
+            Stage::MeasuringIdle(until) if self.play => {
+                if Instant::now() >= until {
+                    self.start_playing(w);
+                }
+            }
+            Stage::Playing(until, from, generation) => {
+                if Instant::now() >= until {
+                    self.stop_playing(w, from, generation);
+                }
+            }
             Stage::MeasuringIdle(until) => {
                 if Instant::now() >= until {
                     // A trajectory streaming without end over a full diagram.
@@ -167,6 +190,34 @@ impl Script {
         }
     }
 
+    /// Stops θν playing (started at θν `from`, trajectory `generation`)
+    /// and says what was played; the picture is taken once the views are
+    /// complete at the θν it stopped at (nothing measured again).
+    fn stop_playing(&mut self, w: Window<'_>, from: f64, generation: Generation) {
+        w.play.toggle();
+        let st = &mut *w.stats;
+        st.playing = false;
+        st.recording = false;
+        st.played = Some((from, w.settings.params.theta_nu));
+        st.play_restarts = w.jobs.trajectory.generation.saturating_sub(generation) as usize;
+        self.play = false;
+        self.measure = None;
+        self.stage = Stage::Waiting;
+    }
+
+    /// Starts θν playing for [`PLAY_SECONDS`], its frames recorded.
+    fn start_playing(&mut self, w: Window<'_>) {
+        if !w.play.on {
+            w.play.toggle();
+        }
+        w.stats.playing = true;
+        self.stage = Stage::Playing(
+            Instant::now() + Duration::from_secs_f64(PLAY_SECONDS),
+            w.settings.params.theta_nu,
+            w.jobs.trajectory.generation,
+        );
+    }
+
     /// Waits until every view shown has its results (or one failed, or the
     /// time is up). The Numerics view's measurement is started here, once
     /// the orbit analysis is done, so that it starts on the attractor.
@@ -225,6 +276,8 @@ impl Script {
                 w.stats.recording = true;
                 w.stats.streaming = false;
                 self.stage = Stage::MeasuringIdle(Instant::now() + Duration::from_secs(3));
+            } else if self.play {
+                self.start_playing(w);
             } else {
                 self.stage = Stage::Settling(0);
             }

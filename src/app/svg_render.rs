@@ -97,7 +97,22 @@ impl FrameRenderer {
         (size, look): (Vec2, &Look),
         dt: f64,
     ) -> Self {
+        Self::new_with(view, settings, jobs, (size, look), dt, |_| {})
+    }
+
+    /// [`FrameRenderer::new`] with the views' state set by `prepare`
+    /// before the passes that settle the layout (a played return map's
+    /// held axes: its first frame is then drawn in them).
+    pub fn new_with(
+        view: ViewKind,
+        settings: &Settings,
+        jobs: &Jobs,
+        (size, look): (Vec2, &Look),
+        dt: f64,
+        prepare: impl FnOnce(&mut Views),
+    ) -> Self {
         let mut r = Renderer::new(settings, &[], size, look);
+        prepare(&mut r.state);
         for _ in 0..PASSES - 1 {
             r.pass(&[view], jobs, 0.0);
         }
@@ -107,6 +122,14 @@ impl FrameRenderer {
             dt,
             frames: 0,
         }
+    }
+
+    /// The next frames are drawn from `settings` (θν played: the cursor
+    /// and the labels of each frame's parameters), with the current
+    /// parameters' lines if `crosshair`.
+    pub fn set_settings(&mut self, settings: &Settings, crosshair: bool) {
+        self.r.settings = settings.clone();
+        style::set_crosshair(&self.r.ctx, crosshair);
     }
 
     /// The next frame's SVG, of `jobs` as they are now: frame k at ui

@@ -11,6 +11,10 @@ use super::view::Action;
 /// Frames of a recorded GIF (12 s of playback at 10 a second).
 pub const RECORD_FRAMES: usize = 120;
 
+/// Frames of a recorded GIF of θν played (6 s at 10 a second: each frame
+/// computes an orbit).
+pub const RECORD_PLAY_FRAMES: usize = 60;
+
 /// The Record menu's playback speeds: real time and slowed.
 pub const RECORD_SPEEDS: [(&str, f64); 3] = [
     ("Real time", 1.0),
@@ -35,11 +39,13 @@ pub fn help_button_ui(ui: &mut Ui, v: ViewKind) {
     }
 }
 
-/// The Record menu of the block and plane views: a GIF of
-/// [`RECORD_FRAMES`] frames at one of [`RECORD_SPEEDS`].
+/// The Record menu: for the block and plane views a GIF of
+/// [`RECORD_FRAMES`] frames at one of [`RECORD_SPEEDS`]; for every view
+/// that follows θν, a GIF of θν played across the diagram's range.
 pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
     ui.menu_button("Record", |ui| {
-        for (label, speed) in RECORD_SPEEDS {
+        let playback = matches!(v, ViewKind::Block | ViewKind::Plane);
+        for (label, speed) in RECORD_SPEEDS.into_iter().filter(|_| playback) {
             let hover = format!(
                 "Save a GIF of this view: {RECORD_FRAMES} frames at 10 a second, 640x480, \
                  playing at {speed}x the window's speed, made without holding the window \
@@ -49,6 +55,16 @@ pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
                 out.push(Action::Record(v, speed));
                 ui.close();
             }
+        }
+        let hover = format!(
+            "Save a GIF of this view as Play θν shows it: θν across the diagram's range, \
+             {RECORD_PLAY_FRAMES} frames at 10 a second, 640x480, made without holding the \
+             window (each frame's orbit computed off its thread; in a browser, between the \
+             page's frames)"
+        );
+        if ui.button("θν played").on_hover_text(hover).clicked() {
+            out.push(Action::RecordPlay(v));
+            ui.close();
         }
     });
 }
@@ -63,7 +79,7 @@ pub fn title_row_ui(ui: &mut Ui, v: ViewKind, fills: bool, out: &mut Vec<Action>
     ui.horizontal(|ui| {
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             help_button_ui(ui, v);
-            if matches!(v, ViewKind::Block | ViewKind::Plane) {
+            if super::animation::PLAY_VIEWS.contains(&v) {
                 record_menu_ui(ui, v, out);
             }
             if ui

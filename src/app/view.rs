@@ -30,6 +30,10 @@ pub enum Action {
     /// An animated GIF of the block or plane view, made off the UI thread,
     /// played at this speed (1 real time, below slowed).
     Record(ViewKind, f64),
+    /// An animated GIF of a view following θν played across the diagram's
+    /// range, made off the UI thread (a view of
+    /// [`super::animation::PLAY_VIEWS`]).
+    RecordPlay(ViewKind),
     /// The session (settings, zoom) as a JSON file.
     SaveSession,
     /// A CSV into the save folder.

@@ -285,7 +285,7 @@ pub struct WebState {
     pub title: String,
     /// A GIF being recorded, a frame or so per frame of the page, and the
     /// file it downloads as.
-    pub recording: Option<(super::animation::GifRun, std::path::PathBuf)>,
+    pub recording: Option<(super::animation::Recording, std::path::PathBuf)>,
 }
 
 impl WebState {
@@ -390,21 +390,36 @@ impl Explorer {
         }
     }
 
-    /// Starts recording `v` as a GIF of [`RECORD_FRAMES`] frames at `speed`,
-    /// made between the page's frames ([`Explorer::record_step`]).
-    pub(super) fn record_web(&mut self, v: ViewKind, speed: f64) {
+    /// Starts recording `v` as a GIF made between the page's frames
+    /// ([`Explorer::record_step`]): of [`RECORD_FRAMES`] frames at
+    /// `speed` (the block or plane's playback), or, without one, of θν
+    /// played across the diagram's range.
+    pub(super) fn record_web(&mut self, v: ViewKind, speed: Option<f64>) {
+        use super::animation::{GifRun, PlayRun, Recording};
         let now = self.now;
         if self.web.recording.is_some() {
             self.shots
                 .toast("a recording is under way already".into(), true, now);
             return;
         }
-        let fig = super::figure::Figure::record(v, self.settings.clone());
-        match super::animation::GifRun::new(fig, RECORD_FRAMES, speed) {
+        let (run, frames, name) = match speed {
+            Some(speed) => {
+                let fig = super::figure::Figure::record(v, self.settings.clone());
+                let run = GifRun::new(fig, RECORD_FRAMES, speed)
+                    .map(|r| Recording::Playback(Box::new(r)));
+                (run, RECORD_FRAMES, v.key().to_string())
+            }
+            None => {
+                let (fig, span) = self.played(v);
+                let run = PlayRun::new(fig, span).map(|r| Recording::Played(Box::new(r)));
+                (run, span.frames, format!("{}-played", v.key()))
+            }
+        };
+        match run {
             Ok(run) => {
-                let path = super::files::fresh_path("", v.key(), "gif");
+                let path = super::files::fresh_path("", &name, "gif");
                 self.shots.toast(
-                    format!("Recording {RECORD_FRAMES} frames to {}…", path.display()),
+                    format!("Recording {frames} frames to {}…", path.display()),
                     false,
                     now,
                 );

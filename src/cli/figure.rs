@@ -50,7 +50,7 @@ pub struct FigureArgs {
     /// Stop after this many seconds (0 < S ≤ 1e7), writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
-    /// Lower end of θν: the bifurcation diagram's, the basins' or the phase grid's range (radians).
+    /// Lower end of θν: the bifurcation diagram's, the basins' or the phase grid's range, or where --play starts (radians).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
     pub theta_nu_from: Option<f64>,
     /// Upper end of θν (with --theta-nu-from).
@@ -77,10 +77,18 @@ pub struct FigureArgs {
     /// The phase grid's κ rows, in [2, 200].
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub kappa_steps: Option<usize>,
-    /// Frames of an animated GIF (--view block or plane, --out x.gif), in
-    /// [2, 600], 10 a second.
+    /// Frames of an animated GIF (--view block or plane, or with --play,
+    /// --out x.gif), in [2, 600], 10 a second.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub frames: Option<usize>,
+    /// Play θν over the GIF's frames, from the diagram's range's lower end
+    /// to its upper (or from --theta-nu-from to --theta-nu-to), the view
+    /// following it as the window's Play θν does: --view return-map (its
+    /// axes held, the fixed point moving along the diagonal), plane, block,
+    /// bifurcation (its θν cursor), events or time-series; with --frames N
+    /// and --out x.gif.
+    #[arg(long)]
+    pub play: bool,
     /// The GIF's playback speed, in [0.05, 1]: 1 plays as the window does
     /// (slips at the slip speed, stick phases 0.6 s each), 0.25 four times
     /// slower [default: 1].
@@ -143,6 +151,19 @@ const _: () = assert!(
     MIN_SPEED == crate::app::animation::MIN_SPEED && MAX_SPEED == crate::app::animation::MAX_SPEED
 );
 
+/// The views `--play` plays θν in (as `app::animation::PLAY_VIEWS`,
+/// which the build without the window lacks).
+pub const PLAY_VIEW_KEYS: [&str; 6] = [
+    "return-map",
+    "plane",
+    "block",
+    "bifurcation",
+    "events",
+    "time-series",
+];
+#[cfg(feature = "gui")]
+const _: () = assert!(PLAY_VIEW_KEYS.len() == crate::app::animation::PLAY_VIEWS.len());
+
 /// The most frames a GIF may have (a minute at 10 a second).
 pub const MAX_FRAMES: usize = 600;
 
@@ -183,6 +204,18 @@ pub fn format_of(path: &Path) -> Result<Format, CliError> {
 /// the bounds.
 fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
     let usage = |m: String| Err(CliError::Usage(m));
+    if a.play && (format != Format::Gif || a.frames.is_none()) {
+        return usage(format!(
+            "--play records θν played as an animation: give --frames N (2 to {MAX_FRAMES}) \
+             and a .gif --out"
+        ));
+    }
+    if a.play && a.speed.is_some() {
+        return usage(
+            "--speed: a played GIF moves θν, one frame a tenth of a second: leave --speed out"
+                .into(),
+        );
+    }
     match (format, a.frames) {
         (Format::Gif, None) => {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
@@ -195,8 +228,15 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
             "--frames makes an animation, which a .svg, .pdf or .png cannot hold: name a .gif file"
                 .into(),
         ),
+        (Format::Gif, Some(_)) if a.play && !PLAY_VIEW_KEYS.contains(&a.view.as_str()) => {
+            usage(format!(
+                "--play: θν plays in the {} views, not '{}'",
+                PLAY_VIEW_KEYS.join(", "),
+                echo(&a.view)
+            ))
+        }
         (Format::Gif, Some(n)) => {
-            if !matches!(a.view.as_str(), "block" | "plane") {
+            if !a.play && !matches!(a.view.as_str(), "block" | "plane") {
                 return usage(format!(
                     "--frames: only the block and plane views are animated, not '{}'",
                     echo(&a.view)
@@ -487,26 +527,31 @@ fn model_flags(a: &FigureArgs, p: &mut crate::Params) -> Result<(), CliError> {
     p.validate().map_err(super::values::param_error)
 }
 
+/// The session --session names, read (a warning said for what it set
+/// aside).
+#[cfg(feature = "gui")]
+fn read_session(a: &FigureArgs) -> Result<Option<crate::app::session::Session>, CliError> {
+    let Some(p) = &a.session else {
+        return Ok(None);
+    };
+    let loaded = crate::app::session::Session::read(p)
+        .map_err(|e| CliError::Usage(format!("--session: {e}")))?;
+    if let Some(m) = &loaded.message {
+        eprintln!("warning: {m}");
+    }
+    Ok(Some(loaded.session))
+}
+
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
-    use crate::app::animation::gif;
+    use crate::app::animation::{PlaySpan, gif, play_gif};
     use crate::app::figure::{Figure, pdf_of_svg, png_of_svg, svg};
-    use crate::app::{Settings, ViewKind, session::Session};
+    use crate::app::{Settings, ViewKind};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
         .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
-    let session = match &a.session {
-        Some(p) => {
-            let loaded =
-                Session::read(p).map_err(|e| CliError::Usage(format!("--session: {e}")))?;
-            if let Some(m) = &loaded.message {
-                eprintln!("warning: {m}");
-            }
-            Some(loaded.session)
-        }
-        None => None,
-    };
+    let session = read_session(&a)?;
     let (mut settings, zoom) = session.as_ref().map_or_else(
         || (Settings::default(), Vec::new()),
         |s| (s.settings.clone(), s.bifurcation_zoom.clone()),
@@ -554,11 +599,18 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
     let size = fig.size;
     let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
+    let play = a.play.then(|| match c.theta_nu {
+        Some((from, to)) => PlaySpan { from, to, frames },
+        None => PlaySpan::of_diagram(&fig, frames),
+    });
     let bytes = run_bounded("figure", &limits, move || match format {
         Format::Svg => svg(&fig).map(String::into_bytes),
         Format::Pdf => svg(&fig).and_then(|t| pdf_of_svg(&t)),
         Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
-        Format::Gif => gif(&fig, frames, speed),
+        Format::Gif => match play {
+            Some(span) => play_gif(fig, span),
+            None => gif(&fig, frames, speed),
+        },
         Format::Csv => super::figure_basins::csv(&fig).map(String::into_bytes),
     })?
     .map_err(CliError::Failed)?;

@@ -42,7 +42,8 @@ pub struct GuiArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
     pub size: Option<[f32; 2]>,
     /// Measure frame times (with --screenshot: for 5 s with the diagram full
-    /// and a trajectory streaming) and print the median.
+    /// and a trajectory streaming, or with --play while θν plays) and print
+    /// the median.
     #[arg(long)]
     pub frame_stats: bool,
     /// Show one view full size: plane, block, bifurcation, return-map, events,
@@ -56,6 +57,11 @@ pub struct GuiArgs {
     /// the top bar's Panel shows it again).
     #[arg(long)]
     pub hide_panel: bool,
+    /// Start with Play θν on (P pauses). With --screenshot, θν plays for
+    /// 5 s once the views are complete, then the picture is taken; with
+    /// --frame-stats too, those frames are measured.
+    #[arg(long)]
+    pub play: bool,
     /// Give up a --screenshot run after this many seconds, in (0, 86400]
     /// (default 180).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
@@ -179,6 +185,7 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         view,
         font_scale: args.font_scale,
         hide_panel: args.hide_panel,
+        play: args.play,
         timeout: args.timeout.map(std::time::Duration::from_secs_f64),
     })
     .map_err(CliError::Failed)

@@ -1,0 +1,261 @@
+//! `oneblock figure --play`: a GIF of θν played, through the command the
+//! user runs. It has the frames asked for, 10 a second; every frame
+//! differs from the one before; the return map's fixed point (its orbit
+//! marker, the map's axes held over the play) moves up the diagonal as θν
+//! grows; the diagram's θν cursor moves right frame by frame and nothing
+//! else of the diagram changes; bad flags are refused in one line.
+#![cfg(feature = "gui")]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use oneblock::app::Settings;
+use oneblock::app::session::Session;
+
+/// Runs `oneblock figure ARGS` with no display of any kind.
+fn figure(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .arg("figure")
+        .args(args)
+        .env_remove("DISPLAY")
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run oneblock figure")
+}
+
+/// A session with small jobs (Fig. 3b's parameters), so that every frame
+/// is quick.
+fn small_session(dir: &Path) -> PathBuf {
+    let s = Settings {
+        columns: 60,
+        sweep_transient: 60,
+        sweep_keep: 40,
+        trajectory_cycles: 40,
+        ..Settings::default()
+    };
+    let p = dir.join("small.json");
+    let session = Session {
+        settings: s,
+        bifurcation_zoom: vec![],
+        ..Session::default()
+    };
+    std::fs::write(&p, session.to_json()).expect("session");
+    p
+}
+
+/// One frame as a whole picture: its delay (hundredths of a second) and
+/// its RGBA pixels.
+type Picture = (u16, Vec<u8>);
+
+/// The frames of a GIF as whole RGBA pictures (each frame's rectangle
+/// drawn over the one before), with the size and each frame's delay.
+fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
+    let file = std::fs::File::open(path).expect("gif written");
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts.read_info(file).expect("a GIF");
+    let (w, h) = (usize::from(d.width()), usize::from(d.height()));
+    let mut canvas = vec![0u8; w * h * 4];
+    let mut out = vec![];
+    while let Some(f) = d.read_next_frame().expect("a frame") {
+        let (fw, left, top) = (
+            usize::from(f.width),
+            usize::from(f.left),
+            usize::from(f.top),
+        );
+        for (i, px) in f.buffer.chunks(4).enumerate() {
+            let (x, y) = (left + i % fw, top + i / fw);
+            if px[3] > 0 && x < w && y < h {
+                canvas[(y * w + x) * 4..(y * w + x) * 4 + 4].copy_from_slice(px);
+            }
+        }
+        out.push((f.delay, canvas.clone()));
+    }
+    ((w, h), out)
+}
+
+/// The pixels (x, y) where two pictures of width `w` differ.
+fn differing(a: &[u8], b: &[u8], w: usize) -> Vec<(usize, usize)> {
+    a.chunks(4)
+        .zip(b.chunks(4))
+        .enumerate()
+        .filter(|(_, (p, q))| p.iter().zip(q.iter()).any(|(x, y)| x.abs_diff(*y) > 40))
+        .map(|(i, _)| (i % w, i / w))
+        .collect()
+}
+
+/// A played GIF of `view` over θν [from, to], `frames` frames of `size`.
+fn played(dir: &Path, view: &str, (from, to): (&str, &str), frames: &str, size: &str) -> PathBuf {
+    let session = small_session(dir);
+    let out = dir.join(format!("{view}.gif"));
+    let o = figure(&[
+        "--view",
+        view,
+        "--session",
+        session.to_str().expect("utf-8"),
+        "--play",
+        "--frames",
+        frames,
+        "--theta-nu-from",
+        from,
+        "--theta-nu-to",
+        to,
+        "--size",
+        size,
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(
+        o.status.success(),
+        "{view}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    out
+}
+
+/// The centre of the return map's orbit marker: the dark ink pixels
+/// (the orbit's iterates are drawn in the text's ink, filled circles)
+/// inside the plot's interior, away from tick labels and the legend.
+fn marker_centre(px: &[u8], (w, h): (usize, usize)) -> Option<(f64, f64)> {
+    let (mut n, mut sx, mut sy) = (0.0, 0.0, 0.0);
+    for y in h / 5..h * 17 / 20 {
+        for x in w / 5..w * 19 / 20 {
+            let p = &px[(y * w + x) * 4..(y * w + x) * 4 + 3];
+            if p.iter().all(|&c| c < 60) {
+                n += 1.0;
+                sx += x as f64;
+                sy += y as f64;
+            }
+        }
+    }
+    (n > 0.0).then(|| (sx / n, sy / n))
+}
+
+#[test]
+fn a_played_return_map_has_its_frames_and_its_fixed_point_moves_up_the_diagonal() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    // Fig. 3b below its first doubling: one fixed point all along.
+    let out = played(dir.path(), "return-map", ("0.5", "0.9"), "6", "360x360");
+    let (size, frames) = gif_frames(&out);
+    assert_eq!(size, (360, 360));
+    assert_eq!(frames.len(), 6, "the frames asked for");
+    assert!(frames.iter().all(|(d, _)| *d == 10), "10 frames a second");
+    for k in 1..frames.len() {
+        let d = differing(&frames[k - 1].1, &frames[k].1, size.0);
+        assert!(d.len() > 20, "frame {k} is frame {}'s picture", k - 1);
+    }
+    let centres: Vec<(f64, f64)> = frames
+        .iter()
+        .map(|(_, px)| marker_centre(px, size).expect("the orbit's marker"))
+        .collect();
+    // θν grows, the fixed point θ* with it: right and up (the screen's y
+    // down) by the same amount, the axes' aspect being 1.
+    for w in centres.windows(2) {
+        let (dx, dy) = (w[1].0 - w[0].0, w[0].1 - w[1].1);
+        assert!(
+            dx > 1.0 && dy > 1.0,
+            "the fixed point did not move up the diagonal: {centres:?}"
+        );
+        assert!(
+            (dx - dy).abs() < 0.25 * dx.max(dy) + 1.0,
+            "off the diagonal: {centres:?}"
+        );
+    }
+}
+
+#[test]
+fn a_played_diagram_moves_its_cursor_and_nothing_else() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = played(dir.path(), "bifurcation", ("0.6", "1.4"), "5", "480x320");
+    let (size, frames) = gif_frames(&out);
+    assert_eq!(frames.len(), 5);
+    let mut last_x = 0.0;
+    for k in 1..frames.len() {
+        let d = differing(&frames[k - 1].1, &frames[k].1, size.0);
+        assert!(d.len() > 20, "frame {k}: the cursor did not move");
+        // The old line and the new one: two thin columns, a fifth of the
+        // plot apart; the diagram itself the same.
+        let mut xs: Vec<usize> = d.iter().map(|p| p.0).collect();
+        xs.sort_unstable();
+        xs.dedup();
+        assert!(xs.len() <= 16, "frame {k}: {} columns changed", xs.len());
+        let newest = *xs.last().expect("columns") as f64;
+        assert!(newest > last_x, "frame {k}: the cursor did not move right");
+        last_x = newest;
+    }
+}
+
+#[test]
+fn a_played_plane_follows_theta_nu() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = played(dir.path(), "plane", ("0.8", "1.2"), "4", "320x240");
+    let (size, frames) = gif_frames(&out);
+    assert_eq!((size, frames.len()), ((320, 240), 4));
+    for k in 1..frames.len() {
+        let d = differing(&frames[k - 1].1, &frames[k].1, size.0);
+        assert!(d.len() > 50, "frame {k}: the path did not change");
+    }
+}
+
+#[test]
+fn play_flags_are_checked_in_one_line() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let gif = dir.path().join("p.gif");
+    let png = dir.path().join("p.png");
+    let (gif, png) = (gif.to_str().expect("utf-8"), png.to_str().expect("utf-8"));
+    for (args, flag) in [
+        (
+            vec!["--view", "return-map", "--play", "--out", png],
+            "--play",
+        ),
+        (
+            vec!["--view", "return-map", "--play", "--out", gif],
+            "--frames",
+        ),
+        (
+            vec!["--view", "phase", "--play", "--frames", "5", "--out", gif],
+            "--play",
+        ),
+        (
+            vec![
+                "--view", "block", "--play", "--frames", "5", "--speed", "0.5", "--out", gif,
+            ],
+            "--speed",
+        ),
+        (
+            vec![
+                "--view",
+                "return-map",
+                "--play",
+                "--frames",
+                "601",
+                "--out",
+                gif,
+            ],
+            "[2, 600]",
+        ),
+        (
+            vec![
+                "--view",
+                "return-map",
+                "--play",
+                "--frames",
+                "5",
+                "--theta-nu-from",
+                "1",
+                "--theta-nu-to",
+                "4",
+                "--out",
+                gif,
+            ],
+            "[-pi, pi]",
+        ),
+    ] {
+        let o = figure(&args);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains(flag), "{args:?}: {err}");
+        assert!(!Path::new(gif).exists() && !Path::new(png).exists());
+    }
+}
