@@ -233,15 +233,20 @@ fn holds_axes(fig: &Figure) -> bool {
 /// as the map's own window and out to round values; `None` without
 /// columns.
 fn held_window(jobs: &Jobs, span: &PlaySpan) -> Option<(f64, f64)> {
+    // A diagram in another parameter has its columns at the current θν:
+    // its θ is no window over a θν play.
+    if jobs.sweep.data.param != crate::sim::continuation::ContParam::ThetaNu {
+        return None;
+    }
     let (lo, hi) = (span.from.min(span.to), span.from.max(span.to));
     let cols: Vec<&crate::app::data::Column> = jobs.sweep.data.columns.iter().flatten().collect();
     let step = cols
         .windows(2)
-        .map(|w| (w[1].theta_nu - w[0].theta_nu).abs())
+        .map(|w| (w[1].value - w[0].value).abs())
         .fold(0.0, f64::max);
     let thetas: Vec<f64> = cols
         .iter()
-        .filter(|c| c.theta_nu >= lo - step && c.theta_nu <= hi + step)
+        .filter(|c| c.value >= lo - step && c.value <= hi + step)
         .flat_map(|c| c.thetas.iter().copied())
         .collect();
     let (a, b) = crate::sim::return_map_window(&thetas)?;
