@@ -154,7 +154,7 @@ fn a_pinch_on_the_diagram_zooms_about_its_centre_and_a_pinch_out_goes_back() {
             Command::Run {
                 spec: Spec::Sweep(spec),
                 ..
-            } => Some((spec.theta_nu.from, spec.theta_nu.to)),
+            } => Some((spec.axis.from, spec.axis.to)),
             _ => None,
         })
         .expect("a pinch recomputes the diagram");
