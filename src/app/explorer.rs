@@ -18,7 +18,7 @@ use super::files::fresh_path;
 use super::frame_stats::FrameStats;
 use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
-use super::play::Play;
+use super::play::{Play, Tick};
 use super::save;
 use super::screenshot::Shots;
 use super::script::{Script, Window};
@@ -28,6 +28,7 @@ use super::style;
 use super::svg_render;
 #[cfg(not(target_arch = "wasm32"))]
 use super::title_buttons::RECORD_FRAMES;
+use super::title_buttons::RECORD_PLAY_FRAMES;
 use super::tour::Tour;
 use super::view::Action;
 use super::views::Views;
@@ -416,6 +417,42 @@ impl Explorer {
             });
         });
         self.applied_style = Some(want);
+    }
+
+    /// What the Record menu's "θν played" records of view `v`: the
+    /// window's settings and diagram zoom, θν across the diagram's range
+    /// (the range Play turns at) in [`RECORD_PLAY_FRAMES`] frames.
+    pub(super) fn played(
+        &self,
+        v: ViewKind,
+    ) -> (super::figure::Figure, super::animation::PlaySpan) {
+        let mut fig = super::figure::Figure::record(v, self.settings.clone());
+        fig.zoom = self.views.bifurcation.zoom.clone();
+        let span = super::animation::PlaySpan::of_diagram(&fig, RECORD_PLAY_FRAMES);
+        (fig, span)
+    }
+
+    /// One tick of the play clock: θν moves (or the stepped cobweb grows),
+    /// and the next frame is asked for.
+    fn play_step(&mut self, ctx: &Context) {
+        if !self.play.on {
+            return;
+        }
+        let range = self
+            .views
+            .bifurcation
+            .theta_nu_range()
+            .unwrap_or_else(|| self.settings.sweep_range());
+        let steps = &mut self.views.return_map.steps;
+        match self.play.tick(&self.settings, range, steps.on, self.now) {
+            Tick::ThetaNu(x) => self.settings.params.theta_nu = x,
+            Tick::Iterates(n) => {
+                let available = self.jobs.trajectory.data.events.len();
+                steps.step(n as isize, available);
+            }
+            Tick::Nothing => {}
+        }
+        ctx.request_repaint();
     }
 
     /// The whole window.

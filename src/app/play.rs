@@ -7,9 +7,7 @@
 use eframe::egui;
 use egui::Ui;
 
-use super::Explorer;
-use super::settings::{PLAY_SPEEDS, Settings, ViewKind};
-use super::title_buttons::RECORD_PLAY_FRAMES;
+use super::settings::{PLAY_SPEEDS, Settings};
 
 /// The longest time step one frame may play (a stalled frame does not
 /// jump θν across the range).
@@ -93,46 +91,6 @@ impl Play {
         } else {
             Tick::Nothing
         }
-    }
-}
-
-/// The window's side of Play: the clock's ticks applied, and what
-/// Record → "θν played" records.
-impl Explorer {
-    /// What the Record menu's "θν played" records of view `v`: the
-    /// window's settings and diagram zoom, θν across the diagram's range
-    /// (the range Play turns at) in [`RECORD_PLAY_FRAMES`] frames.
-    pub(super) fn played(
-        &self,
-        v: ViewKind,
-    ) -> (super::figure::Figure, super::animation::PlaySpan) {
-        let mut fig = super::figure::Figure::record(v, self.settings.clone());
-        fig.zoom = self.views.bifurcation.zoom.clone();
-        let span = super::animation::PlaySpan::of_diagram(&fig, RECORD_PLAY_FRAMES);
-        (fig, span)
-    }
-
-    /// One tick of the play clock: θν moves (or the stepped cobweb grows),
-    /// and the next frame is asked for.
-    pub(super) fn play_step(&mut self, ctx: &egui::Context) {
-        if !self.play.on {
-            return;
-        }
-        let range = self
-            .views
-            .bifurcation
-            .theta_nu_range()
-            .unwrap_or_else(|| self.settings.sweep_range());
-        let steps = &mut self.views.return_map.steps;
-        match self.play.tick(&self.settings, range, steps.on, self.now) {
-            Tick::ThetaNu(x) => self.settings.params.theta_nu = x,
-            Tick::Iterates(n) => {
-                let available = self.jobs.trajectory.data.events.len();
-                steps.step(n as isize, available);
-            }
-            Tick::Nothing => {}
-        }
-        ctx.request_repaint();
     }
 }
 
