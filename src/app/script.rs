@@ -45,6 +45,9 @@ pub struct Script {
     /// Once the views are complete, play θν for [`PLAY_SECONDS`] (the
     /// frames measured instead of the streaming ones).
     pub play: bool,
+    /// While θν plays: the trajectory's generation last seen, and how
+    /// many times it restarted.
+    play_seen: (Generation, usize),
     /// Where the result goes: the saved path, or why it failed.
     pub outcome: Arc<Mutex<Option<Result<String, String>>>>,
     started: Option<Instant>,
@@ -58,8 +61,8 @@ enum Stage {
     MeasuringIdle(Instant),
     /// Then with a trajectory streaming without end.
     Measuring(Instant),
-    /// Or θν playing until then, from this θν and trajectory generation.
-    Playing(Instant, f64, Generation),
+    /// Or θν playing until then, from this θν.
+    Playing(Instant, f64),
     /// Then slider-to-picture: θν moved (the n-th time) at this instant;
     /// waiting for the first slip of the new trajectory on screen.
     Latency(u32, Instant, Generation),
@@ -95,6 +98,7 @@ impl Script {
             measure,
             outcome: Arc::new(Mutex::new(None)),
             play: false,
+            play_seen: (0, 0),
             started: None,
             stage: Stage::Waiting,
         }
@@ -117,9 +121,15 @@ impl Script {
                     self.start_playing(w);
                 }
             }
-            Stage::Playing(until, from, generation) => {
+            Stage::Playing(until, from) => {
+                // A restart at most every 40 ms, a frame apart at least:
+                // each new generation seen is one.
+                let g = w.jobs.trajectory.generation;
+                if g != self.play_seen.0 {
+                    self.play_seen = (g, self.play_seen.1 + 1);
+                }
                 if Instant::now() >= until {
-                    self.stop_playing(w, from, generation);
+                    self.stop_playing(w, from);
                 }
             }
             Stage::MeasuringIdle(until) => {
@@ -190,16 +200,16 @@ impl Script {
         }
     }
 
-    /// Stops θν playing (started at θν `from`, trajectory `generation`)
+    /// Stops θν playing (started at θν `from`)
     /// and says what was played; the picture is taken once the views are
     /// complete at the θν it stopped at (nothing measured again).
-    fn stop_playing(&mut self, w: Window<'_>, from: f64, generation: Generation) {
+    fn stop_playing(&mut self, w: Window<'_>, from: f64) {
         w.play.toggle();
         let st = &mut *w.stats;
         st.playing = false;
         st.recording = false;
         st.played = Some((from, w.settings.params.theta_nu));
-        st.play_restarts = w.jobs.trajectory.generation.saturating_sub(generation) as usize;
+        st.play_restarts = self.play_seen.1;
         self.play = false;
         self.measure = None;
         self.stage = Stage::Waiting;
@@ -214,8 +224,8 @@ impl Script {
         self.stage = Stage::Playing(
             Instant::now() + Duration::from_secs_f64(PLAY_SECONDS),
             w.settings.params.theta_nu,
-            w.jobs.trajectory.generation,
         );
+        self.play_seen = (w.jobs.trajectory.generation, 0);
     }
 
     /// Waits until every view shown has its results (or one failed, or the

@@ -13,6 +13,7 @@ mod error;
 pub mod figure;
 #[cfg(feature = "gui")]
 mod figure_basins;
+mod figure_flags;
 pub mod gui;
 pub mod map;
 pub mod orbit;
