@@ -238,14 +238,18 @@ fn header_ui(ui: &mut Ui, s: &mut Settings, events: usize, figure: bool, wide: b
                     for m in [SlipMeasure::Distance, SlipMeasure::Energy] {
                         ui.selectable_value(&mut s.slip_measure, m, measure_name(m));
                     }
-                });
+                })
+                .response
+                .on_hover_text("How a slip's size is measured");
             egui::ComboBox::from_id_salt("events_plot")
                 .selected_text(plot_name(s.events_plot))
                 .show_ui(ui, |ui| {
                     for v in EventsPlot::ALL {
                         ui.selectable_value(&mut s.events_plot, v, plot_name(v));
                     }
-                });
+                })
+                .response
+                .on_hover_text("What the events plot shows");
         });
     }
 }

@@ -180,5 +180,7 @@ fn view_chooser_ui(ui: &mut Ui, tab: &mut ViewKind) {
             for v in ViewKind::ALL {
                 ui.selectable_value(tab, v, v.title());
             }
-        });
+        })
+        .response
+        .on_hover_text("The view shown: one at a time on a narrow screen.");
 }
