@@ -597,3 +597,77 @@ fn a_strongly_contracting_column_is_marked_below_the_lambda_strip() {
         "an off-strip marker where every λ > −1"
     );
 }
+
+#[test]
+fn a_diagram_in_another_parameter_spans_its_range_and_refuses_a_theta_nu_range() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8");
+    let run = |name: &str, extra: &[&str]| {
+        let out = dir.path().join(name);
+        let mut args = vec!["--session", session];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", out.to_str().expect("utf-8")]);
+        (figure(&args), out)
+    };
+    let (o, svg) = run(
+        "kappa.svg",
+        &[
+            "--view",
+            "bifurcation",
+            "--param",
+            "kappa",
+            "--from",
+            "30",
+            "--to",
+            "10",
+            "--theta-nu",
+            "1.25",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let t = texts(&std::fs::read_to_string(&svg).expect("svg"));
+    let (x, _) = axis_ticks(&t);
+    // κ's log axis over [10, 30] (the ends in either order): its ticks lie
+    // there and reach both ends' decade marks, not θν's [0, π/2].
+    assert!(x.len() >= 3, "κ ticks {x:?}");
+    assert!(
+        x.iter().all(|v| (10.0 - 1e-9..=30.0 + 1e-9).contains(v)),
+        "κ ticks {x:?}"
+    );
+    assert!(x.contains(&10.0) && x.contains(&20.0), "κ ticks {x:?}");
+    assert!(
+        t.iter().any(|t| t.rotated || t.text.contains('κ')),
+        "an axis names κ"
+    );
+
+    // θν's range means nothing to a diagram in κ, nor --param to the
+    // phase diagram: one line naming the flag.
+    let diagram = ["--view", "bifurcation", "--param", "kappa"];
+    for (name, extra) in [
+        (
+            "refused.svg",
+            [
+                &diagram[..],
+                &["--theta-nu-from", "1", "--theta-nu-to", "1.5"],
+            ]
+            .concat(),
+        ),
+        (
+            "zero.svg",
+            [&diagram[..], &["--from", "0", "--to", "10"]].concat(),
+        ),
+        ("phase.svg", vec!["--view", "phase", "--param", "kappa"]),
+    ] {
+        let extra = &extra[..];
+        let (o, out) = run(name, extra);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{extra:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{extra:?}: {err}");
+        let flag = extra
+            .iter()
+            .find(|a| a.starts_with("--") && *a != &"--view" && err.contains(*a));
+        assert!(flag.is_some(), "{extra:?}: {err}");
+        assert!(!out.exists(), "{extra:?} wrote {}", out.display());
+    }
+}

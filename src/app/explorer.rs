@@ -271,30 +271,7 @@ impl Explorer {
             Action::Record(v, speed) => self.record_web(v, Some(speed)),
             #[cfg(target_arch = "wasm32")]
             Action::RecordPlay(v) => self.record_web(v, None),
-            Action::SvgScreenshot(v) => {
-                let (views, what) = match v {
-                    Some(v) => (vec![v], v.key()),
-                    None => {
-                        // The tiles that had room on screen (tiles_shown_ui).
-                        let mut shown = svg_render::shown_views(&self.settings);
-                        if !self.view_rects.is_empty() {
-                            shown.retain(|k| self.view_rects.contains_key(k));
-                        }
-                        (shown, "window")
-                    }
-                };
-                let area = self.views_area(&views);
-                let svg = svg_render::render_svg(
-                    &views,
-                    &self.settings,
-                    &self.jobs,
-                    &self.views.bifurcation.zoom,
-                    area,
-                    false,
-                );
-                let path = fresh_path(&self.settings.save_dir, what, "svg");
-                self.shots.write(path, svg.into_bytes());
-            }
+            Action::SvgScreenshot(v) => self.svg_screenshot(v),
             Action::SaveSession => self.save_session(),
             Action::Export(what) => {
                 save::export_csv(what, &self.settings, &self.jobs, &mut self.shots, now);
@@ -307,16 +284,7 @@ impl Explorer {
             }
             #[cfg(target_arch = "wasm32")]
             Action::OpenSession | Action::CopyLink => self.apply_web(a, ctx),
-            Action::ResetDefaults => {
-                let dir = std::mem::take(&mut self.settings.save_dir);
-                self.settings = Settings {
-                    save_dir: dir,
-                    ..Settings::default()
-                };
-                self.controls.resync();
-                self.views.bifurcation.zoom.clear();
-                self.views.bifurcation.invalidate();
-            }
+            Action::ResetDefaults => self.reset_defaults(),
             Action::RestartOrbit => self.jobs.restart_orbit(&self.settings, now),
             Action::SetThetaNu(x) => {
                 let (lo, hi) = self.settings.theta_nu_range();
@@ -325,21 +293,8 @@ impl Explorer {
             Action::SetParam(ContParam::ThetaNu, x) => {
                 self.apply(Action::SetThetaNu(x), ctx);
             }
-            Action::SetParam(p, x) => {
-                // Within the diagram's range, and only where the model is.
-                let (lo, hi) = self.settings.sweep_range();
-                let params = p.set(&self.settings.params, x.clamp(lo, hi));
-                if params.validate().is_ok() {
-                    self.settings.params = params;
-                }
-            }
-            Action::SetPoint { theta_nu, kappa } => {
-                let p = &mut self.settings.params;
-                (p.theta_nu, p.kappa) = (theta_nu, kappa);
-                if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&theta_nu) {
-                    self.settings.full_circle = true;
-                }
-            }
+            Action::SetParam(p, x) => self.set_param(p, x),
+            Action::SetPoint { theta_nu, kappa } => self.set_point(theta_nu, kappa),
             Action::RunWorkPrecision => self.jobs.start_work_precision(&self.settings),
             Action::StopWorkPrecision => self.jobs.stop_work_precision(),
             Action::ComputePhase => self.jobs.compute_phase(&self.settings),
@@ -354,6 +309,65 @@ impl Explorer {
             Action::Scan => self.jobs.start_scan(self.settings.params),
             Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
             Action::StopBoundaries => self.jobs.stop_boundaries(),
+        }
+    }
+
+    /// An SVG of view `v`, or of the tiles that had room on screen.
+    fn svg_screenshot(&mut self, v: Option<ViewKind>) {
+        let (views, what) = match v {
+            Some(v) => (vec![v], v.key()),
+            None => {
+                // The tiles that had room on screen (tiles_shown_ui).
+                let mut shown = svg_render::shown_views(&self.settings);
+                if !self.view_rects.is_empty() {
+                    shown.retain(|k| self.view_rects.contains_key(k));
+                }
+                (shown, "window")
+            }
+        };
+        let area = self.views_area(&views);
+        let svg = svg_render::render_svg(
+            &views,
+            &self.settings,
+            &self.jobs,
+            &self.views.bifurcation.zoom,
+            area,
+            false,
+        );
+        let path = fresh_path(&self.settings.save_dir, what, "svg");
+        self.shots.write(path, svg.into_bytes());
+    }
+
+    /// Every setting back to its default but the save folder; the zoom
+    /// cleared.
+    fn reset_defaults(&mut self) {
+        let dir = std::mem::take(&mut self.settings.save_dir);
+        self.settings = Settings {
+            save_dir: dir,
+            ..Settings::default()
+        };
+        self.controls.resync();
+        self.views.bifurcation.zoom.clear();
+        self.views.bifurcation.invalidate();
+    }
+
+    /// The diagram's parameter `p` set to `x`: within the diagram's range,
+    /// and only where the model is.
+    fn set_param(&mut self, p: ContParam, x: f64) {
+        let (lo, hi) = self.settings.sweep_range();
+        let params = p.set(&self.settings.params, x.clamp(lo, hi));
+        if params.validate().is_ok() {
+            self.settings.params = params;
+        }
+    }
+
+    /// θν and κ from a click on the phase diagram (the full circle shown
+    /// if θν is outside [0, π/2]).
+    fn set_point(&mut self, theta_nu: f64, kappa: f64) {
+        let p = &mut self.settings.params;
+        (p.theta_nu, p.kappa) = (theta_nu, kappa);
+        if !(0.0..=std::f64::consts::FRAC_PI_2).contains(&theta_nu) {
+            self.settings.full_circle = true;
         }
     }
 

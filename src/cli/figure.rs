@@ -20,6 +20,7 @@ use super::run_control::{Limits, run_bounded};
 #[cfg(feature = "gui")]
 use super::values::echo;
 use super::values::{parse_count, parse_number};
+use crate::sim::continuation::ContParam;
 
 /// The default figure size in points.
 pub const DEFAULT_SIZE: [f32; 2] = [900.0, 600.0];
@@ -62,6 +63,19 @@ pub struct FigureArgs {
     /// Upper end of θν (with --theta-nu-from).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_from")]
     pub theta_nu_to: Option<f64>,
+    /// The parameter the bifurcation diagram varies: theta-nu, kappa,
+    /// gamma, nu or omega, the others held fixed (as `bifurcation
+    /// --param`) [default: the session's, else theta-nu].
+    #[arg(long)]
+    pub param: Option<ContParam>,
+    /// Lower end of the diagram's range of --param (with --to; for
+    /// theta-nu the same as --theta-nu-from) [default: the session's,
+    /// else the window's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "to", conflicts_with_all = ["theta_nu_from", "theta_nu_to"])]
+    pub from: Option<f64>,
+    /// Upper end of the diagram's range of --param (with --from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "from")]
+    pub to: Option<f64>,
     /// Lower end of the bifurcation diagram's θ axis [default: the columns' range].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_to")]
     pub theta_from: Option<f64>,
@@ -178,6 +192,83 @@ fn view_flags(
     }
 }
 
+/// The diagram's varied parameter (--param, else the session's) and
+/// range (--from and --to) into `settings`; the diagram's θν range, which
+/// --theta-nu-from and --theta-nu-to give only when θν is varied. A
+/// range of another parameter replaces the session's zoom (`zoom`).
+#[cfg(feature = "gui")]
+fn diagram_flags(
+    view: crate::app::ViewKind,
+    a: &FigureArgs,
+    c: &Checked,
+    settings: &mut crate::app::Settings,
+    zoom: &mut Vec<crate::app::bifurcation::Zoom>,
+) -> Result<Option<(f64, f64)>, CliError> {
+    use crate::app::ViewKind;
+    use crate::app::settings::DiagramAxis;
+    let bifurcation = view == ViewKind::Bifurcation;
+    if !bifurcation && (a.param.is_some() || a.from.is_some()) {
+        let flag = if a.param.is_some() {
+            "--param"
+        } else {
+            "--from"
+        };
+        return Err(CliError::Usage(format!(
+            "{flag}: only the bifurcation view varies a parameter, not '{}'",
+            echo(&c.view)
+        )));
+    }
+    if !bifurcation {
+        return Ok(c
+            .theta_nu
+            .filter(|_| !matches!(view, ViewKind::Phase | ViewKind::Basins)));
+    }
+    let param = a.param.unwrap_or(settings.diagram.param);
+    if param != settings.diagram.param {
+        settings.diagram.param = param;
+        zoom.clear();
+    }
+    let range = a.from.zip(a.to);
+    if param == ContParam::ThetaNu {
+        return Ok(range.or(c.theta_nu));
+    }
+    let name = param.name();
+    if c.theta_nu.is_some() {
+        return Err(CliError::Usage(format!(
+            "--theta-nu-from: this diagram varies {name}, with θν held at {}: give {name}'s range \
+             with --from and --to",
+            super::values::short(settings.params.theta_nu)
+        )));
+    }
+    if a.play {
+        return Err(CliError::Usage(format!(
+            "--play: θν plays over a diagram in θν; this one varies {name} (--param theta-nu)"
+        )));
+    }
+    if let Some((from, to)) = range {
+        for (flag, v) in [("from", from), ("to", to)] {
+            if v.is_finite() && v <= 0.0 && param.spans_decades() {
+                return Err(CliError::Usage(format!(
+                    "--{flag} = {} is out of range: {name} must be positive (its axis is logarithmic)",
+                    super::values::short(v)
+                )));
+            }
+            super::continue_cmd::range_end(flag, v, param, &settings.params)?;
+        }
+        let r = (from.min(to), from.max(to));
+        if !DiagramAxis::is_valid_range(param, r) {
+            return Err(CliError::Usage(format!(
+                "--from = {}, --to = {}: {name}'s range must have two different ends",
+                super::values::short(from),
+                super::values::short(to)
+            )));
+        }
+        settings.diagram.set_range(param, r);
+        zoom.clear();
+    }
+    Ok(None)
+}
+
 /// The look the flags ask for: a page's, or with --window-look the
 /// window's.
 #[cfg(feature = "gui")]
@@ -225,7 +316,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let view = ViewKind::from_key(&c.view)
         .ok_or_else(|| CliError::Usage(format!("--view: unknown view '{}'", echo(&c.view))))?;
     let session = read_session(&a)?;
-    let (mut settings, zoom) = session.as_ref().map_or_else(
+    let (mut settings, mut zoom) = session.as_ref().map_or_else(
         || (Settings::default(), Vec::new()),
         |s| (s.settings.clone(), s.bifurcation_zoom.clone()),
     );
@@ -245,6 +336,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         settings.block_speed = v as f32;
     }
     view_flags(view, &a, &c, &mut settings);
+    let theta_nu = diagram_flags(view, &a, &c, &mut settings, &mut zoom)?;
     let size = a.size.unwrap_or(match c.format {
         Format::Gif => GIF_SIZE,
         _ => DEFAULT_SIZE,
@@ -253,9 +345,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         view,
         settings,
         zoom,
-        theta_nu: c
-            .theta_nu
-            .filter(|_| !matches!(view, ViewKind::Phase | ViewKind::Basins)),
+        theta_nu,
         theta: c.theta,
         size: eframe::egui::vec2(size[0], size[1]),
         crosshair: a.crosshair,
@@ -272,7 +362,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
     let size = fig.size;
     let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
-    let play = a.play.then(|| match c.theta_nu {
+    let play = a.play.then(|| match c.theta_nu.or(a.from.zip(a.to)) {
         Some((from, to)) => PlaySpan { from, to, frames },
         None => PlaySpan::of_diagram(&fig, frames),
     });

@@ -22,6 +22,7 @@ use super::super::jobs::Jobs;
 use super::super::settings::{Settings, ViewKind};
 use super::super::svg_render::FrameRenderer;
 use super::{CHUNK_BYTES, Encoder, FRAME_SECONDS};
+use crate::sim::continuation::ContParam;
 
 /// The views a played GIF can show: those that follow θν.
 pub const PLAY_VIEWS: [ViewKind; 6] = [
@@ -45,9 +46,12 @@ impl PlaySpan {
     /// `frames` frames over the θν range `fig` plays when none is given:
     /// its diagram's (the zoom's, else the whole range).
     pub fn of_diagram(fig: &Figure, frames: usize) -> PlaySpan {
+        // θν plays: over the diagram's range when the diagram is in θν.
+        let in_theta_nu = fig.settings.diagram.param == ContParam::ThetaNu;
         let (from, to) = fig
             .sweep_zoom()
-            .unwrap_or_else(|| fig.settings.sweep_range());
+            .filter(|_| in_theta_nu)
+            .unwrap_or_else(|| fig.settings.theta_nu_range());
         PlaySpan { from, to, frames }
     }
 
