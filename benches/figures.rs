@@ -3,7 +3,9 @@
 //! of the block and of the plane, 120 frames at 640x480, in under 5 s and
 //! 10 MB each, all as `oneblock figure` makes them (the data computed on
 //! the single-threaded host, the frames drawn by the window's code). The
-//! GIFs' sizes are checked here: over 10 MB fails the run.
+//! GIFs' sizes are checked here: over 10 MB fails the run. The same
+//! diagram as a PDF (issue 42) costs at most 1.5 times its SVG: the SVG's
+//! cost plus svg2pdf's, which `fig3b_diagram_svg_to_pdf` times alone.
 //!
 //! Run on an idle machine:
 //! `cargo bench --bench figures -- --warm-up-time 1 --measurement-time 10`.
@@ -16,7 +18,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use eframe::egui;
 use oneblock::app::animation::gif;
-use oneblock::app::figure::{Figure, svg};
+use oneblock::app::figure::{Figure, pdf_of_svg, svg};
 use oneblock::app::{Settings, ViewKind};
 
 /// `view` at the fig3b preset over `w`×`h` points, as `figure` draws it.
@@ -45,6 +47,10 @@ fn figures(c: &mut Criterion) {
     assert_eq!(diagram.settings.columns, 400);
     g.bench_function("fig3b_diagram_svg", |b| {
         b.iter(|| black_box(svg(&diagram).unwrap()))
+    });
+    let text = svg(&diagram).unwrap();
+    g.bench_function("fig3b_diagram_svg_to_pdf", |b| {
+        b.iter(|| black_box(pdf_of_svg(&text).unwrap()))
     });
     for (name, view) in [("block", ViewKind::Block), ("plane", ViewKind::Plane)] {
         let fig = figure(view, 640.0, 480.0);

@@ -63,7 +63,7 @@ pub enum Command {
     Phase(phase::PhaseArgs),
     /// Opens the window (the default), optionally to take a screenshot and exit.
     Gui(gui::GuiArgs),
-    /// One view as an SVG or PNG file, drawn headless by the window's code
+    /// One view as an SVG, PDF, PNG or GIF file, drawn headless by the window's code
     /// (needs the default `gui` feature).
     Figure(figure::FigureArgs),
 }
