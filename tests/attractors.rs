@@ -6,7 +6,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use std::collections::BTreeSet;
 use std::sync::OnceLock;

@@ -1,7 +1,7 @@
 //! The headless command line, run as a user runs it: the `oneblock` binary
 //! with its flags, checked on its stdout, stderr, exit code and files.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 

@@ -4,7 +4,7 @@
 //! continuation and the boundaries come in many pieces (they pause
 //! between map evaluations) is not a timing.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 use oneblock::jobs::Kind;

@@ -9,7 +9,7 @@
 //! stands for anything within a line (wall-clock times, this machine's
 //! load). A ` ```sh ` block without output (setup) is not run.
 //!
-//! `UPDATE_DOCS=1 cargo test --release --test cli_docs` rewrites the text
+//! `UPDATE_DOCS=1 cargo test --release --test suite cli_docs::` rewrites the text
 //! blocks from the binary's output (keeping a documented line with `…`
 //! where it still matches), so that drift is fixed in one command.
 
@@ -355,7 +355,7 @@ fn the_examples_print_what_the_docs_show() {
     assert!(count >= 12, "found only {count} examples");
     assert!(
         failures.is_empty(),
-        "{} example(s) differ from the docs (UPDATE_DOCS=1 cargo test --release --test cli_docs rewrites the text blocks):\n\n{}",
+        "{} example(s) differ from the docs (UPDATE_DOCS=1 cargo test --release --test suite cli_docs:: rewrites the text blocks):\n\n{}",
         failures.len(),
         failures.join("\n\n")
     );

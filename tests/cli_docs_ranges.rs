@@ -7,7 +7,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use std::collections::{BTreeMap, BTreeSet};
 

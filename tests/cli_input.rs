@@ -1,7 +1,7 @@
 //! Bad input and output files on the command line: every refusal names its
 //! flag on one line with exit code 2, and no existing file is lost.
 
-mod cli_support;
+use crate::cli_support;
 
 use std::path::Path;
 use std::time::{Duration, Instant};

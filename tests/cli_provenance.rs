@@ -4,7 +4,7 @@
 //! written out), and every flag's value, defaults included. The csv crate
 //! reads past them (`comment(Some(b'#'))`) to the same header and rows.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::{assert_ok, run};
 

@@ -9,7 +9,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};

@@ -2,7 +2,7 @@
 //! hall and a paper can use", item 9): `phase --png` alone writes only the
 //! picture, and counts accept exponent notation.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 

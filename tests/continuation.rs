@@ -5,7 +5,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 use oneblock::model::{Params, wrap_angle};

@@ -8,7 +8,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 

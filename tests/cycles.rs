@@ -2,7 +2,7 @@
 //! exact exponent of a periodic orbit, and the classifiers (orbit, phase
 //! grid, sweeps) that solve a slowly approached cycle instead of giving up.
 
-mod common;
+use crate::common;
 
 use common::fixture::preset;
 

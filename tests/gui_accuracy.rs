@@ -3,8 +3,7 @@
 //! it; under Custom every job gets the typed method and tolerance.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use eframe::egui;
 use eframe::egui::accesskit::Role;

@@ -7,8 +7,7 @@
 //! outside the model's assumptions.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;

@@ -2,8 +2,7 @@
 //! θν range at full resolution, and Back returns to the whole range.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use eframe::egui;
 use egui_kittest::kittest::Queryable;

@@ -8,8 +8,6 @@
 //! computed on the UI thread: no continuation call lives in src/app/.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
 
 use oneblock::worker::Spec;
 use std::sync::Arc;

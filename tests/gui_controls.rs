@@ -4,8 +4,7 @@
 //! window sends to a recording backend.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use eframe::egui::accesskit::Role;
 use egui_kittest::Harness;

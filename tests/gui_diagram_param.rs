@@ -18,8 +18,7 @@
 //!   `oneblock continue --cascade` prints.
 #![cfg(feature = "gui")]
 
-#[path = "cli_support/mod.rs"]
-mod cli_support;
+use crate::cli_support;
 
 use std::sync::Arc;
 

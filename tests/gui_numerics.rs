@@ -4,8 +4,7 @@
 //! from the real worker); Stop cancels the numerics lane only.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;

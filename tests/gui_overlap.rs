@@ -13,8 +13,7 @@
 //! bar of one line.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use std::collections::HashMap;
 

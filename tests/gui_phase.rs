@@ -6,8 +6,7 @@
 //! attractors; the doubling curves' generalised flips are marked and listed.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use eframe::egui::accesskit::Role;
 use egui_kittest::kittest::{NodeT, Queryable};

@@ -8,8 +8,7 @@
 //! speaks of it.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use eframe::egui;
 use egui_kittest::Harness;

@@ -5,8 +5,7 @@
 //! its frames) gives the very bytes `figure --play` makes at once.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use std::time::Duration;
 

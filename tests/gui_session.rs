@@ -3,8 +3,7 @@
 //! defaults for that, and keeps everything else as saved.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use oneblock::Params;
 use oneblock::app::bifurcation::Zoom;

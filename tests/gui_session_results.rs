@@ -8,8 +8,7 @@
 //! `figure` draws a session's branches without computing them again.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use std::path::{Path, PathBuf};
 

@@ -5,8 +5,7 @@
 //! random mixes of sound and spoiled fields, and the message in the window.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use std::f64::consts::PI;
 

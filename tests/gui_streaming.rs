@@ -3,8 +3,7 @@
 //! and an update of an older generation is dropped.
 #![cfg(feature = "gui")]
 
-#[path = "common/window.rs"]
-mod window;
+use crate::window;
 
 use oneblock::app::jobs::JobState;
 use oneblock::app::{Layout, Recorder, Settings, ViewKind};

@@ -6,7 +6,7 @@
 //! creep channel's passage time against the measured mean laminar length;
 //! and the tangency located by continuation.
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 use oneblock::sim::intermittency::{

@@ -5,7 +5,7 @@
 //! and `oneblock orbit --stats` says where its slip sizes came from.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 
 use std::process::Command;

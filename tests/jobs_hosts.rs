@@ -5,7 +5,7 @@
 //! for bit: a job is defined once, and its plan does not depend on who
 //! runs it or on how many threads.
 
-mod common;
+use crate::common;
 
 use std::collections::BTreeMap;
 

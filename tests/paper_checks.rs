@@ -2,7 +2,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 
 use oneblock::model::{OnsetCharacter, critical_angles, onset_character};

@@ -3,7 +3,7 @@
 //! counts, and the `oneblock phase` command's handling of bad input and
 //! Ctrl+C.
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 
 use std::f64::consts::FRAC_PI_2;

@@ -4,7 +4,7 @@
 //! is refused the cell integrates, exactly as without it.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 
 use oneblock::Params;

@@ -7,7 +7,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod cli_support;
+use crate::cli_support;
 
 use cli_support::*;
 use oneblock::model::{GAMMA_RANGE, KAPPA_RANGE, NU_RANGE, PRESETS, exit_arc, wrap_angle};

@@ -5,7 +5,7 @@
 
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 
 use oneblock::model::{critical_angles, exit_arc, is_on_exit_arc, wrap_angle};

@@ -5,7 +5,7 @@
 //! doubling curves on which the multiplier is −1.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 
 use common::jobs::{assert_nothing_older_after_acks, fig3b, spawn};
 use common::{until_ack, until_finished};

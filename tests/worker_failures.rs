@@ -3,7 +3,7 @@
 //! keeps serving, shutdown joins every thread, and worker threads run at a
 //! lower priority than the window.
 
-mod common;
+use crate::common;
 use common::jobs::*;
 use common::{recv, until_finished};
 use oneblock::worker::Spec;

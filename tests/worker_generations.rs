@@ -4,7 +4,7 @@
 //! the current jobs. Assertions are on generations and orderings, never on
 //! wall-clock time (timeouts only guard against hangs).
 
-mod common;
+use crate::common;
 use common::jobs::*;
 use common::{recv, until_finished};
 use std::collections::HashSet;

@@ -6,7 +6,7 @@
 //! cycles and generations, never on wall-clock time (timeouts only guard
 //! against hangs).
 
-mod common;
+use crate::common;
 use common::fixture::preset;
 use common::{recv, until_ack, until_finished};
 use oneblock::worker::Spec;

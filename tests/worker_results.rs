@@ -2,7 +2,7 @@
 //! trajectory and the progressive sweep equal the core's bit for bit, and the
 //! sweep delivers each column once, coarse pass first.
 
-mod common;
+use crate::common;
 use common::jobs::*;
 use common::until_finished;
 use std::collections::HashSet;

@@ -6,7 +6,7 @@
 //! statistical error) for a chaotic one.
 #![allow(clippy::unwrap_used)]
 
-mod common;
+use crate::common;
 use common::jobs::spawn;
 use common::until_finished;
 

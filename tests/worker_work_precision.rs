@@ -1,7 +1,7 @@
 //! The work-precision job on the worker, headless: one row per setting equal
 //! to the core's, cancelled by a stop or a newer job, a bad parameter named.
 
-mod common;
+use crate::common;
 use common::jobs::*;
 use common::{recv, until_finished};
 use std::time::Duration;
