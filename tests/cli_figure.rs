@@ -8,10 +8,8 @@
 
 use std::collections::HashMap;
 use std::path::Path;
-use std::process::{Command, Output};
 
-use oneblock::app::Settings;
-use oneblock::app::session::Session;
+use crate::common::figure::{figure, gif_frames, session_of, small_settings};
 
 /// Every view `figure` draws.
 const VIEWS: [&str; 9] = [
@@ -44,40 +42,13 @@ const CONTROLS: [&str; 14] = [
     "drag / scroll",
 ];
 
-/// A session with small jobs, so that every view is quick.
+/// A session with small jobs, a 6 × 6 phase grid too, so that every view
+/// is quick.
 fn small_session(dir: &Path) -> std::path::PathBuf {
-    let mut s = Settings {
-        columns: 60,
-        sweep_transient: 60,
-        sweep_keep: 40,
-        trajectory_cycles: 40,
-        ..Settings::default()
-    };
+    let mut s = small_settings();
     s.phase.theta_nu_steps = 6;
     s.phase.kappa_steps = 6;
-    let p = dir.join("small.json");
-    std::fs::write(
-        &p,
-        Session {
-            settings: s,
-            bifurcation_zoom: vec![],
-            ..Session::default()
-        }
-        .to_json(),
-    )
-    .expect("session");
-    p
-}
-
-/// Runs `oneblock figure ARGS` with no display of any kind.
-fn figure(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oneblock"))
-        .arg("figure")
-        .args(args)
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run oneblock figure")
+    session_of(dir, s)
 }
 
 /// A `<text>` of the SVG: where it starts, how wide it is, its string,
@@ -376,38 +347,6 @@ fn frames_and_a_gif_go_together_for_the_animated_views_only() {
         assert!(err.contains(flag), "{err}");
         assert!(!out.exists());
     }
-}
-
-/// One frame as a whole picture: its delay (hundredths of a second) and
-/// its RGBA pixels.
-type Picture = (u16, Vec<u8>);
-
-/// The frames of a GIF as whole pictures (RGBA), each frame's rectangle
-/// drawn over the picture before it (the encoder stores only what
-/// changed), with the picture's size and each frame's delay.
-fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
-    let file = std::fs::File::open(path).expect("gif written");
-    let mut opts = gif::DecodeOptions::new();
-    opts.set_color_output(gif::ColorOutput::RGBA);
-    let mut d = opts.read_info(file).expect("a GIF");
-    let (w, h) = (usize::from(d.width()), usize::from(d.height()));
-    let mut canvas = vec![0u8; w * h * 4];
-    let mut out = vec![];
-    while let Some(f) = d.read_next_frame().expect("a frame") {
-        let (fw, left, top) = (
-            usize::from(f.width),
-            usize::from(f.left),
-            usize::from(f.top),
-        );
-        for (i, px) in f.buffer.chunks(4).enumerate() {
-            let (x, y) = (left + i % fw, top + i / fw);
-            if px[3] > 0 && x < w && y < h {
-                canvas[(y * w + x) * 4..(y * w + x) * 4 + 4].copy_from_slice(px);
-            }
-        }
-        out.push((f.delay, canvas.clone()));
-    }
-    ((w, h), out)
 }
 
 /// Pixels where two pictures differ by more than a palette's rounding

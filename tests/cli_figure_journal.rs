@@ -10,31 +10,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use oneblock::app::Settings;
-use oneblock::app::session::Session;
-
-/// A session with small jobs, so that every figure is quick.
-fn small_session(dir: &Path) -> PathBuf {
-    let s = Settings {
-        columns: 60,
-        sweep_transient: 60,
-        sweep_keep: 40,
-        trajectory_cycles: 40,
-        ..Settings::default()
-    };
-    let p = dir.join("small.json");
-    std::fs::write(
-        &p,
-        Session {
-            settings: s,
-            bifurcation_zoom: vec![],
-            ..Session::default()
-        }
-        .to_json(),
-    )
-    .expect("session");
-    p
-}
+use crate::common::figure::small_session;
 
 /// Runs `oneblock figure ARGS --session small --out DIR/NAME`, which must
 /// succeed; returns the file's path.

@@ -7,72 +7,8 @@
 #![cfg(feature = "gui")]
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-use oneblock::app::Settings;
-use oneblock::app::session::Session;
-
-/// Runs `oneblock figure ARGS` with no display of any kind.
-fn figure(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_oneblock"))
-        .arg("figure")
-        .args(args)
-        .env_remove("DISPLAY")
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run oneblock figure")
-}
-
-/// A session with small jobs (Fig. 3b's parameters), so that every frame
-/// is quick.
-fn small_session(dir: &Path) -> PathBuf {
-    let s = Settings {
-        columns: 60,
-        sweep_transient: 60,
-        sweep_keep: 40,
-        trajectory_cycles: 40,
-        ..Settings::default()
-    };
-    let p = dir.join("small.json");
-    let session = Session {
-        settings: s,
-        bifurcation_zoom: vec![],
-        ..Session::default()
-    };
-    std::fs::write(&p, session.to_json()).expect("session");
-    p
-}
-
-/// One frame as a whole picture: its delay (hundredths of a second) and
-/// its RGBA pixels.
-type Picture = (u16, Vec<u8>);
-
-/// The frames of a GIF as whole RGBA pictures (each frame's rectangle
-/// drawn over the one before), with the size and each frame's delay.
-fn gif_frames(path: &Path) -> ((usize, usize), Vec<Picture>) {
-    let file = std::fs::File::open(path).expect("gif written");
-    let mut opts = gif::DecodeOptions::new();
-    opts.set_color_output(gif::ColorOutput::RGBA);
-    let mut d = opts.read_info(file).expect("a GIF");
-    let (w, h) = (usize::from(d.width()), usize::from(d.height()));
-    let mut canvas = vec![0u8; w * h * 4];
-    let mut out = vec![];
-    while let Some(f) = d.read_next_frame().expect("a frame") {
-        let (fw, left, top) = (
-            usize::from(f.width),
-            usize::from(f.left),
-            usize::from(f.top),
-        );
-        for (i, px) in f.buffer.chunks(4).enumerate() {
-            let (x, y) = (left + i % fw, top + i / fw);
-            if px[3] > 0 && x < w && y < h {
-                canvas[(y * w + x) * 4..(y * w + x) * 4 + 4].copy_from_slice(px);
-            }
-        }
-        out.push((f.delay, canvas.clone()));
-    }
-    ((w, h), out)
-}
+use crate::common::figure::{figure, gif_frames, small_session};
 
 /// The pixels (x, y) where two pictures of width `w` differ.
 fn differing(a: &[u8], b: &[u8], w: usize) -> Vec<(usize, usize)> {

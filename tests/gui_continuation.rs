@@ -8,7 +8,6 @@
 //! computed on the UI thread: no continuation call lives in src/app/.
 #![cfg(feature = "gui")]
 
-
 use oneblock::worker::Spec;
 use std::sync::Arc;
 

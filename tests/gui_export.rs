@@ -6,6 +6,9 @@
 #[path = "common/window.rs"]
 mod window;
 
+mod common;
+use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
+
 use egui_kittest::kittest::Queryable;
 
 use oneblock::app::{Recorder, Settings};
@@ -128,15 +131,6 @@ fn export_writes_the_phase_grid_as_oneblock_phase_does() {
     assert!(lines[900].starts_with("1.5707963267948966,42,0,0.3,,40,chaos,0.05"));
 }
 
-/// Whether `xvfb-run` is here (the real-window tests need it; CI installs it).
-fn have_xvfb() -> bool {
-    std::process::Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
 /// `oneblock gui --session S --screenshot out.svg` under Xvfb for every
 /// view (a session with small grids, so that it is quick and also checks
 /// that a session renders headless): each SVG parses, labels its axes with
@@ -147,19 +141,11 @@ fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
     use oneblock::app::ViewKind;
     use oneblock::app::session::Session;
     use oneblock::app::settings::Layout;
-    if !have_xvfb() {
-        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
-        eprintln!("note: xvfb-run not found; SVG window test skipped");
+    if !have_xvfb("SVG window test") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
-    let xdg = dir.path().join("xdg");
-    std::fs::create_dir(&xdg).expect("xdg");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).expect("mode");
-    }
+    let xdg = runtime_dir(&dir.path().join("xdg"));
     // The fewest series each view draws on the Fig. 3b orbit, and the
     // fewest numeric tick labels (the block view is a picture, not a plot).
     let expect = [
@@ -195,8 +181,7 @@ fn every_view_exports_an_svg_with_text_ticks_and_its_series() {
         )
         .expect("session");
         let svg = dir.path().join(format!("{}.svg", v.key()));
-        let out = std::process::Command::new("timeout")
-            .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+        let out = under_xvfb(400)
             .arg(env!("CARGO_BIN_EXE_oneblock"))
             .args(["gui", "--timeout", "300", "--session"])
             .arg(&session)
@@ -245,8 +230,7 @@ fn same_series_as_the_png(
     key: &str,
 ) {
     let png = dir.join(format!("{key}.png"));
-    let out = std::process::Command::new("timeout")
-        .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+    let out = under_xvfb(400)
         .arg(env!("CARGO_BIN_EXE_oneblock"))
         .args(["gui", "--timeout", "300", "--session"])
         .arg(session)

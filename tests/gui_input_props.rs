@@ -10,8 +10,10 @@
 #![cfg(feature = "gui")]
 #![allow(clippy::unwrap_used)]
 
+mod common;
+use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
+
 use std::collections::HashMap;
-use std::process::Command;
 use std::time::{Duration, Instant};
 
 use proptest::prelude::*;
@@ -216,25 +218,10 @@ fn the_reported_bricking_inputs_load_sanitised() {
     assert!(m.contains("set aside") && m.contains("bytes"), "{m}");
 }
 
-fn have_xvfb() -> bool {
-    Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
-
 /// `gui` under Xvfb, with `home` as HOME and XDG_DATA_HOME under it.
 fn gui_in(home: &std::path::Path, args: &[&std::ffi::OsStr]) -> std::process::Output {
-    let xdg = home.join("runtime");
-    std::fs::create_dir_all(&xdg).unwrap();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).unwrap();
-    }
-    Command::new("timeout")
-        .args(["300", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+    let xdg = runtime_dir(&home.join("runtime"));
+    under_xvfb(300)
         .arg(env!("CARGO_BIN_EXE_oneblock"))
         .arg("gui")
         .args(args)
@@ -252,9 +239,7 @@ fn gui_in(home: &std::path::Path, args: &[&std::ffi::OsStr]) -> std::process::Ou
 /// aside or sanitised, never bricking the launch.
 #[test]
 fn bricking_sessions_and_saved_states_render_under_xvfb() {
-    if !have_xvfb() {
-        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
-        eprintln!("note: xvfb-run not found; window cases skipped");
+    if !have_xvfb("window cases") {
         return;
     }
     let home = tempfile::tempdir().unwrap();
@@ -344,9 +329,7 @@ fn bricking_sessions_and_saved_states_render_under_xvfb() {
 /// and exit 1 (the first frame here sleeps for an hour).
 #[test]
 fn timeout_bounds_a_run_whose_frame_stalls() {
-    if !have_xvfb() {
-        assert!(std::env::var_os("CI").is_none(), "CI must install xvfb");
-        eprintln!("note: xvfb-run not found; stalled-frame case skipped");
+    if !have_xvfb("stalled-frame case") {
         return;
     }
     let home = tempfile::tempdir().unwrap();

@@ -8,38 +8,20 @@
 #![cfg(feature = "gui")]
 #![allow(clippy::unwrap_used)]
 
-use std::collections::HashSet;
-use std::process::Command;
+mod common;
+use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
 
-fn have_xvfb() -> bool {
-    Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
+use std::collections::HashSet;
 
 #[test]
 fn fig3b_screenshot_under_xvfb_is_a_real_picture() {
-    if !have_xvfb() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI must install xvfb (see .ci/run)"
-        );
-        eprintln!("note: xvfb-run not found; window test skipped (apt-get install xvfb xauth)");
+    if !have_xvfb("window test") {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let xdg = dir.path().join("xdg");
-    std::fs::create_dir(&xdg).unwrap();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).unwrap();
-    }
+    let xdg = runtime_dir(&dir.path().join("xdg"));
     let png = dir.path().join("fig3b.png");
-    let out = Command::new("timeout")
-        .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+    let out = under_xvfb(400)
         .arg(env!("CARGO_BIN_EXE_oneblock"))
         .args([
             "gui",

@@ -9,15 +9,8 @@
 
 #![cfg(feature = "gui")]
 
-use std::process::Command;
-
-fn have_xvfb() -> bool {
-    Command::new("sh")
-        .args(["-c", "command -v xvfb-run"])
-        .output()
-        .map(|o| o.status.success())
-        .unwrap_or(false)
-}
+mod common;
+use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
 
 /// The number after `before` in `text`, up to the first character that
 /// cannot be part of it.
@@ -32,25 +25,13 @@ fn number_after(text: &str, before: &str) -> f64 {
 
 #[test]
 fn the_window_plays_theta_nu_and_reports_its_frames() {
-    if !have_xvfb() {
-        assert!(
-            std::env::var_os("CI").is_none(),
-            "CI must install xvfb (see .ci/run)"
-        );
-        eprintln!("note: xvfb-run not found; window test skipped (apt-get install xvfb xauth)");
+    if !have_xvfb("window test") {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
-    let xdg = dir.path().join("xdg");
-    std::fs::create_dir(&xdg).expect("xdg dir");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        std::fs::set_permissions(&xdg, std::fs::Permissions::from_mode(0o700)).expect("mode");
-    }
+    let xdg = runtime_dir(&dir.path().join("xdg"));
     let png = dir.path().join("played.png");
-    let out = Command::new("timeout")
-        .args(["400", "xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"])
+    let out = under_xvfb(400)
         .arg(env!("CARGO_BIN_EXE_oneblock"))
         .args([
             "gui",

@@ -14,16 +14,14 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    MAX_ROWS, SolverArgs, check_out, check_theta, count_in, emit, finite, max_seconds,
+    MAX_ROWS, ModelArgs, SolverArgs, check_out, check_theta, count_in, emit, finite, max_seconds,
     total_iterates, warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
-use super::values::{
-    count_between, given_or_preset, param_error, parse_count, parse_number, preset_params, short,
-};
+use super::values::{count_between, param_error, parse_count, parse_number, short};
 use crate::formats::bifurcation_csv;
 use crate::jobs::{Axis, JobError, Spec, SweepSpec, Update, run_collect};
-use crate::model::{Params, Preset};
+use crate::model::Params;
 use crate::provenance::model_line_varying;
 use crate::sim::Simulator;
 use crate::sim::column_lyapunov::ColumnLyapunov;
@@ -35,32 +33,10 @@ use crate::sim::seeded::{MAX_OTHERS, MAX_SEEDS};
 /// `--param`).
 #[derive(Debug, Clone, Args)]
 pub struct BifurcationArgs {
-    /// Start from a named parameter set (fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent; its value of the varied parameter is not used): the
-    /// flags below override it.
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
-    /// into steady sliding, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
-    pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
-    /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
-    pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "param"])]
-    pub nu: Option<f64>,
-    /// θν, the pulling direction in radians, held fixed when --param varies
-    /// another parameter [default: the preset's].
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number)]
-    pub theta_nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
-    /// assumes [1, 1e4]) [default: 50,
-    /// or the preset's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
+    /// The model's flags (θν held fixed when --param varies another
+    /// parameter; the varied one's own flag is not used).
+    #[command(flatten)]
+    pub model: ModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
     /// The parameter varied along the diagram (theta-nu, kappa, gamma, nu
@@ -161,26 +137,9 @@ pub struct Plan {
 /// The model's parameters with the varied one at `from`: each of the
 /// others from its flag, else the preset's (θν's too when it is fixed).
 fn model_params(args: &BifurcationArgs, param: ContParam, from: f64) -> Result<Params, CliError> {
-    let base = preset_params(args.preset);
-    let pick = |p: ContParam, given: Option<f64>| {
-        if p == param {
-            Ok(from)
-        } else {
-            given_or_preset(p.name(), given, base.map(|b| p.get(&b)))
-        }
-    };
-    let params = Params {
-        kappa: pick(ContParam::Kappa, args.kappa)?,
-        gamma: pick(ContParam::Gamma, args.gamma)?,
-        nu: pick(ContParam::Nu, args.nu)?,
-        theta_nu: pick(ContParam::ThetaNu, args.theta_nu)?,
-        omega: if param == ContParam::Omega {
-            from
-        } else {
-            args.omega.or(base.map(|b| b.omega)).unwrap_or(50.0)
-        },
-    };
-    Ok(params)
+    let mut model = args.model.clone();
+    *model.flag_mut(param) = Some(from);
+    model.given()
 }
 
 /// The varied parameter and its range: --from and --to, checked against

@@ -17,57 +17,16 @@ use crate::output::{OutputError, check_writable, write_output};
 use crate::sim::Simulator;
 use crate::sim::continuation::ContParam;
 
-/// The model's parameters (docs/model.md), angles in radians: given one by
-/// one, or `--preset NAME` with any of them overriding the preset's value.
-#[derive(Debug, Clone, Args)]
-pub struct ModelArgs {
-    /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent (the flags below override its values).
-    #[arg(long)]
-    pub preset: Option<Preset>,
-    /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn
-    /// into steady sliding, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
-    pub kappa: Option<f64>,
-    /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
-    /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
-    pub gamma: Option<f64>,
-    /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
-    pub nu: Option<f64>,
-    /// θν, the pulling direction in radians.
-    #[arg(long = "theta-nu", allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
-    pub theta_nu: Option<f64>,
-    /// Ω, the memory of the friction direction, in (0, 1e8] (the model
-    /// assumes [1, 1e4]) [default: 50, or the preset's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub omega: Option<f64>,
-}
-
-impl ModelArgs {
-    /// The parameters, checked; each error names its flag.
-    pub fn params(&self) -> Result<Params, CliError> {
-        OptionalModelArgs {
-            preset: self.preset,
-            kappa: self.kappa,
-            gamma: self.gamma,
-            nu: self.nu,
-            theta_nu: self.theta_nu,
-            omega: self.omega,
-        }
-        .params()
-    }
-}
-
-/// The model's flags, each optional at the parser, for commands that may
-/// do without them (`work-precision`: its default sample) or set one
-/// themselves (`continue`: the varied parameter's, from --from); the
-/// others are required unless --preset gives them, checked by
-/// [`OptionalModelArgs::params`].
+/// The model's flags (docs/model.md), angles in radians, declared once for
+/// every command: given one by one, or `--preset NAME` with any of them
+/// overriding the preset's value. Each is optional at the parser: a
+/// command may do without them (`work-precision`: its default sample) or
+/// set one itself (`continue` and `bifurcation`: the varied parameter's,
+/// from --from); [`ModelArgs::params`] requires the others unless
+/// --preset gives them, and checks every value against the model's range
+/// in one place ([`Params::validate`]), each error naming its flag.
 #[derive(Debug, Clone, Default, Args)]
-pub struct OptionalModelArgs {
+pub struct ModelArgs {
     /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
     /// intermittent (the flags below override its values).
     #[arg(long)]
@@ -93,20 +52,27 @@ pub struct OptionalModelArgs {
     pub omega: Option<f64>,
 }
 
-impl OptionalModelArgs {
+impl ModelArgs {
     /// The parameters, checked; each error names its flag (one that
     /// neither its flag nor the preset gives, too).
     pub fn params(&self) -> Result<Params, CliError> {
+        let p = self.given()?;
+        p.validate().map_err(param_error)?;
+        Ok(p)
+    }
+
+    /// The parameters as given (each from its flag, else the preset's; Ω
+    /// 50 by default), not yet checked against the model's ranges; an
+    /// error names a flag that neither gives.
+    pub fn given(&self) -> Result<Params, CliError> {
         let base = preset_params(self.preset);
-        let p = Params {
+        Ok(Params {
             kappa: given_or_preset("kappa", self.kappa, base.map(|b| b.kappa))?,
             gamma: given_or_preset("gamma", self.gamma, base.map(|b| b.gamma))?,
             nu: given_or_preset("nu", self.nu, base.map(|b| b.nu))?,
             theta_nu: given_or_preset("theta-nu", self.theta_nu, base.map(|b| b.theta_nu))?,
             omega: self.omega.or(base.map(|b| b.omega)).unwrap_or(50.0),
-        };
-        p.validate().map_err(param_error)?;
-        Ok(p)
+        })
     }
 
     /// The flag of `param`.

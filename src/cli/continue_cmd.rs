@@ -11,8 +11,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    OptionalModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit,
-    emit_all, finite, max_seconds, warn_validity, with_provenance,
+    ModelArgs, SolverArgs, check_out, check_second_out, check_theta, describe, emit, emit_all,
+    finite, max_seconds, warn_validity, with_provenance,
 };
 use super::continue_out as out;
 use super::run_control::{Limits, stderr_is_terminal};
@@ -28,11 +28,7 @@ use crate::sim::{CycleFailure, PERIOD_MAX, SimError, Simulator};
 
 /// The model's flags with the varied parameter's (if left out) set to
 /// `from`, where the branch starts.
-fn with_varied(
-    model: &OptionalModelArgs,
-    varied: Option<ContParam>,
-    from: f64,
-) -> OptionalModelArgs {
+fn with_varied(model: &ModelArgs, varied: Option<ContParam>, from: f64) -> ModelArgs {
     let mut m = model.clone();
     if let Some(p) = varied {
         m.flag_mut(p).get_or_insert(from);
@@ -45,7 +41,7 @@ fn with_varied(
 pub struct ContinueArgs {
     /// The model's flags: the varied parameter's own may be left out.
     #[command(flatten)]
-    pub model: OptionalModelArgs,
+    pub model: ModelArgs,
     #[command(flatten)]
     pub solver: SolverArgs,
     /// The parameter varied. Its own flag (such as --theta-nu) may be left

@@ -4,160 +4,22 @@
 //! drawn (title, axes with units, legend), never the view's buttons. Needs
 //! the `gui` feature (egui draws the view).
 
-use std::path::PathBuf;
-
-use clap::Args;
-
 use super::CliError;
-use super::common::OptionalModelArgs;
 pub use super::figure_flags::{
-    Checked, FONT_SIZES, Format, GIF_SIZE, MAX_FRAMES, MAX_GIF_SIDE, MAX_SEEDS, PLAY_VIEW_KEYS,
-    check, format_of,
+    Checked, FONT_SIZES, FigureArgs, Format, GIF_SIZE, MAX_FRAMES, MAX_GIF_SIDE, MAX_SEEDS,
+    PLAY_VIEW_KEYS, check, format_of,
 };
-use super::gui::parse_size;
 #[cfg(feature = "gui")]
 use super::run_control::{Limits, run_bounded};
 #[cfg(feature = "gui")]
 use super::values::echo;
-use super::values::{parse_count, parse_number};
+#[cfg(feature = "gui")]
 use crate::sim::continuation::ContParam;
 
 /// The default figure size in points.
 pub const DEFAULT_SIZE: [f32; 2] = [900.0, 600.0];
 /// PNG pixels per point: sharp on a slide or a page.
 pub const PNG_SCALE: f32 = 2.0;
-
-#[derive(Debug, Clone, Args)]
-pub struct FigureArgs {
-    /// The view: plane, block, bifurcation, return-map, events, numerics, phase,
-    /// time-series, basins.
-    #[arg(long)]
-    pub view: String,
-    /// Where the figure goes; its extension picks the format: .svg (vector:
-    /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
-    /// text text in an embedded font) or .png (that SVG rasterised at 2
-    /// pixels per point); for --view basins also .csv (its columns: each
-    /// attractor's period and basin fraction). Never overwrites an
-    /// existing file.
-    #[arg(long)]
-    pub out: PathBuf,
-    /// The model's parameters [default: the session's, else fig3b's].
-    #[command(flatten)]
-    pub model: OptionalModelArgs,
-    /// Start from a session saved by the window's "Save session" (its
-    /// parameters, views' settings and diagram zoom, and the branches and
-    /// boundaries it kept, drawn as they are unless a flag changes what they
-    /// depend on); the flags override it. Without one, and without
-    /// --preset, the parameters are fig3b's.
-    #[arg(long)]
-    pub session: Option<PathBuf>,
-    /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
-    pub size: Option<[f32; 2]>,
-    /// Stop after this many seconds (0 < S ≤ 1e7), writing nothing, exit 1.
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub max_seconds: Option<f64>,
-    /// Lower end of θν: the bifurcation diagram's, the basins' or the phase grid's range, or where --play starts (radians).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
-    pub theta_nu_from: Option<f64>,
-    /// Upper end of θν (with --theta-nu-from).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_from")]
-    pub theta_nu_to: Option<f64>,
-    /// The parameter the bifurcation diagram varies: theta-nu, kappa,
-    /// gamma, nu or omega, the others held fixed (as `bifurcation
-    /// --param`) [default: the session's, else theta-nu].
-    #[arg(long)]
-    pub param: Option<ContParam>,
-    /// Lower end of the diagram's range of --param (with --to; for
-    /// theta-nu the same as --theta-nu-from) [default: the session's,
-    /// else the window's].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "to", conflicts_with_all = ["theta_nu_from", "theta_nu_to"])]
-    pub from: Option<f64>,
-    /// Upper end of the diagram's range of --param (with --from).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "from")]
-    pub to: Option<f64>,
-    /// Lower end of the bifurcation diagram's θ axis [default: the columns' range].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_to")]
-    pub theta_from: Option<f64>,
-    /// Upper end of the diagram's θ axis (with --theta-from).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_from")]
-    pub theta_to: Option<f64>,
-    /// Lower end of the phase grid's κ range, in [1e-6, 1e3] (κ's range).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_to")]
-    pub kappa_from: Option<f64>,
-    /// Upper end of the phase grid's κ range (with --kappa-from).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "kappa_from")]
-    pub kappa_to: Option<f64>,
-    /// The Basins view's θν columns, in [2, 400] [default: the session's, else 48].
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub columns: Option<usize>,
-    /// The phase grid's θν columns, in [2, 200].
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub theta_nu_steps: Option<usize>,
-    /// The phase grid's κ rows, in [2, 200].
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub kappa_steps: Option<usize>,
-    /// Frames of an animated GIF (--view block or plane, or with --play,
-    /// --out x.gif), in [2, 600], 10 a second.
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub frames: Option<usize>,
-    /// Play θν over the GIF's frames, from the diagram's range's lower end
-    /// to its upper (or from --theta-nu-from to --theta-nu-to), the view
-    /// following it as the window's Play θν does: --view return-map (its
-    /// axes held, the fixed point moving along the diagonal), plane, block,
-    /// bifurcation (its θν cursor), events or time-series; with --frames N
-    /// and --out x.gif.
-    #[arg(long)]
-    pub play: bool,
-    /// The GIF's playback speed, in [0.05, 1]: 1 plays as the window does
-    /// (slips at the slip speed, stick phases 0.6 s each), 0.25 four times
-    /// slower [default: 1].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "frames")]
-    pub speed: Option<f64>,
-    /// The slip speed the block and plane play at, in time units per second
-    /// of playback, in [0.1, 10] (the window's "slip speed") [default: the
-    /// session's, else 1].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub slip_speed: Option<f64>,
-    /// The return map as f(θ) − θ against θ: its distance from the
-    /// diagonal, where f hugs it (creep, Fig. 3a's inset). --view return-map only.
-    #[arg(long)]
-    pub map_difference: bool,
-    /// Mark the current parameters: the θν line on the diagram, its λ
-    /// strip and the phase diagram (with κ's there). A figure leaves them
-    /// out unless asked for.
-    #[arg(long)]
-    pub crosshair: bool,
-    /// A title over the figure (by default a figure has none: a journal
-    /// sets its caption itself).
-    #[arg(long)]
-    pub title: Option<String>,
-    /// Every text's size in points (tick labels, axis titles, legend,
-    /// title), in [4, 72] [default: the window's, 13 for the tick labels].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub font_size: Option<f64>,
-    /// Draw the figure with the window's look instead of a page's: its
-    /// background, a frame and the view's name.
-    #[arg(long)]
-    pub window_look: bool,
-    /// Draw the continued branches with their special points (PD, fold,
-    /// border, ...) over the diagram, as the window's "Find bifurcations"
-    /// does (a session's kept branches are used, not computed again).
-    /// --view bifurcation only.
-    #[arg(long)]
-    pub branches: bool,
-    /// Draw the doubling curves with their generalised flips, and the fold
-    /// curves, over the phase diagram, as the window's "Boundaries" does
-    /// (a session's kept curves are used). --view phase only.
-    #[arg(long)]
-    pub boundaries: bool,
-    /// Seeds per column of the diagram, or per cell of the phase diagram,
-    /// in [0, 64]: any seed draws every attractor found there (the
-    /// window's "every attractor"); 0 only the followed one [default: the
-    /// session's, else 0].
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub seeds: Option<usize>,
-}
 
 /// The view's own flags into `settings`: the phase grid's ranges and
 /// steps, the Basins view's columns and θν range.

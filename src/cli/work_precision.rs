@@ -10,8 +10,8 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{
-    OptionalModelArgs, check_out, check_second_out, check_theta, count_in, emit_all, finite,
-    max_seconds, warn_validity, with_provenance,
+    ModelArgs, check_out, check_second_out, check_theta, count_in, emit_all, finite, max_seconds,
+    warn_validity, with_provenance,
 };
 use super::run_control::Limits;
 use super::values::{parse_count, parse_number};
@@ -25,7 +25,7 @@ pub struct WorkPrecisionArgs {
     /// A single attractor to measure on [default: the four-attractor
     /// sample]: its parameters, from a preset or given one by one.
     #[command(flatten)]
-    pub model: OptionalModelArgs,
+    pub model: ModelArgs,
     /// Where that attractor's orbit starts, on its exit arc [default: θν];
     /// only with --preset or the model's flags.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]

@@ -4,8 +4,11 @@
 // Each test crate uses its own subset.
 #![allow(dead_code)]
 
+#[cfg(feature = "gui")]
+pub mod figure;
 pub mod fixture;
 pub mod jobs;
+pub mod xvfb;
 
 use std::time::Duration;
 

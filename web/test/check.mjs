@@ -226,7 +226,7 @@ function darkIn(png, { x0, x1, y0, y1 }) {
 /// Where the phone layout's Share button is (390×844: the top bar, after
 /// Controls and Play θν).
 /// Find bifurcations, the diagram's first button (1280×800, Tabs).
-const FIND_BIFURCATIONS = [391, 75];
+const FIND_BIFURCATIONS = [391, 98];
 /// Boundaries, the phase diagram's second button (1280×800, Tabs).
 const BOUNDARIES = [453, 75];
 const PHONE_SHARE = [183, 13];
@@ -256,7 +256,7 @@ if (f.max > 2000) fail(`${q1}: the page froze for ${f.max.toFixed(0)} ms while t
 
 // 3: figures download: the view's SVG and PNG buttons (top right of the
 // tab at 1280×800).
-for (const [what, x, magic] of [["svg", 1168, "<?xml"], ["png", 1217, "\x89PNG"]]) {
+for (const [what, x, magic] of [["svg", 1103, "<?xml"], ["png", 1151, "\x89PNG"]]) {
   const download = page.waitForEvent("download", { timeout: 30_000 });
   await page.mouse.click(x, 52);
   let d;
