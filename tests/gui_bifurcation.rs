@@ -1,5 +1,7 @@
 //! The bifurcation view's zoom: a box drawn on the diagram recomputes that
-//! θν range at full resolution, and Back returns to the whole range.
+//! θν range at full resolution, and Back returns to the whole range; a
+//! pinch zooms too; seeded columns the cell graph could not count are
+//! named, not shown as one attractor.
 #![cfg(feature = "gui")]
 
 use crate::window;
@@ -182,4 +184,64 @@ fn a_pinch_on_the_diagram_zooms_about_its_centre_and_a_pinch_out_goes_back() {
     touch(&mut h, &fingers(40.0), egui::TouchPhase::End);
     h.run_steps(3);
     assert!(h.state().views.bifurcation.zoom.is_empty());
+}
+
+/// A seeded column whose attractors the cell graph could not count is
+/// named over the diagram ("1 not counted": one of the columns, the
+/// others counted; its θν and why on hover), never taken for a column
+/// with one attractor.
+#[test]
+fn a_seeded_column_that_could_not_be_counted_is_named_over_the_diagram() {
+    use oneblock::worker::{Lane, Outcome, Update};
+    let rec = Recorder::new();
+    let settings = Settings {
+        layout: oneblock::app::Layout::Tabs,
+        tab: ViewKind::Bifurcation,
+        sweep_seeds: 4,
+        ..Settings::default()
+    };
+    let mut h = harness(&rec, settings);
+    h.run_steps(2);
+    let (generation, axis) = rec
+        .commands()
+        .into_iter()
+        .find_map(|c| match c {
+            Command::Run {
+                generation,
+                spec: Spec::Sweep(spec),
+            } => Some((generation, spec.axis)),
+            _ => None,
+        })
+        .expect("the sweep");
+    let why = "the exit arc's map failed at a cell edge";
+    for index in 0..axis.steps {
+        let value = axis.from + (axis.to - axis.from) * index as f64 / (axis.steps - 1) as f64;
+        rec.push(Update::Column {
+            generation,
+            index,
+            value,
+            thetas: vec![0.3, 0.31],
+            coarse: false,
+            rhs_evals: 100,
+            map: Default::default(),
+            lyapunov: None,
+            attractor: vec![0, 0],
+            uncounted: (index == 7).then(|| why.to_string()),
+        });
+    }
+    rec.push(Update::Finished {
+        generation,
+        lane: Lane::Sweep,
+        outcome: Outcome::Completed,
+    });
+    h.run_steps(3);
+    let label = h.get_by_label("1 not counted");
+    label.hover();
+    h.run_steps(8);
+    let seventh = axis.from + (axis.to - axis.from) * 7.0 / (axis.steps - 1) as f64;
+    let line = format!("θν = {seventh:.4}: {why}");
+    assert!(
+        h.query_by_label_contains(&line).is_some(),
+        "the hover names the column: {line}"
+    );
 }

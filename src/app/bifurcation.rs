@@ -205,6 +205,7 @@ impl BifurcationView {
                  recomputed with all its columns, not just magnified. A click sets {symbol}. \
                  Backspace or a pinch together: back."
             ));
+            uncounted_ui(ui, sweep, symbol);
             ui.label(RichText::new(format!("drag or pinch: zoom · click: set {symbol}")).weak());
         });
     }
@@ -497,6 +498,39 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>)
     }
 }
 
+/// The seeded columns whose attractors could not be counted (the exit
+/// arc's cell graph could not be built), named: each shows its followed
+/// orbit alone, which is no count of one (as `bifurcation --seeds` warns).
+fn uncounted_ui(ui: &mut Ui, sweep: &SweepData, symbol: &str) {
+    let uncounted: Vec<(f64, &str)> = sweep
+        .columns
+        .iter()
+        .flatten()
+        .filter_map(|c| Some((c.value, c.uncounted.as_deref()?)))
+        .collect();
+    if uncounted.is_empty() {
+        return;
+    }
+    const LISTED: usize = 5;
+    let mut list: Vec<String> = uncounted
+        .iter()
+        .take(LISTED)
+        .map(|(v, why)| format!("{symbol} = {v:.4}: {why}"))
+        .collect();
+    if uncounted.len() > LISTED {
+        list.push(format!("and {} more", uncounted.len() - LISTED));
+    }
+    ui.label(
+        RichText::new(format!("{} not counted", uncounted.len())).color(ui.visuals().warn_fg_color),
+    )
+    .on_hover_text(format!(
+        "Columns whose attractors could not be counted: the exit arc's cell graph could \
+         not be built there, so each shows its followed orbit alone, which is no count of \
+         one.\n{}",
+        list.join("\n")
+    ));
+}
+
 #[cfg(test)]
 mod seeded_tests {
     use super::*;
@@ -515,6 +549,7 @@ mod seeded_tests {
                 coarse: true,
                 lyapunov: None,
                 attractor: vec![0, 0, 1],
+                uncounted: None,
             },
         );
         let ink = style::ink(false);

@@ -64,6 +64,10 @@ pub struct Column {
     /// The attractor of each of `thetas` (0: the followed one); empty
     /// without seeds.
     pub attractor: Vec<u8>,
+    /// With seeds, why the column's attractors could not be counted (the
+    /// exit arc's cell graph could not be built): the column then holds
+    /// the followed orbit alone, which is no count of one.
+    pub uncounted: Option<String>,
 }
 
 impl SweepData {

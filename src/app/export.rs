@@ -140,6 +140,7 @@ mod tests {
                     coarse: false,
                     lyapunov,
                     attractor,
+                    uncounted: None,
                 },
             );
         }
@@ -164,6 +165,7 @@ mod tests {
                 coarse: false,
                 lyapunov,
                 attractor: vec![],
+                uncounted: None,
             },
         );
         assert_eq!(

@@ -202,6 +202,7 @@ mod tests {
                         period: se.is_none().then_some(1),
                     }),
                     attractor: Vec::new(),
+                    uncounted: None,
                 },
             );
         }

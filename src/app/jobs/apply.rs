@@ -83,6 +83,7 @@ impl Jobs {
                 coarse,
                 lyapunov,
                 attractor,
+                uncounted,
                 ..
             } if job == JobKind::Sweep => {
                 let column = Column {
@@ -91,6 +92,7 @@ impl Jobs {
                     coarse,
                     lyapunov,
                     attractor,
+                    uncounted,
                 };
                 self.sweep.data.insert(index, column);
             }
