@@ -8,14 +8,13 @@
 //! computed on the UI thread: no continuation call lives in src/app/.
 #![cfg(feature = "gui")]
 
+use crate::window;
 use oneblock::worker::Spec;
-use std::sync::Arc;
 
 use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
-use oneblock::app::backend::Backend;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::branches::{csv_line, runs, sig9, special_rows};
 use oneblock::app::jobs::{JobState, Jobs, Shown};
@@ -23,43 +22,7 @@ use oneblock::app::overlay;
 use oneblock::app::settings::PhaseRange;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
 use oneblock::sim::continuation::{ContParam, SpecialKind};
-use oneblock::worker::{Command, Lane, Update, Worker, WorkerConfig};
-
-/// The real worker for the continuation lanes; every other command is only
-/// recorded (the diagram and the orbit are not what this test is about,
-/// and would keep both cores busy).
-struct ContinuationOnly {
-    worker: Worker,
-    rec: Recorder,
-}
-
-impl Backend for ContinuationOnly {
-    fn send(&mut self, cmd: Command) -> bool {
-        self.rec
-            .sent
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(cmd.clone());
-        match cmd {
-            Command::Run {
-                spec: Spec::Branches(..),
-                ..
-            }
-            | Command::Run {
-                spec: Spec::Curves(..),
-                ..
-            }
-            | Command::Cancel {
-                lane: Some(Lane::Continuation | Lane::Curves),
-                ..
-            } => self.worker.send(cmd),
-            _ => true,
-        }
-    }
-    fn try_recv(&mut self) -> Option<Update> {
-        self.worker.try_recv()
-    }
-}
+use oneblock::worker::{Command, Lane, Update};
 
 fn fig3b_tab() -> Settings {
     let mut s = Settings {
@@ -71,22 +34,9 @@ fn fig3b_tab() -> Settings {
     s
 }
 
+/// A window whose Find bifurcations and Boundaries run on the real worker.
 fn harness_on_worker(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
-    let worker = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
-    let backend = ContinuationOnly {
-        worker,
-        rec: rec.clone(),
-    };
-    let app = Explorer::new(Box::new(backend), settings);
-    Harness::builder()
-        .with_size([1280.0, 1000.0])
-        .build_ui_state(
-            |ui, app: &mut Explorer| {
-                app.logic_step(ui.ctx());
-                app.show(ui);
-            },
-            app,
-        )
+    window::harness_on_lanes(rec, settings, &[Lane::Continuation, Lane::Curves])
 }
 
 /// Steps the window until "Find bifurcations" has ended (at most ~60 s).

@@ -19,13 +19,11 @@
 #![cfg(feature = "gui")]
 
 use crate::cli_support;
-
-use std::sync::Arc;
+use crate::window;
 
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
-use oneblock::app::backend::Backend;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::diagram_axis::{SELECTOR, title};
 use oneblock::app::jobs::JobState;
@@ -36,43 +34,9 @@ use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
 use oneblock::integrate::SolverSettings;
 use oneblock::sim::continuation::{ContParam, CurveKind, SpecialKind};
 use oneblock::sim::param_grid;
-use oneblock::worker::{
-    Command, ContinuationSpec, Lane, Spec, SweepSpec, Update, Worker, WorkerConfig,
-};
+use oneblock::worker::{Command, ContinuationSpec, Lane, Spec, SweepSpec};
 
 use cli_support::{assert_ok, num, oneblock, parse_csv, stdout};
-
-/// The real worker for the diagram's and the continuation's lanes; the
-/// orbit's and the others' commands are only recorded (they are not what
-/// this test is about, and would keep both cores busy).
-struct DiagramOnly {
-    worker: Worker,
-    rec: Recorder,
-}
-
-impl Backend for DiagramOnly {
-    fn send(&mut self, cmd: Command) -> bool {
-        self.rec
-            .sent
-            .lock()
-            .unwrap_or_else(|e| e.into_inner())
-            .push(cmd.clone());
-        match cmd {
-            Command::Run {
-                spec: Spec::Sweep(..) | Spec::Branches(..) | Spec::Curves(..),
-                ..
-            }
-            | Command::Cancel {
-                lane: Some(Lane::Sweep | Lane::Continuation | Lane::Curves),
-                ..
-            } => self.worker.send(cmd),
-            _ => true,
-        }
-    }
-    fn try_recv(&mut self) -> Option<Update> {
-        self.worker.try_recv()
-    }
-}
 
 /// κ's range of the test: the fixed point's two folds (2.37, 2.80) and
 /// its doubling (2.99) at θν = 1.25, then the 2-cycle.
@@ -98,22 +62,14 @@ fn settings() -> Settings {
     s
 }
 
+/// The window of [`settings`], its diagram, Find bifurcations and
+/// Boundaries on the real worker.
 fn harness(rec: &Recorder) -> Harness<'static, Explorer> {
-    let worker = Worker::spawn(WorkerConfig::default(), Arc::new(|| {}));
-    let backend = DiagramOnly {
-        worker,
-        rec: rec.clone(),
-    };
-    let app = Explorer::new(Box::new(backend), settings());
-    Harness::builder()
-        .with_size([1280.0, 1000.0])
-        .build_ui_state(
-            |ui, app: &mut Explorer| {
-                app.logic_step(ui.ctx());
-                app.show(ui);
-            },
-            app,
-        )
+    window::harness_on_lanes(
+        rec,
+        settings(),
+        &[Lane::Sweep, Lane::Continuation, Lane::Curves],
+    )
 }
 
 /// Picks `p` in the view's selector, as a user does: opens it, clicks

@@ -11,6 +11,7 @@ use egui_kittest::Harness;
 use egui_plot::PlotPoint;
 use oneblock::worker::Spec;
 
+use oneblock::app::backend::Backend;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
@@ -20,7 +21,59 @@ use oneblock::worker::{Command, Generation, GridCell, Lane, Outcome, Update};
 
 /// A 1280 × 1000 window showing `settings`, its commands going to `rec`.
 pub fn harness(rec: &Recorder, settings: Settings) -> Harness<'static, Explorer> {
-    let app = Explorer::new(Box::new(rec.clone()), settings);
+    window_of(Box::new(rec.clone()), settings)
+}
+
+/// A 1280 × 1000 window showing `settings` whose jobs on `lanes` run on
+/// the real worker; every command is recorded in `rec`, and those of the
+/// other lanes go no further (the orbit and the rest are not what such a
+/// test is about, and would keep both cores busy).
+pub fn harness_on_lanes(
+    rec: &Recorder,
+    settings: Settings,
+    lanes: &'static [Lane],
+) -> Harness<'static, Explorer> {
+    let worker = oneblock::worker::Worker::spawn(
+        oneblock::worker::WorkerConfig::default(),
+        std::sync::Arc::new(|| {}),
+    );
+    let backend = SomeLanes {
+        worker,
+        rec: rec.clone(),
+        lanes,
+    };
+    window_of(Box::new(backend), settings)
+}
+
+/// The real worker for some lanes, behind a recorder ([`harness_on_lanes`]).
+struct SomeLanes {
+    worker: oneblock::worker::Worker,
+    rec: Recorder,
+    lanes: &'static [Lane],
+}
+
+impl Backend for SomeLanes {
+    fn send(&mut self, cmd: Command) -> bool {
+        self.rec.send(cmd.clone());
+        let lane = match &cmd {
+            Command::Run { spec, .. } => Some(spec.lane()),
+            Command::Cancel { lane, .. } => *lane,
+            _ => None,
+        };
+        if lane.is_some_and(|l| self.lanes.contains(&l)) {
+            self.worker.send(cmd)
+        } else {
+            true
+        }
+    }
+    fn try_recv(&mut self) -> Option<Update> {
+        self.worker.try_recv()
+    }
+}
+
+/// A 1280 × 1000 window showing `settings` over `backend`.
+fn window_of(backend: Box<dyn Backend>, settings: Settings) -> Harness<'static, Explorer> {
+    let app = Explorer::new(backend, settings);
     Harness::builder()
         .with_size([1280.0, 1000.0])
         .build_ui_state(
