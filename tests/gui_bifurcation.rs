@@ -14,15 +14,19 @@ use oneblock::app::{Recorder, Settings, ViewKind};
 use oneblock::worker::Command;
 use window::harness;
 
-#[test]
-fn a_box_drawn_on_the_diagram_recomputes_that_range() {
-    let rec = Recorder::new();
-    let settings = Settings {
+/// The diagram as the one tab, at the defaults.
+fn diagram_tab() -> Settings {
+    Settings {
         layout: oneblock::app::Layout::Tabs,
         tab: ViewKind::Bifurcation,
         ..Settings::default()
-    };
-    let mut h = harness(&rec, settings);
+    }
+}
+
+#[test]
+fn a_box_drawn_on_the_diagram_recomputes_that_range() {
+    let rec = Recorder::new();
+    let mut h = harness(&rec, diagram_tab());
     h.run_steps(2);
     let full = rec
         .commands()
@@ -103,12 +107,7 @@ fn touch(
 #[test]
 fn a_pinch_on_the_diagram_zooms_about_its_centre_and_a_pinch_out_goes_back() {
     let rec = Recorder::new();
-    let settings = Settings {
-        layout: oneblock::app::Layout::Tabs,
-        tab: ViewKind::Bifurcation,
-        ..Settings::default()
-    };
-    let mut h = harness(&rec, settings);
+    let mut h = harness(&rec, diagram_tab());
     h.run_steps(2);
     let t = h
         .state()
@@ -195,10 +194,8 @@ fn a_seeded_column_that_could_not_be_counted_is_named_over_the_diagram() {
     use oneblock::worker::{Lane, Outcome, Update};
     let rec = Recorder::new();
     let settings = Settings {
-        layout: oneblock::app::Layout::Tabs,
-        tab: ViewKind::Bifurcation,
         sweep_seeds: 4,
-        ..Settings::default()
+        ..diagram_tab()
     };
     let mut h = harness(&rec, settings);
     h.run_steps(2);

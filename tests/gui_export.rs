@@ -446,17 +446,7 @@ fn record_saves_an_animated_gif_of_the_plane() {
         gif.file_name()
             .is_some_and(|n| n.to_string_lossy().starts_with("oneblock-plane-"))
     );
-    let mut opts = gif::DecodeOptions::new();
-    opts.set_color_output(gif::ColorOutput::RGBA);
-    let mut d = opts
-        .read_info(std::fs::File::open(&gif).expect("open"))
-        .expect("a GIF");
-    assert_eq!((d.width(), d.height()), (640, 480));
-    let mut frames = 0;
-    while d.read_next_frame().expect("a frame").is_some() {
-        frames += 1;
-    }
-    assert_eq!(frames, 120);
+    assert_eq!(window::gif_size_and_frames(&gif), ((640, 480), 120));
 }
 
 /// The browser's Record: the same GIF made in pieces (the view's data a

@@ -61,17 +61,7 @@ fn record_saves_a_gif_of_theta_nu_played() {
         .to_string_lossy()
         .to_string();
     assert!(name.starts_with("oneblock-return-map-played-"), "{name}");
-    let mut opts = gif::DecodeOptions::new();
-    opts.set_color_output(gif::ColorOutput::RGBA);
-    let mut d = opts
-        .read_info(std::fs::File::open(&gif).expect("open"))
-        .expect("a GIF");
-    assert_eq!((d.width(), d.height()), (640, 480));
-    let mut frames = 0;
-    while d.read_next_frame().expect("a frame").is_some() {
-        frames += 1;
-    }
-    assert_eq!(frames, 60);
+    assert_eq!(window::gif_size_and_frames(&gif), ((640, 480), 60));
 }
 
 #[test]

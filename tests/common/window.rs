@@ -106,6 +106,22 @@ pub fn wait_for_csv(
     None
 }
 
+/// A GIF's size and number of frames (decoding every frame: a broken
+/// GIF fails).
+pub fn gif_size_and_frames(path: &std::path::Path) -> ((u16, u16), usize) {
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut d = opts
+        .read_info(std::fs::File::open(path).expect("open"))
+        .expect("a GIF");
+    let size = (d.width(), d.height());
+    let mut frames = 0;
+    while d.read_next_frame().expect("a frame").is_some() {
+        frames += 1;
+    }
+    (size, frames)
+}
+
 /// The parameters of the latest trajectory command, if any.
 pub fn last_trajectory(rec: &Recorder) -> Option<Params> {
     rec.commands().into_iter().rev().find_map(|c| match c {
