@@ -46,7 +46,12 @@ fn the_numerics_view_shows_the_committed_chart_and_run_sends_the_job() {
             Command::Run {
                 generation,
                 spec: Spec::Numerics(spec),
-            } => Some((generation, spec.params, spec.points, spec.subjects)),
+            } => Some((
+                generation,
+                spec.attractors[0].params,
+                spec.points,
+                spec.subjects,
+            )),
             _ => None,
         })
         .expect("the job was sent");

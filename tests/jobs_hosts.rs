@@ -188,8 +188,10 @@ fn a_trajectory_is_the_same_on_every_host() {
             params: preset("fig3b"),
             settings: settings(),
             theta0: Some(0.5),
+            transient: 0,
             spacing: 0.05,
             cycles: Some(12),
+            max_samples: None,
         },
     ));
     assert_eq!(r.slips.len(), 12);
@@ -207,6 +209,7 @@ fn map_iterates_are_the_same_on_every_host() {
             transient: 30,
             keep: 40,
             graph_powers: 2,
+            options: oneblock::jobs::IterateOptions::default(),
         },
     ));
     assert_eq!(r.iterates.len(), 40);
@@ -387,11 +390,13 @@ fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
     let r = same_on_both_hosts(Command::run(
         7,
         WorkPrecisionSpec {
-            params: preset("fig3b"),
-            theta0: None,
-            transient: 100,
+            attractors: vec![oneblock::numerics::quick::current_attractor(
+                preset("fig3b"),
+                None,
+                100,
+            )],
             points: 3,
-            time_per_setting: std::time::Duration::from_millis(3),
+            timing: oneblock::jobs::Timing::PerSetting(std::time::Duration::from_millis(3)),
             subjects,
         },
     ));
@@ -600,8 +605,10 @@ fn a_spec_that_does_not_validate_fails_on_every_host_naming_its_parameter() {
         params,
         settings: settings(),
         theta0: None,
+        transient: 0,
         spacing: 0.05,
         cycles: Some(3),
+        max_samples: None,
     };
     let single = local(Spec::Trajectory(spec.clone()));
     let many = threaded(Command::run(2, spec.clone()));

@@ -44,6 +44,8 @@ mod cli_figure_journal;
 mod cli_figure_play;
 #[path = "cli_input.rs"]
 mod cli_input;
+#[path = "cli_jobs.rs"]
+mod cli_jobs;
 #[path = "cli_props.rs"]
 mod cli_props;
 #[path = "cli_provenance.rs"]

@@ -358,6 +358,7 @@ fn set_params_without_settings_keeps_each_jobs_own() {
             transient: 5,
             keep: 10,
             graph_powers: 1,
+            options: oneblock::jobs::IterateOptions::default(),
         }
     )));
     let (_, outcome) = until_finished(&w, 1, Lane::Orbit);

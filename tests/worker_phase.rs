@@ -383,8 +383,10 @@ fn a_phase_grid_leaves_the_sweep_and_the_trajectory_running() {
             params: params(6.5),
             settings: default_settings(1e-8),
             theta0: None,
+            transient: 0,
             spacing: 0.05,
             cycles: Some(5),
+            max_samples: None,
         }
     )));
     assert!(w.send(Grid::small().command(3)));

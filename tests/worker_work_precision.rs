@@ -10,17 +10,17 @@ use oneblock::integrate::{Method, SolverSettings};
 use oneblock::model::Params;
 use oneblock::numerics::quick::{current_attractor, quick_subjects};
 use oneblock::numerics::{Row, Subject, build_sample, measure};
-use oneblock::worker::{Command, Generation, Lane, Outcome, Update, WorkPrecisionSpec, Worker};
+use oneblock::worker::{
+    Command, Generation, Lane, Outcome, Timing, Update, WorkPrecisionSpec, Worker,
+};
 
 fn work_precision(generation: Generation, params: Params, subjects: Vec<Subject>) -> Command {
     Command::run(
         generation,
         WorkPrecisionSpec {
-            params,
-            theta0: None,
-            transient: 100,
+            attractors: vec![current_attractor(params, None, 100)],
             points: 4,
-            time_per_setting: Duration::ZERO,
+            timing: Timing::PerSetting(Duration::ZERO),
             subjects,
         },
     )
@@ -103,11 +103,9 @@ fn work_precision_is_cancelled_by_a_stop_and_by_a_newer_job() {
         Command::run(
             g,
             WorkPrecisionSpec {
-                params: fig3b(1.25),
-                theta0: None,
-                transient: 100,
+                attractors: vec![current_attractor(fig3b(1.25), None, 100)],
                 points: 8,
-                time_per_setting: Duration::from_millis(40),
+                timing: Timing::PerSetting(Duration::from_millis(40)),
                 subjects: quick_subjects(),
             },
         )
@@ -190,11 +188,9 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
             Command::run(
                 2,
                 WorkPrecisionSpec {
-                    params: fig3b(1.0),
-                    theta0: None,
-                    transient: 100,
+                    attractors: vec![current_attractor(fig3b(1.0), None, 100)],
                     points: 0,
-                    time_per_setting: Duration::ZERO,
+                    timing: Timing::PerSetting(Duration::ZERO),
                     subjects: vec![dop853(1e-6)],
                 },
             ),
@@ -204,11 +200,9 @@ fn work_precision_names_a_bad_parameter_and_the_next_job_runs() {
             Command::run(
                 3,
                 WorkPrecisionSpec {
-                    params: fig3b(1.0),
-                    theta0: None,
-                    transient: 100,
+                    attractors: vec![current_attractor(fig3b(1.0), None, 100)],
                     points: 4,
-                    time_per_setting: Duration::from_secs(60),
+                    timing: Timing::PerSetting(Duration::from_secs(60)),
                     subjects: vec![dop853(1e-6)],
                 },
             ),

@@ -10,10 +10,11 @@ use clap::Args;
 
 use super::CliError;
 use super::common::{ModelArgs, SolverArgs, describe, emit, max_seconds, warn_validity};
-use super::run_control::{Limits, check_stdout, run_bounded};
+use super::run_control::{Limits, Progress, check_stdout, run_job};
 use super::values::{count_between, parse_count, parse_number, short};
-use crate::sim::attractors::{AttractorError, CellOptions, Found, Verdict, attractors};
-use crate::sim::{SimError, Simulator};
+use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
+use crate::sim::Simulator;
+use crate::sim::attractors::{CellOptions, Found, Verdict};
 
 /// The most cells.
 pub const MAX_CELLS: usize = 1 << 22;
@@ -86,16 +87,26 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     let (params, settings) = (*sim.params(), *sim.settings());
     warn_validity(&params);
     // Bounded like every long command: a line of life on a terminal, and
-    // --max-seconds or Ctrl+C end it with one line, printing nothing.
+    // --max-seconds or Ctrl+C end it with one line, printing nothing. The
+    // job is the return map's basin band (one point, with densities).
     let limits = Limits::start(max_seconds);
-    let found = run_bounded("attractors", &limits, move || {
-        attractors(&sim, &cells, &|| false)
-    })?
-    .map_err(|e| match e {
-        AttractorError::Sim(SimError::Cancelled) => CliError::Failed("cancelled".into()),
-        AttractorError::Sim(e) => CliError::from(e),
-        e => CliError::Failed(e.to_string()),
-    })?;
+    let progress = Progress::new("attractors", "point", 1);
+    let spec = MapBasinsSpec(BasinsSpec {
+        params,
+        settings,
+        theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
+        cells,
+    });
+    let updates = run_job("attractors", spec.into(), 1, &progress, &limits)?;
+    let Some(found) = updates.into_iter().find_map(|u| match u {
+        Update::Basins { column, .. } => Some(column.found),
+        _ => None,
+    }) else {
+        return Err(CliError::Failed(
+            "attractors: the job ended without its answer".into(),
+        ));
+    };
+    let found = found.map_err(CliError::Failed)?;
     if found.attractors.is_empty() {
         return Err(CliError::Failed(
             "attractors: no closed set of cells was found: the map could not be enclosed over the exit arc".into(),

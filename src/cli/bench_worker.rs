@@ -239,8 +239,10 @@ fn trajectory_latencies(
                 params: fig3b().with_theta_nu(1.0),
                 settings,
                 theta0: None,
+                transient: 0,
                 spacing: 0.05,
                 cycles: Some(5),
+                max_samples: None,
             },
         ));
         loop {

@@ -19,15 +19,14 @@ use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
     emit_all, finite, max_seconds, settings_json, total_iterates, warn_validity, with_provenance,
 };
-use super::run_control::{Limits, Progress, check_stdout};
+use super::run_control::{Limits, Progress, check_stdout, run_job};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
+use crate::jobs::{IterateOptions, IterateSpec, Update};
 use crate::model::event_anomalies;
+use crate::sim::interpolant::{InterpolantSummary, MapUsed};
 use crate::sim::period::longest_testable;
-use crate::sim::{
-    InterpolantOptions, MapChoice, Orbit, OrbitOptions, Period, SimError, Simulator,
-    orbit_interpolated,
-};
+use crate::sim::{MapChoice, Orbit, OrbitOptions, Period, Simulator};
 
 /// The most iterates an orbit keeps: each is a slip event held in memory
 /// (and a CSV row) until the file is written atomically, ~400 bytes in all.
@@ -95,24 +94,6 @@ pub struct OrbitArgs {
     pub scaling: bool,
 }
 
-/// How the map was evaluated, for the summary.
-enum MapUsed {
-    Direct,
-    /// The interpolant was asked for but refused: why.
-    Refused(String),
-    Interpolant {
-        pieces: usize,
-        degree: usize,
-        interval: (f64, f64),
-        evaluations: usize,
-        points: usize,
-        max_error: f64,
-        max_event_error: f64,
-        direct_iterates: usize,
-        refused_extension: Option<String>,
-    },
-}
-
 /// The checked inputs of `orbit`.
 pub struct Plan {
     sim: Simulator,
@@ -142,8 +123,7 @@ pub fn check(args: &OrbitArgs) -> Result<Plan, CliError> {
             }
             t
         }
-        None if settings.method.is_adaptive() => OrbitOptions::period_tol_for(settings.rtol),
-        None => 1e-6,
+        None => OrbitOptions::period_tol_of(&settings),
     };
     let csv_out: Option<PathBuf> = match (&args.out, args.json) {
         (Some(p), true) if p.as_os_str() == "-" => {
@@ -212,25 +192,28 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let progress = Progress::new("orbit", "iterates", total);
     let limits = Limits::start(max_seconds);
     let start = Instant::now();
-    let tick = || {
-        progress.inc(1);
-        limits.stop()
+    let spec = IterateSpec {
+        params,
+        settings,
+        theta0: Some(theta0),
+        transient: opts.transient,
+        keep: opts.keep,
+        graph_powers: 0,
+        options: IterateOptions {
+            map: choice,
+            period_tol: Some(period_tol),
+            lyapunov: opts.lyapunov,
+            report: true,
+        },
     };
-    let (used, result) = if choice.interpolates(usize::try_from(total).unwrap_or(usize::MAX)) {
-        // The interpolated run polls once per 4096 iterates.
-        let every = || {
-            progress.inc(4096);
-            limits.stop()
-        };
-        interpolated(&sim, theta0, &opts, &every)
-    } else {
-        (MapUsed::Direct, None)
-    };
-    let result = result.unwrap_or_else(|| sim.orbit(theta0, &opts, &tick));
-    progress.finish();
-    let orbit = match result {
-        Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
-        r => r?,
+    let updates = run_job("orbit", spec.into(), 1, &progress, &limits)?;
+    let Some((orbit, used)) = updates.into_iter().find_map(|u| match u {
+        Update::Orbit { orbit, map, .. } => Some((*orbit, map)),
+        _ => None,
+    }) else {
+        return Err(CliError::Failed(
+            "orbit: the job ended without its orbit".into(),
+        ));
     };
     let seconds = start.elapsed().as_secs_f64();
     warn_anomalies(&orbit);
@@ -249,18 +232,14 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
     let mut stats = None;
     if args.stats.is_some() {
         let source = match &used {
-            MapUsed::Interpolant { max_error, .. } => format!(
-                "; slip sizes from the interpolant's tables (map error {max_error:.1e} rad)"
+            MapUsed::Interpolant(i) => format!(
+                "; slip sizes from the interpolant's tables (map error {:.1e} rad)",
+                i.max_map_error
             ),
             MapUsed::Refused(_) => "; slip sizes integrated (the interpolant was refused)".into(),
             MapUsed::Direct => "; slip sizes integrated".into(),
         };
-        let stop = || limits.stop();
-        let scan: Option<&dyn Fn() -> bool> = if args.scaling { Some(&stop) } else { None };
-        let text = match super::orbit_stats::stats_text(&sim, &orbit, &source, scan) {
-            Err(SimError::Cancelled) => return Err(limits.stopped("orbit")),
-            r => r?,
-        };
+        let text = super::orbit_stats::stats_text(&sim, &orbit, &source, args.scaling, &limits)?;
         stats = Some(with_provenance(&model, &text));
     }
     let mut outputs = Vec::new();
@@ -297,36 +276,6 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
-}
-
-/// The orbit by the interpolant, and how it went: `None` for the orbit
-/// when the interpolant was refused (the caller integrates it).
-fn interpolated(
-    sim: &Simulator,
-    theta0: f64,
-    opts: &OrbitOptions,
-    every: &dyn Fn() -> bool,
-) -> (MapUsed, Option<Result<Orbit, SimError>>) {
-    let iopts = InterpolantOptions::for_settings(sim.settings());
-    match orbit_interpolated(sim, theta0, opts, iopts, every) {
-        Ok(r) => {
-            let i = &r.interpolant;
-            let v = i.verification();
-            let used = MapUsed::Interpolant {
-                pieces: i.pieces().0,
-                degree: i.max_degree(),
-                interval: i.interval(),
-                evaluations: i.evaluations(),
-                points: v.points,
-                max_error: v.max_map_error,
-                max_event_error: v.max_event_error,
-                direct_iterates: r.direct_iterates,
-                refused_extension: r.refused_extension,
-            };
-            (used, Some(Ok(r.orbit)))
-        }
-        Err(e) => (MapUsed::Refused(e.to_string()), None),
-    }
 }
 
 /// Warns of the kept events outside the model: the first in full, then
@@ -433,17 +382,17 @@ impl Summary<'_> {
             MapUsed::Refused(why) => format!(
                 "  map: direct integration of every iterate (the interpolant was refused: {why})\n"
             ),
-            MapUsed::Interpolant {
+            MapUsed::Interpolant(InterpolantSummary {
                 pieces,
                 degree,
                 interval,
                 evaluations,
                 points,
-                max_error,
+                max_map_error: max_error,
                 max_event_error,
                 direct_iterates,
                 refused_extension,
-            } => {
+            }) => {
                 let mut s = format!(
                     "  map: interpolant, {pieces} piece(s) of degree <= {degree} over theta in [{:.6}, {:.6}], built from {evaluations} map evaluations; measured max error {max_error:.1e} rad in theta' (event quantities {max_event_error:.1e} relative) at {points} independent points; {direct_iterates} iterate(s) integrated directly\n",
                     interval.0, interval.1
@@ -462,17 +411,17 @@ impl Summary<'_> {
             MapUsed::Refused(why) => {
                 serde_json::json!({ "method": "direct", "interpolant_refused": why })
             }
-            MapUsed::Interpolant {
+            MapUsed::Interpolant(InterpolantSummary {
                 pieces,
                 degree,
                 interval,
                 evaluations,
                 points,
-                max_error,
+                max_map_error: max_error,
                 max_event_error,
                 direct_iterates,
                 refused_extension,
-            } => serde_json::json!({
+            }) => serde_json::json!({
                 "method": "interpolant",
                 "pieces": pieces,
                 "max_degree": degree,

@@ -1,27 +1,47 @@
 //! `orbit --stats`: the kept events' intermittency statistics as CSV,
 //! with the creep channel's passage time and, with `--scaling`, the mean
 //! laminar length against the distance to a tangency located by
-//! continuation (`sim::intermittency`).
+//! continuation (`sim::intermittency`), both run as the Events view's
+//! jobs.
 
-use crate::sim::intermittency::{Intermittency, Scaling, passage, scaling};
-use crate::sim::{Orbit, SimError, Simulator};
+use super::CliError;
+use super::run_control::{Limits, Progress, run_job};
+use crate::jobs::{PassageSpec, ScanSpec, Update};
+use crate::sim::intermittency::{Intermittency, Scaling};
+use crate::sim::{Orbit, Simulator};
 
 /// The statistics file: laminar phases as runs of creep slips (by where
 /// each slip starts), the channel passage beside their mean, the verdict,
 /// then the rows. `source` ends the laminar line (where the sizes came
-/// from); `scan` (with `--scaling`) runs the tangency scan, polled to stop.
+/// from). The passage and (with `--scaling`) the tangency scan are the
+/// Events view's jobs, stopped by `limits`.
 pub(super) fn stats_text(
     sim: &Simulator,
     orbit: &Orbit,
     source: &str,
-    scan: Option<&dyn Fn() -> bool>,
-) -> Result<String, SimError> {
-    let p = *sim.params();
-    let (st, first_creep) = Intermittency::of_events(p.kappa, p.gamma, &orbit.events);
+    scan: bool,
+    limits: &Limits,
+) -> Result<String, CliError> {
+    let (params, settings) = (*sim.params(), *sim.settings());
+    let (st, first_creep) = Intermittency::of_events(params.kappa, params.gamma, &orbit.events);
     let mut notes = Vec::new();
     match first_creep {
-        Some(th) => {
-            let pass = passage(sim, th, &|| scan.is_some_and(|s| s()))?;
+        Some(near) => {
+            let spec = PassageSpec {
+                params,
+                settings,
+                near,
+            };
+            let progress = Progress::new("orbit --stats: passage", "", 1);
+            let updates = run_job("orbit", spec.into(), 1, &progress, limits)?;
+            let Some(pass) = updates.into_iter().find_map(|u| match u {
+                Update::Passage { passage, .. } => Some(passage),
+                _ => None,
+            }) else {
+                return Err(CliError::Failed(
+                    "orbit: the passage job ended without its answer".into(),
+                ));
+            };
             let mean = st
                 .mean_laminar
                 .map_or("no complete laminar phase".into(), |m| {
@@ -31,8 +51,19 @@ pub(super) fn stats_text(
         }
         None => notes.push("no creep slip: no creep channel to pass".into()),
     }
-    if let Some(stop) = scan {
-        notes.extend(scaling_notes(&scaling(p, *sim.settings(), stop)?));
+    if scan {
+        let progress = Progress::new("orbit --scaling: tangency scan", "", 1);
+        let spec = ScanSpec { params, settings };
+        let updates = run_job("orbit", spec.into(), 1, &progress, limits)?;
+        let Some(scaling) = updates.into_iter().find_map(|u| match u {
+            Update::Scan { scaling, .. } => Some(scaling),
+            _ => None,
+        }) else {
+            return Err(CliError::Failed(
+                "orbit: the tangency scan ended without its answer".into(),
+            ));
+        };
+        notes.extend(scaling_notes(&scaling));
     }
     Ok(st.csv("slip_distance", source, &notes))
 }

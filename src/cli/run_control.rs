@@ -189,6 +189,8 @@ pub struct Progress {
     bar: Option<ProgressBar>,
     shown: Mutex<Instant>,
     start: Instant,
+    /// Shows nothing (the run prints lines of its own).
+    silent: bool,
 }
 
 impl Progress {
@@ -236,7 +238,16 @@ impl Progress {
             bar,
             shown: Mutex::new(now),
             start: now,
+            silent: false,
         }
+    }
+
+    /// The same, showing nothing: for a run that prints a line per step
+    /// itself.
+    pub fn quiet(mut self) -> Self {
+        self.bar = None;
+        self.silent = true;
+        self
     }
 
     /// Adds to the second count.
@@ -244,14 +255,29 @@ impl Progress {
         self.extra.fetch_add(n, Ordering::Relaxed);
     }
 
-    /// Counts `n` more units done.
     /// Units counted so far.
     pub fn done(&self) -> u64 {
         self.done.load(Ordering::Relaxed)
     }
 
+    /// Counts `n` more units done.
     pub fn inc(&self, n: u64) {
         self.done.fetch_add(n, Ordering::Relaxed);
+        self.show();
+    }
+
+    /// Moves the count to `fraction` of the total (never back): a job's
+    /// `Progress` update.
+    pub fn to_fraction(&self, fraction: f64) {
+        let n = (fraction.clamp(0.0, 1.0) * self.total as f64) as u64;
+        self.done.fetch_max(n, Ordering::Relaxed);
+        self.show();
+    }
+
+    fn show(&self) {
+        if self.silent {
+            return;
+        }
         let now = Instant::now();
         // Only one thread shows at a time, and one that finds the lock
         // taken skips: the next call shows the newer count.
@@ -365,4 +391,50 @@ pub fn say(line: &str) -> Result<(), CliError> {
 /// Whether stderr is a terminal (progress bars) or not (progress lines).
 pub fn stderr_is_terminal() -> bool {
     std::io::stderr().is_terminal()
+}
+
+/// Runs the job of `spec` to its end on `threads` threads (the command
+/// line's host, [`crate::jobs::run_collect`]), its `Progress` updates
+/// moving `progress`, stopped by `limits`: every update it sent. A stop
+/// is `what`'s "stopped" error, a failure the job's.
+pub fn run_job(
+    what: &str,
+    spec: crate::jobs::Spec,
+    threads: usize,
+    progress: &Progress,
+    limits: &Limits,
+) -> Result<Vec<crate::jobs::Update>, CliError> {
+    collect_job(spec, threads, progress, limits, &|_| {}).map_err(|e| job_error(what, limits, e))
+}
+
+/// [`run_job`] with the job's own error, for a caller that words one
+/// itself, and `each` told of every update as it comes.
+pub fn collect_job(
+    spec: crate::jobs::Spec,
+    threads: usize,
+    progress: &Progress,
+    limits: &Limits,
+    each: &(dyn Fn(&crate::jobs::Update) + Sync),
+) -> Result<Vec<crate::jobs::Update>, crate::jobs::JobError> {
+    use crate::jobs::{Update, run_collect};
+    let on_update = |u: &Update| {
+        if let Update::Progress { fraction, .. } = u {
+            progress.to_fraction(*fraction);
+        }
+        each(u);
+    };
+    let run = run_collect(spec, threads, on_update, || limits.stop());
+    progress.finish();
+    run
+}
+
+/// What a job's error is on the command line: a stop is `what`'s
+/// "stopped" error.
+pub fn job_error(what: &str, limits: &Limits, e: crate::jobs::JobError) -> CliError {
+    use crate::jobs::JobError;
+    match e {
+        JobError::Stop => limits.stopped(what),
+        JobError::Sim(e) => e.into(),
+        JobError::Failed(m) => CliError::Failed(m),
+    }
 }

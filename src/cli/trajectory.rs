@@ -11,14 +11,14 @@ use super::common::{
     ModelArgs, SolverArgs, check_out, check_theta, count_in, describe, emit, finite, max_seconds,
     total_iterates, warn_event, warn_validity, with_provenance,
 };
-use super::run_control::{Limits, Progress};
+use super::run_control::{Limits, Progress, collect_job, job_error};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::trajectory_csv;
-use crate::sim::{Sampler, Simulator};
+use crate::jobs::{JobError, TrajectorySpec, Update};
+use crate::sim::{SimError, Simulator};
 
-/// The smallest sampling spacing accepted: finer than any plot needs, and a
-/// slip of a few time units still yields a bounded number of rows.
-pub const MIN_SPACING: f64 = 1e-6;
+/// The smallest sampling spacing accepted: the trajectory job's.
+pub use crate::jobs::MIN_SPACING;
 
 /// The most samples (CSV rows) a path may have: they are held in memory
 /// until the file is written atomically (~150 bytes each with the text).
@@ -116,40 +116,36 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
     warn_validity(&params);
     let progress = Progress::new("trajectory", "cycles", total);
     let limits = Limits::start(max_seconds);
-    let mut theta = theta0;
-    for _ in 0..args.transient {
-        if limits.stop() {
-            progress.finish();
-            return Err(limits.stopped("trajectory"));
-        }
-        let ev = sim.cycle(theta, 0.0, None)?;
-        theta = sim.next_onset(&ev);
-        progress.inc(1);
-    }
-    let mut sampler = Sampler::with_limit(spacing, MAX_SAMPLES);
-    let mut t = 0.0;
-    let mut restarts = 0;
-    for _ in 0..events {
-        if limits.stop() {
-            progress.finish();
-            return Err(limits.stopped("trajectory"));
-        }
-        let ev = sim.cycle(theta, t, Some(&mut sampler))?;
-        if sampler.dropped() > 0 {
-            progress.finish();
+    let spec = TrajectorySpec {
+        params,
+        settings,
+        theta0: Some(theta0),
+        transient: args.transient,
+        spacing,
+        cycles: Some(events),
+        max_samples: Some(MAX_SAMPLES),
+    };
+    let updates = match collect_job(spec.into(), 1, &progress, &limits, &|_| {}) {
+        Err(JobError::Sim(SimError::TooManySamples { .. })) => {
             return Err(CliError::Usage(format!(
                 "--spacing = {} with --events = {events} would record more than {MAX_SAMPLES:e} samples: raise --spacing (a cycle records at least {MIN_SAMPLES_PER_CYCLE}, whatever the spacing) or lower --events (nothing was written)",
                 short(spacing)
             )));
         }
-        warn_event(&ev);
-        t += ev.slip_duration + ev.stick_duration;
-        restarts += usize::from(ev.restarted);
-        theta = sim.next_onset(&ev);
-        progress.inc(1);
+        r => r.map_err(|e| job_error("trajectory", &limits, e))?,
+    };
+    let (mut samples, mut t, mut restarts) = (Vec::new(), 0.0, 0);
+    for u in updates {
+        match u {
+            Update::TrajectoryChunk { samples: s, .. } => samples.extend(s),
+            Update::Slip { event, .. } => {
+                warn_event(&event);
+                t += event.slip_duration + event.stick_duration;
+                restarts += usize::from(event.restarted);
+            }
+            _ => {}
+        }
     }
-    progress.finish();
-    let samples = sampler.take();
     let csv = with_provenance(
         &describe(sim.params(), sim.settings()),
         &trajectory_csv(&samples),

@@ -13,10 +13,11 @@ use super::common::{
     ModelArgs, check_out, check_second_out, check_theta, count_in, emit_all, finite, max_seconds,
     warn_validity, with_provenance,
 };
-use super::run_control::Limits;
+use super::run_control::{Limits, Progress, collect_job, job_error};
 use super::values::{parse_count, parse_number};
-use crate::numerics::sample::{Attractor, build_sample, default_attractors};
-use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects, measure};
+use crate::jobs::{Timing, Update, WorkPrecisionSpec};
+use crate::numerics::sample::{Attractor, default_attractors};
+use crate::numerics::work_precision::{CSV_HEADER, Row, default_subjects};
 use crate::numerics::{Subject, chart};
 
 /// The work-precision chart: error against cost for every method.
@@ -171,33 +172,49 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
     let limits = Limits::start(max_seconds);
     let load_before = load_average();
     let start = Instant::now();
-    let sample = build_sample(&attractors, points)?;
-    let spread = sample
-        .iter()
-        .map(|s| s.reference_spread())
-        .fold(0.0, f64::max);
-    let min_time = Duration::from_secs_f64(min_ms * 1e-3);
-    let mut rows: Vec<Row> = Vec::with_capacity(subjects.len());
-    for (i, s) in subjects.iter().enumerate() {
-        if limits.stop() {
-            return Err(limits.stopped("work-precision"));
+    let spec = WorkPrecisionSpec {
+        attractors: attractors.clone(),
+        points,
+        timing: Timing::PerPoint(Duration::from_secs_f64(min_ms * 1e-3)),
+        subjects,
+    };
+    // One line per setting, on a terminal or not: a run takes minutes.
+    let each = |u: &Update| {
+        if let Update::WorkPrecisionRow {
+            index, total, row, ..
+        } = u
+        {
+            eprintln!("[{}/{}] {}", index + 1, total, row.csv());
         }
-        let row = measure(&sample, s, min_time);
-        // One line per setting, on a terminal or not: a run takes minutes.
-        eprintln!("[{}/{}] {}", i + 1, subjects.len(), row.csv());
-        rows.push(row);
+    };
+    let total = spec.subjects.len() as u64;
+    let progress = Progress::new("work-precision", "settings", total).quiet();
+    let updates = collect_job(spec.into(), 1, &progress, &limits, &each)
+        .map_err(|e| job_error("work-precision", &limits, e))?;
+    let (mut sample_len, mut spread) = (0, 0.0);
+    let mut rows: Vec<Row> = Vec::new();
+    for u in updates {
+        match u {
+            Update::WorkPrecisionSample {
+                points,
+                reference_spread,
+                ..
+            } => (sample_len, spread) = (points, reference_spread),
+            Update::WorkPrecisionRow { row, .. } => rows.push(row),
+            _ => {}
+        }
     }
     let load_after = load_average();
     let loads = [load_before, load_after];
     let csv = with_provenance(
         "each attractor's own, on the line below",
-        &csv_text(&attractors, sample.len(), spread, loads, &rows),
+        &csv_text(&attractors, sample_len, spread, loads, &rows),
     );
     let chart = match &args.svg {
         Some(_) => Some(
             chart::svg(
                 &rows,
-                &format!("{} points, reference spread {spread:.1e}", sample.len()),
+                &format!("{sample_len} points, reference spread {spread:.1e}"),
             )
             .map_err(|e| CliError::Failed(format!("--svg: cannot draw the chart: {e}")))?,
         ),
@@ -208,7 +225,7 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
         outputs.push(("svg", p.as_path(), text.as_bytes()));
     }
     emit_all(&outputs, args.force)?;
-    report(&rows, sample.len(), spread, start, loads);
+    report(&rows, sample_len, spread, start, loads);
     Ok(())
 }
 

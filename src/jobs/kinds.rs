@@ -9,8 +9,9 @@
 use super::basins::{BasinsJob, BasinsSpec, MapBasinsSpec};
 use super::continuation::{boundaries_job, find_job};
 use super::events::{PassageSpec, ScanSpec, passage_job, scan_job};
+use super::iterate::IterateJob;
 use super::numerics::WorkPrecisionJob;
-use super::orbit::{IterateJob, PanicJob, TrajectoryJob};
+use super::orbit::{PanicJob, TrajectoryJob};
 use super::phase::PhaseJob;
 use super::protocol::{
     BoundarySpec, ContinuationSpec, IterateSpec, PhaseSpec, SweepSpec, TrajectorySpec,

@@ -26,6 +26,7 @@ pub mod basins;
 pub mod bench;
 mod continuation;
 mod events;
+mod iterate;
 mod kinds;
 mod local;
 mod numerics;
@@ -53,8 +54,8 @@ pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::BasinColumn;
 pub use protocol::{
     Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
-    GridCell, IterateSpec, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseSpec,
-    PhaseTuning, SweepSpec, TrajectorySpec, Update, WorkPrecisionSpec,
+    GridCell, IterateOptions, IterateSpec, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome,
+    PhaseSpec, PhaseTuning, SweepSpec, Timing, TrajectorySpec, Update, WorkPrecisionSpec,
 };
 
 use crate::sim::{LANES, SimError};

@@ -1,6 +1,7 @@
-//! The work-precision job, on the current parameters' attractor (the
-//! window's Numerics view). Its first unit builds a small sample with its
-//! reference; each later unit measures one setting point by point
+//! The work-precision job: the window's Numerics view (a small sample of
+//! the current attractor) and `oneblock work-precision` (the committed
+//! sample, or one attractor given). Its first unit builds the sample with
+//! its reference; each later unit measures one setting point by point
 //! (`numerics::measure` on one point, combined by `numerics::quick::combine`),
 //! polling its sink before every point, as the other jobs poll before every
 //! slip cycle.
@@ -9,11 +10,11 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use super::orbit::Pacer;
-use super::protocol::{Lane, Update, WorkPrecisionSpec};
+use super::protocol::{Lane, Timing, Update, WorkPrecisionSpec};
 use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::model::ParamError;
 use crate::numerics::SamplePoint as Sample;
-use crate::numerics::quick::{MAX_QUICK_POINTS, SLOW_ITERATE, combine, current_attractor};
+use crate::numerics::quick::{SLOW_ITERATE, combine};
 use crate::numerics::{Row, build_sample_until, measure};
 use crate::sim::SimError;
 
@@ -21,10 +22,14 @@ use crate::sim::SimError;
 pub const TIMING_REPEATS: u32 = 3;
 
 /// The longest timing a job accepts per setting (a run of 57 settings stays
-/// under a few minutes even at the limit).
+/// under a few minutes even at the limit) …
 pub const MAX_TIME_PER_SETTING: Duration = Duration::from_secs(2);
+/// … and per point.
+pub const MAX_TIME_PER_POINT: Duration = Duration::from_secs(10);
 /// The longest reference transient a job accepts.
 pub const MAX_TRANSIENT: usize = 100_000;
+/// The most points a job takes per attractor.
+pub const MAX_POINTS: usize = 10_000;
 
 fn invalid(name: &'static str, value: f64, range: &'static str) -> JobError {
     SimError::from(ParamError::new(name, value, range)).into()
@@ -50,19 +55,33 @@ struct Progress {
 
 impl WorkPrecisionJob {
     pub fn new(spec: WorkPrecisionSpec) -> Result<Self, JobError> {
-        if !(1..=MAX_QUICK_POINTS).contains(&spec.points) {
-            return Err(invalid("points", spec.points as f64, "must lie in [1, 64]"));
-        }
-        if spec.transient > MAX_TRANSIENT {
-            let range = "must lie in [0, 100000]";
-            return Err(invalid("transient", spec.transient as f64, range));
-        }
-        if spec.time_per_setting > MAX_TIME_PER_SETTING {
+        if !(1..=MAX_POINTS).contains(&spec.points) {
             return Err(invalid(
-                "time_per_setting",
-                spec.time_per_setting.as_secs_f64(),
-                "must lie in [0, 2] seconds",
+                "points",
+                spec.points as f64,
+                "must lie in [1, 10000]",
             ));
+        }
+        if spec.attractors.is_empty() {
+            return Err(invalid("attractors", 0.0, "must be at least 1"));
+        }
+        for a in &spec.attractors {
+            if a.transient > MAX_TRANSIENT {
+                let range = "must lie in [0, 100000]";
+                return Err(invalid("transient", a.transient as f64, range));
+            }
+            a.params.validate().map_err(SimError::from)?;
+        }
+        match spec.timing {
+            Timing::PerSetting(d) if d > MAX_TIME_PER_SETTING => {
+                let range = "must lie in [0, 2] seconds";
+                return Err(invalid("time_per_setting", d.as_secs_f64(), range));
+            }
+            Timing::PerPoint(d) if d > MAX_TIME_PER_POINT => {
+                let range = "must lie in [0, 10] seconds";
+                return Err(invalid("time_per_point", d.as_secs_f64(), range));
+            }
+            _ => {}
         }
         Ok(WorkPrecisionJob {
             spec,
@@ -79,8 +98,7 @@ impl WorkPrecisionJob {
     /// DP5(4) at 1e-13.
     fn build(&self, sink: &dyn Sink) -> Result<Vec<Sample>, JobError> {
         let s = &self.spec;
-        let attractor = current_attractor(s.params, s.theta0, s.transient);
-        let sample = build_sample_until(&[attractor], s.points, &|| sink.cycle())?;
+        let sample = build_sample_until(&s.attractors, s.points, &|| sink.cycle())?;
         let spread = sample
             .iter()
             .map(|s| s.reference_spread())
@@ -115,21 +133,24 @@ impl WorkPrecisionJob {
             })?;
             return Ok(());
         }
-        let per_point = self.spec.time_per_setting / sample.len().max(1) as u32;
+        // The window's timing is the fastest of a few: what the other lanes
+        // (or other programs) take of the cores only ever adds time.
+        let (repeats, each, skips) = match self.spec.timing {
+            Timing::PerSetting(d) => (
+                TIMING_REPEATS,
+                d / sample.len().max(1) as u32 / TIMING_REPEATS,
+                true,
+            ),
+            Timing::PerPoint(d) => (1, d, false),
+        };
         let mut rows: Vec<Row> = Vec::with_capacity(sample.len());
         for sp in sample {
-            // The fastest of a few timings: what the other lanes (or other
-            // programs) take of the cores only ever adds time.
             let mut best: Option<Row> = None;
-            for _ in 0..TIMING_REPEATS {
+            for _ in 0..repeats {
                 if sink.cycle() {
                     return Err(Stop::Stale.into());
                 }
-                let r = measure(
-                    std::slice::from_ref(sp),
-                    subject,
-                    per_point / TIMING_REPEATS,
-                );
+                let r = measure(std::slice::from_ref(sp), subject, each);
                 if best.as_ref().is_none_or(|b| r.median_us < b.median_us) {
                     best = Some(r);
                 }
@@ -139,7 +160,7 @@ impl WorkPrecisionJob {
         let Some(row) = combine(&rows) else {
             return Ok(());
         };
-        if row.median_us > SLOW_ITERATE.as_secs_f64() * 1e6 {
+        if skips && row.median_us > SLOW_ITERATE.as_secs_f64() * 1e6 {
             let (kind, setting) = subject.setting();
             st.too_slow.push((
                 method,

@@ -87,8 +87,10 @@ pub fn representative(kind: Kind, quick: bool) -> Spec {
             params: here,
             settings,
             theta0: None,
+            transient: 0,
             spacing: 0.02,
             cycles: Some(q(40, 400)),
+            max_samples: None,
         }),
         Kind::Iterate => Spec::Iterate(IterateSpec {
             params: here,
@@ -97,6 +99,7 @@ pub fn representative(kind: Kind, quick: bool) -> Spec {
             transient: q(100, 1000),
             keep: q(50, 300),
             graph_powers: 1,
+            options: crate::jobs::IterateOptions::default(),
         }),
         Kind::Sweep => {
             let mut spec = fig3b_diagram(q(16, 400), q(50, 300), q(20, 200), 1e-8);
@@ -205,15 +208,17 @@ pub fn every_kind(quick: bool) -> Result<Vec<Pieces>, String> {
 /// The Numerics view's quick measurement at `here`.
 fn work_precision(here: Params, quick: bool) -> Spec {
     Spec::Numerics(WorkPrecisionSpec {
-        params: here,
-        theta0: None,
-        transient: if quick { 50 } else { QUICK_TRANSIENT },
+        attractors: vec![crate::numerics::quick::current_attractor(
+            here,
+            None,
+            if quick { 50 } else { QUICK_TRANSIENT },
+        )],
         points: if quick { 2 } else { QUICK_POINTS },
-        time_per_setting: if quick {
+        timing: crate::jobs::Timing::PerSetting(if quick {
             Duration::from_millis(5)
         } else {
             QUICK_TIME_PER_SETTING
-        },
+        }),
         subjects: quick_subjects(),
     })
 }

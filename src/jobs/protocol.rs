@@ -14,6 +14,7 @@ pub use super::kinds::Lane;
 
 use crate::integrate::SolverSettings;
 use crate::model::Params;
+use crate::numerics::sample::Attractor;
 use crate::numerics::{Row, Subject};
 use crate::sim::attractors::Found;
 use crate::sim::column_lyapunov::ColumnLyapunov;
@@ -21,7 +22,7 @@ use crate::sim::continuation::{Branch, Cascade, ContParam, Curve, CurveKind, Spe
 use crate::sim::intermittency::{Passage, Scaling};
 use crate::sim::interpolant::MapUsed;
 use crate::sim::phase::{PhaseCell, PhaseOptions};
-use crate::sim::{MapChoice, Period, Sample, SlipEvent};
+use crate::sim::{MapChoice, Orbit, Period, Sample, SlipEvent};
 
 /// A monotonically increasing job stamp. The front end issues them (one per
 /// command that starts or cancels work), so it knows which updates are stale
@@ -58,15 +59,22 @@ pub struct TrajectorySpec {
     pub settings: SolverSettings,
     /// The first onset (θν if `None`).
     pub theta0: Option<f64>,
+    /// Cycles run before the path starts (at t = 0), not recorded.
+    pub transient: usize,
     /// Time between path samples during a slip.
     pub spacing: f64,
     /// Cycles to run (until cancelled if `None`).
     pub cycles: Option<usize>,
+    /// The most samples the whole path may hold (`None`: no cap): the job
+    /// fails with `SimError::TooManySamples` rather than hold more.
+    pub max_samples: Option<usize>,
 }
 
 /// Map iterates: iterate the map from θ0 (θν if `None`), dropping
 /// `transient` iterates and streaming `keep` more with the detected period
-/// and the running Lyapunov exponent, then the graph of the map.
+/// and the running Lyapunov exponent, then the graph of the map. The one
+/// orbit loop of the window's return map and of `oneblock orbit`
+/// (`sim::OrbitRun`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct IterateSpec {
     /// The model's parameters.
@@ -80,8 +88,37 @@ pub struct IterateSpec {
     /// Iterates kept and streamed.
     pub keep: usize,
     /// The highest power f^k whose graph follows f's (1: f alone; at most
-    /// [`MAX_GRAPH_POWER`]).
+    /// [`MAX_GRAPH_POWER`]; 0: no graph).
     pub graph_powers: usize,
+    /// How the orbit is computed and reported beyond the window's way.
+    pub options: IterateOptions,
+}
+
+/// How an iterate job computes its orbit and what it reports: the
+/// window's way by default, `oneblock orbit`'s flags otherwise.
+#[derive(Clone, Debug, PartialEq)]
+pub struct IterateOptions {
+    /// How the map is evaluated (default: every iterate integrated).
+    pub map: MapChoice,
+    /// The period test's tolerance (default:
+    /// `OrbitOptions::period_tol_of` the settings).
+    pub period_tol: Option<f64>,
+    /// Whether kept iterates take f'(θ) for the Lyapunov exponent.
+    pub lyapunov: bool,
+    /// Whether the job ends with the whole orbit ([`Update::Orbit`]:
+    /// every kept slip event and how the map was evaluated).
+    pub report: bool,
+}
+
+impl Default for IterateOptions {
+    fn default() -> Self {
+        IterateOptions {
+            map: MapChoice::Direct,
+            period_tol: None,
+            lyapunov: true,
+            report: false,
+        }
+    }
 }
 
 /// The highest power of the map an iterate job draws the graph of.
@@ -275,23 +312,36 @@ pub struct BoundarySpec {
 }
 
 /// A work-precision measurement: `subjects` (solver settings) against a
-/// reference on `points` orbit points of the attractor of `params` (from
-/// θ0, θν if `None`, after `transient` reference iterates), each setting
-/// timed for about `time_per_setting` in all.
+/// reference on `points` orbit points of each of `attractors`, timed as
+/// `timing` says.
 #[derive(Clone, Debug, PartialEq)]
 pub struct WorkPrecisionSpec {
-    /// The model's parameters.
-    pub params: Params,
-    /// Where the reference orbit starts (θν if `None`).
-    pub theta0: Option<f64>,
-    /// Reference iterates dropped before the sample.
-    pub transient: usize,
-    /// Orbit points in the sample.
+    /// The attractors the sample takes its points from: the current one
+    /// (`numerics::quick::current_attractor`) in the window; the committed
+    /// four, or one given, on the command line.
+    pub attractors: Vec<Attractor>,
+    /// Orbit points per attractor.
     pub points: usize,
-    /// Time spent measuring each setting, in all.
-    pub time_per_setting: Duration,
+    /// How each setting is timed.
+    pub timing: Timing,
     /// The settings measured, in order.
     pub subjects: Vec<Subject>,
+}
+
+/// How a work-precision job times a setting. Either way a setting is
+/// measured point by point and the points' rows combined
+/// (`numerics::quick::combine`: the numbers `measure` gives for the whole
+/// sample), polling between points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Timing {
+    /// The window's: this long per setting in all, each point the fastest
+    /// of `TIMING_REPEATS` timings; a method whose setting is slower than
+    /// `numerics::quick::SLOW_ITERATE` per iterate has its later settings
+    /// skipped.
+    PerSetting(Duration),
+    /// `oneblock work-precision`'s: each point timed over repeated runs
+    /// lasting at least this long; every setting measured.
+    PerPoint(Duration),
 }
 
 /// How a job ended.
@@ -340,6 +390,14 @@ pub enum Update {
         /// sampled graph, which would carry its interpolation error k
         /// times); NaN where a cycle failed. Empty in the first send.
         powers: Vec<Vec<f64>>,
+    },
+    /// The whole orbit of an iterate job that asked for it
+    /// ([`IterateOptions::report`]), after its last `MapIterates`.
+    Orbit {
+        generation: Generation,
+        orbit: Box<Orbit>,
+        /// How the map was evaluated.
+        map: MapUsed,
     },
     /// One finished bifurcation column. A seeded sweep may send a column
     /// again, amended by its neighbour pass: the later replaces the earlier.
@@ -484,6 +542,7 @@ impl Update {
             | Update::Slip { generation, .. }
             | Update::MapIterates { generation, .. }
             | Update::MapGraph { generation, .. }
+            | Update::Orbit { generation, .. }
             | Update::Column { generation, .. }
             | Update::WorkPrecisionSample { generation, .. }
             | Update::WorkPrecisionRow { generation, .. }

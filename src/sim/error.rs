@@ -42,6 +42,8 @@ pub enum SimError {
         theta: f64,
         params: Params,
     },
+    #[error("the path would hold more than {limit} samples")]
+    TooManySamples { limit: usize },
     #[error("the job was cancelled")]
     Cancelled,
 }

@@ -50,6 +50,19 @@ impl OrbitOptions {
     pub fn period_tol_for(rtol: f64) -> f64 {
         (1e4 * rtol).clamp(1e-9, 1e-3)
     }
+
+    /// The period test's tolerance for `settings`: [`period_tol_for`] its
+    /// rtol for an adaptive method; 1e-6 for a fixed step, whose map error
+    /// no rtol states.
+    ///
+    /// [`period_tol_for`]: OrbitOptions::period_tol_for
+    pub fn period_tol_of(settings: &crate::integrate::SolverSettings) -> f64 {
+        if settings.method.is_adaptive() {
+            Self::period_tol_for(settings.rtol)
+        } else {
+            1e-6
+        }
+    }
 }
 
 /// A computed orbit.
@@ -224,6 +237,28 @@ impl OrbitRun {
             logs: Vec::new(),
             i: 0,
         })
+    }
+
+    /// The kept events so far.
+    pub fn events(&self) -> &[SlipEvent] {
+        &self.events
+    }
+
+    /// ln|f'(θ)| of the kept iterates so far (empty without the
+    /// Lyapunov exponent).
+    pub fn logs(&self) -> &[f64] {
+        &self.logs
+    }
+
+    /// Slip cycles done so far (transient included), of
+    /// [`OrbitRun::cycles`].
+    pub fn cycles_done(&self) -> usize {
+        self.i
+    }
+
+    /// Slip cycles in all: the transient and the kept.
+    pub fn cycles(&self) -> usize {
+        self.opts.transient + self.opts.keep
     }
 
     /// Whether every cycle is done: the next [`OrbitRun::advance`] is the

@@ -70,6 +70,11 @@ impl Sampler {
         }
     }
 
+    /// Holds at most `limit` samples at once from now on.
+    pub fn set_limit(&mut self, limit: usize) {
+        self.limit = limit;
+    }
+
     /// How many samples the cap of [`Sampler::with_limit`] refused.
     pub fn dropped(&self) -> u64 {
         self.dropped

@@ -204,8 +204,10 @@ mod tests {
                 params: Params::default(),
                 settings: default_settings(1e-8),
                 theta0: None,
+                transient: 0,
                 spacing: 0.05,
                 cycles: Some(cycles),
+                max_samples: None,
             },
         )
     }

@@ -38,9 +38,9 @@ use crossbeam_channel::{Receiver, Sender, TrySendError};
 
 pub use crate::jobs::{
     Axis, BoundarySpec, COARSE_STRIDE, CascadeFrom, ContinuationSpec, CurveFollow, Generation,
-    GivenCycle, GridCell, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome,
-    PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, Spec, SweepSpec, TIMING_REPEATS,
-    TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
+    GivenCycle, GridCell, IterateOptions, IterateSpec, Lane, ListedAttractor, MAX_GRAPH_POWER,
+    MAX_LISTED, Outcome, PhaseSpec, PhaseTuning, PlannedCell, PlannedColumn, Spec, SweepSpec,
+    TIMING_REPEATS, Timing, TrajectorySpec, Update, WorkPrecisionSpec, phase_plan, sweep_plan,
 };
 pub use command::Command;
 pub use local::LocalWorker;

@@ -52,6 +52,7 @@ pub fn iterate(generation: Generation, params: Params, transient: usize, keep: u
             transient,
             keep,
             graph_powers: 1,
+            options: oneblock::jobs::IterateOptions::default(),
         },
     )
 }
@@ -63,8 +64,10 @@ pub fn trajectory(generation: Generation, cycles: Option<usize>) -> Command {
             params: fig3b(1.0),
             settings: settings(),
             theta0: Some(0.5),
+            transient: 0,
             spacing: 0.05,
             cycles,
+            max_samples: None,
         },
     )
 }
@@ -96,7 +99,8 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
             Update::TrajectoryChunk { .. }
             | Update::Slip { .. }
             | Update::MapIterates { .. }
-            | Update::MapGraph { .. } => Some(Lane::Orbit),
+            | Update::MapGraph { .. }
+            | Update::Orbit { .. } => Some(Lane::Orbit),
             Update::Column { .. } => Some(Lane::Sweep),
             Update::WorkPrecisionSample { .. }
             | Update::WorkPrecisionRow { .. }

@@ -28,12 +28,12 @@ use super::settings::Settings;
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::numerics::quick::{
-    QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
+    QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, current_attractor, quick_subjects,
 };
 use crate::sim::MapChoice;
 use crate::worker::{
-    Axis, Command, Generation, IterateSpec, Lane, PhaseSpec, PhaseTuning, SweepSpec,
-    TrajectorySpec, WorkPrecisionSpec,
+    Axis, Command, Generation, IterateOptions, IterateSpec, Lane, PhaseSpec, PhaseTuning,
+    SweepSpec, Timing, TrajectorySpec, WorkPrecisionSpec,
 };
 use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 
@@ -191,8 +191,10 @@ impl Jobs {
                 params,
                 settings: traj_solver,
                 theta0: None,
+                transient: 0,
                 spacing: SAMPLE_SPACING,
                 cycles,
+                max_samples: None,
             },
         ));
         self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
@@ -249,6 +251,7 @@ impl Jobs {
                 transient,
                 keep: ITERATE_KEEP,
                 graph_powers: self.want_powers,
+                options: IterateOptions::default(),
             },
         ));
         self.sent_powers = self.want_powers;
@@ -273,6 +276,7 @@ impl Jobs {
                 transient: 0,
                 keep: ITERATE_KEEP,
                 graph_powers: self.want_powers,
+                options: IterateOptions::default(),
             },
         ));
         self.sent_powers = self.want_powers;
@@ -331,11 +335,9 @@ impl Jobs {
         self.send(Command::run(
             g,
             WorkPrecisionSpec {
-                params,
-                theta0,
-                transient,
+                attractors: vec![current_attractor(params, theta0, transient)],
                 points: QUICK_POINTS,
-                time_per_setting: QUICK_TIME_PER_SETTING,
+                timing: Timing::PerSetting(QUICK_TIME_PER_SETTING),
                 subjects,
             },
         ));
