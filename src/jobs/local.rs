@@ -56,6 +56,42 @@ struct Queue {
     cycles: AtomicU64,
     /// The running step's slice of time ([`Sink::pause`]).
     slice: Mutex<Option<TimeSlice>>,
+    /// How long the job's pieces take, as its pauses are polled.
+    pace: Mutex<Pace>,
+}
+
+/// The longest piece of a job seen in this step and the one before (the
+/// time between two polls of [`Sink::pause`]): a piece that would end past
+/// the slice is not begun.
+#[derive(Clone, Copy, Debug)]
+struct Pace {
+    last_poll: Instant,
+    this_step: Duration,
+    step_before: Duration,
+}
+
+impl Pace {
+    fn new() -> Self {
+        Pace {
+            last_poll: Instant::now(),
+            this_step: Duration::ZERO,
+            step_before: Duration::ZERO,
+        }
+    }
+
+    /// A new step from `start`.
+    fn begin(&mut self, start: Instant) {
+        self.step_before = self.this_step;
+        self.this_step = Duration::ZERO;
+        self.last_poll = start;
+    }
+
+    /// A poll at `now`: the longest piece seen lately, this one included.
+    fn poll(&mut self, now: Instant) -> Duration {
+        self.this_step = self.this_step.max(now - self.last_poll);
+        self.last_poll = now;
+        self.this_step.max(self.step_before)
+    }
 }
 
 impl Sink for Queue {
@@ -83,8 +119,15 @@ impl Sink for Queue {
         false
     }
 
+    /// Past the slice's end, or so near it that a piece as long as the
+    /// longest seen lately would end past it.
     fn pause(&self) -> bool {
-        lock(&self.slice).is_some_and(|s| Instant::now() >= s.end)
+        let Some(slice) = *lock(&self.slice) else {
+            return false;
+        };
+        let now = Instant::now();
+        let piece = lock(&self.pace).poll(now);
+        now + piece >= slice.end
     }
 
     fn defer_heavy(&self) -> bool {
@@ -106,6 +149,7 @@ impl Local {
                 cancelled: AtomicBool::new(false),
                 cycles: AtomicU64::new(0),
                 slice: Mutex::new(None),
+                pace: Mutex::new(Pace::new()),
             },
         };
         match catch_unwind(AssertUnwindSafe(|| spec.start(shape))) {
@@ -164,6 +208,9 @@ impl Local {
         };
         let sink = &self.sink;
         *lock(&sink.slice) = slice;
+        if let Some(slice) = slice {
+            lock(&sink.pace).begin(slice.start);
+        }
         let stepped = catch_unwind(AssertUnwindSafe(|| job.step(width, sink)));
         *lock(&sink.slice) = None;
         let result = match stepped {

@@ -15,7 +15,8 @@ use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::model::ParamError;
 use crate::numerics::SamplePoint as Sample;
 use crate::numerics::quick::{SLOW_ITERATE, combine};
-use crate::numerics::{Row, build_sample_until, measure};
+use crate::numerics::sample::SampleBuild;
+use crate::numerics::{Row, measure};
 use crate::sim::SimError;
 
 /// Timings of each point in a re-measure, of which the fastest is kept.
@@ -43,14 +44,28 @@ pub(crate) struct WorkPrecisionJob {
 
 /// How far a measurement is.
 struct Progress {
+    /// The sample being built, until it is.
+    build: Option<SampleBuild>,
     /// The sample once built.
     sample: Option<Vec<Sample>>,
     /// The next subject to measure.
     next: usize,
+    /// The subject being measured, point by point.
+    setting: Option<Setting>,
     pacer: Pacer,
     /// A method whose setting was too slow per iterate: its later (more
     /// expensive) settings are skipped, with the reason.
     too_slow: Vec<(&'static str, String)>,
+}
+
+/// A setting part-measured: the rows of its points so far, and the
+/// fastest timing of the current point.
+struct Setting {
+    index: usize,
+    rows: Vec<Row>,
+    best: Option<Row>,
+    /// Timings of the current point so far.
+    timed: u32,
 }
 
 impl WorkPrecisionJob {
@@ -83,22 +98,38 @@ impl WorkPrecisionJob {
             }
             _ => {}
         }
+        let build = SampleBuild::new(&spec.attractors, spec.points);
         Ok(WorkPrecisionJob {
             spec,
             state: Mutex::new(Progress {
+                build: Some(build),
                 sample: None,
                 next: 0,
+                setting: None,
                 pacer: Pacer::new(),
                 too_slow: Vec::new(),
             }),
         })
     }
 
-    /// The sample with its reference, and how far that reference is from
-    /// DP5(4) at 1e-13.
-    fn build(&self, sink: &dyn Sink) -> Result<Vec<Sample>, JobError> {
-        let s = &self.spec;
-        let sample = build_sample_until(&s.attractors, s.points, &|| sink.cycle())?;
+    /// Pieces of the sample until it is built (then sent, with how far its
+    /// reference is from DP5(4) at 1e-13) or the host wants its thread
+    /// back. `true` once built.
+    fn build(&self, st: &mut Progress, sink: &dyn Sink) -> Result<bool, JobError> {
+        let Some(build) = st.build.as_mut() else {
+            return Ok(true);
+        };
+        let cancel = || sink.cycle();
+        let sample = loop {
+            match build.advance(&cancel) {
+                None if sink.pause() => return Ok(false),
+                None => {}
+                Some(Err(SimError::Cancelled)) => return Err(Stop::Stale.into()),
+                Some(Err(e)) => return Err(e.into()),
+                Some(Ok(sample)) => break sample,
+            }
+        };
+        st.build = None;
         let spread = sample
             .iter()
             .map(|s| s.reference_spread())
@@ -108,20 +139,40 @@ impl WorkPrecisionJob {
             points: sample.len(),
             reference_spread: spread,
         })?;
-        Ok(sample)
+        st.sample = Some(sample);
+        Ok(true)
     }
 
-    /// Measures subject `index` on `sample` (or skips it, saying why).
-    fn measure_one(
+    /// How many timings a point takes, each how long, and whether a slow
+    /// method's later settings are skipped. The window's timing is the
+    /// fastest of a few: what the other lanes (or other programs) take of
+    /// the cores only ever adds time.
+    fn timing(&self, points: usize) -> (u32, Duration, bool) {
+        match self.spec.timing {
+            Timing::PerSetting(d) => (
+                TIMING_REPEATS,
+                d / points.max(1) as u32 / TIMING_REPEATS,
+                true,
+            ),
+            Timing::PerPoint(d) => (1, d, false),
+        }
+    }
+
+    /// Measures subject `setting.index` on `sample`, one timing of one
+    /// point a piece, until it is measured (`true`: its row sent) or the
+    /// host wants its thread back. A subject of a method found too slow is
+    /// skipped, saying why.
+    fn measure(
         &self,
-        index: usize,
+        setting: &mut Setting,
         sample: &[Sample],
         st: &mut Progress,
         sink: &dyn Sink,
-    ) -> Result<(), JobError> {
+    ) -> Result<bool, JobError> {
         let generation = sink.generation();
         let subjects = &self.spec.subjects;
-        let (subject, total) = (&subjects[index], subjects.len());
+        let (index, total) = (setting.index, subjects.len());
+        let subject = &subjects[index];
         let method = subject.method_name();
         if let Some((_, reason)) = st.too_slow.iter().find(|(m, _)| *m == method) {
             sink.send(Update::WorkPrecisionSkipped {
@@ -131,34 +182,32 @@ impl WorkPrecisionJob {
                 subject: *subject,
                 reason: reason.clone(),
             })?;
-            return Ok(());
+            return Ok(true);
         }
-        // The window's timing is the fastest of a few: what the other lanes
-        // (or other programs) take of the cores only ever adds time.
-        let (repeats, each, skips) = match self.spec.timing {
-            Timing::PerSetting(d) => (
-                TIMING_REPEATS,
-                d / sample.len().max(1) as u32 / TIMING_REPEATS,
-                true,
-            ),
-            Timing::PerPoint(d) => (1, d, false),
-        };
-        let mut rows: Vec<Row> = Vec::with_capacity(sample.len());
-        for sp in sample {
-            let mut best: Option<Row> = None;
-            for _ in 0..repeats {
-                if sink.cycle() {
-                    return Err(Stop::Stale.into());
-                }
-                let r = measure(std::slice::from_ref(sp), subject, each);
-                if best.as_ref().is_none_or(|b| r.median_us < b.median_us) {
-                    best = Some(r);
-                }
+        let (repeats, each, skips) = self.timing(sample.len());
+        while let Some(sp) = sample.get(setting.rows.len()) {
+            if sink.cycle() {
+                return Err(Stop::Stale.into());
             }
-            rows.extend(best);
+            let r = measure(std::slice::from_ref(sp), subject, each);
+            if setting
+                .best
+                .as_ref()
+                .is_none_or(|b| r.median_us < b.median_us)
+            {
+                setting.best = Some(r);
+            }
+            setting.timed += 1;
+            if setting.timed == repeats {
+                setting.rows.extend(setting.best.take());
+                setting.timed = 0;
+            }
+            if setting.rows.len() < sample.len() && sink.pause() {
+                return Ok(false);
+            }
         }
-        let Some(row) = combine(&rows) else {
-            return Ok(());
+        let Some(row) = combine(&setting.rows) else {
+            return Ok(true);
         };
         if skips && row.median_us > SLOW_ITERATE.as_secs_f64() * 1e6 {
             let (kind, setting) = subject.setting();
@@ -187,30 +236,41 @@ impl WorkPrecisionJob {
                 iterates_per_second: 0.0,
             })?;
         }
-        Ok(())
+        Ok(true)
     }
 }
 
 impl Job for WorkPrecisionJob {
-    /// The sample first, then up to `width` settings.
+    /// The sample first, then up to `width` settings, pausing between any
+    /// two pieces when the host wants its thread back.
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
-        let mut st = lock(&self.state);
-        let sample = match st.sample.take() {
-            Some(s) => s,
-            None => {
-                let s = self.build(sink)?;
-                st.sample = Some(s);
-                return Ok(Status::Working);
-            }
+        let mut guard = lock(&self.state);
+        let st = &mut *guard;
+        if !self.build(st, sink)? {
+            return Ok(Status::Working);
+        }
+        let Some(sample) = st.sample.take() else {
+            return Ok(Status::Done);
         };
         let result = (|| {
             for _ in 0..width.max(1) {
-                if st.next >= self.spec.subjects.len() {
-                    return Ok(Status::Done);
+                let mut setting = match st.setting.take() {
+                    Some(s) => s,
+                    None if st.next < self.spec.subjects.len() => {
+                        st.next += 1;
+                        Setting {
+                            index: st.next - 1,
+                            rows: Vec::with_capacity(sample.len()),
+                            best: None,
+                            timed: 0,
+                        }
+                    }
+                    None => return Ok(Status::Done),
+                };
+                if !self.measure(&mut setting, &sample, st, sink)? {
+                    st.setting = Some(setting);
+                    return Ok(Status::Working);
                 }
-                let index = st.next;
-                st.next += 1;
-                self.measure_one(index, &sample, &mut st, sink)?;
             }
             Ok(if st.next >= self.spec.subjects.len() {
                 Status::Done

@@ -6,7 +6,7 @@ use serde::Serialize;
 use super::fixed_sample;
 use crate::integrate::{Method, SolverSettings};
 use crate::model::Params;
-use crate::sim::{OrbitOptions, SimError, Simulator, SlipEvent, cycles_in_lanes};
+use crate::sim::{OrbitOptions, OrbitRun, SimError, Simulator, SlipEvent, cycles_in_lanes};
 
 /// One map iterate as the measurement compares it: θ', the stop point, the
 /// slip duration and what it cost.
@@ -153,45 +153,157 @@ pub fn build_sample_until(
     per_attractor: usize,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Vec<SamplePoint>, SimError> {
-    let mut out = Vec::new();
-    for (i, a) in attractors.iter().enumerate() {
-        let reference = Simulator::new(a.params, reference_settings())?;
-        let check = Simulator::new(a.params, check_settings())?;
-        let mut thetas = match a.fixed {
-            Some(fixed) if fixed.len() >= per_attractor => fixed[..per_attractor].to_vec(),
-            _ => reference
-                .orbit(
-                    a.theta0,
-                    &OrbitOptions {
-                        transient: a.transient,
-                        keep: per_attractor,
-                        lyapunov: false,
-                        period_tol: 1e-9,
-                    },
-                    cancel,
-                )?
-                .thetas(),
-        };
-        thetas.extend(a.extra);
-        // Two points' reference cycles at a time, stepped together (bitwise
-        // the values one at a time would give); DP5(4)'s checks one by one.
-        for pair in thetas.chunks(2) {
-            if cancel() {
-                return Err(SimError::Cancelled);
-            }
-            let tasks: Vec<_> = pair.iter().map(|&th| (&reference, th, 0.0)).collect();
-            for (&theta, r) in pair.iter().zip(cycles_in_lanes(&tasks)) {
-                let r = r?;
-                let c = check.cycle(theta, 0.0, None)?;
-                out.push(SamplePoint {
-                    attractor: i,
-                    params: a.params,
-                    theta,
-                    reference: Iterate::from(&r),
-                    check: Iterate::from(&c),
-                });
-            }
+    let mut build = SampleBuild::new(attractors, per_attractor);
+    loop {
+        if let Some(done) = build.advance(cancel) {
+            return done;
         }
     }
-    Ok(out)
+}
+
+/// [`build_sample_until`] one piece at a time, so that a host on a slice
+/// of time (the browser's) can stop between two and go on later with the
+/// same sample bit for bit. A piece is one reference cycle of an
+/// attractor's orbit, two points' reference cycles (stepped together,
+/// bitwise what one at a time gives), or one point's DP5(4) check.
+pub struct SampleBuild {
+    attractors: Vec<Attractor>,
+    per_attractor: usize,
+    /// The attractor being sampled.
+    at: usize,
+    stage: Stage,
+    out: Vec<SamplePoint>,
+}
+
+enum Stage {
+    /// The attractor's simulators are yet to be made.
+    Start,
+    /// Its orbit under the reference integrator, a cycle a piece (only
+    /// its onsets are wanted: it is not settled).
+    Orbit(Box<(Simulator, Simulator, OrbitRun)>),
+    /// Its points: the references of the next pair, then each point's
+    /// check.
+    Points {
+        sims: Box<(Simulator, Simulator)>,
+        thetas: Vec<f64>,
+        /// Points with their reference, awaiting their check.
+        referenced: Vec<(f64, Iterate)>,
+        next: usize,
+    },
+}
+
+impl SampleBuild {
+    /// `per_attractor` points of each of `attractors`, nothing computed.
+    pub fn new(attractors: &[Attractor], per_attractor: usize) -> Self {
+        SampleBuild {
+            attractors: attractors.to_vec(),
+            per_attractor,
+            at: 0,
+            stage: Stage::Start,
+            out: Vec::new(),
+        }
+    }
+
+    /// One piece (`cancel` polled before a reference cycle) and `None`,
+    /// or the sample once built.
+    pub fn advance(
+        &mut self,
+        cancel: &dyn Fn() -> bool,
+    ) -> Option<Result<Vec<SamplePoint>, SimError>> {
+        match self.piece(cancel) {
+            Ok(true) => Some(Ok(std::mem::take(&mut self.out))),
+            Ok(false) => None,
+            Err(e) => Some(Err(e)),
+        }
+    }
+
+    /// One piece: `true` once the sample is built.
+    fn piece(&mut self, cancel: &dyn Fn() -> bool) -> Result<bool, SimError> {
+        let Some(a) = self.attractors.get(self.at).copied() else {
+            return Ok(true);
+        };
+        match &mut self.stage {
+            Stage::Start => {
+                let reference = Simulator::new(a.params, reference_settings())?;
+                let check = Simulator::new(a.params, check_settings())?;
+                self.stage = match a.fixed {
+                    Some(fixed) if fixed.len() >= self.per_attractor => {
+                        let mut thetas = fixed[..self.per_attractor].to_vec();
+                        thetas.extend(a.extra);
+                        Stage::points((reference, check), thetas)
+                    }
+                    _ => {
+                        let opts = OrbitOptions {
+                            transient: a.transient,
+                            keep: self.per_attractor,
+                            lyapunov: false,
+                            period_tol: 1e-9,
+                        };
+                        let run = OrbitRun::new(&reference, a.theta0, &opts)?;
+                        Stage::Orbit(Box::new((reference, check, run)))
+                    }
+                };
+            }
+            Stage::Orbit(o) => {
+                let (reference, _, run) = &mut **o;
+                if !run.settling() {
+                    if let Some(Err(e)) = run.advance(reference, cancel) {
+                        return Err(e);
+                    }
+                    return Ok(false);
+                }
+                let mut thetas: Vec<f64> = run.events().iter().map(|e| e.theta).collect();
+                thetas.extend(a.extra);
+                let Stage::Orbit(o) = std::mem::replace(&mut self.stage, Stage::Start) else {
+                    unreachable!("matched above");
+                };
+                let (reference, check, _) = *o;
+                self.stage = Stage::points((reference, check), thetas);
+            }
+            Stage::Points {
+                sims,
+                thetas,
+                referenced,
+                next,
+            } => {
+                let (reference, check) = &**sims;
+                if let Some((theta, r)) = referenced.first().copied() {
+                    let c = check.cycle(theta, 0.0, None)?;
+                    referenced.remove(0);
+                    self.out.push(SamplePoint {
+                        attractor: self.at,
+                        params: a.params,
+                        theta,
+                        reference: r,
+                        check: Iterate::from(&c),
+                    });
+                } else if *next < thetas.len() {
+                    if cancel() {
+                        return Err(SimError::Cancelled);
+                    }
+                    let pair = &thetas[*next..(*next + 2).min(thetas.len())];
+                    let tasks: Vec<_> = pair.iter().map(|&th| (reference, th, 0.0)).collect();
+                    for (&theta, r) in pair.iter().zip(cycles_in_lanes(&tasks)) {
+                        referenced.push((theta, Iterate::from(&r?)));
+                    }
+                    *next += pair.len();
+                } else {
+                    self.at += 1;
+                    self.stage = Stage::Start;
+                }
+            }
+        }
+        Ok(self.at >= self.attractors.len())
+    }
+}
+
+impl Stage {
+    fn points(sims: (Simulator, Simulator), thetas: Vec<f64>) -> Stage {
+        Stage::Points {
+            sims: Box::new(sims),
+            thetas,
+            referenced: Vec::new(),
+            next: 0,
+        }
+    }
 }
