@@ -6,7 +6,7 @@
 
 use super::CliError;
 use super::run_control::{Limits, Progress, run_job};
-use crate::jobs::{PassageSpec, ScanSpec, Update};
+use crate::jobs::{PassageSpec, ScanSpec, Spec, Update};
 use crate::sim::intermittency::{Intermittency, Scaling};
 use crate::sim::{Orbit, Simulator};
 
@@ -32,16 +32,10 @@ pub(super) fn stats_text(
                 settings,
                 near,
             };
-            let progress = Progress::new("orbit --stats: passage", "", 1);
-            let updates = run_job("orbit", spec.into(), 1, &progress, limits)?;
-            let Some(pass) = updates.into_iter().find_map(|u| match u {
+            let pass = answer("passage", spec.into(), limits, |u| match u {
                 Update::Passage { passage, .. } => Some(passage),
                 _ => None,
-            }) else {
-                return Err(CliError::Failed(
-                    "orbit: the passage job ended without its answer".into(),
-                ));
-            };
+            })?;
             let mean = st
                 .mean_laminar
                 .map_or("no complete laminar phase".into(), |m| {
@@ -52,20 +46,30 @@ pub(super) fn stats_text(
         None => notes.push("no creep slip: no creep channel to pass".into()),
     }
     if scan {
-        let progress = Progress::new("orbit --scaling: tangency scan", "", 1);
         let spec = ScanSpec { params, settings };
-        let updates = run_job("orbit", spec.into(), 1, &progress, limits)?;
-        let Some(scaling) = updates.into_iter().find_map(|u| match u {
+        let scaling = answer("tangency scan", spec.into(), limits, |u| match u {
             Update::Scan { scaling, .. } => Some(scaling),
             _ => None,
-        }) else {
-            return Err(CliError::Failed(
-                "orbit: the tangency scan ended without its answer".into(),
-            ));
-        };
+        })?;
         notes.extend(scaling_notes(&scaling));
     }
     Ok(st.csv("slip_distance", source, &notes))
+}
+
+/// The answer `pick` finds among the updates of the job of `spec` (the
+/// `what` of `orbit --stats`).
+fn answer<T>(
+    what: &'static str,
+    spec: Spec,
+    limits: &Limits,
+    pick: impl Fn(Update) -> Option<T>,
+) -> Result<T, CliError> {
+    let progress = Progress::new("orbit --stats", what, 1);
+    let updates = run_job("orbit", spec, 1, &progress, limits)?;
+    updates
+        .into_iter()
+        .find_map(pick)
+        .ok_or_else(|| CliError::Failed(format!("orbit: the {what} job ended without its answer")))
 }
 
 /// The scan's `#` lines: the tangency, one line per distance, the verdict.

@@ -143,19 +143,8 @@ pub fn orbit_interpolated(
 impl InterpolatedOrbit {
     /// How the orbit used its interpolant, for a summary.
     pub fn summary(&self) -> super::InterpolantSummary {
-        let i = &self.interpolant;
-        let v = i.verification();
-        super::InterpolantSummary {
-            pieces: i.pieces().0,
-            degree: i.max_degree(),
-            interval: i.interval(),
-            evaluations: i.evaluations(),
-            points: v.points,
-            max_map_error: v.max_map_error,
-            max_event_error: v.max_event_error,
-            direct_iterates: self.direct_iterates,
-            refused_extension: self.refused_extension.clone(),
-        }
+        let refused = self.refused_extension.clone();
+        super::InterpolantSummary::of(&self.interpolant, self.direct_iterates, refused)
     }
 }
 

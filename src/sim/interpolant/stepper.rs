@@ -79,6 +79,29 @@ pub struct InterpolantSummary {
     pub refused_extension: Option<String>,
 }
 
+impl InterpolantSummary {
+    /// The summary of a run on `interp` that integrated `direct_iterates`
+    /// iterates itself, an extension refused for `refused_extension`.
+    pub fn of(
+        interp: &MapInterpolant,
+        direct_iterates: usize,
+        refused_extension: Option<String>,
+    ) -> Self {
+        let v = interp.verification();
+        InterpolantSummary {
+            pieces: interp.pieces().0,
+            degree: interp.max_degree(),
+            interval: interp.interval(),
+            evaluations: interp.evaluations(),
+            points: v.points,
+            max_map_error: v.max_map_error,
+            max_event_error: v.max_event_error,
+            direct_iterates,
+            refused_extension,
+        }
+    }
+}
+
 /// Direct iterates a caller runs before it builds the interpolant over
 /// their range: fewer give a poor picture of where the orbit goes.
 pub const MIN_DIRECT: usize = 100;
@@ -160,19 +183,7 @@ impl<'s> Stepper<'s> {
 
     /// The summary of the run so far.
     pub fn summary(&self) -> InterpolantSummary {
-        let i = &self.interp;
-        let v = i.verification();
-        InterpolantSummary {
-            pieces: i.pieces().0,
-            degree: i.max_degree(),
-            interval: i.interval(),
-            evaluations: i.evaluations(),
-            points: v.points,
-            max_map_error: v.max_map_error,
-            max_event_error: v.max_event_error,
-            direct_iterates: self.direct,
-            refused_extension: self.refused.clone(),
-        }
+        InterpolantSummary::of(&self.interp, self.direct, self.refused.clone())
     }
 
     fn cover(&mut self, theta: f64) {
