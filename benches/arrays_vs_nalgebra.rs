@@ -7,7 +7,7 @@
 //! where the absolute times do not; it also says whether the two give the
 //! same bits.
 //!
-//! `cargo bench --no-default-features --bench arrays_vs_nalgebra`
+//! `cargo bench --features bench --no-default-features --bench arrays_vs_nalgebra`
 
 use std::hint::black_box;
 use std::time::Instant;

@@ -13,7 +13,7 @@
 //!   grid (target: at most 4×), both through the phase job.
 //!
 //! The seeded ones take minutes a sample. Run on an idle machine:
-//! `cargo bench --bench attractors -- --warm-up-time 1 --measurement-time 3`.
+//! `cargo bench --features bench --bench attractors -- --warm-up-time 1 --measurement-time 3`.
 
 #![allow(clippy::unwrap_used)]
 

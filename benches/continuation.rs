@@ -8,7 +8,7 @@
 //! goes, printed before timing); and the whole FP→P2 boundary over
 //! θν ∈ [0.1, 1.55] × κ ∈ [1, 42] (both arms, from the two doublings at
 //! κ = 16).
-//! Run: `cargo bench --bench continuation -- --warm-up-time 1
+//! Run: `cargo bench --features bench --bench continuation -- --warm-up-time 1
 //! --measurement-time 3`.
 
 #![allow(clippy::unwrap_used)]

@@ -8,7 +8,7 @@
 //! cost plus svg2pdf's, which `fig3b_diagram_svg_to_pdf` times alone.
 //!
 //! Run on an idle machine:
-//! `cargo bench --bench figures -- --warm-up-time 1 --measurement-time 10`.
+//! `cargo bench --features bench --bench figures -- --warm-up-time 1 --measurement-time 10`.
 
 #![allow(clippy::unwrap_used)]
 

@@ -10,7 +10,7 @@
 //! iterates (transient 1000, Lyapunov exponent on) construction included;
 //! plain iterates of the built interpolant; and 1000 directly integrated
 //! iterates, for the direct figure. Run:
-//! `cargo bench --bench interpolant -- --warm-up-time 1 --measurement-time 3`.
+//! `cargo bench --features bench --bench interpolant -- --warm-up-time 1 --measurement-time 3`.
 
 #![allow(clippy::unwrap_used)]
 

@@ -8,7 +8,7 @@
 //! (machine-independent) are printed, so speed and accuracy are read off
 //! the same run. At DOP853 1e-9 a `/derivatives` row times the same
 //! iterates with the map's six exact derivatives, and a `/slope` row with
-//! f' alone.  Run: `cargo bench --bench map_iterate`.
+//! f' alone.  Run: `cargo bench --features bench --bench map_iterate`.
 
 #![allow(clippy::unwrap_used)]
 
