@@ -13,9 +13,9 @@ use common::fixture::preset;
 use common::until_finished;
 use oneblock::integrate::{Method, SolverSettings};
 use oneblock::jobs::{
-    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle, IterateSpec, Local,
-    Outcome, PassageSpec, PhaseSpec, PhaseTuning, ScanSpec, Shape, Spec, SweepSpec, TimeSlice,
-    TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
+    Axis, BasinsSpec, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, GivenCycle,
+    IterateSpec, Local, Outcome, PassageSpec, PhaseSpec, PhaseTuning, ScanSpec, Shape, Spec,
+    SweepSpec, TimeSlice, TrajectorySpec, Update, WorkPrecisionSpec, run_collect,
 };
 use oneblock::model::Params;
 use oneblock::numerics::Subject;
@@ -44,6 +44,8 @@ struct Results {
     column_costs: BTreeMap<usize, u64>,
     cells: BTreeMap<(usize, usize), String>,
     rows: Vec<String>,
+    /// Basins columns by index (a parallel job's come in any order).
+    basins: BTreeMap<usize, String>,
     other: Vec<String>,
     outcome: Option<Outcome>,
 }
@@ -111,6 +113,9 @@ fn results(ups: &[Update]) -> Results {
                 row.max_stop_error,
                 row.evals_per_iterate
             )),
+            Update::Basins { column, .. } => {
+                r.basins.insert(column.index, format!("{column:?}"));
+            }
             Update::Progress { .. } => {}
             Update::Finished { outcome, .. } => r.outcome = Some(outcome.clone()),
             Update::Error { message, .. } => r.other.push(format!("error: {message}")),
@@ -387,20 +392,41 @@ fn a_work_precision_measurement_is_the_same_on_every_host_but_its_timings() {
         .into_iter()
         .flat_map(|m| [1e-6, 1e-8].map(|tol| Subject::Own(SolverSettings::adaptive(m, tol))))
         .collect();
-    let r = same_on_both_hosts(Command::run(
-        7,
-        WorkPrecisionSpec {
-            attractors: vec![oneblock::numerics::quick::current_attractor(
-                preset("fig3b"),
-                None,
-                100,
-            )],
-            points: 3,
-            timing: oneblock::jobs::Timing::PerSetting(std::time::Duration::from_millis(3)),
-            subjects,
-        },
-    ));
+    let spec = Spec::Numerics(WorkPrecisionSpec {
+        attractors: vec![oneblock::numerics::quick::current_attractor(
+            preset("fig3b"),
+            None,
+            100,
+        )],
+        points: 3,
+        timing: oneblock::jobs::Timing::PerSetting(std::time::Duration::from_millis(3)),
+        subjects,
+    });
+    let r = same_on_both_hosts(Command::run(7, spec.clone()));
     assert_eq!(r.rows.len(), 4);
+    // Paused after every piece (a reference cycle, a pair of points'
+    // references, a check, a timing): the same rows.
+    let (paused, steps) = local_paused(spec);
+    assert_eq!(paused, r);
+    assert!(steps > 100 + 4 * 3, "{steps} steps");
+}
+
+#[test]
+fn a_basins_column_paused_after_every_piece_is_the_same() {
+    // Fig. 3b at θν = 1.1 and 1.4 (one attractor; two), the diagram's
+    // cells: pieces are the arc's interpolant, each level of subdivision
+    // and each verdict.
+    let spec = BasinsSpec {
+        params: preset("fig3b"),
+        settings: SolverSettings::adaptive(Method::Dop853, 1e-10),
+        theta_nu: Axis::new(1.1, 1.4, 2),
+        cells: oneblock::sim::attractors::CellOptions::column(),
+    };
+    let r = same_on_both_hosts(Command::run(8, spec.clone()));
+    assert_eq!(r.basins.len(), 2, "{r:?}");
+    let (paused, steps) = local_paused(Spec::Basins(spec));
+    assert_eq!(paused, r);
+    assert!(steps > 2 * 4, "{steps} steps");
 }
 
 /// Map evaluations that a continuation's branches and curves report.

@@ -18,10 +18,10 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::orbit::{Pacer, paced_progress};
 use super::protocol::{Axis, BasinColumn, Lane, Update};
-use super::{Job, JobError, Sink, Status};
+use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::{AttractorError, CellOptions, attractors};
+use crate::sim::attractors::{AttractorError, AttractorsRun, CellOptions};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
 /// Attractors and basins over `theta_nu` at the κ, γ, ν and Ω of `params`
@@ -94,6 +94,9 @@ pub(crate) struct BasinsJob {
     next: AtomicUsize,
     done: AtomicUsize,
     pacer: Mutex<Pacer>,
+    /// A column paused part-way (only the single-threaded host pauses),
+    /// resumed by the next step.
+    parked: Mutex<Option<(usize, AttractorsRun)>>,
 }
 
 impl BasinsJob {
@@ -121,27 +124,48 @@ impl BasinsJob {
             next: AtomicUsize::new(0),
             done: AtomicUsize::new(0),
             pacer: Mutex::new(Pacer::new()),
+            parked: Mutex::new(None),
         })
     }
 
-    /// One column, start to end; `Err` only when the job must stop.
-    fn column(&self, index: usize, sink: &dyn Sink) -> Result<BasinColumn, JobError> {
+    /// Column `index` from where `run` left it (a new run if `None`),
+    /// piece by piece until it is done (`Some`) or the host wants its
+    /// thread back (`None`, the run parked); `Err` only when the job must
+    /// stop.
+    fn column(
+        &self,
+        index: usize,
+        run: Option<AttractorsRun>,
+        sink: &dyn Sink,
+    ) -> Result<Option<BasinColumn>, JobError> {
         let theta_nu = self.grid[index];
         let params = self.spec.params.with_theta_nu(theta_nu);
         let cancel = || sink.cycle();
-        let found = match Simulator::new(params, self.spec.settings) {
-            Err(e) => Err(e.to_string()),
-            Ok(sim) => match attractors(&sim, &self.spec.cells, &cancel) {
-                Ok(f) => Ok(f),
-                Err(AttractorError::Sim(SimError::Cancelled)) => return Err(JobError::Stop),
-                Err(e) => Err(e.to_string()),
-            },
+        let found = match (run, Simulator::new(params, self.spec.settings)) {
+            (_, Err(e)) => Err(e.to_string()),
+            (run, Ok(sim)) => {
+                let mut run = run.unwrap_or_else(|| AttractorsRun::new(&sim, &self.spec.cells));
+                loop {
+                    match run.advance(&cancel) {
+                        None if sink.pause() => {
+                            *lock(&self.parked) = Some((index, run));
+                            return Ok(None);
+                        }
+                        None => {}
+                        Some(Ok(f)) => break Ok(f),
+                        Some(Err(AttractorError::Sim(SimError::Cancelled))) => {
+                            return Err(JobError::Stop);
+                        }
+                        Some(Err(e)) => break Err(e.to_string()),
+                    }
+                }
+            }
         };
-        Ok(BasinColumn {
+        Ok(Some(BasinColumn {
             index,
             theta_nu,
             found,
-        })
+        }))
     }
 }
 
@@ -152,14 +176,23 @@ impl Job for BasinsJob {
 
     /// Columns, one after another, until none is left for this caller (or,
     /// on the single-threaded host, until it wants its thread back: a
-    /// column is one piece, ~10–100 ms).
+    /// column pauses between its pieces, the arc's interpolant, each level
+    /// of subdivision and each verdict).
     fn step(&self, _width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         loop {
-            let k = self.next.fetch_add(1, Ordering::Relaxed);
-            let Some(&index) = self.order.get(k) else {
-                return Ok(Status::Done);
+            let (index, run) = match lock(&self.parked).take() {
+                Some((index, run)) => (index, Some(run)),
+                None => {
+                    let k = self.next.fetch_add(1, Ordering::Relaxed);
+                    let Some(&index) = self.order.get(k) else {
+                        return Ok(Status::Done);
+                    };
+                    (index, None)
+                }
             };
-            let column = self.column(index, sink)?;
+            let Some(column) = self.column(index, run, sink)? else {
+                return Ok(Status::Working);
+            };
             sink.send(Update::Basins {
                 generation: sink.generation(),
                 lane: self.lane,

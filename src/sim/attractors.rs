@@ -177,46 +177,152 @@ pub fn attractors(
     opts: &CellOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Found, AttractorError> {
-    let map = ArcMap::build(sim)?;
-    let g = CellGraph::uniform(&map, opts.initial_cells.max(2));
-    let mut search = Search::new(sim, opts, map, g);
-    let (closed, comps, labels) = loop {
-        if cancel() {
-            return Err(AttractorError::Sim(SimError::Cancelled));
+    let mut run = AttractorsRun::new(sim, opts);
+    loop {
+        if let Some(done) = run.advance(cancel) {
+            return done;
         }
-        if let Some(done) = search.level()? {
-            break done;
-        }
-    };
-    let Search {
-        map,
-        g,
-        mut spent,
-        budget_hit,
-        settled,
-        ..
-    } = search;
-    let known: Vec<_> = settled.into_iter().map(|(_, o)| o).collect();
-    let mut found = Vec::with_capacity(closed.len());
-    for k in &closed {
-        found.push(classify_closed(sim, &map, &g, k, &known, opts, &mut spent)?);
     }
-    let (basins, boundary_fraction) = basins(&g, &map, &comps, &labels, &mut found);
-    let widths = (0..g.len()).map(|i| g.width(i));
-    let (finest, widest) = widths.fold((f64::INFINITY, 0.0_f64), |(a, b), w| (a.min(w), b.max(w)));
-    Ok(Found {
-        attractors: found,
-        basins,
-        resolution: Resolution {
-            finest,
-            widest,
-            eps: map.eps(),
-            cells: g.len(),
+}
+
+/// [`attractors`] one piece at a time, so that a host on a slice of time
+/// (the browser's) can stop between two and go on later with the same
+/// result bit for bit. The pieces: the interpolant of f over the arc, each
+/// level of subdivision (`cancel` polled before it), each closed set's
+/// verdict, and the basins.
+pub struct AttractorsRun {
+    sim: Simulator,
+    opts: CellOptions,
+    stage: Stage,
+}
+
+enum Stage {
+    Start,
+    Search(Box<Search>),
+    Classify(Box<Classifying>),
+    Done,
+}
+
+/// The search's outcome, its closed sets judged one at a time.
+struct Classifying {
+    search: Search,
+    closed: Vec<search::Closed>,
+    comps: graph::Components,
+    labels: Vec<Option<usize>>,
+    known: Vec<classify::Orbit>,
+    found: Vec<Attractor>,
+}
+
+impl AttractorsRun {
+    /// The search at `sim`'s parameters, nothing computed.
+    pub fn new(sim: &Simulator, opts: &CellOptions) -> Self {
+        AttractorsRun {
+            sim: *sim,
+            opts: *opts,
+            stage: Stage::Start,
+        }
+    }
+
+    /// One piece and `None`, or, once done, what was found.
+    pub fn advance(&mut self, cancel: &dyn Fn() -> bool) -> Option<Result<Found, AttractorError>> {
+        match self.piece(cancel) {
+            Ok(None) => None,
+            Ok(Some(found)) => {
+                self.stage = Stage::Done;
+                Some(Ok(found))
+            }
+            Err(e) => {
+                self.stage = Stage::Done;
+                Some(Err(e))
+            }
+        }
+    }
+
+    fn piece(&mut self, cancel: &dyn Fn() -> bool) -> Result<Option<Found>, AttractorError> {
+        match std::mem::replace(&mut self.stage, Stage::Done) {
+            Stage::Start => {
+                let map = ArcMap::build(&self.sim)?;
+                let g = CellGraph::uniform(&map, self.opts.initial_cells.max(2));
+                self.stage = Stage::Search(Box::new(Search::new(self.sim, self.opts, map, g)));
+            }
+            Stage::Search(mut search) => {
+                if cancel() {
+                    return Err(AttractorError::Sim(SimError::Cancelled));
+                }
+                match search.level()? {
+                    None => self.stage = Stage::Search(search),
+                    Some((closed, comps, labels)) => {
+                        let known = search.settled.drain(..).map(|(_, o)| o).collect();
+                        let found = Vec::with_capacity(closed.len());
+                        self.stage = Stage::Classify(Box::new(Classifying {
+                            search: *search,
+                            closed,
+                            comps,
+                            labels,
+                            known,
+                            found,
+                        }));
+                    }
+                }
+            }
+            Stage::Classify(mut c) => {
+                let Some(k) = c.closed.get(c.found.len()) else {
+                    return Ok(Some(c.conclude()));
+                };
+                let s = &mut c.search;
+                let a = classify_closed(
+                    &self.sim,
+                    &s.map,
+                    &s.g,
+                    k,
+                    &c.known,
+                    &self.opts,
+                    &mut s.spent,
+                )?;
+                c.found.push(a);
+                self.stage = Stage::Classify(c);
+            }
+            Stage::Done => {}
+        }
+        Ok(None)
+    }
+}
+
+impl Classifying {
+    /// The basins, and everything found.
+    fn conclude(self) -> Found {
+        let Classifying {
+            search,
+            comps,
+            labels,
+            mut found,
+            ..
+        } = self;
+        let Search {
+            map,
+            g,
+            spent,
             budget_hit,
-        },
-        boundary_fraction,
-        map_evaluations: map.spent.0 + spent.0,
-    })
+            ..
+        } = search;
+        let (basins, boundary_fraction) = basins(&g, &map, &comps, &labels, &mut found);
+        let widths = (0..g.len()).map(|i| g.width(i));
+        let (finest, widest) =
+            widths.fold((f64::INFINITY, 0.0_f64), |(a, b), w| (a.min(w), b.max(w)));
+        Found {
+            attractors: found,
+            basins,
+            resolution: Resolution {
+                finest,
+                widest,
+                eps: map.eps(),
+                cells: g.len(),
+                budget_hit,
+            },
+            boundary_fraction,
+            map_evaluations: map.spent.0 + spent.0,
+        }
+    }
 }
 
 /// The basins along the arc (runs of cells with one reachable closed set)

@@ -33,9 +33,9 @@ const NEAR_CYCLE: f64 = 1e-3;
 const SHARPEN_EVALUATIONS: usize = 4_000;
 
 /// The search's state between levels of subdivision.
-pub(super) struct Search<'a> {
-    sim: &'a Simulator,
-    opts: &'a CellOptions,
+pub(super) struct Search {
+    sim: Simulator,
+    opts: CellOptions,
     pub(super) map: ArcMap,
     pub(super) g: CellGraph,
     /// Closed sets left as they are at the map's floor (their hulls, and
@@ -52,13 +52,8 @@ pub(super) struct Search<'a> {
 /// The closed sets, the components and their labels, when done.
 pub(super) type Done = (Vec<Closed>, graph::Components, Vec<Option<usize>>);
 
-impl<'a> Search<'a> {
-    pub(super) fn new(
-        sim: &'a Simulator,
-        opts: &'a CellOptions,
-        map: ArcMap,
-        g: CellGraph,
-    ) -> Self {
+impl Search {
+    pub(super) fn new(sim: Simulator, opts: CellOptions, map: ArcMap, g: CellGraph) -> Self {
         Search {
             sim,
             opts,
@@ -185,7 +180,7 @@ impl<'a> Search<'a> {
                     COLUMN_ORBIT
                 };
                 match at_floor(
-                    self.sim,
+                    &self.sim,
                     lengths,
                     &mut self.map,
                     &mut self.g,
