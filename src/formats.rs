@@ -72,10 +72,20 @@ pub fn csv_line(fields: &[String]) -> String {
     line
 }
 
+/// The trajectory CSV's header.
+pub const TRAJECTORY_HEADER: &str = "t,x,y,u,w,phase";
+
 /// The trajectory CSV (`t,x,y,u,w,phase`, one row per sample).
 pub fn trajectory_csv(samples: &[Sample]) -> String {
     let mut s = String::with_capacity(64 * (samples.len() + 1));
-    s.push_str("t,x,y,u,w,phase\n");
+    s.push_str(TRAJECTORY_HEADER);
+    s.push('\n');
+    trajectory_rows(&mut s, samples);
+    s
+}
+
+/// The trajectory CSV's rows of `samples`, appended to `s`.
+pub fn trajectory_rows(s: &mut String, samples: &[Sample]) {
     for p in samples {
         writeln!(
             s,
@@ -89,7 +99,6 @@ pub fn trajectory_csv(samples: &[Sample]) -> String {
         )
         .ok();
     }
-    s
 }
 
 /// The bifurcation CSV's header.

@@ -404,26 +404,29 @@ pub fn run_job(
     progress: &Progress,
     limits: &Limits,
 ) -> Result<Vec<crate::jobs::Update>, CliError> {
-    collect_job(spec, threads, progress, limits, &|_| {}).map_err(|e| job_error(what, limits, e))
+    collect_job(spec, threads, progress, limits, &|_| {}, |_| true)
+        .map_err(|e| job_error(what, limits, e))
 }
 
 /// [`run_job`] with the job's own error, for a caller that words one
-/// itself, and `each` told of every update as it comes.
+/// itself, `each` told of every update as it comes, and only the updates
+/// `keep` says yes to kept.
 pub fn collect_job(
     spec: crate::jobs::Spec,
     threads: usize,
     progress: &Progress,
     limits: &Limits,
     each: &(dyn Fn(&crate::jobs::Update) + Sync),
+    keep: fn(&crate::jobs::Update) -> bool,
 ) -> Result<Vec<crate::jobs::Update>, crate::jobs::JobError> {
-    use crate::jobs::{Update, run_collect};
+    use crate::jobs::{Update, run_collect_some};
     let on_update = |u: &Update| {
         if let Update::Progress { fraction, .. } = u {
             progress.to_fraction(*fraction);
         }
         each(u);
     };
-    let run = run_collect(spec, threads, on_update, || limits.stop());
+    let run = run_collect_some(spec, threads, on_update, || limits.stop(), keep);
     progress.finish();
     run
 }

@@ -3,6 +3,8 @@
 //! (a straight line at the surface velocity) contributes its two ends.
 
 use std::path::PathBuf;
+use std::sync::Mutex;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use clap::Args;
 
@@ -13,7 +15,7 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress, collect_job, job_error};
 use super::values::{parse_count, parse_number, short};
-use crate::formats::trajectory_csv;
+use crate::formats::{TRAJECTORY_HEADER, trajectory_rows};
 use crate::jobs::{JobError, TrajectorySpec, Update};
 use crate::sim::{SimError, Simulator};
 
@@ -125,7 +127,19 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
         cycles: Some(events),
         max_samples: Some(MAX_SAMPLES),
     };
-    let updates = match collect_job(spec.into(), 1, &progress, &limits, &|_| {}) {
+    // The rows are written as the samples come (they are not held twice);
+    // the slips are kept.
+    let model = describe(sim.params(), sim.settings());
+    let csv = Mutex::new(with_provenance(&model, TRAJECTORY_HEADER) + "\n");
+    let rows = AtomicUsize::new(0);
+    let each = |u: &Update| {
+        if let Update::TrajectoryChunk { samples, .. } = u {
+            trajectory_rows(&mut csv.lock().unwrap_or_else(|e| e.into_inner()), samples);
+            rows.fetch_add(samples.len(), Ordering::Relaxed);
+        }
+    };
+    let slips_only = |u: &Update| matches!(u, Update::Slip { .. });
+    let updates = match collect_job(spec.into(), 1, &progress, &limits, &each, slips_only) {
         Err(JobError::Sim(SimError::TooManySamples { .. })) => {
             return Err(CliError::Usage(format!(
                 "--spacing = {} with --events = {events} would record more than {MAX_SAMPLES:e} samples: raise --spacing (a cycle records at least {MIN_SAMPLES_PER_CYCLE}, whatever the spacing) or lower --events (nothing was written)",
@@ -134,29 +148,22 @@ pub fn run(args: TrajectoryArgs) -> Result<(), CliError> {
         }
         r => r.map_err(|e| job_error("trajectory", &limits, e))?,
     };
-    let (mut samples, mut t, mut restarts) = (Vec::new(), 0.0, 0);
+    let (mut t, mut restarts) = (0.0, 0);
     for u in updates {
-        match u {
-            Update::TrajectoryChunk { samples: s, .. } => samples.extend(s),
-            Update::Slip { event, .. } => {
-                warn_event(&event);
-                t += event.slip_duration + event.stick_duration;
-                restarts += usize::from(event.restarted);
-            }
-            _ => {}
+        if let Update::Slip { event, .. } = u {
+            warn_event(&event);
+            t += event.slip_duration + event.stick_duration;
+            restarts += usize::from(event.restarted);
         }
     }
-    let csv = with_provenance(
-        &describe(sim.params(), sim.settings()),
-        &trajectory_csv(&samples),
-    );
+    let csv = csv.into_inner().unwrap_or_else(|e| e.into_inner());
     emit(&args.out, csv.as_bytes(), args.force)?;
     eprintln!(
         "trajectory: {}\n  {} cycle(s) after {} transient, {} samples over t in [0, {t}], {} restart(s)",
         describe(&params, &settings),
         events,
         args.transient,
-        samples.len(),
+        rows.into_inner(),
         restarts
     );
     Ok(())

@@ -189,7 +189,7 @@ pub fn run(args: WorkPrecisionArgs) -> Result<(), CliError> {
     };
     let total = spec.subjects.len() as u64;
     let progress = Progress::new("work-precision", "settings", total).quiet();
-    let updates = collect_job(spec.into(), 1, &progress, &limits, &each)
+    let updates = collect_job(spec.into(), 1, &progress, &limits, &each, |_| true)
         .map_err(|e| job_error("work-precision", &limits, e))?;
     let (mut sample_len, mut spread) = (0, 0.0);
     let mut rows: Vec<Row> = Vec::new();

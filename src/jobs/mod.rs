@@ -255,6 +255,8 @@ pub struct Collect<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> {
     stopped: AtomicBool,
     /// Whether updates sent after the stop are still taken.
     keep_after_stop: bool,
+    /// Which updates are kept once `on_update` has seen them.
+    keep: fn(&Update) -> bool,
     cycles: AtomicU64,
     on_update: F,
     stop_when: S,
@@ -269,6 +271,7 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
             updates: std::sync::Mutex::new(Vec::new()),
             stopped: AtomicBool::new(false),
             keep_after_stop: false,
+            keep: |_| true,
             cycles: AtomicU64::new(0),
             on_update,
             stop_when,
@@ -310,7 +313,9 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Sink for Collect<F, S> {
             return Err(Stop::Stale);
         }
         (self.on_update)(&update);
-        lock(&self.updates).push(update);
+        if (self.keep)(&update) {
+            lock(&self.updates).push(update);
+        }
         Ok(())
     }
 
@@ -341,6 +346,24 @@ pub fn run_collect(
     stop_when: impl Fn() -> bool + Sync,
 ) -> Result<Vec<Update>, JobError> {
     let sink = Collect::new(on_update, stop_when);
+    run_on(spec, threads, &sink)?;
+    Ok(sink.into_updates())
+}
+
+/// [`run_collect`] keeping only the updates `keep` says yes to: the rest
+/// are seen by `on_update` alone (a trajectory's samples, written as they
+/// come, are not held twice).
+pub fn run_collect_some(
+    spec: Spec,
+    threads: usize,
+    on_update: impl Fn(&Update) + Sync,
+    stop_when: impl Fn() -> bool + Sync,
+    keep: fn(&Update) -> bool,
+) -> Result<Vec<Update>, JobError> {
+    let sink = Collect {
+        keep,
+        ..Collect::new(on_update, stop_when)
+    };
     run_on(spec, threads, &sink)?;
     Ok(sink.into_updates())
 }
