@@ -9,7 +9,7 @@
 #![allow(clippy::unwrap_used)]
 
 mod common;
-use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
+use common::xvfb::{fig3b_window, have_xvfb};
 
 use std::collections::HashSet;
 
@@ -19,25 +19,8 @@ fn fig3b_screenshot_under_xvfb_is_a_real_picture() {
         return;
     }
     let dir = tempfile::tempdir().unwrap();
-    let xdg = runtime_dir(&dir.path().join("xdg"));
     let png = dir.path().join("fig3b.png");
-    let out = under_xvfb(400)
-        .arg(env!("CARGO_BIN_EXE_oneblock"))
-        .args([
-            "gui",
-            "--preset",
-            "fig3b",
-            "--size",
-            "1280x800",
-            "--timeout",
-            "300",
-            "--screenshot",
-        ])
-        .arg(&png)
-        .env("XDG_RUNTIME_DIR", &xdg)
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .unwrap();
+    let out = fig3b_window(dir.path(), &[], &png);
     assert!(
         out.status.success(),
         "gui exited {:?}: {}",

@@ -10,7 +10,7 @@
 #![cfg(feature = "gui")]
 
 mod common;
-use common::xvfb::{have_xvfb, runtime_dir, under_xvfb};
+use common::xvfb::{fig3b_window, have_xvfb};
 
 /// The number after `before` in `text`, up to the first character that
 /// cannot be part of it.
@@ -29,27 +29,8 @@ fn the_window_plays_theta_nu_and_reports_its_frames() {
         return;
     }
     let dir = tempfile::tempdir().expect("temp dir");
-    let xdg = runtime_dir(&dir.path().join("xdg"));
     let png = dir.path().join("played.png");
-    let out = under_xvfb(400)
-        .arg(env!("CARGO_BIN_EXE_oneblock"))
-        .args([
-            "gui",
-            "--preset",
-            "fig3b",
-            "--size",
-            "1280x800",
-            "--timeout",
-            "300",
-            "--play",
-            "--frame-stats",
-            "--screenshot",
-        ])
-        .arg(&png)
-        .env("XDG_RUNTIME_DIR", &xdg)
-        .env_remove("WAYLAND_DISPLAY")
-        .output()
-        .expect("run oneblock gui");
+    let out = fig3b_window(dir.path(), &["--play", "--frame-stats"], &png);
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(
         out.status.success(),

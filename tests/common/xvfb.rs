@@ -3,7 +3,7 @@
 //! the window runs under.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Command, Output};
 
 /// Whether `xvfb-run` is here. Under CI (CI set) its absence fails the
 /// test; elsewhere `what` is skipped with a note.
@@ -42,4 +42,29 @@ pub fn under_xvfb(seconds: u32) -> Command {
     c.arg(seconds.to_string())
         .args(["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24"]);
     c
+}
+
+/// `oneblock gui` at Fig. 3b, 1280×800, under Xvfb (a private runtime
+/// folder in `dir`, no Wayland), with `extra` flags, its screenshot to
+/// `png`: how it ended, which the caller checks.
+pub fn fig3b_window(dir: &Path, extra: &[&str], png: &Path) -> Output {
+    let xdg = runtime_dir(&dir.join("xdg"));
+    under_xvfb(400)
+        .arg(env!("CARGO_BIN_EXE_oneblock"))
+        .args([
+            "gui",
+            "--preset",
+            "fig3b",
+            "--size",
+            "1280x800",
+            "--timeout",
+            "300",
+        ])
+        .args(extra)
+        .arg("--screenshot")
+        .arg(png)
+        .env("XDG_RUNTIME_DIR", &xdg)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run oneblock gui")
 }
