@@ -19,7 +19,7 @@ use super::common::{
     ModelArgs, SolverArgs, check_out, check_second_out, check_theta, count_in, describe, emit,
     emit_all, finite, max_seconds, settings_json, total_iterates, warn_validity, with_provenance,
 };
-use super::run_control::{Limits, Progress, check_stdout, run_job};
+use super::run_control::{Limits, Progress, check_stdout, collect_job, job_error};
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::jobs::{IterateOptions, IterateSpec, Update};
@@ -206,7 +206,10 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             report: true,
         },
     };
-    let updates = run_job("orbit", spec.into(), 1, &progress, &limits)?;
+    // Only the whole orbit is kept (its streamed batches are the window's).
+    let whole = |u: &Update| matches!(u, Update::Orbit { .. });
+    let updates = collect_job(spec.into(), 1, &progress, &limits, &|_| {}, whole)
+        .map_err(|e| job_error("orbit", &limits, e))?;
     let Some((orbit, used)) = updates.into_iter().find_map(|u| match u {
         Update::Orbit { orbit, map, .. } => Some((*orbit, map)),
         _ => None,

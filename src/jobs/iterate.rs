@@ -10,8 +10,8 @@ use std::cell::{Cell, RefCell};
 use std::sync::Mutex;
 use web_time::Instant;
 
-use super::orbit::{FLUSH_INTERVAL, GRAPH_POINTS, ITERATE_BATCH, Pacer};
-use super::protocol::{IterateSpec, Lane, MAX_GRAPH_POWER, Update};
+use super::orbit::{FLUSH_INTERVAL, GRAPH_POINTS, ITERATE_BATCH, Pacer, progress};
+use super::protocol::{IterateSpec, MAX_GRAPH_POWER, Update};
 use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::sim::interpolant::{InterpolantOptions, MapUsed, orbit_interpolated};
 use crate::sim::{
@@ -109,14 +109,8 @@ impl IterateJob {
             polled.set(polled.get() + 1);
             let mut pacer = pacer.borrow_mut();
             if pacer.due() {
-                let progress = Update::Progress {
-                    generation: sink.generation(),
-                    lane: Lane::Orbit,
-                    fraction: (n as f64 / total).min(1.0),
-                    iterates_per_second: pacer.rate(n),
-                };
                 // A refused update is a stale job, which the poll says.
-                sink.send(progress).ok();
+                progress(sink, (n as f64 / total).min(1.0), &pacer, n).ok();
             }
             sink.cycle()
         };
@@ -176,12 +170,7 @@ impl IterateJob {
         }
         if st.pacer.due() {
             let fraction = run.cycles_done() as f64 / run.cycles().max(1) as f64;
-            sink.send(Update::Progress {
-                generation: sink.generation(),
-                lane: Lane::Orbit,
-                fraction,
-                iterates_per_second: st.pacer.rate(run.cycles_done() as u64),
-            })?;
+            progress(sink, fraction, &st.pacer, run.cycles_done() as u64)?;
         }
         Ok(None)
     }

@@ -13,7 +13,7 @@ use super::iterate::IterateJob;
 use super::numerics::WorkPrecisionJob;
 use super::orbit::{PanicJob, TrajectoryJob};
 use super::phase::PhaseJob;
-use super::protocol::{
+use super::specs::{
     BoundarySpec, ContinuationSpec, IterateSpec, PhaseSpec, SweepSpec, TrajectorySpec,
     WorkPrecisionSpec,
 };

@@ -38,6 +38,7 @@ pub mod plan;
 pub mod priority;
 mod protocol;
 mod schedule;
+mod specs;
 mod sweep;
 
 use std::panic::{AssertUnwindSafe, catch_unwind};

@@ -92,8 +92,13 @@ fn poll(sink: &dyn Sink) -> Result<(), JobError> {
     }
 }
 
-/// Sends the lane's progress: `fraction` done after `n` iterates.
-fn progress(sink: &dyn Sink, fraction: f64, pacer: &Pacer, n: u64) -> Result<(), JobError> {
+/// Sends the orbit lane's progress: `fraction` done after `n` iterates.
+pub(crate) fn progress(
+    sink: &dyn Sink,
+    fraction: f64,
+    pacer: &Pacer,
+    n: u64,
+) -> Result<(), JobError> {
     sink.send(Update::Progress {
         generation: sink.generation(),
         lane: Lane::Orbit,
