@@ -1,5 +1,6 @@
 //! The phase job: a progressive phase diagram in (θν, κ), a unit a cell
-//! (the core's `phase_cell`), on as many threads as its host gives it.
+//! (the core's `phase_cell`, in pieces of a few ms: `CellSteps`), on as
+//! many threads as its host gives it.
 //!
 //! As for the bifurcation sweep, the order and each cell's starting neighbour
 //! are fixed in advance by [`phase_plan`], so the diagram does not depend on
@@ -34,8 +35,8 @@ use super::protocol::{Axis, GridCell, Lane, ListedAttractor, MAX_LISTED, PhaseSp
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::{AttractorError, CellOptions, Verdict, attractors};
-use crate::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell};
+use crate::sim::attractors::{Found, Verdict};
+use crate::sim::phase::{CellClass, CellSteps, PhaseCell, PhaseOptions, Seed, continue_steps};
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
 /// Rows and columns of the coarse lattice: about every this many.
@@ -157,7 +158,12 @@ pub(crate) struct PhaseJob {
     /// Whether a cell has failed (only the first failure is reported: a
     /// flood of errors would hide the picture).
     failed_once: Mutex<bool>,
+    /// Cells paused part-way, resumed before anything new starts.
+    parked: Mutex<Vec<(PlannedCell, Box<CellSteps>)>>,
 }
+
+/// A finished cell: itself, its attractors' list, and the error to report.
+type Computed = (PhaseCell, Vec<ListedAttractor>, Option<Report>);
 
 impl PhaseJob {
     pub fn new(spec: PhaseSpec) -> Result<Self, JobError> {
@@ -186,6 +192,7 @@ impl PhaseJob {
             pacer: Mutex::new(Pacer::new()),
             failure: Mutex::new(None),
             failed_once: Mutex::new(false),
+            parked: Mutex::new(Vec::new()),
         })
     }
 
@@ -213,19 +220,30 @@ impl PhaseJob {
         Ok(())
     }
 
-    /// Runs the cell of plan entry `p` from its parent's `seed`, under its
-    /// own guard: the cell, its attractors' list (see [`Self::listed`]),
-    /// and the error to report if any.
+    /// The cell of plan entry `p` from its parent's `seed`, nothing
+    /// computed yet.
+    fn steps(&self, p: PlannedCell, seed: Option<Seed>) -> Box<CellSteps> {
+        let (kappa, tn) = (self.kappas[p.row], self.theta_nus[p.column]);
+        let (params, settings) = (self.spec.params, self.spec.settings);
+        Box::new(continue_steps(
+            params, settings, kappa, tn, seed, &self.opts,
+        ))
+    }
+
+    /// Runs the cell of plan entry `p` from where `run` left it, piece by
+    /// piece under its own guard, until it is done or the host wants its
+    /// thread back (`None`: the cell is parked for the next step). Done:
+    /// the cell, its attractors' list (see [`Self::listed`]), and the
+    /// error to report if any.
     fn compute(
         &self,
         p: PlannedCell,
-        seed: Option<Seed>,
+        mut run: Box<CellSteps>,
         sink: &dyn Sink,
-    ) -> Result<(PhaseCell, Vec<ListedAttractor>, Option<Report>), JobError> {
+    ) -> Result<Option<Computed>, JobError> {
         let (kappa, tn) = (self.kappas[p.row], self.theta_nus[p.column]);
         let cancel = || sink.cycle();
-        let (params, settings, opts) = (self.spec.params, self.spec.settings, &self.opts);
-        let cell = catch_unwind(AssertUnwindSafe(|| {
+        let finished = catch_unwind(AssertUnwindSafe(|| {
             #[cfg(test)]
             if p.row * self.theta_nus.len() + p.column
                 == tests::PANIC_AT_CELL.load(Ordering::SeqCst)
@@ -235,24 +253,39 @@ impl PhaseJob {
                     p.row * self.theta_nus.len() + p.column
                 );
             }
-            let cell = continue_cell(params, settings, kappa, tn, seed, opts, &cancel);
-            let listed = self.listed(&cell, &cancel);
-            (cell, listed)
+            loop {
+                if run.advance(&cancel) {
+                    return true;
+                }
+                if sink.pause() {
+                    return false;
+                }
+            }
         }));
         let where_ = format!(
             "cell (kappa = {kappa}, theta-nu = {tn}; row {}, column {})",
             p.row, p.column
         );
-        Ok(match cell {
-            Ok((c, listed)) => match &c.error {
-                None => (c, listed?, None),
-                Some(SimError::Cancelled) => return Err(JobError::Stop),
-                Some(e) => {
-                    let first = !std::mem::replace(&mut *lock(&self.failed_once), true);
-                    let report = first.then(|| (format!("{where_}: {e}"), e.parameter()));
-                    (c, Vec::new(), report)
+        Ok(Some(match finished {
+            Ok(false) => {
+                lock(&self.parked).push((p, run));
+                return Ok(None);
+            }
+            Ok(true) => {
+                let (c, found) = run.finish();
+                match &c.error {
+                    None => {
+                        let listed = self.listed(&c, found);
+                        (c, listed, None)
+                    }
+                    Some(SimError::Cancelled) => return Err(JobError::Stop),
+                    Some(e) => {
+                        let first = !std::mem::replace(&mut *lock(&self.failed_once), true);
+                        let report = first.then(|| (format!("{where_}: {e}"), e.parameter()));
+                        (c, Vec::new(), report)
+                    }
                 }
-            },
+            }
             Err(payload) => {
                 let msg = format!("{where_} panicked: {}", panic_message(&*payload));
                 *lock(&self.failure) = Some(msg.clone());
@@ -262,50 +295,36 @@ impl PhaseJob {
                     Some((msg, None)),
                 )
             }
-        })
+        }))
     }
 
-    /// A multistable cell's attractors, when the spec asks for them: found
-    /// as the cell counted them (`sim::attractors` on the exit arc's cell
-    /// graph, `CellOptions::column()`), the undecided left out. Only cells
-    /// counted with more than one attractor pay for it, and only
-    /// [`MAX_LISTED`] entries are kept. A search that fails leaves the list
-    /// empty (the count stands); a cancelled one stops the job.
-    fn listed(
-        &self,
-        cell: &PhaseCell,
-        cancel: &(dyn Fn() -> bool + Sync),
-    ) -> Result<Vec<ListedAttractor>, JobError> {
+    /// A multistable cell's attractors, when the spec asks for them: those
+    /// the cell counted (`found`, the exit arc's cell graph at
+    /// `CellOptions::column()`), the undecided left out, at most
+    /// [`MAX_LISTED`]. Only cells counted with more than one attractor are
+    /// listed.
+    fn listed(&self, cell: &PhaseCell, found: Option<Found>) -> Vec<ListedAttractor> {
         let multistable = cell.attractors.is_some_and(|n| n > 1);
-        if !(self.spec.tuning.list_attractors && multistable && cell.error.is_none()) {
-            return Ok(Vec::new());
-        }
-        let params = Params {
-            kappa: cell.kappa,
-            theta_nu: cell.theta_nu,
-            ..self.spec.params
-        };
-        let found = Simulator::new(params, self.spec.settings)
-            .map_err(AttractorError::Sim)
-            .and_then(|sim| attractors(&sim, &CellOptions::column(), cancel));
         match found {
-            Ok(f) => Ok(f
+            Some(f) if self.spec.tuning.list_attractors && multistable => f
                 .attractors
                 .iter()
                 .filter(|a| !matches!(a.verdict, Verdict::Undecided(_)))
                 .take(MAX_LISTED)
                 .map(ListedAttractor::of)
-                .collect()),
-            Err(AttractorError::Sim(SimError::Cancelled)) => Err(JobError::Stop),
-            Err(_) => Ok(Vec::new()),
+                .collect(),
+            _ => Vec::new(),
         }
     }
 
-    /// One cell: computed, queued for sending (coarse before fine), marked
-    /// done in the schedule, and flushed when a batch is due.
-    fn one(&self, p: PlannedCell, seed: Option<Seed>, sink: &dyn Sink) -> Result<(), JobError> {
+    /// One cell, resumed from `run`: computed, queued for sending (coarse
+    /// before fine), marked done in the schedule, and flushed when a batch
+    /// is due. Whether it was done (else it is parked).
+    fn one(&self, p: PlannedCell, run: Box<CellSteps>, sink: &dyn Sink) -> Result<bool, JobError> {
         let generation = sink.generation();
-        let (cell, listed, problem) = self.compute(p, seed, sink)?;
+        let Some((cell, listed, problem)) = self.compute(p, run, sink)? else {
+            return Ok(false);
+        };
         let mut seed_out = Seed::of(&cell);
         if cell.class == CellClass::Failed {
             seed_out.theta_last = None;
@@ -351,7 +370,8 @@ impl PhaseJob {
         if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
             self.flush(sink)?;
         }
-        paced_progress(&self.pacer, Lane::Phase, (done, total, n), sink)
+        paced_progress(&self.pacer, Lane::Phase, (done, total, n), sink)?;
+        Ok(true)
     }
 }
 
@@ -360,15 +380,26 @@ impl Job for PhaseJob {
         true
     }
 
-    /// Up to `width` cells, each waiting for its parent.
+    /// Up to `width` cells, each waiting for its parent; a cell parked by
+    /// the last step first (only the single-threaded host pauses one, in
+    /// pieces of a few ms: `sim::phase::CellSteps`).
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         for _ in 0..width.max(1) {
-            let Some((Item { cell: p, .. }, seed)) =
-                wait_next(&self.schedule, &self.ready, || sink.stale())?
-            else {
-                return Ok(Status::Done);
+            let parked = lock(&self.parked).pop();
+            let (p, run) = match parked {
+                Some(parked) => parked,
+                None => {
+                    let Some((Item { cell: p, .. }, seed)) =
+                        wait_next(&self.schedule, &self.ready, || sink.stale())?
+                    else {
+                        return Ok(Status::Done);
+                    };
+                    (p, self.steps(p, seed))
+                }
             };
-            self.one(p, seed, sink)?;
+            if !self.one(p, run, sink)? {
+                return Ok(Status::Working);
+            }
         }
         Ok(Status::Working)
     }

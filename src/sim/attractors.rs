@@ -28,7 +28,7 @@ mod graph;
 mod search;
 mod verdict;
 
-pub use arc::{ArcError, ArcMap};
+pub use arc::{ArcBuild, ArcError, ArcMap};
 
 /// The one orbit `attractors`' cost is measured against (benches, docs):
 /// 400 transient + 128 kept iterates, the paper's budget.
@@ -187,8 +187,8 @@ pub fn attractors(
 
 /// [`attractors`] one piece at a time, so that a host on a slice of time
 /// (the browser's) can stop between two and go on later with the same
-/// result bit for bit. The pieces: the interpolant of f over the arc, each
-/// level of subdivision (`cancel` polled before it), each closed set's
+/// result bit for bit. The pieces: the interpolant of f over the arc (in
+/// pieces of a few ms: [`ArcBuild`]), each level of subdivision (`cancel` polled before it), each closed set's
 /// verdict, and the basins.
 pub struct AttractorsRun {
     sim: Simulator,
@@ -198,6 +198,7 @@ pub struct AttractorsRun {
 
 enum Stage {
     Start,
+    Arc(Box<ArcBuild>),
     Search(Box<Search>),
     Classify(Box<Classifying>),
     Done,
@@ -240,8 +241,16 @@ impl AttractorsRun {
 
     fn piece(&mut self, cancel: &dyn Fn() -> bool) -> Result<Option<Found>, AttractorError> {
         match std::mem::replace(&mut self.stage, Stage::Done) {
-            Stage::Start => {
-                let map = ArcMap::build(&self.sim)?;
+            Stage::Start => self.stage = Stage::Arc(Box::new(ArcBuild::start(&self.sim)?)),
+            Stage::Arc(mut build) => {
+                if cancel() {
+                    return Err(AttractorError::Sim(SimError::Cancelled));
+                }
+                if !build.advance()? {
+                    self.stage = Stage::Arc(build);
+                    return Ok(None);
+                }
+                let map = build.finish();
                 let g = CellGraph::uniform(&map, self.opts.initial_cells.max(2));
                 self.stage = Stage::Search(Box::new(Search::new(self.sim, self.opts, map, g)));
             }

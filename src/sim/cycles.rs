@@ -214,20 +214,48 @@ pub fn near_cycle(
     opts: &CycleOptions,
     spent: &mut (u64, u64),
 ) -> Option<Cycle> {
-    let p = super::period::near_period(seq)?;
-    let recent = &seq[seq.len() - 2 * super::period::CONTRACTION_PERIOD_MAX..];
-    let lo = recent.iter().copied().fold(f64::INFINITY, f64::min);
-    let hi = recent.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-    let margin = hi - lo;
-    let next = *seq.last()?;
-    solve_counting(sim, next, p, opts, spent)
+    let near = NearRepeat::of(seq)?;
+    solve_counting(sim, near.seed, near.period, opts, spent)
         .ok()
-        .filter(|c| c.minimal_period == p && c.stable)
-        .filter(|c| {
-            c.points
-                .iter()
-                .all(|&x| x >= lo - margin && x <= hi + margin)
+        .filter(|c| near.accepts(c))
+}
+
+/// A near repeat of an orbit ([`near_cycle`]): the cycle to solve, and
+/// where it must lie.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NearRepeat {
+    pub period: usize,
+    /// The next onset, where the solve starts.
+    pub seed: f64,
+    lo: f64,
+    hi: f64,
+}
+
+impl NearRepeat {
+    /// The near repeat at the end of `seq` (whose last value is the next
+    /// onset), if there is one.
+    pub fn of(seq: &[f64]) -> Option<Self> {
+        let period = super::period::near_period(seq)?;
+        let recent = &seq[seq.len() - 2 * super::period::CONTRACTION_PERIOD_MAX..];
+        let lo = recent.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = recent.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        let margin = hi - lo;
+        Some(NearRepeat {
+            period,
+            seed: *seq.last()?,
+            lo: lo - margin,
+            hi: hi + margin,
         })
+    }
+
+    /// Whether the solved `c` is the cycle it repeats on: a genuine p-cycle
+    /// that attracts, within the recent values' range widened by that
+    /// range on each side.
+    pub fn accepts(&self, c: &Cycle) -> bool {
+        c.minimal_period == self.period
+            && c.stable
+            && c.points.iter().all(|&x| x >= self.lo && x <= self.hi)
+    }
 }
 
 /// How far apart two points of a solved p-cycle with multiplier `m` must
@@ -276,8 +304,13 @@ pub fn confirm_contraction(
     spent: &mut (u64, u64),
 ) -> Option<Cycle> {
     let cycle = solve_counting(sim, c.limit, c.period, opts, spent).ok()?;
-    (cycle.minimal_period == c.period && cycle.stable && approaches(&cycle, seq, noise))
-        .then_some(cycle)
+    confirms(&cycle, seq, c, noise).then_some(cycle)
+}
+
+/// Whether the solved `cycle` confirms the contraction `c` of `seq`
+/// ([`confirm_contraction`]).
+pub fn confirms(cycle: &Cycle, seq: &[f64], c: &Contraction, noise: f64) -> bool {
+    cycle.minimal_period == c.period && cycle.stable && approaches(cycle, seq, noise)
 }
 
 #[cfg(test)]

@@ -45,11 +45,14 @@ mod classify;
 
 use rayon::prelude::*;
 
-use classify::classify;
+use classify::Classifier;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
+use super::attractors::{AttractorsRun, CellOptions, Found};
 use super::cycles::{CycleOptions, confirm_contraction, near_cycle, solve_counting};
-use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
+use super::interpolant::{
+    InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper, StepperBuild,
+};
 use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, near_period, settled_period};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
@@ -262,8 +265,9 @@ impl PhaseCell {
     }
 }
 
-/// Runs one cell at `params` (its θν and κ) from the onset `theta_start`.
-/// `cancel` is polled every cycle; a cancelled cell has error `Cancelled`.
+/// Runs one cell at `params` (its θν and κ) from the onset `theta_start`,
+/// all at once ([`CellSteps`] in pieces). `cancel` is polled every cycle; a
+/// cancelled cell has error `Cancelled`.
 pub fn phase_cell(
     params: Params,
     settings: SolverSettings,
@@ -271,40 +275,111 @@ pub fn phase_cell(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
 ) -> PhaseCell {
-    let mut cell = PhaseCell::failed(params.theta_nu, params.kappa, theta_start);
-    match run_cell(&mut cell, params, settings, theta_start, opts, cancel) {
-        Err(e) => {
-            cell.class = CellClass::Failed;
-            cell.lyapunov = None;
-            cell.lyapunov_stderr = None;
-            cell.regime = None;
-            cell.error = Some(e);
-        }
-        Ok(()) => {
-            if opts.seeds > 0 || cell.class == CellClass::Undecided {
-                cells::tell(&mut cell, params, settings, opts.seeds > 0, cancel);
-            }
-        }
-    }
-    cell
+    let mut run = CellSteps::new(params, settings, theta_start, opts);
+    while !run.advance(cancel) {}
+    run.finish().0
 }
 
-fn run_cell(
-    cell: &mut PhaseCell,
+/// One cell in pieces of a few ms, so that a host on a slice of time (the
+/// page's frame) can stop between any two and go on with the same cell
+/// bit for bit: its iterates and tests, then, when it is undecided or
+/// counts attractors, the exit arc's cell graph.
+pub struct CellSteps {
+    cell: PhaseCell,
     params: Params,
-    settings: SolverSettings,
-    theta_start: f64,
-    opts: &PhaseOptions,
-    cancel: &dyn Fn() -> bool,
-) -> Result<(), SimError> {
-    let sim = Simulator::new(params, settings)?;
-    sim.check_onset(theta_start)?;
-    let mut stepper = None;
-    let r = classify(cell, &sim, theta_start, opts, cancel, &mut stepper);
-    if let Some(st) = &stepper {
-        cell.map = MapUsed::Interpolant(st.summary());
+    count: bool,
+    stage: Stage,
+    /// The cell graph's outcome, when the cell counted attractors.
+    found: Option<Found>,
+}
+
+enum Stage {
+    Classify(Box<Classifier>),
+    Tell(Box<AttractorsRun>),
+    Done,
+}
+
+impl CellSteps {
+    /// The cell at `params` from `theta_start`, nothing computed.
+    pub fn new(
+        params: Params,
+        settings: SolverSettings,
+        theta_start: f64,
+        opts: &PhaseOptions,
+    ) -> Self {
+        let mut cell = PhaseCell::failed(params.theta_nu, params.kappa, theta_start);
+        let sim = Simulator::new(params, settings).and_then(|sim| {
+            sim.check_onset(theta_start)?;
+            Ok(sim)
+        });
+        let stage = match sim {
+            Ok(sim) => Stage::Classify(Box::new(Classifier::new(sim, theta_start, *opts))),
+            Err(e) => {
+                cell.error = Some(e);
+                Stage::Done
+            }
+        };
+        CellSteps {
+            cell,
+            params,
+            count: opts.seeds > 0,
+            stage,
+            found: None,
+        }
     }
-    r
+
+    /// One piece; whether the cell is done.
+    pub fn advance(&mut self, cancel: &dyn Fn() -> bool) -> bool {
+        match std::mem::replace(&mut self.stage, Stage::Done) {
+            Stage::Classify(mut c) => {
+                let r = c.advance(&mut self.cell, cancel);
+                if let Some(st) = c.stepper() {
+                    self.cell.map = MapUsed::Interpolant(st.summary());
+                }
+                match r {
+                    Ok(false) => self.stage = Stage::Classify(c),
+                    Err(e) => {
+                        let cell = &mut self.cell;
+                        cell.class = CellClass::Failed;
+                        cell.lyapunov = None;
+                        cell.lyapunov_stderr = None;
+                        cell.regime = None;
+                        cell.error = Some(e);
+                    }
+                    Ok(true) => {
+                        if self.count || self.cell.class == CellClass::Undecided {
+                            let sim = Simulator::new(self.params, *c.settings());
+                            match sim {
+                                Ok(sim) => {
+                                    let run = AttractorsRun::new(&sim, &CellOptions::column());
+                                    self.stage = Stage::Tell(Box::new(run));
+                                }
+                                Err(e) => {
+                                    cells::tell(&mut self.cell, Err(e.into()), self.count);
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+            Stage::Tell(mut run) => match run.advance(cancel) {
+                None => self.stage = Stage::Tell(run),
+                Some(found) => {
+                    let params = self.params;
+                    self.found =
+                        cells::tell(&mut self.cell, found.map(|f| (f, params)), self.count);
+                }
+            },
+            Stage::Done => {}
+        }
+        matches!(self.stage, Stage::Done)
+    }
+
+    /// The cell, once [`Self::advance`] has said it is done, and the cell
+    /// graph's attractors when it counted them.
+    pub fn finish(self) -> (PhaseCell, Option<Found>) {
+        (self.cell, self.found)
+    }
 }
 
 /// Where a finished cell's neighbours continue.
@@ -329,7 +404,8 @@ impl Seed {
 /// The one neighbour rule of every phase grid: the cell at (`kappa`,
 /// `theta_nu`) continued from `parent` (its seed), its start moved onto the
 /// new exit arc, with the shorter transient after a chaotic neighbour; with
-/// no parent (or after a failed one), from θ = θν.
+/// no parent (or after a failed one), from θ = θν. All at once
+/// ([`continue_steps`] in pieces).
 pub fn continue_cell(
     params: Params,
     settings: SolverSettings,
@@ -339,6 +415,20 @@ pub fn continue_cell(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
 ) -> PhaseCell {
+    let mut run = continue_steps(params, settings, kappa, theta_nu, parent, opts);
+    while !run.advance(cancel) {}
+    run.finish().0
+}
+
+/// [`continue_cell`]'s cell, nothing computed yet.
+pub fn continue_steps(
+    params: Params,
+    settings: SolverSettings,
+    kappa: f64,
+    theta_nu: f64,
+    parent: Option<Seed>,
+    opts: &PhaseOptions,
+) -> CellSteps {
     let start = column_start(kappa, theta_nu, parent.and_then(|s| s.theta_last));
     let after_chaos = PhaseOptions {
         transient: opts.transient.min(opts.transient_after_chaos),
@@ -354,7 +444,7 @@ pub fn continue_cell(
         theta_nu,
         ..params
     };
-    phase_cell(p, settings, start, o, cancel)
+    CellSteps::new(p, settings, start, o)
 }
 
 /// One κ row: the cells at `theta_nus` in order, each starting from the

@@ -28,10 +28,12 @@
 
 use std::f64::consts::FRAC_PI_2;
 
-use crate::sim::interpolant::{
-    InterpolantError, InterpolantOptions, MapInterpolant, PieceView, chebyshev,
-};
+mod build;
+
+use crate::sim::interpolant::{InterpolantError, chebyshev};
 use crate::sim::{SimError, Simulator, cycles_in_lanes};
+
+pub use build::{ArcBuild, Sharpening};
 
 /// How far inside the arc's ends the cells start: at the ends the surface
 /// moves along C. An image that falls into these strips is counted in
@@ -155,8 +157,16 @@ pub const COARSE_RTOL: f64 = 1e-8;
 const COARSE_EVALUATIONS: usize = 6_000;
 
 impl ArcMap {
-    /// Builds f over the arc less [`EDGE`] at each end to [`COARSE_TOL`].
+    /// Builds f over the arc less [`EDGE`] at each end to [`COARSE_TOL`],
+    /// all at once ([`ArcBuild`] in pieces).
     pub fn build(sim: &Simulator) -> Result<Self, ArcError> {
+        let mut build = ArcBuild::start(sim)?;
+        while !build.advance()? {}
+        Ok(build.finish())
+    }
+
+    /// The map with no parts yet, and the coarse tier's simulator.
+    fn empty(sim: &Simulator) -> Result<Self, ArcError> {
         let psi = crate::model::exit_arc(sim.params().kappa, sim.params().theta_nu).0;
         let settings = sim.settings();
         let own_of = |s: &crate::integrate::SolverSettings| {
@@ -172,7 +182,7 @@ impl ArcMap {
             loose.rtol = COARSE_RTOL;
         }
         let coarse = Simulator::new(*sim.params(), loose)?;
-        let mut me = ArcMap {
+        Ok(ArcMap {
             sim: *sim,
             coarse,
             own: own_of(settings),
@@ -185,115 +195,18 @@ impl ArcMap {
             sharp: Vec::new(),
             spent: (0, 0),
             max_error: 0.0,
-        };
-        let parts = me.parts_over(false, me.lo, me.hi, COARSE_TOL, COARSE_EVALUATIONS)?;
-        me.parts = parts;
-        me.starts = me.parts.iter().map(Part::from).collect();
-        Ok(me)
-    }
-
-    /// Verified (and sampled) parts over [lo, hi] at `tol`.
-    fn parts_over(
-        &mut self,
-        fine: bool,
-        lo: f64,
-        hi: f64,
-        tol: f64,
-        max_evaluations: usize,
-    ) -> Result<Vec<Part>, ArcError> {
-        let opts = InterpolantOptions {
-            tol,
-            max_pieces: 400,
-            max_evaluations,
-        };
-        let (sim, own) = if fine {
-            (self.sim, self.own)
-        } else {
-            (self.coarse, self.own_coarse)
-        };
-        let interp = MapInterpolant::build_lenient(&sim, self.psi + lo, self.psi + hi, opts)?;
-        self.spent.0 += interp.evaluations() as u64;
-        self.spent.1 += interp.rhs_evals();
-        self.max_error = self.max_error.max(interp.verification().max_map_error);
-        let eps = tol + own;
-        let views: Vec<PieceView> = interp.piece_views().collect();
-        // The samples of the stretches left to integration share half the
-        // build's budget (each 1 to 33).
-        let direct = views
-            .iter()
-            .filter(|v| matches!(v, PieceView::Direct { .. }))
-            .count();
-        let per = (max_evaluations / 2 / direct.max(1)).clamp(3, 33);
-        let mut parts = Vec::with_capacity(views.len());
-        for (i, v) in views.iter().enumerate() {
-            match *v {
-                PieceView::Series {
-                    a,
-                    b,
-                    map,
-                    derivative,
-                } => {
-                    let d: Vec<f64> = derivative.iter().map(|c| c[1]).collect();
-                    parts.push(Part::Series {
-                        a,
-                        b,
-                        from: a,
-                        to: b,
-                        map: map.into(),
-                        derivative: d.into(),
-                        curvature: curvature_bound(map, a, b),
-                        eps,
-                    });
-                }
-                PieceView::Direct { a, b } => {
-                    let side = |j: Option<&PieceView>, at: f64| match j {
-                        Some(PieceView::Series { a, b, map, .. }) => {
-                            Some(series_at(map, *a, *b, at))
-                        }
-                        _ => None,
-                    };
-                    let left = side(i.checked_sub(1).and_then(|j| views.get(j)), a);
-                    let right = side(views.get(i + 1), b);
-                    let samples = self.sampled(&sim, a, b, left, right, per)?;
-                    parts.push(Part::Sampled {
-                        from: a,
-                        to: b,
-                        samples: samples.into(),
-                        eps,
-                    });
-                }
-            }
-        }
-        Ok(parts)
+        })
     }
 
     /// Builds [lo, hi] again to [`FINE_TOL`] (within `max_evaluations`),
-    /// its parts replacing the coarse ones there. Whether anything was
-    /// sharpened (a stretch already sharp is left alone).
+    /// its parts replacing the coarse ones there, all at once
+    /// ([`Self::sharpen_start`] in pieces). Whether anything was sharpened
+    /// (a stretch already sharp is left alone).
     pub fn sharpen(&mut self, lo: f64, hi: f64, max_evaluations: usize) -> Result<bool, ArcError> {
-        let (lo, hi) = (lo.max(self.lo), hi.min(self.hi));
-        if !(hi > lo) || self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1]) {
+        let Some(mut s) = self.sharpen_start(lo, hi, max_evaluations)? else {
             return Ok(false);
-        }
-        let fine = self.parts_over(true, lo, hi, FINE_TOL, max_evaluations)?;
-        let mut parts = Vec::with_capacity(self.parts.len() + fine.len() + 2);
-        for p in &self.parts {
-            if p.to() <= lo || p.from() >= hi {
-                parts.push(p.clone());
-                continue;
-            }
-            if p.from() < lo {
-                parts.push(p.clip(p.from(), lo));
-            }
-            if p.to() > hi {
-                parts.push(p.clip(hi, p.to()));
-            }
-        }
-        parts.extend(fine);
-        parts.sort_by(|x, y| x.from().total_cmp(&y.from()));
-        self.parts = parts;
-        self.starts = self.parts.iter().map(Part::from).collect();
-        self.sharp.push([lo, hi]);
+        };
+        while !self.sharpen_step(&mut s)? {}
         Ok(true)
     }
 

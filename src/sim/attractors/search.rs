@@ -3,6 +3,7 @@
 //! sharpened, trapped or left as chaotic, until each closed set is decided
 //! or the resolution or the cell budget is reached.
 
+use super::arc::Sharpening;
 use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, contraction, long_orbit, solve, trap};
 use super::graph::{self, CellGraph};
 use super::{ArcMap, AttractorError, CellOptions};
@@ -47,6 +48,9 @@ pub(super) struct Search {
     /// The spans of the closed sets still being subdivided, between
     /// global analyses.
     pending: Option<Vec<[f64; 2]>>,
+    /// A closed set at its floor being decided, piece by piece: the level
+    /// starts again once it is.
+    floor: Option<Box<FloorRun>>,
 }
 
 /// The closed sets, the components and their labels, when done.
@@ -63,13 +67,36 @@ impl Search {
             spent: (0, 0),
             budget_hit: false,
             pending: None,
+            floor: None,
         }
     }
 
     /// One level: the graph analysed, its undecided closed sets and its
-    /// boundary marked and subdivided (or the map sharpened, or a trap
-    /// added). `Some` when nothing is left to do.
+    /// boundary marked and subdivided; or, where a closed set is at its
+    /// floor, one piece of its decision ([`FloorRun`]: the map sharpened,
+    /// a trap added, or the set settled), after which the level starts
+    /// again. `Some` when nothing is left to do.
     pub(super) fn level(&mut self) -> Result<Option<Done>, AttractorError> {
+        if let Some(mut run) = self.floor.take() {
+            let lengths = if self.opts.density {
+                ORBIT
+            } else {
+                COLUMN_ORBIT
+            };
+            let (map, g) = (&mut self.map, &mut self.g);
+            match run.step(&self.sim, lengths, map, g, &mut self.spent)? {
+                None => self.floor = Some(run),
+                // Left as it is: the level again, where it was.
+                Some(Floor::Settled(orbit)) => {
+                    self.settled.push((run.hull, orbit));
+                    self.pending = run.pending;
+                }
+                // The map or the graph changed: everything is looked at
+                // again.
+                Some(Floor::Changed) => {}
+            }
+            return Ok(None);
+        }
         // While closed sets are undecided, only their cells are analysed:
         // no edge leaves them, and what they hold is all there is.
         if let Some(spans) = self.pending.take() {
@@ -87,7 +114,10 @@ impl Search {
                 .map(|cells| closed(&self.g, &self.map, cells))
                 .collect();
             let mut marked = vec![false; self.g.len()];
-            let Some(extra) = self.mark_closed(&closed, &mut marked)? else {
+            let Some(extra) = self.mark_closed(&closed, &mut marked) else {
+                if let Some(run) = self.floor.as_mut() {
+                    run.pending = Some(spans);
+                }
                 return Ok(None);
             };
             if extra > 0 && self.g.len() + extra <= self.opts.max_cells {
@@ -99,7 +129,7 @@ impl Search {
         }
         let (comps, closed, labels) = closed_sets(&self.g, &self.map);
         let mut marked = vec![false; self.g.len()];
-        let Some(mut extra) = self.mark_closed(&closed, &mut marked)? else {
+        let Some(mut extra) = self.mark_closed(&closed, &mut marked) else {
             return Ok(None);
         };
         if extra > 0 && !self.budget_hit {
@@ -153,13 +183,9 @@ impl Search {
     }
 
     /// Marks the cells of the closed sets not decided yet; the number
-    /// marked, or `None` when the map or the graph changed (a closed set
-    /// at its floor was sharpened or trapped) and the level starts again.
-    fn mark_closed(
-        &mut self,
-        closed: &[Closed],
-        marked: &mut [bool],
-    ) -> Result<Option<usize>, AttractorError> {
+    /// marked, or `None` when a closed set is at its floor and not settled
+    /// yet: its decision ([`FloorRun`]) is begun, and the level waits for it.
+    fn mark_closed(&mut self, closed: &[Closed], marked: &mut [bool]) -> Option<usize> {
         let mut extra = 0;
         for k in closed.iter().filter(|k| k.proved.is_none()) {
             let g = &self.g;
@@ -167,33 +193,15 @@ impl Search {
                 g.bounds[k.cells[0]],
                 g.bounds[k.cells[k.cells.len() - 1] + 1],
             ];
-            let mut chaotic = self
+            let chaotic = self
                 .settled
                 .iter()
                 .any(|(s, _)| s[0] <= hull[0] && hull[1] <= s[1]);
             let at_its_floor = k.cells.iter().all(|&i| g.width(i) <= self.floor(i, FLOOR));
             if !chaotic && at_its_floor {
                 let middle = g.mid(k.cells[k.cells.len() / 2]);
-                let lengths = if self.opts.density {
-                    ORBIT
-                } else {
-                    COLUMN_ORBIT
-                };
-                match at_floor(
-                    &self.sim,
-                    lengths,
-                    &mut self.map,
-                    &mut self.g,
-                    hull,
-                    middle,
-                    &mut self.spent,
-                )? {
-                    Floor::Settled(orbit) => {
-                        self.settled.push((hull, orbit));
-                        chaotic = true;
-                    }
-                    Floor::Changed => return Ok(None),
-                }
+                self.floor = Some(Box::new(FloorRun::new(hull, middle)));
+                return None;
             }
             // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
             let times = if chaotic && self.opts.density {
@@ -208,7 +216,7 @@ impl Search {
                 }
             }
         }
-        Ok(Some(extra))
+        Some(extra)
     }
 }
 
@@ -222,66 +230,229 @@ enum Floor {
 }
 
 /// A closed set whose cells cannot be made narrower on the map as it is
-/// (hull: its extent, in u). A long orbit from `start` decides: chaotic,
-/// it stays; a stable cycle in it is trapped ([`trap`]: on the map as it
-/// is, or else on the map sharpened over the set), so that the rest of the
-/// set (a saddle leaking onto the cycle) is no longer closed; anything
-/// else is sharpened once and subdivided on.
-fn at_floor(
-    sim: &Simulator,
-    lengths: (usize, usize),
-    map: &mut ArcMap,
-    g: &mut CellGraph,
+/// (hull: its extent, in u), decided a piece at a time. A long orbit from
+/// its middle decides: chaotic, it stays; a stable cycle in it is trapped
+/// ([`trap`]: on the map as it is, or else on the map sharpened round the
+/// cycle's points), so that the rest of the set (a saddle leaking onto the
+/// cycle) is no longer closed; anything else is sharpened once over its
+/// hull and subdivided on.
+pub(super) struct FloorRun {
     hull: [f64; 2],
     start: f64,
-    spent: &mut (u64, u64),
-) -> Result<Floor, AttractorError> {
-    let o = long_orbit(map, start, lengths)?;
-    if o.settled.is_none() && o.lyapunov > 0.0 {
-        return Ok(Floor::Settled(o));
-    }
-    // The stable cycle it settled on, in u, unless one trapped already.
-    let cycle: Option<Vec<f64>> = o.settled.and_then(|(p, u)| {
-        let c = solve(sim, map.psi(), u, p, spent).filter(|c| c.stable)?;
-        let xs: Vec<f64> = c.points[..c.minimal_period]
-            .iter()
-            .map(|t| wrap_angle(t - map.psi()))
-            .collect();
-        let known = g
-            .cycles
-            .iter()
-            .any(|c| c.0 == xs.len() && xs.iter().any(|x| (c.1 - x).abs() < 1e-9));
-        (!known).then_some(xs)
-    });
-    if let Some(xs) = &cycle {
-        if trapped(map, g, xs) {
-            return Ok(Floor::Changed);
+    /// The spans the level was subdividing when it began (restored when
+    /// the set is settled, so that the level goes on where it was).
+    pending: Option<Vec<[f64; 2]>>,
+    stage: FloorStage,
+}
+
+enum FloorStage {
+    /// The long orbit.
+    Orbit,
+    /// The stable cycle it settled on, solved (unless one trapped
+    /// already), and the trap tried on the map as it is.
+    Cycle(Orbit),
+    /// The map sharpened round the cycle's point `next` (`building` it),
+    /// then the trap tried again.
+    NearCycle {
+        orbit: Orbit,
+        xs: Vec<f64>,
+        next: usize,
+        sharpened: bool,
+        building: Option<Sharpening>,
+    },
+    /// The map sharpened over the hull (`building` it).
+    Hull {
+        orbit: Orbit,
+        cycle: Option<Vec<f64>>,
+        building: Sharpening,
+    },
+    Over,
+}
+
+impl FloorRun {
+    fn new(hull: [f64; 2], start: f64) -> Self {
+        FloorRun {
+            hull,
+            start,
+            pending: None,
+            stage: FloorStage::Orbit,
         }
-        // The coarse series' curvature bound is too loose for a trap: the
-        // map sharpened round the cycle's points only, before its hull.
-        let mut sharpened = false;
-        for &x in xs {
-            let (lo, hi) = (x - NEAR_CYCLE, x + NEAR_CYCLE);
-            if map.sharpen(lo, hi, SHARPEN_EVALUATIONS / xs.len())? {
-                g.refresh(map, lo, hi);
-                sharpened = true;
+    }
+
+    /// One piece (the orbit, the solve, a piece of a sharpening); the
+    /// outcome once there is one.
+    fn step(
+        &mut self,
+        sim: &Simulator,
+        lengths: (usize, usize),
+        map: &mut ArcMap,
+        g: &mut CellGraph,
+        spent: &mut (u64, u64),
+    ) -> Result<Option<Floor>, AttractorError> {
+        let (stage, out) = match std::mem::replace(&mut self.stage, FloorStage::Over) {
+            FloorStage::Orbit => {
+                let o = long_orbit(map, self.start, lengths)?;
+                if o.settled.is_none() && o.lyapunov > 0.0 {
+                    (FloorStage::Over, Some(Floor::Settled(o)))
+                } else {
+                    (FloorStage::Cycle(o), None)
+                }
             }
+            FloorStage::Cycle(orbit) => match new_stable_cycle(sim, map, g, &orbit, spent) {
+                Some(xs) if trapped(map, g, &xs) => (FloorStage::Over, Some(Floor::Changed)),
+                // The coarse series' curvature bound is too loose for a
+                // trap: the map sharpened round the cycle's points only,
+                // before its hull.
+                Some(xs) => (
+                    FloorStage::NearCycle {
+                        orbit,
+                        xs,
+                        next: 0,
+                        sharpened: false,
+                        building: None,
+                    },
+                    None,
+                ),
+                None => self.to_hull(map, g, orbit, None)?,
+            },
+            FloorStage::NearCycle {
+                orbit,
+                xs,
+                mut next,
+                mut sharpened,
+                building,
+            } => {
+                let near = |x: f64| (x - NEAR_CYCLE, x + NEAR_CYCLE);
+                let building = match building {
+                    Some(mut b) => {
+                        if map.sharpen_step(&mut b)? {
+                            let (lo, hi) = near(xs[next]);
+                            g.refresh(map, lo, hi);
+                            sharpened = true;
+                            next += 1;
+                            None
+                        } else {
+                            Some(b)
+                        }
+                    }
+                    None => match xs.get(next) {
+                        Some(&x) => {
+                            let (lo, hi) = near(x);
+                            let b = map.sharpen_start(lo, hi, SHARPEN_EVALUATIONS / xs.len())?;
+                            if b.is_none() {
+                                next += 1;
+                            }
+                            b
+                        }
+                        None if sharpened && trapped(map, g, &xs) => {
+                            return Ok(Some(Floor::Changed));
+                        }
+                        None => {
+                            let (stage, out) = self.to_hull(map, g, orbit, Some(xs))?;
+                            self.stage = stage;
+                            return Ok(out);
+                        }
+                    },
+                };
+                let stage = FloorStage::NearCycle {
+                    orbit,
+                    xs,
+                    next,
+                    sharpened,
+                    building,
+                };
+                (stage, None)
+            }
+            FloorStage::Hull {
+                orbit,
+                cycle,
+                mut building,
+            } => {
+                if map.sharpen_step(&mut building)? {
+                    self.sharpened_hull(map, g, cycle.as_deref());
+                    (FloorStage::Over, Some(Floor::Changed))
+                } else {
+                    let stage = FloorStage::Hull {
+                        orbit,
+                        cycle,
+                        building,
+                    };
+                    (stage, None)
+                }
+            }
+            FloorStage::Over => (FloorStage::Over, None),
+        };
+        self.stage = stage;
+        Ok(out)
+    }
+
+    /// The hull padded a little, and whether it is sharp already.
+    fn padded_hull(&self) -> (f64, f64) {
+        let pad = 1e-3 * (self.hull[1] - self.hull[0]) + 1e-6;
+        (self.hull[0] - pad, self.hull[1] + pad)
+    }
+
+    /// On to the hull: settled when it is sharp already, else its
+    /// sharpening begun (or, with nothing there to sharpen, the images
+    /// and the trap looked at again at once).
+    fn to_hull(
+        &self,
+        map: &mut ArcMap,
+        g: &mut CellGraph,
+        orbit: Orbit,
+        cycle: Option<Vec<f64>>,
+    ) -> Result<(FloorStage, Option<Floor>), AttractorError> {
+        let (lo, hi) = self.padded_hull();
+        if map.is_sharp(lo, hi) {
+            return Ok((FloorStage::Over, Some(Floor::Settled(orbit))));
         }
-        if sharpened && trapped(map, g, xs) {
-            return Ok(Floor::Changed);
+        Ok(match map.sharpen_start(lo, hi, SHARPEN_EVALUATIONS)? {
+            Some(building) => {
+                let stage = FloorStage::Hull {
+                    orbit,
+                    cycle,
+                    building,
+                };
+                (stage, None)
+            }
+            None => {
+                self.sharpened_hull(map, g, cycle.as_deref());
+                (FloorStage::Over, Some(Floor::Changed))
+            }
+        })
+    }
+
+    /// After the hull's sharpening: its cells' images again, and the
+    /// cycle's trap tried once more.
+    fn sharpened_hull(&self, map: &ArcMap, g: &mut CellGraph, cycle: Option<&[f64]>) {
+        let (lo, hi) = self.padded_hull();
+        g.refresh(map, lo, hi);
+        if let Some(xs) = cycle {
+            trapped(map, g, xs);
         }
     }
-    let pad = 1e-3 * (hull[1] - hull[0]) + 1e-6;
-    let (lo, hi) = (hull[0] - pad, hull[1] + pad);
-    if map.is_sharp(lo, hi) {
-        return Ok(Floor::Settled(o));
-    }
-    map.sharpen(lo, hi, SHARPEN_EVALUATIONS)?;
-    g.refresh(map, lo, hi);
-    if let Some(xs) = &cycle {
-        trapped(map, g, xs);
-    }
-    Ok(Floor::Changed)
+}
+
+/// The stable cycle the orbit settled on, in u, unless one trapped
+/// already.
+fn new_stable_cycle(
+    sim: &Simulator,
+    map: &ArcMap,
+    g: &CellGraph,
+    o: &Orbit,
+    spent: &mut (u64, u64),
+) -> Option<Vec<f64>> {
+    let (p, u) = o.settled?;
+    let c = solve(sim, map.psi(), u, p, spent).filter(|c| c.stable)?;
+    let xs: Vec<f64> = c.points[..c.minimal_period]
+        .iter()
+        .map(|t| wrap_angle(t - map.psi()))
+        .collect();
+    let known = g
+        .cycles
+        .iter()
+        .any(|c| c.0 == xs.len() && xs.iter().any(|x| (c.1 - x).abs() < 1e-9));
+    (!known).then_some(xs)
 }
 
 /// Adds a trap round the cycle `xs` (in u) to the graph, if one is found

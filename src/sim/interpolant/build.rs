@@ -11,10 +11,69 @@ use crate::model::wrap_angle;
 use crate::sim::cycles_in_lanes;
 
 /// A piece being resolved: its ends and its samples so far.
+#[derive(Debug)]
 struct Pending {
     a: f64,
     b: f64,
     samples: Vec<Sample>,
+}
+
+/// The most map evaluations one [`MapInterpolant::advance`] samples (in
+/// lanes, bitwise as alone, so the chunks do not change a sample): about
+/// 3 ms of the page's frame.
+const CHUNK: usize = 64;
+
+/// An interval being resolved into verified pieces, round by round: each
+/// round samples every pending piece further, settles each (a series, more
+/// points, or a split), and checks the series it made.
+#[derive(Debug)]
+pub(super) struct Resolve {
+    /// The interval's left end (where a refusal points if nothing pends).
+    a: f64,
+    budget: usize,
+    pending: Vec<Pending>,
+    /// Pieces done and checked, in the order they were.
+    verified: Vec<Piece>,
+    stage: Stage,
+}
+
+/// Where a round is.
+#[derive(Debug)]
+enum Stage {
+    /// Between rounds: the budgets are tested and the next points planned.
+    Head,
+    /// The round's points `us`, `wanted` of them per pending piece, the
+    /// first `got.len()` sampled.
+    Sampling {
+        us: Vec<f64>,
+        wanted: Vec<usize>,
+        got: Vec<Sample>,
+    },
+    /// The sampled pieces settled one by one into series (`done`, to be
+    /// checked) and pieces for the next round.
+    Settling {
+        sampled: std::vec::IntoIter<Pending>,
+        done: Vec<Piece>,
+        next: Vec<Pending>,
+    },
+    /// The round's series checked one by one.
+    Checking { fresh: std::vec::IntoIter<Piece> },
+}
+
+impl Resolve {
+    pub(super) fn new(a: f64, b: f64, budget: usize) -> Self {
+        Resolve {
+            a,
+            budget,
+            pending: vec![Pending {
+                a,
+                b,
+                samples: Vec::new(),
+            }],
+            verified: Vec::new(),
+            stage: Stage::Head,
+        }
+    }
 }
 
 impl MapInterpolant {
@@ -48,81 +107,153 @@ impl MapInterpolant {
         out
     }
 
-    /// Resolves [a, b] (in θ − ψ) into verified pieces, at most `budget`.
+    /// Resolves [a, b] (in θ − ψ) into verified pieces, at most `budget`,
+    /// all at once.
     pub(super) fn resolve(
         &mut self,
         a: f64,
         b: f64,
         budget: usize,
     ) -> Result<Vec<Piece>, InterpolantError> {
-        let mut pending = vec![Pending {
-            a,
-            b,
-            samples: Vec::new(),
-        }];
-        let mut done: Vec<Piece> = Vec::new();
-        while !pending.is_empty() {
-            let next_batch: usize = pending
-                .iter()
-                .map(|p| next_sampling(p.samples.len()) - p.samples.len())
-                .sum();
-            let over = self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations
-                || pending.len() + done.len() > budget;
-            if over && self.lenient {
-                // Whatever is left is left to direct integration.
-                done.extend(pending.drain(..).map(|p| Piece::Direct { a: p.a, b: p.b }));
-                break;
+        let mut r = Resolve::new(a, b, budget);
+        loop {
+            if let Some(pieces) = self.advance(&mut r)? {
+                return Ok(pieces);
             }
-            if self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations {
-                return Err(InterpolantError::OverBudget {
-                    tol: self.opts.tol,
-                    max_evaluations: self.opts.max_evaluations,
-                    near: self.psi + 0.5 * (pending[0].a + pending[0].b),
-                });
+        }
+    }
+
+    /// One bounded piece of `r`'s work: at most [`CHUNK`] of a round's
+    /// samples, or one pending piece settled (a jump bracketed), or one
+    /// piece checked. The pieces once every one is verified.
+    pub(super) fn advance(
+        &mut self,
+        r: &mut Resolve,
+    ) -> Result<Option<Vec<Piece>>, InterpolantError> {
+        match std::mem::replace(&mut r.stage, Stage::Head) {
+            Stage::Head => {
+                if r.pending.is_empty() {
+                    return Ok(Some(std::mem::take(&mut r.verified)));
+                }
+                if self.over_budget(r)? {
+                    return Ok(Some(std::mem::take(&mut r.verified)));
+                }
+                // Every pending piece's next points, in one round of lanes.
+                let (us, wanted) = next_points(&r.pending);
+                let got = Vec::with_capacity(us.len());
+                r.stage = Stage::Sampling { us, wanted, got };
             }
-            if pending.len() + done.len() > budget {
-                let narrowest = pending
-                    .iter()
-                    .min_by(|x, y| (x.b - x.a).total_cmp(&(y.b - y.a)))
-                    .map_or(a, |p| 0.5 * (p.a + p.b));
-                return Err(InterpolantError::Unresolved {
-                    tol: self.opts.tol,
-                    max_pieces: self.opts.max_pieces,
-                    near: self.psi + narrowest,
-                });
+            Stage::Sampling {
+                us,
+                wanted,
+                mut got,
+            } => {
+                let from = got.len();
+                let to = us.len().min(from + CHUNK);
+                got.extend(self.sample(&us[from..to])?);
+                if to < us.len() {
+                    r.stage = Stage::Sampling { us, wanted, got };
+                    return Ok(None);
+                }
+                let mut fresh = got.into_iter();
+                let sampled = std::mem::take(&mut r.pending)
+                    .into_iter()
+                    .zip(wanted)
+                    .map(|(mut p, count)| {
+                        let new: Vec<Sample> = fresh.by_ref().take(count).collect();
+                        p.samples = interleave(std::mem::take(&mut p.samples), new);
+                        p
+                    })
+                    .collect::<Vec<_>>();
+                r.stage = Stage::Settling {
+                    sampled: sampled.into_iter(),
+                    done: Vec::new(),
+                    next: Vec::new(),
+                };
             }
-            // Every pending piece's next points, in one batch of lanes.
-            let (us, wanted) = next_points(&pending);
-            let mut fresh = self.sample(&us)?.into_iter();
-            let mut next = Vec::new();
-            for (mut p, count) in pending.into_iter().zip(wanted) {
-                let new: Vec<Sample> = fresh.by_ref().take(count).collect();
-                p.samples = interleave(std::mem::take(&mut p.samples), new);
-                self.settle(p, &mut done, &mut next)?;
-            }
-            pending = next;
-            // The check at independent points: a piece that fails it is
-            // split and resolved again.
-            let mut checked = Vec::new();
-            for piece in done.drain(..) {
-                match self.check(&piece)? {
-                    true => checked.push(piece),
-                    false => {
+            Stage::Settling {
+                mut sampled,
+                mut done,
+                mut next,
+            } => match sampled.next() {
+                Some(p) => {
+                    self.settle(p, &mut done, &mut next)?;
+                    r.stage = Stage::Settling {
+                        sampled,
+                        done,
+                        next,
+                    };
+                }
+                None => {
+                    r.pending = next;
+                    r.stage = Stage::Checking {
+                        fresh: done.into_iter(),
+                    };
+                }
+            },
+            // The check at independent points, of the pieces this round
+            // made: one that fails it is split and resolved again.
+            Stage::Checking { mut fresh } => {
+                if let Some(piece) = fresh.next() {
+                    if self.check(&piece)? {
+                        r.verified.push(piece);
+                    } else {
                         let (pa, pb) = piece.ends();
                         let m = 0.5 * (pa + pb);
                         for (a, b) in [(pa, m), (m, pb)] {
-                            pending.push(Pending {
+                            r.pending.push(Pending {
                                 a,
                                 b,
                                 samples: Vec::new(),
                             });
                         }
                     }
+                    r.stage = Stage::Checking { fresh };
                 }
             }
-            done = checked;
         }
-        Ok(done)
+        Ok(None)
+    }
+
+    /// At the head of a round: whether the budgets are spent. A lenient
+    /// build then leaves what is pending to direct integration; a strict
+    /// one is refused.
+    fn over_budget(&mut self, r: &mut Resolve) -> Result<bool, InterpolantError> {
+        let next_batch: usize = r
+            .pending
+            .iter()
+            .map(|p| next_sampling(p.samples.len()) - p.samples.len())
+            .sum();
+        let evaluations = self.evaluations.saturating_add(next_batch) > self.opts.max_evaluations;
+        let pieces = r.pending.len() + r.verified.len() > r.budget;
+        if (evaluations || pieces) && self.lenient {
+            let left = r
+                .pending
+                .drain(..)
+                .map(|p| Piece::Direct { a: p.a, b: p.b });
+            r.verified.extend(left);
+            return Ok(true);
+        }
+        if evaluations {
+            return Err(InterpolantError::OverBudget {
+                tol: self.opts.tol,
+                max_evaluations: self.opts.max_evaluations,
+                near: self.psi + 0.5 * (r.pending[0].a + r.pending[0].b),
+            });
+        }
+        if pieces {
+            let narrowest = r
+                .pending
+                .iter()
+                .min_by(|x, y| (x.b - x.a).total_cmp(&(y.b - y.a)))
+                .map_or(r.a, |p| 0.5 * (p.a + p.b));
+            return Err(InterpolantError::Unresolved {
+                tol: self.opts.tol,
+                max_pieces: self.opts.max_pieces,
+                near: self.psi + narrowest,
+            });
+        }
+        Ok(false)
     }
 
     /// What becomes of a sampled pending piece: a series (to be checked),

@@ -3,7 +3,7 @@
 //! the series where it is verified, the interval extended where an iterate
 //! leaves it, and direct integration where neither serves.
 
-use super::{InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use super::{InterpolantBuild, InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
 use crate::model::exit_arc;
 use crate::sim::analysis::cycle_with_derivative;
 use crate::sim::{SimError, Simulator};
@@ -106,11 +106,59 @@ impl InterpolantSummary {
 /// their range: fewer give a poor picture of where the orbit goes.
 pub const MIN_DIRECT: usize = 100;
 
+/// A [`Stepper`]'s interpolant being built, a bounded piece a call
+/// ([`InterpolantBuild`]).
+#[derive(Debug)]
+pub struct StepperBuild {
+    build: InterpolantBuild,
+    pad: f64,
+}
+
+impl StepperBuild {
+    /// The build over the range of `recent` onsets, as [`Stepper::over`].
+    pub fn over(
+        sim: &Simulator,
+        recent: &[f64],
+        iopts: InterpolantOptions,
+    ) -> Result<Self, InterpolantError> {
+        let p = sim.params();
+        let (psi, _) = exit_arc(p.kappa, p.theta_nu);
+        let (a, b, pad) = onset_span(psi, recent, 0.02)
+            .ok_or(InterpolantError::Options("no onsets to build over"))?;
+        let build = InterpolantBuild::start(sim, psi + a, psi + b, iopts, false)?;
+        Ok(StepperBuild { build, pad })
+    }
+
+    /// One piece of the work; whether the interpolant is done. An error
+    /// refuses it, and the build must not be advanced again.
+    pub fn advance(&mut self) -> Result<bool, InterpolantError> {
+        self.build.advance()
+    }
+
+    /// Map evaluations and right-hand-side evaluations spent so far.
+    pub fn spent(&self) -> (u64, u64) {
+        self.build.spent()
+    }
+
+    /// The stepper, once [`Self::advance`] has said the build is done; its
+    /// construction counts as charged ([`Stepper::take_cost`]).
+    pub fn finish(self) -> Stepper {
+        let charged = self.build.spent();
+        Stepper {
+            interp: self.build.finish(),
+            pad: self.pad,
+            direct: 0,
+            rhs_evals: 0,
+            refused: None,
+            charged,
+        }
+    }
+}
+
 /// The map for a run's remaining iterates: the interpolant where it is
 /// verified, direct integration elsewhere.
 #[derive(Clone, Debug)]
-pub struct Stepper<'s> {
-    sim: &'s Simulator,
+pub struct Stepper {
     interp: MapInterpolant,
     pad: f64,
     /// Iterates integrated since it was built.
@@ -123,33 +171,31 @@ pub struct Stepper<'s> {
     charged: (u64, u64),
 }
 
-impl<'s> Stepper<'s> {
+impl Stepper {
     /// Builds the interpolant over the range of `recent` onsets (the later
     /// two thirds of them, where the orbit has settled most), padded by a
-    /// tenth of that range and at least 1e-3. The map evaluations and
-    /// right-hand-side evaluations spent are added to `spent`, also when the
-    /// build is refused.
+    /// tenth of that range and at least 1e-3, all at once
+    /// ([`StepperBuild`] in pieces). The map evaluations and right-hand-side
+    /// evaluations spent are added to `spent`, also when the build is
+    /// refused.
     pub fn over(
-        sim: &'s Simulator,
+        sim: &Simulator,
         recent: &[f64],
         iopts: InterpolantOptions,
         spent: &mut (u64, u64),
     ) -> Result<Self, InterpolantError> {
-        let p = sim.params();
-        let (psi, _) = exit_arc(p.kappa, p.theta_nu);
-        let (a, b, pad) = onset_span(psi, recent, 0.02)
-            .ok_or(InterpolantError::Options("no onsets to build over"))?;
-        let before = *spent;
-        let interp = MapInterpolant::build_counting(sim, psi + a, psi + b, iopts, spent)?;
-        Ok(Stepper {
-            sim,
-            interp,
-            pad,
-            direct: 0,
-            rhs_evals: 0,
-            refused: None,
-            charged: (spent.0 - before.0, spent.1 - before.1),
-        })
+        let mut build = StepperBuild::over(sim, recent, iopts)?;
+        let done = loop {
+            match build.advance() {
+                Ok(true) => break Ok(()),
+                Ok(false) => {}
+                Err(e) => break Err(e),
+            }
+        };
+        let (n, rhs) = build.spent();
+        spent.0 += n;
+        spent.1 += rhs;
+        done.map(|()| build.finish())
     }
 
     /// The cost (map evaluations, RHS evaluations) since the last call (or
@@ -200,9 +246,10 @@ impl<'s> Stepper<'s> {
             return Ok(next);
         }
         self.direct += 1;
-        let ev = self.sim.cycle(theta, 0.0, None)?;
+        let sim = self.interp.simulator();
+        let ev = sim.cycle(theta, 0.0, None)?;
         self.rhs_evals += ev.rhs_evals;
-        Ok(self.sim.next_onset(&ev))
+        Ok(sim.next_onset(&ev))
     }
 
     /// The next onset after θ and f'(θ), from the series or integrated.
@@ -216,8 +263,9 @@ impl<'s> Stepper<'s> {
             return Ok(r);
         }
         self.direct += 1;
-        let (ev, d, n) = cycle_with_derivative(self.sim, theta, 0.0)?;
+        let sim = self.interp.simulator();
+        let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
         self.rhs_evals += ev.rhs_evals + n;
-        Ok((self.sim.next_onset(&ev), d))
+        Ok((sim.next_onset(&ev), d))
     }
 }

@@ -5,37 +5,32 @@
 //! onset; with seeds, the cell counts the attractors the graph decides.
 
 use super::{CellClass, PhaseCell};
-use crate::integrate::SolverSettings;
 use crate::model::{Params, exit_arc, wrap_angle};
-use crate::sim::attractors::{AttractorError, CellOptions, Found, Verdict, attractors};
-use crate::sim::{SimError, Simulator};
+use crate::sim::SimError;
+use crate::sim::attractors::{AttractorError, Found, Verdict};
 
-/// Tells `cell` again from the cell graph at `params` (see the module's
-/// doc); `count` also sets [`PhaseCell::attractors`]. A graph that cannot
-/// be built leaves the cell as it was, uncounted with the reason in
-/// [`PhaseCell::uncounted`] when `count`; a cancel fails it.
+/// Tells `cell` again from the cell graph `found` at `params` (see the
+/// module's doc); `count` also sets [`PhaseCell::attractors`]. A graph that
+/// could not be built leaves the cell as it was, uncounted with the reason
+/// in [`PhaseCell::uncounted`] when `count`; a cancel fails it. What was
+/// found, when counted.
 pub(super) fn tell(
     cell: &mut PhaseCell,
-    params: Params,
-    settings: SolverSettings,
+    found: Result<(Found, Params), AttractorError>,
     count: bool,
-    cancel: &dyn Fn() -> bool,
-) {
-    let found = Simulator::new(params, settings)
-        .map_err(AttractorError::Sim)
-        .and_then(|sim| attractors(&sim, &CellOptions::column(), cancel));
-    let found = match found {
+) -> Option<Found> {
+    let (found, params) = match found {
         Ok(f) => f,
         Err(AttractorError::Sim(SimError::Cancelled)) => {
             cell.class = CellClass::Failed;
             cell.error = Some(SimError::Cancelled);
-            return;
+            return None;
         }
         Err(e) => {
             if count {
                 cell.uncounted = Some(e.to_string());
             }
-            return;
+            return None;
         }
     };
     cell.iterates += found.map_evaluations;
@@ -59,6 +54,7 @@ pub(super) fn tell(
         cell.lyapunov = a.lyapunov;
         cell.lyapunov_stderr = a.lyapunov_stderr.filter(|_| a.period.is_none());
     }
+    count.then_some(found)
 }
 
 /// The attractor whose basin holds the onset θ, if one basin does.

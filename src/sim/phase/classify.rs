@@ -5,41 +5,92 @@
 
 use super::*;
 
-/// The cell's iterates and tests (see the module's doc); the interpolant,
-/// once built, is left in `stepper` for the cell's summary.
-pub(super) fn classify<'s>(
-    cell: &mut PhaseCell,
-    sim: &'s Simulator,
-    theta_start: f64,
-    opts: &PhaseOptions,
-    cancel: &dyn Fn() -> bool,
-    stepper: &mut Option<Stepper<'s>>,
-) -> Result<(), SimError> {
-    let mut run = CellRun::new(sim, theta_start, opts);
-    for i in 0..opts.transient + opts.keep {
-        if cancel() {
-            return Err(SimError::Cancelled);
-        }
-        run.switch_map(cell, i, stepper);
-        run.iterate(cell, i, stepper)?;
-        cell.theta_last = run.theta;
-        if !opts.early_exit || i + 1 < MIN_TRANSIENT {
-            continue;
-        }
-        if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
-            return Ok(());
+/// The most map evaluations (iterates, solves, the interpolant's
+/// samples) one [`Classifier::advance`] spends before it gives its thread
+/// back: about 3 ms of the page's frame. A solve or an iterate is not cut,
+/// so a piece may end a little past it.
+const PIECE_EVALUATIONS: u64 = 64;
+
+/// A cell's iterates and tests in progress (see the module's doc), a
+/// bounded piece of work a call, the same bit for bit however it is cut.
+pub(super) struct Classifier {
+    run: CellRun,
+    /// The next iterate's index.
+    i: usize,
+    /// The interpolant being built for the rest of the iterates.
+    building: Option<StepperBuild>,
+    stepper: Option<Stepper>,
+}
+
+impl Classifier {
+    pub(super) fn new(sim: Simulator, theta_start: f64, opts: PhaseOptions) -> Self {
+        Classifier {
+            run: CellRun::new(sim, theta_start, opts),
+            i: 0,
+            building: None,
+            stepper: None,
         }
     }
-    run.finish(cell)?;
-    Ok(())
+
+    /// The solver the cell runs on.
+    pub(super) fn settings(&self) -> &SolverSettings {
+        self.run.sim.settings()
+    }
+
+    /// The interpolant the cell's iterates came from, once built.
+    pub(super) fn stepper(&self) -> Option<&Stepper> {
+        self.stepper.as_ref()
+    }
+
+    /// Iterates and tests until the cell is classified (`true`) or about
+    /// [`PIECE_EVALUATIONS`] map evaluations were spent (`false`: call
+    /// again). `cancel` is polled every iterate.
+    pub(super) fn advance(
+        &mut self,
+        cell: &mut PhaseCell,
+        cancel: &dyn Fn() -> bool,
+    ) -> Result<bool, SimError> {
+        let from = cell.iterates;
+        let opts = self.run.opts;
+        while self.i < opts.transient + opts.keep {
+            if cancel() {
+                return Err(SimError::Cancelled);
+            }
+            if let Some(b) = self.building.take() {
+                // The interpolant's construction, one piece a call.
+                self.building = self.run.build_step(cell, b, &mut self.stepper);
+                if self.building.is_some() {
+                    return Ok(false);
+                }
+            } else if let Some(b) = self.run.switch_map(cell, self.i) {
+                self.building = Some(b);
+                continue;
+            }
+            let i = self.i;
+            self.i += 1;
+            self.run.iterate(cell, i, &mut self.stepper)?;
+            cell.theta_last = self.run.theta;
+            if opts.early_exit && i + 1 >= MIN_TRANSIENT {
+                let run = &mut self.run;
+                if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
+                    return Ok(true);
+                }
+            }
+            if cell.iterates - from >= PIECE_EVALUATIONS {
+                return Ok(false);
+            }
+        }
+        self.run.finish(cell)?;
+        Ok(true)
+    }
 }
 
 /// A cell in progress: its iterates (all of them: the tests read the
 /// transient's end), the kept iterates' ln|f'(θ)|, the next onset, and
 /// what the tests have tried so far.
-struct CellRun<'s, 'o> {
-    sim: &'s Simulator,
-    opts: &'o PhaseOptions,
+struct CellRun {
+    sim: Simulator,
+    opts: PhaseOptions,
     cycle_opts: CycleOptions,
     thetas: Vec<f64>,
     logs: Vec<f64>,
@@ -61,8 +112,8 @@ struct CellRun<'s, 'o> {
     cycle: Option<Vec<f64>>,
 }
 
-impl<'s, 'o> CellRun<'s, 'o> {
-    fn new(sim: &'s Simulator, theta_start: f64, opts: &'o PhaseOptions) -> Self {
+impl CellRun {
+    fn new(sim: Simulator, theta_start: f64, opts: PhaseOptions) -> Self {
         CellRun {
             sim,
             opts,
@@ -97,9 +148,10 @@ impl<'s, 'o> CellRun<'s, 'o> {
         cell.lyapunov = Some(lyapunov);
     }
 
-    /// At iterate `i`, builds the interpolant over the recent iterates when
-    /// the cell's direct part ends and enough iterates are left.
-    fn switch_map(&mut self, cell: &mut PhaseCell, i: usize, stepper: &mut Option<Stepper<'s>>) {
+    /// At iterate `i`, the interpolant's build over the recent iterates
+    /// when the cell's direct part ends and enough iterates are left (a
+    /// refusal at once is recorded in the cell).
+    fn switch_map(&mut self, cell: &mut PhaseCell, i: usize) -> Option<StepperBuild> {
         let total = self.opts.transient + self.opts.keep;
         let switch = self.opts.transient.clamp(MIN_DIRECT, DIRECT_PART);
         if i != switch
@@ -108,18 +160,44 @@ impl<'s, 'o> CellRun<'s, 'o> {
                 .map
                 .interpolates_beyond(total - i, INTERPOLANT_LEFT)
         {
-            return;
+            return None;
         }
         let iopts = InterpolantOptions {
             max_evaluations: evaluation_budget(total - i),
             ..InterpolantOptions::for_settings(self.sim.settings())
         };
         let recent = &self.thetas[self.thetas.len().saturating_sub(300)..];
-        match Stepper::over(self.sim, recent, iopts, &mut self.spent) {
-            Ok(s) => *stepper = Some(s),
+        match StepperBuild::over(&self.sim, recent, iopts) {
+            Ok(b) => Some(b),
+            Err(e) => {
+                cell.map = MapUsed::Refused(e.to_string());
+                None
+            }
+        }
+    }
+
+    /// One piece of the interpolant's build: the build to go on with, or,
+    /// once it is over (built, into `stepper`, or refused, in the cell),
+    /// `None`, its cost charged.
+    fn build_step(
+        &mut self,
+        cell: &mut PhaseCell,
+        mut b: StepperBuild,
+        stepper: &mut Option<Stepper>,
+    ) -> Option<StepperBuild> {
+        let outcome = b.advance();
+        if matches!(outcome, Ok(false)) {
+            return Some(b);
+        }
+        let (n, rhs) = b.spent();
+        self.spent.0 += n;
+        self.spent.1 += rhs;
+        match outcome {
+            Ok(_) => *stepper = Some(b.finish()),
             Err(e) => cell.map = MapUsed::Refused(e.to_string()),
         }
         self.charge(cell);
+        None
     }
 
     /// Iterate `i`: from the interpolant if there is one, else integrated;
@@ -128,7 +206,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
         &mut self,
         cell: &mut PhaseCell,
         i: usize,
-        stepper: &mut Option<Stepper<'_>>,
+        stepper: &mut Option<Stepper>,
     ) -> Result<(), SimError> {
         let kept = i >= self.opts.transient;
         self.thetas.push(self.theta);
@@ -151,7 +229,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
         // adds evaluations, not iterates (two where f has no derivative
         // and the secant stands in).
         let ev = if kept {
-            let (ev, d, n) = cycle_with_derivative(self.sim, self.theta, 0.0)?;
+            let (ev, d, n) = cycle_with_derivative(&self.sim, self.theta, 0.0)?;
             cell.rhs_evals += n;
             self.logs.push(d.abs().ln());
             ev
@@ -177,7 +255,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
         // The cycle solved from the next onset gives the exponent ln|m|/p;
         // if it cannot be solved, the mean of ln|f'| on its last p
         // iterates does.
-        let solved = solve_counting(self.sim, self.theta, p, &self.cycle_opts, &mut self.spent)
+        let solved = solve_counting(&self.sim, self.theta, p, &self.cycle_opts, &mut self.spent)
             .ok()
             .filter(|c| c.minimal_period == p);
         self.charge(cell);
@@ -189,7 +267,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
                 (c.lyapunov(), c.points)
             }
             None => {
-                let (sim, thetas, logs) = (self.sim, &self.thetas, &self.logs);
+                let (sim, thetas, logs) = (&self.sim, &self.thetas, &self.logs);
                 let lc = cycle_exponent(cell, sim, thetas, self.theta, logs, p)?;
                 (lc, thetas[thetas.len() - p..].to_vec())
             }
@@ -224,7 +302,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
             return false;
         };
         let confirmed = confirm_contraction(
-            self.sim,
+            &self.sim,
             &seq,
             &c,
             &self.cycle_opts,
@@ -281,7 +359,7 @@ impl<'s, 'o> CellRun<'s, 'o> {
             return Ok(false);
         }
         self.near_tried = Some(p);
-        let solved = near_cycle(self.sim, &seq, &self.cycle_opts, &mut self.spent);
+        let solved = near_cycle(&self.sim, &seq, &self.cycle_opts, &mut self.spent);
         self.charge(cell);
         let Some(c) = solved else {
             return Ok(false);
