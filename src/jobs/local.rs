@@ -60,14 +60,21 @@ struct Queue {
     pace: Mutex<Pace>,
 }
 
-/// The longest piece of a job seen in this step and the one before (the
-/// time between two polls of [`Sink::pause`]): a piece that would end past
-/// the slice is not begun.
+/// Steps whose longest piece the pace remembers.
+const PACE_STEPS: usize = 16;
+
+/// The longest piece of a job seen in this step and the [`PACE_STEPS`]
+/// before it (a piece is the time between two polls of [`Sink::pause`]):
+/// a piece that would end past the slice is not begun. A job's pieces
+/// vary (a cell's iterates, then a solve's steps, then its cell graph's
+/// levels), so one step's longest says too little.
 #[derive(Clone, Copy, Debug)]
 struct Pace {
     last_poll: Instant,
     this_step: Duration,
-    step_before: Duration,
+    /// The longest piece of each of the last steps, the oldest overwritten.
+    before: [Duration; PACE_STEPS],
+    next: usize,
 }
 
 impl Pace {
@@ -75,13 +82,15 @@ impl Pace {
         Pace {
             last_poll: Instant::now(),
             this_step: Duration::ZERO,
-            step_before: Duration::ZERO,
+            before: [Duration::ZERO; PACE_STEPS],
+            next: 0,
         }
     }
 
     /// A new step from `start`.
     fn begin(&mut self, start: Instant) {
-        self.step_before = self.this_step;
+        self.before[self.next] = self.this_step;
+        self.next = (self.next + 1) % PACE_STEPS;
         self.this_step = Duration::ZERO;
         self.last_poll = start;
     }
@@ -90,7 +99,7 @@ impl Pace {
     fn poll(&mut self, now: Instant) -> Duration {
         self.this_step = self.this_step.max(now - self.last_poll);
         self.last_poll = now;
-        self.this_step.max(self.step_before)
+        self.before.iter().fold(self.this_step, |m, &d| m.max(d))
     }
 }
 
@@ -119,15 +128,16 @@ impl Sink for Queue {
         false
     }
 
-    /// Past the slice's end, or so near it that a piece as long as the
-    /// longest seen lately would end past it.
+    /// Past the slice's end, or so near it that a piece half as long
+    /// again as the longest seen lately would end past it.
     fn pause(&self) -> bool {
         let Some(slice) = *lock(&self.slice) else {
             return false;
         };
         let now = Instant::now();
         let piece = lock(&self.pace).poll(now);
-        now + piece >= slice.end
+        // Half as long again: the next piece may be the longest yet.
+        now + piece + piece / 2 >= slice.end
     }
 
     fn defer_heavy(&self) -> bool {

@@ -242,10 +242,9 @@ impl AttractorsRun {
     fn piece(&mut self, cancel: &dyn Fn() -> bool) -> Result<Option<Found>, AttractorError> {
         match std::mem::replace(&mut self.stage, Stage::Done) {
             Stage::Start => self.stage = Stage::Arc(Box::new(ArcBuild::start(&self.sim)?)),
+            // Not polled for a cancel: `cancel` counts as a cycle on the
+            // hosts, and the first level polls it.
             Stage::Arc(mut build) => {
-                if cancel() {
-                    return Err(AttractorError::Sim(SimError::Cancelled));
-                }
                 if !build.advance()? {
                     self.stage = Stage::Arc(build);
                     return Ok(None);
@@ -255,7 +254,8 @@ impl AttractorsRun {
                 self.stage = Stage::Search(Box::new(Search::new(self.sim, self.opts, map, g)));
             }
             Stage::Search(mut search) => {
-                if cancel() {
+                // Polled once a level (not in a closed set's decision).
+                if !search.deciding() && cancel() {
                     return Err(AttractorError::Sim(SimError::Cancelled));
                 }
                 match search.level()? {

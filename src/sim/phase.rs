@@ -49,11 +49,11 @@ use classify::Classifier;
 
 use super::analysis::{cycle_with_derivative, map_derivative};
 use super::attractors::{AttractorsRun, CellOptions, Found};
-use super::cycles::{CycleOptions, confirm_contraction, near_cycle, solve_counting};
+use super::cycles::{Cycle, CycleFailure, CycleOptions, CycleSolve, NearRepeat, confirms};
 use super::interpolant::{
     InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper, StepperBuild,
 };
-use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, near_period, settled_period};
+use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};

@@ -116,38 +116,84 @@ pub const TAIL: usize = 256;
 
 /// An orbit of the series from u: `lengths.0` iterates dropped, then
 /// `lengths.1` with ln|f'| (in a sampled stretch, from the line between
-/// its samples).
-pub fn long_orbit(map: &ArcMap, mut u: f64, lengths: (usize, usize)) -> Result<Orbit, SimError> {
-    let step = |u: f64| -> Result<(f64, f64), SimError> { Ok(map.eval_any(u)) };
-    for _ in 0..lengths.0 {
-        u = step(u)?.0;
+/// its samples), all at once ([`LongOrbit`] in pieces).
+pub fn long_orbit(map: &ArcMap, u: f64, lengths: (usize, usize)) -> Result<Orbit, SimError> {
+    let mut run = LongOrbit::new(u, lengths);
+    loop {
+        if let Some(o) = run.advance(map, usize::MAX) {
+            return Ok(o);
+        }
     }
-    const BATCHES: usize = 20;
-    let per = (lengths.1 / BATCHES).max(TAIL);
-    let mut means = Vec::with_capacity(BATCHES);
-    let mut tail = Vec::with_capacity(TAIL);
-    for b in 0..BATCHES {
-        let mut s = 0.0;
-        for i in 0..per {
-            let (fu, d) = step(u)?;
-            s += d.abs().max(1e-300).ln();
-            u = fu;
-            if b == BATCHES - 1 && i >= per - TAIL {
-                tail.push(u);
+}
+
+/// Batches of the kept iterates, for λ's standard error.
+const BATCHES: usize = 20;
+
+/// A [`long_orbit`] in progress.
+pub struct LongOrbit {
+    u: f64,
+    dropped: usize,
+    per: usize,
+    /// Iterates done (dropped ones included).
+    done: usize,
+    sum: f64,
+    means: Vec<f64>,
+    tail: Vec<f64>,
+}
+
+impl LongOrbit {
+    pub fn new(u: f64, lengths: (usize, usize)) -> Self {
+        LongOrbit {
+            u,
+            dropped: lengths.0,
+            per: (lengths.1 / BATCHES).max(TAIL),
+            done: 0,
+            sum: 0.0,
+            means: Vec::with_capacity(BATCHES),
+            tail: Vec::with_capacity(TAIL),
+        }
+    }
+
+    /// At most `most` iterates more; the orbit once all are done.
+    pub fn advance(&mut self, map: &ArcMap, most: usize) -> Option<Orbit> {
+        let total = self.dropped + BATCHES * self.per;
+        let end = total.min(self.done.saturating_add(most));
+        while self.done < end {
+            let (fu, d) = map.eval_any(self.u);
+            let k = self.done;
+            self.done += 1;
+            if k < self.dropped {
+                self.u = fu;
+                continue;
+            }
+            let (b, i) = ((k - self.dropped) / self.per, (k - self.dropped) % self.per);
+            self.sum += d.abs().max(1e-300).ln();
+            self.u = fu;
+            if b == BATCHES - 1 && i >= self.per - TAIL {
+                self.tail.push(self.u);
+            }
+            if i == self.per - 1 {
+                self.means.push(self.sum / self.per as f64);
+                self.sum = 0.0;
             }
         }
-        means.push(s / per as f64);
+        (self.done == total).then(|| self.orbit())
     }
-    let mean = means.iter().sum::<f64>() / BATCHES as f64;
-    let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (BATCHES - 1) as f64;
-    let settled = settled_period(&tail, 1e-9).map(|p| (p, u));
-    Ok(Orbit {
-        lyapunov: mean,
-        stderr: (var / BATCHES as f64).sqrt(),
-        settled,
-        last: u,
-        tail,
-    })
+
+    fn orbit(&mut self) -> Orbit {
+        let means = &self.means;
+        let mean = means.iter().sum::<f64>() / BATCHES as f64;
+        let var = means.iter().map(|m| (m - mean).powi(2)).sum::<f64>() / (BATCHES - 1) as f64;
+        let tail = std::mem::take(&mut self.tail);
+        let settled = settled_period(&tail, 1e-9).map(|p| (p, self.u));
+        Orbit {
+            lyapunov: mean,
+            stderr: (var / BATCHES as f64).sqrt(),
+            settled,
+            last: self.u,
+            tail,
+        }
+    }
 }
 
 /// The invariant density on a closed set's cells by Ulam's method: cell i

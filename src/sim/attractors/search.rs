@@ -4,7 +4,7 @@
 //! or the resolution or the cell budget is reached.
 
 use super::arc::Sharpening;
-use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, contraction, long_orbit, solve, trap};
+use super::classify::{COLUMN_ORBIT, LongOrbit, ORBIT, Orbit, clusters, contraction, solve, trap};
 use super::graph::{self, CellGraph};
 use super::{ArcMap, AttractorError, CellOptions};
 use crate::model::wrap_angle;
@@ -29,6 +29,9 @@ const RECURRENT_FLOOR: f64 = 100.0;
 
 /// How far round a stable cycle's points the map is sharpened first.
 const NEAR_CYCLE: f64 = 1e-3;
+
+/// Iterates of a long orbit on the series a piece (about 1.5 ms).
+const ORBIT_PIECE: usize = 1_500;
 
 /// The most map evaluations one sharpened stretch may take.
 const SHARPEN_EVALUATIONS: usize = 4_000;
@@ -77,24 +80,8 @@ impl Search {
     /// a trap added, or the set settled), after which the level starts
     /// again. `Some` when nothing is left to do.
     pub(super) fn level(&mut self) -> Result<Option<Done>, AttractorError> {
-        if let Some(mut run) = self.floor.take() {
-            let lengths = if self.opts.density {
-                ORBIT
-            } else {
-                COLUMN_ORBIT
-            };
-            let (map, g) = (&mut self.map, &mut self.g);
-            match run.step(&self.sim, lengths, map, g, &mut self.spent)? {
-                None => self.floor = Some(run),
-                // Left as it is: the level again, where it was.
-                Some(Floor::Settled(orbit)) => {
-                    self.settled.push((run.hull, orbit));
-                    self.pending = run.pending;
-                }
-                // The map or the graph changed: everything is looked at
-                // again.
-                Some(Floor::Changed) => {}
-            }
+        if let Some(run) = self.floor.take() {
+            self.floor_step(run)?;
             return Ok(None);
         }
         // While closed sets are undecided, only their cells are analysed:
@@ -164,6 +151,28 @@ impl Search {
         Ok(None)
     }
 
+    /// Whether a closed set at its floor is being decided.
+    pub(super) fn deciding(&self) -> bool {
+        self.floor.is_some()
+    }
+
+    /// One piece of the decision of a closed set at its floor (`run`); once
+    /// it is decided, the level starts again.
+    fn floor_step(&mut self, mut run: Box<FloorRun>) -> Result<(), AttractorError> {
+        let (map, g) = (&mut self.map, &mut self.g);
+        match run.step(&self.sim, map, g, &mut self.spent)? {
+            None => self.floor = Some(run),
+            // Left as it is: the level again, where it was.
+            Some(Floor::Settled(orbit)) => {
+                self.settled.push((run.hull, orbit));
+                self.pending = run.pending;
+            }
+            // The map or the graph changed: everything is looked at again.
+            Some(Floor::Changed) => {}
+        }
+        Ok(())
+    }
+
     /// The spans (runs of cells) of the closed sets with marked cells.
     fn undecided_spans(&self, closed: &[Closed], marked: &[bool]) -> Vec<[f64; 2]> {
         closed
@@ -200,7 +209,12 @@ impl Search {
             let at_its_floor = k.cells.iter().all(|&i| g.width(i) <= self.floor(i, FLOOR));
             if !chaotic && at_its_floor {
                 let middle = g.mid(k.cells[k.cells.len() / 2]);
-                self.floor = Some(Box::new(FloorRun::new(hull, middle)));
+                let lengths = if self.opts.density {
+                    ORBIT
+                } else {
+                    COLUMN_ORBIT
+                };
+                self.floor = Some(Box::new(FloorRun::new(hull, middle, lengths)));
                 return None;
             }
             // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
@@ -238,7 +252,6 @@ enum Floor {
 /// hull and subdivided on.
 pub(super) struct FloorRun {
     hull: [f64; 2],
-    start: f64,
     /// The spans the level was subdividing when it began (restored when
     /// the set is settled, so that the level goes on where it was).
     pending: Option<Vec<[f64; 2]>>,
@@ -246,8 +259,8 @@ pub(super) struct FloorRun {
 }
 
 enum FloorStage {
-    /// The long orbit.
-    Orbit,
+    /// The long orbit, [`ORBIT_PIECE`] iterates a piece.
+    Orbit(LongOrbit),
     /// The stable cycle it settled on, solved (unless one trapped
     /// already), and the trap tried on the map as it is.
     Cycle(Orbit),
@@ -270,12 +283,11 @@ enum FloorStage {
 }
 
 impl FloorRun {
-    fn new(hull: [f64; 2], start: f64) -> Self {
+    fn new(hull: [f64; 2], start: f64, lengths: (usize, usize)) -> Self {
         FloorRun {
             hull,
-            start,
             pending: None,
-            stage: FloorStage::Orbit,
+            stage: FloorStage::Orbit(LongOrbit::new(start, lengths)),
         }
     }
 
@@ -284,14 +296,16 @@ impl FloorRun {
     fn step(
         &mut self,
         sim: &Simulator,
-        lengths: (usize, usize),
         map: &mut ArcMap,
         g: &mut CellGraph,
         spent: &mut (u64, u64),
     ) -> Result<Option<Floor>, AttractorError> {
         let (stage, out) = match std::mem::replace(&mut self.stage, FloorStage::Over) {
-            FloorStage::Orbit => {
-                let o = long_orbit(map, self.start, lengths)?;
+            FloorStage::Orbit(mut run) => {
+                let Some(o) = run.advance(map, ORBIT_PIECE) else {
+                    self.stage = FloorStage::Orbit(run);
+                    return Ok(None);
+                };
                 if o.settled.is_none() && o.lyapunov > 0.0 {
                     (FloorStage::Over, Some(Floor::Settled(o)))
                 } else {
@@ -318,51 +332,10 @@ impl FloorRun {
             FloorStage::NearCycle {
                 orbit,
                 xs,
-                mut next,
-                mut sharpened,
+                next,
+                sharpened,
                 building,
-            } => {
-                let near = |x: f64| (x - NEAR_CYCLE, x + NEAR_CYCLE);
-                let building = match building {
-                    Some(mut b) => {
-                        if map.sharpen_step(&mut b)? {
-                            let (lo, hi) = near(xs[next]);
-                            g.refresh(map, lo, hi);
-                            sharpened = true;
-                            next += 1;
-                            None
-                        } else {
-                            Some(b)
-                        }
-                    }
-                    None => match xs.get(next) {
-                        Some(&x) => {
-                            let (lo, hi) = near(x);
-                            let b = map.sharpen_start(lo, hi, SHARPEN_EVALUATIONS / xs.len())?;
-                            if b.is_none() {
-                                next += 1;
-                            }
-                            b
-                        }
-                        None if sharpened && trapped(map, g, &xs) => {
-                            return Ok(Some(Floor::Changed));
-                        }
-                        None => {
-                            let (stage, out) = self.to_hull(map, g, orbit, Some(xs))?;
-                            self.stage = stage;
-                            return Ok(out);
-                        }
-                    },
-                };
-                let stage = FloorStage::NearCycle {
-                    orbit,
-                    xs,
-                    next,
-                    sharpened,
-                    building,
-                };
-                (stage, None)
-            }
+            } => self.near_cycle_step(map, g, orbit, xs, (next, sharpened), building)?,
             FloorStage::Hull {
                 orbit,
                 cycle,
@@ -386,7 +359,59 @@ impl FloorRun {
         Ok(out)
     }
 
-    /// The hull padded a little, and whether it is sharp already.
+    /// One piece of the sharpening round the cycle's points `xs` (the
+    /// next to sharpen, and whether any was): the next stage, and the
+    /// outcome once there is one.
+    fn near_cycle_step(
+        &self,
+        map: &mut ArcMap,
+        g: &mut CellGraph,
+        orbit: Orbit,
+        xs: Vec<f64>,
+        (mut next, mut sharpened): (usize, bool),
+        building: Option<Sharpening>,
+    ) -> Result<(FloorStage, Option<Floor>), AttractorError> {
+        let near = |x: f64| (x - NEAR_CYCLE, x + NEAR_CYCLE);
+        let building = match building {
+            Some(mut b) => {
+                if map.sharpen_step(&mut b)? {
+                    let (lo, hi) = near(xs[next]);
+                    g.refresh(map, lo, hi);
+                    sharpened = true;
+                    next += 1;
+                    None
+                } else {
+                    Some(b)
+                }
+            }
+            None => match xs.get(next) {
+                Some(&x) => {
+                    let (lo, hi) = near(x);
+                    let b = map.sharpen_start(lo, hi, SHARPEN_EVALUATIONS / xs.len())?;
+                    if b.is_none() {
+                        next += 1;
+                    }
+                    b
+                }
+                None if sharpened && trapped(map, g, &xs) => {
+                    return Ok((FloorStage::Over, Some(Floor::Changed)));
+                }
+                None => {
+                    return self.to_hull(map, g, orbit, Some(xs));
+                }
+            },
+        };
+        let stage = FloorStage::NearCycle {
+            orbit,
+            xs,
+            next,
+            sharpened,
+            building,
+        };
+        Ok((stage, None))
+    }
+
+    /// The hull padded a little.
     fn padded_hull(&self) -> (f64, f64) {
         let pad = 1e-3 * (self.hull[1] - self.hull[0]) + 1e-6;
         (self.hull[0] - pad, self.hull[1] + pad)

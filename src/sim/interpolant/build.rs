@@ -143,33 +143,8 @@ impl MapInterpolant {
                 let got = Vec::with_capacity(us.len());
                 r.stage = Stage::Sampling { us, wanted, got };
             }
-            Stage::Sampling {
-                us,
-                wanted,
-                mut got,
-            } => {
-                let from = got.len();
-                let to = us.len().min(from + CHUNK);
-                got.extend(self.sample(&us[from..to])?);
-                if to < us.len() {
-                    r.stage = Stage::Sampling { us, wanted, got };
-                    return Ok(None);
-                }
-                let mut fresh = got.into_iter();
-                let sampled = std::mem::take(&mut r.pending)
-                    .into_iter()
-                    .zip(wanted)
-                    .map(|(mut p, count)| {
-                        let new: Vec<Sample> = fresh.by_ref().take(count).collect();
-                        p.samples = interleave(std::mem::take(&mut p.samples), new);
-                        p
-                    })
-                    .collect::<Vec<_>>();
-                r.stage = Stage::Settling {
-                    sampled: sampled.into_iter(),
-                    done: Vec::new(),
-                    next: Vec::new(),
-                };
+            Stage::Sampling { us, wanted, got } => {
+                r.stage = self.sample_round(r, us, wanted, got)?
             }
             Stage::Settling {
                 mut sampled,
@@ -213,6 +188,39 @@ impl MapInterpolant {
             }
         }
         Ok(None)
+    }
+
+    /// At most [`CHUNK`] more of a round's points `us` sampled (`got` so
+    /// far); once all are, the pending pieces take their samples and are
+    /// to be settled.
+    fn sample_round(
+        &mut self,
+        r: &mut Resolve,
+        us: Vec<f64>,
+        wanted: Vec<usize>,
+        mut got: Vec<Sample>,
+    ) -> Result<Stage, InterpolantError> {
+        let from = got.len();
+        let to = us.len().min(from + CHUNK);
+        got.extend(self.sample(&us[from..to])?);
+        if to < us.len() {
+            return Ok(Stage::Sampling { us, wanted, got });
+        }
+        let mut fresh = got.into_iter();
+        let sampled: Vec<Pending> = std::mem::take(&mut r.pending)
+            .into_iter()
+            .zip(wanted)
+            .map(|(mut p, count)| {
+                let new: Vec<Sample> = fresh.by_ref().take(count).collect();
+                p.samples = interleave(std::mem::take(&mut p.samples), new);
+                p
+            })
+            .collect();
+        Ok(Stage::Settling {
+            sampled: sampled.into_iter(),
+            done: Vec::new(),
+            next: Vec::new(),
+        })
     }
 
     /// At the head of a round: whether the budgets are spent. A lenient

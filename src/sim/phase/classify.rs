@@ -5,21 +5,35 @@
 
 use super::*;
 
-/// The most map evaluations (iterates, solves, the interpolant's
-/// samples) one [`Classifier::advance`] spends before it gives its thread
-/// back: about 3 ms of the page's frame. A solve or an iterate is not cut,
-/// so a piece may end a little past it.
-const PIECE_EVALUATIONS: u64 = 64;
+/// The most map evaluations (iterates, a solve's steps, the
+/// interpolant's samples) one [`Classifier::advance`] spends before it
+/// gives its thread back: about 3 ms of the page's frame. An iterate or a
+/// step of a solve is not cut, so a piece may end a little past it.
+const PIECE_EVALUATIONS: u64 = 32;
 
 /// A cell's iterates and tests in progress (see the module's doc), a
-/// bounded piece of work a call, the same bit for bit however it is cut.
+/// bounded piece of work a call, the same bit for bit however it is cut:
+/// a test that needs a cycle solved waits for the solve, a map evaluation
+/// a step ([`CycleSolve`]), and then the tests of that iterate run again
+/// with its result.
 pub(super) struct Classifier {
     run: CellRun,
     /// The next iterate's index.
     i: usize,
     /// The interpolant being built for the rest of the iterates.
     building: Option<StepperBuild>,
+    /// Whether its build was begun (once: built or refused, the iterates
+    /// go on).
+    built: bool,
     stepper: Option<Stepper>,
+    /// A solve a test waited for has ended: the tests run again, from
+    /// that test ([`Self::resume`]).
+    retest: bool,
+    /// The test that waits for a solve (0: the period, 1: the contraction,
+    /// 2: λ's near repeat); the tests before it have run.
+    resume: usize,
+    /// The iterates are spent: the budget's verdict is what is left.
+    at_end: bool,
 }
 
 impl Classifier {
@@ -28,7 +42,11 @@ impl Classifier {
             run: CellRun::new(sim, theta_start, opts),
             i: 0,
             building: None,
+            built: false,
             stepper: None,
+            retest: false,
+            resume: 0,
+            at_end: false,
         }
     }
 
@@ -44,44 +62,83 @@ impl Classifier {
 
     /// Iterates and tests until the cell is classified (`true`) or about
     /// [`PIECE_EVALUATIONS`] map evaluations were spent (`false`: call
-    /// again). `cancel` is polled every iterate.
+    /// again). `cancel` is polled every iterate and every solve's step.
     pub(super) fn advance(
         &mut self,
         cell: &mut PhaseCell,
         cancel: &dyn Fn() -> bool,
     ) -> Result<bool, SimError> {
-        let from = cell.iterates;
-        let opts = self.run.opts;
-        while self.i < opts.transient + opts.keep {
+        let from = self.run.evaluations(cell);
+        let total = self.run.opts.transient + self.run.opts.keep;
+        loop {
             if cancel() {
                 return Err(SimError::Cancelled);
             }
-            if let Some(b) = self.building.take() {
+            let classified = if self.run.solving.is_some() {
+                // One step of the solve a test waits for.
+                self.retest |= self.run.solve_step(cell);
+                false
+            } else if std::mem::take(&mut self.retest) {
+                self.tests(cell)?
+            } else if let Some(b) = self.building.take() {
                 // The interpolant's construction, one piece a call.
                 self.building = self.run.build_step(cell, b, &mut self.stepper);
-                if self.building.is_some() {
-                    return Ok(false);
-                }
-            } else if let Some(b) = self.run.switch_map(cell, self.i) {
+                false
+            } else if self.i >= total {
+                self.at_end = true;
+                self.tests(cell)?
+            } else if !self.built
+                && let Some(b) = self.run.switch_map(cell, self.i)
+            {
                 self.building = Some(b);
-                continue;
+                self.built = true;
+                false
+            } else {
+                self.run.iterate(cell, self.i, &mut self.stepper)?;
+                self.i += 1;
+                cell.theta_last = self.run.theta;
+                self.run.solved.clear();
+                self.tests(cell)?
+            };
+            if classified {
+                return Ok(true);
             }
-            let i = self.i;
-            self.i += 1;
-            self.run.iterate(cell, i, &mut self.stepper)?;
-            cell.theta_last = self.run.theta;
-            if opts.early_exit && i + 1 >= MIN_TRANSIENT {
-                let run = &mut self.run;
-                if run.settled(cell)? || run.contracting(cell, i) || run.chaotic(cell)? {
-                    return Ok(true);
-                }
-            }
-            if cell.iterates - from >= PIECE_EVALUATIONS {
+            if self.run.evaluations(cell) - from >= PIECE_EVALUATIONS {
                 return Ok(false);
             }
         }
-        self.run.finish(cell)?;
-        Ok(true)
+    }
+
+    /// The tests after the last iterate (or, at the end, the budget's
+    /// verdict), from the one that waited for a solve if one did: whether
+    /// the cell is classified. `false` too while a test waits for its
+    /// solve.
+    fn tests(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
+        let run = &mut self.run;
+        if self.at_end {
+            run.finish(cell)?;
+            return Ok(run.solving.is_none());
+        }
+        let i = self.i - 1;
+        if !run.opts.early_exit || i + 1 < MIN_TRANSIENT {
+            return Ok(false);
+        }
+        let from = std::mem::take(&mut self.resume);
+        for test in from..3 {
+            let classified = match test {
+                0 => run.settled(cell)?,
+                1 => run.contracting(cell, i),
+                _ => run.chaotic(cell)?,
+            };
+            if classified {
+                return Ok(true);
+            }
+            if run.solving.is_some() {
+                self.resume = test;
+                return Ok(false);
+            }
+        }
+        Ok(false)
     }
 }
 
@@ -108,6 +165,10 @@ struct CellRun {
     near_tried: Option<usize>,
     /// Map and right-hand-side evaluations of solves not yet charged.
     spent: (u64, u64),
+    /// The solve a test waits for: its seed and period, in progress.
+    solving: Option<(f64, usize, CycleSolve)>,
+    /// The solves done for the last iterate's tests (seed, period, result).
+    solved: Vec<(f64, usize, Result<Cycle, CycleFailure>)>,
     /// The cycle the cell was found periodic on.
     cycle: Option<Vec<f64>>,
 }
@@ -127,8 +188,55 @@ impl CellRun {
             unstable_seen: false,
             near_tried: None,
             spent: (0, 0),
+            solving: None,
+            solved: Vec::new(),
             cycle: None,
         }
+    }
+
+    /// The cell's map evaluations so far, the waiting solve's included.
+    fn evaluations(&self, cell: &PhaseCell) -> u64 {
+        cell.iterates + self.solving.as_ref().map_or(0, |s| s.2.spent().0)
+    }
+
+    /// The p-cycle from `seed` a test asks for: its result if it was
+    /// solved for this iterate's tests; else the solve is begun (unless
+    /// another is under way) and the test must wait (`None`).
+    fn solve(&mut self, seed: f64, p: usize) -> Option<Result<Cycle, CycleFailure>> {
+        let done = self
+            .solved
+            .iter()
+            .find(|(s, q, _)| s.to_bits() == seed.to_bits() && *q == p);
+        if let Some((_, _, r)) = done {
+            return Some(r.clone());
+        }
+        if self.solving.is_none() {
+            match CycleSolve::start(&self.sim, seed, p, &self.cycle_opts) {
+                Ok(s) => self.solving = Some((seed, p, s)),
+                Err(e) => {
+                    self.solved.push((seed, p, Err(e.clone())));
+                    return Some(Err(e));
+                }
+            }
+        }
+        None
+    }
+
+    /// One step (a map evaluation) of the waiting solve; whether it ended,
+    /// its result kept for the tests and its cost charged to the cell.
+    fn solve_step(&mut self, cell: &mut PhaseCell) -> bool {
+        let Some((seed, p, mut s)) = self.solving.take() else {
+            return false;
+        };
+        let Some(r) = s.advance(&self.sim) else {
+            self.solving = Some((seed, p, s));
+            return false;
+        };
+        let (maps, rhs) = s.spent();
+        cell.iterates += maps;
+        cell.rhs_evals += rhs;
+        self.solved.push((seed, p, r));
+        true
     }
 
     /// Adds the solves' cost to the cell's.
@@ -255,10 +363,10 @@ impl CellRun {
         // The cycle solved from the next onset gives the exponent ln|m|/p;
         // if it cannot be solved, the mean of ln|f'| on its last p
         // iterates does.
-        let solved = solve_counting(&self.sim, self.theta, p, &self.cycle_opts, &mut self.spent)
-            .ok()
-            .filter(|c| c.minimal_period == p);
-        self.charge(cell);
+        let Some(solved) = self.solve(self.theta, p) else {
+            return Ok(false);
+        };
+        let solved = solved.ok().filter(|c| c.minimal_period == p);
         let (lc, points) = match solved {
             Some(c) => {
                 // The solve started from the next onset: its point 0 is
@@ -301,15 +409,10 @@ impl CellRun {
         let Some(c) = contraction(&seq, self.noise) else {
             return false;
         };
-        let confirmed = confirm_contraction(
-            &self.sim,
-            &seq,
-            &c,
-            &self.cycle_opts,
-            self.noise,
-            &mut self.spent,
-        );
-        self.charge(cell);
+        let Some(solved) = self.solve(c.limit, c.period) else {
+            return false;
+        };
+        let confirmed = solved.ok().filter(|cy| confirms(cy, &seq, &c, self.noise));
         if let Some(cycle) = confirmed {
             cell.theta_last = cycle.points[0];
             self.periodic(cell, &cycle.points, cycle.lyapunov());
@@ -338,6 +441,10 @@ impl CellRun {
         if self.near_cycle(cell)? {
             return Ok(true);
         }
+        if self.solving.is_some() {
+            // The near repeat's solve first.
+            return Ok(false);
+        }
         let p = self.sim.params();
         cell.class = CellClass::Chaos;
         cell.lyapunov = Some(l);
@@ -347,21 +454,22 @@ impl CellRun {
     }
 
     /// The cycle the iterates nearly repeat on, if it attracts
-    /// ([`near_cycle`]): the cell is then periodic. One solve per period.
+    /// ([`NearRepeat`]): the cell is then periodic. One solve per period.
     fn near_cycle(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
         let from = self.thetas.len().saturating_sub(2 * CONTRACTION_PERIOD_MAX);
         let mut seq = self.thetas[from..].to_vec();
         seq.push(self.theta);
-        let Some(p) = near_period(&seq) else {
+        let Some(near) = NearRepeat::of(&seq) else {
             return Ok(false);
         };
-        if self.near_tried == Some(p) {
+        if self.near_tried == Some(near.period) {
             return Ok(false);
         }
-        self.near_tried = Some(p);
-        let solved = near_cycle(&self.sim, &seq, &self.cycle_opts, &mut self.spent);
-        self.charge(cell);
-        let Some(c) = solved else {
+        let Some(solved) = self.solve(near.seed, near.period) else {
+            return Ok(false);
+        };
+        self.near_tried = Some(near.period);
+        let Some(c) = solved.ok().filter(|c| near.accepts(c)) else {
             return Ok(false);
         };
         cell.theta_last = c.points[0];
@@ -381,7 +489,7 @@ impl CellRun {
         let chaos = matches!((l, se), (Some(l), Some(se)) if l - opts.sigmas * se > 0.0);
         // Not chaotic (or not yet tested as such): a cycle the orbit nearly
         // repeats on may be what it is slowly reaching.
-        if opts.early_exit && !chaos && self.near_cycle(cell)? {
+        if opts.early_exit && !chaos && self.near_cycle(cell)? || self.solving.is_some() {
             return Ok(());
         }
         let p = self.sim.params();
