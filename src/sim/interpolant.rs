@@ -277,6 +277,25 @@ impl InterpolantBuild {
         (self.me.evaluations as u64, self.me.rhs_evals)
     }
 
+    /// The build run to its end, all at once; what it spent is added to
+    /// `spent`, also when it is refused.
+    pub fn run_counting(
+        mut self,
+        spent: &mut (u64, u64),
+    ) -> Result<MapInterpolant, InterpolantError> {
+        let done = loop {
+            match self.advance() {
+                Ok(true) => break Ok(()),
+                Ok(false) => {}
+                Err(e) => break Err(e),
+            }
+        };
+        let (evaluations, rhs) = self.spent();
+        spent.0 += evaluations;
+        spent.1 += rhs;
+        done.map(|()| self.finish())
+    }
+
     /// The interpolant, once [`Self::advance`] has said the build is done.
     pub fn finish(mut self) -> MapInterpolant {
         let pieces = self.done.take().expect("finish follows a done advance");
@@ -333,18 +352,7 @@ impl MapInterpolant {
         spent: &mut (u64, u64),
         lenient: bool,
     ) -> Result<Self, InterpolantError> {
-        let mut build = InterpolantBuild::start(sim, lo, hi, opts, lenient)?;
-        let done = loop {
-            match build.advance() {
-                Ok(true) => break Ok(()),
-                Ok(false) => {}
-                Err(e) => break Err(e),
-            }
-        };
-        let (evaluations, rhs) = build.spent();
-        spent.0 += evaluations;
-        spent.1 += rhs;
-        done.map(|()| build.finish())
+        InterpolantBuild::start(sim, lo, hi, opts, lenient)?.run_counting(spent)
     }
 
     /// The interval in θ − ψ, refused when off the arc.

@@ -143,15 +143,7 @@ impl StepperBuild {
     /// The stepper, once [`Self::advance`] has said the build is done; its
     /// construction counts as charged ([`Stepper::take_cost`]).
     pub fn finish(self) -> Stepper {
-        let charged = self.build.spent();
-        Stepper {
-            interp: self.build.finish(),
-            pad: self.pad,
-            direct: 0,
-            rhs_evals: 0,
-            refused: None,
-            charged,
-        }
+        Stepper::on(self.build.finish(), self.pad)
     }
 }
 
@@ -184,18 +176,20 @@ impl Stepper {
         iopts: InterpolantOptions,
         spent: &mut (u64, u64),
     ) -> Result<Self, InterpolantError> {
-        let mut build = StepperBuild::over(sim, recent, iopts)?;
-        let done = loop {
-            match build.advance() {
-                Ok(true) => break Ok(()),
-                Ok(false) => {}
-                Err(e) => break Err(e),
-            }
-        };
-        let (n, rhs) = build.spent();
-        spent.0 += n;
-        spent.1 += rhs;
-        done.map(|()| build.finish())
+        let StepperBuild { build, pad } = StepperBuild::over(sim, recent, iopts)?;
+        Ok(Stepper::on(build.run_counting(spent)?, pad))
+    }
+
+    /// The stepper on `interp`, its construction charged.
+    fn on(interp: MapInterpolant, pad: f64) -> Self {
+        Stepper {
+            charged: (interp.evaluations() as u64, interp.rhs_evals()),
+            interp,
+            pad,
+            direct: 0,
+            rhs_evals: 0,
+            refused: None,
+        }
     }
 
     /// The cost (map evaluations, RHS evaluations) since the last call (or
