@@ -21,8 +21,9 @@ mod stepper;
 use std::f64::consts::FRAC_PI_2;
 
 use super::{SimError, Simulator, SlipEvent};
-use crate::model::{elastic_energy, exit_arc, point_from_theta, wrap_angle};
+use crate::model::{elastic_energy, point_from_theta, wrap_angle};
 
+pub use build::InterpolantBuild;
 pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
 pub use stepper::{InterpolantSummary, MIN_DIRECT, MapTally, MapUsed, Stepper, StepperBuild};
 
@@ -213,95 +214,6 @@ pub(crate) fn onset_span(psi: f64, onsets: &[f64], pad_fraction: f64) -> Option<
     let pad = (pad_fraction * (hi - lo)).max(1e-3);
     let edge = FRAC_PI_2 - 1e-9;
     Some(((lo - pad).max(-edge), (hi + pad).min(edge), pad))
-}
-
-/// A construction of f in progress ([`MapInterpolant::build`] and
-/// [`MapInterpolant::build_lenient`] run one to its end), one bounded piece
-/// of work a call: a caller that must give its thread back (the page's
-/// frame) pauses between any two.
-#[derive(Debug)]
-pub struct InterpolantBuild {
-    me: MapInterpolant,
-    resolve: build::Resolve,
-    done: Option<Vec<Piece>>,
-}
-
-impl InterpolantBuild {
-    /// A build of f over [lo, hi] (radians, on the exit arc), `lenient` as
-    /// [`MapInterpolant::build_lenient`]; refused at once for bad options
-    /// or an interval off the arc.
-    pub fn start(
-        sim: &Simulator,
-        lo: f64,
-        hi: f64,
-        opts: InterpolantOptions,
-        lenient: bool,
-    ) -> Result<Self, InterpolantError> {
-        if !(opts.tol > 0.0 && opts.max_pieces >= 1) {
-            return Err(InterpolantError::Options(
-                "tol must be > 0 and max_pieces >= 1",
-            ));
-        }
-        let p = sim.params();
-        let (psi, _) = exit_arc(p.kappa, p.theta_nu);
-        let me = MapInterpolant {
-            sim: *sim,
-            psi,
-            opts,
-            pieces: Vec::new(),
-            starts: Vec::new(),
-            verification: Verification::default(),
-            evaluations: 0,
-            rhs_evals: 0,
-            lenient,
-        };
-        let (a, b) = me.check_interval(lo, hi)?;
-        Ok(InterpolantBuild {
-            me,
-            resolve: build::Resolve::new(a, b, opts.max_pieces),
-            done: None,
-        })
-    }
-
-    /// One piece of the work (a few ms at most); whether the build is done.
-    /// An error refuses the build, and it must not be advanced again.
-    pub fn advance(&mut self) -> Result<bool, InterpolantError> {
-        if self.done.is_none() {
-            self.done = self.me.advance(&mut self.resolve)?;
-        }
-        Ok(self.done.is_some())
-    }
-
-    /// Map evaluations and right-hand-side evaluations spent so far.
-    pub fn spent(&self) -> (u64, u64) {
-        (self.me.evaluations as u64, self.me.rhs_evals)
-    }
-
-    /// The build run to its end, all at once; what it spent is added to
-    /// `spent`, also when it is refused.
-    pub fn run_counting(
-        mut self,
-        spent: &mut (u64, u64),
-    ) -> Result<MapInterpolant, InterpolantError> {
-        let done = loop {
-            match self.advance() {
-                Ok(true) => break Ok(()),
-                Ok(false) => {}
-                Err(e) => break Err(e),
-            }
-        };
-        let (evaluations, rhs) = self.spent();
-        spent.0 += evaluations;
-        spent.1 += rhs;
-        done.map(|()| self.finish())
-    }
-
-    /// The interpolant, once [`Self::advance`] has said the build is done.
-    pub fn finish(mut self) -> MapInterpolant {
-        let pieces = self.done.take().expect("finish follows a done advance");
-        self.me.insert(pieces);
-        self.me
-    }
 }
 
 impl MapInterpolant {
