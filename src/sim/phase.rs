@@ -348,16 +348,9 @@ impl CellSteps {
                     }
                     Ok(true) => {
                         if self.count || self.cell.class == CellClass::Undecided {
-                            let sim = Simulator::new(self.params, *c.settings());
-                            match sim {
-                                Ok(sim) => {
-                                    let run = AttractorsRun::new(&sim, &CellOptions::column());
-                                    self.stage = Stage::Tell(Box::new(run));
-                                }
-                                Err(e) => {
-                                    cells::tell(&mut self.cell, Err(e.into()), self.count);
-                                }
-                            }
+                            // The cell graph on the cell's own simulator.
+                            let run = AttractorsRun::new(c.simulator(), &CellOptions::column());
+                            self.stage = Stage::Tell(Box::new(run));
                         }
                     }
                 }

@@ -50,9 +50,9 @@ impl Classifier {
         }
     }
 
-    /// The solver the cell runs on.
-    pub(super) fn settings(&self) -> &SolverSettings {
-        self.run.sim.settings()
+    /// The simulator the cell runs on.
+    pub(super) fn simulator(&self) -> &Simulator {
+        &self.run.sim
     }
 
     /// The interpolant the cell's iterates came from, once built.
