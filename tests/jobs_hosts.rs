@@ -42,6 +42,8 @@ struct Results {
     resent: usize,
     lyapunovs: BTreeMap<usize, String>,
     column_costs: BTreeMap<usize, u64>,
+    /// How each column's points after the transient were computed.
+    column_maps: BTreeMap<usize, String>,
     cells: BTreeMap<(usize, usize), String>,
     rows: Vec<String>,
     /// Basins columns by index (a parallel job's come in any order).
@@ -82,10 +84,12 @@ fn results(ups: &[Update]) -> Results {
                 attractor,
                 lyapunov,
                 rhs_evals,
+                map,
                 ..
             } => {
                 r.lyapunovs.insert(*index, format!("{lyapunov:?}"));
                 r.column_costs.insert(*index, *rhs_evals);
+                r.column_maps.insert(*index, format!("{map:?}"));
                 // Each attractor label folded into its value (θ + 100·label),
                 // so that the hosts must agree on both.
                 let labelled = thetas
@@ -220,6 +224,84 @@ fn map_iterates_are_the_same_on_every_host() {
     ));
     assert_eq!(r.iterates.len(), 40);
     assert_eq!(r.graphs.len(), 2, "f, then f with f²");
+}
+
+#[test]
+fn an_orbit_on_the_interpolant_is_the_same_on_every_host_and_paused_after_every_piece() {
+    // Fig. 3b's chaotic band: the scout's 300 integrated iterates, the
+    // build (at most 64 map evaluations a piece), then 512 iterates of the
+    // series a piece, extensions where the orbit leaves the interval.
+    let spec = IterateSpec {
+        params: Params {
+            theta_nu: 1.25,
+            ..preset("fig3b")
+        },
+        settings: settings(),
+        theta0: None,
+        transient: 1000,
+        keep: 30_000,
+        graph_powers: 0,
+        options: oneblock::jobs::IterateOptions {
+            map: MapChoice::Interpolant,
+            report: true,
+            ..Default::default()
+        },
+    };
+    let r = same_on_both_hosts(Command::run(4, spec.clone()));
+    assert_eq!(r.iterates.len(), 30_000);
+    let report = r
+        .other
+        .iter()
+        .find(|o| o.starts_with("Orbit"))
+        .expect("the orbit");
+    assert!(report.contains("map: Interpolant("), "{report}");
+    let (paused, steps) = local_paused(Spec::Iterate(spec.clone()));
+    assert_eq!(paused, r);
+    assert!(steps > 300 + 31_000 / 512, "{steps} steps");
+    // The library's blocking call runs the same loop: the same orbit.
+    let sim = Simulator::new(spec.params, spec.settings).expect("valid");
+    let opts = oneblock::sim::OrbitOptions {
+        transient: spec.transient,
+        keep: spec.keep,
+        lyapunov: true,
+        period_tol: oneblock::sim::OrbitOptions::period_tol_of(&spec.settings),
+    };
+    let iopts = oneblock::sim::InterpolantOptions::for_settings(&spec.settings);
+    let io = oneblock::sim::orbit_interpolated(&sim, spec.params.theta_nu, &opts, iopts, &|| false)
+        .expect("the interpolant is built");
+    assert_eq!(io.orbit.thetas(), r.iterates);
+}
+
+#[test]
+fn a_column_on_the_interpolant_pauses_in_its_build_and_its_points() {
+    // Chaotic columns of Fig. 3b keeping 8000 points: after the transient
+    // each builds the interpolant over its recent onsets (in pieces of at
+    // most 64 map evaluations) and takes its points from it (64 a piece).
+    let spec = SweepSpec {
+        params: preset("fig3b"),
+        settings: settings(),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(1.25, 1.29, 2),
+        transient: 200,
+        keep: 8000,
+        map: MapChoice::Interpolant,
+        theta0: None,
+        seeds: 0,
+    };
+    let r = same_on_both_hosts(Command::run(5, spec.clone()));
+    assert_eq!(r.columns.len(), 2);
+    assert!(
+        r.column_maps
+            .values()
+            .all(|m| m.starts_with("Interpolant(")),
+        "{:?}",
+        r.column_maps
+    );
+    assert!(r.columns.values().all(|(_, t)| t.len() == 8000));
+    let (paused, steps) = local_paused(Spec::Sweep(spec));
+    assert_eq!(paused, r);
+    // Each build is about 10 000 map evaluations: 150 pieces at least.
+    assert!(steps > 2 * (200 + 8000 / 64 + 150), "{steps} steps");
 }
 
 #[test]

@@ -1,31 +1,33 @@
-//! The iterate job: an orbit of the map, one slip cycle a unit, by the
-//! core's one orbit loop ([`OrbitRun`], the loop of `Simulator::orbit`), so
-//! its numbers are the core's bit for bit. Kept iterates stream in batches
+//! The iterate job: an orbit of the map, one slip cycle a unit (on the
+//! interpolant, one bounded piece of it), by the core's one orbit loop
+//! ([`OrbitRun`], the loop of `Simulator::orbit` and of
+//! `orbit_interpolated`), so its numbers are the core's bit for bit.
+//! Kept iterates stream in batches
 //! with the period of all kept so far and the running Lyapunov exponent;
 //! the last batch carries what the orbit settles to; then, as the options
 //! ask, the whole orbit ([`Update::Orbit`], for `oneblock orbit`) and the
 //! graph of the map (for the window's return map).
 
-use std::cell::{Cell, RefCell};
 use std::sync::Mutex;
 use web_time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, GRAPH_POINTS, ITERATE_BATCH, Pacer, progress};
 use super::protocol::{IterateSpec, MAX_GRAPH_POWER, Update};
 use super::{Job, JobError, Sink, Status, Stop, lock};
-use crate::sim::interpolant::{InterpolantOptions, MapUsed, orbit_interpolated};
+use crate::sim::interpolant::{InterpolantOptions, MapUsed};
 use crate::sim::{
     LANES, Orbit, OrbitOptions, OrbitRun, Period, SimError, Simulator, cycles_in_lanes,
     map_graph_grid, mean_and_stderr, return_map_window, settled_period,
 };
 
-/// Map iterates (see the module's comment). A unit is one slip cycle; an
-/// interpolated orbit (`MapChoice::Interpolant`, or `Auto` on a long
-/// run) is one unit that polls every 4096 iterates.
+/// Map iterates (see the module's comment). A unit is one slip cycle, or
+/// on the interpolant (`MapChoice::Interpolant`, or `Auto` on a long run)
+/// one piece of [`OrbitRun::interpolated`]: a scout's cycle, a piece of
+/// the build or of an extension, or a batch of iterates from the series.
 pub(crate) struct IterateJob {
     sim: Simulator,
-    opts: OrbitOptions,
-    interpolate: bool,
+    /// The period test's tolerance, for the batches' period.
+    period_tol: f64,
     report: bool,
     graph_powers: usize,
     state: Mutex<IterateState>,
@@ -33,9 +35,7 @@ pub(crate) struct IterateJob {
 
 /// Where the job is.
 enum Stage {
-    /// Nothing run yet (the interpolated orbit is tried first).
-    Start,
-    /// Cycle by cycle.
+    /// Piece by piece.
     Cycles(Box<OrbitRun>),
     /// Finished: the graph, if any, drawn.
     Done,
@@ -43,8 +43,6 @@ enum Stage {
 
 struct IterateState {
     stage: Stage,
-    theta0: f64,
-    map: MapUsed,
     /// The kept onsets so far (the period test's input).
     kept: Vec<f64>,
     sent: usize,
@@ -74,17 +72,19 @@ impl IterateJob {
                 .period_tol
                 .unwrap_or_else(|| OrbitOptions::period_tol_of(&settings)),
         };
-        let interpolate = options.map.interpolates(transient.saturating_add(keep));
+        let run = if options.map.interpolates(transient.saturating_add(keep)) {
+            let iopts = InterpolantOptions::for_settings(sim.settings());
+            OrbitRun::interpolated(&sim, theta0, &opts, iopts)?
+        } else {
+            OrbitRun::new(&sim, theta0, &opts)?
+        };
         Ok(IterateJob {
+            period_tol: opts.period_tol,
             sim,
-            opts,
-            interpolate,
             report: options.report,
             graph_powers,
             state: Mutex::new(IterateState {
-                stage: Stage::Start,
-                theta0,
-                map: MapUsed::Direct,
+                stage: Stage::Cycles(Box::new(run)),
                 kept: Vec::with_capacity(keep.min(1 << 16)),
                 sent: 0,
                 last_flush: Instant::now(),
@@ -93,44 +93,10 @@ impl IterateJob {
         })
     }
 
-    /// The interpolated orbit, or `None` when its interpolant was refused
-    /// (the reason kept: the orbit is then integrated).
-    fn interpolated(
-        &self,
-        st: &mut IterateState,
-        sink: &dyn Sink,
-    ) -> Result<Option<Orbit>, JobError> {
-        let iopts = InterpolantOptions::for_settings(self.sim.settings());
-        // The run polls once per 4096 iterates: its progress goes with it.
-        let (polled, pacer) = (Cell::new(0u64), RefCell::new(Pacer::new()));
-        let total = (self.opts.transient + self.opts.keep).max(1) as f64;
-        let polls = || {
-            let n = 4096 * polled.get();
-            polled.set(polled.get() + 1);
-            let mut pacer = pacer.borrow_mut();
-            if pacer.due() {
-                // A refused update is a stale job, which the poll says.
-                progress(sink, (n as f64 / total).min(1.0), &pacer, n).ok();
-            }
-            sink.cycle()
-        };
-        match orbit_interpolated(&self.sim, st.theta0, &self.opts, iopts, &polls) {
-            Ok(r) => {
-                st.map = MapUsed::Interpolant(r.summary());
-                Ok(Some(r.orbit))
-            }
-            Err(_) if sink.stale() => Err(Stop::Stale.into()),
-            Err(e) => {
-                st.map = MapUsed::Refused(e.to_string());
-                Ok(None)
-            }
-        }
-    }
-
     /// The kept onsets not yet sent, with the period of all so far and the
     /// running exponent.
     fn batch(&self, st: &IterateState, logs: &[f64], generation: u64) -> Update {
-        let period = match settled_period(&st.kept, self.opts.period_tol) {
+        let period = match settled_period(&st.kept, self.period_tol) {
             Some(p) => Period::Periodic(p),
             None => Period::Aperiodic,
         };
@@ -181,6 +147,7 @@ impl IterateJob {
         &self,
         st: &mut IterateState,
         orbit: Orbit,
+        map: MapUsed,
         sink: &dyn Sink,
     ) -> Result<(), JobError> {
         let generation = sink.generation();
@@ -199,7 +166,7 @@ impl IterateJob {
             sink.send(Update::Orbit {
                 generation,
                 orbit: Box::new(orbit),
-                map: st.map.clone(),
+                map,
             })?;
         }
         if self.graph_powers == 0 {
@@ -213,23 +180,12 @@ impl Job for IterateJob {
     fn step(&self, width: usize, sink: &dyn Sink) -> Result<Status, JobError> {
         let mut guard = lock(&self.state);
         let st = &mut *guard;
-        if let Stage::Start = st.stage {
-            if self.interpolate
-                && let Some(orbit) = self.interpolated(st, sink)?
-            {
-                st.stage = Stage::Done;
-                self.conclude(st, orbit, sink)?;
-                return Ok(Status::Done);
-            }
-            let run = OrbitRun::new(&self.sim, st.theta0, &self.opts)?;
-            st.stage = Stage::Cycles(Box::new(run));
-        }
         let Stage::Cycles(mut run) = std::mem::replace(&mut st.stage, Stage::Done) else {
             return Ok(Status::Done);
         };
         for _ in 0..width.max(1) {
             if let Some(orbit) = self.cycle(st, &mut run, sink)? {
-                self.conclude(st, orbit, sink)?;
+                self.conclude(st, orbit, run.map_used(), sink)?;
                 return Ok(Status::Done);
             }
         }

@@ -15,6 +15,7 @@
 
 mod build;
 pub mod chebyshev;
+mod extend;
 mod orbit;
 mod stepper;
 
@@ -24,7 +25,9 @@ use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, point_from_theta, wrap_angle};
 
 pub use build::InterpolantBuild;
-pub use orbit::{InterpolatedOrbit, MapChoice, orbit_interpolated};
+pub use extend::{Cover, Extension, Reach};
+pub(crate) use orbit::OrbitPiece;
+pub use orbit::{InterpolatedOrbit, MapChoice, OnInterpolant, orbit_interpolated};
 pub use stepper::{InterpolantSummary, MIN_DIRECT, MapTally, MapUsed, Stepper, StepperBuild};
 
 /// The width, in θ, to which a jump of f is bracketed; the bracket is
@@ -280,60 +283,6 @@ impl MapInterpolant {
             });
         }
         Ok((a, b))
-    }
-
-    /// Extends the interval to take in θ (with `pad` radians beyond it,
-    /// kept inside the arc), within what is left of the piece budget.
-    /// Nothing changes when it is refused.
-    pub fn extend_to(&mut self, theta: f64, pad: f64) -> Result<(), InterpolantError> {
-        let (lo, hi) = self.u_interval();
-        let u = wrap_angle(theta - self.psi);
-        if !(u > -FRAC_PI_2 && u < FRAC_PI_2) {
-            return Err(InterpolantError::OffArc {
-                lo: theta,
-                hi: theta,
-                arc_lo: self.psi - FRAC_PI_2,
-                arc_hi: self.psi + FRAC_PI_2,
-            });
-        }
-        let edge = FRAC_PI_2 - 1e-9;
-        let (a, b) = if u < lo {
-            ((u - pad).max(-edge).min(u), lo)
-        } else if u >= hi {
-            (hi, (u + pad).min(edge).max(u))
-        } else {
-            return Ok(());
-        };
-        let left = self.opts.max_pieces.saturating_sub(self.pieces.len());
-        if left == 0 || !(b > a) {
-            return Err(InterpolantError::Unresolved {
-                tol: self.opts.tol,
-                max_pieces: self.opts.max_pieces,
-                near: theta,
-            });
-        }
-        let new = self.resolve(a, b, left)?;
-        self.insert(new);
-        Ok(())
-    }
-
-    /// Extends the interval to θ when θ lies outside it, unless an
-    /// extension was refused before (`refused` holds why; a new refusal is
-    /// recorded there, and θ is left to direct integration from then on).
-    /// Whether it extended.
-    pub(crate) fn cover(&mut self, theta: f64, pad: f64, refused: &mut Option<String>) -> bool {
-        let (lo, hi) = self.interval();
-        let u = wrap_angle(theta - lo) + lo;
-        if refused.is_some() || (u >= lo && u <= hi) {
-            return false;
-        }
-        match self.extend_to(theta, pad) {
-            Ok(()) => true,
-            Err(e) => {
-                *refused = Some(e.to_string());
-                false
-            }
-        }
     }
 
     /// The interval covered, in θ − ψ.

@@ -8,6 +8,7 @@ use serde::{Deserialize, Serialize};
 
 use super::analysis::cycle_with_derivative;
 use super::cycles::{Cycle, CycleOptions, confirm_contraction, near_cycle, solve_counting};
+use super::interpolant::{InterpolantOptions, MapUsed, OnInterpolant, OrbitPiece};
 use super::period::{contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::{SimError, Simulator, SlipEvent};
@@ -221,6 +222,9 @@ pub struct OrbitRun {
     logs: Vec<f64>,
     /// Cycles done.
     i: usize,
+    /// Where the iterates come from the map's verified interpolant
+    /// ([`OrbitRun::interpolated`]).
+    interp: Option<Box<OnInterpolant>>,
 }
 
 impl OrbitRun {
@@ -236,7 +240,81 @@ impl OrbitRun {
             events: Vec::with_capacity(opts.keep),
             logs: Vec::new(),
             i: 0,
+            interp: None,
         })
+    }
+
+    /// The orbit from θ0 with its iterates from the map's verified
+    /// interpolant where it serves ([`OnInterpolant`]: the same orbit as
+    /// the integrated one to the interpolant's tolerance), each
+    /// [`OrbitRun::advance`] a bounded piece: one integrated cycle, a piece
+    /// of the interpolant's build or extension, or a batch of iterates
+    /// from its series.
+    pub fn interpolated(
+        sim: &Simulator,
+        theta0: f64,
+        opts: &OrbitOptions,
+        iopts: InterpolantOptions,
+    ) -> Result<Self, SimError> {
+        let mut run = Self::new(sim, theta0, opts)?;
+        run.interp = Some(Box::new(OnInterpolant::new(iopts)));
+        Ok(run)
+    }
+
+    /// The interpolant an [`OrbitRun::interpolated`] runs on.
+    pub fn on_interpolant(&self) -> Option<&OnInterpolant> {
+        self.interp.as_deref()
+    }
+
+    /// The interpolant, taken out (once the orbit is done).
+    pub fn take_interpolant(&mut self) -> Option<OnInterpolant> {
+        self.interp.take().map(|b| *b)
+    }
+
+    /// How the orbit evaluated the map so far.
+    pub fn map_used(&self) -> MapUsed {
+        self.interp
+            .as_ref()
+            .map_or(MapUsed::Direct, |on| on.map_used())
+    }
+
+    /// What the run computes.
+    pub fn options(&self) -> &OrbitOptions {
+        &self.opts
+    }
+
+    /// The onset the next cycle starts from.
+    pub fn theta(&self) -> f64 {
+        self.theta
+    }
+
+    /// The time at that onset.
+    pub(crate) fn time(&self) -> f64 {
+        self.t
+    }
+
+    /// Right-hand-side evaluations spent outside the orbit's own cycles.
+    pub(crate) fn add_evals(&mut self, n: u64) {
+        self.evals += n;
+    }
+
+    /// A transient iterate from elsewhere (the series): the next onset and
+    /// the cycle's duration.
+    pub(crate) fn skip(&mut self, next: f64, duration: f64) {
+        self.t += duration;
+        self.theta = next;
+        self.i += 1;
+    }
+
+    /// A kept iterate from elsewhere (the series): its event and f'(θ).
+    pub(crate) fn keep(&mut self, ev: SlipEvent, derivative: f64) {
+        if self.opts.lyapunov {
+            self.logs.push(derivative.abs().ln());
+        }
+        self.t += ev.slip_duration + ev.stick_duration;
+        self.theta = ev.theta_next;
+        self.events.push(ev);
+        self.i += 1;
     }
 
     /// The kept events so far.
@@ -268,8 +346,9 @@ impl OrbitRun {
     }
 
     /// One slip cycle (`cancel` polled before it) and `None`, or, once
-    /// every cycle is done, the settling and the orbit. `sim` must be the
-    /// simulator it was made with.
+    /// every cycle is done, the settling and the orbit. On the interpolant,
+    /// a bounded piece instead of a cycle ([`OrbitRun::interpolated`]).
+    /// `sim` must be the simulator it was made with.
     pub fn advance(
         &mut self,
         sim: &Simulator,
@@ -282,23 +361,29 @@ impl OrbitRun {
         if cancel() {
             return Some(Err(SimError::Cancelled));
         }
-        // Kept iterates of a Lyapunov run take f'(θ) too, its cycles
-        // stepped together with the iterate's own.
-        let kept = self.i >= opts.transient;
-        let ev = if kept && opts.lyapunov {
-            match cycle_with_derivative(sim, self.theta, self.t) {
-                Ok((ev, d, n)) => {
-                    self.evals += n;
-                    self.logs.push(d.abs().ln());
-                    ev
-                }
-                Err(e) => return Some(Err(e)),
-            }
+        if let Some(mut on) = self.interp.take() {
+            let piece = on.piece(sim, self);
+            self.interp = Some(on);
+            return match piece {
+                Ok(OrbitPiece::Done) => None,
+                Ok(OrbitPiece::Direct) => self.direct_cycle(sim).err().map(Err),
+                Err(e) => Some(Err(e)),
+            };
+        }
+        self.direct_cycle(sim).err().map(Err)
+    }
+
+    /// The next iterate, integrated. Kept iterates of a Lyapunov run take
+    /// f'(θ) too, its cycles stepped together with the iterate's own.
+    pub(crate) fn direct_cycle(&mut self, sim: &Simulator) -> Result<(), SimError> {
+        let kept = self.i >= self.opts.transient;
+        let ev = if kept && self.opts.lyapunov {
+            let (ev, d, n) = cycle_with_derivative(sim, self.theta, self.t)?;
+            self.evals += n;
+            self.logs.push(d.abs().ln());
+            ev
         } else {
-            match sim.cycle(self.theta, self.t, None) {
-                Ok(ev) => ev,
-                Err(e) => return Some(Err(e)),
-            }
+            sim.cycle(self.theta, self.t, None)?
         };
         self.evals += ev.rhs_evals;
         self.restarts += ev.restarted as usize;
@@ -308,7 +393,7 @@ impl OrbitRun {
         }
         self.theta = sim.next_onset(&ev);
         self.i += 1;
-        None
+        Ok(())
     }
 
     /// What the kept iterates settle to, and the orbit.
@@ -329,7 +414,7 @@ impl OrbitRun {
             cycle: s.cycle,
             lyapunov: s.lyapunov,
             lyapunov_stderr: s.lyapunov_stderr,
-            rhs_evals: self.evals + spent.1,
+            rhs_evals: self.evals + spent.1 + self.interp.as_ref().map_or(0, |on| on.rhs_evals()),
             theta_last: self.theta,
         }
     }

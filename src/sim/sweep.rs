@@ -22,13 +22,13 @@
 //! is refused, the column goes on integrating.
 
 use super::cycles::Cycle;
-use super::interpolant::{InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper};
+use super::interpolant::{MIN_DIRECT, MapChoice, MapUsed};
 use super::period::{PERIOD_MAX, contraction, settled_period};
 use super::{SimError, Simulator, SlipEvent};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc};
 use crate::sim::continuation::ContParam;
-use heavy::{Heavy, Solving};
+use heavy::{Heavy, Solving, Tabled};
 
 /// How long each column runs.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -222,6 +222,12 @@ struct ColumnRun {
     /// under way (paused between two map evaluations).
     heavy: Option<Heavy>,
     solving: Option<Box<Solving>>,
+    /// The turn to the interpolant under way: its build, then the rest of
+    /// the column on it (paused between two pieces).
+    tabled: Option<Box<Tabled>>,
+    /// The onset count at which `cancel` was last polled on the
+    /// interpolant (so that a pause does not poll it twice).
+    polled: usize,
 }
 
 /// When work running on a host's slice of time stops: before any cycle
@@ -287,6 +293,8 @@ impl ColumnRun {
             switch_due: false,
             heavy: None,
             solving: None,
+            tabled: None,
+            polled: 0,
         };
         // The neighbour's slow cycle, continued: if it still attracts here,
         // the column is on it from the start (solved before its first cycle).
@@ -299,7 +307,7 @@ impl ColumnRun {
     }
 
     /// Whether a heavy piece of work is to start before the next cycle (a
-    /// solve under way is not: it goes on one map evaluation at a time).
+    /// solve or an interpolant under way is not: it goes on in pieces).
     fn heavy_due(&self) -> bool {
         self.heavy.is_some() || self.switch_due
     }
@@ -336,13 +344,11 @@ impl ColumnRun {
 
     /// The onset of the next cycle to compute, or `None` once the column
     /// is complete (or cancelled: `cancel` is polled here, once a cycle).
-    /// A column due to turn to the interpolant does so here, and is then
-    /// complete unless the interpolant was refused.
+    /// The heavy work due is done first, all of it: a column due to turn
+    /// to the interpolant is then complete unless the interpolant was
+    /// refused.
     fn next_onset(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) -> Option<f64> {
-        self.heavy_step(sim, &NeverYield);
-        if std::mem::take(&mut self.switch_due) && !self.done {
-            self.interpolate(sim, cancel);
-        }
+        self.heavy_step(sim, &NeverYield, cancel);
         if self.done {
             return None;
         }
@@ -410,48 +416,6 @@ impl ColumnRun {
             self.switch_at = None;
             self.switch_due = true;
         }
-    }
-
-    /// The rest of the column from the interpolant built over the range of
-    /// its recent onsets; on a refusal nothing changes but the column's
-    /// `map`, and it goes on integrating.
-    fn interpolate(&mut self, sim: &Simulator, cancel: &dyn Fn() -> bool) {
-        let recent = &self.onsets[self.onsets.len().saturating_sub(300)..];
-        let mut spent = (0, 0);
-        // A refusal may cost up to twice what the kept points would have.
-        let iopts = InterpolantOptions {
-            max_evaluations: self.total.saturating_sub(self.transient).saturating_mul(2),
-            ..InterpolantOptions::for_settings(sim.settings())
-        };
-        let built = Stepper::over(sim, recent, iopts, &mut spent);
-        self.col.rhs_evals += spent.1;
-        let mut st = match built {
-            Ok(st) => st,
-            Err(e) => {
-                self.col.map = MapUsed::Refused(e.to_string());
-                return;
-            }
-        };
-        let mut theta = self.onsets[self.onsets.len() - 1];
-        while self.len() <= self.total {
-            if self.len().is_multiple_of(4096) && cancel() {
-                self.col.error = Some(SimError::Cancelled);
-                break;
-            }
-            match st.next(theta) {
-                Ok(next) => theta = next,
-                Err(e) => {
-                    let i = self.len() - 1;
-                    self.col.error = Some(e);
-                    self.col.thetas = self.span(self.transient.min(i), i).to_vec();
-                    break;
-                }
-            }
-            self.onsets.push(theta);
-        }
-        self.col.rhs_evals += st.take_cost().1;
-        self.col.map = MapUsed::Interpolant(st.summary());
-        self.done = true;
     }
 
     /// Drops transient onsets no longer needed (older than the settle

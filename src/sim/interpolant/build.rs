@@ -197,22 +197,6 @@ impl MapInterpolant {
         out
     }
 
-    /// Resolves [a, b] (in θ − ψ) into verified pieces, at most `budget`,
-    /// all at once.
-    pub(super) fn resolve(
-        &mut self,
-        a: f64,
-        b: f64,
-        budget: usize,
-    ) -> Result<Vec<Piece>, InterpolantError> {
-        let mut r = Resolve::new(a, b, budget);
-        loop {
-            if let Some(pieces) = self.advance(&mut r)? {
-                return Ok(pieces);
-            }
-        }
-    }
-
     /// One bounded piece of `r`'s work: at most [`CHUNK`] of a round's
     /// samples, or one pending piece settled (a jump bracketed), or one
     /// piece checked. The pieces once every one is verified.

@@ -1,11 +1,16 @@
 //! Orbits on the interpolated map: the same [`Orbit`] as
 //! [`Simulator::orbit`] gives, its iterates from the series wherever they
-//! are verified and from direct integration elsewhere.
+//! are verified and from direct integration elsewhere. The orbit loop is
+//! [`OrbitRun`]'s; [`OnInterpolant`] is what it carries when its iterates
+//! come from the interpolant: the scout, the build and the series, each in
+//! bounded pieces.
 
-use super::{InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use super::{
+    Cover, InterpolantBuild, InterpolantError, InterpolantOptions, InterpolantSummary,
+    MapInterpolant, MapUsed, Reach, onset_span,
+};
 use crate::model::exit_arc;
-use crate::sim::analysis::cycle_with_derivative;
-use crate::sim::{Orbit, OrbitOptions, SimError, Simulator};
+use crate::sim::{Orbit, OrbitOptions, OrbitRun, SimError, Simulator};
 
 /// How an orbit evaluates the map.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -57,6 +62,14 @@ impl MapChoice {
 /// interpolant's first interval is chosen.
 const SCOUT: usize = 300;
 
+/// Iterates from the series one [`OrbitRun::advance`] makes at most (an
+/// integrated iterate counts as [`DIRECT_COST`] of them; a piece of an
+/// extension ends the batch): a fraction of a millisecond.
+const SERIES_BATCH: usize = 512;
+
+/// What an integrated iterate counts for against [`SERIES_BATCH`].
+const DIRECT_COST: usize = 32;
+
 /// An orbit computed on the interpolant, with how it was computed.
 #[derive(Clone, Debug)]
 pub struct InterpolatedOrbit {
@@ -74,10 +87,7 @@ pub struct InterpolatedOrbit {
 }
 
 /// The orbit of [`Simulator::orbit`] from θ0, its iterates from the map's
-/// verified interpolant. The first [`SCOUT`] iterates of the transient are
-/// integrated, and the interpolant is first built over the range of their
-/// last two thirds (padded by a tenth); an iterate outside it extends it,
-/// and where that is refused the iterate is integrated.
+/// verified interpolant ([`OrbitRun::interpolated`], run to its end).
 /// Refuses (so that the caller integrates the whole orbit) when the first
 /// interval cannot be resolved.
 pub fn orbit_interpolated(
@@ -87,173 +97,268 @@ pub fn orbit_interpolated(
     iopts: InterpolantOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<InterpolatedOrbit, InterpolantError> {
-    sim.check_onset(theta0)?;
-    let p = sim.params();
-    let (psi, _) = exit_arc(p.kappa, p.theta_nu);
-    // The first iterates of the transient, integrated: where they settle
-    // is where the interpolant is first built.
-    let mut start = Start {
-        theta: theta0,
-        ..Start::default()
+    let mut run = OrbitRun::interpolated(sim, theta0, opts, iopts)?;
+    let orbit = loop {
+        if let Some(e) = run.on_interpolant().and_then(OnInterpolant::refusal) {
+            return Err(e.clone());
+        }
+        if let Some(r) = run.advance(sim, cancel) {
+            break r?;
+        }
     };
-    let mut seen = Vec::with_capacity(SCOUT);
-    for _ in 0..SCOUT.min(opts.transient) {
-        let ev = sim.cycle(start.theta, start.t, None)?;
-        start.evals += ev.rhs_evals;
-        start.restarts += ev.restarted as usize;
-        start.t += ev.slip_duration + ev.stick_duration;
-        start.theta = sim.next_onset(&ev);
-        start.done += 1;
-        seen.push(start.theta);
+    let on = run.take_interpolant().ok_or(InterpolantError::Options(
+        "the orbit ran without its interpolant",
+    ))?;
+    let direct_iterates = on.direct_iterates();
+    match on.stage {
+        Stage::On { interp, cover, .. } => Ok(InterpolatedOrbit {
+            orbit,
+            interpolant: interp,
+            direct_iterates,
+            extensions: cover.extensions,
+            refused_extension: cover.refused,
+        }),
+        Stage::Refused(e) => Err(e),
+        Stage::Scout { .. } | Stage::Build { .. } => Err(InterpolantError::Options(
+            "the orbit ended before its interpolant was built",
+        )),
     }
-    // A short transient: scout on, without moving the orbit.
-    let mut probe = start.theta;
-    while seen.len() < SCOUT / 3 {
-        let ev = sim.cycle(probe, 0.0, None)?;
-        start.evals += ev.rhs_evals;
-        probe = sim.next_onset(&ev);
-        seen.push(probe);
-    }
-    let (a, b, pad) =
-        onset_span(psi, &seen, 0.1).ok_or(InterpolantError::Options("no onsets to build over"))?;
-    let mut interp = MapInterpolant::build(sim, psi + a, psi + b, iopts)?;
-    let mut run = Run {
-        sim,
-        interp: &mut interp,
-        pad,
-        direct: 0,
-        extensions: 0,
-        refused: None,
-        evals: start.evals,
-    };
-    let orbit = run.orbit(&start, opts, cancel)?;
-    let (direct_iterates, extensions, refused_extension) =
-        (run.direct, run.extensions, run.refused);
-    let mut orbit = orbit;
-    orbit.rhs_evals += interp.rhs_evals();
-    Ok(InterpolatedOrbit {
-        orbit,
-        interpolant: interp,
-        direct_iterates: direct_iterates + start.done,
-        extensions,
-        refused_extension,
-    })
 }
 
 impl InterpolatedOrbit {
     /// How the orbit used its interpolant, for a summary.
-    pub fn summary(&self) -> super::InterpolantSummary {
+    pub fn summary(&self) -> InterpolantSummary {
         let refused = self.refused_extension.clone();
-        super::InterpolantSummary::of(&self.interpolant, self.direct_iterates, refused)
+        InterpolantSummary::of(&self.interpolant, self.direct_iterates, refused)
     }
 }
 
-/// Where the interpolated part of an orbit starts: after `done` integrated
-/// transient iterates, at θ and time t.
-#[derive(Default)]
-struct Start {
-    theta: f64,
-    t: f64,
-    done: usize,
-    restarts: usize,
-    evals: u64,
+/// An [`OrbitRun`]'s interpolant: the first [`SCOUT`] iterates of the
+/// transient are integrated, the interpolant is built over the range of
+/// their last two thirds (padded by a tenth), and the rest come from its
+/// series; an iterate outside the interval extends it, and where that is
+/// refused the iterate is integrated. A first interval that cannot be
+/// resolved leaves the rest of the orbit to direct integration.
+#[derive(Debug)]
+pub struct OnInterpolant {
+    iopts: InterpolantOptions,
+    /// The orbit's iterates integrated before the build.
+    scouted: usize,
+    stage: Stage,
 }
 
-/// The state of an interpolated orbit run.
-struct Run<'a> {
-    sim: &'a Simulator,
-    interp: &'a mut MapInterpolant,
-    pad: f64,
-    direct: usize,
-    extensions: usize,
-    refused: Option<String>,
-    evals: u64,
+/// Where an [`OnInterpolant`] is.
+#[derive(Debug)]
+enum Stage {
+    /// The scout's onsets so far; `probe`, once the transient is too short
+    /// to scout on, where the scout goes on without moving the orbit.
+    Scout {
+        seen: Vec<f64>,
+        probe: Option<f64>,
+    },
+    Build {
+        build: InterpolantBuild,
+        pad: f64,
+    },
+    On {
+        interp: MapInterpolant,
+        pad: f64,
+        cover: Cover,
+        /// Iterates integrated since the build.
+        direct: usize,
+    },
+    /// The first interval was refused: the orbit is integrated.
+    Refused(InterpolantError),
 }
 
-impl Run<'_> {
-    /// Makes sure θ is inside the interval, extending it once per excursion
-    /// until an extension is refused.
-    fn cover(&mut self, theta: f64) {
-        if self.interp.cover(theta, self.pad, &mut self.refused) {
-            self.extensions += 1;
+/// What [`OnInterpolant::piece`] leaves to the orbit loop.
+pub(crate) enum OrbitPiece {
+    /// A piece was done (iterates of the orbit, or work towards them).
+    Done,
+    /// The next iterate is to be integrated, as a direct orbit does.
+    Direct,
+}
+
+impl OnInterpolant {
+    pub(crate) fn new(iopts: InterpolantOptions) -> Self {
+        OnInterpolant {
+            iopts,
+            scouted: 0,
+            stage: Stage::Scout {
+                seen: Vec::with_capacity(SCOUT),
+                probe: None,
+            },
         }
     }
 
-    fn orbit(
+    /// Why the first interval was refused, if it was.
+    pub fn refusal(&self) -> Option<&InterpolantError> {
+        match &self.stage {
+            Stage::Refused(e) => Some(e),
+            _ => None,
+        }
+    }
+
+    /// Iterates integrated: the scout's and those outside every verified
+    /// series.
+    fn direct_iterates(&self) -> usize {
+        match &self.stage {
+            Stage::On { direct, .. } => self.scouted + direct,
+            _ => self.scouted,
+        }
+    }
+
+    /// Right-hand-side evaluations of the interpolant's construction and
+    /// extensions (the orbit's own are the run's).
+    pub(crate) fn rhs_evals(&self) -> u64 {
+        match &self.stage {
+            Stage::On { interp, .. } => interp.rhs_evals(),
+            _ => 0,
+        }
+    }
+
+    /// How the orbit evaluated the map, for its summary.
+    pub fn map_used(&self) -> MapUsed {
+        match &self.stage {
+            Stage::On { interp, cover, .. } => MapUsed::Interpolant(InterpolantSummary::of(
+                interp,
+                self.direct_iterates(),
+                cover.refused.clone(),
+            )),
+            Stage::Refused(e) => MapUsed::Refused(e.to_string()),
+            Stage::Scout { .. } | Stage::Build { .. } => MapUsed::Direct,
+        }
+    }
+
+    /// One bounded piece of `run`'s orbit: a scout's iterate, a piece of
+    /// the build, or up to [`SERIES_BATCH`] iterates from the series.
+    pub(crate) fn piece(
         &mut self,
-        start: &Start,
-        opts: &OrbitOptions,
-        cancel: &dyn Fn() -> bool,
-    ) -> Result<Orbit, SimError> {
-        let sim = self.sim;
-        let mut theta = start.theta;
-        let mut t = start.t;
-        let mut restarts = start.restarts;
-        let mut events = Vec::with_capacity(opts.keep);
-        let mut logs = Vec::with_capacity(if opts.lyapunov { opts.keep } else { 0 });
-        for i in start.done..opts.transient + opts.keep {
-            if i % 4096 == 0 && cancel() {
-                return Err(SimError::Cancelled);
-            }
-            let kept = i >= opts.transient;
-            if !kept {
-                if let Some((next, duration)) = self.interp.step(theta) {
-                    t += duration;
-                    theta = next;
-                    continue;
-                }
-                self.cover(theta);
-                if let Some((next, duration)) = self.interp.step(theta) {
-                    t += duration;
-                    theta = next;
-                    continue;
-                }
-            } else {
-                let mut tab = self.interp.slip_event(theta, t);
-                if tab.is_none() {
-                    self.cover(theta);
-                    tab = self.interp.slip_event(theta, t);
-                }
-                if let Some((ev, d)) = tab {
-                    if opts.lyapunov {
-                        logs.push(d.abs().ln());
+        sim: &Simulator,
+        run: &mut OrbitRun,
+    ) -> Result<OrbitPiece, SimError> {
+        match &mut self.stage {
+            Stage::Scout { seen, probe } => {
+                if run.cycles_done() < SCOUT.min(run.options().transient) {
+                    // The orbit's own first iterates, integrated.
+                    run.direct_cycle(sim)?;
+                    self.scouted += 1;
+                    seen.push(run.theta());
+                } else if seen.len() < SCOUT / 3 {
+                    // A short transient: scout on, without moving the orbit
+                    // (a cycle that fails here refuses the interpolant).
+                    let from = *probe.get_or_insert(run.theta());
+                    match sim.cycle(from, 0.0, None) {
+                        Ok(ev) => {
+                            run.add_evals(ev.rhs_evals);
+                            let next = sim.next_onset(&ev);
+                            *probe = Some(next);
+                            seen.push(next);
+                        }
+                        Err(e) => self.stage = Stage::Refused(e.into()),
                     }
-                    t += ev.slip_duration + ev.stick_duration;
-                    theta = ev.theta_next;
-                    events.push(ev);
-                    continue;
+                } else {
+                    self.stage = build(sim, seen, self.iopts);
                 }
+                Ok(OrbitPiece::Done)
             }
-            // No verified series here: integrate, as `Simulator::orbit` does.
-            self.direct += 1;
-            let ev = if kept && opts.lyapunov {
-                let (ev, d, n) = cycle_with_derivative(sim, theta, t)?;
-                self.evals += n;
-                logs.push(d.abs().ln());
-                ev
-            } else {
-                sim.cycle(theta, t, None)?
-            };
-            self.evals += ev.rhs_evals;
-            restarts += ev.restarted as usize;
-            t += ev.slip_duration + ev.stick_duration;
-            if kept {
-                events.push(ev);
+            Stage::Build { build, .. } => {
+                match build.advance() {
+                    Ok(false) => {}
+                    Ok(true) => self.built(),
+                    Err(e) => {
+                        // What the refused build cost is the orbit's.
+                        run.add_evals(build.spent().1);
+                        self.stage = Stage::Refused(e);
+                    }
+                }
+                Ok(OrbitPiece::Done)
             }
-            theta = sim.next_onset(&ev);
+            Stage::On {
+                interp,
+                pad,
+                cover,
+                direct,
+            } => series_batch(sim, run, interp, *pad, cover, direct),
+            Stage::Refused(_) => Ok(OrbitPiece::Direct),
         }
-        let thetas: Vec<f64> = events.iter().map(|e| e.theta).collect();
-        let mut spent = (0, 0);
-        let settled = sim.settle(&thetas, theta, &logs, opts.period_tol, &mut spent);
-        Ok(Orbit {
-            events,
-            restarts,
-            period: settled.period,
-            cycle: settled.cycle,
-            lyapunov: settled.lyapunov,
-            lyapunov_stderr: settled.lyapunov_stderr,
-            rhs_evals: self.evals + spent.1,
-            theta_last: theta,
-        })
     }
+
+    /// The finished build's interpolant, in use.
+    fn built(&mut self) {
+        let placeholder = Stage::Scout {
+            seen: Vec::new(),
+            probe: None,
+        };
+        if let Stage::Build { build, pad } = std::mem::replace(&mut self.stage, placeholder) {
+            self.stage = Stage::On {
+                interp: build.finish(),
+                pad,
+                cover: Cover::default(),
+                direct: 0,
+            };
+        }
+    }
+}
+
+/// The build over the range of the scout's onsets `seen`, or the
+/// refusal that leaves the orbit to direct integration.
+fn build(sim: &Simulator, seen: &[f64], iopts: InterpolantOptions) -> Stage {
+    let p = sim.params();
+    let (psi, _) = exit_arc(p.kappa, p.theta_nu);
+    let Some((a, b, pad)) = onset_span(psi, seen, 0.1) else {
+        return Stage::Refused(InterpolantError::Options("no onsets to build over"));
+    };
+    match InterpolantBuild::start(sim, psi + a, psi + b, iopts, false) {
+        Ok(build) => Stage::Build { build, pad },
+        Err(e) => Stage::Refused(e),
+    }
+}
+
+/// Up to [`SERIES_BATCH`] iterates of `run` from the series (the
+/// transient's as steps, the kept as slip events with f'(θ) for the
+/// exponent), integrated where no verified series serves, as
+/// [`OrbitRun`]'s own cycles are.
+fn series_batch(
+    sim: &Simulator,
+    run: &mut OrbitRun,
+    interp: &mut MapInterpolant,
+    pad: f64,
+    cover: &mut Cover,
+    direct: &mut usize,
+) -> Result<OrbitPiece, SimError> {
+    let mut budget = SERIES_BATCH;
+    while budget > 0 && !run.settling() {
+        let theta = run.theta();
+        let reach = if run.cycles_done() < run.options().transient {
+            match cover.reach(interp, theta, pad, |i| i.step(theta)) {
+                Reach::Series((next, duration)) => {
+                    run.skip(next, duration);
+                    Reach::Series(())
+                }
+                Reach::Extending => Reach::Extending,
+                Reach::Direct => Reach::Direct,
+            }
+        } else {
+            let t = run.time();
+            match cover.reach(interp, theta, pad, |i| i.slip_event(theta, t)) {
+                Reach::Series((ev, d)) => {
+                    run.keep(ev, d);
+                    Reach::Series(())
+                }
+                Reach::Extending => Reach::Extending,
+                Reach::Direct => Reach::Direct,
+            }
+        };
+        match reach {
+            Reach::Series(()) => budget -= 1,
+            Reach::Extending => break,
+            Reach::Direct => {
+                *direct += 1;
+                run.direct_cycle(sim)?;
+                budget = budget.saturating_sub(DIRECT_COST);
+            }
+        }
+    }
+    Ok(OrbitPiece::Done)
 }

@@ -3,7 +3,10 @@
 //! the series where it is verified, the interval extended where an iterate
 //! leaves it, and direct integration where neither serves.
 
-use super::{InterpolantBuild, InterpolantError, InterpolantOptions, MapInterpolant, onset_span};
+use super::{
+    Cover, InterpolantBuild, InterpolantError, InterpolantOptions, MapInterpolant, Reach,
+    onset_span,
+};
 use crate::model::exit_arc;
 use crate::sim::analysis::cycle_with_derivative;
 use crate::sim::{SimError, Simulator};
@@ -149,7 +152,7 @@ impl StepperBuild {
 
 /// The map for a run's remaining iterates: the interpolant where it is
 /// verified, direct integration elsewhere.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Stepper {
     interp: MapInterpolant,
     pad: f64,
@@ -157,7 +160,8 @@ pub struct Stepper {
     direct: usize,
     /// Right-hand-side evaluations those cost.
     rhs_evals: u64,
-    refused: Option<String>,
+    /// The interval's extensions to iterates that left it.
+    cover: Cover,
     /// The cost already handed to the caller: (map evaluations, RHS
     /// evaluations), construction and direct iterates together.
     charged: (u64, u64),
@@ -188,7 +192,7 @@ impl Stepper {
             pad,
             direct: 0,
             rhs_evals: 0,
-            refused: None,
+            cover: Cover::default(),
         }
     }
 
@@ -223,43 +227,66 @@ impl Stepper {
 
     /// The summary of the run so far.
     pub fn summary(&self) -> InterpolantSummary {
-        InterpolantSummary::of(&self.interp, self.direct, self.refused.clone())
+        InterpolantSummary::of(&self.interp, self.direct, self.cover.refused.clone())
     }
 
-    fn cover(&mut self, theta: f64) {
-        self.interp.cover(theta, self.pad, &mut self.refused);
+    fn reach<T>(&mut self, theta: f64, f: impl Fn(&MapInterpolant) -> Option<T>) -> Reach<T> {
+        self.cover.reach(&mut self.interp, theta, self.pad, f)
     }
 
-    /// The next onset after θ, from the series or integrated.
+    /// One bounded piece towards the next onset after θ: `Some` with it,
+    /// from the series or integrated, or `None` after a piece of the
+    /// interval's extension to θ (ask again with the same θ). Asked until
+    /// `Some`, it gives what [`Self::next`] gives.
+    pub fn next_piece(&mut self, theta: f64) -> Result<Option<f64>, SimError> {
+        match self.reach(theta, |i| i.map(theta)) {
+            Reach::Series(next) => Ok(Some(next)),
+            Reach::Extending => Ok(None),
+            Reach::Direct => {
+                self.direct += 1;
+                let sim = self.interp.simulator();
+                let ev = sim.cycle(theta, 0.0, None)?;
+                self.rhs_evals += ev.rhs_evals;
+                Ok(Some(sim.next_onset(&ev)))
+            }
+        }
+    }
+
+    /// The next onset after θ, from the series or integrated (the
+    /// interval extended first, all at once, if θ is outside it).
     pub fn next(&mut self, theta: f64) -> Result<f64, SimError> {
-        if let Some(next) = self.interp.map(theta) {
-            return Ok(next);
+        loop {
+            if let Some(next) = self.next_piece(theta)? {
+                return Ok(next);
+            }
         }
-        self.cover(theta);
-        if let Some(next) = self.interp.map(theta) {
-            return Ok(next);
+    }
+
+    /// [`Self::next_piece`] with f'(θ) too.
+    pub fn next_with_derivative_piece(
+        &mut self,
+        theta: f64,
+    ) -> Result<Option<(f64, f64)>, SimError> {
+        let from_series = |i: &MapInterpolant| i.event(theta).map(|t| (t.theta_next, t.derivative));
+        match self.reach(theta, from_series) {
+            Reach::Series(r) => Ok(Some(r)),
+            Reach::Extending => Ok(None),
+            Reach::Direct => {
+                self.direct += 1;
+                let sim = self.interp.simulator();
+                let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
+                self.rhs_evals += ev.rhs_evals + n;
+                Ok(Some((sim.next_onset(&ev), d)))
+            }
         }
-        self.direct += 1;
-        let sim = self.interp.simulator();
-        let ev = sim.cycle(theta, 0.0, None)?;
-        self.rhs_evals += ev.rhs_evals;
-        Ok(sim.next_onset(&ev))
     }
 
     /// The next onset after θ and f'(θ), from the series or integrated.
     pub fn next_with_derivative(&mut self, theta: f64) -> Result<(f64, f64), SimError> {
-        let from_series = |i: &MapInterpolant| i.event(theta).map(|t| (t.theta_next, t.derivative));
-        if let Some(r) = from_series(&self.interp) {
-            return Ok(r);
+        loop {
+            if let Some(r) = self.next_with_derivative_piece(theta)? {
+                return Ok(r);
+            }
         }
-        self.cover(theta);
-        if let Some(r) = from_series(&self.interp) {
-            return Ok(r);
-        }
-        self.direct += 1;
-        let sim = self.interp.simulator();
-        let (ev, d, n) = cycle_with_derivative(sim, theta, 0.0)?;
-        self.rhs_evals += ev.rhs_evals + n;
-        Ok((sim.next_onset(&ev), d))
     }
 }

@@ -93,12 +93,14 @@ impl Classifier {
                 self.building = Some(b);
                 self.built = true;
                 false
-            } else {
-                self.run.iterate(cell, self.i, &mut self.stepper)?;
+            } else if self.run.iterate(cell, self.i, &mut self.stepper)? {
                 self.i += 1;
                 cell.theta_last = self.run.theta;
                 self.run.solved.clear();
                 self.tests(cell)?
+            } else {
+                // A piece of the interpolant's extension to θ.
+                false
             };
             if classified {
                 return Ok(true);
@@ -309,29 +311,37 @@ impl CellRun {
     }
 
     /// Iterate `i`: from the interpolant if there is one, else integrated;
-    /// past the transient with f'(θ) too.
+    /// past the transient with f'(θ) too. False, with nothing iterated,
+    /// after a piece of the interpolant's extension to θ (asked again, it
+    /// goes on).
     fn iterate(
         &mut self,
         cell: &mut PhaseCell,
         i: usize,
         stepper: &mut Option<Stepper>,
-    ) -> Result<(), SimError> {
+    ) -> Result<bool, SimError> {
         let kept = i >= self.opts.transient;
-        self.thetas.push(self.theta);
         if let Some(st) = stepper.as_mut() {
             // The same iterate from the series: f'(θ) from it too.
-            self.theta = if kept {
-                let (next, d) = st.next_with_derivative(self.theta)?;
-                self.logs.push(d.abs().ln());
-                next
+            let next = if kept {
+                st.next_with_derivative_piece(self.theta)?.map(|(next, d)| {
+                    self.logs.push(d.abs().ln());
+                    next
+                })
             } else {
-                st.next(self.theta)?
+                st.next_piece(self.theta)?
             };
             let (n, rhs) = st.take_cost();
             cell.iterates += n;
             cell.rhs_evals += rhs;
-            return Ok(());
+            let Some(next) = next else {
+                return Ok(false);
+            };
+            self.thetas.push(self.theta);
+            self.theta = next;
+            return Ok(true);
         }
+        self.thetas.push(self.theta);
         // Past the transient f'(θ) is needed too: it rides along the
         // iterate's own integration (the variational equations), so it
         // adds evaluations, not iterates (two where f has no derivative
@@ -347,7 +357,7 @@ impl CellRun {
         cell.iterates += 1;
         cell.rhs_evals += ev.rhs_evals;
         self.theta = self.sim.next_onset(&ev);
-        Ok(())
+        Ok(true)
     }
 
     /// The period test: whether the iterates have settled on a period whose

@@ -61,7 +61,8 @@ pub fn run_columns<'s>(
                 let stop = || yielding.pause() || (run.heavy_due() && yielding.defer_heavy());
                 // A cycle solve goes on one map evaluation at a time and
                 // pauses between two like the cycles do.
-                if !run.done && ((moved[lane] && stop()) || !run.heavy_step(sim, yielding)) {
+                if !run.done && ((moved[lane] && stop()) || !run.heavy_step(sim, yielding, cancel))
+                {
                     ended = current[lane]
                         .take()
                         .map(|(_, run)| LaneEnd::Paused(PausedColumn(run)));
