@@ -6,7 +6,7 @@
 
 use super::CliError;
 use crate::jobs::bench::PAGE_SLICE;
-use crate::jobs::pieces::{Pieces, every_kind};
+use crate::jobs::pieces::{Pieces, every_kind, on_interpolant};
 
 /// The report: a table, or with `--json` one object
 /// `{"kinds": [{"kind", "pieces", "longest_ms"}]}`; `quick`: the small
@@ -26,7 +26,25 @@ pub fn report(quick: bool, json: bool) -> Result<String, CliError> {
             .collect();
         return Ok(serde_json::json!({ "kinds": kinds }).to_string() + "\n");
     }
-    Ok(table(&rows, quick))
+    let rarer = on_interpolant(quick).map_err(CliError::Failed)?;
+    Ok(table(&rows, quick) + &rarer_table(&rarer))
+}
+
+/// The rarer paths on the interpolant, in the same columns (not in the
+/// JSON, which lists the kinds).
+fn rarer_table(rows: &[(&str, Pieces)]) -> String {
+    let mut out = String::from("on the map's interpolant, at Fig. 3b's θν = 1.25:\n");
+    for (label, r) in rows {
+        out += &format!(
+            "{:<11} {:>8} {:>11.1} {:>18} {:>16.1}  ({label})\n",
+            format!("{:?}", r.kind),
+            r.pieces,
+            r.longest_ms,
+            r.longest_cycles,
+            r.longest_unit_ms
+        );
+    }
+    out
 }
 
 fn table(rows: &[Pieces], quick: bool) -> String {

@@ -24,6 +24,7 @@ use crate::numerics::budget::{Accuracy, budget_for};
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
+use crate::sim::MapChoice;
 use crate::sim::attractors::CellOptions;
 use crate::sim::continuation::ContParam;
 
@@ -203,6 +204,43 @@ pub fn every_kind(quick: bool) -> Result<Vec<Pieces>, String> {
         .iter()
         .map(|&k| count_pieces(representative(k, quick), PAGE_SLICE))
         .collect()
+}
+
+/// The rarer paths on the map's interpolant, which the window's defaults
+/// do not reach: a long orbit (the iterate job's scout, build and series)
+/// and long chaotic columns of a diagram (each column's build, then its
+/// points from the series), at Fig. 3b's chaotic θν = 1.25, each with a
+/// label; `quick`, shorter.
+pub fn on_interpolant(quick: bool) -> Result<Vec<(&'static str, Pieces)>, String> {
+    let q = |small: usize, full: usize| if quick { small } else { full };
+    let chaos = Params {
+        theta_nu: 1.25,
+        ..fig3b()
+    };
+    let settings = window_settings(Kind::Iterate);
+    let orbit = Spec::Iterate(IterateSpec {
+        params: chaos,
+        settings,
+        theta0: None,
+        transient: 1000,
+        keep: q(20_000, 200_000),
+        graph_powers: 1,
+        options: crate::jobs::IterateOptions {
+            map: MapChoice::Interpolant,
+            ..Default::default()
+        },
+    });
+    let mut sweep = fig3b_diagram(q(2, 8), 200, 8000, 1e-8);
+    sweep.axis = Axis::new(1.2, 1.29, q(2, 8));
+    sweep.map = MapChoice::Interpolant;
+    sweep.settings = window_settings(Kind::Sweep);
+    Ok(vec![
+        ("a long orbit", count_pieces(orbit, PAGE_SLICE)?),
+        (
+            "long columns",
+            count_pieces(Spec::Sweep(sweep), PAGE_SLICE)?,
+        ),
+    ])
 }
 
 /// The Numerics view's quick measurement at `here`.
