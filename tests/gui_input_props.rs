@@ -350,6 +350,7 @@ fn timeout_bounds_a_run_whose_frame_stalls() {
     assert_eq!(o.status.code(), Some(1), "{err}");
     assert!(err.contains("--timeout"), "{err}");
     assert!(!shot.exists());
-    // The hour-long frame is cut at 1 s + the 20 s grace (and the start).
-    assert!(took < std::time::Duration::from_secs(120), "{took:?}");
+    // The hour-long frame is cut at 1 s + the grace (2 s with the test's
+    // stall: no picture is due), and the start.
+    assert!(took < std::time::Duration::from_secs(60), "{took:?}");
 }

@@ -239,7 +239,14 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     let outcome = Arc::new(std::sync::Mutex::new(None));
     let stats_report = Arc::new(std::sync::Mutex::new(None::<String>));
     if launch.scripted {
-        spawn_watchdog(timeout)?;
+        // The test's stalled frame (`--stall-first-frame`) comes before any
+        // picture is due: nothing needs the grace's time to be saved.
+        let grace = if opts.stall_first_frame {
+            STALL_TEST_GRACE
+        } else {
+            SCREENSHOT_GRACE
+        };
+        spawn_watchdog(timeout, grace)?;
     }
     on_interrupt(launch.scripted);
     let (out2, stats2) = (outcome.clone(), stats_report.clone());
@@ -277,11 +284,14 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     finish(scripted, shot, &warnings)
 }
 
+/// The watchdog's grace in the test of a stalled first frame.
+const STALL_TEST_GRACE: Duration = Duration::from_secs(2);
+
 /// Never hang: if a frame stalls (so the script's own check of the time
 /// never runs), a scripted run gives up loudly soon after `timeout`. The
 /// grace covers taking and encoding the picture once the views are done.
-fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
-    let limit = timeout + SCREENSHOT_GRACE;
+fn spawn_watchdog(timeout: Duration, grace: Duration) -> Result<(), String> {
+    let limit = timeout + grace;
     std::thread::Builder::new()
         .name("oneblock-watchdog".into())
         .spawn(move || {
@@ -290,7 +300,7 @@ fn spawn_watchdog(timeout: Duration) -> Result<(), String> {
                 "error: the window did not finish within --timeout {:.0} s \
                  (and {:.0} s to save the picture)",
                 timeout.as_secs_f64(),
-                SCREENSHOT_GRACE.as_secs_f64()
+                grace.as_secs_f64()
             );
             std::process::exit(1);
         })
