@@ -8,12 +8,13 @@
 
 use crate::cli_support;
 
+use crate::common::seeded::{self, Ended};
+
 use std::collections::BTreeSet;
-use std::sync::OnceLock;
 
 use cli_support::*;
-use oneblock::model::{Params, exit_arc, wrap_angle};
-use oneblock::sim::{OrbitOptions, Period, Simulator, default_settings};
+use oneblock::model::{Params, wrap_angle};
+use oneblock::sim::Period;
 
 fn params(kappa: f64, theta_nu: f64) -> Params {
     Params {
@@ -25,26 +26,18 @@ fn params(kappa: f64, theta_nu: f64) -> Params {
     }
 }
 
-/// The distinct attractors direct orbits from `n` θ₀ spread over the exit
-/// arc end on: each a cycle's points (sorted), or `None` for an orbit
-/// that settles on no period.
-fn direct(p: Params, n: usize) -> Vec<Option<Vec<f64>>> {
-    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
-    let opts = OrbitOptions {
-        transient: 3000,
-        keep: 64,
-        lyapunov: false,
-        period_tol: OrbitOptions::period_tol_for(1e-10),
-    };
-    let (psi, half) = exit_arc(p.kappa, p.theta_nu);
-    let mut found: Vec<Option<Vec<f64>>> = Vec::new();
-    for i in 0..n {
-        let t0 = psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64;
-        let o = sim.orbit(t0, &opts, &|| false).unwrap();
-        let reached = match o.period {
+/// What direct orbits reach: each distinct cycle's points, `None` for an
+/// orbit on no period.
+type Reached = Vec<Option<Vec<f64>>>;
+
+/// The distinct attractors the orbits `ended` on: each a cycle's points
+/// (sorted), or `None` for an orbit that settles on no period.
+fn distinct(ended: &[Ended]) -> Reached {
+    let mut found: Reached = Vec::new();
+    for e in ended {
+        let reached = match e.period {
             Period::Periodic(q) => {
-                let k = o.events.len();
-                let mut pts: Vec<f64> = o.events[k - q..].iter().map(|e| e.theta).collect();
+                let mut pts = e.kept[e.kept.len() - q..].to_vec();
                 pts.sort_by(f64::total_cmp);
                 Some(pts)
             }
@@ -64,54 +57,15 @@ fn direct(p: Params, n: usize) -> Vec<Option<Vec<f64>>> {
     found
 }
 
-/// What direct orbits reach: each distinct cycle's points, `None` for an
-/// orbit on no period.
-type Reached = Vec<Option<Vec<f64>>>;
-
-/// The thirteen θν of the κ = 10 hysteresis range both seeded tests run
-/// (1.33 to 1.45 in steps of 0.01) with what direct orbits from 32 seeds
-/// reach at each: computed once, by every core, for both tests.
-fn kappa10_reference() -> &'static [(f64, Reached)] {
-    static TABLE: OnceLock<Vec<(f64, Reached)>> = OnceLock::new();
-    TABLE.get_or_init(|| {
-        let thetas: Vec<f64> = (0..13).map(|i| 1.33 + 0.12 * i as f64 / 12.0).collect();
-        let cores = std::thread::available_parallelism().map_or(2, |n| n.get());
-        let next = std::sync::atomic::AtomicUsize::new(0);
-        let mut table: Vec<(f64, Reached)> = std::thread::scope(|s| {
-            let workers: Vec<_> = (0..cores)
-                .map(|_| {
-                    s.spawn(|| {
-                        let mut mine = vec![];
-                        loop {
-                            let i = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-                            let Some(&tn) = thetas.get(i) else { break mine };
-                            mine.push((tn, direct(params(10.0, tn), 32)));
-                        }
-                    })
-                })
-                .collect();
-            workers
-                .into_iter()
-                .flat_map(|w| w.join().unwrap())
-                .collect()
-        });
-        table.sort_by(|a, b| a.0.total_cmp(&b.0));
-        table
-    })
+/// What direct orbits from `n` seeds reach at `p`.
+fn direct(p: Params, n: usize) -> Reached {
+    distinct(&seeded::orbits(p, n))
 }
 
-/// What direct orbits reach at a column of the κ = 10 range (the command's
-/// θν, printed to the precision it writes).
-fn kappa10_direct(tn: f64) -> &'static [Option<Vec<f64>>] {
-    let (t, found) = kappa10_reference()
-        .iter()
-        .min_by(|a, b| (a.0 - tn).abs().total_cmp(&(b.0 - tn).abs()))
-        .unwrap();
-    assert!(
-        (t - tn).abs() < 1e-9,
-        "θν {tn} is no column of the reference"
-    );
-    found
+/// What direct orbits from 32 seeds reach at a column of the κ = 10 range
+/// (the reference both seeded tests and the phase job's share).
+fn kappa10_direct(tn: f64) -> Reached {
+    distinct(seeded::kappa10_at(tn))
 }
 
 /// The seeded diagram's CSV rows (θν, θ, attractor); the followed

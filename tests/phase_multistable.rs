@@ -7,9 +7,11 @@
 
 #![allow(clippy::unwrap_used)]
 
+use crate::common::seeded;
+
 use oneblock::jobs::{Axis, PhaseSpec, PhaseTuning, Spec, Update, run_collect};
-use oneblock::model::{Params, exit_arc};
-use oneblock::sim::{CycleOptions, OrbitOptions, Period, Simulator, default_settings, solve_cycle};
+use oneblock::model::Params;
+use oneblock::sim::{CycleOptions, Period, Simulator, default_settings, solve_cycle};
 use oneblock::worker::{GridCell, MAX_LISTED};
 
 /// A cycle direct orbits reached: its period and multiplier (Newton).
@@ -19,27 +21,19 @@ struct Reached {
     multiplier: Option<f64>,
 }
 
-/// The distinct attractors direct orbits from `n` θ₀ spread over the arc
-/// end on (an aperiodic end has no period).
-fn attractors_default(p: Params, n: usize) -> Option<Vec<Reached>> {
+/// The distinct attractors the orbits from 32 seeds at a θν of the κ = 10
+/// range end on (an aperiodic end has no period), each cycle solved by
+/// Newton from the orbit's last onset.
+fn attractors_default(theta_nu: f64) -> Option<Vec<Reached>> {
     let settings = default_settings(1e-10);
-    let sim = Simulator::new(p, settings).ok()?;
-    let opts = OrbitOptions {
-        transient: 3000,
-        keep: 64,
-        lyapunov: false,
-        period_tol: OrbitOptions::period_tol_for(1e-10),
-    };
-    let (psi, half) = exit_arc(p.kappa, p.theta_nu);
+    let sim = Simulator::new(params(theta_nu), settings).ok()?;
     let mut found: Vec<Reached> = Vec::new();
-    for i in 0..n {
-        let t0 = psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64;
-        let o = sim.orbit(t0, &opts, &|| false).ok()?;
-        let r = match o.period {
+    for e in seeded::kappa10_at(theta_nu) {
+        let r = match e.period {
             Period::Periodic(q) => {
                 let c = solve_cycle(
                     &sim,
-                    o.theta_last,
+                    e.theta_last,
                     q,
                     &CycleOptions::for_settings(&settings),
                 )
@@ -69,13 +63,7 @@ fn attractors_default(p: Params, n: usize) -> Option<Vec<Reached>> {
 }
 
 fn params(theta_nu: f64) -> Params {
-    Params {
-        kappa: 10.0,
-        gamma: 6.5,
-        nu: 1e-3,
-        theta_nu,
-        omega: 50.0,
-    }
+    seeded::kappa10_params(theta_nu)
 }
 
 /// The window's phase job over θν = 1.33 … 1.45 at κ = 10, with 8 seeds
@@ -119,7 +107,7 @@ fn the_phase_jobs_multistable_cells_list_the_attractors_that_attractors_finds() 
         }
         multistable.push(tn);
         // Independently: full orbits from 32 other seeds, cycles by Newton.
-        let found = attractors_default(params(tn), 32).unwrap();
+        let found = attractors_default(tn).unwrap();
         assert!(found.len() >= 2, "theta-nu {tn}: {found:?}");
         assert_eq!(
             gc.listed.len(),

@@ -8,6 +8,7 @@
 pub mod figure;
 pub mod fixture;
 pub mod jobs;
+pub mod seeded;
 pub mod xvfb;
 
 use std::time::Duration;
