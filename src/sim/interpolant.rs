@@ -15,8 +15,8 @@
 
 mod build;
 pub mod chebyshev;
+mod choice;
 mod extend;
-mod orbit;
 mod stepper;
 
 use std::f64::consts::FRAC_PI_2;
@@ -25,9 +25,8 @@ use super::{SimError, Simulator, SlipEvent};
 use crate::model::{elastic_energy, point_from_theta, wrap_angle};
 
 pub use build::InterpolantBuild;
+pub use choice::MapChoice;
 pub use extend::{Cover, Extension, Reach};
-pub(crate) use orbit::OrbitPiece;
-pub use orbit::{InterpolatedOrbit, MapChoice, OnInterpolant, orbit_interpolated};
 pub use stepper::{InterpolantSummary, MIN_DIRECT, MapTally, MapUsed, Stepper, StepperBuild};
 
 /// The width, in θ, to which a jump of f is bracketed; the bracket is

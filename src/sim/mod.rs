@@ -30,11 +30,11 @@ pub use cycle::{
 };
 pub use cycles::{Cycle, CycleFailure, CycleOptions, solve_cycle};
 pub use error::SimError;
-pub use interpolant::{
-    InterpolantError, InterpolantOptions, InterpolatedOrbit, MapChoice, MapInterpolant,
+pub use interpolant::{InterpolantError, InterpolantOptions, MapChoice, MapInterpolant};
+pub use orbit::{
+    InterpolatedOrbit, OnInterpolant, Orbit, OrbitOptions, OrbitRun, Period, Settled,
     orbit_interpolated,
 };
-pub use orbit::{Orbit, OrbitOptions, OrbitRun, Period, Settled};
 pub use period::{PERIOD_MAX, settled_period};
 pub use stats::mean_and_stderr;
 pub use sweep::{

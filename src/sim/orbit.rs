@@ -6,9 +6,14 @@
 
 use serde::{Deserialize, Serialize};
 
+mod interpolated;
+
+use interpolated::OrbitPiece;
+pub use interpolated::{InterpolatedOrbit, OnInterpolant, orbit_interpolated};
+
 use super::analysis::cycle_with_derivative;
 use super::cycles::{Cycle, CycleOptions, confirm_contraction, near_cycle, solve_counting};
-use super::interpolant::{InterpolantOptions, MapUsed, OnInterpolant, OrbitPiece};
+use super::interpolant::{InterpolantOptions, MapUsed};
 use super::period::{contraction, settled_period};
 use super::stats::mean_and_stderr;
 use super::{SimError, Simulator, SlipEvent};

@@ -23,7 +23,7 @@ pub struct Ended {
 /// The orbits from `n` θ₀ spread evenly over the exit arc, each 3000
 /// transient and 64 kept iterates at DOP853 1e-10.
 pub fn orbits(p: Params, n: usize) -> Vec<Ended> {
-    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
+    let sim = Simulator::new(p, default_settings(1e-10)).expect("valid parameters");
     let opts = OrbitOptions {
         transient: 3000,
         keep: 64,
@@ -34,7 +34,7 @@ pub fn orbits(p: Params, n: usize) -> Vec<Ended> {
     (0..n)
         .map(|i| {
             let t0 = psi - half + 2.0 * half * (i as f64 + 0.5) / n as f64;
-            let o = sim.orbit(t0, &opts, &|| false).unwrap();
+            let o = sim.orbit(t0, &opts, &|| false).expect("a seed orbit");
             Ended {
                 period: o.period,
                 theta_last: o.theta_last,
@@ -78,7 +78,7 @@ fn kappa10() -> &'static [(f64, Vec<Ended>)] {
                 .collect();
             workers
                 .into_iter()
-                .flat_map(|w| w.join().unwrap())
+                .flat_map(|w| w.join().expect("a reference thread"))
                 .collect()
         });
         table.sort_by(|a, b| a.0.total_cmp(&b.0));
@@ -92,7 +92,7 @@ pub fn kappa10_at(theta_nu: f64) -> &'static [Ended] {
     let (t, ended) = kappa10()
         .iter()
         .min_by(|a, b| (a.0 - theta_nu).abs().total_cmp(&(b.0 - theta_nu).abs()))
-        .unwrap();
+        .expect("thirteen columns");
     assert!(
         (t - theta_nu).abs() < 1e-9,
         "θν {theta_nu} is no column of the κ = 10 reference"
