@@ -98,13 +98,7 @@ fn pure_creep_has_exactly_one_attractor_over_kappa_and_nu() {
 }
 
 fn kappa10(theta_nu: f64) -> Params {
-    Params {
-        kappa: 10.0,
-        gamma: 6.5,
-        nu: 1e-3,
-        theta_nu,
-        omega: 50.0,
-    }
+    crate::common::seeded::kappa10_params(theta_nu)
 }
 
 /// Where a direct orbit of 600 + 64 integrated iterates from θ₀ ends: the

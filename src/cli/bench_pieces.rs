@@ -35,16 +35,21 @@ pub fn report(quick: bool, json: bool) -> Result<String, CliError> {
 fn rarer_table(rows: &[(&str, Pieces)]) -> String {
     let mut out = String::from("on the map's interpolant, at Fig. 3b's θν = 1.25:\n");
     for (label, r) in rows {
-        out += &format!(
-            "{:<11} {:>8} {:>11.1} {:>18} {:>16.1}  ({label})\n",
-            format!("{:?}", r.kind),
-            r.pieces,
-            r.longest_ms,
-            r.longest_cycles,
-            r.longest_unit_ms
-        );
+        out += &format!("{}  ({label})\n", row(r));
     }
     out
+}
+
+/// One kind's figures in the table's columns.
+fn row(r: &Pieces) -> String {
+    format!(
+        "{:<11} {:>8} {:>11.1} {:>18} {:>16.1}",
+        format!("{:?}", r.kind),
+        r.pieces,
+        r.longest_ms,
+        r.longest_cycles,
+        r.longest_unit_ms
+    )
 }
 
 fn table(rows: &[Pieces], quick: bool) -> String {
@@ -58,14 +63,8 @@ fn table(rows: &[Pieces], quick: bool) -> String {
         "kind", "pieces", "longest ms", "cycles in longest", "longest unit ms"
     );
     for r in rows {
-        out += &format!(
-            "{:<11} {:>8} {:>11.1} {:>18} {:>16.1}\n",
-            format!("{:?}", r.kind),
-            r.pieces,
-            r.longest_ms,
-            r.longest_cycles,
-            r.longest_unit_ms
-        );
+        out += &row(r);
+        out.push('\n');
     }
     for r in rows {
         if let Some(text) = &r.summary {
