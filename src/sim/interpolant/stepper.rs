@@ -184,8 +184,9 @@ impl Stepper {
         Ok(Stepper::on(build.run_counting(spent)?, pad))
     }
 
-    /// The stepper on `interp`, its construction charged.
-    fn on(interp: MapInterpolant, pad: f64) -> Self {
+    /// The stepper on `interp`, its construction charged; `pad` is how far
+    /// beyond an iterate an extension reaches.
+    pub(crate) fn on(interp: MapInterpolant, pad: f64) -> Self {
         Stepper {
             charged: (interp.evaluations() as u64, interp.rhs_evals()),
             interp,
@@ -230,8 +231,31 @@ impl Stepper {
         InterpolantSummary::of(&self.interp, self.direct, self.cover.refused.clone())
     }
 
-    fn reach<T>(&mut self, theta: f64, f: impl Fn(&MapInterpolant) -> Option<T>) -> Reach<T> {
+    /// What the series give at θ ([`Cover::reach`] on this stepper's
+    /// interpolant).
+    pub(crate) fn reach<T>(
+        &mut self,
+        theta: f64,
+        f: impl Fn(&MapInterpolant) -> Option<T>,
+    ) -> Reach<T> {
         self.cover.reach(&mut self.interp, theta, self.pad, f)
+    }
+
+    /// An iterate the caller integrated itself where [`Self::reach`] found
+    /// no series (an orbit's, with its time and derivative): counted, not
+    /// charged.
+    pub(crate) fn count_direct(&mut self) {
+        self.direct += 1;
+    }
+
+    /// The interval's extensions so far, and why one was refused.
+    pub fn cover(&self) -> &Cover {
+        &self.cover
+    }
+
+    /// The interpolant as it ended, with the extensions' record.
+    pub fn into_parts(self) -> (MapInterpolant, Cover) {
+        (self.interp, self.cover)
     }
 
     /// One bounded piece towards the next onset after θ: `Some` with it,

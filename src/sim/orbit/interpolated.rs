@@ -8,10 +8,10 @@
 use super::{Orbit, OrbitOptions, OrbitRun};
 use crate::model::exit_arc;
 use crate::sim::interpolant::{
-    Cover, InterpolantBuild, InterpolantError, InterpolantOptions, InterpolantSummary,
-    MapInterpolant, MapUsed, Reach, onset_span,
+    InterpolantBuild, InterpolantError, InterpolantOptions, InterpolantSummary, MapInterpolant,
+    MapUsed, Reach, Stepper, onset_span,
 };
-use crate::sim::{SimError, Simulator};
+use crate::sim::{SimError, Simulator, SlipEvent};
 
 /// Direct iterates run from θ0 to see where the orbit goes before the
 /// interpolant's first interval is chosen.
@@ -66,13 +66,16 @@ pub fn orbit_interpolated(
     ))?;
     let direct_iterates = on.direct_iterates();
     match on.stage {
-        Stage::On { interp, cover, .. } => Ok(InterpolatedOrbit {
-            orbit,
-            interpolant: interp,
-            direct_iterates,
-            extensions: cover.extensions,
-            refused_extension: cover.refused,
-        }),
+        Stage::On(st) => {
+            let (interpolant, cover) = st.into_parts();
+            Ok(InterpolatedOrbit {
+                orbit,
+                interpolant,
+                direct_iterates,
+                extensions: cover.extensions,
+                refused_extension: cover.refused,
+            })
+        }
         Stage::Refused(e) => Err(e),
         Stage::Scout { .. } | Stage::Build { .. } => Err(InterpolantError::Options(
             "the orbit ended before its interpolant was built",
@@ -107,21 +110,14 @@ pub struct OnInterpolant {
 enum Stage {
     /// The scout's onsets so far; `probe`, once the transient is too short
     /// to scout on, where the scout goes on without moving the orbit.
-    Scout {
-        seen: Vec<f64>,
-        probe: Option<f64>,
-    },
+    Scout { seen: Vec<f64>, probe: Option<f64> },
     Build {
-        build: InterpolantBuild,
+        build: Box<InterpolantBuild>,
         pad: f64,
     },
-    On {
-        interp: MapInterpolant,
-        pad: f64,
-        cover: Cover,
-        /// Iterates integrated since the build.
-        direct: usize,
-    },
+    /// The series, extended where the orbit goes; the stepper counts the
+    /// iterates integrated since the build.
+    On(Box<Stepper>),
     /// The first interval was refused: the orbit is integrated.
     Refused(InterpolantError),
 }
@@ -158,7 +154,7 @@ impl OnInterpolant {
     /// series.
     fn direct_iterates(&self) -> usize {
         match &self.stage {
-            Stage::On { direct, .. } => self.scouted + direct,
+            Stage::On(st) => self.scouted + st.direct_iterates(),
             _ => self.scouted,
         }
     }
@@ -167,7 +163,7 @@ impl OnInterpolant {
     /// extensions (the orbit's own are the run's).
     pub(crate) fn rhs_evals(&self) -> u64 {
         match &self.stage {
-            Stage::On { interp, .. } => interp.rhs_evals(),
+            Stage::On(st) => st.interpolant().rhs_evals(),
             _ => 0,
         }
     }
@@ -175,10 +171,10 @@ impl OnInterpolant {
     /// How the orbit evaluated the map, for its summary.
     pub fn map_used(&self) -> MapUsed {
         match &self.stage {
-            Stage::On { interp, cover, .. } => MapUsed::Interpolant(InterpolantSummary::of(
-                interp,
+            Stage::On(st) => MapUsed::Interpolant(InterpolantSummary::of(
+                st.interpolant(),
                 self.direct_iterates(),
-                cover.refused.clone(),
+                st.cover().refused.clone(),
             )),
             Stage::Refused(e) => MapUsed::Refused(e.to_string()),
             Stage::Scout { .. } | Stage::Build { .. } => MapUsed::Direct,
@@ -229,12 +225,7 @@ impl OnInterpolant {
                 }
                 Ok(OrbitPiece::Done)
             }
-            Stage::On {
-                interp,
-                pad,
-                cover,
-                direct,
-            } => series_batch(sim, run, interp, *pad, cover, direct),
+            Stage::On(st) => series_batch(sim, run, st),
             Stage::Refused(_) => Ok(OrbitPiece::Direct),
         }
     }
@@ -246,12 +237,7 @@ impl OnInterpolant {
             probe: None,
         };
         if let Stage::Build { build, pad } = std::mem::replace(&mut self.stage, placeholder) {
-            self.stage = Stage::On {
-                interp: build.finish(),
-                pad,
-                cover: Cover::default(),
-                direct: 0,
-            };
+            self.stage = Stage::On(Box::new(Stepper::on(build.finish(), pad)));
         }
     }
 }
@@ -265,7 +251,10 @@ fn build(sim: &Simulator, seen: &[f64], iopts: InterpolantOptions) -> Stage {
         return Stage::Refused(InterpolantError::Options("no onsets to build over"));
     };
     match InterpolantBuild::start(sim, psi + a, psi + b, iopts, false) {
-        Ok(build) => Stage::Build { build, pad },
+        Ok(build) => Stage::Build {
+            build: Box::new(build),
+            pad,
+        },
         Err(e) => Stage::Refused(e),
     }
 }
@@ -277,43 +266,44 @@ fn build(sim: &Simulator, seen: &[f64], iopts: InterpolantOptions) -> Stage {
 fn series_batch(
     sim: &Simulator,
     run: &mut OrbitRun,
-    interp: &mut MapInterpolant,
-    pad: f64,
-    cover: &mut Cover,
-    direct: &mut usize,
+    st: &mut Stepper,
 ) -> Result<OrbitPiece, SimError> {
     let mut budget = SERIES_BATCH;
     while budget > 0 && !run.settling() {
         let theta = run.theta();
-        let reach = if run.cycles_done() < run.options().transient {
-            match cover.reach(interp, theta, pad, |i| i.step(theta)) {
-                Reach::Series((next, duration)) => {
-                    run.skip(next, duration);
-                    Reach::Series(())
-                }
-                Reach::Extending => Reach::Extending,
-                Reach::Direct => Reach::Direct,
-            }
-        } else {
-            let t = run.time();
-            match cover.reach(interp, theta, pad, |i| i.slip_event(theta, t)) {
-                Reach::Series((ev, d)) => {
-                    run.keep(ev, d);
-                    Reach::Series(())
-                }
-                Reach::Extending => Reach::Extending,
-                Reach::Direct => Reach::Direct,
+        let (kept, t) = (run.cycles_done() >= run.options().transient, run.time());
+        let next = |i: &MapInterpolant| {
+            if kept {
+                i.slip_event(theta, t).map(|(ev, d)| Next::Keep(ev, d))
+            } else {
+                i.step(theta)
+                    .map(|(next, duration)| Next::Skip(next, duration))
             }
         };
-        match reach {
-            Reach::Series(()) => budget -= 1,
+        let cost = match st.reach(theta, next) {
+            Reach::Series(Next::Skip(next, duration)) => {
+                run.skip(next, duration);
+                1
+            }
+            Reach::Series(Next::Keep(ev, d)) => {
+                run.keep(ev, d);
+                1
+            }
             Reach::Extending => break,
             Reach::Direct => {
-                *direct += 1;
+                st.count_direct();
                 run.direct_cycle(sim)?;
-                budget = budget.saturating_sub(DIRECT_COST);
+                DIRECT_COST
             }
-        }
+        };
+        budget = budget.saturating_sub(cost);
     }
     Ok(OrbitPiece::Done)
+}
+
+/// An iterate from the series: a transient one's next onset and duration,
+/// or a kept one's event and f'(θ).
+enum Next {
+    Skip(f64, f64),
+    Keep(SlipEvent, f64),
 }
