@@ -26,8 +26,6 @@ use crate::sim::{
 /// the build or of an extension, or a batch of iterates from the series.
 pub(crate) struct IterateJob {
     sim: Simulator,
-    /// The period test's tolerance, for the batches' period.
-    period_tol: f64,
     report: bool,
     graph_powers: usize,
     state: Mutex<IterateState>,
@@ -79,7 +77,6 @@ impl IterateJob {
             OrbitRun::new(&sim, theta0, &opts)?
         };
         Ok(IterateJob {
-            period_tol: opts.period_tol,
             sim,
             report: options.report,
             graph_powers,
@@ -95,8 +92,8 @@ impl IterateJob {
 
     /// The kept onsets not yet sent, with the period of all so far and the
     /// running exponent.
-    fn batch(&self, st: &IterateState, logs: &[f64], generation: u64) -> Update {
-        let period = match settled_period(&st.kept, self.period_tol) {
+    fn batch(st: &IterateState, run: &OrbitRun, generation: u64) -> Update {
+        let period = match settled_period(&st.kept, run.options().period_tol) {
             Some(p) => Period::Periodic(p),
             None => Period::Aperiodic,
         };
@@ -105,7 +102,7 @@ impl IterateJob {
             first_index: st.sent,
             thetas: st.kept[st.sent..].to_vec(),
             period,
-            lyapunov: mean_and_stderr(logs).0,
+            lyapunov: mean_and_stderr(run.logs()).0,
         }
     }
 
@@ -129,7 +126,7 @@ impl IterateJob {
                 .extend(run.events()[st.kept.len()..].iter().map(|e| e.theta));
             if st.kept.len() - st.sent >= ITERATE_BATCH || st.last_flush.elapsed() >= FLUSH_INTERVAL
             {
-                sink.send(self.batch(st, run.logs(), sink.generation()))?;
+                sink.send(Self::batch(st, run, sink.generation()))?;
                 st.sent = st.kept.len();
                 st.last_flush = Instant::now();
             }
