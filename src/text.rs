@@ -38,3 +38,27 @@ pub fn escape_controls(s: &str) -> String {
     }
     out
 }
+
+/// A value with its error, to the digits the error allows (two
+/// significant digits of the error, at most 6 decimals): `0.069 +- 0.020`.
+/// An infinite or unknown error prints the value to 2 decimals and says
+/// so.
+pub fn with_error(v: f64, e: f64) -> String {
+    if !(e.is_finite() && e > 0.0) {
+        return format!("{v:.2} (error unknown)");
+    }
+    let decimals = (1 - e.log10().floor() as i32).clamp(0, 6) as usize;
+    format!("{v:.decimals$} +- {e:.decimals$}")
+}
+
+#[cfg(test)]
+mod with_error_tests {
+    use super::with_error;
+
+    #[test]
+    fn digits_follow_the_error() {
+        assert_eq!(with_error(0.068_68, 0.0201), "0.069 +- 0.020");
+        assert_eq!(with_error(0.350_93, 0.000_23), "0.35093 +- 0.00023");
+        assert_eq!(with_error(12.3456, 1.5), "12.3 +- 1.5");
+    }
+}

@@ -22,6 +22,8 @@ mod window;
 mod attractors;
 #[path = "attractors_cells.rs"]
 mod attractors_cells;
+#[path = "attractors_proofs.rs"]
+mod attractors_proofs;
 #[path = "basins.rs"]
 mod basins;
 #[path = "cascade_switch.rs"]

@@ -15,6 +15,7 @@ use super::values::{count_between, parse_count, parse_number, short};
 use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
 use crate::sim::Simulator;
 use crate::sim::attractors::{CellOptions, Found, Verdict};
+use crate::text::with_error;
 
 /// The most cells.
 pub const MAX_CELLS: usize = 1 << 22;
@@ -37,6 +38,12 @@ pub struct AttractorsArgs {
     /// The most cells in all (1024 to 4194304).
     #[arg(long, default_value = "65536", allow_hyphen_values = true, value_parser = parse_count)]
     pub max_cells: usize,
+    /// The finest grid a chaotic attractor's invariant density is computed
+    /// on (4096 to 1048576 cells over its hull): grids are doubled up to it
+    /// until λ from the density is steady, and its error is the change
+    /// over the last two doublings.
+    #[arg(long, default_value = "65536", allow_hyphen_values = true, value_parser = parse_count)]
+    pub density_cells: usize,
     /// Print one JSON object instead of the text summary.
     #[arg(long)]
     pub json: bool,
@@ -62,6 +69,7 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
         )));
     }
     let max_cells = count_between("max-cells", args.max_cells, 1024, MAX_CELLS)?;
+    let density_cells = count_between("density-cells", args.density_cells, 4096, 1 << 20)?;
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
     let sim = Simulator::new(params, settings)?;
@@ -72,6 +80,7 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
         cells: CellOptions {
             resolution: args.resolution,
             max_cells,
+            density_cells,
             ..CellOptions::default()
         },
         max_seconds,
@@ -131,7 +140,8 @@ fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
 }
 
 /// `{"attractors": [{"period", "points", "multiplier", "lyapunov",
-/// "lyapunov_stderr", "lyapunov_from_density", "density", "basin_fraction",
+/// "lyapunov_stderr", "lyapunov_from_density", "lyapunov_density_error",
+/// "density", "basin_fraction",
 /// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
 /// "boundary_fraction", "resolution": {"cell_width", "widest_cell",
 /// "epsilon", "cells", "budget_hit"}}`.
@@ -148,6 +158,7 @@ fn json(found: &Found) -> String {
                 "lyapunov": a.lyapunov,
                 "lyapunov_stderr": a.lyapunov_stderr,
                 "lyapunov_from_density": a.lyapunov_from_density,
+                "lyapunov_density_error": a.lyapunov_density_error,
                 "density": a.density.as_ref().map(|d| serde_json::json!({
                     "from": d.from, "to": d.to, "values": d.values,
                 })),
@@ -194,53 +205,17 @@ fn text(found: &Found, described: &str) -> String {
     )
     .ok();
     for a in &found.attractors {
-        let what = match a.period {
-            Some(p) => format!("P{p}"),
-            None if a.verdict == Verdict::Chaotic => "chaotic".into(),
-            None => "set".into(),
-        };
-        let pts = a
-            .points
-            .iter()
-            .map(|p| format!("{p:.9}"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let how = match (a.period, a.multiplier, a.lyapunov, a.lyapunov_from_density) {
-            (Some(_), Some(m), _, _) => format!("multiplier {m:.6}"),
-            (_, _, Some(l), Some(d)) => format!(
-                "lyapunov {d:.4} from the density, {l:.4} +- {:.4} from an orbit",
-                a.lyapunov_stderr.unwrap_or(0.0)
-            ),
-            _ => "no exponent".into(),
-        };
-        let points = if a.period.is_some() {
-            format!("points {pts}")
-        } else {
-            format!("theta in [{pts}]")
-        };
-        let (word, why) = verdict(&a.verdict);
-        writeln!(
-            s,
-            "  {what:<8} basin {:.4}  {how}  {points}  ({word})",
-            a.basin_fraction
-        )
-        .ok();
-        if let Some(why) = why {
-            writeln!(s, "    undecided: {why}").ok();
-        }
-        if a.verdict == Verdict::CycleInSet {
-            writeln!(
-                s,
-                "    a stable cycle in a closed set the cells did not shrink onto it: another attractor may hide in the set; tighten with --resolution or --max-cells"
-            )
-            .ok();
-        }
+        attractor_lines(&mut s, a);
     }
     if found.boundary_fraction > 0.0 {
         writeln!(
             s,
-            "basin boundary at this resolution: {:.4} of the arc reaches more than one attractor",
-            found.boundary_fraction
+            "basin boundary at this resolution: {} of the arc reaches more than one attractor",
+            if found.boundary_fraction >= 1e-3 {
+                format!("{:.4}", found.boundary_fraction)
+            } else {
+                format!("{:.1e}", found.boundary_fraction)
+            }
         )
         .ok();
     }
@@ -259,4 +234,50 @@ fn text(found: &Found, described: &str) -> String {
         writeln!(s, "  {:.6} {:.6}: {who}", b.from, b.to).ok();
     }
     s
+}
+
+/// One attractor's lines of the text output.
+fn attractor_lines(s: &mut String, a: &crate::sim::attractors::Attractor) {
+    let what = match a.period {
+        Some(p) => format!("P{p}"),
+        None if a.verdict == Verdict::Chaotic => "chaotic".into(),
+        None => "set".into(),
+    };
+    let pts = a
+        .points
+        .iter()
+        .map(|p| format!("{p:.9}"))
+        .collect::<Vec<_>>()
+        .join(", ");
+    let how = match (a.period, a.multiplier, a.lyapunov, a.lyapunov_from_density) {
+        (Some(_), Some(m), _, _) => format!("multiplier {m:.6}"),
+        (_, _, Some(l), Some(d)) => format!(
+            "lyapunov {} from the density, {} from an orbit",
+            with_error(d, a.lyapunov_density_error.unwrap_or(f64::INFINITY)),
+            with_error(l, a.lyapunov_stderr.unwrap_or(f64::INFINITY)),
+        ),
+        _ => "no exponent".into(),
+    };
+    let points = if a.period.is_some() {
+        format!("points {pts}")
+    } else {
+        format!("theta in [{pts}]")
+    };
+    let (word, why) = verdict(&a.verdict);
+    writeln!(
+        s,
+        "  {what:<8} basin {:.4}  {how}  {points}  ({word})",
+        a.basin_fraction
+    )
+    .ok();
+    if let Some(why) = why {
+        writeln!(s, "    undecided: {why}").ok();
+    }
+    if a.verdict == Verdict::CycleInSet {
+        writeln!(
+            s,
+            "    a stable cycle in a closed set the cells did not shrink onto it: another attractor may hide in the set; tighten with --resolution or --max-cells"
+        )
+        .ok();
+    }
 }

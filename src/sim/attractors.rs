@@ -24,6 +24,7 @@
 
 pub mod arc;
 mod classify;
+mod density;
 mod graph;
 mod search;
 mod verdict;
@@ -52,9 +53,12 @@ pub struct CellOptions {
     pub max_cells: usize,
     /// The most map evaluations the interpolant may take.
     pub max_evaluations: usize,
-    /// A chaotic set's invariant density (Ulam) and λ from it, on cells
-    /// of 50 ε; without it (a diagram's column), λ from a shorter orbit.
+    /// A chaotic set's invariant density (Ulam) and λ from it; without it
+    /// (a diagram's column), λ from a shorter orbit.
     pub density: bool,
+    /// The finest grid the density is computed on (cells over the set's
+    /// hull), doubled up to from 4 096 until λ is steady.
+    pub density_cells: usize,
 }
 
 impl CellOptions {
@@ -79,6 +83,7 @@ impl Default for CellOptions {
             max_cells: 1 << 16,
             max_evaluations: 40_000,
             density: true,
+            density_cells: 1 << 16,
         }
     }
 }
@@ -123,6 +128,9 @@ pub struct Attractor {
     pub lyapunov_stderr: Option<f64>,
     /// λ = ∫ ln|f'| dμ from the invariant density (aperiodic sets).
     pub lyapunov_from_density: Option<f64>,
+    /// Its discretisation error: the largest change over the last two
+    /// doublings of the density's grid.
+    pub lyapunov_density_error: Option<f64>,
     pub density: Option<Density>,
     /// The basin's share of the arc's length.
     pub basin_fraction: f64,

@@ -29,9 +29,11 @@
 use std::f64::consts::FRAC_PI_2;
 
 mod build;
+mod nodes;
 
 use crate::sim::interpolant::{InterpolantError, chebyshev};
-use crate::sim::{SimError, Simulator, cycles_in_lanes};
+use crate::sim::{SimError, Simulator};
+use nodes::Node;
 
 pub use build::{ArcBuild, Sharpening};
 
@@ -66,13 +68,15 @@ enum Part {
         /// The error bound its images are widened by.
         eps: f64,
     },
-    /// A stretch left to integration: its samples (u, f(u)), increasing
-    /// in u, and the ε they are widened by.
+    /// A stretch left to integration, enclosed from its nodes ([`nodes`]),
+    /// increasing in u; `own` is the integrated map's error at a node,
+    /// and `fine` says which simulator evaluates new ones.
     Sampled {
         from: f64,
         to: f64,
-        samples: std::sync::Arc<[[f64; 2]]>,
-        eps: f64,
+        nodes: Vec<Node>,
+        own: f64,
+        fine: bool,
     },
 }
 
@@ -125,6 +129,25 @@ pub struct ArcMap {
     pub spent: (u64, u64),
     /// The largest error the interpolants' checks measured.
     pub max_error: f64,
+    /// Nodes added on the cell graph's demand, and whether their budget
+    /// ran out.
+    node_evaluations: usize,
+    nodes_capped: bool,
+}
+
+/// The most nodes the cell graph may add to the stretches left to
+/// integration ([`ArcMap::add_nodes`]).
+pub const NODE_EVALUATIONS: usize = 20_000;
+
+/// The two nodes round u (the first or last two beyond the ends).
+fn around(nodes: &[Node], u: f64) -> Option<(&Node, &Node)> {
+    if nodes.len() < 2 {
+        return None;
+    }
+    let k = nodes
+        .partition_point(|n| n.u <= u)
+        .clamp(1, nodes.len() - 1);
+    Some((&nodes[k - 1], &nodes[k]))
 }
 
 /// A cell's image and the bound on |f'| over it.
@@ -139,6 +162,9 @@ pub struct Image {
     /// Where one series covers the cell: f at its ends and f' at its
     /// midpoint (Ulam's chain reads them instead of evaluating again).
     pub series: Option<SeriesValues>,
+    /// Part of the cell lies between nodes that enclose nothing
+    /// (`arc::nodes`): its image is the whole arc.
+    pub open: bool,
 }
 
 /// f at a cell's ends and f' at its midpoint, from one series.
@@ -195,6 +221,8 @@ impl ArcMap {
             sharp: Vec::new(),
             spent: (0, 0),
             max_error: 0.0,
+            node_evaluations: 0,
+            nodes_capped: false,
         })
     }
 
@@ -216,6 +244,26 @@ impl ArcMap {
         self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1])
     }
 
+    /// Each part's stretch of u, whether it is a series, and its length
+    /// (coefficients or samples): for diagnostics.
+    pub fn parts_outline(&self) -> Vec<(f64, f64, bool, usize, f64)> {
+        self.parts
+            .iter()
+            .map(|p| match p {
+                Part::Series {
+                    from, to, map, eps, ..
+                } => (*from, *to, true, map.len(), *eps),
+                Part::Sampled {
+                    from,
+                    to,
+                    nodes,
+                    own,
+                    ..
+                } => (*from, *to, false, nodes.len(), *own),
+            })
+            .collect()
+    }
+
     /// The arc's centre ψ.
     pub fn psi(&self) -> f64 {
         self.psi
@@ -230,11 +278,12 @@ impl ArcMap {
     pub fn eps_at(&self, u: f64) -> f64 {
         match &self.parts[self.index(u)] {
             Part::Series { eps, .. } => *eps,
-            Part::Sampled { eps, .. } => *eps,
+            Part::Sampled { own, .. } => *own,
         }
     }
 
-    /// f(u) and f'(u) from the series; `None` in a sampled stretch.
+    /// f(u) and f'(u) from the series, or between two nodes with slopes
+    /// (cubic Hermite); `None` next to a node without one.
     pub fn eval(&self, u: f64) -> Option<(f64, f64)> {
         match &self.parts[self.index(u)] {
             Part::Series {
@@ -250,31 +299,79 @@ impl ArcMap {
                     chebyshev::clenshaw(derivative, x),
                 ))
             }
-            Part::Sampled { .. } => None,
+            Part::Sampled { nodes, .. } => {
+                let (p, q) = around(nodes, u)?;
+                (p.d.is_finite() && q.d.is_finite()).then(|| nodes::hermite(p, q, u))
+            }
         }
     }
 
-    /// f(u) and f'(u) anywhere: from the series, or in a sampled stretch
-    /// from the line between its neighbouring samples (for orbits that
+    /// f(u) and f'(u) anywhere: [`Self::eval`], or next to a node without
+    /// a slope the chord between the neighbouring nodes (for orbits that
     /// only classify; cycles are solved on the integrated map).
     pub fn eval_any(&self, u: f64) -> (f64, f64) {
         if let Some(v) = self.eval(u) {
             return v;
         }
-        let Part::Sampled { samples, .. } = &self.parts[self.index(u)] else {
-            return (u, 1.0);
-        };
-        let k = samples
-            .partition_point(|x| x[0] <= u)
-            .clamp(1, samples.len().max(2) - 1);
-        match (samples.get(k - 1), samples.get(k)) {
-            (Some(p), Some(q)) if q[0] > p[0] => {
-                let slope = (q[1] - p[1]) / (q[0] - p[0]);
-                (p[1] + slope * (u - p[0]), slope)
-            }
-            (Some(p), _) => (p[1], 0.0),
-            _ => (u, 1.0),
+        match &self.parts[self.index(u)] {
+            Part::Sampled { nodes, .. } => match around(nodes, u) {
+                Some((p, q)) => nodes::hermite(p, q, u),
+                None => (u, 1.0),
+            },
+            Part::Series { .. } => (u, 1.0),
         }
+    }
+
+    /// Nodes at each of `us` that lies inside a stretch left to
+    /// integration (not a jump's bracket) and is not a node already, so
+    /// that cells bounded there are enclosed by their own nodes: the
+    /// refinement the cell graph asks for where it subdivides. At most
+    /// [`NODE_EVALUATIONS`] in all; whether any was added.
+    pub fn add_nodes(&mut self, us: &[f64]) -> Result<bool, ArcError> {
+        let mut added = false;
+        let psi = self.psi;
+        for &u in us {
+            if self.node_evaluations >= NODE_EVALUATIONS {
+                self.nodes_capped = true;
+                break;
+            }
+            let i = self.index(u);
+            let Part::Sampled {
+                from,
+                to,
+                nodes,
+                fine,
+                ..
+            } = &self.parts[i]
+            else {
+                continue;
+            };
+            if !(u > *from && u < *to) || *to - *from < 1e-8 {
+                continue;
+            }
+            let k = nodes.partition_point(|n| n.u < u);
+            let near = |j: usize| {
+                nodes
+                    .get(j)
+                    .is_some_and(|n: &Node| (n.u - u).abs() <= 1e-15)
+            };
+            if near(k) || (k > 0 && near(k - 1)) {
+                continue;
+            }
+            let sim = if *fine { self.sim } else { self.coarse };
+            let node = Node::at(&sim, psi, u, &mut self.spent)?;
+            self.node_evaluations += 1;
+            if let Part::Sampled { nodes, .. } = &mut self.parts[i] {
+                nodes.insert(k, node);
+            }
+            added = true;
+        }
+        Ok(added)
+    }
+
+    /// Whether the nodes' budget stopped a refinement.
+    pub fn nodes_capped(&self) -> bool {
+        self.nodes_capped
     }
 
     /// The part holding u (the nearest at the ends).
@@ -318,40 +415,6 @@ impl ArcMap {
         out.spans = merged;
         out
     }
-
-    /// The samples of a stretch left to integration: its ends' one-sided
-    /// values from the neighbouring series (where there is one) and
-    /// integrated samples across it, one per 1e-4 of its width (3 to
-    /// `most`; a jump's bracket, 2e-10 wide, only its midpoint).
-    fn sampled(
-        &mut self,
-        sim: &Simulator,
-        a: f64,
-        b: f64,
-        left: Option<f64>,
-        right: Option<f64>,
-        most: usize,
-    ) -> Result<Vec<[f64; 2]>, ArcError> {
-        let n = if b - a < 1e-8 {
-            1
-        } else {
-            (((b - a) / 1e-4).ceil() as usize).clamp(3, most.max(3))
-        };
-        let us: Vec<f64> = (0..n)
-            .map(|k| a + (b - a) * (k as f64 + 0.5) / n as f64)
-            .collect();
-        let tasks: Vec<_> = us.iter().map(|u| (sim, self.psi + u, 0.0)).collect();
-        let mut out = Vec::with_capacity(n + 2);
-        out.extend(left.map(|v| [a, v]));
-        for (r, &u) in cycles_in_lanes(&tasks).into_iter().zip(&us) {
-            let e = r?;
-            self.spent.0 += 1;
-            self.spent.1 += e.rhs_evals;
-            out.push([u, crate::model::wrap_angle(e.theta_next - self.psi)]);
-        }
-        out.extend(right.map(|v| [b, v]));
-        Ok(out)
-    }
 }
 
 /// Adds the enclosure of `part` over [s, t] to `out`; a series' values
@@ -390,32 +453,63 @@ fn enclose(part: &Part, s: f64, t: f64, out: &mut Image) -> Option<SeriesValues>
                 mid_slope: dm,
             })
         }
-        Part::Sampled { samples, eps, .. } => {
-            // Between neighbouring samples, their hull widened by their
-            // difference: sampled, not bounded (see the module's doc).
-            let k = samples.partition_point(|x| x[0] <= s).saturating_sub(1);
-            let mut lo = f64::INFINITY;
-            let mut hi = f64::NEG_INFINITY;
-            for w in samples[k..].windows(2) {
-                if w[0][0] >= t {
-                    break;
-                }
-                let d = (w[1][1] - w[0][1]).abs();
-                lo = lo.min(w[0][1].min(w[1][1]) - d);
-                hi = hi.max(w[0][1].max(w[1][1]) + d);
-            }
-            if samples.len() == 1 || !(lo <= hi) {
-                for x in samples.iter() {
-                    lo = lo.min(x[1]);
-                    hi = hi.max(x[1]);
-                }
-            }
-            out.spans.push([lo - eps, hi + eps]);
+        Part::Sampled {
+            from,
+            to,
+            nodes,
+            own,
+            ..
+        } if to - from < 1e-8 || nodes.len() < 2 => {
+            // A jump's bracket: the hull of its sides' values and its
+            // midpoint's, widened by their spread.
+            let (lo, hi) = nodes
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), n| {
+                    (l.min(n.f), h.max(n.f))
+                });
+            let d = hi - lo;
+            out.spans.push([lo - d - own, hi + d + own]);
             out.slope = f64::INFINITY;
-            out.eps = out.eps.max(*eps);
+            out.eps = out.eps.max(*own);
+            None
+        }
+        Part::Sampled { nodes, own, .. } => {
+            enclose_nodes(nodes, *own, s, t, out);
             None
         }
     }
+}
+
+/// Adds the enclosure from `nodes` (each value within `own`) over [s, t]
+/// to `out`: the whole arc where an interval between them is open.
+fn enclose_nodes(nodes: &[Node], own: f64, s: f64, t: f64, out: &mut Image) {
+    let k = nodes.partition_point(|x| x.u <= s).saturating_sub(1);
+    let (mut lo, mut hi, mut slope) = (f64::INFINITY, f64::NEG_INFINITY, 0.0_f64);
+    let mut open = nodes.len() < 2;
+    for w in nodes[k..].windows(2) {
+        if w[0].u >= t {
+            break;
+        }
+        let (ps, pt) = (s.max(w[0].u), t.min(w[1].u));
+        match nodes::between(&w[0], &w[1], ps.min(pt), pt.max(ps), own) {
+            Some((l, h, d)) => {
+                lo = lo.min(l);
+                hi = hi.max(h);
+                slope = slope.max(d);
+            }
+            None => open = true,
+        }
+    }
+    if open || !(lo <= hi) {
+        // Nothing is known of f here: every cell is reachable.
+        out.spans.push([-FRAC_PI_2, FRAC_PI_2]);
+        out.slope = f64::INFINITY;
+        out.open = true;
+    } else {
+        out.spans.push([lo, hi]);
+        out.slope = out.slope.max(slope);
+    }
+    out.eps = out.eps.max(own);
 }
 
 /// A series' value at u on [a, b].

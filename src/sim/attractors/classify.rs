@@ -1,6 +1,6 @@
 //! What a closed set of cells holds: a cycle proved to attract the whole
 //! set (a contraction of f^p), a stable cycle found in it, or a chaotic
-//! attractor with its invariant density (Ulam's method on the set's cells)
+//! attractor with its invariant density (`density`: Ulam's method)
 //! and λ = ∫ ln|f'| dμ beside the time average of a long orbit.
 
 use super::arc::{ArcMap, Span};
@@ -194,89 +194,6 @@ impl LongOrbit {
             tail,
         }
     }
-}
-
-/// The invariant density on a closed set's cells by Ulam's method: cell i
-/// sends to cell j the share of it that f (linear between the cell's ends;
-/// its midpoint's image where the cell holds a sampled stretch) maps into
-/// j; the stationary vector of that chain (a lazy chain, so that a
-/// density cycling over bands converges), and λ = Σ μᵢ ⟨ln|f'|⟩ᵢ with
-/// the cell's midpoint value. Returns (μ per cell of
-/// `cells`, λ).
-pub fn ulam(g: &CellGraph, map: &ArcMap, cells: &[usize]) -> (Vec<f64>, f64) {
-    let n = cells.len();
-    let local = |c: usize| cells.binary_search(&c).ok();
-    // The chain as rows (start, then (j, weight) entries).
-    let mut starts = Vec::with_capacity(n + 1);
-    let mut entries: Vec<(u32, f64)> = Vec::with_capacity(4 * n);
-    let mut logs = Vec::with_capacity(n);
-    for &c in cells {
-        starts.push(entries.len());
-        // The image's own series values where one series covers the cell.
-        let (ends, mid) = match g.images[c].series {
-            Some(v) => (Some((v.ends[0], v.ends[1])), Some((f64::NAN, v.mid_slope))),
-            None => {
-                let (s, t) = (g.bounds[c], g.bounds[c + 1]);
-                let e = map.eval(s).zip(map.eval(t)).map(|(a, b)| (a.0, b.0));
-                (e, map.eval(g.mid(c)))
-            }
-        };
-        logs.push(mid.map_or(0.0, |(_, d)| d.abs().max(1e-300).ln()));
-        let row_start = entries.len();
-        match ends {
-            Some((fs, ft)) if (ft - fs).abs() > 1e-14 => {
-                let (lo, hi) = (fs.min(ft), fs.max(ft));
-                let (a, b) = g.cells_of(lo, hi);
-                for j in a..=b {
-                    let ov = (g.bounds[j + 1].min(hi) - g.bounds[j].max(lo)).max(0.0);
-                    if let Some(lj) = local(j).filter(|_| ov > 0.0) {
-                        entries.push((lj as u32, ov / (hi - lo)));
-                    }
-                }
-            }
-            _ => {
-                let fm = ends
-                    .map(|(fs, ft)| 0.5 * (fs + ft))
-                    .or_else(|| g.images[c].spans.first().map(|s| 0.5 * (s[0] + s[1])));
-                if let Some(lj) = fm.and_then(|v| local(g.cell_of(v))) {
-                    entries.push((lj as u32, 1.0));
-                }
-            }
-        }
-        // Mass the linear model sends outside the set (it should not):
-        // renormalise what stays.
-        let row = &mut entries[row_start..];
-        let total: f64 = row.iter().map(|x| x.1).sum();
-        if total > 0.0 {
-            row.iter_mut().for_each(|x| x.1 /= total);
-        }
-    }
-    starts.push(entries.len());
-    let widths: f64 = cells.iter().map(|&c| g.width(c)).sum();
-    let mut mu: Vec<f64> = cells.iter().map(|&c| g.width(c) / widths).collect();
-    let mut next = vec![0.0; n];
-    for k in 0..5_000 {
-        next.iter_mut().zip(&mu).for_each(|(x, m)| *x = 0.5 * m);
-        for i in 0..n {
-            let m = 0.5 * mu[i];
-            for &(j, w) in &entries[starts[i]..starts[i + 1]] {
-                next[j as usize] += m * w;
-            }
-        }
-        let s: f64 = next.iter().sum();
-        let check = k % 8 == 7;
-        let diff: f64 = if check {
-            next.iter().zip(&mu).map(|(a, b)| (a / s - b).abs()).sum()
-        } else {
-            1.0
-        };
-        mu.iter_mut().zip(&next).for_each(|(m, x)| *m = x / s);
-        if diff < 1e-10 {
-            break;
-        }
-    }
-    let lambda = mu.iter().zip(&logs).map(|(m, l)| m * l).sum();
-    (mu, lambda)
 }
 
 /// A trap round a stable cycle (its points in u): intervals I_j = x_j ±

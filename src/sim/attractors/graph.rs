@@ -178,6 +178,25 @@ impl CellGraph {
         self.traps.iter().any(|(f, _)| f[0] <= a && b <= f[1])
     }
 
+    /// The cycle whose trap holds every one of `cells`, if one does.
+    pub fn trap_cycle(&self, cells: &[usize]) -> Option<(usize, f64)> {
+        if !cells.iter().all(|&i| self.trapped(i)) {
+            return None;
+        }
+        let (lo, hi) = (
+            self.bounds[cells[0]],
+            self.bounds[cells[cells.len() - 1] + 1],
+        );
+        self.cycles
+            .iter()
+            .copied()
+            .find(|&(_, u)| {
+                // A point of the cycle among the cells.
+                lo <= u && u <= hi
+            })
+            .or_else(|| self.cycles.first().copied())
+    }
+
     /// Recomputes the images of the cells meeting [lo, hi] (after the map
     /// was sharpened there) and relinks.
     pub fn refresh(&mut self, map: &ArcMap, lo: f64, hi: f64) {

@@ -18,10 +18,13 @@ pub(super) struct Closed {
 }
 
 /// A cell is made no narrower than this many ε of the map under it (a
-/// closed set reaching it is sharpened, or settled); a chaotic set's
-/// cells go on to [`CHAOS_FLOOR`] ε, for its density.
+/// closed set reaching it is sharpened, or settled; a chaotic set's
+/// density has a grid of its own, `density`).
 const FLOOR: f64 = 100.0;
-const CHAOS_FLOOR: f64 = 50.0;
+
+/// A basin boundary's cells are halved down to this many ε over the
+/// slope of f on them: below, their images are the map's error.
+const BOUNDARY_FLOOR: f64 = 4.0;
 
 /// Recurrent cells outside every closed set are subdivided to this
 /// many ε: an attractor whose basin is wider than a few of them shows.
@@ -32,6 +35,9 @@ const NEAR_CYCLE: f64 = 1e-3;
 
 /// Iterates of a long orbit on the series a piece (about 1.5 ms).
 const ORBIT_PIECE: usize = 1_500;
+
+/// The most boundary stretches sharpened in one level.
+const SHARPEN_PER_LEVEL: usize = 4;
 
 /// The most map evaluations one sharpened stretch may take.
 const SHARPEN_EVALUATIONS: usize = 4_000;
@@ -109,7 +115,7 @@ impl Search {
             };
             if extra > 0 && self.g.len() + extra <= self.opts.max_cells {
                 self.pending = Some(self.undecided_spans(&closed, &marked));
-                self.g.subdivide(&self.map, &marked);
+                self.subdivide(&marked)?;
                 return Ok(None);
             }
             self.budget_hit |= extra > 0;
@@ -123,23 +129,10 @@ impl Search {
             self.pending = Some(self.undecided_spans(&closed, &marked));
         }
         let reach = self.g.reach(&comps, &labels);
-        for v in 0..self.g.len() {
-            let c = comps.comp[v] as usize;
-            // The basin boundary, and recurrent cells that leak (an
-            // attractor whose neighbourhood is not closed yet may hide
-            // there: a weakly stable cycle with a narrow basin).
-            let wanted = if reach[c].count_ones() > 1 {
-                FLOOR
-            } else if comps.recurrent[c] && !comps.terminal[c] {
-                RECURRENT_FLOOR
-            } else {
-                continue;
-            };
-            if !marked[v] && self.g.width(v) > self.floor(v, wanted) {
-                marked[v] = true;
-                extra += 1;
-            }
+        if self.sharpen_boundary(&comps, &reach)? {
+            return Ok(None);
         }
+        extra += self.mark_boundary(&comps, &reach, &mut marked);
         if extra == 0 {
             return Ok(Some((closed, comps, labels)));
         }
@@ -147,8 +140,94 @@ impl Search {
             self.budget_hit = true;
             return Ok(Some((closed, comps, labels)));
         }
-        self.g.subdivide(&self.map, &marked);
+        self.subdivide(&marked)?;
         Ok(None)
+    }
+
+    /// Marks the basin boundary's cells and the recurrent cells that leak
+    /// (an attractor whose neighbourhood is not closed yet may hide there:
+    /// a weakly stable cycle with a narrow basin) while they are wider
+    /// than their floors; the number marked.
+    fn mark_boundary(
+        &self,
+        comps: &graph::Components,
+        reach: &[u64],
+        marked: &mut [bool],
+    ) -> usize {
+        let mut extra = 0;
+        for v in 0..self.g.len() {
+            let c = comps.comp[v] as usize;
+            let floor = if reach[c].count_ones() > 1 {
+                // A boundary cell gains from halving while its image is
+                // wider than the map's error: where f is steep (a
+                // repelling point, a jump: the boundary's own points) down
+                // to the resolution.
+                let slope = self.g.images[v].slope.max(1.0);
+                self.opts
+                    .resolution
+                    .max(BOUNDARY_FLOOR * self.map.eps_at(self.g.mid(v)) / slope)
+            } else if comps.recurrent[c] && !comps.terminal[c] {
+                self.floor(v, RECURRENT_FLOOR)
+            } else {
+                continue;
+            };
+            if !marked[v] && self.g.width(v) > floor {
+                marked[v] = true;
+                extra += 1;
+            }
+        }
+        extra
+    }
+
+    /// Sharpens the map round the basin boundary's cells that the coarse
+    /// map's error stops short of the resolution (their images are its
+    /// error): at most [`SHARPEN_PER_LEVEL`] stretches a level. Whether
+    /// any was.
+    fn sharpen_boundary(
+        &mut self,
+        comps: &graph::Components,
+        reach: &[u64],
+    ) -> Result<bool, AttractorError> {
+        let mut spans: Vec<[f64; 2]> = Vec::new();
+        for v in 0..self.g.len() {
+            if reach[comps.comp[v] as usize].count_ones() < 2 {
+                continue;
+            }
+            let (w, u) = (self.g.width(v), self.g.mid(v));
+            let slope = self.g.images[v].slope.max(1.0);
+            let stuck = w <= BOUNDARY_FLOOR * self.map.eps_at(u) / slope;
+            let pad = 4.0 * w + 1e-6;
+            let (lo, hi) = (u - pad, u + pad);
+            if !stuck || w <= self.opts.resolution || self.map.is_sharp(lo, hi) {
+                continue;
+            }
+            match spans.last_mut() {
+                Some(s) if lo <= s[1] => s[1] = hi,
+                _ => spans.push([lo, hi]),
+            }
+        }
+        let mut any = false;
+        for s in spans.into_iter().take(SHARPEN_PER_LEVEL) {
+            if self.map.sharpen(s[0], s[1], SHARPEN_EVALUATIONS)? {
+                self.g.refresh(&self.map, s[0], s[1]);
+                any = true;
+            }
+        }
+        Ok(any)
+    }
+
+    /// Halves the marked cells, after nodes at their ends and midpoints
+    /// where they lie in a stretch left to integration (so that the
+    /// halves are enclosed by nodes of their own).
+    fn subdivide(&mut self, marked: &[bool]) -> Result<(), AttractorError> {
+        let g = &self.g;
+        let us: Vec<f64> = (0..g.len())
+            .filter(|&i| marked[i])
+            .flat_map(|i| [g.bounds[i], g.mid(i), g.bounds[i + 1]])
+            .collect();
+        self.map.add_nodes(&us)?;
+        self.g.subdivide(&self.map, marked);
+        Ok(())
     }
 
     /// Whether a closed set at its floor is being decided.
@@ -217,12 +296,7 @@ impl Search {
                 self.floor = Some(Box::new(FloorRun::new(hull, middle, lengths)));
                 return None;
             }
-            // A chaotic set goes on to CHAOS_FLOOR ε, for its density.
-            let times = if chaotic && self.opts.density {
-                CHAOS_FLOOR
-            } else {
-                FLOOR
-            };
+            let times = FLOOR;
             for &i in &k.cells {
                 if self.g.width(i) > self.floor(i, times) {
                     marked[i] = true;
@@ -493,22 +567,6 @@ fn trapped(map: &ArcMap, g: &mut CellGraph, xs: &[f64]) -> bool {
     true
 }
 
-/// The cycle whose trap holds every one of `cells`, if one does.
-fn in_trap(g: &CellGraph, cells: &[usize]) -> Option<(usize, f64)> {
-    if !cells.iter().all(|&i| g.trapped(i)) {
-        return None;
-    }
-    let (lo, hi) = (g.bounds[cells[0]], g.bounds[cells[cells.len() - 1] + 1]);
-    g.cycles
-        .iter()
-        .copied()
-        .find(|&(_, u)| {
-            // A point of the cycle among the cells.
-            lo <= u && u <= hi
-        })
-        .or_else(|| g.cycles.first().copied())
-}
-
 /// The graph's components, its closed ones (each tried for a
 /// contraction), and each component's label among the closed ones.
 fn closed_sets(
@@ -538,6 +596,6 @@ fn closed_sets(
 fn closed(g: &CellGraph, map: &ArcMap, cells: Vec<usize>) -> Closed {
     let proved = contraction(g, map, &cells)
         .map(|(p, _, u)| (p, u))
-        .or_else(|| in_trap(g, &cells));
+        .or_else(|| g.trap_cycle(&cells));
     Closed { cells, proved }
 }

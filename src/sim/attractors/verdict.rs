@@ -2,7 +2,8 @@
 //! or found in a set the cells did not shrink onto), or a chaotic
 //! attractor with its density and λ both ways, or undecided with why.
 
-use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, long_orbit, solve, ulam};
+use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, long_orbit, solve};
+use super::density::density_lambda;
 use super::graph::CellGraph;
 use super::search::Closed;
 use super::{ArcMap, Attractor, AttractorError, CellOptions, Density, Verdict};
@@ -38,6 +39,7 @@ pub(super) fn classify_closed(
         lyapunov: None,
         lyapunov_stderr: None,
         lyapunov_from_density: None,
+        lyapunov_density_error: None,
         density: None,
         basin_fraction: 0.0,
         iterates: Vec::new(),
@@ -81,7 +83,7 @@ pub(super) fn classify_closed(
         ..blank
     };
     Ok(if opts.density {
-        chaotic(map, g, &k.cells, &orbit, blank)
+        chaotic(map, g, &k.cells, &orbit, opts, blank)
     } else {
         by_orbit(map, g, &k.cells, &orbit, blank)
     })
@@ -123,24 +125,33 @@ fn chaotic(
     g: &CellGraph,
     cells: &[usize],
     orbit: &Orbit,
+    opts: &CellOptions,
     blank: Attractor,
 ) -> Attractor {
     let psi = map.psi();
-    let (mu, lambda_d) = ulam(g, map, cells);
     let lo = g.bounds[cells[0]];
     let hi = g.bounds[cells[cells.len() - 1] + 1];
-    let values = binned(g, cells, &mu, lo, hi);
-    let agree = (lambda_d - orbit.lyapunov).abs() <= 0.02 + 4.0 * orbit.stderr;
-    let verdict = if lambda_d > 0.0 && orbit.lyapunov > 0.0 && agree {
+    let cover: Vec<(f64, f64)> = clusters(cells)
+        .iter()
+        .map(|&(a, b)| (g.bounds[a], g.bounds[b + 1]))
+        .collect();
+    let d = density_lambda(map, &cover, opts.density_cells, DENSITY_TARGET);
+    let lambda_d = d.lambda;
+    let values = binned(&d.mu);
+    // Both errors: the density's discretisation error and the orbit's
+    // standard error, three of each, and the series' own (1e-3).
+    let agree = (lambda_d - orbit.lyapunov).abs() <= 3.0 * (d.error + orbit.stderr) + 1e-3;
+    let verdict = if lambda_d > 0.0 && orbit.lyapunov > 4.0 * orbit.stderr && agree {
         Verdict::Chaotic
     } else if !agree {
         Verdict::Undecided(format!(
-            "lambda from the density ({lambda_d:.4}) and from a {}-iterate orbit ({:.4} +- {:.4}) disagree; subdivide further with --resolution or --max-cells",
-            ORBIT.1, orbit.lyapunov, orbit.stderr
+            "lambda from the density ({lambda_d:.4} +- {:.4}) and from a {}-iterate orbit ({:.4} +- {:.4}) disagree; refine the density with --density-cells",
+            d.error, ORBIT.1, orbit.lyapunov, orbit.stderr
         ))
     } else {
         Verdict::Undecided(format!(
-            "a closed set with no stable cycle found and lambda = {lambda_d:.4} <= 0 (a drift or gap below the resolution); subdivide further with --resolution or --max-cells"
+            "a closed set with no stable cycle found and lambda = {lambda_d:.4} +- {:.4} from the density, {:.4} +- {:.4} from an orbit: not positive beyond its error; subdivide further with --resolution or --max-cells",
+            d.error, orbit.lyapunov, orbit.stderr
         ))
     };
     Attractor {
@@ -149,6 +160,7 @@ fn chaotic(
         lyapunov: Some(orbit.lyapunov),
         lyapunov_stderr: Some(orbit.stderr),
         lyapunov_from_density: Some(lambda_d),
+        lyapunov_density_error: Some(d.error),
         density: Some(Density {
             from: psi + lo,
             to: psi + hi,
@@ -158,6 +170,10 @@ fn chaotic(
         ..blank
     }
 }
+
+/// The density's grids are doubled until two doublings in a row move λ by
+/// less than this.
+const DENSITY_TARGET: f64 = 5e-4;
 
 /// The stable p-cycle through u solved by Newton on the integrated map,
 /// if every point lies `inside` the closed set: its minimal period, points,
@@ -186,24 +202,17 @@ fn solved(
     ok.then(|| (q, c.points.clone(), c.multiplier, c.lyapunov()))
 }
 
-/// A density on cells as [`DENSITY_BINS`] equal bins over [lo, hi],
-/// summing to 1.
-fn binned(g: &CellGraph, cells: &[usize], mu: &[f64], lo: f64, hi: f64) -> Vec<f64> {
+/// A density on a uniform grid as [`DENSITY_BINS`] equal bins over the
+/// same interval, summing to 1.
+fn binned(mu: &[f64]) -> Vec<f64> {
     let mut values = vec![0.0; DENSITY_BINS];
-    let bin = (hi - lo) / DENSITY_BINS as f64;
-    for (&c, &m) in cells.iter().zip(mu) {
-        let (a, b) = (g.bounds[c], g.bounds[c + 1]);
-        let (i0, i1) = (
-            (((a - lo) / bin) as usize).min(DENSITY_BINS - 1),
-            (((b - lo) / bin) as usize).min(DENSITY_BINS - 1),
-        );
-        for i in i0..=i1 {
-            let (x0, x1) = (lo + i as f64 * bin, lo + (i + 1) as f64 * bin);
-            let ov = (b.min(x1) - a.max(x0)).max(0.0);
-            values[i] += m * ov / (b - a);
-        }
+    let n = mu.len().max(1);
+    for (i, &m) in mu.iter().enumerate() {
+        values[(i * DENSITY_BINS / n).min(DENSITY_BINS - 1)] += m;
     }
     let s: f64 = values.iter().sum();
-    values.iter_mut().for_each(|v| *v /= s);
+    if s > 0.0 {
+        values.iter_mut().for_each(|v| *v /= s);
+    }
     values
 }

@@ -2,7 +2,9 @@
 //! (`sim::attractors`, docs/attractors.md), with no orbit budget: an
 //! undecided cell (a drift too slow, or a transient too long, for its
 //! iterates) takes the class of the attractor whose basin holds its last
-//! onset; with seeds, the cell counts the attractors the graph decides.
+//! onset; with seeds, the cell counts the attractors the graph decides,
+//! and a cycle the graph solved there is the cell's class whatever the
+//! orbit said.
 
 use super::{CellClass, PhaseCell};
 use crate::model::{Params, exit_arc, wrap_angle};
@@ -43,9 +45,19 @@ pub(super) fn tell(
             .count();
         cell.attractors = Some(n.max(1));
     }
-    if cell.class == CellClass::Undecided
-        && let Some(a) = basin_of(&found, params, cell.theta_last)
+    // The graph's attractor for the orbit's last onset: an undecided cell
+    // takes it; with every attractor asked for (`count`), a cycle the
+    // graph solved (proved, or found in its set) overrides the orbit's
+    // class too: 400 + 128 iterates may not outlast a transient chaos
+    // (κ = 38, θν = 1.5: a proved P12 the orbit called chaos). A chaotic
+    // verdict of the graph's column (itself an orbit's) never overrides a
+    // cycle the orbit settled on.
+    let graph_cycle = |a: &crate::sim::attractors::Attractor| {
+        matches!(a.verdict, Verdict::Proved | Verdict::CycleInSet)
+    };
+    if let Some(a) = basin_of(&found, params, cell.theta_last)
         && decided(&a.verdict)
+        && (cell.class == CellClass::Undecided || (count && graph_cycle(a)))
     {
         cell.class = match a.period {
             Some(p) => CellClass::Periodic(p),

@@ -4,7 +4,7 @@
 //! frame) can stop between any two and go on with the same map bit for
 //! bit.
 
-use super::{ArcError, ArcMap, FINE_TOL, Part, curvature_bound, series_at};
+use super::{ArcError, ArcMap, FINE_TOL, Node, Part, curvature_bound, nodes, series_at};
 use crate::sim::Simulator;
 use crate::sim::interpolant::{InterpolantBuild, InterpolantOptions, MapInterpolant, PieceView};
 
@@ -109,6 +109,49 @@ impl ArcMap {
     }
 }
 
+/// Points a series part is checked at against the integrated map, beyond
+/// the interpolant's own check: between its nodes, three next to each end
+/// (where the error of a series peaks when f is steep or singular just
+/// beyond the end) and two inside.
+const CHECKS_PER_PIECE: usize = 8;
+
+impl ArcMap {
+    /// The largest error of the series `map` on [a, b] against the
+    /// integrated map at [`CHECKS_PER_PIECE`] points between its nodes.
+    fn check_series(
+        &mut self,
+        sim: &Simulator,
+        map: &[f64],
+        (a, b): (f64, f64),
+    ) -> Result<f64, ArcError> {
+        let n = map.len().max(4) - 1;
+        let gap = std::f64::consts::PI / n as f64;
+        // Angles half-way between Chebyshev nodes, from each end.
+        let angles = [0.5, 1.5, 2.5, 0.5 * n as f64 - 0.5, 0.5 * n as f64 + 0.5]
+            .into_iter()
+            .map(|k| k * gap)
+            .chain(
+                [0.5, 1.5, 2.5]
+                    .into_iter()
+                    .map(|k| std::f64::consts::PI - k * gap),
+            );
+        let us: Vec<f64> = angles
+            .take(CHECKS_PER_PIECE)
+            .map(|t| 0.5 * (a + b) + 0.5 * (b - a) * t.cos())
+            .collect();
+        let tasks: Vec<_> = us.iter().map(|u| (sim, self.psi + u, 0.0)).collect();
+        let mut worst = 0.0_f64;
+        for (r, &u) in crate::sim::cycles_in_lanes(&tasks).into_iter().zip(&us) {
+            let e = r?;
+            self.spent.0 += 1;
+            self.spent.1 += e.rhs_evals;
+            let truth = crate::model::wrap_angle(e.theta_next - self.psi);
+            worst = worst.max((series_at(map, a, b, u) - truth).abs());
+        }
+        Ok(worst)
+    }
+}
+
 /// Verified (and sampled) parts over an interval in progress.
 pub(super) struct PartsBuild {
     fine: bool,
@@ -209,12 +252,13 @@ impl ArcMap {
         next: &mut usize,
         parts: &mut Vec<Part>,
     ) -> Result<bool, ArcError> {
+        let fine = b.fine;
         let (sim, own) = if b.fine {
             (self.sim, self.own)
         } else {
             (self.coarse, self.own_coarse)
         };
-        let eps = b.tol + own;
+        let b_tol = b.tol;
         let views: Vec<PieceView> = interp.piece_views().collect();
         // The samples of the stretches left to integration share half the
         // build's budget (each 1 to 33).
@@ -234,6 +278,7 @@ impl ArcMap {
                     derivative,
                 } => {
                     let d: Vec<f64> = derivative.iter().map(|c| c[1]).collect();
+                    let measured = self.check_series(&sim, map, (a, b))?;
                     parts.push(Part::Series {
                         a,
                         b,
@@ -242,29 +287,132 @@ impl ArcMap {
                         map: map.into(),
                         derivative: d.into(),
                         curvature: curvature_bound(map, a, b),
-                        eps,
+                        eps: b_tol.max(2.0 * measured) + own,
                     });
+                    // One checked piece a call: each costs
+                    // CHECKS_PER_PIECE evaluations.
+                    return Ok(*next < views.len());
                 }
                 PieceView::Direct { a, b } => {
-                    let side = |j: Option<&PieceView>, at: f64| match j {
-                        Some(PieceView::Series { a, b, map, .. }) => {
-                            Some(series_at(map, *a, *b, at))
-                        }
-                        _ => None,
-                    };
-                    let left = side(i.checked_sub(1).and_then(|j| views.get(j)), a);
-                    let right = side(views.get(i + 1), b);
-                    let samples = self.sampled(&sim, a, b, left, right, per)?;
-                    parts.push(Part::Sampled {
-                        from: a,
-                        to: b,
-                        samples: samples.into(),
-                        eps,
-                    });
+                    let neighbours = (
+                        i.checked_sub(1).and_then(|j| views.get(j)),
+                        views.get(i + 1),
+                    );
+                    let part = self.direct_part(&sim, (a, b), neighbours, (per, own, fine))?;
+                    parts.push(part);
                     return Ok(*next < views.len());
                 }
             }
         }
         Ok(false)
+    }
+}
+
+/// A stretch's nodes are added at its build while an interval's
+/// enclosure is wider than its chord by more than this (or open) ...
+const STRETCH_SLACK: f64 = 1e-4;
+/// ... and wider than this; the cell graph refines further where it
+/// subdivides ([`ArcMap::add_nodes`]).
+const STRETCH_FLOOR: f64 = 1e-6;
+
+impl ArcMap {
+    /// The nodes of a stretch left to integration: its ends (one-sided,
+    /// from the neighbouring series where there is one) and `n` nodes
+    /// across it (a jump's bracket, 2e-10 wide, only its midpoint), then
+    /// intervals bisected while they are open or their enclosure is wider
+    /// than the chord by more than [`STRETCH_SLACK`], within `most`
+    /// evaluations and down to [`STRETCH_FLOOR`].
+    fn stretch_nodes(
+        &mut self,
+        sim: &Simulator,
+        (a, b): (f64, f64),
+        ends: [Option<Node>; 2],
+        most: usize,
+        own: f64,
+    ) -> Result<Vec<Node>, ArcError> {
+        let psi = self.psi;
+        let bracket = b - a < 1e-8;
+        let n = if bracket {
+            1
+        } else {
+            (((b - a) / 1e-3).ceil() as usize).clamp(3, most.max(3))
+        };
+        let mut out = Vec::with_capacity(n + 2);
+        let mut spent = self.spent;
+        let at = |u: f64, spent: &mut (u64, u64)| Node::at(sim, psi, u, spent);
+        match ends[0] {
+            Some(e) => out.push(e),
+            None if !bracket => out.push(at(a, &mut spent)?),
+            None => {}
+        }
+        for k in 0..n {
+            let u = if bracket {
+                0.5 * (a + b)
+            } else {
+                a + (b - a) * (k + 1) as f64 / (n + 1) as f64
+            };
+            out.push(at(u, &mut spent)?);
+        }
+        match ends[1] {
+            Some(e) => out.push(e),
+            None if !bracket => out.push(at(b, &mut spent)?),
+            None => {}
+        }
+        let mut budget = most.saturating_mul(4);
+        while !bracket && budget > 0 {
+            let worst = out
+                .windows(2)
+                .enumerate()
+                .filter(|(_, w)| w[1].u - w[0].u > STRETCH_FLOOR)
+                .map(|(k, w)| (k, nodes::slack(&w[0], &w[1], own)))
+                .filter(|&(_, s)| s > STRETCH_SLACK)
+                .max_by(|x, y| x.1.total_cmp(&y.1));
+            let Some((k, _)) = worst else { break };
+            let u = 0.5 * (out[k].u + out[k + 1].u);
+            out.insert(k + 1, at(u, &mut spent)?);
+            budget -= 1;
+        }
+        self.spent = spent;
+        Ok(out)
+    }
+}
+
+impl ArcMap {
+    /// A stretch left to integration as a part enclosed from nodes, its
+    /// ends' values and slopes taken from the neighbouring series where
+    /// there is one; `(most, own, fine)` as [`Self::stretch_nodes`] and
+    /// [`Part::Sampled`] take them.
+    fn direct_part(
+        &mut self,
+        sim: &Simulator,
+        (a, b): (f64, f64),
+        neighbours: (Option<&PieceView>, Option<&PieceView>),
+        (most, own, fine): (usize, f64, bool),
+    ) -> Result<Part, ArcError> {
+        let side = |j: Option<&PieceView>, at: f64| match j {
+            Some(PieceView::Series {
+                a,
+                b,
+                map,
+                derivative,
+            }) => {
+                let d: Vec<f64> = derivative.iter().map(|c| c[1]).collect();
+                Some(Node {
+                    u: at,
+                    f: series_at(map, *a, *b, at),
+                    d: series_at(&d, *a, *b, at),
+                })
+            }
+            _ => None,
+        };
+        let ends = [side(neighbours.0, a), side(neighbours.1, b)];
+        let nodes = self.stretch_nodes(sim, (a, b), ends, most, own)?;
+        Ok(Part::Sampled {
+            from: a,
+            to: b,
+            nodes,
+            own,
+            fine,
+        })
     }
 }
