@@ -24,6 +24,8 @@ mod attractors;
 mod attractors_cells;
 #[path = "basins.rs"]
 mod basins;
+#[path = "branch_birth.rs"]
+mod branch_birth;
 #[path = "cascade_switch.rs"]
 mod cascade_switch;
 #[path = "cli.rs"]

@@ -195,19 +195,31 @@ impl Branch {
         self.special.iter().filter(move |s| s.kind == kind)
     }
 
+    /// Its own period doublings: those of its period (a branch that met
+    /// its birth also lists the half-period cycle's doubling it ends at).
+    pub fn doublings(&self) -> impl Iterator<Item = &SpecialPoint> {
+        self.of_kind(SpecialKind::PeriodDoubling)
+            .filter(move |s| s.period == self.period)
+    }
+
     /// Why and where the branch ended, as a clause ("reached the end of
     /// the range, at theta-nu = 1.2").
     pub fn stop_message(&self) -> String {
+        // The end point's λ: the last computed point's, or the doubling
+        // of the cycle it was born from where it met it.
         let at = self
-            .points
+            .special
             .last()
-            .map(|p| format!("{} = {}", self.param.name(), p.lambda))
+            .filter(|s| s.kind == SpecialKind::End)
+            .map(|s| s.lambda)
+            .or(self.points.last().map(|p| p.lambda))
+            .map(|l| format!("{} = {}", self.param.name(), l))
             .unwrap_or_default();
         let why = match &self.stop {
             Stop::Reached => "reached the end of the range".to_string(),
             Stop::Returned => "came back to the start of the range".to_string(),
             Stop::Merged => format!(
-                "turned where it merges with the P{} cycle it doubles from",
+                "met the P{} cycle it is born from, at that cycle's doubling",
                 self.period / 2
             ),
             Stop::PeriodDoubling => "stopped at its first period doubling".to_string(),
@@ -383,6 +395,9 @@ impl Ctx<'_> {
         let s_len = self.opts.scale;
         let (mut sa, mut fa) = (0.0, test(a.e.multiplier));
         let (mut sb, mut fb) = (h, test(b.e.multiplier));
+        // The test's secant slope over the step (the final bracket's is
+        // m's noise over a closed bracket).
+        let slope = (fb - fa) / h;
         // The test's true values at the bracket's ends (Illinois halves
         // the retained end's weight, not its value).
         let (mut ta, mut tb) = (fa, fb);
@@ -444,6 +459,7 @@ impl Ctx<'_> {
             real,
             off,
             samples,
+            slope,
         }
     }
 }
@@ -467,4 +483,7 @@ pub(super) struct Located {
     /// (λ, m) at every branch point the location corrected, the bracket's
     /// first ends first (for m's slope at the zero).
     pub(super) samples: Vec<(f64, f64)>,
+    /// The test's secant slope in arclength across the step it was
+    /// located on.
+    pub(super) slope: f64,
 }

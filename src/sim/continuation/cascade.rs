@@ -193,7 +193,7 @@ async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
             branches.push(branch);
             break format!("the P{period} branch collapsed onto a shorter cycle at its start");
         }
-        let pd = branch.of_kind(SpecialKind::PeriodDoubling).next().cloned();
+        let pd = branch.doublings().next().cloned();
         if report_first || !branches.is_empty() {
             on_level(&branch);
         }

@@ -15,7 +15,9 @@ mod curve;
 mod curves;
 mod flip;
 mod pace;
+mod refine;
 mod stencil;
+mod tip;
 mod walk;
 
 use crate::integrate::SolverSettings;

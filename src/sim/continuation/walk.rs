@@ -38,7 +38,17 @@ struct Walk<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> {
     points: Vec<BranchPoint>,
     special: Vec<SpecialPoint>,
     on_special: &'b mut R,
+    /// How often a step has met the tip of the pitchfork the branch was
+    /// born in (each halves the step, to end close to it).
+    tip_tries: u32,
+    /// The branch's end where it met its birth: the half-period cycle's
+    /// doubling.
+    tip: Option<SpecialPoint>,
 }
+
+/// How many steps that meet the tip of the branch's pitchfork are
+/// retried at half the length before the branch ends there.
+const TIP_TRIES: u32 = 6;
 
 /// A special point located on a step: its kind, the point, a note, and
 /// (λ, m) at the branch points its location corrected.
@@ -160,6 +170,8 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             points: vec![first],
             special: Vec::new(),
             on_special,
+            tip_tries: 0,
+            tip: None,
         })
     }
 
@@ -173,6 +185,16 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         let Some((n, tn)) = self.predict_correct(h).await else {
             return Step::Retry;
         };
+        // Before any fold test: a step that reaches the tip of the
+        // pitchfork the branch was born in, onto the half-period cycle or
+        // round to the same cycle with its halves swapped, is never taken.
+        if super::tip::meets_birth(&self.cur, &n, self.tol) {
+            if self.tip_tries < TIP_TRIES && h > 64.0 * self.ctx.opts.h_min {
+                self.tip_tries += 1;
+                return Step::Retry;
+            }
+            return Step::Stop(self.end_at_tip(&n).await);
+        }
         let (n, last) = match self.clip(n).await {
             Ok(v) => v,
             Err(()) => return Step::Retry,
@@ -218,6 +240,31 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     }
 
     /// The corrected point a step h along the tangent, and its tangent;
+    /// The branch's end at the tip of its pitchfork, met on the step to
+    /// `n`: the half-period cycle's doubling located there and recorded
+    /// (see [`super::tip`]).
+    async fn end_at_tip(&mut self, n: &Pt) -> Stop {
+        let prev = self.points.len().checked_sub(2).map(|i| self.points[i].clone());
+        let cur = self.cur.clone();
+        if let Some(pd) = super::tip::locate_tip(&mut self.ctx, &cur, prev.as_ref(), n).await {
+            (self.on_special)(&pd);
+            let end = SpecialPoint {
+                kind: SpecialKind::End,
+                period: self.ctx.prob.period,
+                multiplier: pd.multiplier * pd.multiplier,
+                note: format!(
+                    "merged with the P{} cycle it is born from, at its doubling",
+                    pd.period
+                ),
+                flip: None,
+                ..pd.clone()
+            };
+            self.special.push(pd);
+            self.tip = Some(end);
+        }
+        Stop::Merged
+    }
+
     /// `None` when the corrector fails, lands more than half a step from
     /// the prediction, or the tangent turns by more than ~18°.
     async fn predict_correct(&mut self, h: f64) -> Option<(Pt, [f64; 2])> {
@@ -281,8 +328,10 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             if (m0 - at) * (m1 - at) >= 0.0 {
                 continue;
             }
-            let l = self.ctx.locate(&cur, n, t, dist, |m| m - at).await;
+            let test = move |m: f64| m - at;
+            let mut l = self.ctx.locate(&cur, n, t, dist, test).await;
             if l.real {
+                l = self.ctx.refine(l, t, test).await;
                 found.push((kind, l.pt, String::new(), l.samples));
             } else {
                 let note = format!(
@@ -342,6 +391,9 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         let mut last_point = self.ctx.special(SpecialKind::End, &self.cur, note);
         if let Some(p) = self.points.last() {
             last_point.lambda = p.lambda;
+        }
+        if let Some(tip) = self.tip.take() {
+            last_point = tip;
         }
         self.special.push(last_point);
         Branch {
