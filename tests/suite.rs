@@ -70,6 +70,8 @@ mod derivatives;
 mod docs_auto_table;
 #[path = "docs_counts.rs"]
 mod docs_counts;
+#[path = "flip_accuracy.rs"]
+mod flip_accuracy;
 #[path = "function_lengths.rs"]
 mod function_lengths;
 #[path = "gui_accuracy.rs"]

@@ -470,7 +470,7 @@ fn follow(plan: &Plan, seed: f64, limits: &Limits) -> Result<Ran, CliError> {
             "continue: {} of the P{} branch at {name} = {}",
             p.kind.name(),
             p.period,
-            p.lambda
+            out::located(p.lambda)
         ),
         Update::Branch { branch: b, .. } if matches!(plan.mode, Mode::Cascade) => eprintln!(
             "continue: P{} branch, {} points: it {}",

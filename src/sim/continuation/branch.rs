@@ -90,6 +90,9 @@ pub struct BranchPoint {
     pub minimal_period: usize,
 }
 
+/// The start of the note of a branch's end at the doubling it was born in.
+pub const MERGED_NOTE: &str = "merged with the P";
+
 /// What a special point is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SpecialKind {
@@ -146,6 +149,14 @@ impl SpecialPoint {
     /// normal form; empty otherwise.
     pub fn criticality_name(&self) -> &'static str {
         self.flip.map_or("", |f| f.criticality().name())
+    }
+
+    /// Whether it was located (a PD, fold, jump, border, or the end of a
+    /// branch at the doubling it was born in), rather than being the last
+    /// computed point: a located point is known to ~1e-10 in λ, a
+    /// computed one is exactly where it was computed.
+    pub fn is_located(&self) -> bool {
+        self.kind != SpecialKind::End || self.note.starts_with(MERGED_NOTE)
     }
 }
 
@@ -211,7 +222,14 @@ impl Branch {
             .special
             .last()
             .filter(|s| s.kind == SpecialKind::End)
-            .map(|s| s.lambda)
+            .map(|s| {
+                if s.is_located() {
+                    // To what it is known (10 significant digits).
+                    format!("{:.9e}", s.lambda).parse().unwrap_or(s.lambda)
+                } else {
+                    s.lambda
+                }
+            })
             .or(self.points.last().map(|p| p.lambda))
             .map(|l| format!("{} = {}", self.param.name(), l))
             .unwrap_or_default();

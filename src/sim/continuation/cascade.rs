@@ -428,9 +428,13 @@ async fn doubled_at(
     lambda: f64,
     seed: f64,
 ) -> Result<(f64, f64, f64), String> {
-    let cyc = CycleOptions::for_settings(&level.settings);
+    // At the tolerance the doubling was located with (refine.rs), so
+    // that the cycle's half-width grows from that λ*.
+    let settings = super::refine::tighter(&level.settings).unwrap_or(level.settings);
+    let fine = Problem { settings, ..*level };
+    let cyc = CycleOptions::for_settings(&settings);
     let (p, q) = (level.period, 2 * level.period);
-    let sim = level.sim(lambda).map_err(|e| e.to_string())?;
+    let sim = fine.sim(lambda).map_err(|e| e.to_string())?;
     let c = solve_cycle(pace, &sim, seed, q, &cyc, &mut (0, 0))
         .await
         .map_err(|e| format!("Newton found no P{q} cycle at {lambda}: {e}"))?;
