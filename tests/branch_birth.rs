@@ -23,7 +23,12 @@ use oneblock::worker::{CascadeFrom, Command, ContinuationSpec, Lane, Outcome, Up
 /// λ where the fixed point through `seed` has the multiplier −1 (from
 /// `solve_cycle` alone, DOP853 at tol 1e-14, where m is good to ~1e-9) in
 /// `param` between `lo` and `hi`, by bisection.
-pub fn fixed_point_flip(base: Params, param: ContParam, [mut lo, mut hi]: [f64; 2], seed: f64) -> f64 {
+pub fn fixed_point_flip(
+    base: Params,
+    param: ContParam,
+    [mut lo, mut hi]: [f64; 2],
+    seed: f64,
+) -> f64 {
     let settings = default_settings(1e-14);
     let opts = CycleOptions::for_settings(&settings);
     let mut seed = seed;
@@ -52,8 +57,15 @@ fn p2_run(more: &[&str]) -> (String, Vec<Vec<String>>, Vec<Vec<String>>) {
     let dir = tempfile::tempdir().unwrap();
     let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
     let base = [
-        "continue", "--preset", "fig3b", "--period", "2", "--out", out.to_str().unwrap(),
-        "--points", pts.to_str().unwrap(),
+        "continue",
+        "--preset",
+        "fig3b",
+        "--period",
+        "2",
+        "--out",
+        out.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
     ];
     let o = run(&with(&base, more));
     assert_ok(&o);
@@ -67,7 +79,10 @@ fn ends_at_its_birth(err: &str, rows: &[Vec<String>], specials: &[Vec<String>], 
     assert!(specials.iter().all(|r| r[0] != "fold"), "{err}");
     for r in rows {
         let (t1, t2) = (num(&r[2]), num(&r[3]));
-        assert!((t1 - t2).abs() > 1e-6, "a P2 row whose points coincide: {r:?}\n{err}");
+        assert!(
+            (t1 - t2).abs() > 1e-6,
+            "a P2 row whose points coincide: {r:?}\n{err}"
+        );
     }
     let pd: Vec<_> = specials.iter().filter(|r| r[0] == "PD").collect();
     assert_eq!(pd.len(), 1, "{err}");
@@ -85,7 +100,14 @@ fn a_p2_followed_down_in_theta_nu_ends_at_the_fixed_points_doubling() {
     let b = fixed_point_flip(fig3b(1.0), ContParam::ThetaNu, [1.08, 1.10], 0.42);
     assert!((b - 1.0895719).abs() < 1e-7, "{b}");
     let (err, rows, pts) = p2_run(&[
-        "--theta-nu", "1.15", "--param", "theta-nu", "--from", "1.15", "--to", "1.0",
+        "--theta-nu",
+        "1.15",
+        "--param",
+        "theta-nu",
+        "--from",
+        "1.15",
+        "--to",
+        "1.0",
     ]);
     ends_at_its_birth(&err, &rows, &pts, b, 1e-8);
     // It never went below the doubling (no P2 exists there).
@@ -97,7 +119,14 @@ fn a_p2_followed_up_in_kappa_ends_at_the_fixed_points_doubling() {
     let b = fixed_point_flip(fig3b(1.1), ContParam::Kappa, [19.7, 19.9], 0.42);
     assert!((b - 19.8018).abs() < 1e-4, "{b}");
     let (err, rows, pts) = p2_run(&[
-        "--theta-nu", "1.1", "--param", "kappa", "--from", "18.95", "--to", "30",
+        "--theta-nu",
+        "1.1",
+        "--param",
+        "kappa",
+        "--from",
+        "18.95",
+        "--to",
+        "30",
     ]);
     ends_at_its_birth(&err, &rows, &pts, b, 2e-7);
     assert!(rows.iter().all(|r| num(&r[0]) < b), "{err}");

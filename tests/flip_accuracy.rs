@@ -22,14 +22,35 @@ fn first_pd(from: &str, to: &str) -> (f64, String) {
     let dir = tempfile::tempdir().unwrap();
     let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
     let args = [
-        "continue", "--kappa", "19", "--gamma", "10", "--nu", "1e-3", "--theta-nu", from,
-        "--param", "theta-nu", "--from", from, "--to", to, "--period", "1", "--out",
-        out.to_str().unwrap(), "--points", pts.to_str().unwrap(),
+        "continue",
+        "--kappa",
+        "19",
+        "--gamma",
+        "10",
+        "--nu",
+        "1e-3",
+        "--theta-nu",
+        from,
+        "--param",
+        "theta-nu",
+        "--from",
+        from,
+        "--to",
+        to,
+        "--period",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+        "--points",
+        pts.to_str().unwrap(),
     ];
     let o = oneblock(&args);
     assert_ok(&o);
     let (_, rows) = parse_csv(&std::fs::read_to_string(&pts).unwrap());
-    let pd = rows.iter().find(|r| r[0] == "PD").unwrap_or_else(|| panic!("{}", stderr(&o)));
+    let pd = rows
+        .iter()
+        .find(|r| r[0] == "PD")
+        .unwrap_or_else(|| panic!("{}", stderr(&o)));
     (num(&pd[3]), pd[3].clone())
 }
 

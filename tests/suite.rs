@@ -26,6 +26,8 @@ mod attractors_cells;
 mod basins;
 #[path = "branch_birth.rs"]
 mod branch_birth;
+#[path = "cascade_reach.rs"]
+mod cascade_reach;
 #[path = "cascade_switch.rs"]
 mod cascade_switch;
 #[path = "cli.rs"]

@@ -17,6 +17,7 @@ mod flip;
 mod pace;
 mod refine;
 mod stencil;
+mod switch;
 mod tip;
 mod walk;
 

@@ -124,7 +124,11 @@ async fn locate_on(
         return None;
     }
     let l = qctx.refine(l, along, test).await;
-    let note = format!("the P{} cycle's doubling, where the P{} branch is born", qctx.prob.period, 2 * qctx.prob.period);
+    let note = format!(
+        "the P{} cycle's doubling, where the P{} branch is born",
+        qctx.prob.period,
+        2 * qctx.prob.period
+    );
     let mut sp = qctx.special(SpecialKind::PeriodDoubling, &l.pt, note);
     sp.flip = qctx.flip(&l.pt, &l.samples).await;
     Some(sp)

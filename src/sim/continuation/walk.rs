@@ -253,7 +253,11 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     /// `n`: the half-period cycle's doubling located there and recorded
     /// (see [`super::tip`]).
     async fn end_at_tip(&mut self, n: &Pt) -> Stop {
-        let prev = self.points.len().checked_sub(2).map(|i| self.points[i].clone());
+        let prev = self
+            .points
+            .len()
+            .checked_sub(2)
+            .map(|i| self.points[i].clone());
         let cur = self.cur.clone();
         if let Some(pd) = super::tip::locate_tip(&mut self.ctx, &cur, prev.as_ref(), n).await {
             (self.on_special)(&pd);
@@ -377,6 +381,9 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             return None;
         }
         let (h0, m0) = (self.ctx.opts.h0, self.cur.e.multiplier);
+        // The failure the branch ends with if no leap works: the short
+        // steps', not the long leaps'.
+        let stalled = self.ctx.last_fail.take();
         for h in [h0 / 16.0, h0 / 4.0, h0, 4.0 * h0] {
             let Some((n, _)) = self.predict_correct(h).await else {
                 continue;
@@ -396,6 +403,7 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             self.ctx.last_fail = None;
             return Some(h);
         }
+        self.ctx.last_fail = stalled;
         None
     }
 
