@@ -374,12 +374,24 @@ impl Ctx<'_> {
     pub(super) async fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
         let dm_dlambda = super::branch_slope(samples, lambda, self.prob.period)?;
+        // At the tolerance the point was located with (refine.rs), its
+        // centre evaluated again there (the location may have kept the
+        // coarse point): G and M at θ* and at θ* ± H from one solver, and
+        // the born cycle grown from the same λ*.
+        let fine = super::refine::tighter(&self.prob.settings).map(|settings| Problem {
+            settings,
+            ..*self.prob
+        });
+        let (prob, at) = match &fine {
+            Some(f) => (f, None),
+            None => (self.prob, Some(&p.e)),
+        };
         super::flip::flip_paced(
             self.pace,
-            self.prob,
+            prob,
             lambda,
             p.x[0],
-            Some(&p.e),
+            at,
             dm_dlambda,
             &mut self.evals,
         )
