@@ -39,7 +39,10 @@ pub(super) fn meets_birth(cur: &Pt, n: &Pt, tol: f64) -> bool {
         carried *= s.abs();
         amp += carried;
     }
-    let noise = 10.0 * 0.5 * tol * amp / (1.0 - n.e.multiplier).abs();
+    // At most 1e-4: a P2 at a fold of its own (m = +1 too) keeps its
+    // halves apart, and one whose halves are within 1e-4 is within
+    // ~(1e-4/A)² of a tip in λ anyway.
+    let noise = (10.0 * 0.5 * tol * amp / (1.0 - n.e.multiplier).abs()).min(1e-4);
     b.abs() <= noise.max(1e2 * tol) || a * b < 0.0
 }
 
