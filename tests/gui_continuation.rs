@@ -127,9 +127,10 @@ fn find_bifurcations_draws_the_branches_and_lists_the_doubling() {
     h.hover_at(at);
     h.run_steps(3);
     let value = sig9(pd.lambda);
-    assert_eq!(
-        value.chars().filter(char::is_ascii_digit).count(),
-        9,
+    // 9 significant digits, trailing zeros dropped (1.08957190 → 1.0895719).
+    assert!(
+        value.chars().filter(char::is_ascii_digit).count() <= 9
+            && (value.parse::<f64>().unwrap() - pd.lambda).abs() <= 5e-9 * pd.lambda.abs(),
         "{value}"
     );
     assert!(

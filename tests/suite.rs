@@ -26,6 +26,10 @@ mod attractors_cells;
 mod attractors_proofs;
 #[path = "basins.rs"]
 mod basins;
+#[path = "branch_birth.rs"]
+mod branch_birth;
+#[path = "cascade_reach.rs"]
+mod cascade_reach;
 #[path = "cascade_switch.rs"]
 mod cascade_switch;
 #[path = "cli.rs"]
@@ -70,6 +74,8 @@ mod derivatives;
 mod docs_auto_table;
 #[path = "docs_counts.rs"]
 mod docs_counts;
+#[path = "flip_accuracy.rs"]
+mod flip_accuracy;
 #[path = "function_lengths.rs"]
 mod function_lengths;
 #[path = "gui_accuracy.rs"]

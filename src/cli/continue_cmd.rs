@@ -470,7 +470,7 @@ fn follow(plan: &Plan, seed: f64, limits: &Limits) -> Result<Ran, CliError> {
             "continue: {} of the P{} branch at {name} = {}",
             p.kind.name(),
             p.period,
-            p.lambda
+            out::located(p.lambda)
         ),
         Update::Branch { branch: b, .. } if matches!(plan.mode, Mode::Cascade) => eprintln!(
             "continue: P{} branch, {} points: it {}",
@@ -524,7 +524,7 @@ fn curve_starts_found(plan: &Plan, branches: &[Branch]) -> Result<(), CliError> 
         CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
         CurveKind::Fold => SpecialKind::Fold,
     };
-    if b.of_kind(want).next().is_some() || b.stop == Stop::Cancelled {
+    if b.of_kind(want).any(|s| s.period == b.period) || b.stop == Stop::Cancelled {
         return Ok(());
     }
     Err(CliError::Failed(format!(

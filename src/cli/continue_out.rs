@@ -60,9 +60,9 @@ pub fn points_csv(branches: &[Branch]) -> String {
                 p.kind.name(),
                 p.period,
                 b.param.name(),
-                p.lambda,
-                p.theta,
-                p.multiplier,
+                shown(p, p.lambda),
+                shown(p, p.theta),
+                shown(p, p.multiplier),
                 p.criticality_name()
             )
             .ok();
@@ -181,15 +181,28 @@ pub struct Summary<'a> {
     pub seconds: f64,
 }
 
+/// `v` to 10 significant digits, printed shortest: what a located point
+/// is known to (its λ within ~1e-10 relative; its θ and multiplier, from
+/// the tighter solver, to about 1e-9), and no more.
+pub fn located(v: f64) -> f64 {
+    format!("{v:.9e}").parse().unwrap_or(v)
+}
+
+/// `v`, a value of `p`: to 10 significant digits where `p` was located
+/// ([`located`]), every digit where it is the last computed point.
+fn shown(p: &SpecialPoint, v: f64) -> f64 {
+    if p.is_located() { located(v) } else { v }
+}
+
 fn special_line(s: &mut String, name: &str, p: &SpecialPoint) {
     writeln!(
         s,
         "  {:<7}P{:<3} {name} = {}  theta = {}  multiplier = {}{}{}",
         p.kind.name(),
         p.period,
-        p.lambda,
-        p.theta,
-        p.multiplier,
+        shown(p, p.lambda),
+        shown(p, p.theta),
+        shown(p, p.multiplier),
         p.flip
             .map_or(String::new(), |f| flip_words(name, p.period, &f)),
         if p.note.is_empty() {
@@ -323,7 +336,7 @@ fn cascade_text(s: &mut String, name: &str, c: &Cascade) {
             "  {:<3} {:<7} {:<22} {:<12} {ratio}",
             i + 1,
             d.period,
-            format!("{:.15}", d.lambda),
+            located(d.lambda).to_string(),
             gap
         )
         .ok();
@@ -378,9 +391,9 @@ impl Summary<'_> {
             serde_json::json!({
                 "kind": p.kind.name(),
                 "period": p.period,
-                "value": p.lambda,
-                "theta": p.theta,
-                "multiplier": p.multiplier,
+                "value": shown(p, p.lambda),
+                "theta": shown(p, p.theta),
+                "multiplier": shown(p, p.multiplier),
                 "note": p.note,
                 "criticality": p.flip.map(|f| f.criticality().name()),
                 "normal_form": p.flip.map(|f| serde_json::json!({

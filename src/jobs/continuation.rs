@@ -212,7 +212,7 @@ impl Out {
         let period = prob.period;
         let levels = (max_period / period).max(1).ilog2() as f64 + 1.0;
         let mut tally = Tally::new(&first, levels, started);
-        let doubles = first.of_kind(SpecialKind::PeriodDoubling).next().is_some();
+        let doubles = first.doublings().next().is_some();
         let said = format!("P{period} branch: it {}", first.stop_message());
         if !doubles || 2 * period > max_period {
             self.progress(1.0, tally.evals, started);
@@ -309,7 +309,12 @@ impl Out {
             CurveKind::PeriodDoubling => SpecialKind::PeriodDoubling,
             CurveKind::Fold => SpecialKind::Fold,
         };
-        let starts: Vec<SpecialPoint> = branch.of_kind(want).cloned().collect();
+        // Of the branch's own period (not the doubling it was born at).
+        let starts: Vec<SpecialPoint> = branch
+            .of_kind(want)
+            .filter(|s| s.period == prob.period)
+            .cloned()
+            .collect();
         if starts.is_empty() {
             self.summary(format!(
                 "stopped: no {} point on the P{} branch: no curve to follow",
@@ -465,10 +470,7 @@ impl Out {
         let quiet = &mut |_: &SpecialPoint| {};
         let walk = continue_branch_paced(self.pace(), &prob, t0, t1, seed, &opts, quiet);
         let branch = walk.await.map_err(start_failure)?;
-        let mut starts: Vec<SpecialPoint> = branch
-            .of_kind(SpecialKind::PeriodDoubling)
-            .cloned()
-            .collect();
+        let mut starts: Vec<SpecialPoint> = branch.doublings().cloned().collect();
         if !starts.is_empty() && 2 * period <= PERIOD_MAX {
             let first = branch.clone();
             let quiet = &mut |_: &Branch| {};

@@ -90,6 +90,9 @@ pub struct BranchPoint {
     pub minimal_period: usize,
 }
 
+/// The start of the note of a branch's end at the doubling it was born in.
+pub const MERGED_NOTE: &str = "merged with the P";
+
 /// What a special point is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
 pub enum SpecialKind {
@@ -147,6 +150,14 @@ impl SpecialPoint {
     pub fn criticality_name(&self) -> &'static str {
         self.flip.map_or("", |f| f.criticality().name())
     }
+
+    /// Whether it was located (a PD, fold, jump, border, or the end of a
+    /// branch at the doubling it was born in), rather than being the last
+    /// computed point: a located point is known to ~1e-10 in λ, a
+    /// computed one is exactly where it was computed.
+    pub fn is_located(&self) -> bool {
+        self.kind != SpecialKind::End || self.note.starts_with(MERGED_NOTE)
+    }
 }
 
 /// Why a branch ended.
@@ -195,19 +206,38 @@ impl Branch {
         self.special.iter().filter(move |s| s.kind == kind)
     }
 
+    /// Its own period doublings: those of its period (a branch that met
+    /// its birth also lists the half-period cycle's doubling it ends at).
+    pub fn doublings(&self) -> impl Iterator<Item = &SpecialPoint> {
+        self.of_kind(SpecialKind::PeriodDoubling)
+            .filter(move |s| s.period == self.period)
+    }
+
     /// Why and where the branch ended, as a clause ("reached the end of
     /// the range, at theta-nu = 1.2").
     pub fn stop_message(&self) -> String {
+        // The end point's λ: the last computed point's, or the doubling
+        // of the cycle it was born from where it met it.
         let at = self
-            .points
+            .special
             .last()
-            .map(|p| format!("{} = {}", self.param.name(), p.lambda))
+            .filter(|s| s.kind == SpecialKind::End)
+            .map(|s| {
+                if s.is_located() {
+                    // To what it is known (10 significant digits).
+                    format!("{:.9e}", s.lambda).parse().unwrap_or(s.lambda)
+                } else {
+                    s.lambda
+                }
+            })
+            .or(self.points.last().map(|p| p.lambda))
+            .map(|l| format!("{} = {}", self.param.name(), l))
             .unwrap_or_default();
         let why = match &self.stop {
             Stop::Reached => "reached the end of the range".to_string(),
             Stop::Returned => "came back to the start of the range".to_string(),
             Stop::Merged => format!(
-                "turned where it merges with the P{} cycle it doubles from",
+                "met the P{} cycle it is born from, at that cycle's doubling",
                 self.period / 2
             ),
             Stop::PeriodDoubling => "stopped at its first period doubling".to_string(),
@@ -344,12 +374,24 @@ impl Ctx<'_> {
     pub(super) async fn flip(&mut self, p: &Pt, samples: &[(f64, f64)]) -> Option<super::Flip> {
         let lambda = p.lambda(self.opts.scale);
         let dm_dlambda = super::branch_slope(samples, lambda, self.prob.period)?;
+        // At the tolerance the point was located with (refine.rs), its
+        // centre evaluated again there (the location may have kept the
+        // coarse point): G and M at θ* and at θ* ± H from one solver, and
+        // the born cycle grown from the same λ*.
+        let fine = super::refine::tighter(&self.prob.settings).map(|settings| Problem {
+            settings,
+            ..*self.prob
+        });
+        let (prob, at) = match &fine {
+            Some(f) => (f, None),
+            None => (self.prob, Some(&p.e)),
+        };
         super::flip::flip_paced(
             self.pace,
-            self.prob,
+            prob,
             lambda,
             p.x[0],
-            Some(&p.e),
+            at,
             dm_dlambda,
             &mut self.evals,
         )
@@ -383,6 +425,9 @@ impl Ctx<'_> {
         let s_len = self.opts.scale;
         let (mut sa, mut fa) = (0.0, test(a.e.multiplier));
         let (mut sb, mut fb) = (h, test(b.e.multiplier));
+        // The test's secant slope over the step (the final bracket's is
+        // m's noise over a closed bracket).
+        let slope = (fb - fa) / h;
         // The test's true values at the bracket's ends (Illinois halves
         // the retained end's weight, not its value).
         let (mut ta, mut tb) = (fa, fb);
@@ -444,6 +489,7 @@ impl Ctx<'_> {
             real,
             off,
             samples,
+            slope,
         }
     }
 }
@@ -467,4 +513,7 @@ pub(super) struct Located {
     /// (λ, m) at every branch point the location corrected, the bracket's
     /// first ends first (for m's slope at the zero).
     pub(super) samples: Vec<(f64, f64)>,
+    /// The test's secant slope in arclength across the step it was
+    /// located on.
+    pub(super) slope: f64,
 }

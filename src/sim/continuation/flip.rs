@@ -290,7 +290,11 @@ async fn born_cycle(
     expected: f64,
     evals: &mut u64,
 ) -> Option<Born> {
-    let sim = prob.sim(lambda).ok()?;
+    // At the tolerance the doubling was located with (refine.rs): at the
+    // solver's own, the 2p-cycle is born where its multiplier's error
+    // puts it, as far from λ* as the step δ at a flip whose m is steep.
+    let settings = super::refine::tighter(&prob.settings).unwrap_or(prob.settings);
+    let sim = Problem { settings, ..*prob }.sim(lambda).ok()?;
     let p = prob.period;
     let opts = crate::sim::CycleOptions::for_settings(sim.settings());
     for k in [

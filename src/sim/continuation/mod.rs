@@ -15,7 +15,10 @@ mod curve;
 mod curves;
 mod flip;
 mod pace;
+mod refine;
 mod stencil;
+mod switch;
+mod tip;
 mod walk;
 
 use crate::integrate::SolverSettings;

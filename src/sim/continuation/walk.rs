@@ -38,7 +38,22 @@ struct Walk<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> {
     points: Vec<BranchPoint>,
     special: Vec<SpecialPoint>,
     on_special: &'b mut R,
+    /// How often a step has met the tip of the pitchfork the branch was
+    /// born in (each halves the step, to end close to it).
+    tip_tries: u32,
+    /// The branch's end where it met its birth: the half-period cycle's
+    /// doubling.
+    tip: Option<SpecialPoint>,
+    /// Small jumps of f^p stepped over ([`Walk::leap`]).
+    leaps: u32,
 }
+
+/// How many steps that meet the tip of the branch's pitchfork are
+/// retried at half the length before the branch ends there.
+const TIP_TRIES: u32 = 6;
+
+/// The most small jumps of f^p a branch steps over.
+const MAX_LEAPS: u32 = 8;
 
 /// A special point located on a step: its kind, the point, a note, and
 /// (λ, m) at the branch points its location corrected.
@@ -102,7 +117,10 @@ pub async fn continue_branch_paced<R: FnMut(&SpecialPoint) + ?Sized>(
                 h *= 0.5;
                 grow = false;
                 if h < opts.h_min {
-                    break walk.fail();
+                    match walk.leap().await {
+                        Some(over) => h = over,
+                        None => break walk.fail(),
+                    }
                 }
             }
             Step::Stop(stop) => break stop,
@@ -160,6 +178,9 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             points: vec![first],
             special: Vec::new(),
             on_special,
+            tip_tries: 0,
+            tip: None,
+            leaps: 0,
         })
     }
 
@@ -173,6 +194,16 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         let Some((n, tn)) = self.predict_correct(h).await else {
             return Step::Retry;
         };
+        // Before any fold test: a step that reaches the tip of the
+        // pitchfork the branch was born in, onto the half-period cycle or
+        // round to the same cycle with its halves swapped, is never taken.
+        if super::tip::meets_birth(&self.cur, &n, self.tol) {
+            if self.tip_tries < TIP_TRIES && h > 64.0 * self.ctx.opts.h_min {
+                self.tip_tries += 1;
+                return Step::Retry;
+            }
+            return Step::Stop(self.end_at_tip(&n).await);
+        }
         let (n, last) = match self.clip(n).await {
             Ok(v) => v,
             Err(()) => return Step::Retry,
@@ -218,6 +249,36 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     }
 
     /// The corrected point a step h along the tangent, and its tangent;
+    /// The branch's end at the tip of its pitchfork, met on the step to
+    /// `n`: the half-period cycle's doubling located there and recorded
+    /// (see [`super::tip`]).
+    async fn end_at_tip(&mut self, n: &Pt) -> Stop {
+        let prev = self
+            .points
+            .len()
+            .checked_sub(2)
+            .map(|i| self.points[i].clone());
+        let cur = self.cur.clone();
+        if let Some(pd) = super::tip::locate_tip(&mut self.ctx, &cur, prev.as_ref(), n).await {
+            (self.on_special)(&pd);
+            let end = SpecialPoint {
+                kind: SpecialKind::End,
+                period: self.ctx.prob.period,
+                multiplier: pd.multiplier * pd.multiplier,
+                note: format!(
+                    "{}{} cycle it is born from, at its doubling",
+                    super::branch::MERGED_NOTE,
+                    pd.period
+                ),
+                flip: None,
+                ..pd.clone()
+            };
+            self.special.push(pd);
+            self.tip = Some(end);
+        }
+        Stop::Merged
+    }
+
     /// `None` when the corrector fails, lands more than half a step from
     /// the prediction, or the tangent turns by more than ~18°.
     async fn predict_correct(&mut self, h: f64) -> Option<(Pt, [f64; 2])> {
@@ -281,8 +342,10 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             if (m0 - at) * (m1 - at) >= 0.0 {
                 continue;
             }
-            let l = self.ctx.locate(&cur, n, t, dist, |m| m - at).await;
+            let test = move |m: f64| m - at;
+            let mut l = self.ctx.locate(&cur, n, t, dist, test).await;
             if l.real {
+                l = self.ctx.refine(l, t, test).await;
                 found.push((kind, l.pt, String::new(), l.samples));
             } else {
                 let note = format!(
@@ -296,6 +359,52 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         }
         found.sort_by(|a, b| along(&a.1).total_cmp(&along(&b.1)));
         found
+    }
+
+    /// A step over a small jump of f^p, when no step down to the shortest
+    /// works but the corrector's residual stays small (below [`JUMP`]):
+    /// then f^p jumps by about that residual next to the cycle, whose
+    /// zero of G on the far side is displaced by residual/|1 − m|, and the
+    /// cycle may go on there (at κ = 15, γ = 4, ν = 1e-3 the P8 born at
+    /// θν = 1.1778800 meets a jump of G of 2e-6 at 1.1779297, 5e-5 past
+    /// its birth, and goes on 6e-5 away in θ to its own doubling). Steps
+    /// of h0/16, h0/4, h0 and 4·h0 are tried; the first that corrects to
+    /// a cycle with a multiplier close to the last one's is the step the
+    /// walk goes on with (taken again, with its tests), and a `jump` is
+    /// recorded at the last point. `None` where none does.
+    async fn leap(&mut self) -> Option<f64> {
+        let r = match self.ctx.last_fail {
+            Some(Fail::NoConvergence(r)) if r <= JUMP => r,
+            _ => return None,
+        };
+        if self.leaps >= MAX_LEAPS {
+            return None;
+        }
+        let (h0, m0) = (self.ctx.opts.h0, self.cur.e.multiplier);
+        // The failure the branch ends with if no leap works: the short
+        // steps', not the long leaps'.
+        let stalled = self.ctx.last_fail.take();
+        for h in [h0 / 16.0, h0 / 4.0, h0, 4.0 * h0] {
+            let Some((n, _)) = self.predict_correct(h).await else {
+                continue;
+            };
+            if (n.e.multiplier - m0).abs() > 0.1 * (1.0 + m0.abs()) {
+                continue;
+            }
+            let moved = (n.x[0] - self.cur.x[0]).abs();
+            let note = format!(
+                "f^p jumps next to the cycle: Newton's residual stays {r:.1e} at every step down to the shortest; the cycle goes on past it (theta {moved:.1e} further on, m from {m0:.6} to {:.6}): no bifurcation",
+                n.e.multiplier
+            );
+            let sp = self.ctx.special(SpecialKind::Jump, &self.cur, note);
+            (self.on_special)(&sp);
+            self.special.push(sp);
+            self.leaps += 1;
+            self.ctx.last_fail = None;
+            return Some(h);
+        }
+        self.ctx.last_fail = stalled;
+        None
     }
 
     /// The end when no step down to the shortest works: a border where a
@@ -342,6 +451,9 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         let mut last_point = self.ctx.special(SpecialKind::End, &self.cur, note);
         if let Some(p) = self.points.last() {
             last_point.lambda = p.lambda;
+        }
+        if let Some(tip) = self.tip.take() {
+            last_point = tip;
         }
         self.special.push(last_point);
         Branch {
