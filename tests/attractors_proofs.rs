@@ -3,6 +3,8 @@
 //! shrinks with the resolution, λ from the density within its errors of a
 //! long orbit's, and a phase cell classed by the graph's cycle.
 
+#![allow(clippy::unwrap_used)]
+
 use crate::cli_support;
 
 use cli_support::*;

@@ -267,9 +267,14 @@ impl ArcMap {
             .filter(|v| matches!(v, PieceView::Direct { .. }))
             .count();
         let per = (b.max_evaluations / 2 / direct.max(1)).clamp(3, 33);
-        while let Some(v) = views.get(*next) {
-            let i = *next;
-            *next += 1;
+        // One part a call: a series costs CHECKS_PER_PIECE evaluations, a
+        // stretch its nodes.
+        let Some(v) = views.get(*next) else {
+            return Ok(false);
+        };
+        let i = *next;
+        *next += 1;
+        {
             match *v {
                 PieceView::Series {
                     a,
@@ -289,9 +294,6 @@ impl ArcMap {
                         curvature: curvature_bound(map, a, b),
                         eps: b_tol.max(2.0 * measured) + own,
                     });
-                    // One checked piece a call: each costs
-                    // CHECKS_PER_PIECE evaluations.
-                    return Ok(*next < views.len());
                 }
                 PieceView::Direct { a, b } => {
                     let neighbours = (
@@ -300,11 +302,10 @@ impl ArcMap {
                     );
                     let part = self.direct_part(&sim, (a, b), neighbours, (per, own, fine))?;
                     parts.push(part);
-                    return Ok(*next < views.len());
                 }
             }
         }
-        Ok(false)
+        Ok(*next < views.len())
     }
 }
 
