@@ -54,23 +54,10 @@ pub fn fixed_point_flip(
 /// Runs `continue` on Fig. 3b's P2 and returns (stderr, branch rows,
 /// special-point rows).
 fn p2_run(more: &[&str]) -> (String, Vec<Vec<String>>, Vec<Vec<String>>) {
-    let dir = tempfile::tempdir().unwrap();
-    let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
-    let base = [
-        "continue",
-        "--preset",
-        "fig3b",
-        "--period",
-        "2",
-        "--out",
-        out.to_str().unwrap(),
-        "--points",
-        pts.to_str().unwrap(),
-    ];
-    let o = run(&with(&base, more));
-    assert_ok(&o);
-    let read = |p: &std::path::Path| parse_csv(&std::fs::read_to_string(p).unwrap()).1;
-    (stderr(&o), read(&out), read(&pts))
+    let mut args = vec!["--preset", "fig3b", "--period", "2"];
+    args.extend_from_slice(more);
+    let (o, branch, points) = continue_run(&args);
+    (stderr(&o), branch, points)
 }
 
 /// No fold, every row a P2 with distinct halves, and the last special

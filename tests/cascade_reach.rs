@@ -20,10 +20,7 @@ use oneblock::sim::{CycleOptions, Simulator, default_settings, solve_cycle};
 /// `continue --cascade` from the fixed point over θν ∈ [1.0, 1.6] at
 /// (κ, γ), ν = 1e-3: (stderr, special-point rows).
 fn cascade(kappa: &str, gamma: &str) -> (String, Vec<Vec<String>>) {
-    let dir = tempfile::tempdir().unwrap();
-    let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
-    let args = [
-        "continue",
+    let (o, _, rows) = continue_run(&[
         "--kappa",
         kappa,
         "--gamma",
@@ -41,14 +38,7 @@ fn cascade(kappa: &str, gamma: &str) -> (String, Vec<Vec<String>>) {
         "--period",
         "1",
         "--cascade",
-        "--out",
-        out.to_str().unwrap(),
-        "--points",
-        pts.to_str().unwrap(),
-    ];
-    let o = oneblock(&args);
-    assert_ok(&o);
-    let (_, rows) = parse_csv(&std::fs::read_to_string(&pts).unwrap());
+    ]);
     (stderr(&o), rows)
 }
 

@@ -22,10 +22,7 @@ use oneblock::sim::continuation::ContParam;
 /// The first PD's printed θν from `continue` over [from, to] at κ = 19,
 /// γ = 10, ν = 1e-3, and the text of its value cell.
 fn first_pd(from: &str, to: &str) -> (f64, String) {
-    let dir = tempfile::tempdir().unwrap();
-    let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
-    let args = [
-        "continue",
+    let (o, _, rows) = continue_run(&[
         "--kappa",
         "19",
         "--gamma",
@@ -42,14 +39,7 @@ fn first_pd(from: &str, to: &str) -> (f64, String) {
         to,
         "--period",
         "1",
-        "--out",
-        out.to_str().unwrap(),
-        "--points",
-        pts.to_str().unwrap(),
-    ];
-    let o = oneblock(&args);
-    assert_ok(&o);
-    let (_, rows) = parse_csv(&std::fs::read_to_string(&pts).unwrap());
+    ]);
     let pd = rows
         .iter()
         .find(|r| r[0] == "PD")

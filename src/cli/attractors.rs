@@ -14,7 +14,7 @@ use super::run_control::{Limits, Progress, check_stdout, run_job};
 use super::values::{count_between, parse_count, parse_number, short};
 use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
 use crate::sim::Simulator;
-use crate::sim::attractors::{CellOptions, Found, Verdict};
+use crate::sim::attractors::{CellOptions, Found, GRAPH_RTOL, Verdict};
 use crate::text::with_error;
 
 /// The most cells.
@@ -124,7 +124,13 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     let text = if args.json {
         json(&found)
     } else {
-        text(&found, &describe(&params, &settings))
+        let mut described = describe(&params, &settings);
+        if settings.method.is_adaptive() && settings.rtol > GRAPH_RTOL {
+            described.push_str(&format!(
+                "; the cell graph integrates at tol {GRAPH_RTOL:e}: its enclosures need it"
+            ));
+        }
+        text(&found, &described)
     };
     emit(Path::new("-"), text.as_bytes(), false)
 }
@@ -143,8 +149,9 @@ fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
 /// "lyapunov_stderr", "lyapunov_from_density", "lyapunov_density_error",
 /// "density", "basin_fraction",
 /// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
-/// "boundary_fraction", "resolution": {"cell_width", "widest_cell",
-/// "epsilon", "cells", "budget_hit"}}`.
+/// "boundary_fraction", "unenclosed_fraction", "resolution":
+/// {"cell_width", "widest_cell", "epsilon", "cells", "budget_hit",
+/// "nodes_capped"}}`.
 fn json(found: &Found) -> String {
     let list: Vec<_> = found
         .attractors
@@ -180,12 +187,14 @@ fn json(found: &Found) -> String {
             "attractors": list,
             "basins": basins,
             "boundary_fraction": found.boundary_fraction,
+            "unenclosed_fraction": found.unenclosed_fraction,
             "resolution": {
                 "cell_width": r.finest,
                 "widest_cell": r.widest,
                 "epsilon": r.eps,
                 "cells": r.cells,
                 "budget_hit": r.budget_hit,
+                "nodes_capped": r.nodes_capped,
             },
         })
     )
@@ -216,6 +225,22 @@ fn text(found: &Found, described: &str) -> String {
             } else {
                 format!("{:.1e}", found.boundary_fraction)
             }
+        )
+        .ok();
+    }
+    if found.unenclosed_fraction > 0.0 {
+        writeln!(
+            s,
+            "of which {:.1e} lies where f could not be enclosed (nodes that fail the enclosure test, docs/attractors.md): boundary at any resolution",
+            found.unenclosed_fraction
+        )
+        .ok();
+    }
+    if r.nodes_capped {
+        writeln!(
+            s,
+            "the budget of nodes where no series resolves f ({} evaluations) stopped a refinement: the boundary there is wider than the resolution",
+            crate::sim::attractors::arc::NODE_EVALUATIONS
         )
         .ok();
     }

@@ -164,6 +164,9 @@ pub struct Resolution {
     /// Whether the cell budget stopped subdivision before the resolution
     /// asked for was reached where it was wanted.
     pub budget_hit: bool,
+    /// Whether the budget of nodes added where no series resolves f
+    /// ([`arc::NODE_EVALUATIONS`]) stopped a refinement there.
+    pub nodes_capped: bool,
 }
 
 /// Everything at one point.
@@ -174,6 +177,10 @@ pub struct Found {
     pub resolution: Resolution,
     /// The share of the arc in no single basin.
     pub boundary_fraction: f64,
+    /// The part of that share where f could not be enclosed (cells over
+    /// nodes that fail the enclosure test: `arc::nodes`), so that it is
+    /// boundary whatever the resolution.
+    pub unenclosed_fraction: f64,
     /// Map evaluations (the interpolant's and Newton's) and right-hand
     /// sides.
     pub map_evaluations: u64,
@@ -191,6 +198,25 @@ pub fn attractors(
             return done;
         }
     }
+}
+
+/// The loosest tolerance the cell graph integrates at: its enclosures
+/// are widened by 10 × the tolerance, and a cell is made no narrower than
+/// 100 of those, so at a looser one (the window's Auto setting for where
+/// a diagram's dots land, 1e-5 to 1e-4) the cells could not shrink onto
+/// a cycle at all.
+pub const GRAPH_RTOL: f64 = 1e-10;
+
+/// `sim` with an adaptive method's tolerance tightened to
+/// [`GRAPH_RTOL`] where it is looser (the parameters and method kept).
+pub fn graph_simulator(sim: &Simulator) -> Simulator {
+    let mut s = *sim.settings();
+    if !s.method.is_adaptive() || s.rtol <= GRAPH_RTOL {
+        return *sim;
+    }
+    s.atol *= GRAPH_RTOL / s.rtol;
+    s.rtol = GRAPH_RTOL;
+    Simulator::new(*sim.params(), s).unwrap_or(*sim)
 }
 
 /// [`attractors`] one piece at a time, so that a host on a slice of time
@@ -226,7 +252,7 @@ impl AttractorsRun {
     /// The search at `sim`'s parameters, nothing computed.
     pub fn new(sim: &Simulator, opts: &CellOptions) -> Self {
         AttractorsRun {
-            sim: *sim,
+            sim: graph_simulator(sim),
             opts: *opts,
             stage: Stage::Start,
         }
@@ -322,7 +348,8 @@ impl Classifying {
             budget_hit,
             ..
         } = search;
-        let (basins, boundary_fraction) = basins(&g, &map, &comps, &labels, &mut found);
+        let (basins, boundary_fraction, unenclosed_fraction) =
+            basins(&g, &map, &comps, &labels, &mut found);
         let widths = (0..g.len()).map(|i| g.width(i));
         let (finest, widest) =
             widths.fold((f64::INFINITY, 0.0_f64), |(a, b), w| (a.min(w), b.max(w)));
@@ -335,23 +362,27 @@ impl Classifying {
                 eps: map.eps(),
                 cells: g.len(),
                 budget_hit,
+                nodes_capped: map.nodes_capped(),
             },
             boundary_fraction,
+            unenclosed_fraction,
             map_evaluations: map.spent.0 + spent.0,
         }
     }
 }
 
-/// The basins along the arc (runs of cells with one reachable closed set)
-/// and the boundary's share; sets each attractor's basin fraction.
+/// The basins along the arc (runs of cells with one reachable closed set),
+/// the boundary's share and the part of it not enclosed; sets each
+/// attractor's basin fraction.
 fn basins(
     g: &CellGraph,
     map: &ArcMap,
     comps: &graph::Components,
     labels: &[Option<usize>],
     found: &mut [Attractor],
-) -> (Vec<Basin>, f64) {
+) -> (Vec<Basin>, f64, f64) {
     let reach = g.reach(comps, labels);
+    let mut unenclosed = 0.0;
     let psi = map.psi();
     let total = map.hi - map.lo;
     let mut basins: Vec<Basin> = Vec::new();
@@ -362,7 +393,12 @@ fn basins(
         let a = (m.count_ones() == 1).then(|| m.trailing_zeros() as usize);
         match a {
             Some(a) if a < share.len() => share[a] += g.width(v),
-            _ => boundary += g.width(v),
+            _ => {
+                boundary += g.width(v);
+                if g.images[v].open {
+                    unenclosed += g.width(v);
+                }
+            }
         }
         let (from, to) = (psi + g.bounds[v], psi + g.bounds[v + 1]);
         match basins.last_mut() {
@@ -377,7 +413,7 @@ fn basins(
     for (a, s) in found.iter_mut().zip(&share) {
         a.basin_fraction = s / total;
     }
-    (basins, boundary / total)
+    (basins, boundary / total, unenclosed / total)
 }
 
 /// Why the attractors could not be found.

@@ -110,3 +110,23 @@ pub fn set(mut args: Vec<String>, flag: &str, value: &str) -> Vec<String> {
     args[i + 1] = value.to_string();
     args
 }
+
+/// A `continue` run with `args` (no `--out`, `--points`) writing its branch
+/// and its special points into a temporary folder: (the run, branch rows,
+/// special-point rows), after checking it succeeded.
+pub fn continue_run(args: &[&str]) -> (Output, Vec<Vec<String>>, Vec<Vec<String>>) {
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let (out, pts) = (dir.path().join("b.csv"), dir.path().join("p.csv"));
+    let mut all: Vec<String> = vec!["continue".into()];
+    all.extend(args.iter().map(|s| s.to_string()));
+    for (flag, path) in [("--out", &out), ("--points", &pts)] {
+        all.push(flag.into());
+        all.push(path.to_str().expect("a UTF-8 path").into());
+    }
+    let o = run(&all);
+    assert_ok(&o);
+    let read =
+        |p: &std::path::Path| parse_csv(&std::fs::read_to_string(p).expect("the CSV it wrote")).1;
+    let (branch, points) = (read(&out), read(&pts));
+    (o, branch, points)
+}

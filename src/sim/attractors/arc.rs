@@ -244,26 +244,6 @@ impl ArcMap {
         self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1])
     }
 
-    /// Each part's stretch of u, whether it is a series, and its length
-    /// (coefficients or samples): for diagnostics.
-    pub fn parts_outline(&self) -> Vec<(f64, f64, bool, usize, f64)> {
-        self.parts
-            .iter()
-            .map(|p| match p {
-                Part::Series {
-                    from, to, map, eps, ..
-                } => (*from, *to, true, map.len(), *eps),
-                Part::Sampled {
-                    from,
-                    to,
-                    nodes,
-                    own,
-                    ..
-                } => (*from, *to, false, nodes.len(), *own),
-            })
-            .collect()
-    }
-
     /// The arc's centre ψ.
     pub fn psi(&self) -> f64 {
         self.psi

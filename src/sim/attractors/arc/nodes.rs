@@ -148,7 +148,7 @@ pub fn hermite(a: &Node, b: &Node, u: f64) -> (f64, f64) {
     let d10 = 3.0 * t2 - 4.0 * t + 1.0;
     let d01 = (-6.0 * t2 + 6.0 * t) / w;
     let d11 = 3.0 * t2 - 2.0 * t;
-    let d = d00 * a.f + d10 * w * a.d + d01 * b.f + d11 * w * b.d;
+    let d = d00 * a.f + d10 * a.d + d01 * b.f + d11 * b.d;
     (f, d)
 }
 
