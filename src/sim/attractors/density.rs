@@ -50,8 +50,19 @@ pub fn density_lambda(
     let mut levels = Vec::new();
     let mut n = FIRST;
     let mut mu: Option<Vec<f64>> = None;
+    let mut ends: Vec<(f64, f64)> = Vec::new();
     loop {
-        let (m, lambda) = ulam_grid(map, (lo, hi, cover), n, mu.as_deref());
+        // f and f' at the grid's bounds: the coarser grid's are every
+        // other one.
+        ends = (0..=n)
+            .map(
+                |i| match ends.get(i / 2).filter(|_| i % 2 == 0 && n > FIRST) {
+                    Some(&e) => e,
+                    None => map.eval_any(lo + (hi - lo) * i as f64 / n as f64),
+                },
+            )
+            .collect();
+        let (m, lambda) = ulam_grid((lo, hi, cover), &ends, mu.as_deref());
         levels.push((n, lambda));
         mu = Some(m);
         let k = levels.len();
@@ -92,22 +103,22 @@ fn log_mean(a: f64, b: f64) -> f64 {
     (prim(b) - prim(a)) / (b - a)
 }
 
-/// Ulam's chain on `n` equal cells over [lo, hi], those meeting `cover`:
+/// Ulam's chain on equal cells over [lo, hi] (f and f' at their bounds,
+/// `ends`), those meeting `cover`:
 /// μ per cell (0 off the cover) and λ; `warm`, the density on half as
 /// many cells, starts the iteration.
 fn ulam_grid(
-    map: &ArcMap,
     (lo, hi, cover): (f64, f64, &[(f64, f64)]),
-    n: usize,
+    ends: &[(f64, f64)],
     warm: Option<&[f64]>,
 ) -> (Vec<f64>, f64) {
+    let n = ends.len() - 1;
     let h = (hi - lo) / n as f64;
     let cell = |v: f64| (((v - lo) / h).floor().max(0.0) as usize).min(n - 1);
     let mut inside = vec![false; n];
     for &(a, b) in cover {
         inside[cell(a)..=cell(b)].iter_mut().for_each(|x| *x = true);
     }
-    let ends: Vec<(f64, f64)> = (0..=n).map(|i| map.eval_any(lo + h * i as f64)).collect();
     let mut starts = Vec::with_capacity(n + 1);
     let mut entries: Vec<(u32, f64)> = Vec::with_capacity(4 * n);
     let mut logs = Vec::with_capacity(n);
