@@ -246,6 +246,8 @@ struct Classifying {
     labels: Vec<Option<usize>>,
     known: Vec<classify::Orbit>,
     found: Vec<Attractor>,
+    /// A chaotic set's density in progress.
+    pending: Option<Box<verdict::Pending>>,
 }
 
 impl AttractorsRun {
@@ -304,16 +306,25 @@ impl AttractorsRun {
                             labels,
                             known,
                             found,
+                            pending: None,
                         }));
                     }
                 }
             }
             Stage::Classify(mut c) => {
+                if let Some(mut p) = c.pending.take() {
+                    match p.run.advance(&c.search.map, 0) {
+                        Some(d) => c.found.push(p.finish(d)),
+                        None => c.pending = Some(p),
+                    }
+                    self.stage = Stage::Classify(c);
+                    return Ok(None);
+                }
                 let Some(k) = c.closed.get(c.found.len()) else {
                     return Ok(Some(c.conclude()));
                 };
                 let s = &mut c.search;
-                let a = classify_closed(
+                let judged = classify_closed(
                     &self.sim,
                     &s.map,
                     &s.g,
@@ -322,7 +333,10 @@ impl AttractorsRun {
                     &self.opts,
                     &mut s.spent,
                 )?;
-                c.found.push(a);
+                match judged {
+                    verdict::Judged::Done(a) => c.found.push(*a),
+                    verdict::Judged::Density(p) => c.pending = Some(p),
+                }
                 self.stage = Stage::Classify(c);
             }
             Stage::Done => {}

@@ -37,56 +37,138 @@ pub struct DensityLambda {
 
 /// λ from the density on the closed set `cover` (intervals of u,
 /// increasing): grids over its hull from [`FIRST`] cells doubled up to
-/// `most`, each keeping the cells that meet the cover; stops early once
-/// two doublings in a row change λ by less than `target`.
-pub fn density_lambda(
-    map: &ArcMap,
-    cover: &[(f64, f64)],
+/// `most`, each keeping the cells that meet the cover, until two
+/// doublings in a row change λ by less than `target`. Computed a bounded
+/// piece at a time (f at a chunk of a grid's bounds, a grid's chain
+/// built, or some power iterations), so that a host on a slice of time
+/// (the page's frame) can pause between any two with the same result bit
+/// for bit.
+pub struct DensityRun {
+    cover: Vec<(f64, f64)>,
+    lo: f64,
+    hi: f64,
     most: usize,
     target: f64,
-) -> DensityLambda {
-    let (lo, hi) = (cover[0].0, cover[cover.len() - 1].1);
-    let most = most.max(FIRST);
-    let mut levels = Vec::new();
-    let mut n = FIRST;
-    let mut mu: Option<Vec<f64>> = None;
-    let mut ends: Vec<(f64, f64)> = Vec::new();
-    loop {
-        // f and f' at the grid's bounds: the coarser grid's are every
-        // other one.
-        ends = (0..=n)
-            .map(
-                |i| match ends.get(i / 2).filter(|_| i % 2 == 0 && n > FIRST) {
-                    Some(&e) => e,
-                    None => map.eval_any(lo + (hi - lo) * i as f64 / n as f64),
-                },
-            )
-            .collect();
-        let (m, lambda) = ulam_grid((lo, hi, cover), &ends, mu.as_deref());
-        levels.push((n, lambda));
-        mu = Some(m);
-        let k = levels.len();
-        let steady = k >= 3
-            && (levels[k - 1].1 - levels[k - 2].1).abs() < target
-            && (levels[k - 2].1 - levels[k - 3].1).abs() < target;
-        if steady || n * 2 > most {
-            break;
+    /// The grid being computed: its cells, and f and f' at its bounds so
+    /// far.
+    n: usize,
+    ends: Vec<(f64, f64)>,
+    /// The coarser grid's bounds and density.
+    coarse_ends: Vec<(f64, f64)>,
+    coarse_mu: Option<Vec<f64>>,
+    chain: Option<Chain>,
+    levels: Vec<(usize, f64)>,
+}
+
+/// A grid's chain and its power iteration in progress.
+struct Chain {
+    starts: Vec<usize>,
+    entries: Vec<(u32, f64)>,
+    logs: Vec<f64>,
+    mu: Vec<f64>,
+    next: Vec<f64>,
+    done: usize,
+}
+
+/// Bounds evaluated, or chain entries updated, in one piece.
+const PIECE_WORK: usize = 1 << 18;
+
+impl DensityRun {
+    pub fn new(cover: &[(f64, f64)], most: usize, target: f64) -> Self {
+        DensityRun {
+            cover: cover.to_vec(),
+            lo: cover[0].0,
+            hi: cover[cover.len() - 1].1,
+            most: most.max(FIRST),
+            target,
+            n: FIRST,
+            ends: Vec::new(),
+            coarse_ends: Vec::new(),
+            coarse_mu: None,
+            chain: None,
+            levels: Vec::new(),
         }
-        n *= 2;
     }
-    let k = levels.len();
-    let lambda = levels[k - 1].1;
-    let error = (1..k)
-        .rev()
-        .take(2)
-        .map(|i| (levels[i].1 - levels[i - 1].1).abs())
-        .fold(0.0_f64, f64::max);
-    DensityLambda {
-        lambda,
-        // One grid alone says nothing of its error.
-        error: if k > 1 { error } else { f64::INFINITY },
-        mu: mu.unwrap_or_default(),
-        levels,
+
+    /// One piece of about `work` units at most ([`PIECE_WORK`] when
+    /// smaller is asked); the result once done.
+    pub fn advance(&mut self, map: &ArcMap, work: usize) -> Option<DensityLambda> {
+        let work = work.max(PIECE_WORK);
+        let n = self.n;
+        if self.ends.len() <= n {
+            // f and f' at the grid's bounds: the coarser grid's are every
+            // other one.
+            let end = (self.ends.len() + work / 64).min(n + 1);
+            for i in self.ends.len()..end {
+                let e = match self.coarse_ends.get(i / 2).filter(|_| i % 2 == 0) {
+                    Some(&e) => e,
+                    None => map.eval_any(self.lo + (self.hi - self.lo) * i as f64 / n as f64),
+                };
+                self.ends.push(e);
+            }
+            return None;
+        }
+        let Some(chain) = self.chain.as_mut() else {
+            self.chain = Some(self.build());
+            return None;
+        };
+        let steps = (work / (chain.entries.len() + n).max(1)).max(1);
+        if !chain.iterate(steps) {
+            return None;
+        }
+        let chain = self.chain.take()?;
+        let lambda = chain.mu.iter().zip(&chain.logs).map(|(m, l)| m * l).sum();
+        self.levels.push((n, lambda));
+        self.coarse_mu = Some(chain.mu);
+        self.coarse_ends = std::mem::take(&mut self.ends);
+        let k = self.levels.len();
+        let steady = k >= 3
+            && (self.levels[k - 1].1 - self.levels[k - 2].1).abs() < self.target
+            && (self.levels[k - 2].1 - self.levels[k - 3].1).abs() < self.target;
+        if !steady && n * 2 <= self.most {
+            self.n *= 2;
+            return None;
+        }
+        let levels = std::mem::take(&mut self.levels);
+        let k = levels.len();
+        let error = (1..k)
+            .rev()
+            .take(2)
+            .map(|i| (levels[i].1 - levels[i - 1].1).abs())
+            .fold(0.0_f64, f64::max);
+        Some(DensityLambda {
+            lambda: levels[k - 1].1,
+            // One grid alone says nothing of its error.
+            error: if k > 1 { error } else { f64::INFINITY },
+            mu: self.coarse_mu.take().unwrap_or_default(),
+            levels,
+        })
+    }
+
+    /// The chain of the grid whose bounds are computed, its iteration
+    /// started from the coarser grid's density.
+    fn build(&self) -> Chain {
+        let (starts, entries, logs, inside) =
+            ulam_chain((self.lo, self.hi, &self.cover), &self.ends);
+        let n = inside.len();
+        let members = inside.iter().filter(|&&x| x).count().max(1);
+        let mu: Vec<f64> = match &self.coarse_mu {
+            Some(w) if 2 * w.len() == n => (0..n)
+                .map(|i| if inside[i] { 0.5 * w[i / 2] } else { 0.0 })
+                .collect(),
+            _ => inside
+                .iter()
+                .map(|&x| if x { 1.0 / members as f64 } else { 0.0 })
+                .collect(),
+        };
+        Chain {
+            starts,
+            entries,
+            logs,
+            next: vec![0.0; n],
+            mu,
+            done: 0,
+        }
     }
 }
 
@@ -103,15 +185,13 @@ fn log_mean(a: f64, b: f64) -> f64 {
     (prim(b) - prim(a)) / (b - a)
 }
 
+/// A chain as rows `entries[starts[i]..starts[i + 1]]`, each cell's mean
+/// of ln|f'|, and which cells meet the cover.
+type Rows = (Vec<usize>, Vec<(u32, f64)>, Vec<f64>, Vec<bool>);
+
 /// Ulam's chain on equal cells over [lo, hi] (f and f' at their bounds,
-/// `ends`), those meeting `cover`:
-/// μ per cell (0 off the cover) and λ; `warm`, the density on half as
-/// many cells, starts the iteration.
-fn ulam_grid(
-    (lo, hi, cover): (f64, f64, &[(f64, f64)]),
-    ends: &[(f64, f64)],
-    warm: Option<&[f64]>,
-) -> (Vec<f64>, f64) {
+/// `ends`), those meeting `cover`.
+fn ulam_chain((lo, hi, cover): (f64, f64, &[(f64, f64)]), ends: &[(f64, f64)]) -> Rows {
     let n = ends.len() - 1;
     let h = (hi - lo) / n as f64;
     let cell = |v: f64| (((v - lo) / h).floor().max(0.0) as usize).min(n - 1);
@@ -137,21 +217,13 @@ fn ulam_grid(
             for j in cell(a)..=cell(b) {
                 let (x0, x1) = (lo + h * j as f64, lo + h * (j + 1) as f64);
                 let ov = (x1.min(b) - x0.max(a)).max(0.0);
-                if ov > 0.0 {
+                if ov > 0.0 && inside[j] {
                     entries.push((j as u32, ov / (b - a)));
                 }
             }
         }
         // Mass the linear model sends off the set (it should not):
         // renormalise what stays.
-        let mut k = start;
-        for x in start..entries.len() {
-            if inside[entries[x].0 as usize] {
-                entries[k] = entries[x];
-                k += 1;
-            }
-        }
-        entries.truncate(k);
         let row = &mut entries[start..];
         let total: f64 = row.iter().map(|x| x.1).sum();
         if total > 0.0 {
@@ -159,49 +231,43 @@ fn ulam_grid(
         }
     }
     starts.push(entries.len());
-    let members = inside.iter().filter(|&&x| x).count().max(1);
-    let mut mu: Vec<f64> = match warm {
-        Some(w) if 2 * w.len() == n => (0..n)
-            .map(|i| if inside[i] { 0.5 * w[i / 2] } else { 0.0 })
-            .collect(),
-        _ => inside
-            .iter()
-            .map(|&x| if x { 1.0 / members as f64 } else { 0.0 })
-            .collect(),
-    };
-    stationary(&mut mu, &starts, &entries);
-    let lambda = mu.iter().zip(&logs).map(|(m, l)| m * l).sum();
-    (mu, lambda)
+    (starts, entries, logs, inside)
 }
 
-/// The stationary vector of the lazy chain (rows `entries[starts[i]..
-/// starts[i + 1]]`), by power iteration from `mu`.
-fn stationary(mu: &mut [f64], starts: &[usize], entries: &[(u32, f64)]) {
-    let n = mu.len();
-    let mut next = vec![0.0; n];
-    for k in 0..ITERATIONS {
-        next.iter_mut()
-            .zip(mu.iter())
-            .for_each(|(x, m)| *x = 0.5 * m);
-        for i in 0..n {
-            let m = 0.5 * mu[i];
-            for &(j, w) in &entries[starts[i]..starts[i + 1]] {
-                next[j as usize] += m * w;
+impl Chain {
+    /// At most `steps` power iterations of the lazy chain; whether μ is
+    /// stationary (or the iterations' cap is reached).
+    fn iterate(&mut self, steps: usize) -> bool {
+        let n = self.mu.len();
+        let end = self.done.saturating_add(steps).min(ITERATIONS);
+        while self.done < end {
+            let k = self.done;
+            self.done += 1;
+            let (mu, next) = (&mut self.mu, &mut self.next);
+            next.iter_mut()
+                .zip(mu.iter())
+                .for_each(|(x, m)| *x = 0.5 * m);
+            for i in 0..n {
+                let m = 0.5 * mu[i];
+                for &(j, w) in &self.entries[self.starts[i]..self.starts[i + 1]] {
+                    next[j as usize] += m * w;
+                }
+            }
+            let s: f64 = next.iter().sum();
+            let diff: f64 = if k % 8 == 7 {
+                next.iter()
+                    .zip(mu.iter())
+                    .map(|(a, b)| (a / s - b).abs())
+                    .sum()
+            } else {
+                1.0
+            };
+            mu.iter_mut().zip(next.iter()).for_each(|(m, x)| *m = x / s);
+            if diff < 1e-11 {
+                return true;
             }
         }
-        let s: f64 = next.iter().sum();
-        let diff: f64 = if k % 8 == 7 {
-            next.iter()
-                .zip(mu.iter())
-                .map(|(a, b)| (a / s - b).abs())
-                .sum()
-        } else {
-            1.0
-        };
-        mu.iter_mut().zip(&next).for_each(|(m, x)| *m = x / s);
-        if diff < 1e-11 {
-            break;
-        }
+        self.done >= ITERATIONS
     }
 }
 

@@ -32,7 +32,7 @@ const BOUNDARY_FLOOR: f64 = 4.0;
 const RECURRENT_FLOOR: f64 = 100.0;
 
 /// The most boundary stretches sharpened in one level.
-const SHARPEN_PER_LEVEL: usize = 4;
+const SHARPEN_PER_LEVEL: usize = 1;
 
 /// The most map evaluations one sharpened stretch may take.
 pub(super) const SHARPEN_EVALUATIONS: usize = 4_000;

@@ -3,7 +3,7 @@
 //! attractor with its density and λ both ways, or undecided with why.
 
 use super::classify::{COLUMN_ORBIT, ORBIT, Orbit, clusters, long_orbit, solve};
-use super::density::density_lambda;
+use super::density::{DensityLambda, DensityRun};
 use super::graph::CellGraph;
 use super::search::Closed;
 use super::{ArcMap, Attractor, AttractorError, CellOptions, Density, Verdict};
@@ -22,7 +22,7 @@ pub(super) fn classify_closed(
     known: &[Orbit],
     opts: &CellOptions,
     spent: &mut (u64, u64),
-) -> Result<Attractor, AttractorError> {
+) -> Result<Judged, AttractorError> {
     let psi = map.psi();
     let cover: Vec<(f64, f64)> = clusters(&k.cells)
         .iter()
@@ -62,7 +62,7 @@ pub(super) fn classify_closed(
     if let Some((p, u)) = k.proved
         && let Some(a) = cycle(p, u, Verdict::Proved, spent)
     {
-        return Ok(a);
+        return Ok(Judged::Done(Box::new(a)));
     }
     // An orbit that ended in the set at its floor, or one from its middle
     // cell.
@@ -76,17 +76,33 @@ pub(super) fn classify_closed(
     if let Some((p, u)) = orbit.settled
         && let Some(a) = cycle(p, u, Verdict::CycleInSet, spent)
     {
-        return Ok(a);
+        return Ok(Judged::Done(Box::new(a)));
     }
     let blank = Attractor {
         iterates: orbit.tail.iter().map(|u| psi + u).collect(),
         ..blank
     };
     Ok(if opts.density {
-        chaotic(map, g, &k.cells, &orbit, opts, blank)
+        Judged::Density(Box::new(Pending::new(g, &k.cells, orbit, opts, blank, psi)))
     } else {
-        by_orbit(map, g, &k.cells, &orbit, blank)
+        Judged::Done(Box::new(by_orbit(map, g, &k.cells, &orbit, blank)))
     })
+}
+
+/// A closed set judged: its attractor, or a chaotic candidate whose
+/// density is still to be computed ([`Pending`]).
+pub(super) enum Judged {
+    Done(Box<Attractor>),
+    Density(Box<Pending>),
+}
+
+/// A closed set with no stable cycle found, its density being computed a
+/// piece at a time: its hull (θ), the orbit that showed it.
+pub(super) struct Pending {
+    pub(super) run: DensityRun,
+    hull: [f64; 2],
+    orbit: Orbit,
+    blank: Attractor,
 }
 
 /// A closed set with no stable cycle found, told by its orbit alone (a
@@ -120,22 +136,41 @@ fn by_orbit(
 
 /// A closed set that holds no stable cycle found: its density (Ulam),
 /// λ from it beside the orbit's, and the verdict they allow.
-fn chaotic(
-    map: &ArcMap,
-    g: &CellGraph,
-    cells: &[usize],
-    orbit: &Orbit,
-    opts: &CellOptions,
-    blank: Attractor,
-) -> Attractor {
-    let psi = map.psi();
-    let lo = g.bounds[cells[0]];
-    let hi = g.bounds[cells[cells.len() - 1] + 1];
-    let cover: Vec<(f64, f64)> = clusters(cells)
-        .iter()
-        .map(|&(a, b)| (g.bounds[a], g.bounds[b + 1]))
-        .collect();
-    let d = density_lambda(map, &cover, opts.density_cells, DENSITY_TARGET);
+impl Pending {
+    /// The density of the closed set `cells` to be computed, the orbit
+    /// `orbit` beside it.
+    fn new(
+        g: &CellGraph,
+        cells: &[usize],
+        orbit: Orbit,
+        opts: &CellOptions,
+        blank: Attractor,
+        psi: f64,
+    ) -> Self {
+        let (lo, hi) = (g.bounds[cells[0]], g.bounds[cells[cells.len() - 1] + 1]);
+        let cover: Vec<(f64, f64)> = clusters(cells)
+            .iter()
+            .map(|&(a, b)| (g.bounds[a], g.bounds[b + 1]))
+            .collect();
+        Pending {
+            run: DensityRun::new(&cover, opts.density_cells, DENSITY_TARGET),
+            hull: [psi + lo, psi + hi],
+            orbit,
+            blank,
+        }
+    }
+
+    /// The attractor once its density `d` is known: λ from it beside the
+    /// orbit's, and the verdict they allow.
+    pub(super) fn finish(self, d: DensityLambda) -> Attractor {
+        let Pending {
+            hull, orbit, blank, ..
+        } = self;
+        chaotic(hull, &orbit, d, blank)
+    }
+}
+
+fn chaotic(hull: [f64; 2], orbit: &Orbit, d: DensityLambda, blank: Attractor) -> Attractor {
     let lambda_d = d.lambda;
     let values = binned(&d.mu);
     // Both errors: the density's discretisation error and the orbit's
@@ -156,14 +191,14 @@ fn chaotic(
     };
     Attractor {
         period: None,
-        points: vec![psi + lo, psi + hi],
+        points: hull.to_vec(),
         lyapunov: Some(orbit.lyapunov),
         lyapunov_stderr: Some(orbit.stderr),
         lyapunov_from_density: Some(lambda_d),
         lyapunov_density_error: Some(d.error),
         density: Some(Density {
-            from: psi + lo,
-            to: psi + hi,
+            from: hull[0],
+            to: hull[1],
             values,
         }),
         verdict,
