@@ -51,9 +51,28 @@ pub fn with_error(v: f64, e: f64) -> String {
     format!("{v:.decimals$} +- {e:.decimals$}")
 }
 
+/// λ as the window and the figures show it: a solved cycle's exact λ
+/// (`stderr` `None`) to four decimals, `λ = -0.7300`; a mean to the digits
+/// its standard error allows, `λ = 0.365 ± 0.012`; a mean too short for an
+/// error to two decimals with "≈".
+pub fn lyapunov(l: f64, stderr: Option<f64>, exact: bool) -> String {
+    match (stderr, exact) {
+        (Some(e), _) => format!("λ = {}", with_error(l, e).replace("+-", "±")),
+        (None, true) => format!("λ = {l:.4}"),
+        (None, false) => format!("λ ≈ {l:.2}"),
+    }
+}
+
 #[cfg(test)]
 mod with_error_tests {
-    use super::with_error;
+    use super::{lyapunov, with_error};
+
+    #[test]
+    fn lambda_carries_its_error_or_says_it_is_exact() {
+        assert_eq!(lyapunov(-0.729_993, None, true), "λ = -0.7300");
+        assert_eq!(lyapunov(0.3656, Some(0.0121), false), "λ = 0.366 ± 0.012");
+        assert_eq!(lyapunov(0.3655, None, false), "λ ≈ 0.37");
+    }
 
     #[test]
     fn digits_follow_the_error() {

@@ -92,6 +92,8 @@ mod gui_controls;
 mod gui_diagram_param;
 #[path = "gui_docs.rs"]
 mod gui_docs;
+#[path = "gui_lambda.rs"]
+mod gui_lambda;
 #[path = "gui_layout_budget.rs"]
 mod gui_layout_budget;
 #[path = "gui_numerics.rs"]

@@ -288,7 +288,7 @@ pub fn short_name(title: &str) -> &str {
 }
 
 /// A coordinate as its axis reads it: a log axis's value, not its log10.
-fn hover_value(scale: Scale, v: f64) -> String {
+pub fn hover_value(scale: Scale, v: f64) -> String {
     match scale {
         Scale::Log10 => format!("{:.3e}", 10f64.powf(v)),
         _ => format!("{v:.4}"),

@@ -135,11 +135,7 @@ fn theta_range(d: &BasinsData) -> (f64, f64) {
 /// One line per attractor of column `i`: what the window lists on a click
 /// (and `figure --out x.csv` writes).
 pub fn describe(a: &Attractor) -> String {
-    let what = match (a.period, a.multiplier, a.lyapunov) {
-        (Some(_), Some(m), _) => format!("multiplier {m:.4}"),
-        (None, _, Some(l)) => format!("λ {l:.4}"),
-        _ => "—".into(),
-    };
+    let what = a.stability().replace("+-", "±");
     let verdict = match &a.verdict {
         Verdict::Proved => "proved".to_string(),
         Verdict::CycleInSet => "cycle in a larger set".to_string(),

@@ -586,7 +586,10 @@ fn regime_ui(ui: &mut Ui, s: &Settings, jobs: &Jobs) {
         g,
         &jobs.iterate.data.thetas,
         jobs.iterate.data.period,
-        jobs.iterate.data.lyapunov,
+        (
+            jobs.iterate.data.lyapunov,
+            jobs.iterate.data.lyapunov_stderr,
+        ),
     );
     ui.label(RichText::new(line).italics());
 }

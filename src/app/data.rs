@@ -36,6 +36,9 @@ pub struct IterateData {
     pub powers: Vec<Vec<f64>>,
     pub period: Option<Period>,
     pub lyapunov: Option<f64>,
+    /// λ's standard error: `None` for a solved cycle (exact) or too few
+    /// iterates.
+    pub lyapunov_stderr: Option<f64>,
 }
 
 /// The sweep job's results: one slot per column of the final grid.

@@ -38,13 +38,19 @@ pub fn attractor_line(
     gamma: f64,
     thetas: &[f64],
     period: Option<Period>,
-    lyapunov: Option<f64>,
+    (lyapunov, stderr): (Option<f64>, Option<f64>),
 ) -> String {
     let Some(period) = period else {
         return "Computing the orbit…".into();
     };
+    let exact = matches!(period, Period::Periodic(_));
     let lyap = lyapunov
-        .map(|l| format!(" (Lyapunov exponent λ = {l:.3})"))
+        .map(|l| {
+            format!(
+                " (Lyapunov exponent {})",
+                crate::text::lyapunov(l, stderr, exact)
+            )
+        })
         .unwrap_or_default();
     match period {
         Period::Periodic(1) => {
@@ -52,11 +58,11 @@ pub fn attractor_line(
             match onset_character(kappa, gamma, theta) {
                 OnsetCharacter::Creep => format!(
                     "Creep fixed point: the block slides smoothly, every slip tiny and identical, \
-                     starting at θ* = {theta:.3}."
+                     starting at θ* = {theta:.3}{lyap}."
                 ),
                 OnsetCharacter::StickSlip => format!(
                     "Stick-slip fixed point: the block sticks, then slips by the same amount \
-                     at the same place (θ* = {theta:.3}) every cycle: regular earthquakes."
+                     at the same place (θ* = {theta:.3}) every cycle: regular earthquakes{lyap}."
                 ),
             }
         }
@@ -64,8 +70,11 @@ pub fn attractor_line(
             "Period {n}: a repeating pattern of {n} different earthquakes, then it starts over{lyap}."
         ),
         Period::Aperiodic => {
+            // Chaos is claimed only where λ is clearly above 0: three
+            // standard errors (or 1e-3 while too few iterates give one).
             let l = lyapunov.unwrap_or(0.0);
-            if l > 1e-3 {
+            let margin = stderr.map_or(1e-3, |e| 3.0 * e);
+            if l > margin {
                 if is_intermittent(kappa, gamma, thetas) {
                     format!(
                         "Intermittency: long stretches of creep (tiny slips just inside θc) \
@@ -104,25 +113,37 @@ mod tests {
     #[test]
     fn words_follow_period_and_lyapunov() {
         assert!(
-            attractor_line(18.95, 6.5, &[0.2], Some(Period::Periodic(1)), None)
+            attractor_line(18.95, 6.5, &[0.2], Some(Period::Periodic(1)), (None, None))
                 .starts_with("Stick-slip fixed point")
         );
         assert!(
-            attractor_line(3.0, 0.5, &[0.7], Some(Period::Periodic(1)), None)
+            attractor_line(3.0, 0.5, &[0.7], Some(Period::Periodic(1)), (None, None))
                 .starts_with("Creep fixed point")
         );
         assert!(
-            attractor_line(18.95, 6.5, &[], Some(Period::Periodic(4)), Some(-0.2))
-                .starts_with("Period 4")
+            attractor_line(
+                18.95,
+                6.5,
+                &[],
+                Some(Period::Periodic(4)),
+                (Some(-0.2), None)
+            )
+            .starts_with("Period 4")
         );
         assert!(
-            attractor_line(18.95, 6.5, &[0.1; 30], Some(Period::Aperiodic), Some(0.4))
-                .starts_with("Chaos")
+            attractor_line(
+                18.95,
+                6.5,
+                &[0.1; 30],
+                Some(Period::Aperiodic),
+                (Some(0.4), None)
+            )
+            .starts_with("Chaos")
         );
         let mut th = vec![0.3; 25];
         th.extend([1.2; 5]);
         assert!(
-            attractor_line(50.0, 6.5, &th, Some(Period::Aperiodic), Some(0.3))
+            attractor_line(50.0, 6.5, &th, Some(Period::Aperiodic), (Some(0.3), None))
                 .starts_with("Intermittency")
         );
         assert!(regime_badge(50.0, 6.5).contains("0.409"));

@@ -107,8 +107,7 @@ pub fn row(a: &ListedAttractor) -> [String; 3] {
     };
     let stability = match (a.multiplier, a.lyapunov) {
         (Some(m), _) => format!("multiplier {m:.4}"),
-        (None, Some((l, Some(se)))) => format!("λ = {l:.4} ± {se:.4}"),
-        (None, Some((l, None))) => format!("λ = {l:.4}"),
+        (None, Some((l, se))) => crate::text::lyapunov(l, se, false),
         (None, None) => "λ not computed".into(),
     };
     [
@@ -191,10 +190,7 @@ mod tests {
             lyapunov: Some((0.12, Some(0.01))),
             basin_fraction: 0.75,
         };
-        assert_eq!(
-            row(&chaos),
-            ["chaotic", "λ = 0.1200 ± 0.0100", "basin 75 %"]
-        );
+        assert_eq!(row(&chaos), ["chaotic", "λ = 0.120 ± 0.010", "basin 75 %"]);
         assert!(count_line(Some(3), None).contains("3 attractors (multistable)"));
         assert_eq!(count_line(None, None), "");
         assert!(count_line(None, Some("the interpolant failed")).contains("not counted"));

@@ -70,8 +70,11 @@ pub fn describe_cell(theta_nu: f64, kappa: f64, cell: Option<&PhaseCell>) -> Str
         .regime
         .map_or(String::new(), |r| format!(", {} onsets", r.name()));
     let lyapunov = match (c.lyapunov, c.lyapunov_stderr) {
-        (Some(l), Some(se)) => format!("\nλ = {l:.4} ± {se:.4}"),
-        (Some(l), None) => format!("\nλ = {l:.4} (the cycle's exponent)"),
+        (Some(l), Some(se)) => format!("\n{}", crate::text::lyapunov(l, Some(se), false)),
+        (Some(l), None) => format!(
+            "\n{} (the cycle's exponent)",
+            crate::text::lyapunov(l, None, true)
+        ),
         _ => String::new(),
     };
     let error = c.error.as_ref().map_or(String::new(), |e| format!("\n{e}"));

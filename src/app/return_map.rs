@@ -64,15 +64,20 @@ pub fn graph_pieces(graph: &[[f64; 2]], jump: f64) -> Vec<Vec<[f64; 2]>> {
     pieces
 }
 
-/// The period and Lyapunov exponent as one line of text.
-pub fn summary(period: Option<Period>, lyapunov: Option<f64>) -> String {
+/// The period and Lyapunov exponent as one line of text: λ with its
+/// standard error where it is a mean ([`crate::text::lyapunov`]).
+pub fn summary(period: Option<Period>, lyapunov: Option<f64>, stderr: Option<f64>) -> String {
     let p = match period {
         None => "period: computing…".to_string(),
         Some(Period::Periodic(n)) => format!("period {n}"),
         Some(Period::Aperiodic) => "aperiodic".to_string(),
     };
+    let exact = matches!(period, Some(Period::Periodic(_)));
     match lyapunov {
-        Some(l) => format!("{p}   ·   Lyapunov exponent λ = {l:.4}"),
+        Some(l) => format!(
+            "{p}   ·   Lyapunov exponent {}",
+            crate::text::lyapunov(l, stderr, exact)
+        ),
         None => p,
     }
 }
@@ -189,7 +194,13 @@ impl MapData {
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(ui, it.period, it.lyapunov, s, jobs.map_basins.at(&s.params));
+        legend_ui(
+            ui,
+            it.period,
+            (it.lyapunov, it.lyapunov_stderr),
+            s,
+            jobs.map_basins.at(&s.params),
+        );
         if !style::figure_only(ui.ctx()) {
             // One row for both switches: a row less taken from the plot.
             ui.horizontal_wrapped(|ui| {
@@ -477,7 +488,7 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
 fn legend_ui(
     ui: &mut Ui,
     period: Option<Period>,
-    lyapunov: Option<f64>,
+    (lyapunov, stderr): (Option<f64>, Option<f64>),
     s: &mut Settings,
     found: Option<&crate::sim::attractors::Found>,
 ) {
@@ -486,7 +497,7 @@ fn legend_ui(
         Regime::Mixed { .. }
     );
     ui.horizontal_wrapped(|ui| {
-        ui.label(RichText::new(summary(period, lyapunov)).strong());
+        ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
         if !style::figure_only(ui.ctx()) {
             ui.checkbox(&mut s.map_difference, "f(θ) − θ")
                 .on_hover_text(

@@ -15,7 +15,6 @@ use super::values::{count_between, parse_count, parse_number, short};
 use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
 use crate::sim::Simulator;
 use crate::sim::attractors::{CellOptions, Found, GRAPH_RTOL, Verdict};
-use crate::text::with_error;
 
 /// The most cells.
 pub const MAX_CELLS: usize = 1 << 22;
@@ -274,15 +273,7 @@ fn attractor_lines(s: &mut String, a: &crate::sim::attractors::Attractor) {
         .map(|p| format!("{p:.9}"))
         .collect::<Vec<_>>()
         .join(", ");
-    let how = match (a.period, a.multiplier, a.lyapunov, a.lyapunov_from_density) {
-        (Some(_), Some(m), _, _) => format!("multiplier {m:.6}"),
-        (_, _, Some(l), Some(d)) => format!(
-            "lyapunov {} from the density, {} from an orbit",
-            with_error(d, a.lyapunov_density_error.unwrap_or(f64::INFINITY)),
-            with_error(l, a.lyapunov_stderr.unwrap_or(f64::INFINITY)),
-        ),
-        _ => "no exponent".into(),
-    };
+    let how = a.stability();
     let points = if a.period.is_some() {
         format!("points {pts}")
     } else {

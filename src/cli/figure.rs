@@ -168,6 +168,38 @@ fn read_session(a: &FigureArgs) -> Result<Option<crate::app::session::Session>, 
     Ok(Some(loaded.session))
 }
 
+/// The integrator every job of the figure runs with: the flags' (as every
+/// command's: dop853 at 1e-10 unless told), or a session's own accuracy
+/// when it is given and no flag is.
+#[cfg(feature = "gui")]
+fn accuracy_flags(a: &FigureArgs, settings: &mut crate::app::Settings) -> Result<(), CliError> {
+    use crate::app::settings::AccuracyMode;
+    use crate::integrate::Method;
+    let flagged = a.method.is_some() || a.tol.is_some() || a.step.is_some();
+    if a.session.is_some() && !flagged {
+        return Ok(());
+    }
+    let method = match (a.method, a.session.is_some()) {
+        (Some(m), _) => m,
+        (None, true) => settings.method,
+        (None, false) => Method::Dop853,
+    };
+    let solver = super::common::SolverArgs {
+        method,
+        tol: a.tol,
+        step: a.step,
+    }
+    .settings()?;
+    settings.accuracy = AccuracyMode::Custom;
+    settings.method = solver.method;
+    if method.is_adaptive() {
+        settings.tol = solver.rtol;
+    } else {
+        settings.step = solver.step;
+    }
+    Ok(())
+}
+
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
@@ -193,6 +225,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
         settings.apply_preset(&p.params, p.key);
     }
     model_flags(&a, &mut settings.params)?;
+    accuracy_flags(&a, &mut settings)?;
     settings.map_difference |= a.map_difference;
     if let Some(v) = a.slip_speed {
         settings.block_speed = v as f32;
@@ -236,7 +269,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
             Some(span) => play_gif(fig, span),
             None => gif(&fig, frames, speed),
         },
-        Format::Csv => super::figure_basins::csv(&fig).map(String::into_bytes),
+        Format::Csv => super::figure_basins::data_csv(&fig).map(String::into_bytes),
     })?
     .map_err(CliError::Failed)?;
     crate::output::write_output(&a.out, &bytes, false)

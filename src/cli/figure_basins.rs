@@ -12,6 +12,24 @@ use crate::app::jobs::basins::BasinsData;
 use crate::app::jobs::basins::BasinsKey;
 use crate::sim::attractors::Verdict;
 
+/// `fig`'s data as CSV: the Basins view's columns, or the bifurcation
+/// diagram's onsets and λ as `oneblock bifurcation --out` writes them (the
+/// same job, so the same numbers at the same settings).
+pub fn data_csv(fig: &Figure) -> Result<String, String> {
+    match fig.view {
+        crate::app::ViewKind::Bifurcation => {
+            let jobs = compute(fig)?;
+            let s = &fig.settings;
+            let kind = crate::app::jobs::JobKind::Sweep;
+            let solver = kind.solver(s).unwrap_or_else(|| s.custom_solver());
+            let model = crate::provenance::model_line_varying(&s.params, &solver, s.diagram.param);
+            let body = crate::app::export::bifurcation_csv(&jobs.sweep.data);
+            Ok(with_provenance(&model, &body))
+        }
+        _ => csv(fig),
+    }
+}
+
 /// The CSV's column names.
 pub const HEADER: &str =
     "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict";

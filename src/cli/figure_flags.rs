@@ -14,6 +14,9 @@ use super::gui::{VIEW_KEYS, parse_size};
 use super::values::{echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
+/// The views whose data `figure --out x.csv` writes instead of a picture.
+pub const CSV_VIEW_KEYS: [&str; 2] = ["basins", "bifurcation"];
+
 /// The smallest and largest --font-size, in points.
 pub const FONT_SIZES: (f64, f64) = (4.0, 72.0);
 
@@ -95,8 +98,8 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
         (Format::Gif, None) => {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
         }
-        (Format::Csv, _) if a.view != "basins" => usage(format!(
-            "--out: only the basins view writes a .csv (its columns), not '{}'",
+        (Format::Csv, _) if !CSV_VIEW_KEYS.contains(&a.view.as_str()) => usage(format!(
+            "--out: only the basins and bifurcation views write a .csv (the data drawn), not '{}'",
             echo(&a.view)
         )),
         (Format::Svg | Format::Pdf | Format::Png | Format::Csv, Some(_)) => usage(
@@ -291,6 +294,18 @@ pub struct FigureArgs {
     /// --preset, the parameters are fig3b's.
     #[arg(long)]
     pub session: Option<PathBuf>,
+    /// Integration method for every job the figure runs: dp54, dop853, rk4
+    /// or euler [default: the session's accuracy, else dop853 at tol 1e-10,
+    /// as the other commands, so a figure's numbers are theirs].
+    #[arg(long, value_enum, ignore_case = true)]
+    pub method: Option<crate::integrate::Method>,
+    /// Tolerance of the adaptive methods (rtol = atol), in [1e-14, 1e-2]
+    /// [default: 1e-10].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, conflicts_with = "step")]
+    pub tol: Option<f64>,
+    /// Step of the fixed-step methods (rk4, euler), in (0, 1] [default: 1e-3].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub step: Option<f64>,
     /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
     pub size: Option<[f32; 2]>,

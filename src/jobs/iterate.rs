@@ -97,12 +97,14 @@ impl IterateJob {
             Some(p) => Period::Periodic(p),
             None => Period::Aperiodic,
         };
+        let (lyapunov, lyapunov_stderr) = mean_and_stderr(run.logs());
         Update::MapIterates {
             generation,
             first_index: st.sent,
             thetas: st.kept[st.sent..].to_vec(),
             period,
-            lyapunov: mean_and_stderr(run.logs()).0,
+            lyapunov,
+            lyapunov_stderr,
         }
     }
 
@@ -157,6 +159,7 @@ impl IterateJob {
             thetas: st.kept[st.sent..].to_vec(),
             period: orbit.period,
             lyapunov: orbit.lyapunov,
+            lyapunov_stderr: orbit.lyapunov_stderr,
         })?;
         st.sent = st.kept.len();
         if self.report {

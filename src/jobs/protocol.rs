@@ -63,6 +63,9 @@ pub enum Update {
         thetas: Vec<f64>,
         period: Period,
         lyapunov: Option<f64>,
+        /// λ's standard error (`None` for a solved cycle's exact λ, or
+        /// too few iterates to tell).
+        lyapunov_stderr: Option<f64>,
     },
     /// The graph of the map f over the window the iterate job's orbit is
     /// drawn in (`sim::return_map_window`): f(θ) at each θ of `thetas`, NaN

@@ -33,7 +33,7 @@ use super::protocol::{Lane, SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
-use crate::sim::column_lyapunov::LyapunovRun;
+use crate::sim::column_lyapunov::{ExactSim, LyapunovRun};
 use crate::sim::interpolant::MapUsed;
 use crate::sim::seeded::{SeededColumn, seeded_column};
 use crate::sim::{
@@ -85,12 +85,13 @@ enum Parked {
 }
 
 /// A finished column on its way out: what its neighbours continue from,
-/// and its λ in progress (`None`: it has none, e.g. after a failure).
+/// and its λ in progress with the simulator it is computed at (`None`: it
+/// has none, e.g. after a failure).
 struct Delivery {
     p: PlannedColumn,
     col: Column,
     handover: Option<Handover>,
-    lyapunov: Option<LyapunovRun>,
+    lyapunov: Option<(LyapunovRun, ExactSim)>,
 }
 
 /// Checks what the columns cannot check for themselves, before any work:
@@ -228,7 +229,9 @@ impl SweepJob {
         // λ from the column's own onsets, on this thread: bounded work
         // (one cycle solve, or at most 200 slopes), never the UI's.
         let lyapunov = match (handover, self.sims[p.index].as_ref()) {
-            (Some(_), Ok(_)) => Some(LyapunovRun::new(&col)),
+            (Some(_), Ok(sim)) => ExactSim::new(sim)
+                .ok()
+                .map(|exact| (LyapunovRun::new(&col), exact)),
             _ => None,
         };
         let d = Delivery {
@@ -247,13 +250,13 @@ impl SweepJob {
         let generation = sink.generation();
         let p = d.p;
         let v = self.grid[p.index];
-        if let (Some(run), Ok(sim)) = (d.lyapunov.as_mut(), self.sims[p.index].as_ref())
-            && !run.advance(sim, &d.col, &Yielding(sink), fresh)
+        if let (Some((run, exact)), Ok(sim)) = (d.lyapunov.as_mut(), self.sims[p.index].as_ref())
+            && !run.advance((sim, exact.get(sim)), &d.col, &Yielding(sink), fresh)
         {
             lock(&self.parked).push(Parked::Lyapunov(d));
             return Ok(());
         }
-        let lyapunov = d.lyapunov.as_ref().and_then(LyapunovRun::result);
+        let lyapunov = d.lyapunov.as_ref().and_then(|(run, _)| run.result());
         let col = d.col;
         // Iterates this column ran (a failed one counts what it kept).
         let k = (self.opts.transient + col.thetas.len()) as u64;

@@ -250,6 +250,37 @@ struct Classifying {
     pending: Option<Box<verdict::Pending>>,
 }
 
+impl Attractor {
+    /// Its stability in words, the same in the command line, the window
+    /// and the figures' CSV: a cycle's multiplier to six decimals (Newton
+    /// at the graph's 1e-10), a chaotic set's λ from the density and from
+    /// an orbit, each to the digits its error allows (`+-`).
+    pub fn stability(&self) -> String {
+        use crate::text::with_error;
+        let err = |e: Option<f64>| e.unwrap_or(f64::INFINITY);
+        match (
+            self.period,
+            self.multiplier,
+            self.lyapunov,
+            self.lyapunov_from_density,
+        ) {
+            (Some(_), Some(m), _, _) => format!("multiplier {m:.6}"),
+            (_, _, Some(l), Some(d)) => format!(
+                "lyapunov {} from the density, {} from an orbit",
+                with_error(d, err(self.lyapunov_density_error)),
+                with_error(l, err(self.lyapunov_stderr)),
+            ),
+            (_, _, Some(l), None) => {
+                format!(
+                    "lyapunov {} from an orbit",
+                    with_error(l, err(self.lyapunov_stderr))
+                )
+            }
+            _ => "no exponent".into(),
+        }
+    }
+}
+
 impl AttractorsRun {
     /// The search at `sim`'s parameters, nothing computed.
     pub fn new(sim: &Simulator, opts: &CellOptions) -> Self {

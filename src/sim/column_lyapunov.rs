@@ -11,13 +11,36 @@
 //!   [`MAX_DERIVATIVES`] kept onsets, with its batch-means standard error:
 //!   one variational cycle per onset, so the cost is bounded whatever the
 //!   column keeps.
+//!
+//! Where the dots land may come from a loose integrator (the window's Auto
+//! runs its diagram at dp54 1e-4, a pixel), but λ is printed to four
+//! digits, and a multiplier from variational equations at 1e-4 is 1–2 %
+//! off. So λ is always computed at [`lyapunov_settings`] (the command
+//! line's dop853 1e-10 or tighter): the cycle the column's onsets settle on
+//! is found with the column's own integrator and then solved again by
+//! Newton at λ's setting, and every slope is taken at λ's setting.
 
 use super::analysis::map_derivative;
 use super::cycles::{CycleOptions, solve_counting};
 use super::orbit::OrbitOptions;
 use super::period::closing_in;
 use super::stats::mean_and_stderr;
-use super::{Column, NeverYield, Simulator, Yield};
+use super::{Column, NeverYield, Simulator, Yield, default_settings};
+use crate::integrate::SolverSettings;
+
+/// The loosest tolerance λ is computed at: the command line's default.
+pub const LYAPUNOV_TOL: f64 = 1e-10;
+
+/// The setting a column's λ is computed at, given the column's own: that
+/// one if it is adaptive and at least as tight as [`LYAPUNOV_TOL`], else
+/// the command line's default (dop853 at 1e-10).
+pub fn lyapunov_settings(column: SolverSettings) -> SolverSettings {
+    if column.method.is_adaptive() && column.rtol <= LYAPUNOV_TOL {
+        column
+    } else {
+        default_settings(LYAPUNOV_TOL)
+    }
+}
 
 /// The most onsets whose f′ an aperiodic column averages (8 batches of 25
 /// for the standard error).
@@ -36,11 +59,33 @@ pub struct ColumnLyapunov {
 }
 
 /// λ of a column computed at `sim`'s parameters (its θν), or `None` for an
-/// empty column or one whose derivatives all failed.
+/// empty column or one whose derivatives all failed. `sim` is the
+/// column's; λ itself is computed at [`lyapunov_settings`].
 pub fn column_lyapunov(sim: &Simulator, col: &Column) -> Option<ColumnLyapunov> {
+    let exact = ExactSim::new(sim).ok()?;
     let mut run = LyapunovRun::new(col);
-    run.advance(sim, col, &NeverYield, true);
+    run.advance((sim, exact.get(sim)), col, &NeverYield, true);
     run.result()
+}
+
+/// The simulator λ is computed with: the column's own when its setting is
+/// λ's ([`lyapunov_settings`]), else one at λ's setting.
+pub struct ExactSim(Option<Simulator>);
+
+impl ExactSim {
+    /// λ's simulator for a column run by `column` (its parameters).
+    pub fn new(column: &Simulator) -> Result<Self, crate::sim::SimError> {
+        let settings = lyapunov_settings(*column.settings());
+        if settings == *column.settings() {
+            return Ok(ExactSim(None));
+        }
+        Ok(ExactSim(Some(Simulator::new(*column.params(), settings)?)))
+    }
+
+    /// The simulator to use, given the column's.
+    pub fn get<'a>(&'a self, column: &'a Simulator) -> &'a Simulator {
+        self.0.as_ref().unwrap_or(column)
+    }
 }
 
 /// The period and λ = ln|m|/p of the stable cycle that `kept` closes in
@@ -93,10 +138,11 @@ impl LyapunovRun {
 
     /// Computes until done (true) or `yielding` says stop (false). A
     /// `fresh` call (the first thing in its host's step) does at least one
-    /// piece; another may stop before any.
+    /// piece; another may stop before any. `sims` are the column's
+    /// simulator and λ's ([`ExactSim`]).
     pub fn advance(
         &mut self,
-        sim: &Simulator,
+        (sim, exact): (&Simulator, &Simulator),
         col: &Column,
         yielding: &dyn Yield,
         fresh: bool,
@@ -113,8 +159,9 @@ impl LyapunovRun {
             let mut spent = (0, 0);
             let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
             let solved = match (settled.cycle, settled.lyapunov) {
-                (Some(c), Some(l)) => Some((c.period(), l)),
-                _ => closing_in_solved(sim, kept),
+                (Some(c), Some(l)) if std::ptr::eq(sim, exact) => Some((c.period(), l)),
+                (Some(c), Some(_)) => solve_closing(exact, &c.points),
+                _ => closing_in_solved(exact, kept),
             };
             if let Some((period, l)) = solved
                 && l.is_finite()
@@ -139,7 +186,7 @@ impl LyapunovRun {
             let i = self.next;
             self.next += 1;
             let next = kept.get(i + 1).copied().unwrap_or(col.theta_last);
-            if let Ok((d, _)) = map_derivative(sim, kept[i], next) {
+            if let Ok((d, _)) = map_derivative(exact, kept[i], next) {
                 // f′ = 0 exactly (a superstable point) would give −∞: it
                 // is left out rather than let one point swamp the mean.
                 let l = d.abs().ln();

@@ -167,6 +167,7 @@ impl Jobs {
                 thetas,
                 period,
                 lyapunov,
+                lyapunov_stderr,
                 ..
             } if job == JobKind::Iterate => {
                 let it = &mut self.iterate.data;
@@ -174,6 +175,7 @@ impl Jobs {
                 it.thetas.extend(thetas);
                 it.period = Some(period);
                 it.lyapunov = lyapunov;
+                it.lyapunov_stderr = lyapunov_stderr;
                 None
             }
             Update::MapGraph {
