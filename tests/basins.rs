@@ -131,7 +131,7 @@ fn the_csv_names_two_attractors_per_middle_column_with_one_identity_each() {
     let mut lines = lines.skip_while(|l| l.starts_with('#'));
     assert_eq!(
         lines.next().unwrap(),
-        "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict"
+        "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict,colour"
     );
     // Per θν: (track, label, fraction) of each attractor, and the boundary.
     let mut cols: Vec<CsvColumn> = Vec::new();
@@ -238,5 +238,58 @@ fn the_return_map_shades_the_basins_and_draws_the_density() {
     // Both attractors' colours (the band's stretches).
     for c in ["#1f77b4", "#ff7f0e"] {
         assert!(svg.contains(c), "{c}");
+    }
+}
+
+/// Fig. 3b's Basins figure names eleven identities over θν (the P3 and
+/// chaos met again after a window): each has its own colour, in the CSV
+/// and in the picture drawn by the same command.
+#[cfg(feature = "gui")]
+#[test]
+fn no_two_identities_share_a_colour_at_fig3b() {
+    let dir = tempfile::tempdir().unwrap();
+    let (csv, png) = (dir.path().join("b.csv"), dir.path().join("b.png"));
+    for out in [&csv, &png] {
+        let o = crate::cli_support::oneblock(&[
+            "figure",
+            "--view",
+            "basins",
+            "--preset",
+            "fig3b",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        crate::cli_support::assert_ok(&o);
+    }
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let mut colour_of = std::collections::BTreeMap::new();
+    for l in text.lines().filter(|l| !l.starts_with('#')).skip(1) {
+        let f: Vec<&str> = l.split(',').collect();
+        let (id, label, colour) = (f[1], f[2], *f.last().unwrap());
+        if label == "failed" {
+            continue;
+        }
+        assert!(
+            colour.len() == 7 && colour.starts_with('#'),
+            "colour '{colour}' in {l}"
+        );
+        let prev = colour_of.insert(id.to_string(), colour.to_string());
+        assert!(
+            prev.is_none_or(|p| p == colour),
+            "{id} drawn in two colours"
+        );
+    }
+    assert!(colour_of.len() >= 8, "{colour_of:?}");
+    let distinct: std::collections::HashSet<&String> = colour_of.values().collect();
+    assert_eq!(distinct.len(), colour_of.len(), "shared: {colour_of:?}");
+    // Each identity's colour is painted in the picture.
+    let img = image::open(&png).unwrap().to_rgb8();
+    let painted: std::collections::HashSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    for (id, c) in &colour_of {
+        let rgb = [1, 3, 5].map(|i| u8::from_str_radix(&c[i..i + 2], 16).unwrap());
+        assert!(
+            painted.contains(&rgb),
+            "identity '{id}' ({c}) not in the picture"
+        );
     }
 }

@@ -21,8 +21,10 @@ use crate::sim::attractors::{Attractor, Basin, Verdict};
 /// The basin boundary's grey.
 pub const BOUNDARY: Color32 = Color32::from_gray(170);
 
-/// Attractor colours, by track (an attractor followed along θν).
-const PALETTE: [Color32; 8] = [
+/// Attractor colours, by track (an attractor followed along θν): the
+/// colours of Tableau 20 that are not grey (the boundary's), the nine
+/// strong ones first, then their light partners, and teal.
+const PALETTE: [Color32; 18] = [
     Color32::from_rgb(31, 119, 180),
     Color32::from_rgb(255, 127, 14),
     Color32::from_rgb(44, 160, 44),
@@ -30,13 +32,45 @@ const PALETTE: [Color32; 8] = [
     Color32::from_rgb(148, 103, 189),
     Color32::from_rgb(140, 86, 75),
     Color32::from_rgb(227, 119, 194),
+    Color32::from_rgb(188, 189, 34),
     Color32::from_rgb(23, 190, 207),
+    Color32::from_rgb(174, 199, 232),
+    Color32::from_rgb(255, 187, 120),
+    Color32::from_rgb(152, 223, 138),
+    Color32::from_rgb(255, 152, 150),
+    Color32::from_rgb(197, 176, 213),
+    Color32::from_rgb(196, 156, 148),
+    Color32::from_rgb(247, 182, 210),
+    Color32::from_rgb(219, 219, 141),
+    // Teal in place of Tableau's light cyan, too near its light blue.
+    Color32::from_rgb(0, 128, 128),
 ];
 
-/// The colour of track `id`.
+/// The colour of track `id`, never another track's: the palette, then
+/// hues a golden angle apart at three lightnesses (each id its own colour;
+/// past 18 tracks two may be close, and their names in the legend and a
+/// click's list tell them apart).
 pub fn track_color(id: usize) -> Color32 {
-    PALETTE[id % PALETTE.len()]
+    if let Some(&c) = PALETTE.get(id) {
+        return c;
+    }
+    let k = id - PALETTE.len();
+    let hue = (k as f32 * 0.381_966).fract();
+    let value = [0.55, 0.75, 0.95][k % 3];
+    let saturation = [0.85, 0.6, 0.45][(k / 3) % 3];
+    let c = egui::ecolor::Hsva::new(hue, saturation, value, 1.0);
+    Color32::from(c)
 }
+
+/// `#rrggbb` of a colour, as the basins CSV writes it.
+pub fn hex(c: Color32) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.r(), c.g(), c.b())
+}
+
+/// What a numbered name means, under the legend when one is drawn.
+pub const SECOND_NAME: &str = "A numbered name, as \"P2 (2)\": a second attractor of that \
+    kind, not the first one continued (it has a basin of its own, or it appears after the \
+    first one ended).";
 
 /// The view's own state: the column clicked and a box being drawn.
 #[derive(Default)]
@@ -332,7 +366,8 @@ fn status_ui(ui: &mut Ui, slot: &Slot<BasinsData>) {
     }
 }
 
-/// The legend: every track drawn, then the boundary.
+/// The legend: every track drawn, then the boundary; under it, what a
+/// numbered name ("P2 (2)") means, when there is one.
 fn legend_ui(ui: &mut Ui, ids: &Identities) {
     ui.horizontal_wrapped(|ui| {
         for t in &ids.tracks {
@@ -340,6 +375,9 @@ fn legend_ui(ui: &mut Ui, ids: &Identities) {
         }
         style::legend_swatch(ui, BOUNDARY, "basin boundary");
     });
+    if ids.tracks.iter().any(|t| t.label.ends_with(')')) {
+        ui.label(RichText::new(SECOND_NAME).weak().small());
+    }
 }
 
 impl View for BasinsView {
@@ -391,4 +429,31 @@ fn fractions_ui(ui: &mut Ui, s: &Settings, d: &BasinsData, height: f32) {
         p.set_plot_bounds(PlotBounds::from_min_max([x0, 0.0], [x1, 1.0]));
         fraction_items(p, d);
     });
+}
+
+#[cfg(test)]
+mod colour_tests {
+    use super::*;
+
+    #[test]
+    fn no_two_tracks_share_a_colour_and_none_is_the_boundarys() {
+        let cs: Vec<Color32> = (0..300).map(track_color).collect();
+        let distinct: std::collections::HashSet<_> = cs.iter().collect();
+        assert_eq!(distinct.len(), cs.len());
+        assert!(!cs.contains(&BOUNDARY));
+        // The palette's colours are far apart (RGB distance).
+        let d = |a: Color32, b: Color32| {
+            let s: i32 = [(a.r(), b.r()), (a.g(), b.g()), (a.b(), b.b())]
+                .iter()
+                .map(|&(x, y)| (i32::from(x) - i32::from(y)).pow(2))
+                .sum();
+            f64::from(s).sqrt()
+        };
+        for i in 0..18 {
+            for j in 0..i {
+                assert!(d(cs[i], cs[j]) > 35.0, "{i} and {j}");
+            }
+        }
+        assert_eq!(hex(Color32::from_rgb(31, 119, 180)), "#1f77b4");
+    }
 }

@@ -7,6 +7,7 @@
 use std::fmt::Write as _;
 
 use super::common::{describe_sweep, with_provenance};
+use crate::app::basins::{BOUNDARY, hex, track_color};
 use crate::app::figure::{Figure, compute};
 use crate::app::jobs::basins::BasinsData;
 use crate::app::jobs::basins::BasinsKey;
@@ -32,7 +33,7 @@ pub fn data_csv(fig: &Figure) -> Result<String, String> {
 
 /// The CSV's column names.
 pub const HEADER: &str =
-    "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict";
+    "theta_nu,attractor,label,period,basin_fraction,multiplier,lyapunov,verdict,colour";
 
 /// Computes `fig`'s Basins columns and writes them as CSV: `#` lines
 /// naming the program, its version, the command line and the parameters
@@ -72,7 +73,7 @@ fn rows(d: &BasinsData, out: &mut String) {
         let found = match &col.found {
             Ok(f) => f,
             Err(e) => {
-                writeln!(out, "{tn},,failed,,,,,{}", field(e)).ok();
+                writeln!(out, "{tn},,failed,,,,,{},", field(e)).ok();
                 continue;
             }
         };
@@ -83,6 +84,10 @@ fn rows(d: &BasinsData, out: &mut String) {
                 .map_or((String::new(), String::new()), |t| {
                     (t.id.to_string(), t.label.clone())
                 });
+            let colour = d
+                .ids
+                .track(i, a)
+                .map_or(String::new(), |t| hex(track_color(t.id)));
             let verdict = match &at.verdict {
                 Verdict::Proved => "proved".to_string(),
                 Verdict::CycleInSet => "cycle in set".to_string(),
@@ -92,7 +97,7 @@ fn rows(d: &BasinsData, out: &mut String) {
             let period = at.period.map_or(String::new(), |p| p.to_string());
             writeln!(
                 out,
-                "{tn},{id},{},{period},{},{},{},{}",
+                "{tn},{id},{},{period},{},{},{},{},{colour}",
                 field(&label),
                 at.basin_fraction,
                 num(at.multiplier),
@@ -101,6 +106,7 @@ fn rows(d: &BasinsData, out: &mut String) {
             )
             .ok();
         }
-        writeln!(out, "{tn},,boundary,,{},,,", found.boundary_fraction).ok();
+        let grey = hex(BOUNDARY);
+        writeln!(out, "{tn},,boundary,,{},,,,{grey}", found.boundary_fraction).ok();
     }
 }
