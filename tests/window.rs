@@ -53,3 +53,42 @@ fn fig3b_screenshot_under_xvfb_is_a_real_picture() {
         views.len()
     );
 }
+
+/// A display that goes away ends the window with one line and exit 1:
+/// the window runs under Xvfb until its server is killed (as Ctrl+C in the
+/// terminal of an `xvfb-run` does), and must not crash on its way out (it
+/// did: a segmentation fault, exit 139, after Xlib's own line).
+#[test]
+fn a_display_that_goes_away_ends_the_window_with_one_line_and_exit_1() {
+    if !have_xvfb("display-loss test") {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let xdg = common::xvfb::runtime_dir(&dir.path().join("xdg"));
+    // The shell runs inside xvfb-run: it knows its server by $DISPLAY.
+    let script = r#"
+        "$0" gui --preset fig3b --size 800x600 2>"$1" &
+        G=$!
+        sleep 8
+        pkill -KILL -f "Xvfb $DISPLAY "
+        wait $G
+        echo "exit=$?"
+    "#;
+    let err = dir.path().join("stderr.txt");
+    let out = common::xvfb::under_xvfb(120)
+        .args(["sh", "-c", script, env!("CARGO_BIN_EXE_oneblock")])
+        .arg(&err)
+        .env("XDG_RUNTIME_DIR", &xdg)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    let stderr = std::fs::read_to_string(&err).unwrap();
+    assert!(said.contains("exit=1"), "{said} / {stderr}");
+    let lines: Vec<&str> = stderr.lines().filter(|l| !l.trim().is_empty()).collect();
+    assert_eq!(lines.len(), 1, "{stderr}");
+    assert!(
+        lines[0].starts_with("error: gui: the display went away"),
+        "{stderr}"
+    );
+}

@@ -249,6 +249,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
         spawn_watchdog(timeout, grace)?;
     }
     on_interrupt(launch.scripted);
+    on_display_lost();
     let (out2, stats2) = (outcome.clone(), stats_report.clone());
     let shot = opts.screenshot.clone();
     let warnings = launch.warnings.clone();
@@ -322,9 +323,94 @@ fn on_interrupt(scripted: bool) {
             ""
         };
         eprintln!("error: gui: interrupted (Ctrl+C){what}");
-        std::process::exit(1);
+        quit_now();
     })
     .ok();
+}
+
+/// Ends the process at once with exit code 1, running no exit handlers:
+/// `std::process::exit` from another thread ran the GL driver's teardown
+/// while the window's thread still drew, and against a display already
+/// gone (Ctrl+C under `xvfb-run` reaches the server too) that crashed with
+/// a segmentation fault (exit 139).
+fn quit_now() -> ! {
+    #[cfg(target_os = "linux")]
+    // SAFETY: `_exit` only ends the process; no Rust state is touched.
+    unsafe {
+        libc::_exit(1)
+    }
+    #[cfg(not(target_os = "linux"))]
+    std::process::exit(1)
+}
+
+/// The one line a window whose display went away ends with.
+fn display_gone(why: &str) -> ! {
+    eprintln!("error: gui: the display went away ({why}); the window closed");
+    quit_now()
+}
+
+/// A display that goes away (its server killed, the connection broken)
+/// ends the window with one line and exit 1, never a crash: Xlib's fatal
+/// I/O handler (its default prints its own line and calls `exit`, whose
+/// teardown crashed), and a panic of the windowing code over the broken
+/// connection (winit unwraps X replies), both end in [`display_gone`].
+fn on_display_lost() {
+    #[cfg(target_os = "linux")]
+    set_x_io_handler();
+    let previous = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let msg = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        if is_connection_loss(msg) {
+            display_gone("the connection to the display server broke");
+        }
+        previous(info);
+    }));
+}
+
+/// Whether a panic's message is the windowing code's on a lost X or
+/// Wayland connection.
+fn is_connection_loss(msg: &str) -> bool {
+    [
+        "Connection(IoError",
+        "ConnectionError",
+        "X connection",
+        "Broken pipe",
+    ]
+    .iter()
+    .any(|k| msg.contains(k))
+}
+
+/// Installs Xlib's fatal I/O error handler, if the process can load
+/// libX11 (a Wayland-only system cannot, and needs none). eframe opens the
+/// same library later; the handler is process-wide, and nothing else sets
+/// it.
+#[cfg(target_os = "linux")]
+fn set_x_io_handler() {
+    type Handler = unsafe extern "C" fn(*mut libc::c_void) -> libc::c_int;
+    type SetHandler = unsafe extern "C" fn(Option<Handler>) -> Option<Handler>;
+    unsafe extern "C" fn on_io_error(_display: *mut libc::c_void) -> libc::c_int {
+        display_gone("the X connection broke")
+    }
+    // SAFETY: dlopen/dlsym with NUL-terminated names; the symbol, when
+    // found, is Xlib's `XSetIOErrorHandler`, whose C signature `SetHandler`
+    // is, and it is called with a handler of Xlib's `XIOErrorHandler` type.
+    unsafe {
+        let lib = libc::dlopen(c"libX11.so.6".as_ptr(), libc::RTLD_LAZY);
+        if lib.is_null() {
+            return;
+        }
+        let sym = libc::dlsym(lib, c"XSetIOErrorHandler".as_ptr());
+        if sym.is_null() {
+            return;
+        }
+        let set: SetHandler = std::mem::transmute::<*mut libc::c_void, SetHandler>(sym);
+        set(Some(on_io_error));
+    }
 }
 
 /// The end of a run: a scripted run's outcome (`shot`), the warnings on
