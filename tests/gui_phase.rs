@@ -281,7 +281,7 @@ fn with_seeds_multistable_cells_are_marked_and_a_click_lists_their_attractors() 
         "multiplier -0.6000",
         "basin 75 %",
         "chaotic",
-        "λ = 0.2100 ± 0.0200",
+        "λ = 0.210 ± 0.020",
         "basin 25 %",
     ] {
         assert!(h.query_by_label(text).is_some(), "{text}");

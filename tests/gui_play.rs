@@ -158,8 +158,12 @@ fn plays_and_the_views_follow(backend: Box<dyn Backend>) {
     assert!(h.state().play.on, "the button did not start play");
     let mut path = vec![start_tn];
     let mut generations = vec![first_generation];
+    // Frames 50 ms apart: while θν plays an orbit restarts once the last
+    // one is done (its views show it meanwhile), so the worker is given
+    // the time a real frame gives it.
     for _ in 0..24 {
         h.step();
+        std::thread::sleep(Duration::from_millis(50));
         path.push(h.state().settings.params.theta_nu);
         generations.push(h.state().jobs.trajectory.generation);
     }

@@ -57,4 +57,61 @@ fn the_window_plays_theta_nu_and_reports_its_frames() {
         "the trajectory did not follow θν: {line}"
     );
     assert!(number_after(line, "median frame time ") > 0.0, "{line}");
+    assert_views_filled(&err);
+}
+
+/// Every view shown while θν played showed a result (the latest finished
+/// one, held until the next arrives) in at least 90 % of the frames:
+/// `filled VIEW: share` lines, at least the four default tiles.
+fn assert_views_filled(err: &str) {
+    let filled: Vec<(&str, f64)> = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("filled "))
+        .map(|l| {
+            let (view, share) = l.split_once(": ").expect("filled VIEW: share");
+            (view, share.trim().parse().expect("a share"))
+        })
+        .collect();
+    assert!(filled.len() >= 4, "{err}");
+    for (view, share) in filled {
+        assert!(
+            share >= 0.9,
+            "{view} showed a result in {share} of the frames: {err}"
+        );
+    }
+}
+
+/// At the intermittent preset (ν = 1e-4, stiff slips: an orbit takes
+/// hundreds of ms) every view still shows a result while θν plays; it
+/// used to be blank in four of six frames.
+#[test]
+fn every_view_shows_a_result_while_theta_nu_plays_at_nu_1e_4() {
+    if !have_xvfb("window test") {
+        return;
+    }
+    let dir = tempfile::tempdir().expect("temp dir");
+    let png = dir.path().join("played.png");
+    let xdg = common::xvfb::runtime_dir(&dir.path().join("xdg"));
+    let out = common::xvfb::under_xvfb(400)
+        .arg(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["gui", "--preset", "intermittent", "--size", "1280x800"])
+        .args([
+            "--timeout",
+            "300",
+            "--play",
+            "--frame-stats",
+            "--screenshot",
+        ])
+        .arg(&png)
+        .env("XDG_RUNTIME_DIR", &xdg)
+        .env_remove("WAYLAND_DISPLAY")
+        .output()
+        .expect("run oneblock gui");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "gui exited {:?}: {err}",
+        out.status.code()
+    );
+    assert_views_filled(&err);
 }

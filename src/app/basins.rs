@@ -68,9 +68,9 @@ pub fn hex(c: Color32) -> String {
 }
 
 /// What a numbered name means, under the legend when one is drawn.
-pub const SECOND_NAME: &str = "A numbered name, as \"P2 (2)\": a second attractor of that \
-    kind, not the first one continued (it has a basin of its own, or it appears after the \
-    first one ended).";
+pub const SECOND_NAME: &str = "A numbered name, as P2 (2), is a second attractor of that \
+    kind, not the first one continued: it has a basin of its own, or it appears after the \
+    first one ended.";
 
 /// The view's own state: the column clicked and a box being drawn.
 #[derive(Default)]

@@ -138,6 +138,7 @@ impl Explorer {
     /// Hands the settings to the job model: whatever they now call for
     /// starts, or waits for its debounce.
     pub fn sync_jobs(&mut self, ctx: &Context) {
+        self.jobs.playing = self.play.on;
         let shown = Shown {
             now: self.now,
             sweep_zoom: self.views.bifurcation.theta_nu_range(),
@@ -530,6 +531,8 @@ impl Explorer {
 impl eframe::App for Explorer {
     fn logic(&mut self, ctx: &Context, frame: &mut eframe::Frame) {
         self.stats.record(frame.info().cpu_usage);
+        let views = super::svg_render::shown_views(&self.settings);
+        self.stats.count_filled(&self.jobs, &views);
         self.logic_step(ctx);
     }
 

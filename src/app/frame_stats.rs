@@ -38,6 +38,9 @@ pub struct FrameStats {
     pub points: usize,
     pub samples_at_start: usize,
     pub samples_at_end: usize,
+    /// Per view shown while θν played: (frames it showed a result in,
+    /// frames), by the view's key.
+    pub filled: std::collections::BTreeMap<&'static str, (usize, usize)>,
     /// The last [`LIVE_FRAMES`] intervals, recorded whenever stats are on:
     /// what the overlay shows in a live window, where nothing scripts a
     /// measurement (it used to wait for one and say "measuring…" for ever).
@@ -67,7 +70,49 @@ fn percentile(v: &[f32], q: f32) -> Option<f32> {
     Some(s[((s.len() - 1) as f32 * q) as usize])
 }
 
+/// Whether view `v` shows a result of some θν now (the latest finished or
+/// streaming one), not an empty plot or "computing…".
+pub fn shows_result(jobs: &crate::app::jobs::Jobs, v: crate::app::ViewKind) -> bool {
+    use crate::app::ViewKind;
+    match v {
+        ViewKind::Plane | ViewKind::Block | ViewKind::TimeSeries => {
+            !jobs.trajectory.data.samples.is_empty()
+        }
+        ViewKind::Events => !jobs.trajectory.data.events.is_empty(),
+        ViewKind::ReturnMap => {
+            let it = &jobs.iterate.data;
+            it.period.is_some() && !it.thetas.is_empty()
+        }
+        ViewKind::Bifurcation => jobs.sweep.data.filled > 0,
+        ViewKind::Phase => jobs.phase.data.filled > 0,
+        ViewKind::Basins => jobs.basins.data.arrived() > 0,
+        ViewKind::Numerics => !jobs.numerics.data.rows.is_empty(),
+    }
+}
+
 impl FrameStats {
+    /// Counts one played frame for each of the `views` shown: whether it
+    /// showed a result ([`shows_result`]).
+    pub fn count_filled(&mut self, jobs: &crate::app::jobs::Jobs, views: &[crate::app::ViewKind]) {
+        if !(self.enabled && self.recording && self.playing) {
+            return;
+        }
+        for &v in views {
+            let e = self.filled.entry(v.key()).or_default();
+            e.0 += usize::from(shows_result(jobs, v));
+            e.1 += 1;
+        }
+    }
+
+    /// One line per view shown while θν played: `filled VIEW: 0.97`, the
+    /// share of played frames in which it showed a result.
+    fn filled_report(&self) -> String {
+        self.filled
+            .iter()
+            .map(|(k, (f, n))| format!("\nfilled {k}: {:.2}", *f as f64 / (*n).max(1) as f64))
+            .collect()
+    }
+
     /// Records one frame (with eframe's CPU time for it, if known).
     pub fn record(&mut self, cpu_seconds: Option<f32>) {
         if !self.enabled {
@@ -117,7 +162,7 @@ impl FrameStats {
             None => String::new(),
         };
         if let Some(m) = median(&self.play_frames) {
-            return format!("{idle}{}", self.play_report(m));
+            return format!("{idle}{}{}", self.play_report(m), self.filled_report());
         }
         let streaming = match median(&self.intervals) {
             None => "frame-stats: no frames recorded".into(),

@@ -148,16 +148,28 @@ impl Jobs {
         }
     }
 
+    /// The new trajectory's first update replaces the one held while θν
+    /// plays.
+    fn release_held_trajectory(&mut self) {
+        if self.held.0 {
+            self.held.0 = false;
+            self.trajectory.stale = false;
+            self.trajectory.data = crate::app::data::TrajectoryData::default();
+        }
+    }
+
     /// A partial result of an orbit job (trajectory or iterates) into its
     /// data; any other update is given back.
     fn apply_orbit(&mut self, job: JobKind, u: Update) -> Option<Update> {
         match u {
             Update::TrajectoryChunk { samples, .. } if job == JobKind::Trajectory => {
+                self.release_held_trajectory();
                 self.trajectory.data.push_samples(samples);
                 self.trajectory_revision += 1;
                 None
             }
             Update::Slip { event, .. } if job == JobKind::Trajectory => {
+                self.release_held_trajectory();
                 self.trajectory.data.push_event(event);
                 self.trajectory_revision += 1;
                 None
@@ -170,6 +182,16 @@ impl Jobs {
                 lyapunov_stderr,
                 ..
             } if job == JobKind::Iterate => {
+                if self.held.1 {
+                    // The new orbit's first batch replaces the held one's
+                    // iterates; the held graph stays until the new one
+                    // comes, at the job's end.
+                    self.held.1 = false;
+                    self.iterate.stale = false;
+                    let it = &mut self.iterate.data;
+                    (it.thetas, it.period, it.lyapunov, it.lyapunov_stderr) =
+                        (Vec::new(), None, None, None);
+                }
                 let it = &mut self.iterate.data;
                 it.thetas.truncate(first_index);
                 it.thetas.extend(thetas);

@@ -22,7 +22,7 @@ pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
 pub use slots::{JobState, LaneProgress, Slot, SlotHead, Slots};
 
 use super::backend::Backend;
-use super::data::{IterateData, SweepData, TrajectoryData, WorkPrecisionData};
+use super::data::{IterateData, SweepData, WorkPrecisionData};
 use super::phase_data::PhaseData;
 use super::settings::Settings;
 use crate::integrate::SolverSettings;
@@ -35,7 +35,7 @@ use crate::worker::{
     Axis, Command, Generation, IterateOptions, IterateSpec, Lane, PhaseSpec, PhaseTuning,
     SweepSpec, Timing, TrajectorySpec, WorkPrecisionSpec,
 };
-use policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
+use policy::{ORBIT_DEBOUNCE, PLAY_CYCLES, PLAY_HOLD, PLAY_KEEP, SWEEP_DEBOUNCE};
 
 /// A generation never issued: a job that waits for its turn, or has never
 /// run.
@@ -107,6 +107,14 @@ pub struct Jobs {
     pub phase_policy: PhasePolicy,
     /// Keep the orbit lane streaming indefinitely (frame-time measurement).
     pub stream_forever: bool,
+    /// θν plays (the window sets it every frame): the orbit restarts once
+    /// the last one is done ([`PLAY_HOLD`]), shorter ([`PLAY_CYCLES`]), and
+    /// the trajectory and the analysis keep showing their last result
+    /// until the new one's first arrives.
+    pub playing: bool,
+    /// The trajectory's and the analysis's data are held from the last
+    /// orbit, to be replaced by the running job's first update.
+    held: (bool, bool),
     /// What the running orbit jobs were started with: the parameters, and
     /// the trajectory's and the map iterates' solver settings.
     sent_orbit: Option<(Params, SolverSettings, SolverSettings)>,
@@ -142,6 +150,8 @@ impl Jobs {
             trajectory_revision: 0,
             phase_policy: PhasePolicy::default(),
             stream_forever: false,
+            playing: false,
+            held: (false, false),
             sent_orbit: None,
             sent_sweep: None,
             last_orbit_send: f64::NEG_INFINITY,
@@ -175,16 +185,39 @@ impl Jobs {
         }
     }
 
+    /// Whether the orbit lane still works on its last start: the
+    /// trajectory, or the analysis that waits for it or runs.
+    fn orbit_busy(&self) -> bool {
+        self.trajectory.state == JobState::Running
+            || self.pending_iterate.is_some()
+            || self.iterate.state == JobState::Running
+    }
+
+    /// Whether the trajectory's (`.0`) or the analysis's (`.1`) data is
+    /// the last orbit's, held while the new one has sent nothing.
+    pub fn held(&self) -> (bool, bool) {
+        self.held
+    }
+
     /// Starts the trajectory and the orbit analysis for the current parameters.
     pub fn restart_orbit(&mut self, s: &Settings, now: f64) {
         let params = s.params;
         let traj_solver = solver(JobKind::Trajectory, s);
         let iterate_solver = solver(JobKind::Iterate, s);
         let g = self.generation();
-        self.trajectory.start(g, TrajectoryData::default());
+        let hold = self.playing;
+        let kept = hold.then(|| std::mem::take(&mut self.trajectory.data));
+        self.trajectory.start(g, kept.unwrap_or_default());
+        self.held.0 = hold;
         self.bind(JobKind::Trajectory, s, diagram_range(s, None));
+        self.trajectory.stale = hold;
         self.trajectory_revision += 1;
-        let cycles = (!self.stream_forever).then_some(s.trajectory_cycles);
+        let cycles = if self.playing {
+            s.trajectory_cycles.min(PLAY_CYCLES)
+        } else {
+            s.trajectory_cycles
+        };
+        let cycles = (!self.stream_forever).then_some(cycles);
         self.send(Command::run(
             g,
             TrajectorySpec {
@@ -198,9 +231,13 @@ impl Jobs {
             },
         ));
         self.pending_iterate = (!self.stream_forever).then_some((g, params, iterate_solver));
-        // The analysis shows "computing" until its job starts.
-        self.iterate.start(NO_GENERATION, IterateData::default());
+        // The analysis shows "computing" until its job starts (while θν
+        // plays, the last one's result).
+        let kept = hold.then(|| std::mem::take(&mut self.iterate.data));
+        self.iterate.start(NO_GENERATION, kept.unwrap_or_default());
+        self.held.1 = hold;
         self.bind(JobKind::Iterate, s, diagram_range(s, None));
+        self.iterate.stale = hold;
         self.sent_orbit = Some((params, traj_solver, iterate_solver));
         self.last_orbit_send = now;
     }
@@ -240,8 +277,10 @@ impl Jobs {
         self.pending_iterate = None;
         let g = self.generation();
         let bound = self.iterate.bound.take();
-        self.iterate.start(g, IterateData::default());
+        let kept = self.held.1.then(|| std::mem::take(&mut self.iterate.data));
+        self.iterate.start(g, kept.unwrap_or_default());
         self.iterate.bound = bound;
+        self.iterate.stale = self.held.1;
         self.send(Command::run(
             g,
             IterateSpec {
@@ -249,7 +288,11 @@ impl Jobs {
                 settings: solver,
                 theta0,
                 transient,
-                keep: ITERATE_KEEP,
+                keep: if self.playing {
+                    PLAY_KEEP
+                } else {
+                    ITERATE_KEEP
+                },
                 graph_powers: self.want_powers,
                 options: IterateOptions::default(),
             },
@@ -436,7 +479,12 @@ impl Jobs {
         }
         if self.sent_orbit != orbit_now {
             let left = self.last_orbit_send + ORBIT_DEBOUNCE - now;
-            if left <= 0.0 || self.sent_orbit.is_none() {
+            // While θν plays, the last orbit finishes first (within
+            // PLAY_HOLD), so that its views have something to show.
+            let busy = self.playing && self.orbit_busy() && now - self.last_orbit_send < PLAY_HOLD;
+            if busy {
+                out.wait(ORBIT_DEBOUNCE);
+            } else if left <= 0.0 || self.sent_orbit.is_none() {
                 self.restart_orbit(s, now);
             } else {
                 out.wait(left);

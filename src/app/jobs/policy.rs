@@ -13,6 +13,15 @@ use crate::sim::continuation::ContParam;
 
 /// Time between two orbit restarts while a slider is dragged (seconds).
 pub const ORBIT_DEBOUNCE: f64 = 0.04;
+/// While θν plays, the orbit restarts once the last one is finished (its
+/// trajectory and its analysis), or after this long (seconds): each view
+/// shows the latest finished result meanwhile, never an empty plot.
+pub const PLAY_HOLD: f64 = 1.0;
+/// While θν plays, the trajectory runs at most this many slip cycles: the
+/// analysis follows it at once, and the views keep up with the clock.
+pub const PLAY_CYCLES: usize = 80;
+/// While θν plays, the analysis keeps this many iterates (300 otherwise).
+pub const PLAY_KEEP: usize = 120;
 /// Quiet time after the last change before a sweep restarts (seconds).
 pub const SWEEP_DEBOUNCE: f64 = 0.25;
 /// Quiet time after the last change of γ, ν, Ω, the solver, the resolution or
