@@ -11,6 +11,7 @@ use std::ops::RangeInclusive;
 
 use egui::{Color32, RichText, Slider, SliderClamping, TextEdit, Ui};
 
+mod fine_step;
 mod sweep;
 mod view_options;
 
@@ -271,6 +272,7 @@ impl Controls {
         for field in Field::PARAMS {
             self.field_row(ui, s, field);
             if field == Field::ThetaNu {
+                fine_step::fine_step_ui(ui, s);
                 let was = s.full_circle;
                 ui.checkbox(&mut s.full_circle, "full circle for θν")
                     .on_hover_text(
