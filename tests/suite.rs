@@ -128,6 +128,8 @@ mod interpolant;
 mod jobs_hosts;
 #[path = "method_agreement.rs"]
 mod method_agreement;
+#[path = "orbit_summary.rs"]
+mod orbit_summary;
 #[path = "paper_checks.rs"]
 mod paper_checks;
 #[path = "phase.rs"]

@@ -111,7 +111,7 @@ impl LyapunovRun {
             self.settled_tried = true;
             let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
             let mut spent = (0, 0);
-            let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
+            let settled = sim.settle(kept, col.theta_last, (None, None), tol, &mut spent);
             let solved = match (settled.cycle, settled.lyapunov) {
                 (Some(c), Some(l)) => Some((c.period(), l)),
                 _ => closing_in_solved(sim, kept),

@@ -525,7 +525,7 @@ impl CellRun {
         let s = self.sim.settle(
             kept,
             self.theta,
-            &self.logs,
+            mean_and_stderr(&self.logs),
             self.opts.period_tol,
             &mut self.spent,
         );
