@@ -134,6 +134,8 @@ mod orbit_summary;
 mod paper_checks;
 #[path = "phase.rs"]
 mod phase;
+#[path = "phase_csv_fields.rs"]
+mod phase_csv_fields;
 #[path = "phase_interp.rs"]
 mod phase_interp;
 #[path = "phase_multistable.rs"]
