@@ -210,7 +210,7 @@ struct ColumnRun {
     /// O(1) amortised cost a cycle).
     ///
     /// [`settled_period`]: super::period::settled_period
-    watch: PeriodWatch,
+    watch: Box<PeriodWatch>,
     /// The cycle of `onsets[0]` (never beyond `transient`).
     first: usize,
     done: bool,
@@ -288,7 +288,7 @@ impl ColumnRun {
             total,
             rep_tol,
             onsets,
-            watch: PeriodWatch::new(rep_tol),
+            watch: Box::new(PeriodWatch::new(rep_tol)),
             first: 0,
             done: total == 0,
             solves_left: MAX_SOLVES,

@@ -154,7 +154,7 @@ struct CellRun {
     thetas: Vec<f64>,
     /// The period test on `thetas`: `settled_period`'s decisions at O(1)
     /// amortised cost an iterate.
-    watch: PeriodWatch,
+    watch: Box<PeriodWatch>,
     logs: Vec<f64>,
     /// The next onset (after the last of `thetas`).
     theta: f64,
@@ -185,7 +185,7 @@ impl CellRun {
             opts,
             cycle_opts: CycleOptions::for_classifier(sim.settings()),
             thetas: Vec::with_capacity(opts.transient + opts.keep),
-            watch: PeriodWatch::new(opts.period_tol),
+            watch: Box::new(PeriodWatch::new(opts.period_tol)),
             logs: Vec::with_capacity(opts.keep),
             theta: theta_start,
             noise: 1e-2 * opts.period_tol,
