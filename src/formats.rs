@@ -146,17 +146,28 @@ pub fn bifurcation_csv<'a>(
     s
 }
 
-/// The phase CSV's header.
+/// The phase CSV's header without the `attractors` column.
 pub const PHASE_COLUMNS: &str =
     "theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr";
 
-/// One CSV row: numbers in Rust's shortest round-trip form; `lyapunov`,
-/// `lyapunov_stderr` and `regime` are empty when not computed; a cell whose
-/// attractors were counted has their number as a last field
-/// (`attractors`, after [`PHASE_COLUMNS`]).
-pub fn phase_row(c: &PhaseCell) -> String {
+/// The phase CSV's header: [`PHASE_COLUMNS`], and `attractors` when the
+/// cells' attractors were asked for (`phase --seeds`).
+pub fn phase_header(attractors: bool) -> String {
+    if attractors {
+        format!("{PHASE_COLUMNS},attractors")
+    } else {
+        PHASE_COLUMNS.to_string()
+    }
+}
+
+/// One CSV row under [`phase_header`]`(attractors)`, with as many fields:
+/// numbers in Rust's shortest round-trip form; `lyapunov`,
+/// `lyapunov_stderr` and `regime` are empty when not computed, and so is
+/// `attractors` where they were not counted (a failed cell, or one whose
+/// exit arc's graph could not be built).
+pub fn phase_row(c: &PhaseCell, attractors: bool) -> String {
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| x.to_string());
-    csv_line(&[
+    let mut fields = vec![
         c.theta_nu.to_string(),
         c.kappa.to_string(),
         c.class.period().to_string(),
@@ -165,7 +176,11 @@ pub fn phase_row(c: &PhaseCell) -> String {
         c.iterates.to_string(),
         c.class.label().to_string(),
         opt(c.lyapunov_stderr),
-    ]) + &c.attractors.map_or(String::new(), |n| format!(",{n}"))
+    ];
+    if attractors {
+        fields.push(c.attractors.map_or(String::new(), |n| n.to_string()));
+    }
+    csv_line(&fields)
 }
 
 /// The picture's classes and colours, in legend order.

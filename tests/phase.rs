@@ -438,7 +438,10 @@ fn the_command_line_grid_is_the_windows_phase_job() {
     for u in updates {
         if let Update::PhaseCells { cells: cs, .. } = u {
             for c in cs {
-                cells.insert((c.row, c.column), oneblock::formats::phase_row(&c.cell));
+                cells.insert(
+                    (c.row, c.column),
+                    oneblock::formats::phase_row(&c.cell, false),
+                );
             }
         }
     }

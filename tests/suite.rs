@@ -130,10 +130,14 @@ mod interpolant;
 mod jobs_hosts;
 #[path = "method_agreement.rs"]
 mod method_agreement;
+#[path = "orbit_summary.rs"]
+mod orbit_summary;
 #[path = "paper_checks.rs"]
 mod paper_checks;
 #[path = "phase.rs"]
 mod phase;
+#[path = "phase_csv_fields.rs"]
+mod phase_csv_fields;
 #[path = "phase_interp.rs"]
 mod phase_interp;
 #[path = "phase_multistable.rs"]

@@ -10,7 +10,7 @@ use super::data::SweepData;
 use super::jobs::JobKind;
 use super::phase_data::PhaseData;
 use super::settings::Settings;
-use crate::formats::{self, PHASE_COLUMNS, SLIP_EVENT_COLUMNS, phase_row, slip_event_row};
+use crate::formats::{self, SLIP_EVENT_COLUMNS, phase_header, phase_row, slip_event_row};
 use crate::sim::{Sample, SlipEvent};
 
 /// The events CSV: the command line's header and rows, from the same code.
@@ -51,13 +51,16 @@ pub fn bifurcation_csv(sweep: &SweepData) -> String {
 
 /// The phase diagram as `oneblock phase --out` writes it (rows of
 /// increasing κ, each along increasing θν), from the same code; cells not
-/// computed yet are left out.
+/// computed yet are left out. The `attractors` column is there when any
+/// cell's attractors were asked for (counted, or said why not).
 pub fn phase_csv(phase: &PhaseData) -> String {
     let mut s = String::with_capacity(80 * (phase.filled + 1));
-    s.push_str(PHASE_COLUMNS);
+    let cells = || phase.cells.iter().flatten();
+    let attractors = cells().any(|c| c.attractors.is_some() || c.uncounted.is_some());
+    s.push_str(&phase_header(attractors));
     s.push('\n');
-    for c in phase.cells.iter().flatten() {
-        s.push_str(&phase_row(c));
+    for c in cells() {
+        s.push_str(&phase_row(c, attractors));
         s.push('\n');
     }
     s

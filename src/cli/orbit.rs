@@ -23,7 +23,6 @@ use super::run_control::{Limits, Progress, check_stdout, collect_job, job_error}
 use super::values::{parse_count, parse_number, short};
 use crate::formats::{SLIP_EVENT_COLUMNS, slip_event_row};
 use crate::jobs::{IterateOptions, IterateSpec, Update};
-use crate::model::event_anomalies;
 use crate::sim::interpolant::{InterpolantSummary, MapUsed};
 use crate::sim::period::longest_testable;
 use crate::sim::{MapChoice, Orbit, OrbitOptions, Period, Simulator};
@@ -204,6 +203,9 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
             period_tol: Some(period_tol),
             lyapunov: opts.lyapunov,
             report: true,
+            // Without a CSV or statistics, the summary only: memory that
+            // does not grow with --keep.
+            events: csv_out.is_some() || args.stats.is_some(),
         },
     };
     // Only the whole orbit is kept (its streamed batches are the window's).
@@ -284,20 +286,11 @@ pub fn run(args: OrbitArgs) -> Result<(), CliError> {
 /// Warns of the kept events outside the model: the first in full, then
 /// how many there are.
 fn warn_anomalies(orbit: &Orbit) {
-    let mut anomalies = 0;
-    for e in &orbit.events {
-        let a = event_anomalies(e.theta, e.theta_next, e.energy_released);
-        if let Some(first) = a.first() {
-            if anomalies == 0 {
-                eprintln!("warning: {first}");
-            }
-            anomalies += 1;
-        }
-    }
-    if anomalies > 0 {
+    if let Some(first) = &orbit.first_anomaly {
+        eprintln!("warning: {first}");
         eprintln!(
-            "warning: {anomalies} of {} kept events are outside the model (negative energy released, or theta' = theta - pi)",
-            orbit.events.len()
+            "warning: {} of {} kept events are outside the model (negative energy released, or theta' = theta - pi)",
+            orbit.anomalies, orbit.kept
         );
     }
 }
@@ -315,11 +308,11 @@ impl Summary<'_> {
     /// The longest period the kept iterates can reveal (a period is seen
     /// only when it repeats twice).
     fn longest_testable(&self) -> usize {
-        longest_testable(self.orbit.events.len())
+        longest_testable(self.orbit.kept)
     }
 
     fn iterates(&self) -> usize {
-        self.args.transient + self.orbit.events.len()
+        self.args.transient + self.orbit.kept
     }
 
     fn text(&self) -> String {
@@ -330,7 +323,7 @@ impl Summary<'_> {
             "  from theta0 = {}: {} transient + {} kept iterates, {} restart(s), {:.3} s, {:.0} rhs evaluations per iterate{}",
             self.theta0,
             self.args.transient,
-            o.events.len(),
+            o.kept,
             o.restarts,
             self.seconds,
             o.rhs_evals as f64 / self.iterates().max(1) as f64,
@@ -449,7 +442,7 @@ impl Summary<'_> {
         serde_json::json!({
             "theta0": self.theta0,
             "transient": self.args.transient,
-            "keep": o.events.len(),
+            "keep": o.kept,
             "period": period,
             "period_tol": self.period_tol,
             "period_max_tested": self.longest_testable(),

@@ -18,7 +18,7 @@ use super::common::{
 };
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
-use crate::formats::{PHASE_COLUMNS, PHASE_LEGEND, legend_class, phase_row};
+use crate::formats::{PHASE_LEGEND, legend_class, phase_header, phase_row};
 use crate::jobs::{Axis, JobError, PhaseSpec, PhaseTuning, Spec, Update, run_collect};
 use crate::model::{Params, Preset};
 use crate::sim::interpolant::{MapChoice, MapTally};
@@ -286,13 +286,11 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
     let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
     let mut csv = String::with_capacity(80 * (cells.len() + 1));
-    csv.push_str(PHASE_COLUMNS);
-    if plan.opts.seeds > 0 {
-        csv.push_str(",attractors");
-    }
+    let attractors = plan.opts.seeds > 0;
+    csv.push_str(&phase_header(attractors));
     csv.push('\n');
     for c in &cells {
-        writeln!(csv, "{}", phase_row(c)).ok();
+        writeln!(csv, "{}", phase_row(c, attractors)).ok();
     }
     // The picture first: if it cannot be written, neither is the CSV.
     if let Some(png) = &args.png {

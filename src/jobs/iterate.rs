@@ -5,8 +5,11 @@
 //! Kept iterates stream in batches
 //! with the period of all kept so far and the running Lyapunov exponent;
 //! the last batch carries what the orbit settles to; then, as the options
-//! ask, the whole orbit ([`Update::Orbit`], for `oneblock orbit`) and the
-//! graph of the map (for the window's return map).
+//! ask, the whole orbit ([`Update::Orbit`], for `oneblock orbit`; its
+//! events only if asked for) and the graph of the map (for the window's
+//! return map). The job holds the iterates not yet sent and, unless the
+//! events are asked for, nothing that grows with the orbit: whoever keeps
+//! the stream (the window) keeps the iterates.
 
 use std::sync::Mutex;
 use web_time::Instant;
@@ -17,7 +20,7 @@ use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::sim::interpolant::{InterpolantOptions, MapUsed};
 use crate::sim::{
     LANES, Orbit, OrbitOptions, OrbitRun, Period, SimError, Simulator, cycles_in_lanes,
-    map_graph_grid, mean_and_stderr, return_map_window, settled_period,
+    map_graph_grid, return_map_window, settled_period,
 };
 
 /// Map iterates (see the module's comment). A unit is one slip cycle, or
@@ -41,9 +44,15 @@ enum Stage {
 
 struct IterateState {
     stage: Stage,
-    /// The kept onsets so far (the period test's input).
-    kept: Vec<f64>,
+    /// The kept onsets not yet sent.
+    pending: Vec<f64>,
+    /// Kept onsets taken from the run (sent or pending).
+    taken: usize,
+    /// Kept onsets sent.
     sent: usize,
+    /// The least and greatest finite kept onset: all the graph's window
+    /// depends on (`return_map_window`).
+    bounds: Option<(f64, f64)>,
     last_flush: Instant,
     pacer: Pacer,
 }
@@ -70,42 +79,70 @@ impl IterateJob {
                 .period_tol
                 .unwrap_or_else(|| OrbitOptions::period_tol_of(&settings)),
         };
-        let run = if options.map.interpolates(transient.saturating_add(keep)) {
+        let mut run = if options.map.interpolates(transient.saturating_add(keep)) {
             let iopts = InterpolantOptions::for_settings(sim.settings());
             OrbitRun::interpolated(&sim, theta0, &opts, iopts)?
         } else {
             OrbitRun::new(&sim, theta0, &opts)?
         };
+        if !(options.report && options.events) {
+            run = run.summary_only();
+        }
         Ok(IterateJob {
             sim,
             report: options.report,
             graph_powers,
             state: Mutex::new(IterateState {
                 stage: Stage::Cycles(Box::new(run)),
-                kept: Vec::with_capacity(keep.min(1 << 16)),
+                pending: Vec::with_capacity(keep.min(1 << 10)),
+                taken: 0,
                 sent: 0,
+                bounds: None,
                 last_flush: Instant::now(),
                 pacer: Pacer::new(),
             }),
         })
     }
 
-    /// The kept onsets not yet sent, with the period of all so far and the
-    /// running exponent.
-    fn batch(st: &IterateState, run: &OrbitRun, generation: u64) -> Update {
-        let period = match settled_period(&st.kept, run.options().period_tol) {
+    /// The kept onsets not yet sent, with the period of all so far (from
+    /// the run's recent onsets, all the test reads) and the running
+    /// exponent.
+    fn batch(st: &mut IterateState, run: &OrbitRun, generation: u64) -> Update {
+        let period = match settled_period(run.recent_onsets(), run.options().period_tol) {
             Some(p) => Period::Periodic(p),
             None => Period::Aperiodic,
         };
-        let (lyapunov, lyapunov_stderr) = mean_and_stderr(run.logs());
+        let first_index = st.sent;
+        st.sent = st.taken;
+        // A running mean has no error yet (the batches fill at the end):
+        // an aperiodic orbit's is sent, shown as approximate; a periodic
+        // one's λ waits for the solved cycle, exact, at the end.
+        let lyapunov = match period {
+            Period::Periodic(_) => None,
+            Period::Aperiodic => run.lyapunov_so_far(),
+        };
         Update::MapIterates {
             generation,
-            first_index: st.sent,
-            thetas: st.kept[st.sent..].to_vec(),
+            first_index,
+            thetas: std::mem::take(&mut st.pending),
             period,
             lyapunov,
-            lyapunov_stderr,
+            lyapunov_stderr: None,
         }
+    }
+
+    /// The onsets `run` kept since the last call, into `pending`.
+    fn take_kept(st: &mut IterateState, run: &OrbitRun) {
+        let new = run.kept() - st.taken;
+        let recent = run.recent_onsets();
+        let fresh = &recent[recent.len() - new..];
+        for &t in fresh.iter().filter(|t| t.is_finite()) {
+            let (lo, hi) = st.bounds.get_or_insert((t, t));
+            *lo = lo.min(t);
+            *hi = hi.max(t);
+        }
+        st.pending.extend_from_slice(fresh);
+        st.taken = run.kept();
     }
 
     /// One slip cycle of `run`; its kept onset streamed when a batch is
@@ -123,13 +160,10 @@ impl IterateJob {
             Some(Err(e)) => return Err(e.into()),
             None => {}
         }
-        if run.events().len() > st.kept.len() {
-            st.kept
-                .extend(run.events()[st.kept.len()..].iter().map(|e| e.theta));
-            if st.kept.len() - st.sent >= ITERATE_BATCH || st.last_flush.elapsed() >= FLUSH_INTERVAL
-            {
+        if run.kept() > st.taken {
+            Self::take_kept(st, run);
+            if st.pending.len() >= ITERATE_BATCH || st.last_flush.elapsed() >= FLUSH_INTERVAL {
                 sink.send(Self::batch(st, run, sink.generation()))?;
-                st.sent = st.kept.len();
                 st.last_flush = Instant::now();
             }
         }
@@ -150,18 +184,17 @@ impl IterateJob {
         sink: &dyn Sink,
     ) -> Result<(), JobError> {
         let generation = sink.generation();
-        if st.kept.len() < orbit.events.len() {
-            st.kept = orbit.thetas();
-        }
+        // The settling keeps no iterate: every kept one was taken.
+        debug_assert_eq!(st.taken, orbit.kept);
         sink.send(Update::MapIterates {
             generation,
             first_index: st.sent,
-            thetas: st.kept[st.sent..].to_vec(),
+            thetas: std::mem::take(&mut st.pending),
             period: orbit.period,
             lyapunov: orbit.lyapunov,
             lyapunov_stderr: orbit.lyapunov_stderr,
         })?;
-        st.sent = st.kept.len();
+        st.sent = st.taken;
         if self.report {
             sink.send(Update::Orbit {
                 generation,
@@ -172,7 +205,7 @@ impl IterateJob {
         if self.graph_powers == 0 {
             return Ok(());
         }
-        map_graph(&self.sim, &st.kept, self.graph_powers, sink)
+        map_graph(&self.sim, st.bounds, self.graph_powers, sink)
     }
 }
 
@@ -216,16 +249,18 @@ fn map_values(sim: &Simulator, thetas: &[f64], sink: &dyn Sink) -> Result<Vec<f6
     Ok(values)
 }
 
-/// The graph of f over the orbit's window, so that the return map shows the
-/// whole curve the cobweb runs on and not only the visited points. It costs
-/// `GRAPH_POINTS` cycles, a fraction of the kept iterates'.
+/// The graph of f over the orbit's window (`return_map_window` of the kept
+/// onsets, which depends only on `bounds`, their least and greatest finite
+/// values), so that the return map shows the whole curve the cobweb runs on
+/// and not only the visited points. It costs `GRAPH_POINTS` cycles, a
+/// fraction of the kept iterates'.
 fn map_graph(
     sim: &Simulator,
-    kept: &[f64],
+    bounds: Option<(f64, f64)>,
     graph_powers: usize,
     sink: &dyn Sink,
 ) -> Result<(), JobError> {
-    let Some((lo, hi)) = return_map_window(kept) else {
+    let Some((lo, hi)) = bounds.and_then(|(lo, hi)| return_map_window(&[lo, hi])) else {
         return Ok(());
     };
     let p = sim.params();

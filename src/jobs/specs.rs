@@ -88,9 +88,13 @@ pub struct IterateOptions {
     pub period_tol: Option<f64>,
     /// Whether kept iterates take f'(θ) for the Lyapunov exponent.
     pub lyapunov: bool,
-    /// Whether the job ends with the whole orbit ([`super::Update::Orbit`]:
-    /// every kept slip event and how the map was evaluated).
+    /// Whether the job ends with the orbit ([`super::Update::Orbit`]: its
+    /// summary and how the map was evaluated).
     pub report: bool,
+    /// Whether that orbit carries every kept slip event
+    /// (`Orbit::events`: `oneblock orbit`'s CSV and `--stats`); without,
+    /// neither it nor the job holds anything that grows with the orbit.
+    pub events: bool,
 }
 
 impl Default for IterateOptions {
@@ -100,6 +104,7 @@ impl Default for IterateOptions {
             period_tol: None,
             lyapunov: true,
             report: false,
+            events: false,
         }
     }
 }

@@ -157,7 +157,7 @@ impl LyapunovRun {
             self.settled_tried = true;
             let tol = OrbitOptions::period_tol_for(sim.settings().rtol);
             let mut spent = (0, 0);
-            let settled = sim.settle(kept, col.theta_last, &[], tol, &mut spent);
+            let settled = sim.settle(kept, col.theta_last, (None, None), tol, &mut spent);
             let solved = match (settled.cycle, settled.lyapunov) {
                 (Some(c), Some(l)) if std::ptr::eq(sim, exact) => Some((c.period(), l)),
                 (Some(c), Some(_)) => solve_closing(exact, &c.points),

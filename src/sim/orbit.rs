@@ -7,6 +7,8 @@
 use serde::{Deserialize, Serialize};
 
 mod interpolated;
+#[cfg(test)]
+mod tests;
 
 use interpolated::OrbitPiece;
 pub use interpolated::{InterpolatedOrbit, OnInterpolant, orbit_interpolated};
@@ -14,10 +16,10 @@ pub use interpolated::{InterpolatedOrbit, OnInterpolant, orbit_interpolated};
 use super::analysis::cycle_with_derivative;
 use super::cycles::{Cycle, CycleOptions, confirm_contraction, near_cycle, solve_counting};
 use super::interpolant::{InterpolantOptions, MapUsed};
-use super::period::{contraction, settled_period};
-use super::stats::mean_and_stderr;
+use super::period::{WINDOW_MAX, contraction, settled_period};
+use super::stats::BatchMeans;
 use super::{SimError, Simulator, SlipEvent};
-use crate::model::{is_on_exit_arc, project_onto_exit_arc};
+use crate::model::{EventAnomaly, event_anomalies, is_on_exit_arc, project_onto_exit_arc};
 
 /// The detected period of the kept iterates.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -74,8 +76,15 @@ impl OrbitOptions {
 /// A computed orbit.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Orbit {
-    /// The kept events, in order.
+    /// The kept events, in order; empty for an orbit run for its summary
+    /// only ([`OrbitRun::summary_only`]).
     pub events: Vec<SlipEvent>,
+    /// How many iterates were kept (`events.len()` where they are kept).
+    pub kept: usize,
+    /// How many kept events are outside the model
+    /// (`crate::model::event_anomalies`), and the first one's first anomaly.
+    pub anomalies: usize,
+    pub first_anomaly: Option<EventAnomaly>,
     /// How many cycles ended in a restart (stop on or outside C).
     pub restarts: usize,
     pub period: Period,
@@ -86,8 +95,9 @@ pub struct Orbit {
     /// The cycle's ln|multiplier|/p, or else the mean of ln|f'(θ)| over the
     /// kept iterates.
     pub lyapunov: Option<f64>,
-    /// The mean's standard error (naive, from the spread of ln|f'|); `None`
-    /// for a solved cycle, whose exponent is exact.
+    /// The mean's standard error (batch means:
+    /// [`mean_and_stderr`](super::stats::mean_and_stderr)); `None` for a
+    /// solved cycle, whose exponent is exact.
     pub lyapunov_stderr: Option<f64>,
     /// Right-hand-side evaluations for the whole run, derivatives included.
     pub rhs_evals: u64,
@@ -129,9 +139,12 @@ impl Simulator {
         }
     }
 
-    /// What the kept onsets `kept` of an orbit, followed by the next onset
-    /// `next`, settle to, with `logs` = ln|f'(θ)| of the kept iterates (may
-    /// be empty):
+    /// What the kept onsets `kept` of an orbit (its last [`WINDOW_MAX`]
+    /// at least: no test reads further back), followed by the next onset
+    /// `next`, settle to, with `mean` the mean of ln|f'(θ)| over the kept
+    /// iterates and its standard error
+    /// ([`mean_and_stderr`](super::stats::mean_and_stderr); `(None, None)`
+    /// without them):
     /// - a period seen within `period_tol` ([`settled_period`]): its cycle is
     ///   solved from `next`; if it attracts, its exponent is ln|m|/p;
     /// - no period, but the iterates contract onto a cycle slowly
@@ -139,29 +152,25 @@ impl Simulator {
     ///   approaching it ([`confirm_contraction`]);
     /// - no period, but the iterates nearly repeat on a cycle that attracts
     ///   ([`near_cycle`]): that cycle;
-    /// - else aperiodic, with the mean of `logs` and its standard error.
+    /// - else aperiodic, with `mean`.
     ///
     /// The evaluations spent solving are added to `spent` (map, rhs).
     pub fn settle(
         &self,
         kept: &[f64],
         next: f64,
-        logs: &[f64],
+        mean: (Option<f64>, Option<f64>),
         period_tol: f64,
         spent: &mut (u64, u64),
     ) -> Settled {
         let opts = CycleOptions::for_classifier(self.settings());
-        let mean = || {
-            let (l, se) = mean_and_stderr(logs);
-            (l, se)
-        };
         if let Some(p) = settled_period(kept, period_tol) {
             let solved = solve_counting(self, next, p, &opts, spent)
                 .ok()
                 .filter(|c| c.minimal_period == p && c.stable);
             let (lyapunov, lyapunov_stderr) = match &solved {
                 Some(c) => (Some(c.lyapunov()), None),
-                None => mean(),
+                None => mean,
             };
             return Settled {
                 period: Period::Periodic(p),
@@ -191,7 +200,7 @@ impl Simulator {
                 cycle: Some(cycle),
             };
         }
-        let (lyapunov, lyapunov_stderr) = mean();
+        let (lyapunov, lyapunov_stderr) = mean;
         Settled {
             period: Period::Aperiodic,
             cycle: None,
@@ -217,14 +226,28 @@ pub struct Settled {
 /// piece of its own), so that a host on a slice of time (the browser's) can
 /// stop between two and go on later: the same cycles in the same order, so
 /// the same orbit bit for bit.
+///
+/// What it holds does not grow with the orbit but for the kept events
+/// themselves, which [`OrbitRun::summary_only`] drops: the settling reads
+/// only the last [`WINDOW_MAX`] kept onsets, and the Lyapunov exponent and
+/// its error are summed as the iterates come ([`BatchMeans`]).
 pub struct OrbitRun {
     opts: OrbitOptions,
     theta: f64,
     t: f64,
     restarts: usize,
     evals: u64,
+    /// Whether the kept events are kept (not for a summary only).
+    whole: bool,
     events: Vec<SlipEvent>,
-    logs: Vec<f64>,
+    /// The kept onsets of the last [`OrbitRun::advance`] and at least
+    /// [`WINDOW_MAX`] before them (all, when fewer).
+    recent: Vec<f64>,
+    kept: usize,
+    anomalies: usize,
+    first_anomaly: Option<EventAnomaly>,
+    /// ln|f'(θ)| of the kept iterates, summed.
+    logs: BatchMeans,
     /// Cycles done.
     i: usize,
     /// Where the iterates come from the map's verified interpolant
@@ -242,8 +265,13 @@ impl OrbitRun {
             t: 0.0,
             restarts: 0,
             evals: 0,
-            events: Vec::with_capacity(opts.keep),
-            logs: Vec::new(),
+            whole: true,
+            events: Vec::with_capacity(opts.keep.min(1 << 16)),
+            recent: Vec::with_capacity(4 * WINDOW_MAX),
+            kept: 0,
+            anomalies: 0,
+            first_anomaly: None,
+            logs: BatchMeans::new(if opts.lyapunov { opts.keep } else { 0 }),
             i: 0,
             interp: None,
         })
@@ -264,6 +292,15 @@ impl OrbitRun {
         let mut run = Self::new(sim, theta0, opts)?;
         run.interp = Some(Box::new(OnInterpolant::new(iopts)));
         Ok(run)
+    }
+
+    /// The run for the orbit's summary only: its kept events are not kept
+    /// ([`Orbit::events`] is empty), so that its memory stays bounded
+    /// however long the orbit; the rest of the [`Orbit`] is the same.
+    pub fn summary_only(mut self) -> Self {
+        self.whole = false;
+        self.events = Vec::new();
+        self
     }
 
     /// The interpolant an [`OrbitRun::interpolated`] runs on.
@@ -318,19 +355,46 @@ impl OrbitRun {
         }
         self.t += ev.slip_duration + ev.stick_duration;
         self.theta = ev.theta_next;
-        self.events.push(ev);
+        self.note_kept(ev);
         self.i += 1;
     }
 
-    /// The kept events so far.
+    /// A kept event: its onset among the recent ones, its anomalies
+    /// counted, and itself kept unless for a summary only.
+    fn note_kept(&mut self, ev: SlipEvent) {
+        self.recent.push(ev.theta);
+        self.kept += 1;
+        let anomalies = event_anomalies(ev.theta, ev.theta_next, ev.energy_released);
+        if let Some(&first) = anomalies.first() {
+            self.anomalies += 1;
+            self.first_anomaly.get_or_insert(first);
+        }
+        if self.whole {
+            self.events.push(ev);
+        }
+    }
+
+    /// The kept events so far (none for a summary only).
     pub fn events(&self) -> &[SlipEvent] {
         &self.events
     }
 
-    /// ln|f'(θ)| of the kept iterates so far (empty without the
-    /// Lyapunov exponent).
-    pub fn logs(&self) -> &[f64] {
-        &self.logs
+    /// Iterates kept so far.
+    pub fn kept(&self) -> usize {
+        self.kept
+    }
+
+    /// The kept onsets of the last [`OrbitRun::advance`], and at least the
+    /// [`WINDOW_MAX`] before them (all, when fewer): enough for
+    /// [`settled_period`] of all kept so far.
+    pub fn recent_onsets(&self) -> &[f64] {
+        &self.recent
+    }
+
+    /// The mean of ln|f'(θ)| over the kept iterates so far (the running
+    /// Lyapunov exponent; `None` before the first, or without it).
+    pub fn lyapunov_so_far(&self) -> Option<f64> {
+        self.logs.mean()
     }
 
     /// Slip cycles done so far (transient included), of
@@ -366,6 +430,9 @@ impl OrbitRun {
         if cancel() {
             return Some(Err(SimError::Cancelled));
         }
+        if self.recent.len() >= 4 * WINDOW_MAX {
+            self.recent.drain(..self.recent.len() - WINDOW_MAX);
+        }
         if let Some(mut on) = self.interp.take() {
             let piece = on.piece(sim, self);
             self.interp = Some(on);
@@ -394,7 +461,7 @@ impl OrbitRun {
         self.restarts += ev.restarted as usize;
         self.t += ev.slip_duration + ev.stick_duration;
         if kept {
-            self.events.push(ev);
+            self.note_kept(ev);
         }
         self.theta = sim.next_onset(&ev);
         self.i += 1;
@@ -403,17 +470,20 @@ impl OrbitRun {
 
     /// What the kept iterates settle to, and the orbit.
     fn settle(&mut self, sim: &Simulator) -> Orbit {
-        let thetas: Vec<f64> = self.events.iter().map(|e| e.theta).collect();
+        debug_assert!(self.logs.is_empty() || self.logs.len() == self.kept);
         let mut spent = (0, 0);
         let s = sim.settle(
-            &thetas,
+            &self.recent,
             self.theta,
-            &self.logs,
+            self.logs.mean_and_stderr(),
             self.opts.period_tol,
             &mut spent,
         );
         Orbit {
             events: std::mem::take(&mut self.events),
+            kept: self.kept,
+            anomalies: self.anomalies,
+            first_anomaly: self.first_anomaly,
             restarts: self.restarts,
             period: s.period,
             cycle: s.cycle,

@@ -1,9 +1,15 @@
 //! The one period detector every consumer uses (orbits, the phase grid, the
 //! sweeps, the window's iterates), and the test that an orbit is contracting
 //! onto a cycle too slowly to wait for, so that the cycle is solved instead
-//! (`super::cycles`).
+//! (`super::cycles`). [`PeriodWatch`] makes the same decisions as
+//! [`settled_period`] for a growing sequence, at O(1) amortised cost a
+//! value.
 
 use crate::model::wrap_angle;
+
+mod watch;
+
+pub use watch::{PeriodWatch, WINDOW_MAX};
 
 /// The longest period looked for.
 pub const PERIOD_MAX: usize = 64;

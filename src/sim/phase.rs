@@ -53,7 +53,7 @@ use super::cycles::{Cycle, CycleFailure, CycleOptions, CycleSolve, NearRepeat, c
 use super::interpolant::{
     InterpolantOptions, MIN_DIRECT, MapChoice, MapUsed, Stepper, StepperBuild,
 };
-use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, contraction, settled_period};
+use super::period::{CONTRACTION_PERIOD_MAX, MIN_WINDOW, PeriodWatch, contraction};
 use super::stats::mean_and_stderr;
 use super::sweep::column_start;
 use super::{SimError, Simulator};

@@ -1,5 +1,6 @@
 //! The sample statistics the core, the numerics and the benchmarks share:
-//! the mean with its standard error, and the median.
+//! the mean with its standard error (of a slice, or in one pass), and the
+//! median.
 
 /// Batches of the batch-means standard error.
 pub const BATCHES: usize = 8;
@@ -23,14 +24,88 @@ pub fn mean_and_stderr(xs: &[f64]) -> (Option<f64>, Option<f64>) {
     if b < 2 {
         return (Some(mean), None);
     }
-    let means: Vec<f64> = xs
-        .chunks_exact(b)
-        .take(BATCHES)
-        .map(|c| c.iter().sum::<f64>() / b as f64)
-        .collect();
+    let mut means = [0.0; BATCHES];
+    for (m, c) in means.iter_mut().zip(xs.chunks_exact(b)) {
+        *m = c.iter().sum::<f64>() / b as f64;
+    }
+    (Some(mean), Some(batch_error(&means)))
+}
+
+/// The standard error of a mean from its [`BATCHES`] batch means: their
+/// spread over √batches.
+fn batch_error(means: &[f64; BATCHES]) -> f64 {
     let m = means.iter().sum::<f64>() / BATCHES as f64;
     let var = means.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (BATCHES - 1) as f64;
-    (Some(mean), Some((var / BATCHES as f64).sqrt()))
+    (var / BATCHES as f64).sqrt()
+}
+
+/// [`mean_and_stderr`] of a sample whose size `n` is known before its
+/// values, in one pass and constant memory: each value is added to the
+/// running sum and to its batch's as it comes, in the same order as the
+/// slice's sums add them, so that once all `n` are in, the mean and the
+/// error are [`mean_and_stderr`]'s bit for bit (a long orbit's λ without
+/// keeping its ln|f'|).
+#[derive(Clone, Debug, PartialEq)]
+pub struct BatchMeans {
+    n: usize,
+    /// Values in a batch (n / [`BATCHES`]).
+    batch: usize,
+    count: usize,
+    sum: f64,
+    batch_sum: f64,
+    means: [f64; BATCHES],
+}
+
+impl BatchMeans {
+    /// For a sample of `n` values.
+    pub fn new(n: usize) -> Self {
+        BatchMeans {
+            n,
+            batch: n / BATCHES,
+            count: 0,
+            // As `Iterator::sum` of f64 starts.
+            sum: -0.0,
+            batch_sum: -0.0,
+            means: [0.0; BATCHES],
+        }
+    }
+
+    /// The next value.
+    pub fn push(&mut self, x: f64) {
+        self.sum += x;
+        if self.batch == 0 || self.count >= BATCHES * self.batch {
+            self.count += 1;
+            return;
+        }
+        self.batch_sum += x;
+        self.count += 1;
+        if self.count.is_multiple_of(self.batch) {
+            self.means[self.count / self.batch - 1] = self.batch_sum / self.batch as f64;
+            self.batch_sum = -0.0;
+        }
+    }
+
+    /// Values pushed so far.
+    pub fn len(&self) -> usize {
+        self.count
+    }
+
+    /// Whether none was.
+    pub fn is_empty(&self) -> bool {
+        self.count == 0
+    }
+
+    /// The mean of the values so far (`None` before the first).
+    pub fn mean(&self) -> Option<f64> {
+        (self.count > 0).then(|| self.sum / self.count as f64)
+    }
+
+    /// [`mean_and_stderr`] of the sample: the error only once all `n`
+    /// values are in (and, as there, `None` below 2 values a batch).
+    pub fn mean_and_stderr(&self) -> (Option<f64>, Option<f64>) {
+        let error = (self.count == self.n && self.batch >= 2).then(|| batch_error(&self.means));
+        (self.mean(), self.mean().and(error))
+    }
 }
 
 /// The median of `xs` (NaN if empty; the mean of the middle two for an even
@@ -85,6 +160,40 @@ mod tests {
         let ratio = se.expect("an error") / naive;
         // Eight batches estimate a spread to about ±25 % (1/√(2·7)).
         assert!((2.5..7.0).contains(&ratio), "ratio {ratio}");
+    }
+
+    #[test]
+    fn batch_means_in_one_pass_are_the_slices_bit_for_bit() {
+        let mut state: u64 = 7;
+        let mut next = || {
+            state = state
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 * 3.0 - 1.0
+        };
+        let bits = |(m, e): (Option<f64>, Option<f64>)| (m.map(f64::to_bits), e.map(f64::to_bits));
+        for n in (0..200).chain([1000, 4099, 100_003]) {
+            let xs: Vec<f64> = (0..n).map(|_| next()).collect();
+            let mut bm = BatchMeans::new(n);
+            for (i, &x) in xs.iter().enumerate() {
+                if n <= 1000 {
+                    let so_far = mean_and_stderr(&xs[..i]).0;
+                    assert_eq!(bm.mean().map(f64::to_bits), so_far.map(f64::to_bits));
+                }
+                bm.push(x);
+            }
+            assert_eq!(bm.len(), n);
+            assert_eq!(
+                bits(bm.mean_and_stderr()),
+                bits(mean_and_stderr(&xs)),
+                "n = {n}"
+            );
+        }
+        assert_eq!(BatchMeans::new(0).mean_and_stderr(), (None, None));
+        // Short of its size: the mean so far, no error.
+        let mut bm = BatchMeans::new(64);
+        (0..40).for_each(|_| bm.push(1.0));
+        assert_eq!(bm.mean_and_stderr(), (Some(1.0), None));
     }
 
     #[test]

@@ -23,7 +23,7 @@
 
 use super::cycles::Cycle;
 use super::interpolant::{MIN_DIRECT, MapChoice, MapUsed};
-use super::period::{PERIOD_MAX, contraction, settled_period};
+use super::period::{PERIOD_MAX, PeriodWatch, contraction};
 use super::{SimError, Simulator, SlipEvent};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, project_onto_exit_arc};
@@ -189,7 +189,7 @@ impl Column {
 }
 
 /// The onsets a column keeps during its transient: enough for
-/// [`settled_period`] (the last 3p onsets, p ≤ [`PERIOD_MAX`]) and for
+/// [`settled_period`](super::period::settled_period) (the last 3p onsets, p ≤ [`PERIOD_MAX`]) and for
 /// [`contraction`] (4p + 1, p ≤ 16), so that memory does not grow with the
 /// transient.
 const SETTLE_WINDOW: usize = 3 * PERIOD_MAX;
@@ -206,6 +206,11 @@ struct ColumnRun {
     rep_tol: f64,
     /// onsets[k] is the onset of cycle `first + k`.
     onsets: Vec<f64>,
+    /// The period test on `onsets` ([`settled_period`]'s decisions, at
+    /// O(1) amortised cost a cycle).
+    ///
+    /// [`settled_period`]: super::period::settled_period
+    watch: Box<PeriodWatch>,
     /// The cycle of `onsets[0]` (never beyond `transient`).
     first: usize,
     done: bool,
@@ -268,6 +273,7 @@ impl ColumnRun {
         let total = opts.transient.saturating_add(opts.keep);
         let mut onsets = Vec::with_capacity(opts.keep.min(1 << 20) + SETTLE_WINDOW);
         onsets.push(theta_start);
+        let rep_tol = (100.0 * sim.settings().rtol).clamp(1e-12, 1e-6);
         let mut run = ColumnRun {
             col: Column {
                 theta_nu: sim.params().theta_nu,
@@ -280,8 +286,9 @@ impl ColumnRun {
             },
             transient: opts.transient,
             total,
-            rep_tol: (100.0 * sim.settings().rtol).clamp(1e-12, 1e-6),
+            rep_tol,
             onsets,
+            watch: Box::new(PeriodWatch::new(rep_tol)),
             first: 0,
             done: total == 0,
             solves_left: MAX_SOLVES,
@@ -381,7 +388,7 @@ impl ColumnRun {
         // they are not integrated again (most columns of a diagram are
         // fixed points or short cycles). Only the iterates from the
         // transient's end on are written out.
-        if let Some(p) = settled_period(&self.onsets, self.rep_tol) {
+        if let Some(p) = self.watch.settled(&self.onsets, self.len()) {
             let n = self.len();
             let cycle: Vec<f64> = self.span(n - p, n).to_vec();
             let from = n.max(self.transient);

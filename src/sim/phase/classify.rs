@@ -152,6 +152,9 @@ struct CellRun {
     opts: PhaseOptions,
     cycle_opts: CycleOptions,
     thetas: Vec<f64>,
+    /// The period test on `thetas`: `settled_period`'s decisions at O(1)
+    /// amortised cost an iterate.
+    watch: Box<PeriodWatch>,
     logs: Vec<f64>,
     /// The next onset (after the last of `thetas`).
     theta: f64,
@@ -182,6 +185,7 @@ impl CellRun {
             opts,
             cycle_opts: CycleOptions::for_classifier(sim.settings()),
             thetas: Vec::with_capacity(opts.transient + opts.keep),
+            watch: Box::new(PeriodWatch::new(opts.period_tol)),
             logs: Vec::with_capacity(opts.keep),
             theta: theta_start,
             noise: 1e-2 * opts.period_tol,
@@ -365,7 +369,7 @@ impl CellRun {
     fn settled(&mut self, cell: &mut PhaseCell) -> Result<bool, SimError> {
         let test = !(self.unstable_seen && self.logs.is_empty()) && self.thetas.len() >= MIN_WINDOW;
         let Some(p) = test
-            .then(|| settled_period(&self.thetas, self.opts.period_tol))
+            .then(|| self.watch.settled(&self.thetas, self.thetas.len()))
             .flatten()
         else {
             return Ok(false);
@@ -521,7 +525,7 @@ impl CellRun {
         let s = self.sim.settle(
             kept,
             self.theta,
-            &self.logs,
+            mean_and_stderr(&self.logs),
             self.opts.period_tol,
             &mut self.spent,
         );
