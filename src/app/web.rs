@@ -47,6 +47,12 @@ pub fn start() {
             // No gradients to band; dithering costs fill rate, and many a
             // lecture-hall PC renders WebGL in software.
             dithering: false,
+            // eframe listens for touchmove on the document, which the
+            // browser makes passive: preventing a move's default there
+            // logged an error per move of a drag (12 a drag on a phone).
+            // The page's CSS (touch-action: none) already keeps the
+            // browser from scrolling or zooming under a finger.
+            should_prevent_default: Box::new(|e| !matches!(e, eframe::egui::Event::PointerMoved(_))),
             ..Default::default()
         };
         let started = runner
