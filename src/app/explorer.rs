@@ -212,6 +212,8 @@ impl Explorer {
             self.take_upload();
             self.record_step(ctx);
             self.web.set_title(super::status::title(&self.jobs));
+            let views = svg_render::shown_views(&self.settings);
+            self.web.count_filled(&self.jobs, &views, self.play.on);
         }
         self.play_step(ctx);
         self.sync_jobs(ctx);

@@ -292,9 +292,43 @@ pub struct WebState {
     /// A GIF being recorded, a frame or so per frame of the page, and the
     /// file it downloads as.
     pub recording: Option<(super::animation::Recording, std::path::PathBuf)>,
+    /// While θν plays: per view shown, (frames it showed a result in,
+    /// frames), published for the page's check as the document's
+    /// `data-filled` ("plane:1.00 return-map:0.98").
+    pub filled: std::collections::BTreeMap<&'static str, (usize, usize)>,
+    /// Whether θν played at the last frame.
+    pub playing: bool,
 }
 
 impl WebState {
+    /// Counts one frame of play for each view shown (a play that starts
+    /// starts the count afresh), and publishes the shares.
+    pub fn count_filled(&mut self, jobs: &super::jobs::Jobs, views: &[ViewKind], playing: bool) {
+        if playing && !self.playing {
+            self.filled.clear();
+        }
+        self.playing = playing;
+        if !playing {
+            return;
+        }
+        for &v in views {
+            let e = self.filled.entry(v.key()).or_default();
+            e.0 += usize::from(super::frame_stats::shows_result(jobs, v));
+            e.1 += 1;
+        }
+        let text: Vec<String> = self
+            .filled
+            .iter()
+            .map(|(k, (f, n))| format!("{k}:{:.2}", *f as f64 / (*n).max(1) as f64))
+            .collect();
+        if let Some(root) = web_sys::window()
+            .and_then(|w| w.document())
+            .and_then(|d| d.document_element())
+        {
+            let _ = root.set_attribute("data-filled", &text.join(" "));
+        }
+    }
+
     /// Sets the page's title to `title` if it changed.
     pub fn set_title(&mut self, title: String) {
         if title != self.title

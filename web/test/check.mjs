@@ -17,6 +17,8 @@
 //   4. a link with bad values still opens, on valid values, and fills in;
 //   5. Record on the plane downloads a GIF of 120 frames, made between the
 //      page's frames without a stall;
+//   5b. Play θν (P) for 5 s: each view shows a result in ≥ 90 % of the
+//      frames (the page counts them);
 //   6. at a phone's 390×844 the diagram fills the screen and Share, in
 //      the top bar, writes the state into the address; a finger dragged
 //      across it logs no console error;
@@ -401,6 +403,25 @@ console.log(
 );
 if (recFrames.max > 2000) fail(`${q3}: the page froze for ${recFrames.max.toFixed(0)} ms while recording`);
 await rec.close();
+
+// 5b: Play θν (P) for 5 s at Fig. 3b, every default tile shown: each view
+// shows a result (the latest finished one, held until the next arrives)
+// in at least 90 % of the played frames, as the page itself counts them
+// (the document's data-filled, "plane:1.00 return-map:0.98 …").
+const q5 = "?preset=fig3b";
+const play = await open(q5);
+await filled(play, q5);
+await play.mouse.click(640, 790);
+await play.keyboard.press("p");
+await play.waitForTimeout(5_000);
+const shares = await play.evaluate(() => document.documentElement.dataset.filled ?? "");
+await play.keyboard.press("p");
+const views = shares.split(" ").filter(Boolean).map((s) => s.split(":"));
+if (views.length < 2) fail(`${q5}: Play θν (P) counted no views (data-filled '${shares}')`);
+const blank = views.filter(([, share]) => Number(share) < 0.9);
+if (blank.length) fail(`${q5}: while θν played, ${blank.map(([v, s]) => `${v} showed a result in ${s}`).join(", ")} of the frames (want ≥ 0.9)`);
+console.log(`web test: ${q5}: Play θν for 5 s: share of frames each view showed a result: ${shares}`);
+await play.close();
 
 // 6: a phone in portrait (390×844, touch): one view fills the screen (the
 // diagram's density image under the top bar) and Share, in the top bar,
