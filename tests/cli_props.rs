@@ -188,7 +188,14 @@ fn commands(dir: &str) -> Vec<(Vec<String>, Vec<&'static str>)> {
         ),
         (
             v(&["gui"]),
-            vec!["--preset", "--size", "--view", "--font-scale", "--timeout"],
+            vec![
+                "--preset",
+                "--size",
+                "--view",
+                "--font-scale",
+                "--timeout",
+                "--tour-step",
+            ],
         ),
     ]
 }

@@ -3,9 +3,11 @@
 //! setting; its width comes back when projector mode is switched off; a
 //! view's Fill makes it fill the window and Esc brings the layout back; and
 //! the tour, walked with the arrow keys through every step at a
-//! projector's 1024 × 768 and at 1280 × 800, text ×1 and ×1.5, keeps its
-//! box off every plot the step draws and draws the λ strip where the step
-//! speaks of it.
+//! projector's 1024 × 768 (text ×1.5, the panel hidden, as the README
+//! gives it) and at 1280 × 800, shows each view the step names at 200 ×
+//! 150 points or more with its plots whole, keeps its box off every plot
+//! and draws the λ strip where the step speaks of it; End tour gives back
+//! the settings from before it.
 #![cfg(feature = "gui")]
 
 use crate::window;
@@ -14,6 +16,7 @@ use eframe::egui;
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 
+use crate::common::tour_layout::step_problems;
 use oneblock::app::axes::plot_frames;
 use oneblock::app::tour::STEPS;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
@@ -117,13 +120,16 @@ fn fill_makes_one_view_fill_the_window_and_escape_brings_the_layout_back() {
     assert_eq!((s.layout, s.hide_panel), (Layout::Tiles, false));
 }
 
-/// Walks the tour with → at `size` and text `scale`, checking each step.
-fn walk_tour(size: (f32, f32), scale: f32) {
+/// Walks the tour with → at `size` and text `scale` (the side panel
+/// `hidden` or not), checking each step's layout as `gui --layout` reports
+/// it ([`step_problems`]).
+fn walk_tour(size: (f32, f32), scale: f32, hidden: bool) {
     let rec = Recorder::new();
     let mut h = at(
         size,
         Settings {
             font_scale: scale,
+            hide_panel: hidden,
             ..Settings::default()
         },
         &rec,
@@ -131,43 +137,14 @@ fn walk_tour(size: (f32, f32), scale: f32) {
     h.get_by_label("Tour").click();
     for (i, step) in STEPS.iter().enumerate() {
         h.run_steps(5);
-        let what = format!("{size:?} text ×{scale}, step {} ({})", i + 1, step.title);
+        let what = format!(
+            "{size:?} text ×{scale}, panel hidden {hidden}, step {} ({})",
+            i + 1,
+            step.title
+        );
         assert_eq!(h.state().tour.step, Some(i), "{what}");
-        let boxed = h.state().tour.box_rect.expect("the tour's box is drawn");
-        let plots = plot_frames(&h.ctx);
-        assert!(
-            plots.len() >= step.views.len() - 1,
-            "{what}: plots {plots:?}"
-        );
-        // What shows of each plot: a view is cut at its tile's edge.
-        let tiles: Vec<egui::Rect> = step
-            .views
-            .iter()
-            .filter_map(|v| h.state().view_rect(*v))
-            .collect();
-        for (name, r) in &plots {
-            let shown = tiles
-                .iter()
-                .map(|t| t.intersect(*r))
-                .filter(|x| x.is_positive())
-                .reduce(|a, b| a.union(b));
-            let Some(r) = shown else { continue };
-            assert!(
-                !boxed.intersects(r),
-                "{what}: the box {boxed:?} covers the plot {name} {r:?}"
-            );
-        }
-        assert!(
-            boxed.bottom() <= size.1 + 0.5 && boxed.right() <= size.0 + 0.5,
-            "{what}: the box {boxed:?} leaves the window"
-        );
-        // The strip needs 27 rows of text under the diagram's controls: at
-        // text ×1.5 a 768- or 800-point window's full height is short of
-        // that, and only the diagram is drawn.
-        let strip = plots.iter().any(|(n, _)| *n == "lyapunov");
-        if scale == 1.0 {
-            assert_eq!(strip, step.strip, "{what}: the λ strip drawn: {strip}");
-        }
+        let bad = step_problems(&h.state().layout_report(), step, size);
+        assert!(bad.is_empty(), "{what}: {}", bad.join("; "));
         h.key_press(egui::Key::ArrowRight);
     }
     // Back one step with ←; past the end it stays on the last.
@@ -180,11 +157,41 @@ fn walk_tour(size: (f32, f32), scale: f32) {
 
 #[test]
 fn the_tour_box_covers_no_plot_of_its_step_and_the_strip_shows_where_spoken_of() {
-    for size in [(1280.0, 800.0), (1024.0, 768.0)] {
-        for scale in [1.0, 1.5] {
-            walk_tour(size, scale);
-        }
+    // The projector setting the README gives, a laptop's window, and
+    // large text there with the panel hidden.
+    walk_tour((1024.0, 768.0), 1.5, true);
+    walk_tour((1280.0, 800.0), 1.0, false);
+    walk_tour((1280.0, 800.0), 1.5, true);
+}
+
+/// End tour gives back the parameters, views and layout from before the
+/// tour: the session saved before it and the one after are the same.
+#[test]
+fn end_tour_gives_back_the_settings_from_before_the_tour() {
+    let rec = Recorder::new();
+    let mine = Settings {
+        layout: Layout::Tabs,
+        tab: ViewKind::Basins,
+        tiled: vec![ViewKind::Block, ViewKind::Numerics],
+        map_difference: true,
+        ..Settings::default()
+    };
+    let mut h = at((1280.0, 800.0), mine, &rec);
+    h.state_mut().settings.params.theta_nu = 0.9;
+    h.run_steps(2);
+    let before = h.state().settings.clone();
+    h.get_by_label("Tour").click();
+    h.run_steps(3);
+    for _ in 0..3 {
+        h.get_by_label("Next").click();
+        h.run_steps(3);
     }
+    assert_ne!(h.state().settings, before);
+    h.get_by_label("End tour").click();
+    h.run_steps(3);
+    assert_eq!(h.state().tour.step, None);
+    assert_eq!(h.state().settings, before);
+    assert!(h.state().view_rect(ViewKind::Basins).is_some());
 }
 
 #[test]

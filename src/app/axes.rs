@@ -276,6 +276,23 @@ pub fn fitting_title<'t>(ui: &egui::Ui, long: &'t str, short: &'t str, height: f
     }
 }
 
+/// `long` if an x axis's title fits under a plot in `width` points beside
+/// its y axis (about six rows of text), else `short`.
+pub fn fitting_width<'t>(ui: &egui::Ui, long: &'t str, short: &'t str, width: f32) -> &'t str {
+    let font = egui::TextStyle::Body.resolve(ui.style());
+    let text = ui.fonts_mut(|f| {
+        f.layout_no_wrap(long.to_owned(), font.clone(), egui::Color32::WHITE)
+            .size()
+            .x
+    });
+    let row = ui.text_style_height(&egui::TextStyle::Body);
+    if text <= width - 6.0 * row {
+        long
+    } else {
+        short
+    }
+}
+
 /// An axis's quantity in short: its title up to the first ", " or " ("
 /// ("θν" of "θν, pull direction (rad)").
 pub fn short_name(title: &str) -> &str {

@@ -398,13 +398,19 @@ impl BifurcationView {
 /// The diagram's and the λ strip's heights (0: no strip), and the y-axis
 /// width they share so that their frames line up, for `available` height.
 /// The strip needs about 9 rows of text for five legible λ ticks; below 27
-/// rows in all (a small tile) only the diagram is drawn.
+/// rows in all (a small tile) only the diagram is drawn. With the controls
+/// folded (the tour's tiles, whose steps speak of λ) it is drawn down to
+/// 17 rows in all, 7 of them its own (three ticks or more).
 fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
     let row = ui.text_style_height(&egui::TextStyle::Body);
-    if available < 27.0 * row {
+    let (least, strip_least) = match style::controls_folded(ui.ctx()) {
+        false => (27.0, 9.0),
+        true => (17.0, 7.0),
+    };
+    if available < least * row {
         return (available, 0.0, 5.5 * row);
     }
-    let strip = (available * 0.3).clamp(9.0 * row, 18.0 * row);
+    let strip = (available * 0.3).clamp(strip_least * row, 18.0 * row);
     let diagram = available - strip - 0.5 * row;
     (diagram, strip, 5.5 * row)
 }
@@ -416,7 +422,8 @@ impl View for BifurcationView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        let figure = style::figure_only(ui.ctx());
+        // Controls folded (a figure, the tour's tiles): legends only.
+        let figure = !style::controls_shown(ui.ctx());
         if !figure {
             self.controls_ui(ui, s, jobs, out);
         }

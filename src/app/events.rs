@@ -148,9 +148,10 @@ impl EventsView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let evs = &jobs.trajectory.data.events;
         let params = s.params;
-        let figure = style::figure_only(ui.ctx());
         self.stats(jobs, s.slip_measure, &params);
-        self.want_passage(&params, jobs, figure, out);
+        self.want_passage(&params, jobs, style::figure_only(ui.ctx()), out);
+        // Controls folded (a figure, the tour's tiles): no menus.
+        let figure = !style::controls_shown(ui.ctx());
         let stats = self.cache.stats.clone();
         let scaled = jobs
             .scan

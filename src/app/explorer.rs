@@ -58,6 +58,8 @@ pub struct Explorer {
     /// Where the frame-time report goes when the window closes.
     pub stats_sink: Option<Arc<Mutex<Option<String>>>>,
     pub(super) view_rects: HashMap<ViewKind, Rect>,
+    /// The views drawn in the last frame, with their plots (`--layout`).
+    pub(super) drawn: super::layout_report::Drawn,
     /// The guided tour, when it runs.
     pub tour: Tour,
     /// The play clock of θν (and of the stepped cobweb).
@@ -112,6 +114,7 @@ impl Explorer {
             persist: true,
             stats_sink: None,
             view_rects: HashMap::new(),
+            drawn: Default::default(),
             tour: Tour::default(),
             play: Play::default(),
             drawer_open: false,
@@ -226,6 +229,7 @@ impl Explorer {
         if let Some(script) = &mut self.script {
             let w = Window {
                 area,
+                layout: self.drawn.report(self.tour.box_rect),
                 zoom: &self.views.bifurcation.zoom,
                 settings: &mut self.settings,
                 jobs: &mut self.jobs,
@@ -393,6 +397,12 @@ impl Explorer {
     /// Where view `v` was drawn in the last frame, if it was shown.
     pub fn view_rect(&self, v: ViewKind) -> Option<Rect> {
         self.view_rects.get(&v).copied()
+    }
+
+    /// The last frame's views, their plots and the tour's box, as
+    /// `gui --layout` writes them.
+    pub fn layout_report(&self) -> super::layout_report::LayoutReport {
+        self.drawn.report(self.tour.box_rect)
     }
 
     /// The view under the pointer, if any.

@@ -5,6 +5,7 @@
 use eframe::egui;
 use egui::{Rect, Ui};
 
+use super::axes::plot_frames;
 use super::explorer::{Explorer, PANEL_WIDTH};
 use super::settings::{Layout, ViewKind};
 use super::status;
@@ -87,6 +88,7 @@ impl Explorer {
     /// The views as a tab or tiles, beside the tour's band while it runs.
     fn views_ui(&mut self, ui: &mut Ui, out: &mut Vec<Action>) {
         self.view_rects.clear();
+        self.drawn.0.clear();
         let whole = ui.available_rect_before_wrap();
         // A phone shows one view (its chooser is the top bar's); the saved
         // layout is kept for a wider window.
@@ -103,9 +105,13 @@ impl Explorer {
         };
         let (rects, band) = self.tour.arrange(area, &views);
         self.tour_band = band;
+        // The tour's tiles fold their controls away: the step sets them,
+        // and the plots need the room.
+        super::style::set_controls_folded(ui.ctx(), self.tour.step.is_some());
         for (v, rect) in views.iter().zip(rects) {
             self.view_ui(ui, *v, rect, out);
         }
+        super::style::set_controls_folded(ui.ctx(), false);
         ui.allocate_rect(whole, egui::Sense::hover());
     }
 
@@ -139,6 +145,8 @@ impl Explorer {
     /// One view in `rect`, with its title and a screenshot button.
     fn view_ui(&mut self, ui: &mut Ui, v: ViewKind, rect: Rect, out: &mut Vec<Action>) {
         self.view_rects.insert(v, rect);
+        // The plots drawn from here on are this view's (for `--layout`).
+        let before = plot_frames(ui.ctx()).len();
         let fills = self.fills(v);
         let mut fill = false;
         let view = self.views.get_mut(v);
@@ -160,6 +168,11 @@ impl Explorer {
                     });
             },
         );
+        let plots = plot_frames(ui.ctx())
+            .get(before..)
+            .map(<[_]>::to_vec)
+            .unwrap_or_default();
+        self.drawn.0.push((v, rect, plots));
         if fill {
             self.toggle_fill(v);
         }

@@ -51,6 +51,7 @@ pub mod frame_stats;
 pub mod help;
 pub mod jobs;
 mod layout;
+pub mod layout_report;
 pub mod lyapunov_strip;
 pub mod markers;
 #[cfg(not(target_arch = "wasm32"))]

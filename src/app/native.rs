@@ -19,6 +19,11 @@ pub struct RunOptions {
     pub preset: Option<String>,
     /// Take a screenshot here once the views are complete, then exit.
     pub screenshot: Option<PathBuf>,
+    /// With `screenshot`: the layout (views, plots, the tour's box) as JSON
+    /// here.
+    pub layout: Option<PathBuf>,
+    /// Open on this step of the tour (0-based).
+    pub tour_step: Option<usize>,
     /// Inner window size in points.
     pub size: Option<[f32; 2]>,
     /// Measure and report frame times.
@@ -127,9 +132,11 @@ impl Launch {
             }
             None => None,
         };
-        if let Some(p) = &opts.screenshot {
-            crate::output::check_writable(p, false)
-                .map_err(|e| with_warnings(format!("--screenshot: {e}"), &warnings))?;
+        for (flag, path) in [("screenshot", &opts.screenshot), ("layout", &opts.layout)] {
+            if let Some(p) = path {
+                crate::output::check_writable(p, false)
+                    .map_err(|e| with_warnings(format!("--{flag}: {e}"), &warnings))?;
+            }
         }
         // Without a display the window cannot open: one line saying so
         // (after any warning about the session), not the windowing
@@ -223,6 +230,9 @@ impl Launch {
         if self.opts.play && !self.scripted {
             app.play.toggle();
         }
+        if let Some(i) = self.opts.tour_step {
+            app.tour.go(i, &mut app.settings);
+        }
         app
     }
 }
@@ -252,6 +262,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
     on_display_lost();
     let (out2, stats2) = (outcome.clone(), stats_report.clone());
     let shot = opts.screenshot.clone();
+    let layout = opts.layout.clone();
     let warnings = launch.warnings.clone();
     let scripted = launch.scripted;
     let play = opts.play;
@@ -263,6 +274,7 @@ pub fn run(opts: RunOptions) -> Result<(), String> {
             if let Some(path) = shot {
                 let mut sc = Script::new(path, timeout, measure);
                 sc.outcome = out2;
+                sc.layout = layout;
                 sc.play = play;
                 app.script = Some(sc);
             }

@@ -105,7 +105,7 @@ impl PlaneView {
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
         let now = samples.last().map(|p| [p.x * sx, p.y]);
-        if !style::figure_only(ui.ctx()) {
+        if style::controls_shown(ui.ctx()) {
             controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
         }
         legend_ui(ui, s.dark);
@@ -126,11 +126,19 @@ impl PlaneView {
     ) -> egui_plot::PlotTransform {
         let k = s.params.kappa;
         let sx = if s.scale_x_by_kappa { k } else { 1.0 };
-        let x_axis = if s.scale_x_by_kappa {
-            AxisSpec::linear("κx, scaled block position (F₀/k_y)")
+        // The quantity in full where it fits under the plot (a narrow
+        // tile, the tour's at a projector's size: shorter).
+        let w = ui.available_width();
+        let x_axis = AxisSpec::linear(if s.scale_x_by_kappa {
+            axes::fitting_width(
+                ui,
+                "κx, scaled block position (F₀/k_y)",
+                "κx, position (F₀/k_y)",
+                w,
+            )
         } else {
-            AxisSpec::linear("x, block position (F₀/k_y)")
-        };
+            axes::fitting_width(ui, "x, block position (F₀/k_y)", "x, position (F₀/k_y)", w)
+        });
         let dark = s.dark;
         let lw = style::width(ui.ctx(), 1.0);
         // Frame C (not the critical ellipse, which can be γ times taller).

@@ -201,7 +201,7 @@ impl ReturnMapView {
             s,
             jobs.map_basins.at(&s.params),
         );
-        if !style::figure_only(ui.ctx()) {
+        if style::controls_shown(ui.ctx()) {
             // One row for both switches: a row less taken from the plot.
             ui.horizontal_wrapped(|ui| {
                 powers_ui(ui, s, &it.powers);
@@ -498,7 +498,7 @@ fn legend_ui(
     );
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
-        if !style::figure_only(ui.ctx()) {
+        if style::controls_shown(ui.ctx()) {
             ui.checkbox(&mut s.map_difference, "f(θ) − θ")
                 .on_hover_text(
                     "Draw f(θ) − θ against θ: the map's distance from the diagonal, \

@@ -18,6 +18,7 @@ use egui::Context;
 use super::bifurcation::Zoom;
 use super::frame_stats::FrameStats;
 use super::jobs::{JobState, Jobs, continuation_range};
+use super::layout_report::LayoutReport;
 use super::play::Play;
 use super::screenshot::{Saved, Shots};
 use super::settings::{Layout, Settings, ViewKind};
@@ -37,6 +38,10 @@ pub fn is_svg(p: &std::path::Path) -> bool {
 /// take one screenshot, close.
 pub struct Script {
     pub path: PathBuf,
+    /// Where the layout goes with the picture (`--layout`), if anywhere.
+    pub layout: Option<PathBuf>,
+    /// Saves asked for and not yet answered (the picture, the layout).
+    pending: usize,
     pub timeout: Duration,
     /// Cycles the trajectory must have before the picture is taken.
     pub min_cycles: usize,
@@ -75,6 +80,8 @@ enum Stage {
 pub struct Window<'a> {
     /// The size of the views' area on screen (for an SVG).
     pub area: egui::Vec2,
+    /// The views, plots and tour box as last drawn (for `--layout`).
+    pub layout: LayoutReport,
     /// The bifurcation diagram's zoom stack (for an SVG).
     pub zoom: &'a [Zoom],
     pub settings: &'a mut Settings,
@@ -93,6 +100,8 @@ impl Script {
     pub fn new(path: PathBuf, timeout: Duration, measure: Option<Duration>) -> Self {
         Script {
             path,
+            layout: None,
+            pending: 0,
             timeout,
             min_cycles: 12,
             measure,
@@ -171,6 +180,11 @@ impl Script {
             Stage::Settling(n) => {
                 // A few frames so plots settle their bounds and textures upload.
                 if n >= 4 {
+                    self.pending = 1;
+                    if let Some(p) = &self.layout {
+                        w.shots.write(p.clone(), w.layout.to_json().into_bytes());
+                        self.pending += 1;
+                    }
                     if is_svg(&self.path) {
                         let views = svg_render::shown_views(w.settings);
                         let svg = svg_render::render_svg(
@@ -186,12 +200,25 @@ impl Script {
                 }
             }
             Stage::Shooting => {
+                // The picture's outcome, or the layout's: a failure of
+                // either ends the run, the last success names both.
                 if let Some(r) = w.shots.finished.pop() {
-                    let r = match r {
-                        Saved::Ok(p) => Ok(p.display().to_string()),
-                        Saved::Failed(e) => Err(format!("screenshot failed: {e}")),
-                    };
-                    self.finish(ctx, r);
+                    self.pending = self.pending.saturating_sub(1);
+                    match r {
+                        Saved::Failed(e) => {
+                            self.finish(ctx, Err(format!("screenshot failed: {e}")));
+                        }
+                        Saved::Ok(_) if self.pending > 0 => {}
+                        Saved::Ok(_) => {
+                            let said = match &self.layout {
+                                Some(l) => {
+                                    format!("{} (layout in {})", self.path.display(), l.display())
+                                }
+                                None => self.path.display().to_string(),
+                            };
+                            self.finish(ctx, Ok(said));
+                        }
+                    }
                 } else if start.elapsed() > self.timeout + super::SCREENSHOT_GRACE / 2 {
                     self.finish(ctx, Err("the window never delivered the screenshot".into()));
                 }

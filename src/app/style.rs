@@ -32,6 +32,28 @@ pub fn set_figure_only(ctx: &egui::Context, on: bool) {
     ctx.data_mut(|d| d.insert_temp(figure_only_id(), on));
 }
 
+fn folded_id() -> egui::Id {
+    egui::Id::unique("oneblock-controls-folded")
+}
+
+/// Folds the views' controls away in `ctx` from now on (the tour's tiles:
+/// the step sets what they would, and its plots need the room at a
+/// projector's size), keeping their legends and the window's work.
+pub fn set_controls_folded(ctx: &egui::Context, on: bool) {
+    ctx.data_mut(|d| d.insert_temp(folded_id(), on));
+}
+
+/// Whether the views draw their controls in `ctx`: not in a figure
+/// ([`set_figure_only`]), nor while folded ([`set_controls_folded`]).
+pub fn controls_shown(ctx: &egui::Context) -> bool {
+    !figure_only(ctx) && !controls_folded(ctx)
+}
+
+/// Whether the views' controls are folded in `ctx` (the tour's tiles).
+pub fn controls_folded(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp::<bool>(folded_id()).unwrap_or(false))
+}
+
 fn crosshair_id() -> egui::Id {
     egui::Id::unique("oneblock-figure-crosshair")
 }

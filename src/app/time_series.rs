@@ -234,7 +234,7 @@ impl View for TimeSeriesView {
             style::legend_line(ui, style::DECEL, false, "slip, decelerating");
             style::legend_swatch(ui, shade(false), "stick phase");
             style::legend_swatch(ui, shade(true), "slip phase");
-            if !style::figure_only(ui.ctx()) {
+            if style::controls_shown(ui.ctx()) {
                 ui.label(
                     egui::RichText::new("drag / scroll: pan and zoom time · double click: all")
                         .weak(),
@@ -253,10 +253,12 @@ impl View for TimeSeriesView {
         let gaps = 3.0 * (gap + ui.spacing().item_spacing.y);
         // Four frames of one height, and the time axis's labels and title
         // (3 rows) under the last; in the window, frames too short for
-        // legible ticks (under seven rows) keep seven and scroll instead.
+        // legible ticks (under seven rows) keep seven and scroll instead;
+        // a figure and the tour's tiles (controls folded) show all four
+        // whole whatever their height, as a step speaks of any of them.
         let fit = ((ui.available_height() - gaps - 3.0 * row) / 4.0).max(row);
         let least = 7.0 * row;
-        if fit >= least || style::figure_only(ui.ctx()) {
+        if fit >= least || !style::controls_shown(ui.ctx()) {
             Self::plots_ui(ui, s, samples, fit, gap);
         } else {
             egui::ScrollArea::vertical()

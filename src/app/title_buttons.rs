@@ -79,6 +79,13 @@ pub fn title_row_ui(ui: &mut Ui, v: ViewKind, fills: bool, out: &mut Vec<Action>
     ui.horizontal(|ui| {
         ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
             help_button_ui(ui, v);
+            // Folded (the tour's tiles): the title and its paragraph only.
+            if !super::style::controls_shown(ui.ctx()) {
+                ui.with_layout(egui::Layout::left_to_right(egui::Align::Center), |ui| {
+                    ui.add(egui::Label::new(egui::RichText::new(title).strong()).truncate());
+                });
+                return;
+            }
             if super::animation::PLAY_VIEWS.contains(&v) {
                 record_menu_ui(ui, v, out);
             }

@@ -2,11 +2,16 @@
 //! creep to intermittency. Each step sets the parameters and the views
 //! (tiles) and says in a few sentences what to look at; Previous and Next
 //! (or ← and →, a clicker's Page keys) walk the steps, ↑ and ↓ nudge θν.
-//! The box sits in a band kept free under the views, so it covers none of
-//! the step's plots (it can be dragged elsewhere; the next step puts it
-//! back); a step that speaks of the λ strip gives the diagram a tall tile,
-//! where the strip is drawn. The tour is plain data and settings changes:
-//! no thread, no file, so it runs as it is in a browser.
+//! Each step shows only the views it talks about, side by side in columns
+//! of the window's full height; the last column's view shares it with the
+//! box, under it, so the box covers none of the step's plots (it can be
+//! dragged elsewhere; the next step puts it back). The tiles fold their
+//! controls away (the step sets what they would), which leaves the plots
+//! room at a projector's 1024 × 768 with text ×1.5: the diagram keeps its
+//! λ strip, the time series its four plots. End tour gives back the
+//! parameters, views and layout from before it. The tour is plain data
+//! and settings changes: no thread, no file, so it runs as it is in a
+//! browser.
 
 use eframe::egui;
 use egui::{Context, RichText};
@@ -25,14 +30,16 @@ pub struct TourStep {
     pub preset: &'static str,
     /// …at this θν.
     pub theta_nu: f64,
-    /// The views shown, as tiles.
+    /// The views shown, as columns: the last one shares its column with
+    /// the box (the first ones need the height: the diagram and its strip,
+    /// the time series).
     pub views: &'static [ViewKind],
     /// Which of f², f³, f⁴ the return map draws.
     pub map_powers: [bool; 3],
     /// Whether the return map shows f(θ) − θ.
     pub map_difference: bool,
-    /// Whether the text speaks of the λ strip under the diagram (the
-    /// diagram then takes a tall tile, where the strip is drawn).
+    /// Whether the text speaks of the λ strip under the diagram (which is
+    /// then drawn: the tests check it).
     pub strip: bool,
 }
 
@@ -49,7 +56,7 @@ pub const STEPS: [TourStep; 6] = [
                slope just below 0, a multiplier just below 1.",
         preset: "creep",
         theta_nu: 0.7,
-        views: &[TimeSeries, Plane, ReturnMap],
+        views: &[TimeSeries, ReturnMap, Plane],
         map_powers: [false; 3],
         map_difference: true,
         strip: false,
@@ -61,7 +68,7 @@ pub const STEPS: [TourStep; 6] = [
                cobweb spirals in. In the diagram this θν has one point, and λ < 0 under it.",
         preset: "fig3b",
         theta_nu: 1.0,
-        views: &[Plane, ReturnMap, Bifurcation],
+        views: &[Bifurcation, ReturnMap, Plane],
         map_powers: [false; 3],
         map_difference: false,
         strip: true,
@@ -74,7 +81,7 @@ pub const STEPS: [TourStep; 6] = [
                doubling and is negative again.",
         preset: "fig3b",
         theta_nu: 1.15,
-        views: &[Plane, ReturnMap, Bifurcation],
+        views: &[Bifurcation, ReturnMap, Plane],
         map_powers: [true, false, false],
         map_difference: false,
         strip: true,
@@ -112,7 +119,7 @@ pub const STEPS: [TourStep; 6] = [
                phases and sets their mean length beside the channel's passage time.",
         preset: "intermittent",
         theta_nu: 1.4,
-        views: &[Plane, Events, TimeSeries],
+        views: &[ReturnMap, Events, Plane],
         map_powers: [false; 3],
         map_difference: false,
         strip: false,
@@ -136,6 +143,8 @@ impl TourStep {
 #[derive(Default)]
 pub struct Tour {
     pub step: Option<usize>,
+    /// The settings from before the tour, which End tour gives back.
+    before: Option<Box<Settings>>,
     /// The box's rectangle in the last frame.
     pub box_rect: Option<egui::Rect>,
     /// The user dragged the box away since the step began: it is left
@@ -143,29 +152,56 @@ pub struct Tour {
     moved: bool,
 }
 
-/// `n` rectangles stacked in `area`, a small gap apart.
-fn tile_rects_stacked(area: egui::Rect, n: usize) -> Vec<egui::Rect> {
+/// The least width of a view beside another on the right, points.
+const LEAST_WIDTH: f32 = 260.0;
+
+/// `n` rectangles in `area`, a small gap apart: side by side `in_a_row`,
+/// else stacked.
+fn side_by_side(area: egui::Rect, n: usize, in_a_row: bool) -> Vec<egui::Rect> {
     let gap = 6.0;
-    let n = n.max(1);
-    let h = (area.height() - gap * (n as f32 - 1.0)) / n as f32;
+    let (cols, rows) = if in_a_row { (n, 1) } else { (1, n) };
+    let w = (area.width() - gap * (cols as f32 - 1.0)) / cols as f32;
+    let h = (area.height() - gap * (rows as f32 - 1.0)) / rows as f32;
     (0..n)
         .map(|k| {
-            let min = area.min + egui::vec2(0.0, k as f32 * (h + gap));
-            egui::Rect::from_min_size(min, egui::vec2(area.width(), h))
+            let (c, r) = if in_a_row { (k, 0) } else { (0, k) };
+            let min = area.min + egui::vec2(c as f32 * (w + gap), r as f32 * (h + gap));
+            egui::Rect::from_min_size(min, egui::vec2(w, h))
         })
         .collect()
 }
 
 /// The band's height before the box was first measured.
-const FIRST_BAND: f32 = 170.0;
+const FIRST_BAND: f32 = 220.0;
 
 impl Tour {
     /// Goes to step `i` (clamped to the last), applying it.
     pub fn go(&mut self, i: usize, s: &mut Settings) {
         let i = i.min(STEPS.len() - 1);
+        if self.step.is_none() {
+            self.before = Some(Box::new(s.clone()));
+        }
         STEPS[i].apply(s);
         self.step = Some(i);
         self.moved = false;
+    }
+
+    /// Ends the tour: the parameters, views and layout from before it come
+    /// back (what the user changed meanwhile that no step sets, the text
+    /// size or the panel, say, stays as they left it).
+    pub fn end(&mut self, s: &mut Settings) {
+        self.step = None;
+        self.moved = false;
+        if let Some(b) = self.before.take() {
+            s.params = b.params;
+            s.preset = b.preset;
+            s.full_circle = b.full_circle;
+            s.layout = b.layout;
+            s.tab = b.tab;
+            s.tiled = b.tiled;
+            s.map_powers = b.map_powers;
+            s.map_difference = b.map_difference;
+        }
     }
 
     /// The height kept free under the views for the box, while it runs.
@@ -179,40 +215,33 @@ impl Tour {
 
     /// The views' rectangles in `whole` (the views' area) and the band
     /// kept free for the box while the tour runs (`Rect::NOTHING` when it
-    /// does not). The band spans the bottom; a step that speaks of the λ
-    /// strip, showing its own views, gives the diagram the left half at
-    /// full height (room for the strip) and the band the right half.
+    /// does not). The first view takes the left two fifths at full height
+    /// (the diagram and its strip, the time series' four plots); the
+    /// others share a row on the right, over the band, or where the row
+    /// would leave each less than [`LEAST_WIDTH`] (the side panel shown at
+    /// 1024 points) half the width, stacked.
     pub fn arrange(&self, whole: egui::Rect, views: &[ViewKind]) -> (Vec<egui::Rect>, egui::Rect) {
-        let Some(i) = self.step else {
+        if self.step.is_none() {
             return (tile_rects(whole, views.len()), egui::Rect::NOTHING);
-        };
-        let step = &STEPS[i];
-        let band = self.band().min(whole.height() * 0.6);
-        let strip = step.strip && views == step.views && views.contains(&Bifurcation);
-        if !strip {
-            let area = egui::Rect::from_min_max(whole.min, whole.max - egui::vec2(0.0, band));
-            let free = egui::Rect::from_min_max(egui::pos2(whole.left(), area.bottom()), whole.max);
-            return (tile_rects(area, views.len()), free);
         }
         let gap = 6.0;
-        let half = (whole.width() - gap) / 2.0;
-        let left = egui::Rect::from_min_size(whole.min, egui::vec2(half, whole.height()));
+        let others = views.len().saturating_sub(1);
+        let in_a_row = (whole.width() - gap) * 0.6 >= others as f32 * (LEAST_WIDTH + gap);
+        let share = if in_a_row { 0.4 } else { 0.5 };
+        let split = whole.left() + (whole.width() - gap) * share;
+        let left = egui::Rect::from_min_max(whole.min, egui::pos2(split, whole.bottom()));
+        let band = self.band().min(whole.height() * 0.6);
+        let free =
+            egui::Rect::from_min_max(egui::pos2(split + gap, whole.bottom() - band), whole.max);
         let right = egui::Rect::from_min_max(
-            egui::pos2(left.right() + gap, whole.top()),
-            whole.max - egui::vec2(0.0, band),
+            egui::pos2(free.left(), whole.top()),
+            egui::pos2(whole.right(), free.top() - gap),
         );
-        let free = egui::Rect::from_min_max(egui::pos2(right.left(), right.bottom()), whole.max);
-        let mut others = tile_rects_stacked(right, views.len() - 1).into_iter();
-        let rects = views
-            .iter()
-            .map(|v| {
-                if *v == Bifurcation {
-                    left
-                } else {
-                    others.next().unwrap_or(right)
-                }
-            })
-            .collect();
+        let mut rects = vec![left];
+        if others > 0 {
+            rects.extend(side_by_side(right, others, in_a_row));
+        }
+        rects.truncate(views.len());
         (rects, free)
     }
 
@@ -253,14 +282,8 @@ impl Tour {
         }
         let shown = window.show(ctx, |ui| {
             ui.label(step.text);
-            ui.label(
-                RichText::new(
-                    "the arrow keys: left and right walk the steps, up and down nudge θν; \
-                         drag the title to move this box",
-                )
-                .weak(),
-            );
-            ui.horizontal(|ui| {
+            // The buttons and, beside them where there is room, the keys.
+            ui.horizontal_wrapped(|ui| {
                 if ui
                     .add_enabled(i > 0, egui::Button::new("Previous"))
                     .clicked()
@@ -271,9 +294,19 @@ impl Tour {
                 if ui.add_enabled(!last, egui::Button::new("Next")).clicked() {
                     go = Some(Some(i + 1));
                 }
-                if ui.button("End tour").clicked() {
+                if ui
+                    .button("End tour")
+                    .on_hover_text("Back to the parameters, views and layout from before the tour")
+                    .clicked()
+                {
                     go = Some(None);
                 }
+                ui.label(
+                    RichText::new(
+                        "keys: left, right: steps · up, down: θν · drag the title to move",
+                    )
+                    .weak(),
+                );
             });
         });
         self.box_rect = shown.map(|r| r.response.rect);
@@ -283,7 +316,7 @@ impl Tour {
         }
         match go {
             Some(Some(j)) => self.go(j, s),
-            Some(None) => self.step = None,
+            Some(None) => self.end(s),
             None => {}
         }
     }
@@ -321,5 +354,78 @@ mod tests {
         // Past the end stays on the last step.
         tour.go(99, &mut s);
         assert_eq!(tour.step, Some(STEPS.len() - 1));
+    }
+
+    #[test]
+    fn end_tour_gives_back_the_parameters_views_and_layout_from_before() {
+        let before = Settings {
+            params: Settings::default().params.with_theta_nu(0.42),
+            preset: None,
+            layout: Layout::Tabs,
+            tab: ViewKind::Basins,
+            tiled: vec![ViewKind::Block, ViewKind::Phase],
+            map_powers: [false, false, true],
+            map_difference: true,
+            ..Settings::default()
+        };
+        let mut s = before.clone();
+        let mut tour = Tour::default();
+        tour.go(1, &mut s);
+        tour.go(4, &mut s);
+        // What no step sets, changed during the tour, stays changed.
+        s.font_scale = 1.5;
+        s.hide_panel = true;
+        assert_ne!(s.params, before.params);
+        tour.end(&mut s);
+        assert_eq!(tour.step, None);
+        assert_eq!(
+            s,
+            Settings {
+                font_scale: 1.5,
+                hide_panel: true,
+                ..before.clone()
+            }
+        );
+        // A second tour starts from the settings it finds.
+        s.params.theta_nu = 0.5;
+        tour.go(0, &mut s);
+        tour.end(&mut s);
+        assert_eq!(s.params.theta_nu, 0.5);
+    }
+
+    #[test]
+    fn each_step_shows_three_views_or_fewer_with_the_tall_one_first() {
+        for step in &STEPS {
+            assert!((1..=3).contains(&step.views.len()), "{}", step.title);
+            // The diagram (its λ strip) and the time series (four plots)
+            // need the full height: the first column's.
+            for v in &step.views[1..] {
+                assert!(!matches!(v, Bifurcation | TimeSeries), "{}", step.title);
+            }
+            assert_eq!(
+                step.strip,
+                step.views.contains(&Bifurcation),
+                "{}",
+                step.title
+            );
+        }
+        let whole = egui::Rect::from_min_size(egui::pos2(8.0, 49.0), egui::vec2(1008.0, 684.0));
+        let mut tour = Tour::default();
+        tour.go(1, &mut Settings::default());
+        tour.box_rect = Some(egui::Rect::from_min_size(
+            egui::Pos2::ZERO,
+            egui::vec2(580.0, 200.0),
+        ));
+        let (rects, band) = tour.arrange(whole, STEPS[1].views);
+        assert_eq!(rects.len(), 3);
+        for (i, r) in rects.iter().enumerate() {
+            assert!(whole.contains_rect(*r), "{r:?}");
+            assert!(!r.intersects(band), "{r:?} {band:?}");
+            for q in &rects[i + 1..] {
+                assert!(!r.intersects(*q), "{r:?} {q:?}");
+            }
+        }
+        assert_eq!(rects[0].height(), whole.height());
+        assert!(band.height() >= 208.0 && band.max == whole.max, "{band:?}");
     }
 }

@@ -8,7 +8,7 @@ use std::path::PathBuf;
 use clap::Args;
 
 use super::CliError;
-use super::values::{parse_number, seconds, short};
+use super::values::{count_between, parse_count, parse_number, seconds, short};
 use crate::model::Preset;
 
 /// The views `--view` names.
@@ -23,6 +23,12 @@ pub const VIEW_KEYS: [&str; 9] = [
     "time-series",
     "basins",
 ];
+
+/// The guided tour's steps (`--tour-step` lies in [1, TOUR_STEPS]).
+pub const TOUR_STEPS: usize = 6;
+// Known without the window's code; the tour's table must agree.
+#[cfg(feature = "gui")]
+const _: () = assert!(crate::app::tour::STEPS.len() == TOUR_STEPS);
 
 /// The longest `--timeout`, in seconds (a day).
 pub const MAX_TIMEOUT: f64 = 86_400.0;
@@ -79,6 +85,15 @@ pub struct GuiArgs {
     /// the browser build does (no simulation threads).
     #[arg(long)]
     pub single_thread: bool,
+    /// Open on step N of the guided tour, in [1, 6]: its parameters and
+    /// views (End tour goes back to what the other flags set).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count)]
+    pub tour_step: Option<usize>,
+    /// With --screenshot: also write the rectangles, in points, of every
+    /// view, its plots and the tour's box as JSON (never overwrites an
+    /// existing file).
+    #[arg(long, value_name = "FILE")]
+    pub layout: Option<PathBuf>,
     /// Test-only: the first frame stalls for an hour (how the tests check
     /// that --timeout bounds a run whose frames stall).
     #[arg(long, hide = true)]
@@ -142,16 +157,43 @@ pub fn check(args: &GuiArgs) -> Result<(), CliError> {
             "--saved-state: only with --screenshot (a plain launch always reads it)".into(),
         ));
     }
-    if let Some(p) = &args.screenshot {
-        crate::output::check_writable(p, false).map_err(|e| match e {
-            crate::output::OutputError::Exists { path } => CliError::Usage(format!(
-                "--screenshot: {} already exists: a screenshot never overwrites a file, choose another name",
-                path.display()
-            )),
-            e => CliError::Usage(format!("--screenshot: {e}")),
-        })?;
+    if let Some(n) = args.tour_step {
+        count_between("tour-step", n, 1, TOUR_STEPS)?;
+        if args.view.is_some() {
+            return Err(CliError::Usage(
+                "--tour-step: not with --view (a tour step shows its own views)".into(),
+            ));
+        }
+    }
+    if args.layout.is_some() && args.screenshot.is_none() {
+        return Err(CliError::Usage(
+            "--layout: only with --screenshot (it is written with the picture)".into(),
+        ));
+    }
+    for (flag, path) in [("screenshot", &args.screenshot), ("layout", &args.layout)] {
+        if let Some(p) = path {
+            writable(flag, p)?;
+        }
+    }
+    if let (Some(a), Some(b)) = (&args.screenshot, &args.layout)
+        && a == b
+    {
+        return Err(CliError::Usage(
+            "--layout: the same file as --screenshot: give each its own name".into(),
+        ));
     }
     Ok(())
+}
+
+/// Checks that `--flag`'s file `p` can be written and does not exist.
+fn writable(flag: &str, p: &std::path::Path) -> Result<(), CliError> {
+    crate::output::check_writable(p, false).map_err(|e| match e {
+        crate::output::OutputError::Exists { path } => CliError::Usage(format!(
+            "--{flag}: {} already exists: the window never overwrites a file, choose another name",
+            path.display()
+        )),
+        e => CliError::Usage(format!("--{flag}: {e}")),
+    })
 }
 
 #[cfg(feature = "gui")]
@@ -180,6 +222,8 @@ pub fn run(args: GuiArgs) -> Result<(), CliError> {
         single_thread: args.single_thread,
         stall_first_frame: args.stall_first_frame,
         screenshot: args.screenshot,
+        layout: args.layout,
+        tour_step: args.tour_step.map(|n| n - 1),
         size: args.size,
         frame_stats: args.frame_stats,
         view,

@@ -65,7 +65,8 @@ pub enum Command {
     Gui(gui::GuiArgs),
     /// One view as an SVG, PDF, PNG or GIF file, drawn headless by the window's code
     /// (needs the default `gui` feature).
-    Figure(figure::FigureArgs),
+    // Boxed: its flags are the largest of all (clippy's large_enum_variant).
+    Figure(Box<figure::FigureArgs>),
 }
 
 /// Parses this process's command line (clap's errors as they are) and
@@ -243,6 +244,6 @@ pub fn run(cli: Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::run(a),
         Some(Command::Phase(a)) => phase::run(a),
         Some(Command::Gui(a)) => gui::run(a),
-        Some(Command::Figure(a)) => figure::run(a),
+        Some(Command::Figure(a)) => figure::run(*a),
     }
 }

@@ -9,6 +9,8 @@ pub mod figure;
 pub mod fixture;
 pub mod jobs;
 pub mod seeded;
+#[cfg(feature = "gui")]
+pub mod tour_layout;
 pub mod xvfb;
 
 use std::time::Duration;
