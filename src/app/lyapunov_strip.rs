@@ -103,8 +103,15 @@ pub fn strip_ui(
         .allow_boxed_zoom(false)
         .allow_double_click_reset(false);
     let ax = axis.spec(s.angle_unit);
-    // The quantity in full where it fits along the strip, else its symbol.
-    let ay = AxisSpec::linear(axes::fitting_title(ui, "λ, Lyapunov exponent", "λ", height));
+    // The quantity in full where it fits along the strip, else its name
+    // short, else its symbol (the legend says what λ is).
+    let short = axes::fitting_title(ui, "Lyapunov λ", "λ", height);
+    let ay = AxisSpec::linear(axes::fitting_title(
+        ui,
+        "λ, Lyapunov exponent",
+        short,
+        height,
+    ));
     let current = style::draws_current(ui.ctx());
     let resp = axes::apply(plot, &ax, &ay)
         .y_axis_min_width(y_width)

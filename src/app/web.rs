@@ -52,7 +52,9 @@ pub fn start() {
             // logged an error per move of a drag (12 a drag on a phone).
             // The page's CSS (touch-action: none) already keeps the
             // browser from scrolling or zooming under a finger.
-            should_prevent_default: Box::new(|e| !matches!(e, eframe::egui::Event::PointerMoved(_))),
+            should_prevent_default: Box::new(|e| {
+                !matches!(e, eframe::egui::Event::PointerMoved(_))
+            }),
             ..Default::default()
         };
         let started = runner
