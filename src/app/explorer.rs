@@ -515,6 +515,7 @@ impl Explorer {
         #[cfg(not(target_arch = "wasm32"))]
         self.open_dialog_ui(&ctx);
         self.sync_jobs(&ctx);
+        self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
             self.stats.overlay(&ctx);
         }

@@ -28,14 +28,6 @@ impl Explorer {
             .show(ui, |ui| status::status_ui(ui, &self.jobs))
             .response
             .rect;
-        // The messages ("saved …", a link's note) in a band of their own
-        // above the status bar while they last: never over a plot's data
-        // or its tick labels (on a phone the Share note covered them).
-        if !self.shots.toasts.is_empty() {
-            egui::Panel::bottom("toasts")
-                .frame(bare)
-                .show(ui, |ui| self.shots.toasts_ui(ui));
-        }
         self.panel_rect = Rect::NOTHING;
         if !narrow && !self.settings.hide_panel {
             let width = ui.ctx().content_rect().width();

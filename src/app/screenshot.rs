@@ -204,19 +204,26 @@ impl Shots {
         self.toasts.retain(|t| t.until > now);
     }
 
-    /// The toasts, one a row, right-aligned in their band above the
-    /// status bar (`Explorer::panels_ui`), where they cover no view.
-    pub fn toasts_ui(&self, ui: &mut egui::Ui) {
-        for t in &self.toasts {
-            ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
-                let c = if t.error {
-                    style::ERROR
-                } else {
-                    ui.visuals().text_color()
-                };
-                ui.add(egui::Label::new(RichText::new(&t.text).color(c).strong()).wrap());
-            });
+    /// The toasts, stacked in the bottom right corner.
+    pub fn toasts_ui(&self, ctx: &Context) {
+        if self.toasts.is_empty() {
+            return;
         }
+        egui::Area::new(egui::Id::unique("toasts"))
+            .anchor(egui::Align2::RIGHT_BOTTOM, egui::vec2(-16.0, -40.0))
+            .order(egui::Order::Foreground)
+            .show(ctx, |ui| {
+                for t in &self.toasts {
+                    egui::Frame::popup(ui.style()).show(ui, |ui| {
+                        let c = if t.error {
+                            style::ERROR
+                        } else {
+                            ui.visuals().text_color()
+                        };
+                        ui.label(RichText::new(&t.text).color(c));
+                    });
+                }
+            });
     }
 
     /// Adds a toast directly (e.g. nothing to export). An error stays
