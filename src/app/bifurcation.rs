@@ -21,6 +21,7 @@ use super::diagram_axis::{self, XAxis};
 use super::diagram_lines::{Lines, lines_legend_ui, theta_c};
 use super::jobs::{JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
+use super::raster;
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -42,7 +43,7 @@ pub struct Zoom {
 #[derive(Default)]
 pub struct BifurcationView {
     texture: Option<TextureHandle>,
-    built: Option<(u64, bool)>,
+    built: Option<(u64, bool, usize)>,
     /// The θ range the texture covers.
     theta_range: (f64, f64),
     /// Zoom levels, innermost last; empty = the whole range.
@@ -62,8 +63,10 @@ pub const OTHER_ATTRACTOR: Color32 = style::ONSET;
 /// θ ∈ [lo, hi] (row 0 at the top = hi), the followed attractor's points
 /// in `ink` and the seeds' other attractors in [`OTHER_ATTRACTOR`]. Missing
 /// columns take the nearest computed one to their left, so the coarse pass
-/// already fills the picture.
-pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32) -> ColorImage {
+/// already fills the picture. With `spread` > 0 (thick lines) each point
+/// also fills the texels within `spread` of it, so that a branch stays a
+/// line, not dashes, where the image is drawn narrower than its columns.
+pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32, spread: usize) -> ColorImage {
     let w = sweep.columns.len().max(1);
     let mut counts = vec![0u32; w * ROWS];
     let mut others = vec![0u32; w * ROWS];
@@ -87,6 +90,10 @@ pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32) -> ColorImag
             bin[r.min(ROWS - 1) * w + j] += 1;
         }
     }
+    let (counts, others) = (
+        raster::dilate(&counts, w, spread),
+        raster::dilate(&others, w, spread),
+    );
     let pixels = counts
         .iter()
         .zip(&others)
@@ -135,7 +142,10 @@ impl BifurcationView {
     }
 
     fn rebuild(&mut self, ui: &Ui, sweep: &SweepData, dark: bool) {
-        let key = (sweep.revision, dark);
+        // Thick lines (the projector's): points spread to about a line's
+        // width, two texels a side at twice the width.
+        let spread = ((style::width(ui.ctx(), 1.0) - 1.0) * 2.0).round().max(0.0) as usize;
+        let key = (sweep.revision, dark, spread);
         if self.built == Some(key) && self.texture.is_some() {
             return;
         }
@@ -144,7 +154,7 @@ impl BifurcationView {
             None => auto_theta_range(sweep),
         };
         let (lo, hi) = self.theta_range;
-        let img = rasterise(sweep, lo, hi, style::ink(dark));
+        let img = rasterise(sweep, lo, hi, style::ink(dark), spread);
         match &mut self.texture {
             Some(t) => t.set(img, TextureOptions::NEAREST),
             None => {
@@ -560,7 +570,7 @@ mod seeded_tests {
             },
         );
         let ink = style::ink(false);
-        let img = rasterise(&sweep, 0.0, 1.0, ink);
+        let img = rasterise(&sweep, 0.0, 1.0, ink, 0);
         let at = |t: f64| img.pixels[((1.0 - t) * ROWS as f64) as usize];
         let rgb = |c: Color32| [c.r(), c.g(), c.b()];
         let unmul = |c: Color32| {

@@ -69,6 +69,7 @@ mod pinch;
 pub mod plane;
 pub mod play;
 pub mod points_table;
+pub mod raster;
 pub mod return_map;
 pub mod save;
 pub mod saved_state;
