@@ -13,16 +13,6 @@ mod cli_support;
 
 use cli_support::*;
 
-/// The largest resident size of any child waited for, in KB.
-fn children_peak_kb() -> i64 {
-    // SAFETY: getrusage fills the plain C struct it is given.
-    unsafe {
-        let mut u: libc::rusage = std::mem::zeroed();
-        assert_eq!(libc::getrusage(libc::RUSAGE_CHILDREN, &mut u), 0);
-        u.ru_maxrss
-    }
-}
-
 #[test]
 fn a_long_slip_ends_without_derivatives_in_bounded_memory() {
     let o = oneblock(&[

@@ -10,16 +10,6 @@ mod cli_support;
 
 use cli_support::*;
 
-/// The largest resident size of any child waited for, in KB.
-fn children_peak_kb() -> i64 {
-    // SAFETY: getrusage fills the plain C struct it is given.
-    unsafe {
-        let mut u: libc::rusage = std::mem::zeroed();
-        assert_eq!(libc::getrusage(libc::RUSAGE_CHILDREN, &mut u), 0);
-        u.ru_maxrss
-    }
-}
-
 #[test]
 fn a_million_kept_iterates_for_a_summary_stay_under_40_mb() {
     let o = oneblock(&[

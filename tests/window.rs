@@ -65,12 +65,17 @@ fn a_display_that_goes_away_ends_the_window_with_one_line_and_exit_1() {
     }
     let dir = tempfile::tempdir().unwrap();
     let xdg = common::xvfb::runtime_dir(&dir.path().join("xdg"));
-    // The shell runs inside xvfb-run: it knows its server by $DISPLAY.
+    // The shell runs inside xvfb-run: it knows its server by $DISPLAY, and
+    // finds it in /proc (a fresh Debian has no pkill).
     let script = r#"
         "$0" gui --preset fig3b --size 800x600 2>"$1" &
         G=$!
         sleep 8
-        pkill -KILL -f "Xvfb $DISPLAY "
+        for p in /proc/[0-9]*; do
+            if tr '\0' ' ' < "$p/cmdline" 2>/dev/null | grep -q "Xvfb $DISPLAY "; then
+                kill -KILL "${p#/proc/}"
+            fi
+        done
         wait $G
         echo "exit=$?"
     "#;

@@ -130,3 +130,15 @@ pub fn continue_run(args: &[&str]) -> (Output, Vec<Vec<String>>, Vec<Vec<String>
     let (branch, points) = (read(&out), read(&pts));
     (o, branch, points)
 }
+
+/// The largest resident size of any child waited for, in KB: a test that
+/// reads it runs in a binary of its own (the suite's children are many).
+#[cfg(target_os = "linux")]
+pub fn children_peak_kb() -> i64 {
+    // SAFETY: getrusage fills the plain C struct it is given.
+    unsafe {
+        let mut u: libc::rusage = std::mem::zeroed();
+        assert_eq!(libc::getrusage(libc::RUSAGE_CHILDREN, &mut u), 0);
+        u.ru_maxrss
+    }
+}
