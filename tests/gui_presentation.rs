@@ -215,3 +215,50 @@ fn the_tour_box_can_be_moved() {
         "{before:?} then {after:?}"
     );
 }
+
+/// A tile too small for its controls (the projector: 1024 × 768, text
+/// 1.5, the panel hidden, four tiles) folds them into its title row's
+/// "Controls" menu, where they work; the same tiles at 1280 × 800 and
+/// text 1 keep them above the plot.
+#[test]
+fn a_small_tile_folds_its_controls_into_a_menu_that_works() {
+    let tiles = vec![
+        ViewKind::Plane,
+        ViewKind::Bifurcation,
+        ViewKind::ReturnMap,
+        ViewKind::Events,
+    ];
+    let rec = Recorder::new();
+    let roomy = Settings {
+        layout: Layout::Tiles,
+        tiled: tiles.clone(),
+        ..Settings::default()
+    };
+    let h = at((1280.0, 800.0), roomy, &rec);
+    assert!(
+        h.query_by_label("every attractor").is_some(),
+        "shown above the plot"
+    );
+    assert!(h.query_by_label("Controls").is_none());
+
+    let rec = Recorder::new();
+    let projector = Settings {
+        layout: Layout::Tiles,
+        tiled: tiles,
+        projector: true,
+        font_scale: 1.5,
+        hide_panel: true,
+        ..Settings::default()
+    };
+    let mut h = at((1024.0, 768.0), projector, &rec);
+    assert!(h.query_by_label("every attractor").is_none(), "folded away");
+    h.get_by_label("Controls").click();
+    h.run_steps(3);
+    h.get_by_label("every attractor").click();
+    h.run_steps(3);
+    assert_eq!(
+        h.state().settings.sweep_seeds,
+        1,
+        "the menu's check box works"
+    );
+}

@@ -73,6 +73,23 @@ impl AxisSpec {
         }
     }
 
+    /// This axis as a y axis `height` points tall can title it: the whole
+    /// title, else its symbol and unit ("θ (rad)"), else its symbol; a
+    /// rotated title longer than its plot runs over what is above it (a
+    /// tile's check boxes at a projector's text size).
+    pub fn fitted_along(mut self, ui: &egui::Ui, height: f32) -> AxisSpec {
+        let name = short_name(&self.title);
+        let with_unit = match self.title.rfind(" (") {
+            Some(i) if self.title.ends_with(')') && i > name.len() => {
+                format!("{name}{}", &self.title[i..])
+            }
+            _ => name.to_owned(),
+        };
+        let shorter = fitting_title(ui, &with_unit, name, height).to_owned();
+        self.title = fitting_title(ui, &self.title, &shorter, height).to_owned();
+        self
+    }
+
     /// A log axis (the coordinate is log10 of the value).
     pub fn log10(title: impl Into<String>) -> AxisSpec {
         AxisSpec {

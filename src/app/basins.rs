@@ -181,7 +181,7 @@ pub fn describe(a: &Attractor) -> String {
 
 impl BasinsView {
     /// Columns, zoom buttons and where the job stands.
-    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, slot: &Slot<BasinsData>) {
+    fn settings_ui(&mut self, ui: &mut Ui, s: &mut Settings, slot: &Slot<BasinsData>) {
         ui.horizontal_wrapped(|ui| {
             ui.label("columns");
             ui.add(egui::DragValue::new(&mut s.basins.columns).range(MIN_COLUMNS..=MAX_COLUMNS))
@@ -218,7 +218,7 @@ impl BasinsView {
         let plot = plain_plot(ui, "basins", height);
         let (ax, ay) = (
             AxisSpec::angle("θν, pull direction", s.angle_unit),
-            AxisSpec::angle("θ₀, slip onset", s.angle_unit),
+            AxisSpec::angle("θ₀, slip onset", s.angle_unit).fitted_along(ui, height),
         );
         let resp = axes::apply(plot, &ax, &ay).show(ui, |p| {
             p.set_plot_bounds(PlotBounds::from_min_max([x0, lo], [x1, hi]));
@@ -385,12 +385,13 @@ impl View for BasinsView {
         ViewKind::Basins.title()
     }
 
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.settings_ui(ui, s, &jobs.basins);
+    }
+
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let figure = style::figure_only(ui.ctx());
         let d = &jobs.basins.data;
-        if !figure {
-            self.controls_ui(ui, s, &jobs.basins);
-        }
         legend_ui(ui, &d.ids);
         let row = ui.text_style_height(&egui::TextStyle::Body);
         // Room for the top tick label, centred on the plot's top edge.

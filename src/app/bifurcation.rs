@@ -174,7 +174,7 @@ impl BifurcationView {
     }
 
     /// Back, reset zoom, and where the sweep stands.
-    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+    fn buttons_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let slot: &Slot<SweepData> = &jobs.sweep;
         let sweep = &slot.data;
         let symbol = s.diagram.param.symbol();
@@ -253,7 +253,7 @@ impl BifurcationView {
             .allow_double_click_reset(false);
         let (ax, ay) = (
             axis.spec(s.angle_unit),
-            AxisSpec::angle("θ, slip onset", s.angle_unit),
+            AxisSpec::angle("θ, slip onset", s.angle_unit).fitted_along(ui, height),
         );
         let (hx, hy) = (ax.clone(), ay.clone());
         let resp = axes::apply(plot, &ax, &ay)
@@ -430,28 +430,23 @@ impl View for BifurcationView {
         ViewKind::Bifurcation.title()
     }
 
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        self.buttons_ui(ui, s, jobs, out);
+        seeds_ui(ui, s);
+        points_table::points_ui(ui, &jobs.branches.data);
+        points_table::cascade_ui(ui, &jobs.branches.data);
+    }
+
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        // Controls folded (a figure, the tour's tiles): legends only.
-        let figure = !style::controls_shown(ui.ctx());
-        if !figure {
-            self.controls_ui(ui, s, jobs, out);
-        }
         lines_legend_ui(ui, s);
-        if !figure {
-            seeds_ui(ui, s);
-        } else if s.sweep_seeds > 0 {
-            // A figure has no seeds control, but its colours need naming.
+        if s.sweep_seeds > 0 {
             ui.horizontal_wrapped(|ui| seeds_legend_ui(ui, s));
         }
         overlay::branch_legend_ui(ui, &jobs.branches.data);
         if plot_sizes(ui, ui.available_height()).1 > 0.0 {
             let below = lyapunov_strip::below_strip(&jobs.sweep.data);
             lyapunov_strip::legend_ui(ui, s.dark, below);
-        }
-        if !figure {
-            points_table::points_ui(ui, &jobs.branches.data);
-            points_table::cascade_ui(ui, &jobs.branches.data);
         }
         let sweep = &jobs.sweep.data;
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());
@@ -465,8 +460,8 @@ impl View for BifurcationView {
     }
 }
 
-/// The seeds of each column (a change recomputes the diagram) and, with
-/// seeds, the legend of the attractors they find.
+/// The seeds of each column (a change recomputes the diagram); the
+/// legend of the attractors they find is the view's.
 fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
     ui.horizontal_wrapped(|ui| {
         let mut on = s.sweep_seeds > 0;
@@ -478,7 +473,6 @@ fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
         if r.changed() {
             s.sweep_seeds = usize::from(on);
         }
-        seeds_legend_ui(ui, s);
     });
 }
 

@@ -145,9 +145,6 @@ impl BlockView {
             self.clock = Playback::default();
         }
         self.trajectory_revision_seen = jobs.trajectory_revision;
-        if !style::figure_only(ui.ctx()) {
-            self.controls_ui(ui, s);
-        }
         let start = jobs.trajectory.data.recent_start(s.keep_cycles.min(4));
         let window_start = samples.get(start).map_or(0.0, |p| p.t);
         let now = ui.input(|i| i.time);
@@ -159,7 +156,7 @@ impl BlockView {
     }
 
     /// Play / pause, the playback speed, the x magnification.
-    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
+    fn buttons_ui(&mut self, ui: &mut Ui, s: &mut Settings) {
         ui.horizontal_wrapped(|ui| {
             let label = if self.playing { "Pause" } else { "Play" };
             if ui.button(label).on_hover_text("Space").clicked() {
@@ -583,6 +580,10 @@ fn clip_line(painter: &egui::Painter, r: Rect, a: Pos2, b: Pos2, stroke: Stroke)
 impl View for BlockView {
     fn title(&self) -> &'static str {
         ViewKind::Block.title()
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, _jobs: &Jobs, _out: &mut Vec<Action>) {
+        self.buttons_ui(ui, s);
     }
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {

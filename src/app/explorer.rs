@@ -58,6 +58,10 @@ pub struct Explorer {
     /// Where the frame-time report goes when the window closes.
     pub stats_sink: Option<Arc<Mutex<Option<String>>>>,
     pub(super) view_rects: HashMap<ViewKind, Rect>,
+    /// Each view's controls' height when last drawn above it, points: a
+    /// tile that would give them over a quarter of its height folds them
+    /// into its title row's menu (`Explorer::view_ui`).
+    pub(super) controls_heights: HashMap<ViewKind, f32>,
     /// The views drawn in the last frame, with their plots (`--layout`).
     pub(super) drawn: super::layout_report::Drawn,
     /// The guided tour, when it runs.
@@ -114,6 +118,7 @@ impl Explorer {
             persist: true,
             stats_sink: None,
             view_rects: HashMap::new(),
+            controls_heights: HashMap::new(),
             drawn: Default::default(),
             tour: Tour::default(),
             play: Play::default(),
@@ -515,7 +520,6 @@ impl Explorer {
         #[cfg(not(target_arch = "wasm32"))]
         self.open_dialog_ui(&ctx);
         self.sync_jobs(&ctx);
-        self.shots.toasts_ui(&ctx);
         if self.stats.enabled {
             self.stats.overlay(&ctx);
         }

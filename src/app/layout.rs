@@ -25,7 +25,9 @@ impl Explorer {
             .show(ui, |ui| self.top_bar_ui(ui, actions));
         self.status_rect = egui::Panel::bottom("status")
             .frame(bare)
-            .show(ui, |ui| status::status_ui(ui, &self.jobs))
+            .show(ui, |ui| {
+                status::status_ui(ui, &self.jobs, &self.shots.toasts)
+            })
             .response
             .rect;
         self.panel_rect = Rect::NOTHING;
@@ -149,8 +151,10 @@ impl Explorer {
         let before = plot_frames(ui.ctx()).len();
         let fills = self.fills(v);
         let mut fill = false;
+        let placement = self.controls_placement(v, rect, ui.ctx());
         let view = self.views.get_mut(v);
         let (settings, jobs) = (&mut self.settings, &self.jobs);
+        let mut measured = None;
         ui.scope_builder(
             egui::UiBuilder::new().max_rect(rect).id_salt(v.key()),
             |ui| {
@@ -161,8 +165,17 @@ impl Explorer {
                     .inner_margin(4.0)
                     .show(ui, |ui| {
                         ui.set_min_size(ui.available_size());
-                        if title_row_ui(ui, v, fills, out) {
+                        let mut menu = |ui: &mut Ui, out: &mut Vec<Action>| {
+                            view.controls_ui(ui, settings, jobs, out);
+                        };
+                        let folded = (placement == Controls::Menu).then_some(&mut menu as _);
+                        if title_row_ui(ui, v, fills, folded, out) {
                             fill = true;
+                        }
+                        if placement == Controls::Above {
+                            let top = ui.cursor().top();
+                            view.controls_ui(ui, settings, jobs, out);
+                            measured = Some(ui.cursor().top() - top);
                         }
                         view.ui(ui, settings, jobs, out);
                     });
@@ -173,8 +186,37 @@ impl Explorer {
             .map(<[_]>::to_vec)
             .unwrap_or_default();
         self.drawn.0.push((v, rect, plots));
+        if let Some(h) = measured {
+            self.controls_heights.insert(v, h);
+        }
         if fill {
             self.toggle_fill(v);
         }
     }
+
+    /// Where view `v`'s controls go in `rect`: none in the tour's tiles
+    /// (the step sets them) nor on a phone's narrow tab; in the title
+    /// row's menu where, as last drawn, they took over a quarter of a
+    /// tile's height (a tile at a projector's text size); else above it.
+    fn controls_placement(&self, v: ViewKind, rect: Rect, ctx: &egui::Context) -> Controls {
+        if self.tour.step.is_some() || super::style::figure_only(ctx) {
+            return Controls::None;
+        }
+        let tiled = !is_narrow(ctx) && self.settings.layout == Layout::Tiles;
+        match self.controls_heights.get(&v) {
+            Some(&h) if tiled && !self.fills(v) && h > 0.25 * rect.height() => Controls::Menu,
+            _ => Controls::Above,
+        }
+    }
+}
+
+/// Where a view's controls are drawn.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Controls {
+    /// Not at all (the tour's tiles).
+    None,
+    /// Above the view.
+    Above,
+    /// In its title row's menu.
+    Menu,
 }

@@ -102,15 +102,11 @@ impl PhaseView {
 
     /// Compute / Stop, the zoom buttons, where the grid stands, its
     /// resolution and budget, and the legend.
-    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+    /// The grid's legend, the attractors of the cell selected, the errors
+    /// and the boundaries found (the controls are the window's to place:
+    /// `View::controls_ui`).
+    fn results_ui(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
         let data = &jobs.phase.data;
-        ui.horizontal_wrapped(|ui| {
-            compute_button_ui(ui, jobs.phase.state == JobState::Running, out);
-            boundaries_button_ui(ui, jobs, out);
-            zoom_buttons_ui(ui, s);
-            state_label_ui(ui, jobs);
-        });
-        grid_row_ui(ui, s);
         legend_row_ui(ui, s.phase.seeds > 0, !data.complete());
         if let Some(sel) = self.selected
             && phase_attractors::list_ui(ui, data, sel)
@@ -270,13 +266,23 @@ impl View for PhaseView {
         ViewKind::Phase.title()
     }
 
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
+        ui.horizontal_wrapped(|ui| {
+            compute_button_ui(ui, jobs.phase.state == JobState::Running, out);
+            boundaries_button_ui(ui, jobs, out);
+            zoom_buttons_ui(ui, s);
+            state_label_ui(ui, jobs);
+        });
+        grid_row_ui(ui, s);
+    }
+
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
         if style::figure_only(ui.ctx()) {
             legend_row_ui(ui, s.phase.seeds > 0, !jobs.phase.data.complete());
             overlay::curve_legend_ui(ui, &jobs.curves.data);
         } else {
-            self.controls_ui(ui, s, jobs, out);
+            self.results_ui(ui, s, jobs);
         }
         self.plot_ui(ui, s, jobs, out);
     }

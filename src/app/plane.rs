@@ -105,9 +105,6 @@ impl PlaneView {
             .map(|e| [e.onset_x * sx, e.onset_y])
             .collect();
         let now = samples.last().map(|p| [p.x * sx, p.y]);
-        if style::controls_shown(ui.ctx()) {
-            controls_ui(ui, s, onsets.len(), jobs.trajectory.data.events.len());
-        }
         legend_ui(ui, s.dark);
         let tf = self.plot_ui(ui, s, c_pts, crit);
         paint_path(ui, &tf, [&stick, &accel, &decel], &onsets, now, s.dark);
@@ -306,6 +303,11 @@ fn paint_path(
 impl View for PlaneView {
     fn title(&self) -> &'static str {
         ViewKind::Plane.title()
+    }
+
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        let total = jobs.trajectory.data.events.len();
+        controls_ui(ui, s, total.min(s.keep_cycles), total);
     }
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {

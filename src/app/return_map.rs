@@ -201,16 +201,6 @@ impl ReturnMapView {
             s,
             jobs.map_basins.at(&s.params),
         );
-        if style::controls_shown(ui.ctx()) {
-            // One row for both switches: a row less taken from the plot.
-            ui.horizontal_wrapped(|ui| {
-                powers_ui(ui, s, &it.powers);
-                if !s.map_difference {
-                    let available = jobs.trajectory.data.events.len();
-                    cobweb_steps_ui(ui, &mut self.steps, available);
-                }
-            });
-        }
         // Room for the top tick label, centred on the frame's top edge.
         ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
         let mut data = MapData::of(s, jobs, &self.steps);
@@ -498,14 +488,6 @@ fn legend_ui(
     );
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
-        if style::controls_shown(ui.ctx()) {
-            ui.checkbox(&mut s.map_difference, "f(θ) − θ")
-                .on_hover_text(
-                    "Draw f(θ) − θ against θ: the map's distance from the diagonal, \
-                 too small to see where f hugs it (creep; the paper's Fig. 3a inset). \
-                 A fixed point is where it crosses 0.",
-                );
-        }
     });
     let difference = s.map_difference;
     ui.horizontal_wrapped(|ui| {
@@ -549,6 +531,24 @@ fn legend_ui(
 impl View for ReturnMapView {
     fn title(&self) -> &'static str {
         ViewKind::ReturnMap.title()
+    }
+
+    /// One row for the switches (f(θ) − θ, the powers, the cobweb's
+    /// steps): a row less taken from the plot.
+    fn controls_ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
+        ui.horizontal_wrapped(|ui| {
+            ui.checkbox(&mut s.map_difference, "f(θ) − θ")
+                .on_hover_text(
+                    "Draw f(θ) − θ against θ: the map's distance from the diagonal, \
+                 too small to see where f hugs it (creep; the paper's Fig. 3a inset). \
+                 A fixed point is where it crosses 0.",
+                );
+            powers_ui(ui, s, &jobs.iterate.data.powers);
+            if !s.map_difference {
+                let available = jobs.trajectory.data.events.len();
+                cobweb_steps_ui(ui, &mut self.steps, available);
+            }
+        });
     }
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {

@@ -8,10 +8,9 @@ use std::path::PathBuf;
 use std::sync::Arc;
 use std::sync::mpsc::{Receiver, Sender, channel};
 
-use egui::{ColorImage, Context, Rect, RichText};
+use egui::{ColorImage, Context, Rect};
 
 use super::files::encode_png;
-use super::style;
 #[cfg(not(target_arch = "wasm32"))]
 use crate::output::write_output;
 
@@ -22,7 +21,8 @@ pub enum Saved {
     Failed(String),
 }
 
-/// A short message in the corner.
+/// A short message, shown at the start of the status bar while it lasts
+/// (never over a plot: the bar keeps its one line).
 #[derive(Clone, Debug)]
 pub struct Toast {
     pub text: String,
@@ -202,28 +202,6 @@ impl Shots {
             self.finished.push(s);
         }
         self.toasts.retain(|t| t.until > now);
-    }
-
-    /// The toasts, stacked in the bottom right corner.
-    pub fn toasts_ui(&self, ctx: &Context) {
-        if self.toasts.is_empty() {
-            return;
-        }
-        egui::Area::new(egui::Id::unique("toasts"))
-            .anchor(egui::Align2::RIGHT_BOTTOM, egui::vec2(-16.0, -40.0))
-            .order(egui::Order::Foreground)
-            .show(ctx, |ui| {
-                for t in &self.toasts {
-                    egui::Frame::popup(ui.style()).show(ui, |ui| {
-                        let c = if t.error {
-                            style::ERROR
-                        } else {
-                            ui.visuals().text_color()
-                        };
-                        ui.label(RichText::new(&t.text).color(c));
-                    });
-                }
-            });
     }
 
     /// Adds a toast directly (e.g. nothing to export). An error stays

@@ -5,13 +5,20 @@ use eframe::egui;
 use egui::{RichText, Ui};
 
 use super::jobs::{JobState, Jobs};
+use super::screenshot::Toast;
 use super::style;
 
 /// The status bar of the jobs `j`, on one line at any width: the job
 /// words and bars first, then the continuation's and the last error's
-/// lines, cut to the room left with "…" (the whole line on hover).
-pub fn status_ui(ui: &mut Ui, j: &Jobs) {
+/// lines, cut to the room left with "…" (the whole line on hover). The
+/// toasts (a file saved, a link's values refused) come first, newest
+/// first, each on a tinted ground: the bar never grows, so a message
+/// never covers data nor moves the views.
+pub fn status_ui(ui: &mut Ui, j: &Jobs, toasts: &[Toast]) {
     ui.horizontal(|ui| {
+        for t in toasts.iter().rev() {
+            toast_ui(ui, t);
+        }
         if busy(j) {
             ui.spinner();
         }
@@ -51,6 +58,27 @@ pub fn status_ui(ui: &mut Ui, j: &Jobs) {
             ui.add(egui::Label::new(text).truncate());
         }
     });
+}
+
+/// One toast in the bar: its text cut to at most 60 % of the width left
+/// (all of it on hover), red when it reports an error.
+fn toast_ui(ui: &mut Ui, t: &Toast) {
+    let color = if t.error {
+        style::ERROR
+    } else {
+        ui.visuals().strong_text_color()
+    };
+    let width = ui.available_width() * 0.6;
+    egui::Frame::new()
+        .fill(ui.visuals().extreme_bg_color)
+        .stroke(ui.visuals().widgets.noninteractive.bg_stroke)
+        .corner_radius(3.0)
+        .inner_margin(egui::Margin::symmetric(4, 0))
+        .show(ui, |ui| {
+            ui.set_max_width(width);
+            ui.add(egui::Label::new(RichText::new(&t.text).color(color)).truncate());
+        });
+    ui.separator();
 }
 
 /// Whether any job runs.

@@ -69,11 +69,21 @@ pub fn record_menu_ui(ui: &mut Ui, v: ViewKind, out: &mut Vec<Action>) {
     });
 }
 
+/// A view's controls, drawn into a menu (see [`title_row_ui`]).
+pub type ControlsMenu<'a> = &'a mut dyn FnMut(&mut Ui, &mut Vec<Action>);
+
 /// The title bar of view `v` (`fills`: it fills the window now); whether
 /// its Fill button was clicked. The buttons are laid out first, from the
 /// right, and the title takes what is left, shortened rather than drawn
-/// under them (a tile at 1024×768, text ×1.5).
-pub fn title_row_ui(ui: &mut Ui, v: ViewKind, fills: bool, out: &mut Vec<Action>) -> bool {
+/// under them (a tile at 1024×768, text ×1.5). With `controls`, the view's
+/// controls are folded into a "Controls" menu among the buttons.
+pub fn title_row_ui(
+    ui: &mut Ui,
+    v: ViewKind,
+    fills: bool,
+    controls: Option<ControlsMenu>,
+    out: &mut Vec<Action>,
+) -> bool {
     let title = v.title();
     let mut fill = false;
     ui.horizontal(|ui| {
@@ -85,6 +95,14 @@ pub fn title_row_ui(ui: &mut Ui, v: ViewKind, fills: bool, out: &mut Vec<Action>
                     ui.add(egui::Label::new(egui::RichText::new(title).strong()).truncate());
                 });
                 return;
+            }
+            if let Some(draw) = controls {
+                ui.menu_button("Controls", |ui| {
+                    ui.set_max_width(28.0 * ui.text_style_height(&egui::TextStyle::Body));
+                    draw(ui, out);
+                })
+                .response
+                .on_hover_text("This view's controls, folded here: the tile is too small for them");
             }
             if super::animation::PLAY_VIEWS.contains(&v) {
                 record_menu_ui(ui, v, out);

@@ -85,7 +85,20 @@ pub trait View {
     /// The title over the view.
     fn title(&self) -> &'static str;
 
+    /// The view's own controls (its switches, buttons and counts): drawn
+    /// by the window above the view, or in its title row's menu where a
+    /// tile is too small to give them the room, and never in a figure nor
+    /// in the tour's tiles (see `Explorer::view_ui`).
+    fn controls_ui(
+        &mut self,
+        _ui: &mut egui::Ui,
+        _s: &mut Settings,
+        _jobs: &Jobs,
+        _out: &mut Vec<Action>,
+    ) {
+    }
+
     /// Draws the view into `ui` from the settings `s` and the results in
-    /// `jobs`; what it asks of the window goes to `out`.
+    /// `jobs`, below its controls; what it asks of the window goes to `out`.
     fn ui(&mut self, ui: &mut egui::Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>);
 }

@@ -217,3 +217,16 @@ fn hover_labels_name_the_axes() {
         Some("cobweb\nθν = 1.0950\ncount + 1 = 1.000e2")
     );
 }
+
+#[test]
+fn a_y_title_shortens_to_its_symbol_and_unit_then_its_symbol() {
+    let ctx = egui::Context::default();
+    let mut got = Vec::new();
+    let _ = ctx.run_ui(egui::RawInput::default(), |ui| {
+        for h in [600.0, 110.0, 40.0] {
+            let spec = AxisSpec::angle("θ, slip onset", AngleUnit::Radians).fitted_along(ui, h);
+            got.push(spec.title);
+        }
+    });
+    assert_eq!(got, ["θ, slip onset (rad)", "θ (rad)", "θ"]);
+}
