@@ -18,6 +18,7 @@ use egui_kittest::kittest::Queryable;
 
 use crate::common::tour_layout::step_problems;
 use oneblock::app::axes::plot_frames;
+use oneblock::app::bifurcation::Zoom;
 use oneblock::app::tour::STEPS;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind};
 use window::harness;
@@ -178,6 +179,11 @@ fn end_tour_gives_back_the_settings_from_before_the_tour() {
     };
     let mut h = at((1280.0, 800.0), mine, &rec);
     h.state_mut().settings.params.theta_nu = 0.9;
+    let zoom = Zoom {
+        theta_nu: (1.2, 1.3),
+        theta: (0.1, 0.5),
+    };
+    h.state_mut().views.bifurcation.zoom.push(zoom);
     h.run_steps(2);
     let before = h.state().settings.clone();
     h.get_by_label("Tour").click();
@@ -187,10 +193,15 @@ fn end_tour_gives_back_the_settings_from_before_the_tour() {
         h.run_steps(3);
     }
     assert_ne!(h.state().settings, before);
+    assert!(
+        h.state().views.bifurcation.zoom.is_empty(),
+        "a step's parameters clear the zoom"
+    );
     h.get_by_label("End tour").click();
     h.run_steps(3);
     assert_eq!(h.state().tour.step, None);
     assert_eq!(h.state().settings, before);
+    assert_eq!(h.state().views.bifurcation.zoom, [zoom], "the zoom is back");
     assert!(h.state().view_rect(ViewKind::Basins).is_some());
 }
 
@@ -261,4 +272,42 @@ fn a_small_tile_folds_its_controls_into_a_menu_that_works() {
         1,
         "the menu's check box works"
     );
+}
+
+/// On a phone (390 × 844) the top bar has the tour; each step shows one of
+/// its views at a time, the whole width, with the box under it (over no
+/// plot), and the box's chooser switches the view.
+#[test]
+fn the_phone_has_the_tour_one_view_at_a_time_with_the_box_below() {
+    let rec = Recorder::new();
+    let mut h = at((390.0, 844.0), Settings::default(), &rec);
+    h.get_by_label("Tour").click();
+    h.run_steps(5);
+    assert_eq!(h.state().tour.step, Some(0));
+    for (k, &v) in STEPS[0].views.iter().enumerate() {
+        if k > 0 {
+            h.get_by_label(v.tab_title()).click();
+            h.run_steps(4);
+        }
+        let shown: Vec<ViewKind> = ViewKind::ALL
+            .into_iter()
+            .filter(|&w| h.state().view_rect(w).is_some())
+            .collect();
+        assert_eq!(shown, [v], "one view at a time");
+        let rect = h.state().view_rect(v).expect("drawn");
+        let tour = h.state().tour.box_rect.expect("the box");
+        assert!(rect.width() >= 350.0, "{v:?} in {rect:?}");
+        assert!(rect.height() >= 300.0, "{v:?} in {rect:?}");
+        assert!(
+            tour.top() >= rect.bottom() - 1.0,
+            "box {tour:?} under {rect:?}"
+        );
+        assert!(tour.right() <= 391.0, "box {tour:?} on the screen");
+        for (name, plot) in plot_frames(&h.ctx) {
+            assert!(!plot.intersects(tour), "box {tour:?} over {name} {plot:?}");
+        }
+    }
+    h.get_by_label("End tour").click();
+    h.run_steps(3);
+    assert_eq!(h.state().tour.step, None);
 }

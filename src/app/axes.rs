@@ -157,16 +157,26 @@ fn label_room(axis: egui_plot::Axis, t: &Tick) -> f64 {
 /// and no number at all. Then, unless [`MIN_TICKS`] of their labels show
 /// anyway (egui drops a crowded one alone), the first of the tick sets
 /// for 4, 3 and 2 ticks at least whose labels all show, or else the set
-/// with the most labels shown.
+/// with the most labels shown. An x label counts as shown with a quarter
+/// of a digit free beside it: egui draws labels that touch ("27002710…").
 fn legible_ticks(
     scale: Scale,
     axis: egui_plot::Axis,
     (lo, hi): (f64, f64),
     points_per_value: f64,
 ) -> Vec<Tick> {
+    let pad = match axis {
+        egui_plot::Axis::X => {
+            0.25 * LABEL_FONT.with(|c| c.get()).widths[..10]
+                .iter()
+                .copied()
+                .fold(0.0, f64::max)
+        }
+        egui_plot::Axis::Y => 0.0,
+    };
     let shown = |t: &[Tick]| {
         (0..t.len())
-            .filter(|&i| gap(t, i, hi - lo) * points_per_value >= label_room(axis, &t[i]))
+            .filter(|&i| gap(t, i, hi - lo) * points_per_value >= label_room(axis, &t[i]) + pad)
             .count()
     };
     let mut best = scale.ticks(lo, hi, MIN_TICKS);

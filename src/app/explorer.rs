@@ -78,6 +78,9 @@ pub struct Explorer {
     pub panel_rect: Rect,
     /// The band under the views kept for the tour's box.
     pub(super) tour_band: Rect,
+    /// The diagram's zoom from before the tour, which End tour gives back
+    /// with the settings (a step's parameters clear it).
+    tour_zoom: Option<Vec<super::bifurcation::Zoom>>,
     /// Frames left in which the side panel is held at its normal width.
     pub(super) panel_reset: u8,
     applied_style: Option<(f32, bool, bool)>,
@@ -127,6 +130,7 @@ impl Explorer {
             status_rect: Rect::NOTHING,
             panel_rect: Rect::NOTHING,
             tour_band: Rect::NOTHING,
+            tour_zoom: None,
             panel_reset: 0,
             applied_style: None,
             now: 0.0,
@@ -516,12 +520,29 @@ impl Explorer {
         for a in actions {
             self.apply(a, &ctx);
         }
-        self.tour.ui(&ctx, &mut self.settings, self.tour_band);
+        let narrow = super::style::is_narrow(&ctx);
+        self.tour
+            .ui(&ctx, &mut self.settings, self.tour_band, narrow);
+        self.keep_zoom_over_the_tour();
         #[cfg(not(target_arch = "wasm32"))]
         self.open_dialog_ui(&ctx);
         self.sync_jobs(&ctx);
         if self.stats.enabled {
             self.stats.overlay(&ctx);
+        }
+    }
+
+    /// The diagram's zoom kept when the tour starts (before this frame's
+    /// new parameters clear it) and given back when it ends.
+    fn keep_zoom_over_the_tour(&mut self) {
+        let zoom = &mut self.views.bifurcation.zoom;
+        match (self.tour.step, self.tour_zoom.is_some()) {
+            (Some(_), false) => self.tour_zoom = Some(zoom.clone()),
+            (None, true) => {
+                *zoom = self.tour_zoom.take().unwrap_or_default();
+                self.views.bifurcation.invalidate();
+            }
+            _ => {}
         }
     }
 

@@ -94,18 +94,21 @@ impl Explorer {
         let whole = ui.available_rect_before_wrap();
         // A phone shows one view (its chooser is the top bar's); the saved
         // layout is kept for a wider window.
-        let layout = match is_narrow(ui.ctx()) {
+        let narrow = is_narrow(ui.ctx());
+        let layout = match narrow {
             true => Layout::Tabs,
             false => self.settings.layout,
         };
         let (views, area) = match layout {
+            // The tour on a phone: the step's view its box chose.
+            Layout::Tabs if narrow && let Some(v) = self.tour.phone_view() => (vec![v], whole),
             Layout::Tabs => (vec![self.settings.tab], whole),
             // The tour lays out its step's few views itself, every one
             // shown: a step never hides its subject.
             Layout::Tiles if self.tour.step.is_some() => (self.settings.tiled.clone(), whole),
             Layout::Tiles => self.tiles_shown_ui(ui),
         };
-        let (rects, band) = self.tour.arrange(area, &views);
+        let (rects, band) = self.tour.arrange(area, &views, narrow);
         self.tour_band = band;
         // The tour's tiles fold their controls away: the step sets them,
         // and the plots need the room.

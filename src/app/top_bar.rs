@@ -27,21 +27,21 @@ impl Explorer {
             }
             validity_badge_ui(ui, &self.settings, narrow);
             ui.separator();
-            if !narrow
-                && ui
-                    .button("Tour")
-                    .on_hover_text("The paper's story in six steps, from creep to intermittency")
-                    .clicked()
+            if ui
+                .button("Tour")
+                .on_hover_text("The paper's story in six steps, from creep to intermittency")
+                .clicked()
             {
                 self.tour.go(0, &mut self.settings);
             }
             play_button_ui(ui, &mut self.play);
             share_button_ui(ui, out);
             ui.separator();
-            if narrow {
-                view_chooser_ui(ui, &mut self.settings.tab);
-            } else {
-                self.layout_ui(ui);
+            // On a phone in the tour, its box chooses the view.
+            match (narrow, self.tour.step) {
+                (true, None) => view_chooser_ui(ui, &mut self.settings.tab),
+                (true, Some(_)) => {}
+                (false, _) => self.layout_ui(ui),
             }
         });
     }

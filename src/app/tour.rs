@@ -9,7 +9,9 @@
 //! controls away (the step sets what they would), which leaves the plots
 //! room at a projector's 1024 × 768 with text ×1.5: the diagram keeps its
 //! λ strip, the time series its four plots. End tour gives back the
-//! parameters, views and layout from before it. The tour is plain data
+//! parameters, views and layout from before it. On a phone's narrow
+//! screen the step's views are shown one at a time, the whole width over
+//! the box, which chooses among them. The tour is plain data
 //! and settings changes: no thread, no file, so it runs as it is in a
 //! browser.
 
@@ -150,6 +152,8 @@ pub struct Tour {
     /// The user dragged the box away since the step began: it is left
     /// where they put it (until the next step).
     moved: bool,
+    /// On a phone, which of the step's views is shown (one at a time).
+    pub phone_view: usize,
 }
 
 /// The least width of a view beside another on the right, points.
@@ -184,6 +188,14 @@ impl Tour {
         STEPS[i].apply(s);
         self.step = Some(i);
         self.moved = false;
+        self.phone_view = 0;
+    }
+
+    /// The view a phone shows at this step (one at a time), if the tour
+    /// runs.
+    pub fn phone_view(&self) -> Option<ViewKind> {
+        let views = STEPS[self.step?].views;
+        views.get(self.phone_view).or(views.first()).copied()
     }
 
     /// Ends the tour: the parameters, views and layout from before it come
@@ -219,12 +231,28 @@ impl Tour {
     /// (the diagram and its strip, the time series' four plots); the
     /// others share a row on the right, over the band, or where the row
     /// would leave each less than [`LEAST_WIDTH`] (the side panel shown at
-    /// 1024 points) half the width, stacked.
-    pub fn arrange(&self, whole: egui::Rect, views: &[ViewKind]) -> (Vec<egui::Rect>, egui::Rect) {
+    /// 1024 points) half the width, stacked. On a phone (`narrow`) the
+    /// one view shown takes the whole width over a band as wide.
+    pub fn arrange(
+        &self,
+        whole: egui::Rect,
+        views: &[ViewKind],
+        narrow: bool,
+    ) -> (Vec<egui::Rect>, egui::Rect) {
         if self.step.is_none() {
             return (tile_rects(whole, views.len()), egui::Rect::NOTHING);
         }
         let gap = 6.0;
+        if narrow {
+            let band = self.band().min(whole.height() * 0.6);
+            let free = egui::Rect::from_min_max(
+                egui::pos2(whole.left(), whole.bottom() - band),
+                whole.max,
+            );
+            let view =
+                egui::Rect::from_min_max(whole.min, egui::pos2(whole.right(), free.top() - gap));
+            return (vec![view; views.len().min(1)], free);
+        }
         let others = views.len().saturating_sub(1);
         let in_a_row = (whole.width() - gap) * 0.6 >= others as f32 * (LEAST_WIDTH + gap);
         let share = if in_a_row { 0.4 } else { 0.5 };
@@ -247,8 +275,9 @@ impl Tour {
 
     /// The step's box, in the band under the views (`band`: that band),
     /// with Previous, Next and End tour ("Previous", not "Back": the
-    /// diagram's zoom has a Back button).
-    pub fn ui(&mut self, ctx: &Context, s: &mut Settings, band: egui::Rect) {
+    /// diagram's zoom has a Back button). On a phone (`narrow`) the box
+    /// also chooses which of the step's views is shown.
+    pub fn ui(&mut self, ctx: &Context, s: &mut Settings, band: egui::Rect, narrow: bool) {
         let Some(i) = self.step else {
             self.box_rect = None;
             return;
@@ -282,6 +311,14 @@ impl Tour {
         }
         let shown = window.show(ctx, |ui| {
             ui.label(step.text);
+            if narrow {
+                ui.horizontal_wrapped(|ui| {
+                    ui.label("show:");
+                    for (k, v) in step.views.iter().enumerate() {
+                        ui.selectable_value(&mut self.phone_view, k, v.tab_title());
+                    }
+                });
+            }
             // The buttons and, beside them where there is room, the keys.
             ui.horizontal_wrapped(|ui| {
                 if ui
@@ -301,12 +338,14 @@ impl Tour {
                 {
                     go = Some(None);
                 }
-                ui.label(
-                    RichText::new(
-                        "keys: left, right: steps · up, down: θν · drag the title to move",
-                    )
-                    .weak(),
-                );
+                if !narrow {
+                    ui.label(
+                        RichText::new(
+                            "keys: left, right: steps · up, down: θν · drag the title to move",
+                        )
+                        .weak(),
+                    );
+                }
             });
         });
         self.box_rect = shown.map(|r| r.response.rect);
@@ -416,7 +455,7 @@ mod tests {
             egui::Pos2::ZERO,
             egui::vec2(580.0, 200.0),
         ));
-        let (rects, band) = tour.arrange(whole, STEPS[1].views);
+        let (rects, band) = tour.arrange(whole, STEPS[1].views, false);
         assert_eq!(rects.len(), 3);
         for (i, r) in rects.iter().enumerate() {
             assert!(whole.contains_rect(*r), "{r:?}");
