@@ -183,8 +183,21 @@ fn the_p4_of_a_bubble_ends_where_it_merges_with_no_fold_before() {
     // P4's m → +1 like 20.5·(b − θν), so m's error put m = +1 1.3e-8
     // before the tip: a "fold" was reported there.
     let (o, rows, pts) = continue_run(&[
-        "--kappa", "7", "--gamma", "4", "--nu", "1e-3", "--param", "theta-nu", "--from", "0.8",
-        "--to", "1.6", "--period", "1", "--cascade",
+        "--kappa",
+        "7",
+        "--gamma",
+        "4",
+        "--nu",
+        "1e-3",
+        "--param",
+        "theta-nu",
+        "--from",
+        "0.8",
+        "--to",
+        "1.6",
+        "--period",
+        "1",
+        "--cascade",
     ]);
     let err = stderr(&o);
     assert!(pts.iter().all(|r| r[0] != "fold"), "{err}");

@@ -218,11 +218,11 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
         // the pitchfork it was born in is that tip, seen through m's error
         // (κ = 7, γ = 4: the P4 reached m = +1 1.3e-8 before the P2's
         // doubling where it merges, and was reported as a fold there).
-        if let Some(fold) = found.iter().find(|f| f.0 == SpecialKind::Fold) {
-            if let Some(tip) = self.fold_at_tip(&n, &fold.1).await {
-                self.record_tip(tip);
-                return Step::Stop(Stop::Merged);
-            }
+        if let Some(fold) = found.iter().find(|f| f.0 == SpecialKind::Fold)
+            && let Some(tip) = self.fold_at_tip(&n, &fold.1).await
+        {
+            self.record_tip(tip);
+            return Step::Stop(Stop::Merged);
         }
         let mut pd = false;
         for (kind, p, note, samples) in &found {
