@@ -6,7 +6,9 @@
 //! bifurcations). Now the branch ends at the fixed point's doubling,
 //! located on the fixed point, with no fold and no P2 row whose points
 //! coincide; the doubling is checked against a bisection of the fixed
-//! point's multiplier from `solve_cycle` alone at tol 1e-14.
+//! point's multiplier from `solve_cycle` alone at tol 1e-14. The same
+//! for a P4 that merges back into its P2 (κ = 7, γ = 4): it ends at the
+//! tip with no fold reported just before it.
 #![allow(clippy::unwrap_used)]
 
 use crate::cli_support;
@@ -169,5 +171,44 @@ fn find_bifurcations_in_kappa_lists_the_doubling_the_p2_is_born_in() {
             assert!(branch.points.iter().all(|p| p.minimal_period == 2));
             assert!(branch.points.iter().all(|p| p.lambda < b));
         }
+    }
+}
+
+#[test]
+fn the_p4_of_a_bubble_ends_where_it_merges_with_no_fold_before() {
+    // κ = 7, γ = 4: the P4 born at the P2's first doubling (θν 1.1144538)
+    // merges back into the P2 at that one's second doubling, 1.2942936
+    // (tools/reference_map.py's P2 multiplier passes −1 there, and its P4
+    // half-width is 0.79·√(b − θν) at 5.7e-7 below it). Near that tip the
+    // P4's m → +1 like 20.5·(b − θν), so m's error put m = +1 1.3e-8
+    // before the tip: a "fold" was reported there.
+    let (o, rows, pts) = continue_run(&[
+        "--kappa",
+        "7",
+        "--gamma",
+        "4",
+        "--nu",
+        "1e-3",
+        "--param",
+        "theta-nu",
+        "--from",
+        "0.8",
+        "--to",
+        "1.6",
+        "--period",
+        "1",
+        "--cascade",
+    ]);
+    let err = stderr(&o);
+    assert!(pts.iter().all(|r| r[0] != "fold"), "{err}");
+    let end = pts.last().unwrap();
+    assert_eq!((end[0].as_str(), end[1].as_str()), ("end", "4"), "{err}");
+    let pd: Vec<_> = pts.iter().filter(|r| r[0] == "PD" && r[1] == "2").collect();
+    assert_eq!(pd.len(), 2, "{err}");
+    for at in [num(&pd[1][3]), num(&end[3])] {
+        assert!((at - 1.2942936).abs() < 1e-6, "{at}\n{err}");
+    }
+    for r in rows.iter().filter(|r| r[1] == "4") {
+        assert!((num(&r[2]) - num(&r[4])).abs() > 1e-6, "{r:?}\n{err}");
     }
 }

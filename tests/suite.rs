@@ -146,6 +146,8 @@ mod phase_multistable;
 mod phase_picture;
 #[path = "ranges_run.rs"]
 mod ranges_run;
+#[path = "reference_map.rs"]
+mod reference_map;
 #[path = "robustness.rs"]
 mod robustness;
 #[path = "setup_docs.rs"]

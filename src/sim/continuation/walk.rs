@@ -55,6 +55,11 @@ const TIP_TRIES: u32 = 6;
 /// The most small jumps of f^p a branch steps over.
 const MAX_LEAPS: u32 = 8;
 
+/// The error of a multiplier at the solver's tolerance `tol`, as a
+/// multiple of it: at tol 1e-10 m is off by up to ~6e-7 at κ = 19,
+/// γ = 10 (issue 52 item 5), so 1e5·tol leaves a margin of 15.
+const M_ERR_PER_TOL: f64 = 1e5;
+
 /// A special point located on a step: its kind, the point, a note, and
 /// (λ, m) at the branch points its location corrected.
 type Found = (SpecialKind, Pt, String, Vec<(f64, f64)>);
@@ -209,6 +214,16 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             Err(()) => return Step::Retry,
         };
         let found = self.detect(&n).await;
+        // A fold on an even-period branch within m's error of the tip of
+        // the pitchfork it was born in is that tip, seen through m's error
+        // (κ = 7, γ = 4: the P4 reached m = +1 1.3e-8 before the P2's
+        // doubling where it merges, and was reported as a fold there).
+        if let Some(fold) = found.iter().find(|f| f.0 == SpecialKind::Fold)
+            && let Some(tip) = self.fold_at_tip(&n, &fold.1).await
+        {
+            self.record_tip(tip);
+            return Step::Stop(Stop::Merged);
+        }
         let mut pd = false;
         for (kind, p, note, samples) in &found {
             let mut sp = self.ctx.special(*kind, p, note.clone());
@@ -253,30 +268,64 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     /// `n`: the half-period cycle's doubling located there and recorded
     /// (see [`super::tip`]).
     async fn end_at_tip(&mut self, n: &Pt) -> Stop {
-        let prev = self
-            .points
-            .len()
-            .checked_sub(2)
-            .map(|i| self.points[i].clone());
+        let prev = self.prev_point();
         let cur = self.cur.clone();
         if let Some(pd) = super::tip::locate_tip(&mut self.ctx, &cur, prev.as_ref(), n).await {
-            (self.on_special)(&pd);
-            let end = SpecialPoint {
-                kind: SpecialKind::End,
-                period: self.ctx.prob.period,
-                multiplier: pd.multiplier * pd.multiplier,
-                note: format!(
-                    "{}{} cycle it is born from, at its doubling",
-                    super::branch::MERGED_NOTE,
-                    pd.period
-                ),
-                flip: None,
-                ..pd.clone()
-            };
-            self.special.push(pd);
-            self.tip = Some(end);
+            self.record_tip(pd);
         }
         Stop::Merged
+    }
+
+    /// The point before the current one, if any.
+    fn prev_point(&self) -> Option<BranchPoint> {
+        self.points
+            .len()
+            .checked_sub(2)
+            .map(|i| self.points[i].clone())
+    }
+
+    /// Records `pd`, the half-period cycle's doubling at the tip of the
+    /// branch's pitchfork, and the branch's end there.
+    fn record_tip(&mut self, pd: SpecialPoint) {
+        (self.on_special)(&pd);
+        let end = SpecialPoint {
+            kind: SpecialKind::End,
+            period: self.ctx.prob.period,
+            multiplier: pd.multiplier * pd.multiplier,
+            note: format!(
+                "{}{} cycle it is born from, at its doubling",
+                super::branch::MERGED_NOTE,
+                pd.period
+            ),
+            flip: None,
+            ..pd.clone()
+        };
+        self.special.push(pd);
+        self.tip = Some(end);
+    }
+
+    /// For a fold located at `fold` on the step to `n` of an even-period
+    /// branch: the half-period cycle's doubling at the tip of the branch's
+    /// pitchfork, when there is one within m's error of the fold. Near the
+    /// tip m → +1 like (b − λ)·|dm/dλ|, so an error δm in m moves m = +1
+    /// by δm/|dm/dλ| off the tip; a fold no further than that from the
+    /// doubling is the tip. `None` for odd periods, where no doubling is
+    /// found, or where it is further (a fold of the cycle's own).
+    async fn fold_at_tip(&mut self, n: &Pt, fold: &Pt) -> Option<SpecialPoint> {
+        if !self.ctx.prob.period.is_multiple_of(2) {
+            return None;
+        }
+        let scale = self.scale();
+        let cur = self.cur.clone();
+        let dl = n.lambda(scale) - cur.lambda(scale);
+        let slope = ((n.e.multiplier - cur.e.multiplier) / dl).abs();
+        let near = M_ERR_PER_TOL * self.tol / slope;
+        if !near.is_finite() {
+            return None;
+        }
+        let prev = self.prev_point();
+        let pd = super::tip::locate_tip(&mut self.ctx, &cur, prev.as_ref(), n).await?;
+        ((pd.lambda - fold.lambda(scale)).abs() <= near).then_some(pd)
     }
 
     /// `None` when the corrector fails, lands more than half a step from
