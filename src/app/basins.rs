@@ -15,7 +15,7 @@ use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{MAX_COLUMNS, MIN_COLUMNS, Settings, ViewKind, is_usable_range};
 use super::style;
 use super::view::{Action, View};
-use crate::jobs::basins::identity::Identities;
+use crate::sim::attractors::tracks::Identities;
 use crate::sim::attractors::{Attractor, Basin, Verdict};
 
 /// The basin boundary's grey.
@@ -68,9 +68,10 @@ pub fn hex(c: Color32) -> String {
 }
 
 /// What a numbered name means, under the legend when one is drawn.
-pub const SECOND_NAME: &str = "A numbered name, as P2 (2), is a second attractor of that \
-    kind, not the first one continued: it has a basin of its own, or it appears after the \
-    first one ended.";
+pub const SECOND_NAME: &str = "A name is an attractor followed along θν, its periods in \
+    order (P2 → P1: a P2 that halves into a fixed point). A numbered one, as P2 (2), is \
+    a second attractor of that kind, not the first one continued: neither lies in the \
+    other's basin.";
 
 /// The view's own state: the column clicked and a box being drawn.
 #[derive(Default)]
@@ -375,7 +376,11 @@ fn legend_ui(ui: &mut Ui, ids: &Identities) {
         }
         style::legend_swatch(ui, BOUNDARY, "basin boundary");
     });
-    if ids.tracks.iter().any(|t| t.label.ends_with(')')) {
+    if ids
+        .tracks
+        .iter()
+        .any(|t| t.label.ends_with(')') || t.periods.len() > 1)
+    {
         ui.label(RichText::new(SECOND_NAME).weak().small());
     }
 }

@@ -226,6 +226,13 @@ impl Explorer {
             self.web.set_title(super::status::title(&self.jobs));
             let views = svg_render::shown_views(&self.settings);
             self.web.count_filled(&self.jobs, &views, self.play.on);
+            let step = self
+                .tour
+                .step
+                .map(|i| format!("{}/{}", i + 1, super::tour::STEPS.len()));
+            self.web.publish("data-tour", step.unwrap_or_default());
+            let theta_nu = format!("{:.6}", self.settings.params.theta_nu);
+            self.web.publish("data-theta-nu", theta_nu);
         }
         self.play_step(ctx);
         self.sync_jobs(ctx);

@@ -300,9 +300,27 @@ pub struct WebState {
     pub filled: std::collections::BTreeMap<&'static str, (usize, usize)>,
     /// Whether θν played at the last frame.
     pub playing: bool,
+    /// The document's attributes as last published ([`WebState::publish`]).
+    published: std::collections::BTreeMap<&'static str, String>,
 }
 
 impl WebState {
+    /// Sets the document's attribute `name` to `value` if it changed: what
+    /// the page's check reads of the window's state (the tour's step as
+    /// `data-tour` "2/6", θν as `data-theta-nu`).
+    pub fn publish(&mut self, name: &'static str, value: String) {
+        if self.published.get(name) == Some(&value) {
+            return;
+        }
+        if let Some(root) = web_sys::window()
+            .and_then(|w| w.document())
+            .and_then(|d| d.document_element())
+        {
+            let _ = root.set_attribute(name, &value);
+        }
+        self.published.insert(name, value);
+    }
+
     /// Counts one frame of play for each view shown (a play that starts
     /// starts the count afresh), and publishes the shares.
     pub fn count_filled(&mut self, jobs: &super::jobs::Jobs, views: &[ViewKind], playing: bool) {

@@ -4,6 +4,7 @@
 //! one row per attractor of each column, then the column's basin
 //! boundary.
 
+use crate::sim::attractors::tracks::kind_name;
 use std::fmt::Write as _;
 
 use super::common::{describe_sweep, with_provenance};
@@ -62,7 +63,7 @@ fn field(s: &str) -> String {
     }
 }
 
-/// One row per attractor (its track's number and label), then the
+/// One row per attractor (its track's number and its kind here), then the
 /// boundary's (`attractor` empty, label `boundary`); a failed column is
 /// one row saying why.
 fn rows(d: &BasinsData, out: &mut String) {
@@ -78,16 +79,10 @@ fn rows(d: &BasinsData, out: &mut String) {
             }
         };
         for (a, at) in found.attractors.iter().enumerate() {
-            let (id, label) = d
-                .ids
-                .track(i, a)
-                .map_or((String::new(), String::new()), |t| {
-                    (t.id.to_string(), t.label.clone())
-                });
-            let colour = d
-                .ids
-                .track(i, a)
-                .map_or(String::new(), |t| hex(track_color(t.id)));
+            let track = d.ids.track(i, a);
+            let id = track.map_or(String::new(), |t| t.id.to_string());
+            let colour = track.map_or(String::new(), |t| hex(track_color(t.id)));
+            let label = kind_name(at.period, &at.verdict);
             let verdict = match &at.verdict {
                 Verdict::Proved => "proved".to_string(),
                 Verdict::CycleInSet => "cycle in set".to_string(),

@@ -11,8 +11,6 @@
 //! [`coarse_first`]), so a diagram sharpens evenly while it fills in. A
 //! column that fails is sent with its error; the others go on.
 
-pub mod identity;
-
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 

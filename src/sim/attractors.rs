@@ -27,6 +27,7 @@ mod classify;
 mod density;
 mod graph;
 mod search;
+pub mod tracks;
 mod verdict;
 
 pub use arc::{ArcBuild, ArcError, ArcMap};

@@ -286,7 +286,6 @@ pub fn phase_cell(
 /// counts attractors, the exit arc's cell graph.
 pub struct CellSteps {
     cell: PhaseCell,
-    params: Params,
     count: bool,
     stage: Stage,
     /// The cell graph's outcome, when the cell counted attractors.
@@ -321,7 +320,6 @@ impl CellSteps {
         };
         CellSteps {
             cell,
-            params,
             count: opts.seeds > 0,
             stage,
             found: None,
@@ -358,9 +356,7 @@ impl CellSteps {
             Stage::Tell(mut run) => match run.advance(cancel) {
                 None => self.stage = Stage::Tell(run),
                 Some(found) => {
-                    let params = self.params;
-                    self.found =
-                        cells::tell(&mut self.cell, found.map(|f| (f, params)), self.count);
+                    self.found = cells::tell(&mut self.cell, found, self.count);
                 }
             },
             Stage::Done => {}

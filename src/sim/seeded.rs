@@ -9,10 +9,10 @@
 //! the last iterates of the orbit that told a chaotic set). Attractors the
 //! graph leaves undecided are neither drawn nor counted.
 
-use super::attractors::{Attractor, AttractorError, CellOptions, Found, Verdict, attractors};
+use super::attractors::{Attractor, AttractorError, CellOptions, Verdict, attractors};
 use super::{Column, SimError, Simulator};
 use crate::integrate::SolverSettings;
-use crate::model::{Params, exit_arc, wrap_angle};
+use crate::model::{Params, wrap_angle};
 
 /// The most `--seeds` may be (any N > 0 turns the cell graph on; the
 /// number is kept so that old command lines and sessions still run).
@@ -74,7 +74,7 @@ pub fn seeded_column(
         }
     };
     col.rhs_evals = found.map_evaluations;
-    let mine = basin_of(&found, params, followed.theta_last);
+    let mine = found.basin_of(followed.theta_last);
     let others = found
         .attractors
         .iter()
@@ -88,17 +88,6 @@ pub fn seeded_column(
         col.count += 1;
     }
     Ok(col)
-}
-
-/// The index of the attractor whose basin holds the onset θ, if one does.
-fn basin_of(found: &Found, params: Params, theta: f64) -> Option<usize> {
-    let psi = exit_arc(params.kappa, params.theta_nu).0;
-    let t = psi + wrap_angle(theta - psi);
-    found
-        .basins
-        .iter()
-        .find(|b| b.from <= t && t <= b.to)?
-        .attractor
 }
 
 /// An attractor's points as a diagram draws them: at most `keep`, in

@@ -10,9 +10,9 @@ use super::{JobKind, Jobs, Slot, SyncOutcome, solver};
 use crate::app::settings::{MAX_COLUMNS, MIN_COLUMNS};
 use crate::app::settings::{Settings, ViewKind};
 use crate::integrate::SolverSettings;
-use crate::jobs::basins::identity::{Identities, identify};
 use crate::jobs::{Axis, BasinColumn, BasinsSpec, MapBasinsSpec, Spec};
 use crate::model::Params;
+use crate::sim::attractors::tracks::{Identities, identify};
 use crate::sim::attractors::{CellOptions, Found};
 use crate::worker::Command;
 

@@ -7,7 +7,6 @@
 //! orbit said.
 
 use super::{CellClass, PhaseCell};
-use crate::model::{Params, exit_arc, wrap_angle};
 use crate::sim::SimError;
 use crate::sim::attractors::{AttractorError, Found, Verdict};
 
@@ -18,10 +17,10 @@ use crate::sim::attractors::{AttractorError, Found, Verdict};
 /// found, when counted.
 pub(super) fn tell(
     cell: &mut PhaseCell,
-    found: Result<(Found, Params), AttractorError>,
+    found: Result<Found, AttractorError>,
     count: bool,
 ) -> Option<Found> {
-    let (found, params) = match found {
+    let found = match found {
         Ok(f) => f,
         Err(AttractorError::Sim(SimError::Cancelled)) => {
             cell.class = CellClass::Failed;
@@ -55,7 +54,9 @@ pub(super) fn tell(
     let graph_cycle = |a: &crate::sim::attractors::Attractor| {
         matches!(a.verdict, Verdict::Proved | Verdict::CycleInSet)
     };
-    if let Some(a) = basin_of(&found, params, cell.theta_last)
+    if let Some(a) = found
+        .basin_of(cell.theta_last)
+        .and_then(|a| found.attractors.get(a))
         && decided(&a.verdict)
         && (cell.class == CellClass::Undecided || (count && graph_cycle(a)))
     {
@@ -67,16 +68,4 @@ pub(super) fn tell(
         cell.lyapunov_stderr = a.lyapunov_stderr.filter(|_| a.period.is_none());
     }
     count.then_some(found)
-}
-
-/// The attractor whose basin holds the onset θ, if one basin does.
-fn basin_of(
-    found: &Found,
-    params: Params,
-    theta: f64,
-) -> Option<&crate::sim::attractors::Attractor> {
-    let psi = exit_arc(params.kappa, params.theta_nu).0;
-    let t = psi + wrap_angle(theta - psi);
-    let b = found.basins.iter().find(|b| b.from <= t && t <= b.to)?;
-    found.attractors.get(b.attractor?)
 }
