@@ -21,7 +21,8 @@
 //      frames (the page counts them);
 //   6. at a phone's 390×844 the diagram fills the screen and Share, in
 //      the top bar, writes the state into the address; a finger dragged
-//      across it logs no console error;
+//      across it logs no console error; Tour opens the tour with its view
+//      drawn; θν is set to 1.2961 (the P3 window) by touch alone;
 //   7. Find bifurcations (Fig. 3b) and Boundaries (Fig. 4) keep the page
 //      drawing: no frame of the page's own work over 100 ms while they run;
 //   8. the console logs no error and no page error occurs.
@@ -226,13 +227,34 @@ function darkIn(png, { x0, x1, y0, y1 }) {
   return n;
 }
 
-/// Where the phone layout's Share button is (390×844: the top bar, after
-/// Controls and Play θν).
+/// Inked pixels inside a box given as fractions of the picture: dark or
+/// strongly coloured (a plot's lines), not the light grounds and shading.
+function inkIn(png, { x0, x1, y0, y1 }) {
+  const { w, h, bpp, px } = decodePng(png);
+  let n = 0;
+  for (let y = Math.round(h * y0); y < Math.round(h * y1); y++) {
+    for (let x = Math.round(w * x0); x < Math.round(w * x1); x++) {
+      const o = (y * w + x) * bpp;
+      if (Math.min(px[o], px[o + 1], px[o + 2]) < 110) n++;
+    }
+  }
+  return n;
+}
+
 /// Find bifurcations, the diagram's first button (1280×800, Tabs).
 const FIND_BIFURCATIONS = [391, 98];
 /// Boundaries, the phase diagram's second button (1280×800, Tabs).
 const BOUNDARIES = [453, 75];
-const PHONE_SHARE = [183, 13];
+/// The phone's Share button (390×844: the top bar, after Controls, Tour
+/// and Play θν).
+const PHONE_SHARE = [234, 13];
+/// The phone's Tour button (the top bar, after Controls) and Controls.
+const PHONE_TOUR = [118, 13];
+const PHONE_CONTROLS = [40, 13];
+/// In the phone's drawer, the θν row's − and + and its step sizes.
+const PHONE_THETA_MINUS = [42, 164];
+const PHONE_THETA_PLUS = [84, 164];
+const PHONE_STEPS = { 0.01: [160, 164], 0.001: [213, 164], 0.0001: [274, 164] };
 
 // 1, 2: the paper's Fig. 3b diagram from a link, traced: the page's own
 // work per frame (its animation-frame callbacks: the 12 ms compute slice,
@@ -462,6 +484,47 @@ const dragErrors = errors.filter((e) => e.includes("preventDefault"));
 if (dragErrors.length) fail(`${q4} at 390×844: a drag logged ${dragErrors.length} console error(s): ${dragErrors[0]}`);
 console.log(`web test: 390×844 phone: the diagram fills the screen (${phoneDark} dark pixels); Share in the top bar writes ?${new URL(phone.url()).searchParams}`);
 await phone.close();
+
+// 6b: the phone has the tour: Tour (top bar) opens step 1 with its view
+// drawn over the box (the page publishes the step as data-tour).
+const attr = (p, name) => p.evaluate((n) => document.documentElement.getAttribute(n), name);
+const tourPhone = await open(q4, async () => {}, { viewport: { width: 390, height: 844 }, isMobile: true, hasTouch: true });
+await filled(tourPhone, `${q4} at 390×844`);
+let tourStep = null;
+for (let attempt = 0; attempt < 4 && tourStep !== "1/6"; attempt++) {
+  await tourPhone.touchscreen.tap(...PHONE_TOUR);
+  await tourPhone.waitForTimeout(1500);
+  tourStep = await attr(tourPhone, "data-tour");
+}
+if (tourStep !== "1/6") fail(`${q4} at 390×844: Tour (at ${PHONE_TOUR}) opened no tour (data-tour '${tourStep}')`);
+await tourPhone.waitForTimeout(6000);
+const tourInk = inkIn(await tourPhone.screenshot(), { x0: 0.2, x1: 0.97, y0: 0.12, y1: 0.55 });
+if (tourInk < 3000) fail(`${q4} at 390×844: the tour's first view is empty above its box (${tourInk} inked pixels)`);
+console.log(`web test: 390×844 phone: Tour opens step ${tourStep}, its view drawn above the box (${tourInk} inked pixels)`);
+await tourPhone.close();
+
+// 6c: θν set to 1.2961 (the P3 window, 0.01 wide) by touch alone: the
+// drawer's − / + with steps of 0.01, 0.001 and 0.0001, tapped until the
+// page's θν (data-theta-nu) reads it.
+const fine = await open(q4, async () => {}, { viewport: { width: 390, height: 844 }, isMobile: true, hasTouch: true });
+await filled(fine, `${q4} at 390×844`);
+await fine.touchscreen.tap(...PHONE_CONTROLS);
+await fine.waitForTimeout(800);
+const target = 1.2961;
+let thetaNu = Number(await attr(fine, "data-theta-nu"));
+let taps = 0;
+for (; taps < 120 && Math.abs(thetaNu - target) > 5e-5; taps++) {
+  const diff = target - thetaNu;
+  const size = Math.abs(diff) >= 0.0095 ? 0.01 : Math.abs(diff) >= 0.00095 ? 0.001 : 0.0001;
+  await fine.touchscreen.tap(...PHONE_STEPS[size]);
+  await fine.waitForTimeout(150);
+  await fine.touchscreen.tap(...(diff > 0 ? PHONE_THETA_PLUS : PHONE_THETA_MINUS));
+  await fine.waitForTimeout(250);
+  thetaNu = Number(await attr(fine, "data-theta-nu"));
+}
+if (Math.abs(thetaNu - target) > 5e-5) fail(`${q4} at 390×844: θν reached ${thetaNu} after ${taps} taps of the drawer's − / + (want ${target})`);
+console.log(`web test: 390×844 phone: θν set to ${thetaNu} by touch alone (${taps} step-and-tap pairs in the drawer)`);
+await fine.close();
 
 // 7: Find bifurcations on Fig. 3b (the branch, the cascade to P16 and its
 // special points) and Boundaries on Fig. 4 (the FP → P2 and P2 → P4
