@@ -311,3 +311,42 @@ fn the_phone_has_the_tour_one_view_at_a_time_with_the_box_below() {
     h.run_steps(3);
     assert_eq!(h.state().tour.step, None);
 }
+
+/// A toast (here a session's refused value, at a phone's width and at the
+/// desktop's) is painted in the status bar, over no plot, and the views
+/// keep their rectangles while it shows.
+#[test]
+fn a_toast_is_in_the_status_bar_over_no_plot() {
+    for size in [(390.0, 844.0), (1280.0, 800.0)] {
+        let rec = Recorder::new();
+        let mut h = at(size, Settings::default(), &rec);
+        let before: Vec<_> = ViewKind::ALL
+            .into_iter()
+            .filter_map(|v| h.state().view_rect(v))
+            .collect();
+        let text = "session s.json: invalid parameters (defaults used)";
+        h.state_mut().shots.toast(text.into(), true, 0.0);
+        h.run_steps(3);
+        let after: Vec<_> = ViewKind::ALL
+            .into_iter()
+            .filter_map(|v| h.state().view_rect(v))
+            .collect();
+        assert_eq!(before, after, "at {size:?} the views moved");
+        let bar = h.state().status_rect;
+        let shown: Vec<egui::Rect> = window::painted_texts(&h)
+            .into_iter()
+            .filter(|(t, _)| t.starts_with("session s.json"))
+            .map(|(_, r)| r)
+            .collect();
+        assert!(!shown.is_empty(), "at {size:?} the toast is not painted");
+        for r in shown {
+            assert!(
+                bar.expand(1.0).contains_rect(r),
+                "at {size:?}: {r:?} outside {bar:?}"
+            );
+            for (name, plot) in plot_frames(&h.ctx) {
+                assert!(!plot.intersects(r), "at {size:?} over {name}");
+            }
+        }
+    }
+}

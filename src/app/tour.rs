@@ -319,34 +319,7 @@ impl Tour {
                     }
                 });
             }
-            // The buttons and, beside them where there is room, the keys.
-            ui.horizontal_wrapped(|ui| {
-                if ui
-                    .add_enabled(i > 0, egui::Button::new("Previous"))
-                    .clicked()
-                {
-                    go = Some(Some(i - 1));
-                }
-                let last = i + 1 == STEPS.len();
-                if ui.add_enabled(!last, egui::Button::new("Next")).clicked() {
-                    go = Some(Some(i + 1));
-                }
-                if ui
-                    .button("End tour")
-                    .on_hover_text("Back to the parameters, views and layout from before the tour")
-                    .clicked()
-                {
-                    go = Some(None);
-                }
-                if !narrow {
-                    ui.label(
-                        RichText::new(
-                            "keys: left, right: steps · up, down: θν · drag the title to move",
-                        )
-                        .weak(),
-                    );
-                }
-            });
+            go = buttons_ui(ui, i, narrow);
         });
         self.box_rect = shown.map(|r| r.response.rect);
         // Dragged by its title: not where it was put.
@@ -359,6 +332,38 @@ impl Tour {
             None => {}
         }
     }
+}
+
+/// Previous, Next and End tour at step `i` and, beside them on a wide
+/// screen, the keys; where a click goes: a step, or `None` to end.
+fn buttons_ui(ui: &mut egui::Ui, i: usize, narrow: bool) -> Option<Option<usize>> {
+    let mut go = None;
+    ui.horizontal_wrapped(|ui| {
+        if ui
+            .add_enabled(i > 0, egui::Button::new("Previous"))
+            .clicked()
+        {
+            go = Some(Some(i - 1));
+        }
+        let last = i + 1 == STEPS.len();
+        if ui.add_enabled(!last, egui::Button::new("Next")).clicked() {
+            go = Some(Some(i + 1));
+        }
+        if ui
+            .button("End tour")
+            .on_hover_text("Back to the parameters, views and layout from before the tour")
+            .clicked()
+        {
+            go = Some(None);
+        }
+        if !narrow {
+            ui.label(
+                RichText::new("keys: left, right: steps · up, down: θν · drag the title to move")
+                    .weak(),
+            );
+        }
+    });
+    go
 }
 
 #[cfg(test)]
