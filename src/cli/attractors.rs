@@ -15,6 +15,7 @@ use super::values::{count_between, parse_count, parse_number, short};
 use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
 use crate::sim::Simulator;
 use crate::sim::attractors::{CellOptions, Found, GRAPH_RTOL, Verdict};
+use crate::sim::continuation::ContParam;
 
 /// The most cells.
 pub const MAX_CELLS: usize = 1 << 22;
@@ -102,7 +103,8 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     let spec = MapBasinsSpec(BasinsSpec {
         params,
         settings,
-        theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(params.theta_nu, params.theta_nu, 1),
         cells,
     });
     let updates = run_job("attractors", spec.into(), 1, &progress, &limits)?;
