@@ -147,7 +147,13 @@ pub(super) fn run(args: &AttractorsArgs) -> Result<(), CliError> {
         cells: plan.cells,
     };
     let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let updates = run_job("attractors", Spec::Basins(spec), threads, &progress, &limits)?;
+    let updates = run_job(
+        "attractors",
+        Spec::Basins(spec),
+        threads,
+        &progress,
+        &limits,
+    )?;
     let mut cols: Vec<Option<BasinColumn>> = vec![None; plan.columns];
     for u in updates {
         if let Update::Basins { column, .. } = u
@@ -337,7 +343,11 @@ impl<'a> Report<'a> {
             )
             .ok();
         }
-        if self.spans.iter().any(|sp| !sp.start.at_range || !sp.end.at_range) {
+        if self
+            .spans
+            .iter()
+            .any(|sp| !sp.start.at_range || !sp.end.at_range)
+        {
             writeln!(
                 s,
                 "starts and ends inside the range are not located yet: each lies between the two columns named (its cause, a fold, flip, border collision or crisis, is a later step)"
@@ -454,7 +464,10 @@ impl<'a> Report<'a> {
                 continue;
             };
             for (a, at) in found.attractors.iter().enumerate() {
-                let id = self.ids.track(i, a).map_or(String::new(), |t| t.id.to_string());
+                let id = self
+                    .ids
+                    .track(i, a)
+                    .map_or(String::new(), |t| t.id.to_string());
                 let period = at.period.map_or(String::new(), |p| p.to_string());
                 writeln!(
                     out,

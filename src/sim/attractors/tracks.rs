@@ -145,7 +145,8 @@ fn bands(a: &Attractor) -> usize {
 /// cascade into two-band chaos, not the P3 a fold opens in one-band
 /// chaos); chaos into chaos (band merging, widening).
 fn may_continue(a: &Attractor, b: &Attractor) -> bool {
-    let cascade = |p: usize, k: usize| k > 0 && p % k == 0 && (p / k).is_power_of_two() && p > k;
+    let cascade =
+        |p: usize, k: usize| k > 0 && p.is_multiple_of(k) && (p / k).is_power_of_two() && p > k;
     match (a.period, b.period) {
         (Some(p), Some(q)) => q == p || q == 2 * p || 2 * q == p,
         (Some(p), None) => cascade(p, bands(b)),
