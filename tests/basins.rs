@@ -29,7 +29,8 @@ fn spec(from: f64, to: f64, steps: usize) -> BasinsSpec {
             omega: 50.0,
         },
         settings: SolverSettings::adaptive(Method::Dop853, 1e-10),
-        theta_nu: Axis::new(from, to, steps),
+        param: oneblock::sim::continuation::ContParam::ThetaNu,
+        axis: Axis::new(from, to, steps),
         cells: CellOptions::column(),
     }
 }

@@ -514,7 +514,8 @@ fn a_basins_column_paused_after_every_piece_is_the_same() {
     let spec = BasinsSpec {
         params: preset("fig3b"),
         settings: SolverSettings::adaptive(Method::Dop853, 1e-10),
-        theta_nu: Axis::new(1.1, 1.4, 2),
+        param: oneblock::sim::continuation::ContParam::ThetaNu,
+        axis: Axis::new(1.1, 1.4, 2),
         cells: oneblock::sim::attractors::CellOptions::column(),
     };
     let r = same_on_both_hosts(Command::run(8, spec.clone()));

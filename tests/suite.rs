@@ -18,6 +18,8 @@ mod common;
 #[path = "common/window.rs"]
 mod window;
 
+#[path = "attractor_tracks.rs"]
+mod attractor_tracks;
 #[path = "attractors.rs"]
 mod attractors;
 #[path = "attractors_cells.rs"]

@@ -15,6 +15,9 @@ use super::values::{count_between, parse_count, parse_number, short};
 use crate::jobs::{Axis, BasinsSpec, MapBasinsSpec, Update};
 use crate::sim::Simulator;
 use crate::sim::attractors::{CellOptions, Found, GRAPH_RTOL, Verdict};
+use crate::sim::continuation::ContParam;
+
+mod range;
 
 /// The most cells.
 pub const MAX_CELLS: usize = 1 << 22;
@@ -31,12 +34,13 @@ pub struct AttractorsArgs {
     pub solver: SolverArgs,
     /// The finest cell width subdivision goes to, in radians (1e-9 to
     /// 1e-2): tighten it where the output says the resolution could not
-    /// decide.
-    #[arg(long, default_value = "1e-6", allow_hyphen_values = true, value_parser = parse_number)]
-    pub resolution: f64,
-    /// The most cells in all (1024 to 4194304).
-    #[arg(long, default_value = "65536", allow_hyphen_values = true, value_parser = parse_count)]
-    pub max_cells: usize,
+    /// decide [default: 1e-6; 1e-5 in each column of a range].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub resolution: Option<f64>,
+    /// The most cells in all (1024 to 4194304) [default: 65536; 8192 in
+    /// each column of a range].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_count)]
+    pub max_cells: Option<usize>,
     /// The finest grid a chaotic attractor's invariant density is computed
     /// on (4096 to 1048576 cells over its hull): grids are doubled up to it
     /// until λ from the density is steady, and its error is the change
@@ -49,6 +53,37 @@ pub struct AttractorsArgs {
     /// Stop after this many seconds (0 < S ≤ 1e7), printing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
+    /// Follow every attractor over a range of this parameter (theta-nu,
+    /// kappa, gamma, nu or omega; its own flag is not used): --from, --to
+    /// and --columns give the range, and the attractors of neighbouring
+    /// columns are joined into tracks by their basins' overlap.
+    #[arg(long)]
+    pub param: Option<ContParam>,
+    /// First value of --param's range: with theta-nu in [-1000, 1000]
+    /// radians, else within that parameter's flag's range.
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, conflicts_with_all = ["theta_nu_from", "theta_nu_to"], requires = "to")]
+    pub from: Option<f64>,
+    /// Last value of --param's range (may be below --from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "from")]
+    pub to: Option<f64>,
+    /// First θν of a range over θν (the same as --param theta-nu --from).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_to")]
+    pub theta_nu_from: Option<f64>,
+    /// Last θν of a range over θν (the same as --param theta-nu --to).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_nu_from")]
+    pub theta_nu_to: Option<f64>,
+    /// Columns of a range, ends included (2 to 2000), evenly spaced (in
+    /// log10 of the value for kappa, nu and omega) [default: 81].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_count)]
+    pub columns: Option<usize>,
+    /// With a range: also write one CSV row per column and attractor
+    /// (value, track, label, period, basin_fraction, multiplier,
+    /// lyapunov) to this file ("-" = stdout, instead of the summary).
+    #[arg(long)]
+    pub out: Option<std::path::PathBuf>,
+    /// Overwrite an existing --out file.
+    #[arg(long)]
+    pub force: bool,
 }
 
 /// What `run` needs, checked before any work.
@@ -60,14 +95,8 @@ pub struct Plan {
 
 /// Checks the flags (values, bounds, stdout).
 pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
-    let (lo, hi) = RESOLUTION_RANGE;
-    if !(args.resolution >= lo && args.resolution <= hi) {
-        return Err(CliError::Usage(format!(
-            "--resolution = {} is out of range: must lie in [{lo:e}, {hi:e}] radians",
-            short(args.resolution)
-        )));
-    }
-    let max_cells = count_between("max-cells", args.max_cells, 1024, MAX_CELLS)?;
+    let resolution = resolution(args.resolution.unwrap_or(1e-6))?;
+    let max_cells = max_cells(args.max_cells.unwrap_or(1 << 16))?;
     let density_cells = count_between("density-cells", args.density_cells, 4096, 1 << 20)?;
     let params = args.model.params()?;
     let settings = args.solver.settings()?;
@@ -77,7 +106,7 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
     Ok(Plan {
         sim,
         cells: CellOptions {
-            resolution: args.resolution,
+            resolution,
             max_cells,
             density_cells,
             ..CellOptions::default()
@@ -86,7 +115,37 @@ pub fn check(args: &AttractorsArgs) -> Result<Plan, CliError> {
     })
 }
 
+/// Checks `--resolution`.
+fn resolution(v: f64) -> Result<f64, CliError> {
+    let (lo, hi) = RESOLUTION_RANGE;
+    if v >= lo && v <= hi {
+        Ok(v)
+    } else {
+        Err(CliError::Usage(format!(
+            "--resolution = {} is out of range: must lie in [{lo:e}, {hi:e}] radians",
+            short(v)
+        )))
+    }
+}
+
+/// Checks `--max-cells`.
+fn max_cells(v: usize) -> Result<usize, CliError> {
+    count_between("max-cells", v, 1024, MAX_CELLS)
+}
+
+/// Checks the flags of either form (one point, or a range with --param).
+pub fn check_any(args: &AttractorsArgs) -> Result<(), CliError> {
+    if range::wanted(args) {
+        range::check(args).map(drop)
+    } else {
+        check(args).map(drop)
+    }
+}
+
 pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
+    if range::wanted(&args) {
+        return range::run(&args);
+    }
     let Plan {
         sim,
         cells,
@@ -102,7 +161,8 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
     let spec = MapBasinsSpec(BasinsSpec {
         params,
         settings,
-        theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
+        param: ContParam::ThetaNu,
+        axis: Axis::new(params.theta_nu, params.theta_nu, 1),
         cells,
     });
     let updates = run_job("attractors", spec.into(), 1, &progress, &limits)?;

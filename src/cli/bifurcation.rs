@@ -136,8 +136,12 @@ pub struct Plan {
 
 /// The model's parameters with the varied one at `from`: each of the
 /// others from its flag, else the preset's (θν's too when it is fixed).
-fn model_params(args: &BifurcationArgs, param: ContParam, from: f64) -> Result<Params, CliError> {
-    let mut model = args.model.clone();
+pub(super) fn model_params(
+    model: &ModelArgs,
+    param: ContParam,
+    from: f64,
+) -> Result<Params, CliError> {
+    let mut model = model.clone();
     *model.flag_mut(param) = Some(from);
     model.given()
 }
@@ -159,9 +163,22 @@ fn varied_range(args: &BifurcationArgs) -> Result<(ContParam, f64, f64), CliErro
         let to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
         return Ok((param, from, to));
     };
+    checked_range(&args.model, param, from, to)?;
+    Ok((param, from, to))
+}
+
+/// Checks --from and --to as a range of `param` (the others from `model`'s
+/// flags): each end within the model's range of it, positive where its
+/// axis is logarithmic; the message names the flag.
+pub(super) fn checked_range(
+    model: &ModelArgs,
+    param: ContParam,
+    from: f64,
+    to: f64,
+) -> Result<(), CliError> {
     // The other parameters checked first, so that a range end is judged
     // with valid neighbours (its message then names --from or --to).
-    let params = model_params(args, param, from.max(to))?;
+    let params = model_params(model, param, from.max(to))?;
     for (flag, v) in [("from", from), ("to", to)] {
         if param.spans_decades() && v.is_finite() && v <= 0.0 {
             return Err(CliError::Usage(format!(
@@ -172,13 +189,13 @@ fn varied_range(args: &BifurcationArgs) -> Result<(ContParam, f64, f64), CliErro
         }
         super::continue_cmd::range_end(flag, v, param, &params)?;
     }
-    Ok((param, from, to))
+    Ok(())
 }
 
 /// Checks the flags and the output before any work.
 pub fn check(args: &BifurcationArgs) -> Result<Plan, CliError> {
     let (param, from, to) = varied_range(args)?;
-    let params = model_params(args, param, from)?;
+    let params = model_params(&args.model, param, from)?;
     params.validate().map_err(param_error)?;
     let settings = args.solver.settings()?;
     let columns = count_in("columns", args.columns, MAX_COLUMNS)?;

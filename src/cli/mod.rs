@@ -135,7 +135,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
         Some(Command::Phase(a)) => phase::check(a).map(drop),
         Some(Command::Cycle(a)) => cycle::check(a).map(drop),
-        Some(Command::Attractors(a)) => attractors::check(a).map(drop),
+        Some(Command::Attractors(a)) => attractors::check_any(a),
         Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),
         Some(Command::Gui(a)) => gui::check(a).map(drop),
         Some(Command::Figure(a)) => figure::check(a).map(drop),

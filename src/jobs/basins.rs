@@ -1,8 +1,9 @@
 //! The Basins job: every attractor and basin of f over the exit arc
 //! (`sim::attractors`, a cell graph, no orbit budget) at each of a range
-//! of θν columns, for the Basins view and `oneblock figure --view basins`;
-//! and the same at the current parameters alone, with a chaotic
-//! attractor's density, for the return map's basin band.
+//! of columns of one parameter (θν for the Basins view and `oneblock
+//! figure --view basins`, any of θν, κ, γ, ν, Ω for `oneblock attractors
+//! --param`); and the same at the current parameters alone, with a
+//! chaotic attractor's density, for the return map's basin band.
 //!
 //! A unit is one column, any thread takes the next: the columns are
 //! independent (nothing is continued from a neighbour), so the job is
@@ -20,18 +21,24 @@ use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
 use crate::sim::attractors::{AttractorError, AttractorsRun, CellOptions};
-use crate::sim::{SimError, Simulator, theta_nu_grid};
+use crate::sim::continuation::ContParam;
+use crate::sim::{SimError, Simulator, param_grid};
 
-/// Attractors and basins over `theta_nu` at the κ, γ, ν and Ω of `params`
-/// (its θν is ignored: it is the axis).
+/// Attractors and basins over `axis`, columns of `param`, at the other
+/// parameters of `params` (`param`'s own value there is ignored: it is
+/// the axis).
 #[derive(Clone, Debug, PartialEq)]
 pub struct BasinsSpec {
     /// The model's parameters (κ, γ, ν, Ω).
     pub params: Params,
     /// The solver and its accuracy.
     pub settings: SolverSettings,
-    /// The θν columns.
-    pub theta_nu: Axis,
+    /// The parameter varied along the axis (θν for the Basins view).
+    pub param: ContParam,
+    /// Its columns: evenly spaced, in log10 of the value for a parameter
+    /// that spans decades ([`crate::sim::param_grid`]), as a bifurcation
+    /// diagram's.
+    pub axis: Axis,
     /// The cell graph asked for: `CellOptions::column()` for a diagram,
     /// `CellOptions::default()` (with a chaotic set's density) for one
     /// point.
@@ -50,7 +57,8 @@ impl MapBasinsSpec {
         MapBasinsSpec(BasinsSpec {
             params,
             settings,
-            theta_nu: Axis::new(params.theta_nu, params.theta_nu, 1),
+            param: ContParam::ThetaNu,
+            axis: Axis::new(params.theta_nu, params.theta_nu, 1),
             cells: CellOptions::default(),
         })
     }
@@ -99,21 +107,23 @@ pub(crate) struct BasinsJob {
 
 impl BasinsJob {
     /// Checks the spec (finite ends, a column at least, parameters a
-    /// simulator takes) and plans its columns.
+    /// simulator takes at both ends) and plans its columns.
     pub fn new(spec: BasinsSpec, lane: Lane) -> Result<Self, JobError> {
-        for v in [spec.theta_nu.from, spec.theta_nu.to] {
+        let (param, a) = (spec.param, spec.axis);
+        for v in [a.from, a.to] {
             if !v.is_finite() {
-                let range = "the basins' θν range must be finite angles";
-                return Err(SimError::from(ParamError::new("theta-nu", v, range)).into());
+                let range = "the basins' range must have finite ends";
+                return Err(SimError::from(ParamError::new(param.name(), v, range)).into());
             }
         }
-        if spec.theta_nu.steps == 0 {
+        if a.steps == 0 {
             let e = ParamError::new("columns", 0.0, "must be at least 1");
             return Err(SimError::from(e).into());
         }
-        Simulator::new(spec.params.with_theta_nu(spec.theta_nu.from), spec.settings)?;
-        let a = spec.theta_nu;
-        let grid = theta_nu_grid(a.from, a.to, a.steps);
+        for v in [a.from, a.to] {
+            Simulator::new(param.set(&spec.params, v), spec.settings)?;
+        }
+        let grid = param_grid(param, a.from, a.to, a.steps);
         Ok(BasinsJob {
             lane,
             order: coarse_first(grid.len()),
@@ -136,8 +146,8 @@ impl BasinsJob {
         run: Option<AttractorsRun>,
         sink: &dyn Sink,
     ) -> Result<Option<BasinColumn>, JobError> {
-        let theta_nu = self.grid[index];
-        let params = self.spec.params.with_theta_nu(theta_nu);
+        let value = self.grid[index];
+        let params = self.spec.param.set(&self.spec.params, value);
         let cancel = || sink.cycle();
         let found = match (run, Simulator::new(params, self.spec.settings)) {
             (_, Err(e)) => Err(e.to_string()),
@@ -161,7 +171,8 @@ impl BasinsJob {
         };
         Ok(Some(BasinColumn {
             index,
-            theta_nu,
+            value,
+            theta_nu: params.theta_nu,
             found,
         }))
     }

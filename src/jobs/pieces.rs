@@ -136,7 +136,8 @@ pub fn representative(kind: Kind, quick: bool) -> Spec {
         Kind::Basins => Spec::Basins(BasinsSpec {
             params: fig3b(),
             settings,
-            theta_nu: grid(q(4, 48)),
+            param: ContParam::ThetaNu,
+            axis: grid(q(4, 48)),
             cells: CellOptions::column(),
         }),
         Kind::MapBasins => Spec::MapBasins(MapBasinsSpec::here(here, settings)),

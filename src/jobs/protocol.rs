@@ -306,8 +306,11 @@ impl ListedAttractor {
 /// One column of a Basins job: its attractors and basins.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BasinColumn {
-    /// Its place in the θν grid (0 … steps − 1).
+    /// Its place in the grid (0 … steps − 1).
     pub index: usize,
+    /// The varied parameter's value there (the spec's `param`).
+    pub value: f64,
+    /// Its θν (the value itself when θν is varied).
     pub theta_nu: f64,
     /// Every attractor and basin there, or why they could not be found.
     pub found: Result<Found, String>,

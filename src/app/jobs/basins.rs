@@ -125,7 +125,8 @@ impl Jobs {
         let spec = BasinsSpec {
             params: key.params,
             settings: key.solver,
-            theta_nu: Axis::new(key.range.0, key.range.1, key.columns),
+            param: crate::sim::continuation::ContParam::ThetaNu,
+            axis: Axis::new(key.range.0, key.range.1, key.columns),
             cells: CellOptions::column(),
         };
         self.send(Command::Run {
