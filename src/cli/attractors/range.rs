@@ -298,15 +298,19 @@ impl<'a> Report<'a> {
         }
     }
 
-    /// "cycle" (every period known), "chaotic" (none) or "mixed".
+    /// "cycle" (every period known), "chaotic" (every part proved
+    /// chaotic), "undecided" (no cycle, not every part chaotic) or
+    /// "mixed".
     fn kind(t: &Track) -> &'static str {
         let cycles = t.periods.iter().filter(|p| p.is_some()).count();
         if cycles == t.periods.len() {
             "cycle"
-        } else if cycles == 0 {
+        } else if cycles > 0 {
+            "mixed"
+        } else if t.kinds.iter().all(|k| k == "chaotic") {
             "chaotic"
         } else {
-            "mixed"
+            "undecided"
         }
     }
 

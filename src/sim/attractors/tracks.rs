@@ -29,6 +29,9 @@ pub struct Track {
     /// aperiodic set), each once per run: [2, 1] for a P2 that halves
     /// into the fixed point.
     pub periods: Vec<Option<usize>>,
+    /// The kind of each of those runs, as a legend names it ([`kind_name`]:
+    /// "P2", "chaotic", "undecided").
+    pub kinds: Vec<String>,
     /// Its legend name: the kinds it takes, in order ("P2 → P1",
     /// "chaotic"); a second track of the same name gets " (2)", and so on.
     pub label: String,
@@ -188,7 +191,6 @@ fn partners(prev: &Found, now: &Found) -> Vec<Option<usize>> {
 /// failed, which the tracks step over).
 pub fn identify(columns: &[Option<&Found>]) -> Identities {
     let mut ids = Identities::default();
-    let mut kinds: Vec<Vec<String>> = Vec::new();
     let mut prev: Option<(&Found, Vec<usize>)> = None;
     for col in columns {
         let Some(found) = col else {
@@ -210,15 +212,15 @@ pub fn identify(columns: &[Option<&Found>]) -> Identities {
                     ids.tracks.push(Track {
                         id: ids.tracks.len(),
                         periods: Vec::new(),
+                        kinds: Vec::new(),
                         label: String::new(),
                     });
-                    kinds.push(Vec::new());
                     ids.tracks.len() - 1
                 });
                 let t = &mut ids.tracks[id];
                 if t.periods.last() != Some(&a.period) {
                     t.periods.push(a.period);
-                    kinds[id].push(kind_name(a.period, &a.verdict));
+                    t.kinds.push(kind_name(a.period, &a.verdict));
                 }
                 id
             })
@@ -226,16 +228,16 @@ pub fn identify(columns: &[Option<&Found>]) -> Identities {
         ids.of.push(Some(tracks.clone()));
         prev = Some((found, tracks));
     }
-    name_tracks(&mut ids.tracks, &kinds);
+    name_tracks(&mut ids.tracks);
     ids
 }
 
 /// Each track's label: its kinds in order, a second of the same name
 /// numbered " (2)", and so on.
-fn name_tracks(tracks: &mut [Track], kinds: &[Vec<String>]) {
+fn name_tracks(tracks: &mut [Track]) {
     let mut seen: Vec<String> = Vec::new();
-    for (t, k) in tracks.iter_mut().zip(kinds) {
-        let base = k.join(" → ");
+    for t in tracks.iter_mut() {
+        let base = t.kinds.join(" → ");
         let same = seen.iter().filter(|s| **s == base).count();
         t.label = if same == 0 {
             base.clone()
