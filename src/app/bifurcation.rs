@@ -272,7 +272,12 @@ impl BifurcationView {
                     [bounds.0, bounds.2],
                     [bounds.1, bounds.3],
                 ));
-                if let Some(id) = tex {
+                // Its size narrows to single precision: one that does not
+                // fit is not drawn (never an image at x="inf").
+                let fits = [bounds.1 - bounds.0, bounds.3 - bounds.2]
+                    .iter()
+                    .all(|&w| (w as f32).is_finite());
+                if let Some(id) = tex.filter(|_| fits) {
                     let (x0, x1, y0, y1) = bounds;
                     p.add(PlotImage::new(
                         "diagram",

@@ -40,6 +40,10 @@ fn clip_segment(
         return None;
     }
     let d = [b[0] - a[0], b[1] - a[1]];
+    // A span that overflows (ends near ±1e308) would cut at NaN.
+    if !(d[0].is_finite() && d[1].is_finite()) {
+        return None;
+    }
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     for (p, q) in [
         (-d[0], a[0] - min[0]),

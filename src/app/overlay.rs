@@ -110,15 +110,18 @@ pub fn branch_items(
             .width(line_width)
             .allow_hover(false)
     };
+    // Every run cut to the bounds in double precision: a kept point far
+    // outside (a session's at 1e308) once overflowed the single-precision
+    // screen coordinates into `MNaN,NaN` paths.
     for b in &data.branches {
         for r in runs(b) {
             let points = on_axis(r.points);
-            if r.stable {
-                p.line(line(STABLE, points));
-                continue;
-            }
             for part in super::clip::clip_polyline(&points, min, max) {
-                p.line(line(UNSTABLE, part).style(LineStyle::Dashed { length: 8.0 }));
+                if r.stable {
+                    p.line(line(STABLE, part));
+                } else {
+                    p.line(line(UNSTABLE, part).style(LineStyle::Dashed { length: 8.0 }));
+                }
             }
         }
     }
@@ -136,12 +139,19 @@ pub fn branch_items(
             .iter()
             .filter(|s| s.kind == kind && subcritical(s) == sub)
             .map(|s| [x(s.lambda), s.theta])
+            .filter(|&q| within(q, min, max))
             .collect();
         if pts.is_empty() {
             continue;
         }
         p.points(m.points(name, PlotPoints::from(pts)));
     }
+}
+
+/// Whether `q` is finite and inside the box `min`–`max`: a kept result is
+/// drawn only where it fits the plot.
+fn within(q: [f64; 2], min: [f64; 2], max: [f64; 2]) -> bool {
+    (0..2).all(|i| q[i].is_finite() && min[i] <= q[i] && q[i] <= max[i])
 }
 
 /// The legend of the branches: the two line styles and the markers in use.
@@ -218,34 +228,43 @@ pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
 
 /// The doubling curves (solid) and fold curves (dashed) over the phase
 /// diagram, each a polyline in (θν, κ), and the doublings' generalised
-/// flips' markers.
-pub fn curve_items(p: &mut PlotUi<'_>, data: &CurveData, line_width: f32) {
+/// flips' markers, over a plot of bounds `(min, max)`: each cut to them in
+/// double precision, a flip drawn only inside them.
+pub fn curve_items(
+    p: &mut PlotUi<'_>,
+    data: &CurveData,
+    line_width: f32,
+    (min, max): ([f64; 2], [f64; 2]),
+) {
     for c in &data.curves {
         let pts: Vec<[f64; 2]> = c.points.iter().map(|q| q.lambda).collect();
         let (name, style) = match c.kind {
             CurveKind::PeriodDoubling => (CURVE, LineStyle::Solid),
             CurveKind::Fold => (FOLD_CURVE, LineStyle::Dashed { length: 10.0 }),
         };
-        // A dark halo keeps the white line visible over pale classes.
-        p.line(
-            Line::new(name, PlotPoints::from(pts.clone()))
-                .color(Color32::from_black_alpha(200))
-                .width(line_width + 2.0)
-                .style(style)
-                .allow_hover(false),
-        );
-        p.line(
-            Line::new(name, PlotPoints::from(pts))
-                .color(BOUNDARY)
-                .width(line_width)
-                .style(style)
-                .allow_hover(false),
-        );
+        for part in super::clip::clip_polyline(&pts, min, max) {
+            // A dark halo keeps the white line visible over pale classes.
+            p.line(
+                Line::new(name, PlotPoints::from(part.clone()))
+                    .color(Color32::from_black_alpha(200))
+                    .width(line_width + 2.0)
+                    .style(style)
+                    .allow_hover(false),
+            );
+            p.line(
+                Line::new(name, PlotPoints::from(part))
+                    .color(BOUNDARY)
+                    .width(line_width)
+                    .style(style)
+                    .allow_hover(false),
+            );
+        }
     }
     let flips: Vec<[f64; 2]> = data
         .curves
         .iter()
         .flat_map(|c| c.generalised_flips.iter().map(|g| g.lambda))
+        .filter(|&q| within(q, min, max))
         .collect();
     if flips.is_empty() {
         return;

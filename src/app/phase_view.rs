@@ -194,7 +194,7 @@ impl PhaseView {
                         .width(1.5),
                 );
             }
-            overlay::curve_items(p, &jobs.curves.data, line_width);
+            overlay::curve_items(p, &jobs.curves.data, line_width, ([x0, y0], [x1, y1]));
             let pointer = p.pointer_coordinate();
             if let (Some(a), Some(b)) = (drag_from, pointer) {
                 p.add(style::zoom_box(a, b));

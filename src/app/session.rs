@@ -59,7 +59,11 @@ impl ZoomFile {
     /// model's range of that parameter ([-π, π] for θν: a zoom beyond it
     /// was an empty diagram, accepted without a word).
     fn is_valid(&self, varied: ContParam) -> bool {
-        DiagramAxis::is_valid_range(varied, self.theta_nu) && is_usable_range(self.theta)
+        let max = crate::cli::values::MAX_ABS_THETA;
+        DiagramAxis::is_valid_range(varied, self.theta_nu)
+            && is_usable_range(self.theta)
+            && -max <= self.theta.0
+            && self.theta.1 <= max
     }
 }
 

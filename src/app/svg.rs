@@ -76,7 +76,10 @@ pub fn escape(s: &str) -> String {
             '<' => o.push_str("&lt;"),
             '>' => o.push_str("&gt;"),
             '"' => o.push_str("&quot;"),
+            // What XML 1.0 does not allow (C0 controls, U+FFFE, U+FFFF)
+            // left out, so that the file stays well-formed.
             c if (c as u32) < 0x20 && c != '\t' => {}
+            '\u{FFFE}' | '\u{FFFF}' => {}
             c => o.push(c),
         }
     }

@@ -67,7 +67,6 @@ fn diagram_flags(
     zoom: &mut Vec<crate::app::bifurcation::Zoom>,
 ) -> Result<Option<(f64, f64)>, CliError> {
     use crate::app::ViewKind;
-    use crate::app::settings::DiagramAxis;
     let bifurcation = view == ViewKind::Bifurcation;
     if !bifurcation && (a.param.is_some() || a.from.is_some()) {
         let flag = if a.param.is_some() {
@@ -91,10 +90,13 @@ fn diagram_flags(
         zoom.clear();
     }
     let range = a.from.zip(a.to);
+    let name = param.name();
+    if let Some((from, to)) = range {
+        param_range(param, from, to, &settings.params)?;
+    }
     if param == ContParam::ThetaNu {
         return Ok(range.or(c.theta_nu));
     }
-    let name = param.name();
     if c.theta_nu.is_some() {
         return Err(CliError::Usage(format!(
             "--theta-nu-from: this diagram varies {name}, with θν held at {}: give {name}'s range \
@@ -108,27 +110,57 @@ fn diagram_flags(
         )));
     }
     if let Some((from, to)) = range {
-        for (flag, v) in [("from", from), ("to", to)] {
-            if v.is_finite() && v <= 0.0 && param.spans_decades() {
-                return Err(CliError::Usage(format!(
-                    "--{flag} = {} is out of range: {name} must be positive (its axis is logarithmic)",
-                    super::values::short(v)
-                )));
-            }
-            super::continue_cmd::range_end(flag, v, param, &settings.params)?;
-        }
-        let r = (from.min(to), from.max(to));
-        if !DiagramAxis::is_valid_range(param, r) {
-            return Err(CliError::Usage(format!(
-                "--from = {}, --to = {}: {name}'s range must have two different ends",
-                super::values::short(from),
-                super::values::short(to)
-            )));
-        }
-        settings.diagram.set_range(param, r);
+        settings
+            .diagram
+            .set_range(param, (from.min(to), from.max(to)));
         zoom.clear();
     }
     Ok(None)
+}
+
+/// --from and --to as a range of `param` over `base`: each end as
+/// `bifurcation --param` checks it, two different ends, and within the
+/// diagram's range of it (θν's [-π, π], as --theta-nu-from and
+/// --theta-nu-to: --to 1e308 once drew an image at x="inf").
+#[cfg(feature = "gui")]
+fn param_range(param: ContParam, from: f64, to: f64, base: &crate::Params) -> Result<(), CliError> {
+    use super::values::short;
+    use crate::app::settings::DiagramAxis;
+    let name = param.name();
+    for (flag, v) in [("from", from), ("to", to)] {
+        if param == ContParam::ThetaNu && v.abs() > std::f64::consts::PI {
+            return Err(CliError::Usage(format!(
+                "--{flag} = {} is out of range: theta-nu must lie in [-pi, pi], as --theta-nu-from and --theta-nu-to",
+                short(v)
+            )));
+        }
+        if v.is_finite() && v <= 0.0 && param.spans_decades() {
+            return Err(CliError::Usage(format!(
+                "--{flag} = {} is out of range: {name} must be positive (its axis is logarithmic)",
+                short(v)
+            )));
+        }
+        super::continue_cmd::range_end(flag, v, param, base)?;
+    }
+    if from == to {
+        return Err(CliError::Usage(format!(
+            "--to = {} equals --from: the range is empty",
+            short(to)
+        )));
+    }
+    if !DiagramAxis::is_valid_range(param, (from.min(to), from.max(to))) {
+        let within = if param == ContParam::ThetaNu {
+            "must lie in [-pi, pi], as --theta-nu-from and --theta-nu-to"
+        } else {
+            "its width or centre overflows"
+        };
+        return Err(CliError::Usage(format!(
+            "--from = {}, --to = {}: {name}'s range {within}",
+            short(from),
+            short(to)
+        )));
+    }
+    Ok(())
 }
 
 /// The look the flags ask for: a page's, or with --window-look the

@@ -11,7 +11,7 @@ use clap::Args;
 use super::CliError;
 use super::common::ModelArgs;
 use super::gui::{VIEW_KEYS, parse_size};
-use super::values::{echo, parse_count, parse_number, short};
+use super::values::{MAX_ABS_THETA, echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
 /// The views whose data `figure --out x.csv` writes instead of a picture.
@@ -221,6 +221,16 @@ fn check_look(a: &FigureArgs) -> Result<(), CliError> {
     {
         return usage("--title: give the title's text (or leave --title out)".into());
     }
+    if let Some(c) = a
+        .title
+        .as_deref()
+        .and_then(|t| t.chars().find(|&c| !xml_char(c)))
+    {
+        return usage(format!(
+            "--title: U+{:04X} is not a character an SVG may hold: leave it out",
+            c as u32
+        ));
+    }
     if let Some(v) = a.font_size
         && !(FONT_SIZES.0..=FONT_SIZES.1).contains(&v)
     {
@@ -238,6 +248,12 @@ fn check_look(a: &FigureArgs) -> Result<(), CliError> {
         );
     }
     Ok(())
+}
+
+/// Whether XML 1.0 allows `c` in a document (tab, newline, carriage
+/// return, and the rest from U+0020 but U+FFFE and U+FFFF).
+pub fn xml_char(c: char) -> bool {
+    matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
 }
 
 /// A GIF's size when --size is not given: a slide's.
@@ -331,7 +347,8 @@ pub struct FigureArgs {
     /// Upper end of the diagram's range of --param (with --from).
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "from")]
     pub to: Option<f64>,
-    /// Lower end of the bifurcation diagram's θ axis [default: the columns' range].
+    /// Lower end of the bifurcation diagram's θ axis, both ends in
+    /// [-1000, 1000] radians [default: the columns' range].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number, requires = "theta_to")]
     pub theta_from: Option<f64>,
     /// Upper end of the diagram's θ axis (with --theta-from).
@@ -463,6 +480,18 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
     check_look(a)?;
     check_overlays(a)?;
     let theta = range("theta", a.theta_from, a.theta_to)?;
+    // θ is an angle: an axis beyond ±1000 radians (θν's bound in
+    // `bifurcation` and `continue`) shows nothing, and one of ±1e50 once
+    // overflowed the diagram's single-precision image into x="inf".
+    if let Some((lo, hi)) = theta
+        && (lo < -MAX_ABS_THETA || hi > MAX_ABS_THETA)
+    {
+        return Err(CliError::Usage(format!(
+            "--theta-from = {}, --theta-to = {}: must lie in [-1000, 1000] radians",
+            short(lo),
+            short(hi)
+        )));
+    }
     let kappa = range("kappa", a.kappa_from, a.kappa_to)?;
     // κ's own range: a grid past it failed only after starting.
     let (k_lo, k_hi) = (
