@@ -272,19 +272,8 @@ impl BifurcationView {
                     [bounds.0, bounds.2],
                     [bounds.1, bounds.3],
                 ));
-                // Its size narrows to single precision: one that does not
-                // fit is not drawn (never an image at x="inf").
-                let fits = [bounds.1 - bounds.0, bounds.3 - bounds.2]
-                    .iter()
-                    .all(|&w| (w as f32).is_finite());
-                if let Some(id) = tex.filter(|_| fits) {
-                    let (x0, x1, y0, y1) = bounds;
-                    p.add(PlotImage::new(
-                        "diagram",
-                        id,
-                        PlotPoint::new((x0 + x1) / 2.0, (y0 + y1) / 2.0),
-                        [(x1 - x0) as f32, (y1 - y0) as f32],
-                    ));
+                if let Some(id) = tex {
+                    density_image(p, id, bounds);
                 }
                 lines.draw(p);
                 let (x0, x1, y0, y1) = bounds;
@@ -428,6 +417,22 @@ fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
     let strip = (available * 0.3).clamp(strip_least * row, 18.0 * row);
     let diagram = available - strip - 0.5 * row;
     (diagram, strip, 5.5 * row)
+}
+
+/// The density image `id` over the plot's `bounds` (x from, to, θ lo,
+/// hi). Its size narrows to single precision: one that does not fit is
+/// not drawn (never an image at x="inf").
+fn density_image(p: &mut egui_plot::PlotUi<'_>, id: egui::TextureId, bounds: (f64, f64, f64, f64)) {
+    let (x0, x1, y0, y1) = bounds;
+    let size = [(x1 - x0) as f32, (y1 - y0) as f32];
+    if size.iter().all(|w| w.is_finite()) {
+        p.add(PlotImage::new(
+            "diagram",
+            id,
+            PlotPoint::new((x0 + x1) / 2.0, (y0 + y1) / 2.0),
+            size,
+        ));
+    }
 }
 
 impl View for BifurcationView {

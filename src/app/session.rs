@@ -59,7 +59,7 @@ impl ZoomFile {
     /// model's range of that parameter ([-π, π] for θν: a zoom beyond it
     /// was an empty diagram, accepted without a word).
     fn is_valid(&self, varied: ContParam) -> bool {
-        let max = crate::cli::values::MAX_ABS_THETA;
+        let max = crate::model::MAX_ABS_THETA;
         DiagramAxis::is_valid_range(varied, self.theta_nu)
             && is_usable_range(self.theta)
             && -max <= self.theta.0

@@ -193,11 +193,7 @@ pub fn short_count(n: usize) -> String {
     }
 }
 
-/// The largest |θ| the bifurcation diagram's θ axis takes (`figure
-/// --theta-from` and `--theta-to`, a session's zoom), in radians: θν's
-/// bound in `bifurcation` and `continue`. θ is an angle: an axis wider
-/// shows nothing more.
-pub const MAX_ABS_THETA: f64 = 1000.0;
+pub use crate::model::MAX_ABS_THETA;
 
 #[cfg(test)]
 mod tests {

@@ -4,6 +4,12 @@
 
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
+/// The largest |θ| the bifurcation diagram's θ axis takes (`figure
+/// --theta-from` and `--theta-to`, a session's zoom), in radians: θν's
+/// bound in `bifurcation` and `continue`. θ is an angle: an axis wider
+/// shows nothing more.
+pub const MAX_ABS_THETA: f64 = 1000.0;
+
 /// Maps an angle into (−π, π].
 #[inline]
 pub fn wrap_angle(a: f64) -> f64 {

@@ -10,8 +10,8 @@ mod stick;
 pub mod validity;
 
 pub use geometry::{
-    critical_ellipse_point, elastic_energy, ellipse_c_point, exit_arc, is_on_exit_arc,
-    point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
+    MAX_ABS_THETA, critical_ellipse_point, elastic_energy, ellipse_c_point, exit_arc,
+    is_on_exit_arc, point_from_theta, project_onto_exit_arc, theta_from_point, wrap_angle,
 };
 pub use params::{GAMMA_RANGE, KAPPA_RANGE, NU_RANGE, ParamError, Params};
 pub use presets::{PRESETS, Preset, preset, preset_keys};
