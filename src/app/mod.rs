@@ -28,6 +28,7 @@
 //! - [`explorer`]: the app: layout, `eframe::App`, applying actions.
 
 pub mod accuracy;
+mod actions;
 pub mod animation;
 pub mod axes;
 pub mod backend;
