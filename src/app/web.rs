@@ -341,12 +341,7 @@ impl WebState {
             .iter()
             .map(|(k, (f, n))| format!("{k}:{:.2}", *f as f64 / (*n).max(1) as f64))
             .collect();
-        if let Some(root) = web_sys::window()
-            .and_then(|w| w.document())
-            .and_then(|d| d.document_element())
-        {
-            let _ = root.set_attribute("data-filled", &text.join(" "));
-        }
+        self.publish("data-filled", text.join(" "));
     }
 
     /// Sets the page's title to `title` if it changed.
