@@ -73,7 +73,7 @@ pub(super) fn classify_closed(
             long_orbit(map, g.mid(k.cells[k.cells.len() / 2]), lengths)?
         }
     };
-    if let Some((p, u)) = orbit.settled
+    if let Some((p, u)) = orbit.settled.or_else(|| loosely_settled(&orbit))
         && let Some(a) = cycle(p, u, Verdict::CycleInSet, spent)
     {
         return Ok(Judged::Done(Box::new(a)));
@@ -87,6 +87,16 @@ pub(super) fn classify_closed(
     } else {
         Judged::Done(Box::new(by_orbit(map, g, &k.cells, &orbit, blank)))
     })
+}
+
+/// An orbit that did not settle to 1e-9: its period to 1e-5 with its
+/// last point, a candidate for Newton on the integrated map, which
+/// decides. The orbit can approach a cycle with m near ±1 too slowly to
+/// settle, and its time average of ln|f'| over the approach may even come
+/// out positive (κ = 10, θν = 1.37075: a P2 with m = 0.9989 drifting by
+/// 3e-7 a step gave λ = +2e-4 ± 1e-5 and was called chaotic).
+fn loosely_settled(orbit: &Orbit) -> Option<(usize, f64)> {
+    crate::sim::period::settled_period(&orbit.tail, 1e-5).map(|p| (p, orbit.last))
 }
 
 /// A closed set judged: its attractor, or a chaotic candidate whose
@@ -221,7 +231,13 @@ fn solved(
     spent: &mut (u64, u64),
     inside: &dyn Fn(f64) -> bool,
 ) -> Option<(usize, Vec<f64>, f64, f64)> {
-    let mut c = solve(sim, psi, u, p, spent)?;
+    // Newton from the orbit's point, else from a little to either side:
+    // a small jump of f between the point and the cycle (the fixed point
+    // at κ = 10, θν = 1.41675 sits 4e-8 past one) stalls Newton on the
+    // wrong side of it. Whatever converges is checked below all the same.
+    let mut c = [0.0, -1e-6, 1e-6, -1e-5, 1e-5]
+        .iter()
+        .find_map(|d| solve(sim, psi, u + d, p, spent))?;
     if c.minimal_period < p {
         // The minimal cycle's own multiplier (a p-cycle's loses its sign).
         c = solve(

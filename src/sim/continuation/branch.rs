@@ -285,6 +285,9 @@ impl Pt {
 pub(super) enum Fail {
     Eval(EvalError),
     NoConvergence(f64),
+    /// The corrector landed on a cycle of this smaller minimal period
+    /// (past a jump of f^p, where the branch's cycle does not go on).
+    OtherCycle(usize),
 }
 
 impl Fail {
@@ -293,6 +296,9 @@ impl Fail {
             Fail::Eval(e) => e.to_string(),
             Fail::NoConvergence(r) => {
                 format!("Newton's corrector did not converge (residual {r:e})")
+            }
+            Fail::OtherCycle(q) => {
+                format!("every step lands on a P{q} cycle, not this one")
             }
         }
     }

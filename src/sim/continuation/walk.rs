@@ -209,6 +209,15 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             }
             return Step::Stop(self.end_at_tip(&n).await);
         }
+        // A step that lands on a cycle of smaller minimal period (not at
+        // the tip of the branch's pitchfork) jumped to another branch:
+        // at κ = 1.22, γ = 6.5 a P5 past a jump of f⁵ corrected onto the
+        // fixed point. Shorter steps, and a border where none works.
+        let q = self.ctx.point(&n, self.tol).minimal_period;
+        if q < self.ctx.point(&self.cur, self.tol).minimal_period {
+            self.ctx.last_fail = Some(Fail::OtherCycle(q));
+            return Step::Retry;
+        }
         let (n, last) = match self.clip(n).await {
             Ok(v) => v,
             Err(()) => return Step::Retry,
@@ -469,6 +478,9 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
             Some(Fail::NoConvergence(r)) if r > JUMP => format!(
                 "f^p jumps or its slope diverges: |G| = {r:.1e} a step below the location accuracy away"
             ),
+            Some(Fail::OtherCycle(q)) => format!(
+                "f^p jumps here: past it every step, down to the shortest, lands on a P{q} cycle, not this one"
+            ),
             Some(Fail::NoConvergence(r)) if r.is_nan() => {
                 return Stop::Failed("the cycle at the range's end did not converge".into());
             }
@@ -530,5 +542,7 @@ fn start_failure(f: Fail, seed: f64, opts: &ContOptions) -> CycleFailure {
             iterations: opts.max_newton,
             residual: r,
         },
+        // Only a step sets it, never the start's correction.
+        Fail::OtherCycle(_) => CycleFailure::Discontinuity { theta: seed },
     }
 }
