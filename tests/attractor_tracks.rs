@@ -56,42 +56,107 @@ fn fractions_sum_to_one(j: &Value) {
     }
 }
 
+/// `attractors --json` over the κ = 10 window at `columns` columns.
+fn kappa10(columns: &str) -> Value {
+    let args: Vec<&str> = KAPPA10
+        .iter()
+        .copied()
+        .chain(["--columns", columns])
+        .collect();
+    json(&args)
+}
+
+/// The independent integrator's values (issue 54): the large P2's fold,
+/// the small P2's fold and its flip onto the fixed point.
+const BIG_FOLD: f64 = 1.4202315;
+const SMALL_FOLD: f64 = 1.3639802;
+const FLIP: f64 = 1.3707590;
+
 #[test]
-fn the_hysteresis_window_at_kappa_10_is_two_tracks() {
-    let args: Vec<&str> = KAPPA10.iter().copied().chain(["--columns", "81"]).collect();
-    let j = json(&args);
-    let step = 0.08 / 80.0;
+fn the_hysteresis_window_at_kappa_10_is_two_tracks_born_and_dying_in_folds() {
+    let j = kappa10("161");
     let tracks = j["tracks"].as_array().unwrap();
     assert_eq!(tracks.len(), 2, "{tracks:?}");
-    // The large P2 over the window until its fold at 1.4202315.
+    let events = j["events"].as_array().unwrap();
+    let value = |v: &Value| v["value"].as_f64().unwrap();
+    // The large P2 over the window until its fold.
     let big = tracks.iter().find(|t| periods(t) == [2]).unwrap();
     assert_eq!(big["kind"], "cycle");
-    assert_eq!(big["start"]["cause"], "range start");
-    assert_eq!(big["end"]["cause"], "unresolved");
-    let end = big["end"]["value"].as_f64().unwrap();
-    assert!((end - 1.4202315).abs() <= step, "{end}");
-    // The small P2 born in a fold at 1.3639802 that halves into the fixed
-    // point, which reaches the range's end.
+    assert_eq!(big["start"]["cause"], "edge");
+    assert_eq!(big["end"]["cause"], "fold");
+    assert!((value(&big["end"]) - BIG_FOLD).abs() < 1e-7, "{big}");
+    // The small P2 born in a fold, halving into the fixed point in a
+    // flip without ending, on to the range's end.
     let small = tracks.iter().find(|t| periods(t) == [2, 1]).unwrap();
     assert_eq!(small["label"], "P2 → P1");
-    let start = small["start"]["value"].as_f64().unwrap();
-    assert_eq!(small["start"]["cause"], "unresolved");
-    assert!((start - 1.3639802).abs() <= step, "{start}");
-    assert_eq!(small["end"]["cause"], "range end");
+    assert_eq!(small["start"]["cause"], "fold");
+    assert!(
+        (value(&small["start"]) - SMALL_FOLD).abs() < 1e-7,
+        "{small}"
+    );
+    assert_eq!(small["end"]["cause"], "edge");
     assert!((small["to"].as_f64().unwrap() - 1.43).abs() < 1e-12);
-    // One event per start or end inside the range, between two columns.
-    let events = j["events"].as_array().unwrap();
-    assert_eq!(events.len(), 2, "{events:?}");
-    for e in events {
-        assert_eq!(e["cause"], "unresolved");
+    // Three events: each located, each in the JSON once, each naming
+    // its track; the flip is supercritical (the P2 shrinks onto the
+    // fixed point).
+    let got: Vec<(&str, f64)> = events
+        .iter()
+        .map(|e| (e["cause"].as_str().unwrap(), value(e)))
+        .collect();
+    assert_eq!(got.len(), 3, "{events:?}");
+    for (e, (cause, at)) in
+        events
+            .iter()
+            .zip([("fold", SMALL_FOLD), ("flip", FLIP), ("fold", BIG_FOLD)])
+    {
+        assert_eq!(e["cause"], cause, "{e}");
+        assert!((value(e) - at).abs() < 1e-7, "{e}");
+        assert!(e["error"].as_f64().unwrap() <= 1e-8, "{e}");
         let b = e["between"].as_array().unwrap();
-        let (a, b) = (b[0].as_f64().unwrap(), b[1].as_f64().unwrap());
-        assert!((b - a - step).abs() < 1e-9, "{e}");
-        let v = e["value"].as_f64().unwrap();
-        assert!((v - 0.5 * (a + b)).abs() < 1e-12, "{e}");
+        assert!(
+            b[0].as_f64().unwrap() <= value(e) && value(e) <= b[1].as_f64().unwrap(),
+            "{e}"
+        );
+        let id = if at == BIG_FOLD {
+            &big["id"]
+        } else {
+            &small["id"]
+        };
+        assert_eq!(e["tracks"], serde_json::json!([id]), "{e}");
     }
-    assert_eq!(j["columns"].as_array().unwrap().len(), 81);
+    assert_eq!(events[1]["criticality"], "supercritical");
+    assert_eq!(events[1]["period"], 1);
+    assert_eq!(j["columns"].as_array().unwrap().len(), 161);
     fractions_sum_to_one(&j);
+}
+
+#[test]
+fn eighty_one_and_321_columns_give_the_same_tracks_and_events() {
+    let (coarse, fine) = (kappa10("81"), kappa10("321"));
+    let labels = |j: &Value| -> Vec<String> {
+        j["tracks"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|t| {
+                format!(
+                    "{} {} {}",
+                    t["label"], t["start"]["cause"], t["end"]["cause"]
+                )
+            })
+            .collect()
+    };
+    assert_eq!(labels(&coarse), labels(&fine));
+    let (a, b) = (
+        coarse["events"].as_array().unwrap(),
+        fine["events"].as_array().unwrap(),
+    );
+    assert_eq!(a.len(), b.len(), "{a:?}\n{b:?}");
+    for (x, y) in a.iter().zip(b) {
+        assert_eq!(x["cause"], y["cause"]);
+        let (u, v) = (x["value"].as_f64().unwrap(), y["value"].as_f64().unwrap());
+        assert!((u - v).abs() < 1e-7, "{x}\n{y}");
+    }
 }
 
 #[test]
@@ -119,8 +184,8 @@ fn another_parameter_varies_too_fig3b_fixed_point_over_kappa() {
     let tracks = j["tracks"].as_array().unwrap();
     assert_eq!(tracks.len(), 1, "{tracks:?}");
     assert_eq!(periods(&tracks[0]), [1]);
-    assert_eq!(tracks[0]["start"]["cause"], "range start");
-    assert_eq!(tracks[0]["end"]["cause"], "range end");
+    assert_eq!(tracks[0]["start"]["cause"], "edge");
+    assert_eq!(tracks[0]["end"]["cause"], "edge");
     assert!(j["events"].as_array().unwrap().is_empty());
     fractions_sum_to_one(&j);
     // The CSV: provenance lines, one row per column and attractor and one
@@ -136,13 +201,14 @@ fn another_parameter_varies_too_fig3b_fixed_point_over_kappa() {
             "label",
             "period",
             "basin_fraction",
+            "min_kick",
             "multiplier",
             "lyapunov"
         ]
     );
     let fp: Vec<_> = rows.iter().filter(|r| r[2] == "P1").collect();
     assert_eq!(fp.len(), 5, "{rows:?}");
-    assert!(fp.iter().all(|r| r[1] == "0" && num(&r[6]) < 0.0));
+    assert!(fp.iter().all(|r| r[1] == "0" && num(&r[7]) < 0.0));
     let mid = num(&fp[2][0]);
     assert!((mid - (18.5f64 * 19.5).sqrt()).abs() < 1e-9, "{mid}");
     // Never overwritten.

@@ -302,3 +302,61 @@ fn a_bad_resolution_is_one_line_and_exit_2() {
         assert!(err.contains(flag), "{err}");
     }
 }
+
+/// The smallest kick out of each basin at κ = 10, θν = 1.40 (the JSON's
+/// `min_kick`) against direct orbits: onsets stepped away from each cycle
+/// point by 5e-4 rad, each followed 664 iterates; the first that ends on
+/// the other cycle is the kick the orbits see.
+#[test]
+fn kappa_10_smallest_kick_agrees_with_direct_orbits() {
+    let p = kappa10(1.40);
+    let v = found(&[
+        "--kappa",
+        "10",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--theta-nu",
+        "1.40",
+    ]);
+    let l = list(&v);
+    assert_eq!(l.len(), 2, "{v}");
+    let cycles: Vec<Vec<f64>> = l
+        .iter()
+        .map(|a| {
+            a["points"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        })
+        .collect();
+    let sim = Simulator::new(p, default_settings(1e-10)).unwrap();
+    const STEP: f64 = 5e-4;
+    for (i, a) in l.iter().enumerate() {
+        let kick = a["min_kick"].as_f64().unwrap();
+        let width = a["min_kick_width"].as_f64().unwrap();
+        assert!(kick > 0.01 && width < 1e-4, "{a}");
+        // The first onset, on either side of any cycle point, whose
+        // orbit ends elsewhere.
+        let mut direct = f64::INFINITY;
+        for &x in &cycles[i] {
+            for side in [-1.0, 1.0] {
+                let mut d = STEP;
+                while d < direct.min(kick + 0.01) {
+                    if ends_on(&sim, x + side * d, &cycles) != Some(i) {
+                        direct = direct.min(d);
+                        break;
+                    }
+                    d += STEP;
+                }
+            }
+        }
+        assert!(
+            direct >= kick - 1e-9 && direct <= kick + width + STEP + 1e-9,
+            "attractor {i}: min_kick {kick} (+{width}), direct orbits {direct}"
+        );
+    }
+}

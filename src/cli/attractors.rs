@@ -206,7 +206,7 @@ fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
 
 /// `{"attractors": [{"period", "points", "multiplier", "lyapunov",
 /// "lyapunov_stderr", "lyapunov_from_density", "lyapunov_density_error",
-/// "density", "basin_fraction",
+/// "density", "basin_fraction", "min_kick", "min_kick_width",
 /// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
 /// "boundary_fraction", "unenclosed_fraction", "resolution":
 /// {"cell_width", "widest_cell", "epsilon", "cells", "budget_hit",
@@ -215,8 +215,10 @@ fn json(found: &Found) -> String {
     let list: Vec<_> = found
         .attractors
         .iter()
-        .map(|a| {
+        .enumerate()
+        .map(|(i, a)| {
             let (word, why) = verdict(&a.verdict);
+            let kick = found.min_kick(i);
             serde_json::json!({
                 "period": a.period,
                 "points": a.points,
@@ -229,6 +231,8 @@ fn json(found: &Found) -> String {
                     "from": d.from, "to": d.to, "values": d.values,
                 })),
                 "basin_fraction": a.basin_fraction,
+                "min_kick": kick.map(|k| k.0),
+                "min_kick_width": kick.map(|k| k.1),
                 "verdict": word,
                 "reason": why,
             })
@@ -272,8 +276,8 @@ fn text(found: &Found, described: &str) -> String {
         found.attractors.len()
     )
     .ok();
-    for a in &found.attractors {
-        attractor_lines(&mut s, a);
+    for i in 0..found.attractors.len() {
+        attractor_lines(&mut s, found, i);
     }
     if found.boundary_fraction > 0.0 {
         writeln!(
@@ -320,8 +324,19 @@ fn text(found: &Found, described: &str) -> String {
     s
 }
 
+/// "smallest kick out of its basin: 0.0862 rad (the edge within 3.1e-6
+/// beyond)": the distance from the attractor to the nearest onset not in
+/// its basin, to the decimals the cells resolve.
+fn kick_words(found: &Found, i: usize) -> String {
+    match found.kick_text(i) {
+        None => "no kick of the onset leaves its basin (no other basin on the arc)".into(),
+        Some(k) => format!("smallest kick out of its basin: {k}, at this resolution"),
+    }
+}
+
 /// One attractor's lines of the text output.
-fn attractor_lines(s: &mut String, a: &crate::sim::attractors::Attractor) {
+fn attractor_lines(s: &mut String, found: &Found, i: usize) {
+    let a = &found.attractors[i];
     let what = match a.period {
         Some(p) => format!("P{p}"),
         None if a.verdict == Verdict::Chaotic => "chaotic".into(),
@@ -348,6 +363,9 @@ fn attractor_lines(s: &mut String, a: &crate::sim::attractors::Attractor) {
     .ok();
     if let Some(why) = why {
         writeln!(s, "    undecided: {why}").ok();
+    }
+    if found.attractors.len() > 1 {
+        writeln!(s, "    {}", kick_words(found, i)).ok();
     }
     if a.verdict == Verdict::CycleInSet {
         writeln!(

@@ -20,7 +20,9 @@ use super::protocol::{Axis, BasinColumn, Lane, Update};
 use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
-use crate::sim::attractors::{AttractorError, AttractorsRun, CellOptions};
+use crate::sim::attractors::events::Locator;
+use crate::sim::attractors::tracks::identify;
+use crate::sim::attractors::{AttractorError, AttractorsRun, CellOptions, Found};
 use crate::sim::continuation::ContParam;
 use crate::sim::{SimError, Simulator, param_grid};
 
@@ -103,6 +105,9 @@ pub(crate) struct BasinsJob {
     /// A column paused part-way (only the single-threaded host pauses),
     /// resumed by the next step.
     parked: Mutex<Option<(usize, AttractorsRun)>>,
+    /// Each column's attractors as they arrive, for the events located
+    /// once the last one is in.
+    found: Mutex<Vec<Option<Found>>>,
 }
 
 impl BasinsJob {
@@ -133,6 +138,7 @@ impl BasinsJob {
             done: AtomicUsize::new(0),
             pacer: Mutex::new(Pacer::new()),
             parked: Mutex::new(None),
+            found: Mutex::new(vec![None; a.steps]),
         })
     }
 
@@ -178,6 +184,41 @@ impl BasinsJob {
     }
 }
 
+impl BasinsJob {
+    /// The tracks and their events over every column, sent as one update
+    /// (a range of two columns or more). The thread that finished the
+    /// last column locates them, on every core. Not on the
+    /// single-threaded host (the page): a continuation or a bisection on
+    /// the cell graph cannot stop part-way for the page's frame, so the
+    /// page shows tracks without events and says so.
+    fn events(&self, sink: &dyn Sink) -> Result<(), JobError> {
+        if self.grid.len() < 2 || cfg!(target_arch = "wasm32") {
+            return Ok(());
+        }
+        let found = lock(&self.found).clone();
+        let refs: Vec<Option<&Found>> = found.iter().map(Option::as_ref).collect();
+        let ids = identify(&refs);
+        let locator = Locator {
+            base: self.spec.params,
+            settings: self.spec.settings,
+            param: self.spec.param,
+            cells: self.spec.cells,
+        };
+        let threads = std::thread::available_parallelism().map_or(1, |n| n.get());
+        let cancel = || sink.cycle();
+        let events = locator.locate(&self.grid, &refs, ids, threads, &cancel);
+        if sink.stale() {
+            return Err(JobError::Stop);
+        }
+        sink.send(Update::BasinEvents {
+            generation: sink.generation(),
+            lane: self.lane,
+            events: Box::new(events),
+        })?;
+        Ok(())
+    }
+}
+
 impl Job for BasinsJob {
     fn parallel(&self) -> bool {
         true
@@ -202,6 +243,11 @@ impl Job for BasinsJob {
             let Some(column) = self.column(index, run, sink)? else {
                 return Ok(Status::Working);
             };
+            if let Ok(f) = &column.found
+                && let Some(slot) = lock(&self.found).get_mut(index)
+            {
+                *slot = Some(f.clone());
+            }
             sink.send(Update::Basins {
                 generation: sink.generation(),
                 lane: self.lane,
@@ -209,6 +255,9 @@ impl Job for BasinsJob {
             })?;
             let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
             paced_progress(&self.pacer, self.lane, (done, self.grid.len(), 0), sink)?;
+            if done == self.grid.len() {
+                self.events(sink)?;
+            }
             if sink.pause() {
                 return Ok(Status::Working);
             }

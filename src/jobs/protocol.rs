@@ -189,6 +189,14 @@ pub enum Update {
         lane: Lane,
         column: Box<BasinColumn>,
     },
+    /// A Basins job's tracks and their located births, deaths and period
+    /// changes, once every column has arrived (the last update before
+    /// `Finished`; none on a single-threaded host, see `jobs::basins`).
+    BasinEvents {
+        generation: Generation,
+        lane: Lane,
+        events: Box<crate::sim::attractors::events::Events>,
+    },
     /// What a continuation or curves job has found so far and, once it
     /// ends, why it stopped (one line for the status bar).
     Summary {
@@ -245,6 +253,7 @@ impl Update {
             | Update::Passage { generation, .. }
             | Update::Scan { generation, .. }
             | Update::Basins { generation, .. }
+            | Update::BasinEvents { generation, .. }
             | Update::Summary { generation, .. }
             | Update::Progress { generation, .. }
             | Update::Error { generation, .. }

@@ -25,6 +25,7 @@
 pub mod arc;
 mod classify;
 mod density;
+pub mod events;
 mod graph;
 mod search;
 pub mod tracks;

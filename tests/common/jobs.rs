@@ -112,7 +112,7 @@ pub fn assert_nothing_older_after_acks(ups: &[Update]) {
             Update::Curve { .. } => Some(Lane::Curves),
             Update::Passage { .. } => Some(Lane::Passage),
             Update::Scan { .. } => Some(Lane::Scan),
-            Update::Basins { lane, .. } => Some(*lane),
+            Update::Basins { lane, .. } | Update::BasinEvents { lane, .. } => Some(*lane),
             Update::Summary { lane, .. }
             | Update::Progress { lane, .. }
             | Update::Error { lane, .. }

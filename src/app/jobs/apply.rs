@@ -117,6 +117,9 @@ impl Jobs {
             Update::Basins { column, .. } if job == JobKind::Basins => {
                 self.basins.data.insert(*column);
             }
+            Update::BasinEvents { events, .. } if job == JobKind::Basins => {
+                self.basins.data.take_events(*events);
+            }
             Update::Basins { column, .. } if job == JobKind::MapBasins => {
                 self.map_basins.data.found = Some(column.found);
             }

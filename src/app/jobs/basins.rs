@@ -12,6 +12,7 @@ use crate::app::settings::{Settings, ViewKind};
 use crate::integrate::SolverSettings;
 use crate::jobs::{Axis, BasinColumn, BasinsSpec, MapBasinsSpec, Spec};
 use crate::model::Params;
+use crate::sim::attractors::events::Events;
 use crate::sim::attractors::tracks::{Identities, identify};
 use crate::sim::attractors::{CellOptions, Found};
 use crate::worker::Command;
@@ -20,13 +21,19 @@ use crate::worker::Command;
 /// identities along θν.
 #[derive(Clone, Debug, Default)]
 pub struct BasinsData {
+    /// The parameters but θν (θν = 0) the columns are computed at.
+    pub params: Option<Params>,
     /// The θν range.
     pub from: f64,
     pub to: f64,
     /// Each grid column, once it arrived.
     pub columns: Vec<Option<BasinColumn>>,
-    /// The attractors' tracks over the columns so far.
+    /// The attractors' tracks over the columns so far (once every column
+    /// is in, as the events joined them).
     pub ids: Identities,
+    /// The tracks' births, deaths and period changes, located once every
+    /// column is in (never on the page: see `jobs::basins`).
+    pub events: Option<Events>,
     /// Bumped whenever a column arrives (the view redraws from it).
     pub revision: u64,
 }
@@ -53,6 +60,59 @@ impl BasinsData {
             .map(|c| c.as_ref().and_then(|c| c.found.as_ref().ok()))
             .collect();
         self.ids = identify(&found);
+        self.revision += 1;
+    }
+
+    /// The track of each of `found`'s attractors (found at `params`), as
+    /// the diagram's column nearest θν names it: the attractor whose basin
+    /// there holds its points. `None` for one the diagram does not show
+    /// (other parameters, θν outside its range, no such column).
+    pub fn tracks_of(&self, params: &Params, found: &Found) -> Vec<Option<usize>> {
+        let none = vec![None; found.attractors.len()];
+        let (lo, hi) = (self.from.min(self.to), self.from.max(self.to));
+        if self.params != Some(params.with_theta_nu(0.0)) || !(lo..=hi).contains(&params.theta_nu) {
+            return none;
+        }
+        let Some(c) = (0..self.columns.len())
+            .filter(|&i| self.columns[i].as_ref().is_some_and(|c| c.found.is_ok()))
+            .min_by(|&i, &j| {
+                let x = |k: usize| {
+                    self.columns[k]
+                        .as_ref()
+                        .map_or(f64::INFINITY, |c| c.theta_nu)
+                };
+                (x(i) - params.theta_nu)
+                    .abs()
+                    .total_cmp(&(x(j) - params.theta_nu).abs())
+            })
+        else {
+            return none;
+        };
+        let Some(Ok(col)) = self.columns[c].as_ref().map(|c| &c.found) else {
+            return none;
+        };
+        found
+            .attractors
+            .iter()
+            .map(|a| {
+                let marks = if a.period.is_some() {
+                    &a.points
+                } else {
+                    &a.iterates
+                };
+                let mut owners = marks.iter().take(32).map(|&t| col.basin_of(t));
+                let first = owners.next()??;
+                owners.all(|o| o == Some(first)).then_some(())?;
+                self.ids.track(c, first).map(|t| t.id)
+            })
+            .collect()
+    }
+
+    /// Takes the events located once every column is in, and their
+    /// tracks (joined where a cycle's continuation showed two as one).
+    pub fn take_events(&mut self, events: Events) {
+        self.ids = events.ids.clone();
+        self.events = Some(events);
         self.revision += 1;
     }
 
@@ -120,6 +180,7 @@ impl Jobs {
         let revision = self.basins.data.revision + 1;
         let mut data = BasinsData::new(key.range.0, key.range.1, key.columns);
         data.revision = revision;
+        data.params = Some(key.params);
         self.basins.start(g, data);
         self.bind(JobKind::Basins, s, (0.0, 0.0));
         let spec = BasinsSpec {

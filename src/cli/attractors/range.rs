@@ -1,10 +1,9 @@
 //! `oneblock attractors --param P --from A --to B --columns N`: every
 //! attractor of each column of a parameter range, from the exit arc's cell
 //! graph (the Basins job, one column a unit, on every core), joined into
-//! tracks by their basins' overlap ([`crate::sim::attractors::tracks`]).
-//! A track's start or end inside the range is given between the two
-//! columns it lies between; its cause (fold, flip, border collision,
-//! crisis) is not located yet.
+//! tracks by their basins' overlap ([`crate::sim::attractors::tracks`]),
+//! each start, end and period change located with its cause
+//! ([`crate::sim::attractors::events`], the job's last update).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -19,8 +18,9 @@ use crate::integrate::SolverSettings;
 use crate::jobs::{Axis, BasinColumn, BasinsSpec, Spec, Update};
 use crate::model::Params;
 use crate::provenance::model_line_varying;
-use crate::sim::attractors::tracks::{Identities, Track, identify, kind_name};
-use crate::sim::attractors::{CellOptions, Found};
+use crate::sim::attractors::CellOptions;
+use crate::sim::attractors::events::{Bound, Cause, Event, Events, Span, to_error};
+use crate::sim::attractors::tracks::{Track, kind_name};
 use crate::sim::continuation::ContParam;
 
 /// The fewest and most columns of a range.
@@ -155,19 +155,29 @@ pub(super) fn run(args: &AttractorsArgs) -> Result<(), CliError> {
         &limits,
     )?;
     let mut cols: Vec<Option<BasinColumn>> = vec![None; plan.columns];
+    let mut located = None;
     for u in updates {
-        if let Update::Basins { column, .. } = u
-            && let Some(slot) = cols.get_mut(column.index)
-        {
-            *slot = Some(*column);
+        match u {
+            Update::Basins { column, .. } => {
+                if let Some(slot) = cols.get_mut(column.index) {
+                    *slot = Some(*column);
+                }
+            }
+            Update::BasinEvents { events, .. } => located = Some(*events),
+            _ => {}
         }
     }
-    let Some(cols) = cols.into_iter().collect::<Option<Vec<_>>>() else {
+    let (Some(cols), Some(located)) = (cols.into_iter().collect::<Option<Vec<_>>>(), located)
+    else {
         return Err(CliError::Failed(
-            "attractors: the job ended without every column".into(),
+            "attractors: the job ended without every column and its events".into(),
         ));
     };
-    let report = Report::new(plan.param, &cols);
+    let report = Report {
+        param: plan.param,
+        cols: &cols,
+        located,
+    };
     let model = format!(
         "{}; {} {} to {}, {} columns",
         model_line_varying(&plan.params, &plan.settings, plan.param),
@@ -194,110 +204,14 @@ pub(super) fn run(args: &AttractorsArgs) -> Result<(), CliError> {
     Ok(())
 }
 
-/// Where a track starts or ends: at an end of the range, or between two
-/// computed columns (the cause not located yet).
-#[derive(Clone, Copy, Debug)]
-struct End {
-    /// At the range's end (`true`), else between `between`.
-    at_range: bool,
-    value: f64,
-    between: (f64, f64),
-}
-
-impl End {
-    fn cause(&self, start: bool) -> &'static str {
-        match (self.at_range, start) {
-            (true, true) => "range start",
-            (true, false) => "range end",
-            (false, _) => "unresolved",
-        }
-    }
-
-    fn json(&self, start: bool) -> serde_json::Value {
-        serde_json::json!({"cause": self.cause(start), "value": self.value})
-    }
-
-    fn text(&self, start: bool) -> String {
-        if self.at_range {
-            self.cause(start).to_string()
-        } else {
-            format!(
-                "unresolved (between {} and {})",
-                val(self.between.0),
-                val(self.between.1)
-            )
-        }
-    }
-}
-
-/// A track's span over the columns.
-struct Span {
-    first: usize,
-    last: usize,
-    start: End,
-    end: End,
-}
-
-/// The columns, their tracks and where each track starts and ends.
+/// The columns, their tracks, and the located events.
 struct Report<'a> {
     param: ContParam,
     cols: &'a [BasinColumn],
-    ids: Identities,
-    spans: Vec<Span>,
+    located: Events,
 }
 
 impl<'a> Report<'a> {
-    fn new(param: ContParam, cols: &'a [BasinColumn]) -> Self {
-        let found: Vec<Option<&Found>> = cols.iter().map(|c| c.found.as_ref().ok()).collect();
-        let ids = identify(&found);
-        let computed: Vec<bool> = found.iter().map(Option::is_some).collect();
-        let n = cols.len();
-        let mut reach: Vec<Option<(usize, usize)>> = vec![None; ids.tracks.len()];
-        for (c, of) in ids.of.iter().enumerate() {
-            for &t in of.iter().flatten() {
-                let r = reach[t].get_or_insert((c, c));
-                r.1 = c;
-            }
-        }
-        let at = |i: usize| cols[i].value;
-        let end = |inside: usize, beyond: Option<usize>| match beyond {
-            None => End {
-                at_range: true,
-                value: at(inside),
-                between: (at(inside), at(inside)),
-            },
-            Some(b) => End {
-                at_range: false,
-                value: 0.5 * (at(inside) + at(b)),
-                between: (at(inside.min(b)), at(inside.max(b))),
-            },
-        };
-        let spans = reach
-            .into_iter()
-            .map(|r| {
-                let (first, last) = r.unwrap_or((0, 0));
-                // The computed column next to the track's first (last),
-                // outside it; a failed one beside it if none was computed.
-                let before = (first > 0)
-                    .then(|| (0..first).rev().find(|&i| computed[i]).unwrap_or(first - 1));
-                let after = (last + 1 < n)
-                    .then(|| (last + 1..n).find(|&i| computed[i]).unwrap_or(last + 1));
-                Span {
-                    first,
-                    last,
-                    start: end(first, before),
-                    end: end(last, after),
-                }
-            })
-            .collect();
-        Report {
-            param,
-            cols,
-            ids,
-            spans,
-        }
-    }
-
     /// "cycle" (every period known), "chaotic" (every part proved
     /// chaotic), "undecided" (no cycle, not every part chaotic) or
     /// "mixed".
@@ -322,17 +236,54 @@ impl<'a> Report<'a> {
             .join(", ")
     }
 
+    /// A start or end in words: "range start", "fold at theta-nu = 1.4202315".
+    fn bound_text(&self, b: Bound, start: bool) -> String {
+        match b {
+            Bound::Edge if start => "range start".into(),
+            Bound::Edge => "range end".into(),
+            Bound::Event(k) => {
+                let e = &self.located.events[k];
+                match e.cause {
+                    Cause::Unresolved => format!(
+                        "unresolved (between {} and {})",
+                        val(e.between.0),
+                        val(e.between.1)
+                    ),
+                    c => format!(
+                        "{} at {} = {}",
+                        c.name(),
+                        self.param.name(),
+                        to_error(e.value, e.error)
+                    ),
+                }
+            }
+        }
+    }
+
+    fn bound_json(&self, b: Bound, sp: &Span, start: bool) -> serde_json::Value {
+        match b {
+            Bound::Edge => {
+                let c = if start { sp.first } else { sp.last };
+                serde_json::json!({"cause": "edge", "value": self.cols[c].value})
+            }
+            Bound::Event(k) => {
+                let e = &self.located.events[k];
+                serde_json::json!({"cause": e.cause.name(), "value": e.value, "event": k})
+            }
+        }
+    }
+
     fn text(&self, model: &str) -> String {
         let name = self.param.name();
         let mut s = format!("attractors: {model}\n");
         writeln!(
             s,
             "{} track(s) over {} columns, matched by their basins' overlap:",
-            self.ids.tracks.len(),
+            self.located.ids.tracks.len(),
             self.cols.len()
         )
         .ok();
-        for (t, sp) in self.ids.tracks.iter().zip(&self.spans) {
+        for (t, sp) in self.located.ids.tracks.iter().zip(&self.located.spans) {
             writeln!(
                 s,
                 "  #{} {}: {}, periods {}, {name} {} to {}; start: {}; end: {}",
@@ -342,19 +293,27 @@ impl<'a> Report<'a> {
                 Self::periods(t),
                 val(self.cols[sp.first].value),
                 val(self.cols[sp.last].value),
-                sp.start.text(true),
-                sp.end.text(false)
+                self.bound_text(sp.start, true),
+                self.bound_text(sp.end, false)
             )
             .ok();
         }
-        if self
-            .spans
-            .iter()
-            .any(|sp| !sp.start.at_range || !sp.end.at_range)
-        {
+        if !self.located.events.is_empty() {
+            writeln!(s, "{} event(s):", self.located.events.len()).ok();
+        }
+        for e in &self.located.events {
+            let tracks: Vec<String> = e.tracks.iter().map(|t| format!("#{t}")).collect();
+            let at = if e.cause == Cause::Unresolved {
+                format!("between {} and {}", val(e.between.0), val(e.between.1))
+            } else {
+                format!("{name} = {} ± {:.0e}", to_error(e.value, e.error), e.error)
+            };
             writeln!(
                 s,
-                "starts and ends inside the range are not located yet: each lies between the two columns named (its cause, a fold, flip, border collision or crisis, is a later step)"
+                "  {:<10} {at}  tracks {}: {}",
+                e.cause.name(),
+                tracks.join(", "),
+                e.detail
             )
             .ok();
         }
@@ -380,10 +339,11 @@ impl<'a> Report<'a> {
     /// `{"tracks": [...], "events": [...], "columns": [...]}`.
     fn json(&self) -> String {
         let tracks: Vec<_> = self
+            .located
             .ids
             .tracks
             .iter()
-            .zip(&self.spans)
+            .zip(&self.located.spans)
             .map(|(t, sp)| {
                 serde_json::json!({
                     "id": t.id,
@@ -392,30 +352,12 @@ impl<'a> Report<'a> {
                     "label": t.label,
                     "from": self.cols[sp.first].value,
                     "to": self.cols[sp.last].value,
-                    "start": sp.start.json(true),
-                    "end": sp.end.json(false),
+                    "start": self.bound_json(sp.start, sp, true),
+                    "end": self.bound_json(sp.end, sp, false),
                 })
             })
             .collect();
-        let mut events = Vec::new();
-        for (t, sp) in self.ids.tracks.iter().zip(&self.spans) {
-            for (e, start) in [(sp.start, true), (sp.end, false)] {
-                if e.at_range {
-                    continue;
-                }
-                let what = if start { "starts" } else { "ends" };
-                events.push(serde_json::json!({
-                    "cause": "unresolved",
-                    "value": e.value,
-                    "between": [e.between.0, e.between.1],
-                    "tracks": [t.id],
-                    "detail": format!(
-                        "track {} ({}) {what} between these columns; its cause is not located yet",
-                        t.id, t.label
-                    ),
-                }));
-            }
-        }
+        let events: Vec<_> = self.located.events.iter().map(event_json).collect();
         let columns: Vec<_> = self
             .cols
             .iter()
@@ -438,9 +380,12 @@ impl<'a> Report<'a> {
             .iter()
             .enumerate()
             .map(|(a, at)| {
+                let kick = found.min_kick(a);
                 serde_json::json!({
-                    "track": self.ids.track(i, a).map(|t| t.id),
+                    "track": self.located.ids.track(i, a).map(|t| t.id),
                     "basin_fraction": at.basin_fraction,
+                    "min_kick": kick.map(|k| k.0),
+                    "min_kick_width": kick.map(|k| k.1),
                     "period": at.period,
                     "points": at.points,
                 })
@@ -458,35 +403,57 @@ impl<'a> Report<'a> {
     fn csv(&self) -> String {
         let num = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x}"));
         let mut out = format!(
-            "{},track,label,period,basin_fraction,multiplier,lyapunov\n",
+            "{},track,label,period,basin_fraction,min_kick,multiplier,lyapunov\n",
             self.param.column()
         );
         for (i, c) in self.cols.iter().enumerate() {
             let v = c.value;
             let Ok(found) = &c.found else {
-                writeln!(out, "{v},,failed,,,,").ok();
+                writeln!(out, "{v},,failed,,,,,").ok();
                 continue;
             };
             for (a, at) in found.attractors.iter().enumerate() {
                 let id = self
+                    .located
                     .ids
                     .track(i, a)
                     .map_or(String::new(), |t| t.id.to_string());
                 let period = at.period.map_or(String::new(), |p| p.to_string());
                 writeln!(
                     out,
-                    "{v},{id},{},{period},{},{},{}",
+                    "{v},{id},{},{period},{},{},{},{}",
                     kind_name(at.period, &at.verdict),
                     at.basin_fraction,
+                    num(found.min_kick(a).map(|k| k.0)),
                     num(at.multiplier),
                     num(at.lyapunov)
                 )
                 .ok();
             }
-            writeln!(out, "{v},,boundary,,{},,", found.boundary_fraction).ok();
+            writeln!(out, "{v},,boundary,,{},,,", found.boundary_fraction).ok();
         }
         out
     }
+}
+
+/// One event as the JSON gives it.
+fn event_json(e: &Event) -> serde_json::Value {
+    let mut j = serde_json::json!({
+        "cause": e.cause.name(),
+        "value": e.value,
+        "error": e.error,
+        "between": [e.between.0, e.between.1],
+        "theta": e.theta,
+        "period": e.period,
+        "criticality": e.criticality,
+        "tracks": e.tracks,
+        "detail": e.detail,
+    });
+    if let Some(m) = e.multipliers {
+        j["multipliers"] = serde_json::json!(m);
+        j["type"] = serde_json::json!(e.border_type);
+    }
+    j
 }
 
 /// A value as the summary writes it: eight significant digits, trailing

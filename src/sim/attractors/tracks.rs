@@ -47,6 +47,37 @@ pub struct Identities {
 }
 
 impl Identities {
+    /// Track `gone` is track `keep` continued (found so by the cycle's
+    /// own continuation): its columns go to `keep`, and the tracks after
+    /// it move down one, renamed.
+    pub fn join(&mut self, keep: usize, gone: usize) {
+        if keep == gone || gone >= self.tracks.len() || keep >= self.tracks.len() {
+            return;
+        }
+        let moved = self.tracks.remove(gone);
+        let keep = if keep > gone { keep - 1 } else { keep };
+        for (p, k) in moved.periods.into_iter().zip(moved.kinds) {
+            let t = &mut self.tracks[keep];
+            if t.periods.last() != Some(&p) {
+                t.periods.push(p);
+                t.kinds.push(k);
+            }
+        }
+        for of in self.of.iter_mut().flatten() {
+            for id in of.iter_mut() {
+                if *id == gone {
+                    *id = keep;
+                } else if *id > gone {
+                    *id -= 1;
+                }
+            }
+        }
+        for (i, t) in self.tracks.iter_mut().enumerate() {
+            t.id = i;
+        }
+        name_tracks(&mut self.tracks);
+    }
+
     /// The track of column `c`'s attractor `a`.
     pub fn track(&self, c: usize, a: usize) -> Option<&Track> {
         let id = *self.of.get(c)?.as_ref()?.get(a)?;
@@ -73,6 +104,66 @@ impl Found {
         let i = self.basins.partition_point(|b| b.to < t);
         let b = self.basins.get(i)?;
         (b.from <= t).then_some(b.attractor)?
+    }
+
+    /// The smallest kick out of attractor `a`'s basin: the distance from
+    /// the attractor (its cycle's points, or its cover) to the nearest
+    /// onset in no basin or in another's, with that stretch's width when
+    /// it is boundary (where in it the basins part is not resolved): the
+    /// true smallest kick lies in [kick, kick + width]. `None` where
+    /// every other stretch of the arc is `a`'s (no kick leaves it).
+    pub fn min_kick(&self, a: usize) -> Option<(f64, f64)> {
+        let at = self.attractors.get(a)?;
+        let psi = self.basins.first()?.from;
+        let on_arc = |t: f64| psi + wrap_angle(t - psi);
+        let stretches: Vec<(f64, f64)> = if at.period.is_some() || at.cover.is_empty() {
+            at.points.iter().map(|&t| (on_arc(t), on_arc(t))).collect()
+        } else {
+            at.cover
+                .iter()
+                .map(|&(l, h)| (on_arc(l), on_arc(h)))
+                .collect()
+        };
+        let others: Vec<&super::Basin> = self
+            .basins
+            .iter()
+            .filter(|b| b.attractor != Some(a))
+            .collect();
+        let mut best: Option<(f64, f64)> = None;
+        for (l, h) in stretches {
+            let i = others.partition_point(|b| b.to <= l);
+            // The nearest other stretch on the right (or one over this
+            // point), and on the left.
+            let right = others.get(i).map(|b| ((b.from - h).max(0.0), b));
+            let left = i
+                .checked_sub(1)
+                .and_then(|k| others.get(k))
+                .map(|b| ((l - b.to).max(0.0), b));
+            for (d, b) in right.into_iter().chain(left) {
+                let width = if b.attractor.is_none() {
+                    b.to - b.from
+                } else {
+                    0.0
+                };
+                if best.is_none_or(|(x, _)| d < x) {
+                    best = Some((d, width));
+                }
+            }
+        }
+        best
+    }
+
+    /// [`Found::min_kick`] in words, to the decimals the cells resolve:
+    /// "0.08639 rad (the basin's edge within 2.2e-6 beyond)".
+    pub fn kick_text(&self, a: usize) -> Option<String> {
+        let (d, width) = self.min_kick(a)?;
+        let known = width.max(self.resolution.finest);
+        let decimals = (-known.log10()).floor().clamp(1.0, 8.0) as usize;
+        Some(if width > 0.0 {
+            format!("{d:.decimals$} rad (the basin's edge within {width:.1e} beyond)")
+        } else {
+            format!("{d:.decimals$} rad")
+        })
     }
 
     /// The length of the onsets in attractor `a`'s basin here and in
