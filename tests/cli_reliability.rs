@@ -88,7 +88,7 @@ fn a_missing_session_and_a_bad_size_name_their_flag() {
     assert!(err.contains("--size") && err.contains("200x200"), "{err}");
 }
 
-/// `gui --tour-step` takes a step of the tour, 1 to 6, and `--layout` a
+/// `gui --tour-step` takes a step of the tour, 1 to 7, and `--layout` a
 /// new file beside `--screenshot`: anything else is one line naming the
 /// flag (and the range), exit 2, before any window opens.
 #[test]
@@ -96,12 +96,12 @@ fn a_tour_step_out_of_range_and_a_layout_without_a_picture_name_their_flag() {
     let dir = tempfile::tempdir().unwrap();
     let shot = dir.path().join("s.png");
     let shot = shot.to_str().unwrap();
-    for n in ["0", "7", "-1", "2.5", "many"] {
+    for n in ["0", "8", "-1", "2.5", "many"] {
         let o = oneblock(&["gui", "--tour-step", n, "--screenshot", shot]);
         let err = one_error_line(&o, 2);
         assert!(err.contains("--tour-step"), "{n}: {err}");
-        if matches!(n, "0" | "7") {
-            assert!(err.contains("[1, 6]"), "{n}: {err}");
+        if matches!(n, "0" | "8") {
+            assert!(err.contains("[1, 7]"), "{n}: {err}");
         }
     }
     let o = oneblock(&["gui", "--tour-step", "2", "--view", "plane"]);

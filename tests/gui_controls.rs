@@ -200,7 +200,7 @@ fn the_tour_walks_the_papers_story_in_the_window() {
     h.get_by_label("Tour").click();
     h.run_steps(6);
     check(&h, 0);
-    assert!(h.query_by_label_contains("Tour 1/6: Creep").is_some());
+    assert!(h.query_by_label_contains("Tour 1/7: Creep").is_some());
     h.get_by_label("Next").click();
     h.run_steps(6);
     check(&h, 1);

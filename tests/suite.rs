@@ -86,6 +86,8 @@ mod function_lengths;
 mod gui_accuracy;
 #[path = "gui_axes.rs"]
 mod gui_axes;
+#[path = "gui_basin_events.rs"]
+mod gui_basin_events;
 #[path = "gui_bifurcation.rs"]
 mod gui_bifurcation;
 #[path = "gui_continuation.rs"]

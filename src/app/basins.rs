@@ -2,14 +2,16 @@
 //! against θν (`jobs::basins`, a cell graph per column, no orbit budget),
 //! each basin coloured by the attractor it reaches, followed from column
 //! to column (`jobs::basins::identity`), the basin boundary grey; below,
-//! the basin fractions stacked against θν. Dragging a box zooms (its θν
-//! range is recomputed with all its columns); a click lists that column's
-//! attractors.
+//! the basin fractions stacked against θν; each track's births, deaths
+//! and period changes marked (`basin_events`), and explained on hover,
+//! as is a basin. Dragging a box zooms (its θν range is recomputed with
+//! all its columns); a click lists that column's attractors.
 
 use eframe::egui::{self, Color32, RichText, Ui};
 use egui_plot::{Plot, PlotBounds, PlotPoint, PlotPoints, Polygon, VLine};
 
 use super::axes::{self, AxisSpec};
+use super::basin_events;
 use super::jobs::basins::BasinsData;
 use super::jobs::{JobState, Jobs, Slot};
 use super::settings::{MAX_COLUMNS, MIN_COLUMNS, Settings, ViewKind, is_usable_range};
@@ -224,6 +226,7 @@ impl BasinsView {
         let resp = axes::apply(plot, &ax, &ay).show(ui, |p| {
             p.set_plot_bounds(PlotBounds::from_min_max([x0, lo], [x1, hi]));
             basin_items(p, d);
+            basin_events::event_items(p, d, Some(hi - 0.025 * (hi - lo)));
             if let Some(x) = sel_x {
                 p.add(VLine::new("selected column", x).color(style::CURRENT));
             }
@@ -234,6 +237,14 @@ impl BasinsView {
             pointer
         });
         axes::remember_frame(ui.ctx(), "basins", *resp.transform.frame());
+        if self.drag_from.is_none()
+            && let Some(at) = resp.inner.filter(|_| resp.response.hovered())
+        {
+            let per_point = 1.0 / resp.transform.dpos_dvalue_x().abs().max(1e-300);
+            if let Some(text) = basin_events::hover_sentence(d, at, per_point) {
+                resp.response.clone().on_hover_text_at_pointer(text);
+            }
+        }
         self.pointer_ui(&resp.response, resp.inner, s, d);
     }
 
@@ -369,12 +380,14 @@ fn status_ui(ui: &mut Ui, slot: &Slot<BasinsData>) {
 
 /// The legend: every track drawn, then the boundary; under it, what a
 /// numbered name ("P2 (2)") means, when there is one.
-fn legend_ui(ui: &mut Ui, ids: &Identities) {
+fn legend_ui(ui: &mut Ui, d: &BasinsData) {
+    let ids = &d.ids;
     ui.horizontal_wrapped(|ui| {
         for t in &ids.tracks {
             style::legend_swatch(ui, track_color(t.id), &t.label);
         }
         style::legend_swatch(ui, BOUNDARY, "basin boundary");
+        basin_events::legend_ui(ui, d);
     });
     if ids
         .tracks
@@ -397,7 +410,7 @@ impl View for BasinsView {
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         let figure = style::figure_only(ui.ctx());
         let d = &jobs.basins.data;
-        legend_ui(ui, &d.ids);
+        legend_ui(ui, d);
         let row = ui.text_style_height(&egui::TextStyle::Body);
         // Room for the top tick label, centred on the plot's top edge.
         ui.add_space(0.5 * row);
@@ -434,6 +447,7 @@ fn fractions_ui(ui: &mut Ui, s: &Settings, d: &BasinsData, height: f32) {
     axes::apply(plot, &ax, &ay).show(ui, |p| {
         p.set_plot_bounds(PlotBounds::from_min_max([x0, 0.0], [x1, 1.0]));
         fraction_items(p, d);
+        basin_events::event_items(p, d, None);
     });
 }
 

@@ -294,6 +294,9 @@ impl Explorer {
         if self.applied_style == Some(want) {
             return;
         }
+        if self.applied_style.is_none() {
+            style::install_fonts(ctx);
+        }
         if self.applied_style.is_some_and(|a| a.2) && !projector {
             self.panel_reset = 3;
         }

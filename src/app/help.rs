@@ -15,8 +15,11 @@ const BASINS_HELP: &str = "Every attractor of the map and its basin, at each pul
      verified interpolant, the arc is covered by cells, and the attractors are the \
      closed sets of the graph of where each cell maps (oneblock attractors). Below, the \
      basin fractions stacked against θν: where two colours share a column, two \
-     attractors coexist (hysteresis). Drag a box to zoom; click a column to list its \
-     attractors.";
+     attractors coexist (hysteresis). Once every column is in, the marks on top say where \
+     an attractor is born, dies or changes its period, and why: a fold, a flip, a border \
+     of f or a crisis, located by continuation to 1e-10 or by bisection on the cells \
+     (oneblock attractors --param); hover a mark or a basin to read it in a sentence. \
+     Drag a box to zoom; click a column to list its attractors.";
 
 /// What view `v` shows and how it is computed, in one paragraph.
 pub fn view_help(v: ViewKind) -> &'static str {

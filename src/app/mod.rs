@@ -32,6 +32,7 @@ mod actions;
 pub mod animation;
 pub mod axes;
 pub mod backend;
+pub mod basin_events;
 pub mod basins;
 pub mod bifurcation;
 pub mod block;

@@ -5,7 +5,7 @@
 //! the detected period and Lyapunov exponent.
 
 use eframe::egui;
-use egui::{RichText, Ui};
+use egui::{Color32, RichText, Ui};
 use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
@@ -110,6 +110,9 @@ struct MapData {
     /// The cell graph's basins along θ (from, to, attractor; `None`: the
     /// boundary), once found at these parameters.
     basins: Vec<(f64, f64, Option<usize>)>,
+    /// Each attractor's colour: its track's in the Basins view where that
+    /// view shows these parameters, so one attractor has one colour.
+    colours: Vec<Color32>,
     /// A chaotic attractor's invariant density: (θ, value) at its bins'
     /// centres, values scaled to at most 1.
     density: Vec<Vec<[f64; 2]>>,
@@ -151,9 +154,11 @@ impl MapData {
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
-        let (basins, density) = basins_of(jobs.map_basins.at(&s.params));
+        let found = jobs.map_basins.at(&s.params);
+        let (basins, density) = basins_of(found);
         MapData {
             basins,
+            colours: found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f)),
             density,
             web: if steps.on {
                 cobweb(&steps.onsets(evs))
@@ -194,13 +199,7 @@ impl MapData {
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(
-            ui,
-            it.period,
-            (it.lyapunov, it.lyapunov_stderr),
-            s,
-            jobs.map_basins.at(&s.params),
-        );
+        legend_ui(ui, it.period, (it.lyapunov, it.lyapunov_stderr), s, jobs);
         // Room for the top tick label, centred on the frame's top edge.
         ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
         let mut data = MapData::of(s, jobs, &self.steps);
@@ -343,6 +342,28 @@ fn map_markers(dark: bool) -> [Marker; 2] {
     ]
 }
 
+/// The colour of each attractor of `found` (at the current parameters):
+/// its track's in the Basins view when that view holds it, else one no
+/// track of the view has.
+fn attractor_colours(
+    s: &Settings,
+    jobs: &Jobs,
+    found: &crate::sim::attractors::Found,
+) -> Vec<Color32> {
+    let d = &jobs.basins.data;
+    let tracks = d.tracks_of(&s.params, found);
+    let spare = if tracks.iter().any(Option::is_some) {
+        d.ids.tracks.len()
+    } else {
+        0
+    };
+    tracks
+        .iter()
+        .enumerate()
+        .map(|(i, t)| super::basins::track_color(t.unwrap_or(spare + i)))
+        .collect()
+}
+
 /// The basins along θ and each chaotic attractor's density (bins' centres,
 /// scaled to at most 1), from the cell graph's answer.
 type BasinBand = (Vec<(f64, f64, Option<usize>)>, Vec<Vec<[f64; 2]>>);
@@ -389,7 +410,10 @@ fn draw_basins(p: &mut egui_plot::PlotUi<'_>, d: &MapData) {
             continue;
         }
         let (name, colour) = match att {
-            Some(i) => ("basins (cell graph)", super::basins::track_color(i)),
+            Some(i) => (
+                "basins (cell graph)",
+                d.colours.get(i).copied().unwrap_or(super::basins::BOUNDARY),
+            ),
             None => ("basin boundary", super::basins::BOUNDARY),
         };
         p.line(
@@ -480,8 +504,9 @@ fn legend_ui(
     period: Option<Period>,
     (lyapunov, stderr): (Option<f64>, Option<f64>),
     s: &mut Settings,
-    found: Option<&crate::sim::attractors::Found>,
+    jobs: &Jobs,
 ) {
+    let found = jobs.map_basins.at(&s.params);
     let mixed = matches!(
         Regime::of(s.params.kappa, s.params.gamma),
         Regime::Mixed { .. }
@@ -489,6 +514,7 @@ fn legend_ui(
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
     });
+    let colours = found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f));
     let difference = s.map_difference;
     ui.horizontal_wrapped(|ui| {
         style::legend_line(
@@ -519,7 +545,8 @@ fn legend_ui(
                     Some(p) => format!("basin: P{p}"),
                     None => "basin: chaotic".to_owned(),
                 };
-                style::legend_line(ui, super::basins::track_color(i), false, &name);
+                let c = colours.get(i).copied().unwrap_or(super::basins::BOUNDARY);
+                style::legend_line(ui, c, false, &name);
             }
             if f.attractors.iter().any(|a| a.density.is_some()) {
                 style::legend_line(ui, style::POWERS[0], false, "invariant density");

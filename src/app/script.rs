@@ -305,6 +305,8 @@ impl Script {
         if orbit_views
             && (!shows_numerics || jobs.numerics_settled())
             && (!shows_phase || jobs.phase.state == JobState::Done)
+            && (!w.settings.shows(ViewKind::Basins)
+                || jobs.basins.issued() && settled(&jobs.basins.state))
             && (!branches || settled(&jobs.branches.state))
             && (!curves || (jobs.curves.issued() && settled(&jobs.curves.state)))
         {

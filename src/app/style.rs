@@ -234,3 +234,19 @@ pub const NARROW: f32 = 640.0;
 pub fn is_narrow(ctx: &egui::Context) -> bool {
     ctx.content_rect().width() < NARROW
 }
+
+/// egui's fonts with DejaVu Sans (the figures' font, committed under
+/// assets/fonts) behind them, for the glyphs they lack: the arrow of a
+/// track's name ("P2 → P1") drew as a box.
+pub fn install_fonts(ctx: &egui::Context) {
+    let mut fonts = egui::FontDefinitions::default();
+    let name = "DejaVu Sans".to_string();
+    fonts.font_data.insert(
+        name.clone(),
+        std::sync::Arc::new(egui::FontData::from_static(crate::figure::FONT)),
+    );
+    for family in [egui::FontFamily::Proportional, egui::FontFamily::Monospace] {
+        fonts.families.entry(family).or_default().push(name.clone());
+    }
+    ctx.set_fonts(fonts);
+}

@@ -43,12 +43,14 @@ pub struct TourStep {
     /// Whether the text speaks of the λ strip under the diagram (which is
     /// then drawn: the tests check it).
     pub strip: bool,
+    /// The Basins view's θν range, where the step shows it.
+    pub basins_range: Option<(f64, f64)>,
 }
 
-use ViewKind::{Bifurcation, Events, Plane, ReturnMap, TimeSeries};
+use ViewKind::{Basins, Bifurcation, Events, Plane, ReturnMap, TimeSeries};
 
 /// The paper's story.
-pub const STEPS: [TourStep; 6] = [
+pub const STEPS: [TourStep; 7] = [
     TourStep {
         title: "Creep",
         text: "With weak velocity weakening (γ = 0.5) the block never sticks for long: it \
@@ -62,6 +64,7 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [false; 3],
         map_difference: true,
         strip: false,
+        basins_range: None,
     },
     TourStep {
         title: "A stick-slip fixed point",
@@ -74,6 +77,7 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [false; 3],
         map_difference: false,
         strip: true,
+        basins_range: None,
     },
     TourStep {
         title: "The first period doubling",
@@ -87,6 +91,7 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [true, false, false],
         map_difference: false,
         strip: true,
+        basins_range: None,
     },
     TourStep {
         title: "The cascade and chaos",
@@ -99,6 +104,7 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [false; 3],
         map_difference: false,
         strip: true,
+        basins_range: None,
     },
     TourStep {
         title: "A period-3 window",
@@ -111,6 +117,7 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [false, true, false],
         map_difference: false,
         strip: true,
+        basins_range: None,
     },
     TourStep {
         title: "Intermittency in the mixed regime",
@@ -125,6 +132,24 @@ pub const STEPS: [TourStep; 6] = [
         map_powers: [false; 3],
         map_difference: false,
         strip: false,
+        basins_range: None,
+    },
+    TourStep {
+        title: "Hysteresis: two attractors",
+        text: "At κ = 10 two stable cycles coexist: which one the block settles on depends \
+               on where its first slip starts. The Basins view colours each onset by the \
+               attractor it reaches, against θν. The large P2 (blue) dies in a fold at \
+               θν = 1.4202; a small P2 is born in a fold at 1.3640 and shrinks onto the fixed \
+               point in a flip at 1.3708. The marks on top name each event; hover one, or a \
+               basin, to read it. Sweep θν up past 1.4202 and back: the block does not come \
+               back to the P2.",
+        preset: "hysteresis",
+        theta_nu: 1.40,
+        views: &[Basins, ReturnMap],
+        map_powers: [true, false, false],
+        map_difference: false,
+        strip: false,
+        basins_range: Some((1.35, 1.43)),
     },
 ];
 
@@ -138,6 +163,9 @@ impl TourStep {
         s.tiled = self.views.to_vec();
         s.map_powers = self.map_powers;
         s.map_difference = self.map_difference;
+        if let Some(r) = self.basins_range {
+            s.basins.zoom = vec![r];
+        }
     }
 }
 
@@ -213,6 +241,7 @@ impl Tour {
             s.tiled = b.tiled;
             s.map_powers = b.map_powers;
             s.map_difference = b.map_difference;
+            s.basins.zoom = b.basins.zoom;
         }
     }
 

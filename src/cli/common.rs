@@ -28,7 +28,7 @@ use crate::sim::continuation::ContParam;
 #[derive(Debug, Clone, Default, Args)]
 pub struct ModelArgs {
     /// Start from a named parameter set: fig3a, fig3b, fig4, creep, chaos,
-    /// intermittent (the flags below override its values).
+    /// intermittent, hysteresis (the flags below override its values).
     #[arg(long)]
     pub preset: Option<Preset>,
     /// κ = k_x/k_y, the spring anisotropy, in [1e-6, 1e3] (beyond, slips turn

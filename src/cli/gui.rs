@@ -25,7 +25,7 @@ pub const VIEW_KEYS: [&str; 9] = [
 ];
 
 /// The guided tour's steps (`--tour-step` lies in [1, TOUR_STEPS]).
-pub const TOUR_STEPS: usize = 6;
+pub const TOUR_STEPS: usize = 7;
 // Known without the window's code; the tour's table must agree.
 #[cfg(feature = "gui")]
 const _: () = assert!(crate::app::tour::STEPS.len() == TOUR_STEPS);
@@ -35,7 +35,8 @@ pub const MAX_TIMEOUT: f64 = 86_400.0;
 
 #[derive(Debug, Clone, Default, Args)]
 pub struct GuiArgs {
-    /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent.
+    /// Start on a preset: fig3a, fig3b, fig4, creep, chaos, intermittent,
+    /// hysteresis.
     #[arg(long)]
     pub preset: Option<Preset>,
     /// Save a picture of the window here once the views are complete, then
@@ -85,7 +86,7 @@ pub struct GuiArgs {
     /// the browser build does (no simulation threads).
     #[arg(long)]
     pub single_thread: bool,
-    /// Open on step N of the guided tour, in [1, 6]: its parameters and
+    /// Open on step N of the guided tour, in [1, 7]: its parameters and
     /// views (End tour goes back to what the other flags set).
     #[arg(long, value_name = "N", allow_hyphen_values = true, value_parser = parse_count)]
     pub tour_step: Option<usize>,

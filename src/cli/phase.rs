@@ -29,7 +29,7 @@ use crate::sim::theta_nu_grid;
 #[derive(Debug, Clone, Args)]
 pub struct PhaseArgs {
     /// Take γ, ν and Ω from a named parameter set (fig3a, fig3b, fig4,
-    /// creep, chaos, intermittent); the flags below override them.
+    /// creep, chaos, intermittent, hysteresis); the flags below override them.
     #[arg(long)]
     pub preset: Option<Preset>,
     /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into

@@ -17,8 +17,9 @@ use resvg::usvg;
 /// The font every picture's text is set in (the family name SVG text names).
 pub const FONT_FAMILY: &str = "DejaVu Sans";
 
-/// DejaVu Sans (assets/fonts/README.md: its origin and licence).
-const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+/// DejaVu Sans (assets/fonts/README.md: its origin and licence); also the
+/// window's fallback for glyphs egui's own fonts lack (→ in "P2 → P1").
+pub const FONT: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
 
 /// The font database: only the committed font, loaded once.
 static FONTS: LazyLock<Arc<usvg::fontdb::Database>> = LazyLock::new(|| {

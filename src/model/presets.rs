@@ -25,9 +25,9 @@ const fn p(kappa: f64, gamma: f64, nu: f64, theta_nu: f64) -> Params {
     }
 }
 
-/// The presets: the paper's figures, a creep example, and one chaotic and
-/// one intermittent orbit.
-pub const PRESETS: [Preset; 6] = [
+/// The presets: the paper's figures, a creep example, one chaotic and
+/// one intermittent orbit, and two coexisting cycles.
+pub const PRESETS: [Preset; 7] = [
     Preset {
         key: "fig3a",
         label: "Fig. 3a: mixed regime (κ = 50, γ = 6.5, ν = 1e-4)",
@@ -57,6 +57,11 @@ pub const PRESETS: [Preset; 6] = [
         key: "intermittent",
         label: "Intermittent orbit (κ = 50, θν = 1.4)",
         params: p(50.0, 6.5, 1e-4, 1.4),
+    },
+    Preset {
+        key: "hysteresis",
+        label: "Hysteresis (κ = 10, θν = 1.4)",
+        params: p(10.0, 6.5, 1e-3, 1.4),
     },
 ];
 

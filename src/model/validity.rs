@@ -138,7 +138,15 @@ mod tests {
 
     #[test]
     fn the_paper_is_inside_and_each_edge_is_named() {
-        for k in ["fig3a", "fig3b", "fig4", "creep", "chaos", "intermittent"] {
+        for k in [
+            "fig3a",
+            "fig3b",
+            "fig4",
+            "creep",
+            "chaos",
+            "intermittent",
+            "hysteresis",
+        ] {
             let p = crate::model::preset(k).map(|p| p.params);
             assert_eq!(p.map(|p| validity(&p)), Some(vec![]), "{k}");
         }

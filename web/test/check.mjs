@@ -491,12 +491,12 @@ const attr = (p, name) => p.evaluate((n) => document.documentElement.getAttribut
 const tourPhone = await open(q4, async () => {}, { viewport: { width: 390, height: 844 }, isMobile: true, hasTouch: true });
 await filled(tourPhone, `${q4} at 390×844`);
 let tourStep = null;
-for (let attempt = 0; attempt < 4 && tourStep !== "1/6"; attempt++) {
+for (let attempt = 0; attempt < 4 && tourStep !== "1/7"; attempt++) {
   await tourPhone.touchscreen.tap(...PHONE_TOUR);
   await tourPhone.waitForTimeout(1500);
   tourStep = await attr(tourPhone, "data-tour");
 }
-if (tourStep !== "1/6") fail(`${q4} at 390×844: Tour (at ${PHONE_TOUR}) opened no tour (data-tour '${tourStep}')`);
+if (tourStep !== "1/7") fail(`${q4} at 390×844: Tour (at ${PHONE_TOUR}) opened no tour (data-tour '${tourStep}')`);
 await tourPhone.waitForTimeout(6000);
 const tourInk = inkIn(await tourPhone.screenshot(), { x0: 0.2, x1: 0.97, y0: 0.12, y1: 0.55 });
 if (tourInk < 3000) fail(`${q4} at 390×844: the tour's first view is empty above its box (${tourInk} inked pixels)`);
