@@ -365,6 +365,15 @@ fn status_ui(ui: &mut Ui, slot: &Slot<BasinsData>) {
         JobState::Cancelled => {
             ui.label(format!("stopped after {} of {n} columns", d.arrived()));
         }
+        JobState::Done if cfg!(target_arch = "wasm32") => {
+            ui.label(
+                RichText::new(
+                    "where each attractor is born or dies is located by the desktop app and \
+                     oneblock attractors --param theta-nu, not in the page",
+                )
+                .weak(),
+            );
+        }
         _ => {}
     }
     if failed > 0 {

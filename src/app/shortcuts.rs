@@ -1,4 +1,4 @@
-//! The keyboard: Ctrl+S, 1–8 for a view, T for tabs or tiles, Space for
+//! The keyboard: Ctrl+S, 1–9 for a view, T for tabs or tiles, Space for
 //! the block's animation, R to restart the orbit, ← and → to step θν (or,
 //! in the tour, to walk its steps), and presentation's H, F, Esc, P, N.
 
@@ -28,6 +28,7 @@ impl Explorer {
             Key::Num6,
             Key::Num7,
             Key::Num8,
+            Key::Num9,
         ];
         for (k, v) in tabs.into_iter().zip(ViewKind::ALL) {
             if ctx.input(|i| i.key_pressed(k)) {

@@ -71,7 +71,7 @@ impl Explorer {
         ui.selectable_value(&mut s.layout, Layout::Tiles, "Tiles")
             .on_hover_text("Several views at once (T toggles)");
         ui.selectable_value(&mut s.layout, Layout::Tabs, "Tabs")
-            .on_hover_text("One view, full size (keys 1–8)");
+            .on_hover_text("One view, full size (keys 1–9)");
         ui.separator();
         match s.layout {
             Layout::Tabs => {

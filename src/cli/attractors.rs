@@ -181,7 +181,7 @@ pub fn run(args: AttractorsArgs) -> Result<(), CliError> {
         ));
     }
     let text = if args.json {
-        json(&found)
+        json(&found, &params, &settings)
     } else {
         let mut described = describe(&params, &settings);
         if settings.method.is_adaptive() && settings.rtol > GRAPH_RTOL {
@@ -204,14 +204,14 @@ fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
     }
 }
 
-/// `{"attractors": [{"period", "points", "multiplier", "lyapunov",
+/// `{"params", "solver", "attractors": [{"period", "points", "multiplier", "lyapunov",
 /// "lyapunov_stderr", "lyapunov_from_density", "lyapunov_density_error",
 /// "density", "basin_fraction", "min_kick", "min_kick_width",
 /// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
 /// "boundary_fraction", "unenclosed_fraction", "resolution":
 /// {"cell_width", "widest_cell", "epsilon", "cells", "budget_hit",
 /// "nodes_capped"}}`.
-fn json(found: &Found) -> String {
+fn json(found: &Found, params: &crate::model::Params, settings: &crate::SolverSettings) -> String {
     let list: Vec<_> = found
         .attractors
         .iter()
@@ -247,6 +247,8 @@ fn json(found: &Found) -> String {
     format!(
         "{}\n",
         serde_json::json!({
+            "params": params,
+            "solver": super::common::settings_json(settings),
             "attractors": list,
             "basins": basins,
             "boundary_fraction": found.boundary_fraction,

@@ -54,7 +54,7 @@ pub struct GuiArgs {
     #[arg(long)]
     pub frame_stats: bool,
     /// Show one view full size: plane, block, bifurcation, return-map, events,
-    /// numerics, phase.
+    /// numerics, phase, time-series, basins.
     #[arg(long, value_parser = clap::builder::PossibleValuesParser::new(VIEW_KEYS))]
     pub view: Option<String>,
     /// Text size multiplier in [0.5, 3] (e.g. 1.5 on a projector).

@@ -47,7 +47,7 @@ pub enum Command {
     Orbit(orbit::OrbitArgs),
     /// A period-p cycle solved by Newton's method: its points, multiplier and stability.
     Cycle(cycle::CycleArgs),
-    /// Every attractor at one parameter point, from seeds spread over the exit arc, with basin fractions.
+    /// Every attractor and basin at one parameter point, or tracked over a parameter range with where each is born and dies, from the exit arc's cell graph.
     Attractors(attractors::AttractorsArgs),
     /// A cycle followed in a parameter: period doublings, folds, borders; cascades; curves.
     Continue(continue_cmd::ContinueArgs),

@@ -126,6 +126,19 @@ impl Default for BasinsSettings {
 }
 
 impl BasinsSettings {
+    /// Columns within the view's bounds; each zoom level a usable θν range
+    /// inside [−π, π], its ends in order, at most [`MAX_ZOOM_LEVELS`] of
+    /// them (a session or the saved state may hold anything: θν ± 100
+    /// drew columns 2π apart as different attractors).
+    pub fn sanitised(mut self) -> Self {
+        use std::f64::consts::PI;
+        self.columns = self.columns.clamp(MIN_COLUMNS, MAX_COLUMNS);
+        self.zoom
+            .retain(|&(a, b)| is_usable_range((a, b)) && a < b && a >= -PI && b <= PI);
+        self.zoom.truncate(MAX_ZOOM_LEVELS);
+        self
+    }
+
     /// The θν range computed: the innermost usable zoom, else the
     /// bifurcation diagram's whole range.
     pub fn range(&self, s: &Settings) -> (f64, f64) {

@@ -502,6 +502,11 @@ impl Settings {
             self.diagram = diagram;
             bad.push("diagram range");
         }
+        let basins = self.basins.clone().sanitised();
+        if basins != self.basins {
+            self.basins = basins;
+            bad.push("basins view");
+        }
     }
 
     /// The highest power f^k of the map the return map draws (1: f alone).
@@ -551,6 +556,19 @@ mod tests {
         assert!(s.smooth_lines_on(true));
         s.smooth_lines = Some(false);
         assert!(!s.smooth_lines_on(false));
+    }
+
+    #[test]
+    fn a_saved_basins_zoom_outside_theta_nus_range_or_reversed_is_dropped() {
+        let mut s = Settings::default();
+        s.basins.zoom = vec![(1.35, 1.43), (-100.0, 100.0), (1.4, 1.3), (f64::NAN, 1.0)];
+        s.basins.columns = 1_000_000;
+        let (s, bad) = s.sanitised();
+        assert_eq!(s.basins.zoom, [(1.35, 1.43)]);
+        assert_eq!(s.basins.columns, MAX_COLUMNS);
+        assert!(bad.contains(&"basins view"), "{bad:?}");
+        let (_, bad) = Settings::default().sanitised();
+        assert!(!bad.contains(&"basins view"));
     }
 
     #[test]
