@@ -159,7 +159,7 @@ pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
     if data.branches.is_empty() {
         return;
     }
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         style::legend_line(ui, BRANCH, false, STABLE);
         style::legend_line(ui, BRANCH, true, UNSTABLE);
         for kind in MARKED {
@@ -194,7 +194,7 @@ pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
     if data.curves.is_empty() {
         return;
     }
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         for (kind, name, dashed) in [
             (CurveKind::PeriodDoubling, CURVE, false),
             (CurveKind::Fold, FOLD_CURVE, true),

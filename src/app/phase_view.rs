@@ -292,7 +292,7 @@ impl View for PhaseView {
 /// multistable cell, and while coarse cells are shown what their pale
 /// colour means.
 fn legend_row_ui(ui: &mut Ui, seeds: bool, pale: bool) {
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         for (c, name) in LEGEND_CLASSES {
             style::legend_swatch(ui, class_colour(c, 255), name);
         }

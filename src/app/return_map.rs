@@ -490,7 +490,7 @@ fn legend_ui(
         ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
     });
     let difference = s.map_difference;
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         style::legend_line(
             ui,
             style::ACCEL,

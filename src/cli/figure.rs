@@ -171,6 +171,10 @@ fn look(a: &FigureArgs) -> crate::app::svg_render::Look {
         window: a.window_look,
         title: a.title.clone(),
         font_size: a.font_size.map(|v| v as f32),
+        legend: match a.legend {
+            super::figure_flags::LegendFlag::Outside => crate::app::style::LegendPlace::Outside,
+            super::figure_flags::LegendFlag::None => crate::app::style::LegendPlace::Hidden,
+        },
     }
 }
 

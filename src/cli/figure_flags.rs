@@ -429,6 +429,18 @@ pub struct FigureArgs {
     /// session's, else 0].
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: Option<usize>,
+    /// Where the legend goes: outside (in a row above the plot it
+    /// describes) or none (no legend: a caption says what is drawn). Its
+    /// entries are only what the plot shows.
+    #[arg(long, value_enum, default_value_t = LegendFlag::Outside)]
+    pub legend: LegendFlag,
+}
+
+/// `figure --legend`'s places.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LegendFlag {
+    Outside,
+    None,
 }
 
 /// The checked flags: the view, format and ranges.
