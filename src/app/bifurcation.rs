@@ -449,14 +449,15 @@ impl View for BifurcationView {
         if s.sweep_seeds > 0 {
             style::legend_row(ui, |ui| seeds_legend_ui(ui, s));
         }
-        overlay::branch_legend_ui(ui, &jobs.branches.data);
+        let (x0, x1, y0, y1) = self.bounds(sweep);
+        let x = |v| XAxis::of(sweep.param).x(v);
+        overlay::branch_legend_ui(ui, &jobs.branches.data, ([x0, y0], [x1, y1]), &x);
         // The λ strip's legend is drawn in its own panel, between the two
         // plots, in the room it took last frame.
         let with_strip = plot_sizes(ui, ui.available_height()).1 > 0.0;
         let legend = if with_strip { self.strip_legend } else { 0.0 };
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height() - legend);
         self.plot_ui(ui, s, sweep, &jobs.branches.data, (diagram, y_width), out);
-        let (x0, x1, ..) = self.bounds(sweep);
         if with_strip && strip > 0.0 {
             let top = ui.cursor().top();
             lyapunov_strip::legend_ui(ui, s.dark, lyapunov_strip::below_strip(sweep));
