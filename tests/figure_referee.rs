@@ -4,7 +4,8 @@
 //! within 15 % of the axis's length of its ends; no two texts' boxes
 //! (approximated from the font size and the number of characters)
 //! overlapping; no `textLength` (no stretched glyphs); every text black;
-//! and with `--legend none` no text but tick labels and axis titles.
+//! and with `--legend none` no legend entry. Item 4: `--dpi` sets a PNG's
+//! pixels per inch, and `--size` goes down to a column's 100 points.
 #![cfg(feature = "gui")]
 
 use std::collections::HashMap;
@@ -393,4 +394,66 @@ fn the_kappa_diagram_is_labelled_near_5_and_40() {
         // No θ = θν: θν = 1.1 lies far above the diagram's θ.
         assert!(!texts.iter().any(|t| t.text == "θ = θν"), "{}", size.0);
     }
+}
+
+#[test]
+fn dpi_sets_a_pngs_pixels_and_sizes_go_down_to_100_points() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8 path");
+    let out = dir.path().join("d.png");
+    let o = figure(&[
+        "--view",
+        "bifurcation",
+        "--session",
+        session,
+        "--size",
+        "250x200",
+        "--dpi",
+        "288",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&out).expect("a PNG");
+    assert_eq!((img.width(), img.height()), (1000, 800));
+    // Refused with one line naming the flag: too low, too many pixels, not a PNG.
+    for (dpi, name, size) in [
+        ("10", "e.png", "900x600"),
+        ("600", "f.png", "10000x200"),
+        ("300", "g.svg", "900x600"),
+    ] {
+        let out = dir.path().join(name);
+        let o = figure(&[
+            "--view",
+            "bifurcation",
+            "--size",
+            size,
+            "--dpi",
+            dpi,
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "--dpi {dpi}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(err.contains("--dpi"), "{err}");
+        assert!(!out.exists());
+    }
+    // A column's figure, 100 points a side, of every view; 99 refused.
+    for view in VIEWS {
+        let svg = svg_of(dir.path(), session, view, ("100x100", Some("5")), &[]);
+        assert!(svg.contains("width=\"100\""), "{view}");
+    }
+    let out = dir.path().join("small.svg");
+    let o = figure(&[
+        "--view",
+        "plane",
+        "--size",
+        "99x100",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--size"));
 }
