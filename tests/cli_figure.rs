@@ -92,10 +92,12 @@ fn texts(svg: &str) -> Vec<Text> {
             Event::Text(t) => {
                 if let Some(a) = open.take() {
                     let num = |k: &str| a.get(k).and_then(|v| v.parse().ok()).unwrap_or(f64::NAN);
+                    // x is the middle of the row egui laid out, data-width its width.
+                    let width = num("data-width");
                     out.push(Text {
-                        x: num("x"),
+                        x: num("x") - 0.5 * width,
                         y: num("y"),
-                        width: num("textLength"),
+                        width,
                         text: t.decode().expect("utf-8").into_owned(),
                         rotated: rotated > 0,
                     });

@@ -97,8 +97,9 @@ fn boxes(svg: &str) -> (Vec<TextBox>, Vec<Frame>) {
             }
             Event::Text(t) => {
                 if let Some(a) = &open {
-                    let (x, y, size) = (num(a, "x"), num(a, "y"), num(a, "font-size"));
-                    let w = num(a, "textLength");
+                    // x is the middle of the row egui laid out, data-width its width.
+                    let w = num(a, "data-width");
+                    let (x, y, size) = (num(a, "x") - 0.5 * w, num(a, "y"), num(a, "font-size"));
                     let text = t.decode().map(|s| s.into_owned()).unwrap_or_default();
                     // Below the baseline only where a glyph descends (a
                     // number has none).
@@ -280,9 +281,9 @@ fn the_box_reader_sees_an_overlap_when_there_is_one() {
     // The check itself: two labels drawn at one place overlap, a turned
     // title's box is tall and narrow.
     let svg = r#"<svg xmlns="http://www.w3.org/2000/svg"><defs><clipPath id="c0"><rect x="0" y="0" width="100" height="100"/></clipPath></defs>
-<text x="10" y="20" font-size="10" textLength="40">left</text>
-<text x="30" y="22" font-size="10" textLength="40">right</text>
-<g transform="rotate(-90.00 5 80)"><text x="5" y="80" font-size="10" textLength="50">count (log)</text></g></svg>"#;
+<text x="30" y="20" font-size="10" data-width="40">left</text>
+<text x="50" y="22" font-size="10" data-width="40">right</text>
+<g transform="rotate(-90.00 5 80)"><text x="30" y="80" font-size="10" data-width="50">count (log)</text></g></svg>"#;
     let (t, frames) = boxes(svg);
     assert_eq!(frames, vec![[0.0, 0.0, 100.0, 100.0]]);
     assert!(overlap(&t[0], &t[1], 0.5));

@@ -12,8 +12,10 @@ use egui_plot::{AxisHints, GridInput, GridMark, Plot};
 
 pub use super::settings::AngleUnit;
 
+mod ends;
 mod ticks;
 
+pub use ends::{END_REACH, reach_ends};
 pub use ticks::*;
 
 /// How an axis is scaled and labelled.
@@ -101,8 +103,19 @@ impl AxisSpec {
 
 /// The ticks an axis drew last, shared by its grid spacer (which computes
 /// them) and its label formatter (which writes them), so that the labels
-/// are exactly the ticks' whatever range egui hands the formatter.
-type Shared = std::rc::Rc<std::cell::RefCell<Vec<Tick>>>;
+/// are exactly the ticks' whatever range egui hands the formatter; and
+/// whether its first label stands on the frame's low corner (an x axis's,
+/// where the y axis's lowest label would be drawn over it).
+#[derive(Default)]
+struct Drawn {
+    ticks: Vec<Tick>,
+    corner: bool,
+}
+
+type Shared = std::rc::Rc<std::cell::RefCell<Drawn>>;
+
+/// egui_plot's margin between a y label and the frame, points.
+const SIDE_MARGIN: f64 = 4.0;
 
 /// egui_plot's smallest grid spacing in points (its default, which
 /// [`apply`] keeps): its `GridInput::base_step_size` is this many points
@@ -126,6 +139,10 @@ struct LabelFont {
 }
 
 thread_local! {
+    /// Whether the plots being drawn are a figure's ([`super::style::figure_only`]):
+    /// a figure's y axis leaves the bottom-left corner to the x axis's
+    /// label, the window's x axis leaves it to the y axis's.
+    static FIGURE: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
     static LABEL_FONT: std::cell::Cell<LabelFont> = const {
         std::cell::Cell::new(LabelFont { row: 14.5, widths: [7.0; 16], other: 14.0 })
     };
@@ -206,26 +223,49 @@ fn gap(t: &[Tick], i: usize, span: f64) -> f64 {
 }
 
 /// The ticks as egui_plot grid marks (a grid line at each labelled tick,
-/// none between: a printed figure's grid).
+/// none between: a printed figure's grid), with a label within
+/// [`END_REACH`] of each end ([`reach_ends`]). egui would draw an x and a
+/// y label on the frame's bottom-left corner over each other: in a figure
+/// the y axis leaves the corner to the x axis's first label (`other`'s)
+/// when that stands there; in the window the x axis leaves it.
 fn grid_marks(
     scale: Scale,
     axis: egui_plot::Axis,
     input: GridInput,
-    drawn: &Shared,
+    (drawn, other): (&Shared, &Shared),
 ) -> Vec<GridMark> {
     let (lo, hi) = input.bounds;
     let points_per_value = GRID_MIN_POINTS / input.base_step_size;
-    let mut t = legible_ticks(scale, axis, (lo, hi), points_per_value);
-    // A label on the frame's bottom-left corner would stand where the
-    // other axis's first label stands: where there are labels to spare,
-    // its grid line stays, unlabelled.
-    let many = t.len() > 5;
-    if many
-        && let Some(first) = t.first_mut()
-        && (first.value - lo) * points_per_value < 0.5 * label_room(axis, first)
+    let t = legible_ticks(scale, axis, (lo, hi), points_per_value);
+    let f = LABEL_FONT.with(|c| c.get());
+    let digit = f.widths[..10].iter().copied().fold(0.0, f64::max);
+    let figure = FIGURE.with(|c| c.get());
+    let low_from = match axis {
+        egui_plot::Axis::Y if figure && other.borrow().corner => 0.6 * f.row / points_per_value,
+        _ => 0.0,
+    };
+    // egui draws a label only as far from its nearer neighbour as it is
+    // wide (x) or tall (y).
+    let apart = |a: &Tick, b: &Tick| match axis {
+        egui_plot::Axis::Y => f.row / points_per_value,
+        egui_plot::Axis::X => {
+            (label_room(axis, a).max(label_room(axis, b)) + 0.25 * digit) / points_per_value
+        }
+    };
+    let mut t = reach_ends(scale, (lo, hi), t, low_from, apart);
+    // The window keeps five labels an axis: there the x axis gives up its
+    // corner label where it has labels to spare, its grid line staying.
+    if !figure
+        && axis == egui_plot::Axis::X
+        && t.len() > MIN_TICKS
+        && (t[0].value - lo) * points_per_value < 0.5 * label_room(axis, &t[0])
     {
-        first.label.clear();
+        t[0].label.clear();
     }
+    let corner = axis == egui_plot::Axis::X
+        && t.first().is_some_and(|first| {
+            (first.value - lo) * points_per_value < 0.5 * label_room(axis, first) + SIDE_MARGIN
+        });
     // The spacing egui fits each label into: the gap to its nearer
     // neighbour (on a log axis the gaps differ), so that a crowded label
     // is dropped alone rather than all of them.
@@ -235,7 +275,7 @@ fn grid_marks(
             step_size: gap(&t, i, hi - lo),
         })
         .collect();
-    *drawn.borrow_mut() = t;
+    *drawn.borrow_mut() = Drawn { ticks: t, corner };
     marks
 }
 
@@ -243,6 +283,7 @@ fn grid_marks(
 fn tick_label(mark: GridMark, drawn: &Shared) -> String {
     drawn
         .borrow()
+        .ticks
         .iter()
         .find(|t| t.value == mark.value)
         .map(|t| t.label.clone())
@@ -278,12 +319,13 @@ pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
     let (sx, sy) = (x.scale, y.scale);
     let (dx, dy) = (Shared::default(), Shared::default());
     let (gx, gy) = (dx.clone(), dy.clone());
+    let (ox, oy) = (dy.clone(), dx.clone());
     let (hx, hy) = (x.clone(), y.clone());
     plot.label_formatter(move |pos| hover_label(&hx, &hy, pos))
         .custom_x_axes(vec![hints(x, egui_plot::Axis::X, dx)])
         .custom_y_axes(vec![hints(y, egui_plot::Axis::Y, dy), right_margin()])
-        .x_grid_spacer(move |i| grid_marks(sx, egui_plot::Axis::X, i, &gx))
-        .y_grid_spacer(move |i| grid_marks(sy, egui_plot::Axis::Y, i, &gy))
+        .x_grid_spacer(move |i| grid_marks(sx, egui_plot::Axis::X, i, (&gx, &ox)))
+        .y_grid_spacer(move |i| grid_marks(sy, egui_plot::Axis::Y, i, (&gy, &oy)))
 }
 
 /// `long` if a y axis's title fits along a plot `height` points tall (its
@@ -413,6 +455,7 @@ pub fn clear_frames(ctx: &egui::Context) {
         }
     });
     LABEL_FONT.with(|c| c.set(measured));
+    FIGURE.with(|c| c.set(super::style::figure_only(ctx)));
 }
 
 /// The plots drawn since the last [`clear_frames`], with their frames.

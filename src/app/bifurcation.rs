@@ -18,7 +18,7 @@ use super::axes::{self, AxisSpec};
 use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::diagram_axis::{self, XAxis};
-use super::diagram_lines::{Lines, lines_legend_ui, theta_c};
+use super::diagram_lines::{Lines, lines_legend_ui};
 use super::jobs::{JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
 use super::raster;
@@ -53,6 +53,8 @@ pub struct BifurcationView {
     pinch: Pinch,
     /// The last frame's plot transform (tests find points on screen with it).
     pub transform: Option<egui_plot::PlotTransform>,
+    /// The height the λ strip's legend took last frame, kept for it.
+    strip_legend: f32,
 }
 
 /// The colour of the attractors a seeded sweep finds besides the one it
@@ -233,14 +235,7 @@ impl BifurcationView {
     ) {
         let bounds = self.bounds(sweep);
         let axis = XAxis::of(sweep.param);
-        let lines = Lines {
-            axis,
-            theta_nu: s.params.theta_nu,
-            bounds,
-            current: style::draws_current(ui.ctx()).then_some(axis.x(axis.param.get(&s.params))),
-            theta_c: theta_c(s, axis.param),
-            width: style::width(ui.ctx(), 1.5),
-        };
+        let lines = Lines::of(ui.ctx(), s, bounds, sweep.param);
         let tex = self.texture.as_ref().map(|t| t.id());
         let (drag_from, pinch) = (self.drag_from, self.pinch);
         let plot = Plot::new("bifurcation")
@@ -449,23 +444,27 @@ impl View for BifurcationView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.sweep.data, s.dark);
-        lines_legend_ui(ui, s);
-        if s.sweep_seeds > 0 {
-            ui.horizontal_wrapped(|ui| seeds_legend_ui(ui, s));
-        }
-        overlay::branch_legend_ui(ui, &jobs.branches.data);
-        if plot_sizes(ui, ui.available_height()).1 > 0.0 {
-            let below = lyapunov_strip::below_strip(&jobs.sweep.data);
-            lyapunov_strip::legend_ui(ui, s.dark, below);
-        }
         let sweep = &jobs.sweep.data;
-        let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height());
+        lines_legend_ui(ui, &Lines::of(ui.ctx(), s, self.bounds(sweep), sweep.param));
+        if s.sweep_seeds > 0 {
+            style::legend_row(ui, |ui| seeds_legend_ui(ui, s));
+        }
+        let (x0, x1, y0, y1) = self.bounds(sweep);
+        let x = |v| XAxis::of(sweep.param).x(v);
+        overlay::branch_legend_ui(ui, &jobs.branches.data, ([x0, y0], [x1, y1]), &x);
+        // The λ strip's legend is drawn in its own panel, between the two
+        // plots, in the room it took last frame.
+        let with_strip = plot_sizes(ui, ui.available_height()).1 > 0.0;
+        let legend = if with_strip { self.strip_legend } else { 0.0 };
+        let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height() - legend);
         self.plot_ui(ui, s, sweep, &jobs.branches.data, (diagram, y_width), out);
-        let (x0, x1, ..) = self.bounds(sweep);
-        if strip > 0.0
-            && let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width))
-        {
-            out.push(Action::SetParam(sweep.param, tn));
+        if with_strip && strip > 0.0 {
+            let top = ui.cursor().top();
+            lyapunov_strip::legend_ui(ui, s.dark, lyapunov_strip::below_strip(sweep));
+            self.strip_legend = ui.cursor().top() - top;
+            if let Some(tn) = lyapunov_strip::strip_ui(ui, s, sweep, (x0, x1), (strip, y_width)) {
+                out.push(Action::SetParam(sweep.param, tn));
+            }
         }
     }
 }

@@ -228,7 +228,7 @@ impl BlockView {
             half: unit * 0.22,
             ink,
             dark,
-            text_scale: s.font_scale,
+            text_scale: style::text_scale(ui),
         };
         scene.surface(&p, st.t);
         scene.walls_and_springs();

@@ -50,31 +50,71 @@ pub struct Lines {
     pub width: f32,
 }
 
+/// The colour of the line θ = θν, dotted.
+fn diagonal_colour() -> egui::Color32 {
+    style::CRITICAL.gamma_multiply(0.6)
+}
+
 impl Lines {
-    pub fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
-        // Dotted along its length on screen: cut to the frame first
-        // (super::clip), or a thin θ zoom makes millions of dots.
+    /// The lines of a diagram in `param` over `bounds` (x from, to, θ lo,
+    /// hi), as `ctx` draws them.
+    pub fn of(
+        ctx: &egui::Context,
+        s: &Settings,
+        bounds: (f64, f64, f64, f64),
+        param: ContParam,
+    ) -> Lines {
+        let axis = XAxis::of(param);
+        Lines {
+            axis,
+            theta_nu: s.params.theta_nu,
+            bounds,
+            current: style::draws_current(ctx).then_some(axis.x(axis.param.get(&s.params))),
+            theta_c: theta_c(s, axis.param),
+            width: style::width(ctx, 1.5),
+        }
+    }
+
+    /// The pieces of θ = θν within the plot: the diagonal of a diagram in
+    /// θν, the level line θ = θν in the others (none where θν is off the
+    /// θ range).
+    fn diagonal(&self) -> Vec<Vec<[f64; 2]>> {
         let (x0, x1, y0, y1) = self.bounds;
         let line = match self.axis.param {
             ContParam::ThetaNu => [[x0, x0], [x1, x1]],
             _ => [[x0, self.theta_nu], [x1, self.theta_nu]],
         };
-        for part in clip_polyline(&line, [x0, y0], [x1, y1]) {
+        clip_polyline(&line, [x0, y0], [x1, y1])
+    }
+
+    /// ±θc where they lie within the plot's θ range.
+    fn theta_c_levels(&self) -> Vec<f64> {
+        let (_, _, y0, y1) = self.bounds;
+        self.theta_c
+            .map(|tc| [tc, -tc])
+            .into_iter()
+            .flatten()
+            .filter(|y| (y0..=y1).contains(y))
+            .collect()
+    }
+
+    pub fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
+        // Dotted along its length on screen: cut to the frame first
+        // (super::clip), or a thin θ zoom makes millions of dots.
+        for part in self.diagonal() {
             p.line(
                 style::line("θ = θν", PlotPoints::from(part))
-                    .color(style::CRITICAL.gamma_multiply(0.6))
+                    .color(diagonal_colour())
                     .style(LineStyle::Dotted { spacing: 6.0 }),
             );
         }
-        if let Some(tc) = self.theta_c {
-            for y in [tc, -tc] {
-                p.add(
-                    HLine::new("θc", y)
-                        .color(style::ACCEL)
-                        .style(LineStyle::Dashed { length: 10.0 })
-                        .width(1.5),
-                );
-            }
+        for y in self.theta_c_levels() {
+            p.add(
+                HLine::new("θc", y)
+                    .color(style::ACCEL)
+                    .style(LineStyle::Dashed { length: 10.0 })
+                    .width(1.5),
+            );
         }
         if let Some(x) = self.current {
             p.add(
@@ -86,16 +126,27 @@ impl Lines {
     }
 }
 
-/// The legend of the lines drawn over the diagram: θ = θν, the critical
-/// angles ±θc (where drawn) and the current value.
-pub fn lines_legend_ui(ui: &mut Ui, s: &Settings) {
-    ui.horizontal_wrapped(|ui| {
-        style::legend_line(ui, style::CRITICAL, true, "θ = θν");
-        if theta_c(s, s.diagram.param).is_some() {
+/// The legend of the lines drawn over the diagram, each only where it
+/// crosses the plot, its key as it is drawn: θ = θν (dotted), the
+/// critical angles ±θc and the current value.
+pub fn lines_legend_ui(ui: &mut Ui, lines: &Lines) {
+    let diagonal = !lines.diagonal().is_empty();
+    let theta_c = !lines.theta_c_levels().is_empty();
+    let current = lines
+        .current
+        .filter(|x| (lines.bounds.0..=lines.bounds.1).contains(x));
+    if !(diagonal || theta_c || current.is_some()) {
+        return;
+    }
+    style::legend_row(ui, |ui| {
+        if diagonal {
+            style::legend_dotted(ui, diagonal_colour(), "θ = θν");
+        }
+        if theta_c {
             style::legend_line(ui, style::ACCEL, true, "±θc");
         }
-        if style::draws_current(ui.ctx()) {
-            style::legend_line(ui, style::CURRENT, false, current_name(s.diagram.param));
+        if current.is_some() {
+            style::legend_line(ui, style::CURRENT, false, current_name(lines.axis.param));
         }
     });
 }

@@ -55,7 +55,7 @@ impl Plots<'_> {
         let markers = self.sizes.len() <= MAX_MARKERS;
         // Room for five labelled ticks on the size axis.
         let line = ui.text_style_height(&egui::TextStyle::Body);
-        let h = if markers && h > 12.0 * line {
+        let h = if markers && h > 12.0 * line && style::legend_shown(ui.ctx()) {
             // What the markers' colours say, on a row above the plot (left
             // out in a tile too short for it and the plot's ticks).
             let row = ui.horizontal(|ui| {

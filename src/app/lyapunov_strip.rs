@@ -177,7 +177,7 @@ fn marks(
 /// The strip's legend: what its marks mean, with the off-strip marker
 /// when some points lie `below` the strip's lower edge.
 pub fn legend_ui(ui: &mut Ui, dark: bool, below: Option<f64>) {
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         let [exact, mean, under] = strip_markers(style::ink(dark), style::width(ui.ctx(), 2.0));
         markers::legend(ui, &[exact], EXACT);
         markers::legend(ui, &[mean], MEAN);

@@ -119,6 +119,9 @@ pub fn paint_key(ui: &Ui, rect: egui::Rect, layers: &[Marker]) {
 
 /// A legend entry: the marker (its layers, see [`paint_key`]) and its label.
 pub fn legend(ui: &mut Ui, layers: &[Marker], label: &str) {
+    if !super::style::legend_shown(ui.ctx()) {
+        return;
+    }
     let side = 2.0 * KEY_RADIUS + 3.0;
     super::style::keep_key_with_label(ui, side, label);
     let (rect, _) = ui.allocate_exact_size(vec2(side, side), egui::Sense::hover());

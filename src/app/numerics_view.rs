@@ -321,6 +321,9 @@ fn chart_legend_ui(
     mode: &str,
     ink: egui::Color32,
 ) {
+    if !style::legend_shown(ui.ctx()) {
+        return;
+    }
     ui.horizontal_wrapped(|ui| {
         for (m, _) in curves(rows, y_evals) {
             legend_method(ui, m);

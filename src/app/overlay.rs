@@ -125,6 +125,18 @@ pub fn branch_items(
             }
         }
     }
+    for (m, name, pts) in marked_groups(data, (min, max), x) {
+        p.points(m.points(name, PlotPoints::from(pts)));
+    }
+}
+
+/// The special points drawn over a plot of bounds `(min, max)`, by
+/// marker: each kind's points within the box, the kinds with none left out.
+fn marked_groups(
+    data: &BranchData,
+    (min, max): ([f64; 2], [f64; 2]),
+    x: &dyn Fn(f64) -> f64,
+) -> Vec<(Marker, &'static str, Vec<[f64; 2]>)> {
     let rows = special_rows(data);
     let subcritical = |s: &&&SpecialPoint| {
         s.flip
@@ -134,18 +146,37 @@ pub fn branch_items(
         .map(|kind| (marker(kind), kind, false))
         .into_iter()
         .chain([(SUBCRITICAL, SpecialKind::PeriodDoubling, true)]);
-    for ((m, name), kind, sub) in groups {
-        let pts: Vec<[f64; 2]> = rows
-            .iter()
-            .filter(|s| s.kind == kind && subcritical(s) == sub)
-            .map(|s| [x(s.lambda), s.theta])
-            .filter(|&q| within(q, min, max))
-            .collect();
-        if pts.is_empty() {
-            continue;
+    groups
+        .filter_map(|((m, name), kind, sub)| {
+            let pts: Vec<[f64; 2]> = rows
+                .iter()
+                .filter(|s| s.kind == kind && subcritical(s) == sub)
+                .map(|s| [x(s.lambda), s.theta])
+                .filter(|&q| within(q, min, max))
+                .collect();
+            (!pts.is_empty()).then_some((m, name, pts))
+        })
+        .collect()
+}
+
+/// Whether a stable and an unstable run cross the box `(min, max)`.
+fn runs_drawn(
+    data: &BranchData,
+    (min, max): ([f64; 2], [f64; 2]),
+    x: &dyn Fn(f64) -> f64,
+) -> (bool, bool) {
+    let mut drawn = (false, false);
+    for r in data.branches.iter().flat_map(runs) {
+        let points: Vec<[f64; 2]> = r.points.into_iter().map(|[l, t]| [x(l), t]).collect();
+        if !super::clip::clip_polyline(&points, min, max).is_empty() {
+            if r.stable {
+                drawn.0 = true;
+            } else {
+                drawn.1 = true;
+            }
         }
-        p.points(m.points(name, PlotPoints::from(pts)));
     }
+    drawn
 }
 
 /// Whether `q` is finite and inside the box `min`–`max`: a kept result is
@@ -154,20 +185,30 @@ fn within(q: [f64; 2], min: [f64; 2], max: [f64; 2]) -> bool {
     (0..2).all(|i| q[i].is_finite() && min[i] <= q[i] && q[i] <= max[i])
 }
 
-/// The legend of the branches: the two line styles and the markers in use.
-pub fn branch_legend_ui(ui: &mut Ui, data: &BranchData) {
-    if data.branches.is_empty() {
+/// The legend of the branches over a plot of bounds `(min, max)` (`x`
+/// as [`branch_items`]): the line styles and the markers drawn there,
+/// nothing for a kind with no point in the plot.
+pub fn branch_legend_ui(
+    ui: &mut Ui,
+    data: &BranchData,
+    bounds: ([f64; 2], [f64; 2]),
+    x: &dyn Fn(f64) -> f64,
+) {
+    let (stable, unstable) = runs_drawn(data, bounds, x);
+    let groups = marked_groups(data, bounds, x);
+    if !stable && !unstable && groups.is_empty() {
         return;
     }
-    ui.horizontal_wrapped(|ui| {
-        style::legend_line(ui, BRANCH, false, STABLE);
-        style::legend_line(ui, BRANCH, true, UNSTABLE);
-        for kind in MARKED {
-            let (m, name) = marker(kind);
+    style::legend_row(ui, |ui| {
+        if stable {
+            style::legend_line(ui, BRANCH, false, STABLE);
+        }
+        if unstable {
+            style::legend_line(ui, BRANCH, true, UNSTABLE);
+        }
+        for (m, name, _) in groups {
             markers::legend(ui, &[m], name);
         }
-        let (m, name) = SUBCRITICAL;
-        markers::legend(ui, &[m], name);
     });
 }
 
@@ -194,7 +235,7 @@ pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
     if data.curves.is_empty() {
         return;
     }
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         for (kind, name, dashed) in [
             (CurveKind::PeriodDoubling, CURVE, false),
             (CurveKind::Fold, FOLD_CURVE, true),

@@ -107,7 +107,7 @@ impl PhaseView {
     /// `View::controls_ui`).
     fn results_ui(&mut self, ui: &mut Ui, s: &Settings, jobs: &Jobs) {
         let data = &jobs.phase.data;
-        legend_row_ui(ui, s.phase.seeds > 0, !data.complete());
+        legend_row_ui(ui, data, s.phase.seeds > 0);
         if let Some(sel) = self.selected
             && phase_attractors::list_ui(ui, data, sel)
         {
@@ -279,7 +279,7 @@ impl View for PhaseView {
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, out: &mut Vec<Action>) {
         self.rebuild(ui, &jobs.phase.data);
         if style::figure_only(ui.ctx()) {
-            legend_row_ui(ui, s.phase.seeds > 0, !jobs.phase.data.complete());
+            legend_row_ui(ui, &jobs.phase.data, s.phase.seeds > 0);
             overlay::curve_legend_ui(ui, &jobs.curves.data);
         } else {
             self.results_ui(ui, s, jobs);
@@ -288,13 +288,19 @@ impl View for PhaseView {
     }
 }
 
-/// The classes' colours, one swatch each, with seeds the mark of a
-/// multistable cell, and while coarse cells are shown what their pale
-/// colour means.
-fn legend_row_ui(ui: &mut Ui, seeds: bool, pale: bool) {
-    ui.horizontal_wrapped(|ui| {
+/// The classes' colours, one swatch each (in a figure only the classes
+/// its cells show: no "undecided" or "failed" where there is none), with
+/// seeds the mark of a multistable cell, and while coarse cells are shown
+/// what their pale colour means.
+fn legend_row_ui(ui: &mut Ui, data: &PhaseData, seeds: bool) {
+    let pale = !data.complete();
+    let all = !style::figure_only(ui.ctx());
+    style::legend_row(ui, |ui| {
         for (c, name) in LEGEND_CLASSES {
-            style::legend_swatch(ui, class_colour(c, 255), name);
+            let shown = |cell: &PhaseCell| class_colour(cell.class, 255) == class_colour(c, 255);
+            if all || data.cells.iter().flatten().any(shown) {
+                style::legend_swatch(ui, class_colour(c, 255), name);
+            }
         }
         if seeds {
             phase_attractors::multistable_legend_ui(ui);

@@ -248,7 +248,7 @@ const ONSET_MARKER: Marker = Marker::new(MarkerShape::Diamond, style::ONSET, 4.5
 
 /// The legend above the plot.
 fn legend_ui(ui: &mut Ui, dark: bool) {
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         style::legend_swatch(ui, style::STICK, "stick");
         style::legend_swatch(ui, style::ACCEL, "slip, accelerating");
         style::legend_swatch(ui, style::DECEL, "slip, decelerating");

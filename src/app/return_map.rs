@@ -516,7 +516,7 @@ fn legend_ui(
     });
     let colours = found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f));
     let difference = s.map_difference;
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         style::legend_line(
             ui,
             style::ACCEL,

@@ -109,6 +109,9 @@ pub fn ink(dark: bool) -> Color32 {
 /// label do not both fit in what is left of this one, so that a legend
 /// never leaves a key at the end of one row and its label on the next.
 fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui, egui::Rect)) {
+    if !legend_shown(ui.ctx()) {
+        return;
+    }
     keep_key_with_label(ui, size.x, label);
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     key(ui, rect);
@@ -134,6 +137,49 @@ pub fn keep_key_with_label(ui: &mut Ui, key_width: f32, label: &str) {
     }
 }
 
+/// Where a figure's legends go: above the plot they describe (the
+/// window's, and a figure's by default), or nowhere (`figure --legend
+/// none`: a caption says it).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LegendPlace {
+    #[default]
+    Outside,
+    Hidden,
+}
+
+fn legend_place_id() -> egui::Id {
+    egui::Id::unique("oneblock-legend-place")
+}
+
+/// Puts the views' legends in `ctx` at `place` from now on.
+pub fn set_legend_place(ctx: &egui::Context, place: LegendPlace) {
+    ctx.data_mut(|d| d.insert_temp(legend_place_id(), place));
+}
+
+/// Whether the views draw their legends in `ctx` ([`set_legend_place`]).
+pub fn legend_shown(ctx: &egui::Context) -> bool {
+    ctx.data(|d| d.get_temp::<LegendPlace>(legend_place_id()))
+        .unwrap_or_default()
+        != LegendPlace::Hidden
+}
+
+/// A row of legend entries (wrapping), unless the legends are hidden.
+pub fn legend_row<R>(ui: &mut Ui, add: impl FnOnce(&mut Ui) -> R) -> Option<R> {
+    legend_shown(ui.ctx()).then(|| ui.horizontal_wrapped(add).inner)
+}
+
+/// The body text's size relative to egui's default (the window's text
+/// size, or a figure's `--font-size`): the factor for text a view sizes
+/// itself, such as the block's labels.
+pub fn text_scale(ui: &Ui) -> f32 {
+    let body = |s: &egui::Style| {
+        s.text_styles
+            .get(&egui::TextStyle::Body)
+            .map_or(13.0, |f| f.size)
+    };
+    body(ui.style()) / body(&egui::Style::default())
+}
+
 /// A small coloured square and its label.
 pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
     legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
@@ -145,6 +191,18 @@ pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
 pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
     legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
         line_key(ui, rect, color, dashed);
+    });
+}
+
+/// A dotted line, as egui_plot draws `LineStyle::Dotted { spacing: 6 }`
+/// of the default width (dots of radius 1.5, 6 points apart), and its label.
+pub fn legend_dotted(ui: &mut Ui, color: Color32, label: &str) {
+    legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
+        let y = rect.center().y;
+        for i in 0..4 {
+            let x = rect.left() + 2.0 + i as f32 * 6.0;
+            ui.painter().circle_filled(egui::pos2(x, y), 1.5, color);
+        }
     });
 }
 

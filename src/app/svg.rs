@@ -104,6 +104,11 @@ fn points_d(points: &[Pos2], closed: bool) -> String {
     d
 }
 
+/// The fonts a figure's text asks for: common sans-serif faces, then the
+/// generic family (the PNG and PDF set it in egui's own font, which laid
+/// it out; see `figure::font_db`).
+pub const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
+
 /// The SVG writer: shapes in, one document out.
 pub struct SvgWriter<'a> {
     frames: &'a [PlotFrame],
@@ -422,12 +427,26 @@ impl<'a> SvgWriter<'a> {
             s,
             "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<svg xmlns=\"http://www.w3.org/2000/svg\" \
              width=\"{w:.0}\" height=\"{h:.0}\" viewBox=\"0 0 {w:.2} {h:.2}\" \
-             font-family=\"Ubuntu, 'DejaVu Sans', sans-serif\">",
+             font-family=\"{FONT_FAMILY}\">",
             w = size.x,
             h = size.y
         )
         .ok();
         writeln!(s, "<defs>\n{}</defs>", self.defs).ok();
+        // Where each plot's frame is, unpainted: for a reader (and the
+        // tests) to find a plot's axes.
+        for (name, f) in self.frames {
+            writeln!(
+                s,
+                "<rect class=\"plot-frame\" data-plot=\"{}\" x=\"{:.2}\" y=\"{:.2}\" width=\"{:.2}\" height=\"{:.2}\" fill=\"none\" stroke=\"none\"/>",
+                escape(name),
+                f.min.x,
+                f.min.y,
+                f.width(),
+                f.height()
+            )
+            .ok();
+        }
         writeln!(
             s,
             "<rect width=\"100%\" height=\"100%\"{}/>",
@@ -475,8 +494,10 @@ fn text(t: &TextShape, out: &mut String) {
         }
         let x = t.pos.x + row.pos.x + first.pos.x;
         let y = t.pos.y + row.pos.y + first.pos.y;
-        // The width egui laid the row out at: another renderer's font
-        // stretches to it, so right-aligned and centred text stays put.
+        // Anchored at the middle of the width egui laid the row out at:
+        // set in another font than egui's (the document's), a row grows
+        // or shrinks about its middle, its glyphs unstretched, so centred
+        // titles stay centred and labels stay by their ticks.
         let width = row
             .row
             .glyphs
@@ -486,8 +507,9 @@ fn text(t: &TextShape, out: &mut String) {
             .map_or(0.0, |gl| gl.pos.x + gl.advance_width - first.pos.x);
         write!(
             out,
-            "<text x=\"{x:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} textLength=\"{width:.2}\" \
-             lengthAdjust=\"spacingAndGlyphs\" xml:space=\"preserve\">{}</text>",
+            "<text x=\"{:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} text-anchor=\"middle\" \
+             data-width=\"{width:.2}\" xml:space=\"preserve\">{}</text>",
+            x + 0.5 * width,
             paint("fill", c),
             escape(s)
         )

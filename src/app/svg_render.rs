@@ -30,6 +30,8 @@ pub struct Look {
     pub title: Option<String>,
     /// Every text's size in points, else the window's sizes.
     pub font_size: Option<f32>,
+    /// Where the legends go (above their plots, or none).
+    pub legend: style::LegendPlace,
 }
 
 impl Look {
@@ -159,6 +161,7 @@ impl Renderer {
         let ctx = document_context(settings, look);
         // Only the figure: title, axes, legend; no buttons or switches.
         style::set_figure_only(&ctx, true);
+        style::set_legend_place(&ctx, look.legend);
         let mut state = Views::default();
         state.bifurcation.zoom = zoom.to_vec();
         Renderer {
@@ -259,6 +262,8 @@ fn document_context(settings: &Settings, look: &Look) -> egui::Context {
             v.panel_fill = Color32::WHITE;
             v.extreme_bg_color = Color32::WHITE;
             v.window_fill = Color32::WHITE;
+            // A page's text is black, as a journal prints it.
+            v.override_text_color = Some(Color32::BLACK);
         }
     });
     ctx

@@ -228,7 +228,7 @@ impl View for TimeSeriesView {
 
     fn ui(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs, _out: &mut Vec<Action>) {
         let samples = recent(jobs, s.keep_cycles);
-        ui.horizontal_wrapped(|ui| {
+        style::legend_row(ui, |ui| {
             style::legend_line(ui, style::STICK, false, "stick");
             style::legend_line(ui, style::ACCEL, false, "slip, accelerating");
             style::legend_line(ui, style::DECEL, false, "slip, decelerating");

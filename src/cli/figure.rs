@@ -171,6 +171,10 @@ fn look(a: &FigureArgs) -> crate::app::svg_render::Look {
         window: a.window_look,
         title: a.title.clone(),
         font_size: a.font_size.map(|v| v as f32),
+        legend: match a.legend {
+            super::figure_flags::LegendFlag::Outside => crate::app::style::LegendPlace::Outside,
+            super::figure_flags::LegendFlag::None => crate::app::style::LegendPlace::Hidden,
+        },
     }
 }
 
@@ -288,6 +292,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     // line, writing nothing.
     let limits = Limits::start(super::common::max_seconds(a.max_seconds)?);
     let size = fig.size;
+    let scale = a.dpi.map_or(PNG_SCALE, |d| (d / 72.0) as f32);
     let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
     let play = a.play.then(|| match c.theta_nu.or(a.from.zip(a.to)) {
         Some((from, to)) => PlaySpan { from, to, frames },
@@ -296,7 +301,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let bytes = run_bounded("figure", &limits, move || match format {
         Format::Svg => svg(&fig).map(String::into_bytes),
         Format::Pdf => svg(&fig).and_then(|t| pdf_of_svg(&t)),
-        Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, PNG_SCALE)),
+        Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, scale)),
         Format::Gif => match play {
             Some(span) => play_gif(fig, span),
             None => gif(&fig, frames, speed),

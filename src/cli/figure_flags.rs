@@ -10,12 +10,49 @@ use clap::Args;
 
 use super::CliError;
 use super::common::ModelArgs;
-use super::gui::{VIEW_KEYS, parse_size};
+use super::gui::{VIEW_KEYS, parse_size_within};
 use super::values::{MAX_ABS_THETA, echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
 /// The views whose data `figure --out x.csv` writes instead of a picture.
 pub const CSV_VIEW_KEYS: [&str; 2] = ["basins", "bifurcation"];
+
+/// The smallest figure side, in points: a column's figure.
+pub const MIN_SIDE: f32 = 100.0;
+
+/// --size: WIDTHxHEIGHT, each in [[`MIN_SIDE`], 10000] points.
+fn parse_figure_size(s: &str) -> Result<[f32; 2], String> {
+    parse_size_within(s, MIN_SIDE)
+}
+
+/// The PNG resolutions --dpi takes, pixels per inch (an inch is 72
+/// points), and the most pixels along a PNG's longer side.
+pub const DPI_RANGE: (f64, f64) = (72.0, 600.0);
+pub const MAX_PNG_SIDE: f64 = 20_000.0;
+
+/// --dpi: a .png's only, in [`DPI_RANGE`] and at most [`MAX_PNG_SIDE`]
+/// pixels along the figure's longer side.
+fn check_dpi(a: &FigureArgs, format: Format) -> Result<(), CliError> {
+    let Some(d) = a.dpi else { return Ok(()) };
+    if format != Format::Png {
+        return Err(CliError::Usage(
+            "--dpi: only a .png has a resolution (an SVG or PDF is vector): leave --dpi out".into(),
+        ));
+    }
+    let [w, h] = a.size.unwrap_or(super::figure::DEFAULT_SIZE);
+    let longer = f64::from(w.max(h));
+    let most = DPI_RANGE.1.min((MAX_PNG_SIDE * 72.0 / longer).floor());
+    if !(DPI_RANGE.0..=most).contains(&d) {
+        return Err(CliError::Usage(format!(
+            "--dpi = {} is out of range: must lie in [{}, {most}] pixels per inch \
+             (at most {}, and {MAX_PNG_SIDE} pixels along the figure's {longer}-point side)",
+            short(d),
+            DPI_RANGE.0,
+            DPI_RANGE.1
+        )));
+    }
+    Ok(())
+}
 
 /// The smallest and largest --font-size, in points.
 pub const FONT_SIZES: (f64, f64) = (4.0, 72.0);
@@ -78,9 +115,11 @@ pub fn format_of(path: &Path) -> Result<Format, CliError> {
     }
 }
 
-/// --frames and a .gif go together, for the animated views only, within
+/// --dpi for a .png only ([`check_dpi`]); --frames and a .gif go
+/// together, for the animated views only, within
 /// the bounds.
 fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
+    check_dpi(a, format)?;
     let usage = |m: String| Err(CliError::Usage(m));
     if a.play && (format != Format::Gif || a.frames.is_none()) {
         return usage(format!(
@@ -294,8 +333,8 @@ pub struct FigureArgs {
     pub view: String,
     /// Where the figure goes; its extension picks the format: .svg (vector:
     /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
-    /// text text in an embedded font) or .png (that SVG rasterised at 2
-    /// pixels per point); for --view basins also .csv (its columns: each
+    /// text text in an embedded font) or .png (that SVG rasterised at
+    /// --dpi, 2 pixels per point by default); for --view basins also .csv (its columns: each
     /// attractor's period and basin fraction). Never overwrites an
     /// existing file.
     #[arg(long)]
@@ -322,9 +361,14 @@ pub struct FigureArgs {
     /// Step of the fixed-step methods (rk4, euler), in (0, 1] [default: 1e-3].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub step: Option<f64>,
-    /// Figure size in points, WIDTHxHEIGHT, each in [200, 10000] (default 900x600).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_size)]
+    /// Figure size in points, WIDTHxHEIGHT, each in [100, 10000] (default 900x600).
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_figure_size)]
     pub size: Option<[f32; 2]>,
+    /// A .png's resolution in pixels per inch (a point is 1/72 inch), in
+    /// [72, 600], at most 20000 pixels along the longer side [default:
+    /// 144, 2 pixels per point].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
+    pub dpi: Option<f64>,
     /// Stop after this many seconds (0 < S ≤ 1e7), writing nothing, exit 1.
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub max_seconds: Option<f64>,
@@ -429,6 +473,18 @@ pub struct FigureArgs {
     /// session's, else 0].
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: Option<usize>,
+    /// Where the legend goes: outside (in a row above the plot it
+    /// describes) or none (no legend: a caption says what is drawn). Its
+    /// entries are only what the plot shows.
+    #[arg(long, value_enum, default_value_t = LegendFlag::Outside)]
+    pub legend: LegendFlag,
+}
+
+/// `figure --legend`'s places.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum LegendFlag {
+    Outside,
+    None,
 }
 
 /// The checked flags: the view, format and ranges.

@@ -102,6 +102,11 @@ pub struct GuiArgs {
 }
 
 pub(crate) fn parse_size(s: &str) -> Result<[f32; 2], String> {
+    parse_size_within(s, 200.0)
+}
+
+/// WIDTHxHEIGHT, each in [`least`, 10000].
+pub(crate) fn parse_size_within(s: &str, least: f32) -> Result<[f32; 2], String> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .ok_or_else(|| "must be WIDTHxHEIGHT, e.g. 1280x800".to_string())?;
@@ -113,8 +118,8 @@ pub(crate) fn parse_size(s: &str) -> Result<[f32; 2], String> {
         .trim()
         .parse()
         .map_err(|_| "the height is not a number (WIDTHxHEIGHT, e.g. 1280x800)".to_string())?;
-    if !(200.0..=10_000.0).contains(&w) || !(200.0..=10_000.0).contains(&h) {
-        return Err("must lie between 200x200 and 10000x10000".to_string());
+    if !(least..=10_000.0).contains(&w) || !(least..=10_000.0).contains(&h) {
+        return Err(format!("must lie between {least}x{least} and 10000x10000"));
     }
     Ok([w, h])
 }

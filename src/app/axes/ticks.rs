@@ -45,7 +45,7 @@ pub fn labelable(lo: f64, hi: f64) -> bool {
 
 /// The 1-2-5 steps (m · 10^e, m ∈ {1, 2, 5}) in increasing order, as
 /// (mantissa index, exponent).
-fn step_value(i: i32) -> f64 {
+pub(super) fn step_value(i: i32) -> f64 {
     let e = i.div_euclid(3);
     let m = [1.0, 2.0, 5.0][i.rem_euclid(3) as usize];
     m * 10f64.powi(e)
@@ -53,7 +53,7 @@ fn step_value(i: i32) -> f64 {
 
 /// How many multiples of `step` lie in [lo, hi] (with a little slack, so
 /// that an end on a tick counts).
-fn count(lo: f64, hi: f64, step: f64) -> usize {
+pub(super) fn count(lo: f64, hi: f64, step: f64) -> usize {
     let eps = 1e-9;
     let first = (lo / step - eps).ceil();
     let last = (hi / step + eps).floor();
@@ -185,14 +185,14 @@ fn multiples(lo: f64, hi: f64, step: f64) -> impl Iterator<Item = f64> {
 }
 
 /// The fractions of π offered as steps, coarsest first.
-const PI_DENOMINATORS: [u32; 9] = [1, 2, 3, 4, 6, 8, 12, 16, 24];
+pub(super) const PI_DENOMINATORS: [u32; 9] = [1, 2, 3, 4, 6, 8, 12, 16, 24];
 
 fn gcd(a: u64, b: u64) -> u64 {
     if b == 0 { a } else { gcd(b, a % b) }
 }
 
 /// k·π/d written as a reduced fraction: "0", "π", "-π/2", "3π/4".
-fn pi_fraction(k: i64, d: u32) -> String {
+pub(super) fn pi_fraction(k: i64, d: u32) -> String {
     if k == 0 {
         return "0".into();
     }
