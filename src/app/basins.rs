@@ -398,10 +398,12 @@ fn legend_ui(ui: &mut Ui, d: &BasinsData) {
         style::legend_swatch(ui, BOUNDARY, "basin boundary");
         basin_events::legend_ui(ui, d);
     });
-    if ids
-        .tracks
-        .iter()
-        .any(|t| t.label.ends_with(')') || t.periods.len() > 1)
+    // In the window only: a figure's caption is its author's to write.
+    if !style::figure_only(ui.ctx())
+        && ids
+            .tracks
+            .iter()
+            .any(|t| t.label.ends_with(')') || t.periods.len() > 1)
     {
         ui.label(RichText::new(SECOND_NAME).weak().small());
     }
