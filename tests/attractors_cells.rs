@@ -97,6 +97,18 @@ fn pure_creep_has_exactly_one_attractor_over_kappa_and_nu() {
     }
 }
 
+/// The κ = 10 hysteresis point θν = 1.40: a P2 and the fixed point.
+const KAPPA10_AT_140: [&str; 8] = [
+    "--kappa",
+    "10",
+    "--gamma",
+    "6.5",
+    "--nu",
+    "1e-3",
+    "--theta-nu",
+    "1.40",
+];
+
 fn kappa10(theta_nu: f64) -> Params {
     crate::common::seeded::kappa10_params(theta_nu)
 }
@@ -121,16 +133,7 @@ fn ends_on(sim: &Simulator, theta0: f64, cycles: &[Vec<f64>]) -> Option<usize> {
 #[test]
 fn kappa_10_hysteresis_basins_agree_with_direct_orbits() {
     let p = kappa10(1.40);
-    let v = found(&[
-        "--kappa",
-        "10",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
-        "--theta-nu",
-        "1.40",
-    ]);
+    let v = found(&KAPPA10_AT_140);
     honest(&v);
     let l = list(&v);
     let periods: Vec<i64> = l.iter().map(|a| a["period"].as_i64().unwrap()).collect();
@@ -310,16 +313,7 @@ fn a_bad_resolution_is_one_line_and_exit_2() {
 #[test]
 fn kappa_10_smallest_kick_agrees_with_direct_orbits() {
     let p = kappa10(1.40);
-    let v = found(&[
-        "--kappa",
-        "10",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
-        "--theta-nu",
-        "1.40",
-    ]);
+    let v = found(&KAPPA10_AT_140);
     let l = list(&v);
     assert_eq!(l.len(), 2, "{v}");
     let cycles: Vec<Vec<f64>> = l

@@ -55,6 +55,7 @@ pub mod jobs;
 mod layout;
 pub mod layout_report;
 pub mod lyapunov_strip;
+mod map_basins;
 pub mod markers;
 #[cfg(not(target_arch = "wasm32"))]
 mod native;

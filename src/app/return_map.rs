@@ -5,11 +5,12 @@
 //! the detected period and Lyapunov exponent.
 
 use eframe::egui;
-use egui::{Color32, RichText, Ui};
+use egui::{RichText, Ui};
 use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
+use super::map_basins::{BasinBand, attractor_colours};
 use super::markers::{self, Marker};
 use super::play::{CobwebSteps, cobweb_steps_ui};
 use super::settings::{Settings, ViewKind};
@@ -107,15 +108,9 @@ struct MapData {
     /// θ's window, out to round values.
     window: (f64, f64),
     theta_c: Option<f64>,
-    /// The cell graph's basins along θ (from, to, attractor; `None`: the
-    /// boundary), once found at these parameters.
-    basins: Vec<(f64, f64, Option<usize>)>,
-    /// Each attractor's colour: its track's in the Basins view where that
-    /// view shows these parameters, so one attractor has one colour.
-    colours: Vec<Color32>,
-    /// A chaotic attractor's invariant density: (θ, value) at its bins'
-    /// centres, values scaled to at most 1.
-    density: Vec<Vec<[f64; 2]>>,
+    /// The cell graph's basins along the frame's foot and a chaotic
+    /// attractor's density, once found at these parameters.
+    band: BasinBand,
 }
 
 impl MapData {
@@ -154,12 +149,8 @@ impl MapData {
         let flat: Vec<f64> = framed.iter().flat_map(|p| [p[0], p[1]]).collect();
         let th = s.params.theta_nu;
         let (lo, hi) = return_map_window(&flat).unwrap_or((th - 0.5, th + 0.5));
-        let found = jobs.map_basins.at(&s.params);
-        let (basins, density) = basins_of(found);
         MapData {
-            basins,
-            colours: found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f)),
-            density,
+            band: BasinBand::of(s, jobs),
             web: if steps.on {
                 cobweb(&steps.onsets(evs))
             } else {
@@ -181,8 +172,7 @@ impl MapData {
     /// Every point as (θ, θ' − θ): the distance of f from the diagonal.
     fn into_difference(mut self) -> MapData {
         // The basins' band and the density are drawn on the map only.
-        self.basins.clear();
-        self.density.clear();
+        self.band = BasinBand::default();
         let d = |v: &mut Vec<[f64; 2]>| v.iter_mut().for_each(|p| p[1] -= p[0]);
         d(&mut self.kept);
         d(&mut self.traj);
@@ -286,7 +276,7 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
     {
         critical_angles(p, tc, lo, hi);
     }
-    draw_basins(p, d);
+    d.band.draw(p);
     for (i, pieces) in &d.powers {
         let i = (*i).min(2);
         for piece in pieces {
@@ -340,100 +330,6 @@ fn map_markers(dark: bool) -> [Marker; 2] {
             true,
         ),
     ]
-}
-
-/// The colour of each attractor of `found` (at the current parameters):
-/// its track's in the Basins view when that view holds it, else one no
-/// track of the view has.
-fn attractor_colours(
-    s: &Settings,
-    jobs: &Jobs,
-    found: &crate::sim::attractors::Found,
-) -> Vec<Color32> {
-    let d = &jobs.basins.data;
-    let tracks = d.tracks_of(&s.params, found);
-    let spare = if tracks.iter().any(Option::is_some) {
-        d.ids.tracks.len()
-    } else {
-        0
-    };
-    tracks
-        .iter()
-        .enumerate()
-        .map(|(i, t)| super::basins::track_color(t.unwrap_or(spare + i)))
-        .collect()
-}
-
-/// The basins along θ and each chaotic attractor's density (bins' centres,
-/// scaled to at most 1), from the cell graph's answer.
-type BasinBand = (Vec<(f64, f64, Option<usize>)>, Vec<Vec<[f64; 2]>>);
-fn basins_of(found: Option<&crate::sim::attractors::Found>) -> BasinBand {
-    let Some(f) = found else {
-        return (Vec::new(), Vec::new());
-    };
-    let basins = f
-        .basins
-        .iter()
-        .map(|b| (b.from, b.to, b.attractor))
-        .collect();
-    let density = f
-        .attractors
-        .iter()
-        .filter_map(|a| a.density.as_ref())
-        .map(|d| {
-            let n = d.values.len().max(1);
-            let top = d.values.iter().copied().fold(0.0, f64::max).max(1e-300);
-            let w = (d.to - d.from) / n as f64;
-            let at = |i: usize| d.from + w * (i as f64 + 0.5);
-            d.values
-                .iter()
-                .enumerate()
-                .map(|(i, v)| [at(i), v / top])
-                .collect()
-        })
-        .collect();
-    (basins, density)
-}
-
-/// The basins as a band along the frame's foot (each stretch in its
-/// attractor's colour, the boundary grey) and a chaotic attractor's
-/// density as a curve over the band, a quarter of the frame high.
-fn draw_basins(p: &mut egui_plot::PlotUi<'_>, d: &MapData) {
-    let b = p.plot_bounds();
-    let (lo, hi) = (b.min()[0], b.max()[0]);
-    let h = b.max()[1] - b.min()[1];
-    let lw = style::width(p.ctx(), 1.0);
-    let foot = b.min()[1] + 0.015 * h;
-    for &(a, b, att) in &d.basins {
-        let (a, b) = (a.max(lo), b.min(hi));
-        if b <= a {
-            continue;
-        }
-        let (name, colour) = match att {
-            Some(i) => (
-                "basins (cell graph)",
-                d.colours.get(i).copied().unwrap_or(super::basins::BOUNDARY),
-            ),
-            None => ("basin boundary", super::basins::BOUNDARY),
-        };
-        p.line(
-            style::line(name, PlotPoints::from(vec![[a, foot], [b, foot]]))
-                .color(colour)
-                .width(6.0 * lw),
-        );
-    }
-    for curve in &d.density {
-        let pts: Vec<[f64; 2]> = curve
-            .iter()
-            .filter(|q| (lo..=hi).contains(&q[0]))
-            .map(|q| [q[0], foot + 0.25 * h * q[1]])
-            .collect();
-        p.line(
-            style::line("invariant density (scaled)", PlotPoints::from(pts))
-                .color(style::POWERS[0].gamma_multiply(0.8))
-                .width(1.5 * lw),
-        );
-    }
 }
 
 /// Follows the attractor as it changes: the plot's bounds a square around
