@@ -261,3 +261,82 @@ fn a_bad_range_is_one_line_naming_its_flag() {
     bad(&["--param", "gamma", "--from", "1", "--to", "1e9"], "--to");
     bad(&["--param", "kappa"], "--param");
 }
+
+/// A column of a range starts f's interpolant from its parent column's
+/// layout (docs/attractors.md, "Cost"); the same point asked for alone
+/// starts from nothing. Both are checked the same way, so they find the
+/// same attractors, periods, points and basins: here at Fig. 3b, where f
+/// has jumps that move from column to column and attractors are cycles,
+/// windows and chaos.
+#[test]
+fn a_column_started_from_its_neighbour_finds_what_the_point_alone_finds() {
+    let range = json(&[
+        "attractors",
+        "--kappa",
+        "18.95",
+        "--gamma",
+        "6.5",
+        "--nu",
+        "1e-3",
+        "--param",
+        "theta-nu",
+        "--from",
+        "1.3",
+        "--to",
+        "1.5",
+        "--columns",
+        "9",
+        "--json",
+    ]);
+    for c in range["columns"].as_array().unwrap() {
+        let v = c["value"].as_f64().unwrap();
+        // The range's own column options: cells to 1e-5, at most 8192.
+        let alone = json(&[
+            "attractors",
+            "--kappa",
+            "18.95",
+            "--gamma",
+            "6.5",
+            "--nu",
+            "1e-3",
+            "--theta-nu",
+            &v.to_string(),
+            "--resolution",
+            "1e-5",
+            "--max-cells",
+            "8192",
+            "--json",
+        ]);
+        let (a, b) = (
+            c["attractors"].as_array().unwrap(),
+            alone["attractors"].as_array().unwrap(),
+        );
+        assert_eq!(a.len(), b.len(), "θν = {v}: {a:?}\n{b:?}");
+        for (x, y) in a.iter().zip(b) {
+            assert_eq!(x["period"], y["period"], "θν = {v}");
+            let (fx, fy) = (
+                x["basin_fraction"].as_f64().unwrap(),
+                y["basin_fraction"].as_f64().unwrap(),
+            );
+            assert!((fx - fy).abs() < 1e-3, "θν = {v}: basin {fx} alone {fy}");
+            let pts = |z: &Value| -> Vec<f64> {
+                z["points"]
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|p| p.as_f64().unwrap())
+                    .collect()
+            };
+            for (p, q) in pts(x).iter().zip(pts(y)) {
+                // A cycle's points to Newton's accuracy; a chaotic set's
+                // hull to the cells' width.
+                assert!((p - q).abs() < 1e-4, "θν = {v}: {p} alone {q}");
+            }
+        }
+        let (bx, by) = (
+            c["boundary_fraction"].as_f64().unwrap(),
+            alone["boundary_fraction"].as_f64().unwrap(),
+        );
+        assert!((bx - by).abs() < 1e-3, "θν = {v}: boundary {bx} alone {by}");
+    }
+}

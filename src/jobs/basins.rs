@@ -5,12 +5,16 @@
 //! --param`); and the same at the current parameters alone, with a
 //! chaotic attractor's density, for the return map's basin band.
 //!
-//! A unit is one column, any thread takes the next: the columns are
-//! independent (nothing is continued from a neighbour), so the job is
-//! [`Job::parallel`] and every host computes the same numbers. They are
-//! handed out coarse first (both ends, the middle, then the quarters, …:
-//! [`coarse_first`]), so a diagram sharpens evenly while it fills in. A
-//! column that fails is sent with its error; the others go on.
+//! A unit is one column, any thread takes the next ([`Job::parallel`]).
+//! They are handed out coarse first (both ends, the middle, then the
+//! quarters, …: [`coarse_first`]), so a diagram sharpens evenly while it
+//! fills in. A column starts f's interpolant from its parent's layout
+//! (`AttractorsRun::starting_from`: the same checks, about half the
+//! work), the parent being fixed by the grid alone ([`parents`]: the
+//! nearest column handed out before it), so every host computes the same
+//! numbers; a thread whose column's parent is still running waits for it.
+//! A column that fails is sent with its error (its children start from
+//! nothing); the others go on.
 
 use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -93,6 +97,36 @@ pub fn coarse_first(n: usize) -> Vec<usize> {
     order
 }
 
+/// Each column's parent in `order`: the nearest column that comes before
+/// it there (the lower on a tie); none for the first two (the range's
+/// ends, built from nothing side by side).
+pub fn parents(order: &[usize]) -> Vec<Option<usize>> {
+    let mut seen = std::collections::BTreeSet::new();
+    let mut parent = vec![None; order.len()];
+    for (k, &i) in order.iter().enumerate() {
+        if k >= 2 {
+            let below = seen.range(..i).next_back().copied();
+            let above = seen.range(i..).next().copied();
+            parent[i] = match (below, above) {
+                (Some(b), Some(a)) if a - i < i - b => Some(a),
+                (Some(b), _) => Some(b),
+                (None, a) => a,
+            };
+        }
+        seen.insert(i);
+    }
+    parent
+}
+
+/// A column's interpolant layout, once it is done.
+#[derive(Clone, Debug, Default)]
+enum Layout {
+    #[default]
+    Pending,
+    /// Done: its layout, none where it failed.
+    Done(Option<crate::sim::Layout>),
+}
+
 /// The Basins job in progress.
 pub(crate) struct BasinsJob {
     lane: Lane,
@@ -108,6 +142,11 @@ pub(crate) struct BasinsJob {
     /// Each column's attractors as they arrive, for the events located
     /// once the last one is in.
     found: Mutex<Vec<Option<Found>>>,
+    /// Each column's parent ([`parents`]) and its layout when done, which
+    /// a waiting column is woken for.
+    parent: Vec<Option<usize>>,
+    layouts: Mutex<Vec<Layout>>,
+    layout_done: std::sync::Condvar,
 }
 
 impl BasinsJob {
@@ -129,9 +168,13 @@ impl BasinsJob {
             Simulator::new(param.set(&spec.params, v), spec.settings)?;
         }
         let grid = param_grid(param, a.from, a.to, a.steps);
+        let order = coarse_first(grid.len());
         Ok(BasinsJob {
             lane,
-            order: coarse_first(grid.len()),
+            parent: parents(&order),
+            layouts: Mutex::new(vec![Layout::Pending; grid.len()]),
+            layout_done: std::sync::Condvar::new(),
+            order,
             grid,
             spec,
             next: AtomicUsize::new(0),
@@ -158,7 +201,11 @@ impl BasinsJob {
         let found = match (run, Simulator::new(params, self.spec.settings)) {
             (_, Err(e)) => Err(e.to_string()),
             (run, Ok(sim)) => {
-                let mut run = run.unwrap_or_else(|| AttractorsRun::new(&sim, &self.spec.cells));
+                let mut run = match run {
+                    Some(run) => run,
+                    None => AttractorsRun::new(&sim, &self.spec.cells)
+                        .starting_from(self.parent_layout(index, sink)?),
+                };
                 loop {
                     match run.advance(&cancel) {
                         None if sink.pause() => {
@@ -185,6 +232,42 @@ impl BasinsJob {
 }
 
 impl BasinsJob {
+    /// Column `index`'s parent's layout, waited for while the parent runs
+    /// on another thread (`Stop` if the job must stop meanwhile); none for
+    /// a column with no parent or whose parent failed.
+    fn parent_layout(
+        &self,
+        index: usize,
+        sink: &dyn Sink,
+    ) -> Result<Option<crate::sim::Layout>, JobError> {
+        let Some(p) = self.parent.get(index).copied().flatten() else {
+            return Ok(None);
+        };
+        let mut layouts = lock(&self.layouts);
+        loop {
+            if let Layout::Done(l) = &layouts[p] {
+                return Ok(l.clone());
+            }
+            if sink.stale() {
+                return Err(JobError::Stop);
+            }
+            let wait = std::time::Duration::from_millis(5);
+            layouts = match self.layout_done.wait_timeout(layouts, wait) {
+                Ok((g, _)) => g,
+                Err(poisoned) => poisoned.into_inner().0,
+            };
+        }
+    }
+
+    /// Column `index` done (its layout, none where it failed): the
+    /// columns waiting for it go on.
+    fn layout_finished(&self, index: usize, layout: Option<crate::sim::Layout>) {
+        if let Some(slot) = lock(&self.layouts).get_mut(index) {
+            *slot = Layout::Done(layout);
+        }
+        self.layout_done.notify_all();
+    }
+
     /// The tracks and their events over every column, sent as one update
     /// (a range of two columns or more). The thread that finished the
     /// last column locates them, on every core. Not on the
@@ -240,9 +323,16 @@ impl Job for BasinsJob {
                     (index, None)
                 }
             };
-            let Some(column) = self.column(index, run, sink)? else {
-                return Ok(Status::Working);
+            let column = match self.column(index, run, sink) {
+                Ok(Some(column)) => column,
+                Ok(None) => return Ok(Status::Working),
+                Err(e) => {
+                    self.layout_finished(index, None);
+                    return Err(e);
+                }
             };
+            let layout = column.found.as_ref().ok().map(|f| f.layout.clone());
+            self.layout_finished(index, layout);
             if let Ok(f) = &column.found
                 && let Some(slot) = lock(&self.found).get_mut(index)
             {
@@ -267,7 +357,39 @@ impl Job for BasinsJob {
 
 #[cfg(test)]
 mod tests {
-    use super::coarse_first;
+    use super::{coarse_first, parents};
+
+    #[test]
+    fn a_columns_parent_is_the_nearest_handed_out_before_it() {
+        let order = coarse_first(9);
+        let p = parents(&order);
+        // [0, 8, 4, 2, 6, 1, 3, 5, 7]: the ends have none; 4 is as near
+        // 0 as 8 (the lower is taken); then the nearest earlier column.
+        assert_eq!(p[0], None);
+        assert_eq!(p[8], None);
+        assert_eq!(p[4], Some(0));
+        assert_eq!(p[2], Some(0));
+        assert_eq!(p[6], Some(4));
+        assert_eq!(p[1], Some(0));
+        assert_eq!(p[3], Some(2));
+        assert_eq!(p[7], Some(6));
+        // Every parent comes before its child, so the single-threaded
+        // host never waits.
+        for n in [1, 2, 3, 60, 161] {
+            let order = coarse_first(n);
+            let p = parents(&order);
+            let at: Vec<usize> = {
+                let mut at = vec![0; n];
+                order.iter().enumerate().for_each(|(k, &i)| at[i] = k);
+                at
+            };
+            for i in 0..n {
+                if let Some(q) = p[i] {
+                    assert!(at[q] < at[i], "n = {n}: {i}'s parent {q}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn coarse_first_takes_every_index_once_ends_first() {

@@ -42,7 +42,7 @@ use graph::CellGraph;
 use search::Search;
 use verdict::classify_closed;
 
-use super::{SimError, Simulator};
+use super::{Layout, SimError, Simulator};
 
 /// What the cell graph is asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -186,6 +186,9 @@ pub struct Found {
     /// Map evaluations (the interpolant's and Newton's) and right-hand
     /// sides.
     pub map_evaluations: u64,
+    /// Where f's interpolant over the arc put its pieces: a neighbouring
+    /// column's run starts from it ([`AttractorsRun::starting_from`]).
+    pub layout: Layout,
 }
 
 /// Every attractor and basin at `sim`'s parameters (see the module's doc).
@@ -229,6 +232,8 @@ pub fn graph_simulator(sim: &Simulator) -> Simulator {
 pub struct AttractorsRun {
     sim: Simulator,
     opts: CellOptions,
+    /// A neighbouring column's interpolant layout to start f's from.
+    layout: Option<Layout>,
     stage: Stage,
 }
 
@@ -289,8 +294,19 @@ impl AttractorsRun {
         AttractorsRun {
             sim: graph_simulator(sim),
             opts: *opts,
+            layout: None,
             stage: Stage::Start,
         }
+    }
+
+    /// The run with f's interpolant started from `layout`, a neighbouring
+    /// column's ([`Found::layout`]): its pieces are where the build starts,
+    /// and each is settled and checked as in a build from nothing
+    /// (`InterpolantBuild::start_from`), so the guarantees are the same
+    /// and only the work changes.
+    pub fn starting_from(mut self, layout: Option<Layout>) -> Self {
+        self.layout = layout;
+        self
     }
 
     /// One piece and `None`, or, once done, what was found.
@@ -310,7 +326,10 @@ impl AttractorsRun {
 
     fn piece(&mut self, cancel: &dyn Fn() -> bool) -> Result<Option<Found>, AttractorError> {
         match std::mem::replace(&mut self.stage, Stage::Done) {
-            Stage::Start => self.stage = Stage::Arc(Box::new(ArcBuild::start(&self.sim)?)),
+            Stage::Start => {
+                let build = ArcBuild::start_from(&self.sim, self.layout.as_ref())?;
+                self.stage = Stage::Arc(Box::new(build));
+            }
             // Not polled for a cancel: `cancel` counts as a cycle on the
             // hosts, and the first level polls it.
             Stage::Arc(mut build) => {
@@ -414,6 +433,7 @@ impl Classifying {
             boundary_fraction,
             unenclosed_fraction,
             map_evaluations: map.spent.0 + spent.0,
+            layout: map.layout().clone(),
         }
     }
 }

@@ -17,6 +17,7 @@ mod build;
 pub mod chebyshev;
 mod choice;
 mod extend;
+mod layout;
 mod stepper;
 
 use std::f64::consts::FRAC_PI_2;
@@ -54,6 +55,15 @@ const CHECKS: [f64; 4] = [0.061_803, 0.381_966, 0.618_034 + 0.05, 0.927_7];
 /// stop's x and y, the acceleration's and the slip's durations, the peak
 /// speed, the stick's duration.
 pub(crate) const FIELDS: usize = 8;
+
+/// Where a finished build put its pieces, in u = θ − ψ (ψ the arc's
+/// centre), increasing: each series' ends and the samples it took, and
+/// each stretch left to integration (a jump's bracket, a rough stretch)
+/// with 0. A build at nearby parameters starts from it
+/// ([`InterpolantBuild::start_from`]): every piece is then decided and
+/// checked exactly as in a build from nothing, so only the work changes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Layout(pub Vec<(f64, f64, usize)>);
 
 /// What the interpolant is asked for.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -312,6 +322,20 @@ impl MapInterpolant {
             .filter(|p| matches!(p, Piece::Series { .. }))
             .count();
         (self.pieces.len(), series)
+    }
+
+    /// Where its pieces lie, for a build at nearby parameters to start
+    /// from ([`InterpolantBuild::start_from`]).
+    pub fn layout(&self) -> Layout {
+        Layout(
+            self.pieces
+                .iter()
+                .map(|p| match p {
+                    Piece::Series { a, b, table, .. } => (*a, *b, table.len()),
+                    Piece::Direct { a, b } => (*a, *b, 0),
+                })
+                .collect(),
+        )
     }
 
     /// The largest number of coefficients of θ' on a piece.

@@ -30,7 +30,7 @@ pub use cycle::{
 };
 pub use cycles::{Cycle, CycleFailure, CycleOptions, solve_cycle};
 pub use error::SimError;
-pub use interpolant::{InterpolantError, InterpolantOptions, MapChoice, MapInterpolant};
+pub use interpolant::{InterpolantError, InterpolantOptions, Layout, MapChoice, MapInterpolant};
 pub use orbit::{
     InterpolatedOrbit, OnInterpolant, Orbit, OrbitOptions, OrbitRun, Period, Settled,
     orbit_interpolated,

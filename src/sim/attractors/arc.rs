@@ -31,7 +31,7 @@ use std::f64::consts::FRAC_PI_2;
 mod build;
 mod nodes;
 
-use crate::sim::interpolant::{InterpolantError, chebyshev};
+use crate::sim::interpolant::{InterpolantError, Layout, chebyshev};
 use crate::sim::{SimError, Simulator};
 use nodes::Node;
 
@@ -125,6 +125,9 @@ pub struct ArcMap {
     own_coarse: f64,
     /// Stretches built to [`FINE_TOL`].
     sharp: Vec<Span>,
+    /// Where the whole arc's interpolant put its pieces: a neighbouring
+    /// column starts from it ([`ArcBuild::start_from`]).
+    layout: Layout,
     /// Map evaluations and right-hand sides spent.
     pub spent: (u64, u64),
     /// The largest error the interpolants' checks measured.
@@ -220,6 +223,7 @@ impl ArcMap {
             hi: FRAC_PI_2 - EDGE,
             sharp: Vec::new(),
             spent: (0, 0),
+            layout: Layout::default(),
             max_error: 0.0,
             node_evaluations: 0,
             nodes_capped: false,
@@ -244,7 +248,13 @@ impl ArcMap {
         self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1])
     }
 
-    /// The arc's centre ψ.
+    /// Where the whole arc's interpolant put its pieces (the coarse
+    /// tier's: sharpened stretches are rebuilt where a column needs them).
+    pub fn layout(&self) -> &Layout {
+        &self.layout
+    }
+
+    /// The arc's centre ψ (u = θ − ψ).
     pub fn psi(&self) -> f64 {
         self.psi
     }

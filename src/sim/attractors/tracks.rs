@@ -384,6 +384,7 @@ mod tests {
             boundary_fraction: 0.0,
             unenclosed_fraction: 0.0,
             map_evaluations: 0,
+            layout: Default::default(),
         }
     }
 

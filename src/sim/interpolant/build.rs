@@ -5,18 +5,32 @@
 
 use super::chebyshev;
 use super::{
-    CHECKS, FIELDS, InterpolantError, InterpolantOptions, JUMP_WIDTH, MIN_PIECE, MapInterpolant,
-    Piece, SAMPLINGS, Sample, Verification, clenshaw_fields,
+    CHECKS, FIELDS, InterpolantError, InterpolantOptions, JUMP_WIDTH, Layout, MIN_PIECE,
+    MapInterpolant, Piece, SAMPLINGS, Sample, Verification, clenshaw_fields,
 };
 use crate::model::{exit_arc, wrap_angle};
 use crate::sim::{Simulator, cycles_in_lanes};
 
 /// A piece being resolved: its ends and its samples so far.
 #[derive(Debug)]
-struct Pending {
-    a: f64,
-    b: f64,
+pub(super) struct Pending {
+    pub(super) a: f64,
+    pub(super) b: f64,
     samples: Vec<Sample>,
+    /// The sampling to start with (a neighbour's layout: [`Layout`]), 0
+    /// for the first of [`SAMPLINGS`].
+    pub(super) first: usize,
+}
+
+impl Pending {
+    pub(super) fn new(a: f64, b: f64) -> Self {
+        Pending {
+            a,
+            b,
+            samples: Vec::new(),
+            first: 0,
+        }
+    }
 }
 
 /// The most map evaluations one [`MapInterpolant::advance`] samples (in
@@ -66,11 +80,7 @@ impl Resolve {
         Resolve {
             a,
             budget,
-            pending: vec![Pending {
-                a,
-                b,
-                samples: Vec::new(),
-            }],
+            pending: vec![Pending::new(a, b)],
             verified: Vec::new(),
             stage: Stage::Head,
         }
@@ -123,6 +133,29 @@ impl InterpolantBuild {
             resolve: Resolve::new(a, b, opts.max_pieces),
             done: None,
         })
+    }
+
+    /// As [`Self::start`], from a neighbour's layout (at nearby
+    /// parameters): its pieces are where this build starts, each sampled
+    /// at once as finely as it was there; from there every piece is
+    /// settled and checked as in a build from nothing, split where it
+    /// fails. A layout that does not meet [lo, hi] starts from nothing.
+    pub fn start_from(
+        sim: &Simulator,
+        lo: f64,
+        hi: f64,
+        opts: InterpolantOptions,
+        lenient: bool,
+        layout: &Layout,
+    ) -> Result<Self, InterpolantError> {
+        let mut build = Self::start(sim, lo, hi, opts, lenient)?;
+        let r = &mut build.resolve;
+        let (a, b) = (r.pending[0].a, r.pending[0].b);
+        let pieces = super::layout::from_layout(a, b, layout);
+        if !pieces.is_empty() {
+            r.pending = pieces;
+        }
+        Ok(build)
     }
 
     /// One piece of the work (a few ms at most); whether the build is done.
@@ -250,11 +283,7 @@ impl MapInterpolant {
                         let (pa, pb) = piece.ends();
                         let m = 0.5 * (pa + pb);
                         for (a, b) in [(pa, m), (m, pb)] {
-                            r.pending.push(Pending {
-                                a,
-                                b,
-                                samples: Vec::new(),
-                            });
+                            r.pending.push(Pending::new(a, b));
                         }
                     }
                     r.stage = Stage::Checking { fresh };
@@ -393,11 +422,7 @@ impl MapInterpolant {
         }
         for (a, b) in halves {
             if b > a {
-                next.push(Pending {
-                    a,
-                    b,
-                    samples: Vec::new(),
-                });
+                next.push(Pending::new(a, b));
             }
         }
         Ok(())
@@ -535,7 +560,10 @@ fn next_points(pending: &[Pending]) -> (Vec<f64>, Vec<usize>) {
     let mut us = Vec::new();
     let mut wanted = Vec::new();
     for p in pending {
-        let n = next_sampling(p.samples.len());
+        let n = match p.samples.len() {
+            0 if SAMPLINGS.contains(&p.first) => p.first,
+            have => next_sampling(have),
+        };
         let x = chebyshev::points(n);
         let new: Vec<usize> = if p.samples.is_empty() {
             (0..n).collect()

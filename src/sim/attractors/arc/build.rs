@@ -6,7 +6,9 @@
 
 use super::{ArcError, ArcMap, FINE_TOL, Node, Part, curvature_bound, nodes, series_at};
 use crate::sim::Simulator;
-use crate::sim::interpolant::{InterpolantBuild, InterpolantOptions, MapInterpolant, PieceView};
+use crate::sim::interpolant::{
+    InterpolantBuild, InterpolantOptions, Layout, MapInterpolant, PieceView,
+};
 
 /// The whole arc's build in progress ([`ArcMap::build`] runs one to its
 /// end).
@@ -19,6 +21,13 @@ pub struct ArcBuild {
 impl ArcBuild {
     /// The build at `sim`'s parameters, nothing evaluated yet.
     pub fn start(sim: &Simulator) -> Result<Self, ArcError> {
+        Self::start_from(sim, None)
+    }
+
+    /// As [`Self::start`], the whole arc's interpolant started from a
+    /// neighbouring column's [`ArcMap::layout`] (`InterpolantBuild::start_from`:
+    /// the same checks, less work where f has moved little).
+    pub fn start_from(sim: &Simulator, layout: Option<&Layout>) -> Result<Self, ArcError> {
         let map = ArcMap::empty(sim)?;
         let parts = map.parts_build(
             false,
@@ -26,6 +35,7 @@ impl ArcBuild {
             map.hi,
             super::COARSE_TOL,
             super::COARSE_EVALUATIONS,
+            layout,
         )?;
         Ok(ArcBuild {
             map,
@@ -76,7 +86,7 @@ impl ArcMap {
         if !(hi > lo) || self.sharp.iter().any(|s| s[0] <= lo && hi <= s[1]) {
             return Ok(None);
         }
-        let parts = self.parts_build(true, lo, hi, FINE_TOL, max_evaluations)?;
+        let parts = self.parts_build(true, lo, hi, FINE_TOL, max_evaluations, None)?;
         Ok(Some(Sharpening { lo, hi, parts }))
     }
 
@@ -185,6 +195,7 @@ impl ArcMap {
         hi: f64,
         tol: f64,
         max_evaluations: usize,
+        layout: Option<&Layout>,
     ) -> Result<PartsBuild, ArcError> {
         let opts = InterpolantOptions {
             tol,
@@ -192,7 +203,11 @@ impl ArcMap {
             max_evaluations,
         };
         let sim = if fine { self.sim } else { self.coarse };
-        let build = InterpolantBuild::start(&sim, self.psi + lo, self.psi + hi, opts, true)?;
+        let (lo, hi) = (self.psi + lo, self.psi + hi);
+        let build = match layout {
+            Some(l) => InterpolantBuild::start_from(&sim, lo, hi, opts, true, l)?,
+            None => InterpolantBuild::start(&sim, lo, hi, opts, true)?,
+        };
         Ok(PartsBuild {
             fine,
             tol,
@@ -212,6 +227,9 @@ impl ArcMap {
                     return Ok(None);
                 }
                 let interp = build.finish();
+                if !b.fine {
+                    self.layout = interp.layout();
+                }
                 self.spent.0 += interp.evaluations() as u64;
                 self.spent.1 += interp.rhs_evals();
                 self.max_error = self.max_error.max(interp.verification().max_map_error);
