@@ -135,3 +135,67 @@ fn the_window_marks_the_events_the_command_line_prints_and_explains_them() {
     let at = all.find(start).unwrap_or_else(|| panic!("{texts:?}"));
     assert!(all[at..].contains("smallest kick"), "{texts:?}");
 }
+
+/// The bifurcation diagram's "births & deaths" toggle: over its zoomed θν
+/// range the Basins job runs with the Basins view not shown, and the
+/// diagram marks the same events the command line prints for that range,
+/// with the legend naming them and a hover giving the sentence.
+#[test]
+fn the_bifurcation_diagram_marks_the_same_births_and_deaths() {
+    use oneblock::app::bifurcation::Zoom;
+    let rec = Recorder::new();
+    let mut s = hysteresis_basins();
+    s.tab = ViewKind::Bifurcation;
+    s.basins.columns = 48;
+    s.basins.zoom.clear();
+    let mut h = window::harness_on_lanes(&rec, s, &[Lane::Basins, Lane::Sweep]);
+    h.state_mut().views.bifurcation.zoom.push(Zoom {
+        theta_nu: (1.35, 1.43),
+        theta: (0.0, 1.0),
+    });
+    h.run_steps(2);
+    assert!(h.state().jobs.basins.data.events.is_none());
+    h.get_by_label("births & deaths").click();
+    h.run_steps(2);
+    until_events(&mut h);
+    let d = h.state().jobs.basins.data.clone();
+    assert_eq!((d.from, d.to), (1.35, 1.43), "over the diagram's range");
+    let events = d.events.clone().expect("events");
+    let o = oneblock(&[
+        "attractors",
+        "--preset",
+        "hysteresis",
+        "--param",
+        "theta-nu",
+        "--from",
+        "1.35",
+        "--to",
+        "1.43",
+        "--columns",
+        "48",
+        "--json",
+    ]);
+    assert_ok(&o);
+    let j: Value = serde_json::from_str(&stdout(&o)).unwrap();
+    let cli = j["events"].as_array().unwrap();
+    assert_eq!(events.events.len(), cli.len(), "{:?}", events.events);
+    for (w, c) in events.events.iter().zip(cli) {
+        assert_eq!(w.cause.name(), c["cause"]);
+        let v = c["value"].as_f64().unwrap();
+        assert!((w.value - v).abs() <= 1e-12 * v.abs(), "{} vs {v}", w.value);
+    }
+    // The legend names the causes; a hover on the fold's line reads it.
+    h.run_steps(3);
+    assert!(h.query_by_label("fold").is_some() && h.query_by_label("flip").is_some());
+    let t = h.state().views.bifurcation.transform.expect("the diagram was drawn");
+    let fold = &events.events[2];
+    let at = t.position_from_point(&egui_plot::PlotPoint::new(fold.value, 0.5));
+    h.hover_at(at);
+    h.run_steps(3);
+    assert!(
+        window::painted_texts(&h)
+            .iter()
+            .any(|(t, _)| t.contains("fold at θν = 1.420231535")),
+        "the hover shows the fold's sentence"
+    );
+}

@@ -8,6 +8,8 @@ use eframe::egui::{self, Color32, Pos2, Shape, Stroke, Ui};
 use egui_plot::{LineStyle, MarkerShape, PlotPoints, PlotUi, Points, VLine};
 
 use super::jobs::basins::BasinsData;
+use super::jobs::{JobState, Jobs};
+use super::settings::Settings;
 use crate::sim::attractors::events::{Cause, Event};
 
 /// The events' ink.
@@ -205,4 +207,42 @@ pub fn hover_sentence(d: &BasinsData, at: egui_plot::PlotPoint, per_point: f64) 
     let found = d.columns[c].as_ref()?.found.as_ref().ok()?;
     let a = found.basin_of(at.y)?;
     track_sentence(d, c, a)
+}
+
+/// The bifurcation diagram's "births & deaths" toggle (a θν diagram only).
+pub fn diagram_toggle_ui(ui: &mut Ui, s: &mut Settings) {
+    let along_theta_nu = s.diagram.param == crate::sim::continuation::ContParam::ThetaNu;
+    ui.add_enabled(
+        along_theta_nu,
+        egui::Checkbox::new(&mut s.sweep_events, "births & deaths"),
+    )
+    .on_hover_text(
+        "Where each attractor is born or dies, and why (fold, flip, border collision, \
+             crisis), located to 1e-8 along θν by the Basins job over this diagram's range: \
+             dashed lines, marks at the top, a sentence on hover (oneblock attractors \
+             --param theta-nu)",
+    )
+    .on_disabled_hover_text("Births and deaths are located along θν: vary θν to show them");
+}
+
+/// The births and deaths marked: their legend, or where the Basins job
+/// that locates them stands.
+pub fn diagram_legend_ui(ui: &mut Ui, jobs: &Jobs) {
+    let d = &jobs.basins.data;
+    match &d.events {
+        Some(e) if e.events.is_empty() => {
+            ui.weak("births & deaths: none in this range");
+        }
+        Some(_) => legend_ui(ui, d),
+        None if jobs.basins.state == JobState::Running => {
+            let done = d.columns.iter().flatten().count();
+            ui.weak(format!(
+                "births & deaths: every attractor of {done} of {} columns found, then located",
+                d.columns.len()
+            ));
+        }
+        None => {
+            ui.weak("births & deaths: not located (see the Basins view)");
+        }
+    }
 }

@@ -11,24 +11,23 @@
 //! ([`super::points_table`]).
 
 use eframe::egui;
-use egui::{Color32, ColorImage, RichText, TextureHandle, TextureOptions, Ui};
+use egui::{RichText, TextureHandle, TextureOptions, Ui};
 use egui_plot::{Plot, PlotBounds, PlotImage, PlotPoint};
 
 use super::axes::{self, AxisSpec};
+use super::basin_events;
 use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::diagram_axis::{self, XAxis};
 use super::diagram_lines::{Lines, lines_legend_ui};
+pub use super::diagram_raster::{OTHER_ATTRACTOR, auto_theta_range, rasterise};
+use super::jobs::basins::BasinsData;
 use super::jobs::{JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
-use super::raster;
 use super::settings::{Settings, ViewKind};
 use super::style;
 use super::view::{Action, View};
 use super::{lyapunov_strip, overlay, points_table};
-
-/// Texel rows of the density image.
-const ROWS: usize = 420;
 
 /// A zoomed part of the diagram.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,85 +54,6 @@ pub struct BifurcationView {
     pub transform: Option<egui_plot::PlotTransform>,
     /// The height the λ strip's legend took last frame, kept for it.
     strip_legend: f32,
-}
-
-/// The colour of the attractors a seeded sweep finds besides the one it
-/// follows (drawn over it).
-pub const OTHER_ATTRACTOR: Color32 = style::ONSET;
-
-/// Rasterises the columns into an RGBA image `columns × ROWS` over
-/// θ ∈ [lo, hi] (row 0 at the top = hi), the followed attractor's points
-/// in `ink` and the seeds' other attractors in [`OTHER_ATTRACTOR`]. Missing
-/// columns take the nearest computed one to their left, so the coarse pass
-/// already fills the picture. With `spread` > 0 (thick lines) each point
-/// also fills the texels within `spread` of it, so that a branch stays a
-/// line, not dashes, where the image is drawn narrower than its columns.
-pub fn rasterise(sweep: &SweepData, lo: f64, hi: f64, ink: Color32, spread: usize) -> ColorImage {
-    let w = sweep.columns.len().max(1);
-    let mut counts = vec![0u32; w * ROWS];
-    let mut others = vec![0u32; w * ROWS];
-    let scale = (ROWS as f64) / (hi - lo).max(1e-12);
-    let mut source: Option<usize> = sweep.columns.iter().position(Option::is_some);
-    for j in 0..w {
-        if sweep.columns.get(j).is_some_and(Option::is_some) {
-            source = Some(j);
-        }
-        let Some(src) = source else { continue };
-        let Some(col) = &sweep.columns[src] else {
-            continue;
-        };
-        let labels = col.attractor.iter().chain(std::iter::repeat(&0));
-        for (&t, &label) in col.thetas.iter().zip(labels) {
-            if !(t >= lo && t <= hi) {
-                continue;
-            }
-            let r = ((hi - t) * scale) as usize;
-            let bin = if label == 0 { &mut counts } else { &mut others };
-            bin[r.min(ROWS - 1) * w + j] += 1;
-        }
-    }
-    let (counts, others) = (
-        raster::dilate(&counts, w, spread),
-        raster::dilate(&others, w, spread),
-    );
-    let pixels = counts
-        .iter()
-        .zip(&others)
-        .map(|(&c, &o)| {
-            let (n, colour) = if o > 0 {
-                (o, OTHER_ATTRACTOR)
-            } else {
-                (c, ink)
-            };
-            if n == 0 {
-                Color32::TRANSPARENT
-            } else {
-                let a = 1.0 - (-0.9 * n as f32).exp();
-                let a = (0.25 + 0.75 * a).min(1.0);
-                let [r, g, b, _] = colour.to_array();
-                Color32::from_rgba_unmultiplied(r, g, b, (a * 255.0) as u8)
-            }
-        })
-        .collect();
-    ColorImage::new([w, ROWS], pixels)
-}
-
-/// The θ range holding every received iterate, padded.
-pub fn auto_theta_range(sweep: &SweepData) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for c in sweep.columns.iter().flatten() {
-        for &t in &c.thetas {
-            if t.is_finite() {
-                lo = lo.min(t);
-                hi = hi.max(t);
-            }
-        }
-    }
-    if !lo.is_finite() {
-        return (-0.5, 1.6);
-    }
-    let pad = ((hi - lo) * 0.06).max(0.05);
-    (lo - pad, hi + pad)
 }
 
 impl BifurcationView {
@@ -228,7 +148,7 @@ impl BifurcationView {
         &mut self,
         ui: &mut Ui,
         s: &Settings,
-        sweep: &SweepData,
+        (sweep, events): (&SweepData, Option<&BasinsData>),
         found: &BranchData,
         (height, y_width): (f32, f32),
         out: &mut Vec<Action>,
@@ -274,6 +194,9 @@ impl BifurcationView {
                 let (x0, x1, y0, y1) = bounds;
                 let x = |v| axis.x(v);
                 overlay::branch_items(p, found, lines.width, ([x0, y0], [x1, y1]), &x);
+                if let Some(d) = events {
+                    basin_events::event_items(p, d, Some(y1 - 0.025 * (y1 - y0)));
+                }
                 let pointer = p.pointer_coordinate();
                 if let (Some(a), Some(b)) = (drag_from, pointer) {
                     p.add(style::zoom_box(a, b));
@@ -285,7 +208,7 @@ impl BifurcationView {
             });
         axes::remember_frame(ui.ctx(), "bifurcation", *resp.transform.frame());
         self.transform = Some(resp.transform);
-        self.hover_ui(&resp, found, axis);
+        self.hover_ui(&resp, found, events, axis);
         self.pointer_ui(ui, &resp.response, resp.inner, sweep, out);
     }
 
@@ -307,6 +230,7 @@ impl BifurcationView {
         &self,
         resp: &egui_plot::PlotResponse<Option<PlotPoint>>,
         found: &BranchData,
+        events: Option<&BasinsData>,
         axis: XAxis,
     ) {
         let r = &resp.response;
@@ -321,6 +245,15 @@ impl BifurcationView {
         };
         if let Some(text) = branches::nearest(found, to_screen, [at.x, at.y], 8.0) {
             r.clone().on_hover_text_at_pointer(text);
+        } else if let Some(d) = events {
+            // An event's line within 4 points of the pointer (θν: the
+            // axis is linear).
+            let x = t.value_from_position(at).x;
+            let reach = 4.0 * t.dvalue_dpos()[0].abs();
+            if let Some(e) = basin_events::event_near(d, x, reach) {
+                r.clone()
+                    .on_hover_text_at_pointer(basin_events::event_sentence(e, d));
+            }
         }
     }
 
@@ -449,6 +382,9 @@ impl View for BifurcationView {
         if s.sweep_seeds > 0 {
             style::legend_row(ui, |ui| seeds_legend_ui(ui, s));
         }
+        if s.diagram_events() {
+            style::legend_row(ui, |ui| basin_events::diagram_legend_ui(ui, jobs));
+        }
         let (x0, x1, y0, y1) = self.bounds(sweep);
         let x = |v| XAxis::of(sweep.param).x(v);
         overlay::branch_legend_ui(ui, &jobs.branches.data, ([x0, y0], [x1, y1]), &x);
@@ -457,7 +393,15 @@ impl View for BifurcationView {
         let with_strip = plot_sizes(ui, ui.available_height()).1 > 0.0;
         let legend = if with_strip { self.strip_legend } else { 0.0 };
         let (diagram, strip, y_width) = plot_sizes(ui, ui.available_height() - legend);
-        self.plot_ui(ui, s, sweep, &jobs.branches.data, (diagram, y_width), out);
+        let events = s.diagram_events().then_some(&jobs.basins.data);
+        self.plot_ui(
+            ui,
+            s,
+            (sweep, events),
+            &jobs.branches.data,
+            (diagram, y_width),
+            out,
+        );
         if with_strip && strip > 0.0 {
             let top = ui.cursor().top();
             lyapunov_strip::legend_ui(ui, s.dark, lyapunov_strip::below_strip(sweep));
@@ -482,6 +426,7 @@ fn seeds_ui(ui: &mut Ui, s: &mut Settings) {
         if r.changed() {
             s.sweep_seeds = usize::from(on);
         }
+        basin_events::diagram_toggle_ui(ui, s);
     });
 }
 
@@ -549,43 +494,4 @@ fn uncounted_ui(ui: &mut Ui, sweep: &SweepData, symbol: &str) {
          one.\n{}",
         list.join("\n")
     ));
-}
-
-#[cfg(test)]
-mod seeded_tests {
-    use super::*;
-    use crate::app::data::Column;
-
-    /// A seeded column's other attractor is drawn in its own colour, the
-    /// followed one in ink.
-    #[test]
-    fn other_attractors_are_drawn_in_their_colour() {
-        let mut sweep = SweepData::new(1.0, 1.1, 1);
-        sweep.insert(
-            0,
-            Column {
-                value: 1.0,
-                thetas: vec![0.25, 0.75, 0.5],
-                coarse: true,
-                lyapunov: None,
-                attractor: vec![0, 0, 1],
-                uncounted: None,
-            },
-        );
-        let ink = style::ink(false);
-        let img = rasterise(&sweep, 0.0, 1.0, ink, 0);
-        let at = |t: f64| img.pixels[((1.0 - t) * ROWS as f64) as usize];
-        let rgb = |c: Color32| [c.r(), c.g(), c.b()];
-        let unmul = |c: Color32| {
-            let [r, g, b, _] = c.to_srgba_unmultiplied();
-            [r, g, b]
-        };
-        // Premultiplied alpha rounds: within 2 of each channel.
-        let near = |a: [u8; 3], b: [u8; 3]| a.iter().zip(b).all(|(x, y)| x.abs_diff(y) <= 2);
-        assert!(near(unmul(at(0.25)), rgb(ink)), "{:?}", at(0.25));
-        assert!(near(unmul(at(0.75)), rgb(ink)), "{:?}", at(0.75));
-        assert!(near(unmul(at(0.5)), rgb(OTHER_ATTRACTOR)), "{:?}", at(0.5));
-        assert!(!near(rgb(ink), rgb(OTHER_ATTRACTOR)));
-        assert_eq!(at(0.1), Color32::TRANSPARENT);
-    }
 }

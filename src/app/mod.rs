@@ -43,6 +43,7 @@ pub mod data;
 pub mod describe;
 pub mod diagram_axis;
 mod diagram_lines;
+mod diagram_raster;
 pub mod events;
 mod events_plots;
 pub mod explorer;

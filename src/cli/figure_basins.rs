@@ -41,7 +41,7 @@ pub const HEADER: &str =
 /// first ([`crate::provenance`]).
 pub fn csv(fig: &Figure) -> Result<String, String> {
     let jobs = compute(fig)?;
-    let key = BasinsKey::of(&fig.settings);
+    let key = BasinsKey::of(&fig.settings, None);
     let model = format!(
         "{}; theta-nu {} to {}, {} columns",
         describe_sweep(&key.params, &key.solver),

@@ -140,11 +140,19 @@ pub struct BasinsKey {
 }
 
 impl BasinsKey {
-    pub fn of(s: &Settings) -> Self {
+    /// The Basins view's diagram; while a θν bifurcation diagram marks
+    /// births and deaths ([`Settings::diagram_events`]), over that
+    /// diagram's range (`sweep_zoom` where it is zoomed) instead.
+    pub fn of(s: &Settings, sweep_zoom: Option<(f64, f64)>) -> Self {
+        let range = if s.diagram_events() {
+            super::continuation::diagram_range(s, sweep_zoom)
+        } else {
+            s.basins.range(s)
+        };
         BasinsKey {
             params: s.params.with_theta_nu(0.0),
             solver: solver(JobKind::Basins, s),
-            range: s.basins.range(s),
+            range,
             columns: s.basins.columns.clamp(MIN_COLUMNS, MAX_COLUMNS),
         }
     }
@@ -214,12 +222,19 @@ impl Jobs {
         self.basins_sent.map = Some((params, settings));
     }
 
-    /// Starts what the shown Basins view and return map now call for,
+    /// Starts what the shown Basins view (or a diagram's births and
+    /// deaths) and the return map now call for,
     /// once a change has been still for the sweep's debounce (at once the
     /// first time, or for a zoom or a new column count).
-    pub(super) fn sync_basins(&mut self, s: &Settings, now: f64, out: &mut SyncOutcome) {
-        if s.shows(ViewKind::Basins) {
-            let key = BasinsKey::of(s);
+    pub(super) fn sync_basins(
+        &mut self,
+        s: &Settings,
+        shown: &super::Shown,
+        out: &mut SyncOutcome,
+    ) {
+        let now = shown.now;
+        if s.shows(ViewKind::Basins) || s.diagram_events() {
+            let key = BasinsKey::of(s, shown.sweep_zoom);
             match self.basins_sent.diagram {
                 None => self.restart_basins(s, key),
                 Some(sent) if sent != key => {

@@ -510,7 +510,7 @@ impl Jobs {
             }
             _ => {}
         }
-        self.sync_basins(s, now, &mut out);
+        self.sync_basins(s, &shown, &mut out);
         out.zoom_stale |= diagram_stale && shown.sweep_zoom.is_some();
         let running = self.phase.state == JobState::Running;
         match self

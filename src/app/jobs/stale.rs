@@ -202,7 +202,7 @@ mod tests {
             JobKind::Curves => jobs.compute_boundaries(s),
             JobKind::Passage => jobs.start_passage(s.params, 0.1),
             JobKind::Scan => jobs.start_scan(s.params),
-            JobKind::Basins => jobs.restart_basins(s, BasinsKey::of(s)),
+            JobKind::Basins => jobs.restart_basins(s, BasinsKey::of(s, None)),
             JobKind::MapBasins => jobs.restart_map_basins(s, s.custom_solver()),
         }
     }

@@ -210,6 +210,9 @@ pub struct Settings {
     /// θ₀ spread over each column's exit arc besides the followed orbit
     /// (`oneblock bifurcation --seeds`; 0: none): every attractor is drawn.
     pub sweep_seeds: usize,
+    /// Births and deaths of attractors (the Basins job's events, located
+    /// along θν) marked on a θν bifurcation diagram.
+    pub sweep_events: bool,
     /// Text size multiplier (projectors).
     pub font_scale: f32,
     pub dark: bool,
@@ -297,6 +300,7 @@ impl Default for Settings {
             sweep_transient: 300,
             sweep_keep: 200,
             sweep_seeds: 0,
+            sweep_events: false,
             font_scale: 1.0,
             dark: false,
             smooth_lines: None,
@@ -531,6 +535,14 @@ impl Settings {
         self.diagram
             .range(self.diagram.param)
             .unwrap_or_else(|| self.theta_nu_range())
+    }
+
+    /// Whether a θν bifurcation diagram marks births and deaths
+    /// ([`Self::sweep_events`]: the Basins job then runs over its range).
+    pub fn diagram_events(&self) -> bool {
+        self.sweep_events
+            && self.diagram.param == crate::sim::continuation::ContParam::ThetaNu
+            && self.shows(ViewKind::Bifurcation)
     }
 
     /// The θν slider's range: [0, π/2], or the full circle.
