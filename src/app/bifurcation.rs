@@ -399,7 +399,8 @@ impl BifurcationView {
 /// The strip needs about 9 rows of text for five legible λ ticks; below 27
 /// rows in all (a small tile) only the diagram is drawn. With the controls
 /// folded (the tour's tiles, whose steps speak of λ) it is drawn down to
-/// 17 rows in all, 7 of them its own (three ticks or more).
+/// 17 rows in all, 7 of them its own (three ticks or more). A figure
+/// that leaves it out says so (`figure` writes a note on stderr).
 fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
     let row = ui.text_style_height(&egui::TextStyle::Body);
     let (least, strip_least) = match style::controls_folded(ui.ctx()) {
@@ -407,6 +408,10 @@ fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
         true => (17.0, 7.0),
     };
     if available < least * row {
+        style::figure_note(
+            ui.ctx(),
+            "the λ strip is left out: the figure is too short for it (larger --size or smaller --font-size)",
+        );
         return (available, 0.0, 5.5 * row);
     }
     let strip = (available * 0.3).clamp(strip_least * row, 18.0 * row);

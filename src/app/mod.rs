@@ -54,6 +54,7 @@ pub mod help;
 pub mod jobs;
 mod layout;
 pub mod layout_report;
+pub mod legend;
 pub mod lyapunov_strip;
 mod map_basins;
 pub mod markers;

@@ -474,8 +474,11 @@ pub struct FigureArgs {
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: Option<usize>,
     /// Where the legend goes: outside (in a row above the plot it
-    /// describes) or none (no legend: a caption says what is drawn). Its
-    /// entries are only what the plot shows.
+    /// describes); inside the plot, boxed, in the corner over the least
+    /// data (inside) or in the one named (inside-top-right,
+    /// inside-top-left, inside-bottom-right, inside-bottom-left); or none
+    /// (no legend: a caption says what is drawn). Its entries are only
+    /// what the plot shows; its keys shrink with --font-size and --size.
     #[arg(long, value_enum, default_value_t = LegendFlag::Outside)]
     pub legend: LegendFlag,
 }
@@ -484,6 +487,11 @@ pub struct FigureArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum LegendFlag {
     Outside,
+    Inside,
+    InsideTopRight,
+    InsideTopLeft,
+    InsideBottomRight,
+    InsideBottomLeft,
     None,
 }
 
