@@ -40,8 +40,8 @@ pub(crate) struct Text {
     pub(crate) text: String,
     pub(crate) size: f64,
     fill: String,
-    rotated: bool,
-    mid: [f64; 2],
+    pub(crate) rotated: bool,
+    pub(crate) mid: [f64; 2],
     pub(crate) bx: [f64; 4],
 }
 
@@ -167,7 +167,7 @@ pub(crate) fn read(svg: &str) -> (Vec<Text>, Vec<Frame>) {
 }
 
 /// Whether `t` is a tick label: a number, an angle or a multiple of π.
-fn is_tick(t: &Text) -> bool {
+pub(crate) fn is_tick(t: &Text) -> bool {
     !t.rotated
         && t.text.chars().any(|c| c.is_ascii_digit() || c == 'π')
         && t.text.chars().all(|c| "0123456789.-−e°π/".contains(c))

@@ -80,6 +80,8 @@ mod docs_counts;
 mod figure_legend;
 #[path = "figure_referee.rs"]
 mod figure_referee;
+#[path = "figure_titles.rs"]
+mod figure_titles;
 #[path = "figure_wellformed.rs"]
 mod figure_wellformed;
 #[path = "flip_accuracy.rs"]
