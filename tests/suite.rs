@@ -78,6 +78,8 @@ mod docs_auto_table;
 mod docs_counts;
 #[path = "figure_legend.rs"]
 mod figure_legend;
+#[path = "figure_points.rs"]
+mod figure_points;
 #[path = "figure_referee.rs"]
 mod figure_referee;
 #[path = "figure_titles.rs"]

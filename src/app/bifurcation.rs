@@ -19,6 +19,7 @@ use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::diagram_axis::{self, XAxis};
 use super::diagram_lines::{Lines, lines_legend_ui};
+use super::diagram_marks;
 use super::jobs::{JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
 use super::raster;
@@ -55,6 +56,8 @@ pub struct BifurcationView {
     pub transform: Option<egui_plot::PlotTransform>,
     /// The height the λ strip's legend took last frame, kept for it.
     strip_legend: f32,
+    /// In a figure, the points as vector dots (see [`diagram_marks`]).
+    marks: Option<diagram_marks::Marks>,
 }
 
 /// The colour of the attractors a seeded sweep finds besides the one it
@@ -157,6 +160,12 @@ impl BifurcationView {
         };
         let (lo, hi) = self.theta_range;
         let img = rasterise(sweep, lo, hi, style::ink(dark), spread);
+        // A figure's points are vector dots where there are not too many.
+        self.marks = style::figure_only(ui.ctx()).then(|| {
+            let mut m = diagram_marks::of(sweep, (lo, hi), (style::ink(dark), OTHER_ATTRACTOR));
+            m.width = (1.2 * style::width(ui.ctx(), 1.0)).max(0.5);
+            m
+        });
         match &mut self.texture {
             Some(t) => t.set(img, TextureOptions::NEAREST),
             None => {
@@ -237,6 +246,7 @@ impl BifurcationView {
         let axis = XAxis::of(sweep.param);
         let lines = Lines::of(ui.ctx(), s, bounds, sweep.param);
         let tex = self.texture.as_ref().map(|t| t.id());
+        let marks = self.marks.clone();
         let (drag_from, pinch) = (self.drag_from, self.pinch);
         let plot = Plot::new("bifurcation")
             .height(height)
@@ -269,6 +279,9 @@ impl BifurcationView {
                 ));
                 if let Some(id) = tex {
                     density_image(p, id, bounds);
+                    if let Some(m) = marks {
+                        diagram_marks::register(p.ctx(), id, m);
+                    }
                 }
                 lines.draw(p);
                 let (x0, x1, y0, y1) = bounds;

@@ -43,6 +43,7 @@ pub mod data;
 pub mod describe;
 pub mod diagram_axis;
 mod diagram_lines;
+pub mod diagram_marks;
 pub mod events;
 mod events_plots;
 pub mod explorer;

@@ -246,6 +246,7 @@ impl Renderer {
     /// The last pass as SVG.
     fn svg(&self) -> String {
         let mut w = SvgWriter::new(self.area, &self.frames, &self.textures);
+        w.set_marks(super::diagram_marks::registered(&self.ctx));
         w.add(&self.shapes);
         let bg = self.ctx.global_style().visuals.panel_fill;
         let size = self.area.size();
