@@ -320,7 +320,7 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
             Some(span) => play_gif(fig, span),
             None => gif(&fig, frames, speed),
         },
-        Format::Csv => super::figure_basins::data_csv(&fig).map(String::into_bytes),
+        Format::Csv => super::figure_csv::data_csv(&fig).map(String::into_bytes),
     })?
     .map_err(CliError::Failed)?;
     for n in crate::app::style::take_figure_notes() {
