@@ -56,7 +56,7 @@ pub struct BifurcationView {
     pub transform: Option<egui_plot::PlotTransform>,
     /// The height the λ strip's legend took last frame, kept for it.
     strip_legend: f32,
-    /// In a figure, the points as vector dots (see [`diagram_marks`]).
+    /// A figure's points as vector dots ([`diagram_marks`]).
     marks: Option<diagram_marks::Marks>,
 }
 
@@ -160,12 +160,8 @@ impl BifurcationView {
         };
         let (lo, hi) = self.theta_range;
         let img = rasterise(sweep, lo, hi, style::ink(dark), spread);
-        // A figure's points are vector dots where there are not too many.
-        self.marks = style::figure_only(ui.ctx()).then(|| {
-            let mut m = diagram_marks::of(sweep, (lo, hi), (style::ink(dark), OTHER_ATTRACTOR));
-            m.width = (1.2 * style::width(ui.ctx(), 1.0)).max(0.5);
-            m
-        });
+        let inks = (style::ink(dark), OTHER_ATTRACTOR);
+        self.marks = diagram_marks::for_figure(ui.ctx(), sweep, (lo, hi), inks);
         match &mut self.texture {
             Some(t) => t.set(img, TextureOptions::NEAREST),
             None => {
@@ -246,8 +242,7 @@ impl BifurcationView {
         let axis = XAxis::of(sweep.param);
         let lines = Lines::of(ui.ctx(), s, bounds, sweep.param);
         let tex = self.texture.as_ref().map(|t| t.id());
-        let marks = self.marks.clone();
-        let (drag_from, pinch) = (self.drag_from, self.pinch);
+        let (drag_from, pinch, marks) = (self.drag_from, self.pinch, self.marks.clone());
         let plot = Plot::new("bifurcation")
             .height(height)
             .show_background(false)
@@ -412,8 +407,7 @@ impl BifurcationView {
 /// The strip needs about 9 rows of text for five legible λ ticks; below 27
 /// rows in all (a small tile) only the diagram is drawn. With the controls
 /// folded (the tour's tiles, whose steps speak of λ) it is drawn down to
-/// 17 rows in all, 7 of them its own (three ticks or more). A figure
-/// that leaves it out says so (`figure` writes a note on stderr).
+/// 17 rows in all, 7 of them its own (three ticks or more).
 fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
     let row = ui.text_style_height(&egui::TextStyle::Body);
     let (least, strip_least) = match style::controls_folded(ui.ctx()) {
@@ -421,10 +415,7 @@ fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
         true => (17.0, 7.0),
     };
     if available < least * row {
-        style::figure_note(
-            ui.ctx(),
-            "the λ strip is left out: the figure is too short for it (larger --size or smaller --font-size)",
-        );
+        style::figure_note(ui.ctx(), lyapunov_strip::LEFT_OUT);
         return (available, 0.0, 5.5 * row);
     }
     let strip = (available * 0.3).clamp(strip_least * row, 18.0 * row);

@@ -76,6 +76,20 @@ pub fn of(sweep: &SweepData, (lo, hi): (f64, f64), (ink, other): (Color32, Color
     }
 }
 
+/// A figure's dots of `sweep` ([`of`]), a little wider than a line
+/// (thinner with a figure's line scale); none in the window.
+pub fn for_figure(
+    ctx: &egui::Context,
+    sweep: &SweepData,
+    range: (f64, f64),
+    inks: (Color32, Color32),
+) -> Option<Marks> {
+    super::style::figure_only(ctx).then(|| Marks {
+        width: (1.2 * super::style::width(ctx, 1.0)).max(0.5),
+        ..of(sweep, range, inks)
+    })
+}
+
 /// Registers `marks` for the figure drawn in `ctx` as the texture `tex`'s
 /// replacement; more than [`MAX_VECTOR_POINTS`] are not (the image
 /// stays), and a note says so.
