@@ -491,15 +491,16 @@ fn a_pdf_figure_is_vector_with_its_text_as_text() {
         "the text is set at 11 pt: {sizes:?}"
     );
     // The same drawing as the SVG: its lines (axes, ticks, grid, λ's
-    // error bars) as path segments, the diagram's density as an image.
+    // error bars) as path segments, the diagram's points as vector dots
+    // (issue 57), not an image.
     let ops: usize = objs
         .values()
         .map(|(_, d)| String::from_utf8_lossy(d).matches(" l\n").count())
         .sum();
     assert!(ops > 50, "{ops} line segments");
     assert!(
-        objs.values().any(|(d, _)| d.contains("/Subtype /Image")),
-        "the diagram's image"
+        !objs.values().any(|(d, _)| d.contains("/Subtype /Image")),
+        "the diagram's points as an image"
     );
 }
 
@@ -608,26 +609,16 @@ fn boundaries_and_seeds_are_drawn_only_on_their_views() {
         words(&els).contains(&"other attractors"),
         "the seeded diagram's legend"
     );
-    // The diagram's image holds the other attractor (κ = 10's small P2
-    // beside the large one over 1.364-1.420) in its colour (204, 0, 102).
-    let image = els
+    // The diagram's points, vector dots, hold the other attractor (κ = 10's
+    // small P2 beside the large one over 1.364-1.420) in its colour
+    // (204, 0, 102).
+    let other = els
         .iter()
-        .find(|e| e.tag == "image" && e.attr("data-series") == "bifurcation:image")
-        .expect("the diagram's image");
-    let png = base64::Engine::decode(
-        &base64::engine::general_purpose::STANDARD,
-        image
-            .attr("href")
-            .trim_start_matches("data:image/png;base64,"),
-    )
-    .expect("base64");
-    let img = image::load_from_memory(&png).expect("a PNG").to_rgba8();
-    let other = img
-        .pixels()
-        // (204, 0, 102) at the point density's opacity, as the PNG keeps it.
-        .filter(|p| p.0[3] > 0 && p.0[0] > 120 && p.0[1] < 60 && p.0[2] > 40 && p.0[0] > p.0[2])
-        .count();
-    assert!(other > 0, "the other attractor's points are drawn");
+        .filter(|e| e.tag == "path" && e.attr("data-series") == "bifurcation:points")
+        .find(|e| e.attr("stroke") == "#cc0066")
+        .expect("the other attractor's dots");
+    let n: usize = other.attr("data-points").parse().expect("a count");
+    assert!(n > 0, "the other attractor's points are drawn");
     for (flag, view) in [
         ("--branches", "phase"),
         ("--boundaries", "bifurcation"),

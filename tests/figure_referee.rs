@@ -14,7 +14,7 @@ use std::path::Path;
 use crate::common::figure::{figure, small_session};
 
 /// Every view `figure` draws.
-const VIEWS: [&str; 9] = [
+pub(crate) const VIEWS: [&str; 9] = [
     "plane",
     "block",
     "bifurcation",
@@ -27,7 +27,7 @@ const VIEWS: [&str; 9] = [
 ];
 
 /// The sizes checked: a page's figure, and a column's with small text.
-const SIZES: [(&str, Option<&str>); 2] = [("900x600", None), ("250x200", Some("7"))];
+pub(crate) const SIZES: [(&str, Option<&str>); 2] = [("900x600", None), ("250x200", Some("7"))];
 
 /// How far from its axis's end the outer tick label may be, as a share of
 /// the axis's length.
@@ -36,17 +36,17 @@ const REACH: f64 = 0.15;
 /// A `<text>`: its string, size, fill, and its box's corners (x0, y0, x1,
 /// y1) as drawn (turned with its group's rotation).
 #[derive(Debug)]
-struct Text {
-    text: String,
-    size: f64,
+pub(crate) struct Text {
+    pub(crate) text: String,
+    pub(crate) size: f64,
     fill: String,
-    rotated: bool,
-    mid: [f64; 2],
-    bx: [f64; 4],
+    pub(crate) rotated: bool,
+    pub(crate) mid: [f64; 2],
+    pub(crate) bx: [f64; 4],
 }
 
 /// A plot's frame (x0, y0, x1, y1).
-type Frame = [f64; 4];
+pub(crate) type Frame = [f64; 4];
 
 fn attrs(e: &quick_xml::events::BytesStart) -> HashMap<String, String> {
     e.attributes()
@@ -106,7 +106,7 @@ fn text_box(x: f64, y: f64, size: f64, text: &str, rot: Option<[f64; 3]>) -> [f6
 }
 
 /// The texts and plot frames of `svg` (which must parse).
-fn read(svg: &str) -> (Vec<Text>, Vec<Frame>) {
+pub(crate) fn read(svg: &str) -> (Vec<Text>, Vec<Frame>) {
     use quick_xml::events::Event;
     let mut r = quick_xml::Reader::from_str(svg);
     let (mut texts, mut frames) = (Vec::new(), Vec::new());
@@ -167,7 +167,7 @@ fn read(svg: &str) -> (Vec<Text>, Vec<Frame>) {
 }
 
 /// Whether `t` is a tick label: a number, an angle or a multiple of π.
-fn is_tick(t: &Text) -> bool {
+pub(crate) fn is_tick(t: &Text) -> bool {
     !t.rotated
         && t.text.chars().any(|c| c.is_ascii_digit() || c == 'π')
         && t.text.chars().all(|c| "0123456789.-−e°π/".contains(c))
@@ -228,7 +228,7 @@ fn tick_reach(what: &str, texts: &[Text], frames: &[Frame]) -> Vec<String> {
 }
 
 /// The pairs of texts whose boxes overlap by more than half a point.
-fn overlaps(what: &str, texts: &[Text]) -> Vec<String> {
+pub(crate) fn overlaps(what: &str, texts: &[Text]) -> Vec<String> {
     let mut bad = Vec::new();
     for (i, a) in texts.iter().enumerate() {
         for b in &texts[i + 1..] {
@@ -255,7 +255,7 @@ fn is_title(t: &Text, frames: &[Frame]) -> bool {
 
 /// `figure --view VIEW` at `size` (and `--font-size`), with `more` flags,
 /// from `session`, written to `dir`; its SVG.
-fn svg_of(
+pub(crate) fn svg_of(
     dir: &Path,
     session: &str,
     view: &str,

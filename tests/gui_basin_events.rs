@@ -187,7 +187,12 @@ fn the_bifurcation_diagram_marks_the_same_births_and_deaths() {
     // The legend names the causes; a hover on the fold's line reads it.
     h.run_steps(3);
     assert!(h.query_by_label("fold").is_some() && h.query_by_label("flip").is_some());
-    let t = h.state().views.bifurcation.transform.expect("the diagram was drawn");
+    let t = h
+        .state()
+        .views
+        .bifurcation
+        .transform
+        .expect("the diagram was drawn");
     let fold = &events.events[2];
     let at = t.position_from_point(&egui_plot::PlotPoint::new(fold.value, 0.5));
     h.hover_at(at);

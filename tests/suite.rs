@@ -76,8 +76,16 @@ mod derivatives;
 mod docs_auto_table;
 #[path = "docs_counts.rs"]
 mod docs_counts;
+#[path = "figure_csv.rs"]
+mod figure_csv;
+#[path = "figure_legend.rs"]
+mod figure_legend;
+#[path = "figure_points.rs"]
+mod figure_points;
 #[path = "figure_referee.rs"]
 mod figure_referee;
+#[path = "figure_titles.rs"]
+mod figure_titles;
 #[path = "figure_wellformed.rs"]
 mod figure_wellformed;
 #[path = "flip_accuracy.rs"]

@@ -391,7 +391,7 @@ fn status_ui(ui: &mut Ui, slot: &Slot<BasinsData>) {
 /// numbered name ("P2 (2)") means, when there is one.
 fn legend_ui(ui: &mut Ui, d: &BasinsData) {
     let ids = &d.ids;
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         for t in &ids.tracks {
             style::legend_swatch(ui, track_color(t.id), &t.label);
         }

@@ -20,6 +20,7 @@ use super::branches::{self, BranchData};
 use super::data::SweepData;
 use super::diagram_axis::{self, XAxis};
 use super::diagram_lines::{Lines, lines_legend_ui};
+use super::diagram_marks;
 pub use super::diagram_raster::{OTHER_ATTRACTOR, auto_theta_range, rasterise};
 use super::jobs::basins::BasinsData;
 use super::jobs::{JobState, Jobs, Slot};
@@ -54,6 +55,8 @@ pub struct BifurcationView {
     pub transform: Option<egui_plot::PlotTransform>,
     /// The height the λ strip's legend took last frame, kept for it.
     strip_legend: f32,
+    /// A figure's points as vector dots ([`diagram_marks`]).
+    marks: Option<diagram_marks::Marks>,
 }
 
 impl BifurcationView {
@@ -77,6 +80,8 @@ impl BifurcationView {
         };
         let (lo, hi) = self.theta_range;
         let img = rasterise(sweep, lo, hi, style::ink(dark), spread);
+        let inks = (style::ink(dark), OTHER_ATTRACTOR);
+        self.marks = diagram_marks::for_figure(ui.ctx(), sweep, (lo, hi), inks);
         match &mut self.texture {
             Some(t) => t.set(img, TextureOptions::NEAREST),
             None => {
@@ -157,7 +162,7 @@ impl BifurcationView {
         let axis = XAxis::of(sweep.param);
         let lines = Lines::of(ui.ctx(), s, bounds, sweep.param);
         let tex = self.texture.as_ref().map(|t| t.id());
-        let (drag_from, pinch) = (self.drag_from, self.pinch);
+        let (drag_from, pinch, marks) = (self.drag_from, self.pinch, self.marks.clone());
         let plot = Plot::new("bifurcation")
             .height(height)
             .show_background(false)
@@ -189,6 +194,9 @@ impl BifurcationView {
                 ));
                 if let Some(id) = tex {
                     density_image(p, id, bounds);
+                    if let Some(m) = marks {
+                        diagram_marks::register(p.ctx(), id, m);
+                    }
                 }
                 lines.draw(p);
                 let (x0, x1, y0, y1) = bounds;
@@ -340,6 +348,7 @@ fn plot_sizes(ui: &Ui, available: f32) -> (f32, f32, f32) {
         true => (17.0, 7.0),
     };
     if available < least * row {
+        style::figure_note(ui.ctx(), lyapunov_strip::LEFT_OUT);
         return (available, 0.0, 5.5 * row);
     }
     let strip = (available * 0.3).clamp(strip_least * row, 18.0 * row);

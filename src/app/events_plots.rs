@@ -57,12 +57,14 @@ impl Plots<'_> {
         let line = ui.text_style_height(&egui::TextStyle::Body);
         let h = if markers && h > 12.0 * line && style::legend_shown(ui.ctx()) {
             // What the markers' colours say, on a row above the plot (left
-            // out in a tile too short for it and the plot's ticks).
-            let row = ui.horizontal(|ui| {
+            // out in a tile too short for it and the plot's ticks), or
+            // inside it, taking no room.
+            let top = ui.cursor().top();
+            style::legend_row(ui, |ui| {
                 style::legend_swatch(ui, style::PULL, "creep");
                 style::legend_swatch(ui, style::ACCEL, "stick-slip");
             });
-            h - row.response.rect.height() - ui.spacing().item_spacing.y
+            h - (ui.cursor().top() - top)
         } else {
             h
         };

@@ -174,6 +174,9 @@ fn marks(
     }
 }
 
+/// What a figure too short for the strip says on stderr.
+pub const LEFT_OUT: &str = "the λ strip is left out: the figure is too short for it (larger --size or smaller --font-size)";
+
 /// The strip's legend: what its marks mean, with the off-strip marker
 /// when some points lie `below` the strip's lower edge.
 pub fn legend_ui(ui: &mut Ui, dark: bool, below: Option<f64>) {

@@ -106,11 +106,8 @@ impl Marker {
 /// that the largest is at most [`KEY_RADIUS`].
 pub fn paint_key(ui: &Ui, rect: egui::Rect, layers: &[Marker]) {
     let largest = layers.iter().map(|m| m.radius).fold(0.0f32, f32::max);
-    let k = if largest > KEY_RADIUS {
-        KEY_RADIUS / largest
-    } else {
-        1.0
-    };
+    let most = KEY_RADIUS * super::style::key_scale(ui.ctx());
+    let k = if largest > most { most / largest } else { 1.0 };
     for m in layers {
         ui.painter()
             .extend(m.shapes_at(rect.center(), m.radius * k));
@@ -122,7 +119,7 @@ pub fn legend(ui: &mut Ui, layers: &[Marker], label: &str) {
     if !super::style::legend_shown(ui.ctx()) {
         return;
     }
-    let side = 2.0 * KEY_RADIUS + 3.0;
+    let side = (2.0 * KEY_RADIUS + 3.0) * super::style::key_scale(ui.ctx());
     super::style::keep_key_with_label(ui, side, label);
     let (rect, _) = ui.allocate_exact_size(vec2(side, side), egui::Sense::hover());
     paint_key(ui, rect, layers);

@@ -321,15 +321,12 @@ fn chart_legend_ui(
     mode: &str,
     ink: egui::Color32,
 ) {
-    if !style::legend_shown(ui.ctx()) {
-        return;
-    }
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         for (m, _) in curves(rows, y_evals) {
             legend_method(ui, m);
         }
     });
-    ui.horizontal_wrapped(|ui| {
+    style::legend_row(ui, |ui| {
         ui.label(format!("settings in use ({mode}):"));
         for job in JobKind::SOLVED {
             if marks.iter().any(|(j, _)| *j == job) {
@@ -357,15 +354,16 @@ fn method_items(p: &mut egui_plot::PlotUi<'_>, rows: &[Row], y_evals: bool, lw: 
 /// A method's line and marker, and its name.
 fn legend_method(ui: &mut Ui, method: &str) {
     let color = style::method_color(method);
-    style::keep_key_with_label(ui, 26.0, method);
-    let (rect, _) = ui.allocate_exact_size(egui::vec2(26.0, 14.0), egui::Sense::hover());
+    let k = style::key_scale(ui.ctx());
+    style::keep_key_with_label(ui, 26.0 * k, method);
+    let (rect, _) = ui.allocate_exact_size(egui::vec2(26.0, 14.0) * k, egui::Sense::hover());
     let y = rect.center().y;
-    let stroke = egui::Stroke::new(2.0, color);
+    let stroke = egui::Stroke::new(2.0 * k, color);
     let p = ui.painter();
     if method.starts_with("ode_solvers") {
         for i in 0..3 {
-            let x = rect.left() + i as f32 * 9.0;
-            p.line_segment([egui::pos2(x, y), egui::pos2(x + 5.0, y)], stroke);
+            let x = rect.left() + i as f32 * 9.0 * k;
+            p.line_segment([egui::pos2(x, y), egui::pos2(x + 5.0 * k, y)], stroke);
         }
     } else {
         p.line_segment([rect.left_center(), rect.right_center()], stroke);

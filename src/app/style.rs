@@ -112,6 +112,7 @@ fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui
     if !legend_shown(ui.ctx()) {
         return;
     }
+    let size = size * key_scale(ui.ctx());
     keep_key_with_label(ui, size.x, label);
     let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
     key(ui, rect);
@@ -138,12 +139,14 @@ pub fn keep_key_with_label(ui: &mut Ui, key_width: f32, label: &str) {
 }
 
 /// Where a figure's legends go: above the plot they describe (the
-/// window's, and a figure's by default), or nowhere (`figure --legend
-/// none`: a caption says it).
+/// window's, and a figure's by default), inside it in a corner (`figure
+/// --legend inside[-CORNER]`, see [`super::legend`]), or nowhere
+/// (`figure --legend none`: a caption says it).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub enum LegendPlace {
     #[default]
     Outside,
+    Inside(super::legend::Corner),
     Hidden,
 }
 
@@ -156,16 +159,67 @@ pub fn set_legend_place(ctx: &egui::Context, place: LegendPlace) {
     ctx.data_mut(|d| d.insert_temp(legend_place_id(), place));
 }
 
-/// Whether the views draw their legends in `ctx` ([`set_legend_place`]).
-pub fn legend_shown(ctx: &egui::Context) -> bool {
+/// Where the views put their legends in `ctx` ([`set_legend_place`]).
+pub fn legend_place(ctx: &egui::Context) -> LegendPlace {
     ctx.data(|d| d.get_temp::<LegendPlace>(legend_place_id()))
         .unwrap_or_default()
-        != LegendPlace::Hidden
 }
 
-/// A row of legend entries (wrapping), unless the legends are hidden.
+/// Whether the views draw their legends in `ctx` ([`set_legend_place`]).
+pub fn legend_shown(ctx: &egui::Context) -> bool {
+    legend_place(ctx) != LegendPlace::Hidden
+}
+
+/// Whether the legends go inside their plots in `ctx` (they take no room
+/// of the view's then).
+pub fn legend_inside(ctx: &egui::Context) -> bool {
+    matches!(legend_place(ctx), LegendPlace::Inside(_))
+}
+
+/// A row of legend entries (wrapping) above the plot, or a box of them
+/// inside it ([`super::legend::inside`]), unless the legends are hidden.
 pub fn legend_row<R>(ui: &mut Ui, add: impl FnOnce(&mut Ui) -> R) -> Option<R> {
-    legend_shown(ui.ctx()).then(|| ui.horizontal_wrapped(add).inner)
+    match legend_place(ui.ctx()) {
+        LegendPlace::Hidden => None,
+        LegendPlace::Outside => Some(super::legend::outside(ui, add)),
+        LegendPlace::Inside(_) => Some(super::legend::inside(ui, add)),
+    }
+}
+
+/// How much smaller than the window's a legend's keys are drawn: a
+/// figure's line scale (below 1 for small text or a column's size, see
+/// `svg_render`), 1 in the window.
+pub fn key_scale(ctx: &egui::Context) -> f32 {
+    if figure_only(ctx) {
+        width(ctx, 1.0).min(1.0)
+    } else {
+        1.0
+    }
+}
+
+/// What a figure left out or changed, to be said on stderr by `oneblock
+/// figure` (each once).
+static FIGURE_NOTES: std::sync::Mutex<Vec<String>> = std::sync::Mutex::new(Vec::new());
+
+/// Notes `what` for the figure being drawn in `ctx` (nothing in the
+/// window).
+pub fn figure_note(ctx: &egui::Context, what: &str) {
+    if !figure_only(ctx) {
+        return;
+    }
+    if let Ok(mut n) = FIGURE_NOTES.lock()
+        && !n.iter().any(|x| x == what)
+    {
+        n.push(what.to_owned());
+    }
+}
+
+/// The notes of the figures drawn since the last call.
+pub fn take_figure_notes() -> Vec<String> {
+    FIGURE_NOTES
+        .lock()
+        .map(|mut n| std::mem::take(&mut *n))
+        .unwrap_or_default()
 }
 
 /// The body text's size relative to egui's default (the window's text
@@ -183,7 +237,8 @@ pub fn text_scale(ui: &Ui) -> f32 {
 /// A small coloured square and its label.
 pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
     legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
-        ui.painter().rect_filled(rect, 2.0, color);
+        ui.painter()
+            .rect_filled(rect, 2.0 * key_scale(ui.ctx()), color);
     });
 }
 
@@ -198,23 +253,23 @@ pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
 /// of the default width (dots of radius 1.5, 6 points apart), and its label.
 pub fn legend_dotted(ui: &mut Ui, color: Color32, label: &str) {
     legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
-        let y = rect.center().y;
+        let (y, k) = (rect.center().y, key_scale(ui.ctx()));
         for i in 0..4 {
-            let x = rect.left() + 2.0 + i as f32 * 6.0;
-            ui.painter().circle_filled(egui::pos2(x, y), 1.5, color);
+            let x = rect.left() + (2.0 + i as f32 * 6.0) * k;
+            ui.painter().circle_filled(egui::pos2(x, y), 1.5 * k, color);
         }
     });
 }
 
 /// A legend's short line across `rect`, dashed if asked.
 fn line_key(ui: &Ui, rect: egui::Rect, color: Color32, dashed: bool) {
-    let y = rect.center().y;
-    let stroke = egui::Stroke::new(2.0, color);
+    let (y, k) = (rect.center().y, key_scale(ui.ctx()));
+    let stroke = egui::Stroke::new(2.0 * k, color);
     if dashed {
         for i in 0..3 {
-            let x = rect.left() + i as f32 * 8.0;
+            let x = rect.left() + i as f32 * 8.0 * k;
             ui.painter()
-                .line_segment([egui::pos2(x, y), egui::pos2(x + 5.0, y)], stroke);
+                .line_segment([egui::pos2(x, y), egui::pos2(x + 5.0 * k, y)], stroke);
         }
     } else {
         ui.painter().line_segment(

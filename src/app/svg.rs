@@ -117,6 +117,8 @@ pub struct SvgWriter<'a> {
     body: String,
     defs: String,
     clips: Vec<Rect>,
+    /// Images drawn as vector dots instead (the diagram's points).
+    marks: super::diagram_marks::MarksOf,
 }
 
 /// Whether two rectangles are the same to within half a point.
@@ -138,7 +140,13 @@ impl<'a> SvgWriter<'a> {
             body: String::new(),
             defs: String::new(),
             clips: Vec::new(),
+            marks: Default::default(),
         }
+    }
+
+    /// Draws the images these marks are registered for as the marks.
+    pub fn set_marks(&mut self, marks: super::diagram_marks::MarksOf) {
+        self.marks = marks;
     }
 
     /// The plot whose frame is the clip rectangle `clip` (number `id`),
@@ -374,6 +382,10 @@ impl<'a> SvgWriter<'a> {
             return;
         }
         let bounds = m.calc_bounds();
+        if let Some(marks) = self.marks.get(&m.texture_id) {
+            out.push_str(&super::diagram_marks::svg(marks, bounds, plot));
+            return;
+        }
         if let Some(img) = self.textures.get(&m.texture_id) {
             let img = blocky(img, bounds);
             let Ok(png) = super::files::encode_png(&img, None, 1.0) else {

@@ -10,6 +10,7 @@ use egui::{Color32, Rect, RichText, Vec2};
 use super::axes;
 use super::bifurcation::Zoom;
 use super::jobs::Jobs;
+use super::legend;
 use super::settings::{Layout, Settings, ViewKind};
 use super::style;
 use super::svg::{SvgWriter, Textures};
@@ -71,7 +72,14 @@ pub fn render_svg_as(
 ) -> String {
     let mut r = Renderer::new(settings, zoom, size, look);
     style::set_crosshair(&r.ctx, crosshair);
-    for pass in 0..PASSES {
+    // Inside legends take two passes more: one to widen a legend too tall
+    // for its plot, one to settle the layout after one went above its
+    // plot instead.
+    let passes = match look.legend {
+        style::LegendPlace::Inside(_) => PASSES + 2,
+        _ => PASSES,
+    };
+    for pass in 0..passes {
         r.pass(views, jobs, pass as f64 * 0.1);
     }
     r.svg()
@@ -162,6 +170,9 @@ impl Renderer {
         // Only the figure: title, axes, legend; no buttons or switches.
         style::set_figure_only(&ctx, true);
         style::set_legend_place(&ctx, look.legend);
+        if !look.window {
+            style::set_line_scale(&ctx, figure_scale(look, size));
+        }
         let mut state = Views::default();
         state.bifurcation.zoom = zoom.to_vec();
         Renderer {
@@ -187,6 +198,7 @@ impl Renderer {
         let (state, s, look) = (&mut self.state, &mut self.settings, &self.look);
         let mut out = self.ctx.run_ui(input, |ui| {
             axes::clear_frames(ui.ctx());
+            legend::clear(ui.ctx());
             let rects = if views.len() == 1 {
                 vec![area.shrink(4.0)]
             } else {
@@ -225,16 +237,39 @@ impl Renderer {
         self.textures.remove(&egui::TextureId::default());
         self.shapes = std::mem::take(&mut out.shapes);
         self.frames = axes::plot_frames(&self.ctx);
+        if let style::LegendPlace::Inside(corner) = self.look.legend {
+            let (frames, shapes) = (&self.frames, &self.shapes);
+            legend::place(&self.ctx, corner, frames, shapes, &self.textures);
+        }
     }
 
     /// The last pass as SVG.
     fn svg(&self) -> String {
         let mut w = SvgWriter::new(self.area, &self.frames, &self.textures);
+        w.set_marks(super::diagram_marks::registered(&self.ctx));
         w.add(&self.shapes);
         let bg = self.ctx.global_style().visuals.panel_fill;
         let size = self.area.size();
-        w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg })
+        let mut svg = w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg });
+        // Where the legends are, unpainted (as the plots' frames).
+        let boxes = legend::svg_boxes(&legend::drawn(&self.ctx));
+        let end = svg.rfind("</svg>").unwrap_or(svg.len());
+        svg.insert_str(end, &boxes);
+        svg
     }
+}
+
+/// A page's lines, markers and legend keys relative to the window's: its
+/// text's size relative to egui's (a column's 7 points: about half), and
+/// smaller still on a figure under 450 × 300 points, down to a third.
+fn figure_scale(look: &Look, size: Vec2) -> f32 {
+    let body = egui::Style::default()
+        .text_styles
+        .get(&egui::TextStyle::Body)
+        .map_or(12.5, |f| f.size);
+    let text = look.font_size.map_or(1.0, |f| f / body);
+    let room = (size.x / 450.0).min(size.y / 300.0);
+    text.min(room).clamp(0.35, 1.0)
 }
 
 /// A context styled as the window is (theme, text size), without hover or

@@ -41,10 +41,20 @@ impl Quantity {
     /// The axis title, with its symbol.
     pub fn title(self) -> &'static str {
         match self {
-            Quantity::X => "x, position",
-            Quantity::Y => "y, position",
-            Quantity::SlipSpeed => "|v_r|, slip speed",
-            Quantity::Energy => "E, elastic energy",
+            Quantity::X => "x, position (F₀/k_y)",
+            Quantity::Y => "y, position (F₀/k_y)",
+            Quantity::SlipSpeed => "|v_r|, slip speed (F₀/√(m k_y))",
+            Quantity::Energy => "E, elastic energy (F₀²/k_y)",
+        }
+    }
+
+    /// The axis title short: its symbol and unit ("x (F₀/k_y)").
+    pub fn short_title(self) -> &'static str {
+        match self {
+            Quantity::X => "x (F₀/k_y)",
+            Quantity::Y => "y (F₀/k_y)",
+            Quantity::SlipSpeed => "|v_r| (F₀/√(m k_y))",
+            Quantity::Energy => "E (F₀²/k_y)",
         }
     }
 
@@ -164,11 +174,21 @@ impl TimeSeriesView {
             .allow_boxed_zoom(false)
             .show_background(false)
             .y_axis_min_width(5.5 * ui.text_style_height(&egui::TextStyle::Body));
-        let x_title = if last { "t, time" } else { "" };
+        // Time in √(m/k_y), the model's unit (docs/model.md).
+        let x_title = if last {
+            axes::fitting_width(
+                ui,
+                "t, time (√(m/k_y))",
+                "t (√(m/k_y))",
+                ui.available_width(),
+            )
+        } else {
+            ""
+        };
         let resp = axes::apply(
             plot,
             &AxisSpec::linear(x_title),
-            &AxisSpec::linear(fitting(ui, q.title(), frame)),
+            &AxisSpec::linear(fitting(ui, q, frame)),
         )
         .show(ui, |p| {
             // A slip lasts a few time units between stick phases of
@@ -198,20 +218,26 @@ impl TimeSeriesView {
     }
 }
 
-/// `title` if it fits turned on its side along a frame `height` points
-/// tall, else its symbol alone ("x" of "x, position"), so that it never
-/// runs past its plot into the one above or below (projector text).
-fn fitting<'t>(ui: &Ui, title: &'t str, height: f32) -> &'t str {
+/// `q`'s title if it fits turned on its side along a frame `height`
+/// points tall, else its symbol and unit ("x (F₀/k_y)"), else its symbol
+/// alone, so that it never runs past its plot into the one above or below
+/// (projector text, a column's figure).
+fn fitting(ui: &Ui, q: Quantity, height: f32) -> &'static str {
     let font = egui::TextStyle::Body.resolve(ui.style());
-    let width = ui.fonts_mut(|f| {
-        f.layout_no_wrap(title.to_owned(), font, egui::Color32::WHITE)
-            .size()
-            .x
-    });
-    if width <= height - 4.0 {
-        title
+    let fits = |t: &str| {
+        let width = ui.fonts_mut(|f| {
+            f.layout_no_wrap(t.to_owned(), font.clone(), egui::Color32::WHITE)
+                .size()
+                .x
+        });
+        width <= height - 4.0
+    };
+    if fits(q.title()) {
+        q.title()
+    } else if fits(q.short_title()) {
+        q.short_title()
     } else {
-        axes::short_name(title)
+        axes::short_name(q.title())
     }
 }
 

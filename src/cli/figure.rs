@@ -171,10 +171,24 @@ fn look(a: &FigureArgs) -> crate::app::svg_render::Look {
         window: a.window_look,
         title: a.title.clone(),
         font_size: a.font_size.map(|v| v as f32),
-        legend: match a.legend {
-            super::figure_flags::LegendFlag::Outside => crate::app::style::LegendPlace::Outside,
-            super::figure_flags::LegendFlag::None => crate::app::style::LegendPlace::Hidden,
-        },
+        legend: legend_place(a.legend),
+    }
+}
+
+/// `--legend`'s place.
+#[cfg(feature = "gui")]
+fn legend_place(l: super::figure_flags::LegendFlag) -> crate::app::style::LegendPlace {
+    use super::figure_flags::LegendFlag as F;
+    use crate::app::legend::Corner;
+    use crate::app::style::LegendPlace as P;
+    match l {
+        F::Outside => P::Outside,
+        F::Inside => P::Inside(Corner::Best),
+        F::InsideTopRight => P::Inside(Corner::TopRight),
+        F::InsideTopLeft => P::Inside(Corner::TopLeft),
+        F::InsideBottomRight => P::Inside(Corner::BottomRight),
+        F::InsideBottomLeft => P::Inside(Corner::BottomLeft),
+        F::None => P::Hidden,
     }
 }
 
@@ -306,9 +320,12 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
             Some(span) => play_gif(fig, span),
             None => gif(&fig, frames, speed),
         },
-        Format::Csv => super::figure_basins::data_csv(&fig).map(String::into_bytes),
+        Format::Csv => super::figure_csv::data_csv(&fig).map(String::into_bytes),
     })?
     .map_err(CliError::Failed)?;
+    for n in crate::app::style::take_figure_notes() {
+        eprintln!("note: {n}");
+    }
     crate::output::write_output(&a.out, &bytes, false)
         .map_err(|e| CliError::Failed(format!("--out: {e}")))?;
     eprintln!("saved {}", a.out.display());

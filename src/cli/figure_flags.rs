@@ -15,7 +15,16 @@ use super::values::{MAX_ABS_THETA, echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
 /// The views whose data `figure --out x.csv` writes instead of a picture.
-pub const CSV_VIEW_KEYS: [&str; 2] = ["basins", "bifurcation"];
+pub const CSV_VIEW_KEYS: [&str; 8] = [
+    "basins",
+    "bifurcation",
+    "phase",
+    "plane",
+    "block",
+    "time-series",
+    "events",
+    "return-map",
+];
 
 /// The smallest figure side, in points: a column's figure.
 pub const MIN_SIDE: f32 = 100.0;
@@ -138,7 +147,7 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
         }
         (Format::Csv, _) if !CSV_VIEW_KEYS.contains(&a.view.as_str()) => usage(format!(
-            "--out: only the basins and bifurcation views write a .csv (the data drawn), not '{}'",
+            "--out: every view but numerics writes a .csv (the data drawn), not '{}'",
             echo(&a.view)
         )),
         (Format::Svg | Format::Pdf | Format::Png | Format::Csv, Some(_)) => usage(
@@ -334,9 +343,11 @@ pub struct FigureArgs {
     /// Where the figure goes; its extension picks the format: .svg (vector:
     /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
     /// text text in an embedded font) or .png (that SVG rasterised at
-    /// --dpi, 2 pixels per point by default); for --view basins also .csv (its columns: each
-    /// attractor's period and basin fraction). Never overwrites an
-    /// existing file.
+    /// --dpi, 2 pixels per point by default); or .csv, the data the view
+    /// draws with '#' lines naming how it was made (every view but
+    /// numerics: the diagram's onsets and λ per column, the basins'
+    /// attractors, the phase grid's cells, the trajectory, the slips, the
+    /// return map's curve and orbit). Never overwrites an existing file.
     #[arg(long)]
     pub out: PathBuf,
     /// The model's parameters [default: the session's, else fig3b's].
@@ -474,8 +485,11 @@ pub struct FigureArgs {
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: Option<usize>,
     /// Where the legend goes: outside (in a row above the plot it
-    /// describes) or none (no legend: a caption says what is drawn). Its
-    /// entries are only what the plot shows.
+    /// describes); inside the plot, boxed, in the corner over the least
+    /// data (inside) or in the one named (inside-top-right,
+    /// inside-top-left, inside-bottom-right, inside-bottom-left); or none
+    /// (no legend: a caption says what is drawn). Its entries are only
+    /// what the plot shows; its keys shrink with --font-size and --size.
     #[arg(long, value_enum, default_value_t = LegendFlag::Outside)]
     pub legend: LegendFlag,
 }
@@ -484,6 +498,11 @@ pub struct FigureArgs {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
 pub enum LegendFlag {
     Outside,
+    Inside,
+    InsideTopRight,
+    InsideTopLeft,
+    InsideBottomRight,
+    InsideBottomLeft,
     None,
 }
 

@@ -13,6 +13,8 @@ mod error;
 pub mod figure;
 #[cfg(feature = "gui")]
 mod figure_basins;
+#[cfg(feature = "gui")]
+mod figure_csv;
 mod figure_flags;
 pub mod gui;
 pub mod map;

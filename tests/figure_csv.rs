@@ -1,0 +1,73 @@
+//! Issue 57: `figure --out x.csv` for every view that draws data writes
+//! what the figure draws, with the `#` lines the other CSVs have, and a
+//! header whose fields every row has; numerics is refused with one line.
+#![cfg(feature = "gui")]
+
+use crate::common::figure::{figure, small_session};
+
+/// A CSV line's fields (quoted fields may hold commas).
+fn fields(line: &str) -> usize {
+    let (mut n, mut quoted) = (1, false);
+    for c in line.chars() {
+        match c {
+            '"' => quoted = !quoted,
+            ',' if !quoted => n += 1,
+            _ => {}
+        }
+    }
+    n
+}
+
+#[test]
+fn every_view_writes_the_data_it_draws_as_csv() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
+    let session = session.to_str().expect("utf-8 path");
+    for (view, first) in [
+        ("plane", "t,x,y"),
+        ("block", "t,x,y"),
+        ("time-series", "t,x,y"),
+        ("events", ""),
+        ("return-map", "kind,theta,theta_next"),
+        ("phase", ""),
+        ("bifurcation", ""),
+    ] {
+        let out = dir.path().join(format!("{view}.csv"));
+        let o = figure(&[
+            "--view",
+            view,
+            "--session",
+            session,
+            "--out",
+            out.to_str().expect("utf-8"),
+        ]);
+        assert!(
+            o.status.success(),
+            "{view}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let csv = std::fs::read_to_string(&out).expect("csv");
+        assert!(csv.starts_with('#'), "{view}: no # lines");
+        let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+        let header = lines.next().expect("a header");
+        assert!(header.starts_with(first), "{view}: {header}");
+        let n = fields(header);
+        let rows: Vec<&str> = lines.collect();
+        assert!(!rows.is_empty(), "{view}: no rows");
+        for r in &rows {
+            assert_eq!(fields(r), n, "{view}: '{r}' under '{header}'");
+        }
+        if view == "return-map" {
+            assert!(rows.iter().any(|r| r.starts_with("curve,")), "no curve");
+            assert!(rows.iter().any(|r| r.starts_with("orbit,")), "no orbit");
+        }
+    }
+    let out = dir.path().join("n.csv");
+    let o = figure(&["--view", "numerics", "--out", out.to_str().expect("utf-8")]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--out") && err.trim().lines().count() == 1,
+        "{err}"
+    );
+}
