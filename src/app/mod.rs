@@ -89,6 +89,7 @@ pub mod status;
 pub mod style;
 pub mod svg;
 pub mod svg_render;
+mod svg_text;
 pub mod time_series;
 pub mod title_buttons;
 mod top_bar;

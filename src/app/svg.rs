@@ -20,8 +20,11 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use eframe::egui;
-use egui::epaint::{ClippedShape, Mesh, Shape, TextShape};
+use egui::epaint::{ClippedShape, Mesh, Shape};
 use egui::{Color32, ColorImage, Pos2, Rect, TextureId};
+
+use super::svg_text::text;
+pub use super::svg_text::{FONT_FAMILY, escape};
 
 /// One plot's frame, by name (see `axes::plot_frames`).
 pub type PlotFrame = (&'static str, Rect);
@@ -36,7 +39,7 @@ fn colour(c: Color32) -> (String, f32) {
     (format!("#{r:02x}{g:02x}{b:02x}"), f32::from(a) / 255.0)
 }
 
-fn paint(attr: &str, c: Color32) -> String {
+pub(super) fn paint(attr: &str, c: Color32) -> String {
     if c.a() == 0 {
         return format!(" {attr}=\"none\"");
     }
@@ -67,25 +70,6 @@ fn solid(s: &egui::epaint::PathStroke) -> Color32 {
     }
 }
 
-/// XML text escaping.
-pub fn escape(s: &str) -> String {
-    let mut o = String::with_capacity(s.len());
-    for c in s.chars() {
-        match c {
-            '&' => o.push_str("&amp;"),
-            '<' => o.push_str("&lt;"),
-            '>' => o.push_str("&gt;"),
-            '"' => o.push_str("&quot;"),
-            // What XML 1.0 does not allow (C0 controls, U+FFFE, U+FFFF)
-            // left out, so that the file stays well-formed.
-            c if (c as u32) < 0x20 && c != '\t' => {}
-            '\u{FFFE}' | '\u{FFFF}' => {}
-            c => o.push(c),
-        }
-    }
-    o
-}
-
 fn points_d(points: &[Pos2], closed: bool) -> String {
     let mut d = String::with_capacity(points.len() * 16);
     for (i, p) in points.iter().enumerate() {
@@ -103,11 +87,6 @@ fn points_d(points: &[Pos2], closed: bool) -> String {
     }
     d
 }
-
-/// The fonts a figure's text asks for: common sans-serif faces, then the
-/// generic family (the PNG and PDF set it in egui's own font, which laid
-/// it out; see `figure::font_db`).
-pub const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
 
 /// The SVG writer: shapes in, one document out.
 pub struct SvgWriter<'a> {
@@ -468,67 +447,6 @@ impl<'a> SvgWriter<'a> {
         s.push_str(&self.body);
         s.push_str("</svg>\n");
         s
-    }
-}
-
-/// A text shape: one `<text>` per row of its galley, at the row's
-/// baseline, in the first section's size and colour (rotated as drawn).
-fn text(t: &TextShape, out: &mut String) {
-    let g = &t.galley;
-    let Some(section) = g.job.sections.first() else {
-        return;
-    };
-    let c = t
-        .override_text_color
-        .unwrap_or(if section.format.color == Color32::PLACEHOLDER {
-            t.fallback_color
-        } else {
-            section.format.color
-        });
-    let size = section.format.font_id.size;
-    let rot = t.angle.to_degrees();
-    if rot.abs() > 0.01 {
-        write!(
-            out,
-            "<g transform=\"rotate({rot:.2} {:.2} {:.2})\">",
-            t.pos.x, t.pos.y
-        )
-        .ok();
-    }
-    for row in &g.rows {
-        let Some(first) = row.row.glyphs.first() else {
-            continue;
-        };
-        let s: String = row.row.glyphs.iter().map(|gl| gl.chr).collect();
-        let s = s.trim_end();
-        if s.trim().is_empty() {
-            continue;
-        }
-        let x = t.pos.x + row.pos.x + first.pos.x;
-        let y = t.pos.y + row.pos.y + first.pos.y;
-        // Anchored at the middle of the width egui laid the row out at:
-        // set in another font than egui's (the document's), a row grows
-        // or shrinks about its middle, its glyphs unstretched, so centred
-        // titles stay centred and labels stay by their ticks.
-        let width = row
-            .row
-            .glyphs
-            .iter()
-            .rev()
-            .find(|gl| !gl.chr.is_whitespace())
-            .map_or(0.0, |gl| gl.pos.x + gl.advance_width - first.pos.x);
-        write!(
-            out,
-            "<text x=\"{:.2}\" y=\"{y:.2}\" font-size=\"{size:.1}\"{} text-anchor=\"middle\" \
-             data-width=\"{width:.2}\" xml:space=\"preserve\">{}</text>",
-            x + 0.5 * width,
-            paint("fill", c),
-            escape(s)
-        )
-        .ok();
-    }
-    if rot.abs() > 0.01 {
-        out.push_str("</g>");
     }
 }
 
