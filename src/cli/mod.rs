@@ -2,7 +2,6 @@
 //! `common`. `main.rs` only parses and dispatches.
 
 pub mod attractors;
-mod bench_pieces;
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;

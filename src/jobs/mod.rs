@@ -23,7 +23,6 @@
 //! host computes the same numbers, bit for bit, whatever its threads.
 
 pub mod basins;
-pub mod bench;
 mod continuation;
 mod events;
 mod iterate;
@@ -33,7 +32,6 @@ mod numerics;
 mod orbit;
 mod paced;
 mod phase;
-pub mod pieces;
 pub mod plan;
 pub mod priority;
 mod protocol;
@@ -60,6 +58,12 @@ pub use protocol::{
 };
 
 use crate::sim::{LANES, SimError};
+
+/// The Fig. 3b diagram's timing moved to the bench room
+/// ([`crate::bench::diagram`]); this name stays only for the window's code
+/// (`app/explorer.rs`, `app/web.rs`), which still reaches it here.
+#[doc(hidden)]
+pub use crate::bench::diagram as bench;
 
 /// Why a job's update was not taken: its generation is no longer current,
 /// or nobody listens any more. Either way the job must stop.
