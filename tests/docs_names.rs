@@ -3,9 +3,10 @@
 //! source's, doc comments left out; every `Type::name` they quote is
 //! declared in a file that defines or implements `Type`; every
 //! `module::path::name` is declared under that module; every
-//! `Name { field, … }` has those fields. These pages once showed a
-//! `trait Job { fn lane(&self) … }` and `Command::Sweep`, `Command::Phase`
-//! and `Command::InjectPanic` long after the code had none of them.
+//! `Name { field, … }` has those fields; every file named exists. These
+//! pages once showed a `trait Job { fn lane(&self) … }` and
+//! `Command::Sweep`, `Command::Phase` and `Command::InjectPanic` long
+//! after the code had none of them.
 
 use std::path::{Path, PathBuf};
 
@@ -291,6 +292,36 @@ fn every_name_the_pages_quote_is_the_codes() {
     assert!(
         missing.is_empty(),
         "quoted but not in the code:\n{}",
+        missing.join("\n")
+    );
+}
+
+#[test]
+fn every_file_the_pages_name_exists() {
+    let src = sources(&root().join("src"));
+    let mut missing = Vec::new();
+    for page in PAGES {
+        let text = std::fs::read_to_string(root().join(page)).expect("utf-8");
+        for span in spans(&text) {
+            let rooted = span.starts_with("src/") || span.starts_with("tests/");
+            if !(rooted || span.ends_with(".rs")) || span.contains(' ') {
+                continue;
+            }
+            let found = if rooted {
+                root().join(&span).exists()
+            } else {
+                // Relative to a folder the page names nearby (`jobs/kinds.rs`).
+                src.iter()
+                    .any(|(p, _)| p.to_string_lossy().ends_with(&format!("/{span}")))
+            };
+            if !found {
+                missing.push(format!("{page}: `{span}`"));
+            }
+        }
+    }
+    assert!(
+        missing.is_empty(),
+        "named but not in the repository:\n{}",
         missing.join("\n")
     );
 }
