@@ -19,7 +19,7 @@ use std::time::Duration;
 use criterion::{Criterion, criterion_group, criterion_main};
 use oneblock::model::Params;
 use oneblock::sim::continuation::{
-    ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, cascade,
+    ContOptions, ContParam, CurveKind, CurveOf, CurveOptions, Problem, Reach, SpecialKind, cascade,
     continue_branch, continue_curves, flip_at,
 };
 use oneblock::sim::default_settings;
@@ -80,14 +80,14 @@ fn bench(c: &mut Criterion) {
     for kappa in [18.95, 16.0] {
         let p = problem(kappa);
         let opts = ContOptions::for_range(&p.settings, 1.0, 1.6);
-        let c = cascade(&p, 1.0, 1.6, 0.4, 16, &opts, &never).unwrap();
+        let c = cascade(Reach::new(&p, 1.0, 1.6, &opts), 0.4, 16, &never).unwrap();
         let periods: Vec<usize> = c.doublings.iter().map(|d| d.period).collect();
         eprintln!(
             "kappa {kappa}: doublings of periods {periods:?}; {}",
             c.stop
         );
         g.bench_function(format!("cascade_kappa_{kappa}"), |b| {
-            b.iter(|| black_box(cascade(&p, 1.0, 1.6, 0.4, 16, &opts, &never).unwrap()))
+            b.iter(|| black_box(cascade(Reach::new(&p, 1.0, 1.6, &opts), 0.4, 16, &never).unwrap()))
         });
     }
     // The whole FP→P2 boundary, as `continue --curve pd` follows it: the
@@ -102,16 +102,14 @@ fn bench(c: &mut Criterion) {
         .collect();
     let copts = CurveOptions::for_box([[0.1, 1.55], [1.0, 42.0]]);
     let run = || {
-        continue_curves(
-            &p.base,
-            &p.settings,
-            [ContParam::ThetaNu, ContParam::Kappa],
-            1,
-            CurveKind::PeriodDoubling,
-            &starts,
-            &copts,
-            &never,
-        )
+        let of = CurveOf {
+            base: p.base,
+            settings: p.settings,
+            params: [ContParam::ThetaNu, ContParam::Kappa],
+            period: 1,
+            kind: CurveKind::PeriodDoubling,
+        };
+        continue_curves(&of, &starts, &copts, &never)
     };
     for (i, c) in run().iter().enumerate() {
         eprintln!(

@@ -6,6 +6,7 @@
 //! - [`sim`]: one stick–slip cycle, the map θ → θ', orbits, sweeps.
 //! - [`jobs`]: every long computation, defined once, run by any host.
 //! - [`worker`]: the background threads the GUI talks to (the jobs' threaded host).
+//! - [`bench`]: what times the jobs (`oneblock bench-worker`), apart from them.
 //! - [`cli`]: the headless subcommands (not in the browser build).
 //! - [`formats`]: the CSV formats and class colours every front end writes;
 //!   [`provenance`]: the `#` lines every CSV begins with.
@@ -13,6 +14,7 @@
 
 #[cfg(feature = "gui")]
 pub mod app;
+pub mod bench;
 // The browser build (wasm32) has no command line, no terminal and no file
 // system to write into: the commands and the atomic file writer are native.
 #[cfg(not(target_arch = "wasm32"))]

@@ -10,9 +10,9 @@ use crate::cli_support;
 use cli_support::*;
 use oneblock::model::{Params, wrap_angle};
 use oneblock::sim::continuation::{
-    ContOptions, ContParam, CurveKind, CurveOptions, Problem, SpecialKind, Stop, cascade,
-    cascade_from, continue_branch, continue_curve, continue_curves, curve_crossings,
-    feigenbaum_ratios,
+    ContOptions, ContParam, CurveKind, CurveOf, CurveOptions, FirstLevel, Problem, Reach,
+    SpecialKind, Stop, cascade, cascade_reporting, continue_branch, continue_curve,
+    continue_curves, curve_crossings, feigenbaum_ratios,
 };
 use oneblock::sim::{CycleOptions, OrbitOptions, Period, Simulator, default_settings, solve_cycle};
 
@@ -126,7 +126,7 @@ fn the_fixed_point_past_its_doubling_is_unstable_and_the_p2_branch_starts_at_it(
     }
     let prob = problem(18.95, 1);
     let opts = ContOptions::for_range(&prob.settings, 1.0, 1.3);
-    let c = cascade(&prob, 1.0, 1.3, 0.4, 64, &opts, &|| false).unwrap();
+    let c = cascade(Reach::new(&prob, 1.0, 1.3, &opts), 0.4, 64, &|| false).unwrap();
     assert!(c.doublings.len() >= 2, "{}", c.stop);
     assert!((c.doublings[0].lambda - pd.lambda).abs() < 1e-8);
     let p2 = &c.branches[1];
@@ -184,15 +184,12 @@ fn a_cascade_from_a_given_branch_finds_the_same_doublings() {
     let opts = ContOptions::for_range(&prob.settings, 1.0, 1.3);
     let whole = continue_branch(&prob, 1.0, 1.3, 0.4, &opts, &|| false).unwrap();
     assert_eq!(whole.stop, Stop::Reached, "past its doubling");
-    let fresh = cascade(&prob, 1.0, 1.3, 0.4, 8, &opts, &|| false).unwrap();
+    let fresh = cascade(Reach::new(&prob, 1.0, 1.3, &opts), 0.4, 8, &|| false).unwrap();
     let mut reported = vec![];
-    let given = cascade_from(
-        &prob,
-        1.0,
-        1.3,
-        whole.clone(),
+    let given = cascade_reporting(
+        Reach::new(&prob, 1.0, 1.3, &opts),
+        FirstLevel::Given(whole.clone()),
         8,
-        &opts,
         &|| false,
         &mut |b| reported.push(b.period),
     )
@@ -208,7 +205,7 @@ fn a_cascade_from_a_given_branch_finds_the_same_doublings() {
 fn the_kappa_16_cascade_reaches_p8_with_shrinking_gaps() {
     let prob = problem(16.0, 1);
     let opts = ContOptions::for_range(&prob.settings, 1.0, 1.6);
-    let c = cascade(&prob, 1.0, 1.6, 0.4, 64, &opts, &|| false).unwrap();
+    let c = cascade(Reach::new(&prob, 1.0, 1.6, &opts), 0.4, 64, &|| false).unwrap();
     let periods: Vec<usize> = c.doublings.iter().map(|d| d.period).collect();
     assert!(periods.len() >= 3, "{periods:?}: {}", c.stop);
     assert_eq!(&periods[..3], &[1, 2, 4]);
@@ -240,16 +237,14 @@ fn the_pd_curve_passes_through_the_located_doublings_at_other_kappas() {
         .unwrap()
         .clone();
     let copts = CurveOptions::for_box([[0.9, 1.2], [12.0, 20.0]]);
-    let curve = continue_curve(
-        &prob.base,
-        &prob.settings,
-        [ContParam::ThetaNu, ContParam::Kappa],
-        1,
-        CurveKind::PeriodDoubling,
-        &start,
-        &copts,
-        &|| false,
-    );
+    let of = CurveOf {
+        base: prob.base,
+        settings: prob.settings,
+        params: [ContParam::ThetaNu, ContParam::Kappa],
+        period: 1,
+        kind: CurveKind::PeriodDoubling,
+    };
+    let curve = continue_curve(&of, &start, &copts, &|| false);
     assert!(curve.points.len() > 10, "{:?}", curve.ends);
     for p in &curve.points {
         // The corrector's residual bound.
@@ -283,16 +278,14 @@ fn one_pd_curve_run_traces_the_fp_to_p2_boundary_that_the_branches_cross() {
     let copts = CurveOptions::for_box([[0.1, 1.55], [1.0, 42.0]]);
     let params = [ContParam::ThetaNu, ContParam::Kappa];
     let kind = CurveKind::PeriodDoubling;
-    let curves = continue_curves(
-        &prob.base,
-        &prob.settings,
+    let of = CurveOf {
+        base: prob.base,
+        settings: prob.settings,
         params,
-        1,
+        period: 1,
         kind,
-        &starts,
-        &copts,
-        &|| false,
-    );
+    };
+    let curves = continue_curves(&of, &starts, &copts, &|| false);
     assert!(!curves.is_empty() && curves.len() <= 2);
     for c in &curves {
         for p in &c.points {

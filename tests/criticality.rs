@@ -130,8 +130,13 @@ fn fig3a_last_flip_of_the_fixed_point_is_subcritical() {
 fn a_cascade_at_a_subcritical_flip_follows_the_unstable_cycle_to_its_fold() {
     let prob = problem(50.0, 1e-4);
     let opts = ContOptions::for_range(&prob.settings, 1.56, 1.50);
-    let c =
-        oneblock::sim::continuation::cascade(&prob, 1.56, 1.50, 1.0, 64, &opts, &|| false).unwrap();
+    let c = oneblock::sim::continuation::cascade(
+        oneblock::sim::continuation::Reach::new(&prob, 1.56, 1.50, &opts),
+        1.0,
+        64,
+        &|| false,
+    )
+    .unwrap();
     // The flip is a doubling of the fixed point, but nothing is switched
     // onto: the cascade ends there and says so.
     assert_eq!(c.doublings.len(), 1, "{}", c.stop);
@@ -158,7 +163,7 @@ fn a_cascade_at_a_subcritical_flip_follows_the_unstable_cycle_to_its_fold() {
 /// subcritical.
 #[test]
 fn a_pd_curve_marks_where_its_criticality_changes() {
-    use oneblock::sim::continuation::{CurveKind, CurveOptions, continue_curve};
+    use oneblock::sim::continuation::{CurveKind, CurveOf, CurveOptions, continue_curve};
     let below = problem(18.8, 1e-3);
     let above = problem(19.2, 1e-3);
     let crit = |prob: &Problem| {
@@ -169,16 +174,15 @@ fn a_pd_curve_marks_where_its_criticality_changes() {
     let (c_above, _) = crit(&above);
     assert_eq!(c_below, Criticality::Supercritical);
     assert_eq!(c_above, Criticality::Subcritical);
-    let curve = continue_curve(
-        &below.base,
-        &below.settings,
-        [ContParam::ThetaNu, ContParam::Kappa],
-        1,
-        CurveKind::PeriodDoubling,
-        &pd,
-        &CurveOptions::for_box([[1.50, 1.56], [17.0, 21.0]]),
-        &|| false,
-    );
+    let of = CurveOf {
+        base: below.base,
+        settings: below.settings,
+        params: [ContParam::ThetaNu, ContParam::Kappa],
+        period: 1,
+        kind: CurveKind::PeriodDoubling,
+    };
+    let copts = CurveOptions::for_box([[1.50, 1.56], [17.0, 21.0]]);
+    let curve = continue_curve(&of, &pd, &copts, &|| false);
     assert!(curve.points.len() > 10, "{curve:?}");
     let gf = &curve.generalised_flips;
     assert_eq!(gf.len(), 1, "{gf:?}");

@@ -76,6 +76,8 @@ mod derivatives;
 mod docs_auto_table;
 #[path = "docs_counts.rs"]
 mod docs_counts;
+#[path = "docs_names.rs"]
+mod docs_names;
 #[path = "figure_csv.rs"]
 mod figure_csv;
 #[path = "figure_legend.rs"]

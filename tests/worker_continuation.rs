@@ -12,7 +12,8 @@ use common::{until_ack, until_finished};
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::sim::continuation::{
-    Branch, ContOptions, ContParam, CurveKind, Problem, SpecialKind, cascade, continue_branch,
+    Branch, ContOptions, ContParam, CurveKind, Problem, Reach, SpecialKind, cascade,
+    continue_branch,
 };
 use oneblock::sim::{CycleOptions, Simulator, default_settings, solve_cycle};
 use oneblock::worker::{
@@ -109,7 +110,7 @@ fn find_bifurcations_at_fig3b_agrees_with_the_library_called_directly() {
     // the library's cascade finds it.
     let p2 = &got[1];
     assert_eq!(p2.period, 2);
-    let c = cascade(&prob, 1.0, 1.2, seed, 32, &opts, &|| false).unwrap();
+    let c = cascade(Reach::new(&prob, 1.0, 1.2, &opts), seed, 32, &|| false).unwrap();
     let lib: Vec<f64> = c.doublings.iter().map(|d| d.lambda).collect();
     let streamed: Vec<f64> = got
         .iter()

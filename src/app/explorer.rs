@@ -31,7 +31,7 @@ use crate::sim::continuation::ContParam;
 
 /// The slice of each frame a backend without threads may compute in: the
 /// rest of a 30 fps frame is left for drawing.
-pub const PUMP_BUDGET: Duration = crate::jobs::bench::PAGE_SLICE;
+pub const PUMP_BUDGET: Duration = crate::bench::diagram::PAGE_SLICE;
 
 /// The side panel's normal width, points.
 pub(super) const PANEL_WIDTH: f32 = 330.0;

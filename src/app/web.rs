@@ -87,8 +87,8 @@ pub fn bench_diagram(
     keep: usize,
     tol: f64,
 ) -> Result<f64, JsValue> {
-    let spec = crate::jobs::bench::fig3b_diagram(columns, transient, keep, tol);
-    crate::jobs::bench::time_diagram(spec, None)
+    let spec = crate::bench::diagram::fig3b_diagram(columns, transient, keep, tol);
+    crate::bench::diagram::time_diagram(spec, None)
         .map(|t| t.seconds)
         .map_err(|e| JsValue::from_str(&e))
 }
@@ -102,9 +102,9 @@ pub fn bench_diagram_sliced(
     keep: usize,
     tol: f64,
 ) -> Result<Vec<f64>, JsValue> {
-    let spec = crate::jobs::bench::fig3b_diagram(columns, transient, keep, tol);
-    let slice = Some(crate::jobs::bench::PAGE_SLICE);
-    crate::jobs::bench::time_diagram(spec, slice)
+    let spec = crate::bench::diagram::fig3b_diagram(columns, transient, keep, tol);
+    let slice = Some(crate::bench::diagram::PAGE_SLICE);
+    crate::bench::diagram::time_diagram(spec, slice)
         .map(|t| vec![t.seconds, t.step_ms(0.99), t.step_ms(1.0)])
         .map_err(|e| JsValue::from_str(&e))
 }

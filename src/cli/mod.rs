@@ -2,7 +2,6 @@
 //! `common`. `main.rs` only parses and dispatches.
 
 pub mod attractors;
-mod bench_pieces;
 pub mod bench_worker;
 pub mod bifurcation;
 pub mod common;
@@ -57,7 +56,7 @@ pub enum Command {
     Trajectory(trajectory::TrajectoryArgs),
     /// Bifurcation diagram data: θ against θν (or κ, γ, ν, Ω: --param), on both cores.
     Bifurcation(bifurcation::BifurcationArgs),
-    /// Times the simulation worker: first coarse diagram, full diagram, trajectory latency.
+    /// Times the jobs: the worker's sweep (first coarse diagram, full diagram, trajectory latency), or a phase grid (--phase), the single-threaded host (--single-thread), every kind in the page's slices (--pieces).
     BenchWorker(bench_worker::BenchWorkerArgs),
     /// The work-precision chart: map error against cost per iterate for every method (on a four-attractor sample, or on the one attractor the model flags give).
     WorkPrecision(work_precision::WorkPrecisionArgs),

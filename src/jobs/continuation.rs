@@ -20,9 +20,9 @@ use super::protocol::{BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, 
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{
-    Attractor, Branch, Cascade, ContOptions, ContParam, Curve, CurveKind, CurveOptions, Pace,
-    Problem, SpecialKind, SpecialPoint, attractor_cycle_paced, cascade_from_paced, cascade_paced,
-    continue_branch_paced, continue_curves_paced,
+    Attractor, Branch, Cascade, ContOptions, ContParam, Curve, CurveKind, CurveOf, CurveOptions,
+    FirstLevel, Pace, Problem, Reach, SpecialKind, SpecialPoint, attractor_cycle_paced,
+    cascade_paced, continue_branch_paced, continue_curves_paced,
 };
 use crate::sim::{CycleFailure, PERIOD_MAX, SimError};
 
@@ -191,8 +191,8 @@ impl Out {
                 point: p.clone(),
             });
         };
-        let (from, to) = (spec.from, spec.to);
-        let walk = continue_branch_paced(self.pace(), prob, from, to, seed, opts, &mut on_special);
+        let reach = Reach::new(prob, spec.from, spec.to, opts);
+        let walk = continue_branch_paced(self.pace(), reach, seed, &mut on_special);
         let branch = walk.await.map_err(start_failure)?;
         self.send_branch(&branch);
         Ok(branch)
@@ -227,18 +227,10 @@ impl Out {
         }
         self.progress(1.0 / levels, tally.evals, started);
         self.summary(format!("{} · following the cascade…", counts(&tally.all)));
-        let (from, to) = (spec.from, spec.to);
+        let reach = Reach::new(prob, spec.from, spec.to, opts);
         let mut on_level = |b: &Branch| tally.level(self, b);
-        let walk = cascade_from_paced(
-            self.pace(),
-            prob,
-            from,
-            to,
-            first,
-            max_period,
-            opts,
-            &mut on_level,
-        );
+        let first = FirstLevel::Given(first);
+        let walk = cascade_paced(self.pace(), reach, first, max_period, &mut on_level);
         let cascade = walk.await.map_err(start_failure)?;
         self.cascade_done(period, cascade, &tally);
         Ok(())
@@ -263,18 +255,10 @@ impl Out {
             levels,
             started,
         };
-        let (from, to) = (spec.from, spec.to);
+        let reach = Reach::new(prob, spec.from, spec.to, opts);
         let mut on_level = |b: &Branch| tally.level(self, b);
-        let walk = cascade_paced(
-            self.pace(),
-            prob,
-            from,
-            to,
-            seed,
-            max_period,
-            opts,
-            &mut on_level,
-        );
+        let first = FirstLevel::Seed(seed);
+        let walk = cascade_paced(self.pace(), reach, first, max_period, &mut on_level);
         let cascade = walk.await.map_err(start_failure)?;
         self.cascade_done(period, cascade, &tally);
         Ok(())
@@ -324,18 +308,14 @@ impl Out {
             return Ok(());
         }
         let copts = CurveOptions::for_box([[spec.from, spec.to], follow.range]);
-        let params = [spec.param, follow.param];
-        let curves = self
-            .curves_through(
-                &prob.base,
-                &spec.settings,
-                params,
-                prob.period,
-                follow.kind,
-                &starts,
-                &copts,
-            )
-            .await;
+        let of = CurveOf {
+            base: prob.base,
+            settings: spec.settings,
+            params: [spec.param, follow.param],
+            period: prob.period,
+            kind: follow.kind,
+        };
+        let curves = self.curves_through(&of, &starts, &copts).await;
         self.summary(format!("{} curves · done", curves.len()));
         Ok(())
     }
@@ -343,20 +323,13 @@ impl Out {
     /// The `kind` curves of the `period`-cycle through `starts` (a start on
     /// an earlier curve is skipped), each sent; see
     /// [`crate::sim::continuation::continue_curves`].
-    #[allow(clippy::too_many_arguments)]
     async fn curves_through(
         &self,
-        base: &Params,
-        settings: &SolverSettings,
-        params: [ContParam; 2],
-        period: usize,
-        kind: CurveKind,
+        of: &CurveOf,
         starts: &[SpecialPoint],
         copts: &CurveOptions,
     ) -> Vec<Curve> {
-        let pace = self.pace();
-        let found =
-            continue_curves_paced(pace, base, settings, params, period, kind, starts, copts).await;
+        let found = continue_curves_paced(self.pace(), of, starts, copts).await;
         for curve in &found {
             self.send(Update::Curve {
                 generation: self.generation(),
@@ -393,38 +366,35 @@ impl Out {
         // (`continue --curve fold`), where the cycle is born or dies.
         let folds: Vec<SpecialPoint> = branch.of_kind(SpecialKind::Fold).cloned().collect();
         let steps = periods.len() + usize::from(!folds.is_empty());
+        // Every curve of the box is in (θν, κ), at the spec's solver.
+        let boundary = CurveOf {
+            base: prob.base,
+            settings: spec.settings,
+            params: [ContParam::ThetaNu, ContParam::Kappa],
+            period,
+            kind: CurveKind::PeriodDoubling,
+        };
         for (i, &p) in periods.iter().enumerate() {
             // One curve per boundary: a doubling on a curve already
             // followed is not followed again.
             let of_p: Vec<SpecialPoint> =
                 starts.iter().filter(|s| s.period == p).cloned().collect();
-            let found = self
-                .curves_through(
-                    &prob.base,
-                    &spec.settings,
-                    [ContParam::ThetaNu, ContParam::Kappa],
-                    p,
-                    CurveKind::PeriodDoubling,
-                    &of_p,
-                    &copts,
-                )
-                .await;
+            let of = CurveOf {
+                period: p,
+                ..boundary
+            };
+            let found = self.curves_through(&of, &of_p, &copts).await;
             evals += found.iter().map(|c| c.map_evals).sum::<u64>();
             curves.extend(found);
             self.progress((i + 1) as f64 / steps as f64, evals, started);
         }
         if !folds.is_empty() {
-            let found = self
-                .curves_through(
-                    &prob.base,
-                    &spec.settings,
-                    [ContParam::ThetaNu, ContParam::Kappa],
-                    period,
-                    CurveKind::Fold,
-                    &folds,
-                    &copts,
-                )
-                .await;
+            let of = CurveOf {
+                period,
+                kind: CurveKind::Fold,
+                ..boundary
+            };
+            let found = self.curves_through(&of, &folds, &copts).await;
             evals += found.iter().map(|c| c.map_evals).sum::<u64>();
             curves.extend(found);
             self.progress(1.0, evals, started);
@@ -468,14 +438,14 @@ impl Out {
         };
         let opts = ContOptions::for_range(&spec.settings, t0, t1);
         let quiet = &mut |_: &SpecialPoint| {};
-        let walk = continue_branch_paced(self.pace(), &prob, t0, t1, seed, &opts, quiet);
+        let reach = Reach::new(&prob, t0, t1, &opts);
+        let walk = continue_branch_paced(self.pace(), reach, seed, quiet);
         let branch = walk.await.map_err(start_failure)?;
         let mut starts: Vec<SpecialPoint> = branch.doublings().cloned().collect();
         if !starts.is_empty() && 2 * period <= PERIOD_MAX {
-            let first = branch.clone();
+            let first = FirstLevel::Given(branch.clone());
             let quiet = &mut |_: &Branch| {};
-            let walk =
-                cascade_from_paced(self.pace(), &prob, t0, t1, first, 2 * period, &opts, quiet);
+            let walk = cascade_paced(self.pace(), reach, first, 2 * period, quiet);
             let c = walk.await.map_err(start_failure)?;
             starts.extend(c.doublings.into_iter().filter(|d| d.period == 2 * period));
         }

@@ -23,7 +23,6 @@
 //! host computes the same numbers, bit for bit, whatever its threads.
 
 pub mod basins;
-pub mod bench;
 mod continuation;
 mod events;
 mod iterate;
@@ -33,7 +32,6 @@ mod numerics;
 mod orbit;
 mod paced;
 mod phase;
-pub mod pieces;
 pub mod plan;
 pub mod priority;
 mod protocol;

@@ -51,10 +51,9 @@ pub struct CellOptions {
     pub initial_cells: usize,
     /// The finest cell width subdivision goes to (radians).
     pub resolution: f64,
-    /// The most cells in all.
+    /// The most cells in all. (The arc's interpolant has its own budget of
+    /// map evaluations, fixed in `arc.rs`: no option sets it.)
     pub max_cells: usize,
-    /// The most map evaluations the interpolant may take.
-    pub max_evaluations: usize,
     /// A chaotic set's invariant density (Ulam) and λ from it; without it
     /// (a diagram's column), λ from a shorter orbit.
     pub density: bool,
@@ -83,7 +82,6 @@ impl Default for CellOptions {
             initial_cells: 1024,
             resolution: 1e-6,
             max_cells: 1 << 16,
-            max_evaluations: 40_000,
             density: true,
             density_cells: 1 << 16,
         }

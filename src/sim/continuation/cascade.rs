@@ -10,7 +10,7 @@
 
 use super::branch::{Branch, ContOptions, SpecialKind, SpecialPoint, Stop};
 use super::pace::solve_cycle;
-use super::walk::continue_branch_paced;
+use super::walk::{Reach, continue_branch_paced};
 use super::{Criticality, Flip, Pace, Problem, drive};
 use crate::sim::PERIOD_MAX;
 use crate::sim::cycles::{CycleFailure, CycleOptions};
@@ -19,7 +19,7 @@ use crate::sim::cycles::{CycleFailure, CycleOptions};
 #[derive(Clone, Debug, PartialEq)]
 pub struct Cascade {
     /// The branches, one per level, each from its birth to its doubling
-    /// (the first as the caller gave it, with [`cascade_from`]).
+    /// (the first as the caller gave it, with [`FirstLevel::Given`]).
     pub branches: Vec<Branch>,
     /// The doublings b₁, b₂, … in order (periods p, 2p, 4p, …).
     pub doublings: Vec<SpecialPoint>,
@@ -49,123 +49,66 @@ pub fn feigenbaum_ratios(b: &[f64]) -> Vec<f64> {
 /// stay well before the next doubling (the gaps shrink about 4.7 times).
 const SWITCH_SHARE: f64 = 1e-2;
 
-/// Follows the cascade from the p-cycle through `seed` at λ = `from`
-/// towards `to` (see the module notes), until a level has no doubling
-/// before `to`, two doublings come closer than 100× `opts.locate_tol`
-/// (the δₙ would have no digits left), the period would pass
-/// `max_period` (at most [`PERIOD_MAX`]), or a switch fails. Fails only
-/// when the first level has no cycle at its start.
+/// Follows the cascade from the p-cycle through `seed` at λ = `reach.from`
+/// towards `reach.to` (see the module notes), until a level has no
+/// doubling before `to`, two doublings come closer than 100×
+/// `opts.locate_tol` (the δₙ would have no digits left), the period would
+/// pass `max_period` (at most [`PERIOD_MAX`]), or a switch fails. Fails
+/// only when the first level has no cycle at its start.
 pub fn cascade(
-    prob: &Problem,
-    from: f64,
-    to: f64,
+    reach: Reach<'_>,
     seed: f64,
     max_period: usize,
-    opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Cascade, CycleFailure> {
-    cascade_reporting(prob, from, to, seed, max_period, opts, cancel, &mut |_| {})
+    let first = FirstLevel::Seed(seed);
+    cascade_reporting(reach, first, max_period, cancel, &mut |_| {})
 }
 
-/// [`cascade`], calling `on_level` with each level's branch as it ends
-/// (for progress lines).
-#[allow(clippy::too_many_arguments)]
+/// [`cascade`] from `first`, calling `on_level` with each level's branch
+/// as it ends (for progress lines; a given first level is not reported):
+/// the walk of [`cascade_paced`] driven to its end.
 pub fn cascade_reporting(
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    seed: f64,
+    reach: Reach<'_>,
+    first: FirstLevel,
     max_period: usize,
-    opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
     on_level: &mut dyn FnMut(&Branch),
 ) -> Result<Cascade, CycleFailure> {
     let pace = Pace::new();
-    let first = Level::Seed(seed);
-    let walk = cascade_impl(&pace, prob, from, to, first, max_period, opts, on_level);
+    let walk = cascade_paced(&pace, reach, first, max_period, on_level);
     drive(&pace, walk, cancel)
-}
-
-/// [`cascade_reporting`], a piece after each map evaluation and a cancel
-/// asked once per point.
-#[allow(clippy::too_many_arguments)]
-pub async fn cascade_paced<R: FnMut(&Branch) + ?Sized>(
-    pace: &Pace,
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    seed: f64,
-    max_period: usize,
-    opts: &ContOptions,
-    on_level: &mut R,
-) -> Result<Cascade, CycleFailure> {
-    let first = Level::Seed(seed);
-    cascade_impl(pace, prob, from, to, first, max_period, opts, on_level).await
-}
-
-/// [`cascade_reporting`] whose first level is `first`, a branch of
-/// `prob`'s p-cycle from `from` towards `to` that the caller has already
-/// followed (with [`continue_branch`] and `opts`, past its doubling or not:
-/// its first doubling is the one a cascade's level stops at, so the
-/// levels after it are those [`cascade`] finds). `first` is the cascade's
-/// first branch as given; `on_level` is called for the levels after it.
-#[allow(clippy::too_many_arguments)]
-pub fn cascade_from(
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    first: Branch,
-    max_period: usize,
-    opts: &ContOptions,
-    cancel: &dyn Fn() -> bool,
-    on_level: &mut dyn FnMut(&Branch),
-) -> Result<Cascade, CycleFailure> {
-    let pace = Pace::new();
-    let first = Level::Given(first);
-    let walk = cascade_impl(&pace, prob, from, to, first, max_period, opts, on_level);
-    drive(&pace, walk, cancel)
-}
-
-/// [`cascade_from`], a piece after each map evaluation and a cancel asked
-/// once per point.
-#[allow(clippy::too_many_arguments)]
-pub async fn cascade_from_paced<R: FnMut(&Branch) + ?Sized>(
-    pace: &Pace,
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    first: Branch,
-    max_period: usize,
-    opts: &ContOptions,
-    on_level: &mut R,
-) -> Result<Cascade, CycleFailure> {
-    let first = Level::Given(first);
-    cascade_impl(pace, prob, from, to, first, max_period, opts, on_level).await
 }
 
 /// Where a cascade's first level comes from.
-enum Level {
+#[derive(Clone, Debug, PartialEq)]
+pub enum FirstLevel {
     /// Followed from the cycle through this θ.
     Seed(f64),
-    /// Already followed.
+    /// A branch of the reach's p-cycle from `from` towards `to` that the
+    /// caller has already followed (with [`super::continue_branch`] and
+    /// the reach's options, past its doubling or not: its first doubling
+    /// is the one a cascade's level stops at, so the levels after it are
+    /// those a cascade from a seed finds). It is the cascade's first
+    /// branch as given, and not reported.
     Given(Branch),
 }
 
-#[allow(clippy::too_many_arguments)]
-async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
+/// The cascade's walk, a piece after each map evaluation and a cancel
+/// asked once per point: [`cascade_reporting`] drives it to its end at
+/// once, a job ([`crate::jobs`]) piece by piece.
+pub async fn cascade_paced<R: FnMut(&Branch) + ?Sized>(
     pace: &Pace,
-    prob: &Problem,
-    from: f64,
-    to: f64,
-    first: Level,
+    reach: Reach<'_>,
+    first: FirstLevel,
     max_period: usize,
-    opts: &ContOptions,
     on_level: &mut R,
 ) -> Result<Cascade, CycleFailure> {
+    let (prob, from, to, opts) = (reach.prob, reach.from, reach.to, reach.opts);
     // (With a given first level the seed is never used.)
     let (seed, mut given) = match first {
-        Level::Seed(seed) => (seed, None),
-        Level::Given(b) => (0.0, Some(b)),
+        FirstLevel::Seed(seed) => (seed, None),
+        FirstLevel::Given(b) => (0.0, Some(b)),
     };
     // The caller has its own branch: only the levels after it are news.
     let report_first = given.is_none();
@@ -211,8 +154,8 @@ async fn cascade_impl<R: FnMut(&Branch) + ?Sized>(
         if let Some(why) = crowded(doublings.len(), gap, period, max_period, opts) {
             break why;
         }
-        let ahead = Ahead { from, to, gap, dir };
-        let end = flip_end(pace, &level, &pd, &ahead, opts, on_level, &mut branches).await;
+        let ahead = Reach::new(&level, from, to, opts);
+        let end = flip_end(pace, ahead, &pd, gap, on_level, &mut branches).await;
         if let Some(why) = end {
             break why;
         }
@@ -241,7 +184,7 @@ async fn follow(
     opts: &ContOptions,
 ) -> Result<Branch, CycleFailure> {
     let quiet = &mut |_: &SpecialPoint| {};
-    continue_branch_paced(pace, level, from, to, theta, opts, quiet).await
+    continue_branch_paced(pace, Reach::new(level, from, to, opts), theta, quiet).await
 }
 
 /// Whether the branch of the `period`-cycle starts on a shorter cycle.
@@ -291,16 +234,9 @@ fn crowded(
     (2 * period > max).then(|| format!("the next period, {}, is above {max}", 2 * period))
 }
 
-/// Where a cascade goes: its range, the last gap between doublings, and
-/// the direction (+1 when `to` ≥ `from`).
-struct Ahead {
-    from: f64,
-    to: f64,
-    gap: f64,
-    dir: f64,
-}
-
-/// Why the cascade ends at the doubling `pd` of `level` rather than
+/// Why the cascade ends at the doubling `pd` of `ahead.prob` (a level:
+/// `ahead` is its cycle over the cascade's range, with the cascade's
+/// options; `gap` the last gap between doublings) rather than
 /// switching to the doubled cycle, if it does. Only a supercritical flip
 /// hands the attractor on to the doubled cycle; at a subcritical one that
 /// cycle is unstable and lies behind (it is followed to its fold, and
@@ -308,17 +244,17 @@ struct Ahead {
 /// has no doubling ahead.
 async fn flip_end<R: FnMut(&Branch) + ?Sized>(
     pace: &Pace,
-    level: &Problem,
+    ahead: Reach<'_>,
     pd: &SpecialPoint,
-    ahead: &Ahead,
-    opts: &ContOptions,
+    gap: f64,
     on_level: &mut R,
     branches: &mut Vec<Branch>,
 ) -> Option<String> {
     let f = pd.flip?;
-    let Ahead { from, to, gap, dir } = *ahead;
+    let level = ahead.prob;
+    let dir = if ahead.to >= ahead.from { 1.0 } else { -1.0 };
     if f.criticality() == Criticality::Subcritical {
-        let (why, unstable) = subcritical(pace, level, pd, &f, [from, to], gap, opts).await;
+        let (why, unstable) = subcritical(pace, ahead, pd, &f, gap).await;
         if let Some(b) = unstable {
             on_level(&b);
             branches.push(b);
@@ -349,18 +285,18 @@ fn next_level_options(level_opts: ContOptions, opts: &ContOptions, gap: f64) -> 
     }
 }
 
-/// At the subcritical flip `pd` of `level`: the unstable doubled cycle
+/// At the subcritical flip `pd` of `ahead.prob` (a level, over the
+/// cascade's range, with its options): the unstable doubled cycle
 /// followed from next to the flip (on the side the normal form puts it)
 /// to where it turns, and the words for where the attractor goes.
 async fn subcritical(
     pace: &Pace,
-    level: &Problem,
+    ahead: Reach<'_>,
     pd: &SpecialPoint,
     f: &Flip,
-    [from, to]: [f64; 2],
     gap: f64,
-    opts: &ContOptions,
 ) -> (String, Option<Branch>) {
+    let (level, from, to, opts) = (ahead.prob, ahead.from, ahead.to, ahead.opts);
     let name = level.param.name();
     let (p, q) = (level.period, 2 * level.period);
     let head = format!(

@@ -160,6 +160,37 @@ pub struct Curve {
     pub generalised_flips: Vec<super::GeneralisedFlip>,
 }
 
+/// The curve asked for: where the p-cycle (`period`) meets the `kind`
+/// condition in the parameter pair `params` (λ₁, λ₂), the other
+/// parameters at `base`'s, computed with `settings`. What every function
+/// on curves shares, as one value rather than five arguments each.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveOf {
+    /// The parameters not on the curve (λ₂'s value here is where a start
+    /// on a branch in λ₁ lies).
+    pub base: Params,
+    /// The solver and its accuracy.
+    pub settings: SolverSettings,
+    /// (λ₁, λ₂).
+    pub params: [ContParam; 2],
+    /// The cycle's period.
+    pub period: usize,
+    /// Which condition the curve is of.
+    pub kind: CurveKind,
+}
+
+impl CurveOf {
+    /// The curve `curve` is a run of, at this one's base and solver.
+    pub fn of(&self, curve: &Curve) -> CurveOf {
+        CurveOf {
+            params: curve.params,
+            period: curve.period,
+            kind: curve.kind,
+            ..*self
+        }
+    }
+}
+
 /// What every evaluation along a curve shares.
 pub(super) struct Ctx<'a> {
     /// Where the walk may pause (after each map evaluation).
@@ -193,15 +224,14 @@ pub(super) struct Ev {
 
 impl<'a> Ctx<'a> {
     /// The context of a curve of `kind` in `params` over `opts`'s box.
-    pub(super) fn new(
-        pace: &'a Pace,
-        base: Params,
-        settings: SolverSettings,
-        params: [ContParam; 2],
-        period: usize,
-        kind: CurveKind,
-        opts: &'a CurveOptions,
-    ) -> Self {
+    pub(super) fn new(pace: &'a Pace, of: CurveOf, opts: &'a CurveOptions) -> Self {
+        let CurveOf {
+            base,
+            settings,
+            params,
+            period,
+            kind,
+        } = of;
         Ctx {
             pace,
             base,

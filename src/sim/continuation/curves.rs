@@ -6,8 +6,8 @@
 //! one-parameter branches).
 
 use super::branch::SpecialPoint;
-use super::curve::{Ctx, Curve, CurveKind, CurveOptions, CurvePoint, V3, origin};
-use super::{ContParam, Pace, drive};
+use super::curve::{Ctx, Curve, CurveOf, CurveOptions, CurvePoint, V3, origin};
+use super::{Pace, drive};
 use crate::integrate::SolverSettings;
 use crate::model::{Params, wrap_angle};
 use nalgebra::{Matrix2, Vector2};
@@ -16,24 +16,22 @@ use nalgebra::{Matrix2, Vector2};
 /// a curve already followed is on that curve.
 const SAME_CURVE: f64 = 1e-6;
 
-/// Follows the `kind` curve of the p-cycle in (λ₁, λ₂) = `params` through
-/// `start`, a special point of that kind located on a branch in λ₁ with
-/// λ₂ at `base`'s value (see the module notes of [`super::curve`]), the
-/// two directions on two threads. `cancel` is polled once per point.
-#[allow(clippy::too_many_arguments)]
+/// Follows the curve `of` asks for (its `kind` of the p-cycle in
+/// (λ₁, λ₂) = `of.params`) through `start`, a special point of that kind
+/// located on a branch in λ₁ with λ₂ at `of.base`'s value (see the module
+/// notes of [`super::curve`]), the two directions on two threads (which
+/// is why it is not [`continue_curve_paced`] driven, as the other
+/// synchronous functions are their walk driven: that walk takes the
+/// directions in turn). `cancel` is polled once per point.
 pub fn continue_curve(
-    base: &Params,
-    settings: &SolverSettings,
-    params: [ContParam; 2],
-    period: usize,
-    kind: CurveKind,
+    of: &CurveOf,
     start: &SpecialPoint,
     opts: &CurveOptions,
     cancel: &(dyn Fn() -> bool + Sync),
 ) -> Curve {
     let (pace, other_pace) = (Pace::new(), Pace::new());
-    let (base, y0) = origin(base, params, start, opts);
-    let mut ctx = Ctx::new(&pace, base, *settings, params, period, kind, opts);
+    let (base, y0) = origin(&of.base, of.params, start, opts);
+    let mut ctx = Ctx::new(&pace, CurveOf { base, ..*of }, opts);
     let Some(t0) = drive(&pace, ctx.tangent(&y0), &|| false) else {
         return ctx.no_tangent();
     };
@@ -57,19 +55,14 @@ pub fn continue_curve(
 /// [`continue_curve`] on one thread, a piece after each map evaluation
 /// and a cancel asked once per point: the direction along −t first, then
 /// along t (each the same walk as on its own thread).
-#[allow(clippy::too_many_arguments)]
 pub async fn continue_curve_paced(
     pace: &Pace,
-    base: &Params,
-    settings: &SolverSettings,
-    params: [ContParam; 2],
-    period: usize,
-    kind: CurveKind,
+    of: &CurveOf,
     start: &SpecialPoint,
     opts: &CurveOptions,
 ) -> Curve {
-    let (base, y0) = origin(base, params, start, opts);
-    let mut ctx = Ctx::new(pace, base, *settings, params, period, kind, opts);
+    let (base, y0) = origin(&of.base, of.params, start, opts);
+    let mut ctx = Ctx::new(pace, CurveOf { base, ..*of }, opts);
     let Some(t0) = ctx.tangent(&y0).await else {
         return ctx.no_tangent();
     };
@@ -80,18 +73,14 @@ pub async fn continue_curve_paced(
     ctx.finish(start, back, fwd).await
 }
 
-/// Follows the `kind` curve through each of `starts` (special points of
-/// that kind on one branch in λ₁, at `base`'s λ₂), skipping a start that
+/// Follows the curve `of` asks for through each of `starts` (special
+/// points of its kind on one branch in λ₁, at `of.base`'s λ₂), skipping a
+/// start that
 /// an earlier curve already passes through; see [`continue_curve`].
 /// `cancel` is polled once per point; a cancelled run returns the curves
 /// so far.
-#[allow(clippy::too_many_arguments)]
 pub fn continue_curves(
-    base: &Params,
-    settings: &SolverSettings,
-    params: [ContParam; 2],
-    period: usize,
-    kind: CurveKind,
+    of: &CurveOf,
     starts: &[SpecialPoint],
     opts: &CurveOptions,
     cancel: &(dyn Fn() -> bool + Sync),
@@ -102,13 +91,10 @@ pub fn continue_curves(
             break;
         }
         let pace = Pace::new();
-        let level = params[1].get(base);
-        let on_one = known(&pace, base, settings, &curves, start, opts, level);
+        let on_one = known(&pace, of, &curves, start, opts);
         let known = drive(&pace, on_one, &|| false);
         if !known {
-            curves.push(continue_curve(
-                base, settings, params, period, kind, start, opts, cancel,
-            ));
+            curves.push(continue_curve(of, start, opts, cancel));
         }
     }
     curves
@@ -116,14 +102,9 @@ pub fn continue_curves(
 
 /// [`continue_curves`] on one thread, a piece after each map evaluation
 /// and a cancel asked once per point ([`continue_curve_paced`]).
-#[allow(clippy::too_many_arguments)]
 pub async fn continue_curves_paced(
     pace: &Pace,
-    base: &Params,
-    settings: &SolverSettings,
-    params: [ContParam; 2],
-    period: usize,
-    kind: CurveKind,
+    of: &CurveOf,
     starts: &[SpecialPoint],
     opts: &CurveOptions,
 ) -> Vec<Curve> {
@@ -132,30 +113,26 @@ pub async fn continue_curves_paced(
         if pace.cancelled().await {
             break;
         }
-        let level = params[1].get(base);
-        if !known(pace, base, settings, &curves, start, opts, level).await {
-            let curve =
-                continue_curve_paced(pace, base, settings, params, period, kind, start, opts);
-            curves.push(curve.await);
+        if !known(pace, of, &curves, start, opts).await {
+            curves.push(continue_curve_paced(pace, of, start, opts).await);
         }
     }
     curves
 }
 
 /// Whether `start` lies on one of `curves` (where it crosses the line
-/// λ₂ = `level`, within [`SAME_CURVE`] of the box).
+/// λ₂ = its value in `of`'s base, within [`SAME_CURVE`] of the box).
 async fn known(
     pace: &Pace,
-    base: &Params,
-    settings: &SolverSettings,
+    of: &CurveOf,
     curves: &[Curve],
     start: &SpecialPoint,
     opts: &CurveOptions,
-    level: f64,
 ) -> bool {
     let scale = opts.scale();
+    let level = of.params[1].get(&of.base);
     for c in curves {
-        let crossings = crossings_paced(pace, base, settings, c, opts, 1, level).await;
+        let crossings = crossings_paced(pace, of.of(c), &c.points, opts, 1, level).await;
         if crossings
             .iter()
             .any(|p| (p.lambda[0] - start.lambda).abs() <= SAME_CURVE * scale[0])
@@ -179,35 +156,33 @@ pub fn curve_crossings(
     axis: usize,
     value: f64,
 ) -> Vec<CurvePoint> {
+    let of = CurveOf {
+        base: *base,
+        settings: *settings,
+        params: curve.params,
+        period: curve.period,
+        kind: curve.kind,
+    };
     let pace = Pace::new();
-    let walk = crossings_paced(&pace, base, settings, curve, opts, axis, value);
+    let walk = crossings_paced(&pace, of, &curve.points, opts, axis, value);
     drive(&pace, walk, &|| false)
 }
 
 /// [`curve_crossings`], a piece after each map evaluation.
 async fn crossings_paced(
     pace: &Pace,
-    base: &Params,
-    settings: &SolverSettings,
-    curve: &Curve,
+    of: CurveOf,
+    points: &[CurvePoint],
     opts: &CurveOptions,
     axis: usize,
     value: f64,
 ) -> Vec<CurvePoint> {
     let axis = axis.min(1);
     let other = 1 - axis;
-    let mut ctx = Ctx::new(
-        pace,
-        *base,
-        *settings,
-        curve.params,
-        curve.period,
-        curve.kind,
-        opts,
-    );
+    let mut ctx = Ctx::new(pace, of, opts);
     let scale = ctx.scale();
     let mut out = Vec::new();
-    for w in curve.points.windows(2) {
+    for w in points.windows(2) {
         let (a, b) = (w[0].lambda[axis] - value, w[1].lambda[axis] - value);
         if a * b > 0.0 || a == b {
             continue;

@@ -154,7 +154,8 @@ pub fn flip_at(
     drive(&pace, walk, &|| false)
 }
 
-/// [`flip_at`], a piece after each map evaluation.
+/// [`flip_at`], a piece after each map evaluation. (Seven arguments:
+/// `flip_at`'s six and the pace.)
 pub(super) async fn flip_paced(
     pace: &Pace,
     prob: &Problem,
@@ -220,7 +221,8 @@ async fn confirm(
 }
 
 /// [`confirm`] with the doubled cycle solved a `delta` either side of
-/// the flip: the flip it confirms or sets, or `None`.
+/// the flip: the flip it confirms or sets, or `None`. (Seven arguments:
+/// [`confirm`]'s six and the `delta` it tries.)
 async fn confirm_at(
     pace: &Pace,
     prob: &Problem,
@@ -417,7 +419,9 @@ pub fn generalised_flips(
     drive(&pace, walk, &|| false)
 }
 
-/// [`generalised_flips`], a piece after each map evaluation.
+/// [`generalised_flips`], a piece after each map evaluation. (Seven
+/// arguments: `generalised_flips`' six, whose signature the window's
+/// code calls, and the pace.)
 pub(super) async fn generalised_flips_paced(
     pace: &Pace,
     base: &crate::model::Params,

@@ -30,17 +30,16 @@ use crate::sim::{SimError, Simulator};
 
 pub use branch::{Branch, BranchPoint, ContOptions, M_ACCURACY, SpecialKind, SpecialPoint, Stop};
 pub use cascade::{
-    Cascade, cascade, cascade_from, cascade_from_paced, cascade_paced, cascade_reporting,
-    feigenbaum_ratios,
+    Cascade, FirstLevel, cascade, cascade_paced, cascade_reporting, feigenbaum_ratios,
 };
-pub use curve::{Curve, CurveKind, CurveOptions, CurvePoint};
+pub use curve::{Curve, CurveKind, CurveOf, CurveOptions, CurvePoint};
 pub use curves::{
     continue_curve, continue_curve_paced, continue_curves, continue_curves_paced, curve_crossings,
 };
 pub use flip::{Criticality, Flip, GeneralisedFlip, branch_slope, flip_at, generalised_flips};
 pub use pace::{Ask, Pace, drive, one_piece};
 pub use stencil::Stencil;
-pub use walk::{continue_branch, continue_branch_paced, continue_branch_reporting};
+pub use walk::{Reach, continue_branch, continue_branch_paced, continue_branch_reporting};
 
 /// A parameter a branch can be continued in (and a bifurcation diagram
 /// drawn over; θν, the paper's, by default).

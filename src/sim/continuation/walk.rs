@@ -8,6 +8,34 @@ use super::branch::{
 use super::{EvalError, Pace, Problem, drive};
 use crate::sim::cycles::{CycleFailure, CycleOptions};
 
+/// Where a walk along branches goes: the cycle of `prob` from λ = `from`
+/// towards λ = `to`, stepped as `opts` says. What a branch's walk and a
+/// cascade's share, as one value rather than four arguments each.
+#[derive(Clone, Copy, Debug)]
+pub struct Reach<'a> {
+    /// The cycle followed (its parameters, solver, varied parameter and
+    /// period).
+    pub prob: &'a Problem,
+    /// Where the walk starts.
+    pub from: f64,
+    /// Where it is headed.
+    pub to: f64,
+    /// How it steps and locates.
+    pub opts: &'a ContOptions,
+}
+
+impl<'a> Reach<'a> {
+    /// `prob`'s cycle from `from` towards `to`, stepped as `opts` says.
+    pub fn new(prob: &'a Problem, from: f64, to: f64, opts: &'a ContOptions) -> Self {
+        Reach {
+            prob,
+            from,
+            to,
+            opts,
+        }
+    }
+}
+
 /// Follows the p-cycle through `seed` at λ = `from` towards λ = `to`
 /// (see the module notes). Fails only when no cycle is found at the start;
 /// a branch that fails later ends with [`Stop::Failed`] and keeps what it
@@ -20,7 +48,8 @@ pub fn continue_branch(
     opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
 ) -> Result<Branch, CycleFailure> {
-    continue_branch_reporting(prob, from, to, seed, opts, cancel, &mut |_| {})
+    let reach = Reach::new(prob, from, to, opts);
+    continue_branch_reporting(reach, seed, cancel, &mut |_| {})
 }
 
 /// A branch being followed: where it is, and what it has found.
@@ -74,34 +103,31 @@ enum Step {
     Stop(Stop),
 }
 
-/// [`continue_branch`], calling `on_special` with each PD, fold, border
-/// and jump as it is located (for progress lines).
+/// [`continue_branch`] over `reach`, calling `on_special` with each PD,
+/// fold, border and jump as it is located (for progress lines): the walk
+/// of [`continue_branch_paced`] driven to its end.
 pub fn continue_branch_reporting(
-    prob: &Problem,
-    from: f64,
-    to: f64,
+    reach: Reach<'_>,
     seed: f64,
-    opts: &ContOptions,
     cancel: &dyn Fn() -> bool,
     on_special: &mut dyn FnMut(&SpecialPoint),
 ) -> Result<Branch, CycleFailure> {
     let pace = Pace::new();
-    let walk = continue_branch_paced(&pace, prob, from, to, seed, opts, on_special);
+    let walk = continue_branch_paced(&pace, reach, seed, on_special);
     drive(&pace, walk, cancel)
 }
 
-/// [`continue_branch_reporting`], a piece after each map evaluation and
-/// a cancel asked once per point.
+/// The walk along a branch, a piece after each map evaluation and a
+/// cancel asked once per point: [`continue_branch_reporting`] drives it to
+/// its end at once, a job ([`crate::jobs`]) piece by piece.
 pub async fn continue_branch_paced<R: FnMut(&SpecialPoint) + ?Sized>(
     pace: &Pace,
-    prob: &Problem,
-    from: f64,
-    to: f64,
+    reach: Reach<'_>,
     seed: f64,
-    opts: &ContOptions,
     on_special: &mut R,
 ) -> Result<Branch, CycleFailure> {
-    let mut walk = Walk::start(pace, prob, from, to, seed, opts, on_special).await?;
+    let opts = reach.opts;
+    let mut walk = Walk::start(pace, reach, seed, on_special).await?;
     let mut h = opts.h0;
     let mut grow = true;
     let stop = loop {
@@ -139,13 +165,11 @@ impl<'a, 'b, R: FnMut(&SpecialPoint) + ?Sized> Walk<'a, 'b, R> {
     /// exactly.
     async fn start(
         pace: &'a Pace,
-        prob: &'a Problem,
-        from: f64,
-        to: f64,
+        reach: Reach<'a>,
         seed: f64,
-        opts: &'a ContOptions,
         on_special: &'b mut R,
     ) -> Result<Self, CycleFailure> {
+        let (prob, from, to, opts) = (reach.prob, reach.from, reach.to, reach.opts);
         let sim = prob.sim(from)?;
         let mut cyc_opts = CycleOptions::for_settings(&prob.settings);
         cyc_opts.tol = cyc_opts.tol.min(opts.newton_tol);

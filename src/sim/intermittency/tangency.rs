@@ -23,7 +23,7 @@ use std::pin::Pin;
 use std::sync::Arc;
 
 use crate::sim::continuation::{
-    Branch, ContOptions, ContParam, Pace, Problem, SpecialKind, SpecialPoint,
+    Branch, ContOptions, ContParam, Pace, Problem, Reach, SpecialKind, SpecialPoint,
     continue_branch_paced, one_piece,
 };
 use crate::sim::{CycleFailure, OrbitOptions, OrbitRun, Period, SimError, Simulator};
@@ -306,7 +306,8 @@ impl Search {
         let walk_pace = pace.clone();
         let walk = Box::pin(async move {
             let quiet = &mut |_: &SpecialPoint| {};
-            continue_branch_paced(&walk_pace, &prob, at, top, seed, &opts, quiet).await
+            let reach = Reach::new(&prob, at, top, &opts);
+            continue_branch_paced(&walk_pace, reach, seed, quiet).await
         });
         Following {
             at,

@@ -7,9 +7,8 @@
 use std::time::Duration;
 use web_time::Instant;
 
-use super::protocol::{Axis, Outcome, SweepSpec, Update};
-use super::{Local, Shape, Spec, TimeSlice};
 use crate::integrate::{Method, SolverSettings};
+use crate::jobs::{Axis, Local, Outcome, Shape, Spec, SweepSpec, TimeSlice, Update};
 use crate::model::Params;
 use crate::sim::MapChoice;
 

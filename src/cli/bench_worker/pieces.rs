@@ -4,14 +4,14 @@
 //! long the browser's page can be held by one piece of work. Wall-clock
 //! figures of this machine, so they live in docs, never in tests.
 
-use super::CliError;
-use crate::jobs::bench::PAGE_SLICE;
-use crate::jobs::pieces::{Pieces, every_kind, on_interpolant};
+use crate::bench::diagram::PAGE_SLICE;
+use crate::bench::pieces::{Pieces, every_kind, on_interpolant};
+use crate::cli::CliError;
 
 /// The report: a table, or with `--json` one object
 /// `{"kinds": [{"kind", "pieces", "longest_ms"}]}`; `quick`: the small
 /// specs.
-pub fn report(quick: bool, json: bool) -> Result<String, CliError> {
+pub(super) fn report(quick: bool, json: bool) -> Result<String, CliError> {
     let rows = every_kind(quick).map_err(CliError::Failed)?;
     if json {
         let kinds: Vec<serde_json::Value> = rows

@@ -10,15 +10,13 @@
 use std::time::Duration;
 use web_time::Instant;
 
-use super::bench::{PAGE_SLICE, fig3b, fig3b_diagram};
-use super::protocol::{
-    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, IterateSpec, Outcome, PhaseSpec,
-    PhaseTuning, TrajectorySpec, Update, WorkPrecisionSpec,
-};
-use super::{
-    BasinsSpec, Kind, Local, MapBasinsSpec, PassageSpec, ScanSpec, Shape, Spec, TimeSlice,
-};
+use super::diagram::{PAGE_SLICE, fig3b, fig3b_diagram};
 use crate::integrate::{Method, SolverSettings};
+use crate::jobs::{
+    Axis, BasinsSpec, BoundarySpec, CascadeFrom, ContinuationSpec, IterateSpec, Kind, Local,
+    MapBasinsSpec, Outcome, PassageSpec, PhaseSpec, PhaseTuning, ScanSpec, Shape, Spec, TimeSlice,
+    TrajectorySpec, Update, WorkPrecisionSpec,
+};
 use crate::model::Params;
 use crate::numerics::budget::{Accuracy, budget_for};
 use crate::numerics::quick::{
@@ -37,7 +35,7 @@ pub struct Pieces {
     /// The longest step, in milliseconds.
     pub longest_ms: f64,
     /// Slip cycles (or continuation points) the job polled for in its
-    /// longest step ([`super::Sink::cycle`]): what that piece held.
+    /// longest step ([`crate::jobs::Sink::cycle`]): what that piece held.
     pub longest_cycles: u64,
     /// The longest step when the job pauses wherever it can (every step
     /// one unit that cannot pause), in milliseconds.
