@@ -47,7 +47,12 @@ pub fn view_help(v: ViewKind) -> &'static str {
              attractor. The strip under it is the Lyapunov exponent λ of each column: below 0 \
              the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos. With every \
              attractor on, the exit arc's cell graph shows the other attractors too \
-             (magenta), where two coexist (hysteresis). Find bifurcations marks each doubling \
+             (magenta), where two coexist (hysteresis). Births & deaths (a θν diagram) marks \
+             where each attractor is born or dies, and why (fold, flip, border collision, \
+             crisis), located to 1e-8 by the Basins job over the diagram's range: the events \
+             oneblock attractors --param theta-nu prints for the same columns, each a dashed \
+             line with its mark at the top, named in the legend and read in a sentence on \
+             hover. Find bifurcations marks each doubling \
              supercritical (a stable cycle of twice the period is born) or subcritical (an \
              unstable one: the attractor jumps), and lists a cascade's ratios δ_n, which tend \
              to Feigenbaum's 4.669. \"Diagram in\" varies κ, γ, ν or Ω instead of θν, the \
