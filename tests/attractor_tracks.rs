@@ -270,14 +270,14 @@ fn a_bad_range_is_one_line_naming_its_flag() {
 /// windows and chaos.
 #[test]
 fn a_column_started_from_its_neighbour_finds_what_the_point_alone_finds() {
-    let range = json(&[
-        "attractors",
-        "--kappa",
-        "18.95",
-        "--gamma",
-        "6.5",
-        "--nu",
-        "1e-3",
+    // Fig. 3b's model, as a range and as single points.
+    let fig3b = |more: &[&str]| {
+        let mut args = vec!["attractors", "--preset", "fig3b"];
+        args.extend_from_slice(more);
+        args.push("--json");
+        json(&args)
+    };
+    let range = fig3b(&[
         "--param",
         "theta-nu",
         "--from",
@@ -286,26 +286,17 @@ fn a_column_started_from_its_neighbour_finds_what_the_point_alone_finds() {
         "1.5",
         "--columns",
         "9",
-        "--json",
     ]);
     for c in range["columns"].as_array().unwrap() {
         let v = c["value"].as_f64().unwrap();
         // The range's own column options: cells to 1e-5, at most 8192.
-        let alone = json(&[
-            "attractors",
-            "--kappa",
-            "18.95",
-            "--gamma",
-            "6.5",
-            "--nu",
-            "1e-3",
+        let alone = fig3b(&[
             "--theta-nu",
             &v.to_string(),
             "--resolution",
             "1e-5",
             "--max-cells",
             "8192",
-            "--json",
         ]);
         let (a, b) = (
             c["attractors"].as_array().unwrap(),

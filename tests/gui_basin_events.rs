@@ -3,6 +3,7 @@
 //! command line prints for the same columns, with the same values, and a
 //! hover over an event's mark or over a basin explains it in one sentence.
 #![cfg(feature = "gui")]
+#![allow(clippy::unwrap_used)]
 
 use crate::cli_support::*;
 use crate::window;
@@ -43,14 +44,9 @@ fn until_events(h: &mut Harness<'static, Explorer>) {
     panic!("the Basins job sent no events");
 }
 
-#[test]
-fn the_window_marks_the_events_the_command_line_prints_and_explains_them() {
-    let rec = Recorder::new();
-    let mut h = window::harness_on_lanes(&rec, hysteresis_basins(), &[Lane::Basins]);
-    until_events(&mut h);
-    let d = h.state().jobs.basins.data.clone();
-    let events = d.events.clone().expect("events");
-    // The command line over the same columns.
+/// The events `attractors --param` prints over θν 1.35–1.43 at the
+/// hysteresis preset in 48 columns, and its JSON.
+fn cli_events() -> Value {
     let o = oneblock(&[
         "attractors",
         "--preset",
@@ -66,20 +62,32 @@ fn the_window_marks_the_events_the_command_line_prints_and_explains_them() {
         "--json",
     ]);
     assert_ok(&o);
-    let j: Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let cli = j["events"].as_array().unwrap();
-    assert_eq!(
-        events.events.len(),
-        cli.len(),
-        "{:?}\n{cli:?}",
-        events.events
-    );
-    assert_eq!(cli.len(), 3, "{cli:?}");
-    for (w, c) in events.events.iter().zip(cli) {
+    serde_json::from_str(&stdout(&o)).unwrap()
+}
+
+/// The window's events are the command line's: the same causes, the
+/// same values to 1e-12.
+fn assert_same_events(window: &[oneblock::sim::attractors::events::Event], cli: &[Value]) {
+    assert_eq!(window.len(), cli.len(), "{window:?}\n{cli:?}");
+    for (w, c) in window.iter().zip(cli) {
         assert_eq!(w.cause.name(), c["cause"], "{w:?}");
         let v = c["value"].as_f64().unwrap();
         assert!((w.value - v).abs() <= 1e-12 * v.abs(), "{} vs {v}", w.value);
     }
+}
+
+#[test]
+fn the_window_marks_the_events_the_command_line_prints_and_explains_them() {
+    let rec = Recorder::new();
+    let mut h = window::harness_on_lanes(&rec, hysteresis_basins(), &[Lane::Basins]);
+    until_events(&mut h);
+    let d = h.state().jobs.basins.data.clone();
+    let events = d.events.clone().expect("events");
+    // The command line over the same columns.
+    let j = cli_events();
+    let cli = j["events"].as_array().unwrap();
+    assert_eq!(cli.len(), 3, "{cli:?}");
+    assert_same_events(&events.events, cli);
     assert_eq!(d.ids.tracks.len(), j["tracks"].as_array().unwrap().len());
     // Each event's mark is in the legend, and hovering its line on the
     // basins plot shows its sentence.
@@ -161,29 +169,8 @@ fn the_bifurcation_diagram_marks_the_same_births_and_deaths() {
     let d = h.state().jobs.basins.data.clone();
     assert_eq!((d.from, d.to), (1.35, 1.43), "over the diagram's range");
     let events = d.events.clone().expect("events");
-    let o = oneblock(&[
-        "attractors",
-        "--preset",
-        "hysteresis",
-        "--param",
-        "theta-nu",
-        "--from",
-        "1.35",
-        "--to",
-        "1.43",
-        "--columns",
-        "48",
-        "--json",
-    ]);
-    assert_ok(&o);
-    let j: Value = serde_json::from_str(&stdout(&o)).unwrap();
-    let cli = j["events"].as_array().unwrap();
-    assert_eq!(events.events.len(), cli.len(), "{:?}", events.events);
-    for (w, c) in events.events.iter().zip(cli) {
-        assert_eq!(w.cause.name(), c["cause"]);
-        let v = c["value"].as_f64().unwrap();
-        assert!((w.value - v).abs() <= 1e-12 * v.abs(), "{} vs {v}", w.value);
-    }
+    let j = cli_events();
+    assert_same_events(&events.events, j["events"].as_array().unwrap());
     // The legend names the causes; a hover on the fold's line reads it.
     h.run_steps(3);
     assert!(h.query_by_label("fold").is_some() && h.query_by_label("flip").is_some());

@@ -12,6 +12,7 @@
 mod branch;
 mod cascade;
 mod curve;
+mod curve_types;
 mod curves;
 mod flip;
 mod pace;
