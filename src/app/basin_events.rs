@@ -237,7 +237,8 @@ pub fn diagram_legend_ui(ui: &mut Ui, jobs: &Jobs) {
         None if jobs.basins.state == JobState::Running => {
             let done = d.columns.iter().flatten().count();
             ui.weak(format!(
-                "births & deaths: every attractor of {done} of {} columns found, then located",
+                "births & deaths: finding every attractor ({done} of {} columns), then locating \
+                 the events",
                 d.columns.len()
             ));
         }

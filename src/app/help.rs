@@ -21,6 +21,25 @@ const BASINS_HELP: &str = "Every attractor of the map and its basin, at each pul
      (oneblock attractors --param); hover a mark or a basin to read it in a sentence. \
      Drag a box to zoom; click a column to list its attractors.";
 
+/// The Bifurcation view's paragraph.
+const BIFURCATION_HELP: &str = "A bifurcation diagram: for each pull direction θν (one column), the slip onsets θ \
+     the orbit settles on after a transient. One point per column is a stable fixed \
+     point (one slip repeating), two a period-2 cycle, and so on; a smear is chaos. \
+     Each column starts from its neighbour's last onset, so the diagram follows one \
+     attractor. The strip under it is the Lyapunov exponent λ of each column: below 0 \
+     the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos. With every \
+     attractor on, the exit arc's cell graph shows the other attractors too \
+     (magenta), where two coexist (hysteresis). Births & deaths (a θν diagram) marks \
+     where each attractor is born or dies, and why (fold, flip, border collision, \
+     crisis), located to 1e-8 by the Basins job over the diagram's range: the events \
+     oneblock attractors --param theta-nu prints for the same columns, each a dashed \
+     line with its mark at the top, named in the legend and read in a sentence on \
+     hover. Find bifurcations marks each doubling \
+     supercritical (a stable cycle of twice the period is born) or subcritical (an \
+     unstable one: the attractor jumps), and lists a cascade's ratios δ_n, which tend \
+     to Feigenbaum's 4.669. \"Diagram in\" varies κ, γ, ν or Ω instead of θν, the \
+     others held at the sliders' values (κ, ν and Ω on a log axis).";
+
 /// What view `v` shows and how it is computed, in one paragraph.
 pub fn view_help(v: ViewKind) -> &'static str {
     match v {
@@ -39,25 +58,7 @@ pub fn view_help(v: ViewKind) -> &'static str {
              hundreds to thousands of time units, are fast-forwarded, and the slips play at the \
              chosen speed."
         }
-        ViewKind::Bifurcation => {
-            "A bifurcation diagram: for each pull direction θν (one column), the slip onsets θ \
-             the orbit settles on after a transient. One point per column is a stable fixed \
-             point (one slip repeating), two a period-2 cycle, and so on; a smear is chaos. \
-             Each column starts from its neighbour's last onset, so the diagram follows one \
-             attractor. The strip under it is the Lyapunov exponent λ of each column: below 0 \
-             the orbit is periodic, λ = 0 where a period doubles, above 0 in chaos. With every \
-             attractor on, the exit arc's cell graph shows the other attractors too \
-             (magenta), where two coexist (hysteresis). Births & deaths (a θν diagram) marks \
-             where each attractor is born or dies, and why (fold, flip, border collision, \
-             crisis), located to 1e-8 by the Basins job over the diagram's range: the events \
-             oneblock attractors --param theta-nu prints for the same columns, each a dashed \
-             line with its mark at the top, named in the legend and read in a sentence on \
-             hover. Find bifurcations marks each doubling \
-             supercritical (a stable cycle of twice the period is born) or subcritical (an \
-             unstable one: the attractor jumps), and lists a cascade's ratios δ_n, which tend \
-             to Feigenbaum's 4.669. \"Diagram in\" varies κ, γ, ν or Ω instead of θν, the \
-             others held at the sliders' values (κ, ν and Ω on a log axis)."
-        }
+        ViewKind::Bifurcation => BIFURCATION_HELP,
         ViewKind::ReturnMap => {
             "The return map θ' = f(θ): where the next slip starts as a function of where this \
              one started, computed by integrating one stick-slip cycle per point. The orbit's \
