@@ -54,7 +54,9 @@ fn basins_beside_a_steep_repelling_fixed_point_hold() {
     let left = atts
         .iter()
         .position(|a| (a["points"][0].as_f64().unwrap() - 0.3664).abs() < 1e-3)
-        .expect("the fixed point 0.3664") as u64;
+        .expect("the fixed point 0.3664");
+    // The basins name an attractor by its id (the text's #1, #2, …).
+    let left = atts[left]["id"].as_u64().unwrap();
     assert!(v["boundary_fraction"].as_f64().unwrap() < 0.02, "{v}");
     let p = Params {
         kappa: 3.0,

@@ -74,20 +74,12 @@ impl Explorer {
             }
             Action::SetParam(p, x) => self.set_param(p, x),
             Action::SetPoint { theta_nu, kappa } => self.set_point(theta_nu, kappa),
-            Action::RunWorkPrecision => self.jobs.start_work_precision(&self.settings),
-            Action::StopWorkPrecision => self.jobs.stop_work_precision(),
-            Action::ComputePhase => self.jobs.compute_phase(&self.settings),
-            Action::StopPhase => self.jobs.stop_phase(),
-            Action::FindBifurcations => {
-                let zoom = self.views.bifurcation.theta_nu_range();
-                let range = super::jobs::continuation_range(&self.settings, zoom);
-                self.jobs.find_bifurcations(&self.settings, range);
+            Action::Start(kind) => {
+                let shown = self.shown();
+                self.jobs.start(kind, &self.settings, &shown);
             }
-            Action::StopBifurcations => self.jobs.stop_bifurcations(),
+            Action::Stop(kind) => self.jobs.stop(kind),
             Action::Passage(near) => self.jobs.start_passage(self.settings.params, near),
-            Action::Scan => self.jobs.start_scan(self.settings.params),
-            Action::Boundaries => self.jobs.compute_boundaries(&self.settings),
-            Action::StopBoundaries => self.jobs.stop_boundaries(),
         }
     }
 

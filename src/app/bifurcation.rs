@@ -23,7 +23,7 @@ use super::diagram_lines::{Lines, lines_legend_ui};
 use super::diagram_marks;
 pub use super::diagram_raster::{OTHER_ATTRACTOR, auto_theta_range, rasterise};
 use super::jobs::basins::BasinsData;
-use super::jobs::{JobState, Jobs, Slot};
+use super::jobs::{JobKind, JobState, Jobs, Slot};
 use super::pinch::{Pinch, PinchEnd};
 use super::settings::{Settings, ViewKind};
 use super::style;
@@ -456,7 +456,7 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>)
             .on_hover_text("Stop following the branches (those found so far stay)")
             .clicked()
         {
-            out.push(Action::StopBifurcations);
+            out.push(Action::Stop(JobKind::Branches));
         }
     } else if ui
         .button("Find bifurcations")
@@ -468,7 +468,7 @@ fn find_button_ui(ui: &mut Ui, jobs: &Jobs, symbol: &str, out: &mut Vec<Action>)
         ))
         .clicked()
     {
-        out.push(Action::FindBifurcations);
+        out.push(Action::Start(JobKind::Branches));
     }
 }
 

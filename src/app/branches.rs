@@ -4,7 +4,9 @@
 //! points as table rows, the CSV line a row copies, numbers to 9
 //! significant digits, and which marker or branch point the pointer is on.
 
+use super::jobs::Receive;
 use crate::sim::continuation::{Branch, ContParam, Curve, SpecialKind, SpecialPoint};
+use crate::worker::Update;
 
 /// The branches of a "Find bifurcations" job, in the order they ended.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -261,5 +263,28 @@ mod tests {
         assert_eq!(r[0].points, [[1.0, 0.3], [1.1, 0.4], [1.2, 0.5]]);
         assert_eq!(r[1].points, [[1.2, 0.5], [1.3, 3.1]]);
         assert_eq!(r[2].points, [[1.4, -3.1]]);
+    }
+}
+
+impl Receive for BranchData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Branch { branch, .. } => self.branches.push(branch),
+            Update::Cascade { cascade, .. } => self.doublings = cascade.doublings,
+            u => return Some(u),
+        }
+        None
+    }
+}
+
+impl Receive for CurveData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Curve { curve, .. } => {
+                self.curves.push(curve);
+                None
+            }
+            u => Some(u),
+        }
     }
 }

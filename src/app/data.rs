@@ -4,11 +4,13 @@
 //! are in `phase_data`). Which job is current, and its state, is the job
 //! model's (`jobs`).
 
+use super::jobs::Receive;
 use crate::model::Params;
 use crate::numerics::{Row, Subject};
 use crate::sim::column_lyapunov::ColumnLyapunov;
 use crate::sim::continuation::ContParam;
 use crate::sim::{Period, Sample, SlipEvent};
+use crate::worker::Update;
 
 /// The most samples and events kept (a rolling window: an endless
 /// trajectory keeps the newest; the view shows the last cycles only).
@@ -199,4 +201,60 @@ pub fn load_average() -> Option<(f64, usize)> {
     let l: f64 = text.split_whitespace().next()?.parse().ok()?;
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     l.is_finite().then_some((l, cores))
+}
+
+impl Receive for SweepData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Column {
+                index,
+                value,
+                thetas,
+                coarse,
+                lyapunov,
+                attractor,
+                uncounted,
+                ..
+            } => {
+                let column = Column {
+                    value,
+                    thetas,
+                    coarse,
+                    lyapunov,
+                    attractor,
+                    uncounted,
+                };
+                self.insert(index, column);
+                None
+            }
+            u => Some(u),
+        }
+    }
+}
+
+impl Receive for WorkPrecisionData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::WorkPrecisionSample {
+                points,
+                reference_spread,
+                ..
+            } => {
+                self.points = points;
+                self.reference_spread = Some(reference_spread);
+            }
+            Update::WorkPrecisionRow { total, row, .. } => {
+                self.total = total;
+                self.rows.push(row);
+            }
+            Update::WorkPrecisionSkipped {
+                total,
+                subject,
+                reason,
+                ..
+            } => self.skip(total, subject, &reason),
+            u => return Some(u),
+        }
+        None
+    }
 }

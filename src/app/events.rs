@@ -11,7 +11,7 @@ use eframe::egui;
 use egui::Ui;
 
 use super::events_plots::Plots;
-use super::jobs::{JobState, Jobs};
+use super::jobs::{JobKind, JobState, Jobs};
 use super::settings::{EventsPlot, Settings, SlipMeasure, ViewKind};
 use super::style;
 use super::view::{Action, View};
@@ -57,7 +57,7 @@ pub struct EventsView {
 
 impl EventsView {
     /// The scan's button and its outcome in words. The scan is a job of
-    /// its own ([`Action::Scan`]): in the browser it runs within the
+    /// its own ([`Action::Start`]): in the browser it runs within the
     /// frames' slices like every job.
     fn scaling_row_ui(ui: &mut Ui, params: &Params, jobs: &Jobs, out: &mut Vec<Action>) {
         let scan = &jobs.scan;
@@ -77,7 +77,7 @@ impl EventsView {
                 )
                 .clicked()
             {
-                out.push(Action::Scan);
+                out.push(Action::Start(JobKind::Scan));
             }
             match (scan.answer(params), &scan.state) {
                 (Some(sc), _) => {

@@ -15,7 +15,6 @@ use egui::{Context, Rect, Ui};
 use super::backend::Backend;
 use super::controls::Controls;
 use super::frame_stats::FrameStats;
-use super::jobs::policy::{ORBIT_DEBOUNCE, SWEEP_DEBOUNCE};
 use super::jobs::{Jobs, Shown};
 use super::play::{Play, Tick};
 use super::screenshot::Shots;
@@ -142,16 +141,20 @@ impl Explorer {
         self.controls.software_gl = software;
     }
 
+    /// What the window shows that decides which jobs run.
+    pub(super) fn shown(&self) -> Shown {
+        Shown {
+            now: self.now,
+            sweep_zoom: self.views.bifurcation.theta_nu_range(),
+            phase: self.settings.shows(ViewKind::Phase),
+        }
+    }
+
     /// Hands the settings to the job model: whatever they now call for
     /// starts, or waits for its debounce.
     pub fn sync_jobs(&mut self, ctx: &Context) {
         self.jobs.playing = self.play.on;
-        let shown = Shown {
-            now: self.now,
-            sweep_zoom: self.views.bifurcation.theta_nu_range(),
-            phase: self.settings.shows(ViewKind::Phase),
-        };
-        let out = self.jobs.sync(&self.settings, shown);
+        let out = self.jobs.sync(&self.settings, self.shown());
         if out.zoom_stale {
             self.views.bifurcation.zoom.clear();
             self.views.bifurcation.invalidate();
@@ -193,7 +196,8 @@ impl Explorer {
 
     /// Sends everything pending now (tests; the end of a scripted wait).
     pub fn flush(&mut self, ctx: &Context) {
-        self.now += SWEEP_DEBOUNCE + ORBIT_DEBOUNCE;
+        self.now +=
+            super::jobs::JobKind::Sweep.debounce() + super::jobs::JobKind::Trajectory.debounce();
         self.sync_jobs(ctx);
     }
 

@@ -77,17 +77,19 @@ pub fn in_use(rows: &[Row], s: &Settings, y_evals: bool) -> Vec<(JobKind, [f64; 
         .collect()
 }
 
+/// The job table's marker of `job`, as egui draws it.
 fn job_marker(job: JobKind) -> MarkerShape {
-    match job {
-        JobKind::Trajectory => MarkerShape::Square,
-        JobKind::Sweep => MarkerShape::Diamond,
-        JobKind::Iterate => MarkerShape::Circle,
-        JobKind::Phase => MarkerShape::Up,
-        JobKind::Numerics => MarkerShape::Cross,
-        JobKind::Branches => MarkerShape::Down,
-        JobKind::Curves => MarkerShape::Left,
-        JobKind::Passage => MarkerShape::Right,
-        JobKind::Scan | JobKind::Basins | JobKind::MapBasins => MarkerShape::Asterisk,
+    use crate::jobs::Marker;
+    match job.marker() {
+        Marker::Square => MarkerShape::Square,
+        Marker::Diamond => MarkerShape::Diamond,
+        Marker::Circle => MarkerShape::Circle,
+        Marker::Up => MarkerShape::Up,
+        Marker::Cross => MarkerShape::Cross,
+        Marker::Down => MarkerShape::Down,
+        Marker::Left => MarkerShape::Left,
+        Marker::Right => MarkerShape::Right,
+        Marker::Asterisk => MarkerShape::Asterisk,
     }
 }
 
@@ -135,14 +137,14 @@ impl NumericsView {
                      attractor, on the worker (the views keep running)."
                 ));
             if r.clicked() {
-                out.push(Action::RunWorkPrecision);
+                out.push(Action::Start(JobKind::Numerics));
             }
             if ui
                 .add_enabled(running, egui::Button::new("Stop"))
                 .on_hover_text("Stop the measurement; the rows so far stay.")
                 .clicked()
             {
-                out.push(Action::StopWorkPrecision);
+                out.push(Action::Stop(JobKind::Numerics));
             }
             if run.issued() {
                 let (done, total) = (run.data.done(), run.data.total);

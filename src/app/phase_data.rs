@@ -2,6 +2,8 @@
 //! requested grid (row-major, row 0 = the lowest κ), filled as batches of
 //! cells arrive.
 
+use super::jobs::Receive;
+use crate::worker::Update;
 use std::collections::HashMap;
 
 use crate::sim::phase::PhaseCell;
@@ -99,5 +101,17 @@ impl PhaseData {
     /// Whether every cell has arrived.
     pub fn complete(&self) -> bool {
         self.rows * self.columns > 0 && self.filled == self.rows * self.columns
+    }
+}
+
+impl Receive for PhaseData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::PhaseCells { cells, coarse, .. } => {
+                self.insert(cells, coarse);
+                None
+            }
+            u => Some(u),
+        }
     }
 }

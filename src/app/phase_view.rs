@@ -16,7 +16,7 @@ use egui_plot::{
 };
 
 use super::axes::{self, AxisSpec};
-use super::jobs::{JobState, Jobs};
+use super::jobs::{JobKind, JobState, Jobs};
 use super::phase_attractors;
 use super::phase_data::PhaseData;
 pub use super::phase_raster::{PROVISIONAL_ALPHA, cell_at, class_colour, rasterise};
@@ -319,7 +319,7 @@ fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
             .on_hover_text("Stop following the doubling curves (those found stay)")
             .clicked()
         {
-            out.push(Action::StopBoundaries);
+            out.push(Action::Stop(JobKind::Curves));
         }
     } else if ui
         .button("Boundaries")
@@ -330,7 +330,7 @@ fn boundaries_button_ui(ui: &mut Ui, jobs: &Jobs, out: &mut Vec<Action>) {
         )
         .clicked()
     {
-        out.push(Action::Boundaries);
+        out.push(Action::Start(JobKind::Curves));
     }
 }
 
@@ -410,7 +410,7 @@ fn compute_button_ui(ui: &mut Ui, running: bool, out: &mut Vec<Action>) {
             .on_hover_text("Stop computing this grid")
             .clicked()
         {
-            out.push(Action::StopPhase);
+            out.push(Action::Stop(JobKind::Phase));
         }
     } else if ui
         .button("Compute")
@@ -420,7 +420,7 @@ fn compute_button_ui(ui: &mut Ui, running: bool, out: &mut Vec<Action>) {
         )
         .clicked()
     {
-        out.push(Action::ComputePhase);
+        out.push(Action::Start(JobKind::Phase));
     }
 }
 

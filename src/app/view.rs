@@ -6,7 +6,7 @@
 
 use eframe::egui;
 
-use super::jobs::Jobs;
+use super::jobs::{JobKind, Jobs};
 use super::settings::{Settings, ViewKind};
 
 /// What to export as CSV.
@@ -56,28 +56,15 @@ pub enum Action {
     SetParam(crate::sim::continuation::ContParam, f64),
     /// Move θν and κ (a click on the phase diagram).
     SetPoint { theta_nu: f64, kappa: f64 },
-    /// Measure work against precision on the current parameters.
-    RunWorkPrecision,
-    /// Stop that measurement.
-    StopWorkPrecision,
-    /// Compute the phase grid now, even if its view is then hidden.
-    ComputePhase,
-    /// Stop the phase grid.
-    StopPhase,
-    /// Follow the attractor's cycle and its cascade over the bifurcation
-    /// diagram's θν range, locating doublings, folds and borders.
-    FindBifurcations,
-    /// Stop that.
-    StopBifurcations,
+    /// Start a job of this kind now, for the settings on screen (the
+    /// buttons: Measure, Compute, Find bifurcations, Boundaries, Scan; how
+    /// each starts is its line of the window's slot table).
+    Start(JobKind),
+    /// Stop the job of this kind; what it found so far stays.
+    Stop(JobKind),
     /// The creep channel's passage time through the channel holding this
     /// creep onset, for the parameters on screen (the Events view).
     Passage(f64),
-    /// Locate a tangency near θν and measure the laminar lengths near it.
-    Scan,
-    /// Follow the doubling curves (FP→P2, P2→P4) over the phase diagram.
-    Boundaries,
-    /// Stop that.
-    StopBoundaries,
 }
 
 /// One view of the window.

@@ -18,7 +18,7 @@ use crate::jobs::{
     TrajectorySpec, Update, WorkPrecisionSpec,
 };
 use crate::model::Params;
-use crate::numerics::budget::{Accuracy, budget_for};
+use crate::numerics::budget::budget_for;
 use crate::numerics::quick::{
     QUICK_POINTS, QUICK_TIME_PER_SETTING, QUICK_TRANSIENT, quick_subjects,
 };
@@ -47,17 +47,10 @@ pub struct Pieces {
 /// The solver the window's Auto accuracy picks for `kind` (the Events
 /// view's own, dop853 at 1e-8, for its jobs; none for work-precision).
 fn window_settings(kind: Kind) -> SolverSettings {
-    let accuracy = match kind {
-        Kind::Trajectory => Accuracy::TrajectoryView,
-        Kind::Sweep => Accuracy::BifurcationDiagram,
-        Kind::Iterate | Kind::Basins | Kind::MapBasins => Accuracy::ReturnMap,
-        Kind::Phase => Accuracy::PhaseDiagram,
-        Kind::Branches | Kind::Curves => Accuracy::CommandLine,
-        Kind::Numerics | Kind::Passage | Kind::Scan => {
-            return SolverSettings::adaptive(Method::Dop853, 1e-8);
-        }
-    };
-    budget_for(accuracy.target()).settings
+    match kind.accuracy() {
+        Some(accuracy) => budget_for(accuracy.target()).settings,
+        None => SolverSettings::adaptive(Method::Dop853, 1e-8),
+    }
 }
 
 /// The Events view's preset: κ = 50, θν = 1.4.

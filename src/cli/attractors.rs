@@ -204,10 +204,11 @@ fn verdict(v: &Verdict) -> (&'static str, Option<&str>) {
     }
 }
 
-/// `{"params", "solver", "attractors": [{"period", "points", "multiplier", "lyapunov",
+/// `{"params", "solver", "attractors": [{"id", "period", "points", "multiplier", "lyapunov",
 /// "lyapunov_stderr", "lyapunov_from_density", "lyapunov_density_error",
 /// "density", "basin_fraction", "min_kick", "min_kick_width",
-/// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …],
+/// "verdict", "reason"}, …], "basins": [{"from", "to", "attractor"}, …]
+/// (`attractor` an attractor's `id`, numbered from 1 as the text's `#1`),
 /// "boundary_fraction", "unenclosed_fraction", "resolution":
 /// {"cell_width", "widest_cell", "epsilon", "cells", "budget_hit",
 /// "nodes_capped"}}`.
@@ -220,6 +221,7 @@ fn json(found: &Found, params: &crate::model::Params, settings: &crate::SolverSe
             let (word, why) = verdict(&a.verdict);
             let kick = found.min_kick(i);
             serde_json::json!({
+                "id": i + 1,
                 "period": a.period,
                 "points": a.points,
                 "multiplier": a.multiplier,
@@ -241,7 +243,7 @@ fn json(found: &Found, params: &crate::model::Params, settings: &crate::SolverSe
     let basins: Vec<_> = found
         .basins
         .iter()
-        .map(|b| serde_json::json!({"from": b.from, "to": b.to, "attractor": b.attractor}))
+        .map(|b| serde_json::json!({"from": b.from, "to": b.to, "attractor": b.attractor.map(|k| k + 1)}))
         .collect();
     let r = &found.resolution;
     format!(

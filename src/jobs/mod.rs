@@ -24,6 +24,7 @@
 
 pub mod basins;
 mod continuation;
+mod depends;
 mod events;
 mod iterate;
 mod kinds;
@@ -42,9 +43,8 @@ mod sweep;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-pub use basins::{BasinsSpec, MapBasinsSpec};
-pub use events::{PassageSpec, ScanSpec};
-pub use kinds::{Kind, Lane, NewParams, OnParams, Rerun, Spec};
+pub use depends::{Bound, Depends, ParamsKey};
+pub use kinds::*;
 pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
@@ -52,9 +52,8 @@ pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
 pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
 pub use protocol::BasinColumn;
 pub use protocol::{
-    Axis, BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Generation, GivenCycle,
-    GridCell, IterateOptions, IterateSpec, ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome,
-    PhaseSpec, PhaseTuning, SweepSpec, Timing, TrajectorySpec, Update, WorkPrecisionSpec,
+    Axis, CascadeFrom, CurveFollow, Generation, GivenCycle, GridCell, IterateOptions,
+    ListedAttractor, MAX_GRAPH_POWER, MAX_LISTED, Outcome, PhaseTuning, Timing, Update,
 };
 
 use crate::sim::{LANES, SimError};

@@ -148,19 +148,19 @@ pub enum Update {
         /// Whether these cells belong to the first, coarse lattice.
         coarse: bool,
     },
-    /// One continued branch of a `FindBifurcations` job (the first one
+    /// One continued branch of a `Branches` job (the first one
     /// over the whole range, then each level of the cascade).
     Branch {
         generation: Generation,
         branch: Branch,
     },
     /// A period doubling, fold, border or jump of the first branch of a
-    /// `FindBifurcations` job, as it is located (before its branch ends).
+    /// `Branches` job, as it is located (before its branch ends).
     Special {
         generation: Generation,
         point: SpecialPoint,
     },
-    /// The cascade of a `FindBifurcations` job that followed one, once it
+    /// The cascade of a `Branches` job that followed one, once it
     /// ends: its levels (also sent one by one as `Branch`), its doublings,
     /// and why it ended.
     Cascade {
@@ -168,7 +168,7 @@ pub enum Update {
         cascade: Cascade,
     },
     /// One bifurcation curve of a `Boundaries` job, or of a
-    /// `FindBifurcations` job with curves.
+    /// `Branches` job with curves.
     Curve {
         generation: Generation,
         curve: Curve,

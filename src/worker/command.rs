@@ -18,14 +18,17 @@ pub enum Command {
         spec: Spec,
     },
     /// A new parameter set (κ, γ, ν, θν, Ω, and optionally the solver):
-    /// each lane's latest job does what its kind says of new parameters
-    /// ([`Spec::on_params`]): a trajectory, iterates, a sweep and the
-    /// Basins diagram run again under `generation`, superseding whatever
-    /// runs (a sweep keeps its θν range; a phase grid keeps both ranges and
-    /// runs again only if γ, ν, Ω or the solver changed, and not after its
-    /// lane was cancelled); a running continuation, curves, passage, scan
-    /// or map-basins job is cancelled (answered by `Cancelled` for its
-    /// lane); the numerics lane is left alone. `settings: None` keeps each
+    /// each lane's latest job whose result depends on what changed (the
+    /// job table's `depends`, the window's rule too) does what its kind
+    /// says of new parameters ([`Spec::on_params`]): a trajectory, iterates,
+    /// a sweep and the Basins diagram run again under `generation`,
+    /// superseding whatever runs (a sweep and the Basins diagram keep their
+    /// range and ignore a change of the parameter they vary; a phase grid
+    /// keeps both ranges and runs again only if γ, ν, Ω or the solver
+    /// changed, and not after its lane was cancelled); a running
+    /// continuation, curves, passage, scan or map-basins job is cancelled
+    /// (answered by `Cancelled` for its lane); the numerics lane is left
+    /// alone. `settings: None` keeps each
     /// job's own solver settings, which is what a front end that gives each
     /// kind of job its own accuracy wants; `Some` sets them all. A lane that
     /// has had no job stays idle; invalid values are reported by the re-run

@@ -6,7 +6,7 @@
 
 use std::time::Duration;
 
-use super::super::jobs::{JobState, Jobs, Shown};
+use super::super::jobs::{JobKind, JobState, Jobs, Shown};
 use super::super::settings::{Layout, Settings, ViewKind};
 use super::Figure;
 use crate::jobs::{Lane, Shape};
@@ -24,7 +24,7 @@ const ROUND_SECONDS: f64 = 10.0;
 /// The lanes a figure's data comes from (every other lane's jobs are not
 /// run): its view's, and its overlays'.
 fn lanes(fig: &Figure) -> Vec<Lane> {
-    let mut l = view_lanes(fig.view).to_vec();
+    let mut l = view_lanes(fig.view);
     if fig.overlays.branches {
         l.push(Lane::Continuation);
     }
@@ -34,18 +34,19 @@ fn lanes(fig: &Figure) -> Vec<Lane> {
     l
 }
 
-/// The lanes a view's data comes from.
-fn view_lanes(view: ViewKind) -> &'static [Lane] {
-    match view {
-        ViewKind::Plane | ViewKind::Block | ViewKind::Events | ViewKind::TimeSeries => {
-            &[Lane::Orbit]
+/// The lanes a view's data comes from: those of the kinds that feed it
+/// (the window's slot table).
+fn view_lanes(view: ViewKind) -> Vec<Lane> {
+    let mut lanes = Vec::new();
+    for k in JobKind::ALL
+        .into_iter()
+        .filter(|k| k.feeds().contains(&view))
+    {
+        if !lanes.contains(&k.lane()) {
+            lanes.push(k.lane());
         }
-        ViewKind::ReturnMap => &[Lane::Orbit, Lane::MapBasins],
-        ViewKind::Basins => &[Lane::Basins],
-        ViewKind::Bifurcation => &[Lane::Sweep],
-        ViewKind::Phase => &[Lane::Phase],
-        ViewKind::Numerics => &[Lane::Orbit, Lane::Numerics],
     }
+    lanes
 }
 
 /// The states of the jobs `fig` draws from: its view's and its overlays'.

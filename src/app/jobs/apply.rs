@@ -3,7 +3,6 @@
 //! job like every other), or is dropped as stale.
 
 use super::{JobKind, JobState, Jobs, LaneProgress, NO_GENERATION, SlotHead};
-use crate::app::data::Column;
 use crate::worker::{Generation, Outcome, Update};
 
 /// The most updates taken from the worker in one frame.
@@ -76,78 +75,14 @@ impl Jobs {
             return;
         };
         match u {
-            Update::Column {
-                index,
-                value,
-                thetas,
-                coarse,
-                lyapunov,
-                attractor,
-                uncounted,
-                ..
-            } if job == JobKind::Sweep => {
-                let column = Column {
-                    value,
-                    thetas,
-                    coarse,
-                    lyapunov,
-                    attractor,
-                    uncounted,
-                };
-                self.sweep.data.insert(index, column);
-            }
-            Update::PhaseCells { cells, coarse, .. } if job == JobKind::Phase => {
-                self.phase.data.insert(cells, coarse);
-            }
-            Update::Branch { branch, .. } if job == JobKind::Branches => {
-                self.branches.data.branches.push(branch);
-            }
-            Update::Cascade { cascade, .. } if job == JobKind::Branches => {
-                self.branches.data.doublings = cascade.doublings;
-            }
-            Update::Curve { curve, .. } if job == JobKind::Curves => {
-                self.curves.data.curves.push(curve);
-            }
-            Update::Passage { passage, .. } if job == JobKind::Passage => {
-                self.passage.data.value = Some(passage);
-            }
-            Update::Scan { scaling, .. } if job == JobKind::Scan => {
-                self.scan.data.value = Some(scaling);
-            }
-            Update::Basins { column, .. } if job == JobKind::Basins => {
-                self.basins.data.insert(*column);
-            }
-            Update::BasinEvents { events, .. } if job == JobKind::Basins => {
-                self.basins.data.take_events(*events);
-            }
-            Update::Basins { column, .. } if job == JobKind::MapBasins => {
-                self.map_basins.data.found = Some(column.found);
-            }
             Update::Summary { text, .. } => {
                 self.slot_mut(job).summary = Some(text);
             }
-            Update::WorkPrecisionSample {
-                points,
-                reference_spread,
-                ..
-            } if job == JobKind::Numerics => {
-                self.numerics.data.points = points;
-                self.numerics.data.reference_spread = Some(reference_spread);
+            // Its data's own variants; an update of the right generation
+            // but another kind's is dropped.
+            u => {
+                let _ = self.slots.receive(job, u);
             }
-            Update::WorkPrecisionRow { total, row, .. } if job == JobKind::Numerics => {
-                self.numerics.data.total = total;
-                self.numerics.data.rows.push(row);
-            }
-            Update::WorkPrecisionSkipped {
-                total,
-                subject,
-                reason,
-                ..
-            } if job == JobKind::Numerics => {
-                self.numerics.data.skip(total, subject, &reason);
-            }
-            // An update of the right generation but the wrong kind.
-            _ => {}
         }
     }
 
@@ -356,7 +291,7 @@ mod tests {
         assert!(matches!(jobs.numerics.state, JobState::Failed(_)));
         assert_eq!(jobs.last_error, None);
         // Stopped: anything later of the stopped run is dropped.
-        jobs.stop_work_precision();
+        jobs.stop(JobKind::Numerics);
         assert!(!jobs.apply(Update::WorkPrecisionRow {
             generation: g,
             index: 1,

@@ -5,7 +5,7 @@
 //! while the return map is shown). Both run through the same backend as
 //! every job; a newer one on a lane supersedes the older.
 
-use super::policy::SWEEP_DEBOUNCE;
+use super::slots::Receive;
 use super::{JobKind, Jobs, Slot, SyncOutcome, solver};
 use crate::app::settings::{MAX_COLUMNS, MIN_COLUMNS};
 use crate::app::settings::{Settings, ViewKind};
@@ -16,6 +16,7 @@ use crate::sim::attractors::events::Events;
 use crate::sim::attractors::tracks::{Identities, identify};
 use crate::sim::attractors::{CellOptions, Found};
 use crate::worker::Command;
+use crate::worker::Update;
 
 /// The columns of a Basins diagram as they arrive, and the attractors'
 /// identities along θν.
@@ -168,15 +169,17 @@ pub struct BasinsSent {
     map_changed_at: Option<f64>,
 }
 
-/// Whether a change first seen at `*at` has waited its debounce by `now`
-/// (then it is forgotten); if not, `out` is told when to look again.
-fn settled(at: &mut Option<f64>, now: f64, out: &mut SyncOutcome) -> bool {
+/// Whether a change of what `kind` depends on, first seen at `*at`, has
+/// waited its debounce by `now` (then it is forgotten); if not, `out` is
+/// told when to look again.
+fn settled(kind: JobKind, at: &mut Option<f64>, now: f64, out: &mut SyncOutcome) -> bool {
     let since = now - *at.get_or_insert(now);
-    if since >= SWEEP_DEBOUNCE {
+    let debounce = kind.debounce();
+    if since >= debounce {
         *at = None;
         true
     } else {
-        out.wait(SWEEP_DEBOUNCE - since);
+        out.wait(debounce - since);
         false
     }
 }
@@ -239,7 +242,9 @@ impl Jobs {
                 None => self.restart_basins(s, key),
                 Some(sent) if sent != key => {
                     let view_only = sent.params == key.params && sent.solver == key.solver;
-                    if view_only || settled(&mut self.basins_sent.changed_at, now, out) {
+                    if view_only
+                        || settled(JobKind::Basins, &mut self.basins_sent.changed_at, now, out)
+                    {
                         self.restart_basins(s, key);
                     }
                 }
@@ -251,7 +256,13 @@ impl Jobs {
             match self.basins_sent.map {
                 None => self.restart_map_basins(s, want.1),
                 Some(sent)
-                    if sent != want && settled(&mut self.basins_sent.map_changed_at, now, out) =>
+                    if sent != want
+                        && settled(
+                            JobKind::MapBasins,
+                            &mut self.basins_sent.map_changed_at,
+                            now,
+                            out,
+                        ) =>
                 {
                     self.restart_map_basins(s, want.1);
                 }
@@ -268,5 +279,28 @@ impl Slot<MapBasinsData> {
             return None;
         }
         self.data.found.as_ref()?.as_ref().ok()
+    }
+}
+
+impl Receive for BasinsData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Basins { column, .. } => self.insert(*column),
+            Update::BasinEvents { events, .. } => self.take_events(*events),
+            u => return Some(u),
+        }
+        None
+    }
+}
+
+impl Receive for MapBasinsData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Basins { column, .. } => {
+                self.found = Some(column.found);
+                None
+            }
+            u => Some(u),
+        }
     }
 }

@@ -75,16 +75,6 @@ impl Jobs {
         self.bind(JobKind::Curves, s, diagram_range(s, None));
     }
 
-    /// Stops "Find bifurcations": the branches so far stay.
-    pub fn stop_bifurcations(&mut self) {
-        self.cancel_on(JobKind::Branches, "stopped");
-    }
-
-    /// Stops "Boundaries": the curves so far stay.
-    pub fn stop_boundaries(&mut self) {
-        self.cancel_on(JobKind::Curves, "stopped");
-    }
-
     /// Shows the results a session kept as computed for `s` (the
     /// session's own settings) over the diagram's θν range `diagram`, with
     /// their status lines: no job is sent. Each is bound to `s`, so the

@@ -5,12 +5,15 @@
 //! within its frame slice); new parameters stop them (`Spec::on_params`),
 //! and an answer is kept with the parameters it is for.
 
+use super::slots::Receive;
 use super::stale::Bound;
 use super::{Jobs, Slot};
 use crate::integrate::{Method, SolverSettings};
 use crate::jobs::{PassageSpec, ScanSpec, Spec};
 use crate::model::Params;
+use crate::sim::intermittency::{Passage, Scaling};
 use crate::worker::Command;
+use crate::worker::Update;
 
 /// The accuracy of the view's own map evaluations: slip onsets to ~1e-8.
 pub fn events_settings() -> SolverSettings {
@@ -90,5 +93,29 @@ impl Jobs {
             generation: g,
             spec: Spec::Scan(spec),
         });
+    }
+}
+
+impl Receive for Answer<Passage> {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Passage { passage, .. } => {
+                self.value = Some(passage);
+                None
+            }
+            u => Some(u),
+        }
+    }
+}
+
+impl Receive for Answer<Scaling> {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Scan { scaling, .. } => {
+                self.value = Some(scaling);
+                None
+            }
+            u => Some(u),
+        }
     }
 }

@@ -1,12 +1,12 @@
-//! The kinds of job the window runs, where each one's results are shown,
-//! and the solver setting each runs with: "model no more than a scene
+//! The solver setting each kind of job runs with (its accuracy, hover and
+//! marker are the job table's, `jobs::kinds`): "model no more than a scene
 //! needs". **Auto** gives each job the cheapest setting that the measured
 //! work-precision chart says meets the accuracy its view can show
 //! ([`budget_for`]); **Custom** runs every job with the method and
 //! tolerance (or step) the user picked.
 
 use crate::integrate::SolverSettings;
-use crate::numerics::{Accuracy, budget_for};
+use crate::numerics::budget_for;
 
 use super::super::settings::{AccuracyMode, Settings};
 
@@ -24,22 +24,6 @@ impl JobKind {
         JobKind::Phase,
     ];
 
-    /// The accuracy its view can show: a pixel of the (x, y) view; 1e-3 of
-    /// the diagram's θ range per pixel; 1e-10 for the map; 1e-8 for the
-    /// phase diagram's classes; the command line's 1e-10 for continuation
-    /// (its points are located to 1e-10). `None` for the work-precision job
-    /// and the Events view's (at dop853 1e-8 always: `events_settings`).
-    pub fn accuracy(self) -> Option<Accuracy> {
-        match self {
-            JobKind::Trajectory => Some(Accuracy::TrajectoryView),
-            JobKind::Sweep => Some(Accuracy::BifurcationDiagram),
-            JobKind::Iterate | JobKind::Basins | JobKind::MapBasins => Some(Accuracy::ReturnMap),
-            JobKind::Phase => Some(Accuracy::PhaseDiagram),
-            JobKind::Branches | JobKind::Curves => Some(Accuracy::CommandLine),
-            JobKind::Numerics | JobKind::Passage | JobKind::Scan => None,
-        }
-    }
-
     /// The solver setting it runs with: Auto's choice from the measured
     /// chart, or the user's Custom method and tolerance/step. `None` for
     /// the work-precision job.
@@ -49,46 +33,6 @@ impl JobKind {
             AccuracyMode::Auto => budget_for(accuracy.target()).settings,
             AccuracyMode::Custom => s.custom_solver(),
         })
-    }
-
-    /// What it feeds and why it needs that accuracy.
-    pub fn hover(self) -> &'static str {
-        match self {
-            JobKind::Trajectory => {
-                "The trajectory feeds the plane, the block and the event catalogue: \
-                 a map error of 1e-4 is about a pixel of the (x, y) view."
-            }
-            JobKind::Sweep => {
-                "The bifurcation sweep: 1e-3 of its θ range is about a pixel. \
-                 tests/work_precision.rs checks that this setting keeps every preset's \
-                 period and Lyapunov sign as at tol 1e-12."
-            }
-            JobKind::Iterate => {
-                "The map iterates feed the return map, the period and the Lyapunov \
-                 exponent: 1e-10, as the command line."
-            }
-            JobKind::Phase => {
-                "The phase diagram's cells: a class rests on the period test at \
-                 1e4·tol and on the Lyapunov sign, so the map error must stay well \
-                 below the period tolerance: 1e-8."
-            }
-            JobKind::Numerics => {
-                "The Numerics view's measurement runs every method against a \
-                 reference at tol 1e-14."
-            }
-            JobKind::Branches | JobKind::Curves => {
-                "Continuation locates doublings and folds to 1e-10 in the \
-                 parameter: the command line's accuracy, 1e-10."
-            }
-            JobKind::Basins | JobKind::MapBasins => {
-                "Attractors and basins from f's verified interpolant over the exit \
-                 arc (a cell graph): the map at 1e-10, as `oneblock attractors`."
-            }
-            JobKind::Passage | JobKind::Scan => {
-                "The Events view's channel passage and tangency scan evaluate \
-                 the map at dop853, tol 1e-8: slip onsets to about 1e-8."
-            }
-        }
     }
 }
 

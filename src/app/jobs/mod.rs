@@ -19,7 +19,7 @@ pub use continuation::{MAX_CASCADE_PERIOD, diagram_range as continuation_range};
 pub use events::{Answer, events_settings};
 pub use kind::JobKind;
 pub use policy::{PhaseKey, PhasePolicy, PhaseStep, SweepKey};
-pub use slots::{JobState, LaneProgress, Slot, SlotHead, Slots};
+pub use slots::{JobState, LaneProgress, Receive, Slot, SlotHead, Slots};
 
 use super::backend::Backend;
 use super::data::{IterateData, SweepData, WorkPrecisionData};
@@ -35,7 +35,7 @@ use crate::worker::{
     Axis, Command, Generation, IterateOptions, IterateSpec, Lane, PhaseSpec, PhaseTuning,
     SweepSpec, Timing, TrajectorySpec, WorkPrecisionSpec,
 };
-use policy::{ORBIT_DEBOUNCE, PLAY_CYCLES, PLAY_HOLD, PLAY_KEEP, SWEEP_DEBOUNCE};
+use policy::{PLAY_CYCLES, PLAY_HOLD, PLAY_KEEP};
 
 /// A generation never issued: a job that waits for its turn, or has never
 /// run.
@@ -386,17 +386,23 @@ impl Jobs {
         ));
     }
 
-    /// Stops the Numerics view's measurement: the rows so far stay,
-    /// anything later of the old job is dropped.
-    pub fn stop_work_precision(&mut self) {
+    /// Stops the job of `kind` (the Stop buttons): what it found so far
+    /// stays, anything later of it is dropped; a stopped phase grid stays
+    /// stopped until something it depends on changes.
+    pub fn stop(&mut self, kind: JobKind) {
+        if kind == JobKind::Phase {
+            self.phase_policy.stop();
+        }
         let g = self.generation();
-        self.numerics.generation = g;
-        if self.numerics.state == JobState::Running {
-            self.numerics.state = JobState::Cancelled;
+        let head = self.slot_mut(kind);
+        head.generation = g;
+        if head.state == JobState::Running {
+            head.state = JobState::Cancelled;
+            head.summary = Some("stopped".into());
         }
         self.send(Command::Cancel {
             generation: g,
-            lane: Some(Lane::Numerics),
+            lane: Some(kind.lane()),
         });
     }
 
@@ -450,12 +456,6 @@ impl Jobs {
         self.phase_policy.pinned = true;
     }
 
-    /// Stop: the grid stays stopped until something changes.
-    pub fn stop_phase(&mut self) {
-        self.cancel_phase();
-        self.phase_policy.stop();
-    }
-
     /// Sends whatever the settings now call for: a new orbit at once (at
     /// most every 40 ms while dragging), a new sweep once κ, γ, ν, Ω or the
     /// solver have been still for 250 ms, the phase grid by its policy.
@@ -478,12 +478,13 @@ impl Jobs {
             self.add_graph_powers(s);
         }
         if self.sent_orbit != orbit_now {
-            let left = self.last_orbit_send + ORBIT_DEBOUNCE - now;
+            let debounce = JobKind::Trajectory.debounce();
+            let left = self.last_orbit_send + debounce - now;
             // While θν plays, the last orbit finishes first (within
             // PLAY_HOLD), so that its views have something to show.
             let busy = self.playing && self.orbit_busy() && now - self.last_orbit_send < PLAY_HOLD;
             if busy {
-                out.wait(ORBIT_DEBOUNCE);
+                out.wait(debounce);
             } else if left <= 0.0 || self.sent_orbit.is_none() {
                 self.restart_orbit(s, now);
             } else {
@@ -502,10 +503,11 @@ impl Jobs {
                 out.zoom_stale = stale;
                 let zoom = if stale { None } else { shown.sweep_zoom };
                 let changed_at = *self.sweep_changed_at.get_or_insert(now);
-                if zoom_only || now - changed_at >= SWEEP_DEBOUNCE {
+                let debounce = JobKind::Sweep.debounce();
+                if zoom_only || now - changed_at >= debounce {
                     self.restart_sweep(s, zoom);
                 } else {
-                    out.wait(SWEEP_DEBOUNCE - (now - changed_at));
+                    out.wait(debounce - (now - changed_at));
                 }
             }
             _ => {}

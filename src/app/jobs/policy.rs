@@ -8,11 +8,9 @@
 use super::super::settings::{PhaseRange, Settings};
 use super::kind::JobKind;
 use crate::integrate::SolverSettings;
-use crate::model::Params;
+use crate::jobs::ParamsKey;
 use crate::sim::continuation::ContParam;
 
-/// Time between two orbit restarts while a slider is dragged (seconds).
-pub const ORBIT_DEBOUNCE: f64 = 0.04;
 /// While θν plays, the orbit restarts once the last one is finished (its
 /// trajectory and its analysis), or after this long (seconds): each view
 /// shows the latest finished result meanwhile, never an empty plot.
@@ -22,18 +20,14 @@ pub const PLAY_HOLD: f64 = 1.0;
 pub const PLAY_CYCLES: usize = 80;
 /// While θν plays, the analysis keeps this many iterates (300 otherwise).
 pub const PLAY_KEEP: usize = 120;
-/// Quiet time after the last change before a sweep restarts (seconds).
-pub const SWEEP_DEBOUNCE: f64 = 0.25;
-/// Quiet time after the last change of γ, ν, Ω, the solver, the resolution or
-/// the budget before the grid restarts (seconds), as for the sweep.
-pub const PHASE_DEBOUNCE: f64 = 0.25;
 
 /// What a bifurcation sweep depends on: the parameters but the one it
-/// varies (its x-axis), which one that is, and its whole range.
+/// varies (its x-axis, by the job table's rule), which one that is, and
+/// its whole range.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SweepKey {
-    /// The model's parameters, the varied one's value zeroed.
-    pub params: Params,
+    /// The model's parameters it depends on.
+    pub params: ParamsKey,
     /// The parameter varied.
     pub param: ContParam,
     /// Its whole (unzoomed) range.
@@ -50,7 +44,7 @@ impl SweepKey {
     pub fn of(s: &Settings) -> Self {
         let param = s.diagram.param;
         SweepKey {
-            params: param.set(&s.params, 0.0),
+            params: JobKind::Sweep.depends().key(&s.params, param),
             param,
             range: s.sweep_range(),
             solver: JobKind::Sweep
@@ -64,13 +58,11 @@ impl SweepKey {
     }
 }
 
-/// Everything a phase grid depends on (κ and θν are its axes, so the
-/// sliders' κ and θν are not in it).
+/// Everything a phase grid depends on (κ and θν are its axes, so by the
+/// job table's rule the sliders' κ and θν are not in it).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PhaseKey {
-    pub gamma: f64,
-    pub nu: f64,
-    pub omega: f64,
+    pub params: ParamsKey,
     pub solver: SolverSettings,
     pub range: PhaseRange,
     /// (θν columns, κ rows).
@@ -85,9 +77,7 @@ impl PhaseKey {
     pub fn of(s: &Settings) -> Self {
         let p = &s.phase;
         PhaseKey {
-            gamma: s.params.gamma,
-            nu: s.params.nu,
-            omega: s.params.omega,
+            params: JobKind::Phase.depends().key(&s.params, ContParam::ThetaNu),
             solver: JobKind::Phase
                 .solver(s)
                 .unwrap_or_else(|| s.custom_solver()),
@@ -158,10 +148,11 @@ impl PhasePolicy {
             Some(old) if old.same_but_range(&key) => PhaseStep::Start,
             Some(_) => {
                 let since = *self.changed_at.get_or_insert(now);
-                if now - since >= PHASE_DEBOUNCE {
+                let debounce = JobKind::Phase.debounce();
+                if now - since >= debounce {
                     PhaseStep::Start
                 } else {
-                    PhaseStep::WaitFor(PHASE_DEBOUNCE - (now - since))
+                    PhaseStep::WaitFor(debounce - (now - since))
                 }
             }
         }

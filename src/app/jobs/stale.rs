@@ -24,13 +24,14 @@
 use super::{JobKind, JobState, Jobs, Shown};
 use crate::app::settings::Settings;
 use crate::integrate::SolverSettings;
-use crate::jobs::NewParams;
+use crate::jobs::{Depends, NewParams, ParamsKey};
+use crate::sim::continuation::ContParam;
 
 /// What a result was computed for: bit patterns of the parameters (and
 /// solver) it depends on, and of the range it covers.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Bound {
-    params: Vec<u64>,
+    params: Option<ParamsKey>,
     solver: Option<SolverSettings>,
     range: Vec<u64>,
 }
@@ -44,43 +45,27 @@ impl Bound {
     /// diagram's range `diagram` (its zoom's, or the whole range, in the
     /// parameter it varies).
     pub fn of(kind: JobKind, s: &Settings, diagram: (f64, f64)) -> Bound {
-        let p = &s.params;
-        let all = [p.kappa, p.gamma, p.nu, p.theta_nu, p.omega];
-        // θν is the diagram's axis; κ and θν are the phase grid's.
-        let but_theta_nu = [p.kappa, p.gamma, p.nu, p.omega];
-        let but_axes = [p.gamma, p.nu, p.omega];
-        // The diagram's: every parameter but the one it varies, and which
-        // one that is (a new axis is new parameters: its result goes).
-        let varied = s.diagram.param;
-        let but_varied: Vec<f64> = crate::sim::continuation::ContParam::ALL
-            .iter()
-            .map(|&q| if q == varied { 0.0 } else { q.get(p) })
-            .chain([varied as u8 as f64])
-            .collect();
-        let (params, range): (&[f64], Vec<f64>) = match kind {
-            JobKind::Trajectory
-            | JobKind::Iterate
-            | JobKind::MapBasins
-            | JobKind::Passage
-            | JobKind::Scan
-            | JobKind::Numerics => (&all, Vec::new()),
+        // The range it covers, and the parameter it varies (read only by
+        // a kind that depends on all parameters but that one).
+        let (varied, range) = match kind {
             JobKind::Sweep | JobKind::Branches => {
                 let (a, b) = diagram;
                 let (c, d) = s.sweep_range();
-                (&but_varied, vec![a, b, c, d])
+                (s.diagram.param, vec![a, b, c, d])
             }
             JobKind::Basins => {
                 let (a, b) = s.basins.range(s);
-                (&but_theta_nu, vec![a, b, s.basins.columns as f64])
+                (ContParam::ThetaNu, vec![a, b, s.basins.columns as f64])
             }
             JobKind::Phase | JobKind::Curves => {
                 let r = s.phase.current();
                 let (t, k) = (r.theta_nu, r.kappa);
-                (&but_axes, vec![t.0, t.1, k.0, k.1])
+                (ContParam::ThetaNu, vec![t.0, t.1, k.0, k.1])
             }
+            _ => (ContParam::ThetaNu, Vec::new()),
         };
         Bound {
-            params: bits(params),
+            params: Some(kind.depends().key(&s.params, varied)),
             solver: kind.solver(s),
             range: bits(&range),
         }
@@ -90,7 +75,7 @@ impl Bound {
     /// window's (the Events view's) is computed for.
     pub fn of_params(p: &crate::model::Params) -> Bound {
         Bound {
-            params: bits(&[p.kappa, p.gamma, p.nu, p.theta_nu, p.omega]),
+            params: Some(Depends::All.key(p, ContParam::ThetaNu)),
             solver: None,
             range: Vec::new(),
         }
@@ -186,25 +171,13 @@ impl Jobs {
 
 #[cfg(test)]
 mod tests {
-    use super::super::basins::BasinsKey;
     use super::*;
     use crate::app::backend::Recorder;
     use crate::worker::{Command, Lane, Outcome, Update};
 
     /// Starts the job of `kind` as the window does.
     fn start(jobs: &mut Jobs, kind: JobKind, s: &Settings) {
-        match kind {
-            JobKind::Trajectory | JobKind::Iterate => jobs.restart_orbit(s, 0.0),
-            JobKind::Sweep => jobs.restart_sweep(s, None),
-            JobKind::Phase => jobs.restart_phase(s),
-            JobKind::Numerics => jobs.start_work_precision(s),
-            JobKind::Branches => jobs.find_bifurcations(s, s.sweep_range()),
-            JobKind::Curves => jobs.compute_boundaries(s),
-            JobKind::Passage => jobs.start_passage(s.params, 0.1),
-            JobKind::Scan => jobs.start_scan(s.params),
-            JobKind::Basins => jobs.restart_basins(s, BasinsKey::of(s, None)),
-            JobKind::MapBasins => jobs.restart_map_basins(s, s.custom_solver()),
-        }
+        jobs.start(kind, s, &shown());
     }
 
     fn shown() -> Shown {
@@ -299,6 +272,89 @@ mod tests {
                     assert!(!jobs.slot(kind).stale, "{what}");
                 }
             }
+        }
+    }
+
+    /// The spec the window sent for the job of `kind` it started (the map
+    /// iterates once the trajectory they wait for is done).
+    fn sent_spec(jobs: &mut Jobs, rec: &Recorder, kind: JobKind) -> crate::jobs::Spec {
+        if kind == JobKind::Iterate {
+            rec.push(Update::Finished {
+                generation: jobs.trajectory.generation,
+                lane: Lane::Orbit,
+                outcome: Outcome::Completed,
+            });
+            jobs.receive();
+        }
+        let sent = rec.commands().into_iter().rev().find_map(|c| match c {
+            Command::Run { spec, .. } if spec.kind() == kind => Some(spec),
+            _ => None,
+        });
+        sent.unwrap_or_else(|| panic!("{kind:?} sent no spec"))
+    }
+
+    /// One rule for the window and the worker: after a change of θν alone,
+    /// then of κ alone, the window's slots that are run again (marked
+    /// stale) or stopped and cleared are exactly the kinds whose spec, as
+    /// the window sent it, the worker runs again or stops on
+    /// `Command::SetParams` (`Spec::on_params`, what its orders read).
+    #[test]
+    fn the_window_and_the_worker_rerun_and_stop_the_same_kinds() {
+        use crate::jobs::OnParams;
+        type Change = fn(&mut crate::model::Params);
+        let changes: [(&str, Change, &[JobKind], &[JobKind]); 2] = [
+            (
+                "θν",
+                |p| p.theta_nu += 0.01,
+                &[JobKind::Trajectory, JobKind::Iterate],
+                &[JobKind::Passage, JobKind::Scan, JobKind::MapBasins],
+            ),
+            (
+                "κ",
+                |p| p.kappa *= 1.1,
+                &[
+                    JobKind::Trajectory,
+                    JobKind::Sweep,
+                    JobKind::Iterate,
+                    JobKind::Basins,
+                ],
+                &[
+                    JobKind::Branches,
+                    JobKind::Passage,
+                    JobKind::Scan,
+                    JobKind::MapBasins,
+                ],
+            ),
+        ];
+        for (what, change, reruns, stops) in changes {
+            let (mut window, mut worker) = ((Vec::new(), Vec::new()), (Vec::new(), Vec::new()));
+            for kind in JobKind::ALL {
+                let rec = Recorder::new();
+                let mut jobs = Jobs::new(Box::new(rec.clone()));
+                let s = Settings::default();
+                start(&mut jobs, kind, &s);
+                let spec = sent_spec(&mut jobs, &rec, kind);
+                let mut t = s.clone();
+                change(&mut t.params);
+                jobs.apply_bounds(&t, &shown());
+                let head = jobs.slot(kind);
+                match kind.new_params() {
+                    NewParams::Rerun if head.stale => window.0.push(kind),
+                    NewParams::Cancel if head.bound.is_none() => window.1.push(kind),
+                    _ => {}
+                }
+                match spec.on_params(t.params, None) {
+                    OnParams::Rerun(_) => worker.0.push(kind),
+                    OnParams::Cancel => worker.1.push(kind),
+                    OnParams::Keep => {}
+                }
+            }
+            assert_eq!(window, worker, "{what} alone");
+            assert_eq!(
+                (&window.0[..], &window.1[..]),
+                (reruns, stops),
+                "{what} alone"
+            );
         }
     }
 

@@ -178,7 +178,10 @@ impl CellGraph {
         self.traps.iter().any(|(f, _)| f[0] <= a && b <= f[1])
     }
 
-    /// The cycle whose trap holds every one of `cells`, if one does.
+    /// The cycle whose trap holds every one of `cells` and which has a
+    /// point among them, if one does. A set inside traps but holding no
+    /// cycle's point is not given one (it is judged as any other closed
+    /// set is): no label without its cycle.
     pub fn trap_cycle(&self, cells: &[usize]) -> Option<(usize, f64)> {
         if !cells.iter().all(|&i| self.trapped(i)) {
             return None;
@@ -187,14 +190,10 @@ impl CellGraph {
             self.bounds[cells[0]],
             self.bounds[cells[cells.len() - 1] + 1],
         );
-        self.cycles
-            .iter()
-            .copied()
-            .find(|&(_, u)| {
-                // A point of the cycle among the cells.
-                lo <= u && u <= hi
-            })
-            .or_else(|| self.cycles.first().copied())
+        self.cycles.iter().copied().find(|&(_, u)| {
+            // A point of the cycle among the cells.
+            lo <= u && u <= hi
+        })
     }
 
     /// Recomputes the images of the cells meeting [lo, hi] (after the map
