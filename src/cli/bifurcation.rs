@@ -392,8 +392,10 @@ fn summarise(args: &BifurcationArgs, plan: &Summary, run: &Ran) -> Result<(), Cl
     let evals: u64 = cols.iter().map(|c| c.2).sum();
     let (failed, seconds, threads) = (run.failed, run.seconds, run.threads);
     eprintln!(
-        "bifurcation: {described}\n  {columns} columns in {} [{from}, {to}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
+        "bifurcation: {described}\n  {columns} columns in {} [{}, {}] x ({} transient + {keep} kept), {rows} rows; {seconds:.2} s on {threads} thread(s); {n} of {} iterates integrated ({:.0}/s; columns settled onto a cycle repeat it), {:.0} rhs evaluations per integrated iterate{}",
         param.name(),
+        crate::text::short(from),
+        crate::text::short(to),
         args.transient,
         columns as u64 * (args.transient + keep) as u64,
         n as f64 / seconds.max(1e-9),

@@ -233,6 +233,45 @@ impl Local {
         false
     }
 
+    /// Runs a parallel job ([`Job::parallel`]) to its end on `threads`
+    /// scoped threads at once (this one and `threads − 1` more, as
+    /// [`super::run_threads`] does; no unit pauses); any other job one
+    /// step of `width` units. False once the job has ended. Every host
+    /// computes the same numbers, whatever its threads.
+    pub fn step_threads(&mut self, width: usize, threads: usize) -> bool {
+        let Some(job) = self.job.as_ref() else {
+            return false;
+        };
+        if !job.parallel() || threads < 2 {
+            return self.step_until(width, None);
+        }
+        let sink = &self.sink;
+        let drive = || -> Result<(), JobError> {
+            while job.step(width, sink)? == Status::Working {}
+            Ok(())
+        };
+        let ran = catch_unwind(AssertUnwindSafe(|| {
+            std::thread::scope(|scope| {
+                let others: Vec<_> = (1..threads).map(|_| scope.spawn(drive)).collect();
+                let mine = drive();
+                let theirs = others.into_iter().map(|h| {
+                    h.join()
+                        .unwrap_or_else(|payload| std::panic::resume_unwind(payload))
+                });
+                // The first error, once every thread has stopped.
+                let errors: Vec<JobError> = theirs.filter_map(Result::err).collect();
+                mine.and(errors.into_iter().next().map_or(Ok(()), Err))
+            })
+        }));
+        let result = match ran {
+            Ok(Ok(())) => Ok(job.finish(sink)),
+            Ok(Err(e)) => Ok(Err(e)),
+            Err(payload) => Err(payload),
+        };
+        self.end(result);
+        false
+    }
+
     /// Runs the job to its end and returns every update (tests).
     pub fn run_to_end(mut self, width: usize) -> Vec<Update> {
         while self.step(width) {}

@@ -43,6 +43,9 @@ pub struct LocalWorker {
     /// Lanes whose jobs are dropped unrun (a headless figure of one view
     /// needs only that view's jobs).
     skip: Vec<Lane>,
+    /// Threads a parallel job runs on at once (1: none but the caller's,
+    /// each job stepped a slice at a time).
+    threads: usize,
 }
 
 impl Default for LocalWorker {
@@ -64,7 +67,17 @@ impl LocalWorker {
             next_lane: 0,
             stopped: false,
             skip: Vec::new(),
+            threads: 1,
         }
+    }
+
+    /// The same worker, running each parallel job (a diagram's columns,
+    /// a grid's rows, the Basins columns) to its end on `threads` threads
+    /// at once instead of a slice at a time: a headless figure's host on a
+    /// machine with threads. The numbers are the same.
+    pub fn with_threads(mut self, threads: usize) -> Self {
+        self.threads = threads.max(1);
+        self
     }
 
     /// The same worker, dropping the jobs of `lanes` unrun (no update of
@@ -118,7 +131,11 @@ impl LocalWorker {
             let Some(job) = self.lanes[i].job.as_mut() else {
                 continue;
             };
-            let more = job.step_until(self.width, Some(slice));
+            let more = if self.threads > 1 {
+                job.step_threads(self.width, self.threads)
+            } else {
+                job.step_until(self.width, Some(slice))
+            };
             self.queue.extend(job.drain());
             if !more {
                 self.lanes[i].job = None;

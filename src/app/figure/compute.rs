@@ -132,6 +132,11 @@ impl ComputeRun {
             .collect();
         // LANES columns stepped together (the same columns, faster per cycle).
         let worker = LocalWorker::new(Shape::default(), crate::sim::LANES);
+        // Natively, a parallel job (the diagram, the grid, the Basins
+        // columns) takes every core, as the command line's do.
+        #[cfg(not(target_arch = "wasm32"))]
+        let worker =
+            worker.with_threads(std::thread::available_parallelism().map_or(1, |n| n.get()));
         let mut jobs = Jobs::new(Box::new(worker.skipping(skip)));
         if let Some(session) = &fig.session {
             // Bound to the session's settings: the first sync clears them

@@ -39,9 +39,10 @@ pub struct BenchWorkerArgs {
     /// Columns of the full diagram over θν ∈ [0, π/2] (1 to 10000).
     #[arg(long, default_value_t = 400, value_parser = parse_count, allow_hyphen_values = true)]
     pub columns: usize,
-    /// Columns of the first, coarse pass (1 to --columns).
-    #[arg(long, default_value_t = 64, value_parser = parse_count, allow_hyphen_values = true)]
-    pub coarse: usize,
+    /// Columns of the first, coarse pass (1 to --columns) [default: 64, or
+    /// --columns if fewer].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
+    pub coarse: Option<usize>,
     /// Transient iterates per column (0 to 1e5).
     #[arg(long, default_value_t = 300, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
@@ -110,7 +111,7 @@ impl Default for BenchWorkerArgs {
     fn default() -> Self {
         BenchWorkerArgs {
             columns: 400,
-            coarse: 64,
+            coarse: None,
             transient: 300,
             keep: 200,
             tol: 1e-8,
@@ -127,6 +128,13 @@ impl Default for BenchWorkerArgs {
     }
 }
 
+impl BenchWorkerArgs {
+    /// The coarse pass's columns: as given, else 64 or --columns if fewer.
+    pub fn coarse(&self) -> usize {
+        self.coarse.unwrap_or(64.min(self.columns))
+    }
+}
+
 /// Longer than anything here should take: only a hung worker reaches it.
 const HANG: Duration = Duration::from_secs(600);
 
@@ -134,7 +142,7 @@ fn worker(args: &BenchWorkerArgs) -> Worker {
     Worker::spawn(
         WorkerConfig {
             sweep_threads: args.threads,
-            coarse_columns: args.coarse,
+            coarse_columns: args.coarse(),
             ..WorkerConfig::default()
         },
         Arc::new(|| {}),
@@ -149,7 +157,7 @@ fn recv(w: &Worker) -> Result<Update, CliError> {
 /// Checks every count against its bound, and the tolerance, before any work.
 pub fn check(args: &BenchWorkerArgs) -> Result<SolverSettings, CliError> {
     count_between("columns", args.columns, 1, 10_000)?;
-    count_between("coarse", args.coarse, 1, args.columns)?;
+    count_between("coarse", args.coarse(), 1, args.columns)?;
     count_between("transient", args.transient, 0, 100_000)?;
     count_between("keep", args.keep, 1, 10_000)?;
     count_between("threads", args.threads, 1, 64)?;

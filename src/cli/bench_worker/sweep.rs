@@ -33,7 +33,7 @@ fn sweep_command(args: &BenchWorkerArgs, settings: SolverSettings, generation: u
 /// One sweep from command to `Finished`, draining as the GUI would.
 fn time_sweep(args: &BenchWorkerArgs, settings: SolverSettings) -> Result<SweepTiming, CliError> {
     let w = worker(args);
-    let n_coarse = sweep_plan(args.columns, args.coarse, args.threads)
+    let n_coarse = sweep_plan(args.columns, args.coarse(), args.threads)
         .iter()
         .filter(|p| p.coarse)
         .count();
@@ -157,7 +157,7 @@ fn serial_rate(args: &BenchWorkerArgs, settings: SolverSettings) -> (f64, Option
         map: crate::sim::MapChoice::Direct,
     };
     let grid = theta_nu_grid(0.0, std::f64::consts::FRAC_PI_2, args.columns);
-    let coarse: Vec<f64> = sweep_plan(args.columns, args.coarse, 1)
+    let coarse: Vec<f64> = sweep_plan(args.columns, args.coarse(), 1)
         .iter()
         .filter(|p| p.coarse)
         .map(|p| grid[p.index])
@@ -189,7 +189,7 @@ pub(super) fn run_sweeps(args: &BenchWorkerArgs, settings: SolverSettings) -> Re
         args.columns,
         args.transient,
         args.keep,
-        args.coarse.min(args.columns),
+        args.coarse(),
         args.threads,
         std::thread::available_parallelism().map_or(0, |n| n.get()),
     ))?;
@@ -206,12 +206,10 @@ pub(super) fn run_sweeps(args: &BenchWorkerArgs, settings: SolverSettings) -> Re
     say(&format!(
         "  => CPU work: {:.2} s per full diagram, {:.2} s per coarse pass; ideal on {} idle cores: {:.2} s and {:.2} s",
         total / per_cpu,
-        total / per_cpu * args.coarse.min(args.columns) as f64 / args.columns as f64,
+        total / per_cpu * args.coarse() as f64 / args.columns as f64,
         args.threads,
         total / per_cpu / args.threads as f64,
-        total / per_cpu * args.coarse.min(args.columns) as f64
-            / args.columns as f64
-            / args.threads as f64,
+        total / per_cpu * args.coarse() as f64 / args.columns as f64 / args.threads as f64,
     ))?;
     let mut timings = Vec::new();
     for r in 0..args.repeats {
