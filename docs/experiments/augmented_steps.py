@@ -1,6 +1,6 @@
 """Step counts of the acceleration phase: today's 4-variable field against
 the 8-variable formulation that carries the friction direction (cos φ_fr,
-sin φ_fr), Δ and e^(-Ω v_r) as state (docs/performance.md, "What was tried and not kept").
+sin φ_fr), Δ and e^(-Ω v_r) as state (docs/history.md, "What was tried and not kept").
 
 Both run under SciPy's DOP853 (its own controller, not ours: the comparison
 is between the formulations, not with oneblock's figures), from onsets on

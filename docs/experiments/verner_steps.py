@@ -1,5 +1,5 @@
 """Verner's "most efficient" 7(6) and 8(7) pairs against DOP853 on the slip
-equations (docs/performance.md, "What was tried and not kept": a better method than DOP853?).
+equations (docs/history.md, "What was tried and not kept": a better method than DOP853?).
 
 One driver and one step-size controller for all three (the crate's PI
 controller and error norm: weights (κ, 1, √κ, 1), rtol = atol = tol, and
