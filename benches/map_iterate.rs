@@ -315,7 +315,7 @@ mod lanes {
 }
 
 /// How much throughput stepping independent slips together buys
-/// (docs/performance.md, "What worked", slips in lanes): time per slip-step, one slip
+/// (docs/performance.md, "Slips in lanes"): time per slip-step, one slip
 /// against two (Throughput: slips), for both fields, each step starting
 /// from the last one's result as an integration does (pulled halfway back
 /// so the states stay in range).

@@ -20,7 +20,7 @@ use std::sync::Mutex;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use super::orbit::{Pacer, paced_progress};
-use super::protocol::{Axis, BasinColumn, Lane, Update};
+use super::protocol::{Axis, BasinColumn, Update};
 use super::{Job, JobError, Sink, Status, lock};
 use crate::integrate::SolverSettings;
 use crate::model::{ParamError, Params};
@@ -129,7 +129,6 @@ enum Layout {
 
 /// The Basins job in progress.
 pub(crate) struct BasinsJob {
-    lane: Lane,
     spec: BasinsSpec,
     grid: Vec<f64>,
     order: Vec<usize>,
@@ -152,7 +151,7 @@ pub(crate) struct BasinsJob {
 impl BasinsJob {
     /// Checks the spec (finite ends, a column at least, parameters a
     /// simulator takes at both ends) and plans its columns.
-    pub fn new(spec: BasinsSpec, lane: Lane) -> Result<Self, JobError> {
+    pub fn new(spec: BasinsSpec) -> Result<Self, JobError> {
         let (param, a) = (spec.param, spec.axis);
         for v in [a.from, a.to] {
             if !v.is_finite() {
@@ -170,7 +169,6 @@ impl BasinsJob {
         let grid = param_grid(param, a.from, a.to, a.steps);
         let order = coarse_first(grid.len());
         Ok(BasinsJob {
-            lane,
             parent: parents(&order),
             layouts: Mutex::new(vec![Layout::Pending; grid.len()]),
             layout_done: std::sync::Condvar::new(),
@@ -295,7 +293,7 @@ impl BasinsJob {
         }
         sink.send(Update::BasinEvents {
             generation: sink.generation(),
-            lane: self.lane,
+            lane: sink.lane(),
             events: Box::new(events),
         })?;
         Ok(())
@@ -340,11 +338,11 @@ impl Job for BasinsJob {
             }
             sink.send(Update::Basins {
                 generation: sink.generation(),
-                lane: self.lane,
+                lane: sink.lane(),
                 column: Box::new(column),
             })?;
             let done = self.done.fetch_add(1, Ordering::Relaxed) + 1;
-            paced_progress(&self.pacer, self.lane, (done, self.grid.len(), 0), sink)?;
+            paced_progress(&self.pacer, (done, self.grid.len(), 0), sink)?;
             if done == self.grid.len() {
                 self.events(sink)?;
             }

@@ -16,7 +16,7 @@ use web_time::Instant;
 
 use super::JobError;
 use super::paced::{PacedJob, Shared};
-use super::protocol::{BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Lane, Update};
+use super::protocol::{BoundarySpec, CascadeFrom, ContinuationSpec, CurveFollow, Update};
 use crate::integrate::SolverSettings;
 use crate::model::Params;
 use crate::sim::continuation::{
@@ -74,7 +74,6 @@ fn counts(branches: &[Branch]) -> String {
 /// it: [`Shared`]).
 struct Out {
     shared: Arc<Shared>,
-    lane: Lane,
 }
 
 impl Out {
@@ -97,7 +96,7 @@ impl Out {
     fn summary(&self, text: String) {
         self.send(Update::Summary {
             generation: self.generation(),
-            lane: self.lane,
+            lane: self.shared.lane(),
             text,
         });
     }
@@ -106,7 +105,7 @@ impl Out {
         let secs = since.elapsed().as_secs_f64().max(1e-9);
         self.send(Update::Progress {
             generation: self.generation(),
-            lane: self.lane,
+            lane: self.shared.lane(),
             fraction,
             iterates_per_second: evals as f64 / secs,
         });
@@ -513,18 +512,16 @@ fn curve_name(c: &Curve) -> String {
 
 /// Find bifurcations: the spec's branch and its cascade or curves.
 pub(crate) fn find_job(spec: ContinuationSpec) -> PacedJob {
-    let lane = Lane::Continuation;
     PacedJob::new(move |shared| async move {
-        let out = Out { shared, lane };
+        let out = Out { shared };
         out.find(&spec).await
     })
 }
 
 /// Boundaries: the doubling curves in (θν, κ).
 pub(crate) fn boundaries_job(spec: BoundarySpec) -> PacedJob {
-    let lane = Lane::Curves;
     PacedJob::new(move |shared| async move {
-        let out = Out { shared, lane };
+        let out = Out { shared };
         out.boundaries(&spec).await
     })
 }

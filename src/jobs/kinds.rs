@@ -386,7 +386,7 @@ declare_jobs! {
             depends: but_varied, accuracy: ReturnMap, debounce: 0.25, marker: Asterisk,
             hover: "Attractors and basins from f's verified interpolant over the exit \
                     arc (a cell graph): the map at 1e-10, as `oneblock attractors`.",
-            start: |s, _| Ok(Box::new(BasinsJob::new(s, Lane::Basins)?)),
+            start: |s, _| Ok(Box::new(BasinsJob::new(s)?)),
         }
         /// Attractors and basins at the current parameters (the return
         /// map's band).
@@ -395,7 +395,7 @@ declare_jobs! {
             depends: all, accuracy: ReturnMap, debounce: 0.25, marker: Asterisk,
             hover: "Attractors and basins from f's verified interpolant over the exit \
                     arc (a cell graph): the map at 1e-10, as `oneblock attractors`.",
-            start: |s, _| Ok(Box::new(BasinsJob::new(s.0, Lane::MapBasins)?)),
+            start: |s, _| Ok(Box::new(BasinsJob::new(s.0)?)),
         }
     }
 }

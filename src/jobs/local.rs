@@ -51,6 +51,7 @@ pub struct Local {
 /// The host's sink: a queue, and a flag that stops the job.
 struct Queue {
     generation: Generation,
+    lane: Lane,
     updates: Mutex<Vec<Update>>,
     cancelled: AtomicBool,
     cycles: AtomicU64,
@@ -108,6 +109,10 @@ impl Sink for Queue {
         self.generation
     }
 
+    fn lane(&self) -> Lane {
+        self.lane
+    }
+
     fn send(&self, update: Update) -> Result<(), Stop> {
         if self.stale() {
             return Err(Stop::Stale);
@@ -155,6 +160,7 @@ impl Local {
             job: None,
             sink: Queue {
                 generation,
+                lane,
                 updates: Mutex::new(Vec::new()),
                 cancelled: AtomicBool::new(false),
                 cycles: AtomicU64::new(0),

@@ -93,6 +93,9 @@ impl From<SimError> for JobError {
 pub trait Sink: Sync {
     /// The generation the job runs under (every update names it).
     fn generation(&self) -> Generation;
+    /// The lane the host runs the job on (every update that names a lane
+    /// names this one: the host's, not the job's, to say).
+    fn lane(&self) -> Lane;
     /// Takes one update; `Err` when the job must stop.
     fn send(&self, update: Update) -> Result<(), Stop>;
     /// Whether the job must stop (cheap; polled while waiting).
@@ -249,6 +252,8 @@ where
 /// A sink that keeps every update and never goes stale until told: for the
 /// command line's hosts and tests. `on_update` sees each update as it comes.
 pub struct Collect<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> {
+    /// The lane of the job's kind (the updates name it).
+    lane: Lane,
     updates: std::sync::Mutex<Vec<Update>>,
     stopped: AtomicBool,
     /// Whether updates sent after the stop are still taken.
@@ -261,11 +266,12 @@ pub struct Collect<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> {
 }
 
 impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
-    /// A sink that calls `on_update` for each update and stops the job once
-    /// `stop_when` says so (called once before every slip cycle, so it may
-    /// count them).
-    pub fn new(on_update: F, stop_when: S) -> Self {
+    /// A sink for a job on `lane` that calls `on_update` for each update
+    /// and stops the job once `stop_when` says so (called once before
+    /// every slip cycle, so it may count them).
+    pub fn new(lane: Lane, on_update: F, stop_when: S) -> Self {
         Collect {
+            lane,
             updates: std::sync::Mutex::new(Vec::new()),
             stopped: AtomicBool::new(false),
             keep_after_stop: false,
@@ -278,10 +284,10 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
 
     /// [`Collect::new`], but a job stopped by `stop_when` may still send
     /// what it has (a continuation ends its branch where it stopped).
-    pub fn keeping(on_update: F, stop_when: S) -> Self {
+    pub fn keeping(lane: Lane, on_update: F, stop_when: S) -> Self {
         Collect {
             keep_after_stop: true,
-            ..Self::new(on_update, stop_when)
+            ..Self::new(lane, on_update, stop_when)
         }
     }
 
@@ -304,6 +310,10 @@ impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Collect<F, S> {
 impl<F: Fn(&Update) + Sync, S: Fn() -> bool + Sync> Sink for Collect<F, S> {
     fn generation(&self) -> Generation {
         0
+    }
+
+    fn lane(&self) -> Lane {
+        self.lane
     }
 
     fn send(&self, update: Update) -> Result<(), Stop> {
@@ -343,7 +353,7 @@ pub fn run_collect(
     on_update: impl Fn(&Update) + Sync,
     stop_when: impl Fn() -> bool + Sync,
 ) -> Result<Vec<Update>, JobError> {
-    let sink = Collect::new(on_update, stop_when);
+    let sink = Collect::new(spec.lane(), on_update, stop_when);
     run_on(spec, threads, &sink)?;
     Ok(sink.into_updates())
 }
@@ -360,7 +370,7 @@ pub fn run_collect_some(
 ) -> Result<Vec<Update>, JobError> {
     let sink = Collect {
         keep,
-        ..Collect::new(on_update, stop_when)
+        ..Collect::new(spec.lane(), on_update, stop_when)
     };
     run_on(spec, threads, &sink)?;
     Ok(sink.into_updates())
@@ -375,7 +385,7 @@ pub fn run_kept(
     on_update: impl Fn(&Update) + Sync,
     stop_when: impl Fn() -> bool + Sync,
 ) -> (Vec<Update>, Result<(), JobError>) {
-    let sink = Collect::keeping(on_update, stop_when);
+    let sink = Collect::keeping(spec.lane(), on_update, stop_when);
     let ended = run_on(spec, threads, &sink);
     (sink.into_updates(), ended)
 }

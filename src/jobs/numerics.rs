@@ -10,7 +10,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 
 use super::orbit::Pacer;
-use super::protocol::{Lane, Timing, Update, WorkPrecisionSpec};
+use super::protocol::{Timing, Update, WorkPrecisionSpec};
 use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::model::ParamError;
 use crate::numerics::SamplePoint as Sample;
@@ -230,7 +230,7 @@ impl WorkPrecisionJob {
         if st.pacer.due() {
             sink.send(Update::Progress {
                 generation,
-                lane: Lane::Numerics,
+                lane: sink.lane(),
                 fraction: (index + 1) as f64 / total.max(1) as f64,
                 // The job times iterates on purpose: a rate is meaningless.
                 iterates_per_second: 0.0,

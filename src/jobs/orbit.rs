@@ -6,7 +6,7 @@ use std::sync::Mutex;
 use std::time::Duration;
 use web_time::Instant;
 
-use super::protocol::{Lane, TrajectorySpec, Update};
+use super::protocol::{TrajectorySpec, Update};
 use super::{Job, JobError, Sink, Status, Stop, lock};
 use crate::model::{ParamError, Params};
 use crate::sim::{Sampler, SimError, Simulator, default_settings};
@@ -64,7 +64,6 @@ impl Pacer {
 /// iterates), at most every `PROGRESS_INTERVAL` and at the end.
 pub(crate) fn paced_progress(
     pacer: &std::sync::Mutex<Pacer>,
-    lane: Lane,
     (done, total, n): (usize, usize, u64),
     sink: &dyn Sink,
 ) -> Result<(), JobError> {
@@ -75,7 +74,7 @@ pub(crate) fn paced_progress(
     if let Some(iterates_per_second) = rate {
         sink.send(Update::Progress {
             generation: sink.generation(),
-            lane,
+            lane: sink.lane(),
             fraction: done as f64 / total as f64,
             iterates_per_second,
         })?;
@@ -92,7 +91,7 @@ fn poll(sink: &dyn Sink) -> Result<(), JobError> {
     }
 }
 
-/// Sends the orbit lane's progress: `fraction` done after `n` iterates.
+/// Sends the job's progress: `fraction` done after `n` iterates.
 pub(crate) fn progress(
     sink: &dyn Sink,
     fraction: f64,
@@ -101,7 +100,7 @@ pub(crate) fn progress(
 ) -> Result<(), JobError> {
     sink.send(Update::Progress {
         generation: sink.generation(),
-        lane: Lane::Orbit,
+        lane: sink.lane(),
         fraction,
         iterates_per_second: pacer.rate(n),
     })?;

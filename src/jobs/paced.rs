@@ -24,8 +24,9 @@ pub(super) struct Shared {
     pub(super) pace: Pace,
     /// Updates sent since the last poll.
     outbox: Mutex<Vec<Update>>,
-    /// The sink's generation and staleness, as of the poll.
+    /// The sink's generation, lane and staleness, as of the poll.
     generation: AtomicU64,
+    lane: Mutex<Option<super::Lane>>,
     stale: AtomicBool,
 }
 
@@ -38,6 +39,12 @@ impl Shared {
     /// The generation the job runs under.
     pub(super) fn generation(&self) -> Generation {
         self.generation.load(Ordering::Relaxed)
+    }
+
+    /// The lane the host runs the job on (as of the poll; a walk is first
+    /// polled before it sends).
+    pub(super) fn lane(&self) -> super::Lane {
+        lock(&self.lane).unwrap_or(super::Lane::Continuation)
     }
 
     /// Whether the job must stop ([`Sink::stale`] as of this poll).
@@ -83,6 +90,7 @@ impl PacedJob {
     fn poll(&self, walk: &mut Walk, sink: &dyn Sink) -> Result<Option<()>, JobError> {
         let sh = &self.shared;
         sh.generation.store(sink.generation(), Ordering::Relaxed);
+        *lock(&sh.lane) = Some(sink.lane());
         let mut cx = Context::from_waker(Waker::noop());
         loop {
             sh.stale.store(sink.stale(), Ordering::Relaxed);

@@ -31,7 +31,7 @@ use web_time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, Pacer, paced_progress};
 use super::plan::{PlannedCell, phase_plan};
-use super::protocol::{Axis, GridCell, Lane, ListedAttractor, MAX_LISTED, PhaseSpec, Update};
+use super::protocol::{Axis, GridCell, ListedAttractor, MAX_LISTED, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
@@ -332,7 +332,7 @@ impl PhaseJob {
         if let Some((message, parameter)) = problem {
             sink.send(Update::Error {
                 generation,
-                lane: Lane::Phase,
+                lane: sink.lane(),
                 message,
                 parameter,
             })?;
@@ -370,7 +370,7 @@ impl PhaseJob {
         if queued.0 >= CELL_BATCH || queued.1 || coarse_done || done == total {
             self.flush(sink)?;
         }
-        paced_progress(&self.pacer, Lane::Phase, (done, total, n), sink)?;
+        paced_progress(&self.pacer, (done, total, n), sink)?;
         Ok(true)
     }
 }

@@ -29,7 +29,7 @@ use std::sync::{Condvar, Mutex};
 
 use super::orbit::{Pacer, paced_progress};
 use super::plan::{PlannedColumn, sweep_plan};
-use super::protocol::{Lane, SweepSpec, Update};
+use super::protocol::{SweepSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Shape, Sink, Status, lock, panic_message};
 use crate::model::{ParamError, Params};
@@ -219,7 +219,7 @@ impl SweepJob {
             Some((message, parameter)) => {
                 sink.send(Update::Error {
                     generation,
-                    lane: Lane::Sweep,
+                    lane: sink.lane(),
                     message,
                     parameter,
                 })?;
@@ -294,7 +294,7 @@ impl SweepJob {
         };
         self.ready.notify_all();
         let columns = self.grid.len();
-        paced_progress(&self.pacer, Lane::Sweep, (done, columns, n), sink)
+        paced_progress(&self.pacer, (done, columns, n), sink)
     }
 
     /// A finished column with the seeds' attractors added and labelled;

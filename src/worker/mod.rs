@@ -169,6 +169,10 @@ impl Sink for GateSink<'_> {
         self.generation
     }
 
+    fn lane(&self) -> Lane {
+        self.gate.lane
+    }
+
     fn send(&self, update: Update) -> Result<(), Stop> {
         self.gate.send(self.generation, update)
     }

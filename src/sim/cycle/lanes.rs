@@ -4,7 +4,7 @@
 //! fills the cycles the others leave idle. One slip's step waits on a chain
 //! of ~120 cycles per evaluation (sqrt, e^x − 1, sin/cos); the CPU has the
 //! units to run two or three such chains side by side (docs/performance.md,
-//! "What worked", slips in lanes).
+//! "Slips in lanes").
 //!
 //! For work made of independent cycles: f'(θ)'s central difference, the
 //! return map's graph, the sample's reference cycles, a bifurcation sweep's
