@@ -14,18 +14,6 @@ use super::gui::{VIEW_KEYS, parse_size_within};
 use super::values::{MAX_ABS_THETA, echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
-/// The views whose data `figure --out x.csv` writes instead of a picture.
-pub const CSV_VIEW_KEYS: [&str; 8] = [
-    "basins",
-    "bifurcation",
-    "phase",
-    "plane",
-    "block",
-    "time-series",
-    "events",
-    "return-map",
-];
-
 /// The smallest figure side, in points: a column's figure.
 pub const MIN_SIDE: f32 = 100.0;
 
@@ -102,7 +90,7 @@ pub enum Format {
     Pdf,
     Png,
     Gif,
-    /// The Basins view's columns as a table.
+    /// The data the view draws, as a table.
     Csv,
 }
 
@@ -146,10 +134,6 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
         (Format::Gif, None) => {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
         }
-        (Format::Csv, _) if !CSV_VIEW_KEYS.contains(&a.view.as_str()) => usage(format!(
-            "--out: every view but numerics writes a .csv (the data drawn), not '{}'",
-            echo(&a.view)
-        )),
         (Format::Svg | Format::Pdf | Format::Png | Format::Csv, Some(_)) => usage(
             "--frames makes an animation, which a .svg, .pdf or .png cannot hold: name a .gif file"
                 .into(),
@@ -344,10 +328,11 @@ pub struct FigureArgs {
     /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
     /// text text in an embedded font) or .png (that SVG rasterised at
     /// --dpi, 2 pixels per point by default); or .csv, the data the view
-    /// draws with '#' lines naming how it was made (every view but
-    /// numerics: the diagram's onsets and λ per column, the basins'
-    /// attractors, the phase grid's cells, the trajectory, the slips, the
-    /// return map's curve and orbit). Never overwrites an existing file.
+    /// draws with '#' lines naming how it was made (every view: the
+    /// diagram's onsets and λ per column, the basins' attractors, the phase
+    /// grid's cells, the trajectory, the slips, the return map's curve and
+    /// orbit, the numerics' work-precision rows). Never overwrites an
+    /// existing file.
     #[arg(long)]
     pub out: PathBuf,
     /// The model's parameters [default: the session's, else fig3b's].
