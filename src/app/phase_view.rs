@@ -153,6 +153,7 @@ impl PhaseView {
             .show_grid(false);
         let current = style::draws_current(ui.ctx());
         let resp = axes::apply(
+            ui.ctx(),
             resp,
             &AxisSpec::angle("θν, pull direction", s.angle_unit),
             &AxisSpec::linear("κ = k_x/k_y, anisotropy"),

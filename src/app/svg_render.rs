@@ -107,22 +107,28 @@ impl FrameRenderer {
         (size, look): (Vec2, &Look),
         dt: f64,
     ) -> Self {
-        Self::new_with(view, settings, jobs, (size, look), dt, |_| {})
+        Self::new_with(view, settings, jobs, (size, look), dt, (|_| {}, None))
     }
 
     /// [`FrameRenderer::new`] with the views' state set by `prepare`
     /// before the passes that settle the layout (a played return map's
-    /// held axes: its first frame is then drawn in them).
+    /// held axes: its first frame is then drawn in them), and the legends
+    /// and plot bounds gathered or held over a play (`hold`).
     pub fn new_with(
         view: ViewKind,
         settings: &Settings,
         jobs: &Jobs,
         (size, look): (Vec2, &Look),
         dt: f64,
-        prepare: impl FnOnce(&mut Views),
+        (prepare, hold): (impl FnOnce(&mut Views), Option<super::hold::Start>),
     ) -> Self {
         let mut r = Renderer::new(settings, &[], size, look);
         prepare(&mut r.state);
+        match hold {
+            Some(super::hold::Start::Collect) => super::hold::collect(&r.ctx),
+            Some(super::hold::Start::Hold(held)) => super::hold::hold(&r.ctx, held),
+            None => {}
+        }
         for _ in 0..PASSES - 1 {
             r.pass(&[view], jobs, 0.0);
         }
@@ -145,10 +151,21 @@ impl FrameRenderer {
     /// The next frame's SVG, of `jobs` as they are now: frame k at ui
     /// time k·dt.
     pub fn next_frame(&mut self, jobs: &Jobs) -> String {
+        self.observe(jobs);
+        self.r.svg()
+    }
+
+    /// The next frame drawn, not written: what a renderer gathering a
+    /// play's legends and bounds needs of it.
+    pub fn observe(&mut self, jobs: &Jobs) {
         self.r
             .pass(&[self.view], jobs, self.frames as f64 * self.dt);
         self.frames += 1;
-        self.r.svg()
+    }
+
+    /// The legends and plot bounds gathered so far (`hold::Start::Collect`).
+    pub fn gathered(&self) -> super::hold::Held {
+        super::hold::gathered(&self.r.ctx)
     }
 }
 
@@ -237,6 +254,7 @@ impl Renderer {
         self.textures.remove(&egui::TextureId::default());
         self.shapes = std::mem::take(&mut out.shapes);
         self.frames = axes::plot_frames(&self.ctx);
+        super::hold::end_pass(&self.ctx);
         if let style::LegendPlace::Inside(corner) = self.look.legend {
             let (frames, shapes) = (&self.frames, &self.shapes);
             legend::place(&self.ctx, corner, frames, shapes, &self.textures);
