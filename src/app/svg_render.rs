@@ -33,6 +33,9 @@ pub struct Look {
     pub font_size: Option<f32>,
     /// Where the legends go (above their plots, or none).
     pub legend: style::LegendPlace,
+    /// The text's font family (a name, or serif, sans-serif, monospace),
+    /// else the sans-serif faces of [`super::svg_text::FONT_FAMILY`].
+    pub font: Option<String>,
 }
 
 impl Look {
@@ -269,6 +272,12 @@ impl Renderer {
         let bg = self.ctx.global_style().visuals.panel_fill;
         let size = self.area.size();
         let mut svg = w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg });
+        if let Some(f) = &self.look.font {
+            use super::svg_text::{FONT_FAMILY, family_attribute};
+            let named = format!("font-family=\"{FONT_FAMILY}\"");
+            let asked = format!("font-family=\"{}\"", family_attribute(f));
+            svg = svg.replacen(&named, &asked, 1);
+        }
         // Where the legends are, unpainted (as the plots' frames).
         let boxes = legend::svg_boxes(&legend::drawn(&self.ctx));
         let end = svg.rfind("</svg>").unwrap_or(svg.len());
@@ -296,6 +305,24 @@ fn figure_scale(look: &Look, size: Vec2) -> f32 {
 /// given.
 fn document_context(settings: &Settings, look: &Look) -> egui::Context {
     let ctx = egui::Context::default();
+    // Text laid out in the font it is set in (--font), where this system
+    // has it: labels then take the room their glyphs do.
+    #[cfg(not(target_arch = "wasm32"))]
+    if let Some(data) = look.font.as_deref().and_then(super::figure::face_data) {
+        let mut fonts = egui::FontDefinitions::default();
+        let name = "figure-font".to_owned();
+        fonts
+            .font_data
+            .insert(name.clone(), std::sync::Arc::new(data));
+        for family in [egui::FontFamily::Proportional, egui::FontFamily::Monospace] {
+            fonts
+                .families
+                .entry(family)
+                .or_default()
+                .insert(0, name.clone());
+        }
+        ctx.set_fonts(fonts);
+    }
     ctx.set_theme(if settings.dark && look.window {
         egui::Theme::Dark
     } else {
