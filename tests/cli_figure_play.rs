@@ -3,7 +3,10 @@
 //! differs from the one before; the return map's fixed point (its orbit
 //! marker, the map's axes held over the play) moves up the diagonal as θν
 //! grows; the diagram's θν cursor moves right frame by frame and nothing
-//! else of the diagram changes; bad flags are refused in one line.
+//! else of the diagram changes; a played return map whose legend gains and
+//! loses entries over the play (basins, the invariant density) keeps its
+//! axes and its legend still in every frame; bad flags are refused in one
+//! line.
 #![cfg(feature = "gui")]
 
 use std::path::{Path, PathBuf};
@@ -97,6 +100,68 @@ fn a_played_return_map_has_its_frames_and_its_fixed_point_moves_up_the_diagonal(
             "off the diagonal: {centres:?}"
         );
     }
+}
+
+/// Issue 57 item 5: a return map played over Fig. 3b's chaos (θν 1.15 to
+/// 1.3: period 2, chaos with its invariant density, period 3) once moved
+/// its axes when the density's legend entry wrapped the legend onto a
+/// second row, and listed "basin: chaotic" in frames without its band.
+/// The legend and the plot's bounds are now the union over the play: the
+/// y axis's labels and title (the picture's left fourteenth below the
+/// summary line) and the legend (the rows between the summary line and
+/// the plot's top grid line) are
+/// the same pixels in every frame; only the summary's numbers and the
+/// plot's inside change.
+#[test]
+fn a_played_return_map_holds_its_axes_and_legend_over_the_play() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("chaos.gif");
+    let o = figure(&[
+        "--view",
+        "return-map",
+        "--preset",
+        "chaos",
+        "--play",
+        "--frames",
+        "8",
+        "--theta-nu-from",
+        "1.15",
+        "--theta-nu-to",
+        "1.3",
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let ((w, h), frames) = gif_frames(&out);
+    assert_eq!(frames.len(), 8);
+    let first = &frames[0].1;
+    let ink = |px: &[u8], x: usize, y: usize| {
+        px[(y * w + x) * 4..(y * w + x) * 4 + 3]
+            .iter()
+            .any(|&c| c < 235)
+    };
+    // The plot's top: the first row below the summary line that a grid
+    // line crosses (ink over most of the plot's width).
+    let top = (h / 16..h / 2)
+        .find(|&y| (w / 6..w * 9 / 10).filter(|&x| ink(first, x, y)).count() > w / 2)
+        .expect("the plot's top grid line");
+    let mut differ = 0;
+    for (k, (_, px)) in frames.iter().enumerate().skip(1) {
+        let d = differing(first, px, w);
+        differ += d.len();
+        let moved: Vec<&(usize, usize)> = d
+            .iter()
+            .filter(|&&(x, y)| y >= h / 16 && (x < w / 14 || y < top))
+            .collect();
+        assert!(
+            moved.is_empty(),
+            "frame {k}: {} pixels of the axes' labels or the legend differ from frame 0's \
+             (first {:?}; the plot's top at {top})",
+            moved.len(),
+            moved.first()
+        );
+    }
+    assert!(differ > 1000, "the frames are alike: nothing played");
 }
 
 #[test]

@@ -1,6 +1,7 @@
 //! Issue 57: `figure --out x.csv` for every view that draws data writes
 //! what the figure draws, with the `#` lines the other CSVs have, and a
-//! header whose fields every row has; numerics is refused with one line.
+//! header whose fields every row has; the numerics view's CSV holds the
+//! work-precision rows its chart draws.
 #![cfg(feature = "gui")]
 
 use crate::common::figure::{figure, small_session};
@@ -62,12 +63,50 @@ fn every_view_writes_the_data_it_draws_as_csv() {
             assert!(rows.iter().any(|r| r.starts_with("orbit,")), "no orbit");
         }
     }
+}
+
+#[test]
+fn the_numerics_csv_holds_the_rows_its_chart_draws() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let session = small_session(dir.path());
     let out = dir.path().join("n.csv");
-    let o = figure(&["--view", "numerics", "--out", out.to_str().expect("utf-8")]);
-    assert_eq!(o.status.code(), Some(2));
-    let err = String::from_utf8_lossy(&o.stderr);
+    let o = figure(&[
+        "--view",
+        "numerics",
+        "--session",
+        session.to_str().expect("utf-8 path"),
+        "--out",
+        out.to_str().expect("utf-8"),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(&out).expect("csv");
+    assert!(csv.starts_with('#'), "no # lines");
+    assert!(csv.contains("view: numerics"), "the # lines name the view");
+    let mut lines = csv.lines().filter(|l| !l.starts_with('#'));
+    let header = lines.next().expect("a header");
     assert!(
-        err.contains("--out") && err.trim().lines().count() == 1,
-        "{err}"
+        header.starts_with("source,method,kind,setting,points,failed,max_error"),
+        "{header}"
     );
+    let n = fields(header);
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    assert!(
+        rows.iter().all(|r| r.len() == n),
+        "a row without {n} fields"
+    );
+    // The run measured on the figure's parameters, and the committed chart
+    // behind it, with every method the chart draws a curve of.
+    for source in ["run", "committed"] {
+        let of: Vec<&Vec<&str>> = rows.iter().filter(|r| r[0] == source).collect();
+        assert!(!of.is_empty(), "no {source} rows");
+        for method in ["dop853", "dp54", "rk4"] {
+            assert!(
+                of.iter().any(|r| r[1] == method),
+                "no {source} row of {method}"
+            );
+        }
+        // A measured row has its error and cost as numbers.
+        assert!(of.iter().any(|r| r[6].parse::<f64>().is_ok_and(|e| e > 0.0)
+            && r[n - 1].parse::<f64>().is_ok_and(|c| c > 0.0)));
+    }
 }

@@ -80,6 +80,8 @@ mod docs_counts;
 mod docs_names;
 #[path = "figure_csv.rs"]
 mod figure_csv;
+#[path = "figure_font.rs"]
+mod figure_font;
 #[path = "figure_legend.rs"]
 mod figure_legend;
 #[path = "figure_points.rs"]

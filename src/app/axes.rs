@@ -315,7 +315,10 @@ fn right_margin<'a>() -> AxisHints<'a> {
 }
 
 /// `plot` with these axes: titles, grid lines and labels at [`Scale::ticks`].
-pub fn apply<'a>(plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
+/// In a play's frames, under the bounds held over the play
+/// ([`super::hold::plot`]).
+pub fn apply<'a>(ctx: &egui::Context, plot: Plot<'a>, x: &AxisSpec, y: &AxisSpec) -> Plot<'a> {
+    let plot = super::hold::plot(ctx, plot);
     let (sx, sy) = (x.scale, y.scale);
     let (dx, dy) = (Shared::default(), Shared::default());
     let (gx, gy) = (dx.clone(), dy.clone());

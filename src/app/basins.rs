@@ -223,7 +223,7 @@ impl BasinsView {
             AxisSpec::angle("θν, pull direction", s.angle_unit),
             AxisSpec::angle("θ₀, slip onset", s.angle_unit).fitted_along(ui, height),
         );
-        let resp = axes::apply(plot, &ax, &ay).show(ui, |p| {
+        let resp = axes::apply(ui.ctx(), plot, &ax, &ay).show(ui, |p| {
             p.set_plot_bounds(PlotBounds::from_min_max([x0, lo], [x1, hi]));
             basin_items(p, d);
             basin_events::event_items(p, d, Some(hi - 0.025 * (hi - lo)));
@@ -455,7 +455,7 @@ fn fractions_ui(ui: &mut Ui, s: &Settings, d: &BasinsData, height: f32) {
         AxisSpec::angle("θν, pull direction", s.angle_unit),
         AxisSpec::linear("basin fraction"),
     );
-    axes::apply(plot, &ax, &ay).show(ui, |p| {
+    axes::apply(ui.ctx(), plot, &ax, &ay).show(ui, |p| {
         p.set_plot_bounds(PlotBounds::from_min_max([x0, 0.0], [x1, 1.0]));
         fraction_items(p, d);
         basin_events::event_items(p, d, None);

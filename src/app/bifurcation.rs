@@ -176,7 +176,7 @@ impl BifurcationView {
             AxisSpec::angle("θ, slip onset", s.angle_unit).fitted_along(ui, height),
         );
         let (hx, hy) = (ax.clone(), ay.clone());
-        let resp = axes::apply(plot, &ax, &ay)
+        let resp = axes::apply(ui.ctx(), plot, &ax, &ay)
             .y_axis_min_width(y_width)
             // The overlay's items have hover labels of their own.
             .label_formatter(move |pos| match pos {

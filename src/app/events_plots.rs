@@ -69,6 +69,7 @@ impl Plots<'_> {
             h
         };
         let r = axes::apply(
+            ui.ctx(),
             Plot::new("events_series").show_background(false).height(h),
             &AxisSpec::linear("event number n"),
             &AxisSpec::linear(self.unit),
@@ -142,6 +143,7 @@ fn size_distribution_ui(ui: &mut Ui, st: Option<&Intermittency>, unit: &str, h: 
     // below (projector text, stacked plots): the short form then.
     let y_title = axes::fitting_title(ui, "count + 1 (log scale)", "count + 1", h);
     let r = axes::apply(
+        ui.ctx(),
         Plot::new("events_hist").show_background(false).height(h),
         &AxisSpec::log10(format!("{unit} (log scale)")),
         &AxisSpec::log10(y_title),
@@ -178,6 +180,7 @@ fn laminar_ui(ui: &mut Ui, st: Option<&Intermittency>, h: f32) {
         .include_y(0.0)
         .include_y(5.0);
     let r = axes::apply(
+        ui.ctx(),
         plot,
         &AxisSpec::linear("laminar length (creep slips in a run)"),
         &AxisSpec::linear("phases"),
@@ -220,6 +223,7 @@ fn scaling_ui(ui: &mut Ui, sc: &Scaling, h: f32) {
         vec![[a, f(a)], [b, f(b)]]
     };
     let r = axes::apply(
+        ui.ctx(),
         Plot::new("events_scaling").show_background(false).height(h),
         &AxisSpec::log10("ε = |θν − θν_fold| (rad, log scale)"),
         &AxisSpec::log10("laminar length (log scale)"),

@@ -121,10 +121,7 @@ pub const STRIP_PIXELS: usize = 1 << 24;
 /// resvg's font database: no system font), so the PNG's labels take the
 /// room the layout gave them on any machine.
 pub fn png_of_svg(svg: &str, size: egui::Vec2, scale: f32) -> Result<Vec<u8>, String> {
-    let tree = parse_svg(svg, &font_db())?;
-    let (w, h) = pixel_size(size, scale);
-    let rows = (STRIP_PIXELS / (w.max(1) as usize)).clamp(1, h.max(1) as usize) as u32;
-    encode_in_strips(&tree, (w, h), scale, rows)
+    png_of_svg_with(svg, size, scale, &font_db())
 }
 
 /// `tree` as a PNG of `w` × `h` pixels at `scale` pixels per point,
@@ -205,6 +202,99 @@ pub(super) fn font_db() -> Arc<resvg::usvg::fontdb::Database> {
     Arc::new(db)
 }
 
+/// The fonts for a figure whose text asks for `family` (`figure --font`):
+/// egui's own ([`font_db`]), and for a family other than sans-serif the
+/// system's fonts, with the family the SVG names found among them (Hack,
+/// egui's own, for monospace; the first serif face installed for serif);
+/// where the system has none, egui's alone and a note saying so.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn fonts_for(family: Option<&str>) -> (Arc<resvg::usvg::fontdb::Database>, Option<String>) {
+    let Some(f) = family.filter(|f| *f != "sans-serif") else {
+        return (font_db(), None);
+    };
+    let mut db = (*font_db()).clone();
+    if f == "monospace" {
+        db.set_monospace_family("Hack");
+        return (Arc::new(db), None);
+    }
+    db.load_system_fonts();
+    let has = |name: &str| {
+        db.faces().any(|face| {
+            face.families
+                .iter()
+                .any(|(n, _)| n.eq_ignore_ascii_case(name))
+        })
+    };
+    let found = if f == "serif" {
+        [
+            "DejaVu Serif",
+            "Liberation Serif",
+            "Noto Serif",
+            "Times New Roman",
+            "FreeSerif",
+        ]
+        .into_iter()
+        .find(|n| has(n))
+        .map(str::to_owned)
+    } else {
+        has(f).then(|| f.to_owned())
+    };
+    match found {
+        Some(name) => {
+            if f == "serif" {
+                db.set_serif_family(name);
+            }
+            (Arc::new(db), None)
+        }
+        None => (
+            font_db(),
+            Some(format!(
+                "--font: this system has no '{f}' font: the text is set in the built-in \
+                 sans-serif (the SVG still names '{f}')"
+            )),
+        ),
+    }
+}
+
+/// The regular face of `family` (`figure --font`) for egui to lay the
+/// figure's text out in, from [`fonts_for`]'s fonts; `None` for
+/// sans-serif (egui's own) and a family this system lacks.
+#[cfg(not(target_arch = "wasm32"))]
+pub(super) fn face_data(family: &str) -> Option<egui::FontData> {
+    use resvg::usvg::fontdb::{Family, Query};
+    let (db, note) = fonts_for(Some(family));
+    if note.is_some() || family == "sans-serif" {
+        return None;
+    }
+    let asked = match family {
+        "serif" => Family::Serif,
+        "monospace" => Family::Monospace,
+        name => Family::Name(name),
+    };
+    let id = db.query(&Query {
+        families: &[asked],
+        ..Query::default()
+    })?;
+    db.with_face_data(id, |data, index| {
+        let mut f = egui::FontData::from_owned(data.to_vec());
+        f.index = index;
+        f
+    })
+}
+
+/// [`png_of_svg`] with the fonts of `db` ([`fonts_for`]).
+pub fn png_of_svg_with(
+    svg: &str,
+    size: egui::Vec2,
+    scale: f32,
+    db: &Arc<resvg::usvg::fontdb::Database>,
+) -> Result<Vec<u8>, String> {
+    let tree = parse_svg(svg, db)?;
+    let (w, h) = pixel_size(size, scale);
+    let rows = (STRIP_PIXELS / (w.max(1) as usize)).clamp(1, h.max(1) as usize) as u32;
+    encode_in_strips(&tree, (w, h), scale, rows)
+}
+
 /// `svg` rasterised at `scale` pixels per point with the fonts of `db`
 /// (loaded once for all of an animation's frames).
 pub(super) fn pixmap_with_fonts(
@@ -232,8 +322,17 @@ pub(super) fn pixmap_with_fonts(
 /// embedded; the diagrams' density images stay images.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn pdf_of_svg(svg: &str) -> Result<Vec<u8>, String> {
+    pdf_of_svg_with(svg, &font_db())
+}
+
+/// [`pdf_of_svg`] with the fonts of `db` ([`fonts_for`]).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn pdf_of_svg_with(
+    svg: &str,
+    db: &Arc<resvg::usvg::fontdb::Database>,
+) -> Result<Vec<u8>, String> {
     let opt = svg2pdf::usvg::Options {
-        fontdb: font_db(),
+        fontdb: db.clone(),
         ..Default::default()
     };
     let tree = svg2pdf::usvg::Tree::from_str(svg, &opt)

@@ -72,6 +72,7 @@ fn placed_id() -> Id {
 
 /// Forgets the legends drawn in the pass before (their places stay).
 pub fn clear(ctx: &egui::Context) {
+    super::hold::begin_pass(ctx);
     ctx.data_mut(|d| d.remove::<DrawnList>(drawn_id()));
 }
 
@@ -95,7 +96,7 @@ fn push(ctx: &egui::Context, drawn: Drawn) {
 /// A legend row above its plot, wrapping, recorded for the SVG.
 pub fn outside<R>(ui: &mut Ui, add: impl FnOnce(&mut Ui) -> R) -> R {
     let anchor = ui.cursor().min;
-    let r = ui.horizontal_wrapped(add);
+    let r = ui.horizontal_wrapped(|ui| super::hold::row(ui, add));
     push(
         ui.ctx(),
         Drawn {
@@ -147,7 +148,9 @@ pub fn inside<R>(ui: &mut Ui, add: impl FnOnce(&mut Ui) -> R) -> R {
     child.set_clip_rect(ui.ctx().content_rect());
     child.spacing_mut().item_spacing.y *= 0.5;
     let bg = child.painter().add(Shape::Noop);
-    let inner = child.horizontal_wrapped(add).inner;
+    let inner = child
+        .horizontal_wrapped(|ui| super::hold::row(ui, add))
+        .inner;
     let rect = child.min_rect().expand(pad);
     child.painter().set(
         bg,

@@ -113,7 +113,7 @@ pub fn strip_ui(
         height,
     ));
     let current = style::draws_current(ui.ctx());
-    let resp = axes::apply(plot, &ax, &ay)
+    let resp = axes::apply(ui.ctx(), plot, &ax, &ay)
         .y_axis_min_width(y_width)
         .show(ui, |p| {
             p.set_plot_bounds(PlotBounds::from_min_max([x.0, lo], [x.1, hi]));

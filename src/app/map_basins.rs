@@ -18,15 +18,56 @@ type Band = (Vec<(f64, f64, Option<usize>)>, Vec<Vec<[f64; 2]>>);
 #[derive(Clone, Debug, Default)]
 pub(super) struct BasinBand {
     basins: Vec<(f64, f64, Option<usize>)>,
-    /// Each attractor's colour.
+    /// Each attractor's colour and legend name (basin: FP, P2, chaotic).
     colours: Vec<Color32>,
+    names: Vec<String>,
     density: Vec<Vec<[f64; 2]>>,
+}
+
+/// The band's width and the density curve's, in lines (`style::width`).
+pub(super) const BAND_WIDTH: f32 = 6.0;
+pub(super) const DENSITY_WIDTH: f32 = 1.5;
+
+/// The density curve's colour.
+pub(super) fn density_colour() -> Color32 {
+    style::POWERS[0].gamma_multiply(0.8)
 }
 
 impl BasinBand {
     /// Draws it over the plot's current bounds.
     pub(super) fn draw(&self, p: &mut egui_plot::PlotUi<'_>) {
         draw_basins(p, self);
+    }
+
+    /// The stretches drawn over θ in (`lo`, `hi`), one per attractor
+    /// (`None`: the boundary) in the order first met, each with its
+    /// colour and legend name: the legend's entries for the band.
+    pub(super) fn drawn(&self, lo: f64, hi: f64) -> Vec<(Color32, String)> {
+        let mut seen: Vec<Option<usize>> = Vec::new();
+        for &(a, b, att) in &self.basins {
+            if b.min(hi) > a.max(lo) && !seen.contains(&att) {
+                seen.push(att);
+            }
+        }
+        seen.into_iter()
+            .map(|att| match att {
+                Some(i) => (
+                    self.colours
+                        .get(i)
+                        .copied()
+                        .unwrap_or(super::basins::BOUNDARY),
+                    self.names.get(i).cloned().unwrap_or_else(|| "basin".into()),
+                ),
+                None => (super::basins::BOUNDARY, "basin boundary".into()),
+            })
+            .collect()
+    }
+
+    /// Whether a density curve has a point over θ in [`lo`, `hi`].
+    pub(super) fn density_drawn(&self, lo: f64, hi: f64) -> bool {
+        self.density
+            .iter()
+            .any(|c| c.iter().filter(|q| (lo..=hi).contains(&q[0])).count() > 1)
     }
 }
 
@@ -90,9 +131,20 @@ impl BasinBand {
     pub(super) fn of(s: &Settings, jobs: &Jobs) -> Self {
         let found = jobs.map_basins.at(&s.params);
         let (basins, density) = basins_of(found);
+        let names = found.map_or(Vec::new(), |f| {
+            f.attractors
+                .iter()
+                .map(|a| match a.period {
+                    Some(1) => "basin: FP".to_owned(),
+                    Some(p) => format!("basin: P{p}"),
+                    None => "basin: chaotic".to_owned(),
+                })
+                .collect()
+        });
         BasinBand {
             basins,
             colours: found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f)),
+            names,
             density,
         }
     }
@@ -119,7 +171,7 @@ fn draw_basins(p: &mut egui_plot::PlotUi<'_>, d: &BasinBand) {
         p.line(
             style::line(name, PlotPoints::from(vec![[a, foot], [b, foot]]))
                 .color(colour)
-                .width(6.0 * lw),
+                .width(BAND_WIDTH * lw),
         );
     }
     for curve in &d.density {
@@ -130,8 +182,8 @@ fn draw_basins(p: &mut egui_plot::PlotUi<'_>, d: &BasinBand) {
             .collect();
         p.line(
             style::line("invariant density (scaled)", PlotPoints::from(pts))
-                .color(style::POWERS[0].gamma_multiply(0.8))
-                .width(1.5 * lw),
+                .color(density_colour())
+                .width(DENSITY_WIDTH * lw),
         );
     }
 }

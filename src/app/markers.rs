@@ -105,13 +105,19 @@ impl Marker {
 /// largest first) as a legend key centred in `rect`, scaled together so
 /// that the largest is at most [`KEY_RADIUS`].
 pub fn paint_key(ui: &Ui, rect: egui::Rect, layers: &[Marker]) {
+    ui.painter()
+        .extend(key_shapes(super::style::key_scale(ui.ctx()), rect, layers));
+}
+
+/// [`paint_key`]'s shapes at key scale `scale`.
+fn key_shapes(scale: f32, rect: egui::Rect, layers: &[Marker]) -> Vec<Shape> {
     let largest = layers.iter().map(|m| m.radius).fold(0.0f32, f32::max);
-    let most = KEY_RADIUS * super::style::key_scale(ui.ctx());
+    let most = KEY_RADIUS * scale;
     let k = if largest > most { most / largest } else { 1.0 };
-    for m in layers {
-        ui.painter()
-            .extend(m.shapes_at(rect.center(), m.radius * k));
-    }
+    layers
+        .iter()
+        .flat_map(|m| m.shapes_at(rect.center(), m.radius * k))
+        .collect()
 }
 
 /// A legend entry: the marker (its layers, see [`paint_key`]) and its label.
@@ -119,11 +125,11 @@ pub fn legend(ui: &mut Ui, layers: &[Marker], label: &str) {
     if !super::style::legend_shown(ui.ctx()) {
         return;
     }
-    let side = (2.0 * KEY_RADIUS + 3.0) * super::style::key_scale(ui.ctx());
-    super::style::keep_key_with_label(ui, side, label);
-    let (rect, _) = ui.allocate_exact_size(vec2(side, side), egui::Sense::hover());
-    paint_key(ui, rect, layers);
-    ui.label(label);
+    let scale = super::style::key_scale(ui.ctx());
+    let side = (2.0 * KEY_RADIUS + 3.0) * scale;
+    super::hold::entry(ui, vec2(side, side), label, |rect| {
+        key_shapes(scale, rect, layers)
+    });
 }
 
 #[cfg(test)]

@@ -53,6 +53,7 @@ pub mod figure;
 pub mod files;
 pub mod frame_stats;
 pub mod help;
+pub mod hold;
 pub mod jobs;
 mod layout;
 pub mod layout_report;

@@ -275,6 +275,7 @@ impl NumericsView {
         };
         let y_title = axes::fitting_title(ui, long, short, plot_h);
         let plot = axes::apply(
+            ui.ctx(),
             plot,
             &AxisSpec::log10("max map error |θ' − θ'_ref| (rad)"),
             &AxisSpec::log10(y_title),

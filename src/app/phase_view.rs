@@ -152,12 +152,11 @@ impl PhaseView {
             // Grid lines over a map of discrete cells read as cell borders.
             .show_grid(false);
         let current = style::draws_current(ui.ctx());
-        let resp = axes::apply(
-            resp,
-            &AxisSpec::angle("θν, pull direction", s.angle_unit),
-            &AxisSpec::linear("κ = k_x/k_y, anisotropy"),
-        )
-        .show(ui, |p| {
+        let (x, y) = (
+            AxisSpec::angle("θν, pull direction", s.angle_unit),
+            AxisSpec::linear("κ = k_x/k_y, anisotropy"),
+        );
+        let resp = axes::apply(ui.ctx(), resp, &x, &y).show(ui, |p| {
             p.set_plot_bounds(PlotBounds::from_min_max(
                 [t0 - dt / 2.0, k0 - dk / 2.0],
                 [t1 + dt / 2.0, k1 + dk / 2.0],

@@ -149,44 +149,45 @@ impl PlaneView {
         if scaled {
             plot = plot.data_aspect(1.0);
         }
-        let resp = axes::apply(plot, &x_axis, &AxisSpec::linear("y (F₀/k_y)")).show(ui, |p| {
-            let f = *p.transform().frame();
-            let size = [f.width() as u32, f.height() as u32];
-            let key = (kbits, scaled, size);
-            let refit = fitted_for != Some(key) || p.response().double_clicked();
-            if refit && f.height() > 0.0 {
-                let (hx, hy) = if scaled {
-                    // Equal aspect: C round, the box widened to the plot.
-                    let asp = (f.width() / f.height()) as f64;
-                    if by * asp >= bx {
-                        (by * asp, by)
+        let resp =
+            axes::apply(ui.ctx(), plot, &x_axis, &AxisSpec::linear("y (F₀/k_y)")).show(ui, |p| {
+                let f = *p.transform().frame();
+                let size = [f.width() as u32, f.height() as u32];
+                let key = (kbits, scaled, size);
+                let refit = fitted_for != Some(key) || p.response().double_clicked();
+                if refit && f.height() > 0.0 {
+                    let (hx, hy) = if scaled {
+                        // Equal aspect: C round, the box widened to the plot.
+                        let asp = (f.width() / f.height()) as f64;
+                        if by * asp >= bx {
+                            (by * asp, by)
+                        } else {
+                            (bx, bx / asp)
+                        }
                     } else {
-                        (bx, bx / asp)
-                    }
-                } else {
-                    // The true x is κ times narrower: fill the plot.
-                    (bx, by)
-                };
-                p.set_plot_bounds(egui_plot::PlotBounds::from_min_max([-hx, -hy], [hx, hy]));
-            }
-            p.line(
-                style::line("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
-                    .color(style::ink(dark))
-                    .width(2.0 * lw),
-            );
-            // Dashed: cut to the plot's bounds first, so that a deep zoom
-            // does not dash the whole ellipse at the zoom's scale.
-            let b = p.plot_bounds();
-            for part in super::clip::clip_polyline(&crit, b.min(), b.max()) {
+                        // The true x is κ times narrower: fill the plot.
+                        (bx, by)
+                    };
+                    p.set_plot_bounds(egui_plot::PlotBounds::from_min_max([-hx, -hy], [hx, hy]));
+                }
                 p.line(
-                    style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(part))
-                        .color(style::CRITICAL)
-                        .style(LineStyle::Dashed { length: 8.0 })
-                        .width(1.5 * lw),
+                    style::line("C: κ²x² + y² = 1", PlotPoints::from(c_pts))
+                        .color(style::ink(dark))
+                        .width(2.0 * lw),
                 );
-            }
-            key
-        });
+                // Dashed: cut to the plot's bounds first, so that a deep zoom
+                // does not dash the whole ellipse at the zoom's scale.
+                let b = p.plot_bounds();
+                for part in super::clip::clip_polyline(&crit, b.min(), b.max()) {
+                    p.line(
+                        style::line("critical ellipse κ³x² + y² = γ²", PlotPoints::from(part))
+                            .color(style::CRITICAL)
+                            .style(LineStyle::Dashed { length: 8.0 })
+                            .width(1.5 * lw),
+                    );
+                }
+                key
+            });
         self.fitted_for = Some(resp.inner);
         axes::remember_frame(ui.ctx(), "plane", *resp.transform.frame());
         resp.transform

@@ -10,7 +10,7 @@ use egui_plot::{HLine, LineStyle, MarkerShape, Plot, PlotPoints, VLine};
 
 use super::axes::{self, AxisSpec};
 use super::jobs::Jobs;
-use super::map_basins::{BasinBand, attractor_colours};
+use super::map_basins::{BAND_WIDTH, BasinBand, DENSITY_WIDTH, density_colour};
 use super::markers::{self, Marker};
 use super::play::{CobwebSteps, cobweb_steps_ui};
 use super::settings::{Settings, ViewKind};
@@ -91,6 +91,9 @@ pub struct ReturnMapView {
     /// it over the whole play, so that the fixed point is seen to move
     /// along the diagonal); `None`: the window follows the attractor.
     pub held: Option<(f64, f64)>,
+    /// The plot's bounds at the last frame: what the legend lists is what
+    /// is drawn inside them.
+    shown: Option<egui_plot::PlotBounds>,
 }
 
 /// What the return map draws, in (θ, θ') before any change of axes.
@@ -189,13 +192,23 @@ impl MapData {
 impl ReturnMapView {
     fn show(&mut self, ui: &mut Ui, s: &mut Settings, jobs: &Jobs) {
         let it = &jobs.iterate.data;
-        legend_ui(ui, it.period, (it.lyapunov, it.lyapunov_stderr), s, jobs);
-        // Room for the top tick label, centred on the frame's top edge.
-        ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
         let mut data = MapData::of(s, jobs, &self.steps);
         if let Some(w) = self.held {
             data.window = w;
         }
+        let shown = self.shown.unwrap_or_else(|| {
+            let (lo, hi) = data.window;
+            egui_plot::PlotBounds::from_min_max([lo, lo], [hi, hi])
+        });
+        legend_ui(
+            ui,
+            it.period,
+            (it.lyapunov, it.lyapunov_stderr),
+            s,
+            (&data, shown),
+        );
+        // Room for the top tick label, centred on the frame's top edge.
+        ui.add_space(0.5 * ui.text_style_height(&egui::TextStyle::Body));
         let (x, y) = (
             AxisSpec::angle("θ, this onset", s.angle_unit),
             fitting(ui, AxisSpec::angle("θ', next onset", s.angle_unit)),
@@ -206,7 +219,12 @@ impl ReturnMapView {
                 AxisSpec::angle("f(θ) − θ, distance from the diagonal", s.angle_unit),
             );
             let data = data.into_difference();
-            let plot = axes::apply(Plot::new("return_map").show_background(false), &x, &y);
+            let plot = axes::apply(
+                ui.ctx(),
+                Plot::new("return_map").show_background(false),
+                &x,
+                &y,
+            );
             let bounds = difference_bounds(&data);
             plot.show(ui, |p| {
                 p.set_plot_bounds(bounds);
@@ -218,12 +236,13 @@ impl ReturnMapView {
                 .data_aspect(1.0)
                 .allow_double_click_reset(false);
             let (lo, hi) = data.window;
-            axes::apply(plot, &x, &y).show(ui, |p| {
+            axes::apply(ui.ctx(), plot, &x, &y).show(ui, |p| {
                 frame_square(p, lo, hi);
                 draw_map(p, s, &data, 1.0)
             })
         };
         axes::remember_frame(ui.ctx(), "return_map", *resp.transform.frame());
+        self.shown = Some(*resp.transform.bounds());
     }
 }
 
@@ -309,9 +328,17 @@ fn draw_map(p: &mut egui_plot::PlotUi<'_>, s: &Settings, d: &MapData, slope: f64
     p.line(
         style::line("cobweb", PlotPoints::from(d.web.clone()))
             .color(style::DECEL)
-            .width(1.5 * lw),
+            .width(COBWEB_WIDTH * lw),
     );
     p.add(iterates.points(ITERATES, PlotPoints::from(d.kept.clone())));
+}
+
+/// The cobweb's width, in lines (`style::width`).
+const COBWEB_WIDTH: f32 = 1.5;
+
+/// The critical angles' colour.
+fn theta_c_colour() -> egui::Color32 {
+    style::ACCEL.gamma_multiply(0.6)
 }
 
 /// The names of the map's points (legend and hover).
@@ -358,12 +385,12 @@ fn critical_angles(p: &mut egui_plot::PlotUi<'_>, theta_c: f64, lo: f64, hi: f64
         if v > lo && v < hi {
             p.add(
                 VLine::new("θc", v)
-                    .color(style::ACCEL.gamma_multiply(0.6))
+                    .color(theta_c_colour())
                     .style(LineStyle::Dashed { length: 6.0 }),
             );
             p.add(
                 HLine::new("θc", v)
-                    .color(style::ACCEL.gamma_multiply(0.6))
+                    .color(theta_c_colour())
                     .style(LineStyle::Dashed { length: 6.0 }),
             );
         }
@@ -394,36 +421,40 @@ fn powers_ui(ui: &mut Ui, s: &mut Settings, arrived: &[Vec<f64>]) {
     }
 }
 
-/// The period and λ, the f(θ) − θ switch, and the legend above the plot.
+/// The period and λ, and the legend above the plot: an entry for each
+/// thing `d` draws inside the plot's bounds `shown` (the last frame's),
+/// its key styled as it is drawn.
 fn legend_ui(
     ui: &mut Ui,
     period: Option<Period>,
     (lyapunov, stderr): (Option<f64>, Option<f64>),
-    s: &mut Settings,
-    jobs: &Jobs,
+    s: &Settings,
+    (d, shown): (&MapData, egui_plot::PlotBounds),
 ) {
-    let found = jobs.map_basins.at(&s.params);
-    let mixed = matches!(
-        Regime::of(s.params.kappa, s.params.gamma),
-        Regime::Mixed { .. }
-    );
     ui.horizontal_wrapped(|ui| {
         ui.label(RichText::new(summary(period, lyapunov, stderr)).strong());
     });
-    let colours = found.map_or(Vec::new(), |f| attractor_colours(s, jobs, f));
     let difference = s.map_difference;
+    let (lo, hi) = (shown.min()[0], shown.max()[0]);
+    // The points as drawn: (θ, θ') or (θ, θ' − θ).
+    let inside = |q: &&[f64; 2]| {
+        let y = if difference { q[1] - q[0] } else { q[1] };
+        (lo..=hi).contains(&q[0]) && (shown.min()[1]..=shown.max()[1]).contains(&y)
+    };
     style::legend_row(ui, |ui| {
-        style::legend_line(
-            ui,
-            style::ACCEL,
-            false,
-            if difference { "f − θ" } else { "f" },
-        );
+        if !d.pieces.is_empty() {
+            let name = if difference { "f − θ" } else { "f" };
+            style::legend_line(ui, style::ACCEL, false, name);
+        }
         let [iterates, cycles] = map_markers(s.dark);
-        markers::legend(ui, &[iterates], ITERATES);
-        markers::legend(ui, &[cycles], TRANSIENT);
-        if !difference {
-            style::legend_line(ui, style::DECEL, false, "cobweb");
+        if !d.kept.is_empty() {
+            markers::legend(ui, &[iterates], ITERATES);
+        }
+        if d.traj.iter().any(|q| inside(&q)) {
+            markers::legend(ui, &[cycles], TRANSIENT);
+        }
+        if !difference && d.web.len() > 1 {
+            style::legend_stroke(ui, (style::DECEL, COBWEB_WIDTH), false, "cobweb");
         }
         style::legend_line(
             ui,
@@ -431,22 +462,22 @@ fn legend_ui(
             true,
             if difference { "0" } else { "θ' = θ" },
         );
-        if mixed && !difference {
-            style::legend_line(ui, style::ACCEL, true, "±θc");
+        let (wlo, whi) = d.window;
+        if let Some(tc) = d.theta_c.filter(|_| !difference)
+            && [tc, -tc].iter().any(|v| *v > wlo && *v < whi)
+        {
+            style::legend_stroke(ui, (theta_c_colour(), 1.0), true, "±θc");
         }
-        if let Some(f) = found.filter(|_| !difference) {
-            for (i, a) in f.attractors.iter().enumerate() {
-                let name = match a.period {
-                    Some(1) => "basin: FP".to_owned(),
-                    Some(p) => format!("basin: P{p}"),
-                    None => "basin: chaotic".to_owned(),
-                };
-                let c = colours.get(i).copied().unwrap_or(super::basins::BOUNDARY);
-                style::legend_line(ui, c, false, &name);
-            }
-            if f.attractors.iter().any(|a| a.density.is_some()) {
-                style::legend_line(ui, style::POWERS[0], false, "invariant density");
-            }
+        // The band and the density are drawn on the map only.
+        if difference {
+            return;
+        }
+        for (c, name) in d.band.drawn(lo, hi) {
+            style::legend_stroke(ui, (c, BAND_WIDTH), false, &name);
+        }
+        if d.band.density_drawn(lo, hi) {
+            let key = (density_colour(), DENSITY_WIDTH);
+            style::legend_stroke(ui, key, false, "invariant density");
         }
     });
 }

@@ -108,15 +108,18 @@ pub fn ink(dark: bool) -> Color32 {
 /// its label. In a wrapping row the entry starts a new row when key and
 /// label do not both fit in what is left of this one, so that a legend
 /// never leaves a key at the end of one row and its label on the next.
-fn legend_entry(ui: &mut Ui, size: egui::Vec2, label: &str, key: impl FnOnce(&Ui, egui::Rect)) {
+/// The key's shapes are `key`'s for the rectangle and the key scale.
+fn legend_entry(
+    ui: &mut Ui,
+    size: egui::Vec2,
+    label: &str,
+    key: impl FnOnce(egui::Rect, f32) -> Vec<egui::Shape>,
+) {
     if !legend_shown(ui.ctx()) {
         return;
     }
-    let size = size * key_scale(ui.ctx());
-    keep_key_with_label(ui, size.x, label);
-    let (rect, _) = ui.allocate_exact_size(size, egui::Sense::hover());
-    key(ui, rect);
-    ui.label(label);
+    let k = key_scale(ui.ctx());
+    super::hold::entry(ui, size * k, label, |rect| key(rect, k));
 }
 
 /// In a wrapping row, starts a new row unless a legend key `key_width`
@@ -236,46 +239,55 @@ pub fn text_scale(ui: &Ui) -> f32 {
 
 /// A small coloured square and its label.
 pub fn legend_swatch(ui: &mut Ui, color: Color32, label: &str) {
-    legend_entry(ui, egui::vec2(14.0, 14.0), label, |ui, rect| {
-        ui.painter()
-            .rect_filled(rect, 2.0 * key_scale(ui.ctx()), color);
+    legend_entry(ui, egui::vec2(14.0, 14.0), label, |rect, k| {
+        vec![egui::Shape::rect_filled(rect, 2.0 * k, color)]
     });
 }
 
 /// A short line (dashed if asked) and its label.
 pub fn legend_line(ui: &mut Ui, color: Color32, dashed: bool, label: &str) {
-    legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
-        line_key(ui, rect, color, dashed);
+    legend_stroke(ui, (color, 2.0), dashed, label);
+}
+
+/// A short line `width` (times the key scale) wide, dashed if asked, and
+/// its label: the key of a plot line drawn `width` times the line scale
+/// wide ([`width`]), such as the return map's basin band.
+pub fn legend_stroke(ui: &mut Ui, (color, width): (Color32, f32), dashed: bool, label: &str) {
+    legend_entry(ui, egui::vec2(22.0, 14.0), label, |rect, k| {
+        line_key(rect, k, egui::Stroke::new(width * k, color), dashed)
     });
 }
 
 /// A dotted line, as egui_plot draws `LineStyle::Dotted { spacing: 6 }`
 /// of the default width (dots of radius 1.5, 6 points apart), and its label.
 pub fn legend_dotted(ui: &mut Ui, color: Color32, label: &str) {
-    legend_entry(ui, egui::vec2(22.0, 14.0), label, |ui, rect| {
-        let (y, k) = (rect.center().y, key_scale(ui.ctx()));
-        for i in 0..4 {
-            let x = rect.left() + (2.0 + i as f32 * 6.0) * k;
-            ui.painter().circle_filled(egui::pos2(x, y), 1.5 * k, color);
-        }
+    legend_entry(ui, egui::vec2(22.0, 14.0), label, |rect, k| {
+        let y = rect.center().y;
+        (0..4)
+            .map(|i| {
+                let x = rect.left() + (2.0 + i as f32 * 6.0) * k;
+                egui::Shape::circle_filled(egui::pos2(x, y), 1.5 * k, color)
+            })
+            .collect()
     });
 }
 
-/// A legend's short line across `rect`, dashed if asked.
-fn line_key(ui: &Ui, rect: egui::Rect, color: Color32, dashed: bool) {
-    let (y, k) = (rect.center().y, key_scale(ui.ctx()));
-    let stroke = egui::Stroke::new(2.0 * k, color);
+/// A legend's short line across `rect` in `stroke`, dashed if asked
+/// (dashes of 5, 8 apart, times the key scale `k`).
+fn line_key(rect: egui::Rect, k: f32, stroke: egui::Stroke, dashed: bool) -> Vec<egui::Shape> {
+    let y = rect.center().y;
     if dashed {
-        for i in 0..3 {
-            let x = rect.left() + i as f32 * 8.0 * k;
-            ui.painter()
-                .line_segment([egui::pos2(x, y), egui::pos2(x + 5.0 * k, y)], stroke);
-        }
+        (0..3)
+            .map(|i| {
+                let x = rect.left() + i as f32 * 8.0 * k;
+                egui::Shape::line_segment([egui::pos2(x, y), egui::pos2(x + 5.0 * k, y)], stroke)
+            })
+            .collect()
     } else {
-        ui.painter().line_segment(
+        vec![egui::Shape::line_segment(
             [egui::pos2(rect.left(), y), egui::pos2(rect.right(), y)],
             stroke,
-        );
+        )]
     }
 }
 

@@ -33,6 +33,9 @@ pub struct Look {
     pub font_size: Option<f32>,
     /// Where the legends go (above their plots, or none).
     pub legend: style::LegendPlace,
+    /// The text's font family (a name, or serif, sans-serif, monospace),
+    /// else the sans-serif faces of [`super::svg_text::FONT_FAMILY`].
+    pub font: Option<String>,
 }
 
 impl Look {
@@ -107,22 +110,28 @@ impl FrameRenderer {
         (size, look): (Vec2, &Look),
         dt: f64,
     ) -> Self {
-        Self::new_with(view, settings, jobs, (size, look), dt, |_| {})
+        Self::new_with(view, settings, jobs, (size, look), dt, (|_| {}, None))
     }
 
     /// [`FrameRenderer::new`] with the views' state set by `prepare`
     /// before the passes that settle the layout (a played return map's
-    /// held axes: its first frame is then drawn in them).
+    /// held axes: its first frame is then drawn in them), and the legends
+    /// and plot bounds gathered or held over a play (`hold`).
     pub fn new_with(
         view: ViewKind,
         settings: &Settings,
         jobs: &Jobs,
         (size, look): (Vec2, &Look),
         dt: f64,
-        prepare: impl FnOnce(&mut Views),
+        (prepare, hold): (impl FnOnce(&mut Views), Option<super::hold::Start>),
     ) -> Self {
         let mut r = Renderer::new(settings, &[], size, look);
         prepare(&mut r.state);
+        match hold {
+            Some(super::hold::Start::Collect) => super::hold::collect(&r.ctx),
+            Some(super::hold::Start::Hold(held)) => super::hold::hold(&r.ctx, held),
+            None => {}
+        }
         for _ in 0..PASSES - 1 {
             r.pass(&[view], jobs, 0.0);
         }
@@ -145,10 +154,21 @@ impl FrameRenderer {
     /// The next frame's SVG, of `jobs` as they are now: frame k at ui
     /// time k·dt.
     pub fn next_frame(&mut self, jobs: &Jobs) -> String {
+        self.observe(jobs);
+        self.r.svg()
+    }
+
+    /// The next frame drawn, not written: what a renderer gathering a
+    /// play's legends and bounds needs of it.
+    pub fn observe(&mut self, jobs: &Jobs) {
         self.r
             .pass(&[self.view], jobs, self.frames as f64 * self.dt);
         self.frames += 1;
-        self.r.svg()
+    }
+
+    /// The legends and plot bounds gathered so far (`hold::Start::Collect`).
+    pub fn gathered(&self) -> super::hold::Held {
+        super::hold::gathered(&self.r.ctx)
     }
 }
 
@@ -237,6 +257,7 @@ impl Renderer {
         self.textures.remove(&egui::TextureId::default());
         self.shapes = std::mem::take(&mut out.shapes);
         self.frames = axes::plot_frames(&self.ctx);
+        super::hold::end_pass(&self.ctx);
         if let style::LegendPlace::Inside(corner) = self.look.legend {
             let (frames, shapes) = (&self.frames, &self.shapes);
             legend::place(&self.ctx, corner, frames, shapes, &self.textures);
@@ -251,6 +272,12 @@ impl Renderer {
         let bg = self.ctx.global_style().visuals.panel_fill;
         let size = self.area.size();
         let mut svg = w.finish(size, if bg.a() == 0 { Color32::WHITE } else { bg });
+        if let Some(f) = &self.look.font {
+            use super::svg_text::{FONT_FAMILY, family_attribute};
+            let named = format!("font-family=\"{FONT_FAMILY}\"");
+            let asked = format!("font-family=\"{}\"", family_attribute(f));
+            svg = svg.replacen(&named, &asked, 1);
+        }
         // Where the legends are, unpainted (as the plots' frames).
         let boxes = legend::svg_boxes(&legend::drawn(&self.ctx));
         let end = svg.rfind("</svg>").unwrap_or(svg.len());
@@ -278,6 +305,24 @@ fn figure_scale(look: &Look, size: Vec2) -> f32 {
 /// given.
 fn document_context(settings: &Settings, look: &Look) -> egui::Context {
     let ctx = egui::Context::default();
+    // Text laid out in the font it is set in (--font), where this system
+    // has it: labels then take the room their glyphs do.
+    #[cfg(not(target_arch = "wasm32"))]
+    if let Some(data) = look.font.as_deref().and_then(super::figure::face_data) {
+        let mut fonts = egui::FontDefinitions::default();
+        let name = "figure-font".to_owned();
+        fonts
+            .font_data
+            .insert(name.clone(), std::sync::Arc::new(data));
+        for family in [egui::FontFamily::Proportional, egui::FontFamily::Monospace] {
+            fonts
+                .families
+                .entry(family)
+                .or_default()
+                .insert(0, name.clone());
+        }
+        ctx.set_fonts(fonts);
+    }
     ctx.set_theme(if settings.dark && look.window {
         egui::Theme::Dark
     } else {

@@ -13,6 +13,18 @@ use super::svg::paint;
 /// it out; see `figure::font_db`).
 pub const FONT_FAMILY: &str = "DejaVu Sans, Helvetica, Arial, sans-serif";
 
+/// The SVG's font-family for `--font family`: a generic family as it is
+/// (sans-serif as [`FONT_FAMILY`], which ends with it), a name quoted and
+/// followed by [`FONT_FAMILY`]'s faces for a reader without it. `family`
+/// was checked to hold no quote or markup.
+pub fn family_attribute(family: &str) -> String {
+    match family {
+        "sans-serif" => FONT_FAMILY.to_owned(),
+        "serif" | "monospace" => family.to_owned(),
+        name => format!("'{name}', {FONT_FAMILY}"),
+    }
+}
+
 /// XML text escaping.
 pub fn escape(s: &str) -> String {
     let mut o = String::with_capacity(s.len());

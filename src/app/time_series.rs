@@ -186,6 +186,7 @@ impl TimeSeriesView {
             ""
         };
         let resp = axes::apply(
+            ui.ctx(),
             plot,
             &AxisSpec::linear(x_title),
             &AxisSpec::linear(fitting(ui, q, frame)),

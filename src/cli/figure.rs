@@ -172,6 +172,7 @@ fn look(a: &FigureArgs) -> crate::app::svg_render::Look {
         title: a.title.clone(),
         font_size: a.font_size.map(|v| v as f32),
         legend: legend_place(a.legend),
+        font: a.font.clone(),
     }
 }
 
@@ -250,11 +251,37 @@ fn accuracy_flags(a: &FigureArgs, settings: &mut crate::app::Settings) -> Result
     Ok(())
 }
 
+/// The θν a played GIF runs over: `range` (its flags'), else its
+/// diagram's.
+#[cfg(feature = "gui")]
+fn play_span(
+    range: Option<(f64, f64)>,
+    fig: &crate::app::figure::Figure,
+    frames: usize,
+) -> crate::app::animation::PlaySpan {
+    use crate::app::animation::PlaySpan;
+    match range {
+        Some((from, to)) => PlaySpan { from, to, frames },
+        None => PlaySpan::of_diagram(fig, frames),
+    }
+}
+
+/// The PDF's and PNG's fonts: the family --font names where this system
+/// has it (said once on stderr where it has not).
+#[cfg(feature = "gui")]
+fn pdf_png_fonts(font: Option<&str>) -> std::sync::Arc<resvg::usvg::fontdb::Database> {
+    let (db, note) = crate::app::figure::fonts_for(font);
+    if let Some(n) = note {
+        eprintln!("note: {n}");
+    }
+    db
+}
+
 /// Draws the figure and writes it.
 #[cfg(feature = "gui")]
 pub fn run(a: FigureArgs) -> Result<(), CliError> {
-    use crate::app::animation::{PlaySpan, gif, play_gif};
-    use crate::app::figure::{Figure, pdf_of_svg, png_of_svg, svg};
+    use crate::app::animation::{gif, play_gif};
+    use crate::app::figure::{Figure, pdf_of_svg_with, png_of_svg_with, svg};
     use crate::app::{Settings, ViewKind};
     let c = check(&a)?;
     let view = ViewKind::from_key(&c.view)
@@ -308,14 +335,15 @@ pub fn run(a: FigureArgs) -> Result<(), CliError> {
     let size = fig.size;
     let scale = a.dpi.map_or(PNG_SCALE, |d| (d / 72.0) as f32);
     let (format, frames, speed) = (c.format, a.frames.unwrap_or(0), a.speed.unwrap_or(1.0));
-    let play = a.play.then(|| match c.theta_nu.or(a.from.zip(a.to)) {
-        Some((from, to)) => PlaySpan { from, to, frames },
-        None => PlaySpan::of_diagram(&fig, frames),
-    });
+    let play = a
+        .play
+        .then(|| play_span(c.theta_nu.or(a.from.zip(a.to)), &fig, frames));
+    let font = a.font.clone();
     let bytes = run_bounded("figure", &limits, move || match format {
         Format::Svg => svg(&fig).map(String::into_bytes),
-        Format::Pdf => svg(&fig).and_then(|t| pdf_of_svg(&t)),
-        Format::Png => svg(&fig).and_then(|t| png_of_svg(&t, size, scale)),
+        Format::Pdf => svg(&fig).and_then(|t| pdf_of_svg_with(&t, &pdf_png_fonts(font.as_deref()))),
+        Format::Png => svg(&fig)
+            .and_then(|t| png_of_svg_with(&t, size, scale, &pdf_png_fonts(font.as_deref()))),
         Format::Gif => match play {
             Some(span) => play_gif(fig, span),
             None => gif(&fig, frames, speed),

@@ -7,7 +7,9 @@
 //! trajectory`); the events view's slips (as `oneblock orbit --events`);
 //! the return map's curve and orbit (`kind,theta,theta_next`: `curve`
 //! rows are the map's graph θ ↦ f(θ), `orbit` rows each onset and the
-//! next).
+//! next); the numerics view's work-precision rows (`source` then
+//! `oneblock work-precision`'s columns: `run` rows measured on the
+//! figure's parameters, `committed` rows the chart drawn faint behind).
 
 use std::fmt::Write as _;
 
@@ -30,6 +32,7 @@ pub fn data_csv(fig: &Figure) -> Result<String, String> {
             export::events_csv(&jobs.trajectory.data.events),
         ),
         ViewKind::ReturnMap => (JobKind::Iterate, return_map_csv(&jobs.iterate.data)),
+        ViewKind::Numerics => (JobKind::Numerics, numerics_csv(&jobs.numerics.data)),
         _ => (
             JobKind::Trajectory,
             export::trajectory_csv(&jobs.trajectory.data.samples),
@@ -47,6 +50,23 @@ pub fn return_map_csv(d: &IterateData) -> String {
     }
     for w in d.thetas.windows(2) {
         writeln!(s, "orbit,{},{}", w[0], w[1]).ok();
+    }
+    s
+}
+
+/// The work-precision rows the numerics figure draws: the run's (on the
+/// figure's parameters) and the committed chart's behind them, or the
+/// committed chart alone when the run measured nothing; one row per
+/// setting, as `oneblock work-precision` writes it, after its source.
+pub fn numerics_csv(d: &crate::app::data::WorkPrecisionData) -> String {
+    use crate::numerics::committed::default_rows;
+    use crate::numerics::work_precision::CSV_HEADER;
+    let mut s = format!("source,{CSV_HEADER}\n");
+    for r in &d.rows {
+        writeln!(s, "run,{}", r.csv()).ok();
+    }
+    for r in default_rows() {
+        writeln!(s, "committed,{}", r.csv()).ok();
     }
     s
 }

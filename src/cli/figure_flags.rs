@@ -14,18 +14,6 @@ use super::gui::{VIEW_KEYS, parse_size_within};
 use super::values::{MAX_ABS_THETA, echo, parse_count, parse_number, short};
 use crate::sim::continuation::ContParam;
 
-/// The views whose data `figure --out x.csv` writes instead of a picture.
-pub const CSV_VIEW_KEYS: [&str; 8] = [
-    "basins",
-    "bifurcation",
-    "phase",
-    "plane",
-    "block",
-    "time-series",
-    "events",
-    "return-map",
-];
-
 /// The smallest figure side, in points: a column's figure.
 pub const MIN_SIDE: f32 = 100.0;
 
@@ -102,7 +90,7 @@ pub enum Format {
     Pdf,
     Png,
     Gif,
-    /// The Basins view's columns as a table.
+    /// The data the view draws, as a table.
     Csv,
 }
 
@@ -146,10 +134,6 @@ fn check_frames(a: &FigureArgs, format: Format) -> Result<(), CliError> {
         (Format::Gif, None) => {
             usage("--out: a .gif is an animation: give --frames N (2 to 600)".into())
         }
-        (Format::Csv, _) if !CSV_VIEW_KEYS.contains(&a.view.as_str()) => usage(format!(
-            "--out: every view but numerics writes a .csv (the data drawn), not '{}'",
-            echo(&a.view)
-        )),
         (Format::Svg | Format::Pdf | Format::Png | Format::Csv, Some(_)) => usage(
             "--frames makes an animation, which a .svg, .pdf or .png cannot hold: name a .gif file"
                 .into(),
@@ -260,50 +244,6 @@ pub const MAX_SEEDS: usize = 64;
 #[cfg(feature = "gui")]
 const _: () = assert!(MAX_SEEDS == crate::app::settings::MAX_SWEEP_SEEDS);
 
-/// --title and --font-size: a title with some text, a size in
-/// [`FONT_SIZES`]; neither with the window's look, which has its own.
-fn check_look(a: &FigureArgs) -> Result<(), CliError> {
-    let usage = |m: String| Err(CliError::Usage(m));
-    if let Some(t) = &a.title
-        && t.trim().is_empty()
-    {
-        return usage("--title: give the title's text (or leave --title out)".into());
-    }
-    if let Some(c) = a
-        .title
-        .as_deref()
-        .and_then(|t| t.chars().find(|&c| !xml_char(c)))
-    {
-        return usage(format!(
-            "--title: U+{:04X} is not a character an SVG may hold: leave it out",
-            c as u32
-        ));
-    }
-    if let Some(v) = a.font_size
-        && !(FONT_SIZES.0..=FONT_SIZES.1).contains(&v)
-    {
-        return usage(format!(
-            "--font-size = {} is out of range: must lie in [{}, {}] (points)",
-            short(v),
-            FONT_SIZES.0,
-            FONT_SIZES.1
-        ));
-    }
-    if a.window_look && (a.title.is_some() || a.font_size.is_some()) {
-        return usage(
-            "--window-look draws the window's title and text sizes: leave out --title and --font-size"
-                .into(),
-        );
-    }
-    Ok(())
-}
-
-/// Whether XML 1.0 allows `c` in a document (tab, newline, carriage
-/// return, and the rest from U+0020 but U+FFFE and U+FFFF).
-pub fn xml_char(c: char) -> bool {
-    matches!(c, '\t' | '\n' | '\r') || (c >= ' ' && c != '\u{FFFE}' && c != '\u{FFFF}')
-}
-
 /// A GIF's size when --size is not given: a slide's.
 pub const GIF_SIZE: [f32; 2] = [640.0, 480.0];
 
@@ -344,10 +284,11 @@ pub struct FigureArgs {
     /// lines as paths, text as text), .pdf (that SVG as a vector PDF, its
     /// text text in an embedded font) or .png (that SVG rasterised at
     /// --dpi, 2 pixels per point by default); or .csv, the data the view
-    /// draws with '#' lines naming how it was made (every view but
-    /// numerics: the diagram's onsets and λ per column, the basins'
-    /// attractors, the phase grid's cells, the trajectory, the slips, the
-    /// return map's curve and orbit). Never overwrites an existing file.
+    /// draws with '#' lines naming how it was made (every view: the
+    /// diagram's onsets and λ per column, the basins' attractors, the phase
+    /// grid's cells, the trajectory, the slips, the return map's curve and
+    /// orbit, the numerics' work-precision rows). Never overwrites an
+    /// existing file.
     #[arg(long)]
     pub out: PathBuf,
     /// The model's parameters [default: the session's, else fig3b's].
@@ -463,6 +404,14 @@ pub struct FigureArgs {
     /// title), in [4, 72] [default: the window's, 13 for the tick labels].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub font_size: Option<f64>,
+    /// The text's font family in a .svg, .pdf or .png: a family name
+    /// (letters, digits, spaces, '-', '_', '.'; such as "DejaVu Serif")
+    /// or a generic family (serif, sans-serif, monospace). The SVG names
+    /// it (with sans-serif faces after it); the PDF and PNG set the text
+    /// in it where this system has it, else in the built-in sans-serif,
+    /// with a note on stderr [default: sans-serif].
+    #[arg(long)]
+    pub font: Option<String>,
     /// Draw the figure with the window's look instead of a page's: its
     /// background, a frame and the view's name.
     #[arg(long)]
@@ -552,7 +501,7 @@ pub fn check(a: &FigureArgs) -> Result<Checked, CliError> {
             short(v)
         )));
     }
-    check_look(a)?;
+    super::figure_look::check_look(a, format)?;
     check_overlays(a)?;
     let theta = range("theta", a.theta_from, a.theta_to)?;
     // θ is an angle: an axis beyond ±1000 radians (θν's bound in

@@ -15,6 +15,7 @@ mod figure_basins;
 #[cfg(feature = "gui")]
 mod figure_csv;
 mod figure_flags;
+mod figure_look;
 pub mod gui;
 pub mod map;
 pub mod orbit;

@@ -12,12 +12,22 @@
 //! the played θν, which the diagram's sweep gives), so that its fixed point
 //! is seen to move along the diagonal; the window's own map follows the
 //! attractor.
+//!
+//! Every view holds its legends and plot bounds over the play
+//! ([`super::super::hold`]): the frames are computed twice, the first time
+//! only drawn off screen to gather each legend's entries and each plot's
+//! bounds over all of them, the second time drawn with that union, so
+//! that no axis moves and no legend entry comes and goes (a return map's
+//! axes once jumped when the density's entry wrapped its legend onto a
+//! second row). Computing twice costs time, not memory: a frame's data is
+//! not kept (a plane's trajectory is megabytes a frame).
 
 use std::sync::Arc;
 use std::time::Duration;
 
 use super::super::axes;
 use super::super::figure::{ComputeRun, Figure, font_db, pixmap_with_fonts, view_settings};
+use super::super::hold::{Held, Start};
 use super::super::jobs::Jobs;
 use super::super::settings::{Settings, ViewKind};
 use super::super::svg_render::FrameRenderer;
@@ -72,6 +82,12 @@ pub struct PlayRun {
     /// The frame being computed.
     frame: usize,
     computing: Option<ComputeRun>,
+    /// The first run over the frames: the renderer gathering their
+    /// legends and bounds.
+    gathering: Option<FrameRenderer>,
+    /// The union gathered, once the first run is over: the frames are
+    /// then drawn.
+    held: Option<Held>,
     drawing: Option<Drawer>,
 }
 
@@ -106,13 +122,21 @@ impl PlayRun {
             fig,
             span,
             frame: 0,
+            gathering: None,
+            held: None,
             drawing: None,
         })
     }
 
-    /// Frames encoded or waiting for the palette so far, of how many.
+    /// Frames gathered, then encoded or waiting for the palette, so far,
+    /// of how many (each frame counts twice).
     pub fn progress(&self) -> (usize, usize) {
-        (self.frame, self.span.frames)
+        let gathered = if self.held.is_some() {
+            self.span.frames
+        } else {
+            0
+        };
+        (gathered + self.frame, 2 * self.span.frames)
     }
 
     /// One piece: the current frame's data computed for about `budget`,
@@ -127,8 +151,12 @@ impl PlayRun {
         };
         let clock = run.clock();
         self.computing = None;
-        if let Err(e) = self.draw(&fig_k, &jobs) {
-            return Some(Err(e));
+        if self.held.is_some() {
+            if let Err(e) = self.draw(&fig_k, &jobs) {
+                return Some(Err(e));
+            }
+        } else {
+            self.gather(&fig_k, &jobs);
         }
         self.frame += 1;
         if self.frame < self.span.frames {
@@ -141,19 +169,44 @@ impl PlayRun {
             ));
             return None;
         }
+        if self.held.is_none() {
+            // Gathered: the frames again from the first, computed as the
+            // first time (the same runs, so the same data), drawn.
+            self.held = Some(
+                self.gathering
+                    .take()
+                    .map_or_else(Held::default, |g| g.gathered()),
+            );
+            self.frame = 0;
+            let first = at_frame(&self.fig, &self.span, 0);
+            self.computing = Some(ComputeRun::with_lanes(&first, holds_axes(&self.fig)));
+            return None;
+        }
         Some(self.finish())
+    }
+
+    /// Frame `self.frame` of `fig_k`, from `jobs`, drawn off screen for
+    /// its legends and bounds.
+    fn gather(&mut self, fig_k: &Figure, jobs: &Jobs) {
+        let s = view_settings(fig_k);
+        let span = &self.span;
+        let g = self
+            .gathering
+            .get_or_insert_with(|| renderer(fig_k, &s, jobs, span, Start::Collect));
+        g.set_settings(&s, crosshair(fig_k));
+        g.observe(jobs);
     }
 
     /// Frame `self.frame` of `fig_k`, from `jobs`, drawn and encoded (or
     /// kept for the palette).
     fn draw(&mut self, fig_k: &Figure, jobs: &Jobs) -> Result<(), String> {
         let s = view_settings(fig_k);
-        let crosshair = fig_k.crosshair || fig_k.view == ViewKind::Bifurcation;
         let span = &self.span;
+        let held = self.held.clone().unwrap_or_default();
         let d = self
             .drawing
-            .get_or_insert_with(|| Drawer::new(fig_k, &s, jobs, span));
-        d.renderer.set_settings(&s, crosshair);
+            .get_or_insert_with(|| Drawer::new(fig_k, &s, jobs, span, held));
+        d.renderer.set_settings(&s, crosshair(fig_k));
         let svg = d.renderer.next_frame(jobs);
         let px = pixmap_with_fonts(&svg, fig_k.size, 1.0, &d.db)?.take();
         match &mut d.enc {
@@ -181,19 +234,41 @@ impl PlayRun {
     }
 }
 
+/// Whether a frame draws the current parameters' lines: a played
+/// diagram its θν cursor always.
+fn crosshair(fig: &Figure) -> bool {
+    fig.crosshair || fig.view == ViewKind::Bifurcation
+}
+
+/// A renderer of `fig`'s frames from the first's `jobs`, gathering or
+/// holding the play's legends and bounds (`start`); a return map in the
+/// window held over the play.
+fn renderer(
+    fig: &Figure,
+    s: &Settings,
+    jobs: &Jobs,
+    span: &PlaySpan,
+    start: Start,
+) -> FrameRenderer {
+    let window = (fig.view == ViewKind::ReturnMap)
+        .then(|| held_window(jobs, span))
+        .flatten();
+    FrameRenderer::new_with(
+        fig.view,
+        s,
+        jobs,
+        (fig.size, &fig.look),
+        FRAME_SECONDS,
+        (
+            |views: &mut super::super::views::Views| views.return_map.held = window,
+            Some(start),
+        ),
+    )
+}
+
 impl Drawer {
-    fn new(fig: &Figure, s: &Settings, jobs: &Jobs, span: &PlaySpan) -> Drawer {
-        let held = (fig.view == ViewKind::ReturnMap)
-            .then(|| held_window(jobs, span))
-            .flatten();
-        let renderer = FrameRenderer::new_with(
-            fig.view,
-            s,
-            jobs,
-            (fig.size, &fig.look),
-            FRAME_SECONDS,
-            |views| views.return_map.held = held,
-        );
+    fn new(fig: &Figure, s: &Settings, jobs: &Jobs, span: &PlaySpan, held: Held) -> Drawer {
+        let renderer = renderer(fig, s, jobs, span, Start::Hold(held));
         let (w, h) = (fig.size.x.round() as u16, fig.size.y.round() as u16);
         let chunk = (CHUNK_BYTES / (usize::from(w) * usize::from(h) * 4).max(1)).clamp(2, 32);
         Drawer {
