@@ -30,7 +30,7 @@ use oneblock::worker::{Command, Worker, WorkerConfig};
 /// were batched or ordered in time: progress (timing) is left out, columns
 /// and cells are keyed by their place, streamed iterates concatenated, and
 /// work-precision rows keep their errors and costs but not their timings.
-#[derive(Debug, PartialEq, Default)]
+#[derive(Clone, Debug, PartialEq, Default)]
 struct Results {
     samples: Vec<(f64, f64, f64)>,
     slips: Vec<String>,
@@ -521,7 +521,14 @@ fn a_basins_column_paused_after_every_piece_is_the_same() {
     let r = same_on_both_hosts(Command::run(8, spec.clone()));
     assert_eq!(r.basins.len(), 2, "{r:?}");
     let (paused, steps) = local_paused(Spec::Basins(spec));
-    assert_eq!(paused, r);
+    // The same columns; the births and deaths are located where the job
+    // runs whole, not on a host that slices it for a page's frames (the
+    // page says so).
+    let is_events = |o: &String| o.starts_with("BasinEvents");
+    assert_eq!(r.other.iter().filter(|o| is_events(o)).count(), 1, "{r:?}");
+    let mut whole = r.clone();
+    whole.other.retain(|o| !is_events(o));
+    assert_eq!(paused, whole);
     // The arc's interpolant alone is thousands of map evaluations.
     assert!(steps > 2 * 40, "{steps} steps");
 }

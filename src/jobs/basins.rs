@@ -268,12 +268,13 @@ impl BasinsJob {
 
     /// The tracks and their events over every column, sent as one update
     /// (a range of two columns or more). The thread that finished the
-    /// last column locates them, on every core. Not on the
-    /// single-threaded host (the page): a continuation or a bisection on
-    /// the cell graph cannot stop part-way for the page's frame, so the
-    /// page shows tracks without events and says so.
+    /// last column locates them, on every core. Not on a host that runs
+    /// the job a slice of time at a time (the page, [`Sink::sliced`]): a
+    /// continuation or a bisection on the cell graph cannot stop part-way
+    /// for the page's frame, so the page shows tracks without events and
+    /// says so.
     fn events(&self, sink: &dyn Sink) -> Result<(), JobError> {
-        if self.grid.len() < 2 || cfg!(target_arch = "wasm32") {
+        if self.grid.len() < 2 || sink.sliced() {
             return Ok(());
         }
         let found = lock(&self.found).clone();

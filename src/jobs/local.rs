@@ -52,6 +52,8 @@ pub struct Local {
 struct Queue {
     generation: Generation,
     lane: Lane,
+    /// A step has run with a slice of time ([`Sink::sliced`]).
+    sliced: AtomicBool,
     updates: Mutex<Vec<Update>>,
     cancelled: AtomicBool,
     cycles: AtomicU64,
@@ -113,6 +115,10 @@ impl Sink for Queue {
         self.lane
     }
 
+    fn sliced(&self) -> bool {
+        self.sliced.load(Ordering::Relaxed)
+    }
+
     fn send(&self, update: Update) -> Result<(), Stop> {
         if self.stale() {
             return Err(Stop::Stale);
@@ -161,6 +167,7 @@ impl Local {
             sink: Queue {
                 generation,
                 lane,
+                sliced: AtomicBool::new(false),
                 updates: Mutex::new(Vec::new()),
                 cancelled: AtomicBool::new(false),
                 cycles: AtomicU64::new(0),
@@ -225,6 +232,7 @@ impl Local {
         let sink = &self.sink;
         *lock(&sink.slice) = slice;
         if let Some(slice) = slice {
+            sink.sliced.store(true, Ordering::Relaxed);
             lock(&sink.pace).begin(slice.start);
         }
         let stepped = catch_unwind(AssertUnwindSafe(|| job.step(width, sink)));
@@ -248,7 +256,7 @@ impl Local {
         let Some(job) = self.job.as_ref() else {
             return false;
         };
-        if !job.parallel() || threads < 2 {
+        if !job.parallel() {
             return self.step_until(width, None);
         }
         let sink = &self.sink;

@@ -120,6 +120,14 @@ pub trait Sink: Sync {
     fn defer_heavy(&self) -> bool {
         false
     }
+
+    /// Whether the host runs the job a slice of time at a time (the
+    /// page's single-threaded host, and the pieces bench that measures
+    /// it): work that cannot stop part-way for a frame (the Basins
+    /// events' location) is left out there, and the view says so.
+    fn sliced(&self) -> bool {
+        false
+    }
 }
 
 /// Where a job stands after a step.

@@ -43,9 +43,9 @@ pub struct LocalWorker {
     /// Lanes whose jobs are dropped unrun (a headless figure of one view
     /// needs only that view's jobs).
     skip: Vec<Lane>,
-    /// Threads a parallel job runs on at once (1: none but the caller's,
-    /// each job stepped a slice at a time).
-    threads: usize,
+    /// Threads a parallel job runs on at once, to its end; `None`: every
+    /// job stepped a slice at a time (the page's host).
+    threads: Option<usize>,
 }
 
 impl Default for LocalWorker {
@@ -67,7 +67,7 @@ impl LocalWorker {
             next_lane: 0,
             stopped: false,
             skip: Vec::new(),
-            threads: 1,
+            threads: None,
         }
     }
 
@@ -76,7 +76,7 @@ impl LocalWorker {
     /// at once instead of a slice at a time: a headless figure's host on a
     /// machine with threads. The numbers are the same.
     pub fn with_threads(mut self, threads: usize) -> Self {
-        self.threads = threads.max(1);
+        self.threads = Some(threads.max(1));
         self
     }
 
@@ -131,8 +131,8 @@ impl LocalWorker {
             let Some(job) = self.lanes[i].job.as_mut() else {
                 continue;
             };
-            let more = if self.threads > 1 {
-                job.step_threads(self.width, self.threads)
+            let more = if let Some(threads) = self.threads {
+                job.step_threads(self.width, threads)
             } else {
                 job.step_until(self.width, Some(slice))
             };
