@@ -26,7 +26,7 @@ use crate::model::Params;
 #[derive(Clone, Debug, PartialEq)]
 pub enum OnParams {
     /// Run it again with the new parameters.
-    Rerun(Spec),
+    Rerun(Box<Spec>),
     /// Stop it if it runs (it was asked for; it is not run again).
     Cancel,
     /// Leave it be.
@@ -85,7 +85,7 @@ pub trait Rerun: Clone + Into<Spec> {
 macro_rules! on_params {
     (rerun, $s:expr, $p:expr, $n:expr) => {
         if $s.changed_by(&$p, $n) {
-            OnParams::Rerun($s.with($p, $n))
+            OnParams::Rerun(Box::new($s.with($p, $n)))
         } else {
             OnParams::Keep
         }
