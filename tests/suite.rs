@@ -164,6 +164,8 @@ mod phase_interp;
 mod phase_multistable;
 #[path = "phase_picture.rs"]
 mod phase_picture;
+#[path = "phase_shards.rs"]
+mod phase_shards;
 #[path = "ranges_run.rs"]
 mod ranges_run;
 #[path = "reference_map.rs"]

@@ -1,5 +1,5 @@
 //! The worker's phase lane, headless: every cell once, coarse lattice first,
-//! each cell equal to the core's `phase_cell` continued from the planned
+//! each cell equal to the core's `continue_cell` seeded by the planned
 //! neighbour (and the coarse lattice to `phase_grid`), classes equal to the
 //! core's rows on a robust grid, prompt cancellation with nothing stale
 //! after it, bad input named, and `SetParams`. Assertions are on cells,
@@ -18,8 +18,8 @@ use std::time::Duration;
 use oneblock::integrate::SolverSettings;
 use oneblock::model::Params;
 use oneblock::sim::MapChoice;
-use oneblock::sim::phase::{CellClass, PhaseCell, PhaseOptions, phase_cell, phase_grid};
-use oneblock::sim::{column_start, default_settings, theta_nu_grid};
+use oneblock::sim::phase::{CellClass, PhaseCell, PhaseOptions, Seed, continue_cell, phase_grid};
+use oneblock::sim::{default_settings, theta_nu_grid};
 use oneblock::worker::PhaseTuning;
 use oneblock::worker::{
     Axis, COARSE_STRIDE, Command, Generation, GridCell, Lane, Outcome, PhaseSpec, SweepSpec,
@@ -108,27 +108,21 @@ fn cells_of(ups: &[Update], generation: Generation) -> Vec<(GridCell, bool)> {
         .collect()
 }
 
-/// The core's cell at (`kappa`, `theta_nu`) continued from a neighbour's
-/// last onset, exactly as `phase_row` runs the cell after another.
+/// The core's cell at (`kappa`, `theta_nu`) seeded by a finished
+/// neighbour, exactly as the plan runs the cell after it
+/// (`continue_cell`: its orbit from θ = θν, the neighbour's cycle solved
+/// first, the shorter transient after a chaotic one).
 fn core_cell(g: &Grid, kappa: f64, theta_nu: f64, neighbour: Option<&PhaseCell>) -> PhaseCell {
-    let opts = g.opts();
-    let after_chaos = PhaseOptions {
-        transient: opts.transient.min(opts.transient_after_chaos),
-        ..opts
-    };
-    let last = neighbour.and_then(|c| c.error.is_none().then_some(c.theta_last));
-    let start = column_start(kappa, theta_nu, last);
-    let o = if neighbour.is_some_and(|c| c.class == CellClass::Chaos) {
-        after_chaos
-    } else {
-        opts
-    };
-    let p = Params {
+    let seed = neighbour.map(Seed::of);
+    continue_cell(
+        g.params,
+        g.settings,
         kappa,
         theta_nu,
-        ..g.params
-    };
-    phase_cell(p, g.settings, start, &o, &|| false)
+        seed,
+        &g.opts(),
+        &|| false,
+    )
 }
 
 #[test]

@@ -22,6 +22,7 @@ pub mod orbit;
 mod orbit_stats;
 pub mod phase;
 pub mod phase_boundaries;
+mod phase_merge;
 pub mod run_control;
 pub mod trajectory;
 pub mod values;
@@ -135,7 +136,7 @@ pub fn validate(cli: &Cli) -> Result<(), CliError> {
         Some(Command::Bifurcation(a)) => bifurcation::check(a).map(drop),
         Some(Command::BenchWorker(a)) => bench_worker::check(a).map(drop),
         Some(Command::WorkPrecision(a)) => work_precision::check(a).map(drop),
-        Some(Command::Phase(a)) => phase::check(a).map(drop),
+        Some(Command::Phase(a)) => phase::check_any(a),
         Some(Command::Cycle(a)) => cycle::check(a).map(drop),
         Some(Command::Attractors(a)) => attractors::check_any(a),
         Some(Command::Continue(a)) => continue_cmd::check(a).map(drop),

@@ -34,11 +34,11 @@ pub struct PhaseArgs {
     pub preset: Option<Preset>,
     /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
     /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "merge"])]
     pub gamma: Option<f64>,
     /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
     /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "preset")]
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "merge"])]
     pub nu: Option<f64>,
     /// Ω, the memory of the friction direction, in (0, 1e8] (the model
     /// assumes [1, 1e4]) [default: 50,
@@ -46,14 +46,14 @@ pub struct PhaseArgs {
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
     /// First κ (the bottom row), in [1e-6, 1e3].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa_from: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "merge")]
+    pub kappa_from: Option<f64>,
     /// Last κ (the top row), in [1e-6, 1e3].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
-    pub kappa_to: f64,
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "merge")]
+    pub kappa_to: Option<f64>,
     /// Number of κ rows, evenly spaced, ends included (1 to 10000).
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub kappa_steps: usize,
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true, required_unless_present = "merge")]
+    pub kappa_steps: Option<usize>,
     /// First θν, in radians, in [-1000, 1000].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_from: f64,
@@ -62,8 +62,8 @@ pub struct PhaseArgs {
     pub theta_nu_to: f64,
     /// Number of θν columns, evenly spaced, ends included (1 to 10000;
     /// rows × columns ≤ 4e6).
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
-    pub theta_nu_steps: usize,
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true, required_unless_present = "merge")]
+    pub theta_nu_steps: Option<usize>,
     /// The most iterates a cell spends looking for a period (0 to 1e6).
     #[arg(long, default_value_t = 400, value_parser = parse_count, allow_hyphen_values = true)]
     pub transient: usize,
@@ -92,6 +92,17 @@ pub struct PhaseArgs {
     /// (docs/attractors.md).
     #[arg(long, default_value_t = 0, value_parser = parse_count, allow_hyphen_values = true)]
     pub seeds: usize,
+    /// Compute only part K of N of the grid, K/N with 1 ≤ K ≤ N ≤ the
+    /// grid's blocks of 32 × 32 cells: a run of whole blocks, each cell as
+    /// the whole grid computes it; `--merge` joins the parts
+    /// (docs/phase.md).
+    #[arg(long, value_name = "K/N", allow_hyphen_values = true)]
+    pub shard: Option<String>,
+    /// Join the CSVs of a sharded grid's parts (every part once, all of one
+    /// grid) into the CSV the whole grid writes, to --out (and --png); no
+    /// grid flags then.
+    #[arg(long, num_args = 1.., value_name = "PART")]
+    pub merge: Vec<PathBuf>,
     /// Worker threads, 1 to 1024 [default: the number of cores]. The output
     /// does not depend on it.
     #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
@@ -138,7 +149,12 @@ pub struct Plan {
     boundaries: Vec<super::phase_boundaries::Polyline>,
     /// The picture's size in pixels (--size).
     size: Option<[f64; 2]>,
+    /// Part K of N (--shard).
+    shard: Option<Shard>,
 }
+
+/// Part K of N of a grid (--shard).
+type Shard = (usize, usize);
 
 /// Checks the flags and the outputs before any work.
 pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
@@ -155,9 +171,12 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     params.validate().map_err(param_error)?;
     // Each end of the κ range is a κ of the grid, checked as one, under
     // its own flag's name.
+    let given = |name: &str, v: Option<f64>| {
+        v.ok_or_else(|| CliError::Usage(format!("--{name} is required")))
+    };
     let (k_from, k_to) = (
-        finite("kappa-from", args.kappa_from)?,
-        finite("kappa-to", args.kappa_to)?,
+        finite("kappa-from", given("kappa-from", args.kappa_from)?)?,
+        finite("kappa-to", given("kappa-to", args.kappa_to)?)?,
     );
     for (name, k) in [("kappa-from", k_from), ("kappa-to", k_to)] {
         Params { kappa: k, ..params }.validate().map_err(|mut e| {
@@ -166,8 +185,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         })?;
     }
     let settings = args.solver.settings()?;
-    let rows = count_in("kappa-steps", args.kappa_steps, MAX_STEPS)?;
-    let cols = count_in("theta-nu-steps", args.theta_nu_steps, MAX_STEPS)?;
+    let (rows, cols, shard) = grid_steps(args)?;
     if rows * cols > MAX_CELLS {
         return Err(CliError::Usage(format!(
             "--kappa-steps = {rows} with --theta-nu-steps = {cols} is out of range: at most {MAX_CELLS} cells"
@@ -207,7 +225,33 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         max_seconds,
         boundaries,
         size,
+        shard,
     })
+}
+
+/// [`check`], or the merge's checks with `--merge`.
+pub fn check_any(args: &PhaseArgs) -> Result<(), CliError> {
+    if args.merge.is_empty() {
+        check(args).map(drop)
+    } else {
+        super::phase_merge::check(args).map(drop)
+    }
+}
+
+/// The grid's rows and columns, and the part of it asked for (--shard).
+fn grid_steps(args: &PhaseArgs) -> Result<(usize, usize, Option<Shard>), CliError> {
+    let steps = |name: &str, v: Option<usize>| {
+        let v = v.ok_or_else(|| CliError::Usage(format!("--{name} is required")))?;
+        count_in(name, v, MAX_STEPS)
+    };
+    let rows = steps("kappa-steps", args.kappa_steps)?;
+    let cols = steps("theta-nu-steps", args.theta_nu_steps)?;
+    let shard = args
+        .shard
+        .as_deref()
+        .map(|s| super::phase_merge::parse_shard(s, rows, cols, args.png.is_some()))
+        .transpose()?;
+    Ok((rows, cols, shard))
 }
 
 /// The options of every cell: the transient, the iterates kept and the
@@ -279,6 +323,9 @@ fn check_outputs(args: &PhaseArgs) -> Result<Option<PathBuf>, CliError> {
 }
 
 pub fn run(args: PhaseArgs) -> Result<(), CliError> {
+    if !args.merge.is_empty() {
+        return super::phase_merge::run(&args);
+    }
     let plan = check(&args)?;
     warn_validity(&plan.params);
     let start = Instant::now();
@@ -286,6 +333,10 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
     let seconds = start.elapsed().as_secs_f64();
     let cells: Vec<&PhaseCell> = grid.iter().flatten().collect();
     let mut csv = String::with_capacity(80 * (cells.len() + 1));
+    if let Some((k, n)) = plan.shard {
+        // What the merge checks the parts by.
+        csv.push_str(&super::phase_merge::shard_line(k, n, &grid_key(&plan)));
+    }
     let attractors = plan.opts.seeds > 0;
     csv.push_str(&phase_header(attractors));
     csv.push('\n');
@@ -325,7 +376,11 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
 fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
     let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
     let opts = &plan.opts;
-    let progress = Progress::with_extra("phase", "cells", (rows * cols) as u64, "iterates");
+    let planned = match plan.shard {
+        Some((k, n)) => super::phase_merge::shard_cells(rows, cols, k, n).len(),
+        None => rows * cols,
+    };
+    let progress = Progress::with_extra("phase", "cells", planned as u64, "iterates");
     let limits = Limits::start(plan.max_seconds);
     let stop = || limits.stop();
     let spec = PhaseSpec {
@@ -341,6 +396,7 @@ fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
             period_tol: Some(opts.period_tol),
             seeds: opts.seeds,
             list_attractors: false,
+            shard: plan.shard,
         },
     };
     let on_update = |u: &Update| {
@@ -375,12 +431,39 @@ fn compute(plan: &Plan) -> Result<Vec<Vec<PhaseCell>>, CliError> {
         .collect())
 }
 
-/// The summary on stderr (the first failed cells, the classes' counts, the
-/// cost); an error if every cell failed.
-fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliError> {
+/// Everything that decides a grid's cells but not which part of it is
+/// computed: the parts of a sharded grid must agree on it.
+fn grid_key(plan: &Plan) -> String {
+    let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
+    format!(
+        "{rows} x {cols} cells, kappa {:?} to {:?}, theta-nu {:?} to {:?}, {:?}, {:?}, {:?}",
+        plan.kappas[0],
+        plan.kappas[rows - 1],
+        plan.theta_nus[0],
+        plan.theta_nus[cols - 1],
+        plan.params,
+        plan.settings,
+        plan.opts
+    )
+}
+
+/// The grid's size and ranges as the summary says them, with the part
+/// computed (`n` cells) when sharded.
+fn grid_text(plan: &Plan, n: usize) -> String {
     let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
     let (k_from, k_to) = (plan.kappas[0], plan.kappas[rows - 1]);
     let (t_from, t_to) = (plan.theta_nus[0], plan.theta_nus[cols - 1]);
+    let part = plan
+        .shard
+        .map(|(k, n_parts)| format!("part {k}/{n_parts} ({n} cells) of "))
+        .unwrap_or_default();
+    format!("{part}{rows} x {cols} cells (kappa [{k_from}, {k_to}], theta-nu [{t_from}, {t_to}])")
+}
+
+/// The summary on stderr (the first failed cells, the classes' counts, the
+/// cost); an error if every cell failed.
+fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliError> {
+    let size = grid_text(plan, cells.len());
     let (opts, threads) = (&plan.opts, plan.threads);
     let iterates: u64 = cells.iter().map(|c| c.iterates).sum();
     let evals: u64 = cells.iter().map(|c| c.rhs_evals).sum();
@@ -412,7 +495,7 @@ fn report(plan: &Plan, cells: &[&PhaseCell], seconds: f64) -> Result<(), CliErro
         }
     }
     eprintln!(
-        "phase: {}\n  {rows} x {cols} cells (kappa [{k_from}, {k_to}], theta-nu [{t_from}, {t_to}]), at most {} transient + {} kept iterates{}, period tol {:e}\n  {}\n  {iterates} iterates ({:.1} per cell), {:.0} rhs evaluations per iterate; {seconds:.2} s on {threads} thread(s)",
+        "phase: {}\n  {size}, at most {} transient + {} kept iterates{}, period tol {:e}\n  {}\n  {iterates} iterates ({:.1} per cell), {:.0} rhs evaluations per iterate; {seconds:.2} s on {threads} thread(s)",
         describe_sweep(&plan.params, &plan.settings),
         opts.transient,
         opts.keep,

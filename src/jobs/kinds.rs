@@ -35,7 +35,7 @@ use crate::sim::continuation::ContParam;
 #[derive(Clone, Debug, PartialEq)]
 pub enum OnParams {
     /// Run it again with the new parameters.
-    Rerun(Spec),
+    Rerun(Box<Spec>),
     /// Stop it if it runs (it was asked for; it is not run again).
     Cancel,
     /// Leave it be.
@@ -71,7 +71,7 @@ macro_rules! new_params {
 macro_rules! on_params {
     (rerun, $d:expr, $s:expr, $p:expr, $n:expr) => {
         if $s.changed_by($d, &$p, $n) {
-            OnParams::Rerun($s.with($p, $n).into())
+            OnParams::Rerun(Box::new($s.with($p, $n).into()))
         } else {
             OnParams::Keep
         }

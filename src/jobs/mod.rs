@@ -49,7 +49,10 @@ pub use local::{Local, TimeSlice};
 pub use numerics::TIMING_REPEATS;
 pub use orbit::{CHUNK_SAMPLES, GRAPH_POINTS, MIN_SPACING};
 pub use phase::{COARSE_STRIDE, MAX_CELLS, MAX_STEPS};
-pub use plan::{PlannedCell, PlannedColumn, phase_plan, sweep_plan};
+pub use plan::{
+    PHASE_BLOCK, PlannedCell, PlannedColumn, block_plan, phase_blocks, phase_plan, shard_blocks,
+    sweep_plan,
+};
 pub use protocol::BasinColumn;
 pub use protocol::{
     Axis, CascadeFrom, CurveFollow, Generation, GivenCycle, GridCell, IterateOptions,

@@ -2,24 +2,22 @@
 //! (the core's `phase_cell`, in pieces of a few ms: `CellSteps`), on as
 //! many threads as its host gives it.
 //!
-//! As for the bifurcation sweep, the order and each cell's starting neighbour
-//! are fixed in advance by [`phase_plan`], so the diagram does not depend on
-//! thread timing and a test can recompute every cell with the core alone.
+//! As for the bifurcation sweep, the order and each cell's seeding
+//! neighbour are fixed in advance by [`block_plan`], so the diagram does
+//! not depend on thread timing and a test can recompute every cell with
+//! the core alone. The grid is cut into blocks of 32 × 32 cells, each
+//! planned on its own (`phase_plan`: a coarse lattice of about every
+//! `COARSE_STRIDE`-th row and column, then the gaps bisected level by
+//! level, a cell seeded by the nearest computed one in its row, else in
+//! its column), the blocks' cells taken level by level so the whole
+//! picture sharpens evenly. No seed crosses a block's edge, so a shard of
+//! whole blocks (`PhaseTuning::shard`) computes each of its cells as the
+//! whole grid does.
 //!
-//! 1. Coarse lattice: about every `stride`-th row and column, both ends
-//!    included. Each coarse row is a continued chain along θν exactly as the
-//!    core's `phase_row` runs one (its first cell from θ = θν), so the coarse
-//!    pass equals `phase_grid` on the coarse lattice. All of it is sent
-//!    before any refinement starts.
-//! 2. Refinement: the gaps between coarse rows and columns are bisected level
-//!    by level (a cell's level is the larger of its row's and its column's),
-//!    so the whole picture sharpens evenly. A new cell continues from the
-//!    nearest cell already computed in its κ row (the core continues along
-//!    θν; left on a tie) or, when its row has none yet, from the nearest in
-//!    its θν column (lower κ on a tie).
-//!
-//! A cell continued from a chaotic one gets the shorter transient, as in
-//! `phase_row`; one continued from a failed one starts at θ = θν.
+//! Each cell's orbit starts at θ = θν; a periodic neighbour's cycle is
+//! solved first and ends the cell once the orbit converges onto it, and a
+//! cell seeded by a chaotic one gets the shorter transient
+//! (`sim::phase::continue_steps`).
 //!
 //! Each step takes cells from the job's [`Schedule`], which hands out a
 //! cell once its parent is done, with the parent's [`Seed`].
@@ -30,7 +28,7 @@ use std::sync::{Condvar, Mutex};
 use web_time::Instant;
 
 use super::orbit::{FLUSH_INTERVAL, Pacer, paced_progress};
-use super::plan::{PlannedCell, phase_plan};
+use super::plan::{PlannedCell, block_plan, phase_blocks, shard_blocks};
 use super::protocol::{Axis, GridCell, ListedAttractor, MAX_LISTED, PhaseSpec, Update};
 use super::schedule::{PlanItem, Schedule, wait_next};
 use super::{Job, JobError, Report, Sink, Status, lock, panic_message};
@@ -40,7 +38,7 @@ use crate::sim::phase::{CellClass, CellSteps, PhaseCell, PhaseOptions, Seed, con
 use crate::sim::{SimError, Simulator, theta_nu_grid};
 
 /// Rows and columns of the coarse lattice: about every this many.
-pub const COARSE_STRIDE: usize = 4;
+pub const COARSE_STRIDE: usize = 8;
 /// `PhaseCells` go out every this many cells, or every `FLUSH_INTERVAL`.
 pub const CELL_BATCH: usize = 16;
 /// The most rows or columns of a grid (as `oneblock phase`).
@@ -109,6 +107,14 @@ fn validate(s: &PhaseSpec) -> Result<(), SimError> {
         let range = "must be at most 4000000 cells with theta-nu-steps";
         return Err(ParamError::new("kappa-steps", nk as f64, range).into());
     }
+    if let Some((k, n)) = s.tuning.shard {
+        let blocks = phase_blocks(nk, nt).len();
+        if !(1..=blocks).contains(&n) || !(1..=n).contains(&k) {
+            let range =
+                "must be K/N with 1 <= K <= N <= the number of the grid's blocks of 32 x 32 cells";
+            return Err(ParamError::new("shard", k as f64, range).into());
+        }
+    }
     if s.transient > 1_000_000 {
         let range = "must lie in [0, 1000000]";
         return Err(ParamError::new("transient", s.transient as f64, range).into());
@@ -160,6 +166,8 @@ pub(crate) struct PhaseJob {
     failed_once: Mutex<bool>,
     /// Cells paused part-way, resumed before anything new starts.
     parked: Mutex<Vec<(PlannedCell, Box<CellSteps>)>>,
+    /// The cells planned: the grid's, or its shard's.
+    total: usize,
 }
 
 /// A finished cell: itself, its attractors' list, and the error to report.
@@ -172,10 +180,16 @@ impl PhaseJob {
         let (columns, rows) = (spec.theta_nu.steps, spec.kappa.steps);
         let theta_nus = theta_nu_grid(spec.theta_nu.from, spec.theta_nu.to, columns);
         let kappas = theta_nu_grid(spec.kappa.from, spec.kappa.to, rows);
-        let plan = phase_plan(rows, columns, COARSE_STRIDE)
+        let blocks = phase_blocks(rows, columns).len();
+        let which = match spec.tuning.shard {
+            Some((k, n)) => shard_blocks(blocks, k, n),
+            None => 0..blocks,
+        };
+        let plan: Vec<Item> = block_plan(rows, columns, COARSE_STRIDE, which)
             .into_iter()
             .map(|cell| Item { cell, columns })
             .collect();
+        let total = plan.len();
         Ok(PhaseJob {
             spec,
             opts,
@@ -193,11 +207,12 @@ impl PhaseJob {
             failure: Mutex::new(None),
             failed_once: Mutex::new(false),
             parked: Mutex::new(Vec::new()),
+            total,
         })
     }
 
     fn total(&self) -> usize {
-        self.theta_nus.len() * self.kappas.len()
+        self.total
     }
 
     /// Sends what is waiting, coarse cells first, under the outbox lock so
@@ -327,7 +342,7 @@ impl PhaseJob {
         };
         let mut seed_out = Seed::of(&cell);
         if cell.class == CellClass::Failed {
-            seed_out.theta_last = None;
+            seed_out.cycle = None;
         }
         if let Some((message, parameter)) = problem {
             sink.send(Update::Error {

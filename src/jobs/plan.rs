@@ -7,6 +7,8 @@
 //! Both plans have a coarse pass over the whole range first, then refine by
 //! bisection level by level, so that the picture sharpens evenly.
 
+use std::ops::Range;
+
 /// One column of a sweep plan.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct PlannedColumn {
@@ -193,6 +195,61 @@ pub fn phase_plan(rows: usize, columns: usize, stride: usize) -> Vec<PlannedCell
     plan
 }
 
+/// The side of a phase plan's blocks, in cells: a cell's neighbour is
+/// always in its own block, so a block's cells are the same whichever
+/// other blocks are computed with it (`oneblock phase --shard`).
+pub const PHASE_BLOCK: usize = 32;
+
+/// The blocks of a `rows` × `columns` grid, row-major: each one's rows
+/// and columns (at most [`PHASE_BLOCK`] of each; the last in a row or
+/// column of blocks may be narrower).
+pub fn phase_blocks(rows: usize, columns: usize) -> Vec<(Range<usize>, Range<usize>)> {
+    let spans = |n: usize| -> Vec<Range<usize>> {
+        (0..n.div_ceil(PHASE_BLOCK))
+            .map(|b| b * PHASE_BLOCK..((b + 1) * PHASE_BLOCK).min(n))
+            .collect()
+    };
+    let (rs, cs) = (spans(rows), spans(columns));
+    rs.iter()
+        .flat_map(|r| cs.iter().map(move |c| (r.clone(), c.clone())))
+        .collect()
+}
+
+/// The blocks of shard `k` of `n` (1 ≤ k ≤ n ≤ `blocks`): a run of whole
+/// blocks, in the order of [`phase_blocks`], the shards as even as they
+/// can be.
+pub fn shard_blocks(blocks: usize, k: usize, n: usize) -> Range<usize> {
+    (k - 1) * blocks / n..k * blocks / n
+}
+
+/// [`phase_plan`] over the blocks `which` of [`phase_blocks`] (all of them
+/// for the whole grid): each block planned on its own, every parent in
+/// its child's block, the blocks' cells merged by level, then row and
+/// column, so that the whole grid sharpens evenly.
+pub fn block_plan(
+    rows: usize,
+    columns: usize,
+    stride: usize,
+    which: Range<usize>,
+) -> Vec<PlannedCell> {
+    let blocks = phase_blocks(rows, columns);
+    let mut plan = Vec::new();
+    for (r, c) in &blocks[which.start.min(blocks.len())..which.end.min(blocks.len())] {
+        let moved = |(row, column): (usize, usize)| (row + r.start, column + c.start);
+        plan.extend(phase_plan(r.len(), c.len(), stride).into_iter().map(|p| {
+            let (row, column) = moved((p.row, p.column));
+            PlannedCell {
+                row,
+                column,
+                parent: p.parent.map(moved),
+                ..p
+            }
+        }));
+    }
+    plan.sort_by_key(|p| (p.level, p.row, p.column));
+    plan
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -335,5 +392,41 @@ mod tests {
         // 30 x 30 at stride 4: a 9 x 9 coarse lattice.
         let plan = phase_plan(30, 30, 4);
         assert_eq!(plan.iter().filter(|p| p.coarse).count(), 81);
+    }
+
+    #[test]
+    fn block_plans_keep_every_parent_in_its_block_and_shards_partition_them() {
+        let (rows, columns) = (70, 45);
+        let blocks = phase_blocks(rows, columns);
+        assert_eq!(blocks.len(), 3 * 2);
+        let block_of = |r: usize, c: usize| {
+            blocks
+                .iter()
+                .position(|(br, bc)| br.contains(&r) && bc.contains(&c))
+                .expect("a block")
+        };
+        let plan = block_plan(rows, columns, 8, 0..blocks.len());
+        assert_eq!(plan.len(), rows * columns);
+        assert!(plan.windows(2).all(|w| w[0].level <= w[1].level));
+        for p in &plan {
+            if let Some((r, c)) = p.parent {
+                assert_eq!(block_of(r, c), block_of(p.row, p.column), "{p:?}");
+            }
+        }
+        // A shard's plan is the whole plan's cells of its blocks, with the
+        // same parents; the shards cover every cell once.
+        let mut seen = HashSet::new();
+        for k in 1..=4 {
+            let which = shard_blocks(blocks.len(), k, 4);
+            let part = block_plan(rows, columns, 8, which.clone());
+            for p in &part {
+                assert!(which.contains(&block_of(p.row, p.column)));
+                assert!(plan.contains(p));
+                assert!(seen.insert((p.row, p.column)));
+            }
+        }
+        assert_eq!(seen.len(), rows * columns);
+        // One block: the plain plan.
+        assert_eq!(block_plan(20, 30, 8, 0..1), phase_plan(20, 30, 8));
     }
 }

@@ -145,8 +145,8 @@ pub struct SweepSpec {
 
 /// A phase diagram (the paper's Fig. 4) over θν (columns) and κ (rows) at
 /// the γ, ν and Ω of `params` (its κ and θν are ignored: they are the
-/// axes). A coarse lattice first, then refinement, each cell continued from
-/// its nearest computed neighbour (`phase_plan`).
+/// axes). A coarse lattice first, then refinement, each cell seeded by
+/// its nearest computed neighbour in its block of 32 × 32 (`block_plan`).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PhaseSpec {
     /// The model's parameters (γ, ν, Ω).
@@ -182,6 +182,10 @@ pub struct PhaseTuning {
     /// ([`GridCell::listed`]; the window's click list). Off on the command
     /// line, whose CSV has only the count.
     pub list_attractors: bool,
+    /// Only part K of N of the grid (`oneblock phase --shard K/N`): a run
+    /// of whole blocks of the plan (`plan::shard_blocks`), each cell as
+    /// the whole grid computes it.
+    pub shard: Option<(usize, usize)>,
 }
 
 impl Default for PhaseTuning {
@@ -192,6 +196,7 @@ impl Default for PhaseTuning {
             period_tol: None,
             seeds: 0,
             list_attractors: false,
+            shard: None,
         }
     }
 }

@@ -2,10 +2,12 @@
 //! attractor's period, its Lyapunov exponent and the character of its
 //! onsets, classified only as far as the numbers allow.
 //!
-//! Each κ row is a continued sweep along θν (every cell starts from the
-//! previous cell's last onset, so it follows one attractor) and the rows run
-//! in parallel. A row's result depends only on its own inputs, so the grid is
-//! the same whatever the number of threads and whichever thread ran it.
+//! Every cell's orbit starts at θ = θν, as a cell computed alone does; a
+//! finished neighbour only lends it its cycle, solved first by Newton's
+//! method, so that the cell can stop as soon as its orbit converges onto
+//! it ([`continue_cell`], `capture`). The grids' plans fix each cell's
+//! neighbour in advance, so a grid is the same whatever the number of
+//! threads and whichever thread ran it.
 //!
 //! A cell stops as soon as its answer is established:
 //! - a period p is accepted once the iterates have settled on it
@@ -40,6 +42,7 @@
 //! the series too. The tests and solves above are unchanged (the solves
 //! still integrate). Where the interpolant is refused the cell integrates.
 
+mod capture;
 mod cells;
 mod classify;
 
@@ -275,7 +278,7 @@ pub fn phase_cell(
     opts: &PhaseOptions,
     cancel: &dyn Fn() -> bool,
 ) -> PhaseCell {
-    let mut run = CellSteps::new(params, settings, theta_start, opts);
+    let mut run = CellSteps::new(params, settings, theta_start, opts, None);
     while !run.advance(cancel) {}
     run.finish().0
 }
@@ -299,12 +302,16 @@ enum Stage {
 }
 
 impl CellSteps {
-    /// The cell at `params` from `theta_start`, nothing computed.
+    /// The cell at `params` from `theta_start`, nothing computed; with
+    /// `neighbour` (a point of a finished neighbour's cycle on this cell's
+    /// exit arc, and its period) that cycle is solved first
+    /// (`capture`).
     pub fn new(
         params: Params,
         settings: SolverSettings,
         theta_start: f64,
         opts: &PhaseOptions,
+        neighbour: Option<(f64, usize)>,
     ) -> Self {
         let mut cell = PhaseCell::failed(params.theta_nu, params.kappa, theta_start);
         let sim = Simulator::new(params, settings).and_then(|sim| {
@@ -312,7 +319,12 @@ impl CellSteps {
             Ok(sim)
         });
         let stage = match sim {
-            Ok(sim) => Stage::Classify(Box::new(Classifier::new(sim, theta_start, *opts))),
+            Ok(sim) => Stage::Classify(Box::new(Classifier::new(
+                sim,
+                theta_start,
+                *opts,
+                neighbour,
+            ))),
             Err(e) => {
                 cell.error = Some(e);
                 Stage::Done
@@ -371,29 +383,37 @@ impl CellSteps {
     }
 }
 
-/// Where a finished cell's neighbours continue.
+/// What a finished cell leaves for its neighbours.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Seed {
-    /// Its last onset (`None` if it failed: neighbours start at θ = θν).
-    pub theta_last: Option<f64>,
+    /// Its cycle, when it was periodic: a point of it (the one in the phase
+    /// of its last onset) and its period. Neighbours solve it first.
+    pub cycle: Option<(f64, usize)>,
     /// Whether it was chaotic (neighbours get the shorter transient).
     pub chaos: bool,
 }
 
 impl Seed {
-    /// What `cell` leaves for its neighbours.
+    /// What `cell` leaves for its neighbours (nothing when it failed).
     pub fn of(cell: &PhaseCell) -> Seed {
+        let cycle = match (cell.class, &cell.error) {
+            (CellClass::Periodic(p), None) => Some((cell.theta_last, p)),
+            _ => None,
+        };
         Seed {
-            theta_last: cell.error.is_none().then_some(cell.theta_last),
+            cycle,
             chaos: cell.class == CellClass::Chaos,
         }
     }
 }
 
 /// The one neighbour rule of every phase grid: the cell at (`kappa`,
-/// `theta_nu`) continued from `parent` (its seed), its start moved onto the
-/// new exit arc, with the shorter transient after a chaotic neighbour; with
-/// no parent (or after a failed one), from θ = θν. All at once
+/// `theta_nu`) with its finished neighbour's `parent` seed. Its orbit
+/// starts at θ = θν, as a cell computed alone does, so that its class is
+/// the attractor that orbit reaches; a periodic neighbour's cycle, moved
+/// onto the new exit arc, is solved by Newton first and ends the cell as
+/// soon as the orbit is seen converging onto it (`capture`); after a
+/// chaotic neighbour the transient is the shorter one. All at once
 /// ([`continue_steps`] in pieces).
 pub fn continue_cell(
     params: Params,
@@ -418,7 +438,9 @@ pub fn continue_steps(
     parent: Option<Seed>,
     opts: &PhaseOptions,
 ) -> CellSteps {
-    let start = column_start(kappa, theta_nu, parent.and_then(|s| s.theta_last));
+    let neighbour = parent
+        .and_then(|s| s.cycle)
+        .map(|(th, p)| (column_start(kappa, theta_nu, Some(th)), p));
     let after_chaos = PhaseOptions {
         transient: opts.transient.min(opts.transient_after_chaos),
         ..*opts
@@ -433,12 +455,11 @@ pub fn continue_steps(
         theta_nu,
         ..params
     };
-    CellSteps::new(p, settings, start, o)
+    CellSteps::new(p, settings, theta_nu, o, neighbour)
 }
 
-/// One κ row: the cells at `theta_nus` in order, each starting from the
-/// previous cell's last onset (the first, and any after a failed cell, from
-/// θ = θν). `on_cell` sees every cell as it is finished. Stops after a
+/// One κ row: the cells at `theta_nus` in order, each seeded by the
+/// previous one ([`continue_cell`]). `on_cell` sees every cell as it is finished. Stops after a
 /// cancelled cell.
 pub fn phase_row(
     params: Params,

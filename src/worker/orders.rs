@@ -41,7 +41,7 @@ impl Latest {
                 .iter()
                 .flatten()
                 .filter_map(|last| match last.on_params(params, settings) {
-                    OnParams::Rerun(spec) => Some(Order::Start(generation, spec)),
+                    OnParams::Rerun(spec) => Some(Order::Start(generation, *spec)),
                     OnParams::Cancel => Some(Order::StopRunning(last.lane(), generation)),
                     OnParams::Keep => None,
                 })

@@ -10,7 +10,7 @@ use crate::model::KAPPA_RANGE;
 
 /// The grid resolution the view offers, per axis.
 pub const MIN_STEPS: usize = 2;
-pub const MAX_STEPS: usize = 200;
+pub const MAX_STEPS: usize = 512;
 /// The most iterates per cell the view offers (transient, keep).
 pub const MAX_BUDGET: usize = 5000;
 
@@ -47,7 +47,7 @@ impl PhaseRange {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default)]
 pub struct PhaseSettings {
-    /// θν columns and κ rows of the grid (each 2 … 200).
+    /// θν columns and κ rows of the grid (each 2 … 512).
     pub theta_nu_steps: usize,
     pub kappa_steps: usize,
     /// The cell's budget: the most iterates looking for a period, then the

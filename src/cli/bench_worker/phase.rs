@@ -8,10 +8,9 @@ use super::{BenchWorkerArgs, recv, say, worker};
 use crate::bench::diagram::fig3b;
 use crate::cli::CliError;
 use crate::integrate::SolverSettings;
+use crate::jobs::{block_plan, phase_blocks};
 use crate::sim::stats::median;
-use crate::worker::{
-    Axis, COARSE_STRIDE, Command, Outcome, PhaseSpec, PhaseTuning, Update, phase_plan,
-};
+use crate::worker::{Axis, COARSE_STRIDE, Command, Outcome, PhaseSpec, PhaseTuning, Update};
 
 /// One N × N phase grid from command to `Finished`.
 struct PhaseTiming {
@@ -32,7 +31,7 @@ fn time_phase(
     n: usize,
 ) -> Result<PhaseTiming, CliError> {
     let w = worker(args);
-    let n_coarse = phase_plan(n, n, COARSE_STRIDE)
+    let n_coarse = block_plan(n, n, COARSE_STRIDE, 0..phase_blocks(n, n).len())
         .iter()
         .filter(|p| p.coarse)
         .count();

@@ -3,7 +3,13 @@
 //! period, a slow contraction solved, λ beyond its error, a near repeat),
 //! else the brute force's verdict on its whole budget.
 
+use super::capture::Known;
 use super::*;
+
+mod exponent;
+mod known;
+
+use exponent::cycle_exponent;
 
 /// The most map evaluations (iterates, a solve's steps, the
 /// interpolant's samples) one [`Classifier::advance`] spends before it
@@ -34,11 +40,21 @@ pub(super) struct Classifier {
     resume: usize,
     /// The iterates are spent: the budget's verdict is what is left.
     at_end: bool,
+    /// A finished neighbour's cycle (a point moved onto this cell's exit
+    /// arc, and its period), to be solved before the first iterate
+    /// (`super::capture`).
+    neighbour: Option<(f64, usize)>,
 }
 
 impl Classifier {
-    pub(super) fn new(sim: Simulator, theta_start: f64, opts: PhaseOptions) -> Self {
+    pub(super) fn new(
+        sim: Simulator,
+        theta_start: f64,
+        opts: PhaseOptions,
+        neighbour: Option<(f64, usize)>,
+    ) -> Self {
         Classifier {
+            neighbour: neighbour.filter(|_| opts.early_exit),
             run: CellRun::new(sim, theta_start, opts),
             i: 0,
             building: None,
@@ -74,9 +90,16 @@ impl Classifier {
             if cancel() {
                 return Err(SimError::Cancelled);
             }
-            let classified = if self.run.solving.is_some() {
-                // One step of the solve a test waits for.
+            let classified = if let Some((seed, p)) = self.neighbour.take() {
+                self.run.begin_known(seed, p);
+                false
+            } else if self.run.solving.is_some() {
+                // One step of the solve a test waits for (before the
+                // first iterate: the neighbour's cycle).
                 self.retest |= self.run.solve_step(cell);
+                if self.i == 0 && std::mem::take(&mut self.retest) {
+                    self.run.take_known();
+                }
                 false
             } else if std::mem::take(&mut self.retest) {
                 self.tests(cell)?
@@ -122,7 +145,13 @@ impl Classifier {
             return Ok(run.solving.is_none());
         }
         let i = self.i - 1;
-        if !run.opts.early_exit || i + 1 < MIN_TRANSIENT {
+        if !run.opts.early_exit {
+            return Ok(false);
+        }
+        if self.resume == 0 && run.captured(cell) {
+            return Ok(true);
+        }
+        if i + 1 < MIN_TRANSIENT {
             return Ok(false);
         }
         let from = std::mem::take(&mut self.resume);
@@ -176,6 +205,8 @@ struct CellRun {
     solved: Vec<(f64, usize, Result<Cycle, CycleFailure>)>,
     /// The cycle the cell was found periodic on.
     cycle: Option<Vec<f64>>,
+    /// The neighbour's cycle, solved here and attracting.
+    known: Option<Known>,
 }
 
 impl CellRun {
@@ -197,6 +228,7 @@ impl CellRun {
             solving: None,
             solved: Vec::new(),
             cycle: None,
+            known: None,
         }
     }
 
@@ -546,35 +578,4 @@ impl CellRun {
         }
         false
     }
-}
-
-/// A period-p cycle's exponent from the orbit alone, when the cycle could
-/// not be solved: the mean of ln|f'| over the last p iterates (`thetas`,
-/// then the next onset `theta`), from the kept iterates' `logs` when there
-/// are p of them, else by p derivatives charged to the cell.
-fn cycle_exponent(
-    cell: &mut PhaseCell,
-    sim: &Simulator,
-    thetas: &[f64],
-    theta: f64,
-    logs: &[f64],
-    p: usize,
-) -> Result<f64, SimError> {
-    if logs.len() >= p {
-        return Ok(logs[logs.len() - p..].iter().sum::<f64>() / p as f64);
-    }
-    let mut sum = 0.0;
-    for j in 0..p {
-        let th = thetas[thetas.len() - p + j];
-        let next = if j + 1 < p {
-            thetas[thetas.len() - p + j + 1]
-        } else {
-            theta
-        };
-        let (d, n) = map_derivative(sim, th, next)?;
-        cell.iterates += 1;
-        cell.rhs_evals += n;
-        sum += d.abs().ln();
-    }
-    Ok(sum / p as f64)
 }
