@@ -110,3 +110,33 @@ fn the_numerics_csv_holds_the_rows_its_chart_draws() {
             && r[n - 1].parse::<f64>().is_ok_and(|c| c > 0.0)));
     }
 }
+
+/// Issue 55: `phase` with no flags at all is the window's default grid,
+/// as `figure --view phase` draws it: the same cells, row for row.
+#[test]
+fn phase_without_flags_is_the_grid_figure_view_phase_draws() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (a, b) = (dir.path().join("a.csv"), dir.path().join("b.csv"));
+    let phase = std::process::Command::new(env!("CARGO_BIN_EXE_oneblock"))
+        .args(["phase", "--out", a.to_str().expect("utf-8")])
+        .output()
+        .expect("runs");
+    assert!(
+        phase.status.success(),
+        "{}",
+        String::from_utf8_lossy(&phase.stderr)
+    );
+    let o = figure(&["--view", "phase", "--out", b.to_str().expect("utf-8")]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = |p: &std::path::Path| -> Vec<String> {
+        let text = std::fs::read_to_string(p).expect("csv");
+        text.lines()
+            .filter(|l| !l.starts_with('#'))
+            .map(str::to_string)
+            .collect()
+    };
+    let (a, b) = (rows(&a), rows(&b));
+    // A header and the window's 30 × 30 cells.
+    assert_eq!(a.len(), 1 + 30 * 30);
+    assert_eq!(a, b);
+}

@@ -25,6 +25,13 @@ use crate::sim::interpolant::{MapChoice, MapTally};
 use crate::sim::phase::{PhaseCell, PhaseOptions};
 use crate::sim::theta_nu_grid;
 
+/// The κ range without `--kappa-from`/`--kappa-to`: the paper's Fig. 4,
+/// as the window's Phase view.
+pub const DEFAULT_KAPPA: (f64, f64) = (1.0, 42.0);
+/// Rows and columns without `--kappa-steps`/`--theta-nu-steps`: the
+/// window's Phase view's.
+pub const DEFAULT_STEPS: usize = 30;
+
 /// A phase diagram: the attractor's class over a (θν, κ) grid.
 #[derive(Debug, Clone, Args)]
 pub struct PhaseArgs {
@@ -33,26 +40,30 @@ pub struct PhaseArgs {
     #[arg(long)]
     pub preset: Option<Preset>,
     /// γ, the friction weakening, in [0.1, 1e4] (outside, slips turn into
-    /// steady sliding or never stop, which the map cannot represent).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "merge"])]
+    /// steady sliding or never stop, which the map cannot represent)
+    /// [default: 6.5, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub gamma: Option<f64>,
     /// ν, the pulling speed, in [1e-12, 0.1] (beyond, slips turn into steady
-    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2).
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present_any = ["preset", "merge"])]
+    /// sliding, which the map cannot represent; the model assumes ν ≤ 1e-2)
+    /// [default: 1e-3, or the preset's].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub nu: Option<f64>,
     /// Ω, the memory of the friction direction, in (0, 1e8] (the model
     /// assumes [1, 1e4]) [default: 50,
     /// or the preset's].
     #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub omega: Option<f64>,
-    /// First κ (the bottom row), in [1e-6, 1e3].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "merge")]
+    /// First κ (the bottom row), in [1e-6, 1e3] [default: 1, the paper's
+    /// Fig. 4, as the window's Phase view].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_from: Option<f64>,
-    /// Last κ (the top row), in [1e-6, 1e3].
-    #[arg(long, allow_hyphen_values = true, value_parser = parse_number, required_unless_present = "merge")]
+    /// Last κ (the top row), in [1e-6, 1e3] [default: 42].
+    #[arg(long, allow_hyphen_values = true, value_parser = parse_number)]
     pub kappa_to: Option<f64>,
-    /// Number of κ rows, evenly spaced, ends included (1 to 10000).
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true, required_unless_present = "merge")]
+    /// Number of κ rows, evenly spaced, ends included (1 to 10000)
+    /// [default: 30, as the window's Phase view].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub kappa_steps: Option<usize>,
     /// First θν, in radians, in [-1000, 1000].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = parse_number)]
@@ -61,8 +72,8 @@ pub struct PhaseArgs {
     #[arg(long, default_value_t = std::f64::consts::FRAC_PI_2, allow_hyphen_values = true, value_parser = parse_number)]
     pub theta_nu_to: f64,
     /// Number of θν columns, evenly spaced, ends included (1 to 10000;
-    /// rows × columns ≤ 4e6).
-    #[arg(long, value_parser = parse_count, allow_hyphen_values = true, required_unless_present = "merge")]
+    /// rows × columns ≤ 4e6) [default: 30, as the window's Phase view].
+    #[arg(long, value_parser = parse_count, allow_hyphen_values = true)]
     pub theta_nu_steps: Option<usize>,
     /// The most iterates a cell spends looking for a period (0 to 1e6).
     #[arg(long, default_value_t = 400, value_parser = parse_count, allow_hyphen_values = true)]
@@ -160,7 +171,9 @@ type Shard = (usize, usize);
 pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     let t_from = theta_nu_end("theta-nu-from", args.theta_nu_from)?;
     let t_to = theta_nu_end("theta-nu-to", args.theta_nu_to)?;
-    let base = preset_params(args.preset);
+    // Without a preset, the window's defaults (Fig. 4's γ and ν), as
+    // `figure --view phase`.
+    let base = Some(preset_params(args.preset).unwrap_or_default());
     let params = Params {
         kappa: 1.0,
         gamma: given_or_preset("gamma", args.gamma, base.map(|b| b.gamma))?,
@@ -171,12 +184,9 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     params.validate().map_err(param_error)?;
     // Each end of the κ range is a κ of the grid, checked as one, under
     // its own flag's name.
-    let given = |name: &str, v: Option<f64>| {
-        v.ok_or_else(|| CliError::Usage(format!("--{name} is required")))
-    };
     let (k_from, k_to) = (
-        finite("kappa-from", given("kappa-from", args.kappa_from)?)?,
-        finite("kappa-to", given("kappa-to", args.kappa_to)?)?,
+        finite("kappa-from", args.kappa_from.unwrap_or(DEFAULT_KAPPA.0))?,
+        finite("kappa-to", args.kappa_to.unwrap_or(DEFAULT_KAPPA.1))?,
     );
     for (name, k) in [("kappa-from", k_from), ("kappa-to", k_to)] {
         Params { kappa: k, ..params }.validate().map_err(|mut e| {
@@ -240,10 +250,8 @@ pub fn check_any(args: &PhaseArgs) -> Result<(), CliError> {
 
 /// The grid's rows and columns, and the part of it asked for (--shard).
 fn grid_steps(args: &PhaseArgs) -> Result<(usize, usize, Option<Shard>), CliError> {
-    let steps = |name: &str, v: Option<usize>| {
-        let v = v.ok_or_else(|| CliError::Usage(format!("--{name} is required")))?;
-        count_in(name, v, MAX_STEPS)
-    };
+    let steps =
+        |name: &str, v: Option<usize>| count_in(name, v.unwrap_or(DEFAULT_STEPS), MAX_STEPS);
     let rows = steps("kappa-steps", args.kappa_steps)?;
     let cols = steps("theta-nu-steps", args.theta_nu_steps)?;
     let shard = args
