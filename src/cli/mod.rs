@@ -22,6 +22,7 @@ pub mod orbit;
 mod orbit_stats;
 pub mod phase;
 pub mod phase_boundaries;
+mod phase_picture;
 pub mod run_control;
 pub mod trajectory;
 pub mod values;
