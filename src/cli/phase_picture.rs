@@ -56,6 +56,7 @@ pub struct Picture {
 /// The grid the picture shows: its cells (rows of κ, each of columns of
 /// θν), their ranges (ends included), and what the view's settings say
 /// of them (the model, the budgets, the seeds).
+#[cfg_attr(not(feature = "gui"), allow(dead_code))]
 pub struct Grid<'a> {
     pub cells: &'a [Vec<PhaseCell>],
     pub theta_nu: (f64, f64),
@@ -116,8 +117,10 @@ pub fn check(args: &PhaseArgs) -> Result<Option<Picture>, CliError> {
 pub fn write(p: &Picture, grid: &Grid<'_>, force: bool) -> Result<(), CliError> {
     use crate::app::figure::{Figure, given, pdf_of_svg, png_of_svg, svg_of};
     use crate::app::{Settings, ViewKind};
-    let mut settings = Settings::default();
-    settings.params = grid.params;
+    let mut settings = Settings {
+        params: grid.params,
+        ..Settings::default()
+    };
     let ph = &mut settings.phase;
     ph.range = crate::app::settings::PhaseRange {
         theta_nu: grid.theta_nu,
