@@ -115,9 +115,12 @@ fn the_picture_has_its_cells_and_the_figures_words_at_the_size_asked_for() {
 #[test]
 fn each_boundary_curve_has_its_own_style_and_legend_entry() {
     let dir = tempfile::tempdir().unwrap();
-    // Two curves in `continue --curve`'s format: FP to P2 rising across
-    // the grid, P2 to P4 falling.
-    let mut text = String::from("curve,kind,period,theta_nu,kappa,theta,multiplier\n");
+    // Two curves in `continue --curve --out`'s format (its `#` lines
+    // first): FP to P2 rising across the grid, P2 to P4 falling.
+    let mut text = String::from(
+        "# oneblock 0.1.0\n# command: oneblock continue --curve pd\n\
+         curve,kind,period,theta_nu,kappa,theta,multiplier\n",
+    );
     for i in 0..=10 {
         let f = f64::from(i) / 10.0;
         text.push_str(&format!(

@@ -8,7 +8,7 @@ use crate::sim::continuation::{ContParam, Curve, CurveKind, CurvePoint};
 
 /// Reads the curves of a curve CSV: the columns `theta_nu`, `kappa`,
 /// `kind` (pd or fold) and `period` (in any order, as `continue --curve
-/// --params theta-nu,kappa` writes them); rows are grouped into curves by
+/// --params theta-nu,kappa` writes them, after its `#` lines); rows are grouped into curves by
 /// the `curve`, `kind` and `period` columns, and a repeated header (files
 /// concatenated) starts new ones. Errors are one line.
 pub fn read_boundaries(path: &Path) -> Result<Vec<Curve>, String> {
@@ -18,6 +18,8 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Curve>, String> {
     let mut records = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
+        // The `#` provenance lines `continue --out` writes first.
+        .comment(Some(b'#'))
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes())
         .into_records();
@@ -111,7 +113,7 @@ mod tests {
         let p = dir.path().join("c.csv");
         let head = "curve,kind,period,theta_nu,kappa,theta,multiplier";
         let text = format!(
-            "{head}\n0,pd,1,1.0,16,0.4,-1\n0,pd,1,1.1,17,0.4,-1\n{head}\n0,pd,2,1.2,16,0.4,-1\n1,fold,1,1.3,3,0.1,1\n"
+            "# oneblock 0.1.0\n{head}\n0,pd,1,1.0,16,0.4,-1\n0,pd,1,1.1,17,0.4,-1\n{head}\n0,pd,2,1.2,16,0.4,-1\n1,fold,1,1.3,3,0.1,1\n"
         );
         std::fs::write(&p, text).unwrap_or_else(|e| panic!("{e}"));
         let curves = read_boundaries(&p).unwrap_or_else(|e| panic!("{e}"));
