@@ -579,7 +579,10 @@ fn boundaries_and_seeds_are_drawn_only_on_their_views() {
         .filter(|e| e.attr("data-series") == "phase:777" && e.tag == "path")
         .count();
     assert!(curves > 0, "doubling curves are drawn");
-    assert!(words(&els).contains(&"doubling curve"));
+    // Fig. 4's box holds the doublings FP to P2 and P2 to P4, each with
+    // an entry of its own.
+    assert!(words(&els).contains(&"FP to P2"), "{:?}", words(&els));
+    assert!(words(&els).contains(&"P2 to P4"), "{:?}", words(&els));
 
     let seeded = figure(
         dir.path(),

@@ -27,7 +27,7 @@ use egui_kittest::kittest::Queryable;
 use oneblock::app::bifurcation::Zoom;
 use oneblock::app::diagram_axis::{SELECTOR, title};
 use oneblock::app::jobs::JobState;
-use oneblock::app::overlay::{CURVE, FOLD_CURVE};
+use oneblock::app::overlay::curve_style;
 use oneblock::app::points_table::{FEIGENBAUM_DELTA, cascade_rows};
 use oneblock::app::settings::PhaseRange;
 use oneblock::app::{Explorer, Layout, Recorder, Settings, ViewKind, preset};
@@ -439,7 +439,15 @@ fn boundaries_draw_the_fold_curve_with_its_legend() {
         };
     }
     h.run_steps(2);
-    assert!(h.query_by_label(FOLD_CURVE).is_none());
+    // Each curve has its own legend entry: the fixed point's fold and its
+    // doubling to P2.
+    let fold = curve_style(CurveKind::Fold, 1).name;
+    let doubling = curve_style(CurveKind::PeriodDoubling, 1).name;
+    assert_eq!(
+        (fold.as_str(), doubling.as_str()),
+        ("fold of FP", "FP to P2")
+    );
+    assert!(h.query_by_label(&fold).is_none());
     h.get_by_label("Boundaries").click();
     h.step();
     until(&mut h, "Boundaries", |app| {
@@ -453,9 +461,6 @@ fn boundaries_draw_the_fold_curve_with_its_legend() {
     for c in curves.iter().filter(|c| c.kind == CurveKind::Fold) {
         assert!(c.points.iter().all(|q| (q.multiplier - 1.0).abs() < 1e-4));
     }
-    assert!(
-        h.query_by_label(FOLD_CURVE).is_some(),
-        "the legend names it"
-    );
-    assert!(h.query_by_label(CURVE).is_some());
+    assert!(h.query_by_label(&fold).is_some(), "the legend names it");
+    assert!(h.query_by_label(&doubling).is_some());
 }

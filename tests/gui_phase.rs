@@ -354,8 +354,8 @@ fn the_doubling_curves_generalised_flips_are_marked_and_listed() {
     }
     h.run_steps(3);
     assert_eq!(h.state().jobs.curves.data.curves.len(), 1);
-    // The legend: the curve and the marker.
-    assert!(h.query_by_label("doubling curve").is_some());
+    // The legend: the curve (a doubling of the fixed point) and the marker.
+    assert!(h.query_by_label("FP to P2").is_some());
     assert!(h.query_by_label("generalised flip").is_some());
     // The table: (θν, κ) and c either side.
     h.get_by_label("Generalised flips (1)").click();

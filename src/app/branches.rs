@@ -215,6 +215,29 @@ pub fn nearest(
     best.map(|(_, t)| t)
 }
 
+impl Receive for BranchData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Branch { branch, .. } => self.branches.push(branch),
+            Update::Cascade { cascade, .. } => self.doublings = cascade.doublings,
+            u => return Some(u),
+        }
+        None
+    }
+}
+
+impl Receive for CurveData {
+    fn receive(&mut self, u: Update) -> Option<Update> {
+        match u {
+            Update::Curve { curve, .. } => {
+                self.curves.push(curve);
+                None
+            }
+            u => Some(u),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -263,28 +286,5 @@ mod tests {
         assert_eq!(r[0].points, [[1.0, 0.3], [1.1, 0.4], [1.2, 0.5]]);
         assert_eq!(r[1].points, [[1.2, 0.5], [1.3, 3.1]]);
         assert_eq!(r[2].points, [[1.4, -3.1]]);
-    }
-}
-
-impl Receive for BranchData {
-    fn receive(&mut self, u: Update) -> Option<Update> {
-        match u {
-            Update::Branch { branch, .. } => self.branches.push(branch),
-            Update::Cascade { cascade, .. } => self.doublings = cascade.doublings,
-            u => return Some(u),
-        }
-        None
-    }
-}
-
-impl Receive for CurveData {
-    fn receive(&mut self, u: Update) -> Option<Update> {
-        match u {
-            Update::Curve { curve, .. } => {
-                self.curves.push(curve);
-                None
-            }
-            u => Some(u),
-        }
     }
 }

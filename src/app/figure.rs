@@ -19,6 +19,7 @@ use super::settings::{Settings, ViewKind};
 use super::svg_render::{self, Look};
 
 mod compute;
+pub mod given;
 
 pub use compute::compute;
 pub(super) use compute::{ComputeRun, view_settings};
@@ -89,6 +90,13 @@ impl Figure {
 /// view code, figure only.
 pub fn svg(fig: &Figure) -> Result<String, String> {
     let jobs = compute(fig)?;
+    Ok(svg_of(fig, &jobs))
+}
+
+/// The figure as SVG from data already computed (`jobs`, as [`compute`]
+/// gives them, or [`given::phase_jobs`] a `phase` run's grid), drawn by
+/// the window's view code, figure only.
+pub fn svg_of(fig: &Figure, jobs: &super::jobs::Jobs) -> String {
     let s = view_settings(fig);
     let mut zoom = fig.zoom.clone();
     if fig.theta_nu.is_some() || fig.theta.is_some() {
@@ -99,14 +107,14 @@ pub fn svg(fig: &Figure) -> Result<String, String> {
                 .unwrap_or_else(|| auto_theta_range(&jobs.sweep.data)),
         });
     }
-    Ok(svg_render::render_svg_as(
+    svg_render::render_svg_as(
         &[fig.view],
         &s,
-        &jobs,
+        jobs,
         (&zoom, fig.size),
         fig.crosshair,
         &fig.look,
-    ))
+    )
 }
 
 /// The most pixels rasterised at once: a larger PNG is drawn in strips of

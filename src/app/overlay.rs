@@ -1,8 +1,9 @@
 //! The continuation's results drawn over the diagrams: the branches of
 //! "Find bifurcations" over the bifurcation diagram (stable parts solid,
 //! unstable parts dashed, PD, subcritical PD, fold, border and jump points
-//! each with a marker of its own), and the doubling curves of "Boundaries" over the phase
-//! diagram with their generalised flips (where the flip's coefficient
+//! each with a marker of its own), and the boundary curves of "Boundaries"
+//! (or `phase --boundaries`) over the phase diagram, each kind and level in
+//! a style of its own, with their generalised flips (where the flip's coefficient
 //! changes sign: the doubling turns from supercritical to subcritical).
 //! Only drawing: the numbers come from [`super::branches`].
 
@@ -17,8 +18,6 @@ use crate::sim::continuation::{Criticality, CurveKind, SpecialKind, SpecialPoint
 
 /// The branches' colour.
 pub const BRANCH: Color32 = Color32::from_rgb(0, 114, 178);
-/// The boundary curves' colour (over the phase diagram's class colours).
-pub const BOUNDARY: Color32 = Color32::from_rgb(255, 255, 255);
 
 /// The names of the overlay's plot items (the legend's words).
 pub const STABLE: &str = "stable branch";
@@ -75,11 +74,19 @@ pub const SUBCRITICAL: (Marker, &str) = (
 pub fn is_overlay_item(name: &str) -> bool {
     name == STABLE
         || name == UNSTABLE
-        || name == CURVE
-        || name == FOLD_CURVE
+        || is_curve_name(name)
         || name == SUBCRITICAL.1
         || name == GENERALISED_NAME
         || MARKED.iter().any(|&k| marker(k).1 == name)
+}
+
+/// Whether `name` is a boundary curve's ([`curve_style`]): "FP to P2",
+/// "P2 to P4", …, "fold of FP", ….
+fn is_curve_name(name: &str) -> bool {
+    name.starts_with("fold of ")
+        || name
+            .split_once(" to P")
+            .is_some_and(|(from, _)| from == "FP" || from.starts_with('P'))
 }
 
 /// The plot's hover label: egui_plot's own, except over the overlay.
@@ -212,11 +219,49 @@ pub fn branch_legend_ui(
     });
 }
 
-/// The name of the boundary curves' item.
-pub const CURVE: &str = "doubling curve";
-/// The name of the fold curves' item (dashed: where a cycle is born or
-/// dies in pairs, the attractor jumps; `continue --curve fold`).
-pub const FOLD_CURVE: &str = "fold curve";
+/// How one boundary curve is drawn: its legend's words, its colour and
+/// whether it is dashed. Each doubling level has a colour of its own
+/// (FP to P2 white, P2 to P4 cyan, P4 to P8 yellow, beyond pink); a fold
+/// curve is dashed, in its cycle's colour. All are drawn on a dark halo,
+/// so that they show over every class's colour.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CurveStyle {
+    pub name: String,
+    pub colour: Color32,
+    pub dashed: bool,
+}
+
+/// The colours of the doubling levels: period 1, 2, 4, 8 and beyond.
+pub const LEVEL_COLOURS: [Color32; 4] = [
+    Color32::from_rgb(255, 255, 255),
+    Color32::from_rgb(0, 229, 255),
+    Color32::from_rgb(255, 221, 0),
+    Color32::from_rgb(255, 128, 208),
+];
+
+/// The name of a cycle of period `p` in the phase diagram's words.
+fn cycle_name(p: usize) -> String {
+    if p == 1 { "FP".into() } else { format!("P{p}") }
+}
+
+/// The style of a curve of `kind` for the cycle of `period`: a doubling
+/// "FP to P2", "P2 to P4", …, solid; a fold "fold of FP", dashed.
+pub fn curve_style(kind: CurveKind, period: usize) -> CurveStyle {
+    let level = period.max(1).ilog2() as usize;
+    let colour = LEVEL_COLOURS[level.min(LEVEL_COLOURS.len() - 1)];
+    match kind {
+        CurveKind::PeriodDoubling => CurveStyle {
+            name: format!("{} to {}", cycle_name(period), cycle_name(2 * period)),
+            colour,
+            dashed: false,
+        },
+        CurveKind::Fold => CurveStyle {
+            name: format!("fold of {}", cycle_name(period)),
+            colour,
+            dashed: true,
+        },
+    }
+}
 
 /// The marker of a generalised flip on a doubling curve: the PD's colour,
 /// a triangle pointing down (the subcritical PD's points up), on a black
@@ -229,48 +274,83 @@ pub const GENERALISED: [Marker; 2] = [
 /// The generalised flip's name (legend and hover).
 pub const GENERALISED_NAME: &str = "generalised flip";
 
-/// The curves' legend: each kind of line drawn and, when a curve has
-/// one, the generalised flip's marker.
-pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData) {
-    if data.curves.is_empty() {
+/// The halo under every boundary curve.
+const HALO: Color32 = Color32::from_black_alpha(200);
+
+/// The styles of the curves of `data` drawn in a plot of bounds `(min,
+/// max)` (some point inside), each once: doublings by period, then folds.
+pub fn drawn_styles(data: &CurveData, (min, max): ([f64; 2], [f64; 2])) -> Vec<CurveStyle> {
+    let mut keys: Vec<(u8, usize)> = data
+        .curves
+        .iter()
+        .filter(|c| {
+            let pts: Vec<[f64; 2]> = c.points.iter().map(|q| q.lambda).collect();
+            !super::clip::clip_polyline(&pts, min, max).is_empty()
+        })
+        .map(|c| (u8::from(c.kind == CurveKind::Fold), c.period))
+        .collect();
+    keys.sort_unstable();
+    keys.dedup();
+    keys.into_iter()
+        .map(|(fold, p)| {
+            let kind = if fold == 1 {
+                CurveKind::Fold
+            } else {
+                CurveKind::PeriodDoubling
+            };
+            curve_style(kind, p)
+        })
+        .collect()
+}
+
+/// The curves' legend over a plot of bounds `(min, max)`: an entry for
+/// each style drawn there, its key the line as drawn (on its halo), and,
+/// when a flip is drawn, the generalised flip's marker.
+pub fn curve_legend_ui(ui: &mut Ui, data: &CurveData, bounds: ([f64; 2], [f64; 2])) {
+    let styles = drawn_styles(data, bounds);
+    let flips = data
+        .curves
+        .iter()
+        .flat_map(|c| &c.generalised_flips)
+        .any(|g| within(g.lambda, bounds.0, bounds.1));
+    if styles.is_empty() && !flips {
         return;
     }
     style::legend_row(ui, |ui| {
-        for (kind, name, dashed) in [
-            (CurveKind::PeriodDoubling, CURVE, false),
-            (CurveKind::Fold, FOLD_CURVE, true),
-        ] {
-            if !data.curves.iter().any(|c| c.kind == kind) {
-                continue;
-            }
-            // The white line on its dark halo, as drawn.
-            let (rect, _) = ui.allocate_exact_size(egui::vec2(22.0, 14.0), egui::Sense::hover());
-            let painter = ui.painter();
-            let (y, x0, x1) = (rect.center().y, rect.left(), rect.right());
-            let pieces: Vec<[egui::Pos2; 2]> = if dashed {
-                vec![
-                    [egui::pos2(x0, y), egui::pos2(x0 + 8.0, y)],
-                    [egui::pos2(x1 - 8.0, y), egui::pos2(x1, y)],
-                ]
-            } else {
-                vec![[egui::pos2(x0, y), egui::pos2(x1, y)]]
-            };
-            for ends in pieces {
-                painter.line_segment(ends, egui::Stroke::new(4.0, Color32::from_black_alpha(200)));
-                painter.line_segment(ends, egui::Stroke::new(2.0, BOUNDARY));
-            }
-            ui.label(name);
+        for st in &styles {
+            style::legend_entry(ui, egui::vec2(22.0, 14.0), &st.name, |rect, k| {
+                let (y, x0, x1) = (rect.center().y, rect.left(), rect.right());
+                let pieces: Vec<[egui::Pos2; 2]> = if st.dashed {
+                    vec![
+                        [egui::pos2(x0, y), egui::pos2(x0 + 8.0 * k, y)],
+                        [egui::pos2(x1 - 8.0 * k, y), egui::pos2(x1, y)],
+                    ]
+                } else {
+                    vec![[egui::pos2(x0, y), egui::pos2(x1, y)]]
+                };
+                let mut shapes = Vec::new();
+                for (colour, w) in [(HALO, 4.0), (st.colour, 2.0)] {
+                    for ends in &pieces {
+                        shapes.push(egui::Shape::line_segment(
+                            *ends,
+                            egui::Stroke::new(w * k, colour),
+                        ));
+                    }
+                }
+                shapes
+            });
         }
-        if data.curves.iter().any(|c| !c.generalised_flips.is_empty()) {
+        if flips {
             markers::legend(ui, &GENERALISED, GENERALISED_NAME);
         }
     });
 }
 
-/// The doubling curves (solid) and fold curves (dashed) over the phase
-/// diagram, each a polyline in (θν, κ), and the doublings' generalised
-/// flips' markers, over a plot of bounds `(min, max)`: each cut to them in
-/// double precision, a flip drawn only inside them.
+/// The boundary curves over the phase diagram, each in its own style
+/// ([`curve_style`]: a colour per doubling level, folds dashed), each a
+/// polyline in (θν, κ), and the doublings' generalised flips' markers,
+/// over a plot of bounds `(min, max)`: each cut to them in double
+/// precision, a flip drawn only inside them.
 pub fn curve_items(
     p: &mut PlotUi<'_>,
     data: &CurveData,
@@ -279,24 +359,26 @@ pub fn curve_items(
 ) {
     for c in &data.curves {
         let pts: Vec<[f64; 2]> = c.points.iter().map(|q| q.lambda).collect();
-        let (name, style) = match c.kind {
-            CurveKind::PeriodDoubling => (CURVE, LineStyle::Solid),
-            CurveKind::Fold => (FOLD_CURVE, LineStyle::Dashed { length: 10.0 }),
+        let st = curve_style(c.kind, c.period);
+        let line = if st.dashed {
+            LineStyle::Dashed { length: 10.0 }
+        } else {
+            LineStyle::Solid
         };
         for part in super::clip::clip_polyline(&pts, min, max) {
-            // A dark halo keeps the white line visible over pale classes.
+            // A dark halo keeps the line visible over pale classes.
             p.line(
-                Line::new(name, PlotPoints::from(part.clone()))
-                    .color(Color32::from_black_alpha(200))
+                Line::new(st.name.as_str(), PlotPoints::from(part.clone()))
+                    .color(HALO)
                     .width(line_width + 2.0)
-                    .style(style)
+                    .style(line)
                     .allow_hover(false),
             );
             p.line(
-                Line::new(name, PlotPoints::from(part))
-                    .color(BOUNDARY)
+                Line::new(st.name.as_str(), PlotPoints::from(part))
+                    .color(st.colour)
                     .width(line_width)
-                    .style(style)
+                    .style(line)
                     .allow_hover(false),
             );
         }

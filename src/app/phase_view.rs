@@ -27,7 +27,7 @@ use super::{overlay, points_table};
 use crate::model::KAPPA_RANGE;
 use crate::sim::phase::{CellClass, PhaseCell};
 
-/// The legend, in the order of `oneblock phase --png`'s.
+/// The legend's classes, in order (`oneblock phase --png` draws this view).
 const LEGEND_CLASSES: [(CellClass, &str); 9] = [
     (CellClass::Periodic(1), "FP"),
     (CellClass::Periodic(2), "P2"),
@@ -119,7 +119,7 @@ impl PhaseView {
         if let Some(text) = &jobs.curves.summary {
             ui.label(RichText::new(format!("boundaries: {text}")).weak());
         }
-        overlay::curve_legend_ui(ui, &jobs.curves.data);
+        overlay::curve_legend_ui(ui, &jobs.curves.data, plot_box(s, data));
         points_table::generalised_flips_ui(ui, &jobs.curves.data);
     }
 
@@ -279,7 +279,8 @@ impl View for PhaseView {
         self.rebuild(ui, &jobs.phase.data);
         if style::figure_only(ui.ctx()) {
             legend_row_ui(ui, &jobs.phase.data, s.phase.seeds > 0);
-            overlay::curve_legend_ui(ui, &jobs.curves.data);
+            let bounds = plot_box(s, &jobs.phase.data);
+            overlay::curve_legend_ui(ui, &jobs.curves.data, bounds);
         } else {
             self.results_ui(ui, s, jobs);
         }
@@ -399,6 +400,17 @@ fn drawn_grid(s: &Settings, data: &PhaseData) -> (PhaseRange, f64, f64) {
     };
     let (dt, dk) = (step(range.theta_nu, columns), step(range.kappa, rows));
     (range, dt, dk)
+}
+
+/// The plot's bounds, (θν, κ) of its lower left and upper right corners:
+/// the drawn grid's outer cell edges.
+fn plot_box(s: &Settings, data: &PhaseData) -> ([f64; 2], [f64; 2]) {
+    let (range, dt, dk) = drawn_grid(s, data);
+    let ((t0, t1), (k0, k1)) = (range.theta_nu, range.kappa);
+    (
+        [t0 - dt / 2.0, k0 - dk / 2.0],
+        [t1 + dt / 2.0, k1 + dk / 2.0],
+    )
 }
 
 /// Compute (or Stop while the grid runs).

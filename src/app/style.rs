@@ -109,7 +109,7 @@ pub fn ink(dark: bool) -> Color32 {
 /// label do not both fit in what is left of this one, so that a legend
 /// never leaves a key at the end of one row and its label on the next.
 /// The key's shapes are `key`'s for the rectangle and the key scale.
-fn legend_entry(
+pub fn legend_entry(
     ui: &mut Ui,
     size: egui::Vec2,
     label: &str,

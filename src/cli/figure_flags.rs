@@ -18,7 +18,7 @@ use crate::sim::continuation::ContParam;
 pub const MIN_SIDE: f32 = 100.0;
 
 /// --size: WIDTHxHEIGHT, each in [[`MIN_SIDE`], 10000] points.
-fn parse_figure_size(s: &str) -> Result<[f32; 2], String> {
+pub(super) fn parse_figure_size(s: &str) -> Result<[f32; 2], String> {
     parse_size_within(s, MIN_SIDE)
 }
 
@@ -36,7 +36,13 @@ fn check_dpi(a: &FigureArgs, format: Format) -> Result<(), CliError> {
             "--dpi: only a .png has a resolution (an SVG or PDF is vector): leave --dpi out".into(),
         ));
     }
-    let [w, h] = a.size.unwrap_or(super::figure::DEFAULT_SIZE);
+    dpi_within(d, a.size.unwrap_or(super::figure::DEFAULT_SIZE))
+}
+
+/// --dpi = `d` for a figure of `[w, h]` points: in [`DPI_RANGE`] and at
+/// most [`MAX_PNG_SIDE`] pixels along the longer side (`figure` and
+/// `phase --png` alike).
+pub(super) fn dpi_within(d: f64, [w, h]: [f32; 2]) -> Result<(), CliError> {
     let longer = f64::from(w.max(h));
     let most = DPI_RANGE.1.min((MAX_PNG_SIDE * 72.0 / longer).floor());
     if !(DPI_RANGE.0..=most).contains(&d) {

@@ -23,6 +23,7 @@ mod orbit_stats;
 pub mod phase;
 pub mod phase_boundaries;
 mod phase_merge;
+mod phase_picture;
 pub mod run_control;
 pub mod trajectory;
 pub mod values;

@@ -1,8 +1,9 @@
 //! `oneblock phase`: the phase diagram in (θν, κ) (the paper's Fig. 4), CSV
 //! `theta_nu,kappa,period,lyapunov,regime,iterates,class,lyapunov_stderr`
-//! and optionally a PNG. Rows (one per κ) run in parallel; each row is a
-//! continued sweep along θν, so the file depends only on the flags, not on
-//! the number of threads. Ctrl+C stops the run and writes nothing.
+//! and optionally a picture, drawn by `figure`'s code (`phase_picture`).
+//! Rows (one per κ) run in parallel; each row is a continued sweep along
+//! θν, so the file depends only on the flags, not on the number of
+//! threads. Ctrl+C stops the run and writes nothing.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -13,8 +14,8 @@ use clap::Args;
 use super::CliError;
 use super::bifurcation::theta_nu_end;
 use super::common::{
-    SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, emit_as, finite,
-    max_seconds, warn_validity, with_provenance,
+    SolverArgs, check_out, check_second_out, count_in, describe_sweep, emit, finite, max_seconds,
+    warn_validity, with_provenance,
 };
 use super::run_control::{Limits, Progress};
 use super::values::{given_or_preset, param_error, parse_count, parse_number, preset_params};
@@ -121,19 +122,28 @@ pub struct PhaseArgs {
     /// CSV file ("-" = stdout) [default: stdout, or none with --png].
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Also (or only) render the diagram as a PNG, or as SVG when FILE ends
-    /// in .svg (labels in the DejaVu Sans the binary carries).
+    /// Also (or only) draw the diagram, as `oneblock figure --view phase`
+    /// draws it (the same picture over the same grid): a PNG, or an SVG or
+    /// PDF when FILE ends in .svg or .pdf. Needs the default build (the
+    /// window's drawing code).
     #[arg(long)]
     pub png: Option<PathBuf>,
-    /// Draw these curves over the PNG: a CSV with theta_nu and kappa
-    /// columns, as `oneblock continue --curve` writes (needs --png).
+    /// Draw these curves over the picture, as the window's Boundaries
+    /// does (each kind and doubling level in its own style and legend
+    /// entry): a CSV with theta_nu, kappa, kind and period columns, as
+    /// `oneblock continue --curve ... --params theta-nu,kappa` writes
+    /// (needs --png).
     #[arg(long, requires = "png")]
     pub boundaries: Option<PathBuf>,
-    /// The picture's size in pixels, WIDTHxHEIGHT, each in [200, 10000]
-    /// (needs --png) [default: about 600x480 pixels of cells, with the axes
-    /// and legend around them].
-    #[arg(long, requires = "png", allow_hyphen_values = true, value_parser = super::gui::parse_size)]
+    /// The figure's size in points, WIDTHxHEIGHT, each in [100, 10000], as
+    /// `figure --size` (needs --png) [default: 900x600].
+    #[arg(long, requires = "png", allow_hyphen_values = true, value_parser = super::figure_flags::parse_figure_size)]
     pub size: Option<[f32; 2]>,
+    /// The PNG's resolution in pixels per inch (72 points), in [72, 600]
+    /// and at most 20000 pixels along the longer side, as `figure --dpi`
+    /// (needs --png) [default: 144, two pixels a point].
+    #[arg(long, requires = "png", allow_hyphen_values = true, value_parser = parse_number)]
+    pub dpi: Option<f64>,
     /// Overwrite existing --out / --png files.
     #[arg(long)]
     pub force: bool,
@@ -157,11 +167,10 @@ pub struct Plan {
     threads: usize,
     out: Option<PathBuf>,
     max_seconds: Option<f64>,
-    boundaries: Vec<super::phase_boundaries::Polyline>,
-    /// The picture's size in pixels (--size).
-    size: Option<[f64; 2]>,
     /// Part K of N (--shard).
     shard: Option<Shard>,
+    /// The picture of --png, drawn by `figure`'s code.
+    picture: Option<super::phase_picture::Picture>,
 }
 
 /// Part K of N of a grid (--shard).
@@ -208,19 +217,7 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
     };
     let out = check_outputs(args)?;
     let max_seconds = max_seconds(args.max_seconds)?;
-    let boundaries = match &args.boundaries {
-        Some(b) => super::phase_boundaries::read_boundaries(b)
-            .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
-        None => Vec::new(),
-    };
-    let size = args.size.map(|[w, h]| [f64::from(w), f64::from(h)]);
-    if let Some([w, h]) = size
-        && crate::figure::phase::picture_size(cols, rows, size).is_none()
-    {
-        return Err(CliError::Usage(format!(
-            "--size {w}x{h} is too small for {cols} x {rows} cells: the picture needs              250 + {cols} pixels across and 90 + {rows} down"
-        )));
-    }
+    let picture = super::phase_picture::check(args)?;
     Ok(Plan {
         params: Params {
             kappa: k_from,
@@ -233,9 +230,8 @@ pub fn check(args: &PhaseArgs) -> Result<Plan, CliError> {
         threads,
         out,
         max_seconds,
-        boundaries,
-        size,
         shard,
+        picture,
     })
 }
 
@@ -352,21 +348,18 @@ pub fn run(args: PhaseArgs) -> Result<(), CliError> {
         writeln!(csv, "{}", phase_row(c, attractors)).ok();
     }
     // The picture first: if it cannot be written, neither is the CSV.
-    if let Some(png) = &args.png {
-        // Written as SVG when the name says so, else rasterised; a picture
-        // that cannot be encoded is an error, never an empty file.
-        let svg = crate::figure::phase::phase_svg(
-            &grid,
-            (&plan.kappas, &plan.theta_nus),
-            &plan.boundaries,
-            plan.size,
-        );
-        let bytes = if crate::figure::is_svg(png) {
-            svg.into_bytes()
-        } else {
-            crate::figure::svg_to_png(&svg).map_err(|e| CliError::Failed(format!("--png: {e}")))?
+    if let Some(p) = &plan.picture {
+        let (rows, cols) = (plan.kappas.len(), plan.theta_nus.len());
+        let grid = super::phase_picture::Grid {
+            cells: &grid,
+            theta_nu: (plan.theta_nus[0], plan.theta_nus[cols - 1]),
+            kappa: (plan.kappas[0], plan.kappas[rows - 1]),
+            params: plan.params,
+            transient: plan.opts.transient,
+            keep: plan.opts.keep,
+            seeds: plan.opts.seeds,
         };
-        emit_as("png", png, &bytes, args.force)?;
+        super::phase_picture::write(p, &grid, args.force)?;
     }
     if let Some(o) = &plan.out {
         let model = format!(

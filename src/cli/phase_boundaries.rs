@@ -1,22 +1,25 @@
 //! `oneblock phase --boundaries FILE`: bifurcation curves (the CSV of
-//! `oneblock continue --curve`) drawn over the phase PNG.
+//! `oneblock continue --curve`) read back as the curves the Phase view
+//! draws over the grid, each kind and period in its own style.
 
 use std::path::Path;
 
-/// One polyline in (θν, κ).
-pub type Polyline = Vec<[f64; 2]>;
+use crate::sim::continuation::{ContParam, Curve, CurveKind, CurvePoint};
 
-/// Reads the polylines of a curve CSV: the columns `theta_nu` and `kappa`
-/// (in any order); rows are grouped into polylines by the `curve`, `kind`
-/// and `period` columns where present, and a repeated header (files
+/// Reads the curves of a curve CSV: the columns `theta_nu`, `kappa`,
+/// `kind` (pd or fold) and `period` (in any order, as `continue --curve
+/// --params theta-nu,kappa` writes them, after its `#` lines); rows are grouped into curves by
+/// the `curve`, `kind` and `period` columns, and a repeated header (files
 /// concatenated) starts new ones. Errors are one line.
-pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
+pub fn read_boundaries(path: &Path) -> Result<Vec<Curve>, String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read it: {e}"))?;
     // No header row for the reader: a repeated header (files concatenated)
-    // must be seen as a row to start new polylines.
+    // must be seen as a row to start new curves.
     let mut records = csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
+        // The `#` provenance lines `continue --out` writes first.
+        .comment(Some(b'#'))
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes())
         .into_records();
@@ -25,10 +28,12 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
     };
     let header = header.map_err(|e| format!("not CSV: {e}"))?;
     let col = |n: &str| header.iter().position(|h| h == n);
-    let (Some(x), Some(y)) = (col("theta_nu"), col("kappa")) else {
+    let (Some(x), Some(y), Some(k), Some(p)) =
+        (col("theta_nu"), col("kappa"), col("kind"), col("period"))
+    else {
         let shown = header.iter().collect::<Vec<_>>().join(",");
         return Err(format!(
-            "the header '{}' has no theta_nu and kappa columns (write it with oneblock continue --curve ... --params theta-nu,kappa)",
+            "the header '{}' lacks one of the columns theta_nu, kappa, kind and period (write it with oneblock continue --curve ... --params theta-nu,kappa)",
             super::values::echo(&shown)
         ));
     };
@@ -36,7 +41,7 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
         .iter()
         .filter_map(|n| col(n))
         .collect();
-    let mut out: Vec<Polyline> = Vec::new();
+    let mut out: Vec<Curve> = Vec::new();
     let mut last_key: Option<Vec<String>> = None;
     for record in records {
         let f = record.map_err(|e| format!("not CSV: {e}"))?;
@@ -54,14 +59,41 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
                 .filter(|v| v.is_finite())
                 .ok_or_else(|| format!("line {line}: no finite number in column {}", j + 1))
         };
-        let p = [num(x)?, num(y)?];
+        let kind = match f.get(k) {
+            Some("pd") => CurveKind::PeriodDoubling,
+            Some("fold") => CurveKind::Fold,
+            other => {
+                return Err(format!(
+                    "line {line}: the kind '{}' is neither pd nor fold",
+                    super::values::echo(other.unwrap_or(""))
+                ));
+            }
+        };
+        let period = f
+            .get(p)
+            .and_then(|s| s.parse::<usize>().ok())
+            .filter(|&n| (1..=1 << 20).contains(&n))
+            .ok_or_else(|| format!("line {line}: the period is not a whole number in [1, 2^20]"))?;
+        let point = CurvePoint {
+            lambda: [num(x)?, num(y)?],
+            theta: col("theta").map_or(Ok(f64::NAN), &num)?,
+            multiplier: kind.target(),
+        };
         let key: Vec<String> = keys
             .iter()
             .map(|&k| f.get(k).unwrap_or("").to_string())
             .collect();
         match out.last_mut() {
-            Some(poly) if last_key.as_ref() == Some(&key) => poly.push(p),
-            _ => out.push(vec![p]),
+            Some(c) if last_key.as_ref() == Some(&key) => c.points.push(point),
+            _ => out.push(Curve {
+                kind,
+                period,
+                params: [ContParam::ThetaNu, ContParam::Kappa],
+                points: vec![point],
+                ends: [String::new(), String::new()],
+                map_evals: 0,
+                generalised_flips: Vec::new(),
+            }),
         }
         last_key = Some(key);
     }
@@ -71,51 +103,43 @@ pub fn read_boundaries(path: &Path) -> Result<Vec<Polyline>, String> {
     Ok(out)
 }
 
-/// The pixels of the segment from (x0, y0) to (x1, y1), one per step
-/// along its longer axis.
-pub fn segment_pixels(a: [f64; 2], b: [f64; 2]) -> Vec<[i64; 2]> {
-    let n = (b[0] - a[0])
-        .abs()
-        .max((b[1] - a[1]).abs())
-        .ceil()
-        .clamp(1.0, 1e5) as usize;
-    (0..=n)
-        .map(|k| {
-            let t = k as f64 / n as f64;
-            [
-                (a[0] + t * (b[0] - a[0])).round() as i64,
-                (a[1] + t * (b[1] - a[1])).round() as i64,
-            ]
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
 
     #[test]
-    fn polylines_are_grouped_by_curve_and_the_segment_is_connected() {
+    fn curves_are_grouped_by_curve_kind_and_period() {
         let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
         let p = dir.path().join("c.csv");
         let head = "curve,kind,period,theta_nu,kappa,theta,multiplier";
         let text = format!(
-            "{head}\n0,pd,1,1.0,16,0.4,-1\n0,pd,1,1.1,17,0.4,-1\n{head}\n0,pd,2,1.2,16,0.4,-1\n"
+            "# oneblock 0.1.0\n{head}\n0,pd,1,1.0,16,0.4,-1\n0,pd,1,1.1,17,0.4,-1\n{head}\n0,pd,2,1.2,16,0.4,-1\n1,fold,1,1.3,3,0.1,1\n"
         );
         std::fs::write(&p, text).unwrap_or_else(|e| panic!("{e}"));
-        let polys = read_boundaries(&p).unwrap_or_else(|e| panic!("{e}"));
+        let curves = read_boundaries(&p).unwrap_or_else(|e| panic!("{e}"));
+        let got: Vec<(CurveKind, usize, Vec<[f64; 2]>)> = curves
+            .iter()
+            .map(|c| {
+                (
+                    c.kind,
+                    c.period,
+                    c.points.iter().map(|q| q.lambda).collect(),
+                )
+            })
+            .collect();
         assert_eq!(
-            polys,
-            vec![vec![[1.0, 16.0], [1.1, 17.0]], vec![[1.2, 16.0]]]
-        );
-        let px = segment_pixels([0.0, 0.0], [10.0, 3.0]);
-        assert_eq!(px.first(), Some(&[0, 0]));
-        assert_eq!(px.last(), Some(&[10, 3]));
-        assert!(
-            px.windows(2)
-                .all(|w| (w[1][0] - w[0][0]).abs() <= 1 && (w[1][1] - w[0][1]).abs() <= 1)
+            got,
+            vec![
+                (CurveKind::PeriodDoubling, 1, vec![[1.0, 16.0], [1.1, 17.0]]),
+                (CurveKind::PeriodDoubling, 2, vec![[1.2, 16.0]]),
+                (CurveKind::Fold, 1, vec![[1.3, 3.0]]),
+            ]
         );
         std::fs::write(&p, "a,b\n1,2\n").unwrap_or_else(|e| panic!("{e}"));
         assert!(read_boundaries(&p).unwrap_err().contains("theta_nu"));
+        std::fs::write(&p, "theta_nu,kappa\n1,2\n").unwrap_or_else(|e| panic!("{e}"));
+        assert!(read_boundaries(&p).unwrap_err().contains("kind"));
+        std::fs::write(&p, format!("{head}\n0,hopf,1,1,2,0,1\n")).unwrap_or_else(|e| panic!("{e}"));
+        assert!(read_boundaries(&p).unwrap_err().contains("hopf"));
     }
 }

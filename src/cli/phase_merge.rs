@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::CliError;
-use super::common::{check_out, check_second_out, emit, emit_as, with_provenance};
+use super::common::{check_out, check_second_out, emit, with_provenance};
 use super::phase::PhaseArgs;
 use crate::jobs::{phase_blocks, shard_blocks};
 use crate::sim::phase::{CellClass, PhaseCell};
@@ -233,8 +233,9 @@ pub(super) fn run(args: &PhaseArgs) -> Result<(), CliError> {
     for row in placed.iter().flatten() {
         writeln!(csv, "{row}").ok();
     }
-    if let Some(png) = &args.png {
-        picture(args, png, &first.header, &placed, (rows, cols))?;
+    if args.png.is_some() {
+        let model = first.model.as_deref().unwrap_or_default();
+        picture(args, model, &first.header, &placed, (rows, cols))?;
     }
     if args.out.is_some() || args.png.is_none() {
         let model = first.model.clone().unwrap_or_default();
@@ -264,7 +265,7 @@ fn class_of(label: &str) -> CellClass {
 /// rows' θν, κ, class (and attractors, when counted).
 fn picture(
     args: &PhaseArgs,
-    png: &Path,
+    model: &str,
     header: &str,
     rows: &[Option<&str>],
     (nr, nc): (usize, usize),
@@ -287,24 +288,36 @@ fn picture(
     }
     let kappas: Vec<f64> = grid.iter().map(|row| row[0].kappa).collect();
     let theta_nus: Vec<f64> = grid[0].iter().map(|c| c.theta_nu).collect();
-    let boundaries = match &args.boundaries {
-        Some(b) => super::phase_boundaries::read_boundaries(b)
-            .map_err(|e| CliError::Usage(format!("--boundaries: {}: {e}", b.display())))?,
-        None => Vec::new(),
+    let Some(p) = super::phase_picture::check(args)? else {
+        return Ok(());
     };
-    let size = args.size.map(|[w, h]| [f64::from(w), f64::from(h)]);
-    if let Some([w, h]) = size
-        && crate::figure::phase::picture_size(nc, nr, size).is_none()
-    {
-        return Err(CliError::Usage(format!(
-            "--size {w}x{h} is too small for {nc} x {nr} cells: the picture needs 250 + {nc} pixels across and 90 + {nr} down"
-        )));
-    }
-    let svg = crate::figure::phase::phase_svg(&grid, (&kappas, &theta_nus), &boundaries, size);
-    let bytes = if crate::figure::is_svg(png) {
-        svg.into_bytes()
-    } else {
-        crate::figure::svg_to_png(&svg).map_err(|e| CliError::Failed(format!("--png: {e}")))?
+    // γ, ν and Ω as the parts' `# model:` line names them (the title's).
+    let named = |key: &str| {
+        model.split(", ").find_map(|kv| {
+            kv.strip_prefix(key)?
+                .strip_prefix(" = ")?
+                .split(' ')
+                .next()?
+                .parse()
+                .ok()
+        })
     };
-    emit_as("png", png, &bytes, args.force)
+    let d = crate::model::Params::default();
+    let params = crate::model::Params {
+        gamma: named("gamma").unwrap_or(d.gamma),
+        nu: named("nu").unwrap_or(d.nu),
+        omega: named("omega").unwrap_or(d.omega),
+        kappa: kappas[0],
+        theta_nu: theta_nus[0],
+    };
+    let grid = super::phase_picture::Grid {
+        cells: &grid,
+        theta_nu: (theta_nus[0], theta_nus[nc - 1]),
+        kappa: (kappas[0], kappas[nr - 1]),
+        params,
+        transient: args.transient,
+        keep: args.keep,
+        seeds: args.seeds,
+    };
+    super::phase_picture::write(&p, &grid, args.force)
 }
