@@ -299,7 +299,7 @@ fn phase_options(
 
 /// The CSV's place (none with --png alone) and the picture's, both free
 /// to write (or --force).
-fn check_outputs(args: &PhaseArgs) -> Result<Option<PathBuf>, CliError> {
+pub(super) fn check_outputs(args: &PhaseArgs) -> Result<Option<PathBuf>, CliError> {
     // Without --png the CSV goes to stdout unless --out names a file; with
     // --png alone only the picture is written.
     let out = match (&args.out, &args.png) {

@@ -9,7 +9,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
 use super::CliError;
-use super::common::{check_out, check_second_out, emit, with_provenance};
+use super::common::{emit, with_provenance};
 use super::phase::PhaseArgs;
 use crate::jobs::{phase_blocks, shard_blocks};
 use crate::sim::phase::{CellClass, PhaseCell};
@@ -197,22 +197,8 @@ pub(super) fn check(args: &PhaseArgs) -> Result<(Vec<Part>, usize, usize, PathBu
                 .into(),
         ));
     }
-    let out = match (&args.out, &args.png) {
-        (Some(o), _) => Some(o.clone()),
-        (None, None) => Some(PathBuf::from("-")),
-        (None, Some(_)) => None,
-    };
-    if let Some(o) = &out {
-        check_out(o, args.force)?;
-    }
-    if let Some(png) = &args.png {
-        check_second_out(
-            "png",
-            png,
-            out.as_deref().unwrap_or(Path::new("-")),
-            args.force,
-        )?;
-    }
+    // The CSV's place and the picture's, checked as the one-shot grid's.
+    let out = super::phase::check_outputs(args)?;
     let (parts, rows, cols) = read_parts(&args.merge)?;
     Ok((parts, rows, cols, out.unwrap_or_default()))
 }
